@@ -1,0 +1,86 @@
+//! The critical angle α* = atan max Q, Q = |∇ ln r| (2D: r'/r, SI §1B; 3D: |∇_s ln r|, SI §2D),
+//! and where the maximum is. Found by a dense search refined by Newton's method (2D: on Q' = 0
+//! with the exact Q''; 3D: in a tangent chart), so α* is exact to round-off, not to a grid.
+
+use glam::DVec3;
+use serde::Serialize;
+
+use crate::geometry::{Body, Disk, refine_sphere, sphere};
+
+/// α* and its maximiser.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CriticalAngle {
+    /// α* = atan Q* in radians.
+    pub alpha_star: f64,
+    /// Q* = max Q.
+    pub q_star: f64,
+    /// 2D: θ* ∈ [0, 2π). 3D: polar angle of the maximiser.
+    pub theta: f64,
+    /// 3D: azimuth of the maximiser; 0 in 2D.
+    pub phi: f64,
+    /// 3D: maximiser as a body-frame unit vector; zero in 2D.
+    pub direction: [f64; 3],
+    /// 2D: Q''(θ*) (< 0), which sets the prefactor of T ∝ (α − α*)^(−1/2); NaN in 3D.
+    pub q_second_derivative: f64,
+}
+
+/// α* of a body.
+pub fn critical_angle(body: &Body) -> CriticalAngle {
+    match body {
+        Body::Disk(d) => disk_critical_angle(d),
+        Body::Sphere(s) => {
+            let grid = sphere::fibonacci_sphere(20_000);
+            let (u, q) = refine_sphere(|u: DVec3| s.surface(u).quality(), &grid);
+            let (theta, phi) = sphere::angles(u);
+            CriticalAngle {
+                alpha_star: q.atan(),
+                q_star: q,
+                theta,
+                phi,
+                direction: u.to_array(),
+                q_second_derivative: f64::NAN,
+            }
+        }
+    }
+}
+
+fn disk_critical_angle(d: &Disk) -> CriticalAngle {
+    let n = 4096;
+    let h = std::f64::consts::TAU / n as f64;
+    let mut best = (0.0, f64::NEG_INFINITY);
+    for i in 0..n {
+        let t = i as f64 * h;
+        let q = d.jet(t).quality();
+        if q > best.1 {
+            best = (t, q);
+        }
+    }
+    let mut theta = best.0;
+    // Newton on Q'(θ) = 0, kept inside the bracketing grid cells.
+    for _ in 0..50 {
+        let j = d.jet(theta);
+        let (q1, q2) = (j.quality_d1(), j.quality_d2());
+        if q2 >= 0.0 {
+            break;
+        }
+        let step = (q1 / q2).clamp(-h, h);
+        theta -= step;
+        if step.abs() < 1e-15 {
+            break;
+        }
+    }
+    let j = d.jet(theta);
+    let (theta, q) = if j.quality() >= best.1 {
+        (theta, j.quality())
+    } else {
+        best
+    };
+    CriticalAngle {
+        alpha_star: q.atan(),
+        q_star: q,
+        theta: theta.rem_euclid(std::f64::consts::TAU),
+        phi: 0.0,
+        direction: [0.0; 3],
+        q_second_derivative: d.jet(theta).quality_d2(),
+    }
+}

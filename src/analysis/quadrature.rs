@@ -1,0 +1,103 @@
+//! Gauss–Legendre nodes and an adaptive Gauss–Legendre integrator.
+//!
+//! Why our own: the integrands (1/θ̇ near α*) are cheap and sharply peaked; a 16-point panel
+//! compared with its two halves, bisected where they disagree, reaches 1e-13 relative error with
+//! a few thousand evaluations even 1e-6 above α*, and needs no crate.
+
+/// Nodes and weights of n-point Gauss–Legendre on [−1, 1] (Newton on P_n, to round-off).
+pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut nodes = vec![0.0; n];
+    let mut weights = vec![0.0; n];
+    for i in 0..n {
+        let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+        let mut dp = 1.0;
+        for _ in 0..100 {
+            let (mut p0, mut p1) = (1.0, x);
+            for k in 2..=n {
+                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                p0 = p1;
+                p1 = p2;
+            }
+            let pn = if n == 0 { 1.0 } else { p1 };
+            let pn1 = if n == 1 { 1.0 } else { p0 };
+            dp = n as f64 * (x * pn - pn1) / (x * x - 1.0);
+            let dx = pn / dp;
+            x -= dx;
+            if dx.abs() < 1e-16 {
+                break;
+            }
+        }
+        nodes[i] = x;
+        weights[i] = 2.0 / ((1.0 - x * x) * dp * dp);
+    }
+    (nodes, weights)
+}
+
+/// Adaptive integration of f over [a, b] to relative tolerance `rtol` (absolute floor
+/// `rtol`·|estimate|); returns (integral, evaluations). Depth-limited to 60 bisections.
+pub fn integrate_adaptive(f: &impl Fn(f64) -> f64, a: f64, b: f64, rtol: f64) -> (f64, u64) {
+    let (x, w) = gauss_legendre(16);
+    let panel = |lo: f64, hi: f64| -> f64 {
+        let (c, h) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+        x.iter()
+            .zip(&w)
+            .map(|(xi, wi)| wi * f(c + h * xi))
+            .sum::<f64>()
+            * h
+    };
+    let mut evals = 16u64;
+    let whole = panel(a, b);
+    // Global estimate first so the tolerance is relative to the whole integral.
+    let mut stack = vec![(a, b, whole, 0u32)];
+    let mut total = 0.0;
+    let scale = whole.abs().max(f64::MIN_POSITIVE);
+    while let Some((lo, hi, est, depth)) = stack.pop() {
+        let mid = 0.5 * (lo + hi);
+        let (l, r) = (panel(lo, mid), panel(mid, hi));
+        evals += 32;
+        let refined = l + r;
+        let share = (hi - lo) / (b - a);
+        if (refined - est).abs() <= rtol * scale * share.max(1e-3) || depth >= 60 {
+            total += refined;
+        } else {
+            stack.push((lo, mid, l, depth + 1));
+            stack.push((mid, hi, r, depth + 1));
+        }
+    }
+    (total, evals)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nodes_integrate_polynomials_exactly() {
+        let (x, w) = gauss_legendre(16);
+        // ∫_{-1}^{1} x^k dx for k ≤ 31
+        for k in 0..32 {
+            let exact = if k % 2 == 1 {
+                0.0
+            } else {
+                2.0 / (k as f64 + 1.0)
+            };
+            let q: f64 = x.iter().zip(&w).map(|(xi, wi)| wi * xi.powi(k)).sum();
+            assert!((q - exact).abs() < 1e-14, "k = {k}: {q} vs {exact}");
+        }
+    }
+
+    #[test]
+    fn adaptive_handles_a_sharp_peak() {
+        // ∫_0^{2π} dθ / (ε + 1 − cos θ) = 2π / √(ε(2 + ε))
+        for eps in [1e-2, 1e-5, 1e-8] {
+            // 2 sin²(θ/2) rather than 1 − cos θ, which cancels catastrophically near θ = 0.
+            let f = |t: f64| 1.0 / (eps + 2.0 * (0.5 * t).sin().powi(2));
+            let (q, _) = integrate_adaptive(&f, 0.0, std::f64::consts::TAU, 1e-12);
+            let exact = std::f64::consts::TAU / (eps * (2.0 + eps)).sqrt();
+            assert!(
+                ((q - exact) / exact).abs() < 1e-10,
+                "eps {eps}: {q} vs {exact}"
+            );
+        }
+    }
+}

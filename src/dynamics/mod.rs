@@ -1,0 +1,80 @@
+//! The four rolling models of the paper (SI §1A, §2A–2C), as [`OdeSystem`]s on fixed-size
+//! states, plus what is observed on them (contact point, centre of mass, energy).
+//! Pure math: imports `geometry`, `integrate`, `glam`.
+//!
+//! Units throughout: F = γ = ⟨r⟩ = 1 by default, time in t0 = γ/(F⟨r⟩), mass as m/m0 with
+//! m0 = γ²/(F⟨r⟩³). The drag γ can be set to 0 (conservative tests) for inertial models only.
+
+pub mod disk2d;
+pub mod sphere3d;
+
+use thiserror::Error;
+
+use crate::integrate::OdeSystem;
+
+pub use disk2d::{DiskInertial, DiskViscous};
+pub use sphere3d::{SphereInertial, SphereViscous};
+
+/// The ramp and the body's dynamical constants.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ramp {
+    /// Tilt α in radians, 0 < α < π/2.
+    pub alpha_rad: f64,
+    /// m/m0; 0 selects the viscous model.
+    pub mass_ratio: f64,
+    /// Rotational drag γ in units of γ0 (1 by default; 0 only for inertial models).
+    pub drag: f64,
+}
+
+/// A bad model parameter.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ModelError {
+    /// α outside (0, π/2).
+    #[error("alpha = {0} rad is not allowed (needs 0 < alpha < π/2 ≈ 1.5708, in radians)")]
+    BadAlpha(f64),
+    /// Negative or non-finite mass ratio.
+    #[error(
+        "mass ratio m/m0 = {0} is not allowed (needs a finite m/m0 ≥ 0; 0 means the viscous model)"
+    )]
+    BadMass(f64),
+    /// Negative or non-finite drag, or zero drag in a viscous model.
+    #[error("drag gamma = {0} is not allowed (needs a finite gamma ≥ 0, and > 0 when m/m0 = 0)")]
+    BadDrag(f64),
+}
+
+impl Ramp {
+    /// A ramp with unit drag.
+    pub fn new(alpha_rad: f64, mass_ratio: f64) -> Result<Self, ModelError> {
+        Self::with_drag(alpha_rad, mass_ratio, 1.0)
+    }
+
+    /// A ramp with the given drag, validated.
+    pub fn with_drag(alpha_rad: f64, mass_ratio: f64, drag: f64) -> Result<Self, ModelError> {
+        if !(alpha_rad.is_finite() && alpha_rad > 0.0 && alpha_rad < std::f64::consts::FRAC_PI_2) {
+            return Err(ModelError::BadAlpha(alpha_rad));
+        }
+        if !(mass_ratio.is_finite() && mass_ratio >= 0.0) {
+            return Err(ModelError::BadMass(mass_ratio));
+        }
+        if !(drag.is_finite() && drag >= 0.0) || (mass_ratio == 0.0 && drag == 0.0) {
+            return Err(ModelError::BadDrag(drag));
+        }
+        Ok(Self {
+            alpha_rad,
+            mass_ratio,
+            drag,
+        })
+    }
+
+    /// Whether the viscous (massless) model applies.
+    pub fn is_viscous(&self) -> bool {
+        self.mass_ratio == 0.0
+    }
+}
+
+/// Implemented by every model: what a sampled state means physically.
+pub trait Observe<const N: usize>: OdeSystem<N> {
+    /// Total energy E = kinetic − F·x_cm plus the work already dissipated by drag, which stays
+    /// constant along exact solutions; `None` for viscous models (no kinetic energy).
+    fn energy_balance(&self, y: &[f64; N]) -> Option<f64>;
+}

@@ -1,0 +1,278 @@
+//! 3D rolling of a body r(u) on a ramp (SI §2A–2C), lab frame x downhill, z the ramp's normal:
+//! F = (sin α, 0, −cos α), the plane z = 0, the body's outward normal at the contact (0, 0, −1).
+//!
+//! Orientation: unit quaternion q (Hamilton), body-to-lab, r = q r₀ q̄, q̇ = ½ ω q (SI §2B).
+//!
+//! Contact: *recovered from q*, not integrated. For a strictly convex body the contact is the
+//! support point whose body-frame outward normal is d = q̄ (0, 0, −1) q
+//! ([`Sphere::support_point`], Newton warm-started from the previous contact). So the constraint
+//! "normal at the contact is (0, 0, −1)" holds to the Newton tolerance (~1e-15) at every instant
+//! and cannot drift, unlike the paper's integrated (θ, φ), which needed re-projection every 50
+//! time units and is singular at the chart's poles. The paper's (θ̇, φ̇) equation (SI §2C) is the
+//! derivative of the same condition: in Cartesian form ṗ = S⁻¹ ḋ with S the shape operator.
+//!
+//! Viscous, state [q, x, y]: ω = −r × F / γ, centre velocity v = −ω × r (no slip).
+//! Inertial, state [q, ω, x, y, W] with I = 2m/5 (SI eq. 34):
+//!   (I + m r²) ω̇ = −r × F − γ ω − (mγ/I)(r·ω) r − m r × (ω × ṙ),
+//!   ṙ = ω × r + q (S⁻¹ ḋ) q̄,  ḋ = −ω_body × d,
+//! where ṙ is the full derivative of the contact vector, the contact's motion over the body
+//! included. This equation conserves E = ½Iω² + ½m|v|² − F·x_cm up to the drag work
+//! W = ∫γ|ω|² dt (checked in `tests/energy_balance.rs`); we found no error in it.
+//! The height z of the centre is −r_z (the support function), so only x, y are integrated.
+
+use std::cell::Cell;
+
+use glam::{DQuat, DVec3};
+
+use super::{Observe, Ramp};
+use crate::geometry::{Sphere, SurfacePoint};
+use crate::integrate::OdeSystem;
+use crate::integrate::lie::quat_at;
+
+/// The lab's downward direction: the contact normal.
+pub const DOWN: DVec3 = DVec3::new(0.0, 0.0, -1.0);
+
+/// Shared contact tracking: finds the contact for an orientation, warm-started.
+struct ContactTracker<'a> {
+    body: &'a Sphere,
+    last: Cell<DVec3>,
+}
+
+impl<'a> ContactTracker<'a> {
+    fn new(body: &'a Sphere) -> Self {
+        Self {
+            body,
+            last: Cell::new(DOWN),
+        }
+    }
+
+    /// The contact geometry for orientation q (normalised here), or `None` if Newton fails.
+    fn contact(&self, q: DQuat) -> Option<SurfacePoint> {
+        let q = q.normalize();
+        let d = q.conjugate() * DOWN;
+        let guess = if self.last.get().dot(d) > 0.5 {
+            self.last.get()
+        } else {
+            d
+        };
+        match self.body.support_point(d, guess) {
+            Ok(sp) => {
+                self.last.set(sp.u);
+                Some(sp)
+            }
+            Err(_) => None,
+        }
+    }
+}
+
+/// The orientation that puts the surface point above body direction `u` in contact with the
+/// ramp, then spins the body on the spot by `spin_rad` about the lab's +z axis (SI §2F).
+pub fn orientation_touching(body: &Sphere, u: DVec3, spin_rad: f64) -> DQuat {
+    let n0 = body.surface(u).normal;
+    let tilt = DQuat::from_rotation_arc(n0, DOWN);
+    (DQuat::from_rotation_z(spin_rad) * tilt).normalize()
+}
+
+/// Everything a sampled 3D state shows.
+#[derive(Debug, Clone, Copy)]
+pub struct SphereObservation {
+    /// Orientation as stored (not renormalised).
+    pub q: DQuat,
+    /// Contact point as a unit vector in the body frame.
+    pub contact_dir: DVec3,
+    /// Lab angular velocity.
+    pub omega: DVec3,
+    /// Centre of mass in the lab.
+    pub centre: DVec3,
+    /// ||q| − 1|.
+    pub quat_norm_error: f64,
+    /// |q n₀ q̄ − (0, 0, −1)| with the stored q, so |q| drift counts too.
+    pub contact_normal_error: f64,
+}
+
+fn observe(
+    tracker: &ContactTracker,
+    q: DQuat,
+    omega_of: impl Fn(DVec3) -> DVec3,
+    x: f64,
+    y: f64,
+) -> SphereObservation {
+    let nan = DVec3::splat(f64::NAN);
+    let Some(sp) = tracker.contact(q) else {
+        return SphereObservation {
+            q,
+            contact_dir: nan,
+            omega: nan,
+            centre: nan,
+            quat_norm_error: f64::NAN,
+            contact_normal_error: f64::NAN,
+        };
+    };
+    let qn = q.normalize();
+    let r = qn * sp.p;
+    let n_lab = q * DQuat::from_xyzw(sp.normal.x, sp.normal.y, sp.normal.z, 0.0) * q.conjugate();
+    SphereObservation {
+        q,
+        contact_dir: sp.u,
+        omega: omega_of(r),
+        centre: DVec3::new(x, y, -r.z),
+        quat_norm_error: (q.length() - 1.0).abs(),
+        contact_normal_error: (DVec3::new(n_lab.x, n_lab.y, n_lab.z) - DOWN).length(),
+    }
+}
+
+fn pure(v: DVec3) -> DQuat {
+    DQuat::from_xyzw(v.x, v.y, v.z, 0.0)
+}
+
+fn force(alpha_rad: f64) -> DVec3 {
+    DVec3::new(alpha_rad.sin(), 0.0, -alpha_rad.cos())
+}
+
+/// Viscous 3D model; state [qw, qx, qy, qz, x, y].
+pub struct SphereViscous<'a> {
+    tracker: ContactTracker<'a>,
+    force: DVec3,
+    drag: f64,
+}
+
+impl<'a> SphereViscous<'a> {
+    /// The model for `body` on `ramp` (mass ignored).
+    pub fn new(body: &'a Sphere, ramp: &Ramp) -> Self {
+        Self {
+            tracker: ContactTracker::new(body),
+            force: force(ramp.alpha_rad),
+            drag: if ramp.drag > 0.0 { ramp.drag } else { 1.0 },
+        }
+    }
+
+    /// Initial state for orientation q at the origin.
+    pub fn initial_state(q: DQuat) -> [f64; 6] {
+        [q.w, q.x, q.y, q.z, 0.0, 0.0]
+    }
+
+    /// ω = −r × F / γ for lab contact vector r.
+    pub fn omega(&self, r: DVec3) -> DVec3 {
+        -r.cross(self.force) / self.drag
+    }
+
+    /// What the state shows.
+    pub fn observe(&self, y: &[f64; 6]) -> SphereObservation {
+        observe(&self.tracker, quat_at(y, 0), |r| self.omega(r), y[4], y[5])
+    }
+}
+
+impl OdeSystem<6> for SphereViscous<'_> {
+    fn rhs(&self, _t: f64, y: &[f64; 6]) -> [f64; 6] {
+        let q = quat_at(y, 0);
+        let Some(sp) = self.tracker.contact(q) else {
+            return [f64::NAN; 6];
+        };
+        let r = q.normalize() * sp.p;
+        let omega = self.omega(r);
+        let qdot = pure(omega) * q * 0.5;
+        let v = -omega.cross(r);
+        [qdot.w, qdot.x, qdot.y, qdot.z, v.x, v.y]
+    }
+    fn quaternion_slot(&self) -> Option<usize> {
+        Some(0)
+    }
+}
+
+impl Observe<6> for SphereViscous<'_> {
+    fn energy_balance(&self, _y: &[f64; 6]) -> Option<f64> {
+        None
+    }
+}
+
+/// Inertial 3D model; state [qw, qx, qy, qz, ωx, ωy, ωz, x, y, W].
+pub struct SphereInertial<'a> {
+    tracker: ContactTracker<'a>,
+    force: DVec3,
+    mass: f64,
+    inertia: f64,
+    drag: f64,
+}
+
+impl<'a> SphereInertial<'a> {
+    /// The model for `body` on `ramp`; needs m/m0 > 0.
+    pub fn new(body: &'a Sphere, ramp: &Ramp) -> Self {
+        Self {
+            tracker: ContactTracker::new(body),
+            force: force(ramp.alpha_rad),
+            mass: ramp.mass_ratio,
+            inertia: 0.4 * ramp.mass_ratio,
+            drag: ramp.drag,
+        }
+    }
+
+    /// Initial state for orientation q and lab angular velocity ω at the origin.
+    pub fn initial_state(q: DQuat, omega: DVec3) -> [f64; 10] {
+        [q.w, q.x, q.y, q.z, omega.x, omega.y, omega.z, 0.0, 0.0, 0.0]
+    }
+
+    /// What the state shows.
+    pub fn observe(&self, y: &[f64; 10]) -> SphereObservation {
+        let omega = DVec3::new(y[4], y[5], y[6]);
+        observe(&self.tracker, quat_at(y, 0), |_| omega, y[7], y[8])
+    }
+
+    /// ω̇ and ṙ-free pieces for contact `sp`, orientation q (unit) and ω (SI eq. 34).
+    fn omega_dot(&self, q: DQuat, sp: &SurfacePoint, omega: DVec3) -> (DVec3, DVec3) {
+        let r = q * sp.p;
+        let d = q.conjugate() * DOWN;
+        let omega_body = q.conjugate() * omega;
+        let p_dot_body = sp.solve_shape(-omega_body.cross(d));
+        let r_dot = omega.cross(r) + q * p_dot_body;
+        let m = self.mass;
+        let rhs = -r.cross(self.force)
+            - self.drag * omega
+            - (m * self.drag / self.inertia) * r.dot(omega) * r
+            - m * r.cross(omega.cross(r_dot));
+        (rhs / (self.inertia + m * r.length_squared()), r)
+    }
+}
+
+impl OdeSystem<10> for SphereInertial<'_> {
+    fn rhs(&self, _t: f64, y: &[f64; 10]) -> [f64; 10] {
+        let q = quat_at(y, 0);
+        let Some(sp) = self.tracker.contact(q) else {
+            return [f64::NAN; 10];
+        };
+        let omega = DVec3::new(y[4], y[5], y[6]);
+        let (omega_dot, r) = self.omega_dot(q.normalize(), &sp, omega);
+        let qdot = pure(omega) * q * 0.5;
+        let v = -omega.cross(r);
+        [
+            qdot.w,
+            qdot.x,
+            qdot.y,
+            qdot.z,
+            omega_dot.x,
+            omega_dot.y,
+            omega_dot.z,
+            v.x,
+            v.y,
+            self.drag * omega.length_squared(),
+        ]
+    }
+    fn quaternion_slot(&self) -> Option<usize> {
+        Some(0)
+    }
+}
+
+impl Observe<10> for SphereInertial<'_> {
+    fn energy_balance(&self, y: &[f64; 10]) -> Option<f64> {
+        let q = quat_at(y, 0);
+        let sp = self.tracker.contact(q)?;
+        let r = q.normalize() * sp.p;
+        let omega = DVec3::new(y[4], y[5], y[6]);
+        let v = -omega.cross(r);
+        let centre = DVec3::new(y[7], y[8], -r.z);
+        Some(
+            0.5 * self.inertia * omega.length_squared() + 0.5 * self.mass * v.length_squared()
+                - self.force.dot(centre)
+                + y[9],
+        )
+    }
+}

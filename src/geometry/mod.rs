@@ -1,0 +1,426 @@
+//! Bodies: the 2D disk r(θ) and the 3D sphere r(u) with exact derivatives and curvature, the JSON
+//! shape files other tools exchange with us, seeded random generators, and the convexity check
+//! the contact model requires. Pure math: imports `glam`, `serde`, `rand` only.
+
+pub mod disk;
+pub mod harmonics;
+pub mod shape_file;
+pub mod sphere;
+
+use std::f64::consts::TAU;
+
+use glam::DVec3;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal, Uniform};
+use thiserror::Error;
+
+pub use disk::{Disk, DiskMode, RadiusJet};
+pub use shape_file::ShapeFile;
+pub use sphere::{Sphere, SphereCoeff, SurfacePoint};
+
+/// Largest mode number accepted for a disk.
+pub const MAX_DISK_L: u32 = 64;
+/// Largest degree accepted for a sphere (the polynomial evaluator handles degree ≤ 15).
+pub const MAX_SPHERE_L: u32 = 12;
+
+/// A body with its dimension.
+#[derive(Debug, Clone)]
+pub enum Body {
+    /// A cylinder's cross-section, rolling in 2D.
+    Disk(Disk),
+    /// A 3D body.
+    Sphere(Sphere),
+}
+
+/// What is wrong with a shape.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ShapeError {
+    /// A mode number out of range.
+    #[error(
+        "{what} l = {l} is not allowed (needs {min} ≤ l ≤ {max}; l = 0 and 1 would change the mean radius or move the centre)"
+    )]
+    BadDegree {
+        what: &'static str,
+        l: u32,
+        min: u32,
+        max: u32,
+    },
+    /// An order out of range.
+    #[error("sphere coefficient l = {l}, m = {m} is not allowed (needs −l ≤ m ≤ l)")]
+    BadOrder { l: u32, m: i32 },
+    /// The same mode given twice.
+    #[error("{what} appears twice; give each mode once")]
+    Duplicate { what: String },
+    /// A NaN or infinite number.
+    #[error("{field} = {value} is not a finite number")]
+    NonFinite { field: String, value: f64 },
+    /// The body is not strictly convex.
+    #[error(
+        "shape is not convex: {measure} {value:.6} at {place} (needs > 0); the contact model needs \
+         a strictly convex body: lower the amplitudes (σ) or use fewer modes"
+    )]
+    NotConvex {
+        measure: &'static str,
+        value: f64,
+        place: String,
+    },
+    /// A generator parameter out of range.
+    #[error("{name} = {value} is not allowed (needs {allowed})")]
+    BadParameter {
+        name: &'static str,
+        value: f64,
+        allowed: &'static str,
+    },
+}
+
+impl Body {
+    /// Builds a body from a parsed shape file, checking ranges and finiteness (not convexity).
+    pub fn from_file(file: &ShapeFile) -> Result<Self, ShapeError> {
+        match file {
+            ShapeFile::Disk { modes } => {
+                let mut seen = std::collections::BTreeSet::new();
+                for (i, m) in modes.iter().enumerate() {
+                    if !(2..=MAX_DISK_L).contains(&m.l) {
+                        return Err(ShapeError::BadDegree {
+                            what: "disk mode",
+                            l: m.l,
+                            min: 2,
+                            max: MAX_DISK_L,
+                        });
+                    }
+                    for (name, v) in [("a", m.a), ("phase", m.phase)] {
+                        if !v.is_finite() {
+                            return Err(ShapeError::NonFinite {
+                                field: format!("modes[{i}].{name}"),
+                                value: v,
+                            });
+                        }
+                    }
+                    if !seen.insert(m.l) {
+                        return Err(ShapeError::Duplicate {
+                            what: format!("disk mode l = {}", m.l),
+                        });
+                    }
+                }
+                Ok(Body::Disk(Disk::new(modes.clone())))
+            }
+            ShapeFile::Sphere { coeffs } => {
+                let mut seen = std::collections::BTreeSet::new();
+                for (i, c) in coeffs.iter().enumerate() {
+                    if !(2..=MAX_SPHERE_L).contains(&c.l) {
+                        return Err(ShapeError::BadDegree {
+                            what: "sphere coefficient",
+                            l: c.l,
+                            min: 2,
+                            max: MAX_SPHERE_L,
+                        });
+                    }
+                    if c.m.unsigned_abs() > c.l {
+                        return Err(ShapeError::BadOrder { l: c.l, m: c.m });
+                    }
+                    for (name, v) in [("re", c.re), ("im", c.im)] {
+                        if !v.is_finite() {
+                            return Err(ShapeError::NonFinite {
+                                field: format!("coeffs[{i}].{name}"),
+                                value: v,
+                            });
+                        }
+                    }
+                    if !seen.insert((c.l, c.m)) {
+                        return Err(ShapeError::Duplicate {
+                            what: format!("sphere coefficient l = {}, m = {}", c.l, c.m),
+                        });
+                    }
+                }
+                Ok(Body::Sphere(Sphere::new(coeffs.clone())))
+            }
+        }
+    }
+
+    /// The shape file describing this body.
+    pub fn to_file(&self) -> ShapeFile {
+        match self {
+            Body::Disk(d) => ShapeFile::Disk {
+                modes: d.modes().to_vec(),
+            },
+            Body::Sphere(s) => ShapeFile::Sphere {
+                coeffs: s.coeffs().to_vec(),
+            },
+        }
+    }
+
+    /// 2 or 3.
+    pub fn dimension(&self) -> u32 {
+        match self {
+            Body::Disk(_) => 2,
+            Body::Sphere(_) => 3,
+        }
+    }
+
+    /// Curvature extremes and the convexity verdict (see [`curvature_report`]).
+    pub fn curvature(&self) -> CurvatureReport {
+        curvature_report(self)
+    }
+
+    /// Returns an error naming the worst point unless the body is strictly convex.
+    pub fn check_convex(&self) -> Result<(), ShapeError> {
+        let rep = self.curvature();
+        if rep.convex {
+            Ok(())
+        } else {
+            Err(ShapeError::NotConvex {
+                measure: rep.convexity_measure,
+                value: rep.convexity_min,
+                place: rep.convexity_place,
+            })
+        }
+    }
+}
+
+/// Curvature extremes of a body, found on a dense grid and refined locally.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurvatureReport {
+    /// Strictly convex everywhere.
+    pub convex: bool,
+    /// Minimum of κ (2D) or of the Gaussian curvature K (3D).
+    pub curvature_min: f64,
+    /// Maximum of κ (2D) or of K (3D).
+    pub curvature_max: f64,
+    /// The quantity whose sign decides convexity: κ (2D) or the smaller principal curvature (3D).
+    pub convexity_measure: &'static str,
+    /// Its minimum.
+    pub convexity_min: f64,
+    /// Where that minimum is, as text (θ, or θ/φ and the unit vector).
+    pub convexity_place: String,
+}
+
+/// Dense-grid sizes for curvature and α* searches.
+const DISK_GRID: usize = 4096;
+const SPHERE_GRID: usize = 20_000;
+
+fn curvature_report(body: &Body) -> CurvatureReport {
+    match body {
+        Body::Disk(d) => {
+            let kappa = |t: f64| d.jet(t).curvature();
+            let (tmin, kmin) = refine_1d(|t| -kappa(t), DISK_GRID);
+            let (_, kmax) = refine_1d(kappa, DISK_GRID);
+            let kmin = -kmin;
+            CurvatureReport {
+                convex: kmin > 0.0,
+                curvature_min: kmin,
+                curvature_max: kmax,
+                convexity_measure: "curvature",
+                convexity_min: kmin,
+                convexity_place: format!("θ = {:.4}", tmin.rem_euclid(TAU)),
+            }
+        }
+        Body::Sphere(s) => {
+            let pts = sphere::fibonacci_sphere(SPHERE_GRID);
+            let kmin_of = |u: DVec3| s.surface(u).principal_curvatures().0;
+            let gauss = |u: DVec3| s.surface(u).gaussian_curvature();
+            let (u_min, k1) = refine_sphere(|u| -kmin_of(u), &pts);
+            let (_, gmin) = refine_sphere(|u| -gauss(u), &pts);
+            let (_, gmax) = refine_sphere(gauss, &pts);
+            let (theta, phi) = sphere::angles(u_min);
+            CurvatureReport {
+                convex: -k1 > 0.0,
+                curvature_min: -gmin,
+                curvature_max: gmax,
+                convexity_measure: "smallest principal curvature",
+                convexity_min: -k1,
+                convexity_place: format!(
+                    "θ = {theta:.4}, φ = {phi:.4} (u = [{:.4}, {:.4}, {:.4}])",
+                    u_min.x, u_min.y, u_min.z
+                ),
+            }
+        }
+    }
+}
+
+/// Maximises a smooth 2π-periodic f: best of `n` grid points, then golden-section search on the
+/// bracketing cell pair, to |Δθ| ≈ 1e-12. Returns (θ, f(θ)).
+pub fn refine_1d(f: impl Fn(f64) -> f64, n: usize) -> (f64, f64) {
+    let h = TAU / n as f64;
+    let (mut best_i, mut best) = (0, f64::NEG_INFINITY);
+    for i in 0..n {
+        let v = f(i as f64 * h);
+        if v > best {
+            best = v;
+            best_i = i;
+        }
+    }
+    let (mut a, mut b) = ((best_i as f64 - 1.0) * h, (best_i as f64 + 1.0) * h);
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let mut c = b - g * (b - a);
+    let mut d = a + g * (b - a);
+    let (mut fc, mut fd) = (f(c), f(d));
+    while (b - a).abs() > 1e-12 {
+        if fc > fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = f(d);
+        }
+    }
+    let t = 0.5 * (a + b);
+    let v = f(t);
+    if v >= best {
+        (t, v)
+    } else {
+        (best_i as f64 * h, best)
+    }
+}
+
+/// Maximises a smooth f on the unit sphere: the best grid point and the best few local maxima
+/// of the grid are refined by Newton's method in a tangent chart (finite-difference gradient and
+/// Hessian, backtracking), which converges to the maximiser to ~1e-8 and so to the maximum value
+/// to ~1e-15. Returns (u, f(u)).
+pub fn refine_sphere(f: impl Fn(DVec3) -> f64, grid: &[DVec3]) -> (DVec3, f64) {
+    let mut vals: Vec<(f64, usize)> = grid.iter().enumerate().map(|(i, u)| (f(*u), i)).collect();
+    vals.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let mut best = (grid[vals[0].1], vals[0].0);
+    // Candidates: the top few grid values that are not within 0.1 rad of a better one.
+    let mut starts: Vec<DVec3> = Vec::new();
+    for &(_, i) in vals.iter().take(400) {
+        let u = grid[i];
+        if starts.iter().all(|s| s.dot(u) < 0.995) {
+            starts.push(u);
+        }
+        if starts.len() == 6 {
+            break;
+        }
+    }
+    for start in starts {
+        let (u, v) = newton_max_on_sphere(&f, start);
+        if v > best.1 {
+            best = (u, v);
+        }
+    }
+    best
+}
+
+fn newton_max_on_sphere(f: &impl Fn(DVec3) -> f64, start: DVec3) -> (DVec3, f64) {
+    let mut u = start;
+    let mut fu = f(u);
+    for _ in 0..50 {
+        let (e1, e2) = u.any_orthonormal_pair();
+        let at = |a: f64, b: f64| f((u + a * e1 + b * e2).normalize());
+        let h = 1e-4;
+        let f0 = fu;
+        let (fp0, fm0, f0p, f0m) = (at(h, 0.0), at(-h, 0.0), at(0.0, h), at(0.0, -h));
+        let (fpp, fpm, fmp, fmm) = (at(h, h), at(h, -h), at(-h, h), at(-h, -h));
+        let g1 = (fp0 - fm0) / (2.0 * h);
+        let g2 = (f0p - f0m) / (2.0 * h);
+        let h11 = (fp0 - 2.0 * f0 + fm0) / (h * h);
+        let h22 = (f0p - 2.0 * f0 + f0m) / (h * h);
+        let h12 = (fpp - fpm - fmp + fmm) / (4.0 * h * h);
+        let det = h11 * h22 - h12 * h12;
+        let (mut s1, mut s2) = if h11 < 0.0 && det > 0.0 {
+            (-(h22 * g1 - h12 * g2) / det, -(h11 * g2 - h12 * g1) / det)
+        } else {
+            // Not concave here: a gradient step.
+            (g1 * 1e-2, g2 * 1e-2)
+        };
+        let len = (s1 * s1 + s2 * s2).sqrt();
+        if len > 0.05 {
+            s1 *= 0.05 / len;
+            s2 *= 0.05 / len;
+        }
+        let mut accepted = false;
+        for _ in 0..30 {
+            let cand = (u + s1 * e1 + s2 * e2).normalize();
+            let fc = f(cand);
+            if fc >= fu {
+                u = cand;
+                fu = fc;
+                accepted = true;
+                break;
+            }
+            s1 *= 0.5;
+            s2 *= 0.5;
+        }
+        if !accepted || (s1 * s1 + s2 * s2).sqrt() < 1e-11 {
+            break;
+        }
+    }
+    (u, fu)
+}
+
+/// Seeded random disk (SI §1C): A_l ~ N(0, σ), θ_l ~ U[0, 2π) for l = 2..=modes, drawn in that
+/// order (A_l then θ_l for each l) from ChaCha8 seeded with `seed`.
+pub fn random_disk(seed: u64, sigma: f64, modes: u32) -> Result<Disk, ShapeError> {
+    check_sigma(sigma)?;
+    if !(2..=MAX_DISK_L).contains(&modes) {
+        return Err(ShapeError::BadParameter {
+            name: "modes",
+            value: modes as f64,
+            allowed: "2 ≤ modes ≤ 64",
+        });
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let normal = Normal::new(0.0, sigma).map_err(|_| bad_sigma(sigma))?;
+    let phase = Uniform::new(0.0, TAU).map_err(|_| bad_sigma(sigma))?;
+    let ms = (2..=modes)
+        .map(|l| {
+            let a = normal.sample(&mut rng);
+            let p = phase.sample(&mut rng);
+            DiskMode { l, a, phase: p }
+        })
+        .collect();
+    Ok(Disk::new(ms))
+}
+
+/// Seeded random sphere (SI §2F and the issue's generator): for l = 2..=degree and m = −l..=l in
+/// that order, a ~ N(0, σ) then P ~ U[0, 2π), A_lm = a·e^{imP}; ChaCha8 seeded with `seed`.
+pub fn random_sphere(seed: u64, sigma: f64, degree: u32) -> Result<Sphere, ShapeError> {
+    check_sigma(sigma)?;
+    if !(2..=MAX_SPHERE_L).contains(&degree) {
+        return Err(ShapeError::BadParameter {
+            name: "modes",
+            value: degree as f64,
+            allowed: "2 ≤ modes ≤ 12 (the largest degree l)",
+        });
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let normal = Normal::new(0.0, sigma).map_err(|_| bad_sigma(sigma))?;
+    let phase = Uniform::new(0.0, TAU).map_err(|_| bad_sigma(sigma))?;
+    let mut coeffs = Vec::new();
+    for l in 2..=degree {
+        for m in -(l as i32)..=(l as i32) {
+            let a = normal.sample(&mut rng);
+            let p = phase.sample(&mut rng);
+            let (s, c) = (m as f64 * p).sin_cos();
+            coeffs.push(SphereCoeff {
+                l,
+                m,
+                re: a * c,
+                im: a * s,
+            });
+        }
+    }
+    Ok(Sphere::new(coeffs))
+}
+
+fn check_sigma(sigma: f64) -> Result<(), ShapeError> {
+    if sigma.is_finite() && sigma >= 0.0 {
+        Ok(())
+    } else {
+        Err(bad_sigma(sigma))
+    }
+}
+
+fn bad_sigma(sigma: f64) -> ShapeError {
+    ShapeError::BadParameter {
+        name: "sigma",
+        value: sigma,
+        allowed: "a finite number ≥ 0",
+    }
+}

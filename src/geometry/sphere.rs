@@ -1,0 +1,344 @@
+//! The 3D body: r(u) = 1 + Re Σ_{l≥2} Σ_m A_lm/(l(l+1)) Y_l^m(u) on the unit sphere (SI §2F), its
+//! surface p(u) = r(u) u, outward normal, shape operator (Weingarten map), Gaussian curvature,
+//! the quality factor Q = |∇_s ln r| (SI §2D), and the support point: the surface point whose
+//! outward normal is a given direction, which is where the body touches a plane.
+//!
+//! Everything is computed in Cartesian form from the solid-harmonic polynomials of
+//! [`super::harmonics`]. The body is the zero set of F(x) = |x| − R(x) with R(x) = r(x/|x|), the
+//! degree-0 extension, so at p = r u: ∇F = u − ∇_s r / r and
+//! H_F = (I − u uᵀ)/r − H_R(u)/r², with H_R(u) = Σ_l [H P_l − l(∇P_l uᵀ + u ∇P_lᵀ) − l P_l I
+//! + l(l+2) P_l u uᵀ] at the unit vector u. The shape operator is S = P H_F P / |∇F| on the
+//! tangent plane (P the projector). No (θ, φ) chart is involved, so the poles are ordinary points.
+
+use glam::{DMat3, DVec3};
+
+use super::harmonics::{RealPoly, powers};
+
+/// One spherical-harmonic coefficient A_lm = re + i·im.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereCoeff {
+    /// Degree l ≥ 2.
+    pub l: u32,
+    /// Order −l ≤ m ≤ l.
+    pub m: i32,
+    /// Real part of A_lm.
+    pub re: f64,
+    /// Imaginary part of A_lm.
+    pub im: f64,
+}
+
+/// Local geometry of the surface at the point above the unit direction u.
+#[derive(Debug, Clone, Copy)]
+pub struct SurfacePoint {
+    /// Direction from the centre (unit).
+    pub u: DVec3,
+    /// Radius r(u).
+    pub r: f64,
+    /// Surface point p = r u (body frame).
+    pub p: DVec3,
+    /// Spherical gradient ∇_s r (tangent to the unit sphere at u).
+    pub grad_s: DVec3,
+    /// Outward unit normal.
+    pub normal: DVec3,
+    /// Shape operator dn/dp as a 3×3 map (acts on tangent vectors; zero along the normal).
+    pub shape: DMat3,
+}
+
+impl SurfacePoint {
+    /// An orthonormal basis (e1, e2) of the tangent plane.
+    pub fn tangent_basis(&self) -> (DVec3, DVec3) {
+        self.normal.any_orthonormal_pair()
+    }
+
+    /// The shape operator in the tangent basis, [[a, b], [b, c]].
+    pub fn shape_2x2(&self) -> (f64, f64, f64, DVec3, DVec3) {
+        let (e1, e2) = self.tangent_basis();
+        let a = e1.dot(self.shape * e1);
+        let b = 0.5 * (e1.dot(self.shape * e2) + e2.dot(self.shape * e1));
+        let c = e2.dot(self.shape * e2);
+        (a, b, c, e1, e2)
+    }
+
+    /// Gaussian curvature K = det S.
+    pub fn gaussian_curvature(&self) -> f64 {
+        let (a, b, c, _, _) = self.shape_2x2();
+        a * c - b * b
+    }
+
+    /// Principal curvatures (k_min, k_max).
+    pub fn principal_curvatures(&self) -> (f64, f64) {
+        let (a, b, c, _, _) = self.shape_2x2();
+        let mean = 0.5 * (a + c);
+        let disc = (0.25 * (a - c) * (a - c) + b * b).sqrt();
+        (mean - disc, mean + disc)
+    }
+
+    /// Q = |∇_s ln r| = |∇_s r| / r; the body can rest on this point iff Q ≥ tan α.
+    pub fn quality(&self) -> f64 {
+        self.grad_s.length() / self.r
+    }
+
+    /// Solves S v = w for a tangent vector w (the shape operator is invertible on a strictly
+    /// convex body); returns a tangent vector.
+    pub fn solve_shape(&self, w: DVec3) -> DVec3 {
+        let (a, b, c, e1, e2) = self.shape_2x2();
+        let (w1, w2) = (w.dot(e1), w.dot(e2));
+        let det = a * c - b * b;
+        let x1 = (c * w1 - b * w2) / det;
+        let x2 = (a * w2 - b * w1) / det;
+        x1 * e1 + x2 * e2
+    }
+}
+
+/// A star-shaped 3D body with ⟨r⟩ = 1.
+#[derive(Debug, Clone)]
+pub struct Sphere {
+    coeffs: Vec<SphereCoeff>,
+    polys: Vec<RealPoly>,
+}
+
+/// Why the support point could not be found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SupportFailure {
+    /// Remaining |n − d| when Newton stopped.
+    pub residual: f64,
+}
+
+impl Sphere {
+    /// A body from validated coefficients (see [`crate::geometry::Body::from_file`]).
+    pub fn new(coeffs: Vec<SphereCoeff>) -> Self {
+        let max_l = coeffs.iter().map(|c| c.l).max().unwrap_or(0);
+        let polys = (2..=max_l)
+            .map(|l| {
+                let cs: Vec<(i32, f64, f64)> = coeffs
+                    .iter()
+                    .filter(|c| c.l == l)
+                    .map(|c| {
+                        let s = 1.0 / (l * (l + 1)) as f64;
+                        (c.m, c.re * s, c.im * s)
+                    })
+                    .collect();
+                RealPoly::real_part_of(l, &cs)
+            })
+            .filter(|p| !p.terms.is_empty())
+            .collect();
+        Self { coeffs, polys }
+    }
+
+    /// The perfect unit sphere.
+    pub fn perfect() -> Self {
+        Self::new(Vec::new())
+    }
+
+    /// The coefficients.
+    pub fn coeffs(&self) -> &[SphereCoeff] {
+        &self.coeffs
+    }
+
+    /// r(u) for a unit vector u.
+    pub fn radius(&self, u: DVec3) -> f64 {
+        let pw = powers(u.x, u.y, u.z);
+        1.0 + self.polys.iter().map(|p| p.jet(&pw).value).sum::<f64>()
+    }
+
+    /// r(θ, φ) with θ polar and φ azimuth.
+    pub fn radius_at(&self, theta: f64, phi: f64) -> f64 {
+        self.radius(direction(theta, phi))
+    }
+
+    /// Full local geometry above the direction `u` (normalised here).
+    pub fn surface(&self, u: DVec3) -> SurfacePoint {
+        let u = u.normalize();
+        let pw = powers(u.x, u.y, u.z);
+        let mut r = 1.0;
+        let mut grad = DVec3::ZERO;
+        let mut hess = DMat3::ZERO;
+        let uu = outer(u, u);
+        for poly in &self.polys {
+            let j = poly.jet(&pw);
+            let l = poly.degree as f64;
+            let gp = DVec3::from_array(j.grad);
+            let hp = DMat3::from_cols_array_2d(&j.hess);
+            r += j.value;
+            grad += gp - l * j.value * u;
+            hess += hp - l * (outer(gp, u) + outer(u, gp)) - l * j.value * DMat3::IDENTITY
+                + l * (l + 2.0) * j.value * uu;
+        }
+        // ∇F and H_F at p = r u (degree-0 scaling: ∇R(p) = ∇R(u)/r, H_R(p) = H_R(u)/r²).
+        let grad_f = u - grad / r;
+        let hess_f = (DMat3::IDENTITY - uu) * (1.0 / r) - hess * (1.0 / (r * r));
+        let gn = grad_f.length();
+        let normal = grad_f / gn;
+        let proj = DMat3::IDENTITY - outer(normal, normal);
+        let shape = proj * hess_f * proj * (1.0 / gn);
+        SurfacePoint {
+            u,
+            r,
+            p: r * u,
+            grad_s: grad,
+            normal,
+            shape,
+        }
+    }
+
+    /// The surface point whose outward normal is the unit vector `d`: the point of contact with
+    /// a plane whose inward normal is −d. Newton's method on the Gauss map from `guess`
+    /// (use `d` when nothing better is known): solve S δp = d − (d·n)n in the tangent plane, move
+    /// along the ray through p + δp, repeat. Quadratic convergence; 2–3 iterations from the
+    /// previous contact during a simulation. Unique on a strictly convex body.
+    pub fn support_point(&self, d: DVec3, guess: DVec3) -> Result<SurfacePoint, SupportFailure> {
+        let mut sp = self.surface(guess);
+        let mut last = f64::INFINITY;
+        for _ in 0..60 {
+            let residual = (sp.normal - d).length();
+            if residual <= 2e-15 || (residual <= 1e-12 && residual >= 0.5 * last) {
+                return Ok(sp);
+            }
+            last = residual;
+            let w = d - d.dot(sp.normal) * sp.normal;
+            let (a, b, c, e1, e2) = sp.shape_2x2();
+            let det = a * c - b * b;
+            let mut step = if det > 1e-12 && a > 0.0 {
+                let (w1, w2) = (w.dot(e1), w.dot(e2));
+                ((c * w1 - b * w2) / det) * e1 + ((a * w2 - b * w1) / det) * e2
+            } else {
+                // Not locally convex here: fall back to a gradient step toward d.
+                w * sp.r
+            };
+            if d.dot(sp.normal) < 0.0 {
+                // Far on the wrong side: jump toward the direction itself.
+                step = d * sp.r - sp.p;
+            }
+            let len = step.length();
+            if len > 0.5 {
+                step *= 0.5 / len;
+            }
+            sp = self.surface(sp.p + step);
+        }
+        let residual = (sp.normal - d).length();
+        if residual <= 1e-10 {
+            Ok(sp)
+        } else {
+            Err(SupportFailure { residual })
+        }
+    }
+}
+
+/// Unit vector for polar angle θ and azimuth φ.
+pub fn direction(theta: f64, phi: f64) -> DVec3 {
+    let (st, ct) = theta.sin_cos();
+    let (sp, cp) = phi.sin_cos();
+    DVec3::new(st * cp, st * sp, ct)
+}
+
+/// (θ, φ) of a unit vector, θ ∈ [0, π], φ ∈ (−π, π].
+pub fn angles(u: DVec3) -> (f64, f64) {
+    let u = u.normalize();
+    (u.z.clamp(-1.0, 1.0).acos(), u.y.atan2(u.x))
+}
+
+fn outer(a: DVec3, b: DVec3) -> DMat3 {
+    DMat3::from_cols(a * b.x, a * b.y, a * b.z)
+}
+
+/// `n` nearly uniform unit vectors (Fibonacci lattice), deterministic.
+pub fn fibonacci_sphere(n: usize) -> Vec<DVec3> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|i| {
+            let z = 1.0 - (2.0 * i as f64 + 1.0) / n as f64;
+            let rho = (1.0 - z * z).max(0.0).sqrt();
+            let phi = golden * i as f64;
+            DVec3::new(rho * phi.cos(), rho * phi.sin(), z)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lumpy() -> Sphere {
+        Sphere::new(vec![
+            SphereCoeff {
+                l: 2,
+                m: 0,
+                re: 0.3,
+                im: 0.0,
+            },
+            SphereCoeff {
+                l: 2,
+                m: 1,
+                re: 0.1,
+                im: -0.2,
+            },
+            SphereCoeff {
+                l: 3,
+                m: -2,
+                re: 0.2,
+                im: 0.1,
+            },
+            SphereCoeff {
+                l: 5,
+                m: 4,
+                re: -0.25,
+                im: 0.05,
+            },
+        ])
+    }
+
+    #[test]
+    fn unit_sphere_geometry() {
+        let s = Sphere::perfect();
+        let sp = s.surface(DVec3::new(0.3, -0.4, 0.8));
+        assert!((sp.r - 1.0).abs() < 1e-15);
+        assert!((sp.normal - sp.u).length() < 1e-15);
+        assert!((sp.gaussian_curvature() - 1.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn normal_matches_finite_differences_of_the_surface() {
+        let s = lumpy();
+        for u in fibonacci_sphere(40) {
+            let sp = s.surface(u);
+            let (e1, e2) = u.any_orthonormal_pair();
+            let h = 1e-6;
+            let p = |v: DVec3| {
+                let v = v.normalize();
+                s.radius(v) * v
+            };
+            let t1 = (p(u + h * e1) - p(u - h * e1)) / (2.0 * h);
+            let t2 = (p(u + h * e2) - p(u - h * e2)) / (2.0 * h);
+            let n = t1.cross(t2).normalize();
+            assert!((n - sp.normal).length() < 1e-8, "{n} vs {}", sp.normal);
+        }
+    }
+
+    #[test]
+    fn shape_operator_matches_finite_differences_of_the_normal() {
+        let s = lumpy();
+        for u in fibonacci_sphere(30) {
+            let sp = s.surface(u);
+            let (e1, _) = sp.tangent_basis();
+            // move along the surface in tangent direction e1
+            let h = 1e-6;
+            let pa = sp.p + h * e1;
+            let pb = sp.p - h * e1;
+            let na = s.surface(pa).normal;
+            let nb = s.surface(pb).normal;
+            let dn = (na - nb) / (2.0 * h);
+            let expected = sp.shape * e1;
+            assert!((dn - expected).length() < 1e-6, "{dn} vs {expected}");
+        }
+    }
+
+    #[test]
+    fn support_point_has_the_requested_normal() {
+        let s = lumpy();
+        for d in fibonacci_sphere(200) {
+            let sp = s.support_point(d, d).expect("converges");
+            assert!((sp.normal - d).length() < 1e-13);
+        }
+    }
+}

@@ -1,0 +1,184 @@
+//! Event location on dense output: the times where a scalar function g(t, y(t)) changes sign.
+//!
+//! After each accepted step g is evaluated at the step's end and at interior points of the
+//! interpolant (so that a double crossing inside one step is not missed), and each bracketed
+//! root is refined with Brent's method on t ↦ g(t, dense(t)) to a time tolerance of
+//! 1e-13·max(1, |t|). The error of a located event is therefore the interpolant's error, not the
+//! step length.
+
+use super::{IntegrateError, Stepper};
+
+/// Which sign changes count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    /// g goes from negative to positive.
+    Rising,
+    /// g goes from positive to negative.
+    Falling,
+    /// Either.
+    Both,
+}
+
+/// Interior probes per step in addition to the end point.
+const PROBES: usize = 3;
+
+/// Finds the crossings of `g` in the step just taken by `stepper` (from `t_prev` to `t`), in
+/// time order, appending their times to `out`.
+pub fn crossings_in_last_step<const N: usize>(
+    stepper: &mut dyn Stepper<N>,
+    g: &impl Fn(f64, &[f64; N]) -> f64,
+    direction: Direction,
+    out: &mut Vec<f64>,
+) {
+    let t0 = stepper.t_prev();
+    let t1 = stepper.t();
+    if t1 <= t0 {
+        return;
+    }
+    let mut ta = t0;
+    let mut ga = g(t0, stepper.y_prev());
+    for j in 1..=PROBES + 1 {
+        let tb = if j == PROBES + 1 {
+            t1
+        } else {
+            t0 + (t1 - t0) * j as f64 / (PROBES + 1) as f64
+        };
+        let gb = if j == PROBES + 1 {
+            g(t1, stepper.y())
+        } else {
+            let y = stepper.dense(tb);
+            g(tb, &y)
+        };
+        let rising = ga < 0.0 && gb >= 0.0;
+        let falling = ga > 0.0 && gb <= 0.0;
+        let wanted = match direction {
+            Direction::Rising => rising,
+            Direction::Falling => falling,
+            Direction::Both => rising || falling,
+        };
+        if wanted {
+            let root = brent(
+                |t| {
+                    let y = stepper.dense(t);
+                    g(t, &y)
+                },
+                ta,
+                tb,
+                ga,
+                gb,
+                1e-13 * tb.abs().max(1.0),
+            );
+            out.push(root);
+        }
+        ta = tb;
+        ga = gb;
+    }
+}
+
+/// Integrates until `t_end` or until `stop(events_so_far)` says so, collecting crossings.
+pub fn integrate_collecting<const N: usize>(
+    stepper: &mut dyn Stepper<N>,
+    t_end: f64,
+    max_steps: u64,
+    g: &impl Fn(f64, &[f64; N]) -> f64,
+    direction: Direction,
+    mut stop: impl FnMut(&[f64]) -> bool,
+) -> Result<Vec<f64>, IntegrateError> {
+    let mut events = Vec::new();
+    while stepper.t() < t_end {
+        if stepper.stats().steps >= max_steps {
+            return Err(IntegrateError::TooManySteps {
+                t: stepper.t(),
+                max_steps,
+            });
+        }
+        stepper.step(t_end)?;
+        let before = events.len();
+        crossings_in_last_step(stepper, g, direction, &mut events);
+        if events.len() > before && stop(&events) {
+            break;
+        }
+    }
+    Ok(events)
+}
+
+/// Brent's root finder on a bracket [a, b] with f(a)·f(b) ≤ 0 (Brent 1973, `zero`).
+pub fn brent(mut f: impl FnMut(f64) -> f64, a: f64, b: f64, fa: f64, fb: f64, tol: f64) -> f64 {
+    let (mut a, mut b, mut fa, mut fb) = (a, b, fa, fb);
+    if fa == 0.0 {
+        return a;
+    }
+    if fb == 0.0 {
+        return b;
+    }
+    let mut c = a;
+    let mut fc = fa;
+    let mut d = b - a;
+    let mut e = d;
+    for _ in 0..200 {
+        if fb.signum() == fc.signum() {
+            c = a;
+            fc = fa;
+            d = b - a;
+            e = d;
+        }
+        if fc.abs() < fb.abs() {
+            a = b;
+            b = c;
+            c = a;
+            fa = fb;
+            fb = fc;
+            fc = fa;
+        }
+        let tol1 = 2.0 * f64::EPSILON * b.abs() + 0.5 * tol;
+        let m = 0.5 * (c - b);
+        if m.abs() <= tol1 || fb == 0.0 {
+            return b;
+        }
+        if e.abs() >= tol1 && fa.abs() > fb.abs() {
+            let s = fb / fa;
+            let (mut p, mut q);
+            if a == c {
+                p = 2.0 * m * s;
+                q = 1.0 - s;
+            } else {
+                let qa = fa / fc;
+                let r = fb / fc;
+                p = s * (2.0 * m * qa * (qa - r) - (b - a) * (r - 1.0));
+                q = (qa - 1.0) * (r - 1.0) * (s - 1.0);
+            }
+            if p > 0.0 {
+                q = -q;
+            } else {
+                p = -p;
+            }
+            if 2.0 * p < (3.0 * m * q - (tol1 * q).abs()).min((e * q).abs()) {
+                e = d;
+                d = p / q;
+            } else {
+                d = m;
+                e = m;
+            }
+        } else {
+            d = m;
+            e = m;
+        }
+        a = b;
+        fa = fb;
+        b += if d.abs() > tol1 { d } else { tol1 * m.signum() };
+        fb = f(b);
+    }
+    b
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn brent_finds_cubic_root() {
+        let f = |x: f64| x * x * x - 2.0;
+        let r = brent(f, 0.0, 2.0, f(0.0), f(2.0), 1e-15);
+        assert!((r - 2f64.cbrt()).abs() < 1e-14, "{r}");
+    }
+}

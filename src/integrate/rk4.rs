@@ -1,0 +1,114 @@
+//! Classical fixed-step fourth-order Runge–Kutta with a cubic Hermite interpolant.
+//!
+//! The step is shrunk so that a whole number of steps reaches each `t_limit` exactly; the
+//! interpolant reuses the next step's first stage, so dense output costs one evaluation a step.
+
+use super::{IntegrateError, OdeSystem, Stats, Stepper, all_finite, hermite};
+
+/// RK4 stepper state.
+pub struct Rk4<'a, S, const N: usize> {
+    system: &'a S,
+    dt: f64,
+    t: f64,
+    y: [f64; N],
+    f: [f64; N],
+    t_prev: f64,
+    y_prev: [f64; N],
+    f_prev: [f64; N],
+    stats: Stats,
+}
+
+impl<'a, S: OdeSystem<N>, const N: usize> Rk4<'a, S, N> {
+    /// Starts at (t0, y0) with nominal step `dt`.
+    pub fn new(system: &'a S, t0: f64, y0: [f64; N], dt: f64) -> Self {
+        let f = system.rhs(t0, &y0);
+        Self {
+            system,
+            dt,
+            t: t0,
+            y: y0,
+            f,
+            t_prev: t0,
+            y_prev: y0,
+            f_prev: f,
+            stats: Stats {
+                rhs_evals: 1,
+                ..Stats::default()
+            },
+        }
+    }
+}
+
+/// One classical RK4 step from (t, y) with y' = f already known at the start.
+pub(crate) fn rk4_step<S: OdeSystem<N>, const N: usize>(
+    system: &S,
+    t: f64,
+    y: &[f64; N],
+    k1: &[f64; N],
+    h: f64,
+) -> [f64; N] {
+    let y2: [f64; N] = std::array::from_fn(|i| y[i] + 0.5 * h * k1[i]);
+    let k2 = system.rhs(t + 0.5 * h, &y2);
+    let y3: [f64; N] = std::array::from_fn(|i| y[i] + 0.5 * h * k2[i]);
+    let k3 = system.rhs(t + 0.5 * h, &y3);
+    let y4: [f64; N] = std::array::from_fn(|i| y[i] + h * k3[i]);
+    let k4 = system.rhs(t + h, &y4);
+    std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
+}
+
+impl<S: OdeSystem<N>, const N: usize> Stepper<N> for Rk4<'_, S, N> {
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn y(&self) -> &[f64; N] {
+        &self.y
+    }
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+    fn y_prev(&self) -> &[f64; N] {
+        &self.y_prev
+    }
+    fn step(&mut self, t_limit: f64) -> Result<(), IntegrateError> {
+        let h = super::fitted_step(t_limit - self.t, self.dt).min(t_limit - self.t);
+        if h <= 0.0 {
+            return Ok(());
+        }
+        let y_new = rk4_step(self.system, self.t, &self.y, &self.f, h);
+        let t_new = if (t_limit - (self.t + h)).abs() <= 1e-12 * t_limit.abs().max(1.0) {
+            t_limit
+        } else {
+            self.t + h
+        };
+        let f_new = self.system.rhs(t_new, &y_new);
+        self.stats.rhs_evals += 4;
+        if !all_finite(&y_new) || !all_finite(&f_new) {
+            return Err(IntegrateError::NonFinite { t: t_new });
+        }
+        self.t_prev = self.t;
+        self.y_prev = self.y;
+        self.f_prev = self.f;
+        self.t = t_new;
+        self.y = y_new;
+        self.f = f_new;
+        self.stats.steps += 1;
+        Ok(())
+    }
+    fn dense(&mut self, t: f64) -> [f64; N] {
+        let h = self.t - self.t_prev;
+        if h == 0.0 {
+            return self.y;
+        }
+        hermite(
+            &self.y_prev,
+            &self.f_prev,
+            &self.y,
+            &self.f,
+            h,
+            (t - self.t_prev) / h,
+        )
+    }
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+}
