@@ -13,8 +13,9 @@
 //!   θ̈ = [F κ r (r sin α − r' cos α) − γ s² θ̇] / J − (m r r'/(I + m r²) + s'/s) θ̇².
 //! The first term equals the paper's (SI eq. for θ̈: F r (r sin α − r' cos α)/(κ (r² + r'²)) over
 //! I + m r²) exactly. The θ̇² coefficient is ½J'/J, which makes E = ½Jθ̇² + V + W constant along
-//! solutions; `tests/paper_equations.rs` compares it with the paper's bracket numerically and
-//! records the finding. Dimensionless: F = γ = ⟨r⟩ = 1, I = m/2 (m = m/m0).
+//! solutions. `tests/paper_equations.rs` evaluates the paper's bracket as printed and finds it
+//! equal to ½J'/J (to 1e-9, the accuracy of its finite-difference κ'): the paper's 2D equation is
+//! right; we keep the shorter Lagrangian form because it needs no κ'. Dimensionless: F = γ = ⟨r⟩ = 1, I = m/2 (m = m/m0).
 //!
 //! Drawing: ψ = 3π/2 + Δθ − θ with tan Δθ = r'/r (continuous with an unwrapped θ), the centre at
 //! x_cm = x_c − r r'/√(r² + r'²) downhill and height h above the ramp.
