@@ -7,8 +7,12 @@
 //! Fᵢ the stage derivatives and exp(hF)·y the group action:
 //! ```text
 //! Y2 = exp(h F1 / 2)·y0        Y3 = exp(h F2 / 2)·y0        Y4 = exp(h F3 − h F1 / 2)·Y2
-//! y1 = exp(h(F1/4 + F2/6 + F3/6 − F4/12)) · exp(h(−F1/12 + F2/6 + F3/6 + F4/4)) · y0
+//! y1 = exp(h(−F1/12 + F2/6 + F3/6 + F4/4)) · exp(h(F1/4 + F2/6 + F3/6 − F4/12)) · y0
 //! ```
+//! (the right factor acts first). With q̇ = ½ ω q the algebra acts on the left, and this is the
+//! order of the two final exponentials that makes the step fourth order; the other order leaves
+//! the commutator ½[X, Y] = O(h³) per step, i.e. a second-order method. `tests/integrator_order.rs`
+//! measures the order on the 3D model, so a regression here fails CI.
 //! The angular velocity of a stage is read back from the system's own q̇ as ω = 2 q̇ q̄ / |q|², so
 //! any [`OdeSystem`] with a [`OdeSystem::quaternion_slot`] can use this step unchanged.
 
@@ -70,20 +74,20 @@ pub(crate) fn cf4_step<S: OdeSystem<N>, const N: usize>(
     let inner = act(
         y0,
         &[
-            (-1.0 / 12.0, y0, f1),
+            (0.25, y0, f1),
             (1.0 / 6.0, &y2, &f2),
             (1.0 / 6.0, &y3, &f3),
-            (0.25, &y4, &f4),
+            (-1.0 / 12.0, &y4, &f4),
         ],
     );
     // The outer exponential acts on the inner result: vector parts add up to the RK4 weights.
     let outer = act(
         &inner,
         &[
-            (0.25, y0, f1),
+            (-1.0 / 12.0, y0, f1),
             (1.0 / 6.0, &y2, &f2),
             (1.0 / 6.0, &y3, &f3),
-            (-1.0 / 12.0, &y4, &f4),
+            (0.25, &y4, &f4),
         ],
     );
     outer
