@@ -10,7 +10,13 @@ use rollphase::geometry::Body;
 
 /// The paper's θ̈ (SI, dimensionless, F = γ = ⟨r⟩ = 1, I = m/2), derivatives of κ by central
 /// differences (h = 1e-5, error ~1e-10, far below the differences that matter here).
-fn paper_theta_ddot(disk: &rollphase::geometry::Disk, m: f64, alpha: f64, theta: f64, td: f64) -> f64 {
+fn paper_theta_ddot(
+    disk: &rollphase::geometry::Disk,
+    m: f64,
+    alpha: f64,
+    theta: f64,
+    td: f64,
+) -> f64 {
     let j = disk.jet(theta);
     let (r, r1, r2) = (j.r, j.r1, j.r2);
     let kappa = |t: f64| disk.jet(t).curvature();
@@ -22,7 +28,9 @@ fn paper_theta_ddot(disk: &rollphase::geometry::Disk, m: f64, alpha: f64, theta:
     let i = 0.5 * m;
     let big = i + m * r * r;
     let drive = r * (r * alpha.sin() - r1 * alpha.cos()) / (k * (r * r + r1 * r1));
-    let bracket = (i + m * r1 * r1) / big * r * d_rk + k * r1 * r2 + m * r * r / big * d_r2k
+    let bracket = (i + m * r1 * r1) / big * r * d_rk
+        + k * r1 * r2
+        + m * r * r / big * d_r2k
         + i / big * r1 * r1 * dk;
     (drive - td) / big - bracket * td * td / (k * (r * r + r1 * r1))
 }
@@ -39,10 +47,18 @@ fn drive_and_drag_terms_match_the_paper_exactly() {
             // θ̇ = 0 isolates the drive term; the drag term is linear in θ̇ and tested at ±θ̇.
             let a0 = ours.theta_ddot(theta, 0.0);
             let p0 = paper_theta_ddot(d, m, 0.15, theta, 0.0);
-            assert!((a0 - p0).abs() <= 1e-12 * (1.0 + p0.abs()), "drive at θ = {theta}: {a0} vs {p0}");
+            assert!(
+                (a0 - p0).abs() <= 1e-12 * (1.0 + p0.abs()),
+                "drive at θ = {theta}: {a0} vs {p0}"
+            );
             let lin_ours = 0.5 * (ours.theta_ddot(theta, 1e-3) - ours.theta_ddot(theta, -1e-3));
-            let lin_paper = 0.5 * (paper_theta_ddot(d, m, 0.15, theta, 1e-3) - paper_theta_ddot(d, m, 0.15, theta, -1e-3));
-            assert!((lin_ours - lin_paper).abs() <= 1e-10 * (1.0 + lin_paper.abs()), "drag at θ = {theta}");
+            let lin_paper = 0.5
+                * (paper_theta_ddot(d, m, 0.15, theta, 1e-3)
+                    - paper_theta_ddot(d, m, 0.15, theta, -1e-3));
+            assert!(
+                (lin_ours - lin_paper).abs() <= 1e-10 * (1.0 + lin_paper.abs()),
+                "drag at θ = {theta}"
+            );
         }
     }
 }
@@ -67,5 +83,8 @@ fn centrifugal_coefficient_compared_with_the_paper() {
         worst = worst.max((a - p).abs() / (1e-3 + a.abs()));
     }
     println!("largest relative difference in the θ̇² coefficient: {worst:e}");
-    assert!(worst < 1e-7, "the paper's θ̇² coefficient differs from the Lagrangian one by {worst:e}");
+    assert!(
+        worst < 1e-7,
+        "the paper's θ̇² coefficient differs from the Lagrangian one by {worst:e}"
+    );
 }

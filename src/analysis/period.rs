@@ -28,6 +28,8 @@ pub struct PeriodResult {
     pub halts: bool,
     /// Inertial only: whether successive periods converged before the time limit.
     pub converged: bool,
+    /// Estimated relative error of the period (quadrature error estimate, viscous only).
+    pub relative_error: f64,
     /// Simulated time used (0 for the quadrature).
     pub t_simulated: f64,
 }
@@ -41,18 +43,21 @@ pub fn viscous_disk_period(disk: &Disk, ramp: &Ramp) -> PeriodResult {
             mean_angular_speed: 0.0,
             halts: true,
             converged: true,
+            relative_error: 0.0,
             t_simulated: 0.0,
         };
     }
     let model = DiskViscous::new(disk, ramp);
     let f = |t: f64| 1.0 / model.theta_dot(t);
     let start = ca.theta;
-    let (t, _) = integrate_adaptive(&f, start, start + std::f64::consts::TAU, 1e-13);
+    let q = integrate_adaptive(&f, start, start + std::f64::consts::TAU, 1e-12, 2_000_000);
+    let t = q.value;
     PeriodResult {
         period: Some(t),
         mean_angular_speed: std::f64::consts::TAU / t,
         halts: false,
-        converged: true,
+        converged: q.error <= 1e-9 * t,
+        relative_error: q.error / t,
         t_simulated: 0.0,
     }
 }
@@ -110,6 +115,7 @@ pub fn inertial_disk_period(
                     mean_angular_speed: std::f64::consts::TAU / c,
                     halts: false,
                     converged: true,
+                    relative_error: 1e-8,
                     t_simulated: st.t(),
                 });
             }
@@ -123,6 +129,7 @@ pub fn inertial_disk_period(
             mean_angular_speed: 0.0,
             halts: resting,
             converged: resting,
+            relative_error: 0.0,
             t_simulated: st.t(),
         });
     }
@@ -134,6 +141,7 @@ pub fn inertial_disk_period(
         mean_angular_speed: std::f64::consts::TAU / mean,
         halts: false,
         converged: false,
+        relative_error: f64::NAN,
         t_simulated: st.t(),
     })
 }

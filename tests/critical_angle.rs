@@ -1,0 +1,133 @@
+//! The critical angle α* = atan max |∇ ln r| (SI §1B, §2D): exact for single modes, never below a
+//! much denser grid's maximum, and the 2D disk halts just below it and cruises just above.
+
+mod common;
+
+use glam::DVec3;
+use rollphase::analysis::{critical_angle, viscous_disk_period};
+use rollphase::dynamics::Ramp;
+use rollphase::geometry::{Body, Disk, DiskMode, Sphere, SphereCoeff, sphere};
+
+#[test]
+fn single_disk_mode_has_the_closed_form_alpha_star() {
+    // r = 1 + b sin(lθ), b = a/l²: Q* = (a/l)/√(1 − b²) at sin(lθ) = −b.
+    for (l, a) in [(2u32, 0.3), (3, -0.2), (5, 0.9)] {
+        let disk = Disk::new(vec![DiskMode { l, a, phase: 0.7 }]);
+        let ca = critical_angle(&Body::Disk(disk.clone()));
+        let b = a / (l * l) as f64;
+        let exact = ((a.abs() / l as f64) / (1.0 - b * b).sqrt()).atan();
+        assert!(
+            (ca.alpha_star - exact).abs() < 1e-14,
+            "l = {l}: {} vs {exact}",
+            ca.alpha_star
+        );
+        let q = disk.jet(ca.theta).quality();
+        assert!(
+            (q.atan() - exact).abs() < 1e-14,
+            "θ* = {} is a maximiser",
+            ca.theta
+        );
+    }
+}
+
+#[test]
+fn random_disk_alpha_star_beats_a_million_point_grid() {
+    let body = common::disk(12, 0.08, 10);
+    let Body::Disk(d) = &body else { unreachable!() };
+    let ca = critical_angle(&body);
+    let n = 1_000_000;
+    let grid_max = (0..n)
+        .map(|i| d.jet(i as f64 * std::f64::consts::TAU / n as f64).quality())
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert!(
+        ca.q_star >= grid_max - 1e-15,
+        "{} < grid {grid_max}",
+        ca.q_star
+    );
+    assert!(
+        ca.q_star - grid_max < 1e-9,
+        "refined max {} far above grid {grid_max}",
+        ca.q_star
+    );
+    assert!(ca.q_second_derivative < 0.0);
+}
+
+#[test]
+fn axisymmetric_sphere_matches_a_one_dimensional_search() {
+    // r = 1 + (A/6) Y_2^0: Q(θ) = |r_θ|/r with r_θ = −(A/6)(1/4)√(5/π)·6 cos θ sin θ.
+    let a = 0.8;
+    let body = Sphere::new(vec![SphereCoeff {
+        l: 2,
+        m: 0,
+        re: a,
+        im: 0.0,
+    }]);
+    let c = a / 6.0 * 0.25 * (5.0 / std::f64::consts::PI).sqrt();
+    let q =
+        |t: f64| (c * 6.0 * t.cos() * t.sin()).abs() / (1.0 + c * (3.0 * t.cos().powi(2) - 1.0));
+    let (_, q1d) =
+        rollphase::geometry::refine_1d(|t| q(t.rem_euclid(std::f64::consts::PI)), 100_000);
+    let ca = critical_angle(&Body::Sphere(body));
+    assert!(
+        (ca.q_star - q1d).abs() < 1e-12,
+        "3D {} vs 1D {q1d}",
+        ca.q_star
+    );
+}
+
+#[test]
+fn random_sphere_alpha_star_beats_a_dense_grid() {
+    let body = common::sphere(4);
+    let Body::Sphere(s) = &body else {
+        unreachable!()
+    };
+    let ca = critical_angle(&body);
+    let grid_max = sphere::fibonacci_sphere(300_000)
+        .into_iter()
+        .map(|u| s.surface(u).quality())
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert!(
+        ca.q_star >= grid_max - 1e-15,
+        "{} < grid {grid_max}",
+        ca.q_star
+    );
+    assert!(
+        ca.q_star - grid_max < 1e-5,
+        "refined {} vs grid {grid_max}",
+        ca.q_star
+    );
+    let u = DVec3::from_array(ca.direction);
+    assert!((s.surface(u).quality() - ca.q_star).abs() < 1e-15);
+}
+
+#[test]
+fn disk_halts_just_below_alpha_star_and_cruises_just_above() {
+    let body = common::disk(5, 0.08, 10);
+    let Body::Disk(d) = &body else { unreachable!() };
+    let a_star = critical_angle(&body).alpha_star;
+    let below = viscous_disk_period(d, &Ramp::new(a_star - 1e-6, 0.0).unwrap());
+    assert!(below.halts && below.mean_angular_speed == 0.0);
+    let above = viscous_disk_period(d, &Ramp::new(a_star + 1e-6, 0.0).unwrap());
+    assert!(!above.halts);
+    // Near α*, T = T*/√δα + (a regular part); differences cancel the regular part.
+    let period = |da: f64| {
+        viscous_disk_period(d, &Ramp::new(a_star + da, 0.0).unwrap())
+            .period
+            .unwrap()
+    };
+    let t_star_measured = (period(1e-7) - period(1e-5)) / (10f64.powf(3.5) - 10f64.powf(2.5));
+    // Expansion with the Taylor factor: Q(θ* + δθ) = Q* + ½Q''δθ², which gives
+    // T* = √2 · G(θ*) π / √(−Q''(θ*)), G = (r² + r'²)κ/r² (the SI omits the ½, so its T* is
+    // smaller by √2).
+    let ca = critical_angle(&body);
+    let j = d.jet(ca.theta);
+    let g = (j.r * j.r + j.r1 * j.r1) * j.curvature() / (j.r * j.r);
+    let t_star = 2f64.sqrt() * g * std::f64::consts::PI / (-ca.q_second_derivative).sqrt();
+    let t_star_paper = t_star / 2f64.sqrt();
+    println!("T* measured {t_star_measured}, with ½ {t_star}, as printed in the SI {t_star_paper}");
+    assert!(
+        (t_star_measured / t_star - 1.0).abs() < 1e-3,
+        "T* {t_star_measured} vs {t_star}"
+    );
+    assert!((t_star_measured / t_star_paper - 1.0).abs() > 0.3);
+}
