@@ -1,1 +1,105 @@
-//! The command line.
+//! The command line: argument structures (clap) and one file per subcommand. Errors are
+//! `anyhow` with context naming the file or flag; `main.rs` prints them and sets the exit code.
+
+pub mod inspect;
+pub mod period;
+pub mod shape;
+pub mod simulate;
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use clap::{Parser, Subcommand};
+
+use crate::geometry::{Body, ShapeFile};
+
+/// Irregular cylinders and spheres rolling down a ramp: the models, integrators and analyses of
+/// Qian, Jung & Mahadevan, "Phase transitions in rolling of irregular cylinders and spheres".
+///
+/// Units: force F, drag γ and mean radius ⟨r⟩ are 1; time is in γ/(F⟨r⟩); mass is m/m0 with
+/// m0 = γ²/(F⟨r⟩³), and m/m0 = 0 means the viscous (overdamped) model. Angles are in radians.
+///
+/// A typical session:
+///   rollphase shape --dim 3 --seed 1 -o body.json
+///   rollphase inspect body.json
+///   rollphase simulate body.json --alpha 0.3 --t-end 100 -o traj.csv --summary summary.json
+#[derive(Debug, Parser)]
+#[command(name = "rollphase", version, verbatim_doc_comment)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Generate a random body (seeded) and write its shape file (JSON).
+    Shape(shape::ShapeArgs),
+    /// Report a body's convexity, curvature range and critical angle α*.
+    Inspect(inspect::InspectArgs),
+    /// Period T and mean angular speed 2π/T of a rolling disk (2D), or that it halts.
+    Period(period::PeriodArgs),
+    /// Simulate one run and write the trajectory as CSV.
+    Simulate(simulate::SimulateArgs),
+}
+
+/// Runs the parsed command.
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Shape(a) => shape::run(a),
+        Command::Inspect(a) => inspect::run(a),
+        Command::Period(a) => period::run(a),
+        Command::Simulate(a) => simulate::run(a),
+    }
+}
+
+/// Reads, parses and validates a shape file; errors name the file and, for JSON, line and column.
+pub fn load_body(path: &Path) -> Result<Body> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read shape file {}", path.display()))?;
+    let file = ShapeFile::from_json(&text).with_context(|| {
+        format!(
+            "{} is not a valid shape file. Expected {{\"kind\":\"disk\",\"modes\":[{{\"l\":2,\"a\":0.05,\"phase\":1.2}}]}} \
+             or {{\"kind\":\"sphere\",\"coeffs\":[{{\"l\":2,\"m\":-2,\"re\":0.1,\"im\":0.0}}]}}",
+            path.display()
+        )
+    })?;
+    Body::from_file(&file).with_context(|| format!("bad shape file {}", path.display()))
+}
+
+/// Parses "a,b,c" into exactly `n` finite numbers for flag `flag`.
+pub fn parse_list(text: &str, n: usize, flag: &str, names: &str) -> Result<Vec<f64>> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != n {
+        bail!(
+            "{flag} expects {n} comma-separated numbers {names}, got {:?}",
+            text
+        );
+    }
+    parts
+        .iter()
+        .map(|p| {
+            let v: f64 = p
+                .parse()
+                .with_context(|| format!("{flag}: {p:?} is not a number (expected {names})"))?;
+            if !v.is_finite() {
+                bail!("{flag}: {p} is not a finite number (expected {names})");
+            }
+            Ok(v)
+        })
+        .collect()
+}
+
+/// Writes text to a file, or to standard output for `None` or "-".
+pub fn write_output(path: Option<&PathBuf>, text: &str) -> Result<()> {
+    match path {
+        Some(p) if p.as_os_str() != "-" => {
+            std::fs::write(p, text).with_context(|| format!("cannot write {}", p.display()))
+        }
+        _ => {
+            print!("{text}");
+            Ok(())
+        }
+    }
+}

@@ -241,7 +241,8 @@ mod tests {
     /// Reference values from the closed forms in standard tables (Condon–Shortley phase).
     #[test]
     fn matches_reference_table() {
-        let cases: Vec<(u32, i32, Box<dyn Fn(f64, f64) -> (f64, f64)>)> = vec![
+        type Closed = Box<dyn Fn(f64, f64) -> (f64, f64)>;
+        let cases: Vec<(u32, i32, Closed)> = vec![
             (
                 2,
                 0,

@@ -7,7 +7,7 @@
 //! [`super::harmonics`]. The body is the zero set of F(x) = |x| − R(x) with R(x) = r(x/|x|), the
 //! degree-0 extension, so at p = r u: ∇F = u − ∇_s r / r and
 //! H_F = (I − u uᵀ)/r − H_R(u)/r², with H_R(u) = Σ_l [H P_l − l(∇P_l uᵀ + u ∇P_lᵀ) − l P_l I
-//! + l(l+2) P_l u uᵀ] at the unit vector u. The shape operator is S = P H_F P / |∇F| on the
+//! \+ l(l+2) P_l u uᵀ] at the unit vector u. The shape operator is S = P H_F P / |∇F| on the
 //! tangent plane (P the projector). No (θ, φ) chart is involved, so the poles are ordinary points.
 
 use glam::{DMat3, DVec3};

@@ -67,11 +67,7 @@ impl Method {
                         allowed: "a finite number > 0",
                     });
                 }
-                (
-                    "rtol",
-                    rtol,
-                    rtol.is_finite() && rtol >= 1e-15 && rtol < 1.0,
-                )
+                ("rtol", rtol, (1e-15..1.0).contains(&rtol))
             }
         };
         if ok {

@@ -1,0 +1,125 @@
+//! `rollphase inspect`: convexity, curvature range and the critical angle of a body.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+use serde::Serialize;
+
+use crate::analysis::critical_angle;
+use crate::geometry::Body;
+
+/// Report a body's convexity, curvature range and critical angle α*.
+///
+/// α* = atan max |∇ ln r|: below it the body can rest on the ramp (2D: it must halt; 3D: some
+/// orientations halt), above it no rest point exists. Curvature is κ in 2D and the Gaussian
+/// curvature K in 3D; convexity needs κ > 0 (2D) or both principal curvatures > 0 (3D).
+#[derive(Debug, Args)]
+#[command(verbatim_doc_comment)]
+pub struct InspectArgs {
+    /// Shape file (JSON).
+    pub file: PathBuf,
+    /// Print JSON (keys convex, curvature_min, curvature_max, alpha_star, …).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What `inspect --json` prints.
+#[derive(Debug, Serialize)]
+pub struct Inspection {
+    /// 2 or 3.
+    pub dimension: u32,
+    /// Strictly convex (required by the rolling models).
+    pub convex: bool,
+    /// Minimum of κ (2D) or Gaussian curvature K (3D).
+    pub curvature_min: f64,
+    /// Maximum of κ (2D) or K (3D).
+    pub curvature_max: f64,
+    /// Which quantity decides convexity.
+    pub convexity_measure: &'static str,
+    /// Its minimum.
+    pub convexity_min: f64,
+    /// Where.
+    pub convexity_place: String,
+    /// α* in radians.
+    pub alpha_star: f64,
+    /// α* in degrees.
+    pub alpha_star_deg: f64,
+    /// max |∇ ln r| = tan α*.
+    pub q_star: f64,
+    /// Maximiser: θ* (2D) or polar angle θ (3D).
+    pub theta_star: f64,
+    /// Maximiser azimuth φ (3D; 0 in 2D).
+    pub phi_star: f64,
+    /// Maximiser as a body-frame unit vector (3D; zeros in 2D).
+    pub direction_star: [f64; 3],
+}
+
+/// Computes the inspection of a body.
+pub fn inspect(body: &Body) -> Inspection {
+    let c = body.curvature();
+    let a = critical_angle(body);
+    Inspection {
+        dimension: body.dimension(),
+        convex: c.convex,
+        curvature_min: c.curvature_min,
+        curvature_max: c.curvature_max,
+        convexity_measure: c.convexity_measure,
+        convexity_min: c.convexity_min,
+        convexity_place: c.convexity_place,
+        alpha_star: a.alpha_star,
+        alpha_star_deg: a.alpha_star.to_degrees(),
+        q_star: a.q_star,
+        theta_star: a.theta,
+        phi_star: a.phi,
+        direction_star: a.direction,
+    }
+}
+
+/// Runs `inspect`.
+pub fn run(a: InspectArgs) -> Result<()> {
+    let body = super::load_body(&a.file)?;
+    let r = inspect(&body);
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&r)?);
+        return Ok(());
+    }
+    let what = if r.dimension == 2 {
+        "disk (2D)"
+    } else {
+        "sphere (3D)"
+    };
+    let curv = if r.dimension == 2 {
+        "curvature κ"
+    } else {
+        "Gaussian curvature K"
+    };
+    println!("{}: {what}", a.file.display());
+    println!(
+        "  convex:          {}{}",
+        if r.convex { "yes" } else { "NO" },
+        if r.convex {
+            String::new()
+        } else {
+            format!(
+                " ({} {:.6} at {})",
+                r.convexity_measure, r.convexity_min, r.convexity_place
+            )
+        }
+    );
+    println!("  {curv}: {:.6} … {:.6}", r.curvature_min, r.curvature_max);
+    println!(
+        "  critical angle:  α* = {:.10} rad = {:.6}°  (max |∇ ln r| = {:.10})",
+        r.alpha_star, r.alpha_star_deg, r.q_star
+    );
+    if r.dimension == 2 {
+        println!("  maximiser:       θ* = {:.10}", r.theta_star);
+    } else {
+        let d = r.direction_star;
+        println!(
+            "  maximiser:       θ = {:.10}, φ = {:.10}  (u = [{:.6}, {:.6}, {:.6}])",
+            r.theta_star, r.phi_star, d[0], d[1], d[2]
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,132 @@
+//! `rollphase period`: the period of a rolling disk and its order parameter 2π/T.
+
+use std::path::PathBuf;
+
+use anyhow::{Result, bail};
+use clap::Args;
+use serde::Serialize;
+
+use crate::analysis::{critical_angle, inertial_disk_period, viscous_disk_period};
+use crate::dynamics::Ramp;
+use crate::geometry::Body;
+
+/// Period T of a rolling disk and its mean angular speed 2π/T, or that it halts.
+///
+/// Viscous (--mass 0, the default): T = ∫ dθ/θ̇ by adaptive quadrature; the disk halts iff
+/// α ≤ α*. Inertial (--mass > 0): simulated from (--theta0, --thetadot0) until successive periods
+/// agree to 1e-8, at most --t-max time units; with inertia a disk can keep rolling below α*
+/// (hysteresis) and its fate depends on where it starts.
+#[derive(Debug, Args)]
+#[command(verbatim_doc_comment)]
+pub struct PeriodArgs {
+    /// Shape file of a disk (JSON, "kind": "disk").
+    pub file: PathBuf,
+    /// Ramp angle α in radians, 0 < α < π/2.
+    #[arg(long, allow_negative_numbers = true)]
+    pub alpha: f64,
+    /// Mass ratio m/m0 ≥ 0 (0: viscous model).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub mass: f64,
+    /// Inertial: initial contact angle θ₀.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub theta0: f64,
+    /// Inertial: initial θ̇₀.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub thetadot0: f64,
+    /// Inertial: longest simulated time.
+    #[arg(long, default_value_t = 5000.0)]
+    pub t_max: f64,
+    /// Inertial: DOP853 relative tolerance.
+    #[arg(long, default_value_t = 1e-10)]
+    pub rtol: f64,
+    /// Print JSON (keys period, mean_angular_speed, halts, …).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What `period --json` prints.
+#[derive(Debug, Serialize)]
+pub struct PeriodReport {
+    /// Time for θ to advance 2π; null when the disk halts.
+    pub period: Option<f64>,
+    /// 2π/T; 0 when it halts.
+    pub mean_angular_speed: f64,
+    /// Whether it comes to rest.
+    pub halts: bool,
+    /// Whether the number is converged (quadrature error ≤ 1e-9, or periodic to 1e-8).
+    pub converged: bool,
+    /// disk-viscous or disk-inertial.
+    pub model: &'static str,
+    /// α (rad).
+    pub alpha: f64,
+    /// α* of the disk (rad).
+    pub alpha_star: f64,
+    /// m/m0.
+    pub mass_ratio: f64,
+}
+
+/// Runs `period`.
+pub fn run(a: PeriodArgs) -> Result<()> {
+    let body = super::load_body(&a.file)?;
+    let Body::Disk(disk) = &body else {
+        bail!(
+            "{} is a 3D sphere; `period` is for disks. A sphere's orbits are found by simulation: \
+             use `rollphase simulate`",
+            a.file.display()
+        );
+    };
+    body.check_convex()?;
+    let ramp = Ramp::new(a.alpha, a.mass)?;
+    if !(a.t_max.is_finite() && a.t_max > 0.0) {
+        bail!(
+            "--t-max {} is not allowed (needs a finite value > 0)",
+            a.t_max
+        );
+    }
+    for (flag, v) in [("--theta0", a.theta0), ("--thetadot0", a.thetadot0)] {
+        if !v.is_finite() {
+            bail!("{flag} {v} is not a finite number");
+        }
+    }
+    let alpha_star = critical_angle(&body).alpha_star;
+    let (p, model) = if ramp.is_viscous() {
+        (viscous_disk_period(disk, &ramp), "disk-viscous")
+    } else {
+        (
+            inertial_disk_period(disk, &ramp, a.theta0, a.thetadot0, a.rtol, a.t_max)?,
+            "disk-inertial",
+        )
+    };
+    let report = PeriodReport {
+        period: p.period,
+        mean_angular_speed: p.mean_angular_speed,
+        halts: p.halts,
+        converged: p.converged,
+        model,
+        alpha: a.alpha,
+        alpha_star,
+        mass_ratio: a.mass,
+    };
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        println!("{model}, α = {} rad (α* = {:.10})", a.alpha, alpha_star);
+        match p.period {
+            Some(t) => println!(
+                "  rolls: T = {t:.12}, 2π/T = {:.12}{}",
+                p.mean_angular_speed,
+                if p.converged {
+                    ""
+                } else {
+                    "  (not converged: periods still changing at t-max)"
+                }
+            ),
+            None if p.halts => println!("  halts: 2π/T = 0"),
+            None => println!(
+                "  no full revolution within t-max = {}: treat as halting",
+                a.t_max
+            ),
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,56 @@
+//! `rollphase shape`: a seeded random body written as a shape file.
+
+use std::path::PathBuf;
+
+use anyhow::{Result, bail};
+use clap::Args;
+
+use crate::geometry::{Body, random_disk, random_sphere};
+
+/// Generate a random body and write its shape file.
+///
+/// 2D (a cylinder's cross-section): r(θ) = 1 + Σ_{l=2..M} A_l/l² sin(l(θ − θ_l)),
+/// A_l ~ N(0, σ), θ_l ~ U[0, 2π). The paper uses σ = 0.08, M = 10 (viscous) and σ = 0.12, M = 5
+/// (inertial). 3D: r = 1 + Re Σ_{l=2..L} Σ_m A_lm/(l(l+1)) Y_l^m, A_lm = a·e^{imP} with
+/// a ~ N(0, σ), P ~ U[0, 2π); the paper uses σ = 0.25, L = 5. The same seed always gives the
+/// same body. A body that is not strictly convex is refused (try another seed or a smaller σ).
+#[derive(Debug, Args)]
+#[command(verbatim_doc_comment)]
+pub struct ShapeArgs {
+    /// 2 for a disk (cylinder), 3 for a sphere.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=3))]
+    pub dim: u32,
+    /// Random seed.
+    #[arg(long)]
+    pub seed: u64,
+    /// Standard deviation σ of the amplitudes [default: 0.08 in 2D, 0.25 in 3D].
+    #[arg(long, allow_negative_numbers = true)]
+    pub sigma: Option<f64>,
+    /// Highest mode: M in 2D (2..=64), L in 3D (2..=12) [default: 10 in 2D, 5 in 3D].
+    #[arg(long)]
+    pub modes: Option<u32>,
+    /// Output file [default: standard output].
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+}
+
+/// Runs `shape`.
+pub fn run(a: ShapeArgs) -> Result<()> {
+    let body = if a.dim == 2 {
+        Body::Disk(random_disk(
+            a.seed,
+            a.sigma.unwrap_or(0.08),
+            a.modes.unwrap_or(10),
+        )?)
+    } else {
+        Body::Sphere(random_sphere(
+            a.seed,
+            a.sigma.unwrap_or(0.25),
+            a.modes.unwrap_or(5),
+        )?)
+    };
+    if let Err(e) = body.check_convex() {
+        bail!("seed {} gives a body the models cannot roll: {e}", a.seed);
+    }
+    super::write_output(a.output.as_ref(), &(body.to_file().to_json() + "\n"))
+}

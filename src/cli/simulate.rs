@@ -1,0 +1,267 @@
+//! `rollphase simulate`: one run written as CSV, with an optional JSON health summary.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, ValueEnum};
+use glam::{DQuat, DVec3};
+use serde::Serialize;
+
+use crate::dynamics::Ramp;
+use crate::dynamics::sphere3d::orientation_touching;
+use crate::geometry::{Body, sphere::direction};
+use crate::integrate::Method;
+use crate::simulate::{DISK_HEADER, InitialState, RunSpec, SPHERE_HEADER, Summary};
+
+/// Which integrator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum IntegratorName {
+    /// Adaptive 8th-order Dormand–Prince with dense output (--rtol, --atol).
+    Dop853,
+    /// Classical fixed-step RK4 (--dt).
+    Rk4,
+    /// Fixed-step Lie-group RK4: keeps |q| = 1 exactly (--dt).
+    Cf4,
+}
+
+/// Simulate one run and write the trajectory as CSV.
+///
+/// The model follows from the body and --mass: a disk file gives the 2D model, a sphere file the
+/// 3D model; m/m0 = 0 is viscous, m/m0 > 0 inertial.
+///
+/// CSV columns, 2D: t,theta,theta_dot,psi,x,y (θ contact angle in the body, ψ body rotation,
+/// (x, y) centre of mass: x downhill along the ramp, y height above it).
+/// 3D: t,qw,qx,qy,qz,ux,uy,uz,wx,wy,wz,x,y,z (q body-to-lab unit quaternion, Hamilton; u the
+/// contact point as a body-frame unit vector; w the lab angular velocity; x, y, z the centre of
+/// mass: x downhill, z above the ramp).
+///
+/// 3D start: --q0 w,x,y,z, or --contact θ,φ (the body point at polar angle θ, azimuth φ put on the
+/// ramp by the shortest rotation) then --spin s (a turn by s radians about the ramp's normal +z).
+#[derive(Debug, Args)]
+#[command(verbatim_doc_comment)]
+pub struct SimulateArgs {
+    /// Shape file (JSON).
+    pub file: PathBuf,
+    /// Ramp angle α in radians, 0 < α < π/2.
+    #[arg(long, allow_negative_numbers = true)]
+    pub alpha: f64,
+    /// Mass ratio m/m0 ≥ 0 (0: viscous model).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub mass: f64,
+    /// Rotational drag γ in units of γ0 (0 allowed for inertial runs: energy is then conserved).
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub drag: f64,
+    /// End time.
+    #[arg(long)]
+    pub t_end: f64,
+    /// Output CSV file ("-" for standard output).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// 3D: initial orientation quaternion w,x,y,z (normalised).
+    #[arg(long, conflicts_with = "contact", allow_negative_numbers = true)]
+    pub q0: Option<String>,
+    /// 3D: initial contact point θ,φ in the body frame (polar, azimuth).
+    #[arg(long, allow_negative_numbers = true)]
+    pub contact: Option<String>,
+    /// 3D: spin about the ramp normal after --contact, radians.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub spin: f64,
+    /// 3D inertial: initial lab angular velocity x,y,z.
+    #[arg(long, allow_negative_numbers = true)]
+    pub omega0: Option<String>,
+    /// 2D: initial contact angle θ₀.
+    #[arg(long, allow_negative_numbers = true)]
+    pub theta0: Option<f64>,
+    /// 2D inertial: initial θ̇₀.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub thetadot0: f64,
+    /// Integrator.
+    #[arg(long, value_enum, default_value_t = IntegratorName::Dop853)]
+    pub integrator: IntegratorName,
+    /// DOP853 relative tolerance.
+    #[arg(long, default_value_t = 1e-10)]
+    pub rtol: f64,
+    /// DOP853 absolute tolerance [default: rtol].
+    #[arg(long)]
+    pub atol: Option<f64>,
+    /// RK4/CF4 time step.
+    #[arg(long, default_value_t = 0.01)]
+    pub dt: f64,
+    /// Number of CSV rows, equally spaced from t = 0 to t-end (from the dense output).
+    #[arg(long, default_value_t = 1001)]
+    pub samples: usize,
+    /// Step budget; the run stops with an error beyond it.
+    #[arg(long, default_value_t = 100_000_000)]
+    pub max_steps: u64,
+    /// Write a JSON summary: rhs_evals, steps, max_quat_norm_error, max_contact_normal_error,
+    /// energy_drift, wall_seconds.
+    #[arg(long)]
+    pub summary: Option<PathBuf>,
+}
+
+/// What `--summary` writes.
+#[derive(Debug, Serialize)]
+pub struct SummaryFile {
+    /// Numerical health and work.
+    #[serde(flatten)]
+    pub summary: Summary,
+    /// Wall-clock seconds for the run (CSV writing included).
+    pub wall_seconds: f64,
+    /// RHS evaluations per wall second.
+    pub rhs_evals_per_second: f64,
+    /// α (rad).
+    pub alpha: f64,
+    /// m/m0.
+    pub mass_ratio: f64,
+}
+
+fn initial_state(a: &SimulateArgs, body: &Body) -> Result<InitialState> {
+    match body {
+        Body::Disk(_) => {
+            if a.q0.is_some() || a.contact.is_some() || a.omega0.is_some() {
+                bail!(
+                    "{} is a 2D disk: give --theta0 (and --thetadot0), not --q0/--contact/--omega0",
+                    a.file.display()
+                );
+            }
+            Ok(InitialState::Disk {
+                theta0: a.theta0.unwrap_or(0.0),
+                theta_dot0: a.thetadot0,
+            })
+        }
+        Body::Sphere(s) => {
+            if a.theta0.is_some() {
+                bail!(
+                    "{} is a 3D sphere: give --q0 or --contact θ,φ (and --spin), not --theta0",
+                    a.file.display()
+                );
+            }
+            let q0 = match (&a.q0, &a.contact) {
+                (Some(q), _) => {
+                    let v = super::parse_list(q, 4, "--q0", "w,x,y,z")?;
+                    let q = DQuat::from_xyzw(v[1], v[2], v[3], v[0]);
+                    if q.length() < 1e-12 {
+                        bail!("--q0 {q:?} has zero length; give a rotation quaternion w,x,y,z");
+                    }
+                    q.normalize()
+                }
+                (None, Some(c)) => {
+                    let v = super::parse_list(c, 2, "--contact", "θ,φ")?;
+                    if !a.spin.is_finite() {
+                        bail!("--spin {} is not a finite number", a.spin);
+                    }
+                    orientation_touching(s, direction(v[0], v[1]), a.spin)
+                }
+                (None, None) => {
+                    if !a.spin.is_finite() {
+                        bail!("--spin {} is not a finite number", a.spin);
+                    }
+                    orientation_touching(s, DVec3::new(0.0, 0.0, -1.0), a.spin)
+                }
+            };
+            let omega0 = match &a.omega0 {
+                Some(w) => DVec3::from_slice(&super::parse_list(w, 3, "--omega0", "x,y,z")?),
+                None => DVec3::ZERO,
+            };
+            Ok(InitialState::Sphere { q0, omega0 })
+        }
+    }
+}
+
+/// Runs `simulate`.
+pub fn run(a: SimulateArgs) -> Result<()> {
+    let body = super::load_body(&a.file)?;
+    let ramp = Ramp::with_drag(a.alpha, a.mass, a.drag)?;
+    let method = match a.integrator {
+        IntegratorName::Dop853 => Method::Dop853 {
+            rtol: a.rtol,
+            atol: a.atol.unwrap_or(a.rtol),
+        },
+        IntegratorName::Rk4 => Method::Rk4 { dt: a.dt },
+        IntegratorName::Cf4 => Method::Cf4 { dt: a.dt },
+    };
+    method.validate()?;
+    let initial = initial_state(&a, &body)?;
+    let spec = RunSpec {
+        ramp,
+        initial,
+        method,
+        t_end: a.t_end,
+        samples: a.samples,
+        max_steps: a.max_steps,
+    };
+    let header = if body.dimension() == 2 {
+        DISK_HEADER
+    } else {
+        SPHERE_HEADER
+    };
+    // Write to a temporary name and rename at the end, so a failed run leaves no half file.
+    let to_stdout = a.output.as_os_str() == "-";
+    let tmp = a.output.with_extension("csv.partial");
+    let mut out: Box<dyn Write> = if to_stdout {
+        Box::new(std::io::BufWriter::new(std::io::stdout()))
+    } else {
+        Box::new(std::io::BufWriter::new(
+            std::fs::File::create(&tmp)
+                .with_context(|| format!("cannot create {}", tmp.display()))?,
+        ))
+    };
+    writeln!(out, "{header}")?;
+    let bar = indicatif::ProgressBar::new(a.samples as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} rows, t = {msg} {elapsed}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let start = Instant::now();
+    let mut io_error: Option<std::io::Error> = None;
+    let result = crate::simulate::run(&body, &spec, |row| {
+        if io_error.is_some() {
+            return;
+        }
+        let line = row
+            .iter()
+            .map(|v| v.to_string())
+            .collect::<Vec<_>>()
+            .join(",");
+        if let Err(e) = writeln!(out, "{line}") {
+            io_error = Some(e);
+        }
+        bar.inc(1);
+        bar.set_message(format!("{:.1}", row[0]));
+    });
+    bar.finish_and_clear();
+    let summary = match result {
+        Ok(s) => s,
+        Err(e) => {
+            drop(out);
+            if !to_stdout {
+                let _ = std::fs::remove_file(&tmp);
+            }
+            return Err(e).context("simulation failed; no CSV was written");
+        }
+    };
+    if let Some(e) = io_error {
+        return Err(e).context("cannot write the CSV");
+    }
+    out.flush()?;
+    drop(out);
+    if !to_stdout {
+        std::fs::rename(&tmp, &a.output)
+            .with_context(|| format!("cannot write {}", a.output.display()))?;
+    }
+    let wall = start.elapsed().as_secs_f64();
+    if let Some(path) = &a.summary {
+        let file = SummaryFile {
+            summary,
+            wall_seconds: wall,
+            rhs_evals_per_second: summary.rhs_evals as f64 / wall.max(1e-12),
+            alpha: a.alpha,
+            mass_ratio: a.mass,
+        };
+        std::fs::write(path, serde_json::to_string_pretty(&file)? + "\n")
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,256 @@
+//! Bad input is a clear error, never a panic: the binary exits with status 1 (2 for clap's usage
+//! errors) and one message naming the value, why it is wrong and what is allowed.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn rollphase(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("rollphase-bad-input-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn write(dir: &std::path::Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_string_lossy().into_owned()
+}
+
+/// Asserts a clean failure whose message contains every `needle`.
+fn fails_with(out: &Output, code: i32, needles: &[&str]) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(code), "stderr: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    for n in needles {
+        assert!(err.contains(n), "expected {n:?} in: {err}");
+    }
+}
+
+const DISK: &str =
+    r#"{"kind":"disk","modes":[{"l":2,"a":0.05,"phase":1.2},{"l":3,"a":-0.04,"phase":0.3}]}"#;
+const SPHERE: &str = r#"{"kind":"sphere","coeffs":[{"l":2,"m":-2,"re":0.1,"im":0.0},{"l":3,"m":1,"re":0.05,"im":0.02}]}"#;
+
+#[test]
+fn alpha_outside_the_open_quarter_turn_is_rejected() {
+    let d = temp_dir("alpha");
+    let disk = write(&d, "disk.json", DISK);
+    for alpha in ["0", "-0.1", "1.5708", "2", "NaN", "inf"] {
+        let out = rollphase(&["period", &disk, "--alpha", alpha]);
+        fails_with(&out, 1, &["alpha", "0 < alpha < π/2"]);
+    }
+}
+
+#[test]
+fn negative_or_nan_mass_is_rejected() {
+    let d = temp_dir("mass");
+    let sphere = write(&d, "s.json", SPHERE);
+    for m in ["-1", "NaN"] {
+        let out = rollphase(&[
+            "simulate", &sphere, "--alpha", "0.3", "--mass", m, "--t-end", "1", "-o", "-",
+        ]);
+        fails_with(&out, 1, &["m/m0", "≥ 0"]);
+    }
+}
+
+#[test]
+fn non_convex_shape_names_the_worst_point() {
+    let d = temp_dir("convex");
+    // A strong l = 8 mode: r'' ~ a dominates r and the outline dents inward.
+    let bad = write(
+        &d,
+        "bad.json",
+        r#"{"kind":"disk","modes":[{"l":8,"a":3.0,"phase":0.0}]}"#,
+    );
+    let out = rollphase(&[
+        "simulate", &bad, "--alpha", "0.3", "--t-end", "1", "-o", "-",
+    ]);
+    fails_with(&out, 1, &["not convex", "curvature", "θ =", "needs > 0"]);
+    // inspect reports it without failing
+    let out = rollphase(&["inspect", &bad, "--json"]);
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["convex"], false);
+    assert!(v["curvature_min"].as_f64().unwrap() < 0.0);
+    let bad3 = write(
+        &d,
+        "bad3.json",
+        r#"{"kind":"sphere","coeffs":[{"l":5,"m":3,"re":6.0,"im":0.0}]}"#,
+    );
+    let out = rollphase(&[
+        "simulate", &bad3, "--alpha", "0.3", "--t-end", "1", "-o", "-",
+    ]);
+    fails_with(&out, 1, &["not convex", "principal curvature", "φ ="]);
+}
+
+#[test]
+fn malformed_shape_files_give_line_and_field() {
+    let d = temp_dir("malformed");
+    let cases = [
+        (
+            "trunc.json",
+            "{\"kind\":\"disk\",\n\"modes\":[{\"l\":2,",
+            "line 2",
+        ),
+        (
+            "kind.json",
+            r#"{"kind":"torus","modes":[]}"#,
+            "unknown variant `torus`",
+        ),
+        (
+            "field.json",
+            r#"{"kind":"disk","modes":[{"l":2,"a":0.1,"phase":0.0,"amp":1}]}"#,
+            "unknown field `amp`",
+        ),
+        (
+            "missing.json",
+            r#"{"kind":"sphere","coeffs":[{"l":2,"m":0,"re":0.1}]}"#,
+            "missing field `im`",
+        ),
+        (
+            "type.json",
+            r#"{"kind":"disk","modes":[{"l":"two","a":0.1,"phase":0.0}]}"#,
+            "invalid type",
+        ),
+        ("empty.json", "", "EOF"),
+    ];
+    for (name, text, needle) in cases {
+        let p = write(&d, name, text);
+        let out = rollphase(&["inspect", &p]);
+        fails_with(&out, 1, &[needle, "not a valid shape file"]);
+    }
+}
+
+#[test]
+fn out_of_range_modes_are_rejected() {
+    let d = temp_dir("range");
+    let cases = [
+        (
+            r#"{"kind":"disk","modes":[{"l":1,"a":0.1,"phase":0.0}]}"#,
+            "l = 1",
+        ),
+        (
+            r#"{"kind":"sphere","coeffs":[{"l":2,"m":3,"re":0.1,"im":0.0}]}"#,
+            "−l ≤ m ≤ l",
+        ),
+        (
+            r#"{"kind":"sphere","coeffs":[{"l":13,"m":0,"re":0.1,"im":0.0}]}"#,
+            "l ≤ 12",
+        ),
+        (
+            r#"{"kind":"disk","modes":[{"l":2,"a":0.1,"phase":0.0},{"l":2,"a":0.2,"phase":1.0}]}"#,
+            "twice",
+        ),
+    ];
+    for (i, (text, needle)) in cases.iter().enumerate() {
+        let p = write(&d, &format!("r{i}.json"), text);
+        let out = rollphase(&["inspect", &p]);
+        fails_with(&out, 1, &[needle]);
+    }
+}
+
+#[test]
+fn missing_file_and_wrong_initial_state_are_explained() {
+    let d = temp_dir("state");
+    let disk = write(&d, "disk.json", DISK);
+    let sphere = write(&d, "s.json", SPHERE);
+    fails_with(
+        &rollphase(&["inspect", "/nonexistent/body.json"]),
+        1,
+        &["cannot read shape file"],
+    );
+    fails_with(
+        &rollphase(&[
+            "simulate", &disk, "--alpha", "0.3", "--t-end", "1", "-o", "-", "--q0", "1,0,0,0",
+        ]),
+        1,
+        &["2D disk", "--theta0"],
+    );
+    fails_with(
+        &rollphase(&[
+            "simulate", &sphere, "--alpha", "0.3", "--t-end", "1", "-o", "-", "--q0", "1,0,0",
+        ]),
+        1,
+        &["--q0 expects 4"],
+    );
+    fails_with(
+        &rollphase(&[
+            "simulate", &sphere, "--alpha", "0.3", "--t-end", "1", "-o", "-", "--q0", "0,0,0,0",
+        ]),
+        1,
+        &["zero length"],
+    );
+    fails_with(
+        &rollphase(&[
+            "simulate", &sphere, "--alpha", "0.3", "--t-end", "NaN", "-o", "-",
+        ]),
+        1,
+        &["t_end"],
+    );
+    fails_with(
+        &rollphase(&[
+            "simulate",
+            &sphere,
+            "--alpha",
+            "0.3",
+            "--t-end",
+            "1",
+            "-o",
+            "-",
+            "--integrator",
+            "rk4",
+            "--dt",
+            "0",
+        ]),
+        1,
+        &["dt", "> 0"],
+    );
+    fails_with(
+        &rollphase(&["period", &sphere, "--alpha", "0.3"]),
+        1,
+        &["3D sphere", "disks"],
+    );
+    fails_with(
+        &rollphase(&["shape", "--dim", "4", "--seed", "1"]),
+        2,
+        &["dim"],
+    );
+    fails_with(
+        &rollphase(&["shape", "--dim", "2", "--seed", "1", "--sigma", "-1"]),
+        1,
+        &["sigma"],
+    );
+}
+
+#[test]
+fn a_failed_run_leaves_no_partial_csv() {
+    let d = temp_dir("partial");
+    let sphere = write(&d, "s.json", SPHERE);
+    let csv = d.join("traj.csv");
+    // RK4 with a huge step on a fast ramp blows up: the error says where, and no file remains.
+    let out = rollphase(&[
+        "simulate",
+        &sphere,
+        "--alpha",
+        "1.5",
+        "--mass",
+        "0.001",
+        "--t-end",
+        "50",
+        "--integrator",
+        "rk4",
+        "--dt",
+        "5",
+        "-o",
+        csv.to_str().unwrap(),
+    ]);
+    fails_with(&out, 1, &["t ="]);
+    assert!(!csv.exists());
+    assert!(!d.join("traj.csv.partial").exists());
+}
