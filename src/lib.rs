@@ -20,4 +20,5 @@ pub mod cli;
 pub mod dynamics;
 pub mod geometry;
 pub mod integrate;
+pub mod plot;
 pub mod simulate;

@@ -233,24 +233,59 @@ fn a_failed_run_leaves_no_partial_csv() {
     let d = temp_dir("partial");
     let sphere = write(&d, "s.json", SPHERE);
     let csv = d.join("traj.csv");
-    // RK4 with a huge step on a fast ramp blows up: the error says where, and no file remains.
+    // The step budget runs out mid-run: the error says where, and no file remains.
     let out = rollphase(&[
         "simulate",
         &sphere,
         "--alpha",
-        "1.5",
-        "--mass",
-        "0.001",
+        "0.3",
         "--t-end",
-        "50",
-        "--integrator",
-        "rk4",
-        "--dt",
-        "5",
+        "1000",
+        "--max-steps",
+        "20",
         "-o",
         csv.to_str().unwrap(),
     ]);
-    fails_with(&out, 1, &["t ="]);
+    fails_with(
+        &out,
+        1,
+        &[
+            "integration stopped at t = ",
+            "more than 20 steps",
+            "no CSV was written",
+        ],
+    );
     assert!(!csv.exists());
     assert!(!d.join("traj.csv.partial").exists());
+}
+
+#[test]
+fn an_unstable_fixed_step_is_refused_before_running() {
+    let d = temp_dir("unstable");
+    let sphere = write(&d, "s.json", SPHERE);
+    let out = rollphase(&[
+        "simulate",
+        &sphere,
+        "--alpha",
+        "0.3",
+        "--mass",
+        "0.001",
+        "--t-end",
+        "10",
+        "--integrator",
+        "rk4",
+        "--dt",
+        "0.01",
+        "-o",
+        "-",
+    ]);
+    fails_with(
+        &out,
+        1,
+        &[
+            "unstable for m/m0 = 0.001",
+            "relaxation time",
+            "dt must be ≤",
+        ],
+    );
 }

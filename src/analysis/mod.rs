@@ -2,6 +2,7 @@
 //! 2D periods (by quadrature in the viscous model, by simulation with event location in the
 //! inertial one), and the quadrature they use. Pure math: no GPU or UI imports.
 
+pub mod accuracy;
 pub mod critical_angle;
 pub mod period;
 pub mod quadrature;

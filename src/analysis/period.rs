@@ -90,21 +90,16 @@ pub fn inertial_disk_period(
             });
         }
         st.step(t_max)?;
-        while st.y()[0] >= target {
-            let mut found = Vec::new();
-            let tg = target;
-            events::crossings_in_last_step(
-                st.as_mut(),
-                &|_t, y: &[f64; 4]| y[0] - tg,
-                events::Direction::Rising,
-                &mut found,
-            );
-            let t_cross = found.last().copied().unwrap_or(st.t());
-            if let Some(&last) = crossings.last() {
-                periods.push(t_cross - last);
-            }
-            crossings.push(t_cross);
-            target += std::f64::consts::TAU;
+        let before = crossings.len();
+        events::turns_in_last_step(
+            st.as_mut(),
+            0,
+            &mut target,
+            std::f64::consts::TAU,
+            &mut crossings,
+        );
+        for i in before.max(1)..crossings.len() {
+            periods.push(crossings[i] - crossings[i - 1]);
         }
         if periods.len() >= 3 {
             let n = periods.len();

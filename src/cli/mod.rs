@@ -1,6 +1,7 @@
 //! The command line: argument structures (clap) and one file per subcommand. Errors are
 //! `anyhow` with context naming the file or flag; `main.rs` prints them and sets the exit code.
 
+pub mod bench;
 pub mod inspect;
 pub mod period;
 pub mod shape;
@@ -42,6 +43,8 @@ pub enum Command {
     Period(period::PeriodArgs),
     /// Simulate one run and write the trajectory as CSV.
     Simulate(simulate::SimulateArgs),
+    /// Measure the speed/accuracy trade of the integrators (tables, CSV, plots).
+    Bench(bench::BenchArgs),
 }
 
 /// Runs the parsed command.
@@ -51,6 +54,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Inspect(a) => inspect::run(a),
         Command::Period(a) => period::run(a),
         Command::Simulate(a) => simulate::run(a),
+        Command::Bench(a) => bench::run(a),
     }
 }
 

@@ -252,11 +252,15 @@ pub fn run(a: SimulateArgs) -> Result<()> {
             .with_context(|| format!("cannot write {}", a.output.display()))?;
     }
     let wall = start.elapsed().as_secs_f64();
+    if let Some(note) = &summary.model_note {
+        eprintln!("note: {note}");
+    }
     if let Some(path) = &a.summary {
+        let rhs_evals_per_second = summary.rhs_evals as f64 / wall.max(1e-12);
         let file = SummaryFile {
             summary,
             wall_seconds: wall,
-            rhs_evals_per_second: summary.rhs_evals as f64 / wall.max(1e-12),
+            rhs_evals_per_second,
             alpha: a.alpha,
             mass_ratio: a.mass,
         };

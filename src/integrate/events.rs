@@ -75,6 +75,32 @@ pub fn crossings_in_last_step<const N: usize>(
     }
 }
 
+/// Times in the last step where state component `slot` rises through `*next_target`, then
+/// `*next_target + step`, …: used to time whole turns of an angle (θ passing θ₀ + 2πk).
+/// Advances `*next_target` past every crossing found.
+pub fn turns_in_last_step<const N: usize>(
+    stepper: &mut dyn Stepper<N>,
+    slot: usize,
+    next_target: &mut f64,
+    step: f64,
+    out: &mut Vec<f64>,
+) {
+    while stepper.y()[slot] >= *next_target {
+        let target = *next_target;
+        let mut found = Vec::new();
+        crossings_in_last_step(
+            stepper,
+            &|_t, y: &[f64; N]| y[slot] - target,
+            Direction::Rising,
+            &mut found,
+        );
+        // A crossing exactly at the step's start belongs to the previous step's bracket; fall
+        // back to the step end only if the locator saw none (a tangency at the target).
+        out.push(found.last().copied().unwrap_or(stepper.t()));
+        *next_target += step;
+    }
+}
+
 /// Integrates until `t_end` or until `stop(events_so_far)` says so, collecting crossings.
 pub fn integrate_collecting<const N: usize>(
     stepper: &mut dyn Stepper<N>,

@@ -1,0 +1,440 @@
+//! `rollphase bench`: measured speed/accuracy trade-offs, printed as tables and written as CSV
+//! and PNG. `accuracy`: every model × integrator setting against a converged reference.
+//! `stiff`: the inertial model as m/m0 → 0, its cost and its distance from the viscous model.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use clap::{Args, Subcommand};
+use serde::Serialize;
+
+use crate::analysis::accuracy::{self, AccuracyRow, Case, REFERENCE};
+use crate::dynamics::Ramp;
+use crate::geometry::{Body, ShapeFile};
+use crate::integrate::Method;
+use crate::plot::{PALETTE, Panel, Series, render_png};
+
+/// The bundled bodies, so the benchmarks run from any directory.
+pub const BUNDLED_SPHERE: &str = include_str!("../../assets/shapes/sphere.json");
+/// The bundled 2D body for viscous runs (σ = 0.08, M = 10).
+pub const BUNDLED_DISK: &str = include_str!("../../assets/shapes/disk.json");
+/// The bundled 2D body for inertial runs (σ = 0.12, M = 5).
+pub const BUNDLED_DISK_INERTIAL: &str = include_str!("../../assets/shapes/disk-inertial.json");
+
+/// Measure the speed/accuracy trade of the integrators.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Which benchmark.
+    #[command(subcommand)]
+    pub which: BenchKind,
+}
+
+/// The benchmarks.
+#[derive(Debug, Subcommand)]
+pub enum BenchKind {
+    /// Every model × integrator setting against a converged reference at t = 100.
+    Accuracy(AccuracyArgs),
+    /// The inertial models as m/m0 → 0: cost (stiffness) and distance from the viscous model.
+    Stiff(StiffArgs),
+}
+
+/// Options of `bench accuracy`.
+///
+/// For each model (2D/3D, viscous/inertial, on the bundled bodies) and each setting (RK4 and
+/// CF4 at several steps, DOP853 at several tolerances): state error and orbit-period error at
+/// t = 100 against DOP853 at rtol 1e-13, right-hand-side evaluations, wall time and simulated
+/// time per wall second. Writes OUT/accuracy.csv (deterministic), OUT/timing.csv (wall
+/// clock), OUT/work_precision.png and OUT/period_precision.png.
+#[derive(Debug, Args)]
+#[command(verbatim_doc_comment)]
+pub struct AccuracyArgs {
+    /// Output folder.
+    #[arg(long, default_value = "bench-accuracy")]
+    pub out: PathBuf,
+    /// Runs per setting for the wall time (the minimum is reported).
+    #[arg(long, default_value_t = 3)]
+    pub repeats: u32,
+    /// Reduced run for tests: t = 20 and three settings per integrator.
+    #[arg(long)]
+    pub quick: bool,
+}
+
+/// Options of `bench stiff`.
+///
+/// For m/m0 from 1e-4 to 1: DOP853 (rtol 1e-8) work for t = 0..100 and the inertial model's
+/// distance from the viscous one (state at t = 100, and relative period difference).
+/// Writes OUT/stiff.csv and OUT/stiff.png.
+#[derive(Debug, Args)]
+#[command(verbatim_doc_comment)]
+pub struct StiffArgs {
+    /// Output folder.
+    #[arg(long, default_value = "bench-stiff")]
+    pub out: PathBuf,
+    /// Reduced run for tests.
+    #[arg(long)]
+    pub quick: bool,
+}
+
+/// Runs `bench`.
+pub fn run(a: BenchArgs) -> Result<()> {
+    match a.which {
+        BenchKind::Accuracy(a) => accuracy_bench(a),
+        BenchKind::Stiff(a) => stiff_bench(a),
+    }
+}
+
+fn bundled(text: &str) -> Result<Body> {
+    let file = ShapeFile::from_json(text).context("bundled shape file")?;
+    Ok(Body::from_file(&file)?)
+}
+
+fn fmt_num(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:e}")
+    } else {
+        String::new()
+    }
+}
+
+fn time_run(
+    case: &Case,
+    method: Method,
+    repeats: u32,
+) -> (
+    Result<accuracy::Outcome, crate::integrate::IntegrateError>,
+    f64,
+) {
+    let mut best = f64::INFINITY;
+    let mut result = None;
+    for _ in 0..repeats.max(1) {
+        let start = Instant::now();
+        let r = accuracy::run_case(case, method);
+        best = best.min(start.elapsed().as_secs_f64());
+        result = Some(r);
+    }
+    (result.expect("at least one repeat"), best)
+}
+
+/// The cheapest (fewest RHS evaluations) setting of a model whose period error is < `limit`.
+pub fn cheapest_below<'a>(
+    rows: &'a [AccuracyRow],
+    model: &str,
+    limit: f64,
+) -> Option<&'a AccuracyRow> {
+    rows.iter()
+        .filter(|r| {
+            r.model == model
+                && r.failure.is_none()
+                && r.period_error < limit
+                && r.state_error.is_finite()
+        })
+        .min_by_key(|r| r.rhs_evals)
+}
+
+fn accuracy_bench(a: AccuracyArgs) -> Result<()> {
+    std::fs::create_dir_all(&a.out)
+        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let mut cases = accuracy::default_cases(
+        &bundled(BUNDLED_DISK)?,
+        &bundled(BUNDLED_DISK_INERTIAL)?,
+        &bundled(BUNDLED_SPHERE)?,
+    );
+    if a.quick {
+        for c in &mut cases {
+            c.t_end = 20.0;
+        }
+    }
+    let mut rows: Vec<AccuracyRow> = Vec::new();
+    let mut timing =
+        String::from("model,integrator,parameter,wall_seconds,sim_time_per_wall_second\n");
+    let mut csv = String::from(
+        "model,integrator,parameter,state_error,period_error,rhs_evals,steps,failure\n",
+    );
+    let total: usize = cases.iter().map(|c| settings(c, a.quick).len()).sum();
+    let bar = indicatif::ProgressBar::new(total as u64);
+    println!(
+        "{:<16} {:<7} {:>9} {:>11} {:>11} {:>10} {:>10} {:>12}",
+        "model",
+        "method",
+        "dt/rtol",
+        "state err",
+        "period err",
+        "RHS evals",
+        "wall ms",
+        "sim t/wall s"
+    );
+    for case in &cases {
+        let reference = accuracy::run_case(case, REFERENCE)
+            .with_context(|| format!("reference run of {}", case.name))?;
+        for method in settings(case, a.quick) {
+            let (run, wall) = time_run(case, method, a.repeats);
+            let row = accuracy::row(case, method, &run, &reference);
+            bar.inc(1);
+            let sim_rate = if row.failure.is_none() {
+                case.t_end / wall
+            } else {
+                f64::NAN
+            };
+            bar.suspend(|| {
+                println!(
+                    "{:<16} {:<7} {:>9.0e} {:>11.2e} {:>11.2e} {:>10} {:>10.3} {:>12.3e}{}",
+                    row.model,
+                    row.integrator,
+                    row.parameter,
+                    row.state_error,
+                    row.period_error,
+                    row.rhs_evals,
+                    wall * 1e3,
+                    sim_rate,
+                    row.failure
+                        .as_deref()
+                        .map(|f| format!("  FAILED: {f}"))
+                        .unwrap_or_default()
+                )
+            });
+            let _ = writeln!(
+                csv,
+                "{},{},{:e},{},{},{},{},{}",
+                row.model,
+                row.integrator,
+                row.parameter,
+                fmt_num(row.state_error),
+                fmt_num(row.period_error),
+                row.rhs_evals,
+                row.steps,
+                row.failure.as_deref().unwrap_or("").replace(',', ";")
+            );
+            let _ = writeln!(
+                timing,
+                "{},{},{:e},{:e},{}",
+                row.model,
+                row.integrator,
+                row.parameter,
+                wall,
+                fmt_num(sim_rate)
+            );
+            rows.push(row);
+        }
+    }
+    bar.finish_and_clear();
+    write(&a.out.join("accuracy.csv"), &csv)?;
+    write(&a.out.join("timing.csv"), &timing)?;
+    let names: Vec<&'static str> = cases.iter().map(|c| c.name).collect();
+    plot_work_precision(
+        &rows,
+        &names,
+        |r| r.state_error,
+        "state error at t_end (rad, length)",
+        &a.out.join("work_precision.png"),
+    )?;
+    plot_work_precision(
+        &rows,
+        &names,
+        |r| r.period_error,
+        "relative error of the orbit period",
+        &a.out.join("period_precision.png"),
+    )?;
+    println!();
+    for name in &names {
+        match cheapest_below(&rows, name, 1e-3) {
+            Some(r) => println!(
+                "{name}: cheapest setting with period error < 1e-3: {} {:e} ({} RHS evaluations, period error {:.1e})",
+                r.integrator, r.parameter, r.rhs_evals, r.period_error
+            ),
+            None => println!("{name}: no setting reached period error < 1e-3"),
+        }
+    }
+    println!("wrote {}", a.out.display());
+    Ok(())
+}
+
+fn settings(case: &Case, quick: bool) -> Vec<Method> {
+    let all = accuracy::default_settings(case);
+    if !quick {
+        return all;
+    }
+    all.into_iter()
+        .filter(|m| match *m {
+            Method::Rk4 { dt } | Method::Cf4 { dt } => dt == 0.2 || dt == 0.05,
+            Method::Dop853 { rtol, .. } => rtol == 1e-6 || rtol == 1e-10,
+        })
+        .collect()
+}
+
+fn write(path: &Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+}
+
+fn plot_work_precision(
+    rows: &[AccuracyRow],
+    models: &[&'static str],
+    error: impl Fn(&AccuracyRow) -> f64,
+    y_label: &str,
+    path: &Path,
+) -> Result<()> {
+    let panels: Vec<Panel> = models
+        .iter()
+        .map(|m| {
+            let series = ["rk4", "cf4", "dop853"]
+                .iter()
+                .enumerate()
+                .filter_map(|(i, integ)| {
+                    let points: Vec<(f64, f64)> = rows
+                        .iter()
+                        .filter(|r| r.model == *m && r.integrator == *integ && r.failure.is_none())
+                        .map(|r| (r.rhs_evals as f64, error(r).max(1e-16)))
+                        .collect();
+                    (!points.is_empty()).then(|| Series {
+                        label: match *integ {
+                            "rk4" => "RK4 (dt)".to_string(),
+                            "cf4" => "CF4 Lie group (dt)".to_string(),
+                            _ => "DOP853 (rtol)".to_string(),
+                        },
+                        points,
+                        color: PALETTE[i],
+                        line: true,
+                    })
+                })
+                .collect();
+            Panel {
+                title: (*m).to_string(),
+                x_label: "right-hand-side evaluations".into(),
+                y_label: y_label.into(),
+                log_x: true,
+                log_y: true,
+                series,
+            }
+        })
+        .collect();
+    render_png(&panels, 2, (1400, 1000), path)
+}
+
+/// One row of the stiffness table.
+#[derive(Debug, Serialize)]
+struct StiffRow {
+    model: &'static str,
+    mass_ratio: f64,
+    rhs_evals: u64,
+    steps: u64,
+    distance_from_viscous: f64,
+    period_difference: f64,
+}
+
+fn stiff_bench(a: StiffArgs) -> Result<()> {
+    std::fs::create_dir_all(&a.out)
+        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let masses: Vec<f64> = if a.quick {
+        vec![1e-3, 1e-2, 1e-1, 1.0]
+    } else {
+        vec![1e-4, 3e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1, 3e-1, 1.0]
+    };
+    let t_end = if a.quick { 30.0 } else { 100.0 };
+    let bodies = [
+        ("disk", bundled(BUNDLED_DISK)?, 0.25, [0.0; 3]),
+        ("sphere", bundled(BUNDLED_SPHERE)?, 0.3, [1.0, 2.0, 0.5]),
+    ];
+    let method = Method::dop853(1e-8);
+    let mut rows = Vec::new();
+    println!(
+        "{:<8} {:>8} {:>11} {:>9} {:>18} {:>14}",
+        "body", "m/m0", "RHS evals", "steps", "|state − viscous|", "ΔT/T viscous"
+    );
+    for (name, body, alpha, start) in &bodies {
+        let viscous = Case {
+            name: "viscous",
+            body: body.clone(),
+            ramp: Ramp::new(*alpha, 0.0)?,
+            start: *start,
+            t_end,
+        };
+        let v = accuracy::run_case(&viscous, REFERENCE)?;
+        let tv = accuracy::period_estimate(&v.crossings, t_end);
+        for &m in &masses {
+            let case = Case {
+                name: "inertial",
+                body: body.clone(),
+                ramp: Ramp::new(*alpha, m)?,
+                start: *start,
+                t_end,
+            };
+            let o = accuracy::run_case(&case, method)
+                .with_context(|| format!("{name} at m/m0 = {m}"))?;
+            let period_difference = match (accuracy::period_estimate(&o.crossings, t_end), tv) {
+                (Some(p), Some(r)) => ((p - r) / r).abs(),
+                _ => f64::NAN,
+            };
+            let row = StiffRow {
+                model: name,
+                mass_ratio: m,
+                rhs_evals: o.stats.rhs_evals,
+                steps: o.stats.steps,
+                distance_from_viscous: accuracy::state_error(&o, &v),
+                period_difference,
+            };
+            println!(
+                "{:<8} {:>8.0e} {:>11} {:>9} {:>18.3e} {:>14.3e}",
+                row.model,
+                row.mass_ratio,
+                row.rhs_evals,
+                row.steps,
+                row.distance_from_viscous,
+                row.period_difference
+            );
+            rows.push(row);
+        }
+    }
+    let mut csv =
+        String::from("body,mass_ratio,rhs_evals,steps,distance_from_viscous,period_difference\n");
+    for r in &rows {
+        let _ = writeln!(
+            csv,
+            "{},{:e},{},{},{},{}",
+            r.model,
+            r.mass_ratio,
+            r.rhs_evals,
+            r.steps,
+            fmt_num(r.distance_from_viscous),
+            fmt_num(r.period_difference)
+        );
+    }
+    write(&a.out.join("stiff.csv"), &csv)?;
+    let series = |f: &dyn Fn(&StiffRow) -> f64| -> Vec<Series> {
+        ["disk", "sphere"]
+            .iter()
+            .enumerate()
+            .map(|(i, b)| Series {
+                label: format!("{b} (DOP853, rtol 1e-8)"),
+                points: rows
+                    .iter()
+                    .filter(|r| r.model == *b)
+                    .map(|r| (r.mass_ratio, f(r)))
+                    .collect(),
+                color: PALETTE[i],
+                line: true,
+            })
+            .collect()
+    };
+    let panels = vec![
+        Panel {
+            title: "cost of the inertial model, t = 0..100".into(),
+            x_label: "mass ratio m/m0".into(),
+            y_label: "right-hand-side evaluations".into(),
+            log_x: true,
+            log_y: true,
+            series: series(&|r| r.rhs_evals as f64),
+        },
+        Panel {
+            title: "inertial minus viscous".into(),
+            x_label: "mass ratio m/m0".into(),
+            y_label: "relative period difference".into(),
+            log_x: true,
+            log_y: true,
+            series: series(&|r| r.period_difference),
+        },
+    ];
+    render_png(&panels, 2, (1400, 560), &a.out.join("stiff.png"))?;
+    println!("wrote {}", a.out.display());
+    Ok(())
+}

@@ -1,0 +1,168 @@
+//! PNG charts for the command line's tables and figures: panels of line/marker series on linear
+//! or logarithmic axes, drawn by plotters into a buffer and encoded by `image`, with the bundled
+//! DejaVu Sans font (no system fontconfig). Output depends only on the data: same data, same bytes.
+//! Not used by the physics core.
+
+use std::path::Path;
+use std::sync::Once;
+
+use anyhow::{Context, Result};
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+
+static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
+static REGISTER: Once = Once::new();
+
+fn register_font() {
+    REGISTER.call_once(|| {
+        // The bundled font is a valid TrueType file; a failure would only mean missing labels.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+}
+
+/// One data series.
+#[derive(Debug, Clone)]
+pub struct Series {
+    /// Legend text.
+    pub label: String,
+    /// Points (x, y); non-finite or, on log axes, non-positive points are skipped.
+    pub points: Vec<(f64, f64)>,
+    /// RGB colour.
+    pub color: (u8, u8, u8),
+    /// Join the points with a line (markers are always drawn).
+    pub line: bool,
+}
+
+/// One panel.
+#[derive(Debug, Clone)]
+pub struct Panel {
+    /// Title above the panel.
+    pub title: String,
+    /// x-axis label, with units.
+    pub x_label: String,
+    /// y-axis label, with units.
+    pub y_label: String,
+    /// Logarithmic x axis.
+    pub log_x: bool,
+    /// Logarithmic y axis.
+    pub log_y: bool,
+    /// The data.
+    pub series: Vec<Series>,
+}
+
+/// A palette that stays distinguishable for up to eight series.
+pub const PALETTE: [(u8, u8, u8); 8] = [
+    (31, 119, 180),
+    (214, 39, 40),
+    (44, 160, 44),
+    (255, 127, 14),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (23, 190, 207),
+];
+
+fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite() && (!log || *v > 0.0)) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() {
+        return if log { (1e-16, 1.0) } else { (0.0, 1.0) };
+    }
+    if log {
+        let (a, b) = (lo.log10().floor(), hi.log10().ceil());
+        (10f64.powf(a), 10f64.powf(if b > a { b } else { a + 1.0 }))
+    } else {
+        let pad = if hi > lo { 0.05 * (hi - lo) } else { 0.5 };
+        (lo - pad, hi + pad)
+    }
+}
+
+/// Draws `panels` in a grid of `cols` columns into a PNG of `size` pixels.
+pub fn render_png(panels: &[Panel], cols: usize, size: (u32, u32), path: &Path) -> Result<()> {
+    register_font();
+    let (w, h) = size;
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE)
+            .map_err(|e| anyhow::anyhow!("drawing: {e}"))?;
+        let rows = panels.len().div_ceil(cols.max(1));
+        let areas = root.split_evenly((rows, cols.max(1)));
+        for (panel, area) in panels.iter().zip(areas.iter()) {
+            draw_panel(panel, area).map_err(|e| anyhow::anyhow!("drawing {}: {e}", panel.title))?;
+        }
+        root.present()
+            .map_err(|e| anyhow::anyhow!("drawing: {e}"))?;
+    }
+    let img = image::RgbImage::from_raw(w, h, buf).context("image buffer size")?;
+    img.save(path)
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+fn draw_panel(p: &Panel, area: &Area) -> std::result::Result<(), Box<dyn std::error::Error>> {
+    let xs = p.series.iter().flat_map(|s| s.points.iter().map(|q| q.0));
+    let ys = p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1));
+    let (x0, x1) = range(xs, p.log_x);
+    let (y0, y1) = range(ys, p.log_y);
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .caption(&p.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(42)
+        .y_label_area_size(70);
+    let keep = |x: f64, y: f64| {
+        x.is_finite() && y.is_finite() && (!p.log_x || x > 0.0) && (!p.log_y || y > 0.0)
+    };
+    macro_rules! body {
+        ($chart:expr) => {{
+            let mut chart = $chart;
+            chart
+                .configure_mesh()
+                .x_desc(p.x_label.as_str())
+                .y_desc(p.y_label.as_str())
+                .label_style(("sans-serif", 14))
+                .axis_desc_style(("sans-serif", 15))
+                .draw()?;
+            for s in &p.series {
+                let color = RGBColor(s.color.0, s.color.1, s.color.2);
+                let pts: Vec<(f64, f64)> = s
+                    .points
+                    .iter()
+                    .copied()
+                    .filter(|(x, y)| keep(*x, *y))
+                    .collect();
+                if s.line {
+                    chart.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?;
+                }
+                chart
+                    .draw_series(
+                        pts.iter()
+                            .map(|&(x, y)| Circle::new((x, y), 4, color.filled())),
+                    )?
+                    .label(s.label.as_str())
+                    .legend(move |(x, y)| Circle::new((x + 8, y), 5, color.filled()));
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 14))
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()?;
+        }};
+    }
+    match (p.log_x, p.log_y) {
+        (true, true) => {
+            body!(builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?)
+        }
+        (true, false) => body!(builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1)?),
+        (false, true) => body!(builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale())?),
+        (false, false) => body!(builder.build_cartesian_2d(x0..x1, y0..y1)?),
+    }
+    Ok(())
+}
