@@ -258,3 +258,59 @@ pub(crate) fn hermite<const N: usize>(
 pub(crate) fn all_finite<const N: usize>(y: &[f64; N]) -> bool {
     y.iter().all(|v| v.is_finite())
 }
+
+/// The three named accuracy settings offered to users (the app's fast / balanced / precise),
+/// chosen from `rollphase bench accuracy` (docs/accuracy): all DOP853, because an adaptive step
+/// copes with the extremes (α → π/2, small m/m0) where a fixed step fails or wastes work.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Preset {
+    /// rtol 1e-6: ~1.6k RHS evaluations per 100 time units.
+    Fast,
+    /// rtol 1e-8: ~2.5k RHS evaluations per 100 time units.
+    Balanced,
+    /// rtol 1e-12: ~7k RHS evaluations per 100 time units.
+    Precise,
+}
+
+impl Preset {
+    /// All presets, fastest first.
+    pub const ALL: [Preset; 3] = [Preset::Fast, Preset::Balanced, Preset::Precise];
+
+    /// The integrator setting.
+    pub fn method(self) -> Method {
+        Method::dop853(match self {
+            Preset::Fast => 1e-6,
+            Preset::Balanced => 1e-8,
+            Preset::Precise => 1e-12,
+        })
+    }
+
+    /// Expected state error at t = 100: the largest measured over the four models on the bundled
+    /// bodies (orientation in rad, position in ⟨r⟩), rounded up. `tests/presets.rs` re-measures it.
+    pub fn expected_state_error(self) -> f64 {
+        match self {
+            Preset::Fast => 6e-5,
+            Preset::Balanced => 1e-5,
+            Preset::Precise => 5e-11,
+        }
+    }
+
+    /// Expected relative error of the orbit period, measured likewise.
+    pub fn expected_period_error(self) -> f64 {
+        match self {
+            Preset::Fast => 2e-6,
+            Preset::Balanced => 1e-6,
+            Preset::Precise => 2e-12,
+        }
+    }
+
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::Fast => "fast",
+            Preset::Balanced => "balanced",
+            Preset::Precise => "precise",
+        }
+    }
+}
