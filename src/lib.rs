@@ -8,8 +8,9 @@
 //! | [`geometry`] | bodies r(θ), r(u): exact derivatives, curvature, support points, shape files, generators |
 //! | [`dynamics`] | the four rolling models (2D/3D, viscous/inertial) as ODE systems |
 //! | [`integrate`] | RK4, DOP853 with dense output, the Lie-group CF4 step, event location |
-//! | [`analysis`] | critical angle α*, 2D periods |
+//! | [`analysis`] | critical angle α*, 2D periods, accuracy tables |
 //! | [`simulate`] | one run from a body, a ramp and an initial state to sampled rows + a summary |
+//! | [`plot`] | PNG charts for the command line (not used by the core) |
 //! | [`cli`] | the command line (one file per subcommand) |
 //!
 //! The first four never touch a GPU, a window or the wall clock: the same inputs give the same

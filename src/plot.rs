@@ -102,6 +102,20 @@ pub fn render_png(panels: &[Panel], cols: usize, size: (u32, u32), path: &Path) 
         .with_context(|| format!("cannot write {}", path.display()))
 }
 
+/// Tick text: powers of ten as 1e-5 on log axes, short decimals on linear ones.
+fn tick(v: f64, log: bool) -> String {
+    if log {
+        let e = v.log10().round();
+        if (v.log10() - e).abs() < 1e-6 {
+            return format!("1e{}", e as i64);
+        }
+        return format!("{v:.0e}");
+    }
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.to_string() }
+}
+
 type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
 
 fn draw_panel(p: &Panel, area: &Area) -> std::result::Result<(), Box<dyn std::error::Error>> {
@@ -114,15 +128,19 @@ fn draw_panel(p: &Panel, area: &Area) -> std::result::Result<(), Box<dyn std::er
         .caption(&p.title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(42)
-        .y_label_area_size(70);
+        .y_label_area_size(82);
     let keep = |x: f64, y: f64| {
         x.is_finite() && y.is_finite() && (!p.log_x || x > 0.0) && (!p.log_y || y > 0.0)
     };
     macro_rules! body {
         ($chart:expr) => {{
             let mut chart = $chart;
+            let fx = |v: &f64| tick(*v, p.log_x);
+            let fy = |v: &f64| tick(*v, p.log_y);
             chart
                 .configure_mesh()
+                .x_label_formatter(&fx)
+                .y_label_formatter(&fy)
                 .x_desc(p.x_label.as_str())
                 .y_desc(p.y_label.as_str())
                 .label_style(("sans-serif", 14))

@@ -21,6 +21,9 @@ pub use sphere::{Sphere, SphereCoeff, SurfacePoint};
 
 /// Largest mode number accepted for a disk.
 pub const MAX_DISK_L: u32 = 64;
+/// Largest |amplitude| or |phase| accepted in a shape file: far beyond any convex body (whose
+/// amplitudes are O(l²)), it keeps every computed quantity finite.
+pub const MAX_AMPLITUDE: f64 = 1000.0;
 /// Largest degree accepted for a sphere (the polynomial evaluator handles degree ≤ 15).
 pub const MAX_SPHERE_L: u32 = 12;
 
@@ -52,9 +55,14 @@ pub enum ShapeError {
     /// The same mode given twice.
     #[error("{what} appears twice; give each mode once")]
     Duplicate { what: String },
-    /// A NaN or infinite number.
-    #[error("{field} = {value} is not a finite number")]
+    /// A NaN, infinite or absurdly large number.
+    #[error("{field} = {value} is not allowed (needs a finite number with |value| ≤ 1000)")]
     NonFinite { field: String, value: f64 },
+    /// r(u) ≤ 0 somewhere: the coefficients do not describe a star-shaped body.
+    #[error(
+        "shape is not star-shaped: r = {value:.6} at {place} (needs r > 0 everywhere; the amplitudes are far too large)"
+    )]
+    NotStarShaped { value: f64, place: String },
     /// The body is not strictly convex.
     #[error(
         "shape is not convex: {measure} {value:.6} at {place} (needs > 0); the contact model needs \
@@ -90,7 +98,7 @@ impl Body {
                         });
                     }
                     for (name, v) in [("a", m.a), ("phase", m.phase)] {
-                        if !v.is_finite() {
+                        if !v.is_finite() || v.abs() > MAX_AMPLITUDE {
                             return Err(ShapeError::NonFinite {
                                 field: format!("modes[{i}].{name}"),
                                 value: v,
@@ -103,7 +111,23 @@ impl Body {
                         });
                     }
                 }
-                Ok(Body::Disk(Disk::new(modes.clone())))
+                let disk = Disk::new(modes.clone());
+                // Σ|a_l|/l² < 1 guarantees r > 0; otherwise look for the smallest radius.
+                if modes
+                    .iter()
+                    .map(|m| m.a.abs() / (m.l * m.l) as f64)
+                    .sum::<f64>()
+                    >= 1.0
+                {
+                    let (t, neg_r) = refine_1d(|t| -disk.jet(t).r, DISK_GRID);
+                    if -neg_r <= 0.0 {
+                        return Err(ShapeError::NotStarShaped {
+                            value: -neg_r,
+                            place: format!("θ = {:.4}", t.rem_euclid(TAU)),
+                        });
+                    }
+                }
+                Ok(Body::Disk(disk))
             }
             ShapeFile::Sphere { coeffs } => {
                 let mut seen = std::collections::BTreeSet::new();
@@ -120,7 +144,7 @@ impl Body {
                         return Err(ShapeError::BadOrder { l: c.l, m: c.m });
                     }
                     for (name, v) in [("re", c.re), ("im", c.im)] {
-                        if !v.is_finite() {
+                        if !v.is_finite() || v.abs() > MAX_AMPLITUDE {
                             return Err(ShapeError::NonFinite {
                                 field: format!("coeffs[{i}].{name}"),
                                 value: v,
@@ -133,7 +157,28 @@ impl Body {
                         });
                     }
                 }
-                Ok(Body::Sphere(Sphere::new(coeffs.clone())))
+                let sphere = Sphere::new(coeffs.clone());
+                // |Y_l^m| ≤ √((2l+1)/4π), so this sum < 1 guarantees r > 0.
+                let bound: f64 = coeffs
+                    .iter()
+                    .map(|c| {
+                        let l = c.l as f64;
+                        c.re.hypot(c.im) * ((2.0 * l + 1.0) / (4.0 * std::f64::consts::PI)).sqrt()
+                            / (l * (l + 1.0))
+                    })
+                    .sum();
+                if bound >= 1.0 {
+                    let grid = sphere::fibonacci_sphere(SPHERE_GRID);
+                    let (u, neg_r) = refine_sphere(|u| -sphere.radius(u), &grid);
+                    if -neg_r <= 0.0 {
+                        let (theta, phi) = sphere::angles(u);
+                        return Err(ShapeError::NotStarShaped {
+                            value: -neg_r,
+                            place: format!("θ = {theta:.4}, φ = {phi:.4}"),
+                        });
+                    }
+                }
+                Ok(Body::Sphere(sphere))
             }
         }
     }
