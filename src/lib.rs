@@ -19,6 +19,7 @@
 pub mod analysis;
 pub mod cli;
 pub mod dynamics;
+pub mod figures;
 pub mod geometry;
 pub mod integrate;
 pub mod plot;

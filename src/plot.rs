@@ -10,6 +10,31 @@ use anyhow::{Context, Result};
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
+/// Where a panel's legend goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SeriesLabelPosition {
+    /// Top right corner.
+    UpperRight,
+    /// Top left corner.
+    UpperLeft,
+    /// Bottom right corner.
+    LowerRight,
+    /// Bottom left corner.
+    LowerLeft,
+}
+
+impl SeriesLabelPosition {
+    fn to_plotters(self) -> plotters::chart::SeriesLabelPosition {
+        use plotters::chart::SeriesLabelPosition as P;
+        match self {
+            Self::UpperRight => P::UpperRight,
+            Self::UpperLeft => P::UpperLeft,
+            Self::LowerRight => P::LowerRight,
+            Self::LowerLeft => P::LowerLeft,
+        }
+    }
+}
+
 static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
@@ -29,8 +54,42 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// RGB colour.
     pub color: (u8, u8, u8),
-    /// Join the points with a line (markers are always drawn).
-    pub line: bool,
+    /// How the points are drawn.
+    pub style: Style,
+}
+
+/// How a series is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Style {
+    /// A polyline.
+    Line,
+    /// Filled circles.
+    Markers,
+    /// A polyline with filled circles.
+    LineMarkers,
+    /// Consecutive point pairs as short arrows (a field of directions).
+    Arrows,
+}
+
+/// Viridis-like colour for t ∈ [0, 1] (dark blue → green → yellow).
+pub fn colormap(t: f64) -> (u8, u8, u8) {
+    const STOPS: [(f64, f64, f64); 5] = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    } * 4.0;
+    let i = (t.floor() as usize).min(3);
+    let f = t - i as f64;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    let mix = |x: f64, y: f64| (x + (y - x) * f).round() as u8;
+    (mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
 /// One panel.
@@ -48,6 +107,8 @@ pub struct Panel {
     pub log_y: bool,
     /// The data.
     pub series: Vec<Series>,
+    /// Where the legend goes.
+    pub legend: SeriesLabelPosition,
 }
 
 /// A palette that stays distinguishable for up to eight series.
@@ -148,30 +209,64 @@ fn draw_panel(p: &Panel, area: &Area) -> std::result::Result<(), Box<dyn std::er
                 .draw()?;
             for s in &p.series {
                 let color = RGBColor(s.color.0, s.color.1, s.color.2);
+                if s.style == Style::Arrows {
+                    let segs: Vec<Vec<(f64, f64)>> = s
+                        .points
+                        .chunks_exact(2)
+                        .filter(|c| keep(c[0].0, c[0].1) && keep(c[1].0, c[1].1))
+                        .map(|c| vec![c[0], c[1]])
+                        .collect();
+                    let heads: Vec<(f64, f64)> = segs.iter().map(|c| c[1]).collect();
+                    let anno = chart.draw_series(
+                        segs.into_iter()
+                            .map(|c| PathElement::new(c, color.stroke_width(1))),
+                    )?;
+                    if !s.label.is_empty() {
+                        anno.label(s.label.as_str()).legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
+                        });
+                    }
+                    chart.draw_series(
+                        heads.into_iter().map(|h| Circle::new(h, 2, color.filled())),
+                    )?;
+                    continue;
+                }
                 let pts: Vec<(f64, f64)> = s
                     .points
                     .iter()
                     .copied()
                     .filter(|(x, y)| keep(*x, *y))
                     .collect();
-                if s.line {
-                    chart.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?;
+                let labelled = !s.label.is_empty();
+                if matches!(s.style, Style::Line | Style::LineMarkers) {
+                    let anno =
+                        chart.draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))?;
+                    if labelled && s.style == Style::Line {
+                        anno.label(s.label.as_str()).legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(3))
+                        });
+                    }
                 }
-                chart
-                    .draw_series(
+                if matches!(s.style, Style::Markers | Style::LineMarkers) {
+                    let anno = chart.draw_series(
                         pts.iter()
                             .map(|&(x, y)| Circle::new((x, y), 4, color.filled())),
-                    )?
-                    .label(s.label.as_str())
-                    .legend(move |(x, y)| Circle::new((x + 8, y), 5, color.filled()));
+                    )?;
+                    if labelled {
+                        anno.label(s.label.as_str())
+                            .legend(move |(x, y)| Circle::new((x + 8, y), 5, color.filled()));
+                    }
+                }
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 14))
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()?;
+            if p.series.iter().any(|s| !s.label.is_empty()) {
+                chart
+                    .configure_series_labels()
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK)
+                    .label_font(("sans-serif", 14))
+                    .position(p.legend.to_plotters())
+                    .draw()?;
+            }
         }};
     }
     match (p.log_x, p.log_y) {

@@ -4,6 +4,8 @@
 
 pub mod accuracy;
 pub mod critical_angle;
+pub mod disk_dynamics;
+pub mod fit;
 pub mod period;
 pub mod quadrature;
 

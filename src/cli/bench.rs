@@ -14,7 +14,7 @@ use crate::analysis::accuracy::{self, AccuracyRow, Case, REFERENCE};
 use crate::dynamics::Ramp;
 use crate::geometry::{Body, ShapeFile};
 use crate::integrate::Method;
-use crate::plot::{PALETTE, Panel, Series, render_png};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
 
 /// The bundled bodies, so the benchmarks run from any directory.
 pub const BUNDLED_SPHERE: &str = include_str!("../../assets/shapes/sphere.json");
@@ -294,7 +294,7 @@ fn plot_work_precision(
                         },
                         points,
                         color: PALETTE[i],
-                        line: true,
+                        style: Style::LineMarkers,
                     })
                 })
                 .collect();
@@ -305,6 +305,7 @@ fn plot_work_precision(
                 log_x: true,
                 log_y: true,
                 series,
+                legend: SeriesLabelPosition::UpperRight,
             }
         })
         .collect();
@@ -412,7 +413,7 @@ fn stiff_bench(a: StiffArgs) -> Result<()> {
                     .map(|r| (r.mass_ratio, f(r)))
                     .collect(),
                 color: PALETTE[i],
-                line: true,
+                style: Style::LineMarkers,
             })
             .collect()
     };
@@ -424,6 +425,7 @@ fn stiff_bench(a: StiffArgs) -> Result<()> {
             log_x: true,
             log_y: true,
             series: series(&|r| r.rhs_evals as f64),
+            legend: SeriesLabelPosition::UpperRight,
         },
         Panel {
             title: "inertial minus viscous".into(),
@@ -432,6 +434,7 @@ fn stiff_bench(a: StiffArgs) -> Result<()> {
             log_x: true,
             log_y: true,
             series: series(&|r| r.period_difference),
+            legend: SeriesLabelPosition::UpperLeft,
         },
     ];
     render_png(&panels, 2, (1400, 560), &a.out.join("stiff.png"))?;

@@ -2,6 +2,7 @@
 //! `anyhow` with context naming the file or flag; `main.rs` prints them and sets the exit code.
 
 pub mod bench;
+pub mod figure;
 pub mod inspect;
 pub mod period;
 pub mod shape;
@@ -45,6 +46,8 @@ pub enum Command {
     Simulate(simulate::SimulateArgs),
     /// Measure the speed/accuracy trade of the integrators (tables, CSV, plots).
     Bench(bench::BenchArgs),
+    /// Regenerate one of the paper's figures as CSV + PNG + summary.json.
+    Figure(figure::FigureArgs),
 }
 
 /// Runs the parsed command.
@@ -55,6 +58,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Period(a) => period::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Bench(a) => bench::run(a),
+        Command::Figure(a) => figure::run(a),
     }
 }
 

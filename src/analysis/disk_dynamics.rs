@@ -1,0 +1,152 @@
+//! 2D analyses behind the paper's Fig. 2 and SI Fig. S2: lag times near α*, the hysteresis sweep
+//! of the inertial disk, and the fixed points of its (θ, θ̇) flow.
+//!
+//! - **Lag time** (Fig. 2e inset, 2f): released from rest at the bottleneck θ* (where the stable
+//!   and unstable rest points merged at α*), the disk needs t_lag to roll a fixed distance, here
+//!   until θ − θ* = π (half a turn, "a small distance" as in the experiment). Near the
+//!   saddle-node t_lag ∝ (α − α*)^(−1/2) for any mass: the time is spent creeping through the
+//!   ghost of the fixed points, where θ̈ and θ̇ are both small.
+//! - **Hysteresis** (Fig. 2e): α is stepped up then down with the state carried over; at each α
+//!   the disk runs for a dwell time and its mean angular speed over the second half is recorded.
+//! - **Fixed points** (SI §1D): θ̇ = 0 and r sin α − r' cos α = 0; stable where the drive
+//!   decreases through zero (a restoring torque), saddles where it increases.
+
+use serde::Serialize;
+
+use crate::dynamics::{DiskInertial, DiskViscous, Ramp};
+use crate::geometry::Disk;
+use crate::integrate::events::{self, Direction};
+use crate::integrate::{self, IntegrateError, Method};
+
+/// Time for the disk, released from rest at `theta0`, to reach θ = θ0 + `distance`; `None` if it
+/// has not got there by `t_max` (it halted).
+pub fn lag_time(
+    disk: &Disk,
+    ramp: &Ramp,
+    theta0: f64,
+    distance: f64,
+    rtol: f64,
+    t_max: f64,
+) -> Result<Option<f64>, IntegrateError> {
+    let target = theta0 + distance;
+    let g = move |_t: f64, y: &[f64]| y[0] - target;
+    if ramp.is_viscous() {
+        let m = DiskViscous::new(disk, ramp);
+        let mut st = integrate::stepper(&m, 0.0, [theta0, 0.0], Method::dop853(rtol))?;
+        let ev = events::integrate_collecting(
+            st.as_mut(),
+            t_max,
+            50_000_000,
+            &|t, y: &[f64; 2]| g(t, y),
+            Direction::Rising,
+            |_| true,
+        )?;
+        Ok(ev.first().copied())
+    } else {
+        let m = DiskInertial::new(disk, ramp);
+        let mut st = integrate::stepper(&m, 0.0, [theta0, 0.0, 0.0, 0.0], Method::dop853(rtol))?;
+        let ev = events::integrate_collecting(
+            st.as_mut(),
+            t_max,
+            50_000_000,
+            &|t, y: &[f64; 4]| g(t, y),
+            Direction::Rising,
+            |_| true,
+        )?;
+        Ok(ev.first().copied())
+    }
+}
+
+/// One point of a hysteresis sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SweepPoint {
+    /// Ramp angle (rad).
+    pub alpha: f64,
+    /// true on the way up, false on the way down.
+    pub ascending: bool,
+    /// Mean angular speed over the second half of the dwell (0 when at rest).
+    pub mean_angular_speed: f64,
+}
+
+/// Sweeps α through `alphas` (ascending then the same values descending) with the inertial
+/// model, carrying (θ, θ̇) over; `dwell` time units per α.
+pub fn hysteresis_sweep(
+    disk: &Disk,
+    mass: f64,
+    alphas: &[f64],
+    start: [f64; 2],
+    dwell: f64,
+    rtol: f64,
+    mut progress: impl FnMut(),
+) -> Result<Vec<SweepPoint>, IntegrateError> {
+    let mut state = [start[0], start[1], 0.0, 0.0];
+    let mut out = Vec::new();
+    let path: Vec<(f64, bool)> = alphas
+        .iter()
+        .map(|&a| (a, true))
+        .chain(alphas.iter().rev().skip(1).map(|&a| (a, false)))
+        .collect();
+    for (alpha, ascending) in path {
+        let ramp = Ramp::new(alpha, mass).map_err(|_| IntegrateError::BadParameter {
+            name: "alpha",
+            value: alpha,
+            allowed: "0 < alpha < π/2",
+        })?;
+        let model = DiskInertial::new(disk, &ramp);
+        let mut st = integrate::stepper(
+            &model,
+            0.0,
+            [state[0], state[1], 0.0, 0.0],
+            Method::dop853(rtol),
+        )?;
+        let mut theta_half = state[0];
+        while st.t() < dwell {
+            st.step(dwell)?;
+            if st.t_prev() < 0.5 * dwell && st.t() >= 0.5 * dwell {
+                theta_half = st.dense(0.5 * dwell)[0];
+            }
+        }
+        state = *st.y();
+        let speed = (state[0] - theta_half) / (0.5 * dwell);
+        out.push(SweepPoint {
+            alpha,
+            ascending,
+            mean_angular_speed: speed.max(0.0),
+        });
+        progress();
+    }
+    Ok(out)
+}
+
+/// A rest point of the (θ, θ̇) flow.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FixedPoint {
+    /// Contact angle in [0, 2π).
+    pub theta: f64,
+    /// Stable (restoring drive) or a saddle.
+    pub stable: bool,
+}
+
+/// Zeros of r sin α − r' cos α on [0, 2π), located by sign changes on a fine grid and Brent.
+pub fn fixed_points(disk: &Disk, alpha: f64) -> Vec<FixedPoint> {
+    let (sa, ca) = alpha.sin_cos();
+    let drive = |t: f64| {
+        let j = disk.jet(t);
+        j.r * sa - j.r1 * ca
+    };
+    let n = 4096;
+    let h = std::f64::consts::TAU / n as f64;
+    let mut out = Vec::new();
+    for i in 0..n {
+        let (a, b) = (i as f64 * h, (i + 1) as f64 * h);
+        let (fa, fb) = (drive(a), drive(b));
+        if (fa < 0.0 && fb >= 0.0) || (fa > 0.0 && fb <= 0.0) {
+            let t = events::brent(drive, a, b, fa, fb, 1e-14);
+            out.push(FixedPoint {
+                theta: t.rem_euclid(std::f64::consts::TAU),
+                stable: fa > 0.0,
+            });
+        }
+    }
+    out
+}

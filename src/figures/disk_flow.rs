@@ -1,0 +1,198 @@
+//! `disk-flow` — SI Fig. S2: the flow (θ̇, θ̈) of the inertial disk (m/m0 = 10) in the (θ, θ̇) plane
+//! at six α around α*, its fixed points (θ̇ = 0, r sin α = r' cos α; stable or saddle) and the
+//! trajectory from (π/2, 0.04), on one disk (σ = 0.12, M = 5).
+//!
+//! Above α* there is no fixed point and the trajectory cruises; at α* one appears at θ*; just
+//! below, a stable/saddle pair separates but the cruising orbit survives (hysteresis) until the
+//! orbit meets the saddle at α**, below which it falls into the stable point.
+
+use anyhow::Result;
+use serde::Serialize;
+
+use super::{FigureOptions, convex_disk, write_csv, write_summary};
+use crate::analysis::critical_angle;
+use crate::analysis::disk_dynamics::{FixedPoint, fixed_points};
+use crate::dynamics::{DiskInertial, Ramp};
+use crate::geometry::Body;
+use crate::integrate::{self, Method};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+
+/// One panel's numbers.
+#[derive(Debug, Serialize)]
+pub struct FlowPanel {
+    /// α (rad).
+    pub alpha: f64,
+    /// α/α*.
+    pub alpha_over_alpha_star: f64,
+    /// Fixed points.
+    pub fixed_points: Vec<FixedPoint>,
+    /// Whether the trajectory from (π/2, 0.04) is still rolling at the end.
+    pub trajectory_rolls: bool,
+}
+
+/// Headline numbers.
+#[derive(Debug, Serialize)]
+pub struct Summary {
+    /// Seed of the disk.
+    pub seed: u64,
+    /// α*.
+    pub alpha_star: f64,
+    /// Number of fixed points above α* (expect 0).
+    pub fixed_points_above: usize,
+    /// Panels.
+    pub panels: Vec<FlowPanel>,
+}
+
+const MASS: f64 = 10.0;
+
+/// Runs the figure.
+pub fn run(opts: &FigureOptions) -> Result<Summary> {
+    let dir = opts.dir("disk-flow")?;
+    let (disk, seed) = convex_disk(opts.seed, 0.12, 5)?;
+    let ca = critical_angle(&Body::Disk(disk.clone()));
+    let factors = [1.2, 1.0 + 1e-9, 0.9, 0.75, 0.6, 0.3];
+    let t_end = if opts.quick { 300.0 } else { 1500.0 };
+    let (th_lo, th_hi) = (-0.04, 0.16);
+    let mut rows = Vec::new();
+    let mut panels = Vec::new();
+    let mut out = Vec::new();
+    for (pi, &f) in factors.iter().enumerate() {
+        let alpha = ca.alpha_star * f;
+        let ramp = Ramp::new(alpha, MASS)?;
+        let model = DiskInertial::new(&disk, &ramp);
+        // Field: unit arrows of (θ̇, θ̈) scaled to the plot's aspect.
+        let mut arrows = Vec::new();
+        let (nx, ny) = (36, 14);
+        let (sx, sy) = (
+            std::f64::consts::TAU / nx as f64,
+            (th_hi - th_lo) / ny as f64,
+        );
+        for i in 0..nx {
+            for j in 0..=ny {
+                let (t, w) = ((i as f64 + 0.5) * sx, th_lo + j as f64 * sy);
+                let acc = model.theta_ddot(t, w);
+                let (dx, dy) = (w / sx, acc / sy);
+                let len = (dx * dx + dy * dy).sqrt();
+                if len > 0.0 && len.is_finite() {
+                    let k = 0.42 / len;
+                    arrows.push((t, w));
+                    arrows.push((t + dx * k * sx, w + dy * k * sy));
+                    rows.push(vec![alpha, t, w, w, acc]);
+                }
+            }
+        }
+        // Trajectory, wrapped to [0, 2π) and broken at the wraps.
+        let mut st = integrate::stepper(
+            &model,
+            0.0,
+            [std::f64::consts::FRAC_PI_2, 0.04, 0.0, 0.0],
+            Method::dop853(1e-10),
+        )?;
+        let mut pieces: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+        let n = 4000;
+        for k in 0..=n {
+            let t = t_end * k as f64 / n as f64;
+            while st.t() < t {
+                st.step(t_end)?;
+            }
+            let y = if t == st.t() { *st.y() } else { st.dense(t) };
+            let th = y[0].rem_euclid(std::f64::consts::TAU);
+            if let Some(last) = pieces.last().and_then(|p| p.last()) {
+                if (th - last.0).abs() > std::f64::consts::PI {
+                    pieces.push(Vec::new());
+                }
+            }
+            pieces.last_mut().map(|p| p.push((th, y[1])));
+        }
+        let end = *st.y();
+        let rolls = end[1].abs() > 1e-6;
+        let fps = fixed_points(&disk, alpha);
+        let mut series = vec![Series {
+            label: String::new(),
+            points: arrows,
+            color: (150, 150, 150),
+            style: Style::Arrows,
+        }];
+        for (k, p) in pieces.into_iter().enumerate() {
+            series.push(Series {
+                label: if k == 0 {
+                    "trajectory from (π/2, 0.04)".into()
+                } else {
+                    String::new()
+                },
+                points: p,
+                color: (0, 0, 0),
+                style: Style::Line,
+            });
+        }
+        let stable: Vec<(f64, f64)> = fps
+            .iter()
+            .filter(|p| p.stable)
+            .map(|p| (p.theta, 0.0))
+            .collect();
+        let saddle: Vec<(f64, f64)> = fps
+            .iter()
+            .filter(|p| !p.stable)
+            .map(|p| (p.theta, 0.0))
+            .collect();
+        series.push(Series {
+            label: if stable.is_empty() {
+                String::new()
+            } else {
+                "stable point".into()
+            },
+            points: stable,
+            color: PALETTE[2],
+            style: Style::Markers,
+        });
+        series.push(Series {
+            label: if saddle.is_empty() {
+                String::new()
+            } else {
+                "saddle".into()
+            },
+            points: saddle,
+            color: PALETTE[1],
+            style: Style::Markers,
+        });
+        series.push(Series {
+            label: "start".into(),
+            points: vec![(std::f64::consts::FRAC_PI_2, 0.04)],
+            color: PALETTE[0],
+            style: Style::Markers,
+        });
+        panels.push(Panel {
+            title: format!(
+                "α = {alpha:.4} = {f:.2} α*{}",
+                if rolls { ", rolls" } else { ", halts" }
+            ),
+            x_label: "contact angle θ (rad)".into(),
+            y_label: "dθ/dt (1/t0)".into(),
+            log_x: false,
+            log_y: false,
+            series,
+            legend: SeriesLabelPosition::UpperRight,
+        });
+        out.push(FlowPanel {
+            alpha,
+            alpha_over_alpha_star: f,
+            fixed_points: fps,
+            trajectory_rolls: rolls,
+        });
+        let _ = pi;
+    }
+    write_csv(
+        &dir.join("data.csv"),
+        "alpha,theta,theta_dot,flow_theta,flow_theta_dot",
+        &rows,
+    )?;
+    let summary = Summary {
+        seed,
+        alpha_star: ca.alpha_star,
+        fixed_points_above: out[0].fixed_points.len(),
+        panels: out,
+    };
+    write_summary(&dir.join("summary.json"), &summary)?;
+    render_png(&panels, 3, (1800, 1000), &dir.join("figure.png"))?;
+    Ok(summary)
+}

@@ -1,0 +1,144 @@
+//! `disk-lag-time` — paper Fig. 2f: the lag time t_lag versus α − α* for m/m0 ∈ {0.5, 2, 10} (and
+//! the viscous limit), on one inertial disk (σ = 0.12, M = 5).
+//!
+//! t_lag: released from rest at the bottleneck θ* at α = α* + δα, the time until θ − θ* = π
+//! ([`crate::analysis::disk_dynamics::lag_time`]). As for the period, t_lag = A δα^(−β) + C, so
+//! β is fitted on differences t(δα) − t(2δα) over δα = 1e-7…1e-5 (expect β = 1/2 for every mass:
+//! the time is spent at the saddle-node ghost, where inertia does not matter). Inertia adds
+//! corrections of relative size ≈ (1.5 m)·√δα, so the heaviest disk needs δα ≲ 1e-5 to show it:
+//! on the default disk m/m0 = 10 gives β = 0.4904 fitted on δα ≤ 1e-4 and 0.4959 on δα ≤ 1e-5,
+//! while m/m0 = 0, 0.5, 2 give 0.4997, 0.4995, 0.4989.
+
+use anyhow::{Result, anyhow};
+use serde::Serialize;
+
+use super::{FigureOptions, convex_disk, par_map, progress, write_csv, write_summary};
+use crate::analysis::critical_angle;
+use crate::analysis::disk_dynamics::lag_time;
+use crate::analysis::fit::{logspace, power_law};
+use crate::dynamics::Ramp;
+use crate::geometry::Body;
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+
+/// Per-mass fit.
+#[derive(Debug, Clone, Serialize)]
+pub struct MassFit {
+    /// m/m0 (0: viscous).
+    pub mass_ratio: f64,
+    /// Fitted β of t_lag − C ∝ δα^(−β) (expect 0.5).
+    pub exponent: f64,
+    /// Its standard error.
+    pub exponent_stderr: f64,
+}
+
+/// Headline numbers.
+#[derive(Debug, Serialize)]
+pub struct Summary {
+    /// Seed of the disk.
+    pub seed: u64,
+    /// Its α*.
+    pub alpha_star: f64,
+    /// Mean exponent over the masses (expect 0.5).
+    pub exponent_mean: f64,
+    /// Largest |β − ½|.
+    pub exponent_max_deviation: f64,
+    /// Per mass.
+    pub fits: Vec<MassFit>,
+}
+
+/// Runs the figure.
+pub fn run(opts: &FigureOptions) -> Result<Summary> {
+    let dir = opts.dir("disk-lag-time")?;
+    let (disk, seed) = convex_disk(opts.seed, 0.12, 5)?;
+    let ca = critical_angle(&Body::Disk(disk.clone()));
+    let masses = [0.0, 0.5, 2.0, 10.0];
+    let deltas = logspace(
+        1e-8,
+        if opts.quick { 1e-5 } else { 1e-2 },
+        if opts.quick { 4 } else { 19 },
+    );
+    // Every (mass, δα) pair and its double, in parallel.
+    let jobs: Vec<(f64, f64)> = masses
+        .iter()
+        .flat_map(|&m| deltas.iter().flat_map(move |&d| [(m, d), (m, 2.0 * d)]))
+        .collect();
+    let bar = progress(jobs.len(), "lag times");
+    let times = par_map(jobs.len(), &bar, |k| -> Result<f64> {
+        let (m, d) = jobs[k];
+        let ramp = Ramp::new(ca.alpha_star + d, m)?;
+        lag_time(&disk, &ramp, ca.theta, std::f64::consts::PI, 1e-11, 1e7)?
+            .ok_or_else(|| anyhow!("m/m0 = {m}, δα = {d}: the disk did not roll away"))
+    });
+    let times: Vec<f64> = times.into_iter().collect::<Result<_>>()?;
+    let mut rows = Vec::new();
+    let mut fits = Vec::new();
+    let mut curves = Vec::new();
+    for (mi, &m) in masses.iter().enumerate() {
+        let mut diffs = Vec::new();
+        let mut pts = Vec::new();
+        for (di, &d) in deltas.iter().enumerate() {
+            let k = 2 * (mi * deltas.len() + di);
+            let (t1, t2) = (times[k], times[k + 1]);
+            rows.push(vec![m, d, t1]);
+            pts.push((d, t1));
+            if d <= 1e-5 {
+                diffs.push((d, t1 - t2));
+            }
+        }
+        let f = power_law(&diffs).ok_or_else(|| anyhow!("m/m0 = {m}: no fit"))?;
+        fits.push(MassFit {
+            mass_ratio: m,
+            exponent: -f.slope,
+            exponent_stderr: f.slope_stderr,
+        });
+        curves.push(Series {
+            label: if m == 0.0 {
+                "viscous".into()
+            } else {
+                format!("m/m0 = {m}")
+            },
+            points: pts,
+            color: PALETTE[mi],
+            style: Style::LineMarkers,
+        });
+    }
+    write_csv(&dir.join("data.csv"), "mass_ratio,delta_alpha,t_lag", &rows)?;
+    let summary = Summary {
+        seed,
+        alpha_star: ca.alpha_star,
+        exponent_mean: fits.iter().map(|f| f.exponent).sum::<f64>() / fits.len() as f64,
+        exponent_max_deviation: fits
+            .iter()
+            .map(|f| (f.exponent - 0.5).abs())
+            .fold(0.0, f64::max),
+        fits,
+    };
+    write_summary(&dir.join("summary.json"), &summary)?;
+    let t0 = curves[0].points[0].1;
+    curves.push(Series {
+        label: "slope −1/2".into(),
+        points: vec![
+            (deltas[0], t0),
+            (
+                deltas[deltas.len() - 1],
+                t0 * (deltas[deltas.len() - 1] / deltas[0]).powf(-0.5),
+            ),
+        ],
+        color: (0, 0, 0),
+        style: Style::Line,
+    });
+    let panel = Panel {
+        title: format!(
+            "lag time from rest at θ* (disk α* = {:.4}); fitted exponent −{:.4}",
+            ca.alpha_star, summary.exponent_mean
+        ),
+        x_label: "α − α* (rad)".into(),
+        y_label: "t_lag: time to roll half a turn (t0)".into(),
+        log_x: true,
+        log_y: true,
+        series: curves,
+        legend: SeriesLabelPosition::UpperRight,
+    };
+    render_png(&[panel], 1, (900, 650), &dir.join("figure.png"))?;
+    Ok(summary)
+}
