@@ -69,7 +69,8 @@ pub struct SweepPoint {
 }
 
 /// Sweeps α through `alphas` (ascending then the same values descending) with the inertial
-/// model, carrying (θ, θ̇) over; `dwell` time units per α.
+/// model, carrying (θ, θ̇) over; `dwell` time units per α. The speed is the mean over the second
+/// half of the dwell if the disk made at least one turn there, else 0.
 pub fn hysteresis_sweep(
     disk: &Disk,
     mass: f64,
@@ -107,11 +108,18 @@ pub fn hysteresis_sweep(
             }
         }
         state = *st.y();
-        let speed = (state[0] - theta_half) / (0.5 * dwell);
+        // Rolling means at least one whole turn in the measured half; less is a rest point
+        // creeping as α changes, reported as 0.
+        let advance = state[0] - theta_half;
+        let speed = if advance > std::f64::consts::TAU {
+            advance / (0.5 * dwell)
+        } else {
+            0.0
+        };
         out.push(SweepPoint {
             alpha,
             ascending,
-            mean_angular_speed: speed.max(0.0),
+            mean_angular_speed: speed,
         });
         progress();
     }

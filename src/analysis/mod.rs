@@ -6,6 +6,7 @@ pub mod accuracy;
 pub mod critical_angle;
 pub mod disk_dynamics;
 pub mod fit;
+pub mod lag_fit;
 pub mod period;
 pub mod quadrature;
 

@@ -80,3 +80,49 @@ pub fn run(a: FigureArgs) -> Result<()> {
     println!("{name}: wrote {}\n{headline}", a.out.join(&name).display());
     Ok(())
 }
+
+/// Fit measured lag times: t_lag = A (α − α*)^β per run (α* fitted) and with a shared β.
+///
+/// Input layout (as ../shared/data/experiments/cylinder_lag_times.csv):
+///   run_idx,alpha*,alpha,t_lag      with t_lag a quoted list "[t1, t2, …]" of repeats (s).
+/// Writes OUT/fit-lag/{data.csv, figure.png, summary.json}; uncertainties by bootstrap over the
+/// repeats (seeded). The paper reports β = −1/2.
+#[derive(Debug, Args)]
+#[command(verbatim_doc_comment)]
+pub struct FitLagArgs {
+    /// The CSV file.
+    pub csv: PathBuf,
+    /// Output folder.
+    #[arg(long, default_value = "figures")]
+    pub out: PathBuf,
+    /// Bootstrap resamples for the uncertainties.
+    #[arg(long, default_value_t = 200)]
+    pub bootstrap: usize,
+    /// Seed of the bootstrap.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// Runs `fit-lag`.
+pub fn run_fit_lag(a: FitLagArgs) -> Result<()> {
+    let s = figures::fit_lag::run(&a.csv, &a.out, a.bootstrap, a.seed)?;
+    println!(
+        "fit-lag: {} runs, shared exponent β = {:.4} ± {:.4} (paper: −0.5); wrote {}",
+        s.runs,
+        s.shared_exponent,
+        s.shared_exponent_stderr,
+        a.out.join("fit-lag").display()
+    );
+    for (k, f) in s.analysis.runs.iter().enumerate() {
+        println!(
+            "  run {k}: α* = {:.5} (file: {}), β = {:.3} ± {:.3}",
+            f.alpha_star,
+            s.alpha_star_reported[k]
+                .map(|v| format!("{v:.5}"))
+                .unwrap_or_else(|| "-".into()),
+            f.exponent,
+            s.analysis.run_exponent_stderr[k]
+        );
+    }
+    Ok(())
+}

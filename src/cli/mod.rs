@@ -48,6 +48,8 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Regenerate one of the paper's figures as CSV + PNG + summary.json.
     Figure(figure::FigureArgs),
+    /// Fit measured lag times t_lag ∝ (α − α*)^β (per-run α*, shared β, bootstrap errors).
+    FitLag(figure::FitLagArgs),
 }
 
 /// Runs the parsed command.
@@ -59,6 +61,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Simulate(a) => simulate::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Figure(a) => figure::run(a),
+        Command::FitLag(a) => figure::run_fit_lag(a),
     }
 }
 

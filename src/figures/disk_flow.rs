@@ -56,7 +56,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let mut rows = Vec::new();
     let mut panels = Vec::new();
     let mut out = Vec::new();
-    for (pi, &f) in factors.iter().enumerate() {
+    for &f in factors.iter() {
         let alpha = ca.alpha_star * f;
         let ramp = Ramp::new(alpha, MASS)?;
         let model = DiskInertial::new(&disk, &ramp);
@@ -97,12 +97,16 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
             }
             let y = if t == st.t() { *st.y() } else { st.dense(t) };
             let th = y[0].rem_euclid(std::f64::consts::TAU);
-            if let Some(last) = pieces.last().and_then(|p| p.last()) {
-                if (th - last.0).abs() > std::f64::consts::PI {
-                    pieces.push(Vec::new());
-                }
+            let wrapped = pieces
+                .last()
+                .and_then(|p| p.last())
+                .is_some_and(|last| (th - last.0).abs() > std::f64::consts::PI);
+            if wrapped {
+                pieces.push(Vec::new());
             }
-            pieces.last_mut().map(|p| p.push((th, y[1])));
+            if let Some(p) = pieces.last_mut() {
+                p.push((th, y[1]));
+            }
         }
         let end = *st.y();
         let rolls = end[1].abs() > 1e-6;
@@ -179,7 +183,6 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
             fixed_points: fps,
             trajectory_rolls: rolls,
         });
-        let _ = pi;
     }
     write_csv(
         &dir.join("data.csv"),
