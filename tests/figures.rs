@@ -1,7 +1,9 @@
 //! Every figure in `--quick` mode reproduces the paper's physics (not just writes files):
 //! the √(α − α*) law and its prefactor, hysteresis with α** < α* and a log-sharp return, the
-//! −½ lag-time exponent for every mass, the flow's fixed points, and the measured lag times'
-//! exponent. Outputs are byte-identical for any thread count.
+//! −½ lag-time exponent for every mass, the flow's fixed points, the measured lag times'
+//! exponent; in 3D two attractors of the Poincaré map, two stable orbits, a cruising fraction
+//! that rises to 1 at α* against the 2D step, and closed perfect-sphere orbits. Outputs are
+//! byte-identical for any thread count.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -154,4 +156,61 @@ fn figures_are_identical_for_any_thread_count() {
         let b = std::fs::read(base.join("2/disk-transition").join(f)).unwrap();
         assert!(a == b, "{f} differs between 1 and 2 threads");
     }
+}
+
+#[test]
+fn sphere_poincare_map_has_two_attractors() {
+    let s = figures::sphere_poincare::run(&opts("poincare")).unwrap();
+    assert_eq!(s.halted, 0, "above α* nothing halts");
+    assert_eq!(s.attractors, 2, "{:?}", s.attractor_list);
+    // Two distinct closed orbits: different points on ∂Ω and different periods.
+    let (a, b) = (&s.attractor_list[0], &s.attractor_list[1]);
+    assert!((a.period - b.period).abs() > 1e-3);
+}
+
+#[test]
+fn sphere_orbits_collapse_onto_two() {
+    let s = figures::sphere_orbits::run(&opts("orbits")).unwrap();
+    assert_eq!(s.distinct_orbits, 2);
+    assert_eq!(s.undecided, 0);
+}
+
+#[test]
+fn sphere_cruising_rises_to_one_at_alpha_star_while_2d_is_a_step() {
+    let s = figures::sphere_cruising::run(&opts("cruising")).unwrap();
+    let n = s.orientations as f64;
+    for (i, &a) in s.alphas.iter().enumerate() {
+        // 2D: a step at α* (the state space is a loop).
+        let step = if a > s.alpha_star { 1.0 } else { 0.0 };
+        assert_eq!(s.fraction_2d[i], step, "2D at α/α* = {}", a / s.alpha_star);
+        // 3D: no rest point exists above α*.
+        if a > s.alpha_star {
+            assert_eq!(s.fraction_3d[i], 1.0, "3D at α/α* = {}", a / s.alpha_star);
+        }
+        // Rising: never down by more than one orientation in 40 from one α to the next.
+        if i > 0 {
+            assert!(
+                s.fraction_3d[i] >= s.fraction_3d[i - 1] - 1.0 / n,
+                "{:?}",
+                s.fraction_3d
+            );
+        }
+    }
+    // Below α* the 3D fraction is strictly between 0 and 1 somewhere: coexistence.
+    assert!(
+        s.fraction_3d
+            .iter()
+            .zip(&s.alphas)
+            .any(|(f, a)| *a < s.alpha_star && *f > 0.0 && *f < 1.0)
+    );
+    assert_eq!(s.fraction_3d[0], 0.0);
+}
+
+#[test]
+fn sphere_tube_trajectories_close_and_match_the_closed_form() {
+    let s = figures::sphere_tube::run(&opts("tube")).unwrap();
+    assert!(
+        s.closure_error < 1e-12 && s.integration_error < 1e-9,
+        "{s:?}"
+    );
 }

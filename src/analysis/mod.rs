@@ -9,6 +9,7 @@ pub mod fit;
 pub mod lag_fit;
 pub mod period;
 pub mod quadrature;
+pub mod sphere_orbits;
 
 pub use critical_angle::{CriticalAngle, critical_angle};
 pub use period::{PeriodResult, inertial_disk_period, viscous_disk_period};

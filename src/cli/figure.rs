@@ -10,7 +10,8 @@ use crate::figures::{self, FIGURES, FigureOptions};
 /// Regenerate one of the paper's figures: OUT/NAME/data.csv, figure.png and summary.json.
 ///
 /// Names (`rollphase figure --list` prints them with descriptions):
-///   disk-transition, disk-hysteresis, disk-lag-time, disk-flow.
+///   disk-transition, disk-hysteresis, disk-lag-time, disk-flow,
+///   sphere-cruising, sphere-orbits, sphere-poincare, sphere-tube.
 /// Ensembles run on all cores; the numbers do not depend on the thread count.
 #[derive(Debug, Args)]
 #[command(verbatim_doc_comment)]
@@ -58,6 +59,10 @@ pub fn run(a: FigureArgs) -> Result<()> {
             "disk-hysteresis" => serde_json::to_value(figures::disk_hysteresis::run(&opts)?)?,
             "disk-lag-time" => serde_json::to_value(figures::disk_lag_time::run(&opts)?)?,
             "disk-flow" => serde_json::to_value(figures::disk_flow::run(&opts)?)?,
+            "sphere-poincare" => serde_json::to_value(figures::sphere_poincare::run(&opts)?)?,
+            "sphere-cruising" => serde_json::to_value(figures::sphere_cruising::run(&opts)?)?,
+            "sphere-tube" => serde_json::to_value(figures::sphere_tube::run(&opts)?)?,
+            "sphere-orbits" => serde_json::to_value(figures::sphere_orbits::run(&opts)?)?,
             other => {
                 let names: Vec<&str> = FIGURES.iter().map(|f| f.0).collect();
                 bail!(

@@ -11,6 +11,10 @@ pub mod disk_hysteresis;
 pub mod disk_lag_time;
 pub mod disk_transition;
 pub mod fit_lag;
+pub mod sphere_cruising;
+pub mod sphere_orbits;
+pub mod sphere_poincare;
+pub mod sphere_tube;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

@@ -1,0 +1,241 @@
+//! 3D orbits through the boundary ∂Ω of the SO(3) ball (paper Fig. 3–4, SI §2G).
+//!
+//! An orientation q (q and −q the same) is drawn as the vector part of ±q with q_w ≥ 0, a point of
+//! the unit ball Ω; q_w = 0 is its boundary ∂Ω, where antipodal points are identified. Every
+//! crossing of q_w = 0 is located on the dense output (Brent), giving a boundary point p (unit
+//! vector, sign irrelevant). The Poincaré map P sends one crossing to the next; V = P(p) − p
+//! (with the sign of P(p) chosen nearest p) is the paper's vector field on ∂Ω. A fixed point of P
+//! is a closed, period-1 orbit; a cycle of P of length k a period-k orbit (period doubling:
+//! k = 2).
+
+use glam::{DQuat, DVec3};
+use serde::Serialize;
+
+use crate::dynamics::{Ramp, SphereInertial, SphereViscous};
+use crate::geometry::Sphere;
+use crate::integrate::events::{Direction, crossings_in_last_step};
+use crate::integrate::lie::quat_at;
+use crate::integrate::{self, IntegrateError, Method, OdeSystem};
+
+/// Distance between two boundary points with antipodes identified.
+pub fn boundary_distance(a: DVec3, b: DVec3) -> f64 {
+    (a - b).length().min((a + b).length())
+}
+
+/// `b` or `−b`, whichever is nearer `a`.
+pub fn nearest_sign(a: DVec3, b: DVec3) -> DVec3 {
+    if (a - b).length() <= (a + b).length() {
+        b
+    } else {
+        -b
+    }
+}
+
+/// The ball point of an orientation: vector part of ±q with q_w ≥ 0.
+pub fn ball_point(q: DQuat) -> DVec3 {
+    let q = if q.w < 0.0 { -q } else { q };
+    DVec3::new(q.x, q.y, q.z)
+}
+
+/// A crossing of ∂Ω.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Crossing {
+    /// Time.
+    pub t: f64,
+    /// Boundary point (unit vector; sign arbitrary).
+    pub point: [f64; 3],
+}
+
+/// What becomes of a run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum Fate {
+    /// Came to rest (|ω| below the threshold) at time `t`.
+    Halts {
+        /// When.
+        t: f64,
+    },
+    /// Settled on a cycle of the Poincaré map of length `k` (k = 1: period-1 orbit).
+    Periodic {
+        /// Time for the orbit to close (k crossings).
+        period: f64,
+        /// Cycle length in crossings.
+        k: usize,
+        /// One boundary point of the cycle.
+        point: [f64; 3],
+        /// When the cycle was recognised.
+        t: f64,
+    },
+    /// Neither within the time limit.
+    Undecided,
+}
+
+/// Settling criteria.
+#[derive(Debug, Clone, Copy)]
+pub struct Settle {
+    /// Longest simulated time.
+    pub t_max: f64,
+    /// Halted when |ω| falls below this.
+    pub omega_rest: f64,
+    /// Periodic when the cycle's boundary points repeat to this distance…
+    pub point_tol: f64,
+    /// …and its duration repeats to this relative tolerance.
+    pub period_rtol: f64,
+    /// Longest cycle searched.
+    pub max_k: usize,
+    /// DOP853 tolerance.
+    pub rtol: f64,
+}
+
+impl Default for Settle {
+    fn default() -> Self {
+        Self {
+            t_max: 3000.0,
+            omega_rest: 1e-9,
+            point_tol: 1e-7,
+            period_rtol: 1e-7,
+            max_k: 1,
+            rtol: 1e-10,
+        }
+    }
+}
+
+/// Follows the 3D model (viscous if m/m0 = 0, else inertial from rest) from q0 and returns its
+/// fate and all ∂Ω crossings (for plots).
+pub fn settle(
+    body: &Sphere,
+    ramp: &Ramp,
+    q0: DQuat,
+    s: &Settle,
+) -> Result<(Fate, Vec<Crossing>), IntegrateError> {
+    if ramp.is_viscous() {
+        let m = SphereViscous::new(body, ramp);
+        follow(&m, SphereViscous::initial_state(q0), s, |y| {
+            m.observe(y).omega.length()
+        })
+    } else {
+        let m = SphereInertial::new(body, ramp);
+        follow(&m, SphereInertial::initial_state(q0, DVec3::ZERO), s, |y| {
+            DVec3::new(y[4], y[5], y[6]).length()
+        })
+    }
+}
+
+fn follow<const N: usize, S: OdeSystem<N>>(
+    sys: &S,
+    y0: [f64; N],
+    s: &Settle,
+    omega: impl Fn(&[f64; N]) -> f64,
+) -> Result<(Fate, Vec<Crossing>), IntegrateError> {
+    let mut st = integrate::stepper(sys, 0.0, y0, Method::dop853(s.rtol))?;
+    let mut times = Vec::new();
+    let mut crossings: Vec<Crossing> = Vec::new();
+    while st.t() < s.t_max {
+        st.step(s.t_max)?;
+        times.clear();
+        crossings_in_last_step(
+            st.as_mut(),
+            &|_t, y: &[f64; N]| y[0],
+            Direction::Both,
+            &mut times,
+        );
+        for &t in &times {
+            let y = st.dense(t);
+            let p = DVec3::new(y[1], y[2], y[3]).normalize();
+            crossings.push(Crossing {
+                t,
+                point: p.to_array(),
+            });
+            if let Some(f) = periodic(&crossings, s) {
+                return Ok((f, crossings));
+            }
+        }
+        // At rest: the viscous ω vanishes at a rest point; the inertial one decays to it.
+        if omega(st.y()) < s.omega_rest && st.t() > 1.0 {
+            return Ok((Fate::Halts { t: st.t() }, crossings));
+        }
+    }
+    Ok((Fate::Undecided, crossings))
+}
+
+/// A cycle of length k ≤ max_k closing twice in a row (points and durations).
+fn periodic(c: &[Crossing], s: &Settle) -> Option<Fate> {
+    let n = c.len();
+    for k in 1..=s.max_k {
+        if n < 2 * k + 1 {
+            continue;
+        }
+        let p = |i: usize| DVec3::from_array(c[i].point);
+        let (a, b, d) = (n - 1, n - 1 - k, n - 1 - 2 * k);
+        let t1 = c[a].t - c[b].t;
+        let t0 = c[b].t - c[d].t;
+        if boundary_distance(p(a), p(b)) < s.point_tol
+            && boundary_distance(p(b), p(d)) < s.point_tol
+            && (t1 - t0).abs() < s.period_rtol * t1
+        {
+            return Some(Fate::Periodic {
+                period: t1,
+                k,
+                point: c[a].point,
+                t: c[a].t,
+            });
+        }
+    }
+    None
+}
+
+/// One step of the viscous Poincaré map from the boundary point `p` (q = (0, p)): the next
+/// crossing's point (sign nearest p) and the time taken, or `None` if the body halts first.
+pub fn poincare_step(
+    body: &Sphere,
+    ramp: &Ramp,
+    p: DVec3,
+    t_max: f64,
+    rtol: f64,
+) -> Result<Option<(DVec3, f64)>, IntegrateError> {
+    let m = SphereViscous::new(body, ramp);
+    let q0 = DQuat::from_xyzw(p.x, p.y, p.z, 0.0);
+    let mut st = integrate::stepper(
+        &m,
+        0.0,
+        SphereViscous::initial_state(q0),
+        Method::dop853(rtol),
+    )?;
+    let mut times = Vec::new();
+    while st.t() < t_max {
+        st.step(t_max)?;
+        crossings_in_last_step(
+            st.as_mut(),
+            &|_t, y: &[f64; 6]| y[0],
+            Direction::Both,
+            &mut times,
+        );
+        if let Some(&t) = times.first() {
+            let y = st.dense(t);
+            let q = quat_at(&y, 0);
+            return Ok(Some((
+                nearest_sign(p, DVec3::new(q.x, q.y, q.z).normalize()),
+                t,
+            )));
+        }
+        if m.observe(st.y()).omega.length() < 1e-9 {
+            return Ok(None);
+        }
+    }
+    Ok(None)
+}
+
+/// Clusters unit vectors (antipodes identified) within `tol`; returns (representative, count).
+pub fn cluster_antipodal(points: &[DVec3], tol: f64) -> Vec<(DVec3, usize)> {
+    let mut clusters: Vec<(DVec3, usize)> = Vec::new();
+    for &p in points {
+        match clusters
+            .iter_mut()
+            .find(|(c, _)| boundary_distance(*c, p) < tol)
+        {
+            Some(c) => c.1 += 1,
+            None => clusters.push((p, 1)),
+        }
+    }
+    clusters.sort_by_key(|c| std::cmp::Reverse(c.1));
+    clusters
+}

@@ -1,0 +1,219 @@
+//! `sphere-cruising` — paper Fig. 3b: the fraction of random initial orientations that cruise
+//! (never come to rest) versus α, for the default body in the viscous model, against the 2D
+//! step at the same α*.
+//!
+//! Each orientation (uniform contact point, uniform spin; seeded per index) is followed until it
+//! halts (|ω| < 1e-9) or settles on a closed orbit (crossings of ∂Ω repeat to 1e-5). In 2D the
+//! state space is a loop, so a disk halts for every start below α* and cruises for every start
+//! above: the 2D curve is a step. It is computed, not drawn: a convex disk with the sphere's α*
+//! (low modes rescaled, see [`comparison_disk`]) is simulated from as many starts θ₀.
+//! In 3D halting loops and cruising orbits coexist below α*, so the fraction rises gradually and
+//! reaches 1 at α*, above which no rest point exists.
+
+use anyhow::Result;
+use serde::Serialize;
+
+use super::sphere_orbits::random_orientation;
+use super::{
+    FigureOptions, convex_disk, convex_sphere, par_map, progress, write_csv, write_summary,
+};
+use crate::analysis::critical_angle;
+use crate::analysis::sphere_orbits::{Fate, Settle, settle};
+use crate::dynamics::{DiskViscous, Ramp};
+use crate::geometry::{Body, Disk, DiskMode};
+use crate::integrate::{self, Method};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+
+/// Headline numbers.
+#[derive(Debug, Serialize)]
+pub struct Summary {
+    /// Seed of the sphere.
+    pub seed: u64,
+    /// α* of the sphere (and of the rescaled disk).
+    pub alpha_star: f64,
+    /// Orientations per α.
+    pub orientations: usize,
+    /// α values.
+    pub alphas: Vec<f64>,
+    /// 3D cruising fraction per α.
+    pub fraction_3d: Vec<f64>,
+    /// 2D cruising fraction per α.
+    pub fraction_2d: Vec<f64>,
+    /// Runs neither halted nor periodic within the time limit (counted as cruising).
+    pub undecided: usize,
+}
+
+/// Whether a viscous disk from θ₀ makes a whole turn (cruises) before halting.
+fn disk_cruises(disk: &Disk, alpha: f64, theta0: f64) -> Result<bool> {
+    let ramp = Ramp::new(alpha, 0.0)?;
+    let m = DiskViscous::new(disk, &ramp);
+    let mut st = integrate::stepper(&m, 0.0, [theta0, 0.0], Method::dop853(1e-10))?;
+    while st.t() < 1e6 {
+        st.step(1e6)?;
+        if st.y()[0] - theta0 > std::f64::consts::TAU {
+            return Ok(true);
+        }
+        if m.theta_dot(st.y()[0]).abs() < 1e-12 {
+            return Ok(false);
+        }
+    }
+    Ok(false)
+}
+
+/// A convex disk with α* = `target`: the modes l = 2, 3 of a random disk rescaled (bisection on
+/// the scale), or, if that is not convex, the single mode r = 1 + (a/4) sin 2θ, whose
+/// Q* = (a/2)/√(1 − a²/16) is inverted exactly.
+fn comparison_disk(seed: u64, target: f64) -> Result<Disk> {
+    let base = convex_disk(seed, 0.08, 3)?.0;
+    let d = disk_with_alpha_star(&base, target);
+    if Body::Disk(d.clone()).check_convex().is_ok() {
+        return Ok(d);
+    }
+    let q = target.tan();
+    let a = 2.0 * q / (1.0 + q * q / 4.0).sqrt();
+    let d = Disk::new(vec![DiskMode {
+        l: 2,
+        a,
+        phase: 0.0,
+    }]);
+    Body::Disk(d.clone()).check_convex()?;
+    Ok(d)
+}
+
+/// A disk rescaled (all amplitudes × s) so that its α* equals `target`, by bisection on s.
+fn disk_with_alpha_star(base: &Disk, target: f64) -> Disk {
+    let scaled = |s: f64| {
+        Disk::new(
+            base.modes()
+                .iter()
+                .map(|m| DiskMode { a: m.a * s, ..*m })
+                .collect(),
+        )
+    };
+    let a_of = |s: f64| critical_angle(&Body::Disk(scaled(s))).alpha_star;
+    let (mut lo, mut hi) = (0.0, 1.0);
+    while a_of(hi) < target {
+        hi *= 2.0;
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if a_of(mid) < target {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    scaled(0.5 * (lo + hi))
+}
+
+/// Runs the figure.
+pub fn run(opts: &FigureOptions) -> Result<Summary> {
+    let dir = opts.dir("sphere-cruising")?;
+    let (body, seed) = convex_sphere(opts.seed)?;
+    let a_star = critical_angle(&Body::Sphere(body.clone())).alpha_star;
+    let (n_or, n_a) = if opts.quick { (40, 8) } else { (300, 30) };
+    let alphas: Vec<f64> = (1..=n_a)
+        .map(|i| 1.2 * a_star * i as f64 / n_a as f64)
+        .collect();
+    let jobs: Vec<(usize, usize)> = (0..n_a)
+        .flat_map(|a| (0..n_or).map(move |o| (a, o)))
+        .collect();
+    let bar = progress(jobs.len(), "3D runs");
+    let settle_opts = Settle {
+        t_max: 2000.0,
+        point_tol: 1e-5,
+        period_rtol: 1e-5,
+        ..Settle::default()
+    };
+    let fates = par_map(jobs.len(), &bar, |k| -> Result<Fate> {
+        let (a, o) = jobs[k];
+        let ramp = Ramp::new(alphas[a], 0.0)?;
+        Ok(settle(
+            &body,
+            &ramp,
+            random_orientation(&body, opts.seed, o),
+            &settle_opts,
+        )?
+        .0)
+    });
+    let fates: Vec<Fate> = fates.into_iter().collect::<Result<_>>()?;
+    let undecided = fates
+        .iter()
+        .filter(|f| matches!(f, Fate::Undecided))
+        .count();
+    let fraction_3d: Vec<f64> = (0..n_a)
+        .map(|a| {
+            (0..n_or)
+                .filter(|&o| !matches!(fates[a * n_or + o], Fate::Halts { .. }))
+                .count() as f64
+                / n_or as f64
+        })
+        .collect();
+    // The 2D comparison.
+    let disk = comparison_disk(opts.seed, a_star)?;
+    let jobs2: Vec<(usize, usize)> = (0..n_a)
+        .flat_map(|a| (0..n_or).map(move |o| (a, o)))
+        .collect();
+    let bar = progress(jobs2.len(), "2D runs");
+    let cruise2 = par_map(jobs2.len(), &bar, |k| {
+        let (a, o) = jobs2[k];
+        disk_cruises(
+            &disk,
+            alphas[a],
+            std::f64::consts::TAU * o as f64 / n_or as f64,
+        )
+    });
+    let cruise2: Vec<bool> = cruise2.into_iter().collect::<Result<_>>()?;
+    let fraction_2d: Vec<f64> = (0..n_a)
+        .map(|a| (0..n_or).filter(|&o| cruise2[a * n_or + o]).count() as f64 / n_or as f64)
+        .collect();
+    let rows: Vec<Vec<f64>> = (0..n_a)
+        .map(|a| {
+            vec![
+                alphas[a],
+                alphas[a] / a_star,
+                fraction_3d[a],
+                fraction_2d[a],
+            ]
+        })
+        .collect();
+    write_csv(
+        &dir.join("data.csv"),
+        "alpha,alpha_over_alpha_star,cruising_fraction_3d,cruising_fraction_2d",
+        &rows,
+    )?;
+    let summary = Summary {
+        seed,
+        alpha_star: a_star,
+        orientations: n_or,
+        alphas: alphas.clone(),
+        fraction_3d: fraction_3d.clone(),
+        fraction_2d: fraction_2d.clone(),
+        undecided,
+    };
+    write_summary(&dir.join("summary.json"), &summary)?;
+    let panel = Panel {
+        title: format!("cruising probability over {n_or} initial orientations (α* = {a_star:.4})"),
+        x_label: "α / α*".into(),
+        y_label: "fraction of starts that cruise".into(),
+        log_x: false,
+        log_y: false,
+        series: vec![
+            Series {
+                label: "3D sphere (viscous)".into(),
+                points: rows.iter().map(|r| (r[1], r[2])).collect(),
+                color: PALETTE[0],
+                style: Style::LineMarkers,
+            },
+            Series {
+                label: "2D disk with the same α*".into(),
+                points: rows.iter().map(|r| (r[1], r[3])).collect(),
+                color: PALETTE[1],
+                style: Style::LineMarkers,
+            },
+        ],
+        legend: SeriesLabelPosition::UpperLeft,
+    };
+    render_png(&[panel], 1, (1000, 650), &dir.join("figure.png"))?;
+    Ok(summary)
+}

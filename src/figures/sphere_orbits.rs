@@ -1,0 +1,169 @@
+//! `sphere-orbits` — paper Fig. 3c: the order parameter 1/T versus α for 6 initial orientations
+//! of the default body (viscous). Each run starts afresh at each α and is followed until it
+//! halts or settles on a closed orbit, detected by event location on SO(3): successive crossings
+//! of ∂Ω repeat ([`crate::analysis::sphere_orbits::settle`]). Closed orbits are identified by
+//! their point on ∂Ω (antipodes identified); the paper finds that all runs collapse onto two
+//! stable periodic orbits.
+
+use anyhow::Result;
+use glam::DVec3;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::Serialize;
+
+use super::{FigureOptions, convex_sphere, par_map, progress, write_csv, write_summary};
+use crate::analysis::critical_angle;
+use crate::analysis::sphere_orbits::{Fate, Settle, boundary_distance, cluster_antipodal, settle};
+use crate::dynamics::Ramp;
+use crate::dynamics::sphere3d::orientation_touching;
+use crate::geometry::{Body, Sphere};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+
+/// Headline numbers.
+#[derive(Debug, Serialize)]
+pub struct Summary {
+    /// Seed.
+    pub seed: u64,
+    /// α*.
+    pub alpha_star: f64,
+    /// Most distinct closed orbits seen at one α (the paper: 2).
+    pub distinct_orbits: usize,
+    /// Runs (orientation × α) that neither halted nor closed in time.
+    pub undecided: usize,
+    /// Orbit label per run and α (−1: halts).
+    pub labels: Vec<Vec<i64>>,
+}
+
+/// Random orientation i of a seed: a uniformly random contact point, then a random spin.
+pub fn random_orientation(body: &Sphere, seed: u64, i: usize) -> glam::DQuat {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_mul(1_000_003).wrapping_add(i as u64));
+    let z: f64 = rng.random_range(-1.0..1.0);
+    let phi: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+    let s = (1.0 - z * z).sqrt();
+    let spin: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+    orientation_touching(body, DVec3::new(s * phi.cos(), s * phi.sin(), z), spin)
+}
+
+/// Runs the figure.
+pub fn run(opts: &FigureOptions) -> Result<Summary> {
+    let dir = opts.dir("sphere-orbits")?;
+    let (body, seed) = convex_sphere(opts.seed)?;
+    let a_star = critical_angle(&Body::Sphere(body.clone())).alpha_star;
+    let runs = 6;
+    let na = if opts.quick { 5 } else { 24 };
+    let alphas: Vec<f64> = (0..na)
+        .map(|i| a_star * 0.3 + (0.5 - a_star * 0.3) * i as f64 / (na - 1) as f64)
+        .collect();
+    let jobs: Vec<(usize, usize)> = (0..runs)
+        .flat_map(|r| (0..na).map(move |a| (r, a)))
+        .collect();
+    let bar = progress(jobs.len(), "orbits");
+    let fates = par_map(jobs.len(), &bar, |k| -> Result<Fate> {
+        let (r, a) = jobs[k];
+        let ramp = Ramp::new(alphas[a], 0.0)?;
+        let q0 = random_orientation(&body, opts.seed, r);
+        Ok(settle(
+            &body,
+            &ramp,
+            q0,
+            &Settle {
+                t_max: 4000.0,
+                ..Settle::default()
+            },
+        )?
+        .0)
+    });
+    let fates: Vec<Fate> = fates.into_iter().collect::<Result<_>>()?;
+    // Label orbits at each α by clustering their ∂Ω points; keep labels consistent across α by
+    // matching each cluster to the nearest cluster of the previous α.
+    let mut labels = vec![vec![-1i64; na]; runs];
+    let mut previous: Vec<DVec3> = Vec::new();
+    let mut distinct = 0;
+    let mut rows = Vec::new();
+    for a in 0..na {
+        let pts: Vec<(usize, DVec3)> = (0..runs)
+            .filter_map(|r| match &fates[r * na + a] {
+                Fate::Periodic { point, .. } => Some((r, DVec3::from_array(*point))),
+                _ => None,
+            })
+            .collect();
+        let clusters = cluster_antipodal(&pts.iter().map(|p| p.1).collect::<Vec<_>>(), 1e-4);
+        distinct = distinct.max(clusters.len());
+        let mut reps: Vec<DVec3> = Vec::new();
+        for (c, _) in &clusters {
+            // Nearest previous representative keeps the label; otherwise a new label.
+            let label = previous
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| boundary_distance(**p, *c) < 0.3)
+                .min_by(|x, y| boundary_distance(*x.1, *c).total_cmp(&boundary_distance(*y.1, *c)))
+                .map(|(i, _)| i)
+                .unwrap_or(previous.len() + reps.len());
+            reps.push(*c);
+            for (r, p) in &pts {
+                if boundary_distance(*p, *c) < 1e-4 {
+                    labels[*r][a] = label as i64;
+                }
+            }
+        }
+        previous = reps;
+        for r in 0..runs {
+            let (inv_t, k) = match &fates[r * na + a] {
+                Fate::Periodic { period, .. } => (1.0 / period, labels[r][a] as f64),
+                Fate::Halts { .. } => (0.0, -1.0),
+                Fate::Undecided => (f64::NAN, -2.0),
+            };
+            rows.push(vec![r as f64, alphas[a], inv_t, k]);
+        }
+    }
+    write_csv(
+        &dir.join("data.csv"),
+        "run,alpha,inverse_period,orbit_label",
+        &rows,
+    )?;
+    let undecided = fates
+        .iter()
+        .filter(|f| matches!(f, Fate::Undecided))
+        .count();
+    let summary = Summary {
+        seed,
+        alpha_star: a_star,
+        distinct_orbits: distinct,
+        undecided,
+        labels: labels.clone(),
+    };
+    write_summary(&dir.join("summary.json"), &summary)?;
+    let mut series = Vec::new();
+    for r in 0..runs {
+        series.push(Series {
+            label: format!("orientation {r}"),
+            points: rows
+                .iter()
+                .filter(|row| row[0] == r as f64 && row[2].is_finite())
+                .map(|row| (row[1], row[2]))
+                .collect(),
+            color: PALETTE[r % PALETTE.len()],
+            style: Style::LineMarkers,
+        });
+    }
+    series.push(Series {
+        label: "α*".into(),
+        points: vec![(a_star, 0.0), (a_star, 0.06)],
+        color: (0, 0, 0),
+        style: Style::Line,
+    });
+    let panel = Panel {
+        title: format!(
+            "1/T of 6 orientations (viscous): {} distinct closed orbits",
+            distinct
+        ),
+        x_label: "ramp angle α (rad)".into(),
+        y_label: "1/T, T the orbit period (1/t0)".into(),
+        log_x: false,
+        log_y: false,
+        series,
+        legend: SeriesLabelPosition::UpperLeft,
+    };
+    render_png(&[panel], 1, (1000, 700), &dir.join("figure.png"))?;
+    Ok(summary)
+}

@@ -1,0 +1,276 @@
+//! `sphere-poincare` — paper Fig. 3d: the Poincaré map of viscous 3D rolling on the boundary ∂Ω of
+//! the SO(3) ball, for the default body at α = 0.3 > α*.
+//!
+//! From N boundary points p (a Fibonacci lattice; antipodes identified, and V(−p) = −V(p) since
+//! q and −q are the same orientation, so half the lattice is integrated) the body rolls until the
+//! next crossing of ∂Ω ([`crate::analysis::sphere_orbits::poincare_step`]); V = P(p) − p. Its
+//! attractors (stable closed orbits) are found by iterating P from a subset of starts until
+//! |V| < 1e-9 and clustering the limits (antipodes identified): the paper finds two antipodal
+//! pairs, i.e. two stable periodic orbits. Drawn as arrows on a flat (θ, φ) map and on the
+//! sphere seen from +z, coloured by |V|.
+
+use anyhow::Result;
+use glam::DVec3;
+use serde::Serialize;
+
+use super::{FigureOptions, convex_sphere, par_map, progress, write_csv, write_summary};
+use crate::analysis::critical_angle;
+use crate::analysis::sphere_orbits::{boundary_distance, cluster_antipodal, poincare_step};
+use crate::dynamics::Ramp;
+use crate::geometry::Body;
+use crate::geometry::sphere::{angles, fibonacci_sphere};
+use crate::plot::{Panel, Series, SeriesLabelPosition, Style, colormap, render_png};
+
+/// An attractor of the map.
+#[derive(Debug, Clone, Serialize)]
+pub struct Attractor {
+    /// Boundary point (unit vector; its antipode is the same orientation).
+    pub point: [f64; 3],
+    /// Polar angle and azimuth of the point.
+    pub theta: f64,
+    /// Azimuth.
+    pub phi: f64,
+    /// Orbit period (time between crossings at the fixed point).
+    pub period: f64,
+    /// How many of the iterated starts ended here.
+    pub basin_count: usize,
+}
+
+/// Headline numbers.
+#[derive(Debug, Serialize)]
+pub struct Summary {
+    /// Seed of the body.
+    pub seed: u64,
+    /// α* of the body.
+    pub alpha_star: f64,
+    /// α used.
+    pub alpha: f64,
+    /// Starts on ∂Ω (lattice points, both hemispheres).
+    pub starts: usize,
+    /// Starts from which the body halted before crossing again (0 above α*).
+    pub halted: usize,
+    /// Attractors of P, antipodes identified (the paper: 2).
+    pub attractors: usize,
+    /// Their details.
+    pub attractor_list: Vec<Attractor>,
+    /// Iterated starts that converged.
+    pub converged_starts: usize,
+}
+
+/// The figure's ramp angle (above α* of the default body).
+pub const ALPHA: f64 = 0.3;
+
+/// Runs the figure.
+pub fn run(opts: &FigureOptions) -> Result<Summary> {
+    let dir = opts.dir("sphere-poincare")?;
+    let (body, seed) = convex_sphere(opts.seed)?;
+    let a_star = critical_angle(&Body::Sphere(body.clone())).alpha_star;
+    let alpha = ALPHA.max(a_star + 0.05);
+    let ramp = Ramp::new(alpha, 0.0)?;
+    let n = if opts.quick { 400 } else { 5000 };
+    let lattice = fibonacci_sphere(n);
+    let upper: Vec<DVec3> = lattice.iter().copied().filter(|p| p.z >= 0.0).collect();
+    let bar = progress(upper.len(), "map V on ∂Ω");
+    let images = par_map(upper.len(), &bar, |i| {
+        poincare_step(&body, &ramp, upper[i], 2000.0, 1e-10)
+    });
+    let mut field: Vec<(DVec3, Option<(DVec3, f64)>)> = Vec::new();
+    for (p, r) in upper.iter().zip(images) {
+        let r = r?;
+        field.push((*p, r));
+        // V(−p) = −V(p): the antipodal start is the same orientation, mirrored.
+        if p.z > 0.0 {
+            field.push((-*p, r.map(|(q, t)| (-q, t))));
+        }
+    }
+    let halted = field.iter().filter(|f| f.1.is_none()).count();
+    // Attractors: iterate P from a sub-lattice until |V| < 1e-9.
+    let m = if opts.quick { 24 } else { 120 };
+    let seeds: Vec<DVec3> = fibonacci_sphere(2 * m)
+        .into_iter()
+        .filter(|p| p.z >= 0.0)
+        .collect();
+    let bar = progress(seeds.len(), "iterate P");
+    let limits = par_map(seeds.len(), &bar, |i| -> Result<Option<(DVec3, f64)>> {
+        let mut p = seeds[i];
+        for _ in 0..200 {
+            match poincare_step(&body, &ramp, p, 2000.0, 1e-11)? {
+                Some((q, t)) => {
+                    if boundary_distance(p, q) < 1e-9 {
+                        return Ok(Some((q, t)));
+                    }
+                    p = q;
+                }
+                None => return Ok(None),
+            }
+        }
+        Ok(None)
+    });
+    let limits: Vec<(DVec3, f64)> = limits
+        .into_iter()
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .flatten()
+        .collect();
+    let clusters = cluster_antipodal(&limits.iter().map(|l| l.0).collect::<Vec<_>>(), 1e-5);
+    let attractor_list: Vec<Attractor> = clusters
+        .iter()
+        .map(|(c, count)| {
+            let period = limits
+                .iter()
+                .find(|l| boundary_distance(l.0, *c) < 1e-5)
+                .map(|l| l.1)
+                .unwrap_or(f64::NAN);
+            let c = if c.z < 0.0 { -*c } else { *c };
+            let (theta, phi) = angles(c);
+            Attractor {
+                point: c.to_array(),
+                theta,
+                phi,
+                period,
+                basin_count: *count,
+            }
+        })
+        .collect();
+    let mut rows = Vec::new();
+    for (p, r) in &field {
+        let (v, t) = match r {
+            Some((q, t)) => (*q - *p, *t),
+            None => (DVec3::splat(f64::NAN), f64::NAN),
+        };
+        rows.push(vec![p.x, p.y, p.z, v.x, v.y, v.z, v.length(), t]);
+    }
+    write_csv(
+        &dir.join("data.csv"),
+        "px,py,pz,vx,vy,vz,v_norm,return_time",
+        &rows,
+    )?;
+    let summary = Summary {
+        seed,
+        alpha_star: a_star,
+        alpha,
+        starts: field.len(),
+        halted,
+        attractors: attractor_list.len(),
+        attractor_list,
+        converged_starts: limits.len(),
+    };
+    write_summary(&dir.join("summary.json"), &summary)?;
+    plot(&field, &summary, &dir.join("figure.png"))?;
+    Ok(summary)
+}
+
+fn plot(
+    field: &[(DVec3, Option<(DVec3, f64)>)],
+    s: &Summary,
+    path: &std::path::Path,
+) -> Result<()> {
+    let vmax = field
+        .iter()
+        .filter_map(|f| f.1.map(|(q, _)| (q - f.0).length()))
+        .fold(0.0, f64::max)
+        .max(1e-12);
+    let bins = 6;
+    let mut flat: Vec<Vec<(f64, f64)>> = vec![Vec::new(); bins];
+    let mut disk: Vec<Vec<(f64, f64)>> = vec![Vec::new(); bins];
+    for (p, r) in field {
+        let Some((q, _)) = r else { continue };
+        let v = *q - *p;
+        let bin = ((v.length() / vmax) * bins as f64).min(bins as f64 - 1.0) as usize;
+        // Flat map: unit-length arrows in (φ, θ).
+        let (theta, phi) = angles(*p);
+        let e_theta = DVec3::new(
+            theta.cos() * phi.cos(),
+            theta.cos() * phi.sin(),
+            -theta.sin(),
+        );
+        let e_phi = DVec3::new(-phi.sin(), phi.cos(), 0.0);
+        let (dt, dp) = (v.dot(e_theta), v.dot(e_phi));
+        let len = (dt * dt + dp * dp).sqrt().max(1e-300);
+        let k = 0.07 / len;
+        flat[bin].push((phi, theta));
+        flat[bin].push((phi + dp * k, theta + dt * k));
+        // Sphere seen from +z: the upper hemisphere, arrows projected.
+        if p.z > 0.0 {
+            let tangent = v - v.dot(*p) * *p;
+            let tl = tangent.length().max(1e-300);
+            let e = tangent * (0.035 / tl);
+            disk[bin].push((p.x, p.y));
+            disk[bin].push((p.x + e.x, p.y + e.y));
+        }
+    }
+    let to_series = |bins_pts: Vec<Vec<(f64, f64)>>| -> Vec<Series> {
+        bins_pts
+            .into_iter()
+            .enumerate()
+            .map(|(b, pts)| Series {
+                label: format!("|V| ≈ {:.2}", (b as f64 + 0.5) / bins as f64 * vmax),
+                points: pts,
+                color: colormap(b as f64 / (bins - 1) as f64),
+                style: Style::Arrows,
+            })
+            .collect()
+    };
+    let mut flat_series = to_series(flat);
+    let mut disk_series = to_series(disk);
+    let mut att_flat = Vec::new();
+    let mut att_disk = Vec::new();
+    for a in &s.attractor_list {
+        let p = DVec3::from_array(a.point);
+        for q in [p, -p] {
+            let (t, ph) = angles(q);
+            att_flat.push((ph, t));
+            if q.z >= 0.0 {
+                att_disk.push((q.x, q.y));
+            }
+        }
+    }
+    flat_series.push(Series {
+        label: "attractors (closed orbits)".into(),
+        points: att_flat,
+        color: (214, 39, 40),
+        style: Style::Markers,
+    });
+    disk_series.push(Series {
+        label: "attractors".into(),
+        points: att_disk,
+        color: (214, 39, 40),
+        style: Style::Markers,
+    });
+    let rim: Vec<(f64, f64)> = (0..=120)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / 120.0;
+            (a.cos(), a.sin())
+        })
+        .collect();
+    disk_series.push(Series {
+        label: String::new(),
+        points: rim,
+        color: (0, 0, 0),
+        style: Style::Line,
+    });
+    let panels = vec![
+        Panel {
+            title: format!(
+                "Poincaré map V on ∂Ω, α = {:.3} (α* = {:.3}): {} attractors (antipodes identified)",
+                s.alpha, s.alpha_star, s.attractors
+            ),
+            x_label: "azimuth φ of the boundary point (rad)".into(),
+            y_label: "polar angle θ (rad)".into(),
+            log_x: false,
+            log_y: false,
+            series: flat_series,
+            legend: SeriesLabelPosition::LowerRight,
+        },
+        Panel {
+            title: "∂Ω seen from +z (upper hemisphere)".into(),
+            x_label: "x".into(),
+            y_label: "y".into(),
+            log_x: false,
+            log_y: false,
+            series: disk_series,
+            legend: SeriesLabelPosition::UpperRight,
+        },
+    ];
+    render_png(&panels, 2, (1900, 760), path)
+}

@@ -1,0 +1,185 @@
+//! `sphere-tube` — SI Fig. S3 (§2G): trajectories in SO(3) of a perfect sphere that pass through
+//! one contact point. The sphere is put on the ramp touching body point u₀ and spun on the spot by
+//! s ∈ [0, 2π) (the black closed curve: all orientations sharing that contact); from each, it rolls
+//! straight down, q(t) = R_y(t sin α) q₀, closing after T = 2π/sin α. Drawn as the vector part of
+//! ±q (q_w ≥ 0) in the unit ball, broken where it jumps to the antipode on ∂Ω; together the
+//! trajectories form a tube through the ball. One trajectory is also integrated with DOP853 and
+//! compared with the closed form.
+
+use anyhow::Result;
+use glam::{DQuat, DVec3};
+use serde::Serialize;
+
+use super::{FigureOptions, write_csv, write_summary};
+use crate::analysis::sphere_orbits::ball_point;
+use crate::dynamics::sphere3d::orientation_touching;
+use crate::dynamics::{Ramp, SphereViscous};
+use crate::geometry::Sphere;
+use crate::geometry::sphere::direction;
+use crate::integrate::{self, Method};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, colormap, render_png};
+
+/// Headline numbers.
+#[derive(Debug, Serialize)]
+pub struct Summary {
+    /// α.
+    pub alpha: f64,
+    /// The shared contact point (θ, φ).
+    pub contact: [f64; 2],
+    /// Trajectories.
+    pub trajectories: usize,
+    /// Period 2π/sin α.
+    pub period: f64,
+    /// Largest |q(T) ∓ q(0)| over the trajectories (closed: ~1e-16).
+    pub closure_error: f64,
+    /// Largest difference between DOP853 (rtol 1e-12) and the closed form over one period.
+    pub integration_error: f64,
+}
+
+/// Splits a ball-point polyline where it jumps to the antipode (consecutive points > 1 apart).
+fn split_at_jumps(points: &[DVec3]) -> Vec<Vec<DVec3>> {
+    let mut out: Vec<Vec<DVec3>> = vec![Vec::new()];
+    for p in points {
+        let jump = out
+            .last()
+            .and_then(|v| v.last())
+            .is_some_and(|l| (*p - *l).length() > 1.0);
+        if jump {
+            out.push(Vec::new());
+        }
+        if let Some(v) = out.last_mut() {
+            v.push(*p);
+        }
+    }
+    out
+}
+
+/// Runs the figure.
+pub fn run(opts: &FigureOptions) -> Result<Summary> {
+    let dir = opts.dir("sphere-tube")?;
+    let alpha: f64 = 0.3;
+    let body = Sphere::perfect();
+    let (th0, ph0) = (1.0, 0.5);
+    let u0 = direction(th0, ph0);
+    let n = if opts.quick { 16 } else { 48 };
+    let period = std::f64::consts::TAU / alpha.sin();
+    let steps = 400;
+    let q_at = |q0: DQuat, t: f64| DQuat::from_rotation_y(t * alpha.sin()) * q0;
+    let mut rows = Vec::new();
+    let mut closure: f64 = 0.0;
+    let mut traj_series = Vec::new();
+    let ring: Vec<DVec3> = (0..=720)
+        .map(|k| {
+            ball_point(orientation_touching(
+                &body,
+                u0,
+                std::f64::consts::TAU * k as f64 / 720.0,
+            ))
+        })
+        .collect();
+    for j in 0..n {
+        let s = std::f64::consts::TAU * j as f64 / n as f64;
+        let q0 = orientation_touching(&body, u0, s);
+        let mut path = Vec::with_capacity(steps + 1);
+        for k in 0..=steps {
+            let t = period * k as f64 / steps as f64;
+            let p = ball_point(q_at(q0, t));
+            path.push(p);
+            rows.push(vec![j as f64, t, p.x, p.y, p.z]);
+        }
+        let pieces = split_at_jumps(&path);
+        let end = q_at(q0, period);
+        closure = closure.max((end - q0).length().min((end + q0).length()));
+        for pc in pieces {
+            traj_series.push((j, pc));
+        }
+    }
+    // DOP853 against the closed form for one start.
+    let q0 = orientation_touching(&body, u0, 1.0);
+    let model = SphereViscous::new(&body, &Ramp::new(alpha, 0.0)?);
+    let mut st = integrate::stepper(
+        &model,
+        0.0,
+        SphereViscous::initial_state(q0),
+        Method::dop853(1e-12),
+    )?;
+    let mut integration_error: f64 = 0.0;
+    while st.t() < period {
+        st.step(period)?;
+        let y = st.y();
+        let q = DQuat::from_xyzw(y[1], y[2], y[3], y[0]);
+        let e = q_at(q0, st.t());
+        integration_error = integration_error.max((q - e).length().min((q + e).length()));
+    }
+    write_csv(&dir.join("data.csv"), "trajectory,t,bx,by,bz", &rows)?;
+    let summary = Summary {
+        alpha,
+        contact: [th0, ph0],
+        trajectories: n,
+        period,
+        closure_error: closure,
+        integration_error,
+    };
+    write_summary(&dir.join("summary.json"), &summary)?;
+    // Three orthographic views of the ball.
+    type Projection = fn(DVec3) -> (f64, f64);
+    let views: [(&str, Projection); 3] = [
+        ("x–y", |p| (p.x, p.y)),
+        ("x–z", |p| (p.x, p.z)),
+        ("y–z", |p| (p.y, p.z)),
+    ];
+    let rim: Vec<(f64, f64)> = (0..=120)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / 120.0;
+            (a.cos(), a.sin())
+        })
+        .collect();
+    let panels: Vec<Panel> = views
+        .iter()
+        .map(|(name, proj)| {
+            let mut series: Vec<Series> = traj_series
+                .iter()
+                .map(|(j, pc)| Series {
+                    label: String::new(),
+                    points: pc.iter().map(|p| proj(*p)).collect(),
+                    color: colormap(*j as f64 / n as f64),
+                    style: Style::Line,
+                })
+                .collect();
+            // The ring of spins also wraps through ∂Ω: break it there instead of drawing a chord.
+            let mut first = true;
+            for piece in split_at_jumps(&ring) {
+                series.push(Series {
+                    label: if first {
+                        "orientations touching u₀".into()
+                    } else {
+                        String::new()
+                    },
+                    points: piece.iter().map(|p| proj(*p)).collect(),
+                    color: (0, 0, 0),
+                    style: Style::Line,
+                });
+                first = false;
+            }
+            series.push(Series {
+                label: String::new(),
+                points: rim.clone(),
+                color: PALETTE[7],
+                style: Style::Line,
+            });
+            Panel {
+                title: format!(
+                    "SO(3) ball, {name} view: {n} trajectories through one contact point"
+                ),
+                x_label: name.split('–').next().unwrap_or("x").into(),
+                y_label: name.split('–').nth(1).unwrap_or("y").into(),
+                log_x: false,
+                log_y: false,
+                series,
+                legend: SeriesLabelPosition::LowerRight,
+            }
+        })
+        .collect();
+    render_png(&panels, 3, (1950, 680), &dir.join("figure.png"))?;
+    Ok(summary)
+}
