@@ -65,8 +65,11 @@ pub enum Fate {
         /// When the cycle was recognised.
         t: f64,
     },
-    /// Neither within the time limit.
-    Undecided,
+    /// Neither within the time limit; |ω| at the end tells a slow approach to rest from wandering.
+    Undecided {
+        /// |ω| at t_max.
+        omega_end: f64,
+    },
 }
 
 /// Settling criteria.
@@ -154,7 +157,8 @@ fn follow<const N: usize, S: OdeSystem<N>>(
             return Ok((Fate::Halts { t: st.t() }, crossings));
         }
     }
-    Ok((Fate::Undecided, crossings))
+    let omega_end = omega(st.y());
+    Ok((Fate::Undecided { omega_end }, crossings))
 }
 
 /// A cycle of length k ≤ max_k closing twice in a row (points and durations).

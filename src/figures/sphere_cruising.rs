@@ -3,7 +3,9 @@
 //! step at the same α*.
 //!
 //! Each orientation (uniform contact point, uniform spin; seeded per index) is followed until it
-//! halts (|ω| < 1e-9) or settles on a closed orbit (crossings of ∂Ω repeat to 1e-5). In 2D the
+//! halts (|ω| < 1e-9) or settles on a closed orbit (crossings of ∂Ω repeat to 1e-5); the few runs
+//! still undecided at t = 2000 count as halting if |ω| < 1e-3 (creeping to rest), else as
+//! cruising. In 2D the
 //! state space is a loop, so a disk halts for every start below α* and cruises for every start
 //! above: the 2D curve is a step. It is computed, not drawn: a convex disk with the sphere's α*
 //! (low modes rescaled, see [`comparison_disk`]) is simulated from as many starts θ₀.
@@ -39,8 +41,18 @@ pub struct Summary {
     pub fraction_3d: Vec<f64>,
     /// 2D cruising fraction per α.
     pub fraction_2d: Vec<f64>,
-    /// Runs neither halted nor periodic within the time limit (counted as cruising).
+    /// Runs neither halted nor periodic within the time limit (classified by their final |ω|).
     pub undecided: usize,
+}
+
+/// A run cruises unless it halted or, undecided at the time limit, was still creeping to rest
+/// (|ω| < 1e-3, far below any cruising orbit's |ω| ≈ sin α).
+fn cruises(f: &Fate) -> bool {
+    match f {
+        Fate::Halts { .. } => false,
+        Fate::Periodic { .. } => true,
+        Fate::Undecided { omega_end } => *omega_end >= 1e-3,
+    }
 }
 
 /// Whether a viscous disk from θ₀ makes a whole turn (cruises) before halting.
@@ -139,15 +151,10 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let fates: Vec<Fate> = fates.into_iter().collect::<Result<_>>()?;
     let undecided = fates
         .iter()
-        .filter(|f| matches!(f, Fate::Undecided))
+        .filter(|f| matches!(f, Fate::Undecided { .. }))
         .count();
     let fraction_3d: Vec<f64> = (0..n_a)
-        .map(|a| {
-            (0..n_or)
-                .filter(|&o| !matches!(fates[a * n_or + o], Fate::Halts { .. }))
-                .count() as f64
-                / n_or as f64
-        })
+        .map(|a| (0..n_or).filter(|&o| cruises(&fates[a * n_or + o])).count() as f64 / n_or as f64)
         .collect();
     // The 2D comparison.
     let disk = comparison_disk(opts.seed, a_star)?;

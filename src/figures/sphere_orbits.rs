@@ -111,7 +111,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
             let (inv_t, k) = match &fates[r * na + a] {
                 Fate::Periodic { period, .. } => (1.0 / period, labels[r][a] as f64),
                 Fate::Halts { .. } => (0.0, -1.0),
-                Fate::Undecided => (f64::NAN, -2.0),
+                Fate::Undecided { .. } => (f64::NAN, -2.0),
             };
             rows.push(vec![r as f64, alphas[a], inv_t, k]);
         }
@@ -123,7 +123,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
     )?;
     let undecided = fates
         .iter()
-        .filter(|f| matches!(f, Fate::Undecided))
+        .filter(|f| matches!(f, Fate::Undecided { .. }))
         .count();
     let summary = Summary {
         seed,
