@@ -214,3 +214,32 @@ fn sphere_tube_trajectories_close_and_match_the_closed_form() {
         "{s:?}"
     );
 }
+
+#[test]
+fn sphere_orbits_with_inertia_tend_to_the_perfect_sphere() {
+    // Measured, not the paper's claim (see the module doc of figures::sphere_doubling): viscous
+    // orbits are period 1 and slower than a perfect sphere's; at m/m0 = 6 they settle on period-1
+    // orbits within a few percent of the perfect sphere's period 2π/sin α.
+    let s = figures::sphere_doubling::run(&opts("doubling")).unwrap();
+    let (viscous, six) = (&s.masses[0], &s.masses[1]);
+    assert_eq!(
+        viscous.cycle_counts[0], s.orientations,
+        "{:?}",
+        viscous.cycle_counts
+    );
+    assert!(
+        viscous.median_period_over_perfect > 1.1,
+        "{}",
+        viscous.median_period_over_perfect
+    );
+    assert!(
+        six.cycle_counts[0] >= s.orientations / 2,
+        "{:?}",
+        six.cycle_counts
+    );
+    assert!(
+        (1.0..1.05).contains(&six.median_period_over_perfect),
+        "{}",
+        six.median_period_over_perfect
+    );
+}

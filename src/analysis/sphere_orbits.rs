@@ -243,3 +243,97 @@ pub fn cluster_antipodal(points: &[DVec3], tol: f64) -> Vec<(DVec3, usize)> {
     clusters.sort_by_key(|c| std::cmp::Reverse(c.1));
     clusters
 }
+
+/// A run of the 3D model (viscous if m/m0 = 0, else inertial from rest) to `t_end`: all ∂Ω
+/// crossings, and the contact point (body frame) at `samples` times evenly spread over
+/// [`t_from`, `t_to`].
+#[allow(clippy::too_many_arguments)]
+pub fn late_run(
+    body: &Sphere,
+    ramp: &Ramp,
+    q0: DQuat,
+    t_end: f64,
+    t_from: f64,
+    t_to: f64,
+    samples: usize,
+    rtol: f64,
+) -> Result<(Vec<Crossing>, Vec<DVec3>), IntegrateError> {
+    let times = integrate::uniform_times(t_from, t_to.min(t_end), samples);
+    if ramp.is_viscous() {
+        let m = SphereViscous::new(body, ramp);
+        record(
+            &m,
+            SphereViscous::initial_state(q0),
+            t_end,
+            rtol,
+            &times,
+            |y| m.observe(y).contact_dir,
+        )
+    } else {
+        let m = SphereInertial::new(body, ramp);
+        record(
+            &m,
+            SphereInertial::initial_state(q0, DVec3::ZERO),
+            t_end,
+            rtol,
+            &times,
+            |y| m.observe(y).contact_dir,
+        )
+    }
+}
+
+fn record<const N: usize, S: OdeSystem<N>>(
+    sys: &S,
+    y0: [f64; N],
+    t_end: f64,
+    rtol: f64,
+    times: &[f64],
+    contact: impl Fn(&[f64; N]) -> DVec3,
+) -> Result<(Vec<Crossing>, Vec<DVec3>), IntegrateError> {
+    let mut st = integrate::stepper(sys, 0.0, y0, Method::dop853(rtol))?;
+    let mut found = Vec::new();
+    let mut crossings = Vec::new();
+    let mut path = Vec::with_capacity(times.len());
+    let mut next = 0;
+    while st.t() < t_end {
+        st.step(t_end)?;
+        found.clear();
+        crossings_in_last_step(
+            st.as_mut(),
+            &|_t, y: &[f64; N]| y[0],
+            Direction::Both,
+            &mut found,
+        );
+        for &t in &found {
+            let y = st.dense(t);
+            crossings.push(Crossing {
+                t,
+                point: DVec3::new(y[1], y[2], y[3]).normalize().to_array(),
+            });
+        }
+        while next < times.len() && times[next] <= st.t() {
+            let y = if times[next] == st.t() {
+                *st.y()
+            } else {
+                st.dense(times[next])
+            };
+            path.push(contact(&y));
+            next += 1;
+        }
+    }
+    Ok((crossings, path))
+}
+
+/// The shortest cycle of the crossing sequence at its end: the smallest k ≤ `max_k` with
+/// p_n ≈ p_{n−k} and p_{n−k} ≈ p_{n−2k} (antipodes identified, within `tol`); returns
+/// (k, duration of the cycle).
+pub fn late_cycle(c: &[Crossing], max_k: usize, tol: f64) -> Option<(usize, f64)> {
+    let n = c.len();
+    let p = |i: usize| DVec3::from_array(c[i].point);
+    (1..=max_k).find_map(|k| {
+        (n > 2 * k).then_some(())?;
+        let (a, b, d) = (n - 1, n - 1 - k, n - 1 - 2 * k);
+        (boundary_distance(p(a), p(b)) < tol && boundary_distance(p(b), p(d)) < tol)
+            .then(|| (k, c[a].t - c[b].t))
+    })
+}
