@@ -69,6 +69,8 @@ pub enum Style {
     LineMarkers,
     /// Consecutive point pairs as short arrows (a field of directions).
     Arrows,
+    /// Consecutive point pairs as plain segments (contours).
+    Segments,
 }
 
 /// Viridis-like colour for t ∈ [0, 1] (dark blue → green → yellow).
@@ -209,7 +211,7 @@ fn draw_panel(p: &Panel, area: &Area) -> std::result::Result<(), Box<dyn std::er
                 .draw()?;
             for s in &p.series {
                 let color = RGBColor(s.color.0, s.color.1, s.color.2);
-                if s.style == Style::Arrows {
+                if matches!(s.style, Style::Arrows | Style::Segments) {
                     let segs: Vec<Vec<(f64, f64)>> = s
                         .points
                         .chunks_exact(2)

@@ -11,7 +11,7 @@ use crate::figures::{self, FIGURES, FigureOptions};
 ///
 /// Names (`rollphase figure --list` prints them with descriptions):
 ///   disk-transition, disk-hysteresis, disk-lag-time, disk-flow,
-///   sphere-cruising, sphere-orbits, sphere-poincare, sphere-doubling, sphere-tube.
+///   sphere-cruising, sphere-orbits, sphere-halting, sphere-poincare, sphere-doubling, sphere-tube.
 /// Ensembles run on all cores; the numbers do not depend on the thread count.
 #[derive(Debug, Args)]
 #[command(verbatim_doc_comment)]
@@ -62,6 +62,7 @@ pub fn run(a: FigureArgs) -> Result<()> {
             "sphere-poincare" => serde_json::to_value(figures::sphere_poincare::run(&opts)?)?,
             "sphere-cruising" => serde_json::to_value(figures::sphere_cruising::run(&opts)?)?,
             "sphere-doubling" => serde_json::to_value(figures::sphere_doubling::run(&opts)?)?,
+            "sphere-halting" => serde_json::to_value(figures::sphere_halting::run(&opts)?)?,
             "sphere-tube" => serde_json::to_value(figures::sphere_tube::run(&opts)?)?,
             "sphere-orbits" => serde_json::to_value(figures::sphere_orbits::run(&opts)?)?,
             other => {

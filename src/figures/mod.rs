@@ -13,6 +13,7 @@ pub mod disk_transition;
 pub mod fit_lag;
 pub mod sphere_cruising;
 pub mod sphere_doubling;
+pub mod sphere_halting;
 pub mod sphere_orbits;
 pub mod sphere_poincare;
 pub mod sphere_tube;
