@@ -102,7 +102,7 @@ fn disk_flow_fixed_points_appear_below_alpha_star() {
 }
 
 fn experiments() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/experiments/cylinder_lag_times.csv")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/data/cylinder_lag_times.csv")
 }
 
 #[test]
