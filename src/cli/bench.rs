@@ -38,6 +38,47 @@ pub enum BenchKind {
     Accuracy(AccuracyArgs),
     /// The inertial models as m/m0 → 0: cost (stiffness) and distance from the viscous model.
     Stiff(StiffArgs),
+    /// Wall time of the full-size ensemble figures against their targets (sphere-cruising ≤ 60 s,
+    /// sphere-poincare ≤ 30 s on 2 cores).
+    Figures(FiguresBenchArgs),
+}
+
+/// Options of `bench figures`.
+#[derive(Debug, Args)]
+pub struct FiguresBenchArgs {
+    /// Output folder for the figures produced while timing.
+    #[arg(long, default_value = "bench-figures")]
+    pub out: PathBuf,
+}
+
+fn figures_bench(a: FiguresBenchArgs) -> Result<()> {
+    let opts = crate::figures::FigureOptions {
+        out: a.out.clone(),
+        seed: 1,
+        quick: false,
+    };
+    let threads = rayon::current_num_threads();
+    println!(
+        "{:<18} {:>10} {:>10}   ({threads} threads)",
+        "figure", "wall s", "target s"
+    );
+    let timed = |name: &str, target: f64, f: &dyn Fn() -> Result<()>| -> Result<()> {
+        let start = Instant::now();
+        f()?;
+        let wall = start.elapsed().as_secs_f64();
+        println!(
+            "{name:<18} {wall:>10.1} {target:>10.0}{}",
+            if wall <= target { "" } else { "   OVER TARGET" }
+        );
+        Ok(())
+    };
+    timed("sphere-poincare", 30.0, &|| {
+        crate::figures::sphere_poincare::run(&opts).map(|_| ())
+    })?;
+    timed("sphere-cruising", 60.0, &|| {
+        crate::figures::sphere_cruising::run(&opts).map(|_| ())
+    })?;
+    Ok(())
 }
 
 /// Options of `bench accuracy`.
@@ -82,6 +123,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
     match a.which {
         BenchKind::Accuracy(a) => accuracy_bench(a),
         BenchKind::Stiff(a) => stiff_bench(a),
+        BenchKind::Figures(a) => figures_bench(a),
     }
 }
 
