@@ -18,7 +18,7 @@
 
 use glam::{DQuat, DVec3};
 
-use super::{IntegrateError, OdeSystem, Stats, Stepper, all_finite, hermite, rk4::rk4_step};
+use super::{OdeSystem, rk4::rk4_step};
 
 /// Reads q (w, x, y, z) from a state slot.
 pub fn quat_at(y: &[f64], slot: usize) -> DQuat {
@@ -90,100 +90,4 @@ pub(crate) fn cf4_step<S: OdeSystem<N>, const N: usize>(
             (0.25, &y4, &f4),
         ],
     )
-}
-
-/// Fixed-step CF4 stepper with a Hermite interpolant (q renormalised after interpolation).
-pub struct Cf4<'a, S, const N: usize> {
-    system: &'a S,
-    dt: f64,
-    t: f64,
-    y: [f64; N],
-    f: [f64; N],
-    t_prev: f64,
-    y_prev: [f64; N],
-    f_prev: [f64; N],
-    stats: Stats,
-}
-
-impl<'a, S: OdeSystem<N>, const N: usize> Cf4<'a, S, N> {
-    /// Starts at (t0, y0) with nominal step `dt`.
-    pub fn new(system: &'a S, t0: f64, y0: [f64; N], dt: f64) -> Self {
-        let f = system.rhs(t0, &y0);
-        Self {
-            system,
-            dt,
-            t: t0,
-            y: y0,
-            f,
-            t_prev: t0,
-            y_prev: y0,
-            f_prev: f,
-            stats: Stats {
-                rhs_evals: 1,
-                ..Stats::default()
-            },
-        }
-    }
-}
-
-impl<S: OdeSystem<N>, const N: usize> Stepper<N> for Cf4<'_, S, N> {
-    fn t(&self) -> f64 {
-        self.t
-    }
-    fn y(&self) -> &[f64; N] {
-        &self.y
-    }
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-    fn y_prev(&self) -> &[f64; N] {
-        &self.y_prev
-    }
-    fn step(&mut self, t_limit: f64) -> Result<(), IntegrateError> {
-        let h = super::fitted_step(t_limit - self.t, self.dt).min(t_limit - self.t);
-        if h <= 0.0 {
-            return Ok(());
-        }
-        let y_new = cf4_step(self.system, self.t, &self.y, &self.f, h);
-        let t_new = if (t_limit - (self.t + h)).abs() <= 1e-12 * t_limit.abs().max(1.0) {
-            t_limit
-        } else {
-            self.t + h
-        };
-        let f_new = self.system.rhs(t_new, &y_new);
-        self.stats.rhs_evals += 4;
-        if !all_finite(&y_new) || !all_finite(&f_new) {
-            return Err(IntegrateError::NonFinite { t: t_new });
-        }
-        self.t_prev = self.t;
-        self.y_prev = self.y;
-        self.f_prev = self.f;
-        self.t = t_new;
-        self.y = y_new;
-        self.f = f_new;
-        self.stats.steps += 1;
-        Ok(())
-    }
-    fn dense(&mut self, t: f64) -> [f64; N] {
-        let h = self.t - self.t_prev;
-        if h == 0.0 {
-            return self.y;
-        }
-        let mut y = hermite(
-            &self.y_prev,
-            &self.f_prev,
-            &self.y,
-            &self.f,
-            h,
-            (t - self.t_prev) / h,
-        );
-        if let Some(slot) = self.system.quaternion_slot() {
-            let q = quat_at(&y, slot).normalize();
-            set_quat(&mut y, slot, q);
-        }
-        y
-    }
-    fn stats(&self) -> Stats {
-        self.stats
-    }
 }

@@ -166,9 +166,9 @@ where
         return Err(IntegrateError::NonFinite { t: t0 });
     }
     Ok(match method {
-        Method::Rk4 { dt } => Box::new(rk4::Rk4::new(system, t0, y0, dt)),
+        Method::Rk4 { dt } => Box::new(rk4::FixedStep::new(system, rk4::Scheme::Rk4, t0, y0, dt)),
         Method::Dop853 { rtol, atol } => Box::new(dop853::Dop853::new(system, t0, y0, rtol, atol)),
-        Method::Cf4 { dt } => Box::new(lie::Cf4::new(system, t0, y0, dt)),
+        Method::Cf4 { dt } => Box::new(rk4::FixedStep::new(system, rk4::Scheme::Cf4, t0, y0, dt)),
     })
 }
 

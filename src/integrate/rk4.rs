@@ -1,13 +1,26 @@
-//! Classical fixed-step fourth-order Runge–Kutta with a cubic Hermite interpolant.
+//! Fixed-step methods: the classical fourth-order Runge–Kutta step, and [`FixedStep`], the
+//! stepper shared by RK4 and the Lie-group CF4 ([`super::lie`]).
 //!
-//! The step is shrunk so that a whole number of steps reaches each `t_limit` exactly; the
-//! interpolant reuses the next step's first stage, so dense output costs one evaluation a step.
+//! The step is shrunk so that a whole number of steps reaches each `t_limit` exactly; the cubic
+//! Hermite interpolant reuses the next step's first stage, so dense output costs one evaluation a
+//! step.
 
+use super::lie::{cf4_step, quat_at, set_quat};
 use super::{IntegrateError, OdeSystem, Stats, Stepper, all_finite, hermite};
 
-/// RK4 stepper state.
-pub struct Rk4<'a, S, const N: usize> {
+/// Which fixed-step scheme.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scheme {
+    /// Classical RK4.
+    Rk4,
+    /// Commutator-free Lie-group RK4: q by exponentials, dense q renormalised.
+    Cf4,
+}
+
+/// A fixed-step stepper (RK4 or CF4) with a Hermite interpolant.
+pub struct FixedStep<'a, S, const N: usize> {
     system: &'a S,
+    scheme: Scheme,
     dt: f64,
     t: f64,
     y: [f64; N],
@@ -18,12 +31,13 @@ pub struct Rk4<'a, S, const N: usize> {
     stats: Stats,
 }
 
-impl<'a, S: OdeSystem<N>, const N: usize> Rk4<'a, S, N> {
+impl<'a, S: OdeSystem<N>, const N: usize> FixedStep<'a, S, N> {
     /// Starts at (t0, y0) with nominal step `dt`.
-    pub fn new(system: &'a S, t0: f64, y0: [f64; N], dt: f64) -> Self {
+    pub fn new(system: &'a S, scheme: Scheme, t0: f64, y0: [f64; N], dt: f64) -> Self {
         let f = system.rhs(t0, &y0);
         Self {
             system,
+            scheme,
             dt,
             t: t0,
             y: y0,
@@ -56,7 +70,7 @@ pub(crate) fn rk4_step<S: OdeSystem<N>, const N: usize>(
     std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
 }
 
-impl<S: OdeSystem<N>, const N: usize> Stepper<N> for Rk4<'_, S, N> {
+impl<S: OdeSystem<N>, const N: usize> Stepper<N> for FixedStep<'_, S, N> {
     fn t(&self) -> f64 {
         self.t
     }
@@ -74,7 +88,10 @@ impl<S: OdeSystem<N>, const N: usize> Stepper<N> for Rk4<'_, S, N> {
         if h <= 0.0 {
             return Ok(());
         }
-        let y_new = rk4_step(self.system, self.t, &self.y, &self.f, h);
+        let y_new = match self.scheme {
+            Scheme::Rk4 => rk4_step(self.system, self.t, &self.y, &self.f, h),
+            Scheme::Cf4 => cf4_step(self.system, self.t, &self.y, &self.f, h),
+        };
         let t_new = if (t_limit - (self.t + h)).abs() <= 1e-12 * t_limit.abs().max(1.0) {
             t_limit
         } else {
@@ -99,14 +116,19 @@ impl<S: OdeSystem<N>, const N: usize> Stepper<N> for Rk4<'_, S, N> {
         if h == 0.0 {
             return self.y;
         }
-        hermite(
+        let mut y = hermite(
             &self.y_prev,
             &self.f_prev,
             &self.y,
             &self.f,
             h,
             (t - self.t_prev) / h,
-        )
+        );
+        if let (Scheme::Cf4, Some(slot)) = (self.scheme, self.system.quaternion_slot()) {
+            let q = quat_at(&y, slot).normalize();
+            set_quat(&mut y, slot, q);
+        }
+        y
     }
     fn stats(&self) -> Stats {
         self.stats
