@@ -76,7 +76,7 @@ pub fn hysteresis_sweep(
     mass: f64,
     alphas: &[f64],
     start: [f64; 2],
-    dwell: f64,
+    dwell_time: f64,
     rtol: f64,
     mut progress: impl FnMut(),
 ) -> Result<Vec<SweepPoint>, IntegrateError> {
@@ -93,26 +93,12 @@ pub fn hysteresis_sweep(
             value: alpha,
             allowed: "0 < alpha < π/2",
         })?;
-        let model = DiskInertial::new(disk, &ramp);
-        let mut st = integrate::stepper(
-            &model,
-            0.0,
-            [state[0], state[1], 0.0, 0.0],
-            Method::dop853(rtol),
-        )?;
-        let mut theta_half = state[0];
-        while st.t() < dwell {
-            st.step(dwell)?;
-            if st.t_prev() < 0.5 * dwell && st.t() >= 0.5 * dwell {
-                theta_half = st.dense(0.5 * dwell)[0];
-            }
-        }
-        state = *st.y();
+        let (advance, end) = dwell(disk, &ramp, [state[0], state[1]], dwell_time, rtol)?;
+        state = [end[0], end[1], 0.0, 0.0];
         // Rolling means at least one whole turn in the measured half; less is a rest point
         // creeping as α changes, reported as 0.
-        let advance = state[0] - theta_half;
         let speed = if advance > std::f64::consts::TAU {
-            advance / (0.5 * dwell)
+            advance / (0.5 * dwell_time)
         } else {
             0.0
         };
@@ -124,6 +110,33 @@ pub fn hysteresis_sweep(
         progress();
     }
     Ok(out)
+}
+
+/// Runs the inertial disk from (θ, θ̇) = `state` on `ramp` for `duration`; returns how far θ
+/// advanced over the second half, and the end state.
+pub fn dwell(
+    disk: &Disk,
+    ramp: &Ramp,
+    state: [f64; 2],
+    duration: f64,
+    rtol: f64,
+) -> Result<(f64, [f64; 2]), IntegrateError> {
+    let model = DiskInertial::new(disk, ramp);
+    let mut st = integrate::stepper(
+        &model,
+        0.0,
+        [state[0], state[1], 0.0, 0.0],
+        Method::dop853(rtol),
+    )?;
+    let mut theta_half = state[0];
+    while st.t() < duration {
+        st.step(duration)?;
+        if st.t_prev() < 0.5 * duration && st.t() >= 0.5 * duration {
+            theta_half = st.dense(0.5 * duration)[0];
+        }
+    }
+    let y = *st.y();
+    Ok((y[0] - theta_half, [y[0], y[1]]))
 }
 
 /// A rest point of the (θ, θ̇) flow.

@@ -74,27 +74,9 @@ fn fit_at(points: &[(f64, f64)], alpha_star: f64, beta: Option<f64>) -> Option<(
     }
 }
 
-/// Golden-section minimisation of f on [a, b].
-fn golden(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, iterations: usize) -> f64 {
-    let g = (5f64.sqrt() - 1.0) / 2.0;
-    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..iterations {
-        if fc < fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - g * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + g * (b - a);
-            fd = f(d);
-        }
-    }
-    0.5 * (a + b)
+/// Golden-section minimisation of f on [a, b] to an interval of `tol`.
+fn golden_min(f: impl Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
+    crate::geometry::golden_max(&|x| -f(x), a, b, tol)
 }
 
 /// Fits one run's α*, β, A (β fixed if given). α* is searched in (α_min − 0.15, α_min).
@@ -116,7 +98,7 @@ pub fn fit_run(points: &[(f64, f64)], beta: Option<f64>) -> Option<RunFit> {
         .copied()
         .min_by(|x, y| rss(*x).total_cmp(&rss(*y)))?;
     let step = (hi - lo) / n as f64;
-    let s = golden(rss, (best - step).max(lo), (best + step).min(hi), 80);
+    let s = golden_min(rss, (best - step).max(lo), (best + step).min(hi), 1e-12);
     let (b, c, r) = fit_at(points, s, beta)?;
     Some(RunFit {
         alpha_star: s,
@@ -149,7 +131,7 @@ fn shared_fit(runs: &[Vec<(f64, f64)>]) -> Option<(f64, Vec<f64>)> {
             .map(|p| fit_run(p, Some(b)).map(|f| f.rss).unwrap_or(f64::INFINITY))
             .sum::<f64>()
     };
-    let beta = golden(total, -1.5, -0.05, 40);
+    let beta = golden_min(total, -1.5, -0.05, 1e-9);
     let stars = runs
         .iter()
         .map(|p| fit_run(p, Some(beta)).map(|f| f.alpha_star))

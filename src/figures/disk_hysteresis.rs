@@ -15,12 +15,11 @@ use serde::Serialize;
 
 use super::{FigureOptions, convex_disk, progress, write_csv, write_summary};
 use crate::analysis::critical_angle;
-use crate::analysis::disk_dynamics::{fixed_points, hysteresis_sweep};
+use crate::analysis::disk_dynamics::{dwell, fixed_points, hysteresis_sweep};
 use crate::analysis::fit::{line, logspace};
 use crate::analysis::inertial_disk_period;
-use crate::dynamics::{DiskInertial, Ramp};
+use crate::dynamics::Ramp;
 use crate::geometry::{Body, Disk};
-use crate::integrate::{self, Method};
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
 
 const MASS: f64 = 10.0;
@@ -53,24 +52,9 @@ pub struct Summary {
 
 /// Whether the disk, started from `state` at `alpha`, still rolls after `duration`; the end state.
 fn rolls(disk: &Disk, alpha: f64, state: [f64; 2], duration: f64) -> Result<(bool, [f64; 2])> {
-    let ramp = Ramp::new(alpha, MASS)?;
-    let m = DiskInertial::new(disk, &ramp);
-    let mut st = integrate::stepper(
-        &m,
-        0.0,
-        [state[0], state[1], 0.0, 0.0],
-        Method::dop853(RTOL),
-    )?;
-    let mut theta_mid = state[0];
-    while st.t() < duration {
-        st.step(duration)?;
-        if st.t_prev() < 0.5 * duration && st.t() >= 0.5 * duration {
-            theta_mid = st.dense(0.5 * duration)[0];
-        }
-    }
-    let y = *st.y();
+    let (advance, end) = dwell(disk, &Ramp::new(alpha, MASS)?, state, duration, RTOL)?;
     // Rolling: at least one more turn in the second half.
-    Ok((y[0] - theta_mid > std::f64::consts::TAU, [y[0], y[1]]))
+    Ok((advance > std::f64::consts::TAU, end))
 }
 
 /// Runs the figure.

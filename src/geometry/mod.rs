@@ -295,12 +295,26 @@ pub fn refine_1d(f: impl Fn(f64) -> f64, n: usize) -> (f64, f64) {
             best_i = i;
         }
     }
-    let (mut a, mut b) = ((best_i as f64 - 1.0) * h, (best_i as f64 + 1.0) * h);
+    let t = golden_max(
+        &f,
+        (best_i as f64 - 1.0) * h,
+        (best_i as f64 + 1.0) * h,
+        1e-12,
+    );
+    let v = f(t);
+    if v >= best {
+        (t, v)
+    } else {
+        (best_i as f64 * h, best)
+    }
+}
+
+/// Golden-section search for the maximiser of a unimodal f on [a, b], to an interval of `tol`.
+pub fn golden_max(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> f64 {
     let g = (5f64.sqrt() - 1.0) / 2.0;
-    let mut c = b - g * (b - a);
-    let mut d = a + g * (b - a);
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
     let (mut fc, mut fd) = (f(c), f(d));
-    while (b - a).abs() > 1e-12 {
+    while (b - a).abs() > tol {
         if fc > fd {
             b = d;
             d = c;
@@ -315,13 +329,7 @@ pub fn refine_1d(f: impl Fn(f64) -> f64, n: usize) -> (f64, f64) {
             fd = f(d);
         }
     }
-    let t = 0.5 * (a + b);
-    let v = f(t);
-    if v >= best {
-        (t, v)
-    } else {
-        (best_i as f64 * h, best)
-    }
+    0.5 * (a + b)
 }
 
 /// Maximises a smooth f on the unit sphere: the best grid point and the best few local maxima
