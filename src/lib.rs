@@ -1,7 +1,7 @@
 //! rollphase: irregular cylinders and spheres rolling down a ramp, after Qian, Jung & Mahadevan,
 //! *Phase transitions in rolling of irregular cylinders and spheres*.
 //!
-//! Data flows one way: shape → model → integrator → trajectory → analysis.
+//! Data flows one way: shape → model → integrator → trajectory → analysis / frame → pixels.
 //!
 //! | module | owns |
 //! |---|---|
@@ -10,6 +10,11 @@
 //! | [`integrate`] | RK4, DOP853 with dense output, the Lie-group CF4 step, event location |
 //! | [`analysis`] | critical angle α*, 2D periods, accuracy tables |
 //! | [`simulate`] | one run from a body, a ramp and an initial state to sampled rows + a summary |
+//! | [`scene`] | scenes (TOML) and the bundled presets |
+//! | [`sim`] | one scene's simulation advanced frame by frame, observed as plain snapshots |
+//! | [`view`] | snapshots to draw data: layout, cameras, colours, overlay; the Poincaré-field cache |
+//! | [`render`] | the wgpu renderer (plain draw data in, pixels out) and headless GPU set-up |
+//! | [`headless`] | offscreen frames to PNG through the same renderer |
 //! | [`plot`] | PNG charts for the command line (not used by the core) |
 //! | [`cli`] | the command line (one file per subcommand) |
 //!
@@ -21,6 +26,11 @@ pub mod cli;
 pub mod dynamics;
 pub mod figures;
 pub mod geometry;
+pub mod headless;
 pub mod integrate;
 pub mod plot;
+pub mod render;
+pub mod scene;
+pub mod sim;
 pub mod simulate;
+pub mod view;

@@ -228,6 +228,62 @@ pub fn poincare_step(
     Ok(None)
 }
 
+/// One arrow of the Poincaré field on ∂Ω: from a boundary point to the next crossing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FieldArrow {
+    /// Start on ∂Ω (unit vector).
+    pub start: DVec3,
+    /// The next crossing (sign nearest `start`), or `None` if the body halted first.
+    pub end: Option<DVec3>,
+    /// Time to the next crossing (0 if halted).
+    pub time: f64,
+}
+
+/// The Poincaré field V = P(p) − p of the viscous model on a Fibonacci lattice of `n` points
+/// of ∂Ω. Only the upper half (p_z ≥ 0) is integrated, in parallel: V(−p) = −V(p) because q
+/// and −q are the same orientation. `tick` is called once per integrated start (progress).
+/// The result is in lattice order whatever the thread count.
+pub fn poincare_field(
+    body: &Sphere,
+    ramp: &Ramp,
+    n: usize,
+    t_max: f64,
+    rtol: f64,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Vec<FieldArrow>, IntegrateError> {
+    use rayon::prelude::*;
+    let upper: Vec<DVec3> = crate::geometry::sphere::fibonacci_sphere(n)
+        .into_iter()
+        .filter(|p| p.z >= 0.0)
+        .collect();
+    let images: Vec<Result<Option<(DVec3, f64)>, IntegrateError>> = upper
+        .par_iter()
+        .map(|&p| {
+            let r = poincare_step(body, ramp, p, t_max, rtol);
+            tick();
+            r
+        })
+        .collect();
+    let mut field = Vec::with_capacity(2 * upper.len());
+    for (&p, r) in upper.iter().zip(images) {
+        let r = r?;
+        let arrow = FieldArrow {
+            start: p,
+            end: r.map(|(q, _)| q),
+            time: r.map_or(0.0, |(_, t)| t),
+        };
+        field.push(arrow);
+        if p.z > 0.0 {
+            field.push(FieldArrow {
+                start: -p,
+                end: arrow.end.map(|q| -q),
+                time: arrow.time,
+            });
+        }
+    }
+    Ok(field)
+}
+
 /// Clusters unit vectors (antipodes identified) within `tol`; returns (representative, count).
 pub fn cluster_antipodal(points: &[DVec3], tol: f64) -> Vec<(DVec3, usize)> {
     let mut clusters: Vec<(DVec3, usize)> = Vec::new();

@@ -2,9 +2,12 @@
 //! `anyhow` with context naming the file or flag; `main.rs` prints them and sets the exit code.
 
 pub mod bench;
+pub mod export_stl;
 pub mod figure;
 pub mod inspect;
 pub mod period;
+pub mod render;
+pub mod scenes;
 pub mod shape;
 pub mod simulate;
 
@@ -25,12 +28,24 @@ use crate::geometry::{Body, ShapeFile};
 ///   rollphase shape --dim 3 --seed 1 -o body.json
 ///   rollphase inspect body.json
 ///   rollphase simulate body.json --alpha 0.3 --t-end 100 -o traj.csv --summary summary.json
+///   rollphase --headless --frames 60 --preset sphere-cruising --out frames
+///
+/// With no subcommand, rollphase renders a scene: --headless writes PNG frames (no window, no
+/// GPU needed); `rollphase scenes` lists the presets.
 #[derive(Debug, Parser)]
-#[command(name = "rollphase", version, verbatim_doc_comment)]
+#[command(
+    name = "rollphase",
+    version,
+    verbatim_doc_comment,
+    args_conflicts_with_subcommands = true
+)]
 pub struct Cli {
-    /// What to do.
+    /// What to do (none: render a scene, see --headless).
     #[command(subcommand)]
-    pub command: Command,
+    pub command: Option<Command>,
+    /// Rendering flags, used when no subcommand is given.
+    #[command(flatten)]
+    pub render: render::RenderArgs,
 }
 
 /// The subcommands.
@@ -50,11 +65,24 @@ pub enum Command {
     Figure(figure::FigureArgs),
     /// Fit measured lag times t_lag ∝ (α − α*)^β (per-run α*, shared β, bootstrap errors).
     FitLag(figure::FitLagArgs),
+    /// List the preset scenes for --preset (or print one as TOML).
+    Scenes(scenes::ScenesArgs),
+    /// Write a body as a watertight STL mesh in millimetres, for 3D printing.
+    ExportStl(export_stl::ExportStlArgs),
 }
 
 /// Runs the parsed command.
 pub fn run(cli: Cli) -> Result<()> {
-    match cli.command {
+    let Some(command) = cli.command else {
+        if cli.render.headless {
+            return render::run_headless(&cli.render);
+        }
+        bail!(
+            "the interactive window is not available in this build; render frames with \
+             `rollphase --headless --frames N` (add --preset NAME or --scene FILE)"
+        );
+    };
+    match command {
         Command::Shape(a) => shape::run(a),
         Command::Inspect(a) => inspect::run(a),
         Command::Period(a) => period::run(a),
@@ -62,6 +90,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Bench(a) => bench::run(a),
         Command::Figure(a) => figure::run(a),
         Command::FitLag(a) => figure::run_fit_lag(a),
+        Command::Scenes(a) => scenes::run(a),
+        Command::ExportStl(a) => export_stl::run(a),
     }
 }
 

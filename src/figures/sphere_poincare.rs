@@ -15,7 +15,9 @@ use serde::Serialize;
 
 use super::{FigureOptions, convex_sphere, par_map, progress, write_csv, write_summary};
 use crate::analysis::critical_angle;
-use crate::analysis::sphere_orbits::{boundary_distance, cluster_antipodal, poincare_step};
+use crate::analysis::sphere_orbits::{
+    boundary_distance, cluster_antipodal, poincare_field, poincare_step,
+};
 use crate::dynamics::Ramp;
 use crate::geometry::Body;
 use crate::geometry::sphere::{angles, fibonacci_sphere};
@@ -67,22 +69,14 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let a_star = critical_angle(&Body::Sphere(body.clone())).alpha_star;
     let alpha = ALPHA.max(a_star + 0.05);
     let ramp = Ramp::new(alpha, 0.0)?;
-    let n = if opts.quick { 400 } else { 5000 };
-    let lattice = fibonacci_sphere(n);
-    let upper: Vec<DVec3> = lattice.iter().copied().filter(|p| p.z >= 0.0).collect();
-    let bar = progress(upper.len(), "map V on ∂Ω");
-    let images = par_map(upper.len(), &bar, |i| {
-        poincare_step(&body, &ramp, upper[i], 2000.0, 1e-10)
-    });
-    let mut field: Vec<(DVec3, Option<(DVec3, f64)>)> = Vec::new();
-    for (p, r) in upper.iter().zip(images) {
-        let r = r?;
-        field.push((*p, r));
-        // V(−p) = −V(p): the antipodal start is the same orientation, mirrored.
-        if p.z > 0.0 {
-            field.push((-*p, r.map(|(q, t)| (-q, t))));
-        }
-    }
+    let n: usize = if opts.quick { 400 } else { 5000 };
+    let bar = progress(n.div_ceil(2), "map V on ∂Ω");
+    let field: Vec<(DVec3, Option<(DVec3, f64)>)> =
+        poincare_field(&body, &ramp, n, 2000.0, 1e-10, &|| bar.inc(1))?
+            .into_iter()
+            .map(|a| (a.start, a.end.map(|e| (e, a.time))))
+            .collect();
+    bar.finish();
     let halted = field.iter().filter(|f| f.1.is_none()).count();
     // Attractors: iterate P from a sub-lattice until |V| < 1e-9.
     let m = if opts.quick { 24 } else { 120 };

@@ -1,9 +1,11 @@
 //! Bodies: the 2D disk r(θ) and the 3D sphere r(u) with exact derivatives and curvature, the JSON
 //! shape files other tools exchange with us, seeded random generators, and the convexity check
-//! the contact model requires. Pure math: imports `glam`, `serde`, `rand` only.
+//! the contact model requires, and the meshes drawn and 3D-printed from them. Pure math: imports
+//! `glam`, `serde`, `rand` only.
 
 pub mod disk;
 pub mod harmonics;
+pub mod mesh;
 pub mod shape_file;
 pub mod sphere;
 

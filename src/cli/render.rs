@@ -1,0 +1,82 @@
+//! The top-level render flags: `rollphase --headless --frames N [--out DIR] [--scene FILE |
+//! --preset NAME] [--size WxH]`, and the scene they pick (shared with the app).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+
+use crate::headless;
+use crate::scene::{DEFAULT_PRESET, Scene, SceneSetup, load_scene_file};
+
+/// Flags of the headless renderer and the app (used when no subcommand is given).
+#[derive(Debug, Args, Default)]
+pub struct RenderArgs {
+    /// Render PNG frames offscreen instead of opening a window (no display or GPU needed).
+    #[arg(long)]
+    pub headless: bool,
+    /// Number of frames to write (--headless).
+    #[arg(long, default_value_t = 1)]
+    pub frames: u64,
+    /// Output folder for frame_00000.png … (--headless).
+    #[arg(long, default_value = "frames")]
+    pub out: PathBuf,
+    /// A scene file (TOML); shape paths in it are relative to its folder.
+    #[arg(long, conflicts_with = "preset")]
+    pub scene: Option<PathBuf>,
+    /// A bundled scene (`rollphase scenes` lists them) [default: sphere-cruising].
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// Frame size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+}
+
+/// Parses "1280x720".
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let err = || format!("size {s:?} is not WIDTHxHEIGHT in pixels, e.g. 1280x720");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(err)?;
+    let w: u32 = w.trim().parse().map_err(|_| err())?;
+    let h: u32 = h.trim().parse().map_err(|_| err())?;
+    headless::check_size((w, h)).map_err(|e| e.to_string())?;
+    Ok((w, h))
+}
+
+/// The scene named by --scene or --preset (default preset otherwise), validated.
+pub fn pick_scene(scene: Option<&Path>, preset: Option<&str>) -> Result<SceneSetup> {
+    match (scene, preset) {
+        (Some(path), _) => {
+            load_scene_file(path).with_context(|| format!("bad scene file {}", path.display()))
+        }
+        (None, name) => {
+            let name = name.unwrap_or(DEFAULT_PRESET);
+            let scene = Scene::preset(name)?;
+            scene
+                .setup(None)
+                .with_context(|| format!("preset {name} does not validate"))
+        }
+    }
+}
+
+/// `--headless`: writes the frames and says where.
+pub fn run_headless(a: &RenderArgs) -> Result<()> {
+    if a.frames == 0 {
+        bail!("--frames 0 renders nothing (needs at least 1)");
+    }
+    let setup = pick_scene(a.scene.as_deref(), a.preset.as_deref())?;
+    let name = setup.scene.name.clone();
+    let report = headless::write_frames(setup, a.frames, a.size, &a.out, true)?;
+    if let Some(note) = &report.model_note {
+        eprintln!("note: {note}");
+    }
+    println!(
+        "wrote {} frame(s) of {name} at {}x{} to {} (t = 0 … {:.3}) on {}",
+        report.frames,
+        a.size.0,
+        a.size.1,
+        a.out.display(),
+        report.t_last,
+        report.adapter
+    );
+    Ok(())
+}

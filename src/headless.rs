@@ -1,0 +1,239 @@
+//! Offscreen rendering of a scene to PNG frames through the same [`Renderer`] as the window:
+//! `rollphase --headless --frames N`. Never creates a window or an event loop, so it runs with
+//! no display; with no GPU it renders on Mesa's llvmpipe (GL backend).
+//!
+//! Frame k shows simulation time `start_time + k · speed / fps`; the Poincaré field, when
+//! shown, is computed before the first frame. So the same scene and size give the same pixels
+//! on every run, whatever the machine's load. PNG encoding runs on a writer thread, off the
+//! render loop.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::mpsc;
+use std::thread::JoinHandle;
+
+use anyhow::{Context, Result, anyhow, bail};
+use image::RgbaImage;
+
+use crate::analysis::sphere_orbits::FieldArrow;
+use crate::render::gpu::OffscreenTarget;
+use crate::render::{GpuContext, Renderer};
+use crate::scene::SceneSetup;
+use crate::sim::Simulation;
+use crate::view::{FieldCache, SceneView, ViewOptions};
+
+/// Largest frame side accepted (wgpu's default 2D texture limit is 8192).
+pub const MAX_SIDE: u32 = 8192;
+
+/// MSAA samples of headless frames.
+pub const SAMPLE_COUNT: u32 = 4;
+
+/// A scene ready to render offscreen.
+pub struct HeadlessRenderer {
+    gpu: GpuContext,
+    renderer: Renderer,
+    target: OffscreenTarget,
+    view: SceneView,
+    sim: Simulation,
+    field: Option<Arc<Vec<FieldArrow>>>,
+    options: ViewOptions,
+}
+
+/// Checks a frame size.
+pub fn check_size(size: (u32, u32)) -> Result<()> {
+    let (w, h) = size;
+    if !(16..=MAX_SIDE).contains(&w) || !(16..=MAX_SIDE).contains(&h) {
+        bail!("frame size {w}x{h} is not allowed (needs 16 ≤ width, height ≤ {MAX_SIDE})");
+    }
+    Ok(())
+}
+
+impl HeadlessRenderer {
+    /// Sets up the GPU, the meshes and the simulation of `setup` for frames of `size`.
+    pub fn new(setup: SceneSetup, size: (u32, u32), sample_count: u32) -> Result<Self> {
+        check_size(size)?;
+        let gpu = GpuContext::headless()?;
+        let mut renderer = Renderer::new(
+            &gpu.device,
+            &gpu.queue,
+            crate::render::gpu::OFFSCREEN_FORMAT,
+            sample_count,
+        );
+        let target = OffscreenTarget::new(&gpu.device, size);
+        let view = SceneView::new(&mut renderer, &setup);
+        let field = if setup.scene.views.poincare {
+            Some(
+                FieldCache::default()
+                    .get_blocking(&setup, &setup.ramp)
+                    .map_err(|e| anyhow!("computing the Poincaré field failed: {e}"))?,
+            )
+        } else {
+            None
+        };
+        let sim = Simulation::new(setup);
+        Ok(Self {
+            gpu,
+            renderer,
+            target,
+            view,
+            sim,
+            field,
+            options: ViewOptions::default(),
+        })
+    }
+
+    /// The adapter in use, e.g. "llvmpipe (LLVM 15.0.6, 256 bits) (Gl, Cpu)".
+    pub fn adapter(&self) -> String {
+        self.gpu.describe()
+    }
+
+    /// The simulation (to inspect its snapshot).
+    pub fn simulation(&self) -> &Simulation {
+        &self.sim
+    }
+
+    /// Advances the simulation to frame `k`'s time and submits its drawing; does not wait.
+    pub fn draw(&mut self, k: u64) -> Result<()> {
+        let t = self.sim.setup().scene.playback.frame_time(k);
+        self.sim
+            .advance_to(t)
+            .with_context(|| format!("simulating frame {k} (t = {t})"))?;
+        let snap = self.sim.snapshot();
+        let frame = self.view.frame(
+            &snap,
+            self.field.as_deref().map(|v| v.as_slice()),
+            self.target.size,
+            &self.options,
+        );
+        self.renderer
+            .render(&self.target.view, self.target.size, &frame);
+        Ok(())
+    }
+
+    /// Waits for the GPU to finish the submitted frame.
+    pub fn finish(&self) -> Result<()> {
+        Ok(self.target.wait(&self.gpu.device)?)
+    }
+
+    /// Draws frame `k` and reads it back.
+    pub fn frame(&mut self, k: u64) -> Result<RgbaImage> {
+        self.draw(k)?;
+        let pixels = self.target.read(&self.gpu.device, &self.gpu.queue)?;
+        let (w, h) = self.target.size;
+        RgbaImage::from_raw(w, h, pixels).ok_or_else(|| anyhow!("readback returned a short buffer"))
+    }
+}
+
+/// A pool of PNG writer threads fed through a bounded channel, so encoding overlaps rendering.
+pub struct PngWriter {
+    sender: Option<mpsc::SyncSender<(PathBuf, RgbaImage)>>,
+    workers: Vec<JoinHandle<Result<()>>>,
+}
+
+impl PngWriter {
+    /// `threads` writers (at least 1).
+    pub fn new(threads: usize) -> Self {
+        let (sender, receiver) = mpsc::sync_channel::<(PathBuf, RgbaImage)>(4);
+        let receiver = Arc::new(std::sync::Mutex::new(receiver));
+        let workers = (0..threads.max(1))
+            .map(|_| {
+                let rx = receiver.clone();
+                std::thread::spawn(move || -> Result<()> {
+                    loop {
+                        let job = match rx.lock() {
+                            Ok(guard) => guard.recv(),
+                            Err(_) => return Err(anyhow!("PNG writer queue poisoned")),
+                        };
+                        let Ok((path, image)) = job else {
+                            return Ok(());
+                        };
+                        image
+                            .save_with_format(&path, image::ImageFormat::Png)
+                            .with_context(|| format!("cannot write {}", path.display()))?;
+                    }
+                })
+            })
+            .collect();
+        Self {
+            sender: Some(sender),
+            workers,
+        }
+    }
+
+    /// Queues one image (blocks while the queue is full).
+    pub fn write(&self, path: PathBuf, image: RgbaImage) -> Result<()> {
+        self.sender
+            .as_ref()
+            .ok_or_else(|| anyhow!("writer closed"))?
+            .send((path, image))
+            .map_err(|_| anyhow!("a PNG writer stopped early (see the error that follows)"))
+    }
+
+    /// Waits for every queued image to be written; the first error wins.
+    pub fn close(mut self) -> Result<()> {
+        self.sender = None;
+        for w in self.workers.drain(..) {
+            w.join().map_err(|_| anyhow!("a PNG writer panicked"))??;
+        }
+        Ok(())
+    }
+}
+
+/// The file name of frame `k`.
+pub fn frame_name(k: u64) -> String {
+    format!("frame_{k:05}.png")
+}
+
+/// What a headless run did.
+#[derive(Debug, Clone)]
+pub struct HeadlessReport {
+    /// The adapter used.
+    pub adapter: String,
+    /// Frames written.
+    pub frames: u64,
+    /// Simulation time of the last frame.
+    pub t_last: f64,
+    /// Why the model differs from the request, if it does.
+    pub model_note: Option<String>,
+}
+
+/// Renders `frames` frames of `setup` at `size` into `out/frame_00000.png …`.
+pub fn write_frames(
+    setup: SceneSetup,
+    frames: u64,
+    size: (u32, u32),
+    out: &Path,
+    progress: bool,
+) -> Result<HeadlessReport> {
+    if frames == 0 {
+        bail!("--frames 0 renders nothing (needs at least 1)");
+    }
+    std::fs::create_dir_all(out)
+        .with_context(|| format!("cannot create the output folder {}", out.display()))?;
+    let model_note = setup.model_note.clone();
+    let mut hr = HeadlessRenderer::new(setup, size, SAMPLE_COUNT)?;
+    let bar = if progress {
+        indicatif::ProgressBar::new(frames)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg} {bar:40} {pos}/{len} {elapsed}/{eta}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.set_message("rendering");
+    let writer = PngWriter::new(2);
+    for k in 0..frames {
+        let image = hr.frame(k)?;
+        writer.write(out.join(frame_name(k)), image)?;
+        bar.inc(1);
+    }
+    writer.close()?;
+    bar.finish_and_clear();
+    Ok(HeadlessReport {
+        adapter: hr.adapter(),
+        frames,
+        t_last: hr.simulation().time(),
+        model_note,
+    })
+}

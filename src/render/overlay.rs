@@ -1,0 +1,308 @@
+//! 2D panels drawn over the 3D views: lines of text and colour legends (a gradient bar with its
+//! numbers), rasterised on the CPU with the bundled DejaVu Sans (ab_glyph) so that the same
+//! pixels come out on every backend and in every PNG. Drawn by the renderer as textured quads.
+
+use ab_glyph::{Font as _, FontRef, PxScale, ScaleFont};
+
+/// Where a panel sits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Anchor {
+    /// Top-left corner at (x, y) pixels from the target's top left.
+    TopLeft(u32, u32),
+    /// Top-right corner at (x, y) pixels from the target's top right.
+    TopRight(u32, u32),
+    /// Bottom-left corner at (x, y) pixels from the target's bottom left.
+    BottomLeft(u32, u32),
+    /// Bottom-right corner at (x, y) pixels from the target's bottom right.
+    BottomRight(u32, u32),
+}
+
+impl Anchor {
+    /// Top-left pixel of a `w`×`h` panel in a target of `size`.
+    pub fn place(&self, w: u32, h: u32, size: (u32, u32)) -> (u32, u32) {
+        let (sw, sh) = size;
+        let (x, y) = match *self {
+            Anchor::TopLeft(x, y) => (x as i64, y as i64),
+            Anchor::TopRight(x, y) => (sw as i64 - w as i64 - x as i64, y as i64),
+            Anchor::BottomLeft(x, y) => (x as i64, sh as i64 - h as i64 - y as i64),
+            Anchor::BottomRight(x, y) => (
+                sw as i64 - w as i64 - x as i64,
+                sh as i64 - h as i64 - y as i64,
+            ),
+        };
+        (x.max(0) as u32, y.max(0) as u32)
+    }
+}
+
+/// One element of a panel, stacked top to bottom.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PanelItem {
+    /// A line of text.
+    Text {
+        /// The text.
+        text: String,
+        /// Font size in pixels.
+        size_px: f32,
+        /// sRGB colour.
+        color: [u8; 3],
+    },
+    /// A horizontal colour bar with labels under it.
+    ColorBar {
+        /// Bar width in pixels.
+        width: u32,
+        /// Bar height in pixels.
+        height: u32,
+        /// sRGB colours from left to right (interpolated).
+        colors: Vec<[u8; 3]>,
+        /// Labels: position in [0, 1] along the bar and text.
+        labels: Vec<(f32, String)>,
+        /// Label font size in pixels.
+        size_px: f32,
+    },
+}
+
+/// A panel: items on a translucent rounded background.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Panel {
+    /// Position.
+    pub anchor: Anchor,
+    /// Content, top to bottom.
+    pub items: Vec<PanelItem>,
+    /// Background sRGBA.
+    pub background: [u8; 4],
+    /// Inner margin in pixels.
+    pub padding: u32,
+}
+
+/// A rasterised panel (sRGB RGBA, premultiplied by nothing: straight alpha).
+#[derive(Debug, Clone, Default)]
+pub struct PanelImage {
+    /// Width.
+    pub width: u32,
+    /// Height.
+    pub height: u32,
+    /// Pixels, row-major RGBA.
+    pub rgba: Vec<u8>,
+}
+
+/// The bundled font.
+pub struct Font {
+    font: FontRef<'static>,
+}
+
+const FONT_BYTES: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+
+impl Font {
+    /// DejaVu Sans, bundled in `assets/fonts`.
+    pub fn bundled() -> Self {
+        // The bytes are a known-good font compiled into the binary; a parse failure would be a
+        // build defect, caught by every rendering test.
+        let font = FontRef::try_from_slice(FONT_BYTES).expect("bundled DejaVuSans.ttf parses");
+        Self { font }
+    }
+
+    /// Width of `text` in pixels at `size_px`.
+    pub fn text_width(&self, text: &str, size_px: f32) -> f32 {
+        let scaled = self.font.as_scaled(PxScale::from(size_px));
+        let mut width = 0.0;
+        let mut prev = None;
+        for c in text.chars() {
+            let id = scaled.glyph_id(c);
+            if let Some(p) = prev {
+                width += scaled.kern(p, id);
+            }
+            width += scaled.h_advance(id);
+            prev = Some(id);
+        }
+        width
+    }
+
+    /// Line height in pixels at `size_px`.
+    pub fn line_height(&self, size_px: f32) -> f32 {
+        let scaled = self.font.as_scaled(PxScale::from(size_px));
+        scaled.ascent() - scaled.descent() + scaled.line_gap()
+    }
+
+    /// Draws `text` with its baseline-top at (x, y) into `img`, blending `color` by coverage.
+    pub fn draw(
+        &self,
+        img: &mut PanelImage,
+        x: f32,
+        y: f32,
+        text: &str,
+        size_px: f32,
+        color: [u8; 3],
+    ) {
+        let scale = PxScale::from(size_px);
+        let scaled = self.font.as_scaled(scale);
+        let baseline = y + scaled.ascent();
+        let mut pen = x;
+        let mut prev = None;
+        for c in text.chars() {
+            let id = scaled.glyph_id(c);
+            if let Some(p) = prev {
+                pen += scaled.kern(p, id);
+            }
+            let glyph = id.with_scale_and_position(scale, ab_glyph::point(pen, baseline));
+            pen += scaled.h_advance(id);
+            prev = Some(id);
+            if let Some(outline) = self.font.outline_glyph(glyph) {
+                let bounds = outline.px_bounds();
+                outline.draw(|gx, gy, coverage| {
+                    let px = bounds.min.x as i64 + gx as i64;
+                    let py = bounds.min.y as i64 + gy as i64;
+                    blend(img, px, py, color, coverage);
+                });
+            }
+        }
+    }
+}
+
+fn blend(img: &mut PanelImage, x: i64, y: i64, color: [u8; 3], coverage: f32) {
+    if x < 0 || y < 0 || x >= img.width as i64 || y >= img.height as i64 {
+        return;
+    }
+    let i = ((y as u32 * img.width + x as u32) * 4) as usize;
+    let a = coverage.clamp(0.0, 1.0);
+    let dst_a = img.rgba[i + 3] as f32 / 255.0;
+    let out_a = a + dst_a * (1.0 - a);
+    for k in 0..3 {
+        let src = color[k] as f32;
+        let dst = img.rgba[i + k] as f32;
+        let v = if out_a > 0.0 {
+            (src * a + dst * dst_a * (1.0 - a)) / out_a
+        } else {
+            0.0
+        };
+        img.rgba[i + k] = v.round().clamp(0.0, 255.0) as u8;
+    }
+    img.rgba[i + 3] = (out_a * 255.0).round() as u8;
+}
+
+fn item_size(item: &PanelItem, font: &Font) -> (u32, u32) {
+    match item {
+        PanelItem::Text { text, size_px, .. } => (
+            font.text_width(text, *size_px).ceil() as u32,
+            font.line_height(*size_px).ceil() as u32,
+        ),
+        PanelItem::ColorBar {
+            width,
+            height,
+            labels,
+            size_px,
+            ..
+        } => {
+            // Labels are centred on their positions and may overhang the bar's ends.
+            let overhang = labels
+                .iter()
+                .map(|(_, l)| font.text_width(l, *size_px).ceil() as u32)
+                .max()
+                .unwrap_or(0);
+            (
+                width + overhang,
+                height + 4 + font.line_height(*size_px).ceil() as u32,
+            )
+        }
+    }
+}
+
+/// Rasterises a panel.
+pub fn rasterise(panel: &Panel, font: &Font) -> PanelImage {
+    let sizes: Vec<(u32, u32)> = panel.items.iter().map(|i| item_size(i, font)).collect();
+    let inner_w = sizes.iter().map(|s| s.0).max().unwrap_or(0);
+    let inner_h: u32 = sizes.iter().map(|s| s.1 + 2).sum();
+    if inner_w == 0 || inner_h == 0 {
+        return PanelImage::default();
+    }
+    let width = inner_w + 2 * panel.padding;
+    let height = inner_h + 2 * panel.padding;
+    let mut img = PanelImage {
+        width,
+        height,
+        rgba: Vec::with_capacity((width * height * 4) as usize),
+    };
+    let radius = panel.padding.min(8) as f32;
+    for y in 0..height {
+        for x in 0..width {
+            // Rounded corners: coverage falls off outside the corner circles.
+            let cx = (x as f32 + 0.5).clamp(radius, width as f32 - radius);
+            let cy = (y as f32 + 0.5).clamp(radius, height as f32 - radius);
+            let d = ((x as f32 + 0.5 - cx).powi(2) + (y as f32 + 0.5 - cy).powi(2)).sqrt();
+            let cover = (radius + 0.5 - d).clamp(0.0, 1.0);
+            let [r, g, b, a] = panel.background;
+            img.rgba.extend([r, g, b, (a as f32 * cover).round() as u8]);
+        }
+    }
+    let mut y = panel.padding as f32;
+    for (item, (_, h)) in panel.items.iter().zip(&sizes) {
+        let x = panel.padding as f32;
+        match item {
+            PanelItem::Text {
+                text,
+                size_px,
+                color,
+            } => font.draw(&mut img, x, y, text, *size_px, *color),
+            PanelItem::ColorBar {
+                width,
+                height,
+                colors,
+                labels,
+                size_px,
+            } => {
+                let overhang = (item_size(item, font).0 - width) as f32 / 2.0;
+                let x0 = x + overhang;
+                for bx in 0..*width {
+                    let c = gradient(colors, bx as f32 / (*width - 1).max(1) as f32);
+                    for by in 0..*height {
+                        blend(
+                            &mut img,
+                            (x0 as u32 + bx) as i64,
+                            (y as u32 + by) as i64,
+                            c,
+                            1.0,
+                        );
+                    }
+                }
+                for (pos, label) in labels {
+                    let w = font.text_width(label, *size_px);
+                    let lx = x0 + pos.clamp(0.0, 1.0) * (*width as f32) - w / 2.0;
+                    let tick_x = (x0 + pos.clamp(0.0, 1.0) * (*width - 1) as f32) as i64;
+                    for ty in 0..4 {
+                        blend(
+                            &mut img,
+                            tick_x,
+                            (y as u32 + height + ty) as i64,
+                            [230; 3],
+                            1.0,
+                        );
+                    }
+                    font.draw(
+                        &mut img,
+                        lx,
+                        y + *height as f32 + 4.0,
+                        label,
+                        *size_px,
+                        [235; 3],
+                    );
+                }
+            }
+        }
+        y += (*h + 2) as f32;
+    }
+    img
+}
+
+/// Colour at `t` ∈ [0, 1] along evenly spaced `colors`.
+pub fn gradient(colors: &[[u8; 3]], t: f32) -> [u8; 3] {
+    match colors.len() {
+        0 => [255; 3],
+        1 => colors[0],
+        n => {
+            let s = t.clamp(0.0, 1.0) * (n - 1) as f32;
+            let i = (s.floor() as usize).min(n - 2);
+            let f = s - i as f32;
+            let (a, b) = (colors[i], colors[i + 1]);
+            [0, 1, 2].map(|k| (a[k] as f32 + (b[k] as f32 - a[k] as f32) * f).round() as u8)
+        }
+    }
+}

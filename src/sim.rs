@@ -1,0 +1,530 @@
+//! The simulation of one scene, advanced to a requested time and observed as a plain
+//! [`Snapshot`]: the body's pose, the contact point, the trails (contact path on the ramp, contact
+//! trail on the body, the orientation's path in the SO(3) ball), the measured period and the
+//! numerical health. Headless frames and the app's simulation thread both drive it.
+//!
+//! Time is an argument ([`Simulation::advance_to`]): the same scene and the same sequence of
+//! target times give the same numbers on every run. Each call restarts the integrator from the
+//! stored state, so a run's values depend (within the tolerance) on the frame times it was
+//! advanced through, never on wall-clock time.
+//!
+//! Only what the views need is computed: the SO(3) trail only when the ball is shown.
+//! Imports the core and `scene`; no GPU, no window.
+
+use std::collections::VecDeque;
+
+use glam::{DQuat, DVec3};
+use thiserror::Error;
+
+use crate::analysis::sphere_orbits::ball_point;
+use crate::dynamics::disk2d::pose;
+use crate::dynamics::{DiskInertial, DiskViscous, Observe, Ramp, SphereInertial, SphereViscous};
+use crate::geometry::{Body, Disk, Sphere};
+use crate::integrate::events::{Direction, crossings_in_last_step};
+use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stepper};
+use crate::scene::SceneSetup;
+use crate::simulate::{InitialState, choose_model};
+
+/// Length of the 2D cylinder drawn and printed, in ⟨r⟩.
+pub const CYLINDER_LENGTH: f64 = 1.2;
+
+/// The integrated state of whichever model runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ModelState {
+    /// [θ, x_c]
+    DiskViscous([f64; 2]),
+    /// [θ, θ̇, x_c, W]
+    DiskInertial([f64; 4]),
+    /// [q, x, y]
+    SphereViscous([f64; 6]),
+    /// [q, ω, x, y, W]
+    SphereInertial([f64; 10]),
+}
+
+impl ModelState {
+    /// Name of the model.
+    pub fn model_name(&self) -> &'static str {
+        match self {
+            ModelState::DiskViscous(_) => "2D viscous",
+            ModelState::DiskInertial(_) => "2D inertial",
+            ModelState::SphereViscous(_) => "3D viscous",
+            ModelState::SphereInertial(_) => "3D inertial",
+        }
+    }
+}
+
+/// Why the simulation stopped.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SimError {
+    /// The integrator failed (too many steps, step underflow, non-finite values).
+    #[error("the integrator stopped at t = {t:.6}: {message}")]
+    Integrate {
+        /// When.
+        t: f64,
+        /// Why.
+        message: String,
+    },
+    /// A parameter change was refused.
+    #[error("{0}")]
+    Refused(String),
+}
+
+/// The numerical health so far (worst values since the start).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Health {
+    /// max ||q| − 1| (3D).
+    pub quat_norm_error: f64,
+    /// max |n_lab − (0, 0, −1)| (3D).
+    pub contact_normal_error: f64,
+    /// max |E + W − E(0)| (inertial models), measured from the last (re)start of the model.
+    pub energy_drift: f64,
+    /// Right-hand-side evaluations.
+    pub rhs_evals: u64,
+}
+
+/// Pose of the body in the ramp frame (x downhill, y across, z the ramp's normal).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyPose {
+    /// Body-to-ramp rotation.
+    pub rotation: DQuat,
+    /// Centre of mass.
+    pub centre: DVec3,
+}
+
+/// What a frame shows of the simulation: plain data, cheap to clone and send.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    /// Simulation time.
+    pub t: f64,
+    /// Which model runs.
+    pub model: &'static str,
+    /// The integrator's name.
+    pub integrator: &'static str,
+    /// Tilt.
+    pub alpha_rad: f64,
+    /// Critical angle of the body.
+    pub alpha_star: f64,
+    /// m/m0 (0: viscous).
+    pub mass_ratio: f64,
+    /// Pose.
+    pub pose: BodyPose,
+    /// Contact point on the ramp (z = 0).
+    pub contact_on_ramp: DVec3,
+    /// Contact point in the body frame.
+    pub contact_in_body: DVec3,
+    /// Past contact points on the ramp, oldest first.
+    pub ramp_trail: Vec<DVec3>,
+    /// Past contact points in the body frame, oldest first.
+    pub body_trail: Vec<DVec3>,
+    /// The orientation's path in the SO(3) ball, split where it jumps to the antipode (3D with
+    /// the ball view only).
+    pub ball_trail: Vec<Vec<DVec3>>,
+    /// The current ball point (3D).
+    pub ball_point: Option<DVec3>,
+    /// Time between the last two full turns (2D) or crossings of ∂Ω (3D), once measured.
+    pub period: Option<f64>,
+    /// The body has stopped (angular speed below 1e-6).
+    pub halted: bool,
+    /// Angular speed |ω| (3D) or |θ̇| (2D).
+    pub angular_speed: f64,
+    /// Numerical health.
+    pub health: Health,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct TrailSample {
+    t: f64,
+    on_ramp: DVec3,
+    in_body: DVec3,
+    ball: Option<DQuat>,
+}
+
+/// One scene's simulation.
+#[derive(Debug, Clone)]
+pub struct Simulation {
+    setup: SceneSetup,
+    ramp: Ramp,
+    method: Method,
+    t: f64,
+    state: ModelState,
+    trail: VecDeque<TrailSample>,
+    trail_dt: f64,
+    next_trail_t: f64,
+    crossings: VecDeque<f64>,
+    health: Health,
+    energy0: Option<f64>,
+    track_ball: bool,
+}
+
+/// What a model gives the simulation at a state.
+struct Observed {
+    on_ramp: DVec3,
+    in_body: DVec3,
+    pose: BodyPose,
+    ball: Option<DQuat>,
+    angular_speed: f64,
+    quat_err: f64,
+    normal_err: f64,
+    energy: Option<f64>,
+}
+
+impl Simulation {
+    /// A simulation at the scene's start (t = 0; call [`Self::advance_to`] to skip ahead).
+    pub fn new(setup: SceneSetup) -> Self {
+        let state = match (&setup.body, setup.initial, setup.ramp.is_viscous()) {
+            (Body::Disk(_), InitialState::Disk { theta0, .. }, true) => {
+                ModelState::DiskViscous([theta0, 0.0])
+            }
+            (Body::Disk(_), InitialState::Disk { theta0, theta_dot0 }, false) => {
+                ModelState::DiskInertial([theta0, theta_dot0, 0.0, 0.0])
+            }
+            (Body::Sphere(_), InitialState::Sphere { q0, .. }, true) => {
+                ModelState::SphereViscous(SphereViscous::initial_state(q0))
+            }
+            (Body::Sphere(_), InitialState::Sphere { q0, omega0 }, false) => {
+                ModelState::SphereInertial(SphereInertial::initial_state(q0, omega0))
+            }
+            // `SceneSetup` builds the initial state from the body, so these cannot pair up.
+            (Body::Disk(_), _, _) => ModelState::DiskViscous([0.0, 0.0]),
+            (Body::Sphere(_), _, _) => {
+                ModelState::SphereViscous(SphereViscous::initial_state(DQuat::IDENTITY))
+            }
+        };
+        let playback = &setup.scene.playback;
+        let trail_dt = (playback.trail_time / 3000.0).clamp(0.01, 1.0);
+        let mut sim = Self {
+            ramp: setup.ramp,
+            method: setup.method,
+            track_ball: setup.scene.views.ball && matches!(setup.body, Body::Sphere(_)),
+            setup,
+            t: 0.0,
+            state,
+            trail: VecDeque::new(),
+            trail_dt,
+            next_trail_t: 0.0,
+            crossings: VecDeque::new(),
+            health: Health::default(),
+            energy0: None,
+        };
+        let o = sim.observe_state(&sim.state);
+        sim.energy0 = o.energy;
+        sim.record(0.0, &o);
+        sim
+    }
+
+    /// The scene this simulation runs.
+    pub fn setup(&self) -> &SceneSetup {
+        &self.setup
+    }
+
+    /// Current simulation time.
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// The integrated state.
+    pub fn state(&self) -> ModelState {
+        self.state
+    }
+
+    /// The ramp being simulated.
+    pub fn ramp(&self) -> Ramp {
+        self.ramp
+    }
+
+    /// The integrator.
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
+    /// Changes α, m/m0 and the integrator from now on, keeping the body's pose (and, between
+    /// inertial settings, its angular velocity): what a user sweeping α or m/m0 expects.
+    /// Going from inertial to viscous drops the velocity; from viscous to inertial the body
+    /// starts from rest.
+    pub fn set_parameters(&mut self, ramp: Ramp, method: Method) -> Result<(), SimError> {
+        let choice = choose_model(&self.setup.body, ramp, method)
+            .map_err(|e| SimError::Refused(e.to_string()))?;
+        method
+            .validate()
+            .map_err(|e| SimError::Refused(e.to_string()))?;
+        let ramp = choice.ramp;
+        self.state = match (self.state, ramp.is_viscous()) {
+            (ModelState::DiskViscous(y), false) => ModelState::DiskInertial([y[0], 0.0, y[1], 0.0]),
+            (ModelState::DiskInertial(y), true) => ModelState::DiskViscous([y[0], y[2]]),
+            (ModelState::SphereViscous(y), false) => {
+                ModelState::SphereInertial([y[0], y[1], y[2], y[3], 0.0, 0.0, 0.0, y[4], y[5], 0.0])
+            }
+            (ModelState::SphereInertial(y), true) => {
+                ModelState::SphereViscous([y[0], y[1], y[2], y[3], y[7], y[8]])
+            }
+            (s, _) => s,
+        };
+        self.ramp = ramp;
+        self.method = method;
+        self.crossings.clear();
+        let o = self.observe_state(&self.state);
+        self.energy0 = o.energy;
+        Ok(())
+    }
+
+    /// Integrates from the current time to `t_target` (no-op if it is not later).
+    pub fn advance_to(&mut self, t_target: f64) -> Result<(), SimError> {
+        if !(t_target > self.t) {
+            return Ok(());
+        }
+        let body = self.setup.body.clone();
+        let ramp = self.ramp;
+        match (&body, self.state) {
+            (Body::Disk(d), ModelState::DiskViscous(y)) => {
+                let m = DiskViscous::new(d, &ramp);
+                let y = self.drive(&m, y, t_target, |y: &[f64; 2]| (y[0] / 2.0).sin())?;
+                self.state = ModelState::DiskViscous(y);
+            }
+            (Body::Disk(d), ModelState::DiskInertial(y)) => {
+                let m = DiskInertial::new(d, &ramp);
+                let y = self.drive(&m, y, t_target, |y: &[f64; 4]| (y[0] / 2.0).sin())?;
+                self.state = ModelState::DiskInertial(y);
+            }
+            (Body::Sphere(s), ModelState::SphereViscous(y)) => {
+                let m = SphereViscous::new(s, &ramp);
+                let y = self.drive(&m, y, t_target, |y: &[f64; 6]| y[0])?;
+                self.state = ModelState::SphereViscous(y);
+            }
+            (Body::Sphere(s), ModelState::SphereInertial(y)) => {
+                let m = SphereInertial::new(s, &ramp);
+                let y = self.drive(&m, y, t_target, |y: &[f64; 10]| y[0])?;
+                self.state = ModelState::SphereInertial(y);
+            }
+            _ => {
+                return Err(SimError::Refused(
+                    "the model does not match the body's dimension".into(),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn drive<const N: usize, S>(
+        &mut self,
+        model: &S,
+        y0: [f64; N],
+        t_target: f64,
+        section: impl Fn(&[f64; N]) -> f64,
+    ) -> Result<[f64; N], SimError>
+    where
+        S: OdeSystem<N> + Observe<N>,
+        ModelState: From<[f64; N]>,
+    {
+        let fail = |t: f64, e: IntegrateError| SimError::Integrate {
+            t,
+            message: e.to_string(),
+        };
+        let mut st: Box<dyn Stepper<N> + '_> =
+            integrate::stepper(model, self.t, y0, self.method).map_err(|e| fail(self.t, e))?;
+        let mut crossing_times = Vec::new();
+        let mut steps = 0u64;
+        while st.t() < t_target {
+            st.step(t_target).map_err(|e| fail(st.t(), e))?;
+            steps += 1;
+            if steps > 5_000_000 {
+                return Err(fail(
+                    st.t(),
+                    IntegrateError::TooManySteps {
+                        t: st.t(),
+                        max_steps: 5_000_000,
+                    },
+                ));
+            }
+            if st.y().iter().any(|v| !v.is_finite()) {
+                return Err(fail(st.t(), IntegrateError::NonFinite { t: st.t() }));
+            }
+            crossing_times.clear();
+            crossings_in_last_step(
+                st.as_mut(),
+                &|_t, y: &[f64; N]| section(y),
+                Direction::Both,
+                &mut crossing_times,
+            );
+            for &tc in &crossing_times {
+                self.crossings.push_back(tc);
+                if self.crossings.len() > 8 {
+                    self.crossings.pop_front();
+                }
+            }
+            while self.next_trail_t <= st.t() {
+                let ts = self.next_trail_t.max(st.t_prev());
+                let ys = st.dense(ts);
+                let o = self.observe_state(&ModelState::from(ys));
+                self.record(ts, &o);
+                self.next_trail_t += self.trail_dt;
+            }
+            let o = self.observe_state(&ModelState::from(*st.y()));
+            self.health.quat_norm_error = self.health.quat_norm_error.max(o.quat_err);
+            self.health.contact_normal_error = self.health.contact_normal_error.max(o.normal_err);
+            if let (Some(e), Some(e0)) = (o.energy, self.energy0) {
+                self.health.energy_drift = self.health.energy_drift.max((e - e0).abs());
+            }
+        }
+        self.health.rhs_evals += st.stats().rhs_evals;
+        self.t = st.t();
+        let y = *st.y();
+        let trail_horizon = self.t - self.setup.scene.playback.trail_time;
+        while self.trail.front().is_some_and(|s| s.t < trail_horizon) {
+            self.trail.pop_front();
+        }
+        Ok(y)
+    }
+
+    fn record(&mut self, t: f64, o: &Observed) {
+        self.trail.push_back(TrailSample {
+            t,
+            on_ramp: o.on_ramp,
+            in_body: o.in_body,
+            ball: if self.track_ball { o.ball } else { None },
+        });
+    }
+
+    fn observe_state(&self, state: &ModelState) -> Observed {
+        match (&self.setup.body, state) {
+            (Body::Disk(d), ModelState::DiskViscous(y)) => {
+                let m = DiskViscous::new(d, &self.ramp);
+                observe_disk(d, y[0], m.theta_dot(y[0]), y[1], None)
+            }
+            (Body::Disk(d), ModelState::DiskInertial(y)) => {
+                let m = DiskInertial::new(d, &self.ramp);
+                observe_disk(d, y[0], y[1], y[2], m.energy_balance(y))
+            }
+            (Body::Sphere(s), ModelState::SphereViscous(y)) => {
+                let m = SphereViscous::new(s, &self.ramp);
+                let o = m.observe(y);
+                observe_sphere(s, &o, None)
+            }
+            (Body::Sphere(s), ModelState::SphereInertial(y)) => {
+                let m = SphereInertial::new(s, &self.ramp);
+                let o = m.observe(y);
+                observe_sphere(s, &o, m.energy_balance(y))
+            }
+            _ => observe_disk(&Disk::perfect(), 0.0, 0.0, 0.0, None),
+        }
+    }
+
+    /// What the current state looks like.
+    pub fn snapshot(&self) -> Snapshot {
+        let o = self.observe_state(&self.state);
+        let mut ball_trail: Vec<Vec<DVec3>> = Vec::new();
+        if self.track_ball {
+            let mut prev: Option<DQuat> = None;
+            for s in self.trail.iter().filter_map(|s| s.ball) {
+                // Start a new piece where q_w changes sign: there the drawn point (q_w ≥ 0)
+                // jumps to the antipode, and a chord through the ball would be false.
+                let jump = prev.is_none_or(|p| (p.w >= 0.0) != (s.w >= 0.0));
+                if jump {
+                    ball_trail.push(Vec::new());
+                }
+                if let Some(piece) = ball_trail.last_mut() {
+                    piece.push(ball_point(s));
+                }
+                prev = Some(s);
+            }
+        }
+        let period = if self.crossings.len() >= 2 {
+            let n = self.crossings.len();
+            Some(self.crossings[n - 1] - self.crossings[n - 2])
+        } else {
+            None
+        };
+        Snapshot {
+            t: self.t,
+            model: self.state.model_name(),
+            integrator: self.method.name(),
+            alpha_rad: self.ramp.alpha_rad,
+            alpha_star: self.setup.alpha_star,
+            mass_ratio: self.ramp.mass_ratio,
+            pose: o.pose,
+            contact_on_ramp: o.on_ramp,
+            contact_in_body: o.in_body,
+            ramp_trail: self.trail.iter().map(|s| s.on_ramp).collect(),
+            body_trail: self.trail.iter().map(|s| s.in_body).collect(),
+            ball_trail,
+            ball_point: if self.track_ball {
+                o.ball.map(ball_point)
+            } else {
+                None
+            },
+            period,
+            halted: o.angular_speed < 1e-6,
+            angular_speed: o.angular_speed,
+            health: self.health,
+        }
+    }
+}
+
+impl From<[f64; 2]> for ModelState {
+    fn from(y: [f64; 2]) -> Self {
+        ModelState::DiskViscous(y)
+    }
+}
+impl From<[f64; 4]> for ModelState {
+    fn from(y: [f64; 4]) -> Self {
+        ModelState::DiskInertial(y)
+    }
+}
+impl From<[f64; 6]> for ModelState {
+    fn from(y: [f64; 6]) -> Self {
+        ModelState::SphereViscous(y)
+    }
+}
+impl From<[f64; 10]> for ModelState {
+    fn from(y: [f64; 10]) -> Self {
+        ModelState::SphereInertial(y)
+    }
+}
+
+/// 2D: the cross-section lies in the ramp's (x, z) plane; ψ turns it about the y axis (the
+/// body point at angle θ sits at r(θ)(cos θ, 0, sin θ) in the body frame, as in
+/// [`crate::geometry::mesh::disk_mesh`]).
+fn observe_disk(d: &Disk, theta: f64, theta_dot: f64, x_c: f64, energy: Option<f64>) -> Observed {
+    let p = pose(d, theta, x_c);
+    let r = d.jet(theta).r;
+    // Lab 2D (x downhill, y up) maps to ramp 3D (x, z); a counter-clockwise turn ψ in that plane
+    // is a rotation by −ψ about +y.
+    let rotation = DQuat::from_rotation_y(-p.psi);
+    let front = -CYLINDER_LENGTH / 2.0;
+    let in_body = DVec3::new(r * theta.cos(), front, r * theta.sin());
+    Observed {
+        on_ramp: DVec3::new(x_c, front, 0.0),
+        in_body,
+        pose: BodyPose {
+            rotation,
+            centre: DVec3::new(p.x, 0.0, p.y),
+        },
+        ball: None,
+        angular_speed: theta_dot.abs(),
+        quat_err: 0.0,
+        normal_err: 0.0,
+        energy,
+    }
+}
+
+fn observe_sphere(
+    s: &Sphere,
+    o: &crate::dynamics::sphere3d::SphereObservation,
+    energy: Option<f64>,
+) -> Observed {
+    let q = o.q.normalize();
+    let in_body = o.contact_dir * s.radius(o.contact_dir);
+    let on_ramp = o.centre + q * in_body;
+    Observed {
+        on_ramp: DVec3::new(on_ramp.x, on_ramp.y, 0.0),
+        in_body,
+        pose: BodyPose {
+            rotation: q,
+            centre: o.centre,
+        },
+        ball: Some(o.q),
+        angular_speed: o.omega.length(),
+        quat_err: o.quat_norm_error,
+        normal_err: o.contact_normal_error,
+        energy,
+    }
+}
