@@ -332,6 +332,13 @@ impl SceneView {
                 panels.push(self.legend_panel(text));
             }
         }
+        // Line widths are given for 720 rows; keep their look at other sizes.
+        let line_scale = (size.1 as f32 / 720.0).clamp(0.75, 3.0);
+        for view in &mut views {
+            for s in &mut view.segments {
+                s.width_px *= line_scale;
+            }
+        }
         Frame {
             clear: linear([40, 44, 54], 1.0),
             views,
@@ -476,7 +483,7 @@ impl SceneView {
         let mut seen = 0usize;
         for piece in pieces {
             let start = seen;
-            push_polyline_indexed(&mut segments, piece, 2.5, |i| {
+            push_polyline_indexed(&mut segments, piece, 3.0, |i| {
                 let age = (start + i) as f32 / total.max(1) as f32;
                 linear(
                     colormap(&[[70, 110, 190], [255, 140, 30]], age),
