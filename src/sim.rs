@@ -269,7 +269,8 @@ impl Simulation {
 
     /// Integrates from the current time to `t_target` (no-op if it is not later).
     pub fn advance_to(&mut self, t_target: f64) -> Result<(), SimError> {
-        if !(t_target > self.t) {
+        // NaN targets fall through here too: nothing to do.
+        if t_target.partial_cmp(&self.t) != Some(std::cmp::Ordering::Greater) {
             return Ok(());
         }
         let body = self.setup.body.clone();

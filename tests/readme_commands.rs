@@ -1,10 +1,38 @@
-//! The README's main command works on a fresh clone with the bundled body, and its outputs are
-//! what the README says (header, row count, summary keys, a body that rolled downhill).
+//! The README's commands work on a fresh clone: the quick start's headless render writes the 60
+//! frames it promises at 1280×720, and the `simulate` example's outputs are what the README says
+//! (header, row count, summary keys, a body that rolled downhill).
 
 use std::process::Command;
 
 #[test]
-fn readme_main_job_runs_on_the_bundled_sphere() {
+fn readme_quick_start_renders_sixty_frames() {
+    let readme = include_str!("../README.md");
+    let command = "cargo run --release -- --headless --frames 60 --out frames";
+    assert!(
+        readme.contains(command),
+        "the README's quick start changed; update this test"
+    );
+    let dir = std::env::temp_dir().join(format!("rollphase-quick-{}", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        .args(["--headless", "--frames", "60", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for k in [0, 59] {
+        let img = image::open(dir.join(format!("frame_{k:05}.png"))).unwrap();
+        assert_eq!((img.width(), img.height()), (1280, 720));
+    }
+    assert!(!dir.join("frame_00060.png").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn readme_simulate_example_runs_on_the_bundled_sphere() {
     let dir = std::env::temp_dir().join(format!("rollphase-readme-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let csv = dir.join("traj.csv");

@@ -41,6 +41,23 @@ pub enum BenchKind {
     /// Wall time of the full-size ensemble figures against their targets (sphere-cruising ≤ 60 s,
     /// sphere-poincare ≤ 30 s on 2 cores).
     Figures(FiguresBenchArgs),
+    /// Frames per second of the headless renderer (rendering alone, with readback, with PNG
+    /// writing on worker threads) at 1280×720 on whatever adapter is found (llvmpipe here).
+    Render(RenderBenchArgs),
+}
+
+/// Options of `bench render`.
+#[derive(Debug, Args)]
+pub struct RenderBenchArgs {
+    /// Preset to render.
+    #[arg(long, default_value = "sphere-cruising")]
+    pub preset: String,
+    /// Frame size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720", value_parser = super::render::parse_size)]
+    pub size: (u32, u32),
+    /// Frames timed per row (after 5 warm-up frames).
+    #[arg(long, default_value_t = 60)]
+    pub frames: u64,
 }
 
 /// Options of `bench figures`.
@@ -124,6 +141,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
         BenchKind::Accuracy(a) => accuracy_bench(a),
         BenchKind::Stiff(a) => stiff_bench(a),
         BenchKind::Figures(a) => figures_bench(a),
+        BenchKind::Render(a) => render_bench(a),
     }
 }
 
@@ -481,5 +499,83 @@ fn stiff_bench(a: StiffArgs) -> Result<()> {
     ];
     render_png(&panels, 2, (1400, 560), &a.out.join("stiff.png"))?;
     println!("wrote {}", a.out.display());
+    Ok(())
+}
+
+fn render_bench(a: RenderBenchArgs) -> Result<()> {
+    use crate::headless::{HeadlessRenderer, PngWriter, frame_name};
+    if a.frames == 0 {
+        anyhow::bail!("--frames 0 times nothing (needs at least 1)");
+    }
+    let setup = super::render::pick_scene(None, Some(&a.preset))?;
+    let out = std::env::temp_dir().join(format!("rollphase-bench-render-{}", std::process::id()));
+    std::fs::create_dir_all(&out)?;
+    let mut table = String::new();
+    let (w, h) = a.size;
+    let mut adapter = String::new();
+    writeln!(table, "| MSAA | what is timed | frames/s | ms/frame |")?;
+    writeln!(table, "|---|---|---|---|")?;
+    for samples in [4, 1] {
+        let mut r = HeadlessRenderer::new(setup.clone(), a.size, samples)?;
+        adapter = r.adapter();
+        let mut k = 0u64;
+        for _ in 0..5 {
+            r.frame(k)?;
+            k += 1;
+        }
+        let mut row = |what: &str,
+                       f: &mut dyn FnMut(&mut HeadlessRenderer, u64) -> Result<()>|
+         -> Result<()> {
+            let start = Instant::now();
+            for _ in 0..a.frames {
+                f(&mut r, k)?;
+                k += 1;
+            }
+            let s = start.elapsed().as_secs_f64();
+            writeln!(
+                table,
+                "| {samples}× | {what} | {:.1} | {:.1} |",
+                a.frames as f64 / s,
+                1000.0 * s / a.frames as f64
+            )?;
+            Ok(())
+        };
+        row(
+            "rendering alone (simulate, build, draw, wait for the GPU)",
+            &mut |r, k| {
+                r.draw(k)?;
+                r.finish()
+            },
+        )?;
+        row(
+            "rendering alone, pipelined (wait for the GPU every 4th frame)",
+            &mut |r, k| {
+                r.draw(k)?;
+                if k % 4 == 3 { r.finish() } else { Ok(()) }
+            },
+        )?;
+        row("+ readback to memory", &mut |r, k| r.frame(k).map(|_| ()))?;
+        let writer = PngWriter::new(2);
+        let start = Instant::now();
+        for _ in 0..a.frames {
+            let img = r.frame(k)?;
+            writer.write(out.join(frame_name(k)), img)?;
+            k += 1;
+        }
+        writer.close()?;
+        let s = start.elapsed().as_secs_f64();
+        writeln!(
+            table,
+            "| {samples}× | + PNG writing on 2 threads | {:.1} | {:.1} |",
+            a.frames as f64 / s,
+            1000.0 * s / a.frames as f64
+        )?;
+    }
+    let _ = std::fs::remove_dir_all(&out);
+    println!(
+        "{} at {w}x{h}, {} frames a row, on {adapter}\n",
+        a.preset, a.frames
+    );
+    print!("{table}");
     Ok(())
 }

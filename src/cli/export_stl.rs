@@ -23,10 +23,10 @@ pub struct ExportStlArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Mean radius in millimetres.
-    #[arg(long, default_value_t = 25.0)]
+    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true)]
     pub radius_mm: f64,
     /// Cylinder length in millimetres (2D bodies) [default: 2 × radius].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub length_mm: Option<f64>,
     /// Mesh resolution: icosphere subdivisions (3D: 20·4^n triangles) or 2^n·16 segments (2D).
     #[arg(long, default_value_t = 6)]

@@ -166,11 +166,10 @@ fn blend(img: &mut PanelImage, x: i64, y: i64, color: [u8; 3], coverage: f32) {
     let a = coverage.clamp(0.0, 1.0);
     let dst_a = img.rgba[i + 3] as f32 / 255.0;
     let out_a = a + dst_a * (1.0 - a);
-    for k in 0..3 {
-        let src = color[k] as f32;
+    for (k, &c) in color.iter().enumerate() {
         let dst = img.rgba[i + k] as f32;
         let v = if out_a > 0.0 {
-            (src * a + dst * dst_a * (1.0 - a)) / out_a
+            (c as f32 * a + dst * dst_a * (1.0 - a)) / out_a
         } else {
             0.0
         };

@@ -1,0 +1,219 @@
+//! The rendering command line as a user meets it: `--headless` writes numbered PNG frames of
+//! the asked size; `scenes` lists every preset; `export-stl` writes a watertight mesh of the
+//! right size; bad input exits non-zero with one line naming the value and what is allowed.
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn rollphase(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rollphase-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn headless_writes_numbered_frames_of_the_asked_size() {
+    let dir = temp("headless");
+    let out = dir.join("frames");
+    let o = rollphase(&[
+        "--headless",
+        "--frames",
+        "3",
+        "--size",
+        "200x120",
+        "--preset",
+        "cylinder-hysteresis",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for k in 0..3 {
+        let img = image::open(out.join(format!("frame_{k:05}.png"))).unwrap();
+        assert_eq!((img.width(), img.height()), (200, 120));
+    }
+    assert!(!out.join("frame_00003.png").exists());
+}
+
+#[test]
+fn headless_reads_a_scene_file() {
+    let dir = temp("scene-file");
+    let scene = dir.join("s.toml");
+    std::fs::write(
+        &scene,
+        "name = \"mine\"\n[body]\nrandom = { dimension = 3, seed = 1, sigma = 0.25 }\n[model]\nalpha_rad = 0.4\n",
+    )
+    .unwrap();
+    let out = dir.join("f");
+    let o = rollphase(&[
+        "--headless",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--size",
+        "64x64",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.join("frame_00000.png").exists());
+}
+
+#[test]
+fn bad_render_input_is_refused_with_the_reason() {
+    let cases: &[(&[&str], &[&str])] = &[
+        (
+            &["--headless", "--size", "12x9000"],
+            &["12x9000", "16 ≤ width"],
+        ),
+        (&["--headless", "--size", "big"], &["WIDTHxHEIGHT"]),
+        (
+            &["--headless", "--preset", "nope"],
+            &["no preset named \"nope\"", "sphere-cruising"],
+        ),
+        (&["--headless", "--frames", "0"], &["--frames 0"]),
+        (
+            &["--headless", "--scene", "/nonexistent/s.toml"],
+            &["/nonexistent/s.toml"],
+        ),
+        (&[], &["--headless"]),
+    ];
+    for (args, needles) in cases {
+        let o = rollphase(args);
+        assert!(!o.status.success(), "{args:?} succeeded");
+        let e = stderr(&o);
+        for n in *needles {
+            assert!(e.contains(n), "{args:?}: {e:?} lacks {n:?}");
+        }
+    }
+}
+
+#[test]
+fn scenes_lists_every_preset_with_its_description() {
+    let o = rollphase(&["scenes"]);
+    assert!(o.status.success());
+    let text = String::from_utf8_lossy(&o.stdout);
+    for (name, _) in rollphase::scene::PRESETS {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with(name))
+            .unwrap_or_else(|| panic!("{name} missing"));
+        assert!(line.len() > name.len() + 20, "{name} has no description");
+    }
+    let o = rollphase(&["scenes", "--toml", "perfect-sphere"]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("perfect = \"sphere\""));
+}
+
+/// Triangles of a binary STL as vertex triples.
+fn read_stl(path: &PathBuf) -> Vec<[[f32; 3]; 3]> {
+    let bytes = std::fs::read(path).unwrap();
+    let n = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
+    assert_eq!(bytes.len(), 84 + 50 * n);
+    let f = |o: usize| f32::from_le_bytes(bytes[o..o + 4].try_into().unwrap());
+    (0..n)
+        .map(|t| {
+            let base = 84 + 50 * t + 12;
+            [0, 1, 2].map(|v| [0, 1, 2].map(|c| f(base + 12 * v + 4 * c)))
+        })
+        .collect()
+}
+
+/// Every edge used once in each direction: a closed, consistently oriented surface.
+fn watertight(tris: &[[[f32; 3]; 3]]) -> bool {
+    let key = |p: [f32; 3]| p.map(f32::to_bits);
+    let mut edges: HashMap<([u32; 3], [u32; 3]), i32> = HashMap::new();
+    for t in tris {
+        for k in 0..3 {
+            *edges.entry((key(t[k]), key(t[(k + 1) % 3]))).or_default() += 1;
+        }
+    }
+    edges
+        .iter()
+        .all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1))
+}
+
+fn volume(tris: &[[[f32; 3]; 3]]) -> f64 {
+    tris.iter()
+        .map(|t| {
+            let v = t.map(|p| p.map(|x| x as f64));
+            let cross = [
+                v[1][1] * v[2][2] - v[1][2] * v[2][1],
+                v[1][2] * v[2][0] - v[1][0] * v[2][2],
+                v[1][0] * v[2][1] - v[1][1] * v[2][0],
+            ];
+            (v[0][0] * cross[0] + v[0][1] * cross[1] + v[0][2] * cross[2]) / 6.0
+        })
+        .sum()
+}
+
+#[test]
+fn export_stl_writes_a_watertight_body_in_millimetres() {
+    let dir = temp("stl");
+    let shapes = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/shapes");
+    let sphere = dir.join("sphere.stl");
+    let o = rollphase(&[
+        "export-stl",
+        &format!("{shapes}/sphere.json"),
+        "-o",
+        sphere.to_str().unwrap(),
+        "--radius-mm",
+        "30",
+        "--detail",
+        "4",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let tris = read_stl(&sphere);
+    assert_eq!(tris.len(), 20 * 4usize.pow(4));
+    assert!(watertight(&tris));
+    // ⟨r⟩ = 1 ↦ 30 mm: the volume is close to a 30 mm ball's (the body's r varies by ±15%).
+    let ball = 4.0 / 3.0 * std::f64::consts::PI * 30f64.powi(3);
+    let v = volume(&tris);
+    assert!(
+        v > 0.85 * ball && v < 1.15 * ball,
+        "volume {v} mm³ vs ball {ball}"
+    );
+
+    let cylinder = dir.join("disk.stl");
+    let o = rollphase(&[
+        "export-stl",
+        &format!("{shapes}/disk.json"),
+        "-o",
+        cylinder.to_str().unwrap(),
+        "--radius-mm",
+        "20",
+        "--length-mm",
+        "10",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let tris = read_stl(&cylinder);
+    assert!(watertight(&tris));
+    let ys: Vec<f32> = tris.iter().flat_map(|t| t.iter().map(|p| p[1])).collect();
+    let (lo, hi) = ys
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(a, b), &y| (a.min(y), b.max(y)));
+    assert!((hi - lo - 10.0).abs() < 1e-4, "length {}", hi - lo);
+    let area = std::f64::consts::PI * 400.0;
+    assert!((volume(&tris) / (10.0 * area) - 1.0).abs() < 0.05);
+
+    let o = rollphase(&[
+        "export-stl",
+        &format!("{shapes}/disk.json"),
+        "-o",
+        "x.stl",
+        "--radius-mm",
+        "-3",
+    ]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--radius-mm -3"));
+}
