@@ -9,6 +9,10 @@
 //! advanced through, never on wall-clock time.
 //!
 //! Only what the views need is computed: the SO(3) trail only when the ball is shown.
+//!
+//! [`Controller`] is the app's simulation side as a clock-free state machine ([`SimCommand`]s
+//! in, `tick(wall_seconds)` to advance): live α and m/m0 changes, pause, step, reset, load.
+//! The thread that runs it and reads the clock belongs to the app (issue 4).
 //! Imports the core and `scene`; no GPU, no window.
 
 use std::collections::VecDeque;
@@ -527,5 +531,166 @@ fn observe_sphere(
         quat_err: o.quat_norm_error,
         normal_err: o.contact_normal_error,
         energy,
+    }
+}
+
+/// What the UI asks of the simulation (the app's controls; see [`Controller`]).
+#[derive(Debug, Clone)]
+pub enum SimCommand {
+    /// New tilt α (radians), applied to the running state.
+    SetAlpha(f64),
+    /// New m/m0 (0: viscous), applied to the running state.
+    SetMassRatio(f64),
+    /// New integrator.
+    SetMethod(Method),
+    /// Simulation time per second of wall time.
+    SetSpeed(f64),
+    /// Stop advancing.
+    Pause,
+    /// Advance again.
+    Play,
+    /// While paused: advance by one video frame (speed / fps).
+    Step,
+    /// Back to the scene's start.
+    Reset,
+    /// Replace the scene.
+    Load(Box<SceneSetup>),
+}
+
+/// The simulation's side of the app, free of threads and clocks so it can be tested as a state
+/// machine: commands change it, `tick(wall_seconds)` advances it. A failure (the integrator
+/// stopping, a refused parameter) becomes a message and, for failures while running, a paused
+/// state; it never ends the program.
+#[derive(Debug, Clone)]
+pub struct Controller {
+    sim: Simulation,
+    paused: bool,
+    speed: f64,
+    message: Option<String>,
+    lagging: bool,
+}
+
+impl Controller {
+    /// A controller running `setup` from its start, playing at the scene's speed.
+    pub fn new(setup: SceneSetup) -> Self {
+        let speed = setup.scene.playback.speed;
+        Self {
+            sim: Simulation::new(setup),
+            paused: false,
+            speed,
+            message: None,
+            lagging: false,
+        }
+    }
+
+    /// The simulation.
+    pub fn simulation(&self) -> &Simulation {
+        &self.sim
+    }
+
+    /// Paused or not.
+    pub fn is_paused(&self) -> bool {
+        self.paused
+    }
+
+    /// Simulation time per wall second.
+    pub fn speed(&self) -> f64 {
+        self.speed
+    }
+
+    /// The last failure or refusal, for the UI to show.
+    pub fn message(&self) -> Option<&str> {
+        self.message.as_deref()
+    }
+
+    /// Whether the last tick could not keep up with the requested speed.
+    pub fn is_lagging(&self) -> bool {
+        self.lagging
+    }
+
+    /// Applies one command. A refused command leaves the state as it was and sets the message.
+    pub fn apply(&mut self, command: SimCommand) {
+        let result = match command {
+            SimCommand::SetAlpha(alpha) => {
+                let r = self.sim.ramp();
+                Ramp::with_drag(alpha, r.mass_ratio, r.drag)
+                    .map_err(|e| e.to_string())
+                    .and_then(|ramp| {
+                        self.sim
+                            .set_parameters(ramp, self.sim.method())
+                            .map_err(|e| e.to_string())
+                    })
+            }
+            SimCommand::SetMassRatio(m) => {
+                let r = self.sim.ramp();
+                Ramp::with_drag(r.alpha_rad, m, r.drag)
+                    .map_err(|e| e.to_string())
+                    .and_then(|ramp| {
+                        self.sim
+                            .set_parameters(ramp, self.sim.method())
+                            .map_err(|e| e.to_string())
+                    })
+            }
+            SimCommand::SetMethod(method) => self
+                .sim
+                .set_parameters(self.sim.ramp(), method)
+                .map_err(|e| e.to_string()),
+            SimCommand::SetSpeed(s) => {
+                if s.is_finite() && s > 0.0 && s <= 1e4 {
+                    self.speed = s;
+                    Ok(())
+                } else {
+                    Err(format!(
+                        "speed {s} is not allowed (needs 0 < speed ≤ 10000 time units per second)"
+                    ))
+                }
+            }
+            SimCommand::Pause => {
+                self.paused = true;
+                Ok(())
+            }
+            SimCommand::Play => {
+                self.paused = false;
+                Ok(())
+            }
+            SimCommand::Step => {
+                self.paused = true;
+                let dt = self.speed / self.sim.setup().scene.playback.fps;
+                let t = self.sim.time() + dt;
+                self.sim.advance_to(t).map_err(|e| e.to_string())
+            }
+            SimCommand::Reset => {
+                self.sim = Simulation::new(self.sim.setup().clone());
+                Ok(())
+            }
+            SimCommand::Load(setup) => {
+                self.speed = setup.scene.playback.speed;
+                self.sim = Simulation::new(*setup);
+                Ok(())
+            }
+        };
+        self.message = result.err();
+    }
+
+    /// Advances by `speed × wall_seconds` of simulation time if playing. `max_rhs_evals` is the
+    /// work the caller can afford per tick (it converts its frame budget into evaluations, so
+    /// the state machine stays clock-free); exceeding it sets [`Self::is_lagging`], which the
+    /// UI reports as "cannot keep up with the requested speed".
+    pub fn tick(&mut self, wall_seconds: f64, max_rhs_evals: u64) {
+        if self.paused || !(wall_seconds.is_finite() && wall_seconds > 0.0) {
+            return;
+        }
+        let before = self.sim.snapshot().health.rhs_evals;
+        let target = self.sim.time() + self.speed * wall_seconds;
+        match self.sim.advance_to(target) {
+            Ok(()) => {
+                let used = self.sim.snapshot().health.rhs_evals - before;
+                self.lagging = used > max_rhs_evals;
+            }
+            Err(e) => {
+                self.paused = true;
+                self.message = Some(format!("simulation paused: {e}"));
+            }
+        }
     }
 }
