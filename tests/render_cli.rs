@@ -100,6 +100,24 @@ fn bad_render_input_is_refused_with_the_reason() {
 }
 
 #[test]
+fn no_adapter_is_one_line_saying_what_to_install() {
+    // Metal exists on no machine this runs on: the same path as a Linux box without Mesa.
+    let o = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        .args(["--headless", "--size", "64x64", "--out"])
+        .arg(temp("no-adapter"))
+        .env("WGPU_BACKEND", "metal")
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    let e = stderr(&o);
+    assert!(
+        e.contains("no GPU adapter found") && e.contains("Mesa"),
+        "{e}"
+    );
+    assert_eq!(e.trim().lines().count(), 1, "{e}");
+}
+
+#[test]
 fn scenes_lists_every_preset_with_its_description() {
     let o = rollphase(&["scenes"]);
     assert!(o.status.success());
