@@ -611,26 +611,8 @@ impl Controller {
     /// Applies one command. A refused command leaves the state as it was and sets the message.
     pub fn apply(&mut self, command: SimCommand) {
         let result = match command {
-            SimCommand::SetAlpha(alpha) => {
-                let r = self.sim.ramp();
-                Ramp::with_drag(alpha, r.mass_ratio, r.drag)
-                    .map_err(|e| e.to_string())
-                    .and_then(|ramp| {
-                        self.sim
-                            .set_parameters(ramp, self.sim.method())
-                            .map_err(|e| e.to_string())
-                    })
-            }
-            SimCommand::SetMassRatio(m) => {
-                let r = self.sim.ramp();
-                Ramp::with_drag(r.alpha_rad, m, r.drag)
-                    .map_err(|e| e.to_string())
-                    .and_then(|ramp| {
-                        self.sim
-                            .set_parameters(ramp, self.sim.method())
-                            .map_err(|e| e.to_string())
-                    })
-            }
+            SimCommand::SetAlpha(alpha) => self.set_ramp(alpha, self.sim.ramp().mass_ratio),
+            SimCommand::SetMassRatio(m) => self.set_ramp(self.sim.ramp().alpha_rad, m),
             SimCommand::SetMethod(method) => self
                 .sim
                 .set_parameters(self.sim.ramp(), method)
@@ -670,6 +652,14 @@ impl Controller {
             }
         };
         self.message = result.err();
+    }
+
+    fn set_ramp(&mut self, alpha_rad: f64, mass_ratio: f64) -> Result<(), String> {
+        let ramp = Ramp::with_drag(alpha_rad, mass_ratio, self.sim.ramp().drag)
+            .map_err(|e| e.to_string())?;
+        self.sim
+            .set_parameters(ramp, self.sim.method())
+            .map_err(|e| e.to_string())
     }
 
     /// Advances by `speed × wall_seconds` of simulation time if playing. `max_rhs_evals` is the

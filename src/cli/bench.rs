@@ -531,14 +531,13 @@ fn render_bench(a: RenderBenchArgs) -> Result<()> {
                 f(&mut r, k)?;
                 k += 1;
             }
-            let s = start.elapsed().as_secs_f64();
-            writeln!(
-                table,
-                "| {samples}× | {what} | {:.1} | {:.1} |",
-                a.frames as f64 / s,
-                1000.0 * s / a.frames as f64
-            )?;
-            Ok(())
+            rate_row(
+                &mut table,
+                samples,
+                what,
+                a.frames,
+                start.elapsed().as_secs_f64(),
+            )
         };
         row(
             "rendering alone (simulate, build, draw, wait for the GPU)",
@@ -563,12 +562,13 @@ fn render_bench(a: RenderBenchArgs) -> Result<()> {
             k += 1;
         }
         writer.close()?;
-        let s = start.elapsed().as_secs_f64();
-        writeln!(
-            table,
-            "| {samples}× | + PNG writing on 2 threads | {:.1} | {:.1} |",
-            a.frames as f64 / s,
-            1000.0 * s / a.frames as f64
+        let seconds = start.elapsed().as_secs_f64();
+        rate_row(
+            &mut table,
+            samples,
+            "+ PNG writing on 2 threads",
+            a.frames,
+            seconds,
         )?;
     }
     let _ = std::fs::remove_dir_all(&out);
@@ -577,5 +577,16 @@ fn render_bench(a: RenderBenchArgs) -> Result<()> {
         a.preset, a.frames
     );
     print!("{table}");
+    Ok(())
+}
+
+/// One row of the render table: frames per second and milliseconds per frame.
+fn rate_row(table: &mut String, samples: u32, what: &str, frames: u64, seconds: f64) -> Result<()> {
+    writeln!(
+        table,
+        "| {samples}× | {what} | {:.1} | {:.1} |",
+        frames as f64 / seconds,
+        1000.0 * seconds / frames as f64
+    )?;
     Ok(())
 }
