@@ -107,14 +107,25 @@ pub struct OffscreenTarget {
     pub size: (u32, u32),
     readback: wgpu::Buffer,
     padded_row: u32,
+    bgra: bool,
 }
 
 /// Format of offscreen targets (sRGB, so PNGs get the usual gamma).
 pub const OFFSCREEN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
 impl OffscreenTarget {
-    /// A `width`×`height` target.
+    /// A `width`×`height` target in [`OFFSCREEN_FORMAT`].
     pub fn new(device: &wgpu::Device, size: (u32, u32)) -> Self {
+        Self::with_format(device, size, OFFSCREEN_FORMAT)
+    }
+
+    /// A `width`×`height` target in `format`, one of the 8-bit RGBA or BGRA formats (the app
+    /// reads back frames in its window's format); [`Self::read`] returns RGBA either way.
+    pub fn with_format(
+        device: &wgpu::Device,
+        size: (u32, u32),
+        format: wgpu::TextureFormat,
+    ) -> Self {
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("offscreen"),
             size: wgpu::Extent3d {
@@ -125,7 +136,7 @@ impl OffscreenTarget {
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format: OFFSCREEN_FORMAT,
+            format,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
@@ -144,6 +155,10 @@ impl OffscreenTarget {
             size,
             readback,
             padded_row,
+            bgra: matches!(
+                format,
+                wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+            ),
         }
     }
 
@@ -196,6 +211,11 @@ impl OffscreenTarget {
             }
         }
         self.readback.unmap();
+        if self.bgra {
+            for px in out.chunks_exact_mut(4) {
+                px.swap(0, 2);
+            }
+        }
         Ok(out)
     }
 }

@@ -612,8 +612,26 @@ impl Renderer {
     /// Draws `frame` into `target` (a `width`×`height` view of this renderer's format) and
     /// submits the work.
     pub fn render(&mut self, target: &wgpu::TextureView, size: (u32, u32), frame: &Frame) {
+        self.render_in(target, size, [0, 0, size.0, size.1], frame);
+    }
+
+    /// Draws `frame`, laid out for a `rect[2]`×`rect[3]` picture, into the pixel rectangle
+    /// `rect` (x, y, w, h) of `target` (`size` pixels): the app's 3D area beside its controls.
+    /// The whole target is cleared to `frame.clear` first.
+    pub fn render_in(
+        &mut self,
+        target: &wgpu::TextureView,
+        size: (u32, u32),
+        rect: [u32; 4],
+        frame: &Frame,
+    ) {
         self.ensure_targets(size);
         let (width, height) = size;
+        let [ox, oy, _, _] = clamp_viewport(rect, size);
+        let picture = (
+            rect[2].min(width - ox).max(1),
+            rect[3].min(height - oy).max(1),
+        );
         // Uniforms: one camera per view, one draw per mesh instance, at aligned offsets.
         let cam_stride = CAMERA_SIZE.div_ceil(self.uniform_align) * self.uniform_align;
         let draw_stride = DRAW_SIZE.div_ceil(self.uniform_align) * self.uniform_align;
@@ -631,7 +649,8 @@ impl Renderer {
         }
         let mut plans = Vec::new();
         for view in &frame.views {
-            let [x, y, w, h] = clamp_viewport(view.viewport, size);
+            let [x, y, w, h] = clamp_viewport(view.viewport, picture);
+            let (x, y) = (x + ox, y + oy);
             let aspect = w as f32 / h.max(1) as f32;
             let cam = CameraUniform {
                 view_proj: view.camera.view_proj(aspect).to_cols_array_2d(),
@@ -714,7 +733,8 @@ impl Renderer {
                 &image.rgba,
             );
             let group = texture_group(&self.device, &self.texture_layout, &texture, &self.sampler);
-            let (px, py) = panel.anchor.place(image.width, image.height, size);
+            let (px, py) = panel.anchor.place(image.width, image.height, picture);
+            let (px, py) = (px + ox, py + oy);
             let start = quad_data.len() as u32;
             quad_data.extend(quad(
                 [px, py, image.width, image.height],

@@ -1,0 +1,126 @@
+//! The app's simulation thread: commands sent from the UI take effect without the UI waiting,
+//! the thread keeps the requested playback speed in wall time, a panic inside the simulation
+//! becomes a message and a paused state (the thread lives on and a reset recovers), and loads
+//! and resets are counted so the UI can follow them.
+
+use std::time::{Duration, Instant};
+
+use rollphase::scene::Scene;
+use rollphase::sim::{SimCommand, SimStatus, SimThread};
+
+fn thread(preset: &str) -> SimThread {
+    SimThread::spawn(Scene::preset(preset).unwrap().setup(None).unwrap())
+}
+
+/// Polls the status until `done` holds (or panics after 10 s).
+fn wait_for(sim: &SimThread, what: &str, done: impl Fn(&SimStatus) -> bool) -> SimStatus {
+    let start = Instant::now();
+    loop {
+        let s = sim.status();
+        if done(&s) {
+            return (*s).clone();
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(10),
+            "timed out waiting for {what}"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+#[test]
+fn plays_at_the_requested_speed_and_applies_commands() {
+    let sim = thread("sphere-cruising");
+    sim.send(SimCommand::SetSpeed(2.0));
+    let s = wait_for(&sim, "a delivered-speed measurement", |s| {
+        s.speed == 2.0 && s.delivered_speed.is_some() && s.snapshot.t > 1.0
+    });
+    let d = s.delivered_speed.unwrap();
+    assert!((d - 2.0).abs() < 0.3, "delivered {d} of 2.0 t/s");
+    assert!(!s.lagging);
+
+    sim.send(SimCommand::SetAlpha(0.4));
+    wait_for(&sim, "α = 0.4", |s| s.snapshot.alpha_rad == 0.4);
+    sim.send(SimCommand::Pause);
+    let paused = wait_for(&sim, "pause", |s| s.paused);
+    std::thread::sleep(Duration::from_millis(100));
+    assert_eq!(
+        sim.status().snapshot.t,
+        paused.snapshot.t,
+        "time moved while paused"
+    );
+
+    sim.send(SimCommand::Step);
+    let stepped = wait_for(&sim, "a step", |s| s.snapshot.t > paused.snapshot.t);
+    let fps = stepped.setup.scene.playback.fps;
+    assert!((stepped.snapshot.t - paused.snapshot.t - 2.0 / fps).abs() < 1e-9);
+    assert!(stepped.paused);
+
+    let run = stepped.run_id;
+    sim.send(SimCommand::Reset);
+    let reset = wait_for(&sim, "a reset", |s| s.run_id == run + 1);
+    assert!(
+        reset.snapshot.t < 0.1,
+        "reset left t = {}",
+        reset.snapshot.t
+    );
+    assert_eq!(
+        reset.scene_id, stepped.scene_id,
+        "a reset is not a new scene"
+    );
+}
+
+#[test]
+fn loading_a_scene_is_counted_and_replaces_the_body() {
+    let sim = thread("sphere-cruising");
+    let before = sim.status();
+    let cylinder = Scene::preset("cylinder-near-critical")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    sim.send(SimCommand::Load(Box::new(cylinder)));
+    let s = wait_for(&sim, "the load", |s| s.scene_id == before.scene_id + 1);
+    assert_eq!(s.snapshot.model, "2D viscous");
+    assert_eq!(s.setup.scene.name, "cylinder-near-critical");
+}
+
+#[test]
+fn a_panic_in_the_simulation_is_a_message_and_a_pause_not_a_crash() {
+    let sim = thread("sphere-cruising");
+    wait_for(&sim, "some progress", |s| s.snapshot.t > 0.1);
+    sim.send(SimCommand::InjectPanic);
+    let s = wait_for(&sim, "the fault", |s| s.message.is_some());
+    assert!(s.paused);
+    let m = s.message.unwrap();
+    assert!(m.contains("panicked") && m.contains("Reset"), "{m}");
+    assert!(sim.is_running(), "the thread died");
+    sim.send(SimCommand::Reset);
+    sim.send(SimCommand::Play);
+    let t0 = wait_for(&sim, "play after reset", |s| !s.paused).snapshot.t;
+    wait_for(&sim, "progress after the reset", |s| {
+        s.snapshot.t > t0 + 0.2
+    });
+}
+
+#[test]
+fn an_impossible_speed_is_reported_as_lagging() {
+    // Precise DOP853 at 10⁴ time units per wall second is far beyond one core.
+    let sim = thread("sphere-cruising");
+    sim.send(SimCommand::SetMethod(
+        rollphase::integrate::Preset::Precise.method(),
+    ));
+    sim.send(SimCommand::SetSpeed(10_000.0));
+    let s = wait_for(&sim, "the lag report", |s| s.lagging);
+    let d = s.delivered_speed.unwrap();
+    assert!(d < 9000.0, "delivered {d}");
+}
+
+#[test]
+fn a_refused_command_is_a_message_and_changes_nothing() {
+    let sim = thread("sphere-cruising");
+    sim.send(SimCommand::SetAlpha(2.0));
+    let s = wait_for(&sim, "the refusal", |s| s.message.is_some());
+    assert!(s.message.unwrap().contains('2'));
+    assert_eq!(s.snapshot.alpha_rad, 0.3);
+    assert!(!s.paused, "a refused command does not pause");
+}
