@@ -15,6 +15,8 @@
 //! | [`view`] | snapshots to draw data: layout, cameras, colours, overlay; the Poincaré-field cache |
 //! | [`render`] | the wgpu renderer (plain draw data in, pixels out) and headless GPU set-up |
 //! | [`headless`] | offscreen frames to PNG through the same renderer |
+//! | [`ui`] | the app's egui panels, plots and painter, and the windowless app core |
+//! | [`app`] | the winit window around the app core (the only module that knows winit) |
 //! | [`plot`] | PNG charts for the command line (not used by the core) |
 //! | [`cli`] | the command line (one file per subcommand) |
 //!
@@ -22,6 +24,7 @@
 //! numbers on every run.
 
 pub mod analysis;
+pub mod app;
 pub mod cli;
 pub mod dynamics;
 pub mod figures;
@@ -33,4 +36,5 @@ pub mod render;
 pub mod scene;
 pub mod sim;
 pub mod simulate;
+pub mod ui;
 pub mod view;

@@ -87,7 +87,6 @@ fn bad_render_input_is_refused_with_the_reason() {
             &["--headless", "--scene", "/nonexistent/s.toml"],
             &["/nonexistent/s.toml"],
         ),
-        (&[], &["--headless"]),
     ];
     for (args, needles) in cases {
         let o = rollphase(args);

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use serde::Serialize;
 
@@ -44,6 +44,32 @@ pub enum BenchKind {
     /// Frames per second of the headless renderer (rendering alone, with readback, with PNG
     /// writing on worker threads) at 1280×720 on whatever adapter is found (llvmpipe here).
     Render(RenderBenchArgs),
+    /// Frame time of the app (UI, 3D view, plots) painted offscreen while the simulation thread
+    /// runs at the "precise" setting, and the playback speed the simulation delivers.
+    App(AppBenchArgs),
+}
+
+/// Options of `bench app`.
+#[derive(Debug, Args)]
+pub struct AppBenchArgs {
+    /// Preset to run.
+    #[arg(long, default_value = "sphere-two-orbits")]
+    pub preset: String,
+    /// Window size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1600x900", value_parser = super::render::parse_size)]
+    pub size: (u32, u32),
+    /// Wall seconds timed (after 1 s of warm-up).
+    #[arg(long, default_value_t = 8.0)]
+    pub seconds: f64,
+    /// Requested playback speed, simulation time per second [default: the preset's].
+    #[arg(long)]
+    pub speed: Option<f64>,
+    /// MSAA samples of the 3D view (the window uses 4 on a GPU, 1 on a CPU renderer).
+    #[arg(long, default_value_t = 1, value_parser = super::render::parse_msaa)]
+    pub msaa: u32,
+    /// Hide the plots panel (to see what the plots cost).
+    #[arg(long)]
+    pub no_plots: bool,
 }
 
 /// Options of `bench render`.
@@ -142,6 +168,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
         BenchKind::Stiff(a) => stiff_bench(a),
         BenchKind::Figures(a) => figures_bench(a),
         BenchKind::Render(a) => render_bench(a),
+        BenchKind::App(a) => app_bench(a),
     }
 }
 
@@ -588,5 +615,113 @@ fn rate_row(table: &mut String, samples: u32, what: &str, frames: u64, seconds: 
         frames as f64 / seconds,
         1000.0 * seconds / frames as f64
     )?;
+    Ok(())
+}
+
+fn app_bench(a: AppBenchArgs) -> Result<()> {
+    use crate::integrate::Preset;
+    use crate::render::gpu::{OFFSCREEN_FORMAT, OffscreenTarget};
+    use crate::sim::SimCommand;
+    use crate::ui::workbench::{Workbench, offscreen_input};
+
+    if !(a.seconds.is_finite() && a.seconds > 0.0) {
+        bail!(
+            "--seconds {} is not allowed (needs a number > 0)",
+            a.seconds
+        );
+    }
+    let setup = super::render::pick_scene(None, Some(&a.preset))?;
+    let gpu = crate::render::GpuContext::headless()?;
+    let target = OffscreenTarget::new(&gpu.device, a.size);
+    let mut bench = Workbench::new(
+        &gpu.device,
+        &gpu.queue,
+        OFFSCREEN_FORMAT,
+        a.msaa,
+        setup,
+        None,
+    );
+    bench.ui.show_plots = !a.no_plots;
+    bench
+        .sim
+        .send(SimCommand::SetMethod(Preset::Precise.method()));
+    if let Some(speed) = a.speed {
+        bench.sim.send(SimCommand::SetSpeed(speed));
+    }
+    let start = Instant::now();
+    let mut ui_ms = Vec::new();
+    let mut paint_ms = Vec::new();
+    let mut total_ms = Vec::new();
+    let mut lagging_frames = 0usize;
+    loop {
+        let elapsed = start.elapsed().as_secs_f64();
+        if elapsed > 1.0 + a.seconds {
+            break;
+        }
+        let t0 = Instant::now();
+        let frame = bench.run_ui(offscreen_input(a.size, elapsed, Vec::new()), a.size);
+        let t1 = Instant::now();
+        bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+        target.wait(&gpu.device)?;
+        let t2 = Instant::now();
+        if elapsed >= 1.0 {
+            ui_ms.push((t1 - t0).as_secs_f64() * 1e3);
+            paint_ms.push((t2 - t1).as_secs_f64() * 1e3);
+            total_ms.push((t2 - t0).as_secs_f64() * 1e3);
+            lagging_frames += usize::from(frame.status.lagging);
+        }
+    }
+    let status = bench.sim.status();
+    let stats = |v: &[f64]| -> (f64, f64, f64) {
+        let mut s = v.to_vec();
+        s.sort_by(f64::total_cmp);
+        let mean = s.iter().sum::<f64>() / s.len().max(1) as f64;
+        let at = |q: f64| s[((s.len().max(1) - 1) as f64 * q).round() as usize];
+        (mean, at(0.5), at(0.95))
+    };
+    if total_ms.is_empty() {
+        bail!("no frame finished within the timed {} s", a.seconds);
+    }
+    println!(
+        "{} at {}x{}, {}× MSAA, integrator {}, on {}; {} frames in {} s\n",
+        a.preset,
+        a.size.0,
+        a.size.1,
+        a.msaa,
+        crate::ui::describe_method(&status.method),
+        gpu.describe(),
+        total_ms.len(),
+        a.seconds
+    );
+    println!("| part of the frame | mean ms | p50 ms | p95 ms |");
+    println!("|---|---|---|---|");
+    for (what, v) in [
+        ("UI (egui layout, plots, tessellation)", &ui_ms),
+        ("paint (3D view + panels, GPU finished)", &paint_ms),
+        ("whole frame", &total_ms),
+    ] {
+        let (mean, p50, p95) = stats(v);
+        println!("| {what} | {mean:.1} | {p50:.1} | {p95:.1} |");
+    }
+    let (mean, _, _) = stats(&total_ms);
+    println!(
+        "\n{:.1} frames/s; simulation delivers {} of the requested {:.2} time units per second{}",
+        1e3 / mean,
+        status
+            .delivered_speed
+            .map_or("(not measured)".into(), |d| format!("{d:.2}")),
+        status.speed,
+        if lagging_frames > 0 {
+            format!(
+                "; the UI showed \"cannot keep up\" in {lagging_frames} of {} frames",
+                total_ms.len()
+            )
+        } else {
+            String::new()
+        }
+    );
+    if let Some(m) = &status.message {
+        println!("message: {m}");
+    }
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! The command line: argument structures (clap) and one file per subcommand. Errors are
 //! `anyhow` with context naming the file or flag; `main.rs` prints them and sets the exit code.
 
+pub mod app;
 pub mod bench;
 pub mod export_stl;
 pub mod figure;
@@ -30,8 +31,9 @@ use crate::geometry::{Body, ShapeFile};
 ///   rollphase simulate body.json --alpha 0.3 --t-end 100 -o traj.csv --summary summary.json
 ///   rollphase --headless --frames 60 --preset sphere-cruising --out frames
 ///
-/// With no subcommand, rollphase renders a scene: --headless writes PNG frames (no window, no
-/// GPU needed); `rollphase scenes` lists the presets.
+/// With no subcommand, rollphase opens the interactive window on a scene (--preset NAME or
+/// --scene FILE; `rollphase scenes` lists the presets). --headless writes PNG frames instead
+/// (no window, no display, no GPU needed).
 #[derive(Debug, Parser)]
 #[command(
     name = "rollphase",
@@ -40,7 +42,7 @@ use crate::geometry::{Body, ShapeFile};
     args_conflicts_with_subcommands = true
 )]
 pub struct Cli {
-    /// What to do (none: render a scene, see --headless).
+    /// What to do (none: open the window on a scene, or --headless to write PNG frames).
     #[command(subcommand)]
     pub command: Option<Command>,
     /// Rendering flags, used when no subcommand is given.
@@ -51,6 +53,8 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Open the interactive window (the same as no subcommand): live α and m/m0, plots, views.
+    App(app::AppArgs),
     /// Generate a random body (seeded) and write its shape file (JSON).
     Shape(shape::ShapeArgs),
     /// Report a body's convexity, curvature range and critical angle α*.
@@ -77,12 +81,14 @@ pub fn run(cli: Cli) -> Result<()> {
         if cli.render.headless {
             return render::run_headless(&cli.render);
         }
-        bail!(
-            "the interactive window is not available in this build; render frames with \
-             `rollphase --headless --frames N` (add --preset NAME or --scene FILE)"
+        return app::run_window(
+            cli.render.scene.as_deref(),
+            cli.render.preset.as_deref(),
+            &cli.render.window,
         );
     };
     match command {
+        Command::App(a) => app::run(a),
         Command::Shape(a) => shape::run(a),
         Command::Inspect(a) => inspect::run(a),
         Command::Period(a) => period::run(a),

@@ -34,6 +34,9 @@ pub struct RenderArgs {
     /// renderer such as llvmpipe; see `rollphase bench render`).
     #[arg(long, default_value_t = 4, value_parser = parse_msaa)]
     pub msaa: u32,
+    /// Window only: the smoke-test flags.
+    #[command(flatten)]
+    pub window: crate::cli::app::WindowFlags,
 }
 
 /// Parses "1280x720".

@@ -1,0 +1,335 @@
+//! The desktop window: winit's event loop, the wgpu surface and egui-winit's input glue around
+//! the windowless app core ([`Workbench`]). The only module that knows winit.
+//!
+//! With no display (no `DISPLAY` or `WAYLAND_DISPLAY`, or one that cannot be opened) it fails
+//! with one line suggesting `--headless`; it never falls back silently.
+//!
+//! The 3D scene uses 4× MSAA on a hardware GPU and none on a CPU renderer such as llvmpipe,
+//! where multisampling costs about 20 ms a frame (`rollphase bench render`).
+//!
+//! `--screenshot-after SECONDS FILE` saves the window (controls included) once that much wall
+//! time has passed and `--exit-after SECONDS` closes it, printing a frame-time summary: the CI
+//! smoke test runs the real window under Xvfb this way.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use anyhow::{Result, anyhow, bail};
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::WindowEvent;
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::window::{Fullscreen, Window, WindowId};
+
+use crate::render::GpuContext;
+use crate::scene::SceneSetup;
+use crate::ui::UiAction;
+use crate::ui::workbench::Workbench;
+
+/// What the window opens with.
+pub struct AppOptions {
+    /// The scene.
+    pub setup: SceneSetup,
+    /// The scene file's folder (for saving next to it); `None` for presets.
+    pub base: Option<PathBuf>,
+    /// Save a screenshot after this many seconds.
+    pub screenshot_after: Option<(f64, PathBuf)>,
+    /// Close after this many seconds.
+    pub exit_after: Option<f64>,
+}
+
+/// Opens the window and runs until it is closed.
+pub fn run(options: AppOptions) -> Result<()> {
+    if cfg!(all(unix, not(target_os = "macos")))
+        && std::env::var_os("DISPLAY").is_none()
+        && std::env::var_os("WAYLAND_DISPLAY").is_none()
+    {
+        bail!(no_display("DISPLAY and WAYLAND_DISPLAY are not set"));
+    }
+    let event_loop = EventLoop::new().map_err(|e| anyhow!(no_display(&e.to_string())))?;
+    event_loop.set_control_flow(ControlFlow::Poll);
+    let mut app = App {
+        options: Some(options),
+        window: None,
+        error: None,
+        started: Instant::now(),
+        frame_ms: Vec::new(),
+        screenshot_done: false,
+    };
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| anyhow!("the window's event loop failed: {e}"))?;
+    if let Some(e) = app.error {
+        return Err(e);
+    }
+    Ok(())
+}
+
+fn no_display(why: &str) -> String {
+    format!(
+        "cannot open a window: no display ({why}); render PNG frames instead with \
+         `rollphase --headless --frames N` (add --preset NAME or --scene FILE)"
+    )
+}
+
+struct WindowState {
+    window: Arc<Window>,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    gpu: GpuContext,
+    egui_winit: egui_winit::State,
+    bench: Workbench,
+    fullscreen: bool,
+}
+
+struct App {
+    options: Option<AppOptions>,
+    window: Option<WindowState>,
+    error: Option<anyhow::Error>,
+    started: Instant,
+    frame_ms: Vec<f64>,
+    screenshot_done: bool,
+}
+
+impl App {
+    fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<WindowState> {
+        let options = self
+            .options
+            .as_ref()
+            .ok_or_else(|| anyhow!("the window was already opened"))?;
+        let attributes = Window::default_attributes()
+            .with_title(format!("rollphase: {}", options.setup.scene.name))
+            .with_inner_size(PhysicalSize::new(1600, 900));
+        let window = Arc::new(
+            event_loop
+                .create_window(attributes)
+                .map_err(|e| anyhow!(no_display(&e.to_string())))?,
+        );
+        let mut desc = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(
+            event_loop.owned_display_handle(),
+        ));
+        if std::env::var_os("WGPU_BACKEND").is_none() {
+            desc.backends = wgpu::Backends::VULKAN | wgpu::Backends::GL;
+        }
+        let instance = wgpu::Instance::new(desc);
+        let surface = instance
+            .create_surface(window.clone())
+            .map_err(|e| anyhow!("cannot draw into the window: {e}"))?;
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: Some(&surface),
+            apply_limit_buckets: false,
+        }))
+        .map_err(|_| {
+            anyhow!(
+                "no GPU adapter can draw into this window: install Mesa's drivers \
+                 (Debian/Ubuntu: apt-get install libegl1 libgl1-mesa-dri), or use --headless"
+            )
+        })?;
+        let gpu = GpuContext::from_adapter(instance, adapter)?;
+        let caps = surface.get_capabilities(&gpu.adapter);
+        // An sRGB surface gives the 3D view the same colours as headless PNGs.
+        let format = caps
+            .formats
+            .iter()
+            .copied()
+            .find(|f| f.is_srgb())
+            .or_else(|| caps.formats.first().copied())
+            .ok_or_else(|| anyhow!("the window's surface offers no pixel format"))?;
+        let size = window.inner_size();
+        let config = wgpu::SurfaceConfiguration {
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            format,
+            color_space: wgpu::SurfaceColorSpace::default(),
+            width: size.width.max(1),
+            height: size.height.max(1),
+            present_mode: wgpu::PresentMode::AutoVsync,
+            desired_maximum_frame_latency: 2,
+            alpha_mode: caps
+                .alpha_modes
+                .first()
+                .copied()
+                .unwrap_or(wgpu::CompositeAlphaMode::Auto),
+            view_formats: vec![],
+        };
+        surface.configure(&gpu.device, &config);
+        let cpu = gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu;
+        let samples = if cpu { 1 } else { 4 };
+        let options = self
+            .options
+            .take()
+            .ok_or_else(|| anyhow!("the window was already opened"))?;
+        let bench = Workbench::new(
+            &gpu.device,
+            &gpu.queue,
+            format,
+            samples,
+            options.setup.clone(),
+            options.base.clone(),
+        );
+        let egui_winit = egui_winit::State::new(
+            bench.ctx.clone(),
+            egui::ViewportId::ROOT,
+            event_loop,
+            Some(window.scale_factor() as f32),
+            None,
+            Some(gpu.device.limits().max_texture_dimension_2d as usize),
+        );
+        eprintln!(
+            "rollphase: window on {} ({format:?}, {samples}× MSAA)",
+            gpu.describe()
+        );
+        self.options = Some(options);
+        Ok(WindowState {
+            window,
+            surface,
+            config,
+            gpu,
+            egui_winit,
+            bench,
+            fullscreen: false,
+        })
+    }
+
+    fn redraw(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(w) = self.window.as_mut() else {
+            return;
+        };
+        let t0 = Instant::now();
+        let input = w.egui_winit.take_egui_input(&w.window);
+        let size = (w.config.width, w.config.height);
+        let frame = w.bench.run_ui(input, size);
+        w.egui_winit
+            .handle_platform_output(&w.window, frame.platform_output.clone());
+        for action in &frame.window_actions {
+            if let UiAction::Fullscreen(on) = action
+                && *on != w.fullscreen
+            {
+                w.fullscreen = *on;
+                w.window
+                    .set_fullscreen(on.then_some(Fullscreen::Borderless(None)));
+            }
+        }
+        let texture = match w.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                w.surface.configure(&w.gpu.device, &w.config);
+                return;
+            }
+            _ => return,
+        };
+        let view = texture.texture.create_view(&Default::default());
+        w.bench.paint(&w.gpu.device, &w.gpu.queue, &view, &frame);
+        w.window.pre_present_notify();
+        w.gpu.queue.present(texture);
+        self.frame_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+
+        let elapsed = self.started.elapsed().as_secs_f64();
+        if let Some((after, path)) = self
+            .options
+            .as_ref()
+            .and_then(|o| o.screenshot_after.clone())
+            && !self.screenshot_done
+            && elapsed >= after
+        {
+            self.screenshot_done = true;
+            match w.bench.capture(&w.gpu.device, &w.gpu.queue, &frame) {
+                Ok(image) => match image.save(&path) {
+                    Ok(()) => eprintln!("rollphase: screenshot saved to {}", path.display()),
+                    Err(e) => {
+                        self.error = Some(anyhow!("cannot write {}: {e}", path.display()));
+                        event_loop.exit();
+                    }
+                },
+                Err(e) => {
+                    self.error = Some(e.context("taking the screenshot"));
+                    event_loop.exit();
+                }
+            }
+        }
+        if let Some(limit) = self.options.as_ref().and_then(|o| o.exit_after)
+            && elapsed >= limit
+        {
+            let status = w.bench.sim.status();
+            eprintln!(
+                "{}",
+                frame_summary(&self.frame_ms, status.delivered_speed, status.speed)
+            );
+            event_loop.exit();
+        }
+    }
+}
+
+/// "frames: N, frame time mean … p50 … p95 … max … ms (… frames/s); simulation … of … t/s".
+pub fn frame_summary(frame_ms: &[f64], delivered: Option<f64>, speed: f64) -> String {
+    // The first frames include shader compilation and the window's mapping.
+    let steady: Vec<f64> = frame_ms.iter().copied().skip(5).collect();
+    if steady.is_empty() {
+        return format!("rollphase: {} frame(s) drawn", frame_ms.len());
+    }
+    let mut sorted = steady.clone();
+    sorted.sort_by(f64::total_cmp);
+    let pick = |q: f64| sorted[((sorted.len() - 1) as f64 * q).round() as usize];
+    let mean = steady.iter().sum::<f64>() / steady.len() as f64;
+    format!(
+        "rollphase: {} frames; frame time mean {mean:.1} ms, p50 {:.1}, p95 {:.1}, max {:.1} \
+         ({:.0} frames/s); simulation delivers {} of {speed:.2} t per s",
+        frame_ms.len(),
+        pick(0.5),
+        pick(0.95),
+        pick(1.0),
+        1e3 / mean,
+        delivered.map_or("(not measured)".to_string(), |d| format!("{d:.2}")),
+    )
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.window.is_some() {
+            return;
+        }
+        match self.open(event_loop) {
+            Ok(w) => self.window = Some(w),
+            Err(e) => {
+                self.error = Some(e);
+                event_loop.exit();
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(w) = self.window.as_mut() else {
+            return;
+        };
+        let response = w.egui_winit.on_window_event(&w.window, &event);
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                w.config.width = size.width.max(1);
+                w.config.height = size.height.max(1);
+                w.surface.configure(&w.gpu.device, &w.config);
+                w.window.request_redraw();
+            }
+            WindowEvent::RedrawRequested => self.redraw(event_loop),
+            _ => {
+                if response.repaint {
+                    w.window.request_redraw();
+                }
+            }
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        // The simulation moves on by itself, so the window redraws continuously (vsync paces
+        // it); a short sleep keeps a window without vsync from spinning a core.
+        if let Some(w) = &self.window {
+            w.window.request_redraw();
+        }
+        event_loop.set_control_flow(ControlFlow::WaitUntil(
+            Instant::now() + Duration::from_millis(1),
+        ));
+    }
+}

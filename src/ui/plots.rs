@@ -1,0 +1,351 @@
+//! The app's plots (egui_plot) and the history they draw, accumulated from the snapshots the
+//! UI receives: θ(t) and θ̇(θ) for a cylinder, the contact path on the (φ, θ) curvature map for
+//! a sphere, the order parameter 1/T against α collected while the user sweeps α (a halted body
+//! counts as 1/T = 0, separately for sweeps up and down, so hysteresis shows as two branches),
+//! and the numerical health against time.
+//!
+//! [`PlotHistory`] is plain data, tested without a window; [`plots_ui`] draws it.
+
+use std::collections::{BTreeMap, VecDeque};
+
+use egui::Color32;
+use egui_plot::{Heatmap, Legend, Line, Plot, PlotPoint, PlotPoints, Points, VLine};
+
+use crate::geometry::Body;
+use crate::geometry::sphere::{angles, direction};
+use crate::sim::{ModelState, Snapshot};
+use crate::view::{CurvatureScale, DIVERGING, colormap};
+
+/// Samples kept per time series (older ones are dropped).
+const MAX_SAMPLES: usize = 20_000;
+
+/// Points per plotted time series (see [`PlotHistory::plotted`]).
+pub const PLOT_POINTS: usize = 1000;
+
+/// Width of the α bins of the 1/T sweep, radians (a slider step is far finer than a user can
+/// resolve; one point per bin and direction keeps the newest measurement).
+const SWEEP_BIN: f64 = 0.002;
+
+/// One sample of the time series.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// Simulation time.
+    pub t: f64,
+    /// 2D: θ (unwrapped); 3D: the contact's polar angle θ.
+    pub theta: f64,
+    /// 2D: θ̇; 3D: |ω|.
+    pub rate: f64,
+    /// 3D: the contact's azimuth φ; 2D: 0.
+    pub phi: f64,
+    /// Worst ||q| − 1| so far.
+    pub quat_norm_error: f64,
+    /// Worst contact-normal error so far.
+    pub contact_normal_error: f64,
+    /// Worst |E + W − E(0)| so far.
+    pub energy_drift: f64,
+}
+
+/// Which way α was last moved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Sweep {
+    /// α increased (or not moved yet).
+    Up,
+    /// α decreased.
+    Down,
+}
+
+/// What the plots show, accumulated from snapshots.
+#[derive(Debug, Clone, Default)]
+pub struct PlotHistory {
+    samples: VecDeque<Sample>,
+    /// (direction, α bin) → (α, 1/T).
+    sweep: BTreeMap<(Sweep, i64), (f64, f64)>,
+    last_alpha: Option<f64>,
+    direction: Option<Sweep>,
+    last_period: Option<f64>,
+}
+
+impl PlotHistory {
+    /// Clears the time series (a new run); the α sweep is kept, since it describes the body.
+    pub fn clear_run(&mut self) {
+        self.samples.clear();
+        self.last_period = None;
+    }
+
+    /// Clears everything (a new body).
+    pub fn clear_all(&mut self) {
+        *self = Self::default();
+    }
+
+    /// Takes in one snapshot: a new sample if time moved on, and a sweep point when a new
+    /// period was measured or the body halted.
+    pub fn push(&mut self, snap: &Snapshot) {
+        if self.samples.back().is_some_and(|s| snap.t <= s.t) {
+            return;
+        }
+        let (theta, phi) = match snap.state {
+            ModelState::DiskViscous(y) => (y[0], 0.0),
+            ModelState::DiskInertial(y) => (y[0], 0.0),
+            ModelState::SphereViscous(_) | ModelState::SphereInertial(_) => {
+                angles(snap.contact_in_body)
+            }
+        };
+        self.samples.push_back(Sample {
+            t: snap.t,
+            theta,
+            rate: snap.theta_dot.unwrap_or(snap.angular_speed),
+            phi,
+            quat_norm_error: snap.health.quat_norm_error,
+            contact_normal_error: snap.health.contact_normal_error,
+            energy_drift: snap.health.energy_drift,
+        });
+        while self.samples.len() > MAX_SAMPLES {
+            self.samples.pop_front();
+        }
+
+        let alpha = snap.alpha_rad;
+        if let Some(prev) = self.last_alpha
+            && alpha != prev
+        {
+            self.direction = Some(if alpha > prev { Sweep::Up } else { Sweep::Down });
+            // Periods measured before the change belong to the old α.
+            self.last_period = snap.period;
+        }
+        self.last_alpha = Some(alpha);
+        let direction = self.direction.unwrap_or(Sweep::Up);
+        let bin = (alpha / SWEEP_BIN).round() as i64;
+        if snap.halted {
+            self.sweep.insert((direction, bin), (alpha, 0.0));
+        } else if let Some(period) = snap.period
+            && self.last_period != Some(period)
+            && period > 0.0
+        {
+            self.sweep.insert((direction, bin), (alpha, 1.0 / period));
+        }
+        self.last_period = snap.period;
+    }
+
+    /// The samples, oldest first.
+    pub fn samples(&self) -> impl Iterator<Item = &Sample> {
+        self.samples.iter()
+    }
+
+    /// At most about [`PLOT_POINTS`] evenly spaced samples, the newest always included: a
+    /// plot a few hundred pixels wide shows no more, and every point drawn costs tessellation
+    /// and fill time (on a CPU renderer the full series doubled the frame time).
+    pub fn plotted(&self) -> impl Iterator<Item = &Sample> {
+        let n = self.samples.len();
+        let stride = n.div_ceil(PLOT_POINTS).max(1);
+        // Count from the newest sample so it is always drawn.
+        let offset = (n + stride - 1) % stride;
+        self.samples.iter().skip(offset).step_by(stride)
+    }
+
+    /// The sweep points (α, 1/T) of one direction, by α.
+    pub fn sweep(&self, direction: Sweep) -> Vec<[f64; 2]> {
+        self.sweep
+            .iter()
+            .filter(|((d, _), _)| *d == direction)
+            .map(|(_, &(a, f))| [a, f])
+            .collect()
+    }
+}
+
+/// The Gaussian curvature K on a (φ, θ) grid, for the contact-path plot of a sphere.
+#[derive(Debug, Clone)]
+pub struct CurvatureMap {
+    values: Vec<f64>,
+    cols: usize,
+    rows: usize,
+    scale: CurvatureScale,
+}
+
+impl CurvatureMap {
+    /// The map of a 3D body (`None` for a cylinder), on a `cols`×`rows` grid; `scale` is the
+    /// one the 3D view colours the body with, so the two agree.
+    pub fn new(body: &Body, scale: CurvatureScale, cols: usize, rows: usize) -> Option<Self> {
+        let Body::Sphere(s) = body else {
+            return None;
+        };
+        let mut values = Vec::with_capacity(cols * rows);
+        // Heatmap rows stack upwards from the heatmap's corner: row 0 is the smallest θ.
+        for row in 0..rows {
+            let theta = std::f64::consts::PI * (row as f64 + 0.5) / rows as f64;
+            for col in 0..cols {
+                let phi = -std::f64::consts::PI
+                    + std::f64::consts::TAU * (col as f64 + 0.5) / cols as f64;
+                values.push(s.surface(direction(theta, phi)).gaussian_curvature());
+            }
+        }
+        Some(Self {
+            values,
+            cols,
+            rows,
+            scale,
+        })
+    }
+}
+
+/// Draws the plots that fit the body: 2D θ(t) and θ̇(θ); 3D the contact path on the curvature
+/// map; both the 1/T sweep and the health. `alpha_star` marks the sweep plot; `height` is each
+/// plot's height in points.
+pub fn plots_ui(
+    ui: &mut egui::Ui,
+    history: &PlotHistory,
+    snap: &Snapshot,
+    map: Option<&CurvatureMap>,
+    alpha_star: f64,
+    height: f32,
+) {
+    let is_disk = matches!(
+        snap.state,
+        ModelState::DiskViscous(_) | ModelState::DiskInertial(_)
+    );
+    let width = ((ui.available_width() - 3.0 * ui.spacing().item_spacing.x) / 4.0).max(120.0);
+    ui.horizontal(|ui| {
+        if is_disk {
+            let theta_t: PlotPoints = history.plotted().map(|s| [s.t, s.theta]).collect();
+            Plot::new("theta_t")
+                .width(width)
+                .height(height)
+                .x_axis_label("t")
+                .y_axis_label("θ")
+                .show(ui, |p| p.line(Line::new("θ(t)", theta_t)));
+            let phase: PlotPoints = history
+                .plotted()
+                .map(|s| [s.theta.rem_euclid(std::f64::consts::TAU), s.rate])
+                .collect();
+            Plot::new("phase")
+                .width(width)
+                .height(height)
+                .x_axis_label("θ mod 2π")
+                .y_axis_label("θ̇")
+                .show(ui, |p| p.points(Points::new("θ̇(θ)", phase).radius(1.0)));
+        } else {
+            contact_map_ui(
+                ui,
+                snap,
+                map,
+                width * 2.0 + ui.spacing().item_spacing.x,
+                height,
+            );
+        }
+        sweep_ui(ui, history, snap, alpha_star, width, height);
+        health_ui(ui, history, width, height);
+    });
+}
+
+fn contact_map_ui(
+    ui: &mut egui::Ui,
+    snap: &Snapshot,
+    map: Option<&CurvatureMap>,
+    width: f32,
+    height: f32,
+) {
+    // Split the path where φ wraps, so no line crosses the whole plot.
+    let mut pieces: Vec<Vec<[f64; 2]>> = vec![Vec::new()];
+    let mut prev_phi: Option<f64> = None;
+    for p in &snap.body_trail {
+        let (theta, phi) = angles(*p);
+        if prev_phi.is_some_and(|q| (phi - q).abs() > std::f64::consts::PI) {
+            pieces.push(Vec::new());
+        }
+        if let Some(piece) = pieces.last_mut() {
+            piece.push([phi, theta]);
+        }
+        prev_phi = Some(phi);
+    }
+    let (theta_now, phi_now) = angles(snap.contact_in_body);
+    Plot::new("contact_map")
+        .width(width)
+        .height(height)
+        .x_axis_label("φ")
+        .y_axis_label("θ")
+        .include_x(-std::f64::consts::PI)
+        .include_x(std::f64::consts::PI)
+        .include_y(0.0)
+        .include_y(std::f64::consts::PI)
+        .show(ui, |p| {
+            if let Some(m) = map {
+                let scale = m.scale;
+                let heat = Heatmap::new(m.values.clone(), m.cols)
+                    .at(PlotPoint::new(-std::f64::consts::PI, 0.0))
+                    .tile_size(
+                        (std::f64::consts::TAU / m.cols as f64) as f32,
+                        (std::f64::consts::PI / m.rows as f64) as f32,
+                    )
+                    .show_labels(false)
+                    .custom_mapping(Box::new(move |k| {
+                        let [r, g, b] = colormap(&DIVERGING, scale.position(k as f32));
+                        Color32::from_rgb(r, g, b)
+                    }))
+                    .name("Gaussian curvature K");
+                p.heatmap(heat);
+            }
+            for piece in pieces.into_iter().filter(|piece| piece.len() > 1) {
+                p.line(
+                    Line::new("contact path", PlotPoints::from(piece))
+                        .color(Color32::BLACK)
+                        .width(1.5),
+                );
+            }
+            p.points(
+                Points::new("contact now", PlotPoints::from(vec![[phi_now, theta_now]]))
+                    .color(Color32::from_rgb(255, 200, 0))
+                    .radius(4.0),
+            );
+        });
+}
+
+fn sweep_ui(
+    ui: &mut egui::Ui,
+    history: &PlotHistory,
+    snap: &Snapshot,
+    alpha_star: f64,
+    width: f32,
+    height: f32,
+) {
+    Plot::new("sweep")
+        .width(width)
+        .height(height)
+        .legend(Legend::default())
+        .x_axis_label("α (rad)")
+        .y_axis_label("1/T")
+        .include_y(0.0)
+        .show(ui, |p| {
+            p.vline(VLine::new("α*", alpha_star).color(Color32::from_rgb(220, 60, 60)));
+            p.vline(VLine::new("α now", snap.alpha_rad).color(Color32::GRAY));
+            p.points(
+                Points::new("α increasing", PlotPoints::from(history.sweep(Sweep::Up)))
+                    .color(Color32::from_rgb(60, 130, 230))
+                    .radius(3.0),
+            );
+            p.points(
+                Points::new("α decreasing", PlotPoints::from(history.sweep(Sweep::Down)))
+                    .color(Color32::from_rgb(240, 150, 30))
+                    .radius(3.0),
+            );
+        });
+}
+
+fn health_ui(ui: &mut egui::Ui, history: &PlotHistory, width: f32, height: f32) {
+    let log = |v: f64| v.max(1e-17).log10();
+    let series = |f: &dyn Fn(&Sample) -> f64| -> PlotPoints<'static> {
+        history.plotted().map(|s| [s.t, log(f(s))]).collect()
+    };
+    Plot::new("health")
+        .width(width)
+        .height(height)
+        .legend(Legend::default())
+        .x_axis_label("t")
+        .y_axis_label("log₁₀ error")
+        .include_y(-16.0)
+        .show(ui, |p| {
+            p.line(Line::new("||q|−1|", series(&|s| s.quat_norm_error)));
+            p.line(Line::new(
+                "contact normal",
+                series(&|s| s.contact_normal_error),
+            ));
+            p.line(Line::new("|E+W−E₀|", series(&|s| s.energy_drift)));
+        });
+}

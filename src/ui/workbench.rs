@@ -1,0 +1,313 @@
+//! The app minus the window: the simulation thread, the UI state, the egui context and the
+//! painter, run one frame at a time against any wgpu target. `app.rs` wraps it in a winit
+//! window; the windowless tests and `rollphase bench app` drive it offscreen, so everything
+//! but the window itself is exercised where there is no display.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, anyhow};
+use image::RgbaImage;
+
+use super::painter::{EguiFrame, Painter, rect_to_pixels};
+use super::{AppUi, RecordProgress, UiAction};
+use crate::headless::{PngWriter, frame_name};
+use crate::render::gpu::OffscreenTarget;
+use crate::scene::SceneSetup;
+use crate::sim::{SimStatus, SimThread};
+
+/// One frame's UI result, ready to paint.
+pub struct UiFrame {
+    /// egui's tessellated output.
+    pub egui: EguiFrame,
+    /// What egui asks of the platform (cursor, clipboard, links), for the window to apply.
+    pub platform_output: egui::PlatformOutput,
+    /// The status the frame shows.
+    pub status: std::sync::Arc<SimStatus>,
+    /// The 3D area, pixels.
+    pub scene_rect: [u32; 4],
+    /// The target size, pixels.
+    pub size: (u32, u32),
+    /// Requests only the window can carry out (full screen).
+    pub window_actions: Vec<UiAction>,
+}
+
+struct Recording {
+    /// Made at the first recorded frame (the device is at hand there).
+    target: Option<OffscreenTarget>,
+    size: (u32, u32),
+    writer: PngWriter,
+    dir: PathBuf,
+    done: u32,
+    total: u32,
+}
+
+/// The app's state and machinery for one target format.
+pub struct Workbench {
+    /// The egui context.
+    pub ctx: egui::Context,
+    /// The UI state.
+    pub ui: AppUi,
+    /// The simulation thread.
+    pub sim: SimThread,
+    painter: Painter,
+    format: wgpu::TextureFormat,
+    recording: Option<Recording>,
+    pending_screenshots: Vec<PathBuf>,
+    /// egui's texture changes not yet uploaded (a frame the window skips keeps them here).
+    textures: egui::TexturesDelta,
+    frame_times: std::collections::VecDeque<Instant>,
+}
+
+impl Workbench {
+    /// Starts the simulation of `setup` and builds the renderers for `format`.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        format: wgpu::TextureFormat,
+        sample_count: u32,
+        setup: SceneSetup,
+        base: Option<PathBuf>,
+    ) -> Self {
+        let ui = AppUi::new(&setup, base);
+        Self {
+            ctx: egui::Context::default(),
+            ui,
+            sim: SimThread::spawn(setup),
+            painter: Painter::new(device, queue, format, sample_count),
+            format,
+            recording: None,
+            pending_screenshots: Vec::new(),
+            textures: egui::TexturesDelta::default(),
+            frame_times: Default::default(),
+        }
+    }
+
+    /// Runs the UI on `input` for a `size`-pixel target: reads the latest status (never
+    /// waiting for the simulation), sends the commands the user gave, and tessellates.
+    pub fn run_ui(&mut self, input: egui::RawInput, size: (u32, u32)) -> UiFrame {
+        let now = Instant::now();
+        self.frame_times.push_back(now);
+        while self
+            .frame_times
+            .front()
+            .is_some_and(|t| (now - *t).as_secs_f64() > 1.0)
+        {
+            self.frame_times.pop_front();
+        }
+        if self.frame_times.len() > 2 {
+            self.ui.fps = Some((self.frame_times.len() - 1) as f64);
+        }
+        let status = self.sim.status();
+        let (scale, note) = self.painter.sync(&status, &self.ui.views);
+        self.ui.field_note = note;
+        self.ui.follow_status(&status, scale);
+        self.ui.recording = self.recording.as_ref().map(|r| RecordProgress {
+            done: r.done,
+            total: r.total,
+        });
+        let mut actions = Vec::new();
+        let output = self.ctx.run_ui(input, |ui| {
+            actions = self.ui.show(ui, &status);
+        });
+        let mut window_actions = Vec::new();
+        for action in actions {
+            match action {
+                UiAction::Sim(c) => self.sim.send(c),
+                UiAction::Screenshot(path) => self.pending_screenshots.push(path),
+                UiAction::Record { dir, frames } => self.start_recording(dir, frames, size),
+                UiAction::Fullscreen(_) => window_actions.push(action),
+            }
+        }
+        self.textures.append(output.textures_delta);
+        let pixels_per_point = output.pixels_per_point;
+        let primitives = self.ctx.tessellate(output.shapes, pixels_per_point);
+        let scene_rect = self
+            .ui
+            .scene_rect
+            .map(|r| rect_to_pixels(r, pixels_per_point, size))
+            .unwrap_or([0, 0, size.0, size.1]);
+        UiFrame {
+            egui: EguiFrame {
+                primitives,
+                pixels_per_point,
+            },
+            platform_output: output.platform_output,
+            status,
+            scene_rect,
+            size,
+            window_actions,
+        }
+    }
+
+    fn start_recording(&mut self, dir: PathBuf, frames: u32, size: (u32, u32)) {
+        let rect = self
+            .ui
+            .scene_rect
+            .map(|r| rect_to_pixels(r, self.ctx.pixels_per_point(), size))
+            .unwrap_or([0, 0, size.0, size.1]);
+        // Even sizes keep video encoders happy.
+        let frame_size = ((rect[2].max(16)) & !1, (rect[3].max(16)) & !1);
+        if let Err(e) = std::fs::create_dir_all(&dir) {
+            self.ui
+                .notify(format!("cannot create {}: {e}", dir.display()), true);
+            return;
+        }
+        self.recording = Some(Recording {
+            target: None,
+            size: frame_size,
+            writer: PngWriter::new(2),
+            dir,
+            done: 0,
+            total: frames,
+        });
+    }
+
+    /// Paints the frame into `target` (the window's surface texture, or any texture of the
+    /// format), and carries out pending screenshots and the recording.
+    pub fn paint(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target: &wgpu::TextureView,
+        frame: &UiFrame,
+    ) {
+        self.painter
+            .prepare(device, queue, frame.size, &frame.egui, &mut self.textures);
+        self.painter.paint(
+            device,
+            queue,
+            target,
+            frame.size,
+            frame.scene_rect,
+            &frame.status,
+            &self.ui.views,
+            &self.ui.view_options,
+            &frame.egui,
+        );
+        for path in std::mem::take(&mut self.pending_screenshots) {
+            let result = self
+                .capture_painted(device, queue, frame)
+                .and_then(|image| save_png(&path, &image));
+            match result {
+                Ok(()) => self.ui.notify(format!("saved {}", path.display()), false),
+                Err(e) => self.ui.notify(format!("{e:#}"), true),
+            }
+        }
+        self.record(device, queue, frame);
+        self.painter.finish(&mut self.textures);
+    }
+
+    /// Paints the frame again into an offscreen texture and reads it back (RGBA).
+    fn capture_painted(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        frame: &UiFrame,
+    ) -> Result<RgbaImage> {
+        let target = OffscreenTarget::with_format(device, frame.size, self.format);
+        self.painter.paint(
+            device,
+            queue,
+            &target.view,
+            frame.size,
+            frame.scene_rect,
+            &frame.status,
+            &self.ui.views,
+            &self.ui.view_options,
+            &frame.egui,
+        );
+        let pixels = target.read(device, queue)?;
+        RgbaImage::from_raw(frame.size.0, frame.size.1, pixels)
+            .ok_or_else(|| anyhow!("the screenshot readback returned a short buffer"))
+    }
+
+    /// Paints the frame offscreen and returns the pixels: the same picture the window shows.
+    pub fn capture(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        frame: &UiFrame,
+    ) -> Result<RgbaImage> {
+        self.painter
+            .prepare(device, queue, frame.size, &frame.egui, &mut self.textures);
+        let image = self.capture_painted(device, queue, frame);
+        self.painter.finish(&mut self.textures);
+        image
+    }
+
+    fn record(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, frame: &UiFrame) {
+        let Some(rec) = self.recording.as_mut() else {
+            return;
+        };
+        let format = self.format;
+        let rec_target = rec
+            .target
+            .get_or_insert_with(|| OffscreenTarget::with_format(device, rec.size, format));
+        self.painter.paint_scene(
+            &rec_target.view,
+            rec_target.size,
+            &frame.status,
+            &self.ui.views,
+            &self.ui.view_options,
+        );
+        let result = rec_target
+            .read(device, queue)
+            .map_err(anyhow::Error::from)
+            .and_then(|pixels| {
+                let (w, h) = rec_target.size;
+                RgbaImage::from_raw(w, h, pixels).ok_or_else(|| anyhow!("short readback"))
+            })
+            .and_then(|image| {
+                rec.writer
+                    .write(rec.dir.join(frame_name(rec.done as u64)), image)
+            });
+        rec.done += 1;
+        let finished = rec.done >= rec.total;
+        if let Err(e) = result {
+            self.ui.notify(format!("recording stopped: {e:#}"), true);
+            self.recording = None;
+        } else if finished && let Some(rec) = self.recording.take() {
+            let dir = rec.dir.clone();
+            match rec.writer.close() {
+                Ok(()) => self.ui.notify(
+                    format!("recorded {} frames to {}", rec.done, dir.display()),
+                    false,
+                ),
+                Err(e) => self.ui.notify(format!("recording failed: {e:#}"), true),
+            }
+        }
+    }
+}
+
+fn save_png(path: &Path, image: &RgbaImage) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create folder {}", dir.display()))?;
+    }
+    image
+        .save(path)
+        .with_context(|| format!("cannot write screenshot {}", path.display()))
+}
+
+impl Drop for Workbench {
+    fn drop(&mut self) {
+        // Texture changes never uploaded (the window closed first) are dropped on purpose.
+        self.textures.clear();
+    }
+}
+
+/// egui input for a `size`-pixel offscreen target at one pixel per point, with `events`
+/// (the windowless tests and `rollphase bench app` drive the UI with it).
+pub fn offscreen_input(size: (u32, u32), time: f64, events: Vec<egui::Event>) -> egui::RawInput {
+    egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(
+            egui::Pos2::ZERO,
+            egui::vec2(size.0 as f32, size.1 as f32),
+        )),
+        time: Some(time),
+        events,
+        focused: true,
+        ..Default::default()
+    }
+}

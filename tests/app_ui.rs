@@ -1,0 +1,170 @@
+//! The app's UI without a window: the whole app core ([`Workbench`]) painted offscreen on
+//! llvmpipe. Keys reach the simulation as commands (Space pauses, → steps, R resets, + doubles
+//! the speed); the painted frame shows the controls panel and the curvature-coloured body; the
+//! plot history accumulates 1/T against α separately for sweeps up and down, a halted body
+//! counting as 0.
+
+use std::time::{Duration, Instant};
+
+use rollphase::render::GpuContext;
+use rollphase::render::gpu::{OFFSCREEN_FORMAT, OffscreenTarget};
+use rollphase::scene::Scene;
+use rollphase::sim::{SimCommand, SimStatus, Simulation};
+use rollphase::ui::plots::{PlotHistory, Sweep};
+use rollphase::ui::workbench::{Workbench, offscreen_input};
+
+const SIZE: (u32, u32) = (1280, 720);
+
+fn key(k: egui::Key) -> Vec<egui::Event> {
+    vec![egui::Event::Key {
+        key: k,
+        physical_key: None,
+        pressed: true,
+        repeat: false,
+        modifiers: egui::Modifiers::NONE,
+    }]
+}
+
+/// Runs UI frames (painting each) until `done` holds for the status.
+fn frames_until(
+    bench: &mut Workbench,
+    gpu: &GpuContext,
+    target: &OffscreenTarget,
+    mut events: Vec<egui::Event>,
+    done: impl Fn(&SimStatus) -> bool,
+) -> SimStatus {
+    let start = Instant::now();
+    loop {
+        let t = start.elapsed().as_secs_f64();
+        let frame = bench.run_ui(offscreen_input(SIZE, t, std::mem::take(&mut events)), SIZE);
+        bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+        let s = bench.sim.status();
+        if done(&s) {
+            return (*s).clone();
+        }
+        assert!(start.elapsed() < Duration::from_secs(20), "timed out");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn keys_command_the_simulation_and_the_frame_shows_body_and_controls() {
+    let gpu = GpuContext::headless().unwrap();
+    let target = OffscreenTarget::new(&gpu.device, SIZE);
+    let setup = Scene::preset("sphere-cruising")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    let mut bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None);
+
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.2);
+    let speed = s.speed;
+    let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::Space), |s| {
+        s.paused
+    });
+    let t_paused = s.snapshot.t;
+    let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::ArrowRight), |s| {
+        s.snapshot.t > t_paused
+    });
+    assert!(s.paused, "a step leaves the simulation paused");
+    let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::Plus), |s| {
+        s.speed != speed
+    });
+    assert_eq!(s.speed, 2.0 * speed);
+    let run = s.run_id;
+    frames_until(&mut bench, &gpu, &target, key(egui::Key::R), |s| {
+        s.run_id == run + 1
+    });
+
+    // The painted frame: dark controls panel with text on the left, the body on the right.
+    let frame = bench.run_ui(offscreen_input(SIZE, 30.0, vec![]), SIZE);
+    let img = bench.capture(&gpu.device, &gpu.queue, &frame).unwrap();
+    assert_eq!(img.dimensions(), SIZE);
+    let [x, _, w, _] = frame.scene_rect;
+    assert!(x > 150 && w > 600, "3D area {:?}", frame.scene_rect);
+    let (mut dark, mut light) = (0, 0);
+    for y in 40..SIZE.1 - 40 {
+        for px in 0..x - 10 {
+            let p = img.get_pixel(px, y).0;
+            let lum = (u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2])) / 3;
+            dark += usize::from(lum < 40);
+            light += usize::from(lum > 150);
+        }
+    }
+    let area = ((x - 10) * (SIZE.1 - 80)) as usize;
+    assert!(
+        dark > area / 2 && light > 500,
+        "controls: {dark} dark, {light} light of {area}"
+    );
+    let coloured = img
+        .enumerate_pixels()
+        .filter(|(px, _, _)| *px > x)
+        .filter(|(_, _, p)| {
+            let [r, g, b, _] = p.0.map(i32::from);
+            (r - g > 60 && r - b > 60) || (b - r > 60 && b - g > 20)
+        })
+        .count();
+    assert!(
+        coloured > 2000,
+        "body: {coloured} curvature-coloured pixels"
+    );
+}
+
+#[test]
+fn the_sweep_plot_collects_one_over_t_by_direction_and_counts_halting_as_zero() {
+    let mut scene = Scene::preset("cylinder-near-critical").unwrap();
+    scene.model.alpha_over_critical = Some(1.5);
+    let setup = scene.setup(None).unwrap();
+    let alpha_star = setup.alpha_star;
+    let mut sim = Simulation::new(setup);
+    let mut history = PlotHistory::default();
+    let run = |sim: &mut Simulation, history: &mut PlotHistory, until: f64| {
+        let mut t = sim.time();
+        while t < until {
+            t += 0.5;
+            sim.advance_to(t).unwrap();
+            history.push(&sim.snapshot());
+        }
+    };
+    // Above α*: it rolls, and a period is measured.
+    run(&mut sim, &mut history, 400.0);
+    let up = history.sweep(Sweep::Up);
+    assert_eq!(up.len(), 1, "{up:?}");
+    let period = sim.snapshot().period.unwrap();
+    assert!((up[0][1] - 1.0 / period).abs() < 1e-12);
+    // Below α*: the viscous cylinder halts, which is 1/T = 0 on the way down.
+    let ramp = rollphase::dynamics::Ramp::with_drag(0.8 * alpha_star, 0.0, 1.0).unwrap();
+    sim.set_parameters(ramp, sim.method()).unwrap();
+    run(&mut sim, &mut history, 800.0);
+    let down = history.sweep(Sweep::Down);
+    assert_eq!(down, vec![[0.8 * alpha_star, 0.0]]);
+    assert_eq!(history.sweep(Sweep::Up).len(), 1, "the up branch is kept");
+    assert!(history.samples().count() > 1000);
+    assert!(history.plotted().count() <= rollphase::ui::plots::PLOT_POINTS + 1);
+    assert_eq!(
+        history.plotted().last().map(|s| s.t),
+        history.samples().last().map(|s| s.t),
+        "the newest sample is always plotted"
+    );
+}
+
+#[test]
+fn loading_a_preset_from_the_ui_replaces_the_scene() {
+    let gpu = GpuContext::headless().unwrap();
+    let target = OffscreenTarget::new(&gpu.device, SIZE);
+    let setup = Scene::preset("sphere-cruising")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    let mut bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None);
+    let cylinder = Scene::preset("cylinder-hysteresis")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    bench.sim.send(SimCommand::Load(Box::new(cylinder)));
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.scene_id == 1);
+    assert_eq!(s.snapshot.model, "2D inertial");
+    // The UI follows: its α is the new scene's.
+    frames_until(&mut bench, &gpu, &target, vec![], |_| true);
+    assert_eq!(bench.ui.alpha(), s.snapshot.alpha_rad);
+}
