@@ -168,3 +168,34 @@ fn loading_a_preset_from_the_ui_replaces_the_scene() {
     frames_until(&mut bench, &gpu, &target, vec![], |_| true);
     assert_eq!(bench.ui.alpha(), s.snapshot.alpha_rad);
 }
+
+#[test]
+fn recording_writes_the_asked_number_of_frames_of_the_3d_view() {
+    let gpu = GpuContext::headless().unwrap();
+    let target = OffscreenTarget::new(&gpu.device, SIZE);
+    let setup = Scene::preset("cylinder-hysteresis")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    let mut bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None);
+    let frame = bench.run_ui(offscreen_input(SIZE, 0.0, vec![]), SIZE);
+    bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+    let dir = std::env::temp_dir().join(format!("rollphase-record-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    bench.start_recording(dir.clone(), 5, SIZE);
+    let mut frames = 0;
+    while bench.is_recording() {
+        let frame = bench.run_ui(offscreen_input(SIZE, 0.1 * frames as f64, vec![]), SIZE);
+        bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+        frames += 1;
+        assert!(frames < 50, "the recording never finished");
+    }
+    assert_eq!(frames, 5);
+    let [_, _, w, h] = frame.scene_rect;
+    for k in 0..5 {
+        let img = image::open(dir.join(format!("frame_{k:05}.png"))).unwrap();
+        assert_eq!((img.width(), img.height()), (w & !1, h & !1), "frame {k}");
+    }
+    assert!(!dir.join("frame_00005.png").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -140,7 +140,9 @@ impl Workbench {
         }
     }
 
-    fn start_recording(&mut self, dir: PathBuf, frames: u32, size: (u32, u32)) {
+    /// Records the 3D view of the next `frames` painted frames (at its size now, in a `size`
+    /// target) as PNGs in `dir`: what the UI's Record button does.
+    pub fn start_recording(&mut self, dir: PathBuf, frames: u32, size: (u32, u32)) {
         let rect = self
             .ui
             .scene_rect
@@ -196,6 +198,11 @@ impl Workbench {
         }
         self.record(device, queue, frame);
         self.painter.finish(&mut self.textures);
+    }
+
+    /// Whether a recording is in progress.
+    pub fn is_recording(&self) -> bool {
+        self.recording.is_some()
     }
 
     /// Paints the frame again into an offscreen texture and reads it back (RGBA).
