@@ -13,7 +13,18 @@ use rollphase::sim::{SimCommand, SimStatus, Simulation};
 use rollphase::ui::plots::{PlotHistory, Sweep};
 use rollphase::ui::workbench::{Workbench, offscreen_input};
 
+mod common;
+
 const SIZE: (u32, u32) = (1280, 720);
+
+/// A GPU, an offscreen target of [`SIZE`] and the app core on `preset`.
+fn app(preset: &str) -> (GpuContext, OffscreenTarget, Workbench) {
+    let gpu = GpuContext::headless().unwrap();
+    let target = OffscreenTarget::new(&gpu.device, SIZE);
+    let setup = Scene::preset(preset).unwrap().setup(None).unwrap();
+    let bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None);
+    (gpu, target, bench)
+}
 
 fn key(k: egui::Key) -> Vec<egui::Event> {
     vec![egui::Event::Key {
@@ -49,13 +60,7 @@ fn frames_until(
 
 #[test]
 fn keys_command_the_simulation_and_the_frame_shows_body_and_controls() {
-    let gpu = GpuContext::headless().unwrap();
-    let target = OffscreenTarget::new(&gpu.device, SIZE);
-    let setup = Scene::preset("sphere-cruising")
-        .unwrap()
-        .setup(None)
-        .unwrap();
-    let mut bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None);
+    let (gpu, target, mut bench) = app("sphere-cruising");
 
     let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.2);
     let speed = s.speed;
@@ -82,28 +87,13 @@ fn keys_command_the_simulation_and_the_frame_shows_body_and_controls() {
     assert_eq!(img.dimensions(), SIZE);
     let [x, _, w, _] = frame.scene_rect;
     assert!(x > 150 && w > 600, "3D area {:?}", frame.scene_rect);
-    let (mut dark, mut light) = (0, 0);
-    for y in 40..SIZE.1 - 40 {
-        for px in 0..x - 10 {
-            let p = img.get_pixel(px, y).0;
-            let lum = (u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2])) / 3;
-            dark += usize::from(lum < 40);
-            light += usize::from(lum > 150);
-        }
-    }
+    let (dark, light) = common::frames::panel_pixels(&img, x - 10, 40..SIZE.1 - 40);
     let area = ((x - 10) * (SIZE.1 - 80)) as usize;
     assert!(
         dark > area / 2 && light > 500,
         "controls: {dark} dark, {light} light of {area}"
     );
-    let coloured = img
-        .enumerate_pixels()
-        .filter(|(px, _, _)| *px > x)
-        .filter(|(_, _, p)| {
-            let [r, g, b, _] = p.0.map(i32::from);
-            (r - g > 60 && r - b > 60) || (b - r > 60 && b - g > 20)
-        })
-        .count();
+    let coloured = common::frames::curvature_coloured_pixels(&img, x + 1..SIZE.0);
     assert!(
         coloured > 2000,
         "body: {coloured} curvature-coloured pixels"
@@ -150,13 +140,7 @@ fn the_sweep_plot_collects_one_over_t_by_direction_and_counts_halting_as_zero() 
 
 #[test]
 fn loading_a_preset_from_the_ui_replaces_the_scene() {
-    let gpu = GpuContext::headless().unwrap();
-    let target = OffscreenTarget::new(&gpu.device, SIZE);
-    let setup = Scene::preset("sphere-cruising")
-        .unwrap()
-        .setup(None)
-        .unwrap();
-    let mut bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None);
+    let (gpu, target, mut bench) = app("sphere-cruising");
     let cylinder = Scene::preset("cylinder-hysteresis")
         .unwrap()
         .setup(None)
@@ -171,13 +155,7 @@ fn loading_a_preset_from_the_ui_replaces_the_scene() {
 
 #[test]
 fn recording_writes_the_asked_number_of_frames_of_the_3d_view() {
-    let gpu = GpuContext::headless().unwrap();
-    let target = OffscreenTarget::new(&gpu.device, SIZE);
-    let setup = Scene::preset("cylinder-hysteresis")
-        .unwrap()
-        .setup(None)
-        .unwrap();
-    let mut bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None);
+    let (gpu, target, mut bench) = app("cylinder-hysteresis");
     let frame = bench.run_ui(offscreen_input(SIZE, 0.0, vec![]), SIZE);
     bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
     let dir = std::env::temp_dir().join(format!("rollphase-record-{}", std::process::id()));

@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-use image::RgbaImage;
+mod common;
 
 fn rollphase_without_display(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_rollphase"))
@@ -35,6 +35,7 @@ fn bad_window_flags_name_the_value() {
         (&["app", "--exit-after", "inf"], "--exit-after inf"),
         (&["app", "--screenshot-after", "soon", "x.png"], "\"soon\""),
         (&["app", "--preset", "nope"], "no preset named \"nope\""),
+        (&["--headless", "--exit-after", "2"], "are for the window"),
     ];
     for (args, needle) in cases {
         let o = rollphase_without_display(args);
@@ -42,17 +43,6 @@ fn bad_window_flags_name_the_value() {
         let e = String::from_utf8_lossy(&o.stderr);
         assert!(e.contains(needle), "{args:?}: {e:?} lacks {needle:?}");
     }
-}
-
-/// Pixels whose colour is clearly the curvature map's red or blue (the body), in `x0..x1`.
-fn coloured_pixels(img: &RgbaImage, x0: u32, x1: u32) -> usize {
-    img.enumerate_pixels()
-        .filter(|(x, _, _)| (x0..x1).contains(x))
-        .filter(|(_, _, p)| {
-            let [r, g, b, _] = p.0.map(i32::from);
-            (r - g > 60 && r - b > 60) || (b - r > 60 && b - g > 20)
-        })
-        .count()
 }
 
 #[test]
@@ -88,18 +78,7 @@ fn window_under_xvfb_shows_the_body_and_the_controls() {
     assert!(w >= 640 && h >= 400, "screenshot is {w}x{h}");
     // The controls panel on the left: egui's dark panel with light text on it.
     let panel_w = 200;
-    let (mut dark, mut light) = (0usize, 0usize);
-    for y in 40..h - 40 {
-        for x in 0..panel_w {
-            let p = img.get_pixel(x, y).0;
-            let lum = (u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2])) / 3;
-            if lum < 40 {
-                dark += 1;
-            } else if lum > 150 {
-                light += 1;
-            }
-        }
-    }
+    let (dark, light) = common::frames::panel_pixels(&img, panel_w, 40..h - 40);
     let area = (panel_w * (h - 80)) as usize;
     assert!(dark > area / 2, "no controls panel: {dark} dark of {area}");
     assert!(
@@ -107,7 +86,7 @@ fn window_under_xvfb_shows_the_body_and_the_controls() {
         "no text in the controls panel: {light} light pixels"
     );
     // The body in the 3D view, right of the panel: the curvature colours.
-    let body = coloured_pixels(&img, 300, w);
+    let body = common::frames::curvature_coloured_pixels(&img, 300..w);
     assert!(body > 2000, "no curvature-coloured body: {body} pixels");
     let _ = std::fs::remove_file(&shot);
 }

@@ -79,6 +79,12 @@ pub enum Command {
 pub fn run(cli: Cli) -> Result<()> {
     let Some(command) = cli.command else {
         if cli.render.headless {
+            let w = &cli.render.window;
+            if w.screenshot_after.is_some() || w.exit_after.is_some() {
+                bail!(
+                    "--screenshot-after and --exit-after are for the window; --headless writes                      every frame as a PNG already (see --frames and --out)"
+                );
+            }
             return render::run_headless(&cli.render);
         }
         return app::run_window(

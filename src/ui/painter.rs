@@ -206,13 +206,14 @@ impl Painter {
         options: &ViewOptions,
         egui_frame: &EguiFrame,
     ) {
-        if scene_rect[2] >= 16 && scene_rect[3] >= 16 {
+        let has_scene = scene_rect[2] >= 16 && scene_rect[3] >= 16;
+        if has_scene {
             self.paint_scene_in(target, size, scene_rect, status, views, options);
         }
         let mut encoder = device.create_command_encoder(&Default::default());
         {
             // With no 3D area this pass also clears, so the panels never draw over stale pixels.
-            let load = if scene_rect[2] >= 16 && scene_rect[3] >= 16 {
+            let load = if has_scene {
                 wgpu::LoadOp::Load
             } else {
                 wgpu::LoadOp::Clear(wgpu::Color::BLACK)

@@ -176,17 +176,7 @@ impl Workbench {
     ) {
         self.painter
             .prepare(device, queue, frame.size, &frame.egui, &mut self.textures);
-        self.painter.paint(
-            device,
-            queue,
-            target,
-            frame.size,
-            frame.scene_rect,
-            &frame.status,
-            &self.ui.views,
-            &self.ui.view_options,
-            &frame.egui,
-        );
+        self.paint_prepared(device, queue, target, frame);
         for path in std::mem::take(&mut self.pending_screenshots) {
             let result = self
                 .capture_painted(device, queue, frame)
@@ -205,6 +195,27 @@ impl Workbench {
         self.recording.is_some()
     }
 
+    /// Paints `frame` (egui's data already uploaded) with the UI's views and camera.
+    fn paint_prepared(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target: &wgpu::TextureView,
+        frame: &UiFrame,
+    ) {
+        self.painter.paint(
+            device,
+            queue,
+            target,
+            frame.size,
+            frame.scene_rect,
+            &frame.status,
+            &self.ui.views,
+            &self.ui.view_options,
+            &frame.egui,
+        );
+    }
+
     /// Paints the frame again into an offscreen texture and reads it back (RGBA).
     fn capture_painted(
         &mut self,
@@ -213,17 +224,7 @@ impl Workbench {
         frame: &UiFrame,
     ) -> Result<RgbaImage> {
         let target = OffscreenTarget::with_format(device, frame.size, self.format);
-        self.painter.paint(
-            device,
-            queue,
-            &target.view,
-            frame.size,
-            frame.scene_rect,
-            &frame.status,
-            &self.ui.views,
-            &self.ui.view_options,
-            &frame.egui,
-        );
+        self.paint_prepared(device, queue, &target.view, frame);
         let pixels = target.read(device, queue)?;
         RgbaImage::from_raw(frame.size.0, frame.size.1, pixels)
             .ok_or_else(|| anyhow!("the screenshot readback returned a short buffer"))

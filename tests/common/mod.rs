@@ -1,6 +1,8 @@
 //! Shared fixtures for the law tests: seeded bodies and a helper that runs a simulation.
 #![allow(dead_code)]
 
+pub mod frames;
+
 use rollphase::dynamics::Ramp;
 use rollphase::geometry::{Body, random_disk, random_sphere};
 use rollphase::integrate::Method;
