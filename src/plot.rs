@@ -21,6 +21,8 @@ pub enum SeriesLabelPosition {
     LowerRight,
     /// Bottom left corner.
     LowerLeft,
+    /// Halfway up the right edge.
+    MiddleRight,
 }
 
 impl SeriesLabelPosition {
@@ -31,6 +33,7 @@ impl SeriesLabelPosition {
             Self::UpperLeft => P::UpperLeft,
             Self::LowerRight => P::LowerRight,
             Self::LowerLeft => P::LowerLeft,
+            Self::MiddleRight => P::MiddleRight,
         }
     }
 }

@@ -25,7 +25,7 @@ use std::time::{Duration, Instant};
 use glam::{DQuat, DVec3};
 use thiserror::Error;
 
-use crate::analysis::sphere_orbits::ball_point;
+use crate::analysis::sphere_orbits::{Crossing, ball_point, late_cycle};
 use crate::dynamics::disk2d::pose;
 use crate::dynamics::{DiskInertial, DiskViscous, Observe, Ramp, SphereInertial, SphereViscous};
 use crate::geometry::{Body, Disk, Sphere};
@@ -36,6 +36,15 @@ use crate::simulate::{InitialState, choose_model};
 
 /// Length of the 2D cylinder drawn and printed, in ⟨r⟩.
 pub const CYLINDER_LENGTH: f64 = 1.2;
+
+/// Crossings of the section kept for the period and its multiplicity (enough for k ≤ 4).
+const MAX_CROSSINGS_KEPT: usize = 12;
+/// Longest cycle of ∂Ω crossings the live display looks for.
+const MAX_MULTIPLICITY: usize = 4;
+/// Crossing points that agree to this (antipodes identified) repeat, for the live display: loose
+/// enough to report an orbit while it still converges, tight against the 0.2–0.5 alternation of
+/// a doubled orbit.
+const MULTIPLICITY_TOL: f64 = 1e-3;
 
 /// The integrated state of whichever model runs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -132,6 +141,11 @@ pub struct Snapshot {
     pub ball_point: Option<DVec3>,
     /// Time between the last two full turns (2D) or crossings of ∂Ω (3D), once measured.
     pub period: Option<f64>,
+    /// 3D: the period k of the crossing sequence of ∂Ω (1: closed orbit, 2: doubled), once the
+    /// last 2k + 1 crossings repeat to 1e-3; `None` before that, or in 2D.
+    pub period_multiplicity: Option<usize>,
+    /// 3D: the latest crossing of ∂Ω (time, boundary point; sign arbitrary).
+    pub last_crossing: Option<(f64, DVec3)>,
     /// The body has stopped (angular speed below 1e-6).
     pub halted: bool,
     /// Angular speed |ω| (3D) or |θ̇| (2D).
@@ -163,7 +177,7 @@ pub struct Simulation {
     trail: VecDeque<TrailSample>,
     trail_dt: f64,
     next_trail_t: f64,
-    crossings: VecDeque<f64>,
+    crossings: VecDeque<(f64, Option<DVec3>)>,
     health: Health,
     energy0: Option<f64>,
     track_ball: bool,
@@ -299,22 +313,34 @@ impl Simulation {
         match (&body, self.state) {
             (Body::Disk(d), ModelState::DiskViscous(y)) => {
                 let m = DiskViscous::new(d, &ramp);
-                let y = self.drive(&m, y, t_target, |y: &[f64; 2]| (y[0] / 2.0).sin())?;
+                let y = self.drive(&m, y, t_target, |y: &[f64; 2]| (y[0] / 2.0).sin(), |_| None)?;
                 self.state = ModelState::DiskViscous(y);
             }
             (Body::Disk(d), ModelState::DiskInertial(y)) => {
                 let m = DiskInertial::new(d, &ramp);
-                let y = self.drive(&m, y, t_target, |y: &[f64; 4]| (y[0] / 2.0).sin())?;
+                let y = self.drive(&m, y, t_target, |y: &[f64; 4]| (y[0] / 2.0).sin(), |_| None)?;
                 self.state = ModelState::DiskInertial(y);
             }
             (Body::Sphere(s), ModelState::SphereViscous(y)) => {
                 let m = SphereViscous::new(s, &ramp);
-                let y = self.drive(&m, y, t_target, |y: &[f64; 6]| y[0])?;
+                let y = self.drive(
+                    &m,
+                    y,
+                    t_target,
+                    |y: &[f64; 6]| y[0],
+                    |y| Some(DVec3::new(y[1], y[2], y[3]).normalize()),
+                )?;
                 self.state = ModelState::SphereViscous(y);
             }
             (Body::Sphere(s), ModelState::SphereInertial(y)) => {
                 let m = SphereInertial::new(s, &ramp);
-                let y = self.drive(&m, y, t_target, |y: &[f64; 10]| y[0])?;
+                let y = self.drive(
+                    &m,
+                    y,
+                    t_target,
+                    |y: &[f64; 10]| y[0],
+                    |y| Some(DVec3::new(y[1], y[2], y[3]).normalize()),
+                )?;
                 self.state = ModelState::SphereInertial(y);
             }
             _ => {
@@ -332,6 +358,7 @@ impl Simulation {
         y0: [f64; N],
         t_target: f64,
         section: impl Fn(&[f64; N]) -> f64,
+        section_point: impl Fn(&[f64; N]) -> Option<DVec3>,
     ) -> Result<[f64; N], SimError>
     where
         S: OdeSystem<N> + Observe<N>,
@@ -368,8 +395,9 @@ impl Simulation {
                 &mut crossing_times,
             );
             for &tc in &crossing_times {
-                self.crossings.push_back(tc);
-                if self.crossings.len() > 8 {
+                let point = section_point(&st.dense(tc));
+                self.crossings.push_back((tc, point));
+                if self.crossings.len() > MAX_CROSSINGS_KEPT {
                     self.crossings.pop_front();
                 }
             }
@@ -449,12 +477,21 @@ impl Simulation {
                 prev = Some(s);
             }
         }
-        let period = if self.crossings.len() >= 2 {
-            let n = self.crossings.len();
-            Some(self.crossings[n - 1] - self.crossings[n - 2])
-        } else {
-            None
-        };
+        let n = self.crossings.len();
+        let period = (n >= 2).then(|| self.crossings[n - 1].0 - self.crossings[n - 2].0);
+        let section: Vec<Crossing> = self
+            .crossings
+            .iter()
+            .filter_map(|(t, p)| {
+                Some(Crossing {
+                    t: *t,
+                    point: (*p)?.to_array(),
+                })
+            })
+            .collect();
+        let period_multiplicity =
+            late_cycle(&section, MAX_MULTIPLICITY, MULTIPLICITY_TOL).map(|c| c.0);
+        let last_crossing = section.last().map(|c| (c.t, DVec3::from_array(c.point)));
         Snapshot {
             t: self.t,
             model: self.state.model_name(),
@@ -474,6 +511,8 @@ impl Simulation {
                 None
             },
             period,
+            period_multiplicity,
+            last_crossing,
             halted: o.angular_speed < 1e-6,
             angular_speed: o.angular_speed,
             theta_dot: o.theta_dot,

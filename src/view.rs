@@ -612,14 +612,15 @@ impl SceneView {
         } else {
             match snap.period {
                 Some(t) => format!(
-                    "1/T = {:.5}   (T = {:.3}, {})",
+                    "1/T = {:.5}   (T = {:.3}, {}){}",
                     1.0 / t,
                     t,
                     if self.is_disk {
                         "one full turn"
                     } else {
                         "between crossings of ∂Ω"
-                    }
+                    },
+                    multiplicity_text(snap.period_multiplicity)
                 ),
                 None => "1/T: measuring…".to_string(),
             }
@@ -891,4 +892,14 @@ fn compute_field(setup: &SceneSetup, ramp: &Ramp) -> Result<Vec<FieldArrow>, Str
     };
     let p = &setup.scene.poincare;
     poincare_field(s, ramp, p.arrows, p.t_max, p.rtol, &|| {}).map_err(|e| e.to_string())
+}
+
+/// ", period k" once the crossings of ∂Ω repeat (3D), else nothing.
+pub fn multiplicity_text(k: Option<usize>) -> String {
+    match k {
+        Some(1) => ", period 1".into(),
+        Some(2) => ", period 2 (doubled)".into(),
+        Some(k) => format!(", period {k}"),
+        None => String::new(),
+    }
 }

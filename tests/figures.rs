@@ -2,7 +2,8 @@
 //! the √(α − α*) law and its prefactor, hysteresis with α** < α* and a log-sharp return, the
 //! −½ lag-time exponent for every mass, the flow's fixed points, the measured lag times'
 //! exponent; in 3D two attractors of the Poincaré map, two stable orbits, a cruising fraction
-//! that rises to 1 at α* against the 2D step, and closed perfect-sphere orbits. Outputs are
+//! that rises to 1 at α* against the 2D step, closed perfect-sphere orbits, and period doubling
+//! at m/m0 = 6 on the paper's body. Outputs are
 //! byte-identical for any thread count.
 
 use std::path::{Path, PathBuf};
@@ -15,6 +16,7 @@ fn opts(name: &str) -> FigureOptions {
         out: std::env::temp_dir().join(format!("rollphase-fig-{name}-{}", std::process::id())),
         seed: 1,
         quick: true,
+        ..FigureOptions::default()
     }
 }
 
@@ -216,32 +218,32 @@ fn sphere_tube_trajectories_close_and_match_the_closed_form() {
 }
 
 #[test]
-fn sphere_orbits_with_inertia_tend_to_the_perfect_sphere() {
-    // Measured, not the paper's claim (see the module doc of figures::sphere_doubling): viscous
-    // orbits are period 1 and slower than a perfect sphere's; at m/m0 = 6 they settle on period-1
-    // orbits within a few percent of the perfect sphere's period 2π/sin α.
+fn sphere_doubling_on_the_papers_body_is_period_one_then_two() {
+    // Paper Fig. 4e on its own body (numpy seed 219) at α = 0.15: every viscous run closes a
+    // period-1 orbit, every run at m/m0 = 6 a period-2 one whose cycle (two turns) lasts about
+    // twice the perfect sphere's period 2π/sin α.
     let s = figures::sphere_doubling::run(&opts("doubling")).unwrap();
+    assert_eq!(s.alpha, 0.15);
+    assert!(s.body.starts_with("paper"), "{}", s.body);
     let (viscous, six) = (&s.masses[0], &s.masses[1]);
     assert_eq!(
         viscous.cycle_counts[0], s.orientations,
         "{:?}",
         viscous.cycle_counts
     );
-    assert!(
-        viscous.median_period_over_perfect > 1.1,
-        "{}",
-        viscous.median_period_over_perfect
-    );
-    assert!(
-        six.cycle_counts[0] >= s.orientations / 2,
+    assert_eq!(
+        six.cycle_counts[1], s.orientations,
         "{:?}",
         six.cycle_counts
     );
     assert!(
-        (1.0..1.05).contains(&six.median_period_over_perfect),
+        (1.9..2.3).contains(&six.median_period_over_perfect),
         "{}",
         six.median_period_over_perfect
     );
+    // The cross-body statistic ran on bodies with α* < 0.13, each counted once.
+    assert_eq!(s.cross_body.seeds.len(), s.cross_body.bodies);
+    assert!(s.cross_body.with_period_2 <= s.cross_body.bodies);
 }
 
 #[test]

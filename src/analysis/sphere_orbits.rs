@@ -382,14 +382,19 @@ fn record<const N: usize, S: OdeSystem<N>>(
 
 /// The shortest cycle of the crossing sequence at its end: the smallest k ≤ `max_k` with
 /// p_n ≈ p_{n−k} and p_{n−k} ≈ p_{n−2k} (antipodes identified, within `tol`); returns
-/// (k, duration of the cycle).
+/// (k, duration of the cycle). A cycle of k ≥ 2 also needs p_n and p_{n−1} at least 100·tol
+/// apart: a run still converging onto a period-1 orbit with multiplier μ < 0 moves by d between
+/// crossings but only by |1 + μ|·d between every second one, so it could pass for a doubled orbit
+/// while the alternation is still large; with this rule that happens only within |1 + μ| < 1/100
+/// of the flip itself.
 pub fn late_cycle(c: &[Crossing], max_k: usize, tol: f64) -> Option<(usize, f64)> {
     let n = c.len();
     let p = |i: usize| DVec3::from_array(c[i].point);
     (1..=max_k).find_map(|k| {
         (n > 2 * k).then_some(())?;
         let (a, b, d) = (n - 1, n - 1 - k, n - 1 - 2 * k);
-        (boundary_distance(p(a), p(b)) < tol && boundary_distance(p(b), p(d)) < tol)
+        let distinct = k == 1 || boundary_distance(p(a), p(a - 1)) >= 100.0 * tol;
+        (distinct && boundary_distance(p(a), p(b)) < tol && boundary_distance(p(b), p(d)) < tol)
             .then(|| (k, c[a].t - c[b].t))
     })
 }

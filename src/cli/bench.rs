@@ -99,6 +99,7 @@ fn figures_bench(a: FiguresBenchArgs) -> Result<()> {
         out: a.out.clone(),
         seed: 1,
         quick: false,
+        ..crate::figures::FigureOptions::default()
     };
     let threads = rayon::current_num_threads();
     println!(

@@ -5,13 +5,17 @@ use std::path::PathBuf;
 use anyhow::{Result, bail};
 use clap::Args;
 
-use crate::figures::{self, FIGURES, FigureOptions};
+use crate::figures::{self, BodyChoice, FIGURES, FigureOptions};
 
 /// Regenerate one of the paper's figures: OUT/NAME/data.csv, figure.png and summary.json.
 ///
-/// Names (`rollphase figure --list` prints them with descriptions):
-///   disk-transition, disk-hysteresis, disk-lag-time, disk-flow,
-///   sphere-cruising, sphere-orbits, sphere-halting, sphere-poincare, sphere-doubling, sphere-tube.
+/// `rollphase figure --list` prints every name with what it shows. The figures of paper
+/// Figs. 3–4 (sphere-*) run on the paper's own body by default (the authors' numpy seed 219,
+/// σ = 0.25, l ≤ 5; assets/shapes/paper-sphere.json) at the paper's α = 0.15 where it names one;
+/// --seed N gives them a random body of ours instead, and --shape FILE any body. The disk
+/// figures use seeded random disks (--seed, default 1) or --shape FILE. --alpha sets the ramp
+/// angle of the figures that use one α (sphere-poincare, sphere-doubling, sphere-bifurcation,
+/// sphere-tube); the others sweep α themselves and refuse it.
 /// Ensembles run on all cores; the numbers do not depend on the thread count.
 #[derive(Debug, Args)]
 #[command(verbatim_doc_comment)]
@@ -25,9 +29,16 @@ pub struct FigureArgs {
     /// Output folder (files go to OUT/NAME/).
     #[arg(long, default_value = "figures")]
     pub out: PathBuf,
-    /// Seed of the random bodies and orientations.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
+    /// Seed of the random orientations, and of a random body of ours in place of the figure's
+    /// default body [default: 1].
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// A shape file to use in place of the figure's body.
+    #[arg(long)]
+    pub shape: Option<PathBuf>,
+    /// Ramp angle α in radians, for the figures that use one α.
+    #[arg(long, allow_negative_numbers = true)]
+    pub alpha: Option<f64>,
     /// Reduced run (for tests; each under ~20 s).
     #[arg(long)]
     pub quick: bool,
@@ -39,46 +50,40 @@ pub struct FigureArgs {
 /// Runs `figure`.
 pub fn run(a: FigureArgs) -> Result<()> {
     if a.list {
-        for (name, what) in FIGURES {
-            println!("{name:<18} {what}");
+        for f in FIGURES {
+            println!("{:<20} {}", f.name, f.about);
         }
         return Ok(());
     }
     let name = a.name.unwrap_or_default();
+    let Some(entry) = figures::figure(&name) else {
+        let names: Vec<&str> = FIGURES.iter().map(|f| f.name).collect();
+        bail!(
+            "unknown figure {name:?}; the figures are: {}",
+            names.join(", ")
+        )
+    };
+    let body = match (&a.shape, a.seed) {
+        (Some(p), _) => BodyChoice::File(p.clone()),
+        (None, Some(_)) => BodyChoice::Seeded,
+        (None, None) => BodyChoice::FigureDefault,
+    };
     let opts = FigureOptions {
         out: a.out.clone(),
-        seed: a.seed,
+        seed: a.seed.unwrap_or(1),
         quick: a.quick,
+        body,
+        alpha: a.alpha,
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()?;
-    let summary: serde_json::Value = pool.install(|| -> Result<serde_json::Value> {
-        Ok(match name.as_str() {
-            "disk-transition" => serde_json::to_value(figures::disk_transition::run(&opts)?)?,
-            "disk-hysteresis" => serde_json::to_value(figures::disk_hysteresis::run(&opts)?)?,
-            "disk-lag-time" => serde_json::to_value(figures::disk_lag_time::run(&opts)?)?,
-            "disk-flow" => serde_json::to_value(figures::disk_flow::run(&opts)?)?,
-            "sphere-poincare" => serde_json::to_value(figures::sphere_poincare::run(&opts)?)?,
-            "sphere-cruising" => serde_json::to_value(figures::sphere_cruising::run(&opts)?)?,
-            "sphere-doubling" => serde_json::to_value(figures::sphere_doubling::run(&opts)?)?,
-            "sphere-halting" => serde_json::to_value(figures::sphere_halting::run(&opts)?)?,
-            "sphere-tube" => serde_json::to_value(figures::sphere_tube::run(&opts)?)?,
-            "sphere-orbits" => serde_json::to_value(figures::sphere_orbits::run(&opts)?)?,
-            other => {
-                let names: Vec<&str> = FIGURES.iter().map(|f| f.0).collect();
-                bail!(
-                    "unknown figure {other:?}; the figures are: {}",
-                    names.join(", ")
-                )
-            }
-        })
-    })?;
+    let summary = pool.install(|| (entry.run)(&opts))?;
     let headline = summary
         .as_object()
         .map(|o| {
             o.iter()
-                .filter(|(_, v)| v.is_number() || v.is_boolean())
+                .filter(|(_, v)| v.is_number() || v.is_boolean() || v.is_string())
                 .map(|(k, v)| format!("  {k}: {v}"))
                 .collect::<Vec<_>>()
                 .join("\n")

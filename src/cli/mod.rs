@@ -109,16 +109,7 @@ pub fn run(cli: Cli) -> Result<()> {
 
 /// Reads, parses and validates a shape file; errors name the file and, for JSON, line and column.
 pub fn load_body(path: &Path) -> Result<Body> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read shape file {}", path.display()))?;
-    let file = ShapeFile::from_json(&text).with_context(|| {
-        format!(
-            "{} is not a valid shape file. Expected {{\"kind\":\"disk\",\"modes\":[{{\"l\":2,\"a\":0.05,\"phase\":1.2}}]}} \
-             or {{\"kind\":\"sphere\",\"coeffs\":[{{\"l\":2,\"m\":-2,\"re\":0.1,\"im\":0.0}}]}}",
-            path.display()
-        )
-    })?;
-    Body::from_file(&file).with_context(|| format!("bad shape file {}", path.display()))
+    Ok(ShapeFile::load(path)?)
 }
 
 /// Parses "a,b,c" into exactly `n` finite numbers for flag `flag`.

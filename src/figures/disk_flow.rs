@@ -9,7 +9,7 @@
 use anyhow::Result;
 use serde::Serialize;
 
-use super::{FigureOptions, convex_disk, write_csv, write_summary};
+use super::{FigureOptions, write_csv, write_summary};
 use crate::analysis::critical_angle;
 use crate::analysis::disk_dynamics::{FixedPoint, fixed_points};
 use crate::dynamics::{DiskInertial, Ramp};
@@ -48,7 +48,8 @@ const MASS: f64 = 10.0;
 /// Runs the figure.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("disk-flow")?;
-    let (disk, seed) = convex_disk(opts.seed, 0.12, 5)?;
+    opts.no_alpha("disk-flow", "six α around α*")?;
+    let (disk, seed) = opts.disk("disk-flow", opts.seed, 0.12, 5)?;
     let ca = critical_angle(&Body::Disk(disk.clone()));
     let factors = [1.2, 1.0 + 1e-9, 0.9, 0.75, 0.6, 0.3];
     let t_end = if opts.quick { 300.0 } else { 1500.0 };

@@ -13,7 +13,7 @@
 use anyhow::{Result, anyhow};
 use serde::Serialize;
 
-use super::{FigureOptions, convex_disk, progress, write_csv, write_summary};
+use super::{FigureOptions, progress, write_csv, write_summary};
 use crate::analysis::critical_angle;
 use crate::analysis::disk_dynamics::{dwell, fixed_points, hysteresis_sweep};
 use crate::analysis::fit::{line, logspace};
@@ -60,7 +60,8 @@ fn rolls(disk: &Disk, alpha: f64, state: [f64; 2], duration: f64) -> Result<(boo
 /// Runs the figure.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("disk-hysteresis")?;
-    let (disk, seed) = convex_disk(opts.seed, 0.12, 5)?;
+    opts.no_alpha("disk-hysteresis", "α up and down")?;
+    let (disk, seed) = opts.disk("disk-hysteresis", opts.seed, 0.12, 5)?;
     let a_star = critical_angle(&Body::Disk(disk.clone())).alpha_star;
     let n = if opts.quick { 17 } else { 41 };
     let alphas: Vec<f64> = (0..n)

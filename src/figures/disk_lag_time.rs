@@ -12,7 +12,7 @@
 use anyhow::{Result, anyhow};
 use serde::Serialize;
 
-use super::{FigureOptions, convex_disk, par_map, progress, write_csv, write_summary};
+use super::{FigureOptions, par_map, progress, write_csv, write_summary};
 use crate::analysis::critical_angle;
 use crate::analysis::disk_dynamics::lag_time;
 use crate::analysis::fit::{logspace, power_law};
@@ -49,7 +49,8 @@ pub struct Summary {
 /// Runs the figure.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("disk-lag-time")?;
-    let (disk, seed) = convex_disk(opts.seed, 0.12, 5)?;
+    opts.no_alpha("disk-lag-time", "α above α*")?;
+    let (disk, seed) = opts.disk("disk-lag-time", opts.seed, 0.12, 5)?;
     let ca = critical_angle(&Body::Disk(disk.clone()));
     let masses = [0.0, 0.5, 2.0, 10.0];
     let deltas = logspace(

@@ -15,7 +15,7 @@
 use anyhow::Result;
 use serde::Serialize;
 
-use super::{FigureOptions, convex_disk, par_map, progress, write_csv, write_summary};
+use super::{FigureOptions, par_map, progress, write_csv, write_summary};
 use crate::analysis::fit::{logspace, power_law};
 use crate::analysis::{critical_angle, viscous_disk_period};
 use crate::dynamics::Ramp;
@@ -73,13 +73,21 @@ fn t_star_analytic(d: &Disk, theta: f64, q2: f64) -> f64 {
 /// Runs the figure.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("disk-transition")?;
-    let n = if opts.quick { 6 } else { 24 };
+    opts.no_alpha("disk-transition", "α over [0.005, 0.4]")?;
+    // With --shape the ensemble is that one disk.
+    let n = if matches!(opts.body, super::BodyChoice::File(_)) {
+        1
+    } else if opts.quick {
+        6
+    } else {
+        24
+    };
     let alphas: Vec<f64> = (1..=80).map(|i| 0.4 * i as f64 / 80.0).collect();
     // Each disk i uses the first convex seed at or after seed + 1000·i: independent of threads.
     let bar = progress(n, "disks");
     type PerDisk = (DiskTransition, Vec<Vec<f64>>, Vec<Vec<f64>>);
     let results = par_map(n, &bar, |i| -> Result<PerDisk> {
-        let (d, used) = convex_disk(opts.seed + 1000 * i as u64, 0.08, 10)?;
+        let (d, used) = opts.disk("disk-transition", opts.seed + 1000 * i as u64, 0.08, 10)?;
         let ca = critical_angle(&Body::Disk(d.clone()));
         let speed = |a: f64| -> Result<f64> {
             Ok(viscous_disk_period(&d, &Ramp::new(a, 0.0)?).mean_angular_speed)

@@ -11,6 +11,7 @@ pub mod disk_hysteresis;
 pub mod disk_lag_time;
 pub mod disk_transition;
 pub mod fit_lag;
+pub mod sphere_bifurcation;
 pub mod sphere_cruising;
 pub mod sphere_doubling;
 pub mod sphere_halting;
@@ -21,14 +22,35 @@ pub mod sphere_tube;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::geometry::{Body, Disk, Sphere, random_disk, random_sphere};
+use crate::analysis::critical_angle;
+use crate::geometry::{Body, Disk, ShapeFile, Sphere, paper_sphere, random_disk, random_sphere};
+
+/// The paper's body for Figs. 3–4 (the authors' numpy seed 219, σ = 0.25, l ≤ 5), bundled as
+/// `assets/shapes/paper-sphere.json`.
+pub const PAPER_SPHERE_SEED: u32 = 219;
+
+/// The paper's α for Figs. 3d and 4e.
+pub const PAPER_ALPHA: f64 = 0.15;
+
+/// Where a figure's body comes from.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub enum BodyChoice {
+    /// The figure's default: the paper's own body for the figures of paper Figs. 3–4, a seeded
+    /// random body (`seed`) for the others.
+    #[default]
+    FigureDefault,
+    /// A random body from `seed` (the command line's `--seed`).
+    Seeded,
+    /// A shape file (`--shape`).
+    File(PathBuf),
+}
 
 /// Options shared by every figure.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct FigureOptions {
     /// Output folder; files go to OUT/NAME/.
     pub out: PathBuf,
@@ -36,6 +58,23 @@ pub struct FigureOptions {
     pub seed: u64,
     /// A reduced run for tests (each under ~20 s).
     pub quick: bool,
+    /// The body.
+    pub body: BodyChoice,
+    /// The ramp angle, for the figures that use one α (`--alpha`).
+    pub alpha: Option<f64>,
+}
+
+/// A figure's 3D body and how to name it in its summary.
+#[derive(Debug, Clone)]
+pub struct FigureSphere {
+    /// The body.
+    pub body: Sphere,
+    /// Where it came from, e.g. "paper (numpy seed 219, σ = 0.25, l ≤ 5)".
+    pub label: String,
+    /// The seed it was generated from (the numpy seed for the paper's body; 0 for a file).
+    pub seed: u64,
+    /// Whether it is the paper's Figs. 3–4 body.
+    pub is_paper: bool,
 }
 
 impl FigureOptions {
@@ -45,27 +84,181 @@ impl FigureOptions {
         std::fs::create_dir_all(&d).with_context(|| format!("cannot create {}", d.display()))?;
         Ok(d)
     }
+
+    /// The 3D body of a figure of paper Figs. 3–4: the paper's own by default.
+    pub fn sphere(&self, figure: &str) -> Result<FigureSphere> {
+        match &self.body {
+            BodyChoice::FigureDefault => Ok(FigureSphere {
+                body: paper_sphere(PAPER_SPHERE_SEED, 0.25, 5)?,
+                label: format!("paper (numpy seed {PAPER_SPHERE_SEED}, σ = 0.25, l ≤ 5)"),
+                seed: PAPER_SPHERE_SEED as u64,
+                is_paper: true,
+            }),
+            BodyChoice::Seeded => {
+                let (body, used) = convex_sphere(self.seed)?;
+                Ok(FigureSphere {
+                    body,
+                    label: format!("seed {used} (σ = 0.25, l ≤ 5)"),
+                    seed: used,
+                    is_paper: false,
+                })
+            }
+            BodyChoice::File(path) => match load_convex(path)? {
+                Body::Sphere(body) => Ok(FigureSphere {
+                    body,
+                    label: format!("file {}", path.display()),
+                    seed: 0,
+                    is_paper: false,
+                }),
+                Body::Disk(_) => bail!(
+                    "{figure} needs a 3D body, but --shape {} is a 2D disk",
+                    path.display()
+                ),
+            },
+        }
+    }
+
+    /// The 2D body of a disk figure: the first convex random disk at or after `seed` (σ, M), or
+    /// the `--shape` file. Returns the disk and the seed used (0 for a file).
+    pub fn disk(&self, figure: &str, seed: u64, sigma: f64, modes: u32) -> Result<(Disk, u64)> {
+        match &self.body {
+            BodyChoice::File(path) => match load_convex(path)? {
+                Body::Disk(d) => Ok((d, 0)),
+                Body::Sphere(_) => bail!(
+                    "{figure} needs a 2D body, but --shape {} is a 3D sphere",
+                    path.display()
+                ),
+            },
+            _ => convex_disk(seed, sigma, modes),
+        }
+    }
+
+    /// The figure's one ramp angle: `--alpha`, else `default`. Refuses an α the body cannot
+    /// roll at (at or below its α*) or outside (0, π/2).
+    pub fn single_alpha(&self, figure: &str, default: f64, alpha_star: f64) -> Result<f64> {
+        let alpha = self.alpha.unwrap_or(default);
+        if !(alpha > 0.0 && alpha < std::f64::consts::FRAC_PI_2) {
+            bail!("{figure}: --alpha {alpha} is not allowed (needs 0 < α < π/2 rad)");
+        }
+        if alpha <= alpha_star {
+            bail!(
+                "{figure}: α = {alpha} is at or below this body's critical angle α* = {alpha_star:.4}, \
+                 where it halts; give --alpha above {alpha_star:.4}"
+            );
+        }
+        Ok(alpha)
+    }
+
+    /// Refuses `--alpha` for a figure that sweeps α itself.
+    pub fn no_alpha(&self, figure: &str, sweeps: &str) -> Result<()> {
+        if let Some(a) = self.alpha {
+            bail!("{figure} sweeps {sweeps} itself; --alpha {a} does not apply to it");
+        }
+        Ok(())
+    }
+
+    /// Refuses `--shape` for a figure that has no generated body.
+    pub fn no_shape(&self, figure: &str, why: &str) -> Result<()> {
+        if let BodyChoice::File(p) = &self.body {
+            bail!(
+                "{figure} {why}; --shape {} does not apply to it",
+                p.display()
+            );
+        }
+        Ok(())
+    }
 }
 
-/// The names `rollphase figure` accepts, with a one-line description each.
-pub const FIGURES: &[(&str, &str)] = &[
-    (
-        "disk-transition",
-        "Fig. 2d: 2π/T versus α for random disks; the √(α − α*) law and its prefactor",
-    ),
-    (
-        "disk-hysteresis",
-        "Fig. 2e: inertial disk (m/m0 = 10), α swept up and down: α*, α** and hysteresis",
-    ),
-    (
-        "disk-lag-time",
-        "Fig. 2f: lag time versus α − α* for m/m0 = 0.5, 2, 10; exponent −1/2",
-    ),
-    (
-        "disk-flow",
-        "SI Fig. S2: the (θ, θ̇) flow at six α around α*, fixed points and a trajectory",
-    ),
+/// α* of a 3D body.
+pub fn sphere_alpha_star(body: &Sphere) -> f64 {
+    critical_angle(&Body::Sphere(body.clone())).alpha_star
+}
+
+fn load_convex(path: &Path) -> Result<Body> {
+    let body = ShapeFile::load(path)?;
+    body.check_convex()
+        .with_context(|| format!("--shape {}", path.display()))?;
+    Ok(body)
+}
+
+/// One figure: its name on the command line, what it shows, and how to run it.
+pub struct FigureEntry {
+    /// `rollphase figure NAME`.
+    pub name: &'static str,
+    /// One line for `figure --list`.
+    pub about: &'static str,
+    /// Computes and writes the figure; returns its summary.
+    pub run: fn(&FigureOptions) -> Result<serde_json::Value>,
+}
+
+fn summary_value<T: Serialize>(r: Result<T>) -> Result<serde_json::Value> {
+    Ok(serde_json::to_value(r?)?)
+}
+
+/// Every figure `rollphase figure` knows: the one list behind `--list`, the dispatch and the
+/// benchmarks.
+pub const FIGURES: &[FigureEntry] = &[
+    FigureEntry {
+        name: "disk-transition",
+        about: "Fig. 2d: 2π/T versus α for random disks; the √(α − α*) law and its prefactor",
+        run: |o| summary_value(disk_transition::run(o)),
+    },
+    FigureEntry {
+        name: "disk-hysteresis",
+        about: "Fig. 2e: inertial disk (m/m0 = 10), α swept up and down: α*, α** and hysteresis",
+        run: |o| summary_value(disk_hysteresis::run(o)),
+    },
+    FigureEntry {
+        name: "disk-lag-time",
+        about: "Fig. 2f: lag time versus α − α* for m/m0 = 0.5, 2, 10; exponent −1/2",
+        run: |o| summary_value(disk_lag_time::run(o)),
+    },
+    FigureEntry {
+        name: "disk-flow",
+        about: "SI Fig. S2: the (θ, θ̇) flow at six α around α*, fixed points and a trajectory",
+        run: |o| summary_value(disk_flow::run(o)),
+    },
+    FigureEntry {
+        name: "sphere-cruising",
+        about: "Fig. 3b: fraction of orientations that cruise versus α/α*, 3D against 2D",
+        run: |o| summary_value(sphere_cruising::run(o)),
+    },
+    FigureEntry {
+        name: "sphere-orbits",
+        about: "Fig. 3c: 1/T versus α for 6 orientations; all collapse onto two closed orbits",
+        run: |o| summary_value(sphere_orbits::run(o)),
+    },
+    FigureEntry {
+        name: "sphere-poincare",
+        about: "Fig. 3d: the Poincaré map on ∂Ω of the SO(3) ball at α = 0.15; two attractor pairs",
+        run: |o| summary_value(sphere_poincare::run(o)),
+    },
+    FigureEntry {
+        name: "sphere-doubling",
+        about: "Fig. 4e: contact paths at m/m0 = 0, 6, 10 (α = 0.15); period 1, 2, 1; other bodies",
+        run: |o| summary_value(sphere_doubling::run(o)),
+    },
+    FigureEntry {
+        name: "sphere-bifurcation",
+        about: "beyond Fig. 4e: orbit diagram in m/m0, Floquet multipliers, the flip masses",
+        run: |o| summary_value(sphere_bifurcation::run(o)),
+    },
+    FigureEntry {
+        name: "sphere-halting",
+        about: "SI §2D–E: the halting loops Q = tan α and their stability, checked by simulation",
+        run: |o| summary_value(sphere_halting::run(o)),
+    },
+    FigureEntry {
+        name: "sphere-tube",
+        about: "SI Fig. S3: perfect-sphere orbits through one contact point (closed form)",
+        run: |o| summary_value(sphere_tube::run(o)),
+    },
 ];
+
+/// The figure called `name`.
+pub fn figure(name: &str) -> Option<&'static FigureEntry> {
+    FIGURES.iter().find(|f| f.name == name)
+}
 
 /// Writes rows of numbers as CSV; non-finite values become empty fields.
 pub fn write_csv(path: &Path, header: &str, rows: &[Vec<f64>]) -> Result<()> {

@@ -16,9 +16,7 @@ use anyhow::Result;
 use serde::Serialize;
 
 use super::sphere_orbits::random_orientation;
-use super::{
-    FigureOptions, convex_disk, convex_sphere, par_map, progress, write_csv, write_summary,
-};
+use super::{FigureOptions, convex_disk, par_map, progress, write_csv, write_summary};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{Fate, Settle, settle};
 use crate::dynamics::{DiskViscous, Ramp};
@@ -29,6 +27,8 @@ use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png
 /// Headline numbers.
 #[derive(Debug, Serialize)]
 pub struct Summary {
+    /// The body: the paper's by default, or `--seed`, or `--shape`.
+    pub body: String,
     /// Seed of the sphere.
     pub seed: u64,
     /// α* of the sphere (and of the rescaled disk).
@@ -121,7 +121,9 @@ fn disk_with_alpha_star(base: &Disk, target: f64) -> Disk {
 /// Runs the figure.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-cruising")?;
-    let (body, seed) = convex_sphere(opts.seed)?;
+    opts.no_alpha("sphere-cruising", "α from 0.4 α* upwards")?;
+    let fig = opts.sphere("sphere-cruising")?;
+    let (body, seed) = (fig.body.clone(), fig.seed);
     let a_star = critical_angle(&Body::Sphere(body.clone())).alpha_star;
     let (n_or, n_a) = if opts.quick { (40, 8) } else { (300, 30) };
     let alphas: Vec<f64> = (1..=n_a)
@@ -190,6 +192,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         &rows,
     )?;
     let summary = Summary {
+        body: fig.label,
         seed,
         alpha_star: a_star,
         orientations: n_or,

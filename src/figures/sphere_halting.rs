@@ -19,7 +19,7 @@ use anyhow::Result;
 use glam::{DMat3, DQuat, DVec3};
 use serde::Serialize;
 
-use super::{FigureOptions, convex_sphere, par_map, progress, write_csv, write_summary};
+use super::{FigureOptions, par_map, progress, write_csv, write_summary};
 use crate::analysis::critical_angle;
 use crate::dynamics::sphere3d::DOWN;
 use crate::dynamics::{Ramp, SphereViscous};
@@ -48,6 +48,8 @@ pub struct LevelResult {
 /// Headline numbers.
 #[derive(Debug, Serialize)]
 pub struct Summary {
+    /// The body: the paper's by default, or `--seed`, or `--shape`.
+    pub body: String,
     /// Seed.
     pub seed: u64,
     /// α*.
@@ -80,28 +82,13 @@ fn jacobian(model: &SphereViscous, q: DQuat) -> DMat3 {
     DMat3::from_cols(cols[0], cols[1], cols[2])
 }
 
-/// Real parts of the eigenvalues of a 3×3 matrix (characteristic cubic: one real root by
-/// bisection, then the deflated quadratic).
+/// Real parts of the eigenvalues of a 3×3 matrix (nalgebra's Schur decomposition).
 pub fn eigen_real_parts(m: DMat3) -> [f64; 3] {
-    let tr = m.col(0).x + m.col(1).y + m.col(2).z;
-    let m2 = m * m;
-    let tr2 = m2.col(0).x + m2.col(1).y + m2.col(2).z;
-    let (a, b, c) = (-tr, 0.5 * (tr * tr - tr2), -m.determinant());
-    let p = |x: f64| ((x + a) * x + b) * x + c;
-    let bound = 1.0 + a.abs().max(b.abs()).max(c.abs());
-    let (mut lo, mut hi) = (-bound, bound);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if p(mid) < 0.0 { lo = mid } else { hi = mid }
-    }
-    let r = 0.5 * (lo + hi);
-    let (b1, c1) = (a + r, b + r * (a + r));
-    let disc = b1 * b1 - 4.0 * c1;
-    if disc >= 0.0 {
-        [r, 0.5 * (-b1 + disc.sqrt()), 0.5 * (-b1 - disc.sqrt())]
-    } else {
-        [r, -0.5 * b1, -0.5 * b1]
-    }
+    let cols = m.to_cols_array();
+    let e = crate::analysis::return_map::eigenvalues(&nalgebra::DMatrix::from_column_slice(
+        3, 3, &cols,
+    ));
+    [e[0].re, e[1].re, e[2].re]
 }
 
 /// Stable when the two eigenvalues other than the one nearest 0 have negative real parts.
@@ -177,7 +164,9 @@ fn stays_near(model: &SphereViscous, q: DQuat, rest: DQuat, t_max: f64) -> Resul
 /// Runs the figure.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-halting")?;
-    let (body, seed) = convex_sphere(opts.seed)?;
+    opts.no_alpha("sphere-halting", "α/α* over its levels")?;
+    let fig = opts.sphere("sphere-halting")?;
+    let (body, seed) = (fig.body.clone(), fig.seed);
     let ca = critical_angle(&Body::Sphere(body.clone()));
     let (nt, np) = if opts.quick { (91, 181) } else { (181, 361) };
     let thetas: Vec<f64> = (0..nt)
@@ -286,6 +275,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
     });
     write_csv(&dir.join("data.csv"), "alpha,phi,theta,stable", &rows)?;
     let summary = Summary {
+        body: fig.label,
         seed,
         alpha_star: ca.alpha_star,
         levels,

@@ -1,5 +1,5 @@
 //! `sphere-orbits` — paper Fig. 3c: the order parameter 1/T versus α for 6 initial orientations
-//! of the default body (viscous). Each run starts afresh at each α and is followed until it
+//! of the paper's body by default (viscous). Each run starts afresh at each α and is followed until it
 //! halts or settles on a closed orbit, detected by event location on SO(3): successive crossings
 //! of ∂Ω repeat ([`crate::analysis::sphere_orbits::settle`]). Closed orbits are identified by
 //! their point on ∂Ω (antipodes identified); the paper finds that all runs collapse onto two
@@ -11,7 +11,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use super::{FigureOptions, convex_sphere, par_map, progress, write_csv, write_summary};
+use super::{FigureOptions, par_map, progress, write_csv, write_summary};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{Fate, Settle, boundary_distance, cluster_antipodal, settle};
 use crate::dynamics::Ramp;
@@ -22,6 +22,8 @@ use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png
 /// Headline numbers.
 #[derive(Debug, Serialize)]
 pub struct Summary {
+    /// The body: the paper's by default, or `--seed`, or `--shape`.
+    pub body: String,
     /// Seed.
     pub seed: u64,
     /// α*.
@@ -47,7 +49,9 @@ pub fn random_orientation(body: &Sphere, seed: u64, i: usize) -> glam::DQuat {
 /// Runs the figure.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-orbits")?;
-    let (body, seed) = convex_sphere(opts.seed)?;
+    opts.no_alpha("sphere-orbits", "α from 0.3 α* to 0.5")?;
+    let fig = opts.sphere("sphere-orbits")?;
+    let (body, seed) = (fig.body.clone(), fig.seed);
     let a_star = critical_angle(&Body::Sphere(body.clone())).alpha_star;
     let runs = 6;
     let na = if opts.quick { 5 } else { 24 };
@@ -126,6 +130,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         .filter(|f| matches!(f, Fate::Undecided { .. }))
         .count();
     let summary = Summary {
+        body: fig.label,
         seed,
         alpha_star: a_star,
         distinct_orbits: distinct,

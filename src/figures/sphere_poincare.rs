@@ -1,5 +1,6 @@
 //! `sphere-poincare` — paper Fig. 3d: the Poincaré map of viscous 3D rolling on the boundary ∂Ω of
-//! the SO(3) ball, for the default body at α = 0.3 > α*.
+//! the SO(3) ball, for the paper's body at the paper's α = 0.15 > α* = 0.1387 by default (another
+//! body: α = max(0.3, α* + 0.05), or `--alpha`).
 //!
 //! From N boundary points p (a Fibonacci lattice; antipodes identified, and V(−p) = −V(p) since
 //! q and −q are the same orientation, so half the lattice is integrated) the body rolls until the
@@ -13,7 +14,7 @@ use anyhow::Result;
 use glam::DVec3;
 use serde::Serialize;
 
-use super::{FigureOptions, convex_sphere, par_map, progress, write_csv, write_summary};
+use super::{FigureOptions, par_map, progress, write_csv, write_summary};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{
     boundary_distance, cluster_antipodal, poincare_field, poincare_step,
@@ -41,6 +42,8 @@ pub struct Attractor {
 /// Headline numbers.
 #[derive(Debug, Serialize)]
 pub struct Summary {
+    /// The body: the paper's by default, or `--seed`, or `--shape`.
+    pub body: String,
     /// Seed of the body.
     pub seed: u64,
     /// α* of the body.
@@ -65,9 +68,16 @@ pub const ALPHA: f64 = 0.3;
 /// Runs the figure.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-poincare")?;
-    let (body, seed) = convex_sphere(opts.seed)?;
+    let fig = opts.sphere("sphere-poincare")?;
+    let (body, seed) = (fig.body.clone(), fig.seed);
     let a_star = critical_angle(&Body::Sphere(body.clone())).alpha_star;
-    let alpha = ALPHA.max(a_star + 0.05);
+    // The paper's α = 0.15 on its body; on another, 0.3 or just above its α*.
+    let default_alpha = if fig.is_paper {
+        super::PAPER_ALPHA
+    } else {
+        ALPHA.max(a_star + 0.05)
+    };
+    let alpha = opts.single_alpha("sphere-poincare", default_alpha, a_star)?;
     let ramp = Ramp::new(alpha, 0.0)?;
     let n: usize = if opts.quick { 400 } else { 5000 };
     let bar = progress(n.div_ceil(2), "map V on ∂Ω");
@@ -140,6 +150,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         &rows,
     )?;
     let summary = Summary {
+        body: fig.label,
         seed,
         alpha_star: a_star,
         alpha,

@@ -57,7 +57,11 @@ fn split_at_jumps(points: &[DVec3]) -> Vec<Vec<DVec3>> {
 /// Runs the figure.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-tube")?;
-    let alpha: f64 = 0.3;
+    opts.no_shape(
+        "sphere-tube",
+        "follows the perfect sphere, whose orbits have a closed form",
+    )?;
+    let alpha = opts.single_alpha("sphere-tube", 0.3, 0.0)?;
     let body = Sphere::perfect();
     let (th0, ph0) = (1.0, 0.5);
     let u0 = direction(th0, ph0);

@@ -1,11 +1,12 @@
 //! Bodies: the 2D disk r(θ) and the 3D sphere r(u) with exact derivatives and curvature, the JSON
 //! shape files other tools exchange with us, seeded random generators, and the convexity check
 //! the contact model requires, and the meshes drawn and 3D-printed from them. Pure math: imports
-//! `glam`, `serde`, `rand` only.
+//! `glam`, `serde`, `rand`, `rand_mt` only.
 
 pub mod disk;
 pub mod harmonics;
 pub mod mesh;
+pub mod paper_bodies;
 pub mod shape_file;
 pub mod sphere;
 
@@ -18,6 +19,7 @@ use rand_distr::{Distribution, Normal, Uniform};
 use thiserror::Error;
 
 pub use disk::{Disk, DiskMode, RadiusJet};
+pub use paper_bodies::{paper_disk, paper_sphere};
 pub use shape_file::ShapeFile;
 pub use sphere::{Sphere, SphereCoeff, SurfacePoint};
 

@@ -3,9 +3,45 @@
 //! 3D `{"kind":"sphere","coeffs":[{"l":2,"m":-2,"re":0.1,"im":0.0},…]}` with A_lm = re + i·im.
 //! Unknown kinds and unknown fields are rejected, with serde's line and column.
 
-use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
 
-use super::{DiskMode, SphereCoeff};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use super::{Body, DiskMode, ShapeError, SphereCoeff};
+
+/// Why a shape file could not be loaded; each message names the file.
+#[derive(Debug, Error)]
+pub enum ShapeLoadError {
+    /// The file could not be read.
+    #[error("cannot read shape file {}: {reason}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's reason.
+        reason: std::io::Error,
+    },
+    /// Not JSON of the schema.
+    #[error(
+        "{} is not a valid shape file. Expected {{\"kind\":\"disk\",\"modes\":[{{\"l\":2,\"a\":0.05,\"phase\":1.2}}]}} \
+         or {{\"kind\":\"sphere\",\"coeffs\":[{{\"l\":2,\"m\":-2,\"re\":0.1,\"im\":0.0}}]}}: {reason}",
+        path.display()
+    )]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// serde's message with line and column.
+        reason: serde_json::Error,
+    },
+    /// Parsed, but the values are out of range.
+    #[error("bad shape file {}: {reason}", path.display())]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        reason: ShapeError,
+    },
+}
 
 /// A parsed shape file (not yet validated; see [`super::Body::from_file`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -27,6 +63,23 @@ impl ShapeFile {
     /// Parses JSON text; errors carry serde's line and column.
     pub fn from_json(text: &str) -> Result<Self, serde_json::Error> {
         serde_json::from_str(text)
+    }
+
+    /// Reads, parses and validates the shape file at `path` (ranges and finiteness, not
+    /// convexity: see [`Body::check_convex`]).
+    pub fn load(path: &Path) -> Result<Body, ShapeLoadError> {
+        let text = std::fs::read_to_string(path).map_err(|reason| ShapeLoadError::Read {
+            path: path.to_owned(),
+            reason,
+        })?;
+        let file = Self::from_json(&text).map_err(|reason| ShapeLoadError::Parse {
+            path: path.to_owned(),
+            reason,
+        })?;
+        Body::from_file(&file).map_err(|reason| ShapeLoadError::Invalid {
+            path: path.to_owned(),
+            reason,
+        })
     }
 
     /// Pretty JSON text.

@@ -432,7 +432,11 @@ impl AppUi {
             "halted: 1/T = 0".to_string()
         } else {
             match snap.period {
-                Some(p) => format!("T = {p:.4}, 1/T = {:.4}", 1.0 / p),
+                Some(p) => format!(
+                    "T = {p:.4}, 1/T = {:.4}{}",
+                    1.0 / p,
+                    crate::view::multiplicity_text(snap.period_multiplicity)
+                ),
                 None => "T: measuring…".into(),
             }
         };
@@ -652,7 +656,7 @@ impl AppUi {
 
     fn load_shape(&mut self, status: &SimStatus, actions: &mut Vec<UiAction>) {
         let path = PathBuf::from(&self.shape_path);
-        match crate::cli::load_body(&path) {
+        match crate::geometry::ShapeFile::load(&path) {
             Ok(body) => {
                 let mut scene = self.current_scene(status);
                 scene.body = BodySpec {

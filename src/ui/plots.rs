@@ -2,7 +2,9 @@
 //! UI receives: θ(t) and θ̇(θ) for a cylinder, the contact path on the (φ, θ) curvature map for
 //! a sphere, the order parameter 1/T against α collected while the user sweeps α (a halted body
 //! counts as 1/T = 0, separately for sweeps up and down, so hysteresis shows as two branches),
-//! and the numerical health against time.
+//! the crossing points of ∂Ω against m/m0 collected while the user sweeps the mass (3D, once the
+//! crossings repeat: one branch per period-1 orbit, two where it has doubled), and the numerical
+//! health against time.
 //!
 //! [`PlotHistory`] is plain data, tested without a window; [`plots_ui`] draws it.
 
@@ -63,7 +65,13 @@ pub struct PlotHistory {
     last_alpha: Option<f64>,
     direction: Option<Sweep>,
     last_period: Option<f64>,
+    /// (m/m0, polar angle of the crossing point with p_z ≥ 0) of settled ∂Ω crossings.
+    crossings_by_mass: VecDeque<[f64; 2]>,
+    last_crossing_t: Option<f64>,
 }
+
+/// Crossing points kept for the mass sweep.
+const MAX_CROSSING_POINTS: usize = 5000;
 
 impl PlotHistory {
     /// Clears the time series (a new run); the α sweep is kept, since it describes the body.
@@ -123,6 +131,25 @@ impl PlotHistory {
             self.sweep.insert((direction, bin), (alpha, 1.0 / period));
         }
         self.last_period = snap.period;
+
+        if let Some((t, p)) = snap.last_crossing
+            && self.last_crossing_t != Some(t)
+            && snap.period_multiplicity.is_some()
+            && snap.mass_ratio > 0.0
+        {
+            let p = if p.z < 0.0 { -p } else { p };
+            self.crossings_by_mass
+                .push_back([snap.mass_ratio, p.z.clamp(-1.0, 1.0).acos()]);
+            while self.crossings_by_mass.len() > MAX_CROSSING_POINTS {
+                self.crossings_by_mass.pop_front();
+            }
+            self.last_crossing_t = Some(t);
+        }
+    }
+
+    /// The settled crossing points of ∂Ω as (m/m0, polar angle), oldest first.
+    pub fn crossings_by_mass(&self) -> Vec<[f64; 2]> {
+        self.crossings_by_mass.iter().copied().collect()
     }
 
     /// The samples, oldest first.
@@ -221,7 +248,7 @@ pub fn plots_ui(
                 .x_axis_label("θ mod 2π")
                 .y_axis_label("θ̇")
                 .show(ui, |p| p.points(Points::new("θ̇(θ)", phase).radius(1.0)));
-        } else {
+        } else if history.crossings_by_mass.is_empty() {
             contact_map_ui(
                 ui,
                 snap,
@@ -229,6 +256,9 @@ pub fn plots_ui(
                 width * 2.0 + ui.spacing().item_spacing.x,
                 height,
             );
+        } else {
+            contact_map_ui(ui, snap, map, width, height);
+            crossings_ui(ui, history, snap, width, height);
         }
         sweep_ui(ui, history, snap, alpha_star, width, height);
         health_ui(ui, history, width, height);
@@ -324,6 +354,32 @@ fn sweep_ui(
                 Points::new("α decreasing", PlotPoints::from(history.sweep(Sweep::Down)))
                     .color(Color32::from_rgb(240, 150, 30))
                     .radius(3.0),
+            );
+        });
+}
+
+fn crossings_ui(
+    ui: &mut egui::Ui,
+    history: &PlotHistory,
+    snap: &Snapshot,
+    width: f32,
+    height: f32,
+) {
+    Plot::new("crossings_by_mass")
+        .width(width)
+        .height(height)
+        .legend(Legend::default())
+        .x_axis_label("m/m0")
+        .y_axis_label("∂Ω crossing, polar angle")
+        .show(ui, |p| {
+            p.vline(VLine::new("m/m0 now", snap.mass_ratio).color(Color32::GRAY));
+            p.points(
+                Points::new(
+                    "settled crossings",
+                    PlotPoints::from(history.crossings_by_mass()),
+                )
+                .color(Color32::from_rgb(60, 130, 230))
+                .radius(2.0),
             );
         });
 }
