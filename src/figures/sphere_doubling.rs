@@ -47,10 +47,14 @@ pub struct MassResult {
     pub median_period_over_perfect: f64,
 }
 
-/// Is period doubling at m/m0 = 6 generic? Paper-generator bodies with α* < 0.13.
+/// Is period doubling at m/m0 = 6 generic? Paper-generator bodies in a band of α*.
 #[derive(Debug, Clone, Serialize)]
 pub struct CrossBody {
-    /// Bodies examined (the first convex ones with α* < 0.13 among numpy seeds 0, 1, …).
+    /// The band: lowest α* included.
+    pub alpha_star_from: f64,
+    /// The band: α* below this.
+    pub alpha_star_below: f64,
+    /// Bodies examined (the first convex ones in the band among numpy seeds 0, 1, …).
     pub bodies: usize,
     /// Their numpy seeds.
     pub seeds: Vec<u32>,
@@ -83,8 +87,11 @@ pub struct Summary {
     pub viscous_period: f64,
     /// Per mass.
     pub masses: Vec<MassResult>,
-    /// The same question on other bodies.
+    /// The same question on other bodies: α* < 0.13 (α/α* > 1.15).
     pub cross_body: CrossBody,
+    /// The same for bodies as close to rolling as the paper's (0.13 ≤ α* < 0.15, α/α* < 1.15;
+    /// the paper's body has α* = 0.139).
+    pub cross_body_near_critical: CrossBody,
 }
 
 /// The period multiplicity k of a run from rest at orientation `o` (None: not closed).
@@ -110,17 +117,22 @@ fn run_period(
     Ok(late_cycle(&c, 4, 1e-5).map(|x| x.0))
 }
 
-/// The first `n` paper-generator bodies (numpy seeds from 0) that are convex with α* < 0.13.
-fn cross_bodies(n: usize) -> Result<Vec<(u32, Sphere)>> {
+/// The first `n` paper-generator bodies (numpy seeds from 0) that are convex with
+/// `from` ≤ α* < `below`.
+fn cross_bodies(n: usize, from: f64, below: f64) -> Result<Vec<(u32, Sphere)>> {
     let mut found = Vec::new();
     let chunk = 64u32;
-    let mut from = 0u32;
+    let mut next_seed = 0u32;
     while found.len() < n {
         let bar = indicatif::ProgressBar::hidden();
         let batch = par_map(chunk as usize, &bar, |i| -> Result<Option<(u32, Sphere)>> {
-            let seed = from + i as u32;
+            let seed = next_seed + i as u32;
             let b = paper_sphere(seed, 0.25, 5)?;
-            if Body::Sphere(b.clone()).check_convex().is_err() || sphere_alpha_star(&b) >= 0.13 {
+            if Body::Sphere(b.clone()).check_convex().is_err() {
+                return Ok(None);
+            }
+            let a = sphere_alpha_star(&b);
+            if a < from || a >= below {
                 return Ok(None);
             }
             Ok(Some((seed, b)))
@@ -130,15 +142,52 @@ fn cross_bodies(n: usize) -> Result<Vec<(u32, Sphere)>> {
                 found.push(x);
             }
         }
-        from += chunk;
-        if from > 100_000 {
+        next_seed += chunk;
+        if next_seed > 100_000 {
             return Err(anyhow!(
-                "fewer than {n} convex bodies with α* < 0.13 among 100 000 seeds"
+                "fewer than {n} convex bodies with {from} ≤ α* < {below} among 100 000 seeds"
             ));
         }
     }
     found.truncate(n);
     Ok(found)
+}
+
+/// The fraction of bodies in an α* band whose runs at m/m0 = 6 close with period 2.
+fn cross_body_statistic(
+    n: usize,
+    from: f64,
+    below: f64,
+    orientations: usize,
+    alpha: f64,
+    seed: u64,
+) -> Result<CrossBody> {
+    let bodies = cross_bodies(n, from, below)?;
+    let jobs: Vec<(usize, usize)> = (0..bodies.len())
+        .flat_map(|b| (0..orientations).map(move |o| (b, o)))
+        .collect();
+    let bar = progress(jobs.len(), "other bodies");
+    let periods = par_map(jobs.len(), &bar, |j| {
+        let (b, o) = jobs[j];
+        run_period(&bodies[b].1, alpha, CROSS_MASS, seed, o, 2000.0)
+    });
+    let periods: Vec<Option<usize>> = periods.into_iter().collect::<Result<_>>()?;
+    let per_body: Vec<&[Option<usize>]> = periods.chunks(orientations).collect();
+    let with_period_2 = per_body.iter().filter(|r| r.contains(&Some(2))).count();
+    Ok(CrossBody {
+        alpha_star_from: from,
+        alpha_star_below: below,
+        bodies: bodies.len(),
+        seeds: bodies.iter().map(|b| b.0).collect(),
+        orientations,
+        with_period_2,
+        fraction_with_period_2: with_period_2 as f64 / bodies.len() as f64,
+        all_period_2: per_body
+            .iter()
+            .filter(|r| r.iter().all(|k| *k == Some(2)))
+            .count(),
+        with_undecided: per_body.iter().filter(|r| r.contains(&None)).count(),
+    })
 }
 
 /// Runs the figure.
@@ -248,36 +297,15 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         });
     }
 
-    // The cross-body statistic.
-    let (n_bodies, n_orient) = if opts.quick {
-        (4, 2)
+    // The cross-body statistics.
+    let (n_bodies, n_near, n_orient) = if opts.quick {
+        (4, 2, 2)
     } else {
-        (CROSS_BODIES, 4)
+        (CROSS_BODIES, 30, 4)
     };
-    let bodies = cross_bodies(n_bodies)?;
-    let cross_jobs: Vec<(usize, usize)> = (0..bodies.len())
-        .flat_map(|b| (0..n_orient).map(move |o| (b, o)))
-        .collect();
-    let bar = progress(cross_jobs.len(), "other bodies");
-    let periods = par_map(cross_jobs.len(), &bar, |j| {
-        let (b, o) = cross_jobs[j];
-        run_period(&bodies[b].1, alpha, CROSS_MASS, opts.seed, o, 2000.0)
-    });
-    let periods: Vec<Option<usize>> = periods.into_iter().collect::<Result<_>>()?;
-    let per_body: Vec<&[Option<usize>]> = periods.chunks(n_orient).collect();
-    let with_period_2 = per_body.iter().filter(|r| r.contains(&Some(2))).count();
-    let cross_body = CrossBody {
-        bodies: bodies.len(),
-        seeds: bodies.iter().map(|b| b.0).collect(),
-        orientations: n_orient,
-        with_period_2,
-        fraction_with_period_2: with_period_2 as f64 / bodies.len() as f64,
-        all_period_2: per_body
-            .iter()
-            .filter(|r| r.iter().all(|k| *k == Some(2)))
-            .count(),
-        with_undecided: per_body.iter().filter(|r| r.contains(&None)).count(),
-    };
+    let cross_body = cross_body_statistic(n_bodies, 0.0, 0.13, n_orient, alpha, opts.seed)?;
+    let cross_body_near_critical =
+        cross_body_statistic(n_near, 0.13, 0.15, n_orient, alpha, opts.seed)?;
 
     write_csv(
         &dir.join("data.csv"),
@@ -293,6 +321,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         viscous_period: t1,
         masses,
         cross_body,
+        cross_body_near_critical,
     };
     write_summary(&dir.join("summary.json"), &summary)?;
     render_png(&panels, 3, (1950, 620), &dir.join("figure.png"))?;
