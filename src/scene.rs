@@ -47,6 +47,10 @@ pub const BUNDLED_SHAPES: &[(&str, &str)] = &[
         "disk-inertial.json",
         include_str!("../assets/shapes/disk-inertial.json"),
     ),
+    (
+        "paper-sphere.json",
+        include_str!("../assets/shapes/paper-sphere.json"),
+    ),
 ];
 
 /// The preset scenes (name = file stem), the default first.
@@ -62,6 +66,10 @@ pub const PRESETS: &[(&str, &str)] = &[
     (
         "sphere-doubling",
         include_str!("../assets/scenes/sphere-doubling.toml"),
+    ),
+    (
+        "sphere-flip",
+        include_str!("../assets/scenes/sphere-flip.toml"),
     ),
     (
         "perfect-sphere",

@@ -618,7 +618,7 @@ impl SceneView {
                     if self.is_disk {
                         "one full turn"
                     } else {
-                        "between crossings of ∂Ω"
+                        "∂Ω to ∂Ω"
                     },
                     multiplicity_text(snap.period_multiplicity)
                 ),
@@ -894,12 +894,11 @@ fn compute_field(setup: &SceneSetup, ramp: &Ramp) -> Result<Vec<FieldArrow>, Str
     poincare_field(s, ramp, p.arrows, p.t_max, p.rtol, &|| {}).map_err(|e| e.to_string())
 }
 
-/// ", period k" once the crossings of ∂Ω repeat (3D), else nothing.
+/// "; period k" once the crossings of ∂Ω repeat (3D), else nothing.
 pub fn multiplicity_text(k: Option<usize>) -> String {
     match k {
-        Some(1) => ", period 1".into(),
-        Some(2) => ", period 2 (doubled)".into(),
-        Some(k) => format!(", period {k}"),
+        Some(2) => "; period 2, doubled".into(),
+        Some(k) => format!("; period {k}"),
         None => String::new(),
     }
 }

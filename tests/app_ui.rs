@@ -139,6 +139,43 @@ fn the_sweep_plot_collects_one_over_t_by_direction_and_counts_halting_as_zero() 
 }
 
 #[test]
+fn the_crossing_plot_splits_when_the_mass_is_swept_across_the_flip() {
+    // The sphere-flip preset (paper's body, α = 0.15) at m/m0 = 2.5, then 6: settled crossings of
+    // ∂Ω are collected against m/m0, one point per crossing; below the flip they all sit at one
+    // place, above it at two places 0.2–0.5 apart (the doubled orbit).
+    let setup = Scene::preset("sphere-flip").unwrap().setup(None).unwrap();
+    let mut sim = Simulation::new(setup);
+    let mut history = PlotHistory::default();
+    let run = |sim: &mut Simulation, history: &mut PlotHistory, until: f64| {
+        let mut t = sim.time();
+        while t < until {
+            t += 2.0;
+            sim.advance_to(t).unwrap();
+            history.push(&sim.snapshot());
+        }
+    };
+    run(&mut sim, &mut history, 1200.0);
+    let low = history.crossings_by_mass();
+    assert!(low.len() >= 5, "{low:?}");
+    assert!(low.iter().all(|p| p[0] == 2.5));
+    let spread = |ps: &[[f64; 2]]| {
+        let ys: Vec<f64> = ps.iter().map(|p| p[1]).collect();
+        ys.iter().cloned().fold(f64::MIN, f64::max) - ys.iter().cloned().fold(f64::MAX, f64::min)
+    };
+    assert!(spread(&low) < 1e-2, "one branch below the flip: {low:?}");
+    let ramp = rollphase::dynamics::Ramp::new(0.15, 6.0).unwrap();
+    sim.set_parameters(ramp, sim.method()).unwrap();
+    run(&mut sim, &mut history, 3000.0);
+    let high: Vec<[f64; 2]> = history
+        .crossings_by_mass()
+        .into_iter()
+        .filter(|p| p[0] == 6.0)
+        .collect();
+    assert!(high.len() >= 4, "{high:?}");
+    assert!(spread(&high) > 0.05, "two branches above the flip: {high:?}");
+}
+
+#[test]
 fn loading_a_preset_from_the_ui_replaces_the_scene() {
     let (gpu, target, mut bench) = app("sphere-cruising");
     let cylinder = Scene::preset("cylinder-hysteresis")

@@ -152,3 +152,26 @@ fn changing_alpha_live_keeps_the_pose() {
     s.advance_to(6.0).unwrap();
     check_contact(&s, 1e-9);
 }
+
+#[test]
+fn the_doubling_preset_shows_period_two_and_its_trail_covers_both_loops() {
+    // The paper's body at α = 0.15, m/m0 = 6: by the preset's first frame the ∂Ω crossings
+    // alternate between two points (period 2), and the trail kept on the body spans more than one
+    // whole doubled cycle (two crossings of ∂Ω).
+    let mut s = preset("sphere-doubling");
+    let start = s.setup().scene.playback.start_time;
+    s.advance_to(start).unwrap();
+    let snap = s.snapshot();
+    assert_eq!(snap.period_multiplicity, Some(2), "at t = {start}");
+    let turn = snap.period.expect("crossings measured");
+    assert!(s.setup().scene.playback.trail_time > 2.0 * turn, "turn {turn}");
+    assert!(snap.last_crossing.is_some());
+}
+
+#[test]
+fn the_flip_preset_starts_below_the_flip_with_period_one() {
+    // m/m0 = 2.5 lies below both flips (3.15 and 3.99, `figure sphere-bifurcation`).
+    let mut s = preset("sphere-flip");
+    s.advance_to(s.setup().scene.playback.start_time).unwrap();
+    assert_eq!(s.snapshot().period_multiplicity, Some(1));
+}

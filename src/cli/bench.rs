@@ -38,8 +38,8 @@ pub enum BenchKind {
     Accuracy(AccuracyArgs),
     /// The inertial models as m/m0 → 0: cost (stiffness) and distance from the viscous model.
     Stiff(StiffArgs),
-    /// Wall time of the full-size ensemble figures against their targets (sphere-cruising ≤ 60 s,
-    /// sphere-poincare ≤ 30 s on 2 cores).
+    /// Wall time of the full-size ensemble figures against their targets (sphere-poincare ≤ 30 s,
+    /// sphere-cruising ≤ 60 s, sphere-doubling ≤ 60 s, sphere-bifurcation ≤ 120 s on 2 cores).
     Figures(FiguresBenchArgs),
     /// Frames per second of the headless renderer (rendering alone, with readback, with PNG
     /// writing on worker threads) at 1280×720 on whatever adapter is found (llvmpipe here).
@@ -121,6 +121,12 @@ fn figures_bench(a: FiguresBenchArgs) -> Result<()> {
     })?;
     timed("sphere-cruising", 60.0, &|| {
         crate::figures::sphere_cruising::run(&opts).map(|_| ())
+    })?;
+    timed("sphere-doubling", 60.0, &|| {
+        crate::figures::sphere_doubling::run(&opts).map(|_| ())
+    })?;
+    timed("sphere-bifurcation", 120.0, &|| {
+        crate::figures::sphere_bifurcation::run(&opts).map(|_| ())
     })?;
     Ok(())
 }
