@@ -5,10 +5,10 @@
 //!
 //! | module | owns |
 //! |---|---|
-//! | [`geometry`] | bodies r(θ), r(u): exact derivatives, curvature, support points, shape files, generators |
+//! | [`geometry`] | bodies r(θ), r(u): exact derivatives, curvature, support points, shape files, generators (ours, and the paper authors' numpy bodies bit for bit) |
 //! | [`dynamics`] | the four rolling models (2D/3D, viscous/inertial) as ODE systems |
 //! | [`integrate`] | RK4, DOP853 with dense output, the Lie-group CF4 step, event location |
-//! | [`analysis`] | critical angle α*, 2D periods, accuracy tables |
+//! | [`analysis`] | critical angle α*, 2D periods, accuracy tables, orbits through ∂Ω, return maps and their Floquet multipliers |
 //! | [`simulate`] | one run from a body, a ramp and an initial state to sampled rows + a summary |
 //! | [`scene`] | scenes (TOML) and the bundled presets |
 //! | [`sim`] | one scene's simulation advanced frame by frame, observed as plain snapshots |
@@ -18,6 +18,7 @@
 //! | [`ui`] | the app's egui panels, plots and painter, and the windowless app core |
 //! | [`app`] | the winit window around the app core (the only module that knows winit) |
 //! | [`plot`] | PNG charts for the command line (not used by the core) |
+//! | [`figures`] | the paper's figures (and `sphere-bifurcation`) as data.csv, figure.png, summary.json |
 //! | [`cli`] | the command line (one file per subcommand) |
 //!
 //! The first four never touch a GPU, a window or the wall clock: the same inputs give the same

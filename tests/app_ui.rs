@@ -172,7 +172,10 @@ fn the_crossing_plot_splits_when_the_mass_is_swept_across_the_flip() {
         .filter(|p| p[0] == 6.0)
         .collect();
     assert!(high.len() >= 4, "{high:?}");
-    assert!(spread(&high) > 0.05, "two branches above the flip: {high:?}");
+    assert!(
+        spread(&high) > 0.05,
+        "two branches above the flip: {high:?}"
+    );
 }
 
 #[test]

@@ -289,3 +289,73 @@ fn an_unstable_fixed_step_is_refused_before_running() {
         ],
     );
 }
+
+#[test]
+fn figure_body_and_alpha_options_that_do_not_apply_are_refused() {
+    let dir = temp_dir("figure-options");
+    let disk = write(&dir, "disk.json", DISK);
+    let sphere = write(&dir, "sphere.json", SPHERE);
+    let out = dir.to_string_lossy().into_owned();
+    // A 2D body for a 3D figure, and the reverse.
+    let r = rollphase(&["figure", "sphere-doubling", "--shape", &disk, "--out", &out]);
+    fails_with(&r, 1, &["sphere-doubling needs a 3D body", "disk"]);
+    let r = rollphase(&["figure", "disk-flow", "--shape", &sphere, "--out", &out]);
+    fails_with(&r, 1, &["disk-flow needs a 2D body", "sphere"]);
+    // --alpha for a figure that sweeps α; --shape for the perfect sphere's figure.
+    let r = rollphase(&["figure", "sphere-cruising", "--alpha", "0.2", "--out", &out]);
+    fails_with(
+        &r,
+        1,
+        &["sphere-cruising sweeps", "--alpha 0.2 does not apply"],
+    );
+    let r = rollphase(&["figure", "sphere-tube", "--shape", &sphere, "--out", &out]);
+    fails_with(&r, 1, &["sphere-tube", "perfect sphere", "does not apply"]);
+    // An α at or below the body's α*, and one out of range.
+    let r = rollphase(&[
+        "figure",
+        "sphere-bifurcation",
+        "--alpha",
+        "0.1",
+        "--out",
+        &out,
+    ]);
+    fails_with(&r, 1, &["critical angle α* = 0.1394", "give --alpha above"]);
+    let r = rollphase(&["figure", "sphere-poincare", "--alpha", "2", "--out", &out]);
+    fails_with(&r, 1, &["--alpha 2 is not allowed", "0 < α < π/2"]);
+    // Unknown figure names list every figure.
+    let r = rollphase(&["figure", "sphere-nope", "--out", &out]);
+    fails_with(
+        &r,
+        1,
+        &["unknown figure", "sphere-bifurcation", "disk-transition"],
+    );
+}
+
+#[test]
+fn figure_list_shows_every_figure() {
+    let r = rollphase(&["figure", "--list"]);
+    assert!(r.status.success());
+    let text = String::from_utf8_lossy(&r.stdout);
+    for f in rollphase::figures::FIGURES {
+        assert!(text.contains(f.name), "{} missing from --list", f.name);
+    }
+    assert_eq!(text.lines().count(), 11, "{text}");
+}
+
+#[test]
+fn paper_seed_and_seed_are_exclusive_and_one_is_needed() {
+    let r = rollphase(&["shape", "--dim", "3", "--seed", "1", "--paper-seed", "219"]);
+    fails_with(&r, 2, &["--paper-seed"]);
+    let r = rollphase(&["shape", "--dim", "3"]);
+    fails_with(&r, 2, &["--seed"]);
+    let r = rollphase(&["shape", "--dim", "3", "--paper-seed", "4294967296"]);
+    fails_with(&r, 2, &["4294967296"]);
+    let ok = rollphase(&["shape", "--dim", "3", "--paper-seed", "219"]);
+    assert!(ok.status.success());
+    let bundled = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/shapes/paper-sphere.json"
+    ))
+    .unwrap();
+    assert_eq!(String::from_utf8_lossy(&ok.stdout), bundled);
+}

@@ -164,7 +164,10 @@ fn the_doubling_preset_shows_period_two_and_its_trail_covers_both_loops() {
     let snap = s.snapshot();
     assert_eq!(snap.period_multiplicity, Some(2), "at t = {start}");
     let turn = snap.period.expect("crossings measured");
-    assert!(s.setup().scene.playback.trail_time > 2.0 * turn, "turn {turn}");
+    assert!(
+        s.setup().scene.playback.trail_time > 2.0 * turn,
+        "turn {turn}"
+    );
     assert!(snap.last_crossing.is_some());
 }
 
