@@ -198,30 +198,38 @@ pub fn poincare_step(
 ) -> Result<Option<(DVec3, f64)>, IntegrateError> {
     let m = SphereViscous::new(body, ramp);
     let q0 = DQuat::from_xyzw(p.x, p.y, p.z, 0.0);
-    let mut st = integrate::stepper(
-        &m,
-        0.0,
-        SphereViscous::initial_state(q0),
-        Method::dop853(rtol),
-    )?;
+    let found = first_crossing(&m, SphereViscous::initial_state(q0), t_max, rtol, |y| {
+        m.observe(y).omega.length()
+    })?;
+    Ok(found.map(|(t, y)| {
+        let q = quat_at(&y, 0);
+        (nearest_sign(p, DVec3::new(q.x, q.y, q.z).normalize()), t)
+    }))
+}
+
+/// The first crossing of ∂Ω (q_w = 0, state slot 0) after t = 0 from `y0`: its time and state,
+/// or `None` if |ω| (`omega`) falls below 1e-9 first (the body halts) or `t_max` passes.
+pub fn first_crossing<const N: usize, S: OdeSystem<N>>(
+    sys: &S,
+    y0: [f64; N],
+    t_max: f64,
+    rtol: f64,
+    omega: impl Fn(&[f64; N]) -> f64,
+) -> Result<Option<(f64, [f64; N])>, IntegrateError> {
+    let mut st = integrate::stepper(sys, 0.0, y0, Method::dop853(rtol))?;
     let mut times = Vec::new();
     while st.t() < t_max {
         st.step(t_max)?;
         crossings_in_last_step(
             st.as_mut(),
-            &|_t, y: &[f64; 6]| y[0],
+            &|_t, y: &[f64; N]| y[0],
             Direction::Both,
             &mut times,
         );
         if let Some(&t) = times.first() {
-            let y = st.dense(t);
-            let q = quat_at(&y, 0);
-            return Ok(Some((
-                nearest_sign(p, DVec3::new(q.x, q.y, q.z).normalize()),
-                t,
-            )));
+            return Ok(Some((t, st.dense(t))));
         }
-        if m.observe(st.y()).omega.length() < 1e-9 {
+        if omega(st.y()) < 1e-9 {
             return Ok(None);
         }
     }

@@ -16,7 +16,7 @@ use nalgebra::DVector;
 use serde::Serialize;
 
 use super::return_map::{self, ReturnMapError};
-use super::sphere_orbits::nearest_sign;
+use super::sphere_orbits::{first_crossing, nearest_sign};
 use crate::dynamics::{Ramp, SphereInertial};
 use crate::geometry::Sphere;
 use crate::integrate::events::{Direction, crossings_in_last_step};
@@ -94,35 +94,20 @@ pub fn next_crossing(
 ) -> Result<Option<(DVec3, DVec3, f64)>, IntegrateError> {
     let model = SphereInertial::new(body, ramp);
     let q0 = DQuat::from_xyzw(p.x, p.y, p.z, 0.0);
-    let mut st = integrate::stepper(
+    let found = first_crossing(
         &model,
-        0.0,
         SphereInertial::initial_state(q0, omega),
-        Method::dop853(rtol),
+        t_max,
+        rtol,
+        |y| DVec3::new(y[4], y[5], y[6]).length(),
     )?;
-    let mut times = Vec::new();
-    while st.t() < t_max {
-        st.step(t_max)?;
-        crossings_in_last_step(
-            st.as_mut(),
-            &|_t, y: &[f64; 10]| y[0],
-            Direction::Both,
-            &mut times,
-        );
-        if let Some(&t) = times.first() {
-            let y = st.dense(t);
-            return Ok(Some((
-                DVec3::new(y[1], y[2], y[3]).normalize(),
-                DVec3::new(y[4], y[5], y[6]),
-                t,
-            )));
-        }
-        let y = st.y();
-        if DVec3::new(y[4], y[5], y[6]).length() < OMEGA_REST && st.t() > 1.0 {
-            return Ok(None);
-        }
-    }
-    Ok(None)
+    Ok(found.map(|(t, y)| {
+        (
+            DVec3::new(y[1], y[2], y[3]).normalize(),
+            DVec3::new(y[4], y[5], y[6]),
+            t,
+        )
+    }))
 }
 
 /// Gnomonic chart of ∂Ω (antipodes identified) around `base`.
