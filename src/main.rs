@@ -1,11 +1,27 @@
 //! The `rollphase` binary: parse the command line, run one command, map errors to exit codes
-//! (0 success, 1 a failed command with its reason on standard error, 2 bad usage from clap).
+//! (0 success, 1 a failed command with its reason on standard error, 2 bad usage from clap). A
+//! reader that closes the pipe early (`rollphase … | head`) ends the command quietly with 0, as
+//! Unix tools do; any other failure to write standard output (a full disk) is an error.
+
+use std::io::Write;
 
 use clap::Parser;
 
 fn main() {
     let cli = rollphase::cli::Cli::parse();
-    if let Err(e) = rollphase::cli::run(cli) {
+    let result = rollphase::cli::run(cli).and_then(|()| {
+        std::io::stdout()
+            .flush()
+            .map_err(|e| anyhow::Error::new(e).context("cannot write to standard output"))
+    });
+    if let Err(e) = result {
+        let broken_pipe = e.chain().any(|c| {
+            c.downcast_ref::<std::io::Error>()
+                .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+        });
+        if broken_pipe {
+            std::process::exit(0);
+        }
         eprintln!("error: {e:#}");
         std::process::exit(1);
     }

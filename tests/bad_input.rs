@@ -1,6 +1,7 @@
 //! Bad input is a clear error, never a panic: the binary exits with status 1 (2 for clap's usage
 //! errors) and one message naming the value, why it is wrong and what is allowed.
 
+use std::os::unix::fs::FileTypeExt;
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
@@ -358,4 +359,134 @@ fn paper_seed_and_seed_are_exclusive_and_one_is_needed() {
     ))
     .unwrap();
     assert_eq!(String::from_utf8_lossy(&ok.stdout), bundled);
+}
+
+/// A short 3D run written to `out`.
+fn simulate_to(dir: &std::path::Path, out: &str) -> Output {
+    let sphere = write(dir, "body.json", SPHERE);
+    rollphase(&[
+        "simulate",
+        &sphere,
+        "--alpha",
+        "0.4",
+        "--t-end",
+        "1",
+        "--samples",
+        "3",
+        "-o",
+        out,
+    ])
+}
+
+#[test]
+fn simulate_output_keeps_symlinks_and_hard_links() {
+    let dir = temp_dir("links");
+    let target = write(&dir, "target.csv", "old\n");
+    let link = dir.join("link.csv");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    let r = simulate_to(&dir, &link.to_string_lossy());
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink(),
+        "still a link"
+    );
+    assert!(
+        std::fs::read_to_string(&target)
+            .unwrap()
+            .starts_with("t,qw"),
+        "target rewritten"
+    );
+
+    let second = dir.join("second-name.csv");
+    std::fs::hard_link(&target, &second).unwrap();
+    let r = simulate_to(&dir, &target);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    use std::os::unix::fs::MetadataExt;
+    assert_eq!(
+        std::fs::metadata(&target).unwrap().ino(),
+        std::fs::metadata(&second).unwrap().ino()
+    );
+    assert_eq!(
+        std::fs::read(&target).unwrap(),
+        std::fs::read(&second).unwrap()
+    );
+    // Nothing is left behind beside them.
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.contains("partial")), "{names:?}");
+}
+
+#[test]
+fn simulate_output_to_a_fifo_is_written_through_not_replaced() {
+    let dir = temp_dir("fifo");
+    let fifo = dir.join("pipe");
+    let status = Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("mkfifo runs");
+    assert!(status.success());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+    };
+    let r = simulate_to(&dir, &fifo.to_string_lossy());
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let text = reader.join().unwrap();
+    assert!(
+        text.starts_with("t,qw") && text.lines().count() == 4,
+        "{text}"
+    );
+    assert!(
+        std::fs::metadata(&fifo).unwrap().file_type().is_fifo(),
+        "still a FIFO"
+    );
+}
+
+#[test]
+fn an_input_is_never_overwritten_by_the_output() {
+    let dir = temp_dir("same-file");
+    let sphere = write(&dir, "body.json", SPHERE);
+    let r = rollphase(&["export-stl", &sphere, "-o", &sphere]);
+    fails_with(&r, 1, &["is also an input", "refusing to overwrite"]);
+    assert_eq!(std::fs::read_to_string(&sphere).unwrap(), SPHERE);
+    let r = rollphase(&[
+        "simulate", &sphere, "--alpha", "0.4", "--t-end", "1", "-o", &sphere,
+    ]);
+    fails_with(&r, 1, &["is also an input"]);
+    assert_eq!(std::fs::read_to_string(&sphere).unwrap(), SPHERE);
+}
+
+#[test]
+fn a_closed_or_full_stdout_is_a_clean_exit() {
+    use std::process::Stdio;
+    // The reader goes away at once: quiet, status 0, no panic.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        .args(["scenes"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+    // A full disk behind standard output (Linux's /dev/full): one line, status 1.
+    if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {
+        let out = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+            .args(["figure", "--list"])
+            .stdout(full)
+            .output()
+            .unwrap();
+        fails_with(&out, 1, &["cannot write to standard output"]);
+    }
 }

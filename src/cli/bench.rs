@@ -102,18 +102,20 @@ fn figures_bench(a: FiguresBenchArgs) -> Result<()> {
         ..crate::figures::FigureOptions::default()
     };
     let threads = rayon::current_num_threads();
-    println!(
+    outln!(
         "{:<18} {:>10} {:>10}   ({threads} threads)",
-        "figure", "wall s", "target s"
-    );
+        "figure",
+        "wall s",
+        "target s"
+    )?;
     let timed = |name: &str, target: f64, f: &dyn Fn() -> Result<()>| -> Result<()> {
         let start = Instant::now();
         f()?;
         let wall = start.elapsed().as_secs_f64();
-        println!(
+        outln!(
             "{name:<18} {wall:>10.1} {target:>10.0}{}",
             if wall <= target { "" } else { "   OVER TARGET" }
-        );
+        )?;
         Ok(())
     };
     timed("sphere-poincare", 30.0, &|| {
@@ -248,7 +250,7 @@ fn accuracy_bench(a: AccuracyArgs) -> Result<()> {
     );
     let total: usize = cases.iter().map(|c| settings(c, a.quick).len()).sum();
     let bar = indicatif::ProgressBar::new(total as u64);
-    println!(
+    outln!(
         "{:<16} {:<7} {:>9} {:>11} {:>11} {:>10} {:>10} {:>12}",
         "model",
         "method",
@@ -258,7 +260,7 @@ fn accuracy_bench(a: AccuracyArgs) -> Result<()> {
         "RHS evals",
         "wall ms",
         "sim t/wall s"
-    );
+    )?;
     for case in &cases {
         let reference = accuracy::run_case(case, REFERENCE)
             .with_context(|| format!("reference run of {}", case.name))?;
@@ -330,7 +332,7 @@ fn accuracy_bench(a: AccuracyArgs) -> Result<()> {
         "relative error of the orbit period",
         &a.out.join("period_precision.png"),
     )?;
-    println!();
+    outln!()?;
     for name in &names {
         match cheapest_below(&rows, name, 1e-3) {
             Some(r) => println!(
@@ -340,7 +342,7 @@ fn accuracy_bench(a: AccuracyArgs) -> Result<()> {
             None => println!("{name}: no setting reached period error < 1e-3"),
         }
     }
-    println!("wrote {}", a.out.display());
+    outln!("wrote {}", a.out.display())?;
     Ok(())
 }
 
@@ -432,10 +434,15 @@ fn stiff_bench(a: StiffArgs) -> Result<()> {
     ];
     let method = Method::dop853(1e-8);
     let mut rows = Vec::new();
-    println!(
+    outln!(
         "{:<8} {:>8} {:>11} {:>9} {:>18} {:>14}",
-        "body", "m/m0", "RHS evals", "steps", "|state − viscous|", "ΔT/T viscous"
-    );
+        "body",
+        "m/m0",
+        "RHS evals",
+        "steps",
+        "|state − viscous|",
+        "ΔT/T viscous"
+    )?;
     for (name, body, alpha, start) in &bodies {
         let viscous = Case {
             name: "viscous",
@@ -468,7 +475,7 @@ fn stiff_bench(a: StiffArgs) -> Result<()> {
                 distance_from_viscous: accuracy::state_error(&o, &v),
                 period_difference,
             };
-            println!(
+            outln!(
                 "{:<8} {:>8.0e} {:>11} {:>9} {:>18.3e} {:>14.3e}",
                 row.model,
                 row.mass_ratio,
@@ -476,7 +483,7 @@ fn stiff_bench(a: StiffArgs) -> Result<()> {
                 row.steps,
                 row.distance_from_viscous,
                 row.period_difference
-            );
+            )?;
             rows.push(row);
         }
     }
@@ -532,7 +539,7 @@ fn stiff_bench(a: StiffArgs) -> Result<()> {
         },
     ];
     render_png(&panels, 2, (1400, 560), &a.out.join("stiff.png"))?;
-    println!("wrote {}", a.out.display());
+    outln!("wrote {}", a.out.display())?;
     Ok(())
 }
 
@@ -606,11 +613,12 @@ fn render_bench(a: RenderBenchArgs) -> Result<()> {
         )?;
     }
     let _ = std::fs::remove_dir_all(&out);
-    println!(
+    outln!(
         "{} at {w}x{h}, {} frames a row, on {adapter}\n",
-        a.preset, a.frames
-    );
-    print!("{table}");
+        a.preset,
+        a.frames
+    )?;
+    super::output::write_text(None, &table, &[], "stdout")?;
     Ok(())
 }
 
@@ -689,7 +697,7 @@ fn app_bench(a: AppBenchArgs) -> Result<()> {
     if total_ms.is_empty() {
         bail!("no frame finished within the timed {} s", a.seconds);
     }
-    println!(
+    outln!(
         "{} at {}x{}, {}× MSAA, integrator {}, on {}; {} frames in {} s\n",
         a.preset,
         a.size.0,
@@ -699,19 +707,19 @@ fn app_bench(a: AppBenchArgs) -> Result<()> {
         gpu.describe(),
         total_ms.len(),
         a.seconds
-    );
-    println!("| part of the frame | mean ms | p50 ms | p95 ms |");
-    println!("|---|---|---|---|");
+    )?;
+    outln!("| part of the frame | mean ms | p50 ms | p95 ms |")?;
+    outln!("|---|---|---|---|")?;
     for (what, v) in [
         ("UI (egui layout, plots, tessellation)", &ui_ms),
         ("paint (3D view + panels, GPU finished)", &paint_ms),
         ("whole frame", &total_ms),
     ] {
         let (mean, p50, p95) = stats(v);
-        println!("| {what} | {mean:.1} | {p50:.1} | {p95:.1} |");
+        outln!("| {what} | {mean:.1} | {p50:.1} | {p95:.1} |")?;
     }
     let (mean, _, _) = stats(&total_ms);
-    println!(
+    outln!(
         "\n{:.1} frames/s; simulation delivers {} of the requested {:.2} time units per second{}",
         1e3 / mean,
         status
@@ -726,9 +734,9 @@ fn app_bench(a: AppBenchArgs) -> Result<()> {
         } else {
             String::new()
         }
-    );
+    )?;
     if let Some(m) = &status.message {
-        println!("message: {m}");
+        outln!("message: {m}")?;
     }
     Ok(())
 }

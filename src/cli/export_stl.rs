@@ -1,7 +1,6 @@
 //! `rollphase export-stl`: a body as a watertight binary STL mesh in millimetres, to 3D-print
 //! and roll as the paper's authors did.
 
-use std::io::BufWriter;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
@@ -62,23 +61,21 @@ pub fn run(a: ExportStlArgs) -> Result<()> {
     if open != 0 {
         bail!("internal error: the mesh has {open} open edges; please report this shape file");
     }
-    let file = std::fs::File::create(&a.output)
-        .with_context(|| format!("cannot create {}", a.output.display()))?;
-    let mut out = BufWriter::new(file);
+    let mut file = super::output::OutputFile::create(&a.output, &[a.file.as_path()], "-o")?;
     let name = a
         .file
         .file_stem()
         .and_then(|s| s.to_str())
         .unwrap_or("body");
-    mesh.write_stl(&mut out, a.radius_mm, name)
-        .and_then(|_| std::io::Write::flush(&mut out))
+    mesh.write_stl(&mut file.writer(), a.radius_mm, name)
         .with_context(|| format!("cannot write {}", a.output.display()))?;
+    file.commit()?;
     let volume_cm3 = mesh.volume() * a.radius_mm.powi(3) / 1000.0;
-    println!(
+    outln!(
         "wrote {} ({} triangles, watertight, volume {volume_cm3:.2} cm³ at ⟨r⟩ = {} mm)",
         a.output.display(),
         mesh.indices.len(),
         a.radius_mm
-    );
+    )?;
     Ok(())
 }

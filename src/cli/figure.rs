@@ -51,7 +51,7 @@ pub struct FigureArgs {
 pub fn run(a: FigureArgs) -> Result<()> {
     if a.list {
         for f in FIGURES {
-            println!("{:<20} {}", f.name, f.about);
+            outln!("{:<20} {}", f.name, f.about)?;
         }
         return Ok(());
     }
@@ -89,7 +89,7 @@ pub fn run(a: FigureArgs) -> Result<()> {
                 .join("\n")
         })
         .unwrap_or_default();
-    println!("{name}: wrote {}\n{headline}", a.out.join(&name).display());
+    outln!("{name}: wrote {}\n{headline}", a.out.join(&name).display())?;
     Ok(())
 }
 
@@ -118,15 +118,15 @@ pub struct FitLagArgs {
 /// Runs `fit-lag`.
 pub fn run_fit_lag(a: FitLagArgs) -> Result<()> {
     let s = figures::fit_lag::run(&a.csv, &a.out, a.bootstrap, a.seed)?;
-    println!(
+    outln!(
         "fit-lag: {} runs, shared exponent β = {:.4} ± {:.4} (paper: −0.5); wrote {}",
         s.runs,
         s.shared_exponent,
         s.shared_exponent_stderr,
         a.out.join("fit-lag").display()
-    );
+    )?;
     for (k, f) in s.analysis.runs.iter().enumerate() {
-        println!(
+        outln!(
             "  run {k}: α* = {:.5} (file: {}), β = {:.3} ± {:.3}",
             f.alpha_star,
             s.alpha_star_reported[k]
@@ -134,7 +134,7 @@ pub fn run_fit_lag(a: FitLagArgs) -> Result<()> {
                 .unwrap_or_else(|| "-".into()),
             f.exponent,
             s.analysis.run_exponent_stderr[k]
-        );
+        )?;
     }
     Ok(())
 }

@@ -81,7 +81,7 @@ pub fn run(a: InspectArgs) -> Result<()> {
     let body = super::load_body(&a.file)?;
     let r = inspect(&body);
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&r)?);
+        outln!("{}", serde_json::to_string_pretty(&r)?)?;
         return Ok(());
     }
     let what = if r.dimension == 2 {
@@ -94,8 +94,8 @@ pub fn run(a: InspectArgs) -> Result<()> {
     } else {
         "Gaussian curvature K"
     };
-    println!("{}: {what}", a.file.display());
-    println!(
+    outln!("{}: {what}", a.file.display())?;
+    outln!(
         "  convex:          {}{}",
         if r.convex { "yes" } else { "NO" },
         if r.convex {
@@ -106,20 +106,26 @@ pub fn run(a: InspectArgs) -> Result<()> {
                 r.convexity_measure, r.convexity_min, r.convexity_place
             )
         }
-    );
-    println!("  {curv}: {:.6} … {:.6}", r.curvature_min, r.curvature_max);
-    println!(
+    )?;
+    outln!("  {curv}: {:.6} … {:.6}", r.curvature_min, r.curvature_max)?;
+    outln!(
         "  critical angle:  α* = {:.10} rad = {:.6}°  (max |∇ ln r| = {:.10})",
-        r.alpha_star, r.alpha_star_deg, r.q_star
-    );
+        r.alpha_star,
+        r.alpha_star_deg,
+        r.q_star
+    )?;
     if r.dimension == 2 {
-        println!("  maximiser:       θ* = {:.10}", r.theta_star);
+        outln!("  maximiser:       θ* = {:.10}", r.theta_star)?;
     } else {
         let d = r.direction_star;
-        println!(
+        outln!(
             "  maximiser:       θ = {:.10}, φ = {:.10}  (u = [{:.6}, {:.6}, {:.6}])",
-            r.theta_star, r.phi_star, d[0], d[1], d[2]
-        );
+            r.theta_star,
+            r.phi_star,
+            d[0],
+            d[1],
+            d[2]
+        )?;
     }
     Ok(())
 }

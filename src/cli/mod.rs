@@ -1,11 +1,22 @@
 //! The command line: argument structures (clap) and one file per subcommand. Errors are
 //! `anyhow` with context naming the file or flag; `main.rs` prints them and sets the exit code.
 
+/// `println!` that returns the error (a closed pipe, a full disk) instead of panicking.
+macro_rules! outln {
+    () => {
+        $crate::cli::output::stdout_line("")
+    };
+    ($($arg:tt)*) => {
+        $crate::cli::output::stdout_line(&format!($($arg)*))
+    };
+}
+
 pub mod app;
 pub mod bench;
 pub mod export_stl;
 pub mod figure;
 pub mod inspect;
+pub mod output;
 pub mod period;
 pub mod render;
 pub mod scenes;
@@ -135,15 +146,7 @@ pub fn parse_list(text: &str, n: usize, flag: &str, names: &str) -> Result<Vec<f
         .collect()
 }
 
-/// Writes text to a file, or to standard output for `None` or "-".
+/// Writes text to a file, or to standard output for `None` or "-" (see [`output`]).
 pub fn write_output(path: Option<&PathBuf>, text: &str) -> Result<()> {
-    match path {
-        Some(p) if p.as_os_str() != "-" => {
-            std::fs::write(p, text).with_context(|| format!("cannot write {}", p.display()))
-        }
-        _ => {
-            print!("{text}");
-            Ok(())
-        }
-    }
+    output::write_text(path.map(PathBuf::as_path), text, &[], "-o")
 }

@@ -108,9 +108,9 @@ pub fn run(a: PeriodArgs) -> Result<()> {
         mass_ratio: a.mass,
     };
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        outln!("{}", serde_json::to_string_pretty(&report)?)?;
     } else {
-        println!("{model}, α = {} rad (α* = {:.10})", a.alpha, alpha_star);
+        outln!("{model}, α = {} rad (α* = {:.10})", a.alpha, alpha_star)?;
         match p.period {
             Some(t) => println!(
                 "  rolls: T = {t:.12}, 2π/T = {:.12}{}",

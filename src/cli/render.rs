@@ -87,7 +87,7 @@ pub fn run_headless(a: &RenderArgs) -> Result<()> {
     if let Some(note) = &report.model_note {
         eprintln!("note: {note}");
     }
-    println!(
+    outln!(
         "wrote {} frame(s) of {name} at {}x{} to {} (t = 0 … {:.3}) on {}",
         report.frames,
         a.size.0,
@@ -95,6 +95,6 @@ pub fn run_headless(a: &RenderArgs) -> Result<()> {
         a.out.display(),
         report.t_last,
         report.adapter
-    );
+    )?;
     Ok(())
 }

@@ -19,7 +19,7 @@ pub fn run(a: ScenesArgs) -> Result<()> {
     if let Some(name) = a.toml {
         Scene::preset(&name)?;
         if let Some((_, text)) = PRESETS.iter().find(|(n, _)| *n == name) {
-            print!("{text}");
+            super::output::write_text(None, text, &[], "--toml")?;
         }
         return Ok(());
     }
@@ -31,7 +31,7 @@ pub fn run(a: ScenesArgs) -> Result<()> {
         } else {
             ""
         };
-        println!("{name:width$}  {}{mark}", scene.description);
+        outln!("{name:width$}  {}{mark}", scene.description)?;
     }
     Ok(())
 }

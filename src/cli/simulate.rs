@@ -1,6 +1,5 @@
 //! `rollphase simulate`: one run written as CSV, with an optional JSON health summary.
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -197,17 +196,14 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     } else {
         SPHERE_HEADER
     };
-    // Write to a temporary name and rename at the end, so a failed run leaves no half file.
-    let to_stdout = a.output.as_os_str() == "-";
-    let tmp = a.output.with_extension("csv.partial");
-    let mut out: Box<dyn Write> = if to_stdout {
-        Box::new(std::io::BufWriter::new(std::io::stdout()))
-    } else {
-        Box::new(std::io::BufWriter::new(
-            std::fs::File::create(&tmp)
-                .with_context(|| format!("cannot create {}", tmp.display()))?,
-        ))
-    };
+    // Staged beside the destination and moved into place at the end, so a failed run leaves no
+    // half file (see `output`: devices, symbolic and hard links are kept).
+    let mut inputs: Vec<&std::path::Path> = vec![a.file.as_path()];
+    if let Some(s) = &a.summary {
+        inputs.push(s.as_path());
+    }
+    let mut file = super::output::OutputFile::create(&a.output, &inputs, "-o")?;
+    let out = file.writer();
     writeln!(out, "{header}")?;
     let bar = indicatif::ProgressBar::new(a.samples as u64);
     bar.set_style(
@@ -235,22 +231,15 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     let summary = match result {
         Ok(s) => s,
         Err(e) => {
-            drop(out);
-            if !to_stdout {
-                let _ = std::fs::remove_file(&tmp);
-            }
+            file.abort();
             return Err(e).context("simulation failed; no CSV was written");
         }
     };
     if let Some(e) = io_error {
-        return Err(e).context("cannot write the CSV");
+        file.abort();
+        return Err(e).context(format!("cannot write {}", a.output.display()));
     }
-    out.flush()?;
-    drop(out);
-    if !to_stdout {
-        std::fs::rename(&tmp, &a.output)
-            .with_context(|| format!("cannot write {}", a.output.display()))?;
-    }
+    file.commit()?;
     let wall = start.elapsed().as_secs_f64();
     if let Some(note) = &summary.model_note {
         eprintln!("note: {note}");
@@ -264,8 +253,8 @@ pub fn run(a: SimulateArgs) -> Result<()> {
             alpha: a.alpha,
             mass_ratio: a.mass,
         };
-        std::fs::write(path, serde_json::to_string_pretty(&file)? + "\n")
-            .with_context(|| format!("cannot write {}", path.display()))?;
+        let text = serde_json::to_string_pretty(&file)? + "\n";
+        super::output::write_text(Some(path), &text, &[a.file.as_path()], "--summary")?;
     }
     Ok(())
 }
