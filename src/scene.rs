@@ -34,6 +34,7 @@ use thiserror::Error;
 use crate::analysis::critical_angle::critical_angle;
 use crate::dynamics::sphere3d::orientation_touching;
 use crate::dynamics::{ModelError, Ramp};
+use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
 use crate::geometry::sphere::direction;
 use crate::geometry::{Body, Disk, ShapeError, ShapeFile, Sphere, random_disk, random_sphere};
 use crate::integrate::{IntegrateError, Method, Preset};
@@ -355,8 +356,8 @@ impl Default for PoincareSpec {
 /// What is wrong with a scene.
 #[derive(Debug, Error)]
 pub enum SceneError {
-    /// TOML syntax or an unknown/mistyped field.
-    #[error("{0}")]
+    /// TOML syntax or an unknown/mistyped field (transparent, so the message is printed once).
+    #[error(transparent)]
     Parse(#[from] toml::de::Error),
     /// A value out of range or fields that do not fit together.
     #[error("{0}")]
@@ -371,12 +372,20 @@ pub enum SceneError {
     #[error(transparent)]
     Integrate(#[from] IntegrateError),
     /// The shape file could not be read.
-    #[error("cannot read shape file {path}: {source}")]
+    #[error("cannot read shape file {}: {reason}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
         /// Why.
-        source: std::io::Error,
+        reason: std::io::Error,
+    },
+    /// The scene file could not be read.
+    #[error("cannot read scene file {}: {reason}", path.display())]
+    SceneIo {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        reason: std::io::Error,
     },
     /// No preset of that name.
     #[error("no preset named {0:?}; `rollphase scenes` lists them: {1}")]
@@ -502,8 +511,8 @@ impl BodySpec {
             let text = match base {
                 Some(dir) => {
                     let full = dir.join(path);
-                    std::fs::read_to_string(&full)
-                        .map_err(|source| SceneError::Io { path: full, source })?
+                    read_text_capped(&full, MAX_INPUT_FILE_BYTES)
+                        .map_err(|reason| SceneError::Io { path: full, reason })?
                 }
                 None => bundled_shape(path)?.to_string(),
             };
@@ -730,10 +739,11 @@ impl PoincareSpec {
 
 /// Loads a scene file; shape paths in it are relative to its folder.
 pub fn load_scene_file(path: &Path) -> Result<SceneSetup, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text =
+        read_text_capped(path, MAX_INPUT_FILE_BYTES).map_err(|reason| SceneError::SceneIo {
+            path: path.to_path_buf(),
+            reason,
+        })?;
     let scene = Scene::from_toml(&text)?;
     scene.setup(Some(path.parent().unwrap_or(Path::new("."))))
 }

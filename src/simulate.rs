@@ -167,6 +167,9 @@ pub fn choose_model(body: &Body, ramp: Ramp, method: Method) -> Result<ModelChoi
     }
 }
 
+/// Most output rows of one run (a CSV of 10⁷ rows is about 1.4 GB).
+pub const MAX_SAMPLES: usize = 10_000_000;
+
 /// Runs `spec` on `body`, calling `row(&values)` for each sample (columns as in the headers).
 pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<Summary, RunError> {
     if !(spec.t_end.is_finite() && spec.t_end > 0.0) {
@@ -175,11 +178,22 @@ pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<S
             spec.t_end
         )));
     }
-    if spec.samples < 2 {
+    if !(2..=MAX_SAMPLES).contains(&spec.samples) {
         return Err(RunError::Mismatch(format!(
-            "samples = {} is not allowed (needs at least 2: t = 0 and t_end)",
+            "samples = {} is not allowed (needs 2 ≤ samples ≤ {MAX_SAMPLES}: t = 0, t_end and rows \
+             between)",
             spec.samples
         )));
+    }
+    if let Method::Rk4 { dt } | Method::Cf4 { dt } = spec.method {
+        let steps = (spec.t_end / dt).ceil();
+        if steps > spec.max_steps as f64 {
+            return Err(RunError::Mismatch(format!(
+                "a fixed step dt = {dt:e} needs {steps:.3e} steps to reach t_end = {}, more than \
+                 the step budget max_steps = {}; use a larger step, a shorter run, or DOP853",
+                spec.t_end, spec.max_steps
+            )));
+        }
     }
     body.check_convex()?;
     let choice = choose_model(body, spec.ramp, spec.method)?;

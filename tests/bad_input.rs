@@ -490,3 +490,89 @@ fn a_closed_or_full_stdout_is_a_clean_exit() {
         fails_with(&out, 1, &["cannot write to standard output"]);
     }
 }
+
+#[test]
+fn counts_and_input_sizes_have_stated_limits() {
+    let dir = temp_dir("limits");
+    let sphere = write(&dir, "body.json", SPHERE);
+    let csv = dir.join("out.csv").to_string_lossy().into_owned();
+    let base = [
+        "simulate", &sphere, "--alpha", "0.4", "--t-end", "10", "-o", &csv,
+    ];
+    // A fixed step whose step count exceeds the budget is refused before it starts.
+    let start = std::time::Instant::now();
+    let r = rollphase(&[&base[..], &["--integrator", "rk4", "--dt", "1e-300"]].concat());
+    fails_with(&r, 1, &["dt = 1e-300", "max_steps = 100000000"]);
+    assert!(start.elapsed().as_secs() < 10, "refused at once");
+    let r = rollphase(&[&base[..], &["--samples", "1000000000"]].concat());
+    fails_with(&r, 1, &["samples = 1000000000", "samples ≤ 10000000"]);
+    assert!(!std::path::Path::new(&csv).exists());
+    let data = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/data/cylinder_lag_times.csv"
+    );
+    let out = dir.to_string_lossy().into_owned();
+    for n in ["0", "1000000000"] {
+        let r = rollphase(&["fit-lag", data, "--bootstrap", n, "--out", &out]);
+        fails_with(
+            &r,
+            1,
+            &[&format!("--bootstrap {n}"), "10 ≤ resamples ≤ 100000"],
+        );
+    }
+    let r = rollphase(&["figure", "disk-flow", "--threads", "10000", "--out", &out]);
+    fails_with(&r, 1, &["--threads 10000", "threads ≤ 1024"]);
+    let r = rollphase(&["--headless", "--frames", "0", "--out", &out]);
+    fails_with(&r, 1, &["--frames 0", "frames ≤ 1000000"]);
+    // An input far larger than any shape or scene file is refused after reading the limit.
+    let big = write(&dir, "big.json", &" ".repeat((1 << 20) + 1));
+    let r = rollphase(&["inspect", &big]);
+    fails_with(
+        &r,
+        1,
+        &["cannot read shape file", "larger than 1048576 bytes"],
+    );
+    let big_scene = write(&dir, "big.toml", &"#".repeat((1 << 20) + 1));
+    let r = rollphase(&["--headless", "--scene", &big_scene, "--out", &out]);
+    fails_with(
+        &r,
+        1,
+        &["cannot read scene file", "larger than 1048576 bytes"],
+    );
+}
+
+#[test]
+fn scene_file_errors_name_the_scene_file_once() {
+    let dir = temp_dir("scene-msg");
+    let missing = dir.join("missing.toml").to_string_lossy().into_owned();
+    let r = rollphase(&[
+        "--headless",
+        "--scene",
+        &missing,
+        "--out",
+        &dir.to_string_lossy(),
+    ]);
+    fails_with(&r, 1, &["cannot read scene file"]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(!err.contains("shape file"), "{err}");
+    assert_eq!(
+        err.matches("os error").count(),
+        1,
+        "the OS error once: {err}"
+    );
+    let bad = write(&dir, "bad.toml", "name = 3\n");
+    let r = rollphase(&[
+        "--headless",
+        "--scene",
+        &bad,
+        "--out",
+        &dir.to_string_lossy(),
+    ]);
+    fails_with(&r, 1, &["TOML parse error"]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(
+        err.matches("TOML parse error").count(),
+        1,
+        "printed once: {err}"
+    );
+}

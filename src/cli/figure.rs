@@ -75,6 +75,13 @@ pub fn run(a: FigureArgs) -> Result<()> {
         body,
         alpha: a.alpha,
     };
+    if let Some(t) = a.threads
+        && !(1..=MAX_THREADS).contains(&t)
+    {
+        bail!(
+            "--threads {t} is not allowed (needs 1 ≤ threads ≤ {MAX_THREADS}; leave it out for all cores)"
+        );
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(a.threads.unwrap_or(0))
         .build()?;
@@ -115,8 +122,22 @@ pub struct FitLagArgs {
     pub seed: u64,
 }
 
+/// Most worker threads a figure may ask for.
+pub const MAX_THREADS: usize = 1024;
+/// Bootstrap resamples allowed: enough for a standard error, few enough to finish in seconds.
+pub const BOOTSTRAP_RANGE: std::ops::RangeInclusive<usize> = 10..=100_000;
+
 /// Runs `fit-lag`.
 pub fn run_fit_lag(a: FitLagArgs) -> Result<()> {
+    if !BOOTSTRAP_RANGE.contains(&a.bootstrap) {
+        bail!(
+            "--bootstrap {} is not allowed (needs {} ≤ resamples ≤ {}: fewer give no meaningful \
+             uncertainty)",
+            a.bootstrap,
+            BOOTSTRAP_RANGE.start(),
+            BOOTSTRAP_RANGE.end()
+        );
+    }
     let s = figures::fit_lag::run(&a.csv, &a.out, a.bootstrap, a.seed)?;
     outln!(
         "fit-lag: {} runs, shared exponent β = {:.4} ± {:.4} (paper: −0.5); wrote {}",

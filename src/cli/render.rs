@@ -9,6 +9,9 @@ use clap::Args;
 use crate::headless;
 use crate::scene::{DEFAULT_PRESET, Scene, SceneSetup, load_scene_file};
 
+/// Most frames one headless run writes.
+pub const MAX_FRAMES: u64 = 1_000_000;
+
 /// Flags of the headless renderer and the app (used when no subcommand is given).
 #[derive(Debug, Args, Default)]
 pub struct RenderArgs {
@@ -63,9 +66,12 @@ pub fn parse_msaa(s: &str) -> Result<u32, String> {
 /// The scene named by --scene or --preset (default preset otherwise), validated.
 pub fn pick_scene(scene: Option<&Path>, preset: Option<&str>) -> Result<SceneSetup> {
     match (scene, preset) {
-        (Some(path), _) => {
-            load_scene_file(path).with_context(|| format!("bad scene file {}", path.display()))
-        }
+        (Some(path), _) => match load_scene_file(path) {
+            Ok(s) => Ok(s),
+            // The message already names the scene file.
+            Err(e @ crate::scene::SceneError::SceneIo { .. }) => Err(e.into()),
+            Err(e) => Err(e).with_context(|| format!("bad scene file {}", path.display())),
+        },
         (None, name) => {
             let name = name.unwrap_or(DEFAULT_PRESET);
             let scene = Scene::preset(name)?;
@@ -78,8 +84,12 @@ pub fn pick_scene(scene: Option<&Path>, preset: Option<&str>) -> Result<SceneSet
 
 /// `--headless`: writes the frames and says where.
 pub fn run_headless(a: &RenderArgs) -> Result<()> {
-    if a.frames == 0 {
-        bail!("--frames 0 renders nothing (needs at least 1)");
+    if !(1..=MAX_FRAMES).contains(&a.frames) {
+        bail!(
+            "--frames {} is not allowed (needs 1 ≤ frames ≤ {MAX_FRAMES}: 0 renders nothing, and \
+             {MAX_FRAMES} is over nine hours of video at 30 frames/s)",
+            a.frames
+        );
     }
     let setup = pick_scene(a.scene.as_deref(), a.preset.as_deref())?;
     let name = setup.scene.name.clone();

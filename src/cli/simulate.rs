@@ -204,7 +204,9 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     }
     let mut file = super::output::OutputFile::create(&a.output, &inputs, "-o")?;
     let out = file.writer();
-    writeln!(out, "{header}")?;
+    // The header goes out with the first row, so a run refused before it starts writes nothing
+    // (also on standard output).
+    let mut header = Some(header);
     let bar = indicatif::ProgressBar::new(a.samples as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} rows, t = {msg} {elapsed}")
@@ -221,7 +223,11 @@ pub fn run(a: SimulateArgs) -> Result<()> {
             .map(|v| v.to_string())
             .collect::<Vec<_>>()
             .join(",");
-        if let Err(e) = writeln!(out, "{line}") {
+        let written = match header.take() {
+            Some(h) => writeln!(out, "{h}\n{line}"),
+            None => writeln!(out, "{line}"),
+        };
+        if let Err(e) = written {
             io_error = Some(e);
         }
         bar.inc(1);

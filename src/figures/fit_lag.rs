@@ -30,8 +30,8 @@ pub struct Summary {
 
 /// Fits `csv` and writes OUT/fit-lag/{data.csv, figure.png, summary.json}.
 pub fn run(csv: &Path, out: &Path, bootstrap: usize, seed: u64) -> Result<Summary> {
-    let text =
-        std::fs::read_to_string(csv).with_context(|| format!("cannot read {}", csv.display()))?;
+    let text = crate::geometry::shape_file::read_text_capped(csv, 64 << 20)
+        .with_context(|| format!("cannot read {}", csv.display()))?;
     let runs = parse_lag_csv(&text).map_err(|e| anyhow!("{}: {e}", csv.display()))?;
     let analysis = analyse(&runs, bootstrap, seed)
         .ok_or_else(|| anyhow!("the fit failed (too few angles in a run?)"))?;

@@ -59,6 +59,28 @@ pub enum ShapeFile {
     },
 }
 
+/// Largest shape or scene file read: both are a few kB, so anything near this is the wrong file.
+pub const MAX_INPUT_FILE_BYTES: u64 = 1 << 20;
+
+/// Reads a text file of at most `limit` bytes; a longer one (or an endless device such as
+/// /dev/zero) is an error saying the limit, after reading only `limit` + 1 bytes.
+pub fn read_text_capped(path: &Path, limit: u64) -> std::io::Result<String> {
+    use std::io::Read;
+    let file = std::fs::File::open(path)?;
+    let mut text = String::new();
+    file.take(limit + 1).read_to_string(&mut text)?;
+    if text.len() as u64 > limit {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::FileTooLarge,
+            format!(
+                "it is larger than {} bytes, the most an input file of this kind may be",
+                limit
+            ),
+        ));
+    }
+    Ok(text)
+}
+
 impl ShapeFile {
     /// Parses JSON text; errors carry serde's line and column.
     pub fn from_json(text: &str) -> Result<Self, serde_json::Error> {
@@ -68,9 +90,11 @@ impl ShapeFile {
     /// Reads, parses and validates the shape file at `path` (ranges and finiteness, not
     /// convexity: see [`Body::check_convex`]).
     pub fn load(path: &Path) -> Result<Body, ShapeLoadError> {
-        let text = std::fs::read_to_string(path).map_err(|reason| ShapeLoadError::Read {
-            path: path.to_owned(),
-            reason,
+        let text = read_text_capped(path, MAX_INPUT_FILE_BYTES).map_err(|reason| {
+            ShapeLoadError::Read {
+                path: path.to_owned(),
+                reason,
+            }
         })?;
         let file = Self::from_json(&text).map_err(|reason| ShapeLoadError::Parse {
             path: path.to_owned(),
