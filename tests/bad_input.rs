@@ -576,3 +576,39 @@ fn scene_file_errors_name_the_scene_file_once() {
         "printed once: {err}"
     );
 }
+
+#[test]
+fn period_never_prints_a_wrong_number_with_exit_zero() {
+    let disk = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/shapes/disk.json");
+    let json = |args: &[&str]| -> serde_json::Value {
+        let r = rollphase(&[&["period", disk, "--json"][..], args].concat());
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let text = String::from_utf8_lossy(&r.stdout).into_owned();
+        for bad in ["inf", "NaN", "-0.0"] {
+            assert!(!text.contains(bad), "{bad} in {text}");
+        }
+        serde_json::from_str(&text).unwrap()
+    };
+    // So heavy that no turn is completed by --t-max: not a halt (no rest point exists at 20 α*),
+    // not a period; the note says why.
+    for mass in ["1e6", "1e300"] {
+        let v = json(&["--alpha", "1.0", "--mass", mass]);
+        assert_eq!(v["period"], serde_json::Value::Null, "{v}");
+        assert_eq!(v["halts"], false, "{v}");
+        assert!(v["note"].as_str().unwrap().contains("--t-max"), "{v}");
+    }
+    // The next double above α*: the integral cannot converge; it does not halt either.
+    let a_star = json(&["--alpha", "0.1"])["alpha_star"].as_f64().unwrap();
+    let next = f64::from_bits(a_star.to_bits() + 1);
+    let v = json(&["--alpha", &format!("{next:e}")]);
+    assert_eq!(v["period"], serde_json::Value::Null, "{v}");
+    assert_eq!(v["halts"], false, "{v}");
+    assert!(
+        v["note"].as_str().unwrap().contains("too close to α*"),
+        "{v}"
+    );
+    // At α* itself it halts, and says so without a note.
+    let v = json(&["--alpha", &format!("{a_star:e}")]);
+    assert_eq!(v["halts"], true, "{v}");
+    assert_eq!(v["note"], serde_json::Value::Null, "{v}");
+}

@@ -54,6 +54,17 @@ pub fn viscous_disk_period(disk: &Disk, ramp: &Ramp) -> PeriodResult {
     // tolerance only spends the budget; 1e-11 is reached everywhere else in ~1e4 evaluations.
     let q = integrate_adaptive(&f, start, start + std::f64::consts::TAU, 1e-11, 200_000);
     let t = q.value;
+    if !(t.is_finite() && t > 0.0 && q.error.is_finite()) {
+        // So close to α* that 1/θ̇ overflows at θ*: no finite period can be computed.
+        return PeriodResult {
+            period: None,
+            mean_angular_speed: 0.0,
+            halts: false,
+            converged: false,
+            relative_error: f64::NAN,
+            t_simulated: 0.0,
+        };
+    }
     PeriodResult {
         period: Some(t),
         mean_angular_speed: std::f64::consts::TAU / t,
@@ -118,21 +129,29 @@ pub fn inertial_disk_period(
             }
         }
     }
-    let resting = st.y()[1].abs() < 1e-8;
+    // At rest only where a rest point exists (α ≤ α*): a very heavy disk above α* also has
+    // θ̇ ≈ 0 for a long time, but it is accelerating, not halted.
+    let can_rest =
+        ramp.alpha_rad <= critical_angle::critical_angle(&Body::Disk(disk.clone())).alpha_star;
+    let resting = st.y()[1].abs() < 1e-8 && can_rest;
     let last_crossing = crossings.last().copied().unwrap_or(0.0);
-    if resting || crossings.is_empty() || (st.t() - last_crossing) > 0.5 * t_max {
-        return Ok(PeriodResult {
-            period: None,
-            mean_angular_speed: 0.0,
-            halts: resting,
-            converged: resting,
-            relative_error: 0.0,
-            t_simulated: st.t(),
-        });
+    let not_measured = PeriodResult {
+        period: None,
+        mean_angular_speed: 0.0,
+        halts: resting,
+        converged: resting,
+        relative_error: f64::NAN,
+        t_simulated: st.t(),
+    };
+    if resting || periods.is_empty() || (st.t() - last_crossing) > 0.5 * t_max {
+        return Ok(not_measured);
     }
     // Still rolling but not yet periodic to 1e-8: report the mean over the second half.
     let half: Vec<f64> = periods.iter().skip(periods.len() / 2).copied().collect();
-    let mean = half.iter().sum::<f64>() / half.len().max(1) as f64;
+    let mean = half.iter().sum::<f64>() / half.len() as f64;
+    if !(mean.is_finite() && mean > 0.0) {
+        return Ok(not_measured);
+    }
     Ok(PeriodResult {
         period: Some(mean),
         mean_angular_speed: std::f64::consts::TAU / mean,

@@ -274,7 +274,7 @@ fn accuracy_bench(a: AccuracyArgs) -> Result<()> {
                 f64::NAN
             };
             bar.suspend(|| {
-                println!(
+                outln!(
                     "{:<16} {:<7} {:>9.0e} {:>11.2e} {:>11.2e} {:>10} {:>10.3} {:>12.3e}{}",
                     row.model,
                     row.integrator,
@@ -289,7 +289,7 @@ fn accuracy_bench(a: AccuracyArgs) -> Result<()> {
                         .map(|f| format!("  FAILED: {f}"))
                         .unwrap_or_default()
                 )
-            });
+            })?;
             let _ = writeln!(
                 csv,
                 "{},{},{:e},{},{},{},{},{}",
@@ -335,11 +335,14 @@ fn accuracy_bench(a: AccuracyArgs) -> Result<()> {
     outln!()?;
     for name in &names {
         match cheapest_below(&rows, name, 1e-3) {
-            Some(r) => println!(
+            Some(r) => outln!(
                 "{name}: cheapest setting with period error < 1e-3: {} {:e} ({} RHS evaluations, period error {:.1e})",
-                r.integrator, r.parameter, r.rhs_evals, r.period_error
-            ),
-            None => println!("{name}: no setting reached period error < 1e-3"),
+                r.integrator,
+                r.parameter,
+                r.rhs_evals,
+                r.period_error
+            )?,
+            None => outln!("{name}: no setting reached period error < 1e-3")?,
         }
     }
     outln!("wrote {}", a.out.display())?;

@@ -123,6 +123,22 @@ pub fn load_body(path: &Path) -> Result<Body> {
     Ok(ShapeFile::load(path)?)
 }
 
+/// A number in short form, like C's %g: 1e300 rather than 309 digits.
+pub fn short(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e6).contains(&v.abs()) {
+        let s = format!("{v:.6e}");
+        // Trim the mantissa's trailing zeros: 1.000000e300 → 1e300.
+        match s.split_once('e') {
+            Some((m, e)) if m.contains('.') => {
+                format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
+            }
+            _ => s,
+        }
+    } else {
+        format!("{v}")
+    }
+}
+
 /// Parses "a,b,c" into exactly `n` finite numbers for flag `flag`.
 pub fn parse_list(text: &str, n: usize, flag: &str, names: &str) -> Result<Vec<f64>> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();

@@ -57,6 +57,8 @@ pub struct PeriodReport {
     pub converged: bool,
     /// disk-viscous or disk-inertial.
     pub model: &'static str,
+    /// Why no period is given when the disk neither rolls periodically nor halts; null otherwise.
+    pub note: Option<String>,
     /// α (rad).
     pub alpha: f64,
     /// α* of the disk (rad).
@@ -97,7 +99,22 @@ pub fn run(a: PeriodArgs) -> Result<()> {
             "disk-inertial",
         )
     };
+    let note = match (p.period, p.halts) {
+        (None, false) if ramp.is_viscous() => Some(format!(
+            "T is not measurable: α − α* = {:.3e} is too close to α* for the period integral to \
+             converge (T grows as (α − α*)^−½)",
+            a.alpha - alpha_star
+        )),
+        (None, false) => Some(format!(
+            "T is not measurable within --t-max {}: no steady period was reached (a heavy disk \
+             accelerates on a time scale ≈ m/m0 = {}); raise --t-max",
+            super::short(a.t_max),
+            super::short(a.mass)
+        )),
+        _ => None,
+    };
     let report = PeriodReport {
+        note: note.clone(),
         period: p.period,
         mean_angular_speed: p.mean_angular_speed,
         halts: p.halts,
@@ -112,20 +129,21 @@ pub fn run(a: PeriodArgs) -> Result<()> {
     } else {
         outln!("{model}, α = {} rad (α* = {:.10})", a.alpha, alpha_star)?;
         match p.period {
-            Some(t) => println!(
+            Some(t) => outln!(
                 "  rolls: T = {t:.12}, 2π/T = {:.12}{}",
                 p.mean_angular_speed,
-                if p.converged {
-                    ""
-                } else {
-                    "  (not converged: periods still changing at t-max)"
+                match (p.converged, ramp.is_viscous()) {
+                    (true, _) => String::new(),
+                    (false, true) => format!(
+                        "  (quadrature error estimate {:.1e} of T: this close to α* rounding in \
+                         1/θ̇ limits the accuracy)",
+                        p.relative_error
+                    ),
+                    (false, false) => "  (not converged: periods still changing at t-max)".into(),
                 }
-            ),
-            None if p.halts => println!("  halts: 2π/T = 0"),
-            None => println!(
-                "  no full revolution within t-max = {}: treat as halting",
-                a.t_max
-            ),
+            )?,
+            None if p.halts => outln!("  halts: 2π/T = 0")?,
+            None => outln!("  {}", note.unwrap_or_default())?,
         }
     }
     Ok(())
