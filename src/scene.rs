@@ -576,6 +576,16 @@ impl InitialSpec {
         };
         match body {
             Body::Disk(_) => {
+                if self.contact.is_some()
+                    || self.q0.is_some()
+                    || self.spin != 0.0
+                    || self.omega != [0.0; 3]
+                {
+                    return Err(invalid(
+                        "initial.contact, q0, spin and omega are for a 3D body, and this scene's \
+                         body is a 2D disk: give initial.theta0 (and theta_dot0) instead",
+                    ));
+                }
                 finite("theta0", &[self.theta0])?;
                 finite("theta_dot0", &[self.theta_dot0])?;
                 Ok(InitialState::Disk {
@@ -584,6 +594,12 @@ impl InitialSpec {
                 })
             }
             Body::Sphere(s) => {
+                if self.theta0 != 0.0 || self.theta_dot0 != 0.0 {
+                    return Err(invalid(
+                        "initial.theta0 and theta_dot0 are for a 2D body, and this scene's body is \
+                         a 3D sphere: give initial.contact = [θ, φ] (and spin) or q0 instead",
+                    ));
+                }
                 finite("spin", &[self.spin])?;
                 finite("omega", &self.omega)?;
                 let q0 = match (self.q0, self.contact) {

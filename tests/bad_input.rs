@@ -612,3 +612,100 @@ fn period_never_prints_a_wrong_number_with_exit_zero() {
     assert_eq!(v["halts"], true, "{v}");
     assert_eq!(v["note"], serde_json::Value::Null, "{v}");
 }
+
+#[test]
+fn options_that_do_not_apply_are_errors_not_ignored() {
+    let dir = temp_dir("not-applying");
+    let disk = write(&dir, "disk.json", DISK);
+    let sphere = write(&dir, "sphere.json", SPHERE);
+    let csv = dir.join("o.csv").to_string_lossy().into_owned();
+    let sim = |body: &str, extra: &[&str]| {
+        rollphase(
+            &[
+                &[
+                    "simulate", body, "--alpha", "0.4", "--t-end", "1", "-o", &csv,
+                ][..],
+                extra,
+            ]
+            .concat(),
+        )
+    };
+    fails_with(
+        &sim(&sphere, &["--omega0", "1,0,0"]),
+        1,
+        &["--omega0 does not apply", "--mass 0"],
+    );
+    fails_with(
+        &sim(&disk, &["--thetadot0", "1"]),
+        1,
+        &["--thetadot0 does not apply", "--mass 0"],
+    );
+    fails_with(
+        &rollphase(&[
+            "export-stl",
+            &sphere,
+            "-o",
+            &dir.join("b.stl").to_string_lossy(),
+            "--length-mm",
+            "9",
+        ]),
+        1,
+        &["--length-mm is for a 2D body"],
+    );
+    fails_with(
+        &rollphase(&[
+            "export-stl",
+            &sphere,
+            "-o",
+            &dir.join("b.stl").to_string_lossy(),
+            "--radius-mm",
+            "1e-300",
+        ]),
+        1,
+        &["--radius-mm 1e-300", "0.001 ≤ radius"],
+    );
+    // A huge angle is reduced modulo 2π with a warning, so θ still advances.
+    let r = sim(
+        &disk,
+        &["--mass", "1", "--theta0", "1e17", "--samples", "3"],
+    );
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("reduced modulo 2π"));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let thetas: Vec<f64> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert!(
+        thetas[0] < std::f64::consts::TAU && thetas[2] > thetas[0],
+        "{thetas:?}"
+    );
+    // Scenes: 3D initial fields on a 2D body and the reverse.
+    let scene = |body: &str, initial: &str| {
+        let file = write(
+            &dir,
+            "s.toml",
+            &format!(
+                "name = \"s\"\n[body]\nperfect = \"{body}\"\n[model]\nalpha_rad = 0.3\n[initial]\n{initial}\n"
+            ),
+        );
+        rollphase(&[
+            "--headless",
+            "--scene",
+            &file,
+            "--out",
+            &dir.to_string_lossy(),
+        ])
+    };
+    fails_with(
+        &scene("disk", "contact = [1.0, 2.0]"),
+        1,
+        &["initial.contact", "2D disk"],
+    );
+    fails_with(
+        &scene("sphere", "theta0 = 1.0"),
+        1,
+        &["initial.theta0", "3D sphere"],
+    );
+}

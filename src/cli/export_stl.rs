@@ -34,15 +34,19 @@ pub struct ExportStlArgs {
 
 /// Runs `export-stl`.
 pub fn run(a: ExportStlArgs) -> Result<()> {
-    if !(a.radius_mm.is_finite() && a.radius_mm > 0.0 && a.radius_mm <= 10_000.0) {
+    // Below a micrometre the vertices, written as 32-bit floats, collapse onto each other.
+    if !(a.radius_mm.is_finite() && (1e-3..=10_000.0).contains(&a.radius_mm)) {
         bail!(
-            "--radius-mm {} is not allowed (needs 0 < radius ≤ 10000 mm)",
-            a.radius_mm
+            "--radius-mm {} is not allowed (needs 0.001 ≤ radius ≤ 10000 mm)",
+            super::short(a.radius_mm)
         );
     }
     let length = a.length_mm.unwrap_or(2.0 * a.radius_mm);
-    if !(length.is_finite() && length > 0.0 && length <= 100_000.0) {
-        bail!("--length-mm {length} is not allowed (needs 0 < length ≤ 100000 mm)");
+    if !(length.is_finite() && (1e-3..=100_000.0).contains(&length)) {
+        bail!(
+            "--length-mm {} is not allowed (needs 0.001 ≤ length ≤ 100000 mm)",
+            super::short(length)
+        );
     }
     if !(1..=8).contains(&a.detail) {
         bail!(
@@ -51,6 +55,12 @@ pub fn run(a: ExportStlArgs) -> Result<()> {
         );
     }
     let body = super::load_body(&a.file)?;
+    if a.length_mm.is_some() && matches!(body, Body::Sphere(_)) {
+        bail!(
+            "--length-mm is for a 2D body's cylinder; {} is a 3D sphere (its size is --radius-mm)",
+            a.file.display()
+        );
+    }
     body.check_convex()
         .with_context(|| format!("{} cannot roll as a rigid body", a.file.display()))?;
     let mesh = match &body {

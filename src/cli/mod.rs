@@ -93,7 +93,8 @@ pub fn run(cli: Cli) -> Result<()> {
             let w = &cli.render.window;
             if w.screenshot_after.is_some() || w.exit_after.is_some() {
                 bail!(
-                    "--screenshot-after and --exit-after are for the window; --headless writes                      every frame as a PNG already (see --frames and --out)"
+                    "--screenshot-after and --exit-after are for the window; --headless writes every frame \
+                     as a PNG already (see --frames and --out)"
                 );
             }
             return render::run_headless(&cli.render);

@@ -116,7 +116,25 @@ pub struct SummaryFile {
     pub mass_ratio: f64,
 }
 
+/// Angles beyond this are reduced modulo 2π (with a warning): at 1e17 an f64 has no digits
+/// left below 2π, so θ could not move.
+const MAX_PLAIN_ANGLE: f64 = 1e6;
+
 fn initial_state(a: &SimulateArgs, body: &Body) -> Result<InitialState> {
+    if a.mass == 0.0 {
+        if a.omega0.is_some() {
+            bail!(
+                "--omega0 does not apply to the viscous model (--mass 0): its angular velocity \
+                 follows from the orientation; give --mass > 0 for an initial spin"
+            );
+        }
+        if a.thetadot0 != 0.0 {
+            bail!(
+                "--thetadot0 does not apply to the viscous model (--mass 0): θ̇ follows from θ; \
+                 give --mass > 0 for an initial angular velocity"
+            );
+        }
+    }
     match body {
         Body::Disk(_) => {
             if a.q0.is_some() || a.contact.is_some() || a.omega0.is_some() {
@@ -125,8 +143,18 @@ fn initial_state(a: &SimulateArgs, body: &Body) -> Result<InitialState> {
                     a.file.display()
                 );
             }
+            let mut theta0 = a.theta0.unwrap_or(0.0);
+            if theta0.is_finite() && theta0.abs() > MAX_PLAIN_ANGLE {
+                let reduced = theta0.rem_euclid(std::f64::consts::TAU);
+                eprintln!(
+                    "warning: --theta0 {} reduced modulo 2π to {reduced} (beyond ±1e6 rad an \
+                     angle has too few digits left to advance)",
+                    super::short(theta0)
+                );
+                theta0 = reduced;
+            }
             Ok(InitialState::Disk {
-                theta0: a.theta0.unwrap_or(0.0),
+                theta0,
                 theta_dot0: a.thetadot0,
             })
         }
@@ -138,11 +166,11 @@ fn initial_state(a: &SimulateArgs, body: &Body) -> Result<InitialState> {
                 );
             }
             let q0 = match (&a.q0, &a.contact) {
-                (Some(q), _) => {
-                    let v = super::parse_list(q, 4, "--q0", "w,x,y,z")?;
+                (Some(text), _) => {
+                    let v = super::parse_list(text, 4, "--q0", "w,x,y,z")?;
                     let q = DQuat::from_xyzw(v[1], v[2], v[3], v[0]);
                     if q.length() < 1e-12 {
-                        bail!("--q0 {q:?} has zero length; give a rotation quaternion w,x,y,z");
+                        bail!("--q0 {text} has zero length; give a rotation quaternion w,x,y,z");
                     }
                     q.normalize()
                 }

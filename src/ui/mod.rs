@@ -545,6 +545,7 @@ impl AppUi {
                 random: Some(self.random),
                 ..BodySpec::default()
             };
+            scene.initial = crate::scene::InitialSpec::default();
             scene.name = format!(
                 "random {}D seed {} σ {}",
                 self.random.dimension, self.random.seed, self.random.sigma
@@ -663,6 +664,8 @@ impl AppUi {
                     inline: Some(body.to_file()),
                     ..BodySpec::default()
                 };
+                // A contact point or angle names a place on the old body; start the new one afresh.
+                scene.initial = crate::scene::InitialSpec::default();
                 scene.name = path
                     .file_stem()
                     .map(|s| s.to_string_lossy().into_owned())
