@@ -645,8 +645,26 @@ impl SceneView {
             ),
             line(mass, 16.0),
             line(format!("t = {:.2}", snap.t), 16.0),
-            line(rate, 16.0),
         ];
+        let worst = snap
+            .health
+            .quat_norm_error
+            .max(snap.health.contact_normal_error);
+        let trustworthy = worst <= crate::simulate::FIXED_STEP_HEALTH_LIMIT;
+        if !self.is_disk && !trustworthy {
+            // The state has left the rolling constraint: its 1/T would be nonsense.
+            items.push(PanelItem::Text {
+                text: format!(
+                    "NOT TRUSTWORTHY: ||q|−1| = {:.1e}, contact error = {:.1e} (limit 1e-3); use a \
+                     smaller step",
+                    snap.health.quat_norm_error, snap.health.contact_normal_error
+                ),
+                size_px: 16.0 * text,
+                color: [255, 70, 60],
+            });
+        } else {
+            items.push(line(rate, 16.0));
+        }
         if !self.is_disk {
             items.push(PanelItem::Text {
                 text: format!(

@@ -709,3 +709,53 @@ fn options_that_do_not_apply_are_errors_not_ignored() {
         &["initial.theta0", "3D sphere"],
     );
 }
+
+#[test]
+fn a_fixed_step_that_leaves_the_constraint_stops_with_dt_and_the_health_figures() {
+    let dir = temp_dir("unhealthy");
+    let sphere = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/shapes/sphere.json");
+    let csv = dir.join("o.csv").to_string_lossy().into_owned();
+    let r = rollphase(&[
+        "simulate",
+        sphere,
+        "--alpha",
+        "0.3",
+        "--t-end",
+        "100",
+        "--integrator",
+        "rk4",
+        "--dt",
+        "20",
+        "-o",
+        &csv,
+    ]);
+    fails_with(
+        &r,
+        1,
+        &[
+            "fixed step dt = 20",
+            "||q| − 1| =",
+            "contact-normal error =",
+            "1e-3",
+        ],
+    );
+    assert!(
+        !std::path::Path::new(&csv).exists(),
+        "no CSV from a run that failed"
+    );
+    let r = rollphase(&[
+        "simulate",
+        sphere,
+        "--alpha",
+        "0.3",
+        "--t-end",
+        "100",
+        "--integrator",
+        "rk4",
+        "--dt",
+        "0.2",
+        "-o",
+        &csv,
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+}

@@ -183,3 +183,34 @@ fn the_same_frame_renders_to_the_same_bytes() {
         differing_pixels(&a, &b)
     );
 }
+
+#[test]
+fn a_run_that_left_the_rolling_constraint_shows_a_red_warning_instead_of_numbers() {
+    // RK4 at dt = 20 on the default body: ||q| − 1| grows far past 1e-3, so the overlay's 1/T
+    // line is replaced by a red "NOT TRUSTWORTHY" line; at dt = 0.2 there is none.
+    let red_text_pixels = |dt: f64| {
+        let toml = format!(
+            "name = \"s\"\n[body]\nshape = \"../shapes/sphere.json\"\n[model]\nalpha_rad = 0.3\n\
+             [integrator]\nmethod = \"rk4\"\ndt = {dt}\n[playback]\nstart_time = 100.0\n"
+        );
+        let mut scene = Scene::from_toml(&toml).unwrap();
+        // Resolve the bundled shape as a preset would.
+        scene.body = Scene::preset("sphere-cruising").unwrap().body;
+        let image = render_scene(scene, &[0], (1280, 720)).remove(0);
+        let mut n = 0;
+        for y in 0..150 {
+            for x in 0..640 {
+                let p = image.get_pixel(x, y);
+                if p[0] > 180 && p[1] < 120 && p[2] < 120 {
+                    n += 1;
+                }
+            }
+        }
+        n
+    };
+    let (good, bad) = (red_text_pixels(0.2), red_text_pixels(20.0));
+    assert!(
+        good == 0 && bad > 100,
+        "red overlay pixels: {good} at dt 0.2, {bad} at dt 20"
+    );
+}

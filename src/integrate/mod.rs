@@ -60,6 +60,15 @@ impl Method {
         let (name, value, ok) = match *self {
             Method::Rk4 { dt } | Method::Cf4 { dt } => ("dt", dt, dt.is_finite() && dt > 0.0),
             Method::Dop853 { rtol, atol } => {
+                // rtol first: the command line defaults atol to rtol, so a bad --rtol must be
+                // reported as itself.
+                if !(1e-15..1.0).contains(&rtol) {
+                    return Err(IntegrateError::BadParameter {
+                        name: "rtol",
+                        value: rtol,
+                        allowed: "1e-15 ≤ rtol < 1",
+                    });
+                }
                 if !(atol.is_finite() && atol > 0.0) {
                     return Err(IntegrateError::BadParameter {
                         name: "atol",
