@@ -466,7 +466,16 @@ impl Scene {
                          α* = 0, so give model.alpha_rad",
                     ));
                 }
-                f * alpha_star
+                let alpha = f * alpha_star;
+                if alpha >= std::f64::consts::FRAC_PI_2 {
+                    return Err(invalid(format!(
+                        "model.alpha_over_critical = {f} is not allowed for this body: it makes \
+                         α = {f} × α* = {alpha:.4} rad, steeper than a vertical wall (needs \
+                         alpha_over_critical < {:.4}, i.e. α < π/2)",
+                        std::f64::consts::FRAC_PI_2 / alpha_star
+                    )));
+                }
+                alpha
             }
             _ => {
                 return Err(invalid(

@@ -759,3 +759,36 @@ fn a_fixed_step_that_leaves_the_constraint_stops_with_dt_and_the_health_figures(
     ]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
 }
+
+#[test]
+fn under_determined_fits_and_out_of_range_scene_angles_are_refused() {
+    let dir = temp_dir("fits");
+    let one = write(
+        &dir,
+        "one.csv",
+        "run_idx,alpha*,alpha,t_lag\n0,0.1,0.2,\"[1.0, 1.1]\"\n",
+    );
+    let r = rollphase(&["fit-lag", &one, "--out", &dir.to_string_lossy()]);
+    fails_with(&r, 1, &["run 0 has 1 distinct angle", "at least 4 angles"]);
+    // α/α* that would tilt the ramp past vertical names the factor, not a radian value.
+    let scene = write(
+        &dir,
+        "s.toml",
+        "name = \"s\"\n[body]\nrandom = { dimension = 3, seed = 1, sigma = 0.25, modes = 5 }\n\
+         [model]\nalpha_over_critical = 100\n",
+    );
+    let r = rollphase(&[
+        "--headless",
+        "--scene",
+        &scene,
+        "--out",
+        &dir.to_string_lossy(),
+    ]);
+    fails_with(
+        &r,
+        1,
+        &["alpha_over_critical = 100", "steeper than a vertical wall"],
+    );
+    let r = rollphase(&["bench", "app", "--speed", "nan"]);
+    fails_with(&r, 1, &["--speed NaN is not allowed"]);
+}

@@ -201,6 +201,10 @@ pub fn analyse(runs: &[LagRun], bootstrap: usize, seed: u64) -> Option<LagAnalys
     })
 }
 
+/// Fewest distinct angles per run: one more than the per-run fit's three unknowns, so the fit
+/// is not interpolation.
+pub const MIN_ANGLES_PER_RUN: usize = 4;
+
 /// Parses the layout of `cylinder_lag_times.csv`: `run_idx,alpha*,alpha,t_lag` with t_lag a
 /// quoted list `"[t1, t2, …]"`. Errors name the line and the field.
 pub fn parse_lag_csv(text: &str) -> Result<Vec<LagRun>, String> {
@@ -274,6 +278,20 @@ pub fn parse_lag_csv(text: &str) -> Result<Vec<LagRun>, String> {
     }
     if runs.is_empty() {
         return Err("no data rows".into());
+    }
+    // Each run's fit has three unknowns (A, β and its own α*): it needs more distinct angles.
+    for r in &runs {
+        let mut alphas: Vec<f64> = r.points.iter().map(|p| p.alpha).collect();
+        alphas.sort_by(f64::total_cmp);
+        alphas.dedup();
+        if alphas.len() < MIN_ANGLES_PER_RUN {
+            return Err(format!(
+                "run {} has {} distinct angle(s); fitting t_lag = A (α − α*)^β with its own α* \
+                 has three unknowns and needs at least {MIN_ANGLES_PER_RUN} angles per run",
+                r.run,
+                alphas.len()
+            ));
+        }
     }
     Ok(runs)
 }

@@ -648,6 +648,16 @@ fn app_bench(a: AppBenchArgs) -> Result<()> {
             a.seconds
         );
     }
+    // Checked here as well as in the simulation thread, so a refused speed stops the bench
+    // instead of timing the preset's speed under a wrong label.
+    if let Some(speed) = a.speed
+        && !(speed.is_finite() && speed > 0.0 && speed <= 10_000.0)
+    {
+        bail!(
+            "--speed {} is not allowed (needs 0 < speed ≤ 10000 time units per second)",
+            super::short(speed)
+        );
+    }
     let setup = super::render::pick_scene(None, Some(&a.preset))?;
     let gpu = crate::render::GpuContext::headless()?;
     let target = OffscreenTarget::new(&gpu.device, a.size);
