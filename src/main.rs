@@ -1,7 +1,8 @@
 //! The `rollphase` binary: parse the command line, run one command, map errors to exit codes
 //! (0 success, 1 a failed command with its reason on standard error, 2 bad usage from clap). A
 //! reader that closes the pipe early (`rollphase … | head`) ends the command quietly with 0, as
-//! Unix tools do; any other failure to write standard output (a full disk) is an error.
+//! Unix tools do; any other failure to write standard output (a full disk) is an error. Ctrl-C
+//! removes the outputs still being written and exits with 130.
 
 use std::io::Write;
 
@@ -9,6 +10,13 @@ use clap::Parser;
 
 fn main() {
     let cli = rollphase::cli::Cli::parse();
+    // Ctrl-C (or a termination signal): remove the outputs still being written, then stop with
+    // the conventional status 130. The destinations are untouched until a command succeeds.
+    let _ = ctrlc::set_handler(|| {
+        rollphase::cli::output::remove_partial_outputs();
+        eprintln!("interrupted; no partial output was left");
+        std::process::exit(130);
+    });
     let result = rollphase::cli::run(cli).and_then(|()| {
         std::io::stdout()
             .flush()

@@ -792,3 +792,38 @@ fn under_determined_fits_and_out_of_range_scene_angles_are_refused() {
     let r = rollphase(&["bench", "app", "--speed", "nan"]);
     fails_with(&r, 1, &["--speed NaN is not allowed"]);
 }
+
+#[test]
+fn ctrl_c_leaves_no_partial_output() {
+    let dir = temp_dir("interrupt");
+    let sphere = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/shapes/sphere.json");
+    let csv = dir.join("long.csv");
+    let child = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        .args([
+            "simulate", sphere, "--alpha", "0.3", "--t-end", "1e7", "--rtol", "1e-12", "-o",
+        ])
+        .arg(&csv)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until the run is under way (its staged file exists), then interrupt it.
+    let started = std::time::Instant::now();
+    while std::fs::read_dir(&dir).unwrap().next().is_none() {
+        assert!(started.elapsed().as_secs() < 30, "the run never started");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+}

@@ -20,6 +20,25 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 
+/// The temporary files being written now, removed by [`remove_partial_outputs`] when the user
+/// interrupts the command (Ctrl-C), so an interrupted run leaves nothing behind.
+static PARTIAL_OUTPUTS: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// Removes every output still being written (called from the Ctrl-C handler in `main.rs`).
+pub fn remove_partial_outputs() {
+    let files = PARTIAL_OUTPUTS.lock().unwrap_or_else(|e| e.into_inner());
+    for f in files.iter() {
+        let _ = std::fs::remove_file(f);
+    }
+}
+
+fn forget_partial(temp: &Path) {
+    PARTIAL_OUTPUTS
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .retain(|p| p != temp);
+}
+
 /// Where an output goes, open for writing.
 pub struct OutputFile {
     target: Target,
@@ -78,6 +97,10 @@ impl OutputFile {
                     .unwrap_or_else(|| "output".into());
                 let temp =
                     destination.with_file_name(format!(".{name}.partial-{}", std::process::id()));
+                PARTIAL_OUTPUTS
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .push(temp.clone());
                 let file = File::create(&temp).with_context(|| {
                     format!(
                         "{flag}: cannot create {} (beside {})",
@@ -123,6 +146,7 @@ impl OutputFile {
                 std::fs::rename(&temp, &destination)
             };
             let _ = std::fs::remove_file(&temp);
+            forget_partial(&temp);
             moved.with_context(|| format!("cannot write {}", destination.display()))?;
         }
         Ok(())
@@ -136,6 +160,7 @@ impl Drop for OutputFile {
     fn drop(&mut self) {
         if let Target::Staged { temp, .. } = &self.target {
             let _ = std::fs::remove_file(temp);
+            forget_partial(temp);
         }
     }
 }
