@@ -266,7 +266,21 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         Ok(s) => s,
         Err(e) => {
             file.abort();
-            return Err(e).context("simulation failed; no CSV was written");
+            let settings = match method {
+                Method::Dop853 { rtol, atol } => format!(
+                    "dop853 --rtol {} --atol {}",
+                    super::short(rtol),
+                    super::short(atol)
+                ),
+                Method::Rk4 { dt } | Method::Cf4 { dt } => {
+                    format!("{} --dt {}", method.name(), super::short(dt))
+                }
+            };
+            return Err(e).context(format!(
+                "simulation failed with --alpha {} --mass {} and {settings}; no CSV was written",
+                super::short(a.alpha),
+                super::short(a.mass)
+            ));
         }
     };
     if let Some(e) = io_error {
