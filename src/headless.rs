@@ -39,6 +39,9 @@ pub struct HeadlessRenderer {
     options: ViewOptions,
 }
 
+/// A scene start time beyond this is simulated in slices with a progress bar.
+const LONG_START_TIME: f64 = 1000.0;
+
 /// Checks a frame size.
 pub fn check_size(size: (u32, u32)) -> Result<()> {
     let (w, h) = size;
@@ -88,6 +91,13 @@ impl HeadlessRenderer {
     /// The adapter in use, e.g. "llvmpipe (LLVM 15.0.6, 256 bits) (Gl, Cpu)".
     pub fn adapter(&self) -> String {
         self.gpu.describe()
+    }
+
+    /// Simulates up to time `t` without drawing (e.g. the scene's start time, in slices).
+    pub fn advance_to(&mut self, t: f64) -> Result<()> {
+        self.sim
+            .advance_to(t)
+            .with_context(|| format!("simulating to t = {t}"))
     }
 
     /// The simulation (to inspect its snapshot).
@@ -225,6 +235,20 @@ pub fn write_frames(
         indicatif::ProgressStyle::with_template("{msg} {bar:40} {pos}/{len} {elapsed}/{eta}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
+    // The scene's start_time is simulated before frame 0; a long one (start_time = 1e6) shows
+    // its progress in 100 slices instead of a silent wait. Short ones (every preset) run in one
+    // piece, so their frames are exactly those of the app and the tests.
+    let start = hr.simulation().setup().scene.playback.frame_time(0);
+    if start > LONG_START_TIME {
+        bar.set_length(100);
+        bar.set_message(format!("simulating to t = {start}"));
+        for i in 1..=100u64 {
+            hr.advance_to(start * i as f64 / 100.0)?;
+            bar.set_position(i);
+        }
+        bar.set_length(frames);
+        bar.set_position(0);
+    }
     bar.set_message("rendering");
     let writer = PngWriter::new(2);
     for k in 0..frames {
