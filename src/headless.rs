@@ -7,20 +7,20 @@
 //! on every run, whatever the machine's load. PNG encoding runs on a writer thread, off the
 //! render loop.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
-use std::sync::mpsc;
-use std::thread::JoinHandle;
 
 use anyhow::{Context, Result, anyhow, bail};
 use image::RgbaImage;
 
 use crate::analysis::sphere_orbits::FieldArrow;
+use crate::png::{PngWriter, frame_name};
 use crate::render::gpu::OffscreenTarget;
 use crate::render::{GpuContext, Renderer};
 use crate::scene::SceneSetup;
+use crate::sim::FieldCache;
 use crate::sim::Simulation;
-use crate::view::{FieldCache, SceneView, ViewOptions};
+use crate::view::{SceneView, ViewOptions};
 
 /// Largest frame side accepted (wgpu's default 2D texture limit is 8192).
 pub const MAX_SIDE: u32 = 8192;
@@ -135,66 +135,6 @@ impl HeadlessRenderer {
         let (w, h) = self.target.size;
         RgbaImage::from_raw(w, h, pixels).ok_or_else(|| anyhow!("readback returned a short buffer"))
     }
-}
-
-/// A pool of PNG writer threads fed through a bounded channel, so encoding overlaps rendering.
-pub struct PngWriter {
-    sender: Option<mpsc::SyncSender<(PathBuf, RgbaImage)>>,
-    workers: Vec<JoinHandle<Result<()>>>,
-}
-
-impl PngWriter {
-    /// `threads` writers (at least 1).
-    pub fn new(threads: usize) -> Self {
-        let (sender, receiver) = mpsc::sync_channel::<(PathBuf, RgbaImage)>(4);
-        let receiver = Arc::new(std::sync::Mutex::new(receiver));
-        let workers = (0..threads.max(1))
-            .map(|_| {
-                let rx = receiver.clone();
-                std::thread::spawn(move || -> Result<()> {
-                    loop {
-                        let job = match rx.lock() {
-                            Ok(guard) => guard.recv(),
-                            Err(_) => return Err(anyhow!("PNG writer queue poisoned")),
-                        };
-                        let Ok((path, image)) = job else {
-                            return Ok(());
-                        };
-                        image
-                            .save_with_format(&path, image::ImageFormat::Png)
-                            .with_context(|| format!("cannot write {}", path.display()))?;
-                    }
-                })
-            })
-            .collect();
-        Self {
-            sender: Some(sender),
-            workers,
-        }
-    }
-
-    /// Queues one image (blocks while the queue is full).
-    pub fn write(&self, path: PathBuf, image: RgbaImage) -> Result<()> {
-        self.sender
-            .as_ref()
-            .ok_or_else(|| anyhow!("writer closed"))?
-            .send((path, image))
-            .map_err(|_| anyhow!("a PNG writer stopped early (see the error that follows)"))
-    }
-
-    /// Waits for every queued image to be written; the first error wins.
-    pub fn close(mut self) -> Result<()> {
-        self.sender = None;
-        for w in self.workers.drain(..) {
-            w.join().map_err(|_| anyhow!("a PNG writer panicked"))??;
-        }
-        Ok(())
-    }
-}
-
-/// The file name of frame `k`.
-pub fn frame_name(k: u64) -> String {
-    format!("frame_{k:05}.png")
 }
 
 /// What a headless run did.

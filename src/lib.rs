@@ -5,7 +5,10 @@
 //!
 //! | module | owns |
 //! |---|---|
+//! | [`assets`] | the bundled shapes, preset scenes and font, each included once |
+//! | [`colormap`] | the colour maps shared by charts, views and the overlay |
 //! | [`geometry`] | bodies r(θ), r(u): exact derivatives, curvature, support points, shape files, generators (ours, and the paper authors' numpy bodies bit for bit) |
+//! | [`numeric`] | quadrature, golden-section search, root finding, marching squares, eigenvalues (nalgebra) |
 //! | [`dynamics`] | the four rolling models (2D/3D, viscous/inertial) as ODE systems |
 //! | [`integrate`] | RK4, DOP853 with dense output, the Lie-group CF4 step, event location |
 //! | [`analysis`] | critical angle α*, 2D periods, accuracy tables, orbits through ∂Ω, return maps and their Floquet multipliers |
@@ -17,6 +20,7 @@
 //! | [`headless`] | offscreen frames to PNG through the same renderer |
 //! | [`ui`] | the app's egui panels, plots and painter, and the windowless app core |
 //! | [`app`] | the winit window around the app core (the only module that knows winit) |
+//! | [`png`] | PNG frames out on writer threads (headless frames, the app's recording) |
 //! | [`plot`] | PNG charts for the command line (not used by the core) |
 //! | [`figures`] | the paper's figures (and `sphere-bifurcation`) as data.csv, figure.png, summary.json |
 //! | [`cli`] | the command line (one file per subcommand) |
@@ -25,17 +29,26 @@
 //! numbers on every run.
 
 pub mod analysis;
+#[cfg(feature = "app")]
 pub mod app;
+pub mod assets;
 pub mod cli;
+pub mod colormap;
 pub mod dynamics;
 pub mod figures;
 pub mod geometry;
+#[cfg(feature = "render")]
 pub mod headless;
 pub mod integrate;
+pub mod numeric;
 pub mod plot;
+pub mod png;
+#[cfg(feature = "render")]
 pub mod render;
 pub mod scene;
 pub mod sim;
 pub mod simulate;
+#[cfg(feature = "app")]
 pub mod ui;
+#[cfg(feature = "render")]
 pub mod view;

@@ -38,7 +38,7 @@ impl SeriesLabelPosition {
     }
 }
 
-static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
+static FONT: &[u8] = crate::assets::FONT;
 static REGISTER: Once = Once::new();
 
 fn register_font() {
@@ -74,27 +74,6 @@ pub enum Style {
     Arrows,
     /// Consecutive point pairs as plain segments (contours).
     Segments,
-}
-
-/// Viridis-like colour for t ∈ [0, 1] (dark blue → green → yellow).
-pub fn colormap(t: f64) -> (u8, u8, u8) {
-    const STOPS: [(f64, f64, f64); 5] = [
-        (68.0, 1.0, 84.0),
-        (59.0, 82.0, 139.0),
-        (33.0, 145.0, 140.0),
-        (94.0, 201.0, 98.0),
-        (253.0, 231.0, 37.0),
-    ];
-    let t = if t.is_finite() {
-        t.clamp(0.0, 1.0)
-    } else {
-        0.0
-    } * 4.0;
-    let i = (t.floor() as usize).min(3);
-    let f = t - i as f64;
-    let (a, b) = (STOPS[i], STOPS[i + 1]);
-    let mix = |x: f64, y: f64| (x + (y - x) * f).round() as u8;
-    (mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
 /// One panel.

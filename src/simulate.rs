@@ -119,6 +119,34 @@ pub enum RunError {
         /// Worst contact-normal error so far (3D).
         contact_normal_error: Option<f64>,
     },
+    /// A fixed step longer than the stability limit of the inertial model's drag relaxation.
+    #[error(
+        "{method} with dt = {dt} is unstable for m/m0 = {mass_ratio}: the drag relaxation time is \
+         {tau:.3e}, so dt must be ≤ {dt_max:.3e}; use a smaller step, the adaptive dop853, or \
+         m/m0 = 0 for the viscous limit"
+    )]
+    UnstableStep {
+        /// The integrator ("rk4" or "cf4").
+        method: &'static str,
+        /// The step asked for.
+        dt: f64,
+        /// m/m0.
+        mass_ratio: f64,
+        /// The shortest drag relaxation time m(I/m + r_min²)/γ.
+        tau: f64,
+        /// The largest stable step, 2.5 τ.
+        dt_max: f64,
+    },
+    /// An initial state of the other dimension (an angle for a sphere, an orientation for a disk).
+    #[error("{body} starts from {wanted}, and the initial state given is {given}")]
+    InitialStateDoesNotFit {
+        /// "a 2D disk" or "a 3D sphere".
+        body: &'static str,
+        /// What it starts from.
+        wanted: &'static str,
+        /// What was given.
+        given: &'static str,
+    },
     /// A sampled value was not finite.
     #[error(
         "the run produced a non-finite value at t = {t} in column {column}; nothing after it is trustworthy"
@@ -172,12 +200,13 @@ pub fn choose_model(body: &Body, ramp: Ramp, method: Method) -> Result<ModelChoi
             };
             let tau = m * (inertia_factor + r_min * r_min) / ramp.drag;
             if dt > 2.5 * tau {
-                return Err(RunError::Mismatch(format!(
-                    "{} with dt = {dt} is unstable for m/m0 = {m}: the drag relaxation time is {tau:.3e}, \
-                     so dt must be ≤ {:.3e}; lower --dt, use --integrator dop853, or --mass 0 for the viscous limit",
-                    method.name(),
-                    2.5 * tau
-                )));
+                return Err(RunError::UnstableStep {
+                    method: method.name(),
+                    dt,
+                    mass_ratio: m,
+                    tau,
+                    dt_max: 2.5 * tau,
+                });
             }
             Ok(ModelChoice { ramp, note: None })
         }
@@ -254,12 +283,16 @@ pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<S
                 ..sm
             })
         }
-        (Body::Disk(_), _) => Err(RunError::Mismatch(
-            "this is a 2D disk: give --theta0 (and --thetadot0), not a 3D orientation".into(),
-        )),
-        (Body::Sphere(_), _) => Err(RunError::Mismatch(
-            "this is a 3D sphere: give --q0 or --contact, not a 2D contact angle".into(),
-        )),
+        (Body::Disk(_), _) => Err(RunError::InitialStateDoesNotFit {
+            body: "a 2D disk",
+            wanted: "an angle θ0 (and θ̇0)",
+            given: "a 3D orientation",
+        }),
+        (Body::Sphere(_), _) => Err(RunError::InitialStateDoesNotFit {
+            body: "a 3D sphere",
+            wanted: "an orientation q0 (and ω0)",
+            given: "a 2D angle",
+        }),
     }
 }
 

@@ -3,6 +3,7 @@
 //! the speed); the painted frame shows the controls panel and the curvature-coloured body; the
 //! plot history accumulates 1/T against α separately for sweeps up and down, a halted body
 //! counting as 0.
+#![cfg(feature = "app")]
 
 use std::time::{Duration, Instant};
 

@@ -2,6 +2,7 @@
 //! line suggesting `--headless`. Under Xvfb (CI installs it), the window opens on llvmpipe, runs
 //! for a few seconds, and its screenshot shows the curvature-coloured body and the controls
 //! panel; on exit it prints its frame-time summary.
+#![cfg(feature = "app")]
 
 use std::path::PathBuf;
 use std::process::{Command, Output};

@@ -7,10 +7,10 @@ mod common;
 
 use glam::DVec3;
 use proptest::prelude::*;
-use rollphase::analysis::quadrature::gauss_legendre;
 use rollphase::dynamics::Ramp;
 use rollphase::geometry::{Body, ShapeFile, random_disk, random_sphere};
 use rollphase::integrate::Method;
+use rollphase::numeric::quadrature::gauss_legendre;
 use rollphase::simulate::InitialState;
 use std::f64::consts::{PI, TAU};
 

@@ -10,6 +10,7 @@
 //!
 //! Also: the body is coloured by curvature (not uniformly), consecutive frames differ while the
 //! body rolls, the SO(3) trajectory is drawn, and the same frame renders to the same bytes.
+#![cfg(feature = "render")]
 
 use std::path::PathBuf;
 use std::sync::Mutex;

@@ -3,7 +3,9 @@
 //! within its documented bound, and the bound is not vacuous (within 20× of what is measured).
 
 use rollphase::analysis::accuracy::{self, REFERENCE};
-use rollphase::cli::bench::{BUNDLED_DISK, BUNDLED_DISK_INERTIAL, BUNDLED_SPHERE};
+use rollphase::assets::{
+    DISK as BUNDLED_DISK, DISK_INERTIAL as BUNDLED_DISK_INERTIAL, SPHERE as BUNDLED_SPHERE,
+};
 use rollphase::geometry::{Body, ShapeFile};
 use rollphase::integrate::Preset;
 

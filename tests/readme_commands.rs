@@ -4,10 +4,11 @@
 
 use std::process::Command;
 
+#[cfg(feature = "render")]
 #[test]
 fn readme_quick_start_renders_sixty_frames() {
     let readme = include_str!("../README.md");
-    let command = "cargo run --release -- --headless --frames 60 --out frames";
+    let command = "cargo run -- --headless --frames 60 --out frames";
     assert!(
         readme.contains(command),
         "the README's quick start changed; update this test"

@@ -1,6 +1,7 @@
 //! The rendering command line as a user meets it: `--headless` writes numbered PNG frames of
 //! the asked size; `scenes` lists every preset; `export-stl` writes a watertight mesh of the
 //! right size; bad input exits non-zero with one line naming the value and what is allowed.
+#![cfg(feature = "render")]
 
 use std::collections::HashMap;
 use std::path::PathBuf;

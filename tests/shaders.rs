@@ -1,6 +1,7 @@
 //! Every WGSL shader parses and validates with naga (the compiler wgpu uses), so a broken
 //! shader fails `cargo test` on a machine without a GPU; and every file in `shaders/` is one the
 //! renderer loads.
+#![cfg(feature = "render")]
 
 use naga::valid::{Capabilities, ValidationFlags, Validator};
 use rollphase::render::SHADERS;

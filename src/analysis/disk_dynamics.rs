@@ -162,7 +162,7 @@ pub fn fixed_points(disk: &Disk, alpha: f64) -> Vec<FixedPoint> {
         let (a, b) = (i as f64 * h, (i + 1) as f64 * h);
         let (fa, fb) = (drive(a), drive(b));
         if (fa < 0.0 && fb >= 0.0) || (fa > 0.0 && fb <= 0.0) {
-            let t = events::brent(drive, a, b, fa, fb, 1e-14);
+            let t = crate::numeric::roots::brent(drive, a, b, fa, fb, 1e-14);
             out.push(FixedPoint {
                 theta: t.rem_euclid(std::f64::consts::TAU),
                 stable: fa > 0.0,

@@ -76,7 +76,7 @@ fn fit_at(points: &[(f64, f64)], alpha_star: f64, beta: Option<f64>) -> Option<(
 
 /// Golden-section minimisation of f on [a, b] to an interval of `tol`.
 fn golden_min(f: impl Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
-    crate::geometry::golden_max(&|x| -f(x), a, b, tol)
+    crate::numeric::optimize::golden_max(&|x| -f(x), a, b, tol)
 }
 
 /// Fits one run's α*, β, A (β fixed if given). α* is searched in (α_min − 0.15, α_min).

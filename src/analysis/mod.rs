@@ -1,6 +1,6 @@
 //! What is computed from bodies and trajectories: the critical angle α* and its maximiser,
 //! 2D periods (by quadrature in the viscous model, by simulation with event location in the
-//! inertial one), the quadrature they use, and return maps with their multipliers (nalgebra).
+//! inertial one), and return maps with their multipliers (nalgebra).
 //! Pure math: no GPU or UI imports.
 
 pub mod accuracy;
@@ -9,7 +9,6 @@ pub mod disk_dynamics;
 pub mod fit;
 pub mod lag_fit;
 pub mod period;
-pub mod quadrature;
 pub mod return_map;
 pub mod sphere_orbits;
 pub mod sphere_return_map;

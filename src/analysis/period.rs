@@ -12,10 +12,10 @@
 use serde::Serialize;
 
 use super::critical_angle;
-use super::quadrature::integrate_adaptive;
 use crate::dynamics::{DiskInertial, DiskViscous, Ramp};
 use crate::geometry::{Body, Disk};
 use crate::integrate::{self, IntegrateError, Method, events};
+use crate::numeric::quadrature::integrate_adaptive;
 
 /// The period of a rolling disk, or that it halts.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

@@ -12,6 +12,7 @@
 //! bisection on μ_min + 1, the most negative real multiplier plus one. Pure math: imports
 //! nalgebra and thiserror only.
 
+use crate::numeric::linalg::eigenvalues;
 use nalgebra::{Complex, DMatrix, DVector};
 use thiserror::Error;
 
@@ -73,13 +74,6 @@ pub fn jacobian(
         j.set_column(c, &((fp - fm) / (2.0 * h)));
     }
     Ok(j)
-}
-
-/// Eigenvalues of a square matrix, largest modulus first.
-pub fn eigenvalues(m: &DMatrix<f64>) -> Vec<Complex<f64>> {
-    let mut e: Vec<Complex<f64>> = m.complex_eigenvalues().iter().copied().collect();
-    e.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
-    e
 }
 
 /// The most negative real eigenvalue (imaginary part below 1e-9 of the modulus), if any is < 0.

@@ -6,7 +6,6 @@ use std::path::{Path, PathBuf};
 use anyhow::{Result, bail};
 use clap::Args;
 
-use crate::app::{AppOptions, run as run_app};
 use crate::cli::render::pick_scene;
 
 /// Flags for running the window unattended (tests, benchmarks).
@@ -58,12 +57,20 @@ pub fn run_window(scene: Option<&Path>, preset: Option<&str>, flags: &WindowFlag
         .map(|s| check_seconds("--exit-after", s))
         .transpose()?;
     let setup = pick_scene(scene, preset)?;
-    run_app(AppOptions {
-        setup,
-        base: scene.and_then(Path::parent).map(Path::to_path_buf),
-        screenshot_after,
-        exit_after,
-    })
+    #[cfg(feature = "app")]
+    {
+        crate::app::run(crate::app::AppOptions {
+            setup,
+            base: scene.and_then(Path::parent).map(Path::to_path_buf),
+            screenshot_after,
+            exit_after,
+        })
+    }
+    #[cfg(not(feature = "app"))]
+    {
+        let _ = (setup, screenshot_after, exit_after);
+        Err(super::missing_feature("app", "the interactive window"))
+    }
 }
 
 fn check_seconds(flag: &str, s: f64) -> Result<f64> {

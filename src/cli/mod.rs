@@ -119,6 +119,15 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
+/// The error for a command that needs a Cargo feature this build was made without.
+#[cfg(not(all(feature = "render", feature = "app")))]
+pub fn missing_feature(feature: &str, what: &str) -> anyhow::Error {
+    anyhow::anyhow!(
+        "{what} needs the `{feature}` feature, and this rollphase was built without it \
+         (--no-default-features); rebuild with `cargo build --features {feature}` or the default features"
+    )
+}
+
 /// Reads, parses and validates a shape file; errors name the file and, for JSON, line and column.
 pub fn load_body(path: &Path) -> Result<Body> {
     Ok(ShapeFile::load(path)?)

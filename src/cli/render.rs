@@ -6,7 +6,6 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 
-use crate::headless;
 use crate::scene::{DEFAULT_PRESET, Scene, SceneSetup, load_scene_file};
 
 /// Most frames one headless run writes.
@@ -48,7 +47,8 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(err)?;
     let w: u32 = w.trim().parse().map_err(|_| err())?;
     let h: u32 = h.trim().parse().map_err(|_| err())?;
-    headless::check_size((w, h)).map_err(|e| e.to_string())?;
+    #[cfg(feature = "render")]
+    crate::headless::check_size((w, h)).map_err(|e| e.to_string())?;
     Ok((w, h))
 }
 
@@ -92,8 +92,19 @@ pub fn run_headless(a: &RenderArgs) -> Result<()> {
         );
     }
     let setup = pick_scene(a.scene.as_deref(), a.preset.as_deref())?;
+    #[cfg(not(feature = "render"))]
+    {
+        let _ = setup;
+        Err(super::missing_feature("render", "--headless"))
+    }
+    #[cfg(feature = "render")]
+    write_headless(a, setup)
+}
+
+#[cfg(feature = "render")]
+fn write_headless(a: &RenderArgs, setup: SceneSetup) -> Result<()> {
     let name = setup.scene.name.clone();
-    let report = headless::write_frames(setup, a.frames, a.size, a.msaa, &a.out, true)?;
+    let report = crate::headless::write_frames(setup, a.frames, a.size, a.msaa, &a.out, true)?;
     if let Some(note) = &report.model_note {
         eprintln!("note: {note}");
     }

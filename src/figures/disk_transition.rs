@@ -18,9 +18,10 @@ use serde::Serialize;
 use super::{FigureOptions, par_map, progress, write_csv, write_summary};
 use crate::analysis::fit::{logspace, power_law};
 use crate::analysis::{critical_angle, viscous_disk_period};
+use crate::colormap::viridis;
 use crate::dynamics::Ramp;
 use crate::geometry::{Body, Disk};
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, colormap, render_png};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
 
 /// Per-disk results.
 #[derive(Debug, Clone, Serialize)]
@@ -209,7 +210,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
                 .filter(|r| r[0] == i as f64)
                 .map(|r| (r[2], r[3]))
                 .collect(),
-            color: colormap(t.alpha_star / a_max),
+            color: viridis(t.alpha_star / a_max),
             style: Style::Line,
         })
         .collect();
@@ -233,7 +234,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
                 String::new()
             },
             points: pts,
-            color: colormap(t.alpha_star / a_max),
+            color: viridis(t.alpha_star / a_max),
             style: Style::Line,
         });
     }

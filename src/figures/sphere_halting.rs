@@ -26,6 +26,7 @@ use crate::dynamics::{Ramp, SphereViscous};
 use crate::geometry::sphere::{angles, direction};
 use crate::geometry::{Body, Sphere};
 use crate::integrate::{self, Method};
+use crate::numeric::contour::level_set;
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
 
 /// Per-α result.
@@ -85,9 +86,7 @@ fn jacobian(model: &SphereViscous, q: DQuat) -> DMat3 {
 /// Real parts of the eigenvalues of a 3×3 matrix (nalgebra's Schur decomposition).
 pub fn eigen_real_parts(m: DMat3) -> [f64; 3] {
     let cols = m.to_cols_array();
-    let e = crate::analysis::return_map::eigenvalues(&nalgebra::DMatrix::from_column_slice(
-        3, 3, &cols,
-    ));
+    let e = crate::numeric::linalg::eigenvalues(&nalgebra::DMatrix::from_column_slice(3, 3, &cols));
     [e[0].re, e[1].re, e[2].re]
 }
 
@@ -96,44 +95,6 @@ fn is_stable(j: DMat3) -> bool {
     let mut e = eigen_real_parts(j);
     e.sort_by(|x, y| x.abs().total_cmp(&y.abs()));
     e[1] < 0.0 && e[2] < 0.0
-}
-
-/// Marching squares on Q − level over a (θ, φ) grid: segments in (φ, θ).
-fn level_set(
-    q: &[Vec<f64>],
-    thetas: &[f64],
-    phis: &[f64],
-    level: f64,
-) -> Vec<((f64, f64), (f64, f64))> {
-    let mut out = Vec::new();
-    let interp = |(t0, p0, v0): (f64, f64, f64), (t1, p1, v1): (f64, f64, f64)| {
-        let s = (level - v0) / (v1 - v0);
-        (p0 + s * (p1 - p0), t0 + s * (t1 - t0))
-    };
-    for i in 0..thetas.len() - 1 {
-        for j in 0..phis.len() - 1 {
-            let corners = [
-                (thetas[i], phis[j], q[i][j]),
-                (thetas[i], phis[j + 1], q[i][j + 1]),
-                (thetas[i + 1], phis[j + 1], q[i + 1][j + 1]),
-                (thetas[i + 1], phis[j], q[i + 1][j]),
-            ];
-            let mut pts = Vec::new();
-            for k in 0..4 {
-                let (a, b) = (corners[k], corners[(k + 1) % 4]);
-                if (a.2 - level) * (b.2 - level) < 0.0 {
-                    pts.push(interp(a, b));
-                }
-            }
-            if pts.len() == 2 {
-                out.push((pts[0], pts[1]));
-            } else if pts.len() == 4 {
-                out.push((pts[0], pts[1]));
-                out.push((pts[2], pts[3]));
-            }
-        }
-    }
-    out
 }
 
 /// Whether a viscous run from `q`, a small rotation away from the rest orientation `rest`, stays

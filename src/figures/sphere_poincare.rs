@@ -19,10 +19,11 @@ use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{
     boundary_distance, cluster_antipodal, poincare_field, poincare_step,
 };
+use crate::colormap::viridis;
 use crate::dynamics::Ramp;
 use crate::geometry::Body;
 use crate::geometry::sphere::{angles, fibonacci_sphere};
-use crate::plot::{Panel, Series, SeriesLabelPosition, Style, colormap, render_png};
+use crate::plot::{Panel, Series, SeriesLabelPosition, Style, render_png};
 
 /// An attractor of the map.
 #[derive(Debug, Clone, Serialize)]
@@ -211,7 +212,7 @@ fn plot(
             .map(|(b, pts)| Series {
                 label: format!("|V| ≈ {:.2}", (b as f64 + 0.5) / bins as f64 * vmax),
                 points: pts,
-                color: colormap(b as f64 / (bins - 1) as f64),
+                color: viridis(b as f64 / (bins - 1) as f64),
                 style: Style::Arrows,
             })
             .collect()

@@ -12,12 +12,13 @@ use serde::Serialize;
 
 use super::{FigureOptions, write_csv, write_summary};
 use crate::analysis::sphere_orbits::ball_point;
+use crate::colormap::viridis;
 use crate::dynamics::sphere3d::orientation_touching;
 use crate::dynamics::{Ramp, SphereViscous};
 use crate::geometry::Sphere;
 use crate::geometry::sphere::direction;
 use crate::integrate::{self, Method};
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, colormap, render_png};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
 
 /// Headline numbers.
 #[derive(Debug, Serialize)]
@@ -146,7 +147,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
                 .map(|(j, pc)| Series {
                     label: String::new(),
                     points: pc.iter().map(|p| proj(*p)).collect(),
-                    color: colormap(*j as f64 / n as f64),
+                    color: viridis(*j as f64 / n as f64),
                     style: Style::Line,
                 })
                 .collect();

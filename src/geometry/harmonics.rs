@@ -304,7 +304,7 @@ mod tests {
     fn orthonormal_on_the_sphere() {
         // Gauss–Legendre in cos θ × uniform in φ integrates these polynomials exactly.
         let n = 24;
-        let (nodes, weights) = crate::analysis::quadrature::gauss_legendre(n);
+        let (nodes, weights) = crate::numeric::quadrature::gauss_legendre(n);
         let pairs = [
             ((2, 1), (2, 1)),
             ((3, -2), (3, -2)),

@@ -12,6 +12,7 @@ pub mod sphere;
 
 use std::f64::consts::TAU;
 
+use crate::numeric::optimize::golden_max;
 use glam::DVec3;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -311,29 +312,6 @@ pub fn refine_1d(f: impl Fn(f64) -> f64, n: usize) -> (f64, f64) {
     } else {
         (best_i as f64 * h, best)
     }
-}
-
-/// Golden-section search for the maximiser of a unimodal f on [a, b], to an interval of `tol`.
-pub fn golden_max(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> f64 {
-    let g = (5f64.sqrt() - 1.0) / 2.0;
-    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
-    let (mut fc, mut fd) = (f(c), f(d));
-    while (b - a).abs() > tol {
-        if fc > fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - g * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + g * (b - a);
-            fd = f(d);
-        }
-    }
-    0.5 * (a + b)
 }
 
 /// Maximises a smooth f on the unit sphere: the best grid point and the best few local maxima

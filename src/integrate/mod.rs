@@ -104,6 +104,17 @@ impl Method {
     }
 }
 
+/// "DOP853 rtol 1e-8", "RK4 dt 0.01": how the app, the overlay and the benchmarks name a setting.
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Method::Dop853 { rtol, .. } => write!(f, "DOP853 rtol {rtol:.0e}"),
+            Method::Rk4 { dt } => write!(f, "RK4 dt {dt}"),
+            Method::Cf4 { dt } => write!(f, "CF4 dt {dt}"),
+        }
+    }
+}
+
 /// What went wrong while integrating, and where.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum IntegrateError {

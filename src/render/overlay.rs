@@ -4,75 +4,7 @@
 
 use ab_glyph::{Font as _, FontRef, PxScale, ScaleFont};
 
-/// Where a panel sits.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Anchor {
-    /// Top-left corner at (x, y) pixels from the target's top left.
-    TopLeft(u32, u32),
-    /// Top-right corner at (x, y) pixels from the target's top right.
-    TopRight(u32, u32),
-    /// Bottom-left corner at (x, y) pixels from the target's bottom left.
-    BottomLeft(u32, u32),
-    /// Bottom-right corner at (x, y) pixels from the target's bottom right.
-    BottomRight(u32, u32),
-}
-
-impl Anchor {
-    /// Top-left pixel of a `w`×`h` panel in a target of `size`.
-    pub fn place(&self, w: u32, h: u32, size: (u32, u32)) -> (u32, u32) {
-        let (sw, sh) = size;
-        let (x, y) = match *self {
-            Anchor::TopLeft(x, y) => (x as i64, y as i64),
-            Anchor::TopRight(x, y) => (sw as i64 - w as i64 - x as i64, y as i64),
-            Anchor::BottomLeft(x, y) => (x as i64, sh as i64 - h as i64 - y as i64),
-            Anchor::BottomRight(x, y) => (
-                sw as i64 - w as i64 - x as i64,
-                sh as i64 - h as i64 - y as i64,
-            ),
-        };
-        (x.max(0) as u32, y.max(0) as u32)
-    }
-}
-
-/// One element of a panel, stacked top to bottom.
-#[derive(Debug, Clone, PartialEq)]
-pub enum PanelItem {
-    /// A line of text.
-    Text {
-        /// The text.
-        text: String,
-        /// Font size in pixels.
-        size_px: f32,
-        /// sRGB colour.
-        color: [u8; 3],
-    },
-    /// A horizontal colour bar with labels under it.
-    ColorBar {
-        /// Bar width in pixels.
-        width: u32,
-        /// Bar height in pixels.
-        height: u32,
-        /// sRGB colours from left to right (interpolated).
-        colors: Vec<[u8; 3]>,
-        /// Labels: position in [0, 1] along the bar and text.
-        labels: Vec<(f32, String)>,
-        /// Label font size in pixels.
-        size_px: f32,
-    },
-}
-
-/// A panel: items on a translucent rounded background.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Panel {
-    /// Position.
-    pub anchor: Anchor,
-    /// Content, top to bottom.
-    pub items: Vec<PanelItem>,
-    /// Background sRGBA.
-    pub background: [u8; 4],
-    /// Inner margin in pixels.
-    pub padding: u32,
-}
+use super::types::{Panel, PanelItem};
 
 /// A rasterised panel (sRGB RGBA, premultiplied by nothing: straight alpha).
 #[derive(Debug, Clone, Default)]
@@ -90,7 +22,7 @@ pub struct Font {
     font: FontRef<'static>,
 }
 
-const FONT_BYTES: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+const FONT_BYTES: &[u8] = crate::assets::FONT;
 
 impl Font {
     /// DejaVu Sans, bundled in `assets/fonts`.
@@ -251,7 +183,7 @@ pub fn rasterise(panel: &Panel, font: &Font) -> PanelImage {
                 let overhang = (item_size(item, font).0 - width) as f32 / 2.0;
                 let x0 = x + overhang;
                 for bx in 0..*width {
-                    let c = gradient(colors, bx as f32 / (*width - 1).max(1) as f32);
+                    let c = crate::colormap::sample(colors, bx as f32 / (*width - 1).max(1) as f32);
                     for by in 0..*height {
                         blend(
                             &mut img,
@@ -289,19 +221,4 @@ pub fn rasterise(panel: &Panel, font: &Font) -> PanelImage {
         y += (*h + 2) as f32;
     }
     img
-}
-
-/// Colour at `t` ∈ [0, 1] along evenly spaced `colors`.
-pub fn gradient(colors: &[[u8; 3]], t: f32) -> [u8; 3] {
-    match colors.len() {
-        0 => [255; 3],
-        1 => colors[0],
-        n => {
-            let s = t.clamp(0.0, 1.0) * (n - 1) as f32;
-            let i = (s.floor() as usize).min(n - 2);
-            let f = s - i as f32;
-            let (a, b) = (colors[i], colors[i + 1]);
-            [0, 1, 2].map(|k| (a[k] as f32 + (b[k] as f32 - a[k] as f32) * f).round() as u8)
-        }
-    }
 }

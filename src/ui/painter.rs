@@ -15,8 +15,9 @@ use crate::analysis::sphere_orbits::FieldArrow;
 use crate::dynamics::Ramp;
 use crate::render::Renderer;
 use crate::scene::ViewsSpec;
+use crate::sim::FieldCache;
 use crate::sim::SimStatus;
-use crate::view::{CurvatureScale, FieldCache, SceneView, ViewOptions};
+use crate::view::{CurvatureScale, SceneView, ViewOptions};
 
 /// How long α must rest before the Poincaré field is recomputed for it.
 pub const FIELD_DEBOUNCE: Duration = Duration::from_millis(400);

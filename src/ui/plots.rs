@@ -13,10 +13,11 @@ use std::collections::{BTreeMap, VecDeque};
 use egui::Color32;
 use egui_plot::{Heatmap, Legend, Line, Plot, PlotPoint, PlotPoints, Points, VLine};
 
+use crate::colormap::{DIVERGING, sample};
 use crate::geometry::Body;
 use crate::geometry::sphere::{angles, direction};
 use crate::sim::{ModelState, Snapshot};
-use crate::view::{CurvatureScale, DIVERGING, colormap};
+use crate::view::CurvatureScale;
 
 /// Samples kept per time series (older ones are dropped).
 const MAX_SAMPLES: usize = 20_000;
@@ -306,7 +307,7 @@ fn contact_map_ui(
                     )
                     .show_labels(false)
                     .custom_mapping(Box::new(move |k| {
-                        let [r, g, b] = colormap(&DIVERGING, scale.position(k as f32));
+                        let [r, g, b] = sample(&DIVERGING, scale.position(k as f32));
                         Color32::from_rgb(r, g, b)
                     }))
                     .name("Gaussian curvature K");

@@ -11,7 +11,7 @@ use image::RgbaImage;
 
 use super::painter::{EguiFrame, Painter, rect_to_pixels};
 use super::{AppUi, RecordProgress, UiAction};
-use crate::headless::{PngWriter, frame_name};
+use crate::png::{PngWriter, frame_name};
 use crate::render::gpu::OffscreenTarget;
 use crate::scene::SceneSetup;
 use crate::sim::{SimStatus, SimThread};
@@ -269,6 +269,7 @@ impl Workbench {
             .and_then(|image| {
                 rec.writer
                     .write(rec.dir.join(frame_name(rec.done as u64)), image)
+                    .map_err(anyhow::Error::from)
             });
         rec.done += 1;
         let finished = rec.done >= rec.total;

@@ -1,0 +1,252 @@
+//! `bench accuracy`: every model × integrator setting against a converged reference at t = 100,
+//! as accuracy.csv (deterministic), timing.csv (wall clock) and work–precision plots.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use clap::Args;
+
+use super::{bundled, fmt_num, write};
+use crate::analysis::accuracy::{self, AccuracyRow, Case, REFERENCE};
+use crate::assets::{
+    DISK as BUNDLED_DISK, DISK_INERTIAL as BUNDLED_DISK_INERTIAL, SPHERE as BUNDLED_SPHERE,
+};
+use crate::integrate::Method;
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+
+/// Options of `bench accuracy`.
+///
+/// For each model (2D/3D, viscous/inertial, on the bundled bodies) and each setting (RK4 and
+/// CF4 at several steps, DOP853 at several tolerances): state error and orbit-period error at
+/// t = 100 against DOP853 at rtol 1e-13, right-hand-side evaluations, wall time and simulated
+/// time per wall second. Writes OUT/accuracy.csv (deterministic), OUT/timing.csv (wall
+/// clock), OUT/work_precision.png and OUT/period_precision.png.
+#[derive(Debug, Args)]
+#[command(verbatim_doc_comment)]
+pub struct AccuracyArgs {
+    /// Output folder.
+    #[arg(long, default_value = "bench-accuracy")]
+    pub out: PathBuf,
+    /// Runs per setting for the wall time (the minimum is reported).
+    #[arg(long, default_value_t = 3)]
+    pub repeats: u32,
+    /// Reduced run for tests: t = 20, and two tolerances for DOP853.
+    #[arg(long)]
+    pub quick: bool,
+}
+
+fn time_run(
+    case: &Case,
+    method: Method,
+    repeats: u32,
+) -> (
+    Result<accuracy::Outcome, crate::integrate::IntegrateError>,
+    f64,
+) {
+    let mut best = f64::INFINITY;
+    let mut result = None;
+    for _ in 0..repeats.max(1) {
+        let start = Instant::now();
+        let r = accuracy::run_case(case, method);
+        best = best.min(start.elapsed().as_secs_f64());
+        result = Some(r);
+    }
+    (result.expect("at least one repeat"), best)
+}
+
+/// The cheapest (fewest RHS evaluations) setting of a model whose period error is < `limit`.
+pub fn cheapest_below<'a>(
+    rows: &'a [AccuracyRow],
+    model: &str,
+    limit: f64,
+) -> Option<&'a AccuracyRow> {
+    rows.iter()
+        .filter(|r| {
+            r.model == model
+                && r.failure.is_none()
+                && r.period_error < limit
+                && r.state_error.is_finite()
+        })
+        .min_by_key(|r| r.rhs_evals)
+}
+
+/// Runs `bench accuracy`.
+pub fn run(a: AccuracyArgs) -> Result<()> {
+    std::fs::create_dir_all(&a.out)
+        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    let mut cases = accuracy::default_cases(
+        &bundled(BUNDLED_DISK)?,
+        &bundled(BUNDLED_DISK_INERTIAL)?,
+        &bundled(BUNDLED_SPHERE)?,
+    );
+    if a.quick {
+        for c in &mut cases {
+            c.t_end = 20.0;
+        }
+    }
+    let mut rows: Vec<AccuracyRow> = Vec::new();
+    let mut timing =
+        String::from("model,integrator,parameter,wall_seconds,sim_time_per_wall_second\n");
+    let mut csv = String::from(
+        "model,integrator,parameter,state_error,period_error,rhs_evals,steps,failure\n",
+    );
+    let total: usize = cases.iter().map(|c| settings(c, a.quick).len()).sum();
+    let bar = indicatif::ProgressBar::new(total as u64);
+    outln!(
+        "{:<16} {:<7} {:>9} {:>11} {:>11} {:>10} {:>10} {:>12}",
+        "model",
+        "method",
+        "dt/rtol",
+        "state err",
+        "period err",
+        "RHS evals",
+        "wall ms",
+        "sim t/wall s"
+    )?;
+    for case in &cases {
+        let reference = accuracy::run_case(case, REFERENCE)
+            .with_context(|| format!("reference run of {}", case.name))?;
+        for method in settings(case, a.quick) {
+            let (run, wall) = time_run(case, method, a.repeats);
+            let row = accuracy::row(case, method, &run, &reference);
+            bar.inc(1);
+            let sim_rate = if row.failure.is_none() {
+                case.t_end / wall
+            } else {
+                f64::NAN
+            };
+            bar.suspend(|| {
+                outln!(
+                    "{:<16} {:<7} {:>9.0e} {:>11.2e} {:>11.2e} {:>10} {:>10.3} {:>12.3e}{}",
+                    row.model,
+                    row.integrator,
+                    row.parameter,
+                    row.state_error,
+                    row.period_error,
+                    row.rhs_evals,
+                    wall * 1e3,
+                    sim_rate,
+                    row.failure
+                        .as_deref()
+                        .map(|f| format!("  FAILED: {f}"))
+                        .unwrap_or_default()
+                )
+            })?;
+            let _ = writeln!(
+                csv,
+                "{},{},{:e},{},{},{},{},{}",
+                row.model,
+                row.integrator,
+                row.parameter,
+                fmt_num(row.state_error),
+                fmt_num(row.period_error),
+                row.rhs_evals,
+                row.steps,
+                row.failure.as_deref().unwrap_or("").replace(',', ";")
+            );
+            let _ = writeln!(
+                timing,
+                "{},{},{:e},{:e},{}",
+                row.model,
+                row.integrator,
+                row.parameter,
+                wall,
+                fmt_num(sim_rate)
+            );
+            rows.push(row);
+        }
+    }
+    bar.finish_and_clear();
+    write(&a.out.join("accuracy.csv"), &csv)?;
+    write(&a.out.join("timing.csv"), &timing)?;
+    let names: Vec<&'static str> = cases.iter().map(|c| c.name).collect();
+    plot_work_precision(
+        &rows,
+        &names,
+        |r| r.state_error,
+        "state error at t_end (rad, length)",
+        &a.out.join("work_precision.png"),
+    )?;
+    plot_work_precision(
+        &rows,
+        &names,
+        |r| r.period_error,
+        "relative error of the orbit period",
+        &a.out.join("period_precision.png"),
+    )?;
+    outln!()?;
+    for name in &names {
+        match cheapest_below(&rows, name, 1e-3) {
+            Some(r) => outln!(
+                "{name}: cheapest setting with period error < 1e-3: {} {:e} ({} RHS evaluations, period error {:.1e})",
+                r.integrator,
+                r.parameter,
+                r.rhs_evals,
+                r.period_error
+            )?,
+            None => outln!("{name}: no setting reached period error < 1e-3")?,
+        }
+    }
+    outln!("wrote {}", a.out.display())?;
+    Ok(())
+}
+
+fn settings(case: &Case, quick: bool) -> Vec<Method> {
+    let all = accuracy::default_settings(case);
+    if !quick {
+        return all;
+    }
+    all.into_iter()
+        .filter(|m| match *m {
+            Method::Rk4 { dt } | Method::Cf4 { dt } => dt <= 0.2,
+            Method::Dop853 { rtol, .. } => rtol == 1e-6 || rtol == 1e-10,
+        })
+        .collect()
+}
+
+fn plot_work_precision(
+    rows: &[AccuracyRow],
+    models: &[&'static str],
+    error: impl Fn(&AccuracyRow) -> f64,
+    y_label: &str,
+    path: &Path,
+) -> Result<()> {
+    let panels: Vec<Panel> = models
+        .iter()
+        .map(|m| {
+            let series = ["rk4", "cf4", "dop853"]
+                .iter()
+                .enumerate()
+                .filter_map(|(i, integ)| {
+                    let points: Vec<(f64, f64)> = rows
+                        .iter()
+                        .filter(|r| r.model == *m && r.integrator == *integ && r.failure.is_none())
+                        .map(|r| (r.rhs_evals as f64, error(r).max(1e-16)))
+                        .collect();
+                    (!points.is_empty()).then(|| Series {
+                        label: match *integ {
+                            "rk4" => "RK4 (dt)".to_string(),
+                            "cf4" => "CF4 Lie group (dt)".to_string(),
+                            _ => "DOP853 (rtol)".to_string(),
+                        },
+                        points,
+                        color: PALETTE[i],
+                        style: Style::LineMarkers,
+                    })
+                })
+                .collect();
+            Panel {
+                title: (*m).to_string(),
+                x_label: "right-hand-side evaluations".into(),
+                y_label: y_label.into(),
+                log_x: true,
+                log_y: true,
+                series,
+                legend: SeriesLabelPosition::UpperRight,
+            }
+        })
+        .collect();
+    render_png(&panels, 2, (1400, 1000), path)
+}

@@ -1,0 +1,128 @@
+//! `rollphase bench`: measured speed/accuracy trade-offs, printed as tables and written as CSV
+//! and PNG, one file per benchmark: [`accuracy`] (every model × integrator setting against a
+//! converged reference), [`stiff`] (the inertial model as m/m0 → 0), [`figures`] (wall time of
+//! the ensemble figures), [`render`] (headless frames per second, feature `render`) and [`app`]
+//! (the app's frame time painted offscreen, feature `app`).
+
+mod accuracy;
+#[cfg(feature = "app")]
+mod app;
+mod figures;
+#[cfg(feature = "render")]
+mod render;
+mod stiff;
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use clap::{Args, Subcommand};
+
+pub use accuracy::{AccuracyArgs, cheapest_below};
+pub use stiff::StiffArgs;
+
+use crate::geometry::{Body, ShapeFile};
+
+/// Measure the speed/accuracy trade of the integrators.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Which benchmark.
+    #[command(subcommand)]
+    pub which: BenchKind,
+}
+
+/// The benchmarks.
+#[derive(Debug, Subcommand)]
+pub enum BenchKind {
+    /// Every model × integrator setting against a converged reference at t = 100.
+    Accuracy(AccuracyArgs),
+    /// The inertial models as m/m0 → 0: cost (stiffness) and distance from the viscous model.
+    Stiff(StiffArgs),
+    /// Wall time of the full-size ensemble figures against their targets (sphere-poincare ≤ 30 s,
+    /// sphere-cruising ≤ 60 s, sphere-doubling ≤ 60 s, sphere-bifurcation ≤ 120 s on 2 cores).
+    Figures(FiguresBenchArgs),
+    /// Frames per second of the headless renderer (rendering alone, with readback, with PNG
+    /// writing on worker threads) at 1280×720 on whatever adapter is found (llvmpipe here).
+    Render(RenderBenchArgs),
+    /// Frame time of the app (UI, 3D view, plots) painted offscreen while the simulation thread
+    /// runs at the "precise" setting, and the playback speed the simulation delivers.
+    App(AppBenchArgs),
+}
+
+/// Options of `bench app`.
+#[derive(Debug, Args)]
+pub struct AppBenchArgs {
+    /// Preset to run.
+    #[arg(long, default_value = "sphere-two-orbits")]
+    pub preset: String,
+    /// Window size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1600x900", value_parser = super::render::parse_size)]
+    pub size: (u32, u32),
+    /// Wall seconds timed (after 1 s of warm-up).
+    #[arg(long, default_value_t = 8.0)]
+    pub seconds: f64,
+    /// Requested playback speed, simulation time per second [default: the preset's].
+    #[arg(long)]
+    pub speed: Option<f64>,
+    /// MSAA samples of the 3D view (the window uses 4 on a GPU, 1 on a CPU renderer).
+    #[arg(long, default_value_t = 1, value_parser = super::render::parse_msaa)]
+    pub msaa: u32,
+    /// Hide the plots panel (to see what the plots cost).
+    #[arg(long)]
+    pub no_plots: bool,
+}
+
+/// Options of `bench render`.
+#[derive(Debug, Args)]
+pub struct RenderBenchArgs {
+    /// Preset to render.
+    #[arg(long, default_value = "sphere-cruising")]
+    pub preset: String,
+    /// Frame size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1280x720", value_parser = super::render::parse_size)]
+    pub size: (u32, u32),
+    /// Frames timed per row (after 5 warm-up frames).
+    #[arg(long, default_value_t = 60)]
+    pub frames: u64,
+}
+
+/// Options of `bench figures`.
+#[derive(Debug, Args)]
+pub struct FiguresBenchArgs {
+    /// Output folder for the figures produced while timing.
+    #[arg(long, default_value = "bench-figures")]
+    pub out: PathBuf,
+}
+
+/// Runs `bench`.
+pub fn run(a: BenchArgs) -> Result<()> {
+    match a.which {
+        BenchKind::Accuracy(a) => accuracy::run(a),
+        BenchKind::Stiff(a) => stiff::run(a),
+        BenchKind::Figures(a) => figures::run(a),
+        #[cfg(feature = "render")]
+        BenchKind::Render(a) => render::run(a),
+        #[cfg(not(feature = "render"))]
+        BenchKind::Render(_) => Err(super::missing_feature("render", "bench render")),
+        #[cfg(feature = "app")]
+        BenchKind::App(a) => app::run(a),
+        #[cfg(not(feature = "app"))]
+        BenchKind::App(_) => Err(super::missing_feature("app", "bench app")),
+    }
+}
+
+pub(crate) fn bundled(text: &str) -> Result<Body> {
+    let file = ShapeFile::from_json(text).context("bundled shape file")?;
+    Ok(Body::from_file(&file)?)
+}
+
+pub(crate) fn fmt_num(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:e}")
+    } else {
+        String::new()
+    }
+}
+
+pub(crate) fn write(path: &Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+}

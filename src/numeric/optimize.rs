@@ -1,0 +1,27 @@
+//! One-dimensional maximisation: golden-section search on a bracket.
+//!
+//! Why our own: ten lines, no allocation, and the callers (α*'s refinement, the lag-time fit)
+//! need exactly a bracketed unimodal maximum.
+
+/// Golden-section search for the maximiser of a unimodal f on [a, b], to an interval of `tol`.
+pub fn golden_max(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> f64 {
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut c, mut d) = (b - g * (b - a), a + g * (b - a));
+    let (mut fc, mut fd) = (f(c), f(d));
+    while (b - a).abs() > tol {
+        if fc > fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = f(d);
+        }
+    }
+    0.5 * (a + b)
+}

@@ -1,0 +1,301 @@
+//! Scenes: everything one interactive or headless run needs (body, model, α, m/m0, initial
+//! state, integrator, playback speed, views) as a serde/TOML document, and the bundled presets
+//! in `assets/scenes/*.toml`, the one list the app menu, the CLI (`--preset`, `rollphase scenes`)
+//! and the tests use.
+//!
+//! A scene is validated once, by [`Scene::setup`], into a [`SceneSetup`] holding the built body,
+//! ramp, integrator and start; errors name the field, the value and what is allowed. Imports the
+//! core only (no GPU, no window).
+//!
+//! ```toml
+//! name = "sphere-cruising"
+//! description = "3D viscous sphere cruising down the ramp"
+//! [body]
+//! shape = "../shapes/sphere.json"    # or: random = { dimension = 3, seed = 1, sigma = 0.25, modes = 5 }
+//! [model]                            #  or: perfect = "sphere" | "disk", or an inline shape
+//! alpha_rad = 0.3                    # or alpha_over_critical = 1.05 (α = 1.05 α*)
+//! mass_ratio = 0.0                   # 0 = viscous model
+//! [initial]
+//! contact = [1.0, 2.0]               # 3D: body point (θ, φ) on the ramp, then `spin` about +z
+//! [integrator]
+//! preset = "balanced"                # or method = "dop853" + rtol, or "rk4"/"cf4" + dt
+//! [playback]
+//! speed = 4.0                        # simulation time per second of video
+//! [views]
+//! ball = true
+//! ```
+
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+
+use crate::geometry::ShapeFile;
+use crate::integrate::Preset;
+
+pub use crate::assets::{BUNDLED_SHAPES, PRESETS};
+
+mod setup;
+pub use setup::{SceneError, SceneSetup, bundled_shape, load_scene_file};
+
+/// The preset shown when none is asked for.
+pub const DEFAULT_PRESET: &str = "sphere-cruising";
+
+/// A scene as written in TOML.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Short name (presets: the file stem).
+    pub name: String,
+    /// One line saying what the scene shows.
+    #[serde(default)]
+    pub description: String,
+    /// The body.
+    pub body: BodySpec,
+    /// Ramp angle, mass and drag.
+    pub model: ModelSpec,
+    /// Where the run starts.
+    #[serde(default)]
+    pub initial: InitialSpec,
+    /// Integrator and tolerance.
+    #[serde(default)]
+    pub integrator: IntegratorSpec,
+    /// Playback speed and trails.
+    #[serde(default)]
+    pub playback: PlaybackSpec,
+    /// Which views are drawn (and so computed).
+    #[serde(default)]
+    pub views: ViewsSpec,
+    /// Resolution of the Poincaré field, used only when that view is on.
+    #[serde(default)]
+    pub poincare: PoincareSpec,
+}
+
+/// Where the body comes from: exactly one of the four fields.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// A shape file, relative to the scene file (presets: `../shapes/NAME` of the bundled ones).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shape: Option<PathBuf>,
+    /// A shape given inline, in the shape-file schema.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inline: Option<ShapeFile>,
+    /// A seeded random body.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub random: Option<RandomBody>,
+    /// A perfect disk or sphere (r = 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub perfect: Option<PerfectBody>,
+}
+
+/// A seeded random body (SI §1C, §2F).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RandomBody {
+    /// 2 (cylinder) or 3 (sphere).
+    pub dimension: u32,
+    /// Seed of the ChaCha8 stream.
+    pub seed: u64,
+    /// Amplitude spread σ.
+    pub sigma: f64,
+    /// Highest mode l.
+    #[serde(default = "default_modes")]
+    pub modes: u32,
+}
+
+fn default_modes() -> u32 {
+    5
+}
+
+/// A perfect body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PerfectBody {
+    /// A circular cylinder (2D).
+    Disk,
+    /// A ball (3D).
+    Sphere,
+}
+
+/// Ramp angle (one of `alpha_rad`, `alpha_over_critical`), mass ratio and drag.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSpec {
+    /// α in radians.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_rad: Option<f64>,
+    /// α as a multiple of the body's critical angle α*.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_over_critical: Option<f64>,
+    /// m/m0; 0 selects the viscous model.
+    #[serde(default)]
+    pub mass_ratio: f64,
+    /// Rotational drag γ in units of γ0.
+    #[serde(default = "one")]
+    pub drag: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// Initial state; fields of the other dimension are ignored.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSpec {
+    /// 3D: body point (θ, φ) put on the ramp by the shortest rotation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<[f64; 2]>,
+    /// 3D: then a turn about the ramp normal, radians.
+    #[serde(default)]
+    pub spin: f64,
+    /// 3D: the orientation quaternion (w, x, y, z) instead of `contact`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub q0: Option<[f64; 4]>,
+    /// 3D inertial: lab angular velocity.
+    #[serde(default)]
+    pub omega: [f64; 3],
+    /// 2D: contact angle θ₀.
+    #[serde(default)]
+    pub theta0: f64,
+    /// 2D inertial: θ̇₀.
+    #[serde(default)]
+    pub theta_dot0: f64,
+}
+
+/// The integrator: a named preset, or a method with its tolerance or step.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IntegratorSpec {
+    /// fast / balanced / precise (DOP853 at rtol 1e-6 / 1e-8 / 1e-12).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preset: Option<Preset>,
+    /// dop853, rk4 or cf4.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub method: Option<MethodName>,
+    /// DOP853 relative (and absolute) tolerance.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rtol: Option<f64>,
+    /// RK4/CF4 step.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+}
+
+/// Integrator names as written in scenes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MethodName {
+    /// Adaptive DOP853.
+    Dop853,
+    /// Fixed-step RK4.
+    Rk4,
+    /// Fixed-step Lie-group RK4.
+    Cf4,
+}
+
+/// Playback: how simulation time maps to video time, and how much history the trails keep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaybackSpec {
+    /// Simulation time per second of video.
+    #[serde(default = "default_speed")]
+    pub speed: f64,
+    /// Frames per second of video (headless frames are 1/fps seconds apart).
+    #[serde(default = "default_fps")]
+    pub fps: f64,
+    /// Simulation time run before the first frame (to skip a transient).
+    #[serde(default)]
+    pub start_time: f64,
+    /// Simulation time of history kept in the trails.
+    #[serde(default = "default_trail")]
+    pub trail_time: f64,
+}
+
+fn default_speed() -> f64 {
+    4.0
+}
+fn default_fps() -> f64 {
+    30.0
+}
+fn default_trail() -> f64 {
+    60.0
+}
+
+impl Default for PlaybackSpec {
+    fn default() -> Self {
+        Self {
+            speed: default_speed(),
+            fps: default_fps(),
+            start_time: 0.0,
+            trail_time: default_trail(),
+        }
+    }
+}
+
+/// Which views are drawn. Only what is drawn is computed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ViewsSpec {
+    /// The body rolling on the ramp.
+    #[serde(default = "yes")]
+    pub body: bool,
+    /// The SO(3) ball with the orientation's trajectory (3D only).
+    #[serde(default)]
+    pub ball: bool,
+    /// The Poincaré field on ∂Ω (3D viscous only).
+    #[serde(default)]
+    pub poincare: bool,
+    /// The text overlay and the colour legends.
+    #[serde(default = "yes")]
+    pub overlay: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl Default for ViewsSpec {
+    fn default() -> Self {
+        Self {
+            body: true,
+            ball: false,
+            poincare: false,
+            overlay: true,
+        }
+    }
+}
+
+/// How finely the Poincaré field is sampled.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PoincareSpec {
+    /// Number of arrows on ∂Ω (antipodal pairs count twice).
+    #[serde(default = "default_arrows")]
+    pub arrows: usize,
+    /// DOP853 tolerance of each map step.
+    #[serde(default = "default_field_rtol")]
+    pub rtol: f64,
+    /// Longest time a start is followed before it counts as halted.
+    #[serde(default = "default_field_tmax")]
+    pub t_max: f64,
+}
+
+fn default_arrows() -> usize {
+    600
+}
+fn default_field_rtol() -> f64 {
+    1e-8
+}
+fn default_field_tmax() -> f64 {
+    200.0
+}
+
+impl Default for PoincareSpec {
+    fn default() -> Self {
+        Self {
+            arrows: default_arrows(),
+            rtol: default_field_rtol(),
+            t_max: default_field_tmax(),
+        }
+    }
+}

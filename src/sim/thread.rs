@@ -1,0 +1,228 @@
+//! [`SimThread`]: a [`Controller`] on its own thread, reading the wall clock, catching panics and
+//! publishing [`SimStatus`] for the UI.
+
+use crate::integrate::Method;
+use crate::scene::SceneSetup;
+use std::collections::VecDeque;
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender, TryRecvError};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use super::{Controller, SimCommand, Snapshot};
+
+/// What the simulation thread publishes after each tick: the latest snapshot and the state of
+/// the controls, as one immutable value the UI reads without waiting.
+#[derive(Debug, Clone)]
+pub struct SimStatus {
+    /// What the body looks like now.
+    pub snapshot: Snapshot,
+    /// The scene being simulated (the UI rebuilds its meshes when `scene_id` changes).
+    pub setup: Arc<SceneSetup>,
+    /// Counts scene loads (the UI rebuilds meshes and clears all plots when it changes).
+    pub scene_id: u64,
+    /// Counts loads and resets (the UI clears the time series when it changes).
+    pub run_id: u64,
+    /// Paused or playing.
+    pub paused: bool,
+    /// Requested simulation time per wall second.
+    pub speed: f64,
+    /// Simulation time per wall second actually delivered over the last second of playing
+    /// (`None` until a quarter of a second has been measured).
+    pub delivered_speed: Option<f64>,
+    /// The simulation cannot deliver the requested speed (below 90% of it).
+    pub lagging: bool,
+    /// The last failure, refusal or caught panic.
+    pub message: Option<String>,
+    /// The integrator setting, as the UI shows it.
+    pub method: Method,
+    /// Wall-clock time of the last tick's integration, seconds.
+    pub tick_seconds: f64,
+}
+
+/// How often the simulation thread ticks while playing.
+pub const TICK_INTERVAL: Duration = Duration::from_millis(8);
+
+/// Longest wall-clock gap one tick makes up for: after a stall (the machine busy, a debugger)
+/// the simulation continues from where it was instead of jumping ahead.
+const MAX_TICK_WALL: f64 = 0.1;
+
+/// The simulation thread: owns a [`Controller`], takes [`SimCommand`]s through a channel and
+/// publishes an `Arc<SimStatus>` after each tick. The UI never waits for it (reading the status
+/// clones an `Arc` under a lock held for that long only) and it never waits for a frame. A panic
+/// inside the simulation is caught and becomes a message and a paused state.
+pub struct SimThread {
+    commands: Sender<SimCommand>,
+    status: Arc<Mutex<Arc<SimStatus>>>,
+    handle: Option<JoinHandle<()>>,
+}
+
+impl SimThread {
+    /// Starts the thread on `setup`, playing.
+    pub fn spawn(setup: SceneSetup) -> Self {
+        let (commands, inbox) = mpsc::channel();
+        let mut worker = SimWorker::new(setup);
+        let status = Arc::new(Mutex::new(Arc::new(worker.status())));
+        let published = status.clone();
+        let handle = std::thread::Builder::new()
+            .name("rollphase-sim".into())
+            .spawn(move || worker.run(&inbox, &published))
+            .ok();
+        Self {
+            commands,
+            status,
+            handle,
+        }
+    }
+
+    /// Queues a command; it takes effect at the thread's next tick.
+    pub fn send(&self, command: SimCommand) {
+        // A send fails only when the thread has ended, which `status` then reports.
+        let _ = self.commands.send(command);
+    }
+
+    /// The latest published status.
+    pub fn status(&self) -> Arc<SimStatus> {
+        match self.status.lock() {
+            Ok(s) => s.clone(),
+            Err(poisoned) => poisoned.into_inner().clone(),
+        }
+    }
+
+    /// Whether the thread is still running.
+    pub fn is_running(&self) -> bool {
+        self.handle.as_ref().is_some_and(|h| !h.is_finished())
+    }
+}
+
+impl Drop for SimThread {
+    fn drop(&mut self) {
+        // Closing the channel ends the loop.
+        let (closed, _) = mpsc::channel();
+        self.commands = closed;
+        if let Some(h) = self.handle.take() {
+            let _ = h.join();
+        }
+    }
+}
+
+/// The thread's side: the controller plus the wall-clock bookkeeping.
+struct SimWorker {
+    controller: Controller,
+    setup: Arc<SceneSetup>,
+    scene_id: u64,
+    run_id: u64,
+    /// (wall seconds since start, simulation time) over the last second of playing.
+    window: VecDeque<(f64, f64)>,
+    tick_seconds: f64,
+}
+
+impl SimWorker {
+    fn new(setup: SceneSetup) -> Self {
+        Self {
+            setup: Arc::new(setup.clone()),
+            controller: Controller::new(setup),
+            scene_id: 0,
+            run_id: 0,
+            window: VecDeque::new(),
+            tick_seconds: 0.0,
+        }
+    }
+
+    fn status(&self) -> SimStatus {
+        let delivered = match (self.window.front(), self.window.back()) {
+            (Some(a), Some(b)) if b.0 - a.0 >= 0.25 => Some((b.1 - a.1) / (b.0 - a.0)),
+            _ => None,
+        };
+        let speed = self.controller.speed();
+        SimStatus {
+            snapshot: self.controller.simulation().snapshot(),
+            setup: self.setup.clone(),
+            scene_id: self.scene_id,
+            run_id: self.run_id,
+            paused: self.controller.is_paused(),
+            speed,
+            delivered_speed: delivered,
+            lagging: !self.controller.is_paused() && delivered.is_some_and(|d| d < 0.9 * speed),
+            message: self.controller.message().map(str::to_string),
+            method: self.controller.simulation().method(),
+            tick_seconds: self.tick_seconds,
+        }
+    }
+
+    /// Runs `f` on the controller; a panic becomes a message and a paused state.
+    fn guarded(&mut self, what: &str, f: impl FnOnce(&mut Controller)) {
+        let result =
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&mut self.controller)));
+        if let Err(payload) = result {
+            let why = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            self.controller.fail(format!(
+                "the simulation panicked while {what}: {why}; paused (press Reset or load a scene)"
+            ));
+        }
+    }
+
+    fn run(&mut self, inbox: &Receiver<SimCommand>, published: &Mutex<Arc<SimStatus>>) {
+        let start = Instant::now();
+        let mut last = start;
+        loop {
+            // Paused: sleep until a command comes; playing: take what is queued and tick.
+            let first = if self.controller.is_paused() {
+                match inbox.recv_timeout(Duration::from_millis(100)) {
+                    Ok(c) => Some(c),
+                    Err(RecvTimeoutError::Timeout) => None,
+                    Err(RecvTimeoutError::Disconnected) => return,
+                }
+            } else {
+                match inbox.try_recv() {
+                    Ok(c) => Some(c),
+                    Err(TryRecvError::Empty) => None,
+                    Err(TryRecvError::Disconnected) => return,
+                }
+            };
+            for command in first.into_iter().chain(inbox.try_iter()) {
+                let restarts = matches!(command, SimCommand::Reset | SimCommand::Load(_));
+                if let SimCommand::Load(setup) = &command {
+                    self.setup = Arc::new((**setup).clone());
+                    self.scene_id += 1;
+                }
+                self.guarded("applying a command", |c| c.apply(command));
+                if restarts {
+                    self.run_id += 1;
+                    self.window.clear();
+                }
+            }
+            let now = Instant::now();
+            let wall = (now - last).as_secs_f64().min(MAX_TICK_WALL);
+            last = now;
+            if self.controller.is_paused() {
+                self.window.clear();
+            } else {
+                let t0 = Instant::now();
+                self.guarded("integrating", |c| c.tick(wall, u64::MAX));
+                self.tick_seconds = t0.elapsed().as_secs_f64();
+                let elapsed = (Instant::now() - start).as_secs_f64();
+                self.window
+                    .push_back((elapsed, self.controller.simulation().time()));
+                while self.window.front().is_some_and(|w| elapsed - w.0 > 1.0) {
+                    self.window.pop_front();
+                }
+            }
+            let status = Arc::new(self.status());
+            match published.lock() {
+                Ok(mut s) => *s = status,
+                Err(poisoned) => *poisoned.into_inner() = status,
+            }
+            if !self.controller.is_paused() {
+                let spent = now.elapsed();
+                if spent < TICK_INTERVAL {
+                    std::thread::sleep(TICK_INTERVAL - spent);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,175 @@
+//! The files panel: load and save scenes and shapes, write the trajectory CSV and screenshots,
+//! switch presets.
+
+use std::path::{Path, PathBuf};
+
+use crate::geometry::Body;
+use crate::scene::{BodySpec, Scene, load_scene_file};
+use crate::sim::{SimCommand, SimStatus};
+
+use super::controls::method_spec;
+use super::{AppUi, UiAction};
+
+impl AppUi {
+    pub(super) fn files_ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        status: &SimStatus,
+        actions: &mut Vec<UiAction>,
+    ) {
+        egui::Grid::new("files").num_columns(3).show(ui, |ui| {
+            ui.label("scene");
+            ui.add(egui::TextEdit::singleline(&mut self.scene_path).desired_width(130.0));
+            ui.horizontal(|ui| {
+                if ui.button("Load").clicked() {
+                    let path = PathBuf::from(&self.scene_path);
+                    match load_scene_file(&path) {
+                        Ok(setup) => {
+                            self.notice = Some((format!("loaded {}", path.display()), false));
+                            self.base = path.parent().map(Path::to_path_buf);
+                            actions.push(UiAction::Sim(SimCommand::Load(Box::new(setup))));
+                        }
+                        Err(e) => {
+                            self.notice = Some((format!("{}: {e}", path.display()), true));
+                        }
+                    }
+                }
+                if ui.button("Save").clicked() {
+                    let mut scene = self.current_scene(status);
+                    // A saved scene carries its body inline, so it loads from anywhere.
+                    scene.body = BodySpec {
+                        inline: Some(status.setup.body.to_file()),
+                        ..BodySpec::default()
+                    };
+                    self.notice = Some(write_file(&self.scene_path, &scene.to_toml()));
+                }
+            });
+            ui.end_row();
+            ui.label("shape");
+            ui.add(egui::TextEdit::singleline(&mut self.shape_path).desired_width(130.0));
+            ui.horizontal(|ui| {
+                if ui.button("Load").clicked() {
+                    self.load_shape(status, actions);
+                }
+                if ui.button("Save").clicked() {
+                    let json = status.setup.body.to_file().to_json();
+                    self.notice = Some(write_file(&self.shape_path, &json));
+                }
+            });
+            ui.end_row();
+            ui.label("screenshot");
+            ui.add(egui::TextEdit::singleline(&mut self.screenshot_path).desired_width(130.0));
+            if ui.button("Save PNG").clicked() {
+                actions.push(UiAction::Screenshot(PathBuf::from(&self.screenshot_path)));
+            }
+            ui.end_row();
+            ui.label("record");
+            ui.add(egui::TextEdit::singleline(&mut self.record_dir).desired_width(130.0));
+            ui.horizontal(|ui| {
+                ui.add(egui::DragValue::new(&mut self.record_frames).range(1..=100_000));
+                let busy = self.recording.is_some();
+                if ui
+                    .add_enabled(!busy, egui::Button::new("Record"))
+                    .on_hover_text("the next N frames of the 3D view, as shown, as PNGs")
+                    .clicked()
+                {
+                    actions.push(UiAction::Record {
+                        dir: PathBuf::from(&self.record_dir),
+                        frames: self.record_frames,
+                    });
+                }
+            });
+            ui.end_row();
+        });
+    }
+
+    pub(super) fn load_shape(&mut self, status: &SimStatus, actions: &mut Vec<UiAction>) {
+        let path = PathBuf::from(&self.shape_path);
+        match crate::geometry::ShapeFile::load(&path) {
+            Ok(body) => {
+                let mut scene = self.current_scene(status);
+                scene.body = BodySpec {
+                    inline: Some(body.to_file()),
+                    ..BodySpec::default()
+                };
+                // A contact point or angle names a place on the old body; start the new one afresh.
+                scene.initial = crate::scene::InitialSpec::default();
+                scene.name = path
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "shape".into());
+                if matches!(body, Body::Disk(_)) {
+                    scene.views.ball = false;
+                    scene.views.poincare = false;
+                }
+                self.load_scene(scene, None, actions);
+            }
+            Err(e) => self.notice = Some((format!("{e:#}"), true)),
+        }
+    }
+
+    /// The scene as it runs now: the loaded one with the live α, m/m0, integrator, speed and
+    /// views.
+    pub(super) fn current_scene(&self, status: &SimStatus) -> Scene {
+        let mut scene = self.scene.clone();
+        let snap = &status.snapshot;
+        scene.model.alpha_rad = Some(snap.alpha_rad);
+        scene.model.alpha_over_critical = None;
+        scene.model.mass_ratio = snap.mass_ratio;
+        scene.integrator = method_spec(&status.method);
+        scene.playback.speed = status.speed;
+        scene.views = self.views.clone();
+        scene
+    }
+
+    pub(super) fn load_preset(&mut self, name: &str, actions: &mut Vec<UiAction>) {
+        match Scene::preset(name) {
+            Ok(scene) => self.load_scene(scene, None, actions),
+            Err(e) => self.notice = Some((e.to_string(), true)),
+        }
+    }
+
+    pub(super) fn load_scene(
+        &mut self,
+        scene: Scene,
+        base: Option<PathBuf>,
+        actions: &mut Vec<UiAction>,
+    ) {
+        match scene.setup(base.as_deref()) {
+            Ok(setup) => {
+                self.notice = setup.model_note.clone().map(|n| (n, false));
+                actions.push(UiAction::Sim(SimCommand::Load(Box::new(setup))));
+            }
+            Err(e) => self.notice = Some((e.to_string(), true)),
+        }
+    }
+
+    pub(super) fn scene_ui(&mut self, ui: &mut egui::Ui) {
+        let rect = ui.max_rect();
+        self.scene_rect = Some(rect);
+        let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
+        if response.dragged() {
+            let d = response.drag_delta();
+            self.view_options.yaw -= d.x * 0.01;
+            self.view_options.pitch = (self.view_options.pitch + d.y * 0.01).clamp(-1.2, 1.2);
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta().y);
+            if scroll != 0.0 {
+                self.view_options.zoom =
+                    (self.view_options.zoom * (-scroll * 0.002).exp()).clamp(0.2, 5.0);
+            }
+        }
+        if response.double_clicked() {
+            self.reset_camera();
+        }
+    }
+}
+
+/// Writes `text` to `path`; the notice says what happened.
+pub(super) fn write_file(path: &str, text: &str) -> (String, bool) {
+    match std::fs::write(path, text) {
+        Ok(()) => (format!("saved {path}"), false),
+        Err(e) => (format!("cannot write {path}: {e}"), true),
+    }
+}

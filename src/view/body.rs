@@ -1,0 +1,348 @@
+//! The body on the ramp (meshes, trails, arrows), the SO(3) ball with the orientation's path,
+//! and the Poincaré field on ∂Ω, as the renderer's plain draw data.
+
+use std::f32::consts::PI;
+
+use glam::{DVec3, Mat4, Quat, Vec3};
+
+use crate::analysis::sphere_orbits::FieldArrow;
+use crate::colormap::{VIRIDIS, linear, sample};
+use crate::render::types::{Camera, Material, MeshInstance, Segment, View};
+use crate::sim::Snapshot;
+
+use super::{CYLINDER_LENGTH, SceneView, ViewOptions};
+
+impl SceneView {
+    pub(super) fn body_view(&self, snap: &Snapshot, rect: [u32; 4], options: &ViewOptions) -> View {
+        let alpha = snap.alpha_rad as f32;
+        let world_from_ramp = Mat4::from_rotation_y(alpha);
+        let to_world = |p: DVec3| world_from_ramp.transform_point3(p.as_vec3());
+        // A cylinder's contact points are given on its mid-plane; draw them on the front face.
+        let on_face = |p: DVec3| {
+            if self.is_disk {
+                DVec3::new(p.x, p.y - CYLINDER_LENGTH / 2.0, p.z)
+            } else {
+                p
+            }
+        };
+        let centre = snap.pose.centre.as_vec3();
+        let target = if options.follow {
+            world_from_ramp.transform_point3(centre)
+        } else {
+            Vec3::ZERO
+        };
+        let base_dir = if self.is_disk {
+            Vec3::new(-0.12, -1.0, 0.3)
+        } else {
+            Vec3::new(-0.3, -1.0, 0.5)
+        }
+        .normalize();
+        let dir = Quat::from_rotation_z(options.yaw)
+            * Quat::from_axis_angle(
+                Vec3::Y.cross(base_dir).normalize_or(Vec3::X),
+                -options.pitch,
+            )
+            * base_dir;
+        let distance = 7.0 * options.zoom.clamp(0.1, 20.0);
+        let camera = Camera {
+            eye: target + dir * distance,
+            target,
+            up: Vec3::Z,
+            fov_y_rad: 40f32.to_radians(),
+            near: 0.05,
+            far: 200.0,
+        };
+        let snap_to = |v: f32| (v / 5.0).round() * 5.0;
+        let meshes = vec![
+            MeshInstance {
+                mesh: self.ramp_mesh,
+                model: world_from_ramp
+                    * Mat4::from_translation(Vec3::new(snap_to(centre.x), snap_to(centre.y), 0.0)),
+                material: Material {
+                    grid_spacing: 0.5,
+                    specular: 0.05,
+                    ..Material::default()
+                },
+            },
+            MeshInstance {
+                mesh: self.body_mesh,
+                model: world_from_ramp
+                    * Mat4::from_rotation_translation(snap.pose.rotation.as_quat(), centre),
+                material: Material::default(),
+            },
+            MeshInstance {
+                mesh: self.marker_mesh,
+                model: Mat4::from_scale_rotation_translation(
+                    Vec3::splat(0.06),
+                    Quat::IDENTITY,
+                    to_world(on_face(snap.contact_on_ramp)),
+                ),
+                material: Material {
+                    tint: linear([255, 214, 10], 1.0),
+                    ..Material::default()
+                },
+            },
+        ];
+        let mut segments = Vec::new();
+        // Contact path on the ramp, fading with age.
+        let lift = DVec3::new(0.0, 0.0, 0.004);
+        push_polyline(
+            &mut segments,
+            snap.ramp_trail.iter().map(|&p| to_world(on_face(p) + lift)),
+            3.0,
+            |age| linear([230, 90, 20], 0.25 + 0.75 * age),
+        );
+        // Contact trail on the body, carried with the body.
+        let body_to_world =
+            world_from_ramp * Mat4::from_rotation_translation(snap.pose.rotation.as_quat(), centre);
+        let push_out = |p: DVec3| {
+            if self.is_disk {
+                // The front face: a hair in front of it, so the trail is not hidden by the cap.
+                DVec3::new(p.x * 1.0, p.y - 0.004, p.z)
+            } else {
+                p * 1.006
+            }
+        };
+        push_polyline(
+            &mut segments,
+            snap.body_trail
+                .iter()
+                .map(|&p| body_to_world.transform_point3(push_out(on_face(p)).as_vec3())),
+            2.5,
+            |age| linear([20, 20, 20], 0.35 + 0.65 * age),
+        );
+        // Downhill arrow, painted on the ramp in front of the body.
+        let y_arrow = -2.2;
+        let x0 = centre.x as f64 - 1.2;
+        let x1 = centre.x as f64 + 1.2;
+        let orange = linear([255, 140, 0], 1.0);
+        let tip = DVec3::new(x1, y_arrow, 0.01);
+        for (a, b) in [
+            (DVec3::new(x0, y_arrow, 0.01), tip),
+            (tip, DVec3::new(x1 - 0.35, y_arrow - 0.25, 0.01)),
+            (tip, DVec3::new(x1 - 0.35, y_arrow + 0.25, 0.01)),
+        ] {
+            segments.push(Segment {
+                a: to_world(a),
+                b: to_world(b),
+                color: orange,
+                width_px: 5.0,
+            });
+        }
+        View {
+            viewport: rect,
+            background: None,
+            camera,
+            light_dir: Vec3::new(-0.4, -0.6, 1.0),
+            meshes,
+            segments,
+        }
+    }
+
+    pub(super) fn ball_view(
+        &self,
+        snap: &Snapshot,
+        rect: [u32; 4],
+        background: Option<[f32; 4]>,
+    ) -> View {
+        let mut segments = Vec::new();
+        axes_and_circles(&mut segments);
+        let pieces = &snap.ball_trail;
+        let total: usize = pieces.iter().map(|p| p.len()).sum();
+        let mut seen = 0usize;
+        for piece in pieces {
+            let start = seen;
+            push_polyline_indexed(&mut segments, piece, 3.0, |i| {
+                let age = (start + i) as f32 / total.max(1) as f32;
+                linear(
+                    sample(&[[70, 110, 190], [255, 140, 30]], age),
+                    0.3 + 0.7 * age,
+                )
+            });
+            seen += piece.len();
+        }
+        let mut meshes = Vec::new();
+        if let Some(p) = snap.ball_point {
+            meshes.push(MeshInstance {
+                mesh: self.marker_mesh,
+                model: Mat4::from_scale_rotation_translation(
+                    Vec3::splat(0.055),
+                    Quat::IDENTITY,
+                    p.as_vec3(),
+                ),
+                material: Material {
+                    tint: linear([240, 40, 40], 1.0),
+                    ..Material::default()
+                },
+            });
+        }
+        meshes.push(MeshInstance {
+            mesh: self.ball_mesh,
+            model: Mat4::IDENTITY,
+            material: Material {
+                tint: linear([150, 190, 255], 1.0),
+                opacity: 0.16,
+                specular: 0.5,
+                ..Material::default()
+            },
+        });
+        View {
+            viewport: rect,
+            background,
+            camera: Self::ball_camera(),
+            light_dir: Vec3::new(0.3, -0.5, 1.0),
+            meshes,
+            segments,
+        }
+    }
+
+    pub(super) fn poincare_view(
+        &self,
+        field: Option<&[FieldArrow]>,
+        rect: [u32; 4],
+        background: Option<[f32; 4]>,
+    ) -> View {
+        let mut segments = Vec::new();
+        if let Some(field) = field {
+            let vmax = field_max(field);
+            // Arrow length on screen: the true V where it is short, capped where a start runs
+            // far around the sphere, so the picture stays readable.
+            for a in field {
+                let p = a.start.as_vec3();
+                let Some(end) = a.end else {
+                    continue;
+                };
+                let e = end.as_vec3();
+                let v = (e - p).length();
+                let color = linear(sample(&VIRIDIS, v / vmax), 1.0);
+                let cap = 0.18;
+                let shown = if v > cap {
+                    slerp_unit(p, e, cap / v)
+                } else {
+                    e
+                };
+                let r = 1.012;
+                let mut prev = p * r;
+                for k in 1..=4 {
+                    let q = slerp_unit(p, shown, k as f32 / 4.0) * r;
+                    segments.push(Segment {
+                        a: prev,
+                        b: q,
+                        color,
+                        width_px: 1.8,
+                    });
+                    prev = q;
+                }
+                let dir = (shown - p).normalize_or_zero();
+                let side = p.cross(dir).normalize_or_zero();
+                let head = 0.035_f32.min(0.5 * (shown - p).length() + 0.01);
+                for s in [-1.0, 1.0] {
+                    segments.push(Segment {
+                        a: prev,
+                        b: prev - dir * head + side * head * 0.6 * s,
+                        color,
+                        width_px: 1.8,
+                    });
+                }
+            }
+        }
+        View {
+            viewport: rect,
+            background,
+            camera: Self::ball_camera(),
+            light_dir: Vec3::new(0.3, -0.5, 1.0),
+            meshes: vec![MeshInstance {
+                mesh: self.boundary_mesh,
+                model: Mat4::IDENTITY,
+                material: Material {
+                    tint: linear([120, 124, 136], 1.0),
+                    specular: 0.2,
+                    ..Material::default()
+                },
+            }],
+            segments,
+        }
+    }
+}
+
+/// Largest arrow length of a field (at least a small positive number).
+pub(super) fn field_max(field: &[FieldArrow]) -> f32 {
+    field
+        .iter()
+        .filter_map(|a| a.end.map(|e| (e - a.start).length() as f32))
+        .fold(1e-6, f32::max)
+}
+
+pub(super) fn slerp_unit(a: Vec3, b: Vec3, t: f32) -> Vec3 {
+    (a * (1.0 - t) + b * t).normalize_or(a)
+}
+
+pub(super) fn axes_and_circles(out: &mut Vec<Segment>) {
+    let grey = linear([150, 150, 160], 0.6);
+    let n = 96;
+    for axis in 0..3 {
+        let pt = |k: usize| {
+            let t = k as f32 / n as f32 * 2.0 * PI;
+            let (s, c) = t.sin_cos();
+            match axis {
+                0 => Vec3::new(c, s, 0.0),
+                1 => Vec3::new(c, 0.0, s),
+                _ => Vec3::new(0.0, c, s),
+            }
+        };
+        for k in 0..n {
+            out.push(Segment {
+                a: pt(k),
+                b: pt(k + 1),
+                color: grey,
+                width_px: 1.0,
+            });
+        }
+    }
+    for (dir, c) in [
+        (Vec3::X, [230, 80, 80]),
+        (Vec3::Y, [90, 200, 90]),
+        (Vec3::Z, [90, 140, 240]),
+    ] {
+        out.push(Segment {
+            a: Vec3::ZERO,
+            b: dir,
+            color: linear(c, 0.9),
+            width_px: 1.5,
+        });
+    }
+}
+
+pub(super) fn push_polyline(
+    out: &mut Vec<Segment>,
+    points: impl Iterator<Item = Vec3>,
+    width_px: f32,
+    color_of_age: impl Fn(f32) -> [f32; 4],
+) {
+    let pts: Vec<Vec3> = points.collect();
+    let n = pts.len();
+    for (i, w) in pts.windows(2).enumerate() {
+        out.push(Segment {
+            a: w[0],
+            b: w[1],
+            color: color_of_age(i as f32 / n.max(1) as f32),
+            width_px,
+        });
+    }
+}
+
+pub(super) fn push_polyline_indexed(
+    out: &mut Vec<Segment>,
+    points: &[DVec3],
+    width_px: f32,
+    color_of_index: impl Fn(usize) -> [f32; 4],
+) {
+    for (i, w) in points.windows(2).enumerate() {
+        out.push(Segment {
+            a: w[0].as_vec3(),
+            b: w[1].as_vec3(),
+            color: color_of_index(i),
+            width_px,
+        });
+    }
+}

@@ -1,0 +1,282 @@
+//! From a scene's state to the renderer's plain draw data: the layout of the views, the
+//! cameras, the colours (curvature on the body, age on the trails, |V| on the Poincaré field),
+//! the text overlay and the legends. Window and headless build frames here, so they look the
+//! same.
+//!
+//! Frames of reference: the physics lives in the ramp frame (x downhill, y across, z the ramp's
+//! normal); the world is that frame turned by α about y, so the ramp is drawn tilted under a
+//! vertical gravity. The default camera looks across the ramp (from −y), slightly from above and
+//! uphill, 7 ⟨r⟩ from the body, 40° field of view, and follows the centre of mass: the body
+//! rolls from left to right and down.
+//!
+//! | file | owns |
+//! |---|---|
+//! | `mod` | [`SceneView`] (the uploaded meshes) and [`SceneView::frame`], [`ViewOptions`] |
+//! | `layout` | where each view goes in the frame, the SO(3) ball's camera |
+//! | `body` | the body on the ramp, the SO(3) ball and the Poincaré field as draw data |
+//! | `panels` | the status text, the legends and the titles |
+//!
+//! Colours come from [`crate::colormap`]; the Poincaré field from [`crate::sim::FieldCache`].
+
+use crate::analysis::sphere_orbits::FieldArrow;
+use crate::colormap::{DIVERGING, VIRIDIS, linear, sample};
+use crate::geometry::Body;
+use crate::geometry::mesh::{TriMesh, disk_mesh, icosphere, sphere_mesh};
+use crate::render::types::{Anchor, Frame, MeshData, MeshHandle, MeshStore, Panel, PanelItem};
+use crate::scene::SceneSetup;
+use crate::sim::Snapshot;
+
+mod body;
+mod layout;
+mod panels;
+
+use body::field_max;
+pub use panels::multiplicity_text;
+use panels::title_panel;
+
+/// The curvature colour scale: symmetric about 1 (the perfect body's K or κ).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CurvatureScale {
+    /// Smallest value on the body.
+    pub min: f32,
+    /// Largest value on the body.
+    pub max: f32,
+    /// Half-width of the scale around 1.
+    pub half_range: f32,
+}
+
+impl CurvatureScale {
+    fn new((min, max): (f32, f32)) -> Self {
+        let half_range = (max - 1.0).abs().max((1.0 - min).abs()).max(1e-3);
+        Self {
+            min,
+            max,
+            half_range,
+        }
+    }
+
+    /// Position of value `v` on the colour bar, 0..1.
+    pub fn position(&self, v: f32) -> f32 {
+        (0.5 + 0.5 * (v - 1.0) / self.half_range).clamp(0.0, 1.0)
+    }
+}
+
+/// Meshes uploaded for one scene, and how to frame them.
+pub struct SceneView {
+    body_mesh: MeshHandle,
+    ramp_mesh: MeshHandle,
+    marker_mesh: MeshHandle,
+    ball_mesh: MeshHandle,
+    boundary_mesh: MeshHandle,
+    is_disk: bool,
+    /// The curvature colour scale of the body.
+    pub scale: CurvatureScale,
+    name: String,
+    show_body: bool,
+    show_ball: bool,
+    show_poincare: bool,
+    show_overlay: bool,
+}
+
+/// User-controlled camera and overlay settings (the app changes them; headless uses defaults).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViewOptions {
+    /// Extra turn of the main camera about the vertical, radians.
+    pub yaw: f32,
+    /// Extra elevation of the main camera, radians.
+    pub pitch: f32,
+    /// Distance multiplier of the main camera.
+    pub zoom: f32,
+    /// Follow the body (otherwise look at the ramp's origin).
+    pub follow: bool,
+    /// Multiplies every overlay font size (the app's "class" mode).
+    pub text_scale: f32,
+}
+
+impl Default for ViewOptions {
+    fn default() -> Self {
+        Self {
+            yaw: 0.0,
+            pitch: 0.0,
+            zoom: 1.0,
+            follow: true,
+            text_scale: 1.0,
+        }
+    }
+}
+
+fn to_mesh_data(mesh: &TriMesh, color: impl Fn(f32) -> [f32; 4]) -> MeshData {
+    MeshData {
+        positions: mesh.positions.clone(),
+        normals: mesh.normals.clone(),
+        colors: mesh.values.iter().map(|&v| color(v)).collect(),
+        indices: mesh.indices.clone(),
+    }
+}
+
+fn uniform_sphere(level: u32, color: [f32; 4]) -> MeshData {
+    let (dirs, indices) = icosphere(level);
+    let p: Vec<[f32; 3]> = dirs.iter().map(|d| d.as_vec3().to_array()).collect();
+    MeshData {
+        positions: p.clone(),
+        normals: p,
+        colors: vec![color; dirs.len()],
+        indices,
+    }
+}
+
+/// Length of the 2D cylinder drawn, in ⟨r⟩ (the physics is per unit length).
+pub const CYLINDER_LENGTH: f64 = 1.2;
+
+/// Mesh resolution of the body: icosphere level (3D) or segments around the section (2D).
+const BODY_ICOSPHERE_LEVEL: u32 = 5;
+const DISK_SEGMENTS: usize = 360;
+
+impl SceneView {
+    /// Builds and uploads the meshes the scene's views need.
+    pub fn new(renderer: &mut impl MeshStore, setup: &SceneSetup) -> Self {
+        let mesh = match &setup.body {
+            Body::Sphere(s) => sphere_mesh(s, BODY_ICOSPHERE_LEVEL),
+            Body::Disk(d) => disk_mesh(d, DISK_SEGMENTS, CYLINDER_LENGTH),
+        };
+        let scale = CurvatureScale::new(mesh.value_range());
+        let body_mesh = renderer.upload_mesh(&to_mesh_data(&mesh, |v| {
+            // NaN: a cylinder cap's centre, drawn in the scale's neutral colour.
+            linear(
+                sample(
+                    &DIVERGING,
+                    scale.position(if v.is_finite() { v } else { 1.0 }),
+                ),
+                1.0,
+            )
+        }));
+        let half = 20.0f32;
+        let ramp = MeshData {
+            positions: vec![
+                [-half, -half, 0.0],
+                [half, -half, 0.0],
+                [half, half, 0.0],
+                [-half, half, 0.0],
+            ],
+            normals: vec![[0.0, 0.0, 1.0]; 4],
+            colors: vec![linear([196, 188, 172], 1.0); 4],
+            indices: vec![[0, 1, 2], [0, 2, 3]],
+        };
+        let ramp_mesh = renderer.upload_mesh(&ramp);
+        let marker_mesh = renderer.upload_mesh(&uniform_sphere(2, [1.0; 4]));
+        let ball_mesh = renderer.upload_mesh(&uniform_sphere(4, [1.0; 4]));
+        let boundary_mesh = ball_mesh;
+        let views = &setup.scene.views;
+        Self {
+            body_mesh,
+            ramp_mesh,
+            marker_mesh,
+            ball_mesh,
+            boundary_mesh,
+            is_disk: matches!(setup.body, Body::Disk(_)),
+            scale,
+            name: setup.scene.name.clone(),
+            show_body: views.body,
+            show_ball: views.ball,
+            show_poincare: views.poincare,
+            show_overlay: views.overlay,
+        }
+    }
+
+    /// Turns views on or off (the app's toggles); views a 2D body cannot show stay off.
+    pub fn set_views(&mut self, body: bool, ball: bool, poincare: bool, overlay: bool) {
+        self.show_body = body;
+        self.show_ball = ball && !self.is_disk;
+        self.show_poincare = poincare && !self.is_disk;
+        self.show_overlay = overlay;
+    }
+
+    /// The frame showing `snap` at `size`; `field` is the Poincaré field if it is ready.
+    pub fn frame(
+        &self,
+        snap: &Snapshot,
+        field: Option<&[FieldArrow]>,
+        size: (u32, u32),
+        options: &ViewOptions,
+    ) -> Frame {
+        let [body_rect, ball_rect, poincare_rect] = self.layout(size);
+        let inset_bg = Some(linear([24, 26, 34], 1.0));
+        let mut views = Vec::new();
+        let mut panels = Vec::new();
+        let text = options.text_scale * (size.1 as f32 / 720.0).clamp(0.5, 3.0);
+        if let Some(rect) = body_rect {
+            views.push(self.body_view(snap, rect, options));
+        }
+        if let Some(rect) = ball_rect {
+            views.push(self.ball_view(
+                snap,
+                rect,
+                if body_rect.is_some() { inset_bg } else { None },
+            ));
+            panels.push(title_panel(
+                rect,
+                "SO(3) ball: vector part of q (q_w ≥ 0)",
+                text,
+            ));
+        }
+        if let Some(rect) = poincare_rect {
+            views.push(self.poincare_view(
+                field,
+                rect,
+                if body_rect.is_some() { inset_bg } else { None },
+            ));
+            let title = match field {
+                Some(_) => "Poincaré map on ∂Ω (next crossing)",
+                None => "Poincaré map on ∂Ω: computing…",
+            };
+            panels.push(title_panel(rect, title, text));
+            if self.show_overlay
+                && let Some(f) = field
+            {
+                let vmax = field_max(f);
+                panels.push(Panel {
+                    anchor: Anchor::TopLeft(rect[0] + 8, rect[1] + rect[3] - (70.0 * text) as u32),
+                    items: vec![
+                        PanelItem::Text {
+                            text: "|V| = |P(p) − p|".into(),
+                            size_px: 15.0 * text,
+                            color: [235; 3],
+                        },
+                        PanelItem::ColorBar {
+                            width: (160.0 * text) as u32,
+                            height: (10.0 * text).max(4.0) as u32,
+                            colors: VIRIDIS.to_vec(),
+                            labels: vec![(0.0, "0".into()), (1.0, format!("{vmax:.2}"))],
+                            size_px: 13.0 * text,
+                        },
+                    ],
+                    background: [16, 18, 24, 200],
+                    padding: (6.0 * text) as u32,
+                });
+            }
+        }
+        if self.show_overlay {
+            let mut status = self.status_panel(snap, text);
+            if body_rect.is_none() {
+                // The views' titles hold the top edge; keep the numbers clear of them.
+                status.anchor = Anchor::BottomLeft(10, 10);
+            }
+            panels.push(status);
+            if body_rect.is_some() {
+                panels.push(self.legend_panel(text));
+            }
+        }
+        // Line widths are given for 720 rows; keep their look at other sizes.
+        let line_scale = (size.1 as f32 / 720.0).clamp(0.75, 3.0);
+        for view in &mut views {
+            for s in &mut view.segments {
+                s.width_px *= line_scale;
+            }
+        }
+        Frame {
+            clear: linear([40, 44, 54], 1.0),
+            views,
+            panels,
+        }
+    }
+}

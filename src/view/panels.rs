@@ -1,0 +1,164 @@
+//! The overlay's text panels: the status numbers (or the red health warning), the colour-bar
+//! legends and the view titles.
+
+use crate::colormap::DIVERGING;
+use crate::render::types::{Anchor, Panel, PanelItem};
+use crate::sim::Snapshot;
+
+use super::SceneView;
+
+impl SceneView {
+    pub(super) fn status_panel(&self, snap: &Snapshot, text: f32) -> Panel {
+        let deg = snap.alpha_rad.to_degrees();
+        let ratio = if snap.alpha_star > 0.0 {
+            format!("α/α* = {:.3}", snap.alpha_rad / snap.alpha_star)
+        } else {
+            "perfect body".into()
+        };
+        let mass = if snap.mass_ratio == 0.0 {
+            format!("m/m0 = 0 ({} model)", snap.model)
+        } else {
+            format!("m/m0 = {} ({} model)", trim(snap.mass_ratio), snap.model)
+        };
+        let rate = if snap.halted {
+            "halted: 1/T = 0".to_string()
+        } else {
+            match snap.period {
+                Some(t) => format!(
+                    "1/T = {:.5}   (T = {:.3}, {}){}",
+                    1.0 / t,
+                    t,
+                    if self.is_disk {
+                        "one full turn"
+                    } else {
+                        "∂Ω to ∂Ω"
+                    },
+                    multiplicity_text(snap.period_multiplicity)
+                ),
+                None => "1/T: measuring…".to_string(),
+            }
+        };
+        let line = |s: String, px: f32| PanelItem::Text {
+            text: s,
+            size_px: px * text,
+            color: [240; 3],
+        };
+        let mut items = vec![
+            PanelItem::Text {
+                text: self.name.clone(),
+                size_px: 19.0 * text,
+                color: [255, 214, 10],
+            },
+            line(
+                format!(
+                    "α = {:.4} rad ({deg:.2}°)   α* = {:.4} rad   {ratio}",
+                    snap.alpha_rad, snap.alpha_star
+                ),
+                16.0,
+            ),
+            line(mass, 16.0),
+            line(format!("t = {:.2}", snap.t), 16.0),
+        ];
+        let worst = snap
+            .health
+            .quat_norm_error
+            .max(snap.health.contact_normal_error);
+        let trustworthy = worst <= crate::simulate::FIXED_STEP_HEALTH_LIMIT;
+        if !self.is_disk && !trustworthy {
+            // The state has left the rolling constraint: its 1/T would be nonsense.
+            items.push(PanelItem::Text {
+                text: format!(
+                    "NOT TRUSTWORTHY: ||q|−1| = {:.1e}, contact error = {:.1e} (limit 1e-3); use a \
+                     smaller step",
+                    snap.health.quat_norm_error, snap.health.contact_normal_error
+                ),
+                size_px: 16.0 * text,
+                color: [255, 70, 60],
+            });
+        } else {
+            items.push(line(rate, 16.0));
+        }
+        if !self.is_disk {
+            items.push(PanelItem::Text {
+                text: format!(
+                    "{}   ||q|−1| ≤ {:.1e}   contact error ≤ {:.1e}",
+                    snap.integrator, snap.health.quat_norm_error, snap.health.contact_normal_error
+                ),
+                size_px: 13.0 * text,
+                color: [190; 3],
+            });
+        } else {
+            items.push(PanelItem::Text {
+                text: snap.integrator.to_string(),
+                size_px: 13.0 * text,
+                color: [190; 3],
+            });
+        }
+        Panel {
+            anchor: Anchor::TopLeft(10, 10),
+            items,
+            background: [16, 18, 24, 200],
+            padding: (8.0 * text) as u32,
+        }
+    }
+
+    pub(super) fn legend_panel(&self, text: f32) -> Panel {
+        let s = &self.scale;
+        let what = if self.is_disk {
+            "curvature κ of the section (1 = circle)"
+        } else {
+            "Gaussian curvature K (1 = sphere)"
+        };
+        let mut labels = vec![(s.position(1.0), "1".to_string())];
+        if s.max - s.min > 1e-3 {
+            labels.push((s.position(s.min), format!("{:.2}", s.min)));
+            labels.push((s.position(s.max), format!("{:.2}", s.max)));
+        }
+        Panel {
+            anchor: Anchor::BottomLeft(10, 10),
+            items: vec![
+                PanelItem::Text {
+                    text: what.into(),
+                    size_px: 15.0 * text,
+                    color: [240; 3],
+                },
+                PanelItem::ColorBar {
+                    width: (240.0 * text) as u32,
+                    height: (12.0 * text).max(4.0) as u32,
+                    colors: DIVERGING.to_vec(),
+                    labels,
+                    size_px: 13.0 * text,
+                },
+            ],
+            background: [16, 18, 24, 200],
+            padding: (8.0 * text) as u32,
+        }
+    }
+}
+
+pub(super) fn trim(x: f64) -> String {
+    let s = format!("{x:.4}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+pub(super) fn title_panel(rect: [u32; 4], title: &str, text: f32) -> Panel {
+    Panel {
+        anchor: Anchor::TopLeft(rect[0] + 6, rect[1] + 6),
+        items: vec![PanelItem::Text {
+            text: title.into(),
+            size_px: 14.0 * text,
+            color: [225; 3],
+        }],
+        background: [0, 0, 0, 0],
+        padding: 2,
+    }
+}
+
+/// "; period k" once the crossings of ∂Ω repeat (3D), else nothing.
+pub fn multiplicity_text(k: Option<usize>) -> String {
+    match k {
+        Some(2) => "; period 2, doubled".into(),
+        Some(k) => format!("; period {k}"),
+        None => String::new(),
+    }
+}
