@@ -25,7 +25,7 @@ use thiserror::Error;
 
 use crate::dynamics::disk2d::pose;
 use crate::dynamics::{
-    DiskInertial, DiskViscous, ModelError, Observe, Ramp, SphereInertial, SphereViscous,
+    DiskInertial, DiskViscous, ModelError, ModelKind, Observe, Ramp, SphereInertial, SphereViscous,
 };
 use crate::geometry::{Body, Disk, ShapeError, Sphere};
 use crate::integrate::{self, IntegrateError, Method, Stats, Stepper};
@@ -62,10 +62,11 @@ pub struct RunSpec {
 }
 
 /// Numerical health of a run.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Summary {
-    /// Which model ran: disk-viscous, disk-inertial, sphere-viscous or sphere-inertial.
-    pub model: &'static str,
+    /// Which model ran (serialised as disk-viscous, disk-inertial, sphere-viscous or
+    /// sphere-inertial).
+    pub model: ModelKind,
     /// Integrator name.
     pub integrator: &'static str,
     /// Right-hand-side evaluations.
@@ -84,6 +85,24 @@ pub struct Summary {
     pub t_end: f64,
     /// Why the model run differs from the one asked for (the stiff-corner policy), if it does.
     pub model_note: Option<String>,
+}
+
+impl Summary {
+    /// An empty summary of a run of `model`, filled in as the run goes.
+    pub fn new(model: ModelKind) -> Self {
+        Self {
+            model,
+            integrator: "",
+            rhs_evals: 0,
+            steps: 0,
+            rejected: 0,
+            max_quat_norm_error: None,
+            max_contact_normal_error: None,
+            energy_drift: None,
+            t_end: 0.0,
+            model_note: None,
+        }
+    }
 }
 
 /// Why a run could not be done.
@@ -392,9 +411,8 @@ fn run_disk(
     times: &[f64],
     row: &mut impl FnMut(&[f64]),
 ) -> Result<Summary, RunError> {
-    let mut summary = Summary::default();
     if spec.ramp.is_viscous() {
-        summary.model = "disk-viscous";
+        let mut summary = Summary::new(ModelKind::DiskViscous);
         let model = DiskViscous::new(d, &spec.ramp);
         let mut st = integrate::stepper(&model, 0.0, [theta0, 0.0], spec.method)?;
         let stats = drive(
@@ -414,7 +432,7 @@ fn run_disk(
         )?;
         Ok(finish(summary, stats, spec.method))
     } else {
-        summary.model = "disk-inertial";
+        let mut summary = Summary::new(ModelKind::DiskInertial);
         let model = DiskInertial::new(d, &spec.ramp);
         let mut st = integrate::stepper(&model, 0.0, [theta0, theta_dot0, 0.0, 0.0], spec.method)?;
         let stats = drive(
@@ -463,9 +481,8 @@ fn run_sphere(
     times: &[f64],
     row: &mut impl FnMut(&[f64]),
 ) -> Result<Summary, RunError> {
-    let mut summary = Summary::default();
     if spec.ramp.is_viscous() {
-        summary.model = "sphere-viscous";
+        let mut summary = Summary::new(ModelKind::SphereViscous);
         let model = SphereViscous::new(s, &spec.ramp);
         let mut st =
             integrate::stepper(&model, 0.0, SphereViscous::initial_state(q0), spec.method)?;
@@ -488,7 +505,7 @@ fn run_sphere(
         )?;
         Ok(finish(summary, stats, spec.method))
     } else {
-        summary.model = "sphere-inertial";
+        let mut summary = Summary::new(ModelKind::SphereInertial);
         let model = SphereInertial::new(s, &spec.ramp);
         let mut st = integrate::stepper(
             &model,

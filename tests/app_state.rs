@@ -3,6 +3,7 @@
 //! refused command becomes a message that leaves the state alone, and a tick that exceeds its work
 //! budget is reported as lagging behind the requested speed.
 
+use rollphase::dynamics::ModelKind;
 use rollphase::integrate::Method;
 use rollphase::scene::Scene;
 use rollphase::sim::{Controller, SimCommand};
@@ -51,7 +52,7 @@ fn alpha_changes_apply_live_and_reset_restores_the_start() {
     assert_eq!(c.simulation().ramp().alpha_rad, 0.5);
     c.apply(SimCommand::SetMassRatio(2.0));
     assert_eq!(c.simulation().ramp().mass_ratio, 2.0);
-    assert_eq!(c.simulation().state().model_name(), "3D inertial");
+    assert_eq!(c.simulation().state().kind(), ModelKind::SphereInertial);
     c.apply(SimCommand::Reset);
     let again = c.simulation().snapshot();
     assert_eq!(again.t, 0.0);
@@ -111,6 +112,6 @@ fn loading_a_preset_replaces_the_scene() {
         .unwrap();
     c.apply(SimCommand::Load(Box::new(cyl)));
     assert_eq!(c.simulation().time(), 0.0);
-    assert_eq!(c.simulation().state().model_name(), "2D viscous");
+    assert_eq!(c.simulation().state().kind(), ModelKind::DiskViscous);
     assert_eq!(c.speed(), 30.0);
 }

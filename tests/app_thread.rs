@@ -80,7 +80,10 @@ fn loading_a_scene_is_counted_and_replaces_the_body() {
         .unwrap();
     sim.send(SimCommand::Load(Box::new(cylinder)));
     let s = wait_for(&sim, "the load", |s| s.scene_id == before.scene_id + 1);
-    assert_eq!(s.snapshot.model, "2D viscous");
+    assert_eq!(
+        s.snapshot.model,
+        rollphase::dynamics::ModelKind::DiskViscous
+    );
     assert_eq!(s.setup.scene.name, "cylinder-near-critical");
 }
 

@@ -188,7 +188,10 @@ fn loading_a_preset_from_the_ui_replaces_the_scene() {
         .unwrap();
     bench.sim.send(SimCommand::Load(Box::new(cylinder)));
     let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.scene_id == 1);
-    assert_eq!(s.snapshot.model, "2D inertial");
+    assert_eq!(
+        s.snapshot.model,
+        rollphase::dynamics::ModelKind::DiskInertial
+    );
     // The UI follows: its α is the new scene's.
     frames_until(&mut bench, &gpu, &target, vec![], |_| true);
     assert_eq!(bench.ui.alpha(), s.snapshot.alpha_rad);

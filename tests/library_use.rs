@@ -62,7 +62,7 @@ fn the_library_example_runs() -> Result<(), Box<dyn std::error::Error>> {
         rows += 1;
     })?;
     assert_eq!(rows, 101);
-    assert_eq!(summary.model, "sphere-viscous");
+    assert_eq!(summary.model.to_string(), "sphere-viscous");
     assert!(summary.steps > 0);
     Ok(())
 }

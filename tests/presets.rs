@@ -33,13 +33,13 @@ fn presets_meet_their_documented_errors() {
                 row.failure.is_none(),
                 "{} {}: {:?}",
                 preset.name(),
-                case.name,
+                case.model(),
                 row.failure
             );
             assert!(
                 row.period_error.is_finite(),
                 "{}: the period is measurable",
-                case.name
+                case.model()
             );
             worst_state = worst_state.max(row.state_error);
             worst_period = worst_period.max(row.period_error);

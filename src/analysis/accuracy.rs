@@ -17,7 +17,7 @@ use glam::{DQuat, DVec3};
 use serde::Serialize;
 
 use crate::dynamics::sphere3d::orientation_touching;
-use crate::dynamics::{DiskInertial, DiskViscous, Ramp, SphereInertial, SphereViscous};
+use crate::dynamics::{DiskInertial, DiskViscous, ModelKind, Ramp, SphereInertial, SphereViscous};
 use crate::geometry::{Body, sphere::direction};
 use crate::integrate::events::{self, Direction};
 use crate::integrate::lie::quat_at;
@@ -26,8 +26,6 @@ use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stats};
 /// One model on one body with one start: what a row of the accuracy table measures.
 #[derive(Debug, Clone)]
 pub struct Case {
-    /// disk-viscous, disk-inertial, sphere-viscous or sphere-inertial.
-    pub name: &'static str,
     /// The body.
     pub body: Body,
     /// Tilt and mass.
@@ -53,11 +51,18 @@ pub struct Outcome {
     pub stats: Stats,
 }
 
+impl Case {
+    /// The model this case runs: the body's dimension, viscous when m/m0 = 0.
+    pub fn model(&self) -> ModelKind {
+        ModelKind::of(&self.body, &self.ramp)
+    }
+}
+
 /// One row of the accuracy table.
 #[derive(Debug, Clone, Serialize)]
 pub struct AccuracyRow {
-    /// Model name.
-    pub model: &'static str,
+    /// The model.
+    pub model: ModelKind,
     /// Integrator name.
     pub integrator: &'static str,
     /// Its step (RK4, CF4) or tolerance (DOP853).
@@ -79,28 +84,24 @@ pub fn default_cases(disk: &Body, disk_inertial: &Body, sphere: &Body) -> Vec<Ca
     let ramp = |a: f64, m: f64| Ramp::new(a, m).expect("fixed valid parameters");
     vec![
         Case {
-            name: "disk-viscous",
             body: disk.clone(),
             ramp: ramp(0.25, 0.0),
             start: [0.0; 3],
             t_end: 100.0,
         },
         Case {
-            name: "disk-inertial",
             body: disk_inertial.clone(),
             ramp: ramp(0.2, 2.0),
             start: [0.0; 3],
             t_end: 100.0,
         },
         Case {
-            name: "sphere-viscous",
             body: sphere.clone(),
             ramp: ramp(0.3, 0.0),
             start: [1.0, 2.0, 0.5],
             t_end: 100.0,
         },
         Case {
-            name: "sphere-inertial",
             body: sphere.clone(),
             ramp: ramp(0.3, 2.0),
             start: [1.0, 2.0, 0.5],
@@ -292,7 +293,7 @@ pub fn row(
                 _ => f64::NAN,
             };
             AccuracyRow {
-                model: case.name,
+                model: case.model(),
                 integrator: method.name(),
                 parameter,
                 state_error: state_error(o, reference),
@@ -303,7 +304,7 @@ pub fn row(
             }
         }
         Err(e) => AccuracyRow {
-            model: case.name,
+            model: case.model(),
             integrator: method.name(),
             parameter,
             state_error: f64::NAN,

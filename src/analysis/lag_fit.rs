@@ -208,21 +208,37 @@ pub const MIN_ANGLES_PER_RUN: usize = 4;
 /// Parses the layout of `cylinder_lag_times.csv`: `run_idx,alpha*,alpha,t_lag` with t_lag a
 /// quoted list `"[t1, t2, …]"`. Errors name the line and the field.
 pub fn parse_lag_csv(text: &str) -> Result<Vec<LagRun>, String> {
-    let mut lines = text.lines().enumerate();
-    let (_, header) = lines.next().ok_or("the file is empty")?;
-    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
+    // The t_lag list is quoted in the authors' files ("[2.8, 2.7]"); an unquoted list arrives as
+    // extra fields, which are joined back (flexible records).
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let mut records = reader.records();
+    let header = match records.next() {
+        None => return Err("the file is empty".into()),
+        Some(r) => r.map_err(|e| format!("line 1: {e}"))?,
+    };
+    let cols: Vec<&str> = header.iter().collect();
     if cols.len() < 4 || cols[0] != "run_idx" || cols[2] != "alpha" || cols[3] != "t_lag" {
         return Err(format!(
-            "line 1: expected the header run_idx,alpha*,alpha,t_lag, found {header:?}"
+            "line 1: expected the header run_idx,alpha*,alpha,t_lag, found {:?}",
+            cols.join(",")
         ));
     }
     let mut runs: Vec<LagRun> = Vec::new();
-    for (i, line) in lines {
-        let n = i + 1;
-        if line.trim().is_empty() {
+    for record in records {
+        let record = record.map_err(|e| format!("{e}"))?;
+        let n = record.position().map_or(0, |p| p.line());
+        if record.iter().all(str::is_empty) {
             continue;
         }
-        let mut parts = line.splitn(4, ',');
+        let rest = record.iter().skip(3).collect::<Vec<_>>().join(",");
+        let mut parts = record
+            .iter()
+            .take(3)
+            .chain((record.len() > 3).then_some(rest.as_str()));
         let mut field = |name: &str| {
             parts
                 .next()

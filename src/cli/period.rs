@@ -7,7 +7,7 @@ use clap::Args;
 use serde::Serialize;
 
 use crate::analysis::{critical_angle, inertial_disk_period, viscous_disk_period};
-use crate::dynamics::Ramp;
+use crate::dynamics::{ModelKind, Ramp};
 use crate::geometry::Body;
 
 /// Period T of a rolling disk and its mean angular speed 2π/T, or that it halts.
@@ -56,7 +56,7 @@ pub struct PeriodReport {
     /// Whether the number is converged (quadrature error ≤ 1e-9, or periodic to 1e-8).
     pub converged: bool,
     /// disk-viscous or disk-inertial.
-    pub model: &'static str,
+    pub model: ModelKind,
     /// Why no period is given when the disk neither rolls periodically nor halts; null otherwise.
     pub note: Option<String>,
     /// α (rad).
@@ -92,11 +92,11 @@ pub fn run(a: PeriodArgs) -> Result<()> {
     }
     let alpha_star = critical_angle(&body).alpha_star;
     let (p, model) = if ramp.is_viscous() {
-        (viscous_disk_period(disk, &ramp), "disk-viscous")
+        (viscous_disk_period(disk, &ramp), ModelKind::DiskViscous)
     } else {
         (
             inertial_disk_period(disk, &ramp, a.theta0, a.thetadot0, a.rtol, a.t_max)?,
-            "disk-inertial",
+            ModelKind::DiskInertial,
         )
     };
     let note = match (p.period, p.halts) {

@@ -231,10 +231,10 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         inputs.push(s.as_path());
     }
     let mut file = super::output::OutputFile::create(&a.output, &inputs, "-o")?;
-    let out = file.writer();
     // The header goes out with the first row, so a run refused before it starts writes nothing
     // (also on standard output).
     let mut header = Some(header);
+    let mut out = csv::WriterBuilder::new().from_writer(file.writer());
     let bar = indicatif::ProgressBar::new(a.samples as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} rows, t = {msg} {elapsed}")
@@ -246,22 +246,23 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         if io_error.is_some() {
             return;
         }
-        let line = row
-            .iter()
-            .map(|v| v.to_string())
-            .collect::<Vec<_>>()
-            .join(",");
-        let written = match header.take() {
-            Some(h) => writeln!(out, "{h}\n{line}"),
-            None => writeln!(out, "{line}"),
-        };
+        let written = header
+            .take()
+            .map_or(Ok(()), |h| out.write_record(h.split(',')))
+            .and_then(|()| out.write_record(row.iter().map(|v| v.to_string())));
         if let Err(e) = written {
-            io_error = Some(e);
+            io_error = Some(csv_io_error(e));
         }
         bar.inc(1);
         bar.set_message(format!("{:.1}", row[0]));
     });
     bar.finish_and_clear();
+    if io_error.is_none()
+        && let Err(e) = out.flush()
+    {
+        io_error = Some(e);
+    }
+    drop(out);
     let summary = match result {
         Ok(s) => s,
         Err(e) => {
@@ -305,4 +306,12 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         super::output::write_text(Some(path), &text, &[a.file.as_path()], "--summary")?;
     }
     Ok(())
+}
+
+/// The I/O error inside a CSV error (a closed pipe must stay recognisable as one).
+fn csv_io_error(e: csv::Error) -> std::io::Error {
+    match e.into_kind() {
+        csv::ErrorKind::Io(io) => io,
+        other => std::io::Error::other(format!("{other:?}")),
+    }
 }

@@ -15,6 +15,58 @@ use crate::integrate::OdeSystem;
 pub use disk2d::{DiskInertial, DiskViscous};
 pub use sphere3d::{SphereInertial, SphereViscous};
 
+/// Which of the four models runs: the body's dimension × viscous (m/m0 = 0) or inertial. Its
+/// [`Display`](std::fmt::Display) and serde name ("sphere-viscous", …) is the one name used
+/// everywhere: command line, CSV, JSON, overlay and UI.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModelKind {
+    /// 2D, first order in θ (SI §1A).
+    DiskViscous,
+    /// 2D, second order in θ (SI §1B).
+    DiskInertial,
+    /// 3D, ω = −r×F/γ with the orientation quaternion (SI §2B).
+    SphereViscous,
+    /// 3D, the ω̇ equation (SI §2A).
+    SphereInertial,
+}
+
+impl ModelKind {
+    /// All four, 2D first.
+    pub const ALL: [ModelKind; 4] = [
+        ModelKind::DiskViscous,
+        ModelKind::DiskInertial,
+        ModelKind::SphereViscous,
+        ModelKind::SphereInertial,
+    ];
+
+    /// The model a body runs with on `ramp` (m/m0 = 0: viscous).
+    pub fn of(body: &crate::geometry::Body, ramp: &Ramp) -> Self {
+        match (body, ramp.is_viscous()) {
+            (crate::geometry::Body::Disk(_), true) => ModelKind::DiskViscous,
+            (crate::geometry::Body::Disk(_), false) => ModelKind::DiskInertial,
+            (crate::geometry::Body::Sphere(_), true) => ModelKind::SphereViscous,
+            (crate::geometry::Body::Sphere(_), false) => ModelKind::SphereInertial,
+        }
+    }
+
+    /// The name: "disk-viscous", "disk-inertial", "sphere-viscous" or "sphere-inertial".
+    pub fn name(self) -> &'static str {
+        match self {
+            ModelKind::DiskViscous => "disk-viscous",
+            ModelKind::DiskInertial => "disk-inertial",
+            ModelKind::SphereViscous => "sphere-viscous",
+            ModelKind::SphereInertial => "sphere-inertial",
+        }
+    }
+}
+
+impl std::fmt::Display for ModelKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// The ramp and the body's dynamical constants.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ramp {

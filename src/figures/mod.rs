@@ -19,7 +19,6 @@ pub mod sphere_orbits;
 pub mod sphere_poincare;
 pub mod sphere_tube;
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
@@ -260,25 +259,41 @@ pub fn figure(name: &str) -> Option<&'static FigureEntry> {
     FIGURES.iter().find(|f| f.name == name)
 }
 
+/// A number as a CSV field: Rust's shortest round-trip form; empty when not finite.
+pub fn number_field(v: f64) -> String {
+    if v.is_finite() {
+        v.to_string()
+    } else {
+        String::new()
+    }
+}
+
+/// CSV text (the `csv` crate: fields with commas or quotes are quoted) from a header written as
+/// "a,b,c" and records of fields.
+pub fn csv_text<R, F>(header: &str, records: R) -> Result<String>
+where
+    R: IntoIterator<Item = Vec<F>>,
+    F: AsRef<[u8]>,
+{
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(header.split(','))?;
+    for r in records {
+        w.write_record(r)?;
+    }
+    let bytes = w
+        .into_inner()
+        .map_err(|e| anyhow::anyhow!("CSV: {}", e.error()))?;
+    Ok(String::from_utf8(bytes)?)
+}
+
 /// Writes rows of numbers as CSV; non-finite values become empty fields.
 pub fn write_csv(path: &Path, header: &str, rows: &[Vec<f64>]) -> Result<()> {
-    let mut s = String::with_capacity(rows.len() * 64);
-    s.push_str(header);
-    s.push('\n');
-    for r in rows {
-        let line: Vec<String> = r
-            .iter()
-            .map(|v| {
-                if v.is_finite() {
-                    v.to_string()
-                } else {
-                    String::new()
-                }
-            })
-            .collect();
-        let _ = writeln!(s, "{}", line.join(","));
-    }
-    std::fs::write(path, s).with_context(|| format!("cannot write {}", path.display()))
+    let text = csv_text(
+        header,
+        rows.iter()
+            .map(|r| r.iter().map(|&v| number_field(v)).collect::<Vec<_>>()),
+    )?;
+    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// Writes the summary as pretty JSON.

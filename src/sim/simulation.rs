@@ -3,7 +3,9 @@
 
 use crate::analysis::sphere_orbits::{Crossing, ball_point, late_cycle};
 use crate::dynamics::disk2d::pose;
-use crate::dynamics::{DiskInertial, DiskViscous, Observe, Ramp, SphereInertial, SphereViscous};
+use crate::dynamics::{
+    DiskInertial, DiskViscous, ModelKind, Observe, Ramp, SphereInertial, SphereViscous,
+};
 use crate::geometry::{Body, Disk, Sphere};
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stepper};
@@ -36,13 +38,13 @@ pub enum ModelState {
 }
 
 impl ModelState {
-    /// Name of the model.
-    pub fn model_name(&self) -> &'static str {
+    /// Which model this is the state of.
+    pub fn kind(&self) -> ModelKind {
         match self {
-            ModelState::DiskViscous(_) => "2D viscous",
-            ModelState::DiskInertial(_) => "2D inertial",
-            ModelState::SphereViscous(_) => "3D viscous",
-            ModelState::SphereInertial(_) => "3D inertial",
+            ModelState::DiskViscous(_) => ModelKind::DiskViscous,
+            ModelState::DiskInertial(_) => ModelKind::DiskInertial,
+            ModelState::SphereViscous(_) => ModelKind::SphereViscous,
+            ModelState::SphereInertial(_) => ModelKind::SphereInertial,
         }
     }
 }
@@ -91,7 +93,7 @@ pub struct Snapshot {
     /// Simulation time.
     pub t: f64,
     /// Which model runs.
-    pub model: &'static str,
+    pub model: ModelKind,
     /// The integrator's name.
     pub integrator: &'static str,
     /// Tilt.
@@ -470,7 +472,7 @@ impl Simulation {
         let last_crossing = section.last().map(|c| (c.t, DVec3::from_array(c.point)));
         Snapshot {
             t: self.t,
-            model: self.state.model_name(),
+            model: self.state.kind(),
             integrator: self.method.name(),
             alpha_rad: self.ramp.alpha_rad,
             alpha_star: self.setup.alpha_star,

@@ -1,7 +1,6 @@
 //! `bench accuracy`: every model × integrator setting against a converged reference at t = 100,
 //! as accuracy.csv (deterministic), timing.csv (wall clock) and work–precision plots.
 
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -13,6 +12,8 @@ use crate::analysis::accuracy::{self, AccuracyRow, Case, REFERENCE};
 use crate::assets::{
     DISK as BUNDLED_DISK, DISK_INERTIAL as BUNDLED_DISK_INERTIAL, SPHERE as BUNDLED_SPHERE,
 };
+use crate::dynamics::ModelKind;
+use crate::figures::csv_text;
 use crate::integrate::Method;
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
 
@@ -57,11 +58,7 @@ fn time_run(
 }
 
 /// The cheapest (fewest RHS evaluations) setting of a model whose period error is < `limit`.
-pub fn cheapest_below<'a>(
-    rows: &'a [AccuracyRow],
-    model: &str,
-    limit: f64,
-) -> Option<&'a AccuracyRow> {
+pub fn cheapest_below(rows: &[AccuracyRow], model: ModelKind, limit: f64) -> Option<&AccuracyRow> {
     rows.iter()
         .filter(|r| {
             r.model == model
@@ -87,11 +84,8 @@ pub fn run(a: AccuracyArgs) -> Result<()> {
         }
     }
     let mut rows: Vec<AccuracyRow> = Vec::new();
-    let mut timing =
-        String::from("model,integrator,parameter,wall_seconds,sim_time_per_wall_second\n");
-    let mut csv = String::from(
-        "model,integrator,parameter,state_error,period_error,rhs_evals,steps,failure\n",
-    );
+    let mut timing = Vec::new();
+    let mut csv = Vec::new();
     let total: usize = cases.iter().map(|c| settings(c, a.quick).len()).sum();
     let bar = indicatif::ProgressBar::new(total as u64);
     outln!(
@@ -107,7 +101,7 @@ pub fn run(a: AccuracyArgs) -> Result<()> {
     )?;
     for case in &cases {
         let reference = accuracy::run_case(case, REFERENCE)
-            .with_context(|| format!("reference run of {}", case.name))?;
+            .with_context(|| format!("reference run of {}", case.model()))?;
         for method in settings(case, a.quick) {
             let (run, wall) = time_run(case, method, a.repeats);
             let row = accuracy::row(case, method, &run, &reference);
@@ -134,34 +128,38 @@ pub fn run(a: AccuracyArgs) -> Result<()> {
                         .unwrap_or_default()
                 )
             })?;
-            let _ = writeln!(
-                csv,
-                "{},{},{:e},{},{},{},{},{}",
-                row.model,
-                row.integrator,
-                row.parameter,
+            csv.push(vec![
+                row.model.to_string(),
+                row.integrator.to_string(),
+                format!("{:e}", row.parameter),
                 fmt_num(row.state_error),
                 fmt_num(row.period_error),
-                row.rhs_evals,
-                row.steps,
-                row.failure.as_deref().unwrap_or("").replace(',', ";")
-            );
-            let _ = writeln!(
-                timing,
-                "{},{},{:e},{:e},{}",
-                row.model,
-                row.integrator,
-                row.parameter,
-                wall,
-                fmt_num(sim_rate)
-            );
+                row.rhs_evals.to_string(),
+                row.steps.to_string(),
+                row.failure.clone().unwrap_or_default(),
+            ]);
+            timing.push(vec![
+                row.model.to_string(),
+                row.integrator.to_string(),
+                format!("{:e}", row.parameter),
+                format!("{wall:e}"),
+                fmt_num(sim_rate),
+            ]);
             rows.push(row);
         }
     }
     bar.finish_and_clear();
+    let csv = csv_text(
+        "model,integrator,parameter,state_error,period_error,rhs_evals,steps,failure",
+        csv,
+    )?;
+    let timing = csv_text(
+        "model,integrator,parameter,wall_seconds,sim_time_per_wall_second",
+        timing,
+    )?;
     write(&a.out.join("accuracy.csv"), &csv)?;
     write(&a.out.join("timing.csv"), &timing)?;
-    let names: Vec<&'static str> = cases.iter().map(|c| c.name).collect();
+    let names: Vec<ModelKind> = cases.iter().map(Case::model).collect();
     plot_work_precision(
         &rows,
         &names,
@@ -178,7 +176,7 @@ pub fn run(a: AccuracyArgs) -> Result<()> {
     )?;
     outln!()?;
     for name in &names {
-        match cheapest_below(&rows, name, 1e-3) {
+        match cheapest_below(&rows, *name, 1e-3) {
             Some(r) => outln!(
                 "{name}: cheapest setting with period error < 1e-3: {} {:e} ({} RHS evaluations, period error {:.1e})",
                 r.integrator,
@@ -208,7 +206,7 @@ fn settings(case: &Case, quick: bool) -> Vec<Method> {
 
 fn plot_work_precision(
     rows: &[AccuracyRow],
-    models: &[&'static str],
+    models: &[ModelKind],
     error: impl Fn(&AccuracyRow) -> f64,
     y_label: &str,
     path: &Path,

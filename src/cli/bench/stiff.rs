@@ -1,7 +1,6 @@
 //! `bench stiff`: the inertial models as m/m0 → 0, their cost (stiffness) and their distance
 //! from the viscous model.
 
-use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
@@ -69,7 +68,6 @@ pub fn run(a: StiffArgs) -> Result<()> {
     )?;
     for (name, body, alpha, start) in &bodies {
         let viscous = Case {
-            name: "viscous",
             body: body.clone(),
             ramp: Ramp::new(*alpha, 0.0)?,
             start: *start,
@@ -79,7 +77,6 @@ pub fn run(a: StiffArgs) -> Result<()> {
         let tv = accuracy::period_estimate(&v.crossings, t_end);
         for &m in &masses {
             let case = Case {
-                name: "inertial",
                 body: body.clone(),
                 ramp: Ramp::new(*alpha, m)?,
                 start: *start,
@@ -111,20 +108,19 @@ pub fn run(a: StiffArgs) -> Result<()> {
             rows.push(row);
         }
     }
-    let mut csv =
-        String::from("body,mass_ratio,rhs_evals,steps,distance_from_viscous,period_difference\n");
-    for r in &rows {
-        let _ = writeln!(
-            csv,
-            "{},{:e},{},{},{},{}",
-            r.model,
-            r.mass_ratio,
-            r.rhs_evals,
-            r.steps,
-            fmt_num(r.distance_from_viscous),
-            fmt_num(r.period_difference)
-        );
-    }
+    let csv = crate::figures::csv_text(
+        "body,mass_ratio,rhs_evals,steps,distance_from_viscous,period_difference",
+        rows.iter().map(|r| {
+            vec![
+                r.model.to_string(),
+                format!("{:e}", r.mass_ratio),
+                r.rhs_evals.to_string(),
+                r.steps.to_string(),
+                fmt_num(r.distance_from_viscous),
+                fmt_num(r.period_difference),
+            ]
+        }),
+    )?;
     write(&a.out.join("stiff.csv"), &csv)?;
     let series = |f: &dyn Fn(&StiffRow) -> f64| -> Vec<Series> {
         ["disk", "sphere"]
