@@ -171,6 +171,30 @@ pub trait Stepper<const N: usize> {
     fn stats(&self) -> Stats;
 }
 
+/// Steps `stepper` until it reaches `t_end`, within `max_steps` accepted steps, calling
+/// `after_step` after each one: the one stepping loop of `simulate::run` (samples, health) and
+/// the app's `sim::Simulation` (trails, crossings, health).
+pub fn step_until<const N: usize, E: From<IntegrateError>>(
+    stepper: &mut dyn Stepper<N>,
+    t_end: f64,
+    max_steps: u64,
+    mut after_step: impl FnMut(&mut dyn Stepper<N>) -> Result<(), E>,
+) -> Result<(), E> {
+    let first = stepper.stats().steps;
+    while stepper.t() < t_end {
+        if stepper.stats().steps - first >= max_steps {
+            return Err(IntegrateError::TooManySteps {
+                t: stepper.t(),
+                max_steps,
+            }
+            .into());
+        }
+        stepper.step(t_end)?;
+        after_step(stepper)?;
+    }
+    Ok(())
+}
+
 /// Builds the stepper for `method` starting at (t0, y0).
 pub fn stepper<'a, S, const N: usize>(
     system: &'a S,

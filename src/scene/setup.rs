@@ -9,7 +9,7 @@ use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
 use crate::geometry::sphere::direction;
 use crate::geometry::{Body, Disk, ShapeError, ShapeFile, Sphere, random_disk, random_sphere};
 use crate::integrate::{IntegrateError, Method, Preset};
-use crate::simulate::{InitialState, choose_model};
+use crate::simulate::{InitialState, Start, choose_model};
 use glam::{DQuat, DVec3};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -78,8 +78,8 @@ pub struct SceneSetup {
     pub model_note: Option<String>,
     /// The integrator.
     pub method: Method,
-    /// The start.
-    pub initial: InitialState,
+    /// The body paired with its start.
+    pub start: Start,
 }
 
 impl Scene {
@@ -153,7 +153,8 @@ impl Scene {
         let ramp = Ramp::with_drag(alpha, m.mass_ratio, m.drag)?;
         let method = self.integrator.method()?;
         let choice = choose_model(&body, ramp, method).map_err(|e| invalid(e.to_string()))?;
-        let initial = self.initial.build(&body)?;
+        let start =
+            Start::new(&body, self.initial.build(&body)?).map_err(|e| invalid(e.to_string()))?;
         self.playback.validate()?;
         self.views.validate(&body, &choice.ramp)?;
         self.poincare.validate()?;
@@ -164,7 +165,7 @@ impl Scene {
             ramp: choice.ramp,
             model_note: choice.note,
             method,
-            initial,
+            start,
         })
     }
 }

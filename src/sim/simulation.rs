@@ -10,44 +10,21 @@ use crate::geometry::{Body, Disk, Sphere};
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stepper};
 use crate::scene::{SceneSetup, ViewsSpec};
-use crate::simulate::{InitialState, choose_model};
+use crate::simulate::{Model, choose_model};
 use glam::{DQuat, DVec3};
 use std::collections::VecDeque;
 use thiserror::Error;
 
 /// Crossings of the section kept for the period and its multiplicity (enough for k ≤ 4).
 const MAX_CROSSINGS_KEPT: usize = 12;
+/// Step budget of one `advance_to` (a frame), against a stuck integrator.
+const MAX_STEPS_PER_ADVANCE: u64 = 5_000_000;
 /// Longest cycle of ∂Ω crossings the live display looks for.
 const MAX_MULTIPLICITY: usize = 4;
 /// Crossing points that agree to this (antipodes identified) repeat, for the live display: loose
 /// enough to report an orbit while it still converges, tight against the 0.2–0.5 alternation of
 /// a doubled orbit.
 const MULTIPLICITY_TOL: f64 = 1e-3;
-
-/// The integrated state of whichever model runs.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum ModelState {
-    /// [θ, x_c]
-    DiskViscous([f64; 2]),
-    /// [θ, θ̇, x_c, W]
-    DiskInertial([f64; 4]),
-    /// [q, x, y]
-    SphereViscous([f64; 6]),
-    /// [q, ω, x, y, W]
-    SphereInertial([f64; 10]),
-}
-
-impl ModelState {
-    /// Which model this is the state of.
-    pub fn kind(&self) -> ModelKind {
-        match self {
-            ModelState::DiskViscous(_) => ModelKind::DiskViscous,
-            ModelState::DiskInertial(_) => ModelKind::DiskInertial,
-            ModelState::SphereViscous(_) => ModelKind::SphereViscous,
-            ModelState::SphereInertial(_) => ModelKind::SphereInertial,
-        }
-    }
-}
 
 /// Why the simulation stopped.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -130,8 +107,8 @@ pub struct Snapshot {
     pub angular_speed: f64,
     /// 2D: the signed θ̇ (for the phase plot θ̇(θ)); `None` in 3D.
     pub theta_dot: Option<f64>,
-    /// The integrated state (θ for 2D, q for 3D), for the app's plots.
-    pub state: ModelState,
+    /// 2D: the contact angle θ (not wrapped), for the app's plots; `None` in 3D.
+    pub theta: Option<f64>,
     /// Numerical health.
     pub health: Health,
 }
@@ -151,7 +128,7 @@ pub struct Simulation {
     ramp: Ramp,
     method: Method,
     t: f64,
-    state: ModelState,
+    state: Model,
     trail: VecDeque<TrailSample>,
     trail_dt: f64,
     next_trail_t: f64,
@@ -177,25 +154,7 @@ struct Observed {
 impl Simulation {
     /// A simulation at the scene's start (t = 0; call [`Self::advance_to`] to skip ahead).
     pub fn new(setup: SceneSetup) -> Self {
-        let state = match (&setup.body, setup.initial, setup.ramp.is_viscous()) {
-            (Body::Disk(_), InitialState::Disk { theta0, .. }, true) => {
-                ModelState::DiskViscous([theta0, 0.0])
-            }
-            (Body::Disk(_), InitialState::Disk { theta0, theta_dot0 }, false) => {
-                ModelState::DiskInertial([theta0, theta_dot0, 0.0, 0.0])
-            }
-            (Body::Sphere(_), InitialState::Sphere { q0, .. }, true) => {
-                ModelState::SphereViscous(SphereViscous::initial_state(q0))
-            }
-            (Body::Sphere(_), InitialState::Sphere { q0, omega0 }, false) => {
-                ModelState::SphereInertial(SphereInertial::initial_state(q0, omega0))
-            }
-            // `SceneSetup` builds the initial state from the body, so these cannot pair up.
-            (Body::Disk(_), _, _) => ModelState::DiskViscous([0.0, 0.0]),
-            (Body::Sphere(_), _, _) => {
-                ModelState::SphereViscous(SphereViscous::initial_state(DQuat::IDENTITY))
-            }
-        };
+        let state = Model::new(&setup.start, &setup.ramp);
         let playback = &setup.scene.playback;
         let trail_dt = (playback.trail_time / 3000.0).clamp(0.01, 1.0);
         let mut sim = Self {
@@ -212,7 +171,7 @@ impl Simulation {
             health: Health::default(),
             energy0: None,
         };
-        let o = sim.observe_state(&sim.state);
+        let o = observe(&sim.state, &sim.ramp);
         sim.energy0 = o.energy;
         sim.record(0.0, &o);
         sim
@@ -229,8 +188,8 @@ impl Simulation {
     }
 
     /// The integrated state.
-    pub fn state(&self) -> ModelState {
-        self.state
+    pub fn state(&self) -> &Model {
+        &self.state
     }
 
     /// The ramp being simulated.
@@ -254,21 +213,11 @@ impl Simulation {
             .validate()
             .map_err(|e| SimError::Refused(e.to_string()))?;
         let ramp = choice.ramp;
-        self.state = match (self.state, ramp.is_viscous()) {
-            (ModelState::DiskViscous(y), false) => ModelState::DiskInertial([y[0], 0.0, y[1], 0.0]),
-            (ModelState::DiskInertial(y), true) => ModelState::DiskViscous([y[0], y[2]]),
-            (ModelState::SphereViscous(y), false) => {
-                ModelState::SphereInertial([y[0], y[1], y[2], y[3], 0.0, 0.0, 0.0, y[4], y[5], 0.0])
-            }
-            (ModelState::SphereInertial(y), true) => {
-                ModelState::SphereViscous([y[0], y[1], y[2], y[3], y[7], y[8]])
-            }
-            (s, _) => s,
-        };
+        self.state = self.state.clone().for_ramp(&ramp);
         self.ramp = ramp;
         self.method = method;
         self.crossings.clear();
-        let o = self.observe_state(&self.state);
+        let o = observe(&self.state, &ramp);
         self.energy0 = o.energy;
         Ok(())
     }
@@ -286,47 +235,71 @@ impl Simulation {
         if t_target.partial_cmp(&self.t) != Some(std::cmp::Ordering::Greater) {
             return Ok(());
         }
-        let body = self.setup.body.clone();
         let ramp = self.ramp;
-        match (&body, self.state) {
-            (Body::Disk(d), ModelState::DiskViscous(y)) => {
-                let m = DiskViscous::new(d, &ramp);
-                let y = self.drive(&m, y, t_target, |y: &[f64; 2]| (y[0] / 2.0).sin(), |_| None)?;
-                self.state = ModelState::DiskViscous(y);
-            }
-            (Body::Disk(d), ModelState::DiskInertial(y)) => {
-                let m = DiskInertial::new(d, &ramp);
-                let y = self.drive(&m, y, t_target, |y: &[f64; 4]| (y[0] / 2.0).sin(), |_| None)?;
-                self.state = ModelState::DiskInertial(y);
-            }
-            (Body::Sphere(s), ModelState::SphereViscous(y)) => {
-                let m = SphereViscous::new(s, &ramp);
+        // The body is borrowed from a copy of the state while `drive` updates `self`.
+        let state = self.state.clone();
+        self.state = match &state {
+            Model::DiskViscous { disk, y } => {
+                let m = DiskViscous::new(disk, &ramp);
                 let y = self.drive(
                     &m,
+                    *y,
+                    t_target,
+                    |y: &[f64; 2]| (y[0] / 2.0).sin(),
+                    |_| None,
+                    |y| observe_disk_viscous(&m, disk, y),
+                )?;
+                Model::DiskViscous {
+                    disk: disk.clone(),
                     y,
+                }
+            }
+            Model::DiskInertial { disk, y } => {
+                let m = DiskInertial::new(disk, &ramp);
+                let y = self.drive(
+                    &m,
+                    *y,
+                    t_target,
+                    |y: &[f64; 4]| (y[0] / 2.0).sin(),
+                    |_| None,
+                    |y| observe_disk_inertial(&m, disk, y),
+                )?;
+                Model::DiskInertial {
+                    disk: disk.clone(),
+                    y,
+                }
+            }
+            Model::SphereViscous { sphere, y } => {
+                let m = SphereViscous::new(sphere, &ramp);
+                let y = self.drive(
+                    &m,
+                    *y,
                     t_target,
                     |y: &[f64; 6]| y[0],
                     |y| Some(DVec3::new(y[1], y[2], y[3]).normalize()),
+                    |y| observe_sphere(sphere, &m.observe(y), None),
                 )?;
-                self.state = ModelState::SphereViscous(y);
+                Model::SphereViscous {
+                    sphere: sphere.clone(),
+                    y,
+                }
             }
-            (Body::Sphere(s), ModelState::SphereInertial(y)) => {
-                let m = SphereInertial::new(s, &ramp);
+            Model::SphereInertial { sphere, y } => {
+                let m = SphereInertial::new(sphere, &ramp);
                 let y = self.drive(
                     &m,
-                    y,
+                    *y,
                     t_target,
                     |y: &[f64; 10]| y[0],
                     |y| Some(DVec3::new(y[1], y[2], y[3]).normalize()),
+                    |y| observe_sphere(sphere, &m.observe(y), m.energy_balance(y)),
                 )?;
-                self.state = ModelState::SphereInertial(y);
+                Model::SphereInertial {
+                    sphere: sphere.clone(),
+                    y,
+                }
             }
-            _ => {
-                return Err(SimError::Refused(
-                    "the model does not match the body's dimension".into(),
-                ));
-            }
-        }
+        };
         Ok(())
     }
 
@@ -337,10 +310,10 @@ impl Simulation {
         t_target: f64,
         section: impl Fn(&[f64; N]) -> f64,
         section_point: impl Fn(&[f64; N]) -> Option<DVec3>,
+        observe: impl Fn(&[f64; N]) -> Observed,
     ) -> Result<[f64; N], SimError>
     where
-        S: OdeSystem<N> + Observe<N>,
-        ModelState: From<[f64; N]>,
+        S: OdeSystem<N>,
     {
         let fail = |t: f64, e: IntegrateError| SimError::Integrate {
             t,
@@ -349,25 +322,13 @@ impl Simulation {
         let mut st: Box<dyn Stepper<N> + '_> =
             integrate::stepper(model, self.t, y0, self.method).map_err(|e| fail(self.t, e))?;
         let mut crossing_times = Vec::new();
-        let mut steps = 0u64;
-        while st.t() < t_target {
-            st.step(t_target).map_err(|e| fail(st.t(), e))?;
-            steps += 1;
-            if steps > 5_000_000 {
-                return Err(fail(
-                    st.t(),
-                    IntegrateError::TooManySteps {
-                        t: st.t(),
-                        max_steps: 5_000_000,
-                    },
-                ));
-            }
+        integrate::step_until(st.as_mut(), t_target, MAX_STEPS_PER_ADVANCE, |st| {
             if st.y().iter().any(|v| !v.is_finite()) {
-                return Err(fail(st.t(), IntegrateError::NonFinite { t: st.t() }));
+                return Err(IntegrateError::NonFinite { t: st.t() });
             }
             crossing_times.clear();
             crossings_in_last_step(
-                st.as_mut(),
+                st,
                 &|_t, y: &[f64; N]| section(y),
                 Direction::Both,
                 &mut crossing_times,
@@ -381,18 +342,19 @@ impl Simulation {
             }
             while self.next_trail_t <= st.t() {
                 let ts = self.next_trail_t.max(st.t_prev());
-                let ys = st.dense(ts);
-                let o = self.observe_state(&ModelState::from(ys));
+                let o = observe(&st.dense(ts));
                 self.record(ts, &o);
                 self.next_trail_t += self.trail_dt;
             }
-            let o = self.observe_state(&ModelState::from(*st.y()));
+            let o = observe(st.y());
             self.health.quat_norm_error = self.health.quat_norm_error.max(o.quat_err);
             self.health.contact_normal_error = self.health.contact_normal_error.max(o.normal_err);
             if let (Some(e), Some(e0)) = (o.energy, self.energy0) {
                 self.health.energy_drift = self.health.energy_drift.max((e - e0).abs());
             }
-        }
+            Ok(())
+        })
+        .map_err(|e| fail(st.t(), e))?;
         self.health.rhs_evals += st.stats().rhs_evals;
         self.t = st.t();
         let y = *st.y();
@@ -412,33 +374,9 @@ impl Simulation {
         });
     }
 
-    fn observe_state(&self, state: &ModelState) -> Observed {
-        match (&self.setup.body, state) {
-            (Body::Disk(d), ModelState::DiskViscous(y)) => {
-                let m = DiskViscous::new(d, &self.ramp);
-                observe_disk(d, y[0], m.theta_dot(y[0]), y[1], None)
-            }
-            (Body::Disk(d), ModelState::DiskInertial(y)) => {
-                let m = DiskInertial::new(d, &self.ramp);
-                observe_disk(d, y[0], y[1], y[2], m.energy_balance(y))
-            }
-            (Body::Sphere(s), ModelState::SphereViscous(y)) => {
-                let m = SphereViscous::new(s, &self.ramp);
-                let o = m.observe(y);
-                observe_sphere(s, &o, None)
-            }
-            (Body::Sphere(s), ModelState::SphereInertial(y)) => {
-                let m = SphereInertial::new(s, &self.ramp);
-                let o = m.observe(y);
-                observe_sphere(s, &o, m.energy_balance(y))
-            }
-            _ => observe_disk(&Disk::perfect(), 0.0, 0.0, 0.0, None),
-        }
-    }
-
     /// What the current state looks like.
     pub fn snapshot(&self) -> Snapshot {
-        let o = self.observe_state(&self.state);
+        let o = observe(&self.state, &self.ramp);
         let mut ball_trail: Vec<Vec<DVec3>> = Vec::new();
         if self.track_ball {
             let mut prev: Option<DQuat> = None;
@@ -494,31 +432,41 @@ impl Simulation {
             halted: o.angular_speed < 1e-6,
             angular_speed: o.angular_speed,
             theta_dot: o.theta_dot,
-            state: self.state,
+            theta: match &self.state {
+                Model::DiskViscous { y, .. } => Some(y[0]),
+                Model::DiskInertial { y, .. } => Some(y[0]),
+                Model::SphereViscous { .. } | Model::SphereInertial { .. } => None,
+            },
             health: self.health,
         }
     }
 }
 
-impl From<[f64; 2]> for ModelState {
-    fn from(y: [f64; 2]) -> Self {
-        ModelState::DiskViscous(y)
+/// What `state` looks like on `ramp`.
+fn observe(state: &Model, ramp: &Ramp) -> Observed {
+    match state {
+        Model::DiskViscous { disk, y } => {
+            observe_disk_viscous(&DiskViscous::new(disk, ramp), disk, y)
+        }
+        Model::DiskInertial { disk, y } => {
+            observe_disk_inertial(&DiskInertial::new(disk, ramp), disk, y)
+        }
+        Model::SphereViscous { sphere, y } => {
+            observe_sphere(sphere, &SphereViscous::new(sphere, ramp).observe(y), None)
+        }
+        Model::SphereInertial { sphere, y } => {
+            let m = SphereInertial::new(sphere, ramp);
+            observe_sphere(sphere, &m.observe(y), m.energy_balance(y))
+        }
     }
 }
-impl From<[f64; 4]> for ModelState {
-    fn from(y: [f64; 4]) -> Self {
-        ModelState::DiskInertial(y)
-    }
+
+fn observe_disk_viscous(m: &DiskViscous, d: &Disk, y: &[f64; 2]) -> Observed {
+    observe_disk(d, y[0], m.theta_dot(y[0]), y[1], None)
 }
-impl From<[f64; 6]> for ModelState {
-    fn from(y: [f64; 6]) -> Self {
-        ModelState::SphereViscous(y)
-    }
-}
-impl From<[f64; 10]> for ModelState {
-    fn from(y: [f64; 10]) -> Self {
-        ModelState::SphereInertial(y)
-    }
+
+fn observe_disk_inertial(m: &DiskInertial, d: &Disk, y: &[f64; 4]) -> Observed {
+    observe_disk(d, y[0], y[1], y[2], m.energy_balance(y))
 }
 
 /// 2D: the cross-section lies in the ramp's (x, z) plane; ψ turns it about the y axis (the

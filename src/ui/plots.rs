@@ -16,7 +16,7 @@ use egui_plot::{Heatmap, Legend, Line, Plot, PlotPoint, PlotPoints, Points, VLin
 use crate::colormap::{DIVERGING, sample};
 use crate::geometry::Body;
 use crate::geometry::sphere::{angles, direction};
-use crate::sim::{ModelState, Snapshot};
+use crate::sim::Snapshot;
 use crate::view::CurvatureScale;
 
 /// Samples kept per time series (older ones are dropped).
@@ -92,12 +92,9 @@ impl PlotHistory {
         if self.samples.back().is_some_and(|s| snap.t <= s.t) {
             return;
         }
-        let (theta, phi) = match snap.state {
-            ModelState::DiskViscous(y) => (y[0], 0.0),
-            ModelState::DiskInertial(y) => (y[0], 0.0),
-            ModelState::SphereViscous(_) | ModelState::SphereInertial(_) => {
-                angles(snap.contact_in_body)
-            }
+        let (theta, phi) = match snap.theta {
+            Some(theta) => (theta, 0.0),
+            None => angles(snap.contact_in_body),
         };
         self.samples.push_back(Sample {
             t: snap.t,
@@ -225,10 +222,7 @@ pub fn plots_ui(
     alpha_star: f64,
     height: f32,
 ) {
-    let is_disk = matches!(
-        snap.state,
-        ModelState::DiskViscous(_) | ModelState::DiskInertial(_)
-    );
+    let is_disk = snap.theta.is_some();
     let width = ((ui.available_width() - 3.0 * ui.spacing().item_spacing.x) / 4.0).max(120.0);
     ui.horizontal(|ui| {
         if is_disk {

@@ -23,12 +23,15 @@ use glam::{DQuat, DVec3};
 use serde::Serialize;
 use thiserror::Error;
 
+mod model;
+pub use model::{Model, Start};
+
 use crate::dynamics::disk2d::pose;
 use crate::dynamics::{
     DiskInertial, DiskViscous, ModelError, ModelKind, Observe, Ramp, SphereInertial, SphereViscous,
 };
-use crate::geometry::{Body, Disk, ShapeError, Sphere};
-use crate::integrate::{self, IntegrateError, Method, Stats, Stepper};
+use crate::geometry::{Body, ShapeError};
+use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stats};
 
 /// CSV header of a 2D trajectory.
 pub const DISK_HEADER: &str = "t,theta,theta_dot,psi,x,y";
@@ -277,55 +280,118 @@ pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<S
         ..*spec
     };
     let times = integrate::uniform_times(0.0, spec.t_end, spec.samples);
-    match (body, spec.initial) {
-        (Body::Disk(d), InitialState::Disk { theta0, theta_dot0 }) => {
-            for (name, v) in [("theta0", theta0), ("theta_dot0", theta_dot0)] {
-                if !v.is_finite() {
-                    return Err(RunError::Mismatch(format!(
-                        "{name} = {v} is not a finite number"
-                    )));
-                }
-            }
-            run_disk(d, spec, theta0, theta_dot0, &times, &mut row).map(|s| Summary {
-                model_note: choice.note,
-                ..s
-            })
+    let start = Start::new(body, spec.initial)?;
+    let model = Model::new(&start, &spec.ramp);
+    let summary = Summary::new(model.kind());
+    let summary = match &model {
+        Model::DiskViscous { disk, y } => {
+            let m = DiskViscous::new(disk, &spec.ramp);
+            let emit = |t: f64, y: &[f64; 2]| {
+                let p = pose(disk, y[0], y[1]);
+                [t, y[0], m.theta_dot(y[0]), p.psi, p.x, p.y]
+            };
+            drive(
+                &m,
+                *y,
+                spec,
+                &times,
+                emit,
+                DISK_HEADER,
+                |_| (None, None, None),
+                summary,
+                &mut row,
+            )?
         }
-        (Body::Sphere(s), InitialState::Sphere { q0, omega0 }) => {
-            if !(q0.is_finite() && q0.length() > 1e-12 && omega0.is_finite()) {
-                return Err(RunError::Mismatch(format!(
-                    "initial orientation {q0:?} / ω {omega0:?} must be finite with |q| > 0"
-                )));
-            }
-            run_sphere(s, spec, q0.normalize(), omega0, &times, &mut row).map(|sm| Summary {
-                model_note: choice.note,
-                ..sm
-            })
+        Model::DiskInertial { disk, y } => {
+            let m = DiskInertial::new(disk, &spec.ramp);
+            let emit = |t: f64, y: &[f64; 4]| {
+                let p = pose(disk, y[0], y[2]);
+                [t, y[0], y[1], p.psi, p.x, p.y]
+            };
+            let health = |y: &[f64; 4]| (None, None, m.energy_balance(y));
+            drive(
+                &m,
+                *y,
+                spec,
+                &times,
+                emit,
+                DISK_HEADER,
+                health,
+                summary,
+                &mut row,
+            )?
         }
-        (Body::Disk(_), _) => Err(RunError::InitialStateDoesNotFit {
-            body: "a 2D disk",
-            wanted: "an angle θ0 (and θ̇0)",
-            given: "a 3D orientation",
-        }),
-        (Body::Sphere(_), _) => Err(RunError::InitialStateDoesNotFit {
-            body: "a 3D sphere",
-            wanted: "an orientation q0 (and ω0)",
-            given: "a 2D angle",
-        }),
-    }
+        Model::SphereViscous { sphere, y } => {
+            let m = SphereViscous::new(sphere, &spec.ramp);
+            let emit = |t: f64, y: &[f64; 6]| sphere_row(t, &m.observe(y));
+            let health = |y: &[f64; 6]| {
+                let o = m.observe(y);
+                (Some(o.quat_norm_error), Some(o.contact_normal_error), None)
+            };
+            drive(
+                &m,
+                *y,
+                spec,
+                &times,
+                emit,
+                SPHERE_HEADER,
+                health,
+                summary,
+                &mut row,
+            )?
+        }
+        Model::SphereInertial { sphere, y } => {
+            let m = SphereInertial::new(sphere, &spec.ramp);
+            let emit = |t: f64, y: &[f64; 10]| sphere_row(t, &m.observe(y));
+            let health = |y: &[f64; 10]| {
+                let o = m.observe(y);
+                (
+                    Some(o.quat_norm_error),
+                    Some(o.contact_normal_error),
+                    m.energy_balance(y),
+                )
+            };
+            drive(
+                &m,
+                *y,
+                spec,
+                &times,
+                emit,
+                SPHERE_HEADER,
+                health,
+                summary,
+                &mut row,
+            )?
+        }
+    };
+    Ok(Summary {
+        model_note: choice.note,
+        ..summary
+    })
 }
 
-/// Steps `stepper` to the last of `times`, emitting samples and measuring health after every
-/// accepted step with `health(y) -> (quat_err, normal_err, energy)`.
-fn drive<const N: usize>(
-    stepper: &mut dyn Stepper<N>,
+/// Integrates `model` from `y0` over `times`, writing a row per sample (`emit`, checked against
+/// `header`) and measuring health after every accepted step with
+/// `health(y) -> (quat_err, normal_err, energy)`.
+#[allow(clippy::too_many_arguments)]
+fn drive<S: OdeSystem<N>, const N: usize, const C: usize>(
+    model: &S,
+    y0: [f64; N],
+    spec: &RunSpec,
     times: &[f64],
-    max_steps: u64,
-    method: Method,
-    mut emit: impl FnMut(f64, &[f64; N]) -> Result<(), RunError>,
+    emit: impl Fn(f64, &[f64; N]) -> [f64; C],
+    header: &'static str,
     health: impl Fn(&[f64; N]) -> (Option<f64>, Option<f64>, Option<f64>),
-    summary: &mut Summary,
-) -> Result<Stats, RunError> {
+    mut summary: Summary,
+    row: &mut impl FnMut(&[f64]),
+) -> Result<Summary, RunError> {
+    let mut stepper = integrate::stepper(model, 0.0, y0, spec.method)?;
+    let mut put = |t: f64, y: &[f64; N]| -> Result<(), RunError> {
+        let v = emit(t, y);
+        check_row(t, &v, header)?;
+        row(&v);
+        Ok(())
+    };
     let (_, _, e0) = health(stepper.y());
     let track = |y: &[f64; N], s: &mut Summary| {
         let (qe, ne, e) = health(y);
@@ -340,25 +406,18 @@ fn drive<const N: usize>(
             s.energy_drift = max_opt(s.energy_drift, Some((e - e0).abs()));
         }
     };
-    track(stepper.y(), summary);
+    track(stepper.y(), &mut summary);
     let mut next = 0;
     while next < times.len() && times[next] <= stepper.t() {
         let y = *stepper.y();
-        emit(times[next], &y)?;
+        put(times[next], &y)?;
         next += 1;
     }
     let t_end = *times.last().unwrap_or(&0.0);
-    while stepper.t() < t_end {
-        if stepper.stats().steps >= max_steps {
-            return Err(IntegrateError::TooManySteps {
-                t: stepper.t(),
-                max_steps,
-            }
-            .into());
-        }
-        stepper.step(t_end)?;
-        let y = *stepper.y();
-        track(&y, summary);
+    let method = spec.method;
+    integrate::step_until(stepper.as_mut(), t_end, spec.max_steps, |st| {
+        let y = *st.y();
+        track(&y, &mut summary);
         if let Method::Rk4 { dt } | Method::Cf4 { dt } = method {
             let worst = summary
                 .max_quat_norm_error
@@ -367,24 +426,25 @@ fn drive<const N: usize>(
             if worst > FIXED_STEP_HEALTH_LIMIT || !worst.is_finite() {
                 return Err(RunError::Unhealthy {
                     dt,
-                    t: stepper.t(),
+                    t: st.t(),
                     quat_norm_error: summary.max_quat_norm_error,
                     contact_normal_error: summary.max_contact_normal_error,
                 });
             }
         }
-        while next < times.len() && times[next] <= stepper.t() {
-            let ys = if times[next] == stepper.t() {
+        while next < times.len() && times[next] <= st.t() {
+            let ys = if times[next] == st.t() {
                 y
             } else {
-                stepper.dense(times[next])
+                st.dense(times[next])
             };
-            emit(times[next], &ys)?;
+            put(times[next], &ys)?;
             next += 1;
         }
-    }
+        Ok(())
+    })?;
     summary.t_end = stepper.t();
-    Ok(stepper.stats())
+    Ok(finish(summary, stepper.stats(), method))
 }
 
 fn finish(mut s: Summary, stats: Stats, method: Method) -> Summary {
@@ -401,57 +461,6 @@ fn check_row(t: f64, values: &[f64], header: &'static str) -> Result<(), RunErro
         return Err(RunError::NonFiniteOutput { t, column });
     }
     Ok(())
-}
-
-fn run_disk(
-    d: &Disk,
-    spec: &RunSpec,
-    theta0: f64,
-    theta_dot0: f64,
-    times: &[f64],
-    row: &mut impl FnMut(&[f64]),
-) -> Result<Summary, RunError> {
-    if spec.ramp.is_viscous() {
-        let mut summary = Summary::new(ModelKind::DiskViscous);
-        let model = DiskViscous::new(d, &spec.ramp);
-        let mut st = integrate::stepper(&model, 0.0, [theta0, 0.0], spec.method)?;
-        let stats = drive(
-            st.as_mut(),
-            times,
-            spec.max_steps,
-            spec.method,
-            |t, y| {
-                let p = pose(d, y[0], y[1]);
-                let v = [t, y[0], model.theta_dot(y[0]), p.psi, p.x, p.y];
-                check_row(t, &v, DISK_HEADER)?;
-                row(&v);
-                Ok(())
-            },
-            |_| (None, None, None),
-            &mut summary,
-        )?;
-        Ok(finish(summary, stats, spec.method))
-    } else {
-        let mut summary = Summary::new(ModelKind::DiskInertial);
-        let model = DiskInertial::new(d, &spec.ramp);
-        let mut st = integrate::stepper(&model, 0.0, [theta0, theta_dot0, 0.0, 0.0], spec.method)?;
-        let stats = drive(
-            st.as_mut(),
-            times,
-            spec.max_steps,
-            spec.method,
-            |t, y| {
-                let p = pose(d, y[0], y[2]);
-                let v = [t, y[0], y[1], p.psi, p.x, p.y];
-                check_row(t, &v, DISK_HEADER)?;
-                row(&v);
-                Ok(())
-            },
-            |y| (None, None, model.energy_balance(y)),
-            &mut summary,
-        )?;
-        Ok(finish(summary, stats, spec.method))
-    }
 }
 
 fn sphere_row(t: f64, o: &crate::dynamics::sphere3d::SphereObservation) -> [f64; 14] {
@@ -471,69 +480,4 @@ fn sphere_row(t: f64, o: &crate::dynamics::sphere3d::SphereObservation) -> [f64;
         o.centre.y,
         o.centre.z,
     ]
-}
-
-fn run_sphere(
-    s: &Sphere,
-    spec: &RunSpec,
-    q0: DQuat,
-    omega0: DVec3,
-    times: &[f64],
-    row: &mut impl FnMut(&[f64]),
-) -> Result<Summary, RunError> {
-    if spec.ramp.is_viscous() {
-        let mut summary = Summary::new(ModelKind::SphereViscous);
-        let model = SphereViscous::new(s, &spec.ramp);
-        let mut st =
-            integrate::stepper(&model, 0.0, SphereViscous::initial_state(q0), spec.method)?;
-        let stats = drive(
-            st.as_mut(),
-            times,
-            spec.max_steps,
-            spec.method,
-            |t, y| {
-                let v = sphere_row(t, &model.observe(y));
-                check_row(t, &v, SPHERE_HEADER)?;
-                row(&v);
-                Ok(())
-            },
-            |y| {
-                let o = model.observe(y);
-                (Some(o.quat_norm_error), Some(o.contact_normal_error), None)
-            },
-            &mut summary,
-        )?;
-        Ok(finish(summary, stats, spec.method))
-    } else {
-        let mut summary = Summary::new(ModelKind::SphereInertial);
-        let model = SphereInertial::new(s, &spec.ramp);
-        let mut st = integrate::stepper(
-            &model,
-            0.0,
-            SphereInertial::initial_state(q0, omega0),
-            spec.method,
-        )?;
-        let stats = drive(
-            st.as_mut(),
-            times,
-            spec.max_steps,
-            spec.method,
-            |t, y| {
-                let v = sphere_row(t, &model.observe(y));
-                check_row(t, &v, SPHERE_HEADER)?;
-                row(&v);
-                Ok(())
-            },
-            |y| {
-                let o = model.observe(y);
-                (
-                    Some(o.quat_norm_error),
-                    Some(o.contact_normal_error),
-                    model.energy_balance(y),
-                )
-            },
-            &mut summary,
-        )?;
-        Ok(finish(summary, stats, spec.method))
-    }
 }

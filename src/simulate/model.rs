@@ -1,0 +1,228 @@
+//! The body paired with its start ([`Start`]), and the running model ([`Model`]): one of the
+//! four models with its body and its integrated state. A disk always carries an angle and a
+//! sphere an orientation, so the code that steps them ([`super::run`] and the app's
+//! `sim::Simulation`) matches one enum, with no impossible combinations to fall back from.
+
+use glam::{DQuat, DVec3};
+
+use super::{InitialState, RunError};
+use crate::dynamics::{ModelKind, Ramp, SphereInertial, SphereViscous};
+use crate::geometry::{Body, Disk, Sphere};
+
+/// A body with the start of its run. Built (and checked) once from a body and an
+/// [`InitialState`], where the two dimensions can still disagree.
+#[derive(Debug, Clone)]
+pub enum Start {
+    /// A cylinder: contact angle θ₀ and its rate θ̇₀ (the rate is ignored by the viscous model).
+    Disk {
+        /// The cross-section.
+        disk: Disk,
+        /// θ₀.
+        theta0: f64,
+        /// θ̇₀.
+        theta_dot0: f64,
+    },
+    /// A sphere: orientation q₀ (unit) and lab angular velocity ω₀ (ignored by the viscous
+    /// model).
+    Sphere {
+        /// The body.
+        sphere: Sphere,
+        /// q₀, normalised.
+        q0: DQuat,
+        /// ω₀.
+        omega0: DVec3,
+    },
+}
+
+impl Start {
+    /// Pairs `body` with `initial`: the dimensions must agree and the numbers be finite (a
+    /// quaternion also non-zero; it is normalised here).
+    pub fn new(body: &Body, initial: InitialState) -> Result<Self, RunError> {
+        match (body, initial) {
+            (Body::Disk(d), InitialState::Disk { theta0, theta_dot0 }) => {
+                for (name, v) in [("theta0", theta0), ("theta_dot0", theta_dot0)] {
+                    if !v.is_finite() {
+                        return Err(RunError::Mismatch(format!(
+                            "{name} = {v} is not a finite number"
+                        )));
+                    }
+                }
+                Ok(Start::Disk {
+                    disk: d.clone(),
+                    theta0,
+                    theta_dot0,
+                })
+            }
+            (Body::Sphere(s), InitialState::Sphere { q0, omega0 }) => {
+                if !(q0.is_finite() && q0.length() > 1e-12 && omega0.is_finite()) {
+                    return Err(RunError::Mismatch(format!(
+                        "initial orientation {q0:?} / ω {omega0:?} must be finite with |q| > 0"
+                    )));
+                }
+                Ok(Start::Sphere {
+                    sphere: s.clone(),
+                    q0: q0.normalize(),
+                    omega0,
+                })
+            }
+            (Body::Disk(_), _) => Err(RunError::InitialStateDoesNotFit {
+                body: "a 2D disk",
+                wanted: "an angle θ0 (and θ̇0)",
+                given: "a 3D orientation",
+            }),
+            (Body::Sphere(_), _) => Err(RunError::InitialStateDoesNotFit {
+                body: "a 3D sphere",
+                wanted: "an orientation q0 (and ω0)",
+                given: "a 2D angle",
+            }),
+        }
+    }
+}
+
+/// One of the four models with its body and integrated state: the state vector is the one the
+/// model's [`crate::integrate::OdeSystem`] integrates.
+#[derive(Debug, Clone)]
+pub enum Model {
+    /// 2D viscous: [θ, x_c].
+    DiskViscous {
+        /// The cross-section.
+        disk: Disk,
+        /// The state.
+        y: [f64; 2],
+    },
+    /// 2D inertial: [θ, θ̇, x_c, W] (W: work done by drag).
+    DiskInertial {
+        /// The cross-section.
+        disk: Disk,
+        /// The state.
+        y: [f64; 4],
+    },
+    /// 3D viscous: [q (w, x, y, z), x, y].
+    SphereViscous {
+        /// The body.
+        sphere: Sphere,
+        /// The state.
+        y: [f64; 6],
+    },
+    /// 3D inertial: [q, ω, x, y, W].
+    SphereInertial {
+        /// The body.
+        sphere: Sphere,
+        /// The state.
+        y: [f64; 10],
+    },
+}
+
+impl Model {
+    /// The model `start` runs on `ramp` (viscous when m/m0 = 0), at its initial state.
+    pub fn new(start: &Start, ramp: &Ramp) -> Self {
+        match (start, ramp.is_viscous()) {
+            (Start::Disk { disk, theta0, .. }, true) => Model::DiskViscous {
+                disk: disk.clone(),
+                y: [*theta0, 0.0],
+            },
+            (
+                Start::Disk {
+                    disk,
+                    theta0,
+                    theta_dot0,
+                },
+                false,
+            ) => Model::DiskInertial {
+                disk: disk.clone(),
+                y: [*theta0, *theta_dot0, 0.0, 0.0],
+            },
+            (Start::Sphere { sphere, q0, .. }, true) => Model::SphereViscous {
+                sphere: sphere.clone(),
+                y: SphereViscous::initial_state(*q0),
+            },
+            (Start::Sphere { sphere, q0, omega0 }, false) => Model::SphereInertial {
+                sphere: sphere.clone(),
+                y: SphereInertial::initial_state(*q0, *omega0),
+            },
+        }
+    }
+
+    /// Which of the four this is.
+    pub fn kind(&self) -> ModelKind {
+        match self {
+            Model::DiskViscous { .. } => ModelKind::DiskViscous,
+            Model::DiskInertial { .. } => ModelKind::DiskInertial,
+            Model::SphereViscous { .. } => ModelKind::SphereViscous,
+            Model::SphereInertial { .. } => ModelKind::SphereInertial,
+        }
+    }
+
+    /// The same body in the same pose under `ramp`: between inertial settings the angular
+    /// velocity is kept; inertial → viscous drops it; viscous → inertial starts from rest.
+    pub fn for_ramp(self, ramp: &Ramp) -> Self {
+        match (self, ramp.is_viscous()) {
+            (Model::DiskViscous { disk, y }, false) => Model::DiskInertial {
+                disk,
+                y: [y[0], 0.0, y[1], 0.0],
+            },
+            (Model::DiskInertial { disk, y }, true) => Model::DiskViscous {
+                disk,
+                y: [y[0], y[2]],
+            },
+            (Model::SphereViscous { sphere, y }, false) => Model::SphereInertial {
+                sphere,
+                y: [y[0], y[1], y[2], y[3], 0.0, 0.0, 0.0, y[4], y[5], 0.0],
+            },
+            (Model::SphereInertial { sphere, y }, true) => Model::SphereViscous {
+                sphere,
+                y: [y[0], y[1], y[2], y[3], y[7], y[8]],
+            },
+            (same, _) => same,
+        }
+    }
+
+    /// The body, as a [`Body`].
+    pub fn body(&self) -> Body {
+        match self {
+            Model::DiskViscous { disk, .. } | Model::DiskInertial { disk, .. } => {
+                Body::Disk(disk.clone())
+            }
+            Model::SphereViscous { sphere, .. } | Model::SphereInertial { sphere, .. } => {
+                Body::Sphere(sphere.clone())
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_start_of_the_other_dimension_is_refused_and_the_model_follows_the_mass() {
+        let disk = Body::Disk(Disk::perfect());
+        let sphere_start = InitialState::Sphere {
+            q0: DQuat::IDENTITY,
+            omega0: DVec3::ZERO,
+        };
+        assert!(matches!(
+            Start::new(&disk, sphere_start),
+            Err(RunError::InitialStateDoesNotFit { .. })
+        ));
+        let start = Start::new(
+            &disk,
+            InitialState::Disk {
+                theta0: 0.5,
+                theta_dot0: 2.0,
+            },
+        )
+        .unwrap();
+        let viscous = Ramp::new(0.3, 0.0).unwrap();
+        let inertial = Ramp::new(0.3, 2.0).unwrap();
+        let m = Model::new(&start, &inertial);
+        assert_eq!(m.kind(), ModelKind::DiskInertial);
+        assert!(matches!(m, Model::DiskInertial { y, .. } if y == [0.5, 2.0, 0.0, 0.0]));
+        // Inertial → viscous keeps θ and x_c, drops θ̇ and W; and back starts from rest.
+        let v = Model::new(&start, &inertial).for_ramp(&viscous);
+        assert!(matches!(v, Model::DiskViscous { y, .. } if y == [0.5, 0.0]));
+        let back = v.for_ramp(&inertial);
+        assert!(matches!(back, Model::DiskInertial { y, .. } if y == [0.5, 0.0, 0.0, 0.0]));
+        assert_eq!(Model::new(&start, &viscous).kind(), ModelKind::DiskViscous);
+    }
+}
