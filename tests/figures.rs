@@ -103,6 +103,22 @@ fn disk_flow_fixed_points_appear_below_alpha_star() {
     }
 }
 
+#[test]
+fn compute_writes_nothing_and_run_writes_what_it_computed() {
+    let o = opts("compute");
+    let data = figures::disk_flow::compute(&o).unwrap();
+    assert!(!o.out.exists(), "compute wrote into {}", o.out.display());
+    assert!(!data.rows.is_empty() && !data.panels.is_empty());
+    let s = figures::disk_flow::run(&o).unwrap();
+    let dir = o.out.join("disk-flow");
+    let csv = std::fs::read_to_string(dir.join("data.csv")).unwrap();
+    assert_eq!(csv.lines().count(), data.rows.len() + 1);
+    assert_eq!(csv.lines().next(), Some(data.header));
+    assert_eq!(s.fixed_points_above, data.summary.fixed_points_above);
+    assert!(dir.join("summary.json").exists() && dir.join("figure.png").exists());
+    let _ = std::fs::remove_dir_all(&o.out);
+}
+
 fn experiments() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/data/cylinder_lag_times.csv")
 }

@@ -9,13 +9,13 @@
 use anyhow::Result;
 use serde::Serialize;
 
-use super::{FigureOptions, write_csv, write_summary};
+use super::{FigureData, FigureOptions};
 use crate::analysis::critical_angle;
 use crate::analysis::disk_dynamics::{FixedPoint, fixed_points};
 use crate::dynamics::{DiskInertial, Ramp};
 use crate::geometry::Body;
 use crate::integrate::{self, Method};
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// One panel's numbers.
 #[derive(Debug, Serialize)]
@@ -45,9 +45,14 @@ pub struct Summary {
 
 const MASS: f64 = 10.0;
 
-/// Runs the figure.
+/// Runs the figure: computes it, then writes OUT/disk-flow/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("disk-flow")?;
+    compute(opts)?.write_to(&dir)
+}
+
+/// Computes the figure's rows, headline numbers and chart; writes nothing.
+pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     opts.no_alpha("disk-flow", "six α around α*")?;
     let (disk, seed) = opts.disk("disk-flow", opts.seed, 0.12, 5)?;
     let ca = critical_angle(&Body::Disk(disk.clone()));
@@ -185,18 +190,19 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
             trajectory_rolls: rolls,
         });
     }
-    write_csv(
-        &dir.join("data.csv"),
-        "alpha,theta,theta_dot,flow_theta,flow_theta_dot",
-        &rows,
-    )?;
+    let csv_header = "alpha,theta,theta_dot,flow_theta,flow_theta_dot";
     let summary = Summary {
         seed,
         alpha_star: ca.alpha_star,
         fixed_points_above: out[0].fixed_points.len(),
         panels: out,
     };
-    write_summary(&dir.join("summary.json"), &summary)?;
-    render_png(&panels, 3, (1800, 1000), &dir.join("figure.png"))?;
-    Ok(summary)
+    Ok(FigureData {
+        panels,
+        columns: 3,
+        size: (1800, 1000),
+        header: csv_header,
+        rows,
+        summary,
+    })
 }

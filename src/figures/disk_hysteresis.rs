@@ -13,14 +13,14 @@
 use anyhow::{Result, anyhow};
 use serde::Serialize;
 
-use super::{FigureOptions, progress, write_csv, write_summary};
+use super::{FigureData, FigureOptions, progress};
 use crate::analysis::critical_angle;
 use crate::analysis::disk_dynamics::{dwell, fixed_points, hysteresis_sweep};
 use crate::analysis::fit::{line, logspace};
 use crate::analysis::inertial_disk_period;
 use crate::dynamics::Ramp;
 use crate::geometry::{Body, Disk};
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 const MASS: f64 = 10.0;
 const RTOL: f64 = 1e-10;
@@ -57,9 +57,14 @@ fn rolls(disk: &Disk, alpha: f64, state: [f64; 2], duration: f64) -> Result<(boo
     Ok((advance > std::f64::consts::TAU, end))
 }
 
-/// Runs the figure.
+/// Runs the figure: computes it, then writes OUT/disk-hysteresis/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("disk-hysteresis")?;
+    compute(opts)?.write_to(&dir)
+}
+
+/// Computes the figure's rows, headline numbers and chart; writes nothing.
+pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     opts.no_alpha("disk-hysteresis", "α up and down")?;
     let (disk, seed) = opts.disk("disk-hysteresis", opts.seed, 0.12, 5)?;
     let a_star = critical_angle(&Body::Disk(disk.clone())).alpha_star;
@@ -87,11 +92,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
             ]
         })
         .collect();
-    write_csv(
-        &dir.join("data.csv"),
-        "alpha,ascending,mean_angular_speed",
-        &rows,
-    )?;
+    let csv_header = "alpha,ascending,mean_angular_speed";
     let moving = |p: &&crate::analysis::disk_dynamics::SweepPoint| p.mean_angular_speed > 0.0;
     let up = sweep
         .iter()
@@ -172,7 +173,6 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         log_law_slope: -log_fit.slope,
         power_law_slope: pow_fit.slope,
     };
-    write_summary(&dir.join("summary.json"), &summary)?;
     let pts = |asc: bool| -> Vec<(f64, f64)> {
         sweep
             .iter()
@@ -229,6 +229,12 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
             legend: SeriesLabelPosition::UpperRight,
         },
     ];
-    render_png(&panels, 2, (1500, 620), &dir.join("figure.png"))?;
-    Ok(summary)
+    Ok(FigureData {
+        panels,
+        columns: 2,
+        size: (1500, 620),
+        header: csv_header,
+        rows,
+        summary,
+    })
 }

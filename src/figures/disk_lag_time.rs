@@ -12,13 +12,13 @@
 use anyhow::{Result, anyhow};
 use serde::Serialize;
 
-use super::{FigureOptions, par_map, progress, write_csv, write_summary};
+use super::{FigureData, FigureOptions, par_map, progress};
 use crate::analysis::critical_angle;
 use crate::analysis::disk_dynamics::lag_time;
 use crate::analysis::fit::{logspace, power_law};
 use crate::dynamics::Ramp;
 use crate::geometry::Body;
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Per-mass fit.
 #[derive(Debug, Clone, Serialize)]
@@ -46,9 +46,14 @@ pub struct Summary {
     pub fits: Vec<MassFit>,
 }
 
-/// Runs the figure.
+/// Runs the figure: computes it, then writes OUT/disk-lag-time/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("disk-lag-time")?;
+    compute(opts)?.write_to(&dir)
+}
+
+/// Computes the figure's rows, headline numbers and chart; writes nothing.
+pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     opts.no_alpha("disk-lag-time", "α above α*")?;
     let (disk, seed) = opts.disk("disk-lag-time", opts.seed, 0.12, 5)?;
     let ca = critical_angle(&Body::Disk(disk.clone()));
@@ -103,7 +108,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
             style: Style::LineMarkers,
         });
     }
-    write_csv(&dir.join("data.csv"), "mass_ratio,delta_alpha,t_lag", &rows)?;
+    let csv_header = "mass_ratio,delta_alpha,t_lag";
     let summary = Summary {
         seed,
         alpha_star: ca.alpha_star,
@@ -114,7 +119,6 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
             .fold(0.0, f64::max),
         fits,
     };
-    write_summary(&dir.join("summary.json"), &summary)?;
     let t0 = curves[0].points[0].1;
     curves.push(Series {
         label: "slope −1/2".into(),
@@ -140,6 +144,12 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         series: curves,
         legend: SeriesLabelPosition::UpperRight,
     };
-    render_png(&[panel], 1, (900, 650), &dir.join("figure.png"))?;
-    Ok(summary)
+    Ok(FigureData {
+        panels: vec![panel],
+        columns: 1,
+        size: (900, 650),
+        header: csv_header,
+        rows,
+        summary,
+    })
 }

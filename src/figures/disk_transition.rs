@@ -15,13 +15,13 @@
 use anyhow::Result;
 use serde::Serialize;
 
-use super::{FigureOptions, par_map, progress, write_csv, write_summary};
+use super::{FigureData, FigureOptions, par_map, progress};
 use crate::analysis::fit::{logspace, power_law};
 use crate::analysis::{critical_angle, viscous_disk_period};
 use crate::colormap::viridis;
 use crate::dynamics::Ramp;
 use crate::geometry::{Body, Disk};
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Per-disk results.
 #[derive(Debug, Clone, Serialize)]
@@ -71,9 +71,14 @@ fn t_star_analytic(d: &Disk, theta: f64, q2: f64) -> f64 {
     2f64.sqrt() * g * std::f64::consts::PI / (-q2).sqrt()
 }
 
-/// Runs the figure.
+/// Runs the figure: computes it, then writes OUT/disk-transition/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("disk-transition")?;
+    compute(opts)?.write_to(&dir)
+}
+
+/// Computes the figure's rows, headline numbers and chart; writes nothing.
+pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     opts.no_alpha("disk-transition", "α over [0.005, 0.4]")?;
     // With --shape the ensemble is that one disk.
     let n = if matches!(opts.body, super::BodyChoice::File(_)) {
@@ -167,11 +172,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
     for (a, w) in &perfect {
         rows.push(vec![-1.0, 0.0, *a, *w]);
     }
-    write_csv(
-        &dir.join("data.csv"),
-        "disk,alpha_star,alpha,mean_angular_speed",
-        &rows,
-    )?;
+    let csv_header = "disk,alpha_star,alpha,mean_angular_speed";
 
     let mean = |f: &dyn Fn(&DiskTransition) -> f64| {
         per_disk.iter().map(f).sum::<f64>() / per_disk.len() as f64
@@ -192,7 +193,6 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
             .fold(0.0, f64::max),
         per_disk: per_disk.clone(),
     };
-    write_summary(&dir.join("summary.json"), &summary)?;
 
     // Panel 1: 2π/T versus α, coloured by α*; panel 2: log-log near α*.
     let a_max = per_disk
@@ -271,6 +271,12 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
             legend: SeriesLabelPosition::UpperLeft,
         },
     ];
-    render_png(&panels, 2, (1500, 620), &dir.join("figure.png"))?;
-    Ok(summary)
+    Ok(FigureData {
+        panels,
+        columns: 2,
+        size: (1500, 620),
+        header: csv_header,
+        rows,
+        summary,
+    })
 }

@@ -7,9 +7,9 @@ use std::path::Path;
 use anyhow::{Context, Result, anyhow};
 use serde::Serialize;
 
-use super::{write_csv, write_summary};
+use super::FigureData;
 use crate::analysis::lag_fit::{LagAnalysis, analyse, parse_lag_csv};
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// What `fit-lag` writes to summary.json.
 #[derive(Debug, Serialize)]
@@ -32,11 +32,23 @@ pub struct Summary {
 pub fn run(csv: &Path, out: &Path, bootstrap: usize, seed: u64) -> Result<Summary> {
     let text = crate::geometry::shape_file::read_text_capped(csv, 64 << 20)
         .with_context(|| format!("cannot read {}", csv.display()))?;
-    let runs = parse_lag_csv(&text).map_err(|e| anyhow!("{}: {e}", csv.display()))?;
-    let analysis = analyse(&runs, bootstrap, seed)
-        .ok_or_else(|| anyhow!("the fit failed (too few angles in a run?)"))?;
+    let data = compute(&text, &csv.display().to_string(), bootstrap, seed)
+        .map_err(|e| anyhow!("{}: {e:#}", csv.display()))?;
     let dir = out.join("fit-lag");
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    data.write_to(&dir)
+}
+
+/// Fits the lag times in `text` (CSV, named `input` in the summary); writes nothing.
+pub fn compute(
+    text: &str,
+    input: &str,
+    bootstrap: usize,
+    seed: u64,
+) -> Result<FigureData<Summary>> {
+    let runs = parse_lag_csv(text).map_err(|e| anyhow!("{e}"))?;
+    let analysis = analyse(&runs, bootstrap, seed)
+        .ok_or_else(|| anyhow!("the fit failed (too few angles in a run?)"))?;
     let mut rows = Vec::new();
     let mut series = Vec::new();
     for (k, r) in runs.iter().enumerate() {
@@ -64,11 +76,7 @@ pub fn run(csv: &Path, out: &Path, bootstrap: usize, seed: u64) -> Result<Summar
             style: Style::Markers,
         });
     }
-    write_csv(
-        &dir.join("data.csv"),
-        "run,alpha,alpha_star_fit,alpha_minus_alpha_star,t_lag_mean,t_lag_sd",
-        &rows,
-    )?;
+    let csv_header = "run,alpha,alpha_star_fit,alpha_minus_alpha_star,t_lag_mean,t_lag_sd";
     let xs: Vec<f64> = rows.iter().map(|r| r[3]).filter(|x| *x > 0.0).collect();
     let (x0, x1) = (
         xs.iter().copied().fold(f64::INFINITY, f64::min),
@@ -88,14 +96,13 @@ pub fn run(csv: &Path, out: &Path, bootstrap: usize, seed: u64) -> Result<Summar
         style: Style::Line,
     });
     let summary = Summary {
-        input: csv.display().to_string(),
+        input: input.to_string(),
         runs: runs.len(),
         shared_exponent: analysis.shared_exponent,
         shared_exponent_stderr: analysis.shared_exponent_stderr,
         alpha_star_reported: runs.iter().map(|r| r.alpha_star_reported).collect(),
         analysis,
     };
-    write_summary(&dir.join("summary.json"), &summary)?;
     let panel = Panel {
         title: "measured lag times of rolling cylinders (α* fitted per run)".into(),
         x_label: "α − α* (rad)".into(),
@@ -105,6 +112,12 @@ pub fn run(csv: &Path, out: &Path, bootstrap: usize, seed: u64) -> Result<Summar
         series,
         legend: SeriesLabelPosition::UpperRight,
     };
-    render_png(&[panel], 1, (1000, 700), &dir.join("figure.png"))?;
-    Ok(summary)
+    Ok(FigureData {
+        panels: vec![panel],
+        columns: 1,
+        size: (1000, 700),
+        header: csv_header,
+        rows,
+        summary,
+    })
 }

@@ -27,6 +27,7 @@ use serde::Serialize;
 
 use crate::analysis::critical_angle;
 use crate::geometry::{Body, Disk, ShapeFile, Sphere, paper_sphere, random_disk, random_sphere};
+use crate::plot::{Panel, render_png};
 
 /// The paper's body for Figs. 3–4 (the authors' numpy seed 219, σ = 0.25, l ≤ 5), bundled as
 /// `assets/shapes/paper-sphere.json`.
@@ -257,6 +258,39 @@ pub const FIGURES: &[FigureEntry] = &[
 /// The figure called `name`.
 pub fn figure(name: &str) -> Option<&'static FigureEntry> {
     FIGURES.iter().find(|f| f.name == name)
+}
+
+/// What a figure computed, before anything is written: its data rows (data.csv), its headline
+/// numbers (summary.json) and its chart (figure.png). Each figure's `compute` returns one and
+/// writes nothing; its `run` creates the folder and calls [`FigureData::write_to`].
+pub struct FigureData<S> {
+    /// The chart's panels.
+    pub panels: Vec<Panel>,
+    /// Panels per row.
+    pub columns: usize,
+    /// Chart size in pixels.
+    pub size: (u32, u32),
+    /// data.csv's header, "a,b,c".
+    pub header: &'static str,
+    /// data.csv's rows (non-finite values become empty fields).
+    pub rows: Vec<Vec<f64>>,
+    /// The headline numbers.
+    pub summary: S,
+}
+
+impl<S: Serialize> FigureData<S> {
+    /// Writes `dir`/data.csv, summary.json and figure.png, and hands back the summary.
+    pub fn write_to(self, dir: &Path) -> Result<S> {
+        write_csv(&dir.join("data.csv"), self.header, &self.rows)?;
+        write_summary(&dir.join("summary.json"), &self.summary)?;
+        render_png(
+            &self.panels,
+            self.columns,
+            self.size,
+            &dir.join("figure.png"),
+        )?;
+        Ok(self.summary)
+    }
 }
 
 /// A number as a CSV field: Rust's shortest round-trip form; empty when not finite.

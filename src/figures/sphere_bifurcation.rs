@@ -24,9 +24,7 @@ use glam::{DQuat, DVec3};
 use serde::Serialize;
 
 use super::sphere_orbits::random_orientation;
-use super::{
-    FigureOptions, PAPER_ALPHA, par_map, progress, sphere_alpha_star, write_csv, write_summary,
-};
+use super::{FigureData, FigureOptions, PAPER_ALPHA, par_map, progress, sphere_alpha_star};
 use crate::analysis::fit;
 use crate::analysis::return_map::locate_flip;
 use crate::analysis::sphere_orbits::{
@@ -37,7 +35,7 @@ use crate::analysis::sphere_return_map::{
 };
 use crate::dynamics::Ramp;
 use crate::geometry::Sphere;
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Two crossing points closer than this (antipodes identified) are the same point when the
 /// period is read off the late crossings.
@@ -166,9 +164,14 @@ fn canonical(p: [f64; 3]) -> DVec3 {
     if p.z < 0.0 { -p } else { p }
 }
 
-/// Runs the figure.
+/// Runs the figure: computes it, then writes OUT/sphere-bifurcation/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-bifurcation")?;
+    compute(opts)?.write_to(&dir)
+}
+
+/// Computes the figure's rows, headline numbers and chart; writes nothing.
+pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let fig = opts.sphere("sphere-bifurcation")?;
     let body = fig.body;
     let alpha_star = sphere_alpha_star(&body);
@@ -399,11 +402,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         }
     }
 
-    write_csv(
-        &dir.join("data.csv"),
-        "mass_ratio,start,t,crossing_polar,crossing_azimuth,return_time,period",
-        &rows,
-    )?;
+    let csv_header = "mass_ratio,start,t,crossing_polar,crossing_azimuth,return_time,period";
     let summary = Summary {
         body: fig.label,
         alpha_star,
@@ -415,14 +414,14 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         flips,
         period_doubling: windows,
     };
-    write_summary(&dir.join("summary.json"), &summary)?;
-    render_png(
-        &panels(&summary, &rows),
-        3,
-        (1950, 650),
-        &dir.join("figure.png"),
-    )?;
-    Ok(summary)
+    Ok(FigureData {
+        panels: panels(&summary, &rows),
+        columns: 3,
+        size: (1950, 650),
+        header: csv_header,
+        rows,
+        summary,
+    })
 }
 
 fn panels(s: &Summary, rows: &[Vec<f64>]) -> Vec<Panel> {

@@ -16,13 +16,13 @@ use anyhow::Result;
 use serde::Serialize;
 
 use super::sphere_orbits::random_orientation;
-use super::{FigureOptions, convex_disk, par_map, progress, write_csv, write_summary};
+use super::{FigureData, FigureOptions, convex_disk, par_map, progress};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{Fate, Settle, settle};
 use crate::dynamics::{DiskViscous, Ramp};
 use crate::geometry::{Body, Disk, DiskMode};
 use crate::integrate::{self, Method};
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Headline numbers.
 #[derive(Debug, Serialize)]
@@ -118,9 +118,14 @@ fn disk_with_alpha_star(base: &Disk, target: f64) -> Disk {
     scaled(0.5 * (lo + hi))
 }
 
-/// Runs the figure.
+/// Runs the figure: computes it, then writes OUT/sphere-cruising/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-cruising")?;
+    compute(opts)?.write_to(&dir)
+}
+
+/// Computes the figure's rows, headline numbers and chart; writes nothing.
+pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     opts.no_alpha("sphere-cruising", "α from 0.4 α* upwards")?;
     let fig = opts.sphere("sphere-cruising")?;
     let (body, seed) = (fig.body.clone(), fig.seed);
@@ -186,11 +191,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
             ]
         })
         .collect();
-    write_csv(
-        &dir.join("data.csv"),
-        "alpha,alpha_over_alpha_star,cruising_fraction_3d,cruising_fraction_2d",
-        &rows,
-    )?;
+    let csv_header = "alpha,alpha_over_alpha_star,cruising_fraction_3d,cruising_fraction_2d";
     let summary = Summary {
         body: fig.label,
         seed,
@@ -201,7 +202,6 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         fraction_2d: fraction_2d.clone(),
         undecided,
     };
-    write_summary(&dir.join("summary.json"), &summary)?;
     let panel = Panel {
         title: format!("cruising probability over {n_or} initial orientations (α* = {a_star:.4})"),
         x_label: "α / α*".into(),
@@ -224,6 +224,12 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         ],
         legend: SeriesLabelPosition::UpperLeft,
     };
-    render_png(&[panel], 1, (1000, 650), &dir.join("figure.png"))?;
-    Ok(summary)
+    Ok(FigureData {
+        panels: vec![panel],
+        columns: 1,
+        size: (1000, 650),
+        header: csv_header,
+        rows,
+        summary,
+    })
 }

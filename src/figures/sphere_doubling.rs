@@ -19,14 +19,12 @@ use anyhow::{Result, anyhow};
 use serde::Serialize;
 
 use super::sphere_orbits::random_orientation;
-use super::{
-    FigureOptions, PAPER_ALPHA, par_map, progress, sphere_alpha_star, write_csv, write_summary,
-};
+use super::{FigureData, FigureOptions, PAPER_ALPHA, par_map, progress, sphere_alpha_star};
 use crate::analysis::sphere_orbits::{late_cycle, late_run};
 use crate::dynamics::Ramp;
 use crate::geometry::sphere::angles;
 use crate::geometry::{Body, Sphere, paper_sphere};
-use crate::plot::{Panel, Series, SeriesLabelPosition, Style, render_png};
+use crate::plot::{Panel, Series, SeriesLabelPosition, Style};
 
 const MASSES: [f64; 3] = [0.0, 6.0, 10.0];
 /// Bodies in the cross-body statistic (full size).
@@ -190,9 +188,14 @@ fn cross_body_statistic(
     })
 }
 
-/// Runs the figure.
+/// Runs the figure: computes it, then writes OUT/sphere-doubling/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-doubling")?;
+    compute(opts)?.write_to(&dir)
+}
+
+/// Computes the figure's rows, headline numbers and chart; writes nothing.
+pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let fig = opts.sphere("sphere-doubling")?;
     let (body, seed) = (fig.body.clone(), fig.seed);
     let a_star = sphere_alpha_star(&body);
@@ -307,11 +310,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let cross_body_near_critical =
         cross_body_statistic(n_near, 0.13, 0.15, n_orient, alpha, opts.seed)?;
 
-    write_csv(
-        &dir.join("data.csv"),
-        "mass_ratio,orientation,phi,theta",
-        &rows,
-    )?;
+    let csv_header = "mass_ratio,orientation,phi,theta";
     let summary = Summary {
         body: fig.label,
         seed,
@@ -323,7 +322,12 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         cross_body,
         cross_body_near_critical,
     };
-    write_summary(&dir.join("summary.json"), &summary)?;
-    render_png(&panels, 3, (1950, 620), &dir.join("figure.png"))?;
-    Ok(summary)
+    Ok(FigureData {
+        panels,
+        columns: 3,
+        size: (1950, 620),
+        header: csv_header,
+        rows,
+        summary,
+    })
 }

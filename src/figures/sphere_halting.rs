@@ -19,7 +19,7 @@ use anyhow::Result;
 use glam::{DMat3, DQuat, DVec3};
 use serde::Serialize;
 
-use super::{FigureOptions, par_map, progress, write_csv, write_summary};
+use super::{FigureData, FigureOptions, par_map, progress};
 use crate::analysis::critical_angle;
 use crate::dynamics::sphere3d::DOWN;
 use crate::dynamics::{Ramp, SphereViscous};
@@ -27,7 +27,7 @@ use crate::geometry::sphere::{angles, direction};
 use crate::geometry::{Body, Sphere};
 use crate::integrate::{self, Method};
 use crate::numeric::contour::level_set;
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Per-α result.
 #[derive(Debug, Clone, Serialize)]
@@ -122,9 +122,14 @@ fn stays_near(model: &SphereViscous, q: DQuat, rest: DQuat, t_max: f64) -> Resul
     Ok(false)
 }
 
-/// Runs the figure.
+/// Runs the figure: computes it, then writes OUT/sphere-halting/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-halting")?;
+    compute(opts)?.write_to(&dir)
+}
+
+/// Computes the figure's rows, headline numbers and chart; writes nothing.
+pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     opts.no_alpha("sphere-halting", "α/α* over its levels")?;
     let fig = opts.sphere("sphere-halting")?;
     let (body, seed) = (fig.body.clone(), fig.seed);
@@ -234,14 +239,13 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         color: (0, 0, 0),
         style: Style::Markers,
     });
-    write_csv(&dir.join("data.csv"), "alpha,phi,theta,stable", &rows)?;
+    let csv_header = "alpha,phi,theta,stable";
     let summary = Summary {
         body: fig.label,
         seed,
         alpha_star: ca.alpha_star,
         levels,
     };
-    write_summary(&dir.join("summary.json"), &summary)?;
     let panel = Panel {
         title: format!(
             "halting loops Q = tan α on the body (α* = {:.4}) and their stability",
@@ -254,6 +258,12 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         series,
         legend: SeriesLabelPosition::UpperRight,
     };
-    render_png(&[panel], 1, (1300, 760), &dir.join("figure.png"))?;
-    Ok(summary)
+    Ok(FigureData {
+        panels: vec![panel],
+        columns: 1,
+        size: (1300, 760),
+        header: csv_header,
+        rows,
+        summary,
+    })
 }

@@ -11,13 +11,13 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use super::{FigureOptions, par_map, progress, write_csv, write_summary};
+use super::{FigureData, FigureOptions, par_map, progress};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{Fate, Settle, boundary_distance, cluster_antipodal, settle};
 use crate::dynamics::Ramp;
 use crate::dynamics::sphere3d::orientation_touching;
 use crate::geometry::{Body, Sphere};
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Headline numbers.
 #[derive(Debug, Serialize)]
@@ -46,9 +46,14 @@ pub fn random_orientation(body: &Sphere, seed: u64, i: usize) -> glam::DQuat {
     orientation_touching(body, DVec3::new(s * phi.cos(), s * phi.sin(), z), spin)
 }
 
-/// Runs the figure.
+/// Runs the figure: computes it, then writes OUT/sphere-orbits/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-orbits")?;
+    compute(opts)?.write_to(&dir)
+}
+
+/// Computes the figure's rows, headline numbers and chart; writes nothing.
+pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     opts.no_alpha("sphere-orbits", "α from 0.3 α* to 0.5")?;
     let fig = opts.sphere("sphere-orbits")?;
     let (body, seed) = (fig.body.clone(), fig.seed);
@@ -120,11 +125,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
             rows.push(vec![r as f64, alphas[a], inv_t, k]);
         }
     }
-    write_csv(
-        &dir.join("data.csv"),
-        "run,alpha,inverse_period,orbit_label",
-        &rows,
-    )?;
+    let csv_header = "run,alpha,inverse_period,orbit_label";
     let undecided = fates
         .iter()
         .filter(|f| matches!(f, Fate::Undecided { .. }))
@@ -137,7 +138,6 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         undecided,
         labels: labels.clone(),
     };
-    write_summary(&dir.join("summary.json"), &summary)?;
     let mut series = Vec::new();
     for r in 0..runs {
         series.push(Series {
@@ -169,6 +169,12 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         series,
         legend: SeriesLabelPosition::UpperLeft,
     };
-    render_png(&[panel], 1, (1000, 700), &dir.join("figure.png"))?;
-    Ok(summary)
+    Ok(FigureData {
+        panels: vec![panel],
+        columns: 1,
+        size: (1000, 700),
+        header: csv_header,
+        rows,
+        summary,
+    })
 }

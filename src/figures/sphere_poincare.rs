@@ -14,7 +14,7 @@ use anyhow::Result;
 use glam::DVec3;
 use serde::Serialize;
 
-use super::{FigureOptions, par_map, progress, write_csv, write_summary};
+use super::{FigureData, FigureOptions, par_map, progress};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{
     boundary_distance, cluster_antipodal, poincare_field, poincare_step,
@@ -23,7 +23,7 @@ use crate::colormap::viridis;
 use crate::dynamics::Ramp;
 use crate::geometry::Body;
 use crate::geometry::sphere::{angles, fibonacci_sphere};
-use crate::plot::{Panel, Series, SeriesLabelPosition, Style, render_png};
+use crate::plot::{Panel, Series, SeriesLabelPosition, Style};
 
 /// An attractor of the map.
 #[derive(Debug, Clone, Serialize)]
@@ -66,9 +66,14 @@ pub struct Summary {
 /// The figure's ramp angle (above α* of the default body).
 pub const ALPHA: f64 = 0.3;
 
-/// Runs the figure.
+/// Runs the figure: computes it, then writes OUT/sphere-poincare/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-poincare")?;
+    compute(opts)?.write_to(&dir)
+}
+
+/// Computes the figure's rows, headline numbers and chart; writes nothing.
+pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let fig = opts.sphere("sphere-poincare")?;
     let (body, seed) = (fig.body.clone(), fig.seed);
     let a_star = critical_angle(&Body::Sphere(body.clone())).alpha_star;
@@ -145,11 +150,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         };
         rows.push(vec![p.x, p.y, p.z, v.x, v.y, v.z, v.length(), t]);
     }
-    write_csv(
-        &dir.join("data.csv"),
-        "px,py,pz,vx,vy,vz,v_norm,return_time",
-        &rows,
-    )?;
+    let csv_header = "px,py,pz,vx,vy,vz,v_norm,return_time";
     let summary = Summary {
         body: fig.label,
         seed,
@@ -161,16 +162,18 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         attractor_list,
         converged_starts: limits.len(),
     };
-    write_summary(&dir.join("summary.json"), &summary)?;
-    plot(&field, &summary, &dir.join("figure.png"))?;
-    Ok(summary)
+    Ok(FigureData {
+        panels: plot(&field, &summary),
+        columns: 2,
+        size: (1900, 760),
+        header: csv_header,
+        rows,
+        summary,
+    })
 }
 
-fn plot(
-    field: &[(DVec3, Option<(DVec3, f64)>)],
-    s: &Summary,
-    path: &std::path::Path,
-) -> Result<()> {
+/// The chart: the field on ∂Ω and the attractors.
+fn plot(field: &[(DVec3, Option<(DVec3, f64)>)], s: &Summary) -> Vec<Panel> {
     let vmax = field
         .iter()
         .filter_map(|f| f.1.map(|(q, _)| (q - f.0).length()))
@@ -278,5 +281,5 @@ fn plot(
             legend: SeriesLabelPosition::UpperRight,
         },
     ];
-    render_png(&panels, 2, (1900, 760), path)
+    panels
 }

@@ -10,7 +10,7 @@ use anyhow::Result;
 use glam::{DQuat, DVec3};
 use serde::Serialize;
 
-use super::{FigureOptions, write_csv, write_summary};
+use super::{FigureData, FigureOptions};
 use crate::analysis::sphere_orbits::ball_point;
 use crate::colormap::viridis;
 use crate::dynamics::sphere3d::orientation_touching;
@@ -18,7 +18,7 @@ use crate::dynamics::{Ramp, SphereViscous};
 use crate::geometry::Sphere;
 use crate::geometry::sphere::direction;
 use crate::integrate::{self, Method};
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Headline numbers.
 #[derive(Debug, Serialize)]
@@ -55,9 +55,14 @@ fn split_at_jumps(points: &[DVec3]) -> Vec<Vec<DVec3>> {
     out
 }
 
-/// Runs the figure.
+/// Runs the figure: computes it, then writes OUT/sphere-tube/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-tube")?;
+    compute(opts)?.write_to(&dir)
+}
+
+/// Computes the figure's rows, headline numbers and chart; writes nothing.
+pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     opts.no_shape(
         "sphere-tube",
         "follows the perfect sphere, whose orbits have a closed form",
@@ -116,7 +121,7 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         let e = q_at(q0, st.t());
         integration_error = integration_error.max((q - e).length().min((q + e).length()));
     }
-    write_csv(&dir.join("data.csv"), "trajectory,t,bx,by,bz", &rows)?;
+    let csv_header = "trajectory,t,bx,by,bz";
     let summary = Summary {
         alpha,
         contact: [th0, ph0],
@@ -125,7 +130,6 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
         closure_error: closure,
         integration_error,
     };
-    write_summary(&dir.join("summary.json"), &summary)?;
     // Three orthographic views of the ball.
     type Projection = fn(DVec3) -> (f64, f64);
     let views: [(&str, Projection); 3] = [
@@ -185,6 +189,12 @@ pub fn run(opts: &FigureOptions) -> Result<Summary> {
             }
         })
         .collect();
-    render_png(&panels, 3, (1950, 680), &dir.join("figure.png"))?;
-    Ok(summary)
+    Ok(FigureData {
+        panels,
+        columns: 3,
+        size: (1950, 680),
+        header: csv_header,
+        rows,
+        summary,
+    })
 }
