@@ -269,9 +269,23 @@ fn curvature_report(body: &Body) -> CurvatureReport {
             let pts = sphere::fibonacci_sphere(SPHERE_GRID);
             let kmin_of = |u: DVec3| s.surface(u).principal_curvatures().0;
             let gauss = |u: DVec3| s.surface(u).gaussian_curvature();
-            let (u_min, k1) = refine_sphere(|u| -kmin_of(u), &pts);
-            let (_, gmin) = refine_sphere(|u| -gauss(u), &pts);
-            let (_, gmax) = refine_sphere(gauss, &pts);
+            // One surface evaluation per grid point serves all three searches (the expensive
+            // part: r with its first and second derivatives); only the refinements differ.
+            let (mut neg_kmin, mut neg_gauss, mut gauss_values) = (
+                Vec::with_capacity(pts.len()),
+                Vec::with_capacity(pts.len()),
+                Vec::with_capacity(pts.len()),
+            );
+            for &u in &pts {
+                let sp = s.surface(u);
+                let g = sp.gaussian_curvature();
+                neg_kmin.push(-sp.principal_curvatures().0);
+                neg_gauss.push(-g);
+                gauss_values.push(g);
+            }
+            let (u_min, k1) = refine_sphere_from(|u| -kmin_of(u), &pts, &neg_kmin);
+            let (_, gmin) = refine_sphere_from(|u| -gauss(u), &pts, &neg_gauss);
+            let (_, gmax) = refine_sphere_from(gauss, &pts, &gauss_values);
             let (theta, phi) = sphere::angles(u_min);
             CurvatureReport {
                 convex: -k1 > 0.0,
@@ -319,7 +333,18 @@ pub fn refine_1d(f: impl Fn(f64) -> f64, n: usize) -> (f64, f64) {
 /// Hessian, backtracking), which converges to the maximiser to ~1e-8 and so to the maximum value
 /// to ~1e-15. Returns (u, f(u)).
 pub fn refine_sphere(f: impl Fn(DVec3) -> f64, grid: &[DVec3]) -> (DVec3, f64) {
-    let mut vals: Vec<(f64, usize)> = grid.iter().enumerate().map(|(i, u)| (f(*u), i)).collect();
+    let values: Vec<f64> = grid.iter().map(|&u| f(u)).collect();
+    refine_sphere_from(f, grid, &values)
+}
+
+/// [`refine_sphere`] with f already evaluated on the grid (`values[i]` = f(grid[i])), so that
+/// several searches can share one pass of an expensive evaluation.
+pub fn refine_sphere_from(
+    f: impl Fn(DVec3) -> f64,
+    grid: &[DVec3],
+    values: &[f64],
+) -> (DVec3, f64) {
+    let mut vals: Vec<(f64, usize)> = values.iter().copied().zip(0..).collect();
     vals.sort_by(|a, b| b.0.total_cmp(&a.0));
     let mut best = (grid[vals[0].1], vals[0].0);
     // Candidates: the top few grid values that are not within 0.1 rad of a better one.
