@@ -5,7 +5,7 @@ use wgpu::util::DeviceExt;
 
 use super::pipelines::{
     CAMERA_SIZE, CameraUniform, DRAW_SIZE, DrawUniform, GpuMesh, QuadVertex, SegmentInstance,
-    Targets, Vertex, texture_group, uniform_group,
+    Targets, Vertex, srgba_texture, texture_group, uniform_group,
 };
 use super::{DEPTH_FORMAT, Frame, MeshData, MeshHandle, Renderer, overlay};
 
@@ -184,23 +184,11 @@ impl Renderer {
             if image.width == 0 || image.height == 0 {
                 continue;
             }
-            let texture = self.device.create_texture_with_data(
+            let texture = srgba_texture(
+                &self.device,
                 &self.queue,
-                &wgpu::TextureDescriptor {
-                    label: Some("panel"),
-                    size: wgpu::Extent3d {
-                        width: image.width,
-                        height: image.height,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: wgpu::TextureFormat::Rgba8UnormSrgb,
-                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                },
-                wgpu::util::TextureDataOrder::LayerMajor,
+                "panel",
+                (image.width, image.height),
                 &image.rgba,
             );
             let group = texture_group(&self.device, &self.texture_layout, &texture, &self.sampler);
