@@ -1,15 +1,22 @@
 //! Speed of the physics core (criterion): a 3D viscous run of t = 0..100 at rtol 1e-10 (target:
-//! under 10 ms on one core; the authors' Python needs 13 s), the raw 3D right-hand side, and the
-//! 2D period quadrature. Run with `cargo bench --bench core`; the RHS count of the 3D run is
-//! printed first so evaluations per second follow from criterion's time.
+//! under 10 ms on one core; the authors' Python needs 13 s), the 3D right-hand sides as a run
+//! calls them (target: ≤ 1 µs per evaluation), the contact solve alone, the body check, and the
+//! 2D period quadrature. Run with `cargo bench --bench core`; criterion prints evaluations per
+//! second ("thrpt") for the per-evaluation benchmarks.
+//!
+//! A right-hand side is timed on the exact sequence of states a DOP853 run passed to it
+//! (recorded once, replayed in order), so the contact solver's warm start sees the same
+//! neighbour-to-neighbour distances as in a real run. Repeating one state would let Newton
+//! stop after one iteration and flatter the figure by a factor of three.
 
+use std::cell::RefCell;
 use std::hint::black_box;
 
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use rollphase::analysis::{critical_angle, viscous_disk_period};
-use rollphase::dynamics::sphere3d::orientation_touching;
-use rollphase::dynamics::{Ramp, SphereViscous};
+use rollphase::dynamics::sphere3d::{DOWN, orientation_touching};
+use rollphase::dynamics::{Ramp, SphereInertial, SphereViscous};
 use rollphase::geometry::{Body, Sphere, random_disk, random_sphere};
 use rollphase::integrate::{self, Method, OdeSystem};
 
@@ -37,6 +44,44 @@ fn run_3d(s: &Sphere, alpha: f64) -> u64 {
     st.stats().rhs_evals
 }
 
+/// Wraps a system and keeps every state its right-hand side is called with.
+struct Recorder<'a, S, const N: usize> {
+    system: &'a S,
+    states: RefCell<Vec<[f64; N]>>,
+}
+
+impl<S: OdeSystem<N>, const N: usize> OdeSystem<N> for Recorder<'_, S, N> {
+    fn rhs(&self, t: f64, y: &[f64; N]) -> [f64; N] {
+        self.states.borrow_mut().push(*y);
+        self.system.rhs(t, y)
+    }
+    fn quaternion_slot(&self) -> Option<usize> {
+        self.system.quaternion_slot()
+    }
+}
+
+/// The states a DOP853 run at rtol 1e-10 to t = `t_end` evaluates, in order.
+fn recorded_states<S: OdeSystem<N>, const N: usize>(
+    system: &S,
+    y0: [f64; N],
+    t_end: f64,
+) -> Vec<[f64; N]> {
+    let rec = Recorder {
+        system,
+        states: RefCell::new(Vec::new()),
+    };
+    let mut st = integrate::stepper(&rec, 0.0, y0, Method::dop853(1e-10)).expect("valid method");
+    while st.t() < t_end {
+        st.step(t_end).expect("integrates");
+    }
+    drop(st);
+    rec.states.into_inner()
+}
+
+fn replay<S: OdeSystem<N>, const N: usize>(system: &S, states: &[[f64; N]]) -> f64 {
+    states.iter().map(|y| system.rhs(0.0, y)[0]).sum()
+}
+
 fn bench(c: &mut Criterion) {
     let s = default_sphere();
     let alpha = critical_angle(&Body::Sphere(s.clone())).alpha_star + 0.05;
@@ -46,12 +91,57 @@ fn bench(c: &mut Criterion) {
         b.iter(|| run_3d(&s, alpha))
     });
 
-    let model = SphereViscous::new(&s, &Ramp::new(alpha, 0.0).expect("valid ramp"));
+    let ramp = Ramp::new(alpha, 0.0).expect("valid ramp");
     let q0 = orientation_touching(&s, DVec3::new(0.2, -0.5, 0.7).normalize(), 0.9);
-    let y = SphereViscous::initial_state(q0);
-    model.rhs(0.0, &y);
-    c.bench_function("sphere_viscous_rhs_warm", |b| {
-        b.iter(|| model.rhs(0.0, black_box(&y)))
+    let mut group = c.benchmark_group("rhs_in_run");
+
+    let viscous = SphereViscous::new(&s, &ramp);
+    let states = recorded_states(&viscous, SphereViscous::initial_state(q0), 100.0);
+    group.throughput(Throughput::Elements(states.len() as u64));
+    group.bench_function("sphere_viscous", |b| {
+        b.iter(|| replay(&viscous, black_box(&states)))
+    });
+
+    let inertial_ramp = Ramp::new(alpha, 1.0).expect("valid ramp");
+    let inertial = SphereInertial::new(&s, &inertial_ramp);
+    let states = recorded_states(
+        &inertial,
+        SphereInertial::initial_state(q0, DVec3::ZERO),
+        100.0,
+    );
+    group.throughput(Throughput::Elements(states.len() as u64));
+    group.bench_function("sphere_inertial_m1", |b| {
+        b.iter(|| replay(&inertial, black_box(&states)))
+    });
+
+    // The contact solve alone, on the downward directions of the viscous run's states,
+    // warm-started from the previous contact as the models do.
+    let directions: Vec<DVec3> = recorded_states(&viscous, SphereViscous::initial_state(q0), 100.0)
+        .iter()
+        .map(|y| {
+            let q = glam::DQuat::from_xyzw(y[1], y[2], y[3], y[0]).normalize();
+            q.conjugate() * DOWN
+        })
+        .collect();
+    group.throughput(Throughput::Elements(directions.len() as u64));
+    group.bench_function("contact_solve", |b| {
+        b.iter(|| {
+            let d0 = directions[0];
+            let mut contact = s.support_point(d0, d0).expect("convex body");
+            for &d in black_box(&directions) {
+                contact = s.support_point_from(d, contact).expect("convex body");
+            }
+            contact.u
+        })
+    });
+    group.finish();
+
+    let body = Body::Sphere(s.clone());
+    c.bench_function("sphere_body_check", |b| {
+        b.iter(|| black_box(&body).check_convex())
+    });
+    c.bench_function("sphere_critical_angle", |b| {
+        b.iter(|| critical_angle(black_box(&body)))
     });
 
     let disk = random_disk(3, 0.08, 10).expect("valid generator parameters");

@@ -5,7 +5,7 @@
 use glam::DVec3;
 use serde::Serialize;
 
-use crate::geometry::{Body, Disk, refine_sphere, sphere};
+use crate::geometry::{Body, Disk, refine_sphere, sphere, sphere_grid_size};
 
 /// α* and its maximiser.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -29,7 +29,7 @@ pub fn critical_angle(body: &Body) -> CriticalAngle {
     match body {
         Body::Disk(d) => disk_critical_angle(d),
         Body::Sphere(s) => {
-            let grid = sphere::fibonacci_sphere(20_000);
+            let grid = sphere::fibonacci_sphere(sphere_grid_size(s.max_degree()));
             let (u, q) = refine_sphere(|u: DVec3| s.surface(u).quality(), &grid);
             let (theta, phi) = sphere::angles(u);
             CriticalAngle {

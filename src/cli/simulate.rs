@@ -242,6 +242,16 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     );
     let start = Instant::now();
     let mut io_error: Option<std::io::Error> = None;
+    // Numbers go out through ryu (shortest round-trip digits, as serde_json writes them): a
+    // short run's time was mostly the standard library's float formatting. Only finite values
+    // reach here (`simulate::run` checks every row).
+    let mut number = ryu::Buffer::new();
+    let mut write_row = |out: &mut csv::Writer<_>, row: &[f64]| -> Result<(), csv::Error> {
+        for &v in row {
+            out.write_field(number.format(v))?;
+        }
+        out.write_record(None::<&[u8]>)
+    };
     let result = crate::simulate::run(&body, &spec, |row| {
         if io_error.is_some() {
             return;
@@ -249,12 +259,14 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         let written = header
             .take()
             .map_or(Ok(()), |h| out.write_record(h.split(',')))
-            .and_then(|()| out.write_record(row.iter().map(|v| v.to_string())));
+            .and_then(|()| write_row(&mut out, row));
         if let Err(e) = written {
             io_error = Some(csv_io_error(e));
         }
         bar.inc(1);
-        bar.set_message(format!("{:.1}", row[0]));
+        if !bar.is_hidden() {
+            bar.set_message(format!("{:.1}", row[0]));
+        }
     });
     bar.finish_and_clear();
     if io_error.is_none()

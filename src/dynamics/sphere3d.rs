@@ -35,14 +35,14 @@ pub const DOWN: DVec3 = DVec3::new(0.0, 0.0, -1.0);
 /// Shared contact tracking: finds the contact for an orientation, warm-started.
 struct ContactTracker<'a> {
     body: &'a Sphere,
-    last: Cell<DVec3>,
+    last: Cell<Option<SurfacePoint>>,
 }
 
 impl<'a> ContactTracker<'a> {
     fn new(body: &'a Sphere) -> Self {
         Self {
             body,
-            last: Cell::new(DOWN),
+            last: Cell::new(None),
         }
     }
 
@@ -50,14 +50,13 @@ impl<'a> ContactTracker<'a> {
     fn contact(&self, q: DQuat) -> Option<SurfacePoint> {
         let q = q.normalize();
         let d = q.conjugate() * DOWN;
-        let guess = if self.last.get().dot(d) > 0.5 {
-            self.last.get()
-        } else {
-            d
+        let found = match self.last.get() {
+            Some(last) if last.normal.dot(d) > 0.5 => self.body.support_point_from(d, last),
+            _ => self.body.support_point(d, d),
         };
-        match self.body.support_point(d, guess) {
+        match found {
             Ok(sp) => {
-                self.last.set(sp.u);
+                self.last.set(Some(sp));
                 Some(sp)
             }
             Err(_) => None,

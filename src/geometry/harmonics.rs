@@ -51,6 +51,13 @@ impl ComplexPoly {
         out
     }
 
+    /// Adds (re + i·im)·`other` to this polynomial.
+    pub fn add_scaled(&mut self, other: &Self, re: f64, im: f64) {
+        for (e, (a, b)) in other.scale(re, im).0 {
+            self.add_term(e, a, b);
+        }
+    }
+
     fn scale(&self, re: f64, im: f64) -> Self {
         Self(
             self.0
@@ -131,98 +138,127 @@ pub fn spherical_harmonic(l: u32, m: i32) -> ComplexPoly {
     xy_k.mul(&pz).scale(sign * norm, 0.0)
 }
 
-/// A real homogeneous polynomial of one degree, flattened for fast evaluation.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RealPoly {
-    /// Degree l of every term.
-    pub degree: u32,
-    /// (exponents, coefficient) pairs.
-    pub terms: Vec<(Exponents, f64)>,
-}
-
 /// Value, gradient and Hessian of a polynomial at one point.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct PolyJet {
-    /// P(x)
+    /// f(x)
     pub value: f64,
-    /// ∇P(x)
+    /// ∇f(x)
     pub grad: [f64; 3],
-    /// Hessian of P, row-major.
+    /// Hessian of f, row-major (symmetric).
     pub hess: [[f64; 3]; 3],
 }
 
-impl RealPoly {
-    /// Re Σ_m c_m Y_l^m for the given complex coefficients of one degree l.
-    pub fn real_part_of(l: u32, coeffs: &[(i32, f64, f64)]) -> Self {
-        let mut acc = ComplexPoly::default();
-        for &(m, re, im) in coeffs {
-            for (e, (a, b)) in spherical_harmonic(l, m).scale(re, im).0 {
-                acc.add_term(e, a, b);
-            }
-        }
-        let terms = acc
-            .0
-            .into_iter()
-            .filter(|(_, (re, _))| re.abs() > 1e-300)
-            .map(|(e, (re, _))| (e, re))
-            .collect();
-        Self { degree: l, terms }
-    }
+/// Largest degree a [`SpherePoly`] may have.
+pub const MAX_SPHERE_POLY_DEGREE: usize = 15;
 
-    /// Value, gradient and Hessian at (x, y, z) given the powers `pw[axis][k]` = x_axis^k.
-    pub fn jet(&self, pw: &[[f64; 16]; 3]) -> PolyJet {
-        let mut j = PolyJet::default();
-        for (e, c) in &self.terms {
-            let [a, b, d] = [e[0] as usize, e[1] as usize, e[2] as usize];
-            let (px, py, pz) = (pw[0][a], pw[1][b], pw[2][d]);
-            let dp = |k: usize, axis: usize| {
-                if k == 0 {
-                    0.0
-                } else {
-                    k as f64 * pw[axis][k - 1]
-                }
-            };
-            let ddp = |k: usize, axis: usize| {
-                if k < 2 {
-                    0.0
-                } else {
-                    (k * (k - 1)) as f64 * pw[axis][k - 2]
-                }
-            };
-            let (dx, dy, dz) = (dp(a, 0), dp(b, 1), dp(d, 2));
-            j.value += c * px * py * pz;
-            j.grad[0] += c * dx * py * pz;
-            j.grad[1] += c * px * dy * pz;
-            j.grad[2] += c * px * py * dz;
-            let hxx = c * ddp(a, 0) * py * pz;
-            let hyy = c * px * ddp(b, 1) * pz;
-            let hzz = c * px * py * ddp(d, 2);
-            let hxy = c * dx * dy * pz;
-            let hxz = c * dx * py * dz;
-            let hyz = c * px * dy * dz;
-            j.hess[0][0] += hxx;
-            j.hess[1][1] += hyy;
-            j.hess[2][2] += hzz;
-            j.hess[0][1] += hxy;
-            j.hess[1][0] += hxy;
-            j.hess[0][2] += hxz;
-            j.hess[2][0] += hxz;
-            j.hess[1][2] += hyz;
-            j.hess[2][1] += hyz;
-        }
-        j
-    }
+/// A real polynomial on the unit sphere written as Σ_b y^b (A_b(x) + z B_b(x)): every z² of the
+/// homogeneous solid harmonics replaced by 1 − x² − y², which is exact on the sphere. All degrees
+/// of a body then share one polynomial with (L+1)(L+2)/2 coefficient pairs (21 for L = 5,
+/// against 52 homogeneous monomials in four separate sums), evaluated with its first and second
+/// derivatives by nested Horner schemes (in x inside, in y outside): about six multiply-adds per
+/// pair and no power tables. This is what makes the contact solve cheap.
+///
+/// This form is a different extension off the sphere than the homogeneous one, so callers must
+/// use only what the restriction to the sphere determines: the value, and the tangential
+/// gradient and covariant Hessian built from the jet (see [`super::sphere`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpherePoly {
+    degree: usize,
+    /// Row b holds A_b's coefficients for x^0..x^(L−b), then B_b's for the same powers.
+    rows: Vec<Vec<f64>>,
 }
 
-/// Powers x^k, y^k, z^k for k < 16 (degrees up to 15 are supported).
-pub fn powers(x: f64, y: f64, z: f64) -> [[f64; 16]; 3] {
-    let mut pw = [[1.0; 16]; 3];
-    for (axis, v) in [x, y, z].into_iter().enumerate() {
-        for k in 1..16 {
-            pw[axis][k] = pw[axis][k - 1] * v;
+/// p(x), p′(x) and p″(x)/2 of Σ_a c_a x^a by Horner's scheme.
+#[inline(always)]
+fn horner2(coeffs: &[f64], x: f64) -> (f64, f64, f64) {
+    let (mut p, mut d1, mut d2) = (0.0, 0.0, 0.0);
+    for &c in coeffs.iter().rev() {
+        d2 = d2 * x + d1;
+        d1 = d1 * x + p;
+        p = p * x + c;
+    }
+    (p, d1, d2)
+}
+
+impl SpherePoly {
+    /// Re of the complex polynomial `poly`, reduced on the sphere. Degrees above
+    /// [`MAX_SPHERE_POLY_DEGREE`] are refused by the shape validator before this is reached.
+    pub fn real_part_on_sphere(poly: &ComplexPoly) -> Self {
+        let mut acc: BTreeMap<(u8, u8, bool), f64> = BTreeMap::new();
+        let mut degree = 0;
+        for (&[a, b, c], &(re, _)) in &poly.0 {
+            if re == 0.0 {
+                continue;
+            }
+            degree = degree.max(usize::from(a + b + c));
+            // z^c = z^(c mod 2) (1 − x² − y²)^k, k = c div 2, by the trinomial theorem.
+            let (k, odd) = (u32::from(c / 2), c % 2 == 1);
+            for j in 0..=k {
+                for m in 0..=k - j {
+                    let i = k - j - m;
+                    let multinomial = factorial(k) / (factorial(i) * factorial(j) * factorial(m));
+                    let sign = if (j + m) % 2 == 0 { 1.0 } else { -1.0 };
+                    let key = (a + 2 * j as u8, b + 2 * m as u8, odd);
+                    *acc.entry(key).or_insert(0.0) += re * multinomial * sign;
+                }
+            }
+        }
+        assert!(
+            degree <= MAX_SPHERE_POLY_DEGREE,
+            "degree {degree} exceeds the supported {MAX_SPHERE_POLY_DEGREE}"
+        );
+        let mut rows: Vec<Vec<f64>> = (0..=degree)
+            .map(|b| vec![0.0; 2 * (degree - b + 1)])
+            .collect();
+        for ((a, b, odd), c) in acc {
+            let (a, b) = (usize::from(a), usize::from(b));
+            let width = degree - b + 1;
+            rows[b][a + if odd { width } else { 0 }] = c;
+        }
+        Self { degree, rows }
+    }
+
+    /// Value at a point.
+    pub fn value(&self, x: f64, y: f64, z: f64) -> f64 {
+        self.rows.iter().rev().fold(0.0, |acc, row| {
+            let (a, b) = row.split_at(row.len() / 2);
+            let horner = |c: &[f64]| c.iter().rev().fold(0.0, |p, &c| p * x + c);
+            acc * y + horner(a) + z * horner(b)
+        })
+    }
+
+    /// Value, gradient and Hessian of this polynomial (as a function on R³) at a point.
+    pub fn jet(&self, x: f64, y: f64, z: f64) -> PolyJet {
+        // Outer Horner in y over the rows; each sequence needs its value and as many
+        // y-derivatives as the Hessian asks for (d2 terms are halved second derivatives).
+        let (mut w, mut w_y, mut w_yy) = (0.0, 0.0, 0.0);
+        let (mut wx, mut wx_y) = (0.0, 0.0);
+        let mut wxx = 0.0;
+        let (mut bz, mut bz_y) = (0.0, 0.0);
+        let mut bzx = 0.0;
+        for row in self.rows.iter().rev() {
+            let (a_coeffs, b_coeffs) = row.split_at(row.len() / 2);
+            let (a0, a1, a2) = horner2(a_coeffs, x);
+            let (b0, b1, b2) = horner2(b_coeffs, x);
+            let (s0, s1, s2) = (a0 + z * b0, a1 + z * b1, 2.0 * (a2 + z * b2));
+            w_yy = w_yy * y + w_y;
+            w_y = w_y * y + w;
+            w = w * y + s0;
+            wx_y = wx_y * y + wx;
+            wx = wx * y + s1;
+            wxx = wxx * y + s2;
+            bz_y = bz_y * y + bz;
+            bz = bz * y + b0;
+            bzx = bzx * y + b1;
+        }
+        let (fxy, fxz, fyz) = (wx_y, bzx, bz_y);
+        PolyJet {
+            value: w,
+            grad: [wx, w_y, bz],
+            hess: [[wxx, fxy, fxz], [fxy, 2.0 * w_yy, fyz], [fxz, fyz, 0.0]],
         }
     }
-    pw
 }
 
 #[cfg(test)]
@@ -296,6 +332,61 @@ mod tests {
                     (re - rr).abs() < 1e-13 && (im - ri).abs() < 1e-13,
                     "Y_{l}^{m}({t},{p}) = {re}+{im}i, table {rr}+{ri}i"
                 );
+            }
+        }
+    }
+
+    /// The z²-reduced form agrees with the homogeneous sum on the sphere (all degrees up to 12
+    /// and every order at once), and its jet with central differences off the sphere.
+    #[test]
+    fn sphere_reduced_form_matches_the_homogeneous_sum() {
+        let mut sum = ComplexPoly::default();
+        for l in 2..=12u32 {
+            for m in -(l as i32)..=l as i32 {
+                let (re, im) = (
+                    (l as f64 * 0.37 + m as f64).sin(),
+                    (m as f64 * 1.3 - 0.2).cos(),
+                );
+                sum.add_scaled(&spherical_harmonic(l, m), re, im);
+            }
+        }
+        let reduced = SpherePoly::real_part_on_sphere(&sum);
+        let pairs: usize = reduced.rows.iter().map(|r| r.len() / 2).sum();
+        assert!(pairs < sum.0.len() / 2, "the reduction shortens the sum");
+        for &(t, p) in &[
+            (0.3, 1.1),
+            (1.7, -2.0),
+            (2.9, 0.4),
+            (0.0, 0.0),
+            (PI, 1.0),
+            (1.2, 3.0),
+        ] {
+            let (x, y, z) = at(t, p);
+            let exact = sum.eval(x, y, z).0;
+            let got = reduced.value(x, y, z);
+            assert!(
+                (got - exact).abs() < 1e-11 * (1.0 + exact.abs()),
+                "{got} vs {exact}"
+            );
+            let j = reduced.jet(x, y, z);
+            assert!((j.value - got).abs() < 1e-12 * (1.0 + got.abs()));
+            let h = 1e-5;
+            for axis in 0..3 {
+                let shifted = |s: f64| {
+                    let mut v = [x, y, z];
+                    v[axis] += s;
+                    reduced.jet(v[0], v[1], v[2])
+                };
+                let (plus, minus) = (shifted(h), shifted(-h));
+                let g = (plus.value - minus.value) / (2.0 * h);
+                assert!((g - j.grad[axis]).abs() < 1e-6 * (1.0 + g.abs()), "∂{axis}");
+                for k in 0..3 {
+                    let hk = (plus.grad[k] - minus.grad[k]) / (2.0 * h);
+                    assert!(
+                        (hk - j.hess[axis][k]).abs() < 1e-5 * (1.0 + hk.abs()),
+                        "∂{axis}∂{k}"
+                    );
+                }
             }
         }
     }

@@ -173,7 +173,7 @@ impl Body {
                     })
                     .sum();
                 if bound >= 1.0 {
-                    let grid = sphere::fibonacci_sphere(SPHERE_GRID);
+                    let grid = sphere::fibonacci_sphere(sphere_grid_size(sphere.max_degree()));
                     let (u, neg_r) = refine_sphere(|u| -sphere.radius(u), &grid);
                     if -neg_r <= 0.0 {
                         let (theta, phi) = sphere::angles(u);
@@ -213,6 +213,13 @@ impl Body {
         curvature_report(self)
     }
 
+    /// [`Body::curvature`] searched from a grid of `grid_size` points (the disk's θ grid or the
+    /// sphere's Fibonacci lattice) instead of the default size: for checking the default
+    /// against a denser search.
+    pub fn curvature_on_grid(&self, grid_size: usize) -> CurvatureReport {
+        curvature_report_on(self, grid_size.max(8))
+    }
+
     /// Returns an error naming the worst point unless the body is strictly convex.
     pub fn check_convex(&self) -> Result<(), ShapeError> {
         let rep = self.curvature();
@@ -245,16 +252,32 @@ pub struct CurvatureReport {
     pub convexity_place: String,
 }
 
-/// Dense-grid sizes for curvature and α* searches.
+/// Dense-grid size for the disk's curvature and α* searches.
 const DISK_GRID: usize = 4096;
-const SPHERE_GRID: usize = 20_000;
+
+/// Grid size for a global search over a sphere of largest degree `max_degree`: 100 L² points
+/// (at least 800), a spacing of about 0.35/L rad, so ≥ 18 points per wavelength of the highest
+/// harmonic and ≥ 9 for the products of two that curvature contains. The grid only has to land in
+/// the basin of each candidate extremum; Newton refinement then finds it to round-off.
+/// [`tests`] checks the verdicts and extremes against a 20 000-point grid on a few hundred
+/// random bodies at the edge of convexity. A 2500-point grid for L = 5 costs about 0.3 ms.
+pub fn sphere_grid_size(max_degree: u32) -> usize {
+    (100 * (max_degree as usize).pow(2)).clamp(800, 20_000)
+}
 
 fn curvature_report(body: &Body) -> CurvatureReport {
     match body {
+        Body::Disk(_) => curvature_report_on(body, DISK_GRID),
+        Body::Sphere(s) => curvature_report_on(body, sphere_grid_size(s.max_degree())),
+    }
+}
+
+fn curvature_report_on(body: &Body, grid_size: usize) -> CurvatureReport {
+    match body {
         Body::Disk(d) => {
             let kappa = |t: f64| d.jet(t).curvature();
-            let (tmin, kmin) = refine_1d(|t| -kappa(t), DISK_GRID);
-            let (_, kmax) = refine_1d(kappa, DISK_GRID);
+            let (tmin, kmin) = refine_1d(|t| -kappa(t), grid_size);
+            let (_, kmax) = refine_1d(kappa, grid_size);
             let kmin = -kmin;
             CurvatureReport {
                 convex: kmin > 0.0,
@@ -266,7 +289,7 @@ fn curvature_report(body: &Body) -> CurvatureReport {
             }
         }
         Body::Sphere(s) => {
-            let pts = sphere::fibonacci_sphere(SPHERE_GRID);
+            let pts = sphere::fibonacci_sphere(grid_size);
             let kmin_of = |u: DVec3| s.surface(u).principal_curvatures().0;
             let gauss = |u: DVec3| s.surface(u).gaussian_curvature();
             // One surface evaluation per grid point serves all three searches (the expensive
@@ -337,6 +360,9 @@ pub fn refine_sphere(f: impl Fn(DVec3) -> f64, grid: &[DVec3]) -> (DVec3, f64) {
     refine_sphere_from(f, grid, &values)
 }
 
+/// How many of the best grid values [`refine_sphere_from`] scans for separated candidates.
+const CANDIDATE_POOL: usize = 400;
+
 /// [`refine_sphere`] with f already evaluated on the grid (`values[i]` = f(grid[i])), so that
 /// several searches can share one pass of an expensive evaluation.
 pub fn refine_sphere_from(
@@ -345,11 +371,17 @@ pub fn refine_sphere_from(
     values: &[f64],
 ) -> (DVec3, f64) {
     let mut vals: Vec<(f64, usize)> = values.iter().copied().zip(0..).collect();
+    // Only the top few hundred are looked at: select them, then sort just those.
+    let top = CANDIDATE_POOL.min(vals.len());
+    if top < vals.len() {
+        vals.select_nth_unstable_by(top, |a, b| b.0.total_cmp(&a.0));
+    }
+    vals.truncate(top);
     vals.sort_by(|a, b| b.0.total_cmp(&a.0));
     let mut best = (grid[vals[0].1], vals[0].0);
     // Candidates: the top few grid values that are not within 0.1 rad of a better one.
     let mut starts: Vec<DVec3> = Vec::new();
-    for &(_, i) in vals.iter().take(400) {
+    for &(_, i) in &vals {
         let u = grid[i];
         if starts.iter().all(|s| s.dot(u) < 0.995) {
             starts.push(u);

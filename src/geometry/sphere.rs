@@ -3,16 +3,19 @@
 //! the quality factor Q = |∇_s ln r| (SI §2D), and the support point: the surface point whose
 //! outward normal is a given direction, which is where the body touches a plane.
 //!
-//! Everything is computed in Cartesian form from the solid-harmonic polynomials of
-//! [`super::harmonics`]. The body is the zero set of F(x) = |x| − R(x) with R(x) = r(x/|x|), the
-//! degree-0 extension, so at p = r u: ∇F = u − ∇_s r / r and
-//! H_F = (I − u uᵀ)/r − H_R(u)/r², with H_R(u) = Σ_l [H P_l − l(∇P_l uᵀ + u ∇P_lᵀ) − l P_l I
-//! \+ l(l+2) P_l u uᵀ] at the unit vector u. The shape operator is S = P H_F P / |∇F| on the
-//! tangent plane (P the projector). No (θ, φ) chart is involved, so the poles are ordinary points.
+//! Everything is computed in Cartesian form. r − 1 is one polynomial f(x, y, z) that equals the
+//! sum of solid harmonics on the unit sphere ([`SpherePoly`]: z² eliminated, so one short loop
+//! serves all degrees). From its jet at u, with P = I − u uᵀ and f_n = u·∇f, the sphere's own
+//! derivatives follow, whatever the extension: ∇_s r = P ∇f and the covariant Hessian
+//! Hess_s r = P H_f P − f_n P. The body is the zero set of F(x) = |x| − R(x) with R(x) =
+//! r(x/|x|), the degree-0 extension, whose Hessian at u is H_R = Hess_s r − ∇_s r uᵀ − u ∇_s rᵀ
+//! (Euler: H_R u = −∇R). At p = r u: ∇F = u − ∇_s r / r and H_F = (I − u uᵀ)/r − H_R(u)/r². The
+//! shape operator is S = P H_F P / |∇F| on the tangent plane (P the projector onto it). No
+//! (θ, φ) chart is involved, so the poles are ordinary points.
 
 use glam::{DMat3, DVec3};
 
-use super::harmonics::{RealPoly, powers};
+use super::harmonics::{ComplexPoly, SpherePoly, spherical_harmonic};
 
 /// One spherical-harmonic coefficient A_lm = re + i·im.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -41,23 +44,30 @@ pub struct SurfacePoint {
     pub grad_s: DVec3,
     /// Outward unit normal.
     pub normal: DVec3,
-    /// Shape operator dn/dp as a 3×3 map (acts on tangent vectors; zero along the normal).
-    pub shape: DMat3,
+    /// An orthonormal basis (e1, e2) of the tangent plane (`normal.any_orthonormal_pair()`).
+    pub tangent: (DVec3, DVec3),
+    /// The shape operator dn/dp in that basis, [[a, b], [b, c]] stored as [a, b, c].
+    pub shape_in_tangent: [f64; 3],
 }
 
 impl SurfacePoint {
     /// An orthonormal basis (e1, e2) of the tangent plane.
     pub fn tangent_basis(&self) -> (DVec3, DVec3) {
-        self.normal.any_orthonormal_pair()
+        self.tangent
     }
 
-    /// The shape operator in the tangent basis, [[a, b], [b, c]].
+    /// The shape operator in the tangent basis, [[a, b], [b, c]], with the basis.
     pub fn shape_2x2(&self) -> (f64, f64, f64, DVec3, DVec3) {
-        let (e1, e2) = self.tangent_basis();
-        let a = e1.dot(self.shape * e1);
-        let b = 0.5 * (e1.dot(self.shape * e2) + e2.dot(self.shape * e1));
-        let c = e2.dot(self.shape * e2);
+        let [a, b, c] = self.shape_in_tangent;
+        let (e1, e2) = self.tangent;
         (a, b, c, e1, e2)
+    }
+
+    /// The shape operator as a 3×3 map (acts on tangent vectors; zero along the normal).
+    pub fn shape_matrix(&self) -> DMat3 {
+        let [a, b, c] = self.shape_in_tangent;
+        let (e1, e2) = self.tangent;
+        a * outer(e1, e1) + b * (outer(e1, e2) + outer(e2, e1)) + c * outer(e2, e2)
     }
 
     /// Gaussian curvature K = det S.
@@ -95,7 +105,8 @@ impl SurfacePoint {
 #[derive(Debug, Clone)]
 pub struct Sphere {
     coeffs: Vec<SphereCoeff>,
-    polys: Vec<RealPoly>,
+    /// r − 1 on the unit sphere.
+    poly: SpherePoly,
 }
 
 /// Why the support point could not be found.
@@ -108,27 +119,23 @@ pub struct SupportFailure {
 impl Sphere {
     /// A body from validated coefficients (see [`crate::geometry::Body::from_file`]).
     pub fn new(coeffs: Vec<SphereCoeff>) -> Self {
-        let max_l = coeffs.iter().map(|c| c.l).max().unwrap_or(0);
-        let polys = (2..=max_l)
-            .map(|l| {
-                let cs: Vec<(i32, f64, f64)> = coeffs
-                    .iter()
-                    .filter(|c| c.l == l)
-                    .map(|c| {
-                        let s = 1.0 / (l * (l + 1)) as f64;
-                        (c.m, c.re * s, c.im * s)
-                    })
-                    .collect();
-                RealPoly::real_part_of(l, &cs)
-            })
-            .filter(|p| !p.terms.is_empty())
-            .collect();
-        Self { coeffs, polys }
+        let mut sum = ComplexPoly::default();
+        for c in &coeffs {
+            let s = 1.0 / (c.l * (c.l + 1)) as f64;
+            sum.add_scaled(&spherical_harmonic(c.l, c.m), c.re * s, c.im * s);
+        }
+        let poly = SpherePoly::real_part_on_sphere(&sum);
+        Self { coeffs, poly }
     }
 
     /// The perfect unit sphere.
     pub fn perfect() -> Self {
         Self::new(Vec::new())
+    }
+
+    /// The largest degree l among the coefficients (0 for the perfect sphere).
+    pub fn max_degree(&self) -> u32 {
+        self.coeffs.iter().map(|c| c.l).max().unwrap_or(0)
     }
 
     /// The coefficients.
@@ -138,8 +145,7 @@ impl Sphere {
 
     /// r(u) for a unit vector u.
     pub fn radius(&self, u: DVec3) -> f64 {
-        let pw = powers(u.x, u.y, u.z);
-        1.0 + self.polys.iter().map(|p| p.jet(&pw).value).sum::<f64>()
+        1.0 + self.poly.value(u.x, u.y, u.z)
     }
 
     /// r(θ, φ) with θ polar and φ azimuth.
@@ -150,35 +156,40 @@ impl Sphere {
     /// Full local geometry above the direction `u` (normalised here).
     pub fn surface(&self, u: DVec3) -> SurfacePoint {
         let u = u.normalize();
-        let pw = powers(u.x, u.y, u.z);
-        let mut r = 1.0;
-        let mut grad = DVec3::ZERO;
-        let mut hess = DMat3::ZERO;
-        let uu = outer(u, u);
-        for poly in &self.polys {
-            let j = poly.jet(&pw);
-            let l = poly.degree as f64;
-            let gp = DVec3::from_array(j.grad);
-            let hp = DMat3::from_cols_array_2d(&j.hess);
-            r += j.value;
-            grad += gp - l * j.value * u;
-            hess += hp - l * (outer(gp, u) + outer(u, gp)) - l * j.value * DMat3::IDENTITY
-                + l * (l + 2.0) * j.value * uu;
-        }
-        // ∇F and H_F at p = r u (degree-0 scaling: ∇R(p) = ∇R(u)/r, H_R(p) = H_R(u)/r²).
+        let j = self.poly.jet(u.x, u.y, u.z);
+        let r = 1.0 + j.value;
+        let grad_poly = DVec3::from_array(j.grad);
+        let f_n = u.dot(grad_poly);
+        let grad = grad_poly - f_n * u;
+        // ∇F at p = r u (degree-0 scaling: ∇R(p) = ∇R(u)/r, H_R(p) = H_R(u)/r²).
         let grad_f = u - grad / r;
-        let hess_f = (DMat3::IDENTITY - uu) * (1.0 / r) - hess * (1.0 / (r * r));
         let gn = grad_f.length();
         let normal = grad_f / gn;
-        let proj = DMat3::IDENTITY - outer(normal, normal);
-        let shape = proj * hess_f * proj * (1.0 / gn);
+        let (e1, e2) = normal.any_orthonormal_pair();
+        // S = P H_F P / |∇F| needs only e_iᵀ H_F e_j, and with t_i = (I − u uᵀ) e_i:
+        // e_iᵀ H_R e_j = t_iᵀ H_f t_j − f_n t_i·t_j − (g·e_i)(u·e_j) − (u·e_i)(g·e_j),
+        // e_iᵀ H_F e_j = t_i·t_j / r − e_iᵀ H_R e_j / r². Two matrix-vector products in all.
+        let hess_poly = DMat3::from_cols_array_2d(&j.hess);
+        let (u1, u2) = (u.dot(e1), u.dot(e2));
+        let (g1, g2) = (grad.dot(e1), grad.dot(e2));
+        let (t1, t2) = (e1 - u1 * u, e2 - u2 * u);
+        let (h_t1, h_t2) = (hess_poly * t1, hess_poly * t2);
+        let h_f = |tt: f64, tht: f64, gu: f64| (tt / r - (tht - f_n * tt - gu) / (r * r)) / gn;
+        let a = h_f(t1.dot(t1), t1.dot(h_t1), 2.0 * g1 * u1);
+        let b = h_f(
+            t1.dot(t2),
+            0.5 * (t1.dot(h_t2) + t2.dot(h_t1)),
+            g1 * u2 + u1 * g2,
+        );
+        let c = h_f(t2.dot(t2), t2.dot(h_t2), 2.0 * g2 * u2);
         SurfacePoint {
             u,
             r,
             p: r * u,
             grad_s: grad,
             normal,
-            shape,
+            tangent: (e1, e2),
+            shape_in_tangent: [a, b, c],
         }
     }
 
@@ -188,7 +199,18 @@ impl Sphere {
     /// along the ray through p + δp, repeat. Quadratic convergence; 2–3 iterations from the
     /// previous contact during a simulation. Unique on a strictly convex body.
     pub fn support_point(&self, d: DVec3, guess: DVec3) -> Result<SurfacePoint, SupportFailure> {
-        let mut sp = self.surface(guess);
+        self.support_point_from(d, self.surface(guess))
+    }
+
+    /// [`Sphere::support_point`] starting from a surface point already evaluated (the previous
+    /// contact during a run): its geometry gives the first Newton step for free, which saves one
+    /// of the three or four surface evaluations a warm-started solve needs.
+    pub fn support_point_from(
+        &self,
+        d: DVec3,
+        start: SurfacePoint,
+    ) -> Result<SurfacePoint, SupportFailure> {
+        let mut sp = start;
         let mut last = f64::INFINITY;
         for _ in 0..60 {
             let residual = (sp.normal - d).length();
@@ -328,7 +350,7 @@ mod tests {
             let na = s.surface(pa).normal;
             let nb = s.surface(pb).normal;
             let dn = (na - nb) / (2.0 * h);
-            let expected = sp.shape * e1;
+            let expected = sp.shape_matrix() * e1;
             assert!((dn - expected).length() < 1e-6, "{dn} vs {expected}");
         }
     }
