@@ -9,7 +9,6 @@
 //! neighbour-to-neighbour distances as in a real run. Repeating one state would let Newton
 //! stop after one iteration and flatter the figure by a factor of three.
 
-use std::cell::RefCell;
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
@@ -18,6 +17,7 @@ use rollphase::analysis::{critical_angle, viscous_disk_period};
 use rollphase::dynamics::sphere3d::{DOWN, orientation_touching};
 use rollphase::dynamics::{Ramp, SphereInertial, SphereViscous};
 use rollphase::geometry::{Body, Sphere, random_disk, random_sphere};
+use rollphase::integrate::record::{self, replay};
 use rollphase::integrate::{self, Method, OdeSystem};
 
 fn default_sphere() -> Sphere {
@@ -44,42 +44,13 @@ fn run_3d(s: &Sphere, alpha: f64) -> u64 {
     st.stats().rhs_evals
 }
 
-/// Wraps a system and keeps every state its right-hand side is called with.
-struct Recorder<'a, S, const N: usize> {
-    system: &'a S,
-    states: RefCell<Vec<[f64; N]>>,
-}
-
-impl<S: OdeSystem<N>, const N: usize> OdeSystem<N> for Recorder<'_, S, N> {
-    fn rhs(&self, t: f64, y: &[f64; N]) -> [f64; N] {
-        self.states.borrow_mut().push(*y);
-        self.system.rhs(t, y)
-    }
-    fn quaternion_slot(&self) -> Option<usize> {
-        self.system.quaternion_slot()
-    }
-}
-
 /// The states a DOP853 run at rtol 1e-10 to t = `t_end` evaluates, in order.
 fn recorded_states<S: OdeSystem<N>, const N: usize>(
     system: &S,
     y0: [f64; N],
     t_end: f64,
 ) -> Vec<[f64; N]> {
-    let rec = Recorder {
-        system,
-        states: RefCell::new(Vec::new()),
-    };
-    let mut st = integrate::stepper(&rec, 0.0, y0, Method::dop853(1e-10)).expect("valid method");
-    while st.t() < t_end {
-        st.step(t_end).expect("integrates");
-    }
-    drop(st);
-    rec.states.into_inner()
-}
-
-fn replay<S: OdeSystem<N>, const N: usize>(system: &S, states: &[[f64; N]]) -> f64 {
-    states.iter().map(|y| system.rhs(0.0, y)[0]).sum()
+    record::recorded_states(system, y0, t_end, Method::dop853(1e-10)).expect("integrates")
 }
 
 fn bench(c: &mut Criterion) {

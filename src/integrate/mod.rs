@@ -3,7 +3,8 @@
 //! Owns: the [`OdeSystem`] contract, fixed-step RK4 ([`rk4`]), adaptive DOP853 with 7th-order
 //! dense output ([`dop853`]), the commutator-free Lie-group RK4 step that keeps a unit
 //! quaternion on the unit sphere to round-off ([`lie`]), event location on dense output
-//! ([`events`]) and uniform sampling of a trajectory. Imports only `std`, `glam` and `thiserror`.
+//! ([`events`]), uniform sampling of a trajectory, and recording the states a run evaluates
+//! ([`record`], for timing a right-hand side as a run calls it). Imports only `std`, `glam` and `thiserror`.
 //!
 //! Why we wrote DOP853 ourselves: no maintained Rust crate offers DOP853 with dense output *and*
 //! correct event location for small fixed-size states (see `STACK.md`: ode_solvers has no dense
@@ -17,6 +18,7 @@
 pub mod dop853;
 pub mod events;
 pub mod lie;
+pub mod record;
 pub mod rk4;
 
 use serde::{Deserialize, Serialize};

@@ -10,6 +10,7 @@ mod app;
 mod figures;
 #[cfg(feature = "render")]
 mod render;
+mod speed;
 mod stiff;
 
 use std::path::{Path, PathBuf};
@@ -40,6 +41,10 @@ pub enum BenchKind {
     /// Wall time of the full-size ensemble figures against their targets (sphere-poincare ≤ 30 s,
     /// sphere-cruising ≤ 60 s, sphere-doubling ≤ 60 s, sphere-bifurcation ≤ 120 s on 2 cores).
     Figures(FiguresBenchArgs),
+    /// Fixed and per-step costs of the physics core on the paper's 3D body (body check, α*
+    /// search, RHS evaluations per second, whole `simulate` and `inspect` processes) beside the
+    /// figures before the speed-up and the targets.
+    Speed(SpeedBenchArgs),
     /// Frames per second of the headless renderer (rendering alone, with readback, with PNG
     /// writing on worker threads) at 1280×720 on whatever adapter is found (llvmpipe here).
     Render(RenderBenchArgs),
@@ -85,6 +90,14 @@ pub struct RenderBenchArgs {
     pub frames: u64,
 }
 
+/// Options of `bench speed`.
+#[derive(Debug, Args)]
+pub struct SpeedBenchArgs {
+    /// Child processes timed per process row (the median is reported), 1 to 1000.
+    #[arg(long, default_value_t = 21, value_parser = clap::value_parser!(u64).range(1..=1000))]
+    pub runs: u64,
+}
+
 /// Options of `bench figures`.
 #[derive(Debug, Args)]
 pub struct FiguresBenchArgs {
@@ -99,6 +112,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
         BenchKind::Accuracy(a) => accuracy::run(a),
         BenchKind::Stiff(a) => stiff::run(a),
         BenchKind::Figures(a) => figures::run(a),
+        BenchKind::Speed(a) => speed::run(a),
         #[cfg(feature = "render")]
         BenchKind::Render(a) => render::run(a),
         #[cfg(not(feature = "render"))]

@@ -1,0 +1,74 @@
+//! Recording the states a run evaluates, so a right-hand side can be timed on exactly the
+//! sequence a real run feeds it (`bench speed`, `benches/core.rs`). Repeating one state would
+//! let a model's warm-started inner solvers (the 3D contact Newton) converge in one iteration
+//! and flatter the figure several times over.
+
+use std::cell::RefCell;
+
+use super::{IntegrateError, Method, OdeSystem, step_until, stepper};
+
+/// Wraps a system and keeps every state its right-hand side is called with.
+pub struct Recorder<'a, S, const N: usize> {
+    system: &'a S,
+    states: RefCell<Vec<[f64; N]>>,
+}
+
+impl<S: OdeSystem<N>, const N: usize> OdeSystem<N> for Recorder<'_, S, N> {
+    fn rhs(&self, t: f64, y: &[f64; N]) -> [f64; N] {
+        self.states.borrow_mut().push(*y);
+        self.system.rhs(t, y)
+    }
+
+    fn quaternion_slot(&self) -> Option<usize> {
+        self.system.quaternion_slot()
+    }
+}
+
+/// The states, in order, at which a run of `method` from (0, `y0`) to `t_end` evaluates the
+/// right-hand side of `system`.
+pub fn recorded_states<S: OdeSystem<N>, const N: usize>(
+    system: &S,
+    y0: [f64; N],
+    t_end: f64,
+    method: Method,
+) -> Result<Vec<[f64; N]>, IntegrateError> {
+    let recorder = Recorder {
+        system,
+        states: RefCell::new(Vec::new()),
+    };
+    {
+        let mut st = stepper(&recorder, 0.0, y0, method)?;
+        step_until::<N, IntegrateError>(&mut *st, t_end, u64::MAX, |_| Ok(()))?;
+    }
+    Ok(recorder.states.into_inner())
+}
+
+/// Evaluates the right-hand side at each state in order; returns a sum of the results so that
+/// the work cannot be optimised away.
+pub fn replay<S: OdeSystem<N>, const N: usize>(system: &S, states: &[[f64; N]]) -> f64 {
+    states.iter().map(|y| system.rhs(0.0, y)[0]).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Decay;
+    impl OdeSystem<1> for Decay {
+        fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+            [-y[0]]
+        }
+    }
+
+    #[test]
+    fn records_every_evaluation_of_a_run() {
+        let states = recorded_states(&Decay, [1.0], 1.0, Method::Rk4 { dt: 0.25 }).expect("runs");
+        // The stepper's first evaluation at y0 (kept for dense output), then four RK4 steps of
+        // four stages each.
+        assert_eq!(states.len(), 1 + 4 * 4);
+        assert_eq!(states[0], [1.0]);
+        assert!(states.iter().all(|y| y[0] > 0.0 && y[0] <= 1.0));
+        let sum = replay(&Decay, &states);
+        assert!((sum + states.iter().map(|y| y[0]).sum::<f64>()).abs() < 1e-15);
+    }
+}
