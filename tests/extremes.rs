@@ -8,7 +8,7 @@ use glam::DVec3;
 use rollphase::analysis::{critical_angle, viscous_disk_period};
 use rollphase::dynamics::Ramp;
 use rollphase::dynamics::sphere3d::orientation_touching;
-use rollphase::geometry::{Body, Disk, DiskMode, Sphere, SphereCoeff};
+use rollphase::geometry::{Body, Disk, DiskMode};
 use rollphase::integrate::Method;
 use rollphase::simulate::InitialState;
 use std::f64::consts::{FRAC_PI_2, TAU};
@@ -207,18 +207,6 @@ fn scaled_disk(d: &Disk, s: f64) -> Disk {
             .collect(),
     )
 }
-fn scaled_sphere(b: &Sphere, s: f64) -> Sphere {
-    Sphere::new(
-        b.coeffs()
-            .iter()
-            .map(|c| SphereCoeff {
-                re: c.re * s,
-                im: c.im * s,
-                ..*c
-            })
-            .collect(),
-    )
-}
 
 /// The largest scale factor that keeps the body convex, by bisection.
 fn convexity_limit(make: impl Fn(f64) -> Body) -> f64 {
@@ -264,8 +252,8 @@ fn bodies_at_the_edge_of_convexity_still_roll_cleanly() {
     let Body::Sphere(sp) = common::sphere(2) else {
         unreachable!()
     };
-    let s = convexity_limit(|s| Body::Sphere(scaled_sphere(&sp, s)));
-    let edge_sphere = scaled_sphere(&sp, 0.98 * s);
+    let s = convexity_limit(|s| Body::Sphere(common::scaled_sphere(&sp, s)));
+    let edge_sphere = common::scaled_sphere(&sp, 0.98 * s);
     let body = Body::Sphere(edge_sphere.clone());
     let c = body.curvature();
     assert!(

@@ -10,23 +10,14 @@ mod common;
 use glam::DVec3;
 use proptest::prelude::*;
 use rollphase::dynamics::Ramp;
-use rollphase::geometry::{Body, ShapeFile, Sphere, SphereCoeff, random_disk, random_sphere};
+use rollphase::geometry::{Body, ShapeFile, Sphere, random_disk, random_sphere};
 use rollphase::integrate::Method;
 use rollphase::numeric::quadrature::gauss_legendre;
 use rollphase::simulate::InitialState;
 use std::f64::consts::{PI, TAU};
 
 fn scaled(s: &Sphere, k: f64) -> Body {
-    Body::Sphere(Sphere::new(
-        s.coeffs()
-            .iter()
-            .map(|c| SphereCoeff {
-                re: c.re * k,
-                im: c.im * k,
-                ..*c
-            })
-            .collect(),
-    ))
+    Body::Sphere(common::scaled_sphere(s, k))
 }
 
 /// For random bodies of degree 3, 5, 8 and 12, the amplitude scale k* where the densely searched
