@@ -14,4 +14,6 @@ pub mod sphere_orbits;
 pub mod sphere_return_map;
 
 pub use critical_angle::{CriticalAngle, critical_angle};
-pub use period::{PeriodResult, inertial_disk_period, viscous_disk_period};
+pub use period::{
+    PeriodResult, inertial_disk_period, viscous_disk_period, viscous_disk_period_with,
+};

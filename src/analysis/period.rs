@@ -37,6 +37,16 @@ pub struct PeriodResult {
 /// Viscous period by quadrature (SI eq. for T). Halts iff tan α ≤ Q* = tan α*.
 pub fn viscous_disk_period(disk: &Disk, ramp: &Ramp) -> PeriodResult {
     let ca = critical_angle::critical_angle(&Body::Disk(disk.clone()));
+    viscous_disk_period_with(disk, ramp, &ca)
+}
+
+/// [`viscous_disk_period`] with the disk's critical angle already known (`ca` must be this
+/// disk's): a sweep over α finds α* once instead of at every α.
+pub fn viscous_disk_period_with(
+    disk: &Disk,
+    ramp: &Ramp,
+    ca: &critical_angle::CriticalAngle,
+) -> PeriodResult {
     if ramp.alpha_rad <= ca.alpha_star {
         return PeriodResult {
             period: None,

@@ -15,7 +15,7 @@ use crate::dynamics::{Ramp, SphereInertial, SphereViscous};
 use crate::geometry::Sphere;
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::lie::quat_at;
-use crate::integrate::{self, IntegrateError, Method, OdeSystem};
+use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stats};
 
 /// Distance between two boundary points with antipodes identified.
 pub fn boundary_distance(a: DVec3, b: DVec3) -> f64 {
@@ -110,16 +110,31 @@ pub fn settle(
     q0: DQuat,
     s: &Settle,
 ) -> Result<(Fate, Vec<Crossing>), IntegrateError> {
+    settle_with(body, ramp, q0, s, Method::dop853(s.rtol)).map(|(f, c, _)| (f, c))
+}
+
+/// [`settle`] with any integrator in place of DOP853 at `s.rtol`; also returns the work done.
+pub fn settle_with(
+    body: &Sphere,
+    ramp: &Ramp,
+    q0: DQuat,
+    s: &Settle,
+    method: Method,
+) -> Result<(Fate, Vec<Crossing>, Stats), IntegrateError> {
     if ramp.is_viscous() {
         let m = SphereViscous::new(body, ramp);
-        follow(&m, SphereViscous::initial_state(q0), s, |y| {
+        follow(&m, SphereViscous::initial_state(q0), s, method, |y| {
             m.observe(y).omega.length()
         })
     } else {
         let m = SphereInertial::new(body, ramp);
-        follow(&m, SphereInertial::initial_state(q0, DVec3::ZERO), s, |y| {
-            DVec3::new(y[4], y[5], y[6]).length()
-        })
+        follow(
+            &m,
+            SphereInertial::initial_state(q0, DVec3::ZERO),
+            s,
+            method,
+            |y| DVec3::new(y[4], y[5], y[6]).length(),
+        )
     }
 }
 
@@ -127,9 +142,10 @@ fn follow<const N: usize, S: OdeSystem<N>>(
     sys: &S,
     y0: [f64; N],
     s: &Settle,
+    method: Method,
     omega: impl Fn(&[f64; N]) -> f64,
-) -> Result<(Fate, Vec<Crossing>), IntegrateError> {
-    let mut st = integrate::stepper(sys, 0.0, y0, Method::dop853(s.rtol))?;
+) -> Result<(Fate, Vec<Crossing>, Stats), IntegrateError> {
+    let mut st = integrate::stepper(sys, 0.0, y0, method)?;
     let mut times = Vec::new();
     let mut crossings: Vec<Crossing> = Vec::new();
     while st.t() < s.t_max {
@@ -149,16 +165,16 @@ fn follow<const N: usize, S: OdeSystem<N>>(
                 point: p.to_array(),
             });
             if let Some(f) = periodic(&crossings, s) {
-                return Ok((f, crossings));
+                return Ok((f, crossings, st.stats()));
             }
         }
         // At rest: the viscous ω vanishes at a rest point; the inertial one decays to it.
         if omega(st.y()) < s.omega_rest && st.t() > 1.0 {
-            return Ok((Fate::Halts { t: st.t() }, crossings));
+            return Ok((Fate::Halts { t: st.t() }, crossings, st.stats()));
         }
     }
     let omega_end = omega(st.y());
-    Ok((Fate::Undecided { omega_end }, crossings))
+    Ok((Fate::Undecided { omega_end }, crossings, st.stats()))
 }
 
 /// A cycle of length k ≤ max_k closing twice in a row (points and durations).
@@ -260,21 +276,31 @@ pub fn poincare_field(
     tick: &(dyn Fn() + Sync),
 ) -> Result<Vec<FieldArrow>, IntegrateError> {
     use rayon::prelude::*;
-    let upper: Vec<DVec3> = crate::geometry::sphere::fibonacci_sphere(n)
-        .into_iter()
-        .filter(|p| p.z >= 0.0)
-        .collect();
-    let images: Vec<Result<Option<(DVec3, f64)>, IntegrateError>> = upper
+    let upper = field_lattice(n);
+    let images: Vec<Option<(DVec3, f64)>> = upper
         .par_iter()
         .map(|&p| {
             let r = poincare_step(body, ramp, p, t_max, rtol);
             tick();
             r
         })
-        .collect();
+        .collect::<Result<_, _>>()?;
+    Ok(field_from_images(&upper, &images))
+}
+
+/// The starts of [`poincare_field`] that are integrated: the lattice points with p_z ≥ 0.
+pub fn field_lattice(n: usize) -> Vec<DVec3> {
+    crate::geometry::sphere::fibonacci_sphere(n)
+        .into_iter()
+        .filter(|p| p.z >= 0.0)
+        .collect()
+}
+
+/// The whole field from the images of the [`field_lattice`] starts (next crossing and time, or
+/// `None` for a halt): each arrow and, for p_z > 0, its antipode.
+pub fn field_from_images(upper: &[DVec3], images: &[Option<(DVec3, f64)>]) -> Vec<FieldArrow> {
     let mut field = Vec::with_capacity(2 * upper.len());
-    for (&p, r) in upper.iter().zip(images) {
-        let r = r?;
+    for (&p, &r) in upper.iter().zip(images) {
         let arrow = FieldArrow {
             start: p,
             end: r.map(|(q, _)| q),
@@ -289,7 +315,7 @@ pub fn poincare_field(
             });
         }
     }
-    Ok(field)
+    field
 }
 
 /// Clusters unit vectors (antipodes identified) within `tol`; returns (representative, count).

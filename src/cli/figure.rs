@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Result, bail};
 use clap::Args;
 
+use crate::figures::shard::{Ensemble, ShardSpec, ShardWritten};
 use crate::figures::{self, BodyChoice, FIGURES, FigureOptions};
 
 /// Regenerate one of the paper's figures: OUT/NAME/data.csv, figure.png and summary.json.
@@ -45,6 +46,12 @@ pub struct FigureArgs {
     /// Worker threads [default: all cores].
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Run only shard I of N (1-based) of the figure's runs, e.g. 3/8, and write them to
+    /// OUT/NAME/shard-I-of-N.json without the plot; `rollphase merge OUT/NAME` then writes the
+    /// figure once all N are there. For the ensemble figures (sphere-cruising, sphere-poincare,
+    /// sphere-orbits, sphere-doubling, sphere-bifurcation, disk-transition); see docs/cluster.md.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<ShardSpec>,
 }
 
 /// Runs `figure`.
@@ -74,18 +81,32 @@ pub fn run(a: FigureArgs) -> Result<()> {
         quick: a.quick,
         body,
         alpha: a.alpha,
+        ensemble: match a.shard {
+            Some(s) => Ensemble::Shard(s),
+            None => Ensemble::Whole,
+        },
     };
-    if let Some(t) = a.threads
-        && !(1..=MAX_THREADS).contains(&t)
-    {
+    let pool = thread_pool(a.threads)?;
+    if a.shard.is_some() && !SHARDED.contains(&name.as_str()) {
         bail!(
-            "--threads {t} is not allowed (needs 1 ≤ threads ≤ {MAX_THREADS}; leave it out for all cores)"
+            "{name} has no ensemble to split; --shard applies to {}",
+            SHARDED.join(", ")
         );
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(a.threads.unwrap_or(0))
-        .build()?;
-    let summary = pool.install(|| (entry.run)(&opts))?;
+    let summary = match pool.install(|| (entry.run)(&opts)) {
+        Ok(s) => s,
+        Err(e) => match e.downcast_ref::<ShardWritten>() {
+            Some(w) => {
+                outln!(
+                    "{name}: {w}; when all {} shards are done: rollphase merge {}",
+                    w.shard.count,
+                    a.out.join(&name).display()
+                )?;
+                return Ok(());
+            }
+            None => return Err(e),
+        },
+    };
     let headline = summary
         .as_object()
         .map(|o| {
@@ -98,6 +119,20 @@ pub fn run(a: FigureArgs) -> Result<()> {
         .unwrap_or_default();
     outln!("{name}: wrote {}\n{headline}", a.out.join(&name).display())?;
     Ok(())
+}
+
+/// The worker pool for `--threads` (all cores when not given).
+pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
+    if let Some(t) = threads
+        && !(1..=MAX_THREADS).contains(&t)
+    {
+        bail!(
+            "--threads {t} is not allowed (needs 1 ≤ threads ≤ {MAX_THREADS}; leave it out for all cores)"
+        );
+    }
+    Ok(rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()?)
 }
 
 /// Fit measured lag times: t_lag = A (α − α*)^β per run (α* fitted) and with a shared β.
@@ -121,6 +156,16 @@ pub struct FitLagArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
 }
+
+/// The figures whose runs `--shard` splits.
+pub const SHARDED: [&str; 6] = [
+    "sphere-cruising",
+    "sphere-poincare",
+    "sphere-orbits",
+    "sphere-doubling",
+    "sphere-bifurcation",
+    "disk-transition",
+];
 
 /// Most worker threads a figure may ask for.
 pub const MAX_THREADS: usize = 1024;

@@ -16,12 +16,14 @@ pub mod bench;
 pub mod export_stl;
 pub mod figure;
 pub mod inspect;
+pub mod merge;
 pub mod output;
 pub mod period;
 pub mod render;
 pub mod scenes;
 pub mod shape;
 pub mod simulate;
+pub mod sweep;
 
 use std::path::{Path, PathBuf};
 
@@ -78,6 +80,10 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Regenerate one of the paper's figures as CSV + PNG + summary.json.
     Figure(figure::FigureArgs),
+    /// Scan bodies × α × m/m0 × orientations × integrators in 3D: one CSV row per run (shardable).
+    Sweep(sweep::SweepArgs),
+    /// Combine the shards of a figure or sweep (--shard I/N) into the files one run writes.
+    Merge(merge::MergeArgs),
     /// Fit measured lag times t_lag ∝ (α − α*)^β (per-run α*, shared β, bootstrap errors).
     FitLag(figure::FitLagArgs),
     /// List the preset scenes for --preset (or print one as TOML).
@@ -114,6 +120,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Bench(a) => bench::run(a),
         Command::Figure(a) => figure::run(a),
         Command::FitLag(a) => figure::run_fit_lag(a),
+        Command::Sweep(a) => sweep::run(a),
+        Command::Merge(a) => merge::run(a),
         Command::Scenes(a) => scenes::run(a),
         Command::ExportStl(a) => export_stl::run(a),
     }

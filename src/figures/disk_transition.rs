@@ -11,13 +11,16 @@
 //! **The SI's T* is low by √2.** Expanding Q(θ* + δθ) = Q* + ½Q''δθ² (the SI drops the ½) gives
 //! T* = √2 · G(θ*) π / √(−Q''(θ*)), G = (r² + r'²)κ/r², γ = F = 1. The measured prefactors agree
 //! with this to ~1e-5; the printed SI formula is smaller by exactly √2.
+//!
+//! `--shard I/N` splits the disks; `merge` adds the perfect disk's closed form.
 
 use anyhow::Result;
 use serde::Serialize;
 
-use super::{FigureData, FigureOptions, par_map, progress};
+use super::shard::{Fields, Record};
+use super::{FigureData, FigureOptions};
 use crate::analysis::fit::{logspace, power_law};
-use crate::analysis::{critical_angle, viscous_disk_period};
+use crate::analysis::{critical_angle, viscous_disk_period, viscous_disk_period_with};
 use crate::colormap::viridis;
 use crate::dynamics::Ramp;
 use crate::geometry::{Body, Disk};
@@ -65,6 +68,33 @@ pub struct Summary {
     pub per_disk: Vec<DiskTransition>,
 }
 
+impl Record for DiskTransition {
+    fn encode(&self, out: &mut Vec<f64>) {
+        self.seed.encode(out);
+        out.extend([
+            self.alpha_star,
+            self.exponent,
+            self.exponent_stderr,
+            self.exponent_naive,
+            self.t_star_measured,
+            self.t_star_analytic,
+            self.t_star_si_printed,
+        ]);
+    }
+    fn decode(f: &mut Fields) -> Result<Self> {
+        Ok(DiskTransition {
+            seed: u64::decode(f)?,
+            alpha_star: f.number()?,
+            exponent: f.number()?,
+            exponent_stderr: f.number()?,
+            exponent_naive: f.number()?,
+            t_star_measured: f.number()?,
+            t_star_analytic: f.number()?,
+            t_star_si_printed: f.number()?,
+        })
+    }
+}
+
 fn t_star_analytic(d: &Disk, theta: f64, q2: f64) -> f64 {
     let j = d.jet(theta);
     let g = (j.r * j.r + j.r1 * j.r1) * j.curvature() / (j.r * j.r);
@@ -90,13 +120,12 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     };
     let alphas: Vec<f64> = (1..=80).map(|i| 0.4 * i as f64 / 80.0).collect();
     // Each disk i uses the first convex seed at or after seed + 1000·i: independent of threads.
-    let bar = progress(n, "disks");
     type PerDisk = (DiskTransition, Vec<Vec<f64>>, Vec<Vec<f64>>);
-    let results = par_map(n, &bar, |i| -> Result<PerDisk> {
+    let results = opts.ensemble("disk-transition", n, "disks", |i| -> Result<PerDisk> {
         let (d, used) = opts.disk("disk-transition", opts.seed + 1000 * i as u64, 0.08, 10)?;
         let ca = critical_angle(&Body::Disk(d.clone()));
         let speed = |a: f64| -> Result<f64> {
-            Ok(viscous_disk_period(&d, &Ramp::new(a, 0.0)?).mean_angular_speed)
+            Ok(viscous_disk_period_with(&d, &Ramp::new(a, 0.0)?, &ca).mean_angular_speed)
         };
         // The α grid plus points just above this disk's α*, where 2π/T rises as √δα.
         let mut grid: Vec<f64> = alphas.clone();
@@ -112,7 +141,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         }
         let period = |da: f64| -> Result<f64> {
             Ok(
-                viscous_disk_period(&d, &Ramp::new(ca.alpha_star + da, 0.0)?)
+                viscous_disk_period_with(&d, &Ramp::new(ca.alpha_star + da, 0.0)?, &ca)
                     .period
                     .unwrap_or(f64::NAN),
             )
@@ -150,12 +179,11 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             rows,
             near_curve,
         ))
-    });
+    })?;
     let mut per_disk = Vec::new();
     let mut rows = Vec::new();
     let mut near_rows = Vec::new();
-    for r in results {
-        let (t, mut rs, mut nr) = r?;
+    for (t, mut rs, mut nr) in results {
         per_disk.push(t);
         rows.append(&mut rs);
         near_rows.append(&mut nr);

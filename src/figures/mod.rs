@@ -11,6 +11,7 @@ pub mod disk_hysteresis;
 pub mod disk_lag_time;
 pub mod disk_transition;
 pub mod fit_lag;
+pub mod shard;
 pub mod sphere_bifurcation;
 pub mod sphere_cruising;
 pub mod sphere_doubling;
@@ -18,6 +19,7 @@ pub mod sphere_halting;
 pub mod sphere_orbits;
 pub mod sphere_poincare;
 pub mod sphere_tube;
+pub mod sweep;
 
 use std::path::{Path, PathBuf};
 
@@ -37,7 +39,8 @@ pub const PAPER_SPHERE_SEED: u32 = 219;
 pub const PAPER_ALPHA: f64 = 0.15;
 
 /// Where a figure's body comes from.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, serde::Deserialize)]
+#[serde(tag = "kind", content = "path", rename_all = "lowercase")]
 pub enum BodyChoice {
     /// The figure's default: the paper's own body for the figures of paper Figs. 3–4, a seeded
     /// random body (`seed`) for the others.
@@ -62,6 +65,8 @@ pub struct FigureOptions {
     pub body: BodyChoice,
     /// The ramp angle, for the figures that use one α (`--alpha`).
     pub alpha: Option<f64>,
+    /// The whole ensemble here, one shard of it, or its shards merged (`--shard`, `merge`).
+    pub ensemble: shard::Ensemble,
 }
 
 /// A figure's 3D body and how to name it in its summary.
@@ -353,8 +358,13 @@ pub fn par_map<T: Send>(
     bar: &indicatif::ProgressBar,
     f: impl Fn(usize) -> T + Sync + Send,
 ) -> Vec<T> {
+    // One task per index: ensemble members differ in cost by orders of magnitude (a run that
+    // halts at once beside one followed to t_max), and rayon's default splitting hands whole
+    // contiguous blocks of the slow ones to one thread. Each member costs ≥ 0.1 ms, so the
+    // per-task overhead (~1 µs) does not show.
     let out = (0..n)
         .into_par_iter()
+        .with_max_len(1)
         .map(|i| {
             let r = f(i);
             bar.inc(1);

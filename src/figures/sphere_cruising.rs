@@ -11,12 +11,15 @@
 //! (low modes rescaled, see [`comparison_disk`]) is simulated from as many starts θ₀.
 //! In 3D halting loops and cruising orbits coexist below α*, so the fraction rises gradually and
 //! reaches 1 at α*, above which no rest point exists.
+//!
+//! `--shard I/N` splits the 3D and 2D runs (one list, 3D first); `merge` only counts.
 
 use anyhow::Result;
 use serde::Serialize;
 
+use super::shard::{Fields, Record};
 use super::sphere_orbits::random_orientation;
-use super::{FigureData, FigureOptions, convex_disk, par_map, progress};
+use super::{FigureData, FigureOptions, convex_disk};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{Fate, Settle, settle};
 use crate::dynamics::{DiskViscous, Ramp};
@@ -43,6 +46,35 @@ pub struct Summary {
     pub fraction_2d: Vec<f64>,
     /// Runs neither halted nor periodic within the time limit (classified by their final |ω|).
     pub undecided: usize,
+}
+
+/// One run of the ensemble: a sphere's fate, or whether a disk cruised.
+#[derive(Debug, Clone, PartialEq)]
+enum Run {
+    Sphere(Fate),
+    Disk(bool),
+}
+
+impl Record for Run {
+    fn encode(&self, out: &mut Vec<f64>) {
+        match self {
+            Run::Sphere(f) => {
+                out.push(0.0);
+                f.encode(out);
+            }
+            Run::Disk(c) => {
+                out.push(1.0);
+                c.encode(out);
+            }
+        }
+    }
+    fn decode(f: &mut Fields) -> Result<Self> {
+        Ok(match f.count()? {
+            0 => Run::Sphere(Fate::decode(f)?),
+            1 => Run::Disk(bool::decode(f)?),
+            v => anyhow::bail!("{v} is not a run kind"),
+        })
+    }
 }
 
 /// A run cruises unless it halted or, undecided at the time limit, was still creeping to rest
@@ -137,47 +169,56 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let jobs: Vec<(usize, usize)> = (0..n_a)
         .flat_map(|a| (0..n_or).map(move |o| (a, o)))
         .collect();
-    let bar = progress(jobs.len(), "3D runs");
+    // The 2D comparison: a disk with the same α*, from as many evenly spaced θ₀.
+    let disk = comparison_disk(opts.seed, a_star)?;
     let settle_opts = Settle {
         t_max: 2000.0,
         point_tol: 1e-5,
         period_rtol: 1e-5,
         ..Settle::default()
     };
-    let fates = par_map(jobs.len(), &bar, |k| -> Result<Fate> {
-        let (a, o) = jobs[k];
-        let ramp = Ramp::new(alphas[a], 0.0)?;
-        Ok(settle(
-            &body,
-            &ramp,
-            random_orientation(&body, opts.seed, o),
-            &settle_opts,
-        )?
-        .0)
-    });
-    let fates: Vec<Fate> = fates.into_iter().collect::<Result<_>>()?;
+    // One ensemble: the 3D runs, then the 2D runs (one shardable list).
+    let runs = opts.ensemble(
+        "sphere-cruising",
+        2 * jobs.len(),
+        "3D and 2D runs",
+        |k| -> Result<Run> {
+            let (a, o) = jobs[k % jobs.len()];
+            if k < jobs.len() {
+                let ramp = Ramp::new(alphas[a], 0.0)?;
+                let q0 = random_orientation(&body, opts.seed, o);
+                Ok(Run::Sphere(settle(&body, &ramp, q0, &settle_opts)?.0))
+            } else {
+                let theta0 = std::f64::consts::TAU * o as f64 / n_or as f64;
+                Ok(Run::Disk(disk_cruises(&disk, alphas[a], theta0)?))
+            }
+        },
+    )?;
+    let (sphere_runs, disk_runs) = runs.split_at(jobs.len());
+    let fates: Vec<&Fate> = sphere_runs
+        .iter()
+        .filter_map(|r| match r {
+            Run::Sphere(f) => Some(f),
+            Run::Disk(_) => None,
+        })
+        .collect();
+    let cruise2: Vec<bool> = disk_runs
+        .iter()
+        .filter_map(|r| match r {
+            Run::Disk(c) => Some(*c),
+            Run::Sphere(_) => None,
+        })
+        .collect();
+    if fates.len() != jobs.len() || cruise2.len() != jobs.len() {
+        anyhow::bail!("sphere-cruising: the runs came back in the wrong order");
+    }
     let undecided = fates
         .iter()
         .filter(|f| matches!(f, Fate::Undecided { .. }))
         .count();
     let fraction_3d: Vec<f64> = (0..n_a)
-        .map(|a| (0..n_or).filter(|&o| cruises(&fates[a * n_or + o])).count() as f64 / n_or as f64)
+        .map(|a| (0..n_or).filter(|&o| cruises(fates[a * n_or + o])).count() as f64 / n_or as f64)
         .collect();
-    // The 2D comparison.
-    let disk = comparison_disk(opts.seed, a_star)?;
-    let jobs2: Vec<(usize, usize)> = (0..n_a)
-        .flat_map(|a| (0..n_or).map(move |o| (a, o)))
-        .collect();
-    let bar = progress(jobs2.len(), "2D runs");
-    let cruise2 = par_map(jobs2.len(), &bar, |k| {
-        let (a, o) = jobs2[k];
-        disk_cruises(
-            &disk,
-            alphas[a],
-            std::f64::consts::TAU * o as f64 / n_or as f64,
-        )
-    });
-    let cruise2: Vec<bool> = cruise2.into_iter().collect::<Result<_>>()?;
     let fraction_2d: Vec<f64> = (0..n_a)
         .map(|a| (0..n_or).filter(|&o| cruise2[a * n_or + o]).count() as f64 / n_or as f64)
         .collect();

@@ -14,17 +14,22 @@
 //! answers how common it is: over the first `CROSS_BODIES` paper-generator bodies (numpy seeds
 //! 0, 1, …; σ = 0.25, l ≤ 5) that are convex with α* < 0.13, the fraction with a period-2
 //! attractor at m/m0 = 6, α = 0.15.
+//!
+//! `--shard I/N` splits this body's runs and the other bodies' runs (one list; every shard
+//! repeats the cheap search for the other bodies); `merge` counts and draws.
 
 use anyhow::{Result, anyhow};
 use serde::Serialize;
 
+use super::shard::{Fields, Record};
 use super::sphere_orbits::random_orientation;
-use super::{FigureData, FigureOptions, PAPER_ALPHA, par_map, progress, sphere_alpha_star};
+use super::{FigureData, FigureOptions, PAPER_ALPHA, par_map, sphere_alpha_star};
 use crate::analysis::sphere_orbits::{late_cycle, late_run};
 use crate::dynamics::Ramp;
 use crate::geometry::sphere::angles;
 use crate::geometry::{Body, Sphere, paper_sphere};
 use crate::plot::{Panel, Series, SeriesLabelPosition, Style};
+use glam::DVec3;
 
 const MASSES: [f64; 3] = [0.0, 6.0, 10.0];
 /// Bodies in the cross-body statistic (full size).
@@ -151,41 +156,84 @@ fn cross_bodies(n: usize, from: f64, below: f64) -> Result<Vec<(u32, Sphere)>> {
     Ok(found)
 }
 
-/// The fraction of bodies in an α* band whose runs at m/m0 = 6 close with period 2.
-fn cross_body_statistic(
-    n: usize,
+/// The bodies of one α* band of the cross-body statistic and the starts each one gets.
+struct CrossBand {
     from: f64,
     below: f64,
     orientations: usize,
-    alpha: f64,
-    seed: u64,
-) -> Result<CrossBody> {
-    let bodies = cross_bodies(n, from, below)?;
-    let jobs: Vec<(usize, usize)> = (0..bodies.len())
-        .flat_map(|b| (0..orientations).map(move |o| (b, o)))
-        .collect();
-    let bar = progress(jobs.len(), "other bodies");
-    let periods = par_map(jobs.len(), &bar, |j| {
-        let (b, o) = jobs[j];
-        run_period(&bodies[b].1, alpha, CROSS_MASS, seed, o, 2000.0)
-    });
-    let periods: Vec<Option<usize>> = periods.into_iter().collect::<Result<_>>()?;
-    let per_body: Vec<&[Option<usize>]> = periods.chunks(orientations).collect();
-    let with_period_2 = per_body.iter().filter(|r| r.contains(&Some(2))).count();
-    Ok(CrossBody {
-        alpha_star_from: from,
-        alpha_star_below: below,
-        bodies: bodies.len(),
-        seeds: bodies.iter().map(|b| b.0).collect(),
-        orientations,
-        with_period_2,
-        fraction_with_period_2: with_period_2 as f64 / bodies.len() as f64,
-        all_period_2: per_body
-            .iter()
-            .filter(|r| r.iter().all(|k| *k == Some(2)))
-            .count(),
-        with_undecided: per_body.iter().filter(|r| r.contains(&None)).count(),
-    })
+    bodies: Vec<(u32, Sphere)>,
+}
+
+impl CrossBand {
+    fn find(n: usize, from: f64, below: f64, orientations: usize) -> Result<Self> {
+        Ok(CrossBand {
+            from,
+            below,
+            orientations,
+            bodies: cross_bodies(n, from, below)?,
+        })
+    }
+
+    fn runs(&self) -> usize {
+        self.bodies.len() * self.orientations
+    }
+
+    /// The fraction of the band's bodies whose runs at m/m0 = 6 close with period 2, from their
+    /// multiplicities (body-major).
+    fn statistic(&self, periods: &[Option<usize>]) -> CrossBody {
+        let per_body: Vec<&[Option<usize>]> = periods.chunks(self.orientations).collect();
+        let with_period_2 = per_body.iter().filter(|r| r.contains(&Some(2))).count();
+        CrossBody {
+            alpha_star_from: self.from,
+            alpha_star_below: self.below,
+            bodies: self.bodies.len(),
+            seeds: self.bodies.iter().map(|b| b.0).collect(),
+            orientations: self.orientations,
+            with_period_2,
+            fraction_with_period_2: with_period_2 as f64 / self.bodies.len() as f64,
+            all_period_2: per_body
+                .iter()
+                .filter(|r| r.iter().all(|k| *k == Some(2)))
+                .count(),
+            with_undecided: per_body.iter().filter(|r| r.contains(&None)).count(),
+        }
+    }
+}
+
+/// One run of the ensemble: this body's (its cycle and sampled contact path), or another
+/// body's period multiplicity.
+enum Run {
+    Main {
+        cycle: Option<(usize, f64)>,
+        path: Vec<DVec3>,
+    },
+    Cross(Option<usize>),
+}
+
+impl Record for Run {
+    fn encode(&self, out: &mut Vec<f64>) {
+        match self {
+            Run::Main { cycle, path } => {
+                out.push(0.0);
+                cycle.encode(out);
+                path.encode(out);
+            }
+            Run::Cross(k) => {
+                out.push(1.0);
+                k.encode(out);
+            }
+        }
+    }
+    fn decode(f: &mut Fields) -> Result<Self> {
+        Ok(match f.count()? {
+            0 => Run::Main {
+                cycle: Record::decode(f)?,
+                path: Record::decode(f)?,
+            },
+            1 => Run::Cross(Record::decode(f)?),
+            v => return Err(anyhow!("{v} is not a run kind")),
+        })
+    }
 }
 
 /// Runs the figure: computes it, then writes OUT/sphere-doubling/{data.csv, summary.json, figure.png}.
@@ -209,25 +257,77 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let jobs: Vec<(usize, usize)> = (0..MASSES.len())
         .flat_map(|m| (0..n).map(move |o| (m, o)))
         .collect();
-    let bar = progress(jobs.len(), "runs");
-    let runs = par_map(jobs.len(), &bar, |k| {
-        let (m, o) = jobs[k];
-        let ramp = Ramp::new(alpha, MASSES[m])?;
-        late_run(
-            &body,
-            &ramp,
-            random_orientation(&body, opts.seed, o),
-            t_end,
-            t_from,
-            t_to,
-            400,
-            1e-9,
-        )
-        .map_err(anyhow::Error::from)
-    });
-    let runs: Vec<_> = runs.into_iter().collect::<Result<_>>()?;
-    let cycles: Vec<Option<(usize, f64)>> =
-        runs.iter().map(|(c, _)| late_cycle(c, 4, 1e-5)).collect();
+    // The cross-body statistics' bodies (a cheap search, repeated by every shard).
+    let (n_bodies, n_near, n_orient) = if opts.quick {
+        (4, 2, 2)
+    } else {
+        (CROSS_BODIES, 30, 4)
+    };
+    let bands = [
+        CrossBand::find(n_bodies, 0.0, 0.13, n_orient)?,
+        CrossBand::find(n_near, 0.13, 0.15, n_orient)?,
+    ];
+    let cross_jobs: Vec<(usize, usize, usize)> = bands
+        .iter()
+        .enumerate()
+        .flat_map(|(band, c)| {
+            (0..c.bodies.len()).flat_map(move |b| (0..c.orientations).map(move |o| (band, b, o)))
+        })
+        .collect();
+    // One ensemble: this body's runs, then the other bodies' runs at m/m0 = 6.
+    let all = opts.ensemble(
+        "sphere-doubling",
+        jobs.len() + cross_jobs.len(),
+        "runs",
+        |k| -> Result<Run> {
+            if let Some(&(band, b, o)) = k.checked_sub(jobs.len()).map(|j| &cross_jobs[j]) {
+                let body = &bands[band].bodies[b].1;
+                return Ok(Run::Cross(run_period(
+                    body, alpha, CROSS_MASS, opts.seed, o, 2000.0,
+                )?));
+            }
+            let (m, o) = jobs[k];
+            let ramp = Ramp::new(alpha, MASSES[m])?;
+            let (crossings, path) = late_run(
+                &body,
+                &ramp,
+                random_orientation(&body, opts.seed, o),
+                t_end,
+                t_from,
+                t_to,
+                400,
+                1e-9,
+            )?;
+            Ok(Run::Main {
+                cycle: late_cycle(&crossings, 4, 1e-5),
+                path,
+            })
+        },
+    )?;
+    let (main_runs, cross_runs) = all.split_at(jobs.len());
+    let mut cycles = Vec::with_capacity(jobs.len());
+    let mut paths = Vec::with_capacity(jobs.len());
+    for r in main_runs {
+        let Run::Main { cycle, path } = r else {
+            return Err(anyhow!(
+                "sphere-doubling: the runs came back in the wrong order"
+            ));
+        };
+        cycles.push(*cycle);
+        paths.push(path);
+    }
+    let mut periods = Vec::with_capacity(cross_runs.len());
+    for r in cross_runs {
+        let Run::Cross(k) = r else {
+            return Err(anyhow!(
+                "sphere-doubling: the runs came back in the wrong order"
+            ));
+        };
+        periods.push(*k);
+    }
+    let (first_band, near_band) = periods.split_at(bands[0].runs());
+    let cross_body = bands[0].statistic(first_band);
+    let cross_body_near_critical = bands[1].statistic(near_band);
     let mut viscous: Vec<f64> = (0..n)
         .filter_map(|o| cycles[o].filter(|c| c.0 == 1).map(|c| c.1))
         .collect();
@@ -253,7 +353,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             }
             // The contact path in (φ, θ), broken where φ wraps.
             let mut piece: Vec<(f64, f64)> = Vec::new();
-            for u in &runs[k].1 {
+            for u in paths[k] {
                 let (th, ph) = angles(*u);
                 if piece
                     .last()
@@ -299,16 +399,6 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             median_period_over_perfect: median * t1 / perfect,
         });
     }
-
-    // The cross-body statistics.
-    let (n_bodies, n_near, n_orient) = if opts.quick {
-        (4, 2, 2)
-    } else {
-        (CROSS_BODIES, 30, 4)
-    };
-    let cross_body = cross_body_statistic(n_bodies, 0.0, 0.13, n_orient, alpha, opts.seed)?;
-    let cross_body_near_critical =
-        cross_body_statistic(n_near, 0.13, 0.15, n_orient, alpha, opts.seed)?;
 
     let csv_header = "mass_ratio,orientation,phi,theta";
     let summary = Summary {

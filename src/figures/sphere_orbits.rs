@@ -11,7 +11,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use super::{FigureData, FigureOptions, par_map, progress};
+use super::{FigureData, FigureOptions};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{Fate, Settle, boundary_distance, cluster_antipodal, settle};
 use crate::dynamics::Ramp;
@@ -66,8 +66,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let jobs: Vec<(usize, usize)> = (0..runs)
         .flat_map(|r| (0..na).map(move |a| (r, a)))
         .collect();
-    let bar = progress(jobs.len(), "orbits");
-    let fates = par_map(jobs.len(), &bar, |k| -> Result<Fate> {
+    let fates = opts.ensemble("sphere-orbits", jobs.len(), "orbits", |k| -> Result<Fate> {
         let (r, a) = jobs[k];
         let ramp = Ramp::new(alphas[a], 0.0)?;
         let q0 = random_orientation(&body, opts.seed, r);
@@ -81,8 +80,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             },
         )?
         .0)
-    });
-    let fates: Vec<Fate> = fates.into_iter().collect::<Result<_>>()?;
+    })?;
     // Label orbits at each α by clustering their ∂Ω points; keep labels consistent across α by
     // matching each cluster to the nearest cluster of the previous α.
     let mut labels = vec![vec![-1i64; na]; runs];

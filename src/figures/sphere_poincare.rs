@@ -9,15 +9,17 @@
 //! |V| < 1e-9 and clustering the limits (antipodes identified): the paper finds two antipodal
 //! pairs, i.e. two stable periodic orbits. Drawn as arrows on a flat (θ, φ) map and on the
 //! sphere seen from +z, coloured by |V|.
+//!
+//! `--shard I/N` splits the field's starts and the iterated starts (one list); `merge` clusters.
 
 use anyhow::Result;
 use glam::DVec3;
 use serde::Serialize;
 
-use super::{FigureData, FigureOptions, par_map, progress};
+use super::{FigureData, FigureOptions};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{
-    boundary_distance, cluster_antipodal, poincare_field, poincare_step,
+    boundary_distance, cluster_antipodal, field_from_images, field_lattice, poincare_step,
 };
 use crate::colormap::viridis;
 use crate::dynamics::Ramp;
@@ -86,42 +88,47 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let alpha = opts.single_alpha("sphere-poincare", default_alpha, a_star)?;
     let ramp = Ramp::new(alpha, 0.0)?;
     let n: usize = if opts.quick { 400 } else { 5000 };
-    let bar = progress(n.div_ceil(2), "map V on ∂Ω");
-    let field: Vec<(DVec3, Option<(DVec3, f64)>)> =
-        poincare_field(&body, &ramp, n, 2000.0, 1e-10, &|| bar.inc(1))?
-            .into_iter()
-            .map(|a| (a.start, a.end.map(|e| (e, a.time))))
-            .collect();
-    bar.finish();
-    let halted = field.iter().filter(|f| f.1.is_none()).count();
-    // Attractors: iterate P from a sub-lattice until |V| < 1e-9.
+    // One ensemble: the attractor search (iterating P from a sub-lattice until |V| < 1e-9; the
+    // slow members, so they start first), then the field's steps from the upper half of the
+    // lattice (V(−p) = −V(p)).
+    let upper = field_lattice(n);
     let m = if opts.quick { 24 } else { 120 };
     let seeds: Vec<DVec3> = fibonacci_sphere(2 * m)
         .into_iter()
         .filter(|p| p.z >= 0.0)
         .collect();
-    let bar = progress(seeds.len(), "iterate P");
-    let limits = par_map(seeds.len(), &bar, |i| -> Result<Option<(DVec3, f64)>> {
-        let mut p = seeds[i];
-        for _ in 0..200 {
-            match poincare_step(&body, &ramp, p, 2000.0, 1e-11)? {
-                Some((q, t)) => {
-                    if boundary_distance(p, q) < 1e-9 {
-                        return Ok(Some((q, t)));
-                    }
-                    p = q;
-                }
-                None => return Ok(None),
+    let jobs = upper.len() + seeds.len();
+    let images = opts.ensemble(
+        "sphere-poincare",
+        jobs,
+        "map and iterate P",
+        |k| -> Result<Option<(DVec3, f64)>> {
+            if k >= seeds.len() {
+                let start = upper[k - seeds.len()];
+                return Ok(poincare_step(&body, &ramp, start, 2000.0, 1e-10)?);
             }
-        }
-        Ok(None)
-    });
-    let limits: Vec<(DVec3, f64)> = limits
+            let mut p = seeds[k];
+            for _ in 0..200 {
+                match poincare_step(&body, &ramp, p, 2000.0, 1e-11)? {
+                    Some((q, t)) => {
+                        if boundary_distance(p, q) < 1e-9 {
+                            return Ok(Some((q, t)));
+                        }
+                        p = q;
+                    }
+                    None => return Ok(None),
+                }
+            }
+            Ok(None)
+        },
+    )?;
+    let (limits, field_images) = images.split_at(seeds.len());
+    let field: Vec<(DVec3, Option<(DVec3, f64)>)> = field_from_images(&upper, field_images)
         .into_iter()
-        .collect::<Result<Vec<_>>>()?
-        .into_iter()
-        .flatten()
+        .map(|a| (a.start, a.end.map(|e| (e, a.time))))
         .collect();
+    let halted = field.iter().filter(|f| f.1.is_none()).count();
+    let limits: Vec<(DVec3, f64)> = limits.iter().flatten().copied().collect();
     let clusters = cluster_antipodal(&limits.iter().map(|l| l.0).collect::<Vec<_>>(), 1e-5);
     let attractor_list: Vec<Attractor> = clusters
         .iter()

@@ -8,7 +8,6 @@ use rollphase::geometry::{Body, Sphere, SphereCoeff, random_disk, random_sphere}
 use rollphase::integrate::Method;
 use rollphase::simulate::{InitialState, RunSpec, Summary, run};
 
-/// The first convex random disk at or after `seed` (σ, M as given).
 /// A sphere with every coefficient scaled by `s`.
 pub fn scaled_sphere(b: &Sphere, s: f64) -> Sphere {
     Sphere::new(
@@ -23,6 +22,7 @@ pub fn scaled_sphere(b: &Sphere, s: f64) -> Sphere {
     )
 }
 
+/// The first convex random disk at or after `seed` (σ, M as given).
 pub fn disk(seed: u64, sigma: f64, modes: u32) -> Body {
     (seed..seed + 100)
         .map(|s| Body::Disk(random_disk(s, sigma, modes).unwrap()))

@@ -1,0 +1,640 @@
+//! `rollphase sweep SPEC.toml`: a general parameter scan of 3D rolling, bodies × α × m/m0 ×
+//! initial orientations × integrators, one CSV row per run with its fate (halts, periodic, or
+//! undecided at `t_max`), period, 1/T, period multiplicity and RHS evaluations. It runs through
+//! the same ensemble as the figures, so `--shard I/N` and `rollphase merge DIR` work the same
+//! way (see [`super::shard`] and docs/cluster.md).
+//!
+//! Each run is [`settle_with`]: released from rest (viscous if m/m0 = 0), followed until it halts
+//! (|ω| < 1e-9), closes a cycle of k ≤ `max_multiplicity` crossings of ∂Ω twice in a row (points
+//! to `point_tol`, durations to `period_rtol`), or reaches `t_max`. An undecided run counts as
+//! cruising if its final |ω| ≥ 1e-3 (as in `sphere-cruising`). Orientation o of a body is
+//! [`random_orientation`]`(body, orientation_seed, o)`, the one the figures use.
+//!
+//! A spec (all keys but `alpha` and one body source optional; TOML puts the plain keys before
+//! the `[bodies]` table):
+//! ```toml
+//! alpha = [0.12, 0.15]       # or { from = 0.1, to = 0.2, count = 11 }
+//! mass_ratio = [0.0, 6.0]    # 0: viscous; same list-or-range forms
+//! orientations = 20
+//! orientation_seed = 1
+//! integrators = ["balanced"] # fast, balanced, precise, dop853:RTOL, rk4:DT, cf4:DT
+//! t_max = 2000.0
+//!
+//! [bodies]
+//! paper_seeds = [219]        # the authors' numpy generator (σ, l below)
+//! seeds = [1, 2, 3]          # our random bodies
+//! files = ["body.json"]      # shape files, relative to the spec's folder
+//! sigma = 0.25
+//! max_degree = 5
+//! ```
+//! Generated bodies that are not strictly convex are skipped (the rolling model needs a convex
+//! body) and counted in the summary; a non-convex file is an error.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use serde::{Deserialize, Serialize};
+
+use super::shard::{Ensemble, Fields, JobId, Merged, Record, ShardSpec, ShardWritten, write_shard};
+use super::sphere_orbits::random_orientation;
+use super::{csv_text, number_field, par_map, progress};
+use crate::analysis::sphere_orbits::{Fate, Settle, settle_with};
+use crate::dynamics::Ramp;
+use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
+use crate::geometry::{Body, ShapeFile, Sphere, paper_sphere, random_sphere};
+use crate::integrate::{Method, Preset};
+
+/// Most runs one sweep may hold (all shards together).
+pub const MAX_RUNS: usize = 100_000_000;
+/// Most values in one axis (α, m/m0, bodies, integrators) and most orientations.
+pub const MAX_AXIS: usize = 1_000_000;
+
+/// A list of numbers, or an evenly spaced range.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum Axis {
+    /// The values.
+    List(Vec<f64>),
+    /// `count` values from `from` to `to`, both included.
+    Range {
+        /// First value.
+        from: f64,
+        /// Last value.
+        to: f64,
+        /// Values (≥ 2; 1 gives `from`).
+        count: usize,
+    },
+}
+
+impl Axis {
+    fn values(&self, key: &str) -> Result<Vec<f64>> {
+        let v = match *self {
+            Axis::List(ref v) => v.clone(),
+            Axis::Range { from, to, count } => {
+                if !(1..=MAX_AXIS).contains(&count) {
+                    bail!("{key}.count = {count} is not allowed (needs 1 ≤ count ≤ {MAX_AXIS})");
+                }
+                if count == 1 {
+                    vec![from]
+                } else {
+                    (0..count)
+                        .map(|i| from + (to - from) * i as f64 / (count - 1) as f64)
+                        .collect()
+                }
+            }
+        };
+        if v.is_empty() || v.len() > MAX_AXIS {
+            bail!("{key} has {} values (needs 1 to {MAX_AXIS})", v.len());
+        }
+        Ok(v)
+    }
+}
+
+/// Where the bodies come from.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodiesSpec {
+    /// Seeds of the authors' numpy generator.
+    #[serde(default)]
+    pub paper_seeds: Vec<u32>,
+    /// Seeds of our generator.
+    #[serde(default)]
+    pub seeds: Vec<u64>,
+    /// Shape files (3D), relative to the spec's folder.
+    #[serde(default)]
+    pub files: Vec<PathBuf>,
+    /// σ of generated bodies.
+    #[serde(default = "default_sigma")]
+    pub sigma: f64,
+    /// Highest degree l of generated bodies.
+    #[serde(default = "default_degree")]
+    pub max_degree: u32,
+}
+
+fn default_sigma() -> f64 {
+    0.25
+}
+fn default_degree() -> u32 {
+    5
+}
+fn default_orientations() -> usize {
+    1
+}
+fn default_seed() -> u64 {
+    1
+}
+fn default_integrators() -> Vec<String> {
+    vec!["balanced".into()]
+}
+fn default_t_max() -> f64 {
+    2000.0
+}
+fn default_mass() -> Axis {
+    Axis::List(vec![0.0])
+}
+fn default_max_k() -> usize {
+    4
+}
+fn default_tol() -> f64 {
+    1e-5
+}
+
+/// The sweep spec (TOML).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepSpec {
+    /// The bodies.
+    pub bodies: BodiesSpec,
+    /// Ramp angles (rad).
+    pub alpha: Axis,
+    /// Mass ratios m/m0 (0: viscous).
+    #[serde(default = "default_mass")]
+    pub mass_ratio: Axis,
+    /// Random initial orientations per body, α and m/m0.
+    #[serde(default = "default_orientations")]
+    pub orientations: usize,
+    /// Seed of the orientations.
+    #[serde(default = "default_seed")]
+    pub orientation_seed: u64,
+    /// Integrators: a preset (fast, balanced, precise) or dop853:RTOL, rk4:DT, cf4:DT.
+    #[serde(default = "default_integrators")]
+    pub integrators: Vec<String>,
+    /// Longest simulated time per run.
+    #[serde(default = "default_t_max")]
+    pub t_max: f64,
+    /// Longest cycle of ∂Ω crossings searched (period multiplicity).
+    #[serde(default = "default_max_k")]
+    pub max_multiplicity: usize,
+    /// Distance within which a cycle's ∂Ω points must repeat.
+    #[serde(default = "default_tol")]
+    pub point_tol: f64,
+    /// Relative tolerance within which a cycle's duration must repeat.
+    #[serde(default = "default_tol")]
+    pub period_rtol: f64,
+}
+
+/// An integrator named in a spec.
+fn parse_integrator(s: &str) -> Result<Method> {
+    let m = match s {
+        "fast" => Preset::Fast.method(),
+        "balanced" => Preset::Balanced.method(),
+        "precise" => Preset::Precise.method(),
+        _ => {
+            let (kind, value) = s.split_once(':').ok_or_else(|| {
+                anyhow::anyhow!(
+                    "integrators: {s:?} is not an integrator (fast, balanced, precise, \
+                     dop853:RTOL, rk4:DT or cf4:DT)"
+                )
+            })?;
+            let v: f64 = value
+                .parse()
+                .with_context(|| format!("integrators: {value:?} in {s:?} is not a number"))?;
+            match kind {
+                "dop853" => Method::dop853(v),
+                "rk4" => Method::Rk4 { dt: v },
+                "cf4" => Method::Cf4 { dt: v },
+                _ => bail!("integrators: {kind:?} in {s:?} is not dop853, rk4 or cf4"),
+            }
+        }
+    };
+    m.validate()
+        .map_err(|e| anyhow::anyhow!("integrators: {s:?}: {e}"))?;
+    Ok(m)
+}
+
+/// A sweep ready to run: its bodies built and checked, its axes expanded.
+pub struct Sweep {
+    /// The spec's text, as read (stored in shard files).
+    pub text: String,
+    /// The spec's folder (for relative body files).
+    pub base: PathBuf,
+    /// The bodies, labelled ("paper:219", "seed:3", or the file).
+    pub bodies: Vec<(String, Sphere)>,
+    /// Generated seeds skipped as not convex.
+    pub skipped: Vec<String>,
+    /// α values.
+    pub alphas: Vec<f64>,
+    /// m/m0 values.
+    pub masses: Vec<f64>,
+    /// Integrators with their spec names.
+    pub integrators: Vec<(String, Method)>,
+    /// The spec.
+    pub spec: SweepSpec,
+}
+
+impl Sweep {
+    /// Reads `path` and prepares the sweep.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = read_text_capped(path, MAX_INPUT_FILE_BYTES)
+            .with_context(|| format!("cannot read sweep spec {}", path.display()))?;
+        let base = path
+            .parent()
+            .map(|p| {
+                if p.as_os_str().is_empty() {
+                    Path::new(".")
+                } else {
+                    p
+                }
+            })
+            .unwrap_or(Path::new("."))
+            .to_path_buf();
+        Self::from_text(&text, &base).with_context(|| format!("sweep spec {}", path.display()))
+    }
+
+    /// Prepares a sweep from a spec's text; files are relative to `base`.
+    pub fn from_text(text: &str, base: &Path) -> Result<Self> {
+        let spec: SweepSpec = toml::from_str(text).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let alphas = spec.alpha.values("alpha")?;
+        for &a in &alphas {
+            if !(a > 0.0 && a < std::f64::consts::FRAC_PI_2) {
+                bail!("alpha = {a} is not allowed (needs 0 < α < π/2 rad)");
+            }
+        }
+        let masses = spec.mass_ratio.values("mass_ratio")?;
+        for &m in &masses {
+            if !(m.is_finite() && (0.0..=1e6).contains(&m)) {
+                bail!("mass_ratio = {m} is not allowed (needs 0 ≤ m/m0 ≤ 1e6; 0 is viscous)");
+            }
+        }
+        if !(1..=MAX_AXIS).contains(&spec.orientations) {
+            bail!(
+                "orientations = {} is not allowed (needs 1 ≤ orientations ≤ {MAX_AXIS})",
+                spec.orientations
+            );
+        }
+        if !(spec.t_max.is_finite() && spec.t_max > 0.0 && spec.t_max <= 1e7) {
+            bail!(
+                "t_max = {} is not allowed (needs 0 < t_max ≤ 1e7)",
+                spec.t_max
+            );
+        }
+        if !(1..=16).contains(&spec.max_multiplicity) {
+            bail!(
+                "max_multiplicity = {} is not allowed (needs 1 to 16)",
+                spec.max_multiplicity
+            );
+        }
+        for (key, v) in [
+            ("point_tol", spec.point_tol),
+            ("period_rtol", spec.period_rtol),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v < 1.0) {
+                bail!("{key} = {v} is not allowed (needs 0 < {key} < 1)");
+            }
+        }
+        if spec.integrators.is_empty() || spec.integrators.len() > 100 {
+            bail!("integrators needs 1 to 100 entries");
+        }
+        let integrators = spec
+            .integrators
+            .iter()
+            .map(|s| Ok((s.clone(), parse_integrator(s)?)))
+            .collect::<Result<Vec<_>>>()?;
+        for (name, m) in &integrators {
+            if let Method::Rk4 { dt } | Method::Cf4 { dt } = m
+                && spec.t_max / dt > 1e9
+            {
+                bail!(
+                    "integrators: {name:?} needs t_max/dt = {:.3e} steps per run, more than 1e9",
+                    spec.t_max / dt
+                );
+            }
+        }
+        let b = &spec.bodies;
+        let n_bodies = b.paper_seeds.len() + b.seeds.len() + b.files.len();
+        if n_bodies == 0 {
+            bail!("bodies: give at least one of paper_seeds, seeds or files");
+        }
+        if n_bodies > MAX_AXIS {
+            bail!("bodies: {n_bodies} bodies is more than {MAX_AXIS}");
+        }
+        let runs = n_bodies
+            .saturating_mul(alphas.len())
+            .saturating_mul(masses.len())
+            .saturating_mul(spec.orientations)
+            .saturating_mul(integrators.len());
+        if runs > MAX_RUNS {
+            bail!("the sweep has {runs} runs, more than {MAX_RUNS}; split it into several specs");
+        }
+        // Generated bodies, in parallel (each is checked for convexity).
+        let generated: Vec<(String, Result<Sphere>)> = b
+            .paper_seeds
+            .iter()
+            .map(|&s| {
+                let body = paper_sphere(s, b.sigma, b.max_degree);
+                (format!("paper:{s}"), body.map_err(anyhow::Error::from))
+            })
+            .chain(b.seeds.iter().map(|&s| {
+                let body = random_sphere(s, b.sigma, b.max_degree);
+                (format!("seed:{s}"), body.map_err(anyhow::Error::from))
+            }))
+            .collect();
+        let bar = indicatif::ProgressBar::hidden();
+        let checked = par_map(generated.len(), &bar, |i| -> Result<Option<Sphere>> {
+            let body = match &generated[i].1 {
+                Ok(s) => s.clone(),
+                Err(e) => bail!("bodies: {}: {e}", generated[i].0),
+            };
+            Ok(Body::Sphere(body.clone())
+                .check_convex()
+                .is_ok()
+                .then_some(body))
+        });
+        let mut bodies = Vec::new();
+        let mut skipped = Vec::new();
+        for (i, c) in checked.into_iter().enumerate() {
+            match c? {
+                Some(s) => bodies.push((generated[i].0.clone(), s)),
+                None => skipped.push(generated[i].0.clone()),
+            }
+        }
+        for f in &b.files {
+            let path = base.join(f);
+            let body = ShapeFile::load(&path)?;
+            body.check_convex()
+                .with_context(|| format!("bodies.files: {}", path.display()))?;
+            match body {
+                Body::Sphere(s) => bodies.push((f.display().to_string(), s)),
+                Body::Disk(_) => bail!(
+                    "bodies.files: {} is a 2D disk; sweep runs 3D bodies",
+                    path.display()
+                ),
+            }
+        }
+        if bodies.is_empty() {
+            bail!(
+                "bodies: none of the {} generated bodies is convex (σ = {}); lower sigma",
+                skipped.len(),
+                b.sigma
+            );
+        }
+        Ok(Sweep {
+            text: text.into(),
+            base: base.to_path_buf(),
+            bodies,
+            skipped,
+            alphas,
+            masses,
+            integrators,
+            spec,
+        })
+    }
+
+    /// Runs in the sweep.
+    pub fn runs(&self) -> usize {
+        self.bodies.len()
+            * self.alphas.len()
+            * self.masses.len()
+            * self.spec.orientations
+            * self.integrators.len()
+    }
+
+    /// Run k's (body, α, m/m0, orientation, integrator) indices: body-major, integrator fastest.
+    fn indices(&self, k: usize) -> [usize; 5] {
+        let sizes = [
+            self.bodies.len(),
+            self.alphas.len(),
+            self.masses.len(),
+            self.spec.orientations,
+            self.integrators.len(),
+        ];
+        let mut out = [0; 5];
+        let mut rest = k;
+        for d in (0..5).rev() {
+            out[d] = rest % sizes[d];
+            rest /= sizes[d];
+        }
+        out
+    }
+
+    fn run_one(&self, k: usize) -> Result<RunResult> {
+        let [b, a, m, o, i] = self.indices(k);
+        let (label, body) = &self.bodies[b];
+        let ramp = Ramp::new(self.alphas[a], self.masses[m])?;
+        let settle = Settle {
+            t_max: self.spec.t_max,
+            point_tol: self.spec.point_tol,
+            period_rtol: self.spec.period_rtol,
+            max_k: self.spec.max_multiplicity,
+            ..Settle::default()
+        };
+        let q0 = random_orientation(body, self.spec.orientation_seed, o);
+        let (fate, _, stats) = settle_with(body, &ramp, q0, &settle, self.integrators[i].1)
+            .with_context(|| {
+                format!(
+                    "run {k}: body {label}, α = {}, m/m0 = {}, orientation {o}, {}",
+                    self.alphas[a], self.masses[m], self.integrators[i].0
+                )
+            })?;
+        Ok(RunResult {
+            fate,
+            rhs_evals: stats.rhs_evals,
+        })
+    }
+
+    /// Runs the sweep (all of it, or one shard) through the ensemble machinery.
+    pub fn run(&self, ensemble: &Ensemble, out: &Path) -> Result<Vec<RunResult>> {
+        match ensemble {
+            Ensemble::Whole => {
+                let bar = progress(self.runs(), "sweep runs");
+                par_map(self.runs(), &bar, |k| self.run_one(k))
+                    .into_iter()
+                    .collect()
+            }
+            Ensemble::Shard(spec) => {
+                let range = spec.range(self.runs());
+                let bar = progress(range.len(), "sweep runs");
+                let start = range.start;
+                let results = par_map(range.len(), &bar, |k| self.run_one(start + k));
+                let mut records = Vec::with_capacity(results.len());
+                for r in results {
+                    let mut f = Vec::new();
+                    r?.encode(&mut f);
+                    records.push(f);
+                }
+                std::fs::create_dir_all(out)
+                    .with_context(|| format!("cannot create {}", out.display()))?;
+                let path = write_shard(
+                    out,
+                    self.job_id(),
+                    "sweep runs",
+                    *spec,
+                    self.runs(),
+                    &records,
+                )?;
+                Err(ShardWritten {
+                    shard: *spec,
+                    jobs: records.len(),
+                    of_jobs: self.runs(),
+                    path,
+                }
+                .into())
+            }
+            Ensemble::Merge(records) => {
+                if records.len() != self.runs() {
+                    bail!(
+                        "the shards hold {} runs, but the spec has {}",
+                        records.len(),
+                        self.runs()
+                    );
+                }
+                records
+                    .iter()
+                    .enumerate()
+                    .map(|(k, r)| {
+                        let mut f = Fields::of(r);
+                        let v = RunResult::decode(&mut f)
+                            .with_context(|| format!("sweep shard record {k}"))?;
+                        if f.number().is_ok() {
+                            bail!("sweep shard record {k} has more numbers than a result");
+                        }
+                        Ok(v)
+                    })
+                    .collect()
+            }
+        }
+    }
+
+    /// What this sweep is, for its shard files.
+    pub fn job_id(&self) -> JobId {
+        JobId::Sweep {
+            spec: self.text.clone(),
+            base: self.base.clone(),
+        }
+    }
+
+    /// The CSV: one row per run.
+    pub fn csv(&self, results: &[RunResult]) -> Result<String> {
+        let header = "body,alpha,mass_ratio,orientation,integrator,fate,cruising,period,\
+                      inverse_period,multiplicity,halt_time,omega_end,rhs_evals";
+        csv_text(
+            header,
+            results.iter().enumerate().map(|(k, r)| {
+                let [b, a, m, o, i] = self.indices(k);
+                let (fate, period, mult, halt, omega_end) = match r.fate {
+                    Fate::Halts { t } => ("halts", f64::NAN, String::new(), t, 0.0),
+                    Fate::Periodic { period, k, .. } => {
+                        ("periodic", period, k.to_string(), f64::NAN, f64::NAN)
+                    }
+                    Fate::Undecided { omega_end } => {
+                        ("undecided", f64::NAN, String::new(), f64::NAN, omega_end)
+                    }
+                };
+                vec![
+                    self.bodies[b].0.clone(),
+                    number_field(self.alphas[a]),
+                    number_field(self.masses[m]),
+                    o.to_string(),
+                    self.integrators[i].0.clone(),
+                    fate.to_string(),
+                    r.cruises().to_string(),
+                    number_field(period),
+                    number_field(1.0 / period),
+                    mult,
+                    number_field(halt),
+                    number_field(omega_end),
+                    r.rhs_evals.to_string(),
+                ]
+            }),
+        )
+    }
+
+    /// Headline numbers.
+    pub fn summary(&self, results: &[RunResult]) -> SweepSummary {
+        let count = |f: &dyn Fn(&RunResult) -> bool| results.iter().filter(|r| f(r)).count();
+        SweepSummary {
+            runs: results.len(),
+            bodies: self.bodies.iter().map(|b| b.0.clone()).collect(),
+            skipped_not_convex: self.skipped.clone(),
+            halts: count(&|r| matches!(r.fate, Fate::Halts { .. })),
+            periodic: count(&|r| matches!(r.fate, Fate::Periodic { .. })),
+            undecided: count(&|r| matches!(r.fate, Fate::Undecided { .. })),
+            cruising: count(&|r| r.cruises()),
+            rhs_evals: results.iter().map(|r| r.rhs_evals).sum(),
+        }
+    }
+
+    /// Writes `out`/sweep.csv and summary.json from every run's result.
+    pub fn write(&self, results: &[RunResult], out: &Path) -> Result<SweepSummary> {
+        std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+        let csv = self.csv(results)?;
+        let path = out.join("sweep.csv");
+        std::fs::write(&path, csv).with_context(|| format!("cannot write {}", path.display()))?;
+        let summary = self.summary(results);
+        super::write_summary(&out.join("summary.json"), &summary)?;
+        Ok(summary)
+    }
+}
+
+/// Headline numbers of a sweep (summary.json).
+#[derive(Debug, Serialize)]
+pub struct SweepSummary {
+    /// Runs.
+    pub runs: usize,
+    /// The bodies swept.
+    pub bodies: Vec<String>,
+    /// Generated bodies left out as not convex.
+    pub skipped_not_convex: Vec<String>,
+    /// Runs that came to rest.
+    pub halts: usize,
+    /// Runs that closed a cycle.
+    pub periodic: usize,
+    /// Runs neither at t_max.
+    pub undecided: usize,
+    /// Runs that cruise (periodic, or undecided with |ω| ≥ 1e-3).
+    pub cruising: usize,
+    /// RHS evaluations, all runs.
+    pub rhs_evals: u64,
+}
+
+/// One run's outcome.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunResult {
+    /// Its fate.
+    pub fate: Fate,
+    /// RHS evaluations it took.
+    pub rhs_evals: u64,
+}
+
+impl RunResult {
+    /// Cruises: periodic, or still moving (|ω| ≥ 1e-3) at t_max.
+    pub fn cruises(&self) -> bool {
+        match self.fate {
+            Fate::Halts { .. } => false,
+            Fate::Periodic { .. } => true,
+            Fate::Undecided { omega_end } => omega_end >= 1e-3,
+        }
+    }
+}
+
+impl Record for RunResult {
+    fn encode(&self, out: &mut Vec<f64>) {
+        self.fate.encode(out);
+        self.rhs_evals.encode(out);
+    }
+    fn decode(f: &mut Fields) -> Result<Self> {
+        Ok(RunResult {
+            fate: Fate::decode(f)?,
+            rhs_evals: u64::decode(f)?,
+        })
+    }
+}
+
+/// Merges a sweep's shards (read from `dir`) into `dir`/sweep.csv and summary.json.
+pub fn merge(dir: &Path, merged: Merged) -> Result<SweepSummary> {
+    let JobId::Sweep { spec, base } = merged.job else {
+        bail!("{} holds a figure's shards, not a sweep's", dir.display());
+    };
+    let sweep = Sweep::from_text(&spec, &base).context("the sweep spec stored in the shards")?;
+    let results = sweep.run(&Ensemble::Merge(std::sync::Arc::new(merged.records)), dir)?;
+    sweep.write(&results, dir)
+}
+
+/// Runs a sweep: all of it, writing `out`/sweep.csv and summary.json, or one shard, writing
+/// `out`/shard-I-of-N.json (returned as the [`ShardWritten`] error).
+pub fn run(spec: &Path, out: &Path, shard: Option<ShardSpec>) -> Result<SweepSummary> {
+    let sweep = Sweep::load(spec)?;
+    let ensemble = shard.map_or(Ensemble::Whole, Ensemble::Shard);
+    let results = sweep.run(&ensemble, out)?;
+    sweep.write(&results, out)
+}

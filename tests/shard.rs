@@ -1,0 +1,291 @@
+//! Scale-out (`--shard I/N`, `merge`): N shards run as separate processes and merged give the
+//! bytes of one unsharded run, for every ensemble figure and for `sweep`; a missing, duplicated
+//! or foreign shard is refused with a message that names it.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn rollphase(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        .args(args)
+        .output()
+        .expect("runs")
+}
+
+fn ok(args: &[&str]) -> String {
+    let o = rollphase(args);
+    assert!(
+        o.status.success(),
+        "{args:?} failed: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn fails(args: &[&str]) -> String {
+    let o = rollphase(args);
+    assert!(!o.status.success(), "{args:?} should fail");
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("rollphase-shard-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn same_bytes(a: &Path, b: &Path) {
+    let (x, y) = (std::fs::read(a).unwrap(), std::fs::read(b).unwrap());
+    assert!(
+        x == y,
+        "{} and {} differ ({} and {} bytes)",
+        a.display(),
+        b.display(),
+        x.len(),
+        y.len()
+    );
+}
+
+/// The figure at --quick, whole and as `n` shards merged: the same data.csv, summary.json and
+/// figure.png. The whole run uses 2 threads and each shard 1, so thread count is covered too.
+fn figure_shards_merge_to_the_whole(name: &str, n: usize) {
+    let root = scratch(name);
+    let (whole, parts) = (root.join("whole"), root.join("parts"));
+    let (w, p) = (whole.to_str().unwrap(), parts.to_str().unwrap());
+    ok(&["figure", name, "--quick", "--threads", "2", "--out", w]);
+    for i in 1..=n {
+        let spec = format!("{i}/{n}");
+        let said = ok(&[
+            "figure",
+            name,
+            "--quick",
+            "--threads",
+            "1",
+            "--out",
+            p,
+            "--shard",
+            &spec,
+        ]);
+        assert!(said.contains(&format!("shard {spec} wrote")), "{said}");
+        let dir = parts.join(name);
+        assert!(dir.join(format!("shard-{i}-of-{n}.json")).is_file());
+        assert!(
+            !dir.join("data.csv").exists() && !dir.join("figure.png").exists(),
+            "a shard writes no figure"
+        );
+    }
+    let said = ok(&["merge", parts.join(name).to_str().unwrap()]);
+    assert!(said.contains(&format!("from {n} shards")), "{said}");
+    for f in ["data.csv", "summary.json", "figure.png"] {
+        same_bytes(&whole.join(name).join(f), &parts.join(name).join(f));
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn sphere_cruising_shards_merge_to_the_unsharded_bytes() {
+    figure_shards_merge_to_the_whole("sphere-cruising", 3);
+}
+
+#[test]
+fn sphere_poincare_shards_merge_to_the_unsharded_bytes() {
+    figure_shards_merge_to_the_whole("sphere-poincare", 4);
+}
+
+#[test]
+fn sphere_orbits_shards_merge_to_the_unsharded_bytes() {
+    figure_shards_merge_to_the_whole("sphere-orbits", 3);
+}
+
+#[test]
+fn sphere_doubling_shards_merge_to_the_unsharded_bytes() {
+    figure_shards_merge_to_the_whole("sphere-doubling", 3);
+}
+
+#[test]
+fn sphere_bifurcation_shards_merge_to_the_unsharded_bytes() {
+    figure_shards_merge_to_the_whole("sphere-bifurcation", 2);
+}
+
+#[test]
+fn disk_transition_shards_merge_to_the_unsharded_bytes() {
+    // More shards than disks would leave some empty: 7 shards of 6 disks covers that case.
+    figure_shards_merge_to_the_whole("disk-transition", 7);
+}
+
+const SPEC: &str = r#"
+alpha = { from = 0.12, to = 0.2, count = 3 }
+mass_ratio = [0.0, 6.0]
+orientations = 2
+integrators = ["fast", "dop853:1e-9"]
+t_max = 300.0
+
+[bodies]
+paper_seeds = [219]
+seeds = [1]
+files = ["body.json"]
+"#;
+
+#[test]
+fn a_sweep_writes_one_row_per_run_and_its_shards_merge_to_the_same_bytes() {
+    let root = scratch("sweep");
+    std::fs::copy(
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/assets/shapes/paper-sphere.json"
+        ),
+        root.join("body.json"),
+    )
+    .unwrap();
+    let spec = root.join("spec.toml");
+    std::fs::write(&spec, SPEC).unwrap();
+    let (whole, parts) = (root.join("whole"), root.join("parts"));
+    let s = spec.to_str().unwrap();
+    ok(&["sweep", s, "--out", whole.to_str().unwrap()]);
+    let csv = std::fs::read_to_string(whole.join("sweep.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    for col in [
+        "period",
+        "inverse_period",
+        "multiplicity",
+        "cruising",
+        "rhs_evals",
+    ] {
+        assert!(header.contains(&col), "{header:?}");
+    }
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    // 3 bodies × 3 α × 2 masses × 2 orientations × 2 integrators.
+    assert_eq!(rows.len(), 72);
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    for r in &rows {
+        let evals: u64 = r[col("rhs_evals")].parse().unwrap();
+        assert!(evals > 0);
+        match r[col("fate")] {
+            "periodic" => {
+                let t: f64 = r[col("period")].parse().unwrap();
+                let f: f64 = r[col("inverse_period")].parse().unwrap();
+                assert!(t > 0.0 && (f * t - 1.0).abs() < 1e-12);
+                assert!(r[col("multiplicity")].parse::<usize>().unwrap() >= 1);
+                assert_eq!(r[col("cruising")], "true");
+            }
+            "halts" => {
+                assert_eq!(r[col("cruising")], "false");
+                assert!(r[col("period")].is_empty());
+            }
+            other => assert_eq!(other, "undecided"),
+        }
+    }
+    // The paper's body at α = 0.2 > α* = 0.139 has no rest point: every run there cruises.
+    let paper_at_02: Vec<_> = rows
+        .iter()
+        .filter(|r| r[0] == "paper:219" && r[col("alpha")] == "0.2")
+        .collect();
+    assert_eq!(paper_at_02.len(), 8);
+    assert!(paper_at_02.iter().all(|r| r[col("cruising")] == "true"));
+    // The tighter tolerance costs more work on the same run.
+    let work = |integrator: &str| -> u64 {
+        rows.iter()
+            .filter(|r| r[col("integrator")] == integrator)
+            .map(|r| r[col("rhs_evals")].parse::<u64>().unwrap())
+            .sum()
+    };
+    assert!(work("dop853:1e-9") > work("fast"));
+
+    for i in 1..=5 {
+        ok(&[
+            "sweep",
+            s,
+            "--out",
+            parts.to_str().unwrap(),
+            "--shard",
+            &format!("{i}/5"),
+        ]);
+    }
+    assert!(!parts.join("sweep.csv").exists());
+    ok(&["merge", parts.to_str().unwrap()]);
+    same_bytes(&whole.join("sweep.csv"), &parts.join("sweep.csv"));
+    same_bytes(&whole.join("summary.json"), &parts.join("summary.json"));
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn merge_refuses_missing_duplicated_and_foreign_shards_by_name() {
+    let root = scratch("refuse");
+    let out = root.to_str().unwrap();
+    let dir = root.join("sphere-orbits");
+    let d = dir.to_str().unwrap();
+    let shard = |i: usize, n: usize, seed: &str| {
+        ok(&[
+            "figure",
+            "sphere-orbits",
+            "--quick",
+            "--seed",
+            seed,
+            "--out",
+            out,
+            "--shard",
+            &format!("{i}/{n}"),
+        ])
+    };
+    shard(1, 3, "1");
+    shard(3, 3, "1");
+    let e = fails(&["merge", d]);
+    assert!(e.contains("missing") && e.contains("2/3"), "{e}");
+
+    shard(2, 3, "1");
+    std::fs::copy(
+        dir.join("shard-2-of-3.json"),
+        dir.join("shard-2-of-3-copy.json"),
+    )
+    .unwrap();
+    let e = fails(&["merge", d]);
+    assert!(
+        e.contains("appears twice") && e.contains("shard-2-of-3-copy.json"),
+        "{e}"
+    );
+    std::fs::remove_file(dir.join("shard-2-of-3-copy.json")).unwrap();
+
+    shard(1, 2, "1");
+    let e = fails(&["merge", d]);
+    assert!(e.contains("two different splits"), "{e}");
+    std::fs::remove_file(dir.join("shard-1-of-2.json")).unwrap();
+
+    // A shard of another seed, dropped in place of shard 2.
+    let other = root.join("other");
+    ok(&[
+        "figure",
+        "sphere-orbits",
+        "--quick",
+        "--seed",
+        "7",
+        "--out",
+        other.to_str().unwrap(),
+        "--shard",
+        "2/3",
+    ]);
+    std::fs::copy(
+        other.join("sphere-orbits/shard-2-of-3.json"),
+        dir.join("shard-2-of-3.json"),
+    )
+    .unwrap();
+    let e = fails(&["merge", d]);
+    assert!(
+        e.contains("different options") && e.contains("seed 7"),
+        "{e}"
+    );
+
+    // Now the real shard 2 again: the merge goes through.
+    shard(2, 3, "1");
+    ok(&["merge", d]);
+    assert!(dir.join("data.csv").is_file());
+
+    let e = fails(&["merge", root.join("nowhere").to_str().unwrap()]);
+    assert!(e.contains("nowhere"), "{e}");
+    let e = fails(&["figure", "disk-flow", "--shard", "1/2", "--out", out]);
+    assert!(e.contains("no ensemble"), "{e}");
+    let e = fails(&["figure", "sphere-orbits", "--shard", "4/3", "--out", out]);
+    assert!(e.contains("I/N"), "{e}");
+    let _ = std::fs::remove_dir_all(&root);
+}
