@@ -289,3 +289,45 @@ fn merge_refuses_missing_duplicated_and_foreign_shards_by_name() {
     assert!(e.contains("I/N"), "{e}");
     let _ = std::fs::remove_dir_all(&root);
 }
+
+#[test]
+fn a_bad_sweep_spec_is_refused_with_the_key_and_what_is_allowed() {
+    let root = scratch("bad-sweep");
+    let cases = [
+        (
+            "alpha = [0.0]\n[bodies]\npaper_seeds = [219]\n",
+            "alpha = 0",
+        ),
+        ("alpha = [0.1]\n[bodies]\n", "give at least one of"),
+        (
+            "alpha = [0.1]\nmass = 3\n[bodies]\nseeds = [1]\n",
+            "unknown field `mass`",
+        ),
+        (
+            "alpha = [0.1]\nintegrators = [\"euler\"]\n[bodies]\nseeds = [1]\n",
+            "\"euler\" is not an integrator",
+        ),
+        (
+            "alpha = [0.1]\nintegrators = [\"rk4:1e-9\"]\n[bodies]\nseeds = [1]\n",
+            "more than 1e9",
+        ),
+        (
+            "alpha = [0.1]\norientations = 1000000\nmass_ratio = { from = 0, to = 10, count = 1000 }\n[bodies]\nseeds = [1]\n",
+            "more than 100000000",
+        ),
+    ];
+    for (k, (spec, says)) in cases.iter().enumerate() {
+        let path = root.join(format!("bad{k}.toml"));
+        std::fs::write(&path, spec).unwrap();
+        let e = fails(&[
+            "sweep",
+            path.to_str().unwrap(),
+            "--out",
+            root.join("out").to_str().unwrap(),
+        ]);
+        assert!(e.contains(says), "{spec}: {e}");
+        assert!(e.contains(&format!("bad{k}.toml")), "names the spec: {e}");
+    }
+    assert!(!root.join("out").join("sweep.csv").exists());
+    let _ = std::fs::remove_dir_all(&root);
+}

@@ -97,11 +97,7 @@ pub fn run(a: FigureArgs) -> Result<()> {
         Ok(s) => s,
         Err(e) => match e.downcast_ref::<ShardWritten>() {
             Some(w) => {
-                outln!(
-                    "{name}: {w}; when all {} shards are done: rollphase merge {}",
-                    w.shard.count,
-                    a.out.join(&name).display()
-                )?;
+                outln!("{name}: {w}; {}", w.next_step(&a.out.join(&name)))?;
                 return Ok(());
             }
             None => return Err(e),

@@ -63,11 +63,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
             a.out.join("sweep.csv").display()
         ),
         Err(e) => match e.downcast_ref::<ShardWritten>() {
-            Some(w) => outln!(
-                "sweep: {w}; when all {} shards are done: rollphase merge {}",
-                w.shard.count,
-                a.out.display()
-            ),
+            Some(w) => outln!("sweep: {w}; {}", w.next_step(&a.out)),
             None => Err(e),
         },
     }

@@ -126,6 +126,18 @@ impl std::fmt::Display for ShardWritten {
 
 impl std::error::Error for ShardWritten {}
 
+impl ShardWritten {
+    /// What to do next, for the user: the merge command for `dir`.
+    pub fn next_step(&self, dir: &Path) -> String {
+        let when = if self.shard.count == 1 {
+            "now".to_string()
+        } else {
+            format!("when all {} shards are done", self.shard.count)
+        };
+        format!("{when}: rollphase merge {}", dir.display())
+    }
+}
+
 /// What ran: a figure with its options, or a sweep with its spec. Shards merge only with
 /// shards of the same job.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
