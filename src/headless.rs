@@ -14,6 +14,7 @@ use anyhow::{Context, Result, anyhow, bail};
 use image::RgbaImage;
 
 use crate::analysis::sphere_orbits::FieldArrow;
+use crate::clip::{ClipKind, ClipWriter};
 use crate::png::{PngWriter, frame_name};
 use crate::render::gpu::OffscreenTarget;
 use crate::render::{GpuContext, Renderer};
@@ -150,6 +151,15 @@ pub struct HeadlessReport {
     pub model_note: Option<String>,
 }
 
+/// Where headless frames go.
+#[derive(Debug, Clone, Copy)]
+pub enum FrameSink<'a> {
+    /// PNG files `frame_00000.png …` in this folder.
+    Pngs(&'a Path),
+    /// One clip file (GIF or MP4) at the scene's frames per second.
+    Clip(ClipKind, &'a Path),
+}
+
 /// Renders `frames` frames of `setup` at `size` into `out/frame_00000.png …`.
 pub fn write_frames(
     setup: SceneSetup,
@@ -159,11 +169,37 @@ pub fn write_frames(
     out: &Path,
     progress: bool,
 ) -> Result<HeadlessReport> {
+    render_to(
+        setup,
+        frames,
+        size,
+        sample_count,
+        FrameSink::Pngs(out),
+        progress,
+    )
+}
+
+/// Renders `frames` frames of `setup` at `size` into `sink`.
+pub fn render_to(
+    setup: SceneSetup,
+    frames: u64,
+    size: (u32, u32),
+    sample_count: u32,
+    sink: FrameSink,
+    progress: bool,
+) -> Result<HeadlessReport> {
     if frames == 0 {
         bail!("--frames 0 renders nothing (needs at least 1)");
     }
-    std::fs::create_dir_all(out)
-        .with_context(|| format!("cannot create the output folder {}", out.display()))?;
+    let fps = setup.scene.playback.fps;
+    let mut clip = match sink {
+        FrameSink::Pngs(out) => {
+            std::fs::create_dir_all(out)
+                .with_context(|| format!("cannot create the output folder {}", out.display()))?;
+            None
+        }
+        FrameSink::Clip(kind, path) => Some(ClipWriter::new(kind, path, size, fps)?),
+    };
     let model_note = setup.model_note.clone();
     let mut hr = HeadlessRenderer::new(setup, size, sample_count)?;
     let bar = if progress {
@@ -190,13 +226,27 @@ pub fn write_frames(
         bar.set_position(0);
     }
     bar.set_message("rendering");
-    let writer = PngWriter::new(2);
-    for k in 0..frames {
-        let image = hr.frame(k)?;
-        writer.write(out.join(frame_name(k)), image)?;
-        bar.inc(1);
+    match (&mut clip, sink) {
+        (Some(c), _) => {
+            for k in 0..frames {
+                c.push(hr.frame(k)?)?;
+                bar.inc(1);
+            }
+        }
+        (None, FrameSink::Pngs(out)) | (None, FrameSink::Clip(_, out)) => {
+            let writer = PngWriter::new(2);
+            for k in 0..frames {
+                let image = hr.frame(k)?;
+                writer.write(out.join(frame_name(k)), image)?;
+                bar.inc(1);
+            }
+            writer.close()?;
+        }
     }
-    writer.close()?;
+    if let Some(c) = clip {
+        bar.set_message("finishing the clip");
+        c.finish()?;
+    }
     bar.finish_and_clear();
     Ok(HeadlessReport {
         adapter: hr.adapter(),

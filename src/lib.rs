@@ -33,6 +33,7 @@ pub mod analysis;
 pub mod app;
 pub mod assets;
 pub mod cli;
+pub mod clip;
 pub mod colormap;
 pub mod dynamics;
 pub mod figures;

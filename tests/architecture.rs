@@ -14,6 +14,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("colormap", &[]),
     ("numeric", &[]),
     ("png", &[]),
+    ("clip", &[]),
     // The physics core.
     ("geometry", &["numeric"]),
     ("integrate", &["numeric"]),
@@ -98,6 +99,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "view",
             "render",
             "png",
+            "clip",
         ],
     ),
     (
@@ -114,6 +116,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "view",
             "render",
             "png",
+            "clip",
             "colormap",
             "assets",
         ],
@@ -129,6 +132,7 @@ const NO_GPU: &[&str] = &[
     "colormap",
     "numeric",
     "png",
+    "clip",
     "geometry",
     "integrate",
     "dynamics",

@@ -74,3 +74,26 @@ fn readme_simulate_example_runs_on_the_bundled_sphere() {
     }
     assert!(s["max_contact_normal_error"].as_f64().unwrap() < 1e-12);
 }
+
+/// The README's first command (60 frames of the default preset) shows a whole orbit: by its last
+/// frame the body has crossed ∂Ω at least twice (so the period is measured) and the frames span
+/// at least two of those periods.
+#[cfg(feature = "render")]
+#[test]
+fn the_default_sixty_frames_show_a_whole_orbit() {
+    use rollphase::scene::{DEFAULT_PRESET, Scene};
+    use rollphase::sim::Simulation;
+    let setup = Scene::preset(DEFAULT_PRESET).unwrap().setup(None).unwrap();
+    let t_last = setup.scene.playback.frame_time(59);
+    let mut sim = Simulation::new(setup);
+    sim.advance_to(t_last).unwrap();
+    let snap = sim.snapshot();
+    let period = snap
+        .period
+        .expect("a period is measured within the first 60 frames");
+    assert!(
+        t_last >= 2.0 * period,
+        "60 frames reach t = {t_last}, but two crossings of ∂Ω take {}",
+        2.0 * period
+    );
+}

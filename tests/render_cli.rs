@@ -235,3 +235,88 @@ fn export_stl_writes_a_watertight_body_in_millimetres() {
     assert!(!o.status.success());
     assert!(stderr(&o).contains("--radius-mm -3"));
 }
+
+#[test]
+fn headless_gif_has_every_frame_at_the_asked_size_and_the_scenes_rate() {
+    use image::AnimationDecoder;
+    let dir = temp("gif");
+    let gif = dir.join("clip.gif");
+    let o = rollphase(&[
+        "--headless",
+        "--frames",
+        "7",
+        "--size",
+        "160x90",
+        "--preset",
+        "cylinder-hysteresis",
+        "--gif",
+        gif.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let file = std::io::BufReader::new(std::fs::File::open(&gif).unwrap());
+    let frames = image::codecs::gif::GifDecoder::new(file)
+        .unwrap()
+        .into_frames()
+        .collect_frames()
+        .unwrap();
+    assert_eq!(frames.len(), 7);
+    for f in &frames {
+        assert_eq!(f.buffer().dimensions(), (160, 90));
+    }
+    // The preset plays at 30 frames/s: 7 frames last 23 centiseconds in all.
+    let total_ms: u32 = frames
+        .iter()
+        .map(|f| {
+            let (n, d) = f.delay().numer_denom_ms();
+            n / d
+        })
+        .sum();
+    assert_eq!(total_ms, 230);
+    // Not a blank clip: the body and the ramp are drawn.
+    let first = frames[0].buffer();
+    let distinct: std::collections::HashSet<_> = first.pixels().map(|p| p.0).collect();
+    assert!(distinct.len() > 20, "{} colours", distinct.len());
+    // No PNG frames and no partial file left beside it.
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, ["clip.gif"]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn mp4_without_ffmpeg_and_gif_without_headless_say_what_to_do() {
+    let dir = temp("clip-refusals");
+    let o = rollphase(&["--gif", dir.join("a.gif").to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--headless"), "{}", stderr(&o));
+    let o = rollphase(&[
+        "--headless",
+        "--gif",
+        dir.to_str().unwrap(),
+        "--size",
+        "64x64",
+    ]);
+    assert!(stderr(&o).contains("is a folder"), "{}", stderr(&o));
+    let has_ffmpeg = Command::new("ffmpeg").arg("-version").output().is_ok();
+    if !has_ffmpeg {
+        let o = rollphase(&[
+            "--headless",
+            "--frames",
+            "2",
+            "--size",
+            "64x64",
+            "--mp4",
+            dir.join("a.mp4").to_str().unwrap(),
+        ]);
+        assert!(!o.status.success());
+        assert!(
+            stderr(&o).contains("needs ffmpeg on PATH"),
+            "{}",
+            stderr(&o)
+        );
+        assert!(!dir.join("a.mp4").exists());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

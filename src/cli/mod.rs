@@ -105,6 +105,12 @@ pub fn run(cli: Cli) -> Result<()> {
             }
             return render::run_headless(&cli.render);
         }
+        if cli.render.gif.is_some() || cli.render.mp4.is_some() {
+            bail!(
+                "--gif and --mp4 write the frames of a --headless run; add --headless (the \
+                 window's Record writes PNG frames)"
+            );
+        }
         return app::run_window(
             cli.render.scene.as_deref(),
             cli.render.preset.as_deref(),

@@ -166,7 +166,7 @@ impl Drop for OutputFile {
 }
 
 /// Where `path` really is: symbolic links followed (also a dangling one, to the file it names).
-fn real_path(path: &Path) -> PathBuf {
+pub fn real_path(path: &Path) -> PathBuf {
     if let Ok(p) = std::fs::canonicalize(path) {
         return p;
     }

@@ -12,6 +12,44 @@ use crate::sim::Snapshot;
 
 use super::{CYLINDER_LENGTH, SceneView, ViewOptions};
 
+/// The downhill arrow's three strokes on the ramp (ramp coordinates): the first placement, from
+/// the preferred one (2.2 ⟨r⟩ in front of the body, 2.4 ⟨r⟩ long) towards smaller and nearer
+/// ones, whose every point projects inside the frame with a 6% margin; the smallest if none
+/// does (an extreme aspect ratio or zoom).
+fn downhill_arrow(
+    camera: &Camera,
+    aspect: f32,
+    centre_x: f64,
+    to_world: impl Fn(DVec3) -> Vec3,
+) -> [(DVec3, DVec3); 3] {
+    let strokes = |y: f64, half: f64| {
+        let barb = (0.35 * half / 1.2, 0.25 * half / 1.2);
+        let (x0, x1) = (centre_x - half, centre_x + half);
+        let tip = DVec3::new(x1, y, 0.01);
+        [
+            (DVec3::new(x0, y, 0.01), tip),
+            (tip, DVec3::new(x1 - barb.0, y - barb.1, 0.01)),
+            (tip, DVec3::new(x1 - barb.0, y + barb.1, 0.01)),
+        ]
+    };
+    let view_proj = camera.view_proj(aspect);
+    let inside = |p: DVec3| {
+        let c = view_proj * to_world(p).extend(1.0);
+        c.w > 0.0 && (c.x / c.w).abs() <= 0.94 && (c.y / c.w).abs() <= 0.94
+    };
+    let mut last = strokes(-1.4, 0.5);
+    for half in [1.2, 1.0, 0.8, 0.6, 0.5] {
+        for y in [-2.2, -2.0, -1.8, -1.6, -1.4] {
+            let s = strokes(y, half);
+            if s.iter().all(|&(a, b)| inside(a) && inside(b)) {
+                return s;
+            }
+            last = s;
+        }
+    }
+    last
+}
+
 impl SceneView {
     pub(super) fn body_view(&self, snap: &Snapshot, rect: [u32; 4], options: &ViewOptions) -> View {
         let alpha = snap.alpha_rad as f32;
@@ -111,17 +149,11 @@ impl SceneView {
             2.5,
             |age| linear([20, 20, 20], 0.35 + 0.65 * age),
         );
-        // Downhill arrow, painted on the ramp in front of the body.
-        let y_arrow = -2.2;
-        let x0 = centre.x as f64 - 1.2;
-        let x1 = centre.x as f64 + 1.2;
+        // Downhill arrow, painted on the ramp in front of the body, placed and sized so that
+        // it lies inside the frame (at 1280×720 the old fixed place cut its lower barb).
+        let aspect = rect[2].max(1) as f32 / rect[3].max(1) as f32;
         let orange = linear([255, 140, 0], 1.0);
-        let tip = DVec3::new(x1, y_arrow, 0.01);
-        for (a, b) in [
-            (DVec3::new(x0, y_arrow, 0.01), tip),
-            (tip, DVec3::new(x1 - 0.35, y_arrow - 0.25, 0.01)),
-            (tip, DVec3::new(x1 - 0.35, y_arrow + 0.25, 0.01)),
-        ] {
+        for (a, b) in downhill_arrow(&camera, aspect, centre.x as f64, to_world) {
             segments.push(Segment {
                 a: to_world(a),
                 b: to_world(b),
@@ -344,5 +376,60 @@ pub(super) fn push_polyline_indexed(
             color: color_of_index(i),
             width_px,
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The default camera of a 3D scene following a body of radius 1 on a ramp at α = 0.3.
+    fn default_camera() -> Camera {
+        let dir = Vec3::new(-0.3, -1.0, 0.5).normalize();
+        let target = Mat4::from_rotation_y(0.3).transform_point3(Vec3::Z);
+        Camera {
+            eye: target + dir * 7.0,
+            target,
+            up: Vec3::Z,
+            fov_y_rad: 40f32.to_radians(),
+            near: 0.05,
+            far: 200.0,
+        }
+    }
+
+    #[test]
+    fn the_downhill_arrow_stays_inside_the_frame_at_every_aspect() {
+        let camera = default_camera();
+        let tilt = Mat4::from_rotation_y(0.3);
+        let to_world = |p: DVec3| tilt.transform_point3(p.as_vec3());
+        for (w, h) in [
+            (1280, 720),
+            (640, 360),
+            (1920, 1080),
+            (720, 1280),
+            (400, 400),
+            (320, 180),
+        ] {
+            let aspect = w as f32 / h as f32;
+            let strokes = downhill_arrow(&camera, aspect, 0.0, to_world);
+            let view_proj = camera.view_proj(aspect);
+            for (a, b) in strokes {
+                for p in [a, b] {
+                    let c = view_proj * to_world(p).extend(1.0);
+                    let (x, y) = (c.x / c.w, c.y / c.w);
+                    assert!(
+                        x.abs() <= 0.94 && y.abs() <= 0.94,
+                        "{w}x{h}: arrow point at ({x:.3}, {y:.3}) in clip space"
+                    );
+                }
+            }
+            // It still points downhill (+x), from left to right.
+            assert!(strokes[0].1.x > strokes[0].0.x + 0.9);
+        }
+        // At 1280×720 the old fixed place (2.2 in front, 2.4 long) had its lower barb at
+        // y = −1.03 in clip space: outside the frame.
+        let old_barb = DVec3::new(1.2 - 0.35, -2.2 - 0.25, 0.01);
+        let c = camera.view_proj(1280.0 / 720.0) * to_world(old_barb).extend(1.0);
+        assert!((c.y / c.w) < -1.0, "{}", c.y / c.w);
     }
 }

@@ -203,7 +203,10 @@ impl SceneView {
         let inset_bg = Some(linear([24, 26, 34], 1.0));
         let mut views = Vec::new();
         let mut panels = Vec::new();
-        let text = options.text_scale * (size.1 as f32 / 720.0).clamp(0.5, 3.0);
+        // Text is sized for 1280×720 and scaled with the frame's tighter side, so a portrait or
+        // square frame keeps its panels inside the frame and clear of the insets.
+        let fit = (size.0 as f32 / 1280.0).min(size.1 as f32 / 720.0);
+        let text = options.text_scale * fit.clamp(0.3, 3.0);
         if let Some(rect) = body_rect {
             views.push(self.body_view(snap, rect, options));
         }
