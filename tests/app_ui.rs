@@ -221,3 +221,109 @@ fn recording_writes_the_asked_number_of_frames_of_the_3d_view() {
     assert!(!dir.join("frame_00005.png").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A file as winit hands it to egui when it is dropped on the window.
+#[derive(Debug)]
+struct Dropped(std::path::PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &std::path::Path {
+        &self.0
+    }
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+/// One UI frame with `path` dropped on the window.
+fn drop_file(
+    bench: &mut Workbench,
+    gpu: &GpuContext,
+    target: &OffscreenTarget,
+    path: &std::path::Path,
+) {
+    let mut input = offscreen_input(SIZE, 0.0, vec![]);
+    input.dropped_files = vec![std::sync::Arc::new(Dropped(path.to_path_buf()))];
+    let frame = bench.run_ui(input, SIZE);
+    bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+}
+
+#[test]
+fn a_dropped_file_loads_and_a_bad_one_leaves_the_scene_running_with_a_message() {
+    let dir = std::env::temp_dir().join(format!("rollphase-drop-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.0);
+
+    // A bad scene: the running one stays, and the notice names the file and the field.
+    let bad = dir.join("bad.toml");
+    std::fs::write(
+        &bad,
+        "[model]\nalpha_rad = 7.0\n[body]\nshape = \"x.json\"\n",
+    )
+    .unwrap();
+    drop_file(&mut bench, &gpu, &target, &bad);
+    let (text, is_error) = bench.ui.notice().cloned().expect("a notice");
+    assert!(is_error && text.contains("bad.toml"), "{text}");
+    let before = bench.sim.status().snapshot.t;
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > before);
+    assert_eq!(s.scene_id, 0, "the running scene was kept");
+    assert!(bench.ui.recent_files().is_empty());
+
+    // Neither a scene nor a shape.
+    let other = dir.join("notes.txt");
+    std::fs::write(&other, "hello").unwrap();
+    drop_file(&mut bench, &gpu, &target, &other);
+    let (text, is_error) = bench.ui.notice().cloned().unwrap();
+    assert!(
+        is_error && text.contains(".toml") && text.contains(".json"),
+        "{text}"
+    );
+
+    // A good shape file: the body is replaced (the paper's, a 3D body), and it is remembered.
+    let shape = dir.join("paper.json");
+    std::fs::copy(
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/assets/shapes/paper-sphere.json"
+        ),
+        &shape,
+    )
+    .unwrap();
+    drop_file(&mut bench, &gpu, &target, &shape);
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.scene_id == 1);
+    assert!(
+        (s.snapshot.alpha_star - 0.1394).abs() < 5e-4,
+        "{}",
+        s.snapshot.alpha_star
+    );
+    assert_eq!(bench.ui.recent_files().len(), 1);
+    assert!(bench.ui.recent_files()[0].ends_with("paper.json"));
+
+    // A good scene file (a preset written out) loads too and goes first in the list.
+    // Its body path is relative to the scene's folder, as for the bundled presets.
+    std::fs::create_dir_all(dir.join("scenes")).unwrap();
+    std::fs::create_dir_all(dir.join("shapes")).unwrap();
+    std::fs::copy(
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/assets/shapes/disk-inertial.json"
+        ),
+        dir.join("shapes/disk-inertial.json"),
+    )
+    .unwrap();
+    let scene = dir.join("scenes/cyl.toml");
+    std::fs::write(
+        &scene,
+        Scene::preset("cylinder-hysteresis").unwrap().to_toml(),
+    )
+    .unwrap();
+    drop_file(&mut bench, &gpu, &target, &scene);
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.scene_id == 2);
+    assert_eq!(
+        s.snapshot.model,
+        rollphase::dynamics::ModelKind::DiskInertial
+    );
+    assert!(bench.ui.recent_files()[0].ends_with("cyl.toml"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

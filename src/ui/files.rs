@@ -17,22 +17,21 @@ impl AppUi {
         status: &SimStatus,
         actions: &mut Vec<UiAction>,
     ) {
+        // This build has no native file dialog (it would pull a desktop toolkit into every
+        // build): paths are typed, or files dropped on the window.
+        ui.label(
+            egui::RichText::new("Type a path, or drop a .toml scene or .json shape on the window.")
+                .small()
+                .weak(),
+        );
+        let path_width = (ui.available_width() - 110.0).max(130.0);
         egui::Grid::new("files").num_columns(3).show(ui, |ui| {
             ui.label("scene");
-            ui.add(egui::TextEdit::singleline(&mut self.scene_path).desired_width(130.0));
+            ui.add(egui::TextEdit::singleline(&mut self.scene_path).desired_width(path_width));
             ui.horizontal(|ui| {
                 if ui.button("Load").clicked() {
                     let path = PathBuf::from(&self.scene_path);
-                    match load_scene_file(&path) {
-                        Ok(setup) => {
-                            self.notice = Some((format!("loaded {}", path.display()), false));
-                            self.base = path.parent().map(Path::to_path_buf);
-                            actions.push(UiAction::Sim(SimCommand::Load(Box::new(setup))));
-                        }
-                        Err(e) => {
-                            self.notice = Some((format!("{}: {e}", path.display()), true));
-                        }
-                    }
+                    self.open_scene(&path, actions);
                 }
                 if ui.button("Save").clicked() {
                     let mut scene = self.current_scene(status);
@@ -46,7 +45,7 @@ impl AppUi {
             });
             ui.end_row();
             ui.label("shape");
-            ui.add(egui::TextEdit::singleline(&mut self.shape_path).desired_width(130.0));
+            ui.add(egui::TextEdit::singleline(&mut self.shape_path).desired_width(path_width));
             ui.horizontal(|ui| {
                 if ui.button("Load").clicked() {
                     self.load_shape(status, actions);
@@ -58,13 +57,13 @@ impl AppUi {
             });
             ui.end_row();
             ui.label("screenshot");
-            ui.add(egui::TextEdit::singleline(&mut self.screenshot_path).desired_width(130.0));
+            ui.add(egui::TextEdit::singleline(&mut self.screenshot_path).desired_width(path_width));
             if ui.button("Save PNG").clicked() {
                 actions.push(UiAction::Screenshot(PathBuf::from(&self.screenshot_path)));
             }
             ui.end_row();
             ui.label("record");
-            ui.add(egui::TextEdit::singleline(&mut self.record_dir).desired_width(130.0));
+            ui.add(egui::TextEdit::singleline(&mut self.record_dir).desired_width(path_width));
             ui.horizontal(|ui| {
                 ui.add(egui::DragValue::new(&mut self.record_frames).range(1..=100_000));
                 let busy = self.recording.is_some();
@@ -81,12 +80,93 @@ impl AppUi {
             });
             ui.end_row();
         });
+        if !self.recent.is_empty() {
+            ui.label("recent");
+            let mut reopen = None;
+            for path in &self.recent {
+                let name = path
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                if ui
+                    .small_button(name)
+                    .on_hover_text(path.display().to_string())
+                    .clicked()
+                {
+                    reopen = Some(path.clone());
+                }
+            }
+            if let Some(path) = reopen {
+                self.open_file(&path, status, actions);
+            }
+        }
+    }
+
+    /// Opens a scene (.toml) or shape (.json) file, as a drop on the window or the recent list
+    /// does; a bad file leaves the running scene as it is and says why in the notice, with the
+    /// command line's message.
+    pub fn open_file(&mut self, path: &Path, status: &SimStatus, actions: &mut Vec<UiAction>) {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some("toml") => {
+                self.scene_path = path.display().to_string();
+                self.open_scene(path, actions);
+            }
+            Some("json") => {
+                self.shape_path = path.display().to_string();
+                self.load_shape(status, actions);
+            }
+            _ => {
+                self.notice = Some((
+                    format!(
+                        "{}: rollphase opens scene files (.toml) and shape files (.json)",
+                        path.display()
+                    ),
+                    true,
+                ));
+            }
+        }
+    }
+
+    fn open_scene(&mut self, path: &Path, actions: &mut Vec<UiAction>) {
+        match load_scene_file(path) {
+            Ok(setup) => {
+                self.notice = Some((format!("loaded {}", path.display()), false));
+                self.base = path.parent().map(Path::to_path_buf);
+                self.remember(path);
+                actions.push(UiAction::Sim(SimCommand::Load(Box::new(setup))));
+            }
+            Err(e @ crate::scene::SceneError::SceneIo { .. }) => {
+                self.notice = Some((e.to_string(), true));
+            }
+            Err(e) => {
+                self.notice = Some((format!("bad scene file {}: {e}", path.display()), true));
+            }
+        }
+    }
+
+    /// Puts `path` first in the recent list.
+    fn remember(&mut self, path: &Path) {
+        let path = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+        self.recent.retain(|p| *p != path);
+        self.recent.insert(0, path);
+        self.recent.truncate(super::RECENT_FILES);
+    }
+
+    /// Files opened this session, newest first.
+    pub fn recent_files(&self) -> &[PathBuf] {
+        &self.recent
+    }
+
+    /// The message under the controls: (text, is an error).
+    pub fn notice(&self) -> Option<&(String, bool)> {
+        self.notice.as_ref()
     }
 
     pub(super) fn load_shape(&mut self, status: &SimStatus, actions: &mut Vec<UiAction>) {
         let path = PathBuf::from(&self.shape_path);
         match crate::geometry::ShapeFile::load(&path) {
             Ok(body) => {
+                self.remember(&path);
                 let mut scene = self.current_scene(status);
                 scene.body = BodySpec {
                     inline: Some(body.to_file()),

@@ -106,7 +106,12 @@ pub struct AppUi {
     seen_message: Option<String>,
     scene: Scene,
     base: Option<PathBuf>,
+    /// Files opened this session, newest first (at most [`RECENT_FILES`]).
+    recent: Vec<PathBuf>,
 }
+
+/// Files kept in the recent list.
+pub const RECENT_FILES: usize = 8;
 
 impl AppUi {
     /// A UI for `setup` (the scene the simulation starts with); `base` is its file's folder.
@@ -152,6 +157,7 @@ impl AppUi {
             seen_message: None,
             scene: setup.scene.clone(),
             base,
+            recent: Vec::new(),
         }
     }
 
@@ -211,6 +217,18 @@ impl AppUi {
     /// Draws the whole UI for one frame into the root `ui` and returns what it asks for.
     pub fn show(&mut self, ui: &mut egui::Ui, status: &SimStatus) -> Vec<UiAction> {
         let mut actions = Vec::new();
+        // A file dropped on the window (winit's DroppedFile, through egui-winit) opens as if
+        // typed into the files panel.
+        let dropped: Vec<PathBuf> = ui.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_path_buf())
+                .collect()
+        });
+        for path in dropped {
+            self.open_file(&path, status, &mut actions);
+        }
         self.keyboard(ui.ctx(), status, &mut actions);
         egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, &mut actions));
         if self.show_controls {
