@@ -37,6 +37,13 @@ fn key(k: egui::Key) -> Vec<egui::Event> {
     }]
 }
 
+/// egui's input time, which must never go backwards, also across calls: one clock for the
+/// process.
+fn now() -> f64 {
+    static CLOCK: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
+    CLOCK.get_or_init(Instant::now).elapsed().as_secs_f64()
+}
+
 /// Runs UI frames (painting each) until `done` holds for the status.
 fn frames_until(
     bench: &mut Workbench,
@@ -47,7 +54,7 @@ fn frames_until(
 ) -> SimStatus {
     let start = Instant::now();
     loop {
-        let t = start.elapsed().as_secs_f64();
+        let t = now();
         let frame = bench.run_ui(offscreen_input(SIZE, t, std::mem::take(&mut events)), SIZE);
         bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
         let s = bench.sim.status();
@@ -242,7 +249,7 @@ fn drop_file(
     target: &OffscreenTarget,
     path: &std::path::Path,
 ) {
-    let mut input = offscreen_input(SIZE, 0.0, vec![]);
+    let mut input = offscreen_input(SIZE, now(), vec![]);
     input.dropped_files = vec![std::sync::Arc::new(Dropped(path.to_path_buf()))];
     let frame = bench.run_ui(input, SIZE);
     bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
@@ -326,4 +333,50 @@ fn a_dropped_file_loads_and_a_bad_one_leaves_the_scene_running_with_a_message() 
     );
     assert!(bench.ui.recent_files()[0].ends_with("cyl.toml"));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_click_on_the_curvature_map_restarts_from_that_contact_point() {
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 1.0);
+    let (theta, phi) = (1.2, -0.7);
+    // A few frames for the layout to settle (the panels size themselves on the first ones).
+    for _ in 0..5 {
+        frames_until(&mut bench, &gpu, &target, vec![], |_| true);
+    }
+    let pos = bench.ui.map_position(theta, phi).expect("the map is drawn");
+    let button = |pressed| egui::Event::PointerButton {
+        pos,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: egui::Modifiers::NONE,
+    };
+    frames_until(
+        &mut bench,
+        &gpu,
+        &target,
+        vec![egui::Event::PointerMoved(pos), button(true)],
+        |_| true,
+    );
+    let s = frames_until(&mut bench, &gpu, &target, vec![button(false)], |s| {
+        s.run_id == 1
+    });
+    // The same scene (same body, α, speed), a new run from the clicked body point.
+    assert_eq!(s.scene_id, 0);
+    assert_eq!(s.snapshot.alpha_rad, 0.3);
+    let [t0, p0] = s.setup.scene.initial.contact.expect("a contact start");
+    assert!(
+        (t0 - theta).abs() < 0.03 && (p0 - phi).abs() < 0.03,
+        "restarted from ({t0}, {p0})"
+    );
+    // The new run's first state touches the ramp at that body point.
+    let start = Simulation::new((*s.setup).clone()).snapshot();
+    let want = rollphase::geometry::sphere::direction(t0, p0);
+    assert!(
+        (start.contact_in_body.normalize() - want).length() < 1e-6,
+        "{:?} vs {want:?}",
+        start.contact_in_body
+    );
+    let (text, is_error) = bench.ui.notice().cloned().unwrap();
+    assert!(!is_error && text.contains("restarted"), "{text}");
 }

@@ -28,6 +28,10 @@ pub enum SimCommand {
     Reset,
     /// Replace the scene.
     Load(Box<SceneSetup>),
+    /// Start the same body again from another initial state (a click on the curvature map):
+    /// like `Load`, but the scene stays the same one (its meshes and the α sweep's history are
+    /// kept) and the playback speed is not reset.
+    Restart(Box<SceneSetup>),
     /// Turn views on or off (the SO(3) trail is recorded only while the ball is shown).
     SetViews(ViewsSpec),
     /// Panics inside the simulation: fault injection for the tests of [`SimThread`]'s panic
@@ -126,6 +130,10 @@ impl Controller {
             }
             SimCommand::Load(setup) => {
                 self.speed = setup.scene.playback.speed;
+                self.sim = Simulation::new(*setup);
+                Ok(())
+            }
+            SimCommand::Restart(setup) => {
                 self.sim = Simulation::new(*setup);
                 Ok(())
             }

@@ -185,10 +185,17 @@ impl SimWorker {
                 }
             };
             for command in first.into_iter().chain(inbox.try_iter()) {
-                let restarts = matches!(command, SimCommand::Reset | SimCommand::Load(_));
-                if let SimCommand::Load(setup) = &command {
-                    self.setup = Arc::new((**setup).clone());
-                    self.scene_id += 1;
+                let restarts = matches!(
+                    command,
+                    SimCommand::Reset | SimCommand::Load(_) | SimCommand::Restart(_)
+                );
+                match &command {
+                    SimCommand::Load(setup) => {
+                        self.setup = Arc::new((**setup).clone());
+                        self.scene_id += 1;
+                    }
+                    SimCommand::Restart(setup) => self.setup = Arc::new((**setup).clone()),
+                    _ => {}
                 }
                 self.guarded("applying a command", |c| c.apply(command));
                 if restarts {

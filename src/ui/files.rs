@@ -144,6 +144,42 @@ impl AppUi {
         }
     }
 
+    /// Restarts the run with body point (θ, φ) on the ramp (a click on the curvature map): the
+    /// current α, m/m0, integrator and speed, released from rest with no spin, so the trails
+    /// clear; the notice says where it restarted.
+    pub(super) fn restart_from_contact(
+        &mut self,
+        theta: f64,
+        phi: f64,
+        status: &SimStatus,
+        actions: &mut Vec<UiAction>,
+    ) {
+        let mut scene = self.current_scene(status);
+        scene.initial = crate::scene::InitialSpec {
+            contact: Some([theta, phi]),
+            ..crate::scene::InitialSpec::default()
+        };
+        match scene.setup(self.base.as_deref()) {
+            Ok(setup) => {
+                self.notice = Some((
+                    format!(
+                        "restarted at t = 0 with body point θ = {theta:.3}, φ = {phi:.3} on the ramp"
+                    ),
+                    false,
+                ));
+                actions.push(UiAction::Sim(SimCommand::Restart(Box::new(setup))));
+            }
+            Err(e) => self.notice = Some((e.to_string(), true)),
+        }
+    }
+
+    /// Where body point (θ, φ) is drawn on the contact map (screen points), if the map is shown:
+    /// for tests and scripted demos, which click there.
+    pub fn map_position(&self, theta: f64, phi: f64) -> Option<egui::Pos2> {
+        self.map_transform
+            .map(|t| t.position_from_point(&egui_plot::PlotPoint::new(phi, theta)))
+    }
+
     /// Puts `path` first in the recent list.
     fn remember(&mut self, path: &Path) {
         let path = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());

@@ -108,6 +108,8 @@ pub struct AppUi {
     base: Option<PathBuf>,
     /// Files opened this session, newest first (at most [`RECENT_FILES`]).
     recent: Vec<PathBuf>,
+    /// Where the contact map was drawn last frame.
+    map_transform: Option<egui_plot::PlotTransform>,
 }
 
 /// Files kept in the recent list.
@@ -158,6 +160,7 @@ impl AppUi {
             scene: setup.scene.clone(),
             base,
             recent: Vec::new(),
+            map_transform: None,
         }
     }
 
@@ -247,7 +250,7 @@ impl AppUi {
                 .resizable(false)
                 .show(ui, |ui| {
                     let map = self.map.as_ref().and_then(|m| m.1.as_ref());
-                    plots_ui(
+                    let input = plots_ui(
                         ui,
                         &self.history,
                         &status.snapshot,
@@ -255,6 +258,10 @@ impl AppUi {
                         status.snapshot.alpha_star,
                         height,
                     );
+                    self.map_transform = input.transform;
+                    if let Some((theta, phi)) = input.clicked {
+                        self.restart_from_contact(theta, phi, status, &mut actions);
+                    }
                 });
         }
         egui::CentralPanel::no_frame().show(ui, |ui| self.scene_ui(ui));

@@ -221,7 +221,8 @@ pub fn plots_ui(
     map: Option<&CurvatureMap>,
     alpha_star: f64,
     height: f32,
-) {
+) -> MapInput {
+    let mut input = MapInput::default();
     let is_disk = snap.theta.is_some();
     let width = ((ui.available_width() - 3.0 * ui.spacing().item_spacing.x) / 4.0).max(120.0);
     ui.horizontal(|ui| {
@@ -244,7 +245,7 @@ pub fn plots_ui(
                 .y_axis_label("θ̇")
                 .show(ui, |p| p.points(Points::new("θ̇(θ)", phase).radius(1.0)));
         } else if history.crossings_by_mass.is_empty() {
-            contact_map_ui(
+            input = contact_map_ui(
                 ui,
                 snap,
                 map,
@@ -252,12 +253,29 @@ pub fn plots_ui(
                 height,
             );
         } else {
-            contact_map_ui(ui, snap, map, width, height);
+            input = contact_map_ui(ui, snap, map, width, height);
             crossings_ui(ui, history, snap, width, height);
         }
         sweep_ui(ui, history, snap, alpha_star, width, height);
         health_ui(ui, history, width, height);
     });
+    input
+}
+
+/// What the contact map reports back to the app: a click, and where the map is on screen.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct MapInput {
+    /// The body point (θ, φ) clicked this frame: θ in [0, π], φ in (−π, π].
+    pub clicked: Option<(f64, f64)>,
+    /// Plot ↔ screen coordinates of the map (`None` for a cylinder).
+    pub transform: Option<egui_plot::PlotTransform>,
+}
+
+/// The body point (θ, φ) at a map position (x = φ, y = θ), folded into the body's ranges.
+pub fn map_point(x: f64, y: f64) -> (f64, f64) {
+    let theta = y.clamp(0.0, std::f64::consts::PI);
+    let phi = (x + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+    (theta, phi)
 }
 
 fn contact_map_ui(
@@ -266,7 +284,7 @@ fn contact_map_ui(
     map: Option<&CurvatureMap>,
     width: f32,
     height: f32,
-) {
+) -> MapInput {
     // Split the path where φ wraps, so no line crosses the whole plot.
     let mut pieces: Vec<Vec<[f64; 2]>> = vec![Vec::new()];
     let mut prev_phi: Option<f64> = None;
@@ -281,15 +299,21 @@ fn contact_map_ui(
         prev_phi = Some(phi);
     }
     let (theta_now, phi_now) = angles(snap.contact_in_body);
-    Plot::new("contact_map")
+    // The map is the whole body, always: fixed bounds, and no pan or zoom, so a click names a
+    // body point (it restarts the run from there).
+    let shown = Plot::new("contact_map")
         .width(width)
         .height(height)
-        .x_axis_label("φ")
+        .x_axis_label("φ (click: start here)")
         .y_axis_label("θ")
-        .include_x(-std::f64::consts::PI)
-        .include_x(std::f64::consts::PI)
-        .include_y(0.0)
-        .include_y(std::f64::consts::PI)
+        .default_x_bounds(-std::f64::consts::PI, std::f64::consts::PI)
+        .default_y_bounds(0.0, std::f64::consts::PI)
+        .auto_bounds(false)
+        .allow_drag(false)
+        .allow_zoom(false)
+        .allow_scroll(false)
+        .allow_boxed_zoom(false)
+        .allow_double_click_reset(false)
         .show(ui, |p| {
             if let Some(m) = map {
                 let scale = m.scale;
@@ -320,6 +344,19 @@ fn contact_map_ui(
                     .radius(4.0),
             );
         });
+    let clicked = shown
+        .response
+        .clicked()
+        .then(|| shown.response.interact_pointer_pos())
+        .flatten()
+        .map(|pos| {
+            let v = shown.transform.value_from_position(pos);
+            map_point(v.x, v.y)
+        });
+    MapInput {
+        clicked,
+        transform: Some(shown.transform),
+    }
 }
 
 fn sweep_ui(
