@@ -229,6 +229,37 @@ fn recording_writes_the_asked_number_of_frames_of_the_3d_view() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[test]
+fn recording_to_a_gif_path_writes_one_clip_of_the_asked_frames() {
+    use image::AnimationDecoder;
+    let (gpu, target, mut bench) = app("cylinder-hysteresis");
+    let frame = bench.run_ui(offscreen_input(SIZE, now(), vec![]), SIZE);
+    bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+    let dir = std::env::temp_dir().join(format!("rollphase-record-gif-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let gif = dir.join("clip.gif");
+    bench.start_recording(gif.clone(), 4, SIZE);
+    let mut frames = 0;
+    while bench.is_recording() {
+        let frame = bench.run_ui(offscreen_input(SIZE, now(), vec![]), SIZE);
+        bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+        frames += 1;
+        assert!(frames < 50, "the recording never finished");
+    }
+    let [_, _, w, h] = frame.scene_rect;
+    let file = std::io::BufReader::new(std::fs::File::open(&gif).unwrap());
+    let clip = image::codecs::gif::GifDecoder::new(file)
+        .unwrap()
+        .into_frames()
+        .collect_frames()
+        .unwrap();
+    assert_eq!(clip.len(), 4);
+    assert_eq!(clip[0].buffer().dimensions(), (w & !1, h & !1));
+    let (text, is_error) = bench.ui.notice().cloned().unwrap();
+    assert!(!is_error && text.contains("clip.gif"), "{text}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A file as winit hands it to egui when it is dropped on the window.
 #[derive(Debug)]
 struct Dropped(std::path::PathBuf);

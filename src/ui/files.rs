@@ -69,7 +69,10 @@ impl AppUi {
                 let busy = self.recording.is_some();
                 if ui
                     .add_enabled(!busy, egui::Button::new("Record"))
-                    .on_hover_text("the next N frames of the 3D view, as shown, as PNGs")
+                    .on_hover_text(
+                        "the next N frames of the 3D view, as shown: PNGs into a folder, or one \
+                         clip at the scene's fps when the path ends in .gif (or .mp4, with ffmpeg)",
+                    )
                     .clicked()
                 {
                     actions.push(UiAction::Record {

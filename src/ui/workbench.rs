@@ -11,6 +11,7 @@ use image::RgbaImage;
 
 use super::painter::{EguiFrame, Painter, rect_to_pixels};
 use super::{AppUi, RecordProgress, UiAction};
+use crate::clip::{ClipKind, ClipWriter};
 use crate::png::{PngWriter, frame_name};
 use crate::render::gpu::OffscreenTarget;
 use crate::scene::SceneSetup;
@@ -36,10 +37,40 @@ struct Recording {
     /// Made at the first recorded frame (the device is at hand there).
     target: Option<OffscreenTarget>,
     size: (u32, u32),
-    writer: PngWriter,
-    dir: PathBuf,
+    sink: RecordSink,
     done: u32,
     total: u32,
+}
+
+/// Where recorded frames go: PNG files in a folder, or one clip (a path ending in .gif or .mp4).
+enum RecordSink {
+    Pngs { writer: PngWriter, dir: PathBuf },
+    Clip { writer: ClipWriter, path: PathBuf },
+}
+
+impl RecordSink {
+    fn write(&mut self, index: u32, image: RgbaImage) -> Result<()> {
+        match self {
+            RecordSink::Pngs { writer, dir } => {
+                Ok(writer.write(dir.join(frame_name(index as u64)), image)?)
+            }
+            RecordSink::Clip { writer, .. } => Ok(writer.push(image)?),
+        }
+    }
+
+    /// Finishes the files; returns where they went.
+    fn close(self) -> Result<PathBuf> {
+        match self {
+            RecordSink::Pngs { writer, dir } => {
+                writer.close()?;
+                Ok(dir)
+            }
+            RecordSink::Clip { writer, path } => {
+                writer.finish()?;
+                Ok(path)
+            }
+        }
+    }
 }
 
 /// The app's state and machinery for one target format.
@@ -150,16 +181,38 @@ impl Workbench {
             .unwrap_or([0, 0, size.0, size.1]);
         // Even sizes keep video encoders happy.
         let frame_size = ((rect[2].max(16)) & !1, (rect[3].max(16)) & !1);
-        if let Err(e) = std::fs::create_dir_all(&dir) {
-            self.ui
-                .notify(format!("cannot create {}: {e}", dir.display()), true);
-            return;
-        }
+        let kind = match dir.extension().and_then(|e| e.to_str()) {
+            Some("gif") => Some(ClipKind::Gif),
+            Some("mp4") => Some(ClipKind::Mp4),
+            _ => None,
+        };
+        let sink = match kind {
+            Some(kind) => {
+                let fps = self.sim.status().setup.scene.playback.fps;
+                match ClipWriter::new(kind, &dir, frame_size, fps) {
+                    Ok(writer) => RecordSink::Clip { writer, path: dir },
+                    Err(e) => {
+                        self.ui.notify(e.to_string(), true);
+                        return;
+                    }
+                }
+            }
+            None => {
+                if let Err(e) = std::fs::create_dir_all(&dir) {
+                    self.ui
+                        .notify(format!("cannot create {}: {e}", dir.display()), true);
+                    return;
+                }
+                RecordSink::Pngs {
+                    writer: PngWriter::new(2),
+                    dir,
+                }
+            }
+        };
         self.recording = Some(Recording {
             target: None,
             size: frame_size,
-            writer: PngWriter::new(2),
-            dir,
+            sink,
             done: 0,
             total: frames,
         });
@@ -266,21 +319,16 @@ impl Workbench {
                 let (w, h) = rec_target.size;
                 RgbaImage::from_raw(w, h, pixels).ok_or_else(|| anyhow!("short readback"))
             })
-            .and_then(|image| {
-                rec.writer
-                    .write(rec.dir.join(frame_name(rec.done as u64)), image)
-                    .map_err(anyhow::Error::from)
-            });
+            .and_then(|image| rec.sink.write(rec.done, image));
         rec.done += 1;
         let finished = rec.done >= rec.total;
         if let Err(e) = result {
             self.ui.notify(format!("recording stopped: {e:#}"), true);
             self.recording = None;
         } else if finished && let Some(rec) = self.recording.take() {
-            let dir = rec.dir.clone();
-            match rec.writer.close() {
-                Ok(()) => self.ui.notify(
-                    format!("recorded {} frames to {}", rec.done, dir.display()),
+            match rec.sink.close() {
+                Ok(place) => self.ui.notify(
+                    format!("recorded {} frames to {}", rec.done, place.display()),
                     false,
                 ),
                 Err(e) => self.ui.notify(format!("recording failed: {e:#}"), true),
