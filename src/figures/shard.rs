@@ -430,54 +430,79 @@ impl FigureOptions {
         T: Record + Send,
         F: Fn(usize) -> Result<T> + Sync + Send,
     {
-        match &self.ensemble {
-            Ensemble::Whole => {
-                let bar = progress(n, what);
-                par_map(n, &bar, f).into_iter().collect()
+        run_ensemble(
+            &self.ensemble,
+            figure,
+            n,
+            what,
+            || Ok((self.dir(figure)?, self.job_id(figure))),
+            f,
+        )
+    }
+}
+
+/// The one implementation behind [`FigureOptions::ensemble`] and `sweep`: `f(k)` for k in 0..n
+/// as `ensemble` says. `place` gives the folder and identity of a shard file, asked only when
+/// one is written; `name` prefixes messages.
+pub fn run_ensemble<T, F>(
+    ensemble: &Ensemble,
+    name: &str,
+    n: usize,
+    what: &str,
+    place: impl FnOnce() -> Result<(PathBuf, JobId)>,
+    f: F,
+) -> Result<Vec<T>>
+where
+    T: Record + Send,
+    F: Fn(usize) -> Result<T> + Sync + Send,
+{
+    match ensemble {
+        Ensemble::Whole => {
+            let bar = progress(n, what);
+            par_map(n, &bar, f).into_iter().collect()
+        }
+        Ensemble::Shard(spec) => {
+            let range = spec.range(n);
+            let bar = progress(range.len(), what);
+            let start = range.start;
+            let results = par_map(range.len(), &bar, |k| f(start + k));
+            let mut records = Vec::with_capacity(results.len());
+            for r in results {
+                let mut fields = Vec::new();
+                r?.encode(&mut fields);
+                records.push(fields);
             }
-            Ensemble::Shard(spec) => {
-                let range = spec.range(n);
-                let bar = progress(range.len(), what);
-                let start = range.start;
-                let results = par_map(range.len(), &bar, |k| f(start + k));
-                let mut records = Vec::with_capacity(results.len());
-                for r in results {
-                    let mut fields = Vec::new();
-                    r?.encode(&mut fields);
-                    records.push(fields);
-                }
-                let dir = self.dir(figure)?;
-                let path = write_shard(&dir, self.job_id(figure), what, *spec, n, &records)?;
-                Err(ShardWritten {
-                    shard: *spec,
-                    jobs: records.len(),
-                    of_jobs: n,
-                    path,
-                }
-                .into())
+            let (dir, job) = place()?;
+            let path = write_shard(&dir, job, what, *spec, n, &records)?;
+            Err(ShardWritten {
+                shard: *spec,
+                jobs: records.len(),
+                of_jobs: n,
+                path,
             }
-            Ensemble::Merge(records) => {
-                if records.len() != n {
-                    bail!(
-                        "{figure}: the shards hold {} runs, but this figure has {n}; were they \
-                         written by another rollphase version?",
-                        records.len()
-                    );
-                }
-                records
-                    .iter()
-                    .enumerate()
-                    .map(|(k, r)| {
-                        let mut fields = Fields(r.iter());
-                        let v = T::decode(&mut fields)
-                            .with_context(|| format!("{figure}: shard record {k}"))?;
-                        if fields.0.next().is_some() {
-                            bail!("{figure}: shard record {k} has more numbers than a result");
-                        }
-                        Ok(v)
-                    })
-                    .collect()
+            .into())
+        }
+        Ensemble::Merge(records) => {
+            if records.len() != n {
+                bail!(
+                    "{name}: the shards hold {} runs, but this command has {n}; were they \
+                     written by another rollphase version?",
+                    records.len()
+                );
             }
+            records
+                .iter()
+                .enumerate()
+                .map(|(k, r)| {
+                    let mut fields = Fields(r.iter());
+                    let v = T::decode(&mut fields)
+                        .with_context(|| format!("{name}: shard record {k}"))?;
+                    if fields.0.next().is_some() {
+                        bail!("{name}: shard record {k} has more numbers than a result");
+                    }
+                    Ok(v)
+                })
+                .collect()
         }
     }
 }

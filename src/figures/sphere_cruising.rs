@@ -79,7 +79,7 @@ impl Record for Run {
 
 /// A run cruises unless it halted or, undecided at the time limit, was still creeping to rest
 /// (|ω| < 1e-3, far below any cruising orbit's |ω| ≈ sin α).
-fn cruises(f: &Fate) -> bool {
+pub fn cruises(f: &Fate) -> bool {
     match f {
         Fate::Halts { .. } => false,
         Fate::Periodic { .. } => true,

@@ -35,9 +35,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use serde::{Deserialize, Serialize};
 
-use super::shard::{Ensemble, Fields, JobId, Merged, Record, ShardSpec, ShardWritten, write_shard};
+use super::shard::{Ensemble, Fields, JobId, Merged, Record, ShardSpec, run_ensemble};
 use super::sphere_orbits::random_orientation;
-use super::{csv_text, number_field, par_map, progress};
+use super::{csv_text, number_field, par_map};
 use crate::analysis::sphere_orbits::{Fate, Settle, settle_with};
 use crate::dynamics::Ramp;
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
@@ -434,65 +434,14 @@ impl Sweep {
 
     /// Runs the sweep (all of it, or one shard) through the ensemble machinery.
     pub fn run(&self, ensemble: &Ensemble, out: &Path) -> Result<Vec<RunResult>> {
-        match ensemble {
-            Ensemble::Whole => {
-                let bar = progress(self.runs(), "sweep runs");
-                par_map(self.runs(), &bar, |k| self.run_one(k))
-                    .into_iter()
-                    .collect()
-            }
-            Ensemble::Shard(spec) => {
-                let range = spec.range(self.runs());
-                let bar = progress(range.len(), "sweep runs");
-                let start = range.start;
-                let results = par_map(range.len(), &bar, |k| self.run_one(start + k));
-                let mut records = Vec::with_capacity(results.len());
-                for r in results {
-                    let mut f = Vec::new();
-                    r?.encode(&mut f);
-                    records.push(f);
-                }
-                std::fs::create_dir_all(out)
-                    .with_context(|| format!("cannot create {}", out.display()))?;
-                let path = write_shard(
-                    out,
-                    self.job_id(),
-                    "sweep runs",
-                    *spec,
-                    self.runs(),
-                    &records,
-                )?;
-                Err(ShardWritten {
-                    shard: *spec,
-                    jobs: records.len(),
-                    of_jobs: self.runs(),
-                    path,
-                }
-                .into())
-            }
-            Ensemble::Merge(records) => {
-                if records.len() != self.runs() {
-                    bail!(
-                        "the shards hold {} runs, but the spec has {}",
-                        records.len(),
-                        self.runs()
-                    );
-                }
-                records
-                    .iter()
-                    .enumerate()
-                    .map(|(k, r)| {
-                        let mut f = Fields::of(r);
-                        let v = RunResult::decode(&mut f)
-                            .with_context(|| format!("sweep shard record {k}"))?;
-                        if f.number().is_ok() {
-                            bail!("sweep shard record {k} has more numbers than a result");
-                        }
-                        Ok(v)
-                    })
-                    .collect()
-            }
-        }
+        let place = || {
+            std::fs::create_dir_all(out)
+                .with_context(|| format!("cannot create {}", out.display()))?;
+            Ok((out.to_path_buf(), self.job_id()))
+        };
+        run_ensemble(ensemble, "sweep", self.runs(), "sweep runs", place, |k| {
+            self.run_one(k)
+        })
     }
 
     /// What this sweep is, for its shard files.
@@ -599,11 +548,7 @@ pub struct RunResult {
 impl RunResult {
     /// Cruises: periodic, or still moving (|ω| ≥ 1e-3) at t_max.
     pub fn cruises(&self) -> bool {
-        match self.fate {
-            Fate::Halts { .. } => false,
-            Fate::Periodic { .. } => true,
-            Fate::Undecided { omega_end } => omega_end >= 1e-3,
-        }
+        super::sphere_cruising::cruises(&self.fate)
     }
 }
 
@@ -631,7 +576,7 @@ pub fn merge(dir: &Path, merged: Merged) -> Result<SweepSummary> {
 }
 
 /// Runs a sweep: all of it, writing `out`/sweep.csv and summary.json, or one shard, writing
-/// `out`/shard-I-of-N.json (returned as the [`ShardWritten`] error).
+/// `out`/shard-I-of-N.json (returned as the [`super::shard::ShardWritten`] error).
 pub fn run(spec: &Path, out: &Path, shard: Option<ShardSpec>) -> Result<SweepSummary> {
     let sweep = Sweep::load(spec)?;
     let ensemble = shard.map_or(Ensemble::Whole, Ensemble::Shard);
