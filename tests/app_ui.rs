@@ -411,3 +411,54 @@ fn a_click_on_the_curvature_map_restarts_from_that_contact_point() {
     let (text, is_error) = bench.ui.notice().cloned().unwrap();
     assert!(!is_error && text.contains("restarted"), "{text}");
 }
+
+#[test]
+fn a_click_on_the_poincare_sphere_restarts_from_that_orientation_on_the_boundary() {
+    use glam::DVec3;
+    let (gpu, target, mut bench) = app("sphere-two-orbits");
+    frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 1.0);
+    for _ in 0..5 {
+        frames_until(&mut bench, &gpu, &target, vec![], |_| true);
+    }
+    // A boundary point on the side of the sphere that faces the viewer.
+    let eye = DVec3::new(1.3, -2.2, 1.2).normalize();
+    let p = (eye + DVec3::new(0.4, 0.3, 0.2)).normalize();
+    let status = bench.sim.status();
+    let pos = bench
+        .ui
+        .poincare_position(p, &status)
+        .expect("the Poincaré sphere is drawn");
+    let button = |pressed| egui::Event::PointerButton {
+        pos,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: egui::Modifiers::NONE,
+    };
+    frames_until(
+        &mut bench,
+        &gpu,
+        &target,
+        vec![egui::Event::PointerMoved(pos), button(true)],
+        |_| true,
+    );
+    let s = frames_until(&mut bench, &gpu, &target, vec![button(false)], |s| {
+        s.run_id == 1
+    });
+    assert_eq!(s.scene_id, 0);
+    let [w, x, y, z] = s.setup.scene.initial.q0.expect("an orientation start");
+    assert_eq!(w, 0.0, "a point of ∂Ω is a half turn");
+    let picked = DVec3::new(x, y, z);
+    assert!(
+        (picked - p).length() < 0.02,
+        "picked {picked:?}, clicked at {p:?}"
+    );
+    // The new run starts on ∂Ω at that point (antipodes are the same orientation).
+    let start = Simulation::new((*s.setup).clone()).snapshot();
+    let b = start.ball_point.expect("a 3D body");
+    assert!(
+        (b.length() - 1.0).abs() < 1e-9 && b.dot(picked).abs() > 1.0 - 1e-9,
+        "{b:?}"
+    );
+    let (text, is_error) = bench.ui.notice().cloned().unwrap();
+    assert!(!is_error && text.contains("∂Ω"), "{text}");
+}

@@ -176,6 +176,75 @@ impl AppUi {
         }
     }
 
+    /// The point of ∂Ω under `pos` (points) if it falls on the Poincaré sphere of the scene
+    /// area `rect`.
+    fn poincare_pick(
+        &self,
+        rect: egui::Rect,
+        pos: egui::Pos2,
+        status: &SimStatus,
+    ) -> Option<glam::DVec3> {
+        let inset = self.poincare_rect(rect.size(), status)?;
+        let ppp = self.pixels_per_point;
+        let (x, y) = ((pos.x - rect.min.x) * ppp, (pos.y - rect.min.y) * ppp);
+        let [rx, ry, rw, rh] = inset.map(|v| v as f32);
+        let inside = x >= rx && x < rx + rw && y >= ry && y < ry + rh;
+        inside
+            .then(|| crate::view::layout::pick_boundary_point(inset, x, y))
+            .flatten()
+    }
+
+    /// The Poincaré view's rectangle (pixels, relative to the scene area), if it is shown.
+    fn poincare_rect(&self, scene: egui::Vec2, status: &SimStatus) -> Option<[u32; 4]> {
+        let disk = status.snapshot.theta.is_some();
+        let ppp = self.pixels_per_point;
+        let size = ((scene.x * ppp) as u32, (scene.y * ppp) as u32);
+        crate::view::layout::layout_for(
+            size,
+            self.views.body,
+            self.views.ball && !disk,
+            self.views.poincare && !disk,
+        )[2]
+    }
+
+    /// Where boundary point `p` is drawn on the Poincaré sphere (screen points), if shown and
+    /// facing the viewer: for tests and scripted demos, which click there.
+    pub fn poincare_position(&self, p: glam::DVec3, status: &SimStatus) -> Option<egui::Pos2> {
+        let rect = self.scene_rect?;
+        let inset = self.poincare_rect(rect.size(), status)?;
+        let (x, y) = crate::view::layout::boundary_point_position(inset, p)?;
+        let ppp = self.pixels_per_point;
+        Some(rect.min + egui::vec2(x / ppp, y / ppp))
+    }
+
+    /// Restarts the run from orientation q = (0, p) on ∂Ω (a rotation by π about `p`), released
+    /// from rest with the current α, m/m0, integrator and speed.
+    fn restart_from_boundary(
+        &mut self,
+        p: glam::DVec3,
+        status: &SimStatus,
+        actions: &mut Vec<UiAction>,
+    ) {
+        let mut scene = self.current_scene(status);
+        scene.initial = crate::scene::InitialSpec {
+            q0: Some([0.0, p.x, p.y, p.z]),
+            ..crate::scene::InitialSpec::default()
+        };
+        match scene.setup(self.base.as_deref()) {
+            Ok(setup) => {
+                self.notice = Some((
+                    format!(
+                        "restarted at t = 0 from q = (0, {:.3}, {:.3}, {:.3}) on ∂Ω",
+                        p.x, p.y, p.z
+                    ),
+                    false,
+                ));
+                actions.push(UiAction::Sim(SimCommand::Restart(Box::new(setup))));
+            }
+            Err(e) => self.notice = Some((e.to_string(), true)),
+        }
+    }
+
     /// Where body point (θ, φ) is drawn on the contact map (screen points), if the map is shown:
     /// for tests and scripted demos, which click there.
     pub fn map_position(&self, theta: f64, phi: f64) -> Option<egui::Pos2> {
@@ -263,10 +332,23 @@ impl AppUi {
         }
     }
 
-    pub(super) fn scene_ui(&mut self, ui: &mut egui::Ui) {
+    pub(super) fn scene_ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        status: &SimStatus,
+        actions: &mut Vec<UiAction>,
+    ) {
         let rect = ui.max_rect();
         self.scene_rect = Some(rect);
+        self.pixels_per_point = ui.ctx().pixels_per_point();
         let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
+        // A click on the Poincaré sphere starts from that orientation on ∂Ω.
+        if response.clicked()
+            && let Some(pos) = response.interact_pointer_pos()
+            && let Some(p) = self.poincare_pick(rect, pos, status)
+        {
+            self.restart_from_boundary(p, status, actions);
+        }
         if response.dragged() {
             let d = response.drag_delta();
             self.view_options.yaw -= d.x * 0.01;

@@ -110,6 +110,8 @@ pub struct AppUi {
     recent: Vec<PathBuf>,
     /// Where the contact map was drawn last frame.
     map_transform: Option<egui_plot::PlotTransform>,
+    /// The screen's pixels per point, as of the last frame.
+    pixels_per_point: f32,
 }
 
 /// Files kept in the recent list.
@@ -161,6 +163,7 @@ impl AppUi {
             base,
             recent: Vec::new(),
             map_transform: None,
+            pixels_per_point: 1.0,
         }
     }
 
@@ -264,7 +267,7 @@ impl AppUi {
                     }
                 });
         }
-        egui::CentralPanel::no_frame().show(ui, |ui| self.scene_ui(ui));
+        egui::CentralPanel::no_frame().show(ui, |ui| self.scene_ui(ui, status, &mut actions));
         actions
     }
 }

@@ -27,7 +27,7 @@ use crate::scene::SceneSetup;
 use crate::sim::Snapshot;
 
 mod body;
-mod layout;
+pub mod layout;
 mod panels;
 
 use body::field_max;
