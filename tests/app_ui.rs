@@ -462,3 +462,64 @@ fn a_click_on_the_poincare_sphere_restarts_from_that_orientation_on_the_boundary
     let (text, is_error) = bench.ui.notice().cloned().unwrap();
     assert!(!is_error && text.contains("∂Ω"), "{text}");
 }
+
+#[test]
+fn a_shift_drag_turns_the_body_about_the_ramp_normal_and_restarts_there() {
+    use glam::DQuat;
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 1.0);
+    bench.sim.send(SimCommand::Pause);
+    let paused = frames_until(&mut bench, &gpu, &target, vec![], |s| s.paused);
+    let q_before: DQuat = paused.snapshot.pose.rotation;
+    // Drag 100 points to the right in the 3D view with Shift held.
+    let frame = bench.run_ui(offscreen_input(SIZE, now(), vec![]), SIZE);
+    let [x, y, w, h] = frame.scene_rect;
+    let start = egui::pos2((x + w / 3) as f32, (y + h / 2) as f32);
+    let shift = egui::Modifiers::SHIFT;
+    let mut frame_with = |events: Vec<egui::Event>| {
+        let input = offscreen_input(SIZE, now(), events);
+        let frame = bench.run_ui(input, SIZE);
+        bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+    };
+    frame_with(vec![
+        egui::Event::ModifiersChanged(shift),
+        egui::Event::PointerMoved(start),
+        egui::Event::PointerButton {
+            pos: start,
+            button: egui::PointerButton::Primary,
+            pressed: true,
+            modifiers: shift,
+        },
+    ]);
+    for k in 1..=10 {
+        frame_with(vec![egui::Event::PointerMoved(
+            start + egui::vec2(10.0 * k as f32, 0.0),
+        )]);
+    }
+    let end = start + egui::vec2(100.0, 0.0);
+    frame_with(vec![egui::Event::PointerButton {
+        pos: end,
+        button: egui::PointerButton::Primary,
+        pressed: false,
+        modifiers: shift,
+    }]);
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.run_id == 1);
+    let [qw, qx, qy, qz] = s.setup.scene.initial.q0.expect("an orientation start");
+    let q_after = DQuat::from_xyzw(qx, qy, qz, qw);
+    // The turn is about the ramp normal z only, by about 100 points × 0.01 rad.
+    let (axis, angle) = (q_after * q_before.inverse()).to_axis_angle();
+    let angle = if axis.z < 0.0 { -angle } else { angle };
+    assert!(
+        axis.z.abs() > 1.0 - 1e-9 && (0.8..=1.05).contains(&angle),
+        "axis {axis:?}, angle {angle}"
+    );
+    // The same body point touches the ramp, and the camera did not orbit.
+    let first = Simulation::new((*s.setup).clone()).snapshot();
+    assert!(
+        (first.contact_in_body - paused.snapshot.contact_in_body).length() < 1e-6,
+        "{:?} vs {:?}",
+        first.contact_in_body,
+        paused.snapshot.contact_in_body
+    );
+    assert_eq!(bench.ui.view_options.yaw, 0.0);
+}

@@ -245,6 +245,31 @@ impl AppUi {
         }
     }
 
+    /// Restarts the run with the body as it is now turned by `angle` about the ramp normal
+    /// (shift-drag in the 3D view): the contact point stays, and the body is released from
+    /// rest with the current α, m/m0, integrator and speed.
+    fn restart_turned(&mut self, angle: f64, status: &SimStatus, actions: &mut Vec<UiAction>) {
+        let q = glam::DQuat::from_rotation_z(angle) * status.snapshot.pose.rotation;
+        let mut scene = self.current_scene(status);
+        scene.initial = crate::scene::InitialSpec {
+            q0: Some([q.w, q.x, q.y, q.z]),
+            ..crate::scene::InitialSpec::default()
+        };
+        match scene.setup(self.base.as_deref()) {
+            Ok(setup) => {
+                self.notice = Some((
+                    format!(
+                        "restarted at t = 0, turned by {:.0}° about the ramp normal",
+                        angle.to_degrees()
+                    ),
+                    false,
+                ));
+                actions.push(UiAction::Sim(SimCommand::Restart(Box::new(setup))));
+            }
+            Err(e) => self.notice = Some((e.to_string(), true)),
+        }
+    }
+
     /// Where body point (θ, φ) is drawn on the contact map (screen points), if the map is shown:
     /// for tests and scripted demos, which click there.
     pub fn map_position(&self, theta: f64, phi: f64) -> Option<egui::Pos2> {
@@ -342,6 +367,24 @@ impl AppUi {
         self.scene_rect = Some(rect);
         self.pixels_per_point = ui.ctx().pixels_per_point();
         let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
+        // Shift-drag turns a 3D body about the ramp normal; the run restarts from the turned
+        // orientation when the drag ends.
+        let disk = status.snapshot.theta.is_some();
+        let turning = ui.input(|i| i.modifiers.shift) && !disk;
+        if response.dragged() && turning {
+            self.turn += response.drag_delta().x * 0.01;
+            self.notice = Some((
+                format!(
+                    "turning the body by {:.0}° about the ramp normal (release to restart)",
+                    self.turn.to_degrees()
+                ),
+                false,
+            ));
+        }
+        if response.drag_stopped() && self.turn != 0.0 {
+            let angle = std::mem::take(&mut self.turn) as f64;
+            self.restart_turned(angle, status, actions);
+        }
         // A click on the Poincaré sphere starts from that orientation on ∂Ω.
         if response.clicked()
             && let Some(pos) = response.interact_pointer_pos()
@@ -349,7 +392,7 @@ impl AppUi {
         {
             self.restart_from_boundary(p, status, actions);
         }
-        if response.dragged() {
+        if response.dragged() && !turning {
             let d = response.drag_delta();
             self.view_options.yaw -= d.x * 0.01;
             self.view_options.pitch = (self.view_options.pitch + d.y * 0.01).clamp(-1.2, 1.2);

@@ -112,6 +112,8 @@ pub struct AppUi {
     map_transform: Option<egui_plot::PlotTransform>,
     /// The screen's pixels per point, as of the last frame.
     pixels_per_point: f32,
+    /// The turn about the ramp normal of a shift-drag in progress (radians).
+    turn: f32,
 }
 
 /// Files kept in the recent list.
@@ -164,6 +166,7 @@ impl AppUi {
             recent: Vec::new(),
             map_transform: None,
             pixels_per_point: 1.0,
+            turn: 0.0,
         }
     }
 
