@@ -37,11 +37,12 @@ fn key(k: egui::Key) -> Vec<egui::Event> {
     }]
 }
 
-/// egui's input time, which must never go backwards, also across calls: one clock for the
-/// process.
+/// egui's input time: one frame of 1/60 s per call, never going backwards. A virtual clock,
+/// not the wall clock, so a press and the release on the next frame are always a click: on a
+/// loaded machine two frames can be further apart than egui's longest click.
 fn now() -> f64 {
-    static CLOCK: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
-    CLOCK.get_or_init(Instant::now).elapsed().as_secs_f64()
+    static FRAMES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    FRAMES.fetch_add(1, std::sync::atomic::Ordering::Relaxed) as f64 / 60.0
 }
 
 /// Runs UI frames (painting each) until `done` holds for the status.
@@ -366,32 +367,40 @@ fn a_dropped_file_loads_and_a_bad_one_leaves_the_scene_running_with_a_message() 
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn a_click_on_the_curvature_map_restarts_from_that_contact_point() {
-    let (gpu, target, mut bench) = app("sphere-cruising");
-    frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 1.0);
-    let (theta, phi) = (1.2, -0.7);
-    // A few frames for the layout to settle (the panels size themselves on the first ones).
+/// A few frames for the layout to settle (the panels size themselves on the first ones).
+fn settle_layout(bench: &mut Workbench, gpu: &GpuContext, target: &OffscreenTarget) {
     for _ in 0..5 {
-        frames_until(&mut bench, &gpu, &target, vec![], |_| true);
+        frames_until(bench, gpu, target, vec![], |_| true);
     }
-    let pos = bench.ui.map_position(theta, phi).expect("the map is drawn");
+}
+
+/// A primary click at `pos` (press, then release on the next frame); returns the status once
+/// the run it starts is there.
+fn click_until_restart(
+    bench: &mut Workbench,
+    gpu: &GpuContext,
+    target: &OffscreenTarget,
+    pos: egui::Pos2,
+) -> SimStatus {
     let button = |pressed| egui::Event::PointerButton {
         pos,
         button: egui::PointerButton::Primary,
         pressed,
         modifiers: egui::Modifiers::NONE,
     };
-    frames_until(
-        &mut bench,
-        &gpu,
-        &target,
-        vec![egui::Event::PointerMoved(pos), button(true)],
-        |_| true,
-    );
-    let s = frames_until(&mut bench, &gpu, &target, vec![button(false)], |s| {
-        s.run_id == 1
-    });
+    let press = vec![egui::Event::PointerMoved(pos), button(true)];
+    frames_until(bench, gpu, target, press, |_| true);
+    frames_until(bench, gpu, target, vec![button(false)], |s| s.run_id == 1)
+}
+
+#[test]
+fn a_click_on_the_curvature_map_restarts_from_that_contact_point() {
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 1.0);
+    let (theta, phi) = (1.2, -0.7);
+    settle_layout(&mut bench, &gpu, &target);
+    let pos = bench.ui.map_position(theta, phi).expect("the map is drawn");
+    let s = click_until_restart(&mut bench, &gpu, &target, pos);
     // The same scene (same body, α, speed), a new run from the clicked body point.
     assert_eq!(s.scene_id, 0);
     assert_eq!(s.snapshot.alpha_rad, 0.3);
@@ -417,9 +426,7 @@ fn a_click_on_the_poincare_sphere_restarts_from_that_orientation_on_the_boundary
     use glam::DVec3;
     let (gpu, target, mut bench) = app("sphere-two-orbits");
     frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 1.0);
-    for _ in 0..5 {
-        frames_until(&mut bench, &gpu, &target, vec![], |_| true);
-    }
+    settle_layout(&mut bench, &gpu, &target);
     // A boundary point on the side of the sphere that faces the viewer.
     let eye = DVec3::new(1.3, -2.2, 1.2).normalize();
     let p = (eye + DVec3::new(0.4, 0.3, 0.2)).normalize();
@@ -428,22 +435,7 @@ fn a_click_on_the_poincare_sphere_restarts_from_that_orientation_on_the_boundary
         .ui
         .poincare_position(p, &status)
         .expect("the Poincaré sphere is drawn");
-    let button = |pressed| egui::Event::PointerButton {
-        pos,
-        button: egui::PointerButton::Primary,
-        pressed,
-        modifiers: egui::Modifiers::NONE,
-    };
-    frames_until(
-        &mut bench,
-        &gpu,
-        &target,
-        vec![egui::Event::PointerMoved(pos), button(true)],
-        |_| true,
-    );
-    let s = frames_until(&mut bench, &gpu, &target, vec![button(false)], |s| {
-        s.run_id == 1
-    });
+    let s = click_until_restart(&mut bench, &gpu, &target, pos);
     assert_eq!(s.scene_id, 0);
     let [w, x, y, z] = s.setup.scene.initial.q0.expect("an orientation start");
     assert_eq!(w, 0.0, "a point of ∂Ω is a half turn");

@@ -157,19 +157,29 @@ impl AppUi {
         status: &SimStatus,
         actions: &mut Vec<UiAction>,
     ) {
-        let mut scene = self.current_scene(status);
-        scene.initial = crate::scene::InitialSpec {
+        let initial = crate::scene::InitialSpec {
             contact: Some([theta, phi]),
             ..crate::scene::InitialSpec::default()
         };
+        let said = format!("with body point θ = {theta:.3}, φ = {phi:.3} on the ramp");
+        self.restart_from(initial, &said, status, actions);
+    }
+
+    /// Restarts the run of the current scene (live α, m/m0, integrator, speed) from `initial`,
+    /// as a new run of the same scene; the notice says "restarted at t = 0 {said}", or why the
+    /// start was refused.
+    fn restart_from(
+        &mut self,
+        initial: crate::scene::InitialSpec,
+        said: &str,
+        status: &SimStatus,
+        actions: &mut Vec<UiAction>,
+    ) {
+        let mut scene = self.current_scene(status);
+        scene.initial = initial;
         match scene.setup(self.base.as_deref()) {
             Ok(setup) => {
-                self.notice = Some((
-                    format!(
-                        "restarted at t = 0 with body point θ = {theta:.3}, φ = {phi:.3} on the ramp"
-                    ),
-                    false,
-                ));
+                self.notice = Some((format!("restarted at t = 0 {said}"), false));
                 actions.push(UiAction::Sim(SimCommand::Restart(Box::new(setup))));
             }
             Err(e) => self.notice = Some((e.to_string(), true)),
@@ -225,24 +235,12 @@ impl AppUi {
         status: &SimStatus,
         actions: &mut Vec<UiAction>,
     ) {
-        let mut scene = self.current_scene(status);
-        scene.initial = crate::scene::InitialSpec {
+        let initial = crate::scene::InitialSpec {
             q0: Some([0.0, p.x, p.y, p.z]),
             ..crate::scene::InitialSpec::default()
         };
-        match scene.setup(self.base.as_deref()) {
-            Ok(setup) => {
-                self.notice = Some((
-                    format!(
-                        "restarted at t = 0 from q = (0, {:.3}, {:.3}, {:.3}) on ∂Ω",
-                        p.x, p.y, p.z
-                    ),
-                    false,
-                ));
-                actions.push(UiAction::Sim(SimCommand::Restart(Box::new(setup))));
-            }
-            Err(e) => self.notice = Some((e.to_string(), true)),
-        }
+        let said = format!("from q = (0, {:.3}, {:.3}, {:.3}) on ∂Ω", p.x, p.y, p.z);
+        self.restart_from(initial, &said, status, actions);
     }
 
     /// Restarts the run with the body as it is now turned by `angle` about the ramp normal
@@ -250,24 +248,12 @@ impl AppUi {
     /// rest with the current α, m/m0, integrator and speed.
     fn restart_turned(&mut self, angle: f64, status: &SimStatus, actions: &mut Vec<UiAction>) {
         let q = glam::DQuat::from_rotation_z(angle) * status.snapshot.pose.rotation;
-        let mut scene = self.current_scene(status);
-        scene.initial = crate::scene::InitialSpec {
+        let initial = crate::scene::InitialSpec {
             q0: Some([q.w, q.x, q.y, q.z]),
             ..crate::scene::InitialSpec::default()
         };
-        match scene.setup(self.base.as_deref()) {
-            Ok(setup) => {
-                self.notice = Some((
-                    format!(
-                        "restarted at t = 0, turned by {:.0}° about the ramp normal",
-                        angle.to_degrees()
-                    ),
-                    false,
-                ));
-                actions.push(UiAction::Sim(SimCommand::Restart(Box::new(setup))));
-            }
-            Err(e) => self.notice = Some((e.to_string(), true)),
-        }
+        let said = format!("turned by {:.0}° about the ramp normal", angle.to_degrees());
+        self.restart_from(initial, &said, status, actions);
     }
 
     /// Where body point (θ, φ) is drawn on the contact map (screen points), if the map is shown:
