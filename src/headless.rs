@@ -179,6 +179,12 @@ pub fn write_frames(
     )
 }
 
+/// The open writer behind a [`FrameSink`].
+enum Frames<'a> {
+    Pngs(PngWriter, &'a Path),
+    Clip(ClipWriter),
+}
+
 /// Renders `frames` frames of `setup` at `size` into `sink`.
 pub fn render_to(
     setup: SceneSetup,
@@ -192,13 +198,14 @@ pub fn render_to(
         bail!("--frames 0 renders nothing (needs at least 1)");
     }
     let fps = setup.scene.playback.fps;
-    let mut clip = match sink {
+    // PNG files in a folder (written by a pool of threads), or one clip.
+    let mut writer = match sink {
         FrameSink::Pngs(out) => {
             std::fs::create_dir_all(out)
                 .with_context(|| format!("cannot create the output folder {}", out.display()))?;
-            None
+            Frames::Pngs(PngWriter::new(2), out)
         }
-        FrameSink::Clip(kind, path) => Some(ClipWriter::new(kind, path, size, fps)?),
+        FrameSink::Clip(kind, path) => Frames::Clip(ClipWriter::new(kind, path, size, fps)?),
     };
     let model_note = setup.model_note.clone();
     let mut hr = HeadlessRenderer::new(setup, size, sample_count)?;
@@ -226,26 +233,20 @@ pub fn render_to(
         bar.set_position(0);
     }
     bar.set_message("rendering");
-    match (&mut clip, sink) {
-        (Some(c), _) => {
-            for k in 0..frames {
-                c.push(hr.frame(k)?)?;
-                bar.inc(1);
-            }
+    for k in 0..frames {
+        let image = hr.frame(k)?;
+        match &mut writer {
+            Frames::Clip(clip) => clip.push(image)?,
+            Frames::Pngs(pngs, out) => pngs.write(out.join(frame_name(k)), image)?,
         }
-        (None, FrameSink::Pngs(out)) | (None, FrameSink::Clip(_, out)) => {
-            let writer = PngWriter::new(2);
-            for k in 0..frames {
-                let image = hr.frame(k)?;
-                writer.write(out.join(frame_name(k)), image)?;
-                bar.inc(1);
-            }
-            writer.close()?;
-        }
+        bar.inc(1);
     }
-    if let Some(c) = clip {
-        bar.set_message("finishing the clip");
-        c.finish()?;
+    match writer {
+        Frames::Clip(clip) => {
+            bar.set_message("finishing the clip");
+            clip.finish()?;
+        }
+        Frames::Pngs(pngs, _) => pngs.close()?,
     }
     bar.finish_and_clear();
     Ok(HeadlessReport {
