@@ -53,6 +53,18 @@ pub const PRESETS: &[(&str, &str)] = &[
         "poincare-field",
         include_str!("../assets/scenes/poincare-field.toml"),
     ),
+    (
+        "lesson-critical-angle",
+        include_str!("../assets/scenes/lesson-critical-angle.toml"),
+    ),
+    (
+        "lesson-inertia-hysteresis",
+        include_str!("../assets/scenes/lesson-inertia-hysteresis.toml"),
+    ),
+    (
+        "lesson-period-doubling",
+        include_str!("../assets/scenes/lesson-period-doubling.toml"),
+    ),
 ];
 
 /// DejaVu Sans, for chart labels (`plot`) and the headless text overlay (`render::overlay`).

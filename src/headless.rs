@@ -2,9 +2,11 @@
 //! `rollphase --headless --frames N`. Never creates a window or an event loop, so it runs with
 //! no display; with no GPU it renders on Mesa's llvmpipe (GL backend).
 //!
-//! Frame k shows simulation time `start_time + k · speed / fps`; the Poincaré field, when
-//! shown, is computed before the first frame. So the same scene and size give the same pixels
-//! on every run, whatever the machine's load. PNG encoding runs on a writer thread, off the
+//! Frame k shows simulation time `start_time + k · speed / fps` (with a lesson's speed steps,
+//! [`SceneSetup::frame_time`] walks them); the Poincaré field, when shown, is computed before
+//! the frame that first needs it (again after a lesson step changes α or m/m0). So the same
+//! scene and size give the same pixels on every run, whatever the machine's load. A lesson's
+//! steps change the views and the caption as the simulation reaches them. PNG encoding runs on a writer thread, off the
 //! render loop.
 
 use std::path::Path;
@@ -15,6 +17,7 @@ use image::RgbaImage;
 
 use crate::analysis::sphere_orbits::FieldArrow;
 use crate::clip::{ClipKind, ClipWriter};
+use crate::dynamics::Ramp;
 use crate::png::{PngWriter, frame_name};
 use crate::render::gpu::OffscreenTarget;
 use crate::render::{GpuContext, Renderer};
@@ -36,7 +39,9 @@ pub struct HeadlessRenderer {
     target: OffscreenTarget,
     view: SceneView,
     sim: Simulation,
-    field: Option<Arc<Vec<FieldArrow>>>,
+    fields: FieldCache,
+    /// The field drawn, and the ramp it belongs to.
+    field: Option<(Ramp, Arc<Vec<FieldArrow>>)>,
     options: ViewOptions,
 }
 
@@ -68,25 +73,33 @@ impl HeadlessRenderer {
         );
         let target = OffscreenTarget::new(&gpu.device, size);
         let view = SceneView::new(&mut renderer, &setup);
-        let field = if setup.scene.views.poincare {
-            Some(
-                FieldCache::default()
-                    .get_blocking(&setup, &setup.ramp)
-                    .map_err(|e| anyhow!("computing the Poincaré field failed: {e}"))?,
-            )
-        } else {
-            None
-        };
         let sim = Simulation::new(setup);
-        Ok(Self {
+        let mut renderer = Self {
             gpu,
             renderer,
             target,
             view,
             sim,
-            field,
+            fields: FieldCache::default(),
+            field: None,
             options: ViewOptions::default(),
-        })
+        };
+        renderer.update_field()?;
+        Ok(renderer)
+    }
+
+    /// Computes the Poincaré field if it is shown and not yet computed for the current ramp.
+    fn update_field(&mut self) -> Result<()> {
+        let ramp = self.sim.ramp();
+        let shown = self.sim.setup().scene.views.poincare;
+        if shown && self.field.as_ref().is_none_or(|(r, _)| *r != ramp) {
+            let arrows = self
+                .fields
+                .get_blocking(self.sim.setup(), &ramp)
+                .map_err(|e| anyhow!("computing the Poincaré field failed: {e}"))?;
+            self.field = Some((ramp, arrows));
+        }
+        Ok(())
     }
 
     /// The adapter in use, e.g. "llvmpipe (LLVM 15.0.6, 256 bits) (Gl, Cpu)".
@@ -108,14 +121,17 @@ impl HeadlessRenderer {
 
     /// Advances the simulation to frame `k`'s time and submits its drawing; does not wait.
     pub fn draw(&mut self, k: u64) -> Result<()> {
-        let t = self.sim.setup().scene.playback.frame_time(k);
+        let t = self.sim.setup().frame_time(k);
         self.sim
             .advance_to(t)
             .with_context(|| format!("simulating frame {k} (t = {t})"))?;
+        self.update_field()?;
         let snap = self.sim.snapshot();
+        let v = &snap.views;
+        self.view.set_views(v.body, v.ball, v.poincare, v.overlay);
         let frame = self.view.frame(
             &snap,
-            self.field.as_deref().map(|v| v.as_slice()),
+            self.field.as_ref().map(|(_, arrows)| arrows.as_slice()),
             self.target.size,
             &self.options,
         );
@@ -221,7 +237,7 @@ pub fn render_to(
     // The scene's start_time is simulated before frame 0; a long one (start_time = 1e6) shows
     // its progress in 100 slices instead of a silent wait. Short ones (every preset) run in one
     // piece, so their frames are exactly those of the app and the tests.
-    let start = hr.simulation().setup().scene.playback.frame_time(0);
+    let start = hr.simulation().setup().frame_time(0);
     if start > LONG_START_TIME {
         bar.set_length(100);
         bar.set_message(format!("simulating to t = {start}"));

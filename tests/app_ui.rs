@@ -515,3 +515,91 @@ fn a_shift_drag_turns_the_body_about_the_ramp_normal_and_restarts_there() {
     );
     assert_eq!(bench.ui.view_options.yaw, 0.0);
 }
+
+#[test]
+fn a_lessons_steps_apply_at_their_times_and_the_keys_move_between_them() {
+    // A short lesson on the near-critical cylinder: α steps at t = 3, 6 and 9, with captions,
+    // played at 5 time units per second.
+    let text = Scene::preset("cylinder-near-critical").unwrap().to_toml()
+        + r#"
+[[timeline]]
+at = 0.0
+caption = "first"
+[[timeline]]
+at = 3.0
+alpha_over_critical = 1.5
+caption = "second"
+[[timeline]]
+at = 6.0
+alpha_over_critical = 2.0
+[[timeline]]
+at = 9.0
+alpha_over_critical = 3.0
+caption = ""
+"#;
+    let mut scene = Scene::from_toml(&text).unwrap();
+    scene.playback.speed = 5.0;
+    let setup = scene.setup(None).unwrap();
+    let alpha_star = setup.alpha_star;
+    let gpu = GpuContext::headless().unwrap();
+    let target = OffscreenTarget::new(&gpu.device, SIZE);
+    let mut bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None);
+    let steps = [
+        (0.0, 1.02, Some("first")),
+        (3.0, 1.5, Some("second")),
+        (6.0, 2.0, Some("second")),
+        (9.0, 3.0, None),
+    ];
+    // Every status the UI sees while playing is consistent with the step times: the steps
+    // done are exactly those at or before its time, with their α and caption.
+    let seen = std::cell::RefCell::new(std::collections::BTreeSet::new());
+    frames_until(&mut bench, &gpu, &target, vec![], |s| {
+        let snap = &s.snapshot;
+        let done = steps.iter().filter(|(at, _, _)| *at <= snap.t).count();
+        let lesson = snap.lesson.expect("a lesson");
+        assert_eq!(lesson.done, done, "at t = {}", snap.t);
+        let (_, factor, caption) = steps[done - 1];
+        assert!(
+            (snap.alpha_rad - factor * alpha_star).abs() < 1e-12,
+            "at t = {}",
+            snap.t
+        );
+        assert_eq!(snap.caption.as_deref(), caption, "at t = {}", snap.t);
+        seen.borrow_mut().insert(done);
+        snap.t > 10.0
+    });
+    assert!(seen.borrow().len() >= 3, "saw steps {:?}", seen.borrow());
+    // The α slider follows the steps.
+    frames_until(&mut bench, &gpu, &target, vec![], |_| true);
+    assert!((bench.ui.alpha() - 3.0 * alpha_star).abs() < 1e-12);
+
+    // B (or Page Up) goes back to the start of the step before the current one: step 3 at
+    // t = 6, from a fresh run; N (or Page Down) goes on to the next step's time.
+    let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::Space), |s| {
+        s.paused
+    });
+    let run = s.run_id;
+    let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::B), |s| {
+        s.run_id == run + 1
+    });
+    assert_eq!(s.snapshot.t, 6.0);
+    assert_eq!(s.snapshot.lesson.unwrap().done, 3);
+    let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::PageUp), |s| {
+        s.run_id == run + 2
+    });
+    assert_eq!(s.snapshot.t, 3.0);
+    frames_until(&mut bench, &gpu, &target, vec![], |_| true);
+    assert!(
+        (bench.ui.alpha() - 1.5 * alpha_star).abs() < 1e-12,
+        "the slider follows back"
+    );
+    let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::N), |s| {
+        s.snapshot.t == 6.0
+    });
+    assert_eq!(s.snapshot.lesson.unwrap().done, 3);
+    let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::PageDown), |s| {
+        s.snapshot.t == 9.0
+    });
+    assert_eq!(s.snapshot.lesson.unwrap().next_at, None);
+    assert!(s.paused, "jumping does not start a paused lesson");
+}

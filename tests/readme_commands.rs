@@ -84,7 +84,7 @@ fn the_default_sixty_frames_show_a_whole_orbit() {
     use rollphase::scene::{DEFAULT_PRESET, Scene};
     use rollphase::sim::Simulation;
     let setup = Scene::preset(DEFAULT_PRESET).unwrap().setup(None).unwrap();
-    let t_last = setup.scene.playback.frame_time(59);
+    let t_last = setup.frame_time(59);
     let mut sim = Simulation::new(setup);
     sim.advance_to(t_last).unwrap();
     let snap = sim.snapshot();

@@ -72,6 +72,40 @@ fn headless_reads_a_scene_file() {
 }
 
 #[test]
+fn frames_all_renders_a_lesson_up_to_its_end_through_its_speed_steps() {
+    let dir = temp("lesson");
+    let scene = dir.join("lesson.toml");
+    // 1 s of video at speed 6, then 0.5 s at speed 60 up to end_time = 36: 46 frames at 30 fps.
+    std::fs::write(
+        &scene,
+        "name = \"short\"\n[body]\nperfect = \"disk\"\n[model]\nalpha_rad = 0.3\n\
+         [playback]\nspeed = 6.0\nend_time = 36.0\n\
+         [[timeline]]\nat = 6.0\nspeed = 60.0\ncaption = \"faster\"\n",
+    )
+    .unwrap();
+    let out = dir.join("f");
+    let o = rollphase(&[
+        "--headless",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--frames",
+        "all",
+        "--size",
+        "64x64",
+        "--msaa",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let said = String::from_utf8_lossy(&o.stdout);
+    assert!(said.contains("wrote 46 frame(s)"), "{said}");
+    assert!(said.contains("t = 0 … 36.000"), "{said}");
+    assert!(out.join("frame_00045.png").exists());
+    assert!(!out.join("frame_00046.png").exists());
+}
+
+#[test]
 fn bad_render_input_is_refused_with_the_reason() {
     let cases: &[(&[&str], &[&str])] = &[
         (
@@ -84,6 +118,14 @@ fn bad_render_input_is_refused_with_the_reason() {
             &["no preset named \"nope\"", "sphere-cruising"],
         ),
         (&["--headless", "--frames", "0"], &["--frames 0"]),
+        (
+            &["--headless", "--frames", "abc"],
+            &["--frames \"abc\"", "`all`"],
+        ),
+        (
+            &["--headless", "--frames", "all"],
+            &["sphere-cruising sets none", "playback.end_time"],
+        ),
         (
             &["--headless", "--scene", "/nonexistent/s.toml"],
             &["/nonexistent/s.toml"],

@@ -1,5 +1,5 @@
 //! Least-squares fits used by the figures: straight lines with standard errors, and power laws
-//! y = c·x^β as lines in log–log coordinates.
+//! y = c·x^β as lines in log–log coordinates, and the viscous period law near α*.
 
 use serde::Serialize;
 
@@ -66,6 +66,24 @@ pub fn power_law(points: &[(f64, f64)]) -> Option<LineFit> {
         .map(|(x, y)| (x.ln(), y.ln()))
         .collect();
     line(&logs)
+}
+
+/// The period law near the critical angle, T = a/√(α − α*) + b (SI §1B: the bottleneck time
+/// diverges like (α − α*)^−½, the rest of a turn stays finite), fitted by least squares in
+/// (1/√(α − α*), T) to the rolling points (α, 1/T) with α* < α ≤ 1.2 α* (further out the
+/// bottleneck no longer dominates a turn). Returns (a, b);
+/// `None` with fewer than 3 such points or a fit that does not diverge (a ≤ 0).
+pub fn sqrt_law(points: &[[f64; 2]], alpha_star: f64) -> Option<(f64, f64)> {
+    let pairs: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|[alpha, rate]| *alpha > alpha_star && *alpha <= 1.2 * alpha_star && *rate > 0.0)
+        .map(|[alpha, rate]| (1.0 / (alpha - alpha_star).sqrt(), 1.0 / rate))
+        .collect();
+    if pairs.len() < 3 {
+        return None;
+    }
+    let fit = line(&pairs)?;
+    (fit.slope > 0.0).then_some((fit.slope, fit.intercept))
 }
 
 /// `n` logarithmically spaced values from `a` to `b` inclusive.

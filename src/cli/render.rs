@@ -17,9 +17,10 @@ pub struct RenderArgs {
     /// Render PNG frames offscreen instead of opening a window (no display or GPU needed).
     #[arg(long)]
     pub headless: bool,
-    /// Number of frames to write (--headless).
-    #[arg(long, default_value_t = 1)]
-    pub frames: u64,
+    /// Number of frames to write (--headless), or `all`: up to the scene's end
+    /// (playback.end_time; every lesson preset has one).
+    #[arg(long, default_value = "1", value_parser = parse_frames)]
+    pub frames: FrameCount,
     /// Output folder for frame_00000.png … (--headless).
     #[arg(long, default_value = "frames")]
     pub out: PathBuf,
@@ -47,6 +48,34 @@ pub struct RenderArgs {
     /// Window only: the smoke-test flags.
     #[command(flatten)]
     pub window: crate::cli::app::WindowFlags,
+}
+
+/// How many frames `--frames` asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrameCount {
+    /// This many.
+    Count(u64),
+    /// Up to the scene's `playback.end_time`.
+    All,
+}
+
+impl Default for FrameCount {
+    fn default() -> Self {
+        FrameCount::Count(1)
+    }
+}
+
+/// Parses "120" or "all".
+pub fn parse_frames(s: &str) -> Result<FrameCount, String> {
+    let s = s.trim();
+    if s.eq_ignore_ascii_case("all") {
+        return Ok(FrameCount::All);
+    }
+    s.parse().map(FrameCount::Count).map_err(|_| {
+        format!(
+            "--frames {s:?} is not a number of frames (e.g. 120) or `all` (up to the scene's end)"
+        )
+    })
 }
 
 /// Parses "1280x720".
@@ -92,25 +121,45 @@ pub fn pick_scene(scene: Option<&Path>, preset: Option<&str>) -> Result<SceneSet
 
 /// `--headless`: writes the frames and says where.
 pub fn run_headless(a: &RenderArgs) -> Result<()> {
-    if !(1..=MAX_FRAMES).contains(&a.frames) {
-        bail!(
-            "--frames {} is not allowed (needs 1 ≤ frames ≤ {MAX_FRAMES}: 0 renders nothing, and \
-             {MAX_FRAMES} is over nine hours of video at 30 frames/s)",
-            a.frames
-        );
+    if let FrameCount::Count(n) = a.frames {
+        check_frames(n)?;
     }
     let setup = pick_scene(a.scene.as_deref(), a.preset.as_deref())?;
+    let frames = match a.frames {
+        FrameCount::Count(n) => n,
+        FrameCount::All => {
+            let n = setup.frames_to_end().with_context(|| {
+                format!(
+                    "--frames all renders up to the scene's end, and {} sets none: add \
+                     playback.end_time (a simulation time) to the scene, or give a number of frames",
+                    setup.scene.name
+                )
+            })?;
+            check_frames(n)?;
+            n
+        }
+    };
     #[cfg(not(feature = "render"))]
     {
-        let _ = setup;
+        let _ = (setup, frames);
         Err(super::missing_feature("render", "--headless"))
     }
     #[cfg(feature = "render")]
-    write_headless(a, setup)
+    write_headless(a, setup, frames)
+}
+
+fn check_frames(n: u64) -> Result<()> {
+    if !(1..=MAX_FRAMES).contains(&n) {
+        bail!(
+            "--frames {n} is not allowed (needs 1 ≤ frames ≤ {MAX_FRAMES}: 0 renders nothing, and \
+             {MAX_FRAMES} is over nine hours of video at 30 frames/s)"
+        );
+    }
+    Ok(())
 }
 
 #[cfg(feature = "render")]
-fn write_headless(a: &RenderArgs, setup: SceneSetup) -> Result<()> {
+fn write_headless(a: &RenderArgs, setup: SceneSetup, frames: u64) -> Result<()> {
     use crate::clip::ClipKind;
     use crate::headless::FrameSink;
     let name = setup.scene.name.clone();
@@ -137,7 +186,7 @@ fn write_headless(a: &RenderArgs, setup: SceneSetup) -> Result<()> {
         Some((kind, p)) => FrameSink::Clip(*kind, p),
         None => FrameSink::Pngs(&a.out),
     };
-    let report = crate::headless::render_to(setup, a.frames, a.size, a.msaa, sink, true)?;
+    let report = crate::headless::render_to(setup, frames, a.size, a.msaa, sink, true)?;
     if let Some(note) = &report.model_note {
         eprintln!("note: {note}");
     }

@@ -27,11 +27,23 @@ pub fn run(a: ScenesArgs) -> Result<()> {
     for (name, _) in PRESETS {
         let scene = Scene::preset(name)?;
         let mark = if *name == DEFAULT_PRESET {
-            " (default)"
+            " (default)".to_string()
+        } else if scene.timeline.is_empty() {
+            String::new()
         } else {
-            ""
+            let setup = scene.setup(None)?;
+            let video = setup
+                .frames_to_end()
+                .map(|f| format!(", {:.0} s of video", f as f64 / scene.playback.fps))
+                .unwrap_or_default();
+            format!(" ({} steps{video})", scene.timeline.len())
         };
         outln!("{name:width$}  {}{mark}", scene.description)?;
     }
+    outln!(
+        "\nLessons (lesson-*) play their [[timeline]] steps with captions. In the app: N or Page \
+         Down for the next step, B or Page Up for the previous one, Space to pause, C for class \
+         mode. Headless: `rollphase --headless --preset NAME --frames all --mp4 lesson.mp4`."
+    )?;
     Ok(())
 }

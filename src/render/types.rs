@@ -137,6 +137,8 @@ pub enum Anchor {
     BottomLeft(u32, u32),
     /// Bottom-right corner at (x, y) pixels from the target's bottom right.
     BottomRight(u32, u32),
+    /// Centred across the target, its bottom edge y pixels above the target's bottom.
+    BottomCentre(u32),
 }
 
 impl Anchor {
@@ -147,6 +149,9 @@ impl Anchor {
             Anchor::TopLeft(x, y) => (x as i64, y as i64),
             Anchor::TopRight(x, y) => (sw as i64 - w as i64 - x as i64, y as i64),
             Anchor::BottomLeft(x, y) => (x as i64, sh as i64 - h as i64 - y as i64),
+            Anchor::BottomCentre(y) => {
+                ((sw as i64 - w as i64) / 2, sh as i64 - h as i64 - y as i64)
+            }
             Anchor::BottomRight(x, y) => (
                 sw as i64 - w as i64 - x as i64,
                 sh as i64 - h as i64 - y as i64,

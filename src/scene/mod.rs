@@ -23,6 +23,9 @@
 //! speed = 4.0                        # simulation time per second of video
 //! [views]
 //! ball = true
+//! [[timeline]]                       # optional: a lesson's steps (see `timeline`)
+//! at = 10.0
+//! caption = "Now watch the contact point"
 //! ```
 
 use std::path::PathBuf;
@@ -35,7 +38,9 @@ use crate::integrate::Preset;
 pub use crate::assets::{BUNDLED_SHAPES, PRESETS};
 
 mod setup;
+mod timeline;
 pub use setup::{SceneError, SceneSetup, bundled_shape, load_scene_file};
+pub use timeline::{MAX_CAPTION_CHARS, MAX_STEPS, Step, TimelineSpec, ViewsChange};
 
 /// The preset shown when none is asked for.
 pub const DEFAULT_PRESET: &str = "sphere-cruising";
@@ -68,6 +73,9 @@ pub struct Scene {
     /// Resolution of the Poincaré field, used only when that view is on.
     #[serde(default)]
     pub poincare: PoincareSpec,
+    /// A lesson's steps (`[[timeline]]`), in increasing simulation time; see [`timeline`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub timeline: Vec<TimelineSpec>,
 }
 
 /// Where the body comes from: exactly one of the four fields.
@@ -209,6 +217,10 @@ pub struct PlaybackSpec {
     /// Simulation time of history kept in the trails.
     #[serde(default = "default_trail")]
     pub trail_time: f64,
+    /// Simulation time where the scene ends, if it has an end (a lesson): `--frames all`
+    /// renders up to it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub end_time: Option<f64>,
 }
 
 fn default_speed() -> f64 {
@@ -228,6 +240,7 @@ impl Default for PlaybackSpec {
             fps: default_fps(),
             start_time: 0.0,
             trail_time: default_trail(),
+            end_time: None,
         }
     }
 }

@@ -14,6 +14,7 @@ use glam::{DQuat, DVec3};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
+use super::timeline::Step;
 use super::{
     BodySpec, InitialSpec, IntegratorSpec, MethodName, PerfectBody, PlaybackSpec, PoincareSpec,
     Scene, ViewsSpec,
@@ -59,7 +60,7 @@ pub enum SceneError {
     UnknownPreset(String, String),
 }
 
-fn invalid(msg: impl Into<String>) -> SceneError {
+pub(super) fn invalid(msg: impl Into<String>) -> SceneError {
     SceneError::Invalid(msg.into())
 }
 
@@ -80,6 +81,8 @@ pub struct SceneSetup {
     pub method: Method,
     /// The body paired with its start.
     pub start: Start,
+    /// The lesson's steps, validated (empty for an ordinary scene).
+    pub timeline: Vec<Step>,
 }
 
 impl Scene {
@@ -158,6 +161,7 @@ impl Scene {
         self.playback.validate()?;
         self.views.validate(&body, &choice.ramp)?;
         self.poincare.validate()?;
+        let timeline = super::timeline::resolve(self, &body, alpha_star, choice.ramp, method)?;
         Ok(SceneSetup {
             scene: self.clone(),
             body,
@@ -166,6 +170,7 @@ impl Scene {
             model_note: choice.note,
             method,
             start,
+            timeline,
         })
     }
 }
@@ -340,7 +345,7 @@ impl IntegratorSpec {
 }
 
 impl PlaybackSpec {
-    fn validate(&self) -> Result<(), SceneError> {
+    pub(super) fn validate(&self) -> Result<(), SceneError> {
         let checks = [
             (
                 "speed",
@@ -374,17 +379,19 @@ impl PlaybackSpec {
                 )));
             }
         }
+        if let Some(end) = self.end_time
+            && !(end.is_finite() && end > self.start_time && end <= 1e6)
+        {
+            return Err(invalid(format!(
+                "playback.end_time = {end} is not allowed (needs start_time < end_time ≤ 1e6)"
+            )));
+        }
         Ok(())
-    }
-
-    /// Simulation time of frame `k` (frame 0 at `start_time`).
-    pub fn frame_time(&self, k: u64) -> f64 {
-        self.start_time + k as f64 * self.speed / self.fps
     }
 }
 
 impl ViewsSpec {
-    fn validate(&self, body: &Body, ramp: &Ramp) -> Result<(), SceneError> {
+    pub(super) fn validate(&self, body: &Body, ramp: &Ramp) -> Result<(), SceneError> {
         if !(self.body || self.ball || self.poincare) {
             return Err(invalid(
                 "views: turn on at least one of body, ball, poincare",
@@ -463,17 +470,5 @@ mod tests {
             let scene = Scene::preset(name).unwrap();
             assert_eq!(Scene::from_toml(&scene.to_toml()).unwrap(), scene);
         }
-    }
-
-    #[test]
-    fn frame_times_follow_the_playback_speed() {
-        let p = PlaybackSpec {
-            speed: 6.0,
-            fps: 30.0,
-            start_time: 10.0,
-            trail_time: 1.0,
-        };
-        assert_eq!(p.frame_time(0), 10.0);
-        assert!((p.frame_time(30) - 16.0).abs() < 1e-12);
     }
 }

@@ -34,6 +34,11 @@ pub enum SimCommand {
     Restart(Box<SceneSetup>),
     /// Turn views on or off (the SO(3) trail is recorded only while the ball is shown).
     SetViews(ViewsSpec),
+    /// A lesson: go on to its next step now (simulating up to it).
+    NextStep,
+    /// A lesson: go back to the start of the step before the current one (the run starts again
+    /// and is simulated up to there; a lesson has no way back in time otherwise).
+    PreviousStep,
     /// Panics inside the simulation: fault injection for the tests of [`SimThread`]'s panic
     /// path. The UI never sends it.
     #[doc(hidden)]
@@ -56,9 +61,13 @@ pub struct Controller {
 impl Controller {
     /// A controller running `setup` from its start, playing at the scene's speed.
     pub fn new(setup: SceneSetup) -> Self {
-        let speed = setup.scene.playback.speed;
+        let mut sim = Simulation::new(setup);
+        // A lesson's step at t = 0 may set the first speed.
+        let speed = sim
+            .take_speed_change()
+            .unwrap_or(sim.setup().scene.playback.speed);
         Self {
-            sim: Simulation::new(setup),
+            sim,
             paused: false,
             speed,
             message: None,
@@ -122,19 +131,42 @@ impl Controller {
                 self.paused = true;
                 let dt = self.speed / self.sim.setup().scene.playback.fps;
                 let t = self.sim.time() + dt;
-                self.sim.advance_to(t).map_err(|e| e.to_string())
+                self.advance(t)
             }
             SimCommand::Reset => {
-                self.sim = Simulation::new(self.sim.setup().clone());
+                self.sim = self.sim.restarted();
+                self.follow_lesson_speed();
                 Ok(())
+            }
+            SimCommand::NextStep => match self.sim.next_step_time() {
+                Some(at) => self.advance(at),
+                None => Err(self.no_step_message("next")),
+            },
+            SimCommand::PreviousStep => {
+                let done = self.sim.steps_done();
+                if self.sim.setup().timeline.is_empty() {
+                    Err(self.no_step_message("previous"))
+                } else {
+                    // The start of the step before the current one, or the lesson's start.
+                    let target = match done {
+                        0 | 1 => 0.0,
+                        n => self.sim.setup().timeline[n - 2].at,
+                    };
+                    self.sim = self.sim.restarted();
+                    let result = self.advance(target);
+                    self.follow_lesson_speed();
+                    result
+                }
             }
             SimCommand::Load(setup) => {
                 self.speed = setup.scene.playback.speed;
                 self.sim = Simulation::new(*setup);
+                self.follow_lesson_speed();
                 Ok(())
             }
             SimCommand::Restart(setup) => {
                 self.sim = Simulation::new(*setup);
+                self.follow_lesson_speed();
                 Ok(())
             }
             SimCommand::SetViews(views) => {
@@ -150,6 +182,33 @@ impl Controller {
     pub fn fail(&mut self, message: String) {
         self.paused = true;
         self.message = Some(message);
+    }
+
+    fn no_step_message(&self, which: &str) -> String {
+        if self.sim.setup().timeline.is_empty() {
+            "this scene has no lesson timeline ([[timeline]] steps); the lessons are in the \
+             Presets menu"
+                .into()
+        } else {
+            format!("the lesson has no {which} step")
+        }
+    }
+
+    /// A lesson plays at the speed its steps set, from where the run now is.
+    fn follow_lesson_speed(&mut self) {
+        self.sim.take_speed_change();
+        if !self.sim.setup().timeline.is_empty() {
+            self.speed = self.sim.setup().speed_at(self.sim.time());
+        }
+    }
+
+    /// Advances the simulation to `t` and takes over a speed a timeline step set on the way.
+    fn advance(&mut self, t: f64) -> Result<(), String> {
+        let result = self.sim.advance_to(t).map_err(|e| e.to_string());
+        if let Some(speed) = self.sim.take_speed_change() {
+            self.speed = speed;
+        }
+        result
     }
 
     fn set_ramp(&mut self, alpha_rad: f64, mass_ratio: f64) -> Result<(), String> {
@@ -169,8 +228,27 @@ impl Controller {
             return;
         }
         let before = self.sim.snapshot().health.rhs_evals;
-        let target = self.sim.time() + self.speed * wall_seconds;
-        match self.sim.advance_to(target) {
+        // A timeline step that changes the speed splits the tick: the wall time up to the step
+        // at the old speed, the rest at the new one (as the headless frame clock does).
+        let mut wall_left = wall_seconds;
+        let outcome = loop {
+            let t = self.sim.time();
+            let target = t + self.speed * wall_left;
+            // A step within rounding of the tick's end is reached in this tick, so a tick
+            // boundary that lands on a step time does not leave the rest of a tick unplayed.
+            let reach = target + 1e-12 * target.abs().max(1.0);
+            match self.sim.next_speed_step_time().filter(|&at| at <= reach) {
+                Some(at) => {
+                    let speed = self.speed;
+                    if let Err(e) = self.advance(at) {
+                        break Err(e);
+                    }
+                    wall_left = (wall_left - (at - t) / speed).max(0.0);
+                }
+                None => break self.advance(target),
+            }
+        };
+        match outcome {
             Ok(()) => {
                 let used = self.sim.snapshot().health.rhs_evals - before;
                 self.lagging = used > max_rhs_evals;

@@ -1,5 +1,6 @@
 //! [`Simulation`]: one scene advanced to a requested time and observed as a [`Snapshot`]; its
-//! model state, health figures and period bookkeeping.
+//! model state, health figures and period bookkeeping, and the scene's lesson timeline, whose
+//! steps it applies when its time reaches them (so the app and headless mode play a lesson alike).
 
 use crate::analysis::sphere_orbits::{Crossing, ball_point, late_cycle};
 use crate::dynamics::disk2d::pose;
@@ -9,7 +10,7 @@ use crate::dynamics::{
 use crate::geometry::{Body, Disk, Sphere};
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stepper};
-use crate::scene::{SceneSetup, ViewsSpec};
+use crate::scene::{SceneSetup, Step, ViewsSpec};
 use crate::simulate::{Model, choose_model};
 use glam::{DQuat, DVec3};
 use std::collections::VecDeque;
@@ -111,6 +112,23 @@ pub struct Snapshot {
     pub theta: Option<f64>,
     /// Numerical health.
     pub health: Health,
+    /// The views in force (the scene's, as changed by the user or the timeline).
+    pub views: ViewsSpec,
+    /// The lesson's caption in force, if any.
+    pub caption: Option<String>,
+    /// Where the lesson is; `None` for a scene without a timeline.
+    pub lesson: Option<LessonProgress>,
+}
+
+/// How far a lesson has got.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LessonProgress {
+    /// Steps applied so far.
+    pub done: usize,
+    /// Steps in the timeline.
+    pub steps: usize,
+    /// Simulation time of the next step, if one is left.
+    pub next_at: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -136,6 +154,13 @@ pub struct Simulation {
     health: Health,
     energy0: Option<f64>,
     track_ball: bool,
+    /// Timeline steps applied so far.
+    steps_done: usize,
+    caption: Option<String>,
+    /// A speed set by a timeline step, not yet taken by the player.
+    speed_change: Option<f64>,
+    /// The views when this run started (a lesson restarts with them).
+    start_views: ViewsSpec,
 }
 
 /// What a model gives the simulation at a state.
@@ -157,6 +182,7 @@ impl Simulation {
         let state = Model::new(&setup.start, &setup.ramp);
         let playback = &setup.scene.playback;
         let trail_dt = (playback.trail_time / 3000.0).clamp(0.01, 1.0);
+        let start_views = setup.scene.views.clone();
         let mut sim = Self {
             ramp: setup.ramp,
             method: setup.method,
@@ -170,11 +196,78 @@ impl Simulation {
             crossings: VecDeque::new(),
             health: Health::default(),
             energy0: None,
+            steps_done: 0,
+            caption: None,
+            speed_change: None,
+            start_views,
         };
         let o = observe(&sim.state, &sim.ramp);
         sim.energy0 = o.energy;
         sim.record(0.0, &o);
+        // Steps at t = 0 hold from the first frame; they were validated with the scene, so
+        // applying them cannot fail.
+        if let Err(e) = sim.advance_to(0.0) {
+            sim.caption = Some(e.to_string());
+        }
         sim
+    }
+
+    /// The same scene from its start again: a lesson with the views it started with, any other
+    /// scene with the views as they are now (the user's toggles survive a reset).
+    pub fn restarted(&self) -> Self {
+        let mut setup = self.setup.clone();
+        if !setup.timeline.is_empty() {
+            setup.scene.views = self.start_views.clone();
+        }
+        Self::new(setup)
+    }
+
+    /// Simulation time of the next timeline step, if one is left.
+    pub fn next_step_time(&self) -> Option<f64> {
+        self.setup.timeline.get(self.steps_done).map(|s| s.at)
+    }
+
+    /// Simulation time of the next timeline step that sets the playback speed.
+    pub fn next_speed_step_time(&self) -> Option<f64> {
+        self.setup.timeline[self.steps_done.min(self.setup.timeline.len())..]
+            .iter()
+            .find(|s| s.speed.is_some())
+            .map(|s| s.at)
+    }
+
+    /// Timeline steps applied so far.
+    pub fn steps_done(&self) -> usize {
+        self.steps_done
+    }
+
+    /// The playback speed the last applied timeline step set, once: the player (the app's
+    /// controller) takes it over from there.
+    pub fn take_speed_change(&mut self) -> Option<f64> {
+        self.speed_change.take()
+    }
+
+    fn apply_step(&mut self, step: &Step) -> Result<(), SimError> {
+        self.steps_done += 1;
+        if step.changes_model() {
+            let ramp = Ramp::with_drag(
+                step.alpha_rad.unwrap_or(self.ramp.alpha_rad),
+                step.mass_ratio.unwrap_or(self.ramp.mass_ratio),
+                self.ramp.drag,
+            )
+            .map_err(|e| SimError::Refused(format!("timeline step at t = {}: {e}", step.at)))?;
+            self.set_parameters(ramp, step.method.unwrap_or(self.method))?;
+        }
+        if let Some(change) = &step.views {
+            let views = change.applied_to(&self.setup.scene.views);
+            self.set_views(&views);
+        }
+        if step.speed.is_some() {
+            self.speed_change = step.speed;
+        }
+        if let Some(caption) = &step.caption {
+            self.caption = (!caption.is_empty()).then(|| caption.clone());
+        }
+        Ok(())
     }
 
     /// The scene this simulation runs.
@@ -229,8 +322,23 @@ impl Simulation {
         self.track_ball = views.ball && matches!(self.setup.body, Body::Sphere(_));
     }
 
-    /// Integrates from the current time to `t_target` (no-op if it is not later).
+    /// Integrates from the current time to `t_target`, applying the timeline steps on the way
+    /// at their times (a step at exactly `t_target` included). No-op if `t_target` is earlier.
     pub fn advance_to(&mut self, t_target: f64) -> Result<(), SimError> {
+        while let Some(step) = self
+            .setup
+            .timeline
+            .get(self.steps_done)
+            .filter(|s| s.at <= t_target)
+            .cloned()
+        {
+            self.integrate_to(step.at)?;
+            self.apply_step(&step)?;
+        }
+        self.integrate_to(t_target)
+    }
+
+    fn integrate_to(&mut self, t_target: f64) -> Result<(), SimError> {
         // NaN targets fall through here too: nothing to do.
         if t_target.partial_cmp(&self.t) != Some(std::cmp::Ordering::Greater) {
             return Ok(());
@@ -438,6 +546,13 @@ impl Simulation {
                 Model::SphereViscous { .. } | Model::SphereInertial { .. } => None,
             },
             health: self.health,
+            views: self.setup.scene.views.clone(),
+            caption: self.caption.clone(),
+            lesson: (!self.setup.timeline.is_empty()).then(|| LessonProgress {
+                done: self.steps_done,
+                steps: self.setup.timeline.len(),
+                next_at: self.next_step_time(),
+            }),
         }
     }
 }

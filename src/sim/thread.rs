@@ -187,7 +187,10 @@ impl SimWorker {
             for command in first.into_iter().chain(inbox.try_iter()) {
                 let restarts = matches!(
                     command,
-                    SimCommand::Reset | SimCommand::Load(_) | SimCommand::Restart(_)
+                    SimCommand::Reset
+                        | SimCommand::Load(_)
+                        | SimCommand::Restart(_)
+                        | SimCommand::PreviousStep
                 );
                 match &command {
                     SimCommand::Load(setup) => {

@@ -14,13 +14,24 @@ impl AppUi {
     pub(super) fn menu_ui(&mut self, ui: &mut egui::Ui, actions: &mut Vec<UiAction>) {
         egui::MenuBar::new().ui(ui, |ui| {
             ui.menu_button("Presets", |ui| {
-                for (name, text) in PRESETS {
-                    let description = Scene::from_toml(text)
-                        .map(|s| s.description)
-                        .unwrap_or_default();
-                    if ui.button(*name).on_hover_text(description).clicked() {
-                        self.load_preset(name, actions);
-                        ui.close();
+                // Scenes first, then the lessons (scenes with a [[timeline]]) under a heading.
+                let scenes: Vec<(&str, Scene)> = PRESETS
+                    .iter()
+                    .filter_map(|(name, text)| Some((*name, Scene::from_toml(text).ok()?)))
+                    .collect();
+                for lessons in [false, true] {
+                    if lessons {
+                        ui.separator();
+                        ui.label(RichText::new("Lessons (N / B: next / previous step)").weak());
+                    }
+                    for (name, scene) in scenes
+                        .iter()
+                        .filter(|(_, s)| s.timeline.is_empty() != lessons)
+                    {
+                        if ui.button(*name).on_hover_text(&scene.description).clicked() {
+                            self.load_preset(name, actions);
+                            ui.close();
+                        }
                     }
                 }
             });
@@ -50,6 +61,10 @@ impl AppUi {
         actions: &mut Vec<UiAction>,
     ) {
         let snap = &status.snapshot;
+        if snap.lesson.is_some() {
+            self.lesson_ui(ui, status, actions);
+            ui.separator();
+        }
         ui.heading("Playback");
         ui.horizontal(|ui| {
             let label = if status.paused { "Play" } else { "Pause" };
@@ -147,6 +162,39 @@ impl AppUi {
             };
             ui.label(RichText::new(text).color(color));
         }
+    }
+
+    /// The lesson's place, its caption, and buttons for the previous and next step.
+    fn lesson_ui(&mut self, ui: &mut egui::Ui, status: &SimStatus, actions: &mut Vec<UiAction>) {
+        let snap = &status.snapshot;
+        let Some(lesson) = snap.lesson else {
+            return;
+        };
+        ui.heading("Lesson");
+        let next = match lesson.next_at {
+            Some(at) => format!("next at t = {at}"),
+            None => "last step".into(),
+        };
+        ui.label(format!("step {} of {} ({next})", lesson.done, lesson.steps));
+        if let Some(caption) = &snap.caption {
+            ui.label(RichText::new(caption).strong());
+        }
+        ui.horizontal(|ui| {
+            if ui
+                .button("◀ Previous")
+                .on_hover_text("B or Page Up")
+                .clicked()
+            {
+                actions.push(UiAction::Sim(SimCommand::PreviousStep));
+            }
+            if ui
+                .add_enabled(lesson.next_at.is_some(), egui::Button::new("Next ▶"))
+                .on_hover_text("N or Page Down")
+                .clicked()
+            {
+                actions.push(UiAction::Sim(SimCommand::NextStep));
+            }
+        });
     }
 
     pub(super) fn status_ui(&self, ui: &mut egui::Ui, status: &SimStatus) {

@@ -31,6 +31,15 @@ impl AppUi {
         if pressed(Key::R) {
             actions.push(UiAction::Sim(SimCommand::Reset));
         }
+        // A presenter's clicker sends Page Down / Page Up.
+        if status.snapshot.lesson.is_some() {
+            if pressed(Key::N) || pressed(Key::PageDown) {
+                actions.push(UiAction::Sim(SimCommand::NextStep));
+            }
+            if pressed(Key::B) || pressed(Key::PageUp) {
+                actions.push(UiAction::Sim(SimCommand::PreviousStep));
+            }
+        }
         let faster = pressed(Key::Plus) || pressed(Key::Equals);
         let slower = pressed(Key::Minus);
         if faster || slower {

@@ -7,8 +7,9 @@
 //! thread, and reads the latest [`SimStatus`].
 //!
 //! Keys (as in MuJoCo's viewer): Space pause/play, → one step, R reset, + / − speed ×2 / ÷2,
-//! F follow camera, C class mode (large fonts, full screen), H hide the controls, P plots,
-//! Esc leaves class mode. Mouse on the 3D view: drag to orbit, wheel to zoom, double-click to
+//! F follow camera, C class mode (large fonts and caption, full screen), H hide the controls,
+//! P plots, Esc leaves class mode; in a lesson, N or Page Down the next step, B or Page Up the
+//! previous one (a presenter's clicker sends Page Down / Page Up). Mouse on the 3D view: drag to orbit, wheel to zoom, double-click to
 //! reset the camera.
 //!
 //! | file | owns |
@@ -114,6 +115,8 @@ pub struct AppUi {
     pixels_per_point: f32,
     /// The turn about the ramp normal of a shift-drag in progress (radians).
     turn: f32,
+    /// The lesson steps done as of the last status (the controls follow a step's changes).
+    seen_step: Option<usize>,
 }
 
 /// Files kept in the recent list.
@@ -167,6 +170,7 @@ impl AppUi {
             map_transform: None,
             pixels_per_point: 1.0,
             turn: 0.0,
+            seen_step: None,
         }
     }
 
@@ -196,14 +200,15 @@ impl AppUi {
             } else {
                 self.history.clear_run();
             }
-            let snap = &status.snapshot;
-            self.alpha = snap.alpha_rad;
-            self.inertial = snap.mass_ratio > 0.0;
-            if self.inertial {
-                self.mass_ratio = snap.mass_ratio;
-            }
-            self.speed = status.speed;
+            self.follow_values(status);
             self.seen_run = Some(run);
+        }
+        // A lesson step changed α, m/m0, the speed or the views: the controls show it. (Only
+        // then: following every status would pull a slider back while it is being dragged.)
+        let step = status.snapshot.lesson.map(|l| l.done);
+        if step != self.seen_step {
+            self.follow_values(status);
+            self.seen_step = step;
         }
         if self.map.as_ref().map(|m| m.0) != Some(status.scene_id)
             && let Some(scale) = scale
@@ -221,6 +226,18 @@ impl AppUi {
         }
         self.seen_message = status.message.clone();
         self.history.push(&status.snapshot);
+    }
+
+    /// Shows the simulation's α, m/m0, speed and views in the controls.
+    fn follow_values(&mut self, status: &SimStatus) {
+        let snap = &status.snapshot;
+        self.alpha = snap.alpha_rad;
+        self.inertial = snap.mass_ratio > 0.0;
+        if self.inertial {
+            self.mass_ratio = snap.mass_ratio;
+        }
+        self.speed = status.speed;
+        self.views = snap.views.clone();
     }
 
     /// Draws the whole UI for one frame into the root `ui` and returns what it asks for.

@@ -25,9 +25,11 @@ const MAX_SAMPLES: usize = 20_000;
 /// Points per plotted time series (see [`PlotHistory::plotted`]).
 pub const PLOT_POINTS: usize = 1000;
 
-/// Width of the α bins of the 1/T sweep, radians (a slider step is far finer than a user can
-/// resolve; one point per bin and direction keeps the newest measurement).
-const SWEEP_BIN: f64 = 0.002;
+/// Width of the α bins of the 1/T sweep in ln α: 0.1 % of α (a slider step is far finer than
+/// a user can resolve; one point per bin and direction keeps the newest measurement). Relative,
+/// so that steps of 1 % of α* near a small α* (0.05 rad) stay apart, as the critical-angle
+/// lesson needs.
+const SWEEP_BIN: f64 = 1e-3;
 
 /// One sample of the time series.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -119,7 +121,7 @@ impl PlotHistory {
         }
         self.last_alpha = Some(alpha);
         let direction = self.direction.unwrap_or(Sweep::Up);
-        let bin = (alpha / SWEEP_BIN).round() as i64;
+        let bin = (alpha.ln() / SWEEP_BIN).round() as i64;
         if snap.halted {
             self.sweep.insert((direction, bin), (alpha, 0.0));
         } else if let Some(period) = snap.period
@@ -367,6 +369,15 @@ fn sweep_ui(
     width: f32,
     height: f32,
 ) {
+    let up = history.sweep(Sweep::Up);
+    let down = history.sweep(Sweep::Down);
+    // The √ law is the viscous cylinder's; with inertia the branches follow other laws.
+    let fit = (snap.theta.is_some() && snap.mass_ratio == 0.0 && alpha_star > 0.0)
+        .then(|| {
+            let all: Vec<[f64; 2]> = up.iter().chain(&down).copied().collect();
+            crate::analysis::fit::sqrt_law(&all, alpha_star)
+        })
+        .flatten();
     Plot::new("sweep")
         .width(width)
         .height(height)
@@ -377,13 +388,25 @@ fn sweep_ui(
         .show(ui, |p| {
             p.vline(VLine::new("α*", alpha_star).color(Color32::from_rgb(220, 60, 60)));
             p.vline(VLine::new("α now", snap.alpha_rad).color(Color32::GRAY));
+            if let Some((a, b)) = fit {
+                let curve: PlotPoints = (1..=120)
+                    .map(|i| {
+                        let alpha = alpha_star * (1.0 + 0.5 * (i as f64 / 120.0).powi(2));
+                        [alpha, 1.0 / (a / (alpha - alpha_star).sqrt() + b)]
+                    })
+                    .collect();
+                p.line(
+                    Line::new(format!("T = {a:.3}/√(α−α*) + {b:.1}"), curve)
+                        .color(Color32::from_rgb(120, 200, 120)),
+                );
+            }
             p.points(
-                Points::new("α increasing", PlotPoints::from(history.sweep(Sweep::Up)))
+                Points::new("α increasing", PlotPoints::from(up))
                     .color(Color32::from_rgb(60, 130, 230))
                     .radius(3.0),
             );
             p.points(
-                Points::new("α decreasing", PlotPoints::from(history.sweep(Sweep::Down)))
+                Points::new("α decreasing", PlotPoints::from(down))
                     .color(Color32::from_rgb(240, 150, 30))
                     .radius(3.0),
             );

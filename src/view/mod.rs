@@ -269,6 +269,16 @@ impl SceneView {
                 panels.push(self.legend_panel(text));
             }
         }
+        // A lesson's caption is part of what it shows, so it stays when the overlay is off.
+        // It sits above the colour legend (about 70 px tall at text scale 1).
+        let lift = if self.show_overlay && body_rect.is_some() {
+            10 + (72.0 * text) as u32
+        } else {
+            10
+        };
+        if let Some(caption) = panels::caption_panel(snap, text, 0.86 * size.0 as f32, lift) {
+            panels.push(caption);
+        }
         // Line widths are given for 720 rows; keep their look at other sizes.
         let line_scale = (size.1 as f32 / 720.0).clamp(0.75, 3.0);
         for view in &mut views {

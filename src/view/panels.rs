@@ -136,6 +136,66 @@ impl SceneView {
     }
 }
 
+/// Average advance of DejaVu Sans per pixel of font size, rounded up: enough to wrap a caption
+/// to a width without the rasteriser's metrics (the view layer sees only `render::types`).
+const CHARS_EM: f32 = 0.56;
+
+/// The lesson's caption, wrapped to `max_width` pixels, centred at the bottom and lifted by
+/// `lift` pixels (clear of the colour legend), with the step count above it.
+pub(super) fn caption_panel(
+    snap: &Snapshot,
+    text: f32,
+    max_width: f32,
+    lift: u32,
+) -> Option<Panel> {
+    let caption = snap.caption.as_deref()?;
+    let size_px = 22.0 * text;
+    let per_line = ((max_width / (CHARS_EM * size_px)) as usize).max(12);
+    let mut items = Vec::new();
+    if let Some(l) = snap.lesson {
+        items.push(PanelItem::Text {
+            text: format!("step {} of {}", l.done, l.steps),
+            size_px: 14.0 * text,
+            color: [255, 214, 10],
+        });
+    }
+    items.extend(
+        wrap(caption, per_line)
+            .into_iter()
+            .map(|line| PanelItem::Text {
+                text: line,
+                size_px,
+                color: [250; 3],
+            }),
+    );
+    Some(Panel {
+        anchor: Anchor::BottomCentre(lift),
+        items,
+        background: [10, 12, 18, 225],
+        padding: (10.0 * text) as u32,
+    })
+}
+
+/// Greedy word wrap to at most `width` characters a line (a longer word gets a line of its own).
+pub(super) fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for word in text.split_whitespace() {
+        let len = line.chars().count();
+        if len > 0 && len + 1 + word.chars().count() > width {
+            lines.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(word);
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
 pub(super) fn trim(x: f64) -> String {
     let s = format!("{x:.4}");
     s.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -160,5 +220,28 @@ pub fn multiplicity_text(k: Option<usize>) -> String {
         Some(2) => "; period 2, doubled".into(),
         Some(k) => format!("; period {k}"),
         None => String::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn captions_wrap_at_words_within_the_width() {
+        let lines = wrap("the quick brown fox jumps over the lazy dog", 10);
+        assert_eq!(
+            lines,
+            ["the quick", "brown fox", "jumps over", "the lazy", "dog"]
+        );
+        assert!(lines.iter().all(|l| l.chars().count() <= 10));
+        // A word longer than the width gets a line of its own rather than being cut.
+        assert_eq!(
+            wrap("averyveryverylongword and", 5),
+            ["averyveryverylongword", "and"]
+        );
+        assert!(wrap("   ", 10).is_empty());
+        // Characters, not bytes: Greek letters count once.
+        assert_eq!(wrap("α α α α", 3), ["α α", "α α"]);
     }
 }

@@ -1,0 +1,455 @@
+//! Lessons: a scene's `[[timeline]]` steps, each at a simulation time, changing α, m/m0, the
+//! playback speed, the views or the integrator preset, and showing a caption. Validated here
+//! into [`Step`]s (α resolved from `alpha_over_critical`, each step checked against the values
+//! the steps before it leave); applied by `sim::Simulation` when its time reaches a step, so the
+//! app and the headless renderer play a lesson the same way.
+//!
+//! ```toml
+//! [[timeline]]
+//! at = 0.0                           # simulation time; strictly increasing
+//! caption = "Below α* the cylinder finds a resting place"
+//! [[timeline]]
+//! at = 40.0
+//! alpha_over_critical = 1.05         # or alpha_rad
+//! mass_ratio = 2.0                   # 0 = viscous model
+//! speed = 30.0                       # simulation time per second of video from here on
+//! integrator = "precise"             # a preset: fast / balanced / precise
+//! views = { ball = true }            # only the views named change
+//! caption = ""                       # an empty caption clears it
+//! ```
+//!
+//! Playback speed steps make the video clock piecewise linear in simulation time:
+//! [`SceneSetup::frame_time`] walks those pieces, and the app's controller splits a tick at a
+//! step the same way, so frame k of a lesson shows the same instant in both.
+
+use serde::{Deserialize, Serialize};
+
+use crate::dynamics::Ramp;
+use crate::geometry::Body;
+use crate::integrate::{Method, Preset};
+use crate::simulate::choose_model;
+
+use super::setup::{SceneError, SceneSetup, invalid};
+use super::{PlaybackSpec, Scene, ViewsSpec};
+
+/// Longest caption, in characters (a projector shows about two lines of this).
+pub const MAX_CAPTION_CHARS: usize = 240;
+/// Most steps in one timeline.
+pub const MAX_STEPS: usize = 200;
+
+/// One `[[timeline]]` step as written in TOML: every field but `at` is optional, and only what
+/// is given changes.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimelineSpec {
+    /// Simulation time at which the step applies.
+    pub at: f64,
+    /// New α in radians.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_rad: Option<f64>,
+    /// New α as a multiple of the body's α*.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alpha_over_critical: Option<f64>,
+    /// New m/m0 (0: viscous model).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass_ratio: Option<f64>,
+    /// New playback speed (simulation time per second of video).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speed: Option<f64>,
+    /// Views to turn on or off; those not named keep their state.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub views: Option<ViewsChange>,
+    /// New integrator preset.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub integrator: Option<Preset>,
+    /// Caption shown from this step on ("" clears it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub caption: Option<String>,
+}
+
+/// The views a step turns on or off.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ViewsChange {
+    /// The body on the ramp.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body: Option<bool>,
+    /// The SO(3) ball.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ball: Option<bool>,
+    /// The Poincaré field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub poincare: Option<bool>,
+    /// The text overlay.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub overlay: Option<bool>,
+}
+
+impl ViewsChange {
+    /// `views` with this change made.
+    pub fn applied_to(&self, views: &ViewsSpec) -> ViewsSpec {
+        ViewsSpec {
+            body: self.body.unwrap_or(views.body),
+            ball: self.ball.unwrap_or(views.ball),
+            poincare: self.poincare.unwrap_or(views.poincare),
+            overlay: self.overlay.unwrap_or(views.overlay),
+        }
+    }
+}
+
+/// A validated step, α already in radians.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Step {
+    /// Simulation time at which it applies.
+    pub at: f64,
+    /// New α, radians.
+    pub alpha_rad: Option<f64>,
+    /// New m/m0.
+    pub mass_ratio: Option<f64>,
+    /// New playback speed.
+    pub speed: Option<f64>,
+    /// Views turned on or off.
+    pub views: Option<ViewsChange>,
+    /// New integrator.
+    pub method: Option<Method>,
+    /// New caption (empty: none).
+    pub caption: Option<String>,
+}
+
+impl Step {
+    /// Whether the step changes the ramp or the integrator (the model must be rebuilt).
+    pub fn changes_model(&self) -> bool {
+        self.alpha_rad.is_some() || self.mass_ratio.is_some() || self.method.is_some()
+    }
+}
+
+/// Checks the timeline of `scene` (whose body, α* and starting ramp are already built) and
+/// resolves it into steps. Each step is checked against the α, m/m0, views and integrator the
+/// steps before it leave, so an error names the step that makes the combination bad.
+pub(super) fn resolve(
+    scene: &Scene,
+    body: &Body,
+    alpha_star: f64,
+    ramp: Ramp,
+    method: Method,
+) -> Result<Vec<Step>, SceneError> {
+    if scene.timeline.len() > MAX_STEPS {
+        return Err(invalid(format!(
+            "the timeline has {} steps; at most {MAX_STEPS} are allowed",
+            scene.timeline.len()
+        )));
+    }
+    let mut alpha = ramp.alpha_rad;
+    let mut mass = ramp.mass_ratio;
+    let mut views = scene.views.clone();
+    let mut method_now = method;
+    let mut previous_at: Option<f64> = None;
+    let mut steps = Vec::with_capacity(scene.timeline.len());
+    for (i, spec) in scene.timeline.iter().enumerate() {
+        let name = format!("timeline[{i}]");
+        let at = spec.at;
+        if !(at.is_finite() && (0.0..=1e6).contains(&at)) {
+            return Err(invalid(format!(
+                "{name}.at = {at} is not allowed (needs 0 ≤ at ≤ 1e6, a simulation time)"
+            )));
+        }
+        if let Some(prev) = previous_at
+            && at <= prev
+        {
+            return Err(invalid(format!(
+                "{name}.at = {at} is not after the step before it (at = {prev}); steps must be in \
+                 strictly increasing time"
+            )));
+        }
+        previous_at = Some(at);
+        let alpha_rad = match (spec.alpha_rad, spec.alpha_over_critical) {
+            (Some(_), Some(_)) => {
+                return Err(invalid(format!(
+                    "{name}: give alpha_rad or alpha_over_critical, not both"
+                )));
+            }
+            (Some(a), None) => Some(a),
+            (None, Some(f)) => {
+                if alpha_star == 0.0 {
+                    return Err(invalid(format!(
+                        "{name}.alpha_over_critical needs a body with α* > 0; a perfect body has \
+                         α* = 0, so give alpha_rad"
+                    )));
+                }
+                if !(f.is_finite() && f > 0.0) {
+                    return Err(invalid(format!(
+                        "{name}.alpha_over_critical = {f} is not allowed (needs a finite factor > 0)"
+                    )));
+                }
+                Some(f * alpha_star)
+            }
+            (None, None) => None,
+        };
+        alpha = alpha_rad.unwrap_or(alpha);
+        mass = spec.mass_ratio.unwrap_or(mass);
+        let step_ramp =
+            Ramp::with_drag(alpha, mass, ramp.drag).map_err(|e| invalid(format!("{name}: {e}")))?;
+        let step_method = spec.integrator.map(Preset::method);
+        method_now = step_method.unwrap_or(method_now);
+        let choice = choose_model(body, step_ramp, method_now)
+            .map_err(|e| invalid(format!("{name}: {e}")))?;
+        if let Some(s) = spec.speed {
+            PlaybackSpec {
+                speed: s,
+                ..PlaybackSpec::default()
+            }
+            .validate()
+            .map_err(|e| invalid(format!("{name}: {e}")))?;
+        }
+        if let Some(change) = &spec.views {
+            views = change.applied_to(&views);
+        }
+        views
+            .validate(body, &choice.ramp)
+            .map_err(|e| invalid(format!("{name}: {e}")))?;
+        if let Some(c) = &spec.caption
+            && c.chars().count() > MAX_CAPTION_CHARS
+        {
+            return Err(invalid(format!(
+                "{name}.caption has {} characters; at most {MAX_CAPTION_CHARS} fit on a projector",
+                c.chars().count()
+            )));
+        }
+        let step = Step {
+            at,
+            alpha_rad,
+            mass_ratio: spec.mass_ratio,
+            speed: spec.speed,
+            views: spec.views,
+            method: step_method,
+            caption: spec.caption.clone(),
+        };
+        if !step.changes_model()
+            && step.speed.is_none()
+            && step.views.is_none()
+            && step.caption.is_none()
+        {
+            return Err(invalid(format!(
+                "{name} changes nothing: give at least one of alpha_rad, alpha_over_critical, \
+                 mass_ratio, speed, views, integrator, caption"
+            )));
+        }
+        steps.push(step);
+    }
+    if let (Some(end), Some(last)) = (scene.playback.end_time, steps.last())
+        && end < last.at
+    {
+        return Err(invalid(format!(
+            "playback.end_time = {end} comes before the last timeline step (at = {}); the \
+             lesson would be cut short",
+            last.at
+        )));
+    }
+    Ok(steps)
+}
+
+impl SceneSetup {
+    /// Simulation time of video frame `k`: frame 0 at `playback.start_time`, then `1/fps`
+    /// seconds of video per frame at the playback speed in force, which timeline steps may
+    /// change. Between speed steps this is `start_time + k · speed / fps`.
+    pub fn frame_time(&self, k: u64) -> f64 {
+        self.time_after_video(k as f64 / self.scene.playback.fps)
+    }
+
+    /// The playback speed in force at simulation time `t` (the scene's, or the last speed step
+    /// at or before `t`).
+    pub fn speed_at(&self, t: f64) -> f64 {
+        self.timeline
+            .iter()
+            .take_while(|s| s.at <= t)
+            .filter_map(|s| s.speed)
+            .last()
+            .unwrap_or(self.scene.playback.speed)
+    }
+
+    /// Simulation time reached after `video` seconds of playback from `start_time`.
+    pub fn time_after_video(&self, video: f64) -> f64 {
+        let start = self.scene.playback.start_time;
+        let mut t = start;
+        let mut speed = self.speed_at(t);
+        let mut left = video;
+        for step in self.timeline.iter().filter(|s| s.at > start) {
+            let Some(next_speed) = step.speed else {
+                continue;
+            };
+            let needed = (step.at - t) / speed;
+            if needed > left {
+                break;
+            }
+            left -= needed;
+            t = step.at;
+            speed = next_speed;
+        }
+        t + left * speed
+    }
+
+    /// Frames needed to show the scene up to `playback.end_time` (frame 0 included); `None`
+    /// when the scene sets no end.
+    pub fn frames_to_end(&self) -> Option<u64> {
+        let end = self.scene.playback.end_time?;
+        let start = self.scene.playback.start_time;
+        let mut video = 0.0;
+        let mut t = start;
+        let mut speed = self.speed_at(t);
+        for step in self.timeline.iter().filter(|s| s.at > start && s.at < end) {
+            if let Some(next_speed) = step.speed {
+                video += (step.at - t) / speed;
+                t = step.at;
+                speed = next_speed;
+            }
+        }
+        video += (end - t).max(0.0) / speed;
+        // Rounding must not drop the frame that shows `end`.
+        let frames = (video * self.scene.playback.fps - 1e-9).ceil().max(0.0) as u64;
+        Some(frames + 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LESSON: &str = r#"
+name = "t"
+[body]
+perfect = "disk"
+[model]
+alpha_rad = 0.3
+[playback]
+speed = 6.0
+fps = 30.0
+start_time = 10.0
+end_time = 103.0
+[[timeline]]
+at = 16.0
+speed = 60.0
+[[timeline]]
+at = 76.0
+caption = "x"
+[[timeline]]
+at = 100.0
+speed = 3.0
+"#;
+
+    fn setup(text: &str) -> Result<SceneSetup, SceneError> {
+        Scene::from_toml(text)?.setup(None)
+    }
+
+    #[test]
+    fn frame_times_walk_the_speed_steps() {
+        let s = setup(LESSON).unwrap();
+        let close = |k: u64, t: f64| {
+            let got = s.frame_time(k);
+            assert!((got - t).abs() < 1e-9, "frame {k}: {got} != {t}");
+        };
+        close(0, 10.0); // start_time
+        close(30, 16.0); // 1 s at speed 6
+        close(45, 46.0); // then 0.5 s at 60
+        close(60, 76.0); // the caption step does not change the speed
+        close(72, 100.0); // 0.4 s more at 60
+        close(102, 103.0); // 1 s at 3
+        assert_eq!(s.frames_to_end(), Some(103));
+        assert_eq!(s.speed_at(15.9), 6.0);
+        assert_eq!(s.speed_at(16.0), 60.0);
+        assert_eq!(s.speed_at(1e5), 3.0);
+    }
+
+    #[test]
+    fn a_speed_step_before_the_start_time_sets_the_first_speed() {
+        let s = setup(&LESSON.replace("start_time = 10.0", "start_time = 50.0")).unwrap();
+        assert!((s.frame_time(15) - 80.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn without_a_timeline_frames_follow_the_scene_speed() {
+        let s = Scene::preset("cylinder-near-critical")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        assert!(s.timeline.is_empty());
+        assert_eq!(s.frame_time(0), 0.0);
+        assert!((s.frame_time(30) - 30.0).abs() < 1e-12);
+        assert_eq!(s.frames_to_end(), None);
+    }
+
+    #[test]
+    fn bad_timelines_are_refused_by_step_and_field() {
+        let cases = [
+            ("at = 76.0", "at = 16.0", "timeline[1].at = 16 is not after"),
+            (
+                "at = 16.0",
+                "at = -1.0",
+                "timeline[0].at = -1 is not allowed",
+            ),
+            (
+                "speed = 60.0",
+                "speed = 0.0",
+                "timeline[0]: playback.speed = 0",
+            ),
+            ("caption = \"x\"", "alpha_rad = 2.0", "timeline[1]: "),
+            (
+                "caption = \"x\"",
+                "alpha_over_critical = 1.1",
+                "timeline[1].alpha_over_critical needs a body with α* > 0",
+            ),
+            (
+                "caption = \"x\"",
+                "views = { ball = true }",
+                "timeline[1]: views.ball",
+            ),
+            ("caption = \"x\"", "mass_ratio = -1.0", "timeline[1]: "),
+            (
+                "end_time = 103.0",
+                "end_time = 90.0",
+                "playback.end_time = 90 comes before",
+            ),
+            (
+                "end_time = 103.0",
+                "end_time = 5.0",
+                "playback.end_time = 5 is not allowed",
+            ),
+            ("caption = \"x\"", "", "timeline[1] changes nothing"),
+            (
+                "caption = \"x\"",
+                &format!("caption = \"{}\"", "a".repeat(MAX_CAPTION_CHARS + 1)),
+                "timeline[1].caption has 241 characters",
+            ),
+            ("caption = \"x\"", "colour = 1", "unknown field `colour`"),
+        ];
+        for (from, to, expected) in cases {
+            let text = LESSON.replacen(from, to, 1);
+            let err = setup(&text).map(|_| ()).unwrap_err().to_string();
+            assert!(err.contains(expected), "{to}: {err}");
+        }
+    }
+
+    #[test]
+    fn views_changes_keep_what_they_do_not_name() {
+        let base = ViewsSpec {
+            body: true,
+            ball: false,
+            poincare: true,
+            overlay: true,
+        };
+        let changed = ViewsChange {
+            ball: Some(true),
+            overlay: Some(false),
+            ..ViewsChange::default()
+        }
+        .applied_to(&base);
+        assert_eq!(
+            changed,
+            ViewsSpec {
+                body: true,
+                ball: true,
+                poincare: true,
+                overlay: false,
+            }
+        );
+    }
+}
