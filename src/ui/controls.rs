@@ -181,14 +181,14 @@ impl AppUi {
         }
         ui.horizontal(|ui| {
             if ui
-                .button("◀ Previous")
+                .button("Previous step")
                 .on_hover_text("B or Page Up")
                 .clicked()
             {
                 actions.push(UiAction::Sim(SimCommand::PreviousStep));
             }
             if ui
-                .add_enabled(lesson.next_at.is_some(), egui::Button::new("Next ▶"))
+                .add_enabled(lesson.next_at.is_some(), egui::Button::new("Next step"))
                 .on_hover_text("N or Page Down")
                 .clicked()
             {

@@ -378,10 +378,11 @@ fn sweep_ui(
             crate::analysis::fit::sqrt_law(&all, alpha_star)
         })
         .flatten();
+    // The legend at the top left, where 1/T stays low: the rolling points gather at the right.
     Plot::new("sweep")
         .width(width)
         .height(height)
-        .legend(Legend::default())
+        .legend(Legend::default().position(egui_plot::Corner::LeftTop))
         .x_axis_label("α (rad)")
         .y_axis_label("1/T")
         .include_y(0.0)
