@@ -603,3 +603,40 @@ caption = ""
     assert_eq!(s.snapshot.lesson.unwrap().next_at, None);
     assert!(s.paused, "jumping does not start a paused lesson");
 }
+
+#[test]
+fn a_file_dialogs_answer_opens_or_saves_that_file() {
+    use rollphase::ui::dialog::DialogPurpose;
+    let dir = std::env::temp_dir().join(format!("rollphase-dialog-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.0);
+    // Save as…: the body's shape goes to the chosen file, which then loads back as a shape.
+    let shape = dir.join("chosen.json");
+    bench
+        .ui
+        .dialogs
+        .answer(DialogPurpose::SaveShape, Some(shape.clone()));
+    frames_until(&mut bench, &gpu, &target, vec![], |_| true);
+    let text = std::fs::read_to_string(&shape).expect("the shape was saved");
+    assert!(rollphase::geometry::ShapeFile::from_json(&text).is_ok());
+    // Open…: a scene file chosen in the dialog replaces the running scene.
+    let scene = dir.join("chosen.toml");
+    std::fs::write(
+        &scene,
+        "name = \"chosen\"\n[body]\nshape = \"chosen.json\"\n[model]\nalpha_rad = 0.4\n",
+    )
+    .unwrap();
+    bench
+        .ui
+        .dialogs
+        .answer(DialogPurpose::OpenScene, Some(scene.clone()));
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.scene_id == 1);
+    assert_eq!(s.setup.scene.name, "chosen");
+    // A cancelled dialog changes nothing.
+    bench.ui.dialogs.answer(DialogPurpose::OpenScene, None);
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |_| true);
+    assert_eq!(s.scene_id, 1);
+    assert!(!bench.ui.dialogs.is_open());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -8,6 +8,7 @@ use crate::scene::{BodySpec, Scene, load_scene_file};
 use crate::sim::{SimCommand, SimStatus};
 
 use super::controls::method_spec;
+use super::dialog::DialogPurpose;
 use super::{AppUi, UiAction};
 
 impl AppUi {
@@ -17,14 +18,19 @@ impl AppUi {
         status: &SimStatus,
         actions: &mut Vec<UiAction>,
     ) {
-        // This build has no native file dialog (it would pull a desktop toolkit into every
-        // build): paths are typed, or files dropped on the window.
-        ui.label(
-            egui::RichText::new("Type a path, or drop a .toml scene or .json shape on the window.")
-                .small()
-                .weak(),
-        );
-        let path_width = (ui.available_width() - 110.0).max(130.0);
+        let dialogs = self.dialogs.availability().is_ok();
+        let hint = match self.dialogs.availability() {
+            Ok(()) => "Open… and Save as… show the desktop's file dialog; or type a path, or drop \
+                       a .toml scene or .json shape on the window."
+                .to_string(),
+            Err(why) => {
+                format!("{why}: type a path, or drop a .toml scene or .json shape on the window.")
+            }
+        };
+        ui.label(egui::RichText::new(hint).small().weak());
+        let buttons = if dialogs { 230.0 } else { 110.0 };
+        let path_width = (ui.available_width() - buttons).max(130.0);
+        let busy = self.dialogs.is_open();
         egui::Grid::new("files").num_columns(3).show(ui, |ui| {
             ui.label("scene");
             ui.add(egui::TextEdit::singleline(&mut self.scene_path).desired_width(path_width));
@@ -34,13 +40,20 @@ impl AppUi {
                     self.open_scene(&path, actions);
                 }
                 if ui.button("Save").clicked() {
-                    let mut scene = self.current_scene(status);
-                    // A saved scene carries its body inline, so it loads from anywhere.
-                    scene.body = BodySpec {
-                        inline: Some(status.setup.body.to_file()),
-                        ..BodySpec::default()
-                    };
-                    self.notice = Some(write_file(&self.scene_path, &scene.to_toml()));
+                    self.save_scene(status);
+                }
+                if dialogs {
+                    if ui.add_enabled(!busy, egui::Button::new("Open…")).clicked() {
+                        self.dialogs
+                            .open(DialogPurpose::OpenScene, Path::new(&self.scene_path));
+                    }
+                    if ui
+                        .add_enabled(!busy, egui::Button::new("Save as…"))
+                        .clicked()
+                    {
+                        self.dialogs
+                            .open(DialogPurpose::SaveScene, Path::new(&self.scene_path));
+                    }
                 }
             });
             ui.end_row();
@@ -51,8 +64,20 @@ impl AppUi {
                     self.load_shape(status, actions);
                 }
                 if ui.button("Save").clicked() {
-                    let json = status.setup.body.to_file().to_json();
-                    self.notice = Some(write_file(&self.shape_path, &json));
+                    self.save_shape(status);
+                }
+                if dialogs {
+                    if ui.add_enabled(!busy, egui::Button::new("Open…")).clicked() {
+                        self.dialogs
+                            .open(DialogPurpose::OpenShape, Path::new(&self.shape_path));
+                    }
+                    if ui
+                        .add_enabled(!busy, egui::Button::new("Save as…"))
+                        .clicked()
+                    {
+                        self.dialogs
+                            .open(DialogPurpose::SaveShape, Path::new(&self.shape_path));
+                    }
                 }
             });
             ui.end_row();
@@ -126,6 +151,56 @@ impl AppUi {
                     ),
                     true,
                 ));
+            }
+        }
+    }
+
+    /// Writes the scene to the path field's file. A saved scene carries its body inline, so it
+    /// loads from anywhere.
+    fn save_scene(&mut self, status: &SimStatus) {
+        let mut scene = self.current_scene(status);
+        scene.body = BodySpec {
+            inline: Some(status.setup.body.to_file()),
+            ..BodySpec::default()
+        };
+        self.notice = Some(write_file(&self.scene_path, &scene.to_toml()));
+    }
+
+    /// Writes the body's shape file to the path field's file.
+    fn save_shape(&mut self, status: &SimStatus) {
+        let json = status.setup.body.to_file().to_json();
+        self.notice = Some(write_file(&self.shape_path, &json));
+    }
+
+    /// Acts on a file dialog's answer: open the file, or save to it (the path field takes the
+    /// chosen path, so Save writes there again).
+    pub(super) fn dialog_answered(
+        &mut self,
+        purpose: DialogPurpose,
+        chosen: Option<PathBuf>,
+        status: &SimStatus,
+        actions: &mut Vec<UiAction>,
+    ) {
+        let Some(path) = chosen else {
+            self.notice = Some((
+                "no file chosen (if no dialog appeared, this desktop offers no file chooser: \
+                 type a path instead)"
+                    .into(),
+                false,
+            ));
+            return;
+        };
+        match purpose {
+            DialogPurpose::OpenScene | DialogPurpose::OpenShape => {
+                self.open_file(&path, status, actions);
+            }
+            DialogPurpose::SaveScene => {
+                self.scene_path = path.display().to_string();
+                self.save_scene(status);
+            }
+            DialogPurpose::SaveShape => {
+                self.shape_path = path.display().to_string();
+                self.save_shape(status);
             }
         }
     }

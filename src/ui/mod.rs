@@ -17,9 +17,11 @@
 //! | `mod` | [`AppUi`]: the state, [`AppUi::show`] laying out the panels, [`UiAction`] |
 //! | `controls` | the menu bar and the control panels (playback, α and m/m0, integrator, body, views) |
 //! | `files` | the files panel: scenes, shapes, CSV and PNG out, presets |
+//! | `dialog` | native Open / Save dialogs (rfd) on their own thread, or why there are none |
 //! | `keys` | the keyboard bindings and class mode |
 //! | `plots`, `painter`, `workbench` | the plots, the wgpu painter, the windowless app core |
 
+pub mod dialog;
 pub mod painter;
 pub mod plots;
 pub mod workbench;
@@ -117,6 +119,8 @@ pub struct AppUi {
     turn: f32,
     /// The lesson steps done as of the last status (the controls follow a step's changes).
     seen_step: Option<usize>,
+    /// Native Open / Save dialogs.
+    pub dialogs: dialog::FileDialogs,
 }
 
 /// Files kept in the recent list.
@@ -171,6 +175,7 @@ impl AppUi {
             pixels_per_point: 1.0,
             turn: 0.0,
             seen_step: None,
+            dialogs: dialog::FileDialogs::detect(),
         }
     }
 
@@ -254,6 +259,9 @@ impl AppUi {
         });
         for path in dropped {
             self.open_file(&path, status, &mut actions);
+        }
+        if let Some((purpose, chosen)) = self.dialogs.poll() {
+            self.dialog_answered(purpose, chosen, status, &mut actions);
         }
         self.keyboard(ui.ctx(), status, &mut actions);
         egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, &mut actions));
