@@ -215,3 +215,35 @@ fn a_run_that_left_the_rolling_constraint_shows_a_red_warning_instead_of_numbers
         "red overlay pixels: {good} at dt 0.2, {bad} at dt 20"
     );
 }
+
+#[test]
+fn a_lesson_step_that_changes_alpha_redraws_the_poincare_field_from_its_frame_on() {
+    // The Poincaré field alone, which is static between steps: one frame per time unit, and a
+    // step at t = 2 that tilts the ramp from 0.3 to 0.5.
+    let mut scene = Scene::preset("poincare-field").unwrap();
+    scene.views = rollphase::scene::ViewsSpec {
+        body: false,
+        ball: false,
+        poincare: true,
+        overlay: false,
+    };
+    scene.poincare.arrows = 60;
+    scene.playback.speed = 30.0;
+    scene.playback.start_time = 0.0;
+    let mut plain = scene.clone();
+    scene.timeline = vec![rollphase::scene::TimelineSpec {
+        at: 2.0,
+        alpha_rad: Some(0.5),
+        ..Default::default()
+    }];
+    let lesson = render_scene(scene, &[0, 1, 3], SIZE);
+    plain.model.alpha_rad = Some(0.5);
+    plain.model.alpha_over_critical = None;
+    let steep = render_scene(plain, &[0], SIZE).remove(0);
+    assert_eq!(lesson[0], lesson[1], "nothing changes before the step");
+    assert!(
+        differing_pixels(&lesson[0], &lesson[2]) > 200,
+        "the field at α = 0.3 is still drawn after the step"
+    );
+    assert_eq!(lesson[2], steep, "after the step: the field at α = 0.5");
+}
