@@ -244,4 +244,48 @@ mod tests {
         // Characters, not bytes: Greek letters count once.
         assert_eq!(wrap("α α α α", 3), ["α α", "α α"]);
     }
+
+    fn texts(panel: &Panel) -> Vec<(String, f32)> {
+        panel
+            .items
+            .iter()
+            .filter_map(|item| match item {
+                PanelItem::Text { text, size_px, .. } => Some((text.clone(), *size_px)),
+                PanelItem::ColorBar { .. } => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_lessons_caption_is_wrapped_under_its_step_and_grows_in_class_mode() {
+        let setup = crate::scene::Scene::preset("lesson-critical-angle")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let caption = setup.timeline[0].caption.clone().unwrap();
+        let snap = crate::sim::Simulation::new(setup).snapshot();
+        let normal = caption_panel(&snap, 1.0, 700.0, 10).unwrap();
+        assert_eq!(normal.anchor, Anchor::BottomCentre(10));
+        let lines = texts(&normal);
+        assert_eq!(lines[0].0, "step 1 of 7");
+        let body: Vec<&str> = lines[1..].iter().map(|(t, _)| t.as_str()).collect();
+        assert_eq!(body.join(" "), caption);
+        assert!(body.len() >= 2, "wrapped to 700 px: {body:?}");
+        assert!(lines[1..].iter().all(|(_, size)| *size == 22.0));
+        // Class mode's text scale 1.8: the same caption, larger, on more lines.
+        let class = texts(&caption_panel(&snap, 1.8, 700.0, 10).unwrap());
+        assert!(
+            class[1..]
+                .iter()
+                .all(|(_, size)| (*size - 22.0 * 1.8).abs() < 1e-4)
+        );
+        assert!(class.len() > lines.len());
+        // No caption, no panel.
+        let plain = crate::scene::Scene::preset("sphere-cruising")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let snap = crate::sim::Simulation::new(plain).snapshot();
+        assert!(caption_panel(&snap, 1.0, 700.0, 10).is_none());
+    }
 }
