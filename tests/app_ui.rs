@@ -611,7 +611,7 @@ fn a_file_dialogs_answer_opens_or_saves_that_file() {
     std::fs::create_dir_all(&dir).unwrap();
     let (gpu, target, mut bench) = app("sphere-cruising");
     frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.0);
-    // Save as…: the body's shape goes to the chosen file, which then loads back as a shape.
+    // Save as…: the body's shape goes to the chosen file (the scene opened next uses it).
     let shape = dir.join("chosen.json");
     bench
         .ui

@@ -344,15 +344,21 @@ impl IntegratorSpec {
     }
 }
 
+/// Checks a playback speed given as `field` (the scene's, or a timeline step's).
+pub(super) fn check_speed(field: &str, speed: f64) -> Result<(), SceneError> {
+    if speed.is_finite() && speed > 0.0 && speed <= 1e4 {
+        Ok(())
+    } else {
+        Err(invalid(format!(
+            "{field} = {speed} is not allowed (needs 0 < speed ≤ 10000 time units per second)"
+        )))
+    }
+}
+
 impl PlaybackSpec {
     pub(super) fn validate(&self) -> Result<(), SceneError> {
+        check_speed("playback.speed", self.speed)?;
         let checks = [
-            (
-                "speed",
-                self.speed,
-                self.speed > 0.0 && self.speed <= 1e4,
-                "0 < speed ≤ 10000 time units per second",
-            ),
             (
                 "fps",
                 self.fps,

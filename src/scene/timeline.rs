@@ -29,8 +29,8 @@ use crate::geometry::Body;
 use crate::integrate::{Method, Preset};
 use crate::simulate::choose_model;
 
-use super::setup::{SceneError, SceneSetup, invalid};
-use super::{PlaybackSpec, Scene, ViewsSpec};
+use super::setup::{SceneError, SceneSetup, check_speed, invalid};
+use super::{Scene, ViewsSpec};
 
 /// Longest caption, in characters (a projector shows about two lines of this).
 pub const MAX_CAPTION_CHARS: usize = 240;
@@ -194,12 +194,7 @@ pub(super) fn resolve(
         let choice = choose_model(body, step_ramp, method_now)
             .map_err(|e| invalid(format!("{name}: {e}")))?;
         if let Some(s) = spec.speed {
-            PlaybackSpec {
-                speed: s,
-                ..PlaybackSpec::default()
-            }
-            .validate()
-            .map_err(|e| invalid(format!("{name}: {e}")))?;
+            check_speed(&format!("{name}.speed"), s)?;
         }
         if let Some(change) = &spec.views {
             views = change.applied_to(&views);
@@ -267,44 +262,54 @@ impl SceneSetup {
             .unwrap_or(self.scene.playback.speed)
     }
 
+    /// The pieces of the video clock from `start_time` on: (simulation time where a piece
+    /// starts, its playback speed). A new piece starts at each speed step.
+    fn clock_pieces(&self) -> Vec<(f64, f64)> {
+        let start = self.scene.playback.start_time;
+        let mut pieces = vec![(start, self.speed_at(start))];
+        pieces.extend(
+            self.timeline
+                .iter()
+                .filter(|s| s.at > start)
+                .filter_map(|s| Some((s.at, s.speed?))),
+        );
+        pieces
+    }
+
     /// Simulation time reached after `video` seconds of playback from `start_time`.
     pub fn time_after_video(&self, video: f64) -> f64 {
-        let start = self.scene.playback.start_time;
-        let mut t = start;
-        let mut speed = self.speed_at(t);
+        let pieces = self.clock_pieces();
+        let mut piece = pieces[0];
         let mut left = video;
-        for step in self.timeline.iter().filter(|s| s.at > start) {
-            let Some(next_speed) = step.speed else {
-                continue;
-            };
-            let needed = (step.at - t) / speed;
+        for &next in &pieces[1..] {
+            let needed = (next.0 - piece.0) / piece.1;
             if needed > left {
                 break;
             }
             left -= needed;
-            t = step.at;
-            speed = next_speed;
+            piece = next;
         }
-        t + left * speed
+        piece.0 + left * piece.1
+    }
+
+    /// Seconds of video from `start_time` until simulation time `t` (the inverse of
+    /// [`Self::time_after_video`]).
+    pub fn video_time_at(&self, t: f64) -> f64 {
+        let pieces = self.clock_pieces();
+        let mut piece = pieces[0];
+        let mut video = 0.0;
+        for &next in pieces[1..].iter().take_while(|p| p.0 < t) {
+            video += (next.0 - piece.0) / piece.1;
+            piece = next;
+        }
+        video + (t - piece.0).max(0.0) / piece.1
     }
 
     /// Frames needed to show the scene up to `playback.end_time` (frame 0 included); `None`
     /// when the scene sets no end.
     pub fn frames_to_end(&self) -> Option<u64> {
-        let end = self.scene.playback.end_time?;
-        let start = self.scene.playback.start_time;
-        let mut video = 0.0;
-        let mut t = start;
-        let mut speed = self.speed_at(t);
-        for step in self.timeline.iter().filter(|s| s.at > start && s.at < end) {
-            if let Some(next_speed) = step.speed {
-                video += (step.at - t) / speed;
-                t = step.at;
-                speed = next_speed;
-            }
-        }
-        video += (end - t).max(0.0) / speed;
-        // Rounding must not drop the frame that shows `end`.
+        let video = self.video_time_at(self.scene.playback.end_time?);
+        // Rounding must not drop the frame that shows the end.
         let frames = (video * self.scene.playback.fps - 1e-9).ceil().max(0.0) as u64;
         Some(frames + 1)
     }
@@ -353,6 +358,13 @@ speed = 3.0
         close(60, 76.0); // the caption step does not change the speed
         close(72, 100.0); // 0.4 s more at 60
         close(102, 103.0); // 1 s at 3
+        for (video, t) in [(0.0, 10.0), (1.5, 46.0), (2.4, 100.0), (3.4, 103.0)] {
+            assert!((s.video_time_at(t) - video).abs() < 1e-12, "t = {t}");
+            assert!(
+                (s.time_after_video(video) - t).abs() < 1e-9,
+                "video {video}"
+            );
+        }
         assert_eq!(s.frames_to_end(), Some(103));
         assert_eq!(s.speed_at(15.9), 6.0);
         assert_eq!(s.speed_at(16.0), 60.0);
@@ -389,7 +401,7 @@ speed = 3.0
             (
                 "speed = 60.0",
                 "speed = 0.0",
-                "timeline[0]: playback.speed = 0",
+                "timeline[0].speed = 0 is not allowed (needs 0 < speed",
             ),
             ("caption = \"x\"", "alpha_rad = 2.0", "timeline[1]: "),
             (

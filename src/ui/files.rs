@@ -8,7 +8,7 @@ use crate::scene::{BodySpec, Scene, load_scene_file};
 use crate::sim::{SimCommand, SimStatus};
 
 use super::controls::method_spec;
-use super::dialog::DialogPurpose;
+use super::dialog::{DialogPurpose, FileDialogs};
 use super::{AppUi, UiAction};
 
 impl AppUi {
@@ -30,7 +30,6 @@ impl AppUi {
         ui.label(egui::RichText::new(hint).small().weak());
         let buttons = if dialogs { 230.0 } else { 110.0 };
         let path_width = (ui.available_width() - buttons).max(130.0);
-        let busy = self.dialogs.is_open();
         egui::Grid::new("files").num_columns(3).show(ui, |ui| {
             ui.label("scene");
             ui.add(egui::TextEdit::singleline(&mut self.scene_path).desired_width(path_width));
@@ -42,19 +41,13 @@ impl AppUi {
                 if ui.button("Save").clicked() {
                     self.save_scene(status);
                 }
-                if dialogs {
-                    if ui.add_enabled(!busy, egui::Button::new("Open…")).clicked() {
-                        self.dialogs
-                            .open(DialogPurpose::OpenScene, Path::new(&self.scene_path));
-                    }
-                    if ui
-                        .add_enabled(!busy, egui::Button::new("Save as…"))
-                        .clicked()
-                    {
-                        self.dialogs
-                            .open(DialogPurpose::SaveScene, Path::new(&self.scene_path));
-                    }
-                }
+                let current = Path::new(&self.scene_path);
+                dialog_buttons(
+                    &mut self.dialogs,
+                    ui,
+                    [DialogPurpose::OpenScene, DialogPurpose::SaveScene],
+                    current,
+                );
             });
             ui.end_row();
             ui.label("shape");
@@ -66,19 +59,13 @@ impl AppUi {
                 if ui.button("Save").clicked() {
                     self.save_shape(status);
                 }
-                if dialogs {
-                    if ui.add_enabled(!busy, egui::Button::new("Open…")).clicked() {
-                        self.dialogs
-                            .open(DialogPurpose::OpenShape, Path::new(&self.shape_path));
-                    }
-                    if ui
-                        .add_enabled(!busy, egui::Button::new("Save as…"))
-                        .clicked()
-                    {
-                        self.dialogs
-                            .open(DialogPurpose::SaveShape, Path::new(&self.shape_path));
-                    }
-                }
+                let current = Path::new(&self.shape_path);
+                dialog_buttons(
+                    &mut self.dialogs,
+                    ui,
+                    [DialogPurpose::OpenShape, DialogPurpose::SaveShape],
+                    current,
+                );
             });
             ui.end_row();
             ui.label("screenshot");
@@ -472,6 +459,25 @@ impl AppUi {
 }
 
 /// Writes `text` to `path`; the notice says what happened.
+/// "Open…" and "Save as…" beside a path field whose file is `current`, where a dialog can
+/// appear; `purposes` are the field's open and save purposes.
+fn dialog_buttons(
+    dialogs: &mut FileDialogs,
+    ui: &mut egui::Ui,
+    purposes: [DialogPurpose; 2],
+    current: &Path,
+) {
+    if dialogs.availability().is_err() {
+        return;
+    }
+    let idle = !dialogs.is_open();
+    for (label, purpose) in ["Open…", "Save as…"].into_iter().zip(purposes) {
+        if ui.add_enabled(idle, egui::Button::new(label)).clicked() {
+            dialogs.open(purpose, current);
+        }
+    }
+}
+
 pub(super) fn write_file(path: &str, text: &str) -> (String, bool) {
     match std::fs::write(path, text) {
         Ok(()) => (format!("saved {path}"), false),
