@@ -12,7 +12,7 @@ fn thread(preset: &str) -> SimThread {
     SimThread::spawn(Scene::preset(preset).unwrap().setup(None).unwrap())
 }
 
-/// Polls the status until `done` holds (or panics after 10 s).
+/// Polls the status until `done` holds (or panics after 30 s: generous, since CI machines vary).
 fn wait_for(sim: &SimThread, what: &str, done: impl Fn(&SimStatus) -> bool) -> SimStatus {
     let start = Instant::now();
     loop {
@@ -21,7 +21,7 @@ fn wait_for(sim: &SimThread, what: &str, done: impl Fn(&SimStatus) -> bool) -> S
             return (*s).clone();
         }
         assert!(
-            start.elapsed() < Duration::from_secs(10),
+            start.elapsed() < Duration::from_secs(30),
             "timed out waiting for {what}"
         );
         std::thread::sleep(Duration::from_millis(5));
@@ -107,11 +107,15 @@ fn a_panic_in_the_simulation_is_a_message_and_a_pause_not_a_crash() {
 
 #[test]
 fn an_impossible_speed_is_reported_as_lagging() {
-    // Precise DOP853 at 10⁴ time units per wall second is far beyond one core.
+    // RK4 with dt = 0.002 at 10⁴ time units per wall second is 5·10⁶ steps a second, about 16
+    // times what one core of the CI machine manages (measured: 600 t/s). Adaptive presets are no
+    // good here: on this smooth orbit Precise DOP853 keeps up with 10⁴ t/s on a fast machine.
+    // Each tick (0.1 s of wall time, 1000 time units) then takes longer than the one-second
+    // window over which the delivered speed is measured, the case that once hid the report.
     let sim = thread("sphere-cruising");
-    sim.send(SimCommand::SetMethod(
-        rollphase::integrate::Preset::Precise.method(),
-    ));
+    sim.send(SimCommand::SetMethod(rollphase::integrate::Method::Rk4 {
+        dt: 0.002,
+    }));
     sim.send(SimCommand::SetSpeed(10_000.0));
     let s = wait_for(&sim, "the lag report", |s| s.lagging);
     let d = s.delivered_speed.unwrap();

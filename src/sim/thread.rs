@@ -112,8 +112,8 @@ struct SimWorker {
     setup: Arc<SceneSetup>,
     scene_id: u64,
     run_id: u64,
-    /// (wall seconds since start, simulation time) over the last second of playing.
-    window: VecDeque<(f64, f64)>,
+    /// Simulation time against wall time over the last second of playing.
+    window: SpeedWindow,
     tick_seconds: f64,
 }
 
@@ -124,16 +124,13 @@ impl SimWorker {
             controller: Controller::new(setup),
             scene_id: 0,
             run_id: 0,
-            window: VecDeque::new(),
+            window: SpeedWindow::default(),
             tick_seconds: 0.0,
         }
     }
 
     fn status(&self) -> SimStatus {
-        let delivered = match (self.window.front(), self.window.back()) {
-            (Some(a), Some(b)) if b.0 - a.0 >= 0.25 => Some((b.1 - a.1) / (b.0 - a.0)),
-            _ => None,
-        };
+        let delivered = self.window.delivered();
         let speed = self.controller.speed();
         SimStatus {
             snapshot: self.controller.simulation().snapshot(),
@@ -217,10 +214,7 @@ impl SimWorker {
                 self.tick_seconds = t0.elapsed().as_secs_f64();
                 let elapsed = (Instant::now() - start).as_secs_f64();
                 self.window
-                    .push_back((elapsed, self.controller.simulation().time()));
-                while self.window.front().is_some_and(|w| elapsed - w.0 > 1.0) {
-                    self.window.pop_front();
-                }
+                    .push(elapsed, self.controller.simulation().time());
             }
             let status = Arc::new(self.status());
             match published.lock() {
@@ -234,5 +228,77 @@ impl SimWorker {
                 }
             }
         }
+    }
+}
+
+/// (wall seconds, simulation time) samples over about the last second of playing, from which
+/// the delivered speed is read.
+#[derive(Debug, Default)]
+struct SpeedWindow {
+    samples: VecDeque<(f64, f64)>,
+}
+
+impl SpeedWindow {
+    /// How much wall time the window spans.
+    const SPAN_S: f64 = 1.0;
+    /// The shortest span worth a measurement.
+    const MIN_SPAN_S: f64 = 0.25;
+
+    fn push(&mut self, wall_s: f64, sim_time: f64) {
+        self.samples.push_back((wall_s, sim_time));
+        // The sample before the newest always stays: when one tick takes longer than the span
+        // (the slowest, most lagging case) the window still measures that tick.
+        while self.samples.len() > 2 && self.samples[1].0 <= wall_s - Self::SPAN_S {
+            self.samples.pop_front();
+        }
+    }
+
+    fn clear(&mut self) {
+        self.samples.clear();
+    }
+
+    /// Simulation time per wall second over the window, once it spans a quarter of a second.
+    fn delivered(&self) -> Option<f64> {
+        match (self.samples.front(), self.samples.back()) {
+            (Some(a), Some(b)) if b.0 - a.0 >= Self::MIN_SPAN_S => Some((b.1 - a.1) / (b.0 - a.0)),
+            _ => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SpeedWindow;
+
+    #[test]
+    fn the_window_measures_the_last_second_of_fast_ticks() {
+        let mut w = SpeedWindow::default();
+        w.push(0.0, 0.0);
+        assert_eq!(w.delivered(), None, "one sample measures nothing");
+        w.push(0.1, 1.0);
+        assert_eq!(w.delivered(), None, "0.1 s is too short to measure");
+        // 10 t/s for 2 s, then 20 t/s: after a further second only the new rate is seen.
+        for k in 2..=20 {
+            w.push(0.1 * k as f64, k as f64);
+        }
+        for k in 1..=10 {
+            w.push(2.0 + 0.1 * k as f64, 20.0 + 2.0 * k as f64);
+        }
+        let d = w.delivered().unwrap();
+        assert!((d - 20.0).abs() < 1e-9, "delivered {d}");
+        w.clear();
+        assert_eq!(w.delivered(), None);
+    }
+
+    #[test]
+    fn a_tick_longer_than_the_window_is_still_measured() {
+        // Each tick takes 3 s of wall time and advances 100 time units: the delivered speed must
+        // read 33.3 t/s rather than vanish (which hid "cannot keep up" when lagging worst).
+        let mut w = SpeedWindow::default();
+        for k in 0..4 {
+            w.push(3.0 * k as f64, 100.0 * k as f64);
+        }
+        let d = w.delivered().expect("measured");
+        assert!((d - 100.0 / 3.0).abs() < 1e-9, "delivered {d}");
     }
 }
