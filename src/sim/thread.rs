@@ -27,8 +27,9 @@ pub struct SimStatus {
     pub paused: bool,
     /// Requested simulation time per wall second.
     pub speed: f64,
-    /// Simulation time per wall second actually delivered over the last second of playing
-    /// (`None` until a quarter of a second has been measured).
+    /// Simulation time per wall second actually delivered over the last second of playing, or
+    /// over the last tick when one tick takes longer (`None` until a quarter of a second has
+    /// been measured).
     pub delivered_speed: Option<f64>,
     /// The simulation cannot deliver the requested speed (below 90% of it).
     pub lagging: bool,
