@@ -18,7 +18,6 @@ impl AppUi {
         status: &SimStatus,
         actions: &mut Vec<UiAction>,
     ) {
-        let dialogs = self.dialogs.availability().is_ok();
         let hint = match self.dialogs.availability() {
             Ok(()) => "Open… and Save as… show the desktop's file dialog; or type a path, or drop \
                        a .toml scene or .json shape on the window."
@@ -28,72 +27,64 @@ impl AppUi {
             }
         };
         ui.label(egui::RichText::new(hint).small().weak());
-        let buttons = if dialogs { 230.0 } else { 110.0 };
-        let path_width = (ui.available_width() - buttons).max(130.0);
-        egui::Grid::new("files").num_columns(3).show(ui, |ui| {
-            ui.label("scene");
-            ui.add(egui::TextEdit::singleline(&mut self.scene_path).desired_width(path_width));
-            ui.horizontal(|ui| {
-                if ui.button("Load").clicked() {
-                    let path = PathBuf::from(&self.scene_path);
-                    self.open_scene(&path, actions);
-                }
-                if ui.button("Save").clicked() {
-                    self.save_scene(status);
-                }
-                let current = Path::new(&self.scene_path);
-                dialog_buttons(
-                    &mut self.dialogs,
-                    ui,
-                    [DialogPurpose::OpenScene, DialogPurpose::SaveScene],
-                    current,
-                );
-            });
-            ui.end_row();
-            ui.label("shape");
-            ui.add(egui::TextEdit::singleline(&mut self.shape_path).desired_width(path_width));
-            ui.horizontal(|ui| {
-                if ui.button("Load").clicked() {
-                    self.load_shape(status, actions);
-                }
-                if ui.button("Save").clicked() {
-                    self.save_shape(status);
-                }
-                let current = Path::new(&self.shape_path);
-                dialog_buttons(
-                    &mut self.dialogs,
-                    ui,
-                    [DialogPurpose::OpenShape, DialogPurpose::SaveShape],
-                    current,
-                );
-            });
-            ui.end_row();
-            ui.label("screenshot");
-            ui.add(egui::TextEdit::singleline(&mut self.screenshot_path).desired_width(path_width));
+        // Each path gets the panel's whole width on a row of its own, its buttons on the row
+        // under it: beside the buttons a field had room for four characters.
+        path_field(ui, "scene", &mut self.scene_path);
+        buttons_row(ui, |ui| {
+            if ui.button("Load").clicked() {
+                let path = PathBuf::from(&self.scene_path);
+                self.open_scene(&path, actions);
+            }
+            if ui.button("Save").clicked() {
+                self.save_scene(status);
+            }
+            let current = Path::new(&self.scene_path);
+            dialog_buttons(
+                &mut self.dialogs,
+                ui,
+                [DialogPurpose::OpenScene, DialogPurpose::SaveScene],
+                current,
+            );
+        });
+        path_field(ui, "shape", &mut self.shape_path);
+        buttons_row(ui, |ui| {
+            if ui.button("Load").clicked() {
+                self.load_shape(status, actions);
+            }
+            if ui.button("Save").clicked() {
+                self.save_shape(status);
+            }
+            let current = Path::new(&self.shape_path);
+            dialog_buttons(
+                &mut self.dialogs,
+                ui,
+                [DialogPurpose::OpenShape, DialogPurpose::SaveShape],
+                current,
+            );
+        });
+        path_field(ui, "screenshot", &mut self.screenshot_path);
+        buttons_row(ui, |ui| {
             if ui.button("Save PNG").clicked() {
                 actions.push(UiAction::Screenshot(PathBuf::from(&self.screenshot_path)));
             }
-            ui.end_row();
-            ui.label("record");
-            ui.add(egui::TextEdit::singleline(&mut self.record_dir).desired_width(path_width));
-            ui.horizontal(|ui| {
-                ui.add(egui::DragValue::new(&mut self.record_frames).range(1..=100_000));
-                let busy = self.recording.is_some();
-                if ui
-                    .add_enabled(!busy, egui::Button::new("Record"))
-                    .on_hover_text(
-                        "the next N frames of the 3D view, as shown: PNGs into a folder, or one \
-                         clip at the scene's fps when the path ends in .gif (or .mp4, with ffmpeg)",
-                    )
-                    .clicked()
-                {
-                    actions.push(UiAction::Record {
-                        dir: PathBuf::from(&self.record_dir),
-                        frames: self.record_frames,
-                    });
-                }
-            });
-            ui.end_row();
+        });
+        path_field(ui, "record", &mut self.record_dir);
+        buttons_row(ui, |ui| {
+            ui.add(egui::DragValue::new(&mut self.record_frames).range(1..=100_000));
+            let busy = self.recording.is_some();
+            if ui
+                .add_enabled(!busy, egui::Button::new("Record"))
+                .on_hover_text(
+                    "the next N frames of the 3D view, as shown: PNGs into a folder, or one \
+                     clip at the scene's fps when the path ends in .gif (or .mp4, with ffmpeg)",
+                )
+                .clicked()
+            {
+                actions.push(UiAction::Record {
+                    dir: PathBuf::from(&self.record_dir),
+                    frames: self.record_frames,
+                });
+            }
         });
         if !self.recent.is_empty() {
             ui.label("recent");
@@ -458,7 +449,6 @@ impl AppUi {
     }
 }
 
-/// Writes `text` to `path`; the notice says what happened.
 /// "Open…" and "Save as…" beside a path field whose file is `current`, where a dialog can
 /// appear; `purposes` are the field's open and save purposes.
 fn dialog_buttons(
@@ -478,9 +468,69 @@ fn dialog_buttons(
     }
 }
 
+/// Width of the labels in front of the path fields, so the fields line up.
+const PATH_LABEL_WIDTH: f32 = 70.0;
+
+/// A labelled path field as wide as the panel; hovering shows the whole path.
+fn path_field(ui: &mut egui::Ui, label: &str, path: &mut String) -> egui::Response {
+    ui.horizontal(|ui| {
+        let text = ui.label(label);
+        ui.add_space((PATH_LABEL_WIDTH - text.rect.width()).max(0.0));
+        let hover = path.clone();
+        ui.add(egui::TextEdit::singleline(path).desired_width(ui.available_width()))
+            .on_hover_text(hover)
+    })
+    .inner
+}
+
+/// The buttons under a path field, from the panel's left edge so four of them fit its width.
+fn buttons_row(ui: &mut egui::Ui, add: impl FnOnce(&mut egui::Ui)) {
+    ui.horizontal(add);
+    ui.add_space(ui.spacing().item_spacing.y);
+}
+
+/// Writes `text` to `path`; the notice says what happened.
 pub(super) fn write_file(path: &str, text: &str) -> (String, bool) {
     match std::fs::write(path, text) {
         Ok(()) => (format!("saved {path}"), false),
         Err(e) => (format!("cannot write {path}: {e}"), true),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{PATH_LABEL_WIDTH, path_field};
+    use crate::ui::workbench::offscreen_input;
+
+    #[test]
+    fn a_path_field_takes_the_panels_width_after_its_label() {
+        // In the controls panel's default 300-point width the field showed four characters
+        // while it shared its row with four buttons; on a row of its own it gets the rest.
+        let ctx = egui::Context::default();
+        let mut field = egui::Rect::NOTHING;
+        let mut panel = egui::Rect::NOTHING;
+        for frame in 0..2 {
+            let input = offscreen_input((1600, 900), frame as f64 / 60.0, Vec::new());
+            let mut output = ctx.run_ui(input, |ui| {
+                egui::Panel::left("controls")
+                    .default_size(300.0)
+                    .show(ui, |ui| {
+                        let mut path = "assets/scenes/sphere-cruising.toml".to_string();
+                        field = path_field(ui, "scene", &mut path).rect;
+                        panel = ui.max_rect();
+                    });
+            });
+            // Nothing is painted, so the font atlas's updates are dropped on purpose.
+            output.textures_delta.clear();
+        }
+        assert!(
+            field.width() >= panel.width() - PATH_LABEL_WIDTH - 20.0,
+            "field {field:?} in panel {panel:?}"
+        );
+        assert!(field.width() >= 180.0, "field {field:?}");
+        assert!(
+            field.right() <= panel.right() + 0.5,
+            "field {field:?} past {panel:?}"
+        );
     }
 }
