@@ -378,26 +378,38 @@ fn sweep_ui(
             crate::analysis::fit::sqrt_law(&all, alpha_star)
         })
         .flatten();
-    // The legend at the top left, where 1/T stays low: the rolling points gather at the right.
+    let fit_curve: Option<(String, Vec<[f64; 2]>)> = fit.map(|(a, b)| {
+        let curve = (1..=120)
+            .map(|i| {
+                let alpha = alpha_star * (1.0 + 0.5 * (i as f64 / 120.0).powi(2));
+                [alpha, 1.0 / (a / (alpha - alpha_star).sqrt() + b)]
+            })
+            .collect();
+        (format!("T = {a:.3}/√(α−α*) + {b:.1}"), curve)
+    });
+    let mut marks: Vec<[f64; 2]> = up.iter().chain(&down).copied().collect();
+    let mut labels = vec!["α*", "α now"];
+    labels.extend(["α increasing"].iter().filter(|_| !up.is_empty()));
+    labels.extend(["α decreasing"].iter().filter(|_| !down.is_empty()));
+    if let Some((name, curve)) = &fit_curve {
+        marks.extend(curve.iter().step_by(10));
+        labels.push(name);
+    }
+    let spans = [[alpha_star, 0.0], [snap.alpha_rad, 0.0]];
+    let corner = legend_corner(&marks, &spans, &labels, [width, height]);
     Plot::new("sweep")
         .width(width)
         .height(height)
-        .legend(Legend::default().position(egui_plot::Corner::LeftTop))
+        .legend(Legend::default().position(corner))
         .x_axis_label("α (rad)")
         .y_axis_label("1/T")
         .include_y(0.0)
         .show(ui, |p| {
             p.vline(VLine::new("α*", alpha_star).color(Color32::from_rgb(220, 60, 60)));
             p.vline(VLine::new("α now", snap.alpha_rad).color(Color32::GRAY));
-            if let Some((a, b)) = fit {
-                let curve: PlotPoints = (1..=120)
-                    .map(|i| {
-                        let alpha = alpha_star * (1.0 + 0.5 * (i as f64 / 120.0).powi(2));
-                        [alpha, 1.0 / (a / (alpha - alpha_star).sqrt() + b)]
-                    })
-                    .collect();
+            if let Some((name, curve)) = fit_curve {
                 p.line(
-                    Line::new(format!("T = {a:.3}/√(α−α*) + {b:.1}"), curve)
+                    Line::new(name, PlotPoints::from(curve))
                         .color(Color32::from_rgb(120, 200, 120)),
                 );
             }
@@ -414,6 +426,73 @@ fn sweep_ui(
         });
 }
 
+/// Where a plot's legend hides the least of what it plots: the corner whose legend-sized box
+/// covers the fewest of `marks`. The plot frames the marks and the points of `spans` (lines and
+/// included values it also shows; a NaN coordinate leaves that axis alone) with egui_plot's 5 %
+/// margin; the legend of `labels` is sized as egui draws it (16 points a row, about 6.5 per
+/// character) in a widget of `size` points, of which the axes take about 60 by 30. Ties go to
+/// the top right (egui_plot's default), then the bottom right, the top left, the bottom left.
+fn legend_corner(
+    marks: &[[f64; 2]],
+    spans: &[[f64; 2]],
+    labels: &[&str],
+    size: [f32; 2],
+) -> egui_plot::Corner {
+    use egui_plot::Corner;
+    let widest = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+    let legend = [
+        25.0 + 6.5 * widest as f64,
+        12.0 + 16.0 * labels.len() as f64,
+    ];
+    let area = [f64::from(size[0]) - 60.0, f64::from(size[1]) - 30.0];
+    let share = [0, 1].map(|k| (legend[k] / area[k].max(1.0)).min(1.0));
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in marks.iter().chain(spans) {
+        for k in 0..2 {
+            if p[k].is_finite() {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    // Where a mark sits, 0 to 1 across each axis (a flat axis puts it in the middle).
+    let unit = |v: f64, k: usize| {
+        if hi[k] > lo[k] {
+            0.05 + 0.9 * (v - lo[k]) / (hi[k] - lo[k])
+        } else {
+            0.5
+        }
+    };
+    let covered = |right: bool, top: bool| {
+        marks
+            .iter()
+            .filter(|p| {
+                let (x, y) = (unit(p[0], 0), unit(p[1], 1));
+                let in_x = if right {
+                    x >= 1.0 - share[0]
+                } else {
+                    x <= share[0]
+                };
+                let in_y = if top {
+                    y >= 1.0 - share[1]
+                } else {
+                    y <= share[1]
+                };
+                in_x && in_y
+            })
+            .count()
+    };
+    [
+        (Corner::RightTop, true, true),
+        (Corner::RightBottom, true, false),
+        (Corner::LeftTop, false, true),
+        (Corner::LeftBottom, false, false),
+    ]
+    .into_iter()
+    .min_by_key(|&(_, right, top)| covered(right, top))
+    .map_or(Corner::RightTop, |(corner, _, _)| corner)
+}
+
 fn crossings_ui(
     ui: &mut egui::Ui,
     history: &PlotHistory,
@@ -421,21 +500,22 @@ fn crossings_ui(
     width: f32,
     height: f32,
 ) {
+    let points = history.crossings_by_mass();
+    let labels = ["m/m0 now", "settled crossings"];
+    let spans = [[snap.mass_ratio, f64::NAN]];
+    let corner = legend_corner(&points, &spans, &labels, [width, height]);
     Plot::new("crossings_by_mass")
         .width(width)
         .height(height)
-        .legend(Legend::default())
+        .legend(Legend::default().position(corner))
         .x_axis_label("m/m0")
         .y_axis_label("∂Ω crossing, polar angle")
         .show(ui, |p| {
             p.vline(VLine::new("m/m0 now", snap.mass_ratio).color(Color32::GRAY));
             p.points(
-                Points::new(
-                    "settled crossings",
-                    PlotPoints::from(history.crossings_by_mass()),
-                )
-                .color(Color32::from_rgb(60, 130, 230))
-                .radius(2.0),
+                Points::new("settled crossings", PlotPoints::from(points))
+                    .color(Color32::from_rgb(60, 130, 230))
+                    .radius(2.0),
             );
         });
 }
@@ -445,10 +525,18 @@ fn health_ui(ui: &mut egui::Ui, history: &PlotHistory, width: f32, height: f32) 
     let series = |f: &dyn Fn(&Sample) -> f64| -> PlotPoints<'static> {
         history.plotted().map(|s| [s.t, log(f(s))]).collect()
     };
+    let marks: Vec<[f64; 2]> = history
+        .plotted()
+        .flat_map(|s| {
+            [s.quat_norm_error, s.contact_normal_error, s.energy_drift].map(|v| [s.t, log(v)])
+        })
+        .collect();
+    let labels = ["||q|−1|", "contact normal", "|E+W−E₀|"];
+    let corner = legend_corner(&marks, &[[f64::NAN, -16.0]], &labels, [width, height]);
     Plot::new("health")
         .width(width)
         .height(height)
-        .legend(Legend::default())
+        .legend(Legend::default().position(corner))
         .x_axis_label("t")
         .y_axis_label("log₁₀ error")
         .include_y(-16.0)
@@ -460,4 +548,86 @@ fn health_ui(ui: &mut egui::Ui, history: &PlotHistory, width: f32, height: f32) 
             ));
             p.line(Line::new("|E+W−E₀|", series(&|s| s.energy_drift)));
         });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::legend_corner;
+    use egui_plot::Corner;
+
+    /// A plot's size in the app at 1600×900 with the controls shown.
+    const SIZE: [f32; 2] = [320.0, 170.0];
+
+    #[test]
+    fn the_critical_angle_lessons_legend_leaves_the_fit_and_its_points_visible() {
+        // α* = 0.0489; the periods the lesson measures, and its √-law fit. The top right holds
+        // the 1.3 α* point and the top left the fit's steep rise (which the legend hid when it
+        // was fixed there); the bottom right is empty.
+        let a_star: f64 = 0.0489;
+        let mut marks: Vec<[f64; 2]> = [
+            (0.9, 0.0),
+            (1.003, 613.09),
+            (1.01, 385.92),
+            (1.03, 265.97),
+            (1.1, 182.95),
+            (1.3, 125.07),
+        ]
+        .iter()
+        .map(|&(r, t)| [r * a_star, if t > 0.0 { 1.0 / t } else { 0.0 }])
+        .collect();
+        marks.extend((1..=120).step_by(10).map(|i| {
+            let alpha = a_star * (1.0 + 0.5 * (i as f64 / 120.0).powi(2));
+            [alpha, 1.0 / (6.26 / (alpha - a_star).sqrt() + 98.8)]
+        }));
+        let labels = ["α*", "α now", "α increasing", "T = 6.260/√(α−α*) + 98.8"];
+        let spans = [[a_star, 0.0], [1.3 * a_star, 0.0]];
+        assert_eq!(
+            legend_corner(&marks, &spans, &labels, SIZE),
+            Corner::RightBottom
+        );
+    }
+
+    #[test]
+    fn the_doubled_branch_is_not_hidden_under_the_legend() {
+        // The period-doubling lesson's crossings: one branch at m/m0 = 2, two at 4.5 and 6. The
+        // upper branch sat under egui_plot's default top-right legend.
+        let marks = [
+            [2.0, 1.22],
+            [4.5, 1.17],
+            [4.5, 1.38],
+            [6.0, 1.17],
+            [6.0, 1.38],
+        ];
+        let labels = ["m/m0 now", "settled crossings"];
+        let corner = legend_corner(&marks, &[[6.0, f64::NAN]], &labels, SIZE);
+        assert_eq!(corner, Corner::LeftTop);
+    }
+
+    #[test]
+    fn the_legend_goes_to_the_one_empty_corner() {
+        let labels = ["a", "b", "c"];
+        let filled = |skip: usize| -> Vec<[f64; 2]> {
+            let corners = [[1.0, 1.0], [1.0, 0.0], [0.0, 1.0], [0.0, 0.0]];
+            let mut marks = vec![[0.5, 0.5]];
+            marks.extend(
+                corners
+                    .iter()
+                    .enumerate()
+                    .filter(|&(i, _)| i != skip)
+                    .map(|(_, &c)| c),
+            );
+            marks
+        };
+        let expected = [
+            Corner::RightTop,
+            Corner::RightBottom,
+            Corner::LeftTop,
+            Corner::LeftBottom,
+        ];
+        for (skip, want) in expected.into_iter().enumerate() {
+            assert_eq!(legend_corner(&filled(skip), &[], &labels, SIZE), want);
+        }
+        // Nothing plotted: egui_plot's own default.
+        assert_eq!(legend_corner(&[], &[], &labels, SIZE), Corner::RightTop);
+    }
 }
