@@ -389,8 +389,13 @@ fn sweep_ui(
     });
     let mut marks: Vec<[f64; 2]> = up.iter().chain(&down).copied().collect();
     let mut labels = vec!["α*", "α now"];
-    labels.extend(["α increasing"].iter().filter(|_| !up.is_empty()));
-    labels.extend(["α decreasing"].iter().filter(|_| !down.is_empty()));
+    // egui_plot lists only the series that have points.
+    if !up.is_empty() {
+        labels.push("α increasing");
+    }
+    if !down.is_empty() {
+        labels.push("α decreasing");
+    }
     if let Some((name, curve)) = &fit_curve {
         marks.extend(curve.iter().step_by(10));
         labels.push(name);
