@@ -237,10 +237,10 @@ impl App {
         {
             self.screenshot_done = true;
             match w.bench.capture(&w.gpu.device, &w.gpu.queue, &frame) {
-                Ok(image) => match image.save(&path) {
+                Ok(image) => match crate::png::write_png(&path, &image, &Default::default()) {
                     Ok(()) => eprintln!("rollphase: screenshot saved to {}", path.display()),
                     Err(e) => {
-                        self.error = Some(anyhow!("cannot write {}: {e}", path.display()));
+                        self.error = Some(anyhow!("screenshot: {e}"));
                         event_loop.exit();
                     }
                 },

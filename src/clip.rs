@@ -1,9 +1,9 @@
 //! Clips out of the renderer's frames, for a slide: an animated GIF (the `image` crate's GIF
 //! encoder) or, where `ffmpeg` is on PATH, an H.264 MP4 (frames piped to it as raw RGBA).
 //! Encoding runs on a writer thread fed through a bounded channel, so it overlaps rendering.
-//! The clip is written beside its destination and moved into place only when complete, so a
-//! failed or interrupted run leaves no half clip. No GPU: images in, a file out. Imports
-//! nothing else of the crate.
+//! The clip goes through the output layer ([`crate::output`], the only module of the crate it
+//! imports): staged and moved into place only when complete, so a failed or interrupted run
+//! leaves no half clip, and a device or link is kept. No GPU: images in, a file out.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -15,6 +15,8 @@ use image::RgbaImage;
 use image::codecs::gif::{GifEncoder, Repeat};
 use image::{Delay, Frame};
 use thiserror::Error;
+
+use crate::output::{Inputs, OutputError, OutputFile, ProgramOutput};
 
 /// GIF quantisation speed (1 best … 30 fastest); 10 is the gif crate's own suggestion for
 /// photos and keeps a 10 s clip at 640×360 to a few seconds of encoding.
@@ -29,20 +31,20 @@ pub enum ClipError {
     )]
     NoFfmpeg,
     /// The file could not be created, written or moved into place.
-    #[error("cannot write {}: {source}", path.display())]
+    #[error("cannot write {}: {error}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
         /// What the OS said.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// The GIF encoder failed.
-    #[error("cannot encode the GIF {}: {source}", path.display())]
+    #[error("cannot encode the GIF {}: {error}", path.display())]
     Gif {
         /// The file.
         path: PathBuf,
         /// What the encoder said.
-        source: image::ImageError,
+        error: image::ImageError,
     },
     /// ffmpeg failed.
     #[error("ffmpeg could not write {} (exit status {status}): {stderr}", path.display())]
@@ -64,6 +66,9 @@ pub enum ClipError {
         /// The clip's size.
         want: (u32, u32),
     },
+    /// The output layer refused or failed (an input as output, a folder, a full disk).
+    #[error(transparent)]
+    Output(#[from] OutputError),
     /// The writer thread stopped early (its own error follows from `finish`) or panicked.
     #[error("the clip writer stopped early")]
     Stopped,
@@ -91,44 +96,62 @@ pub fn ffmpeg_available() -> bool {
 /// A clip being written: push frames in order, then [`ClipWriter::finish`].
 pub struct ClipWriter {
     sender: Option<mpsc::SyncSender<RgbaImage>>,
-    worker: Option<JoinHandle<Result<(), ClipError>>>,
+    worker: Option<JoinHandle<Result<Option<OutputFile>, ClipError>>>,
+    /// The MP4's output, which ffmpeg writes by path.
+    program: Option<ProgramOutput>,
     size: (u32, u32),
     pushed: u64,
-    partial: PathBuf,
     path: PathBuf,
 }
 
 impl ClipWriter {
-    /// Starts a clip of `kind` at `path`, `size` pixels, `fps` frames per second.
-    pub fn new(kind: ClipKind, path: &Path, size: (u32, u32), fps: f64) -> Result<Self, ClipError> {
-        let name = path.file_name().map(|n| n.to_string_lossy().into_owned());
-        let partial = path.with_file_name(format!(".{}.partial", name.unwrap_or_default()));
-        let io = |source| ClipError::Io {
-            path: partial.clone(),
-            source,
-        };
+    /// Starts a clip of `kind` at `path`, `size` pixels, `fps` frames per second; `path` may
+    /// not be one of `inputs`.
+    pub fn new(
+        kind: ClipKind,
+        path: &Path,
+        size: (u32, u32),
+        fps: f64,
+        inputs: &Inputs,
+    ) -> Result<Self, ClipError> {
         let (sender, receiver) = mpsc::sync_channel::<RgbaImage>(4);
-        let worker = match kind {
+        let (worker, program) = match kind {
             ClipKind::Gif => {
-                let file = std::fs::File::create(&partial).map_err(io)?;
-                let target = partial.clone();
-                std::thread::spawn(move || write_gif(file, &target, receiver, fps))
+                let file = OutputFile::create(path, inputs)?;
+                let target = path.to_path_buf();
+                let worker = std::thread::Builder::new()
+                    .name("gif writer".into())
+                    .spawn(move || write_gif(file, &target, receiver, fps).map(Some))
+                    .map_err(|source| ClipError::Io {
+                        path: path.to_path_buf(),
+                        error: source,
+                    })?;
+                (worker, None)
             }
             ClipKind::Mp4 => {
                 if !ffmpeg_available() {
                     return Err(ClipError::NoFfmpeg);
                 }
-                let child = spawn_ffmpeg(&partial, size, fps).map_err(io)?;
-                let target = partial.clone();
-                std::thread::spawn(move || write_mp4(child, &target, receiver))
+                let program = ProgramOutput::create(path, inputs)?;
+                let io = |source| ClipError::Io {
+                    path: path.to_path_buf(),
+                    error: source,
+                };
+                let child = spawn_ffmpeg(program.path(), size, fps).map_err(io)?;
+                let target = path.to_path_buf();
+                let worker = std::thread::Builder::new()
+                    .name("mp4 writer".into())
+                    .spawn(move || write_mp4(child, &target, receiver).map(|()| None))
+                    .map_err(io)?;
+                (worker, Some(program))
             }
         };
         Ok(Self {
             sender: Some(sender),
             worker: Some(worker),
+            program,
             size,
             pushed: 0,
-            partial,
             path: path.to_path_buf(),
         })
     }
@@ -160,31 +183,38 @@ impl ClipWriter {
         self.pushed
     }
 
+    /// The clip's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
     /// Finishes the clip and moves it into place.
     pub fn finish(mut self) -> Result<(), ClipError> {
         self.sender = None;
-        match self.worker.take().map(|w| w.join()) {
-            Some(Ok(Ok(()))) => {}
+        let file = match self.worker.take().map(|w| w.join()) {
+            Some(Ok(Ok(file))) => file,
             Some(Ok(Err(e))) => return Err(e),
             _ => return Err(ClipError::Stopped),
+        };
+        if let Some(file) = file {
+            file.commit()?;
         }
-        std::fs::rename(&self.partial, &self.path).map_err(|source| ClipError::Io {
-            path: self.path.clone(),
-            source,
-        })
+        if let Some(program) = self.program.take() {
+            program.commit()?;
+        }
+        Ok(())
     }
 }
 
 impl Drop for ClipWriter {
     fn drop(&mut self) {
-        // Unfinished (an error elsewhere, or Ctrl-C unwinding): stop the writer and leave no
-        // partial file behind.
+        // Unfinished (an error elsewhere, or Ctrl-C unwinding): stop the writer; the output
+        // layer removes the partial file when its handle drops.
         if self.worker.is_some() {
             self.sender = None;
             if let Some(w) = self.worker.take() {
                 let _ = w.join();
             }
-            let _ = std::fs::remove_file(&self.partial);
         }
     }
 }
@@ -197,16 +227,16 @@ pub fn gif_delay_cs(k: u64, fps: f64) -> u32 {
 }
 
 fn write_gif(
-    file: std::fs::File,
+    mut file: OutputFile,
     path: &Path,
     frames: mpsc::Receiver<RgbaImage>,
     fps: f64,
-) -> Result<(), ClipError> {
-    let gif_err = |source| ClipError::Gif {
+) -> Result<OutputFile, ClipError> {
+    let gif_err = |error| ClipError::Gif {
         path: path.to_path_buf(),
-        source,
+        error,
     };
-    let mut encoder = GifEncoder::new_with_speed(std::io::BufWriter::new(file), GIF_SPEED);
+    let mut encoder = GifEncoder::new_with_speed(&mut file, GIF_SPEED);
     encoder.set_repeat(Repeat::Infinite).map_err(gif_err)?;
     for (k, image) in frames.iter().enumerate() {
         let delay = Delay::from_numer_denom_ms(10 * gif_delay_cs(k as u64, fps), 1);
@@ -215,7 +245,7 @@ fn write_gif(
             .map_err(gif_err)?;
     }
     drop(encoder);
-    Ok(())
+    Ok(file)
 }
 
 fn spawn_ffmpeg(path: &Path, size: (u32, u32), fps: f64) -> std::io::Result<Child> {
@@ -256,7 +286,7 @@ fn write_mp4(
 ) -> Result<(), ClipError> {
     let io = |source| ClipError::Io {
         path: path.to_path_buf(),
-        source,
+        error: source,
     };
     if let Some(mut stdin) = child.stdin.take() {
         for image in frames.iter() {

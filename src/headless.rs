@@ -18,6 +18,7 @@ use image::RgbaImage;
 use crate::analysis::sphere_orbits::FieldArrow;
 use crate::clip::{ClipKind, ClipWriter};
 use crate::dynamics::Ramp;
+use crate::output::Inputs;
 use crate::png::{PngWriter, frame_name};
 use crate::render::gpu::OffscreenTarget;
 use crate::render::{GpuContext, Renderer};
@@ -191,6 +192,7 @@ pub fn write_frames(
         size,
         sample_count,
         FrameSink::Pngs(out),
+        &Inputs::none(),
         progress,
     )
 }
@@ -201,13 +203,15 @@ enum Frames<'a> {
     Clip(ClipWriter),
 }
 
-/// Renders `frames` frames of `setup` at `size` into `sink`.
+/// Renders `frames` frames of `setup` at `size` into `sink`, through the output layer; no
+/// frame or clip may overwrite one of `inputs` (the scene and its shape file).
 pub fn render_to(
     setup: SceneSetup,
     frames: u64,
     size: (u32, u32),
     sample_count: u32,
     sink: FrameSink,
+    inputs: &Inputs,
     progress: bool,
 ) -> Result<HeadlessReport> {
     if frames == 0 {
@@ -217,11 +221,12 @@ pub fn render_to(
     // PNG files in a folder (written by a pool of threads), or one clip.
     let mut writer = match sink {
         FrameSink::Pngs(out) => {
-            std::fs::create_dir_all(out)
-                .with_context(|| format!("cannot create the output folder {}", out.display()))?;
-            Frames::Pngs(PngWriter::new(2), out)
+            crate::output::create_folder(out)?;
+            Frames::Pngs(PngWriter::new(2, inputs.clone()), out)
         }
-        FrameSink::Clip(kind, path) => Frames::Clip(ClipWriter::new(kind, path, size, fps)?),
+        FrameSink::Clip(kind, path) => {
+            Frames::Clip(ClipWriter::new(kind, path, size, fps, inputs)?)
+        }
     };
     let model_note = setup.model_note.clone();
     let mut hr = HeadlessRenderer::new(setup, size, sample_count)?;

@@ -20,6 +20,7 @@
 //! | [`headless`] | offscreen frames to PNG through the same renderer |
 //! | [`ui`] | the app's egui panels, plots and painter, and the windowless app core |
 //! | [`app`] | the winit window around the app core (the only module that knows winit) |
+//! | [`output`] | the one output layer: every file rollphase writes is staged and moved into place, devices written through, inputs refused |
 //! | [`png`] | PNG frames out on writer threads (headless frames, the app's recording) |
 //! | [`plot`] | PNG charts for the command line (not used by the core) |
 //! | [`figures`] | the paper's figures (and `sphere-bifurcation`) as data.csv, figure.png, summary.json |
@@ -42,6 +43,7 @@ pub mod geometry;
 pub mod headless;
 pub mod integrate;
 pub mod numeric;
+pub mod output;
 pub mod plot;
 pub mod png;
 #[cfg(feature = "render")]

@@ -13,7 +13,7 @@ fn main() {
     // Ctrl-C (or a termination signal): remove the outputs still being written, then stop with
     // the conventional status 130. The destinations are untouched until a command succeeds.
     let _ = ctrlc::set_handler(|| {
-        rollphase::cli::output::remove_partial_outputs();
+        rollphase::output::remove_partial_outputs();
         eprintln!("interrupted; no partial output was left");
         std::process::exit(130);
     });
@@ -26,6 +26,8 @@ fn main() {
         let broken_pipe = e.chain().any(|c| {
             c.downcast_ref::<std::io::Error>()
                 .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+                || c.downcast_ref::<rollphase::output::OutputError>()
+                    .is_some_and(|o| o.is_broken_pipe())
         });
         if broken_pipe {
             std::process::exit(0);

@@ -125,8 +125,19 @@ fn range(values: impl Iterator<Item = f64>, log: bool) -> (f64, f64) {
     }
 }
 
-/// Draws `panels` in a grid of `cols` columns into a PNG of `size` pixels.
+/// Draws `panels` in a grid of `cols` columns into a PNG file of `size` pixels, through the
+/// output layer.
 pub fn render_png(panels: &[Panel], cols: usize, size: (u32, u32), path: &Path) -> Result<()> {
+    let png = png_bytes(panels, cols, size)?;
+    Ok(crate::output::write_bytes(
+        path,
+        &png,
+        &crate::output::Inputs::none(),
+    )?)
+}
+
+/// Draws `panels` in a grid of `cols` columns as the bytes of a PNG of `size` pixels.
+pub fn png_bytes(panels: &[Panel], cols: usize, size: (u32, u32)) -> Result<Vec<u8>> {
     register_font();
     let (w, h) = size;
     let mut buf = vec![255u8; (w * h * 3) as usize];
@@ -143,8 +154,10 @@ pub fn render_png(panels: &[Panel], cols: usize, size: (u32, u32), path: &Path) 
             .map_err(|e| anyhow::anyhow!("drawing: {e}"))?;
     }
     let img = image::RgbImage::from_raw(w, h, buf).context("image buffer size")?;
-    img.save(path)
-        .with_context(|| format!("cannot write {}", path.display()))
+    let mut png = Vec::new();
+    img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .context("cannot encode the chart as PNG")?;
+    Ok(png)
 }
 
 /// Tick text: powers of ten as 1e-5 on log axes, short decimals on linear ones.

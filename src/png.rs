@@ -1,8 +1,9 @@
 //! PNG files out of the renderer's frames: a pool of writer threads fed through a bounded
 //! channel, so encoding overlaps rendering (headless frames, the app's recording), and the
-//! frames' file names. No GPU: plain images in, files out. Imports nothing else of the crate.
+//! frames' file names. No GPU: plain images in, files out through the output layer
+//! ([`crate::output`], the only module of the crate it imports).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
@@ -10,17 +11,22 @@ use std::thread::JoinHandle;
 use image::RgbaImage;
 use thiserror::Error;
 
+use crate::output::{self, Inputs, OutputError};
+
 /// Why frames could not be written.
 #[derive(Debug, Error)]
 pub enum PngError {
-    /// Encoding or writing one file failed.
-    #[error("cannot write {}: {source}", path.display())]
-    Write {
+    /// Encoding one frame failed.
+    #[error("cannot encode {} as PNG: {error}", path.display())]
+    Encode {
         /// The file.
         path: PathBuf,
-        /// What the encoder or the file system said.
-        source: image::ImageError,
+        /// What the encoder said.
+        error: image::ImageError,
     },
+    /// Writing one file failed (or it is one of the command's inputs).
+    #[error(transparent)]
+    Write(#[from] OutputError),
     /// A writer thread stopped (after an error, reported by [`PngWriter::close`]) or panicked.
     #[error("a PNG writer stopped early{}", if *panicked { " (it panicked)" } else { "; see the error that follows" })]
     Stopped {
@@ -36,13 +42,15 @@ pub struct PngWriter {
 }
 
 impl PngWriter {
-    /// `threads` writers (at least 1).
-    pub fn new(threads: usize) -> Self {
+    /// `threads` writers (at least 1); no frame may overwrite one of `inputs`.
+    pub fn new(threads: usize, inputs: Inputs) -> Self {
+        let inputs = Arc::new(inputs);
         let (sender, receiver) = mpsc::sync_channel::<(PathBuf, RgbaImage)>(4);
         let receiver = Arc::new(Mutex::new(receiver));
         let workers = (0..threads.max(1))
             .map(|_| {
                 let rx = receiver.clone();
+                let inputs = inputs.clone();
                 std::thread::spawn(move || -> Result<(), PngError> {
                     loop {
                         let job = match rx.lock() {
@@ -52,10 +60,7 @@ impl PngWriter {
                         let Ok((path, image)) = job else {
                             return Ok(());
                         };
-                        if let Err(source) = image.save_with_format(&path, image::ImageFormat::Png)
-                        {
-                            return Err(PngError::Write { path, source });
-                        }
+                        write_png(&path, &image, &inputs)?;
                     }
                 })
             })
@@ -84,6 +89,21 @@ impl PngWriter {
         }
         Ok(())
     }
+}
+
+/// Writes `image` as a PNG file at `path` through the output layer.
+pub fn write_png(path: &Path, image: &RgbaImage, inputs: &Inputs) -> Result<(), PngError> {
+    let mut bytes = Vec::new();
+    image
+        .write_to(
+            &mut std::io::Cursor::new(&mut bytes),
+            image::ImageFormat::Png,
+        )
+        .map_err(|error| PngError::Encode {
+            path: path.to_path_buf(),
+            error,
+        })?;
+    Ok(output::write_bytes(path, &bytes, inputs)?)
 }
 
 /// The file name of frame `k`.

@@ -13,8 +13,10 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("assets", &[]),
     ("colormap", &[]),
     ("numeric", &[]),
-    ("png", &[]),
-    ("clip", &[]),
+    ("output", &[]),
+    // Writers over the output layer.
+    ("png", &["output"]),
+    ("clip", &["output"]),
     // The physics core.
     ("geometry", &["numeric"]),
     ("integrate", &["numeric"]),
@@ -53,7 +55,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
         ],
     ),
     // Charts and the paper's figures.
-    ("plot", &["colormap", "assets"]),
+    ("plot", &["colormap", "assets", "output"]),
     (
         "figures",
         &[
@@ -66,6 +68,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "plot",
             "colormap",
             "assets",
+            "output",
         ],
     ),
     // Draw data, pixels, front ends.
@@ -100,6 +103,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "render",
             "png",
             "clip",
+            "output",
         ],
     ),
     (
@@ -119,9 +123,10 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "clip",
             "colormap",
             "assets",
+            "output",
         ],
     ),
-    ("app", &["scene", "sim", "view", "render", "ui"]),
+    ("app", &["scene", "sim", "view", "render", "ui", "png"]),
     // The command line may use everything.
     ("cli", &["*"]),
 ];
@@ -131,6 +136,7 @@ const NO_GPU: &[&str] = &[
     "assets",
     "colormap",
     "numeric",
+    "output",
     "png",
     "clip",
     "geometry",

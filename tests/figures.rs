@@ -280,3 +280,45 @@ fn sphere_halting_loops_shrink_towards_alpha_star_with_stable_and_unstable_arcs(
         assert!(2 * l.stable_confirmed[0] >= l.stable_confirmed[1], "{l:?}");
     }
 }
+
+#[test]
+fn a_figure_folder_holds_the_old_set_or_the_new_one_never_a_mix() {
+    let base = std::env::temp_dir().join(format!("rollphase-figure-set-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    let run = || {
+        Command::new(env!("CARGO_BIN_EXE_rollphase"))
+            .args(["figure", "sphere-tube", "--quick", "--out"])
+            .arg(&base)
+            .output()
+            .unwrap()
+    };
+    let first = run();
+    assert!(
+        first.status.success(),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let dir = base.join("sphere-tube");
+    let old: Vec<Vec<u8>> = ["data.csv", "summary.json"]
+        .iter()
+        .map(|f| std::fs::read(dir.join(f)).unwrap())
+        .collect();
+    // figure.png is now a folder: refused before the figure runs, the other two untouched.
+    std::fs::remove_file(dir.join("figure.png")).unwrap();
+    std::fs::create_dir(dir.join("figure.png")).unwrap();
+    let o = run();
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("figure.png is a folder"), "{err}");
+    for (f, bytes) in ["data.csv", "summary.json"].iter().zip(&old) {
+        assert_eq!(&std::fs::read(dir.join(f)).unwrap(), bytes, "{f} changed");
+    }
+    // Nothing staged is left behind.
+    let hidden: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(hidden.is_empty(), "{hidden:?}");
+    let _ = std::fs::remove_dir_all(&base);
+}

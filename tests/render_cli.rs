@@ -362,3 +362,128 @@ fn mp4_without_ffmpeg_and_gif_without_headless_say_what_to_do() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A scene file of the default cylinder, for the tests that make it an output too.
+fn small_scene(dir: &std::path::Path) -> PathBuf {
+    let scene = dir.join("s.toml");
+    std::fs::write(
+        &scene,
+        "name = \"mine\"\n[body]\nrandom = { dimension = 2, seed = 1, sigma = 0.08 }\n[model]\nalpha_rad = 0.4\n",
+    )
+    .unwrap();
+    scene
+}
+
+#[test]
+fn a_clip_or_frame_that_is_the_scene_is_refused_before_rendering() {
+    let dir = temp("clip-is-input");
+    let scene = small_scene(&dir);
+    let before = std::fs::read(&scene).unwrap();
+    let s = scene.to_str().unwrap();
+    for flag in ["--gif", "--mp4"] {
+        let o = rollphase(&[
+            "--headless",
+            "--scene",
+            s,
+            "--frames",
+            "2",
+            "--size",
+            "64x64",
+            flag,
+            s,
+        ]);
+        assert_eq!(o.status.code(), Some(1), "{flag}: {}", stderr(&o));
+        assert!(stderr(&o).contains("is also an input"), "{}", stderr(&o));
+    }
+    // A PNG frame whose name links to the scene.
+    let frames = dir.join("frames");
+    std::fs::create_dir_all(&frames).unwrap();
+    std::os::unix::fs::symlink(&scene, frames.join("frame_00000.png")).unwrap();
+    let o = rollphase(&[
+        "--headless",
+        "--scene",
+        s,
+        "--frames",
+        "2",
+        "--size",
+        "64x64",
+        "--out",
+        frames.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("is also an input"), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read(&scene).unwrap(),
+        before,
+        "the scene is untouched"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_clip_to_a_device_is_written_through_and_hard_links_share_it() {
+    use std::os::unix::fs::{FileTypeExt, MetadataExt};
+    let dir = temp("clip-device");
+    // A private null device (major 1, minor 3), so a regression replaces it and not /dev/null.
+    let null = dir.join("null");
+    let made = Command::new("mknod")
+        .arg(&null)
+        .args(["c", "1", "3"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if made {
+        let o = rollphase(&[
+            "--headless",
+            "--frames",
+            "2",
+            "--size",
+            "64x64",
+            "--gif",
+            null.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let m = std::fs::metadata(&null).unwrap();
+        assert!(m.file_type().is_char_device(), "still a device");
+    }
+    // h2 is a hard link to h1: after --gif h1 both names hold the new clip.
+    let h1 = dir.join("h1.gif");
+    std::fs::write(&h1, "old").unwrap();
+    std::fs::hard_link(&h1, dir.join("h2.gif")).unwrap();
+    let o = rollphase(&[
+        "--headless",
+        "--frames",
+        "2",
+        "--size",
+        "64x64",
+        "--gif",
+        h1.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let h2 = dir.join("h2.gif");
+    assert_eq!(std::fs::read(&h1).unwrap(), std::fs::read(&h2).unwrap());
+    assert!(std::fs::read(&h2).unwrap().starts_with(b"GIF8"));
+    assert_eq!(
+        std::fs::metadata(&h1).unwrap().ino(),
+        std::fs::metadata(&h2).unwrap().ino()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_clip_in_a_missing_folder_says_so_once() {
+    let dir = temp("clip-nodir");
+    let o = rollphase(&[
+        "--headless",
+        "--frames",
+        "2",
+        "--size",
+        "64x64",
+        "--gif",
+        dir.join("nodir/x.gif").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert_eq!(err.matches("No such file or directory").count(), 1, "{err}");
+    assert!(err.contains("nodir"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -331,3 +331,116 @@ fn a_bad_sweep_spec_is_refused_with_the_key_and_what_is_allowed() {
     assert!(!root.join("out").join("sweep.csv").exists());
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// A small sweep spec over one body file, relative to the spec's folder.
+const SMALL_SWEEP: &str = "alpha = [0.2]\norientations = 2\nintegrators = [\"fast\"]\nt_max = 50.0\n\n[bodies]\nfiles = [\"body.json\"]\n";
+
+fn small_sweep(root: &Path, name: &str) -> PathBuf {
+    let spec = root.join(name);
+    std::fs::write(&spec, SMALL_SWEEP).unwrap();
+    std::fs::write(
+        root.join("body.json"),
+        include_str!("../assets/shapes/paper-sphere.json"),
+    )
+    .unwrap();
+    spec
+}
+
+#[test]
+fn merge_reads_regular_shards_only_and_never_writes_over_one() {
+    let root = scratch("merge-hostile");
+    let spec = small_sweep(&root, "spec.toml");
+    let parts = root.join("parts");
+    let p = parts.to_str().unwrap();
+    for i in 1..=2 {
+        ok(&[
+            "sweep",
+            spec.to_str().unwrap(),
+            "--out",
+            p,
+            "--shard",
+            &format!("{i}/2"),
+        ]);
+    }
+    // sweep.csv links to a shard: merging would replace the shard with its own output.
+    std::os::unix::fs::symlink(parts.join("shard-1-of-2.json"), parts.join("sweep.csv")).unwrap();
+    let before = std::fs::read(parts.join("shard-1-of-2.json")).unwrap();
+    let e = fails(&["merge", p]);
+    assert!(e.contains("is also an input"), "{e}");
+    assert_eq!(
+        std::fs::read(parts.join("shard-1-of-2.json")).unwrap(),
+        before
+    );
+    std::fs::remove_file(parts.join("sweep.csv")).unwrap();
+
+    // A FIFO named like a shard is refused at once, not waited on.
+    let fifo = parts.join("shard-9-of-9.json");
+    assert!(
+        Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let start = std::time::Instant::now();
+    let e = fails(&["merge", p]);
+    assert!(e.contains("not a regular file"), "{e}");
+    assert!(start.elapsed().as_secs() < 30);
+    std::fs::remove_file(&fifo).unwrap();
+
+    // The shards carry absolute paths: merged from another folder, the body file is found.
+    let o = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        .args(["merge", p])
+        .current_dir("/")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(parts.join("sweep.csv").is_file());
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn sweep_and_fit_lag_refuse_their_own_inputs_and_bad_folders_before_running() {
+    let root = scratch("sweep-hostile");
+    // The spec is named like the sweep's own output and --out is its folder.
+    let spec = small_sweep(&root, "sweep.csv");
+    let before = std::fs::read(&spec).unwrap();
+    let e = fails(&[
+        "sweep",
+        spec.to_str().unwrap(),
+        "--out",
+        root.to_str().unwrap(),
+    ]);
+    assert!(e.contains("is also an input"), "{e}");
+    assert_eq!(std::fs::read(&spec).unwrap(), before);
+
+    // --out under a file fails before the first run.
+    let afile = root.join("afile");
+    std::fs::write(&afile, "x").unwrap();
+    let spec = small_sweep(&root, "spec.toml");
+    let start = std::time::Instant::now();
+    let e = fails(&[
+        "sweep",
+        spec.to_str().unwrap(),
+        "--out",
+        afile.join("sub").to_str().unwrap(),
+    ]);
+    assert!(e.contains("not a folder"), "{e}");
+    assert!(start.elapsed().as_secs() < 20);
+
+    // fit-lag's data as its own output: lab/fit-lag/data.csv with --out lab.
+    let lab = root.join("lab");
+    std::fs::create_dir_all(lab.join("fit-lag")).unwrap();
+    let data = lab.join("fit-lag/data.csv");
+    let measured = "run_idx,alpha*,alpha,t_lag\n0,0.1,0.15,\"[10, 11]\"\n0,0.1,0.2,\"[6, 7]\"\n0,0.1,0.3,\"[4, 4.5]\"\n";
+    std::fs::write(&data, measured).unwrap();
+    let e = fails(&[
+        "fit-lag",
+        data.to_str().unwrap(),
+        "--out",
+        lab.to_str().unwrap(),
+    ]);
+    assert!(e.contains("is also an input"), "{e}");
+    assert_eq!(std::fs::read_to_string(&data).unwrap(), measured);
+    let _ = std::fs::remove_dir_all(&root);
+}

@@ -71,13 +71,14 @@ pub fn run(a: ExportStlArgs) -> Result<()> {
     if open != 0 {
         bail!("internal error: the mesh has {open} open edges; please report this shape file");
     }
-    let mut file = super::output::OutputFile::create(&a.output, &[a.file.as_path()], "-o")?;
+    let mut file =
+        crate::output::OutputFile::create(&a.output, &crate::output::Inputs::of([&a.file]))?;
     let name = a
         .file
         .file_stem()
         .and_then(|s| s.to_str())
         .unwrap_or("body");
-    mesh.write_stl(&mut file.writer(), a.radius_mm, name)
+    mesh.write_stl(&mut file, a.radius_mm, name)
         .with_context(|| format!("cannot write {}", a.output.display()))?;
     file.commit()?;
     let volume_cm3 = mesh.volume() * a.radius_mm.powi(3) / 1000.0;

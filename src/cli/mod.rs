@@ -4,10 +4,10 @@
 /// `println!` that returns the error (a closed pipe, a full disk) instead of panicking.
 macro_rules! outln {
     () => {
-        $crate::cli::output::stdout_line("")
+        $crate::output::stdout_line("").map_err(::anyhow::Error::from)
     };
     ($($arg:tt)*) => {
-        $crate::cli::output::stdout_line(&format!($($arg)*))
+        $crate::output::stdout_line(&format!($($arg)*)).map_err(::anyhow::Error::from)
     };
 }
 
@@ -17,7 +17,6 @@ pub mod export_stl;
 pub mod figure;
 pub mod inspect;
 pub mod merge;
-pub mod output;
 pub mod period;
 pub mod render;
 pub mod scenes;
@@ -186,7 +185,13 @@ pub fn parse_list(text: &str, n: usize, flag: &str, names: &str) -> Result<Vec<f
         .collect()
 }
 
-/// Writes text to a file, or to standard output for `None` or "-" (see [`output`]).
-pub fn write_output(path: Option<&PathBuf>, text: &str) -> Result<()> {
-    output::write_text(path.map(PathBuf::as_path), text, &[], "-o")
+/// Writes text to a file, or to standard output for `None` or "-", through the output layer
+/// ([`crate::output`]); `inputs` are the command's input files, which it refuses to overwrite.
+pub fn write_output(
+    path: Option<&PathBuf>,
+    text: &str,
+    inputs: &crate::output::Inputs,
+) -> Result<()> {
+    let path = path.map_or(Path::new("-"), PathBuf::as_path);
+    Ok(crate::output::write_bytes(path, text.as_bytes(), inputs)?)
 }

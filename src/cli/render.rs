@@ -168,25 +168,34 @@ fn write_headless(a: &RenderArgs, setup: SceneSetup, frames: u64) -> Result<()> 
         (None, Some(p)) => Some((ClipKind::Mp4, "--mp4", p)),
         (None, None) => None,
     };
-    // A clip is written beside its destination and moved into place: resolve a symbolic link
-    // first, so the link stays and its target gets the clip.
+    // The scene and its shape file are inputs: no frame or clip may overwrite them. Checked
+    // here, before the renderer starts.
+    let mut inputs = crate::output::Inputs::none();
+    if let Some(scene) = &a.scene {
+        inputs.add(scene);
+        if let Some(shape) = &setup.scene.body.shape {
+            let base = scene.parent().unwrap_or(std::path::Path::new("."));
+            inputs.add(&base.join(shape));
+        }
+    }
     let clip = match clip {
         Some((kind, flag, p)) => {
-            if p.is_dir() {
-                bail!("{flag} {} is a folder; give a file name", p.display());
-            }
+            crate::output::check_file(p, &inputs).with_context(|| flag.to_string())?;
             if kind == ClipKind::Mp4 && !crate::clip::ffmpeg_available() {
                 return Err(crate::clip::ClipError::NoFfmpeg.into());
             }
-            Some((kind, super::output::real_path(p)))
+            Some((kind, p.clone()))
         }
-        None => None,
+        None => {
+            crate::output::check_folder(&a.out, &[], &inputs).context("--out")?;
+            None
+        }
     };
     let sink = match &clip {
         Some((kind, p)) => FrameSink::Clip(*kind, p),
         None => FrameSink::Pngs(&a.out),
     };
-    let report = crate::headless::render_to(setup, frames, a.size, a.msaa, sink, true)?;
+    let report = crate::headless::render_to(setup, frames, a.size, a.msaa, sink, &inputs, true)?;
     if let Some(note) = &report.model_note {
         eprintln!("note: {note}");
     }

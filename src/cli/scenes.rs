@@ -19,7 +19,7 @@ pub fn run(a: ScenesArgs) -> Result<()> {
     if let Some(name) = a.toml {
         Scene::preset(&name)?;
         if let Some((_, text)) = PRESETS.iter().find(|(n, _)| *n == name) {
-            super::output::write_text(None, text, &[], "--toml")?;
+            super::write_output(None, text, &crate::output::Inputs::none())?;
         }
         return Ok(());
     }

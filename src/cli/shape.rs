@@ -65,5 +65,9 @@ pub fn run(a: ShapeArgs) -> Result<()> {
         let n = a.paper_seed.map_or_else(|| a.seed.unwrap_or(0), u64::from);
         bail!("{which} {n} gives a body the models cannot roll: {e}");
     }
-    super::write_output(a.output.as_ref(), &(body.to_file().to_json() + "\n"))
+    super::write_output(
+        a.output.as_ref(),
+        &(body.to_file().to_json() + "\n"),
+        &crate::output::Inputs::none(),
+    )
 }

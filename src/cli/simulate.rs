@@ -12,6 +12,7 @@ use crate::dynamics::Ramp;
 use crate::dynamics::sphere3d::orientation_touching;
 use crate::geometry::{Body, sphere::direction};
 use crate::integrate::Method;
+use crate::output::{self, Inputs};
 use crate::simulate::{DISK_HEADER, InitialState, RunSpec, SPHERE_HEADER, Summary};
 
 /// Which integrator.
@@ -224,17 +225,19 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     } else {
         SPHERE_HEADER
     };
-    // Staged beside the destination and moved into place at the end, so a failed run leaves no
-    // half file (see `output`: devices, symbolic and hard links are kept).
-    let mut inputs: Vec<&std::path::Path> = vec![a.file.as_path()];
+    // Staged beside the destination and moved into place at the end, with the summary, so a
+    // failed run leaves no half file (see `crate::output`: devices and links are kept).
+    let inputs = Inputs::of([&a.file]);
+    let mut rows_inputs = inputs.clone();
     if let Some(s) = &a.summary {
-        inputs.push(s.as_path());
+        output::check_file(s, &inputs.clone().with(&a.output))?;
+        rows_inputs.add(s);
     }
-    let mut file = super::output::OutputFile::create(&a.output, &inputs, "-o")?;
+    let mut file = output::OutputFile::create(&a.output, &rows_inputs)?;
     // The header goes out with the first row, so a run refused before it starts writes nothing
     // (also on standard output).
     let mut header = Some(header);
-    let mut out = csv::WriterBuilder::new().from_writer(file.writer());
+    let mut out = csv::WriterBuilder::new().from_writer(&mut file);
     let bar = indicatif::ProgressBar::new(a.samples as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} rows, t = {msg} {elapsed}")
@@ -300,7 +303,8 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         file.abort();
         return Err(e).context(format!("cannot write {}", a.output.display()));
     }
-    file.commit()?;
+    let mut outputs = output::OutputSet::new();
+    outputs.add(file)?;
     let wall = start.elapsed().as_secs_f64();
     if let Some(note) = &summary.model_note {
         eprintln!("note: {note}");
@@ -315,8 +319,9 @@ pub fn run(a: SimulateArgs) -> Result<()> {
             mass_ratio: a.mass,
         };
         let text = serde_json::to_string_pretty(&file)? + "\n";
-        super::output::write_text(Some(path), &text, &[a.file.as_path()], "--summary")?;
+        outputs.write(path, text.as_bytes(), &inputs)?;
     }
+    outputs.commit()?;
     Ok(())
 }
 

@@ -9,6 +9,7 @@ use serde::Serialize;
 
 use super::FigureData;
 use crate::analysis::lag_fit::{LagAnalysis, analyse, parse_lag_csv};
+use crate::output::{self, Inputs};
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// What `fit-lag` writes to summary.json.
@@ -30,13 +31,14 @@ pub struct Summary {
 
 /// Fits `csv` and writes OUT/fit-lag/{data.csv, figure.png, summary.json}.
 pub fn run(csv: &Path, out: &Path, bootstrap: usize, seed: u64) -> Result<Summary> {
+    let inputs = Inputs::of([csv]);
+    let dir = out.join("fit-lag");
+    output::check_folder(&dir, &super::FIGURE_FILES, &inputs)?;
     let text = crate::geometry::shape_file::read_text_capped(csv, 64 << 20)
         .with_context(|| format!("cannot read {}", csv.display()))?;
     let data = compute(&text, &csv.display().to_string(), bootstrap, seed)
         .map_err(|e| anyhow!("{}: {e:#}", csv.display()))?;
-    let dir = out.join("fit-lag");
-    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    data.write_to(&dir)
+    data.write_to(&dir, &inputs)
 }
 
 /// Fits the lag times in `text` (CSV, named `input` in the summary); writes nothing.

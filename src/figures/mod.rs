@@ -29,7 +29,11 @@ use serde::Serialize;
 
 use crate::analysis::critical_angle;
 use crate::geometry::{Body, Disk, ShapeFile, Sphere, paper_sphere, random_disk, random_sphere};
-use crate::plot::{Panel, render_png};
+use crate::output::{self, Inputs, OutputSet};
+use crate::plot::{Panel, png_bytes};
+
+/// The files every figure writes into OUT/NAME, committed together.
+pub const FIGURE_FILES: [&str; 3] = ["data.csv", "summary.json", "figure.png"];
 
 /// The paper's body for Figs. 3–4 (the authors' numpy seed 219, σ = 0.25, l ≤ 5), bundled as
 /// `assets/shapes/paper-sphere.json`.
@@ -83,11 +87,21 @@ pub struct FigureSphere {
 }
 
 impl FigureOptions {
-    /// Creates and returns OUT/NAME.
+    /// OUT/NAME, checked before the figure's work (see [`crate::output::check_folder`]): it
+    /// can hold [`FIGURE_FILES`], none of which is the body file. Created by
+    /// [`FigureData::write_to`] once the figure is computed.
     pub fn dir(&self, name: &str) -> Result<PathBuf> {
         let d = self.out.join(name);
-        std::fs::create_dir_all(&d).with_context(|| format!("cannot create {}", d.display()))?;
+        output::check_folder(&d, &FIGURE_FILES, &self.inputs())?;
         Ok(d)
+    }
+
+    /// The files this figure reads (the `--shape` file, if any).
+    pub fn inputs(&self) -> Inputs {
+        match &self.body {
+            BodyChoice::File(p) => Inputs::of([p]),
+            _ => Inputs::none(),
+        }
     }
 
     /// The 3D body of a figure of paper Figs. 3–4: the paper's own by default.
@@ -284,16 +298,22 @@ pub struct FigureData<S> {
 }
 
 impl<S: Serialize> FigureData<S> {
-    /// Writes `dir`/data.csv, summary.json and figure.png, and hands back the summary.
-    pub fn write_to(self, dir: &Path) -> Result<S> {
-        write_csv(&dir.join("data.csv"), self.header, &self.rows)?;
-        write_summary(&dir.join("summary.json"), &self.summary)?;
-        render_png(
-            &self.panels,
-            self.columns,
-            self.size,
-            &dir.join("figure.png"),
-        )?;
+    /// Writes `dir`/data.csv, summary.json and figure.png as one set (all three new, or the
+    /// old three left whole), and hands back the summary. `inputs` are the figure's input
+    /// files, which it refuses to overwrite.
+    pub fn write_to(self, dir: &Path, inputs: &Inputs) -> Result<S> {
+        let csv = rows_csv(self.header, &self.rows)?;
+        let summary = summary_text(&self.summary)?;
+        let png = png_bytes(&self.panels, self.columns, self.size)?;
+        output::create_folder(dir)?;
+        let mut set = OutputSet::new();
+        for (name, bytes) in FIGURE_FILES
+            .iter()
+            .zip([csv.as_bytes(), summary.as_bytes(), &png])
+        {
+            set.write(&dir.join(name), bytes, inputs)?;
+        }
+        set.commit()?;
         Ok(self.summary)
     }
 }
@@ -325,20 +345,18 @@ where
     Ok(String::from_utf8(bytes)?)
 }
 
-/// Writes rows of numbers as CSV; non-finite values become empty fields.
-pub fn write_csv(path: &Path, header: &str, rows: &[Vec<f64>]) -> Result<()> {
-    let text = csv_text(
+/// Rows of numbers as CSV text; non-finite values become empty fields.
+pub fn rows_csv(header: &str, rows: &[Vec<f64>]) -> Result<String> {
+    csv_text(
         header,
         rows.iter()
             .map(|r| r.iter().map(|&v| number_field(v)).collect::<Vec<_>>()),
-    )?;
-    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+    )
 }
 
-/// Writes the summary as pretty JSON.
-pub fn write_summary(path: &Path, summary: &impl Serialize) -> Result<()> {
-    let text = serde_json::to_string_pretty(summary)? + "\n";
-    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+/// A summary as pretty JSON text, as every summary.json holds it.
+pub fn summary_text(summary: &impl Serialize) -> Result<String> {
+    Ok(serde_json::to_string_pretty(summary)? + "\n")
 }
 
 /// A progress bar on standard error (hidden when it is not a terminal).

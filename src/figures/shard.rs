@@ -35,6 +35,7 @@ use serde::{Deserialize, Serialize};
 use super::{BodyChoice, FigureOptions, par_map, progress};
 use crate::analysis::sphere_orbits::{Crossing, Fate};
 use crate::geometry::shape_file::read_text_capped;
+use crate::output::{self, Inputs};
 
 /// Most shards one ensemble may be split into.
 pub const MAX_SHARDS: usize = 100_000;
@@ -188,8 +189,8 @@ pub struct ShardFile {
 
 const FORMAT: &str = "rollphase shard 1";
 
-/// Writes one shard's file into `dir` (through a temporary file, so a killed shard leaves no
-/// half-written file behind for `merge` to trip on). Returns its path.
+/// Writes one shard's file into `dir` through the output layer (staged, so a killed shard leaves
+/// no half-written file behind for `merge` to trip on). Returns its path.
 pub fn write_shard(
     dir: &Path,
     job: JobId,
@@ -197,6 +198,7 @@ pub fn write_shard(
     spec: ShardSpec,
     jobs: usize,
     records: &[Vec<f64>],
+    inputs: &Inputs,
 ) -> Result<PathBuf> {
     let file = ShardFile {
         format: FORMAT.into(),
@@ -209,10 +211,9 @@ pub fn write_shard(
         records: records.iter().map(|r| encode_line(r)).collect(),
     };
     let path = dir.join(spec.file_name());
-    let tmp = dir.join(format!(".{}.tmp", spec.file_name()));
     let text = serde_json::to_string(&file)? + "\n";
-    std::fs::write(&tmp, text).with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, &path).with_context(|| format!("cannot write {}", path.display()))?;
+    output::create_folder(dir)?;
+    output::write_bytes(&path, text.as_bytes(), inputs)?;
     Ok(path)
 }
 
@@ -246,6 +247,8 @@ pub struct Merged {
     pub shards: usize,
     /// Every job's record, in index order.
     pub records: Vec<Vec<f64>>,
+    /// The shard files read, which the merged outputs must not overwrite.
+    pub files: Vec<PathBuf>,
 }
 
 /// Reads every `shard-*.json` in `dir` and checks that they are the N shards of one ensemble:
@@ -272,6 +275,16 @@ pub fn read_shards(dir: &Path) -> Result<Merged> {
     let mut by_index: BTreeMap<usize, (PathBuf, ShardFile)> = BTreeMap::new();
     let mut reference: Option<(PathBuf, usize, JobId, usize)> = None;
     for path in files {
+        // A FIFO or device named like a shard would block or never end: only regular files.
+        match std::fs::metadata(&path) {
+            Ok(m) if m.is_file() => {}
+            Ok(_) => bail!(
+                "{} is not a regular file (a FIFO, device or folder); merge reads shard files \
+                 only; remove it and merge again",
+                path.display()
+            ),
+            Err(e) => bail!("cannot read shard file {}: {e}", path.display()),
+        }
         let text = read_text_capped(&path, MAX_SHARD_BYTES)
             .with_context(|| format!("cannot read shard file {}", path.display()))?;
         let f: ShardFile = serde_json::from_str(&text)
@@ -357,6 +370,7 @@ pub fn read_shards(dir: &Path) -> Result<Merged> {
     }
     let mut records = Vec::with_capacity(jobs);
     let mut ensemble = String::new();
+    let files: Vec<PathBuf> = by_index.values().map(|(p, _)| p.clone()).collect();
     for (_, (path, f)) in by_index {
         ensemble = f.ensemble;
         for (k, line) in f.records.iter().enumerate() {
@@ -374,6 +388,7 @@ pub fn read_shards(dir: &Path) -> Result<Merged> {
         ensemble,
         shards: of,
         records,
+        files,
     })
 }
 
@@ -435,7 +450,7 @@ impl FigureOptions {
             figure,
             n,
             what,
-            || Ok((self.dir(figure)?, self.job_id(figure))),
+            || Ok((self.out.join(figure), self.job_id(figure), self.inputs())),
             f,
         )
     }
@@ -449,7 +464,7 @@ pub fn run_ensemble<T, F>(
     name: &str,
     n: usize,
     what: &str,
-    place: impl FnOnce() -> Result<(PathBuf, JobId)>,
+    place: impl FnOnce() -> Result<(PathBuf, JobId, Inputs)>,
     f: F,
 ) -> Result<Vec<T>>
 where
@@ -472,8 +487,8 @@ where
                 r?.encode(&mut fields);
                 records.push(fields);
             }
-            let (dir, job) = place()?;
-            let path = write_shard(&dir, job, what, *spec, n, &records)?;
+            let (dir, job, inputs) = place()?;
+            let path = write_shard(&dir, job, what, *spec, n, &records, &inputs)?;
             Err(ShardWritten {
                 shard: *spec,
                 jobs: records.len(),
@@ -543,6 +558,13 @@ pub fn merge_figure(dir: &Path, merged: Merged) -> Result<MergeOutcome> {
         );
     }
     let jobs = merged.records.len();
+    // Checked before the figure's reduction: no output may be one of the shards (a data.csv
+    // linked to a shard file, say).
+    let mut inputs = Inputs::of(&merged.files);
+    if let BodyChoice::File(p) = &body {
+        inputs.add(p);
+    }
+    output::check_folder(dir, &super::FIGURE_FILES, &inputs)?;
     let opts = FigureOptions {
         out: dir.parent().map(Path::to_path_buf).unwrap_or_default(),
         seed,

@@ -239,7 +239,7 @@ impl Record for Run {
 /// Runs the figure: computes it, then writes OUT/sphere-doubling/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-doubling")?;
-    compute(opts)?.write_to(&dir)
+    compute(opts)?.write_to(&dir, &opts.inputs())
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.

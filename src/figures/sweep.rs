@@ -43,6 +43,7 @@ use crate::dynamics::Ramp;
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
 use crate::geometry::{Body, ShapeFile, Sphere, paper_sphere, random_sphere};
 use crate::integrate::{Method, Preset};
+use crate::output::{self, Inputs, OutputSet};
 
 /// Most runs one sweep may hold (all shards together).
 pub const MAX_RUNS: usize = 100_000_000;
@@ -236,8 +237,9 @@ impl Sweep {
                     p
                 }
             })
-            .unwrap_or(Path::new("."))
-            .to_path_buf();
+            .unwrap_or(Path::new("."));
+        // Absolute, so shards (which store it) can be merged from any folder.
+        let base = std::fs::canonicalize(base).unwrap_or_else(|_| base.to_path_buf());
         Self::from_text(&text, &base).with_context(|| format!("sweep spec {}", path.display()))
     }
 
@@ -434,11 +436,7 @@ impl Sweep {
 
     /// Runs the sweep (all of it, or one shard) through the ensemble machinery.
     pub fn run(&self, ensemble: &Ensemble, out: &Path) -> Result<Vec<RunResult>> {
-        let place = || {
-            std::fs::create_dir_all(out)
-                .with_context(|| format!("cannot create {}", out.display()))?;
-            Ok((out.to_path_buf(), self.job_id()))
-        };
+        let place = || Ok((out.to_path_buf(), self.job_id(), self.inputs()));
         run_ensemble(ensemble, "sweep", self.runs(), "sweep runs", place, |k| {
             self.run_one(k)
         })
@@ -503,14 +501,26 @@ impl Sweep {
         }
     }
 
-    /// Writes `out`/sweep.csv and summary.json from every run's result.
-    pub fn write(&self, results: &[RunResult], out: &Path) -> Result<SweepSummary> {
-        std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    /// The files this sweep reads: its body files (the spec itself is added by [`run`]).
+    pub fn inputs(&self) -> Inputs {
+        Inputs::of(self.spec.bodies.files.iter().map(|f| self.base.join(f)))
+    }
+
+    /// Writes `out`/sweep.csv and summary.json from every run's result, as one set.
+    pub fn write(
+        &self,
+        results: &[RunResult],
+        out: &Path,
+        inputs: &Inputs,
+    ) -> Result<SweepSummary> {
         let csv = self.csv(results)?;
-        let path = out.join("sweep.csv");
-        std::fs::write(&path, csv).with_context(|| format!("cannot write {}", path.display()))?;
         let summary = self.summary(results);
-        super::write_summary(&out.join("summary.json"), &summary)?;
+        let json = super::summary_text(&summary)?;
+        output::create_folder(out)?;
+        let mut set = OutputSet::new();
+        set.write(&out.join(SWEEP_FILES[0]), csv.as_bytes(), inputs)?;
+        set.write(&out.join(SWEEP_FILES[1]), json.as_bytes(), inputs)?;
+        set.commit()?;
         Ok(summary)
     }
 }
@@ -571,15 +581,27 @@ pub fn merge(dir: &Path, merged: Merged) -> Result<SweepSummary> {
         bail!("{} holds a figure's shards, not a sweep's", dir.display());
     };
     let sweep = Sweep::from_text(&spec, &base).context("the sweep spec stored in the shards")?;
+    let inputs = Inputs::of(&merged.files);
+    let inputs = sweep.inputs().extend(&inputs);
+    output::check_folder(dir, &SWEEP_FILES, &inputs)?;
     let results = sweep.run(&Ensemble::Merge(std::sync::Arc::new(merged.records)), dir)?;
-    sweep.write(&results, dir)
+    sweep.write(&results, dir, &inputs)
 }
 
 /// Runs a sweep: all of it, writing `out`/sweep.csv and summary.json, or one shard, writing
 /// `out`/shard-I-of-N.json (returned as the [`super::shard::ShardWritten`] error).
 pub fn run(spec: &Path, out: &Path, shard: Option<ShardSpec>) -> Result<SweepSummary> {
     let sweep = Sweep::load(spec)?;
+    let inputs = sweep.inputs().with(spec);
+    // The output folder is checked before the first run, not after the whole sweep.
+    match shard {
+        Some(s) => output::check_folder(out, &[s.file_name().as_str()], &inputs)?,
+        None => output::check_folder(out, &SWEEP_FILES, &inputs)?,
+    }
     let ensemble = shard.map_or(Ensemble::Whole, Ensemble::Shard);
     let results = sweep.run(&ensemble, out)?;
-    sweep.write(&results, out)
+    sweep.write(&results, out, &inputs)
 }
+
+/// The files a whole sweep (or a merge) writes into its folder, committed together.
+pub const SWEEP_FILES: [&str; 2] = ["sweep.csv", "summary.json"];

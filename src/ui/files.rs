@@ -489,11 +489,12 @@ fn buttons_row(ui: &mut egui::Ui, add: impl FnOnce(&mut egui::Ui)) {
     ui.add_space(ui.spacing().item_spacing.y);
 }
 
-/// Writes `text` to `path`; the notice says what happened.
+/// Writes `text` to `path` through the output layer; the notice says what happened.
 pub(super) fn write_file(path: &str, text: &str) -> (String, bool) {
-    match std::fs::write(path, text) {
+    let inputs = crate::output::Inputs::none();
+    match crate::output::write_bytes(std::path::Path::new(path), text.as_bytes(), &inputs) {
         Ok(()) => (format!("saved {path}"), false),
-        Err(e) => (format!("cannot write {path}: {e}"), true),
+        Err(e) => (e.to_string(), true),
     }
 }
 

@@ -12,7 +12,8 @@ use image::RgbaImage;
 use super::painter::{EguiFrame, Painter, rect_to_pixels};
 use super::{AppUi, RecordProgress, UiAction};
 use crate::clip::{ClipKind, ClipWriter};
-use crate::png::{PngWriter, frame_name};
+use crate::output::{self, Inputs};
+use crate::png::{PngWriter, frame_name, write_png};
 use crate::render::gpu::OffscreenTarget;
 use crate::scene::SceneSetup;
 use crate::sim::{SimStatus, SimThread};
@@ -189,7 +190,7 @@ impl Workbench {
         let sink = match kind {
             Some(kind) => {
                 let fps = self.sim.status().setup.scene.playback.fps;
-                match ClipWriter::new(kind, &dir, frame_size, fps) {
+                match ClipWriter::new(kind, &dir, frame_size, fps, &Inputs::none()) {
                     Ok(writer) => RecordSink::Clip { writer, path: dir },
                     Err(e) => {
                         self.ui.notify(e.to_string(), true);
@@ -198,13 +199,12 @@ impl Workbench {
                 }
             }
             None => {
-                if let Err(e) = std::fs::create_dir_all(&dir) {
-                    self.ui
-                        .notify(format!("cannot create {}: {e}", dir.display()), true);
+                if let Err(e) = output::create_folder(&dir) {
+                    self.ui.notify(e.to_string(), true);
                     return;
                 }
                 RecordSink::Pngs {
-                    writer: PngWriter::new(2),
+                    writer: PngWriter::new(2, Inputs::none()),
                     dir,
                 }
             }
@@ -339,12 +339,9 @@ impl Workbench {
 
 fn save_png(path: &Path, image: &RgbaImage) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("cannot create folder {}", dir.display()))?;
+        output::create_folder(dir)?;
     }
-    image
-        .save(path)
-        .with_context(|| format!("cannot write screenshot {}", path.display()))
+    write_png(path, image, &Inputs::none()).context("screenshot")
 }
 
 impl Drop for Workbench {

@@ -71,8 +71,7 @@ pub fn cheapest_below(rows: &[AccuracyRow], model: ModelKind, limit: f64) -> Opt
 
 /// Runs `bench accuracy`.
 pub fn run(a: AccuracyArgs) -> Result<()> {
-    std::fs::create_dir_all(&a.out)
-        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    crate::output::create_folder(&a.out)?;
     let mut cases = accuracy::default_cases(
         &bundled(BUNDLED_DISK)?,
         &bundled(BUNDLED_DISK_INERTIAL)?,

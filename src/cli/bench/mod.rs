@@ -137,6 +137,11 @@ pub(crate) fn fmt_num(v: f64) -> String {
     }
 }
 
+/// Writes a benchmark's table through the output layer.
 pub(crate) fn write(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+    Ok(crate::output::write_bytes(
+        path,
+        text.as_bytes(),
+        &crate::output::Inputs::none(),
+    )?)
 }

@@ -17,7 +17,7 @@ pub fn run(a: RenderBenchArgs) -> Result<()> {
     }
     let setup = crate::cli::render::pick_scene(None, Some(&a.preset))?;
     let out = std::env::temp_dir().join(format!("rollphase-bench-render-{}", std::process::id()));
-    std::fs::create_dir_all(&out)?;
+    crate::output::create_folder(&out)?;
     let mut table = String::new();
     let (w, h) = a.size;
     let mut adapter = String::new();
@@ -62,7 +62,7 @@ pub fn run(a: RenderBenchArgs) -> Result<()> {
             },
         )?;
         row("+ readback to memory", &mut |r, k| r.frame(k).map(|_| ()))?;
-        let writer = PngWriter::new(2);
+        let writer = PngWriter::new(2, crate::output::Inputs::none());
         let start = Instant::now();
         for _ in 0..a.frames {
             let img = r.frame(k)?;
@@ -85,7 +85,7 @@ pub fn run(a: RenderBenchArgs) -> Result<()> {
         a.preset,
         a.frames
     )?;
-    crate::cli::output::write_text(None, &table, &[], "stdout")?;
+    crate::cli::write_output(None, &table, &crate::output::Inputs::none())?;
     Ok(())
 }
 

@@ -101,7 +101,7 @@ pub fn run(a: SpeedBenchArgs) -> Result<()> {
         evals_per_second(&inertial, SphereInertial::initial_state(q0, DVec3::ZERO))?;
 
     let dir = std::env::temp_dir().join(format!("rollphase-bench-speed-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    crate::output::create_folder(&dir)?;
     let result = process_rows(&dir, a.runs);
     let _ = std::fs::remove_dir_all(&dir);
     let (simulate, inspect) = result?;
@@ -199,8 +199,7 @@ pub fn run(a: SpeedBenchArgs) -> Result<()> {
 /// (simulate, inspect) median process seconds.
 fn process_rows(dir: &Path, runs: u64) -> Result<(f64, f64)> {
     let shape = dir.join("paper-sphere.json");
-    std::fs::write(&shape, crate::assets::PAPER_SPHERE)
-        .with_context(|| format!("cannot write {}", shape.display()))?;
+    super::write(&shape, crate::assets::PAPER_SPHERE)?;
     let csv = dir.join("run.csv");
     let (shape, csv) = (shape.to_string_lossy(), csv.to_string_lossy());
     let simulate = process_seconds(

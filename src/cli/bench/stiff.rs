@@ -43,8 +43,7 @@ struct StiffRow {
 
 /// Runs `bench stiff`.
 pub fn run(a: StiffArgs) -> Result<()> {
-    std::fs::create_dir_all(&a.out)
-        .with_context(|| format!("cannot create {}", a.out.display()))?;
+    crate::output::create_folder(&a.out)?;
     let masses: Vec<f64> = if a.quick {
         vec![1e-3, 1e-2, 1e-1, 1.0]
     } else {

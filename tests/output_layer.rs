@@ -1,0 +1,218 @@
+//! Every file rollphase writes goes through `src/output.rs` (ARCHITECTURE.md, "Output"): no other
+//! module of the source may create, write, rename, copy, link or save a file itself. A writer
+//! that opened its own file kept the promise "output files are never damaged" only if its author
+//! remembered every case (devices, links, inputs, a full disk); this scan makes the next writer
+//! go through the one layer that handles them all.
+
+use std::path::{Path, PathBuf};
+
+/// The calls that create or change a file, as they appear in Rust source.
+const FORBIDDEN: &[&str] = &[
+    "File::create",
+    "File::options",
+    "OpenOptions",
+    "fs::write",
+    "fs::rename",
+    "fs::copy",
+    "fs::hard_link",
+    "fs::create_dir",
+    "fs::set_permissions",
+    "os::unix::fs::symlink",
+    "set_len(",
+    ".save(",
+    ".save_with_format(",
+    "save_buffer",
+];
+
+/// The one module allowed to write files.
+const OUTPUT_LAYER: &str = "src/output.rs";
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// The code of `source` with comments and string literals blanked, so a call named in a doc or a
+/// message is not a hit and a `//` inside a string does not hide the code after it.
+fn code_only(source: &str) -> String {
+    let b: Vec<char> = source.chars().collect();
+    let mut out = String::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        let c = b[i];
+        let next = b.get(i + 1).copied();
+        if c == '/' && next == Some('/') {
+            while i < b.len() && b[i] != '\n' {
+                i += 1;
+            }
+        } else if c == '/' && next == Some('*') {
+            let mut depth = 0;
+            while i < b.len() {
+                if b[i] == '/' && b.get(i + 1) == Some(&'*') {
+                    depth += 1;
+                    i += 2;
+                } else if b[i] == '*' && b.get(i + 1) == Some(&'/') {
+                    depth -= 1;
+                    i += 2;
+                    if depth == 0 {
+                        break;
+                    }
+                } else {
+                    if b[i] == '\n' {
+                        out.push('\n');
+                    }
+                    i += 1;
+                }
+            }
+        } else if c == 'r' && (next == Some('"') || next == Some('#')) && !ident_before(&b, i) {
+            // Raw string r"…" or r#"…"#.
+            let mut j = i + 1;
+            let mut hashes = 0;
+            while b.get(j) == Some(&'#') {
+                hashes += 1;
+                j += 1;
+            }
+            if b.get(j) != Some(&'"') {
+                out.push(c);
+                i += 1;
+                continue;
+            }
+            j += 1;
+            'raw: while j < b.len() {
+                if b[j] == '"' && (0..hashes).all(|h| b.get(j + 1 + h) == Some(&'#')) {
+                    j += 1 + hashes;
+                    break 'raw;
+                }
+                j += 1;
+            }
+            out.push_str("\"\"");
+            i = j;
+        } else if c == '"' {
+            i += 1;
+            while i < b.len() && b[i] != '"' {
+                if b[i] == '\\' {
+                    i += 1;
+                }
+                i += 1;
+            }
+            i += 1;
+            out.push_str("\"\"");
+        } else if c == '\'' && b.get(i + 2) == Some(&'\'') {
+            // A char literal such as '"' (lifetimes have no closing quote two places on).
+            out.push_str("' '");
+            i += 3;
+        } else if c == '\'' && next == Some('\\') {
+            let mut j = i + 2;
+            while j < b.len() && b[j] != '\'' {
+                j += 1;
+            }
+            out.push_str("' '");
+            i = j + 1;
+        } else {
+            out.push(c);
+            i += 1;
+        }
+    }
+    out
+}
+
+fn ident_before(b: &[char], i: usize) -> bool {
+    i > 0 && (b[i - 1].is_alphanumeric() || b[i - 1] == '_')
+}
+
+/// Lines of `source` that write a file without the output layer: (line number, call).
+fn direct_writes(source: &str) -> Vec<(usize, &'static str)> {
+    let code = code_only(source);
+    let mut hits = Vec::new();
+    for (n, line) in code.lines().enumerate() {
+        for pat in FORBIDDEN {
+            let mut from = 0;
+            while let Some(at) = line[from..].find(pat) {
+                let start = from + at;
+                // `OutputFile::create` is the layer's own API, not `File::create`.
+                let prefixed = pat.starts_with(char::is_alphabetic)
+                    && line[..start]
+                        .chars()
+                        .last()
+                        .is_some_and(|c| c.is_alphanumeric() || c == '_');
+                if !prefixed {
+                    hits.push((n + 1, *pat));
+                }
+                from = start + pat.len();
+            }
+        }
+    }
+    hits
+}
+
+#[test]
+fn only_the_output_layer_writes_files() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    rust_files(&root.join("src"), &mut files);
+    assert!(files.len() > 50, "the scan found the source");
+    let mut offenders = Vec::new();
+    for f in &files {
+        let rel = f.strip_prefix(root).unwrap().to_string_lossy().into_owned();
+        if rel == OUTPUT_LAYER {
+            continue;
+        }
+        let text = std::fs::read_to_string(f).unwrap();
+        for (line, call) in direct_writes(&text) {
+            offenders.push(format!("{rel}:{line}: {call}"));
+        }
+    }
+    assert!(
+        offenders.is_empty(),
+        "these write files without crate::output (stage, check inputs, keep devices and links): \n{}",
+        offenders.join("\n")
+    );
+    // The layer itself is where the calls are.
+    let layer = std::fs::read_to_string(root.join(OUTPUT_LAYER)).unwrap();
+    assert!(!direct_writes(&layer).is_empty());
+}
+
+#[test]
+fn the_scan_catches_each_way_of_writing_a_file() {
+    let planted = [
+        ("std::fs::write(p, text)?;", "fs::write"),
+        ("let f = File::create(&p)?;", "File::create"),
+        (
+            "let f = std::fs::OpenOptions::new().write(true).open(p)?;",
+            "OpenOptions",
+        ),
+        ("fs::rename(a, b)?;", "fs::rename"),
+        ("std::fs::copy(a, b)?;", "fs::copy"),
+        ("std::fs::create_dir_all(&d)?;", "fs::create_dir"),
+        ("image.save(&path)?;", ".save("),
+        ("img.save_with_format(&p, Png)?;", ".save_with_format("),
+        ("std::fs::hard_link(a, b)?;", "fs::hard_link"),
+        ("let s = \"//\"; std::fs::write(p, s)?;", "fs::write"),
+        ("let s = r#\"a \" b\"#; fs::write(p, s)?;", "fs::write"),
+        ("let c = '\"'; fs::write(p, \"x\")?;", "fs::write"),
+    ];
+    for (code, call) in planted {
+        let hits = direct_writes(code);
+        assert!(
+            hits.iter().any(|(_, c)| *c == call),
+            "{code:?} must be caught as {call}, got {hits:?}"
+        );
+    }
+    // Named in a comment, a doc or a message, or the layer's own API: not a write.
+    for code in [
+        "// std::fs::write(p, text)",
+        "/// File::create is not used here",
+        "/* fs::rename(a, b) */ let x = 1;",
+        "bail!(\"cannot fs::write {}\", p);",
+        "let f = OutputFile::create(&p, &inputs)?;",
+        "let f = crate::output::OutputFile::create(&p, &inputs)?;",
+    ] {
+        assert!(direct_writes(code).is_empty(), "{code:?} is not a write");
+    }
+}
