@@ -444,3 +444,70 @@ fn sweep_and_fit_lag_refuse_their_own_inputs_and_bad_folders_before_running() {
     assert_eq!(std::fs::read_to_string(&data).unwrap(), measured);
     let _ = std::fs::remove_dir_all(&root);
 }
+
+#[test]
+fn an_edited_shard_is_refused_by_its_digest_and_a_forged_one_by_record_and_field() {
+    use rollphase::figures::shard::ShardFile;
+    let root = scratch("digest");
+    let out = root.to_str().unwrap();
+    let dir = root.join("sphere-doubling");
+    for i in 1..=2 {
+        ok(&[
+            "figure",
+            "sphere-doubling",
+            "--quick",
+            "--out",
+            out,
+            "--shard",
+            &format!("{i}/2"),
+        ]);
+    }
+    let path = dir.join("shard-1-of-2.json");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let file: ShardFile = serde_json::from_str(&text).unwrap();
+
+    // One number edited by hand: refused by name, whatever the number.
+    let mut edited = file.records.clone();
+    let mut fields: Vec<String> = edited[0].split(' ').map(String::from).collect();
+    fields[2] = "7e0".into();
+    edited[0] = fields.join(" ");
+    let hand = ShardFile {
+        records: edited.clone(),
+        digest: file.digest.clone(),
+        ..serde_json::from_str(&text).unwrap()
+    };
+    std::fs::write(&path, serde_json::to_string(&hand).unwrap()).unwrap();
+    let e = fails(&["merge", dir.to_str().unwrap()]);
+    assert!(
+        e.contains("does not match its digest") && e.contains("shard-1-of-2.json"),
+        "{e}"
+    );
+
+    // The same edit with the digest recomputed (a forged shard): the record's ranges are checked
+    // before the figure reduces it, so it is an error naming file, record and field, not a panic.
+    for bad in ["0e0", "7e0", "1e15", "NaN", "-1e0"] {
+        let mut records = file.records.clone();
+        let mut fields: Vec<String> = records[0].split(' ').map(String::from).collect();
+        fields[2] = bad.into();
+        records[0] = fields.join(" ");
+        let forged = ShardFile {
+            records,
+            ..serde_json::from_str(&text).unwrap()
+        }
+        .sealed()
+        .unwrap();
+        std::fs::write(&path, serde_json::to_string(&forged).unwrap()).unwrap();
+        let o = rollphase(&["merge", dir.to_str().unwrap()]);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{bad}: {e}");
+        assert!(!e.contains("panicked"), "{bad}: {e}");
+        assert!(
+            e.contains("shard-1-of-2.json") && e.contains("record 0") && e.contains("field"),
+            "{bad}: {e}"
+        );
+    }
+    // The real shard merges.
+    std::fs::write(&path, &text).unwrap();
+    ok(&["merge", dir.to_str().unwrap()]);
+    let _ = std::fs::remove_dir_all(&root);
+}

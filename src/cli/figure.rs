@@ -71,7 +71,9 @@ pub fn run(a: FigureArgs) -> Result<()> {
         )
     };
     let body = match (&a.shape, a.seed) {
-        (Some(p), _) => BodyChoice::File(p.clone()),
+        // Absolute, so shards (which store it) merge from any folder, and the summary says
+        // which file it was.
+        (Some(p), _) => BodyChoice::File(std::fs::canonicalize(p).unwrap_or_else(|_| p.clone())),
         (None, Some(_)) => BodyChoice::Seeded,
         (None, None) => BodyChoice::FigureDefault,
     };

@@ -48,7 +48,7 @@ const MASS: f64 = 10.0;
 /// Runs the figure: computes it, then writes OUT/disk-flow/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("disk-flow")?;
-    compute(opts)?.write_to(&dir, &opts.inputs())
+    compute(opts)?.write_to(&dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.

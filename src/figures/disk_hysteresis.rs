@@ -60,7 +60,7 @@ fn rolls(disk: &Disk, alpha: f64, state: [f64; 2], duration: f64) -> Result<(boo
 /// Runs the figure: computes it, then writes OUT/disk-hysteresis/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("disk-hysteresis")?;
-    compute(opts)?.write_to(&dir, &opts.inputs())
+    compute(opts)?.write_to(&dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.

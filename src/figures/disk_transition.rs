@@ -104,7 +104,7 @@ fn t_star_analytic(d: &Disk, theta: f64, q2: f64) -> f64 {
 /// Runs the figure: computes it, then writes OUT/disk-transition/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("disk-transition")?;
-    compute(opts)?.write_to(&dir, &opts.inputs())
+    compute(opts)?.write_to(&dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.

@@ -38,7 +38,12 @@ pub fn run(csv: &Path, out: &Path, bootstrap: usize, seed: u64) -> Result<Summar
         .with_context(|| format!("cannot read {}", csv.display()))?;
     let data = compute(&text, &csv.display().to_string(), bootstrap, seed)
         .map_err(|e| anyhow!("{}: {e:#}", csv.display()))?;
-    data.write_to(&dir, &inputs)
+    #[derive(Serialize)]
+    struct Options {
+        bootstrap: usize,
+        seed: u64,
+    }
+    data.write_files(&dir, &inputs, &Options { bootstrap, seed })
 }
 
 /// Fits the lag times in `text` (CSV, named `input` in the summary); writes nothing.

@@ -298,12 +298,21 @@ pub struct FigureData<S> {
 }
 
 impl<S: Serialize> FigureData<S> {
+    /// Writes `dir`/data.csv, summary.json and figure.png for the figure run with `opts` (see
+    /// [`Self::write_files`]); summary.json ends with the options used.
+    pub fn write_to(self, dir: &Path, opts: &FigureOptions) -> Result<S> {
+        self.write_files(dir, &opts.inputs(), &opts.record())
+    }
+
     /// Writes `dir`/data.csv, summary.json and figure.png as one set (all three new, or the
     /// old three left whole), and hands back the summary. `inputs` are the figure's input
-    /// files, which it refuses to overwrite.
-    pub fn write_to(self, dir: &Path, inputs: &Inputs) -> Result<S> {
+    /// files, which it refuses to overwrite; `options` go into summary.json as "options".
+    pub fn write_files(self, dir: &Path, inputs: &Inputs, options: &impl Serialize) -> Result<S> {
         let csv = rows_csv(self.header, &self.rows)?;
-        let summary = summary_text(&self.summary)?;
+        let summary = summary_text(&WithOptions {
+            summary: &self.summary,
+            options,
+        })?;
         let png = png_bytes(&self.panels, self.columns, self.size)?;
         output::create_folder(dir)?;
         let mut set = OutputSet::new();
@@ -343,6 +352,49 @@ where
         .into_inner()
         .map_err(|e| anyhow::anyhow!("CSV: {}", e.error()))?;
     Ok(String::from_utf8(bytes)?)
+}
+
+/// A summary followed by the options that produced it.
+#[derive(Serialize)]
+struct WithOptions<'a, S, O> {
+    #[serde(flatten)]
+    summary: &'a S,
+    options: &'a O,
+}
+
+/// What a figure was run with, as its summary.json records it.
+#[derive(Debug, Serialize)]
+pub struct RunRecord {
+    /// `--seed`: the random orientations' seed, and a random body's when `body` is "seeded".
+    pub seed: u64,
+    /// "figure default", "seeded" (`--seed` gave the body too) or "file".
+    pub body: &'static str,
+    /// The shape file, when `body` is "file".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape: Option<PathBuf>,
+    /// `--alpha`, when given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub alpha: Option<f64>,
+    /// `--quick`.
+    pub quick: bool,
+}
+
+impl FigureOptions {
+    /// The options as summary.json records them.
+    pub fn record(&self) -> RunRecord {
+        let (body, shape) = match &self.body {
+            BodyChoice::FigureDefault => ("figure default", None),
+            BodyChoice::Seeded => ("seeded", None),
+            BodyChoice::File(p) => ("file", Some(p.clone())),
+        };
+        RunRecord {
+            seed: self.seed,
+            body,
+            shape,
+            alpha: self.alpha,
+            quick: self.quick,
+        }
+    }
 }
 
 /// Rows of numbers as CSV text; non-finite values become empty fields.

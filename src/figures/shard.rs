@@ -96,7 +96,7 @@ pub enum Ensemble {
     /// Only this shard's jobs; write them and stop.
     Shard(ShardSpec),
     /// Every job's result, read back from the shard files (records in index order).
-    Merge(Arc<Vec<Vec<f64>>>),
+    Merge(Arc<Merged>),
 }
 
 /// What a sharded run wrote: returned as the error that stops the figure after its share.
@@ -169,7 +169,7 @@ pub enum JobId {
 /// One shard file.
 #[derive(Debug, Serialize, Deserialize)]
 pub struct ShardFile {
-    /// "rollphase shard 1".
+    /// "rollphase shard 2".
     pub format: String,
     /// What ran.
     pub job: JobId,
@@ -185,9 +185,33 @@ pub struct ShardFile {
     pub first: usize,
     /// One record per job: the result's numbers, space-separated.
     pub records: Vec<String>,
+    /// SHA-256 (hex) of this file written with an empty digest: an edited, truncated or
+    /// damaged shard is refused by name rather than merged into wrong numbers.
+    #[serde(default)]
+    pub digest: String,
 }
 
-const FORMAT: &str = "rollphase shard 1";
+impl ShardFile {
+    /// The same file with its digest set from its contents.
+    pub fn sealed(self) -> Result<Self> {
+        Ok(Self {
+            digest: self.content_digest()?,
+            ..self
+        })
+    }
+
+    /// The digest of this file's contents (its `digest` field left out).
+    pub fn content_digest(&self) -> Result<String> {
+        use sha2::{Digest, Sha256};
+        let mut blank = serde_json::to_value(self)?;
+        blank["digest"] = serde_json::Value::String(String::new());
+        let hash = Sha256::digest(serde_json::to_vec(&blank)?);
+        Ok(hash.iter().map(|b| format!("{b:02x}")).collect())
+    }
+}
+
+/// Version 2 added the digest.
+const FORMAT: &str = "rollphase shard 2";
 
 /// Writes one shard's file into `dir` through the output layer (staged, so a killed shard leaves
 /// no half-written file behind for `merge` to trip on). Returns its path.
@@ -209,7 +233,9 @@ pub fn write_shard(
         of: spec.count,
         first: spec.range(jobs).start,
         records: records.iter().map(|r| encode_line(r)).collect(),
-    };
+        digest: String::new(),
+    }
+    .sealed()?;
     let path = dir.join(spec.file_name());
     let text = serde_json::to_string(&file)? + "\n";
     output::create_folder(dir)?;
@@ -247,8 +273,21 @@ pub struct Merged {
     pub shards: usize,
     /// Every job's record, in index order.
     pub records: Vec<Vec<f64>>,
-    /// The shard files read, which the merged outputs must not overwrite.
+    /// The shard files read, in shard order, which the merged outputs must not overwrite.
     pub files: Vec<PathBuf>,
+    /// The index of each file's first job, in the same order.
+    pub firsts: Vec<usize>,
+}
+
+impl Merged {
+    /// Where job `k`'s record came from: the shard file and the record's place in it.
+    pub fn source_of(&self, k: usize) -> (&Path, usize) {
+        let i = self.firsts.partition_point(|&f| f <= k).saturating_sub(1);
+        match (self.files.get(i), self.firsts.get(i)) {
+            (Some(p), Some(&first)) => (p, k - first),
+            _ => (Path::new("?"), k),
+        }
+    }
 }
 
 /// Reads every `shard-*.json` in `dir` and checks that they are the N shards of one ensemble:
@@ -291,9 +330,17 @@ pub fn read_shards(dir: &Path) -> Result<Merged> {
             .with_context(|| format!("shard file {} is not a rollphase shard", path.display()))?;
         if f.format != FORMAT {
             bail!(
-                "shard file {} has format {:?}; this rollphase reads {FORMAT:?}",
+                "shard file {} has format {:?}; this rollphase reads {FORMAT:?} (run the shard \
+                 again with this version)",
                 path.display(),
                 f.format
+            );
+        }
+        if f.content_digest()? != f.digest {
+            bail!(
+                "shard file {} does not match its digest: it was edited, truncated or damaged \
+                 after it was written; run that shard again",
+                path.display()
             );
         }
         match &reference {
@@ -371,6 +418,7 @@ pub fn read_shards(dir: &Path) -> Result<Merged> {
     let mut records = Vec::with_capacity(jobs);
     let mut ensemble = String::new();
     let files: Vec<PathBuf> = by_index.values().map(|(p, _)| p.clone()).collect();
+    let firsts: Vec<usize> = by_index.values().map(|(_, f)| f.first).collect();
     for (_, (path, f)) in by_index {
         ensemble = f.ensemble;
         for (k, line) in f.records.iter().enumerate() {
@@ -389,6 +437,7 @@ pub fn read_shards(dir: &Path) -> Result<Merged> {
         shards: of,
         records,
         files,
+        firsts,
     })
 }
 
@@ -497,7 +546,8 @@ where
             }
             .into())
         }
-        Ensemble::Merge(records) => {
+        Ensemble::Merge(merged) => {
+            let records = &merged.records;
             if records.len() != n {
                 bail!(
                     "{name}: the shards hold {} runs, but this command has {n}; were they \
@@ -510,10 +560,21 @@ where
                 .enumerate()
                 .map(|(k, r)| {
                     let mut fields = Fields(r.iter());
+                    let (file, local) = merged.source_of(k);
+                    let place = |left: usize| {
+                        format!(
+                            "{name}: shard file {}, record {local} (job {k}), field {}",
+                            file.display(),
+                            r.len() - left
+                        )
+                    };
                     let v = T::decode(&mut fields)
-                        .with_context(|| format!("{name}: shard record {k}"))?;
-                    if fields.0.next().is_some() {
-                        bail!("{name}: shard record {k} has more numbers than a result");
+                        .map_err(|e| anyhow!("{}: {e:#}", place(fields_left(&fields))))?;
+                    if fields_left(&fields) > 0 {
+                        bail!(
+                            "{}: more numbers than a result",
+                            place(fields_left(&fields))
+                        );
                     }
                     Ok(v)
                 })
@@ -544,7 +605,7 @@ pub fn merge_figure(dir: &Path, merged: Merged) -> Result<MergeOutcome> {
         quick,
         body,
         alpha,
-    } = merged.job
+    } = merged.job.clone()
     else {
         bail!("{} holds sweep shards, not a figure's", dir.display());
     };
@@ -571,10 +632,18 @@ pub fn merge_figure(dir: &Path, merged: Merged) -> Result<MergeOutcome> {
         quick,
         body,
         alpha,
-        ensemble: Ensemble::Merge(Arc::new(merged.records)),
+        ensemble: Ensemble::Merge(Arc::new(merged)),
     };
     (entry.run)(&opts)?;
     Ok(MergeOutcome { shards, jobs, name })
+}
+
+/// The largest period multiplicity a shard's fate may hold (a sweep's `max_multiplicity` is
+/// capped at it).
+pub const MAX_FATE_MULTIPLICITY: usize = 64;
+
+fn fields_left(f: &Fields) -> usize {
+    f.0.len()
 }
 
 /// The numbers of one record, read in order by [`Record::decode`].
@@ -731,10 +800,14 @@ impl Record for Crossing {
         out.extend(self.point);
     }
     fn decode(f: &mut Fields) -> Result<Self> {
-        Ok(Crossing {
+        let c = Crossing {
             t: f.number()?,
             point: [f.number()?, f.number()?, f.number()?],
-        })
+        };
+        if !(c.t.is_finite() && c.point.iter().all(|x| x.is_finite())) {
+            bail!("a crossing of ∂Ω at t = {} holds a non-finite number", c.t);
+        }
+        Ok(c)
     }
 }
 
@@ -756,7 +829,7 @@ impl Record for Fate {
         }
     }
     fn decode(f: &mut Fields) -> Result<Self> {
-        Ok(match f.count()? {
+        let fate = match f.count()? {
             0 => Fate::Halts { t: f.number()? },
             1 => Fate::Periodic {
                 period: f.number()?,
@@ -767,8 +840,36 @@ impl Record for Fate {
             2 => Fate::Undecided {
                 omega_end: f.number()?,
             },
-            v => bail!("{v} is not a fate"),
-        })
+            v => bail!("{v} is not a fate (0 halts, 1 periodic, 2 undecided)"),
+        };
+        // The ranges every reduction relies on: times ≥ 0, a period > 0 of 1 to
+        // MAX_FATE_MULTIPLICITY crossings, finite points.
+        match fate {
+            Fate::Halts { t } if !(t.is_finite() && t >= 0.0) => {
+                bail!("halt time {t} is not a finite time ≥ 0")
+            }
+            Fate::Periodic {
+                period,
+                k,
+                point,
+                t,
+            } => {
+                if !(period.is_finite() && period > 0.0) {
+                    bail!("period {period} is not a finite time > 0");
+                }
+                if !(1..=MAX_FATE_MULTIPLICITY).contains(&k) {
+                    bail!("period multiplicity {k} is not 1 to {MAX_FATE_MULTIPLICITY}");
+                }
+                if !(t.is_finite() && point.iter().all(|x| x.is_finite())) {
+                    bail!("the orbit's point or time is not finite");
+                }
+            }
+            Fate::Undecided { omega_end } if !(omega_end.is_finite() && omega_end >= 0.0) => {
+                bail!("final |ω| {omega_end} is not a finite number ≥ 0")
+            }
+            _ => {}
+        }
+        Ok(fate)
     }
 }
 

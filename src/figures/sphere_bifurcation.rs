@@ -190,7 +190,7 @@ fn canonical(p: [f64; 3]) -> DVec3 {
 /// Runs the figure: computes it, then writes OUT/sphere-bifurcation/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-bifurcation")?;
-    compute(opts)?.write_to(&dir, &opts.inputs())
+    compute(opts)?.write_to(&dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.

@@ -153,7 +153,7 @@ fn disk_with_alpha_star(base: &Disk, target: f64) -> Disk {
 /// Runs the figure: computes it, then writes OUT/sphere-cruising/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-cruising")?;
-    compute(opts)?.write_to(&dir, &opts.inputs())
+    compute(opts)?.write_to(&dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.

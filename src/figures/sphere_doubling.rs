@@ -200,6 +200,9 @@ impl CrossBand {
     }
 }
 
+/// The longest cycle (in crossings of ∂Ω) the figure looks for.
+const MAX_MULTIPLICITY: usize = 4;
+
 /// One run of the ensemble: this body's (its cycle and sampled contact path), or another
 /// body's period multiplicity.
 enum Run {
@@ -225,21 +228,46 @@ impl Record for Run {
         }
     }
     fn decode(f: &mut Fields) -> Result<Self> {
-        Ok(match f.count()? {
+        let run = match f.count()? {
             0 => Run::Main {
                 cycle: Record::decode(f)?,
                 path: Record::decode(f)?,
             },
             1 => Run::Cross(Record::decode(f)?),
             v => return Err(anyhow!("{v} is not a run kind")),
-        })
+        };
+        // What the reduction relies on: a cycle of 1..=4 crossings with a finite positive
+        // duration, and a finite path.
+        let multiplicity_ok = |k: usize| (1..=MAX_MULTIPLICITY).contains(&k);
+        match &run {
+            Run::Main { cycle, path } => {
+                if let Some((k, d)) = cycle
+                    && !(multiplicity_ok(*k) && d.is_finite() && *d > 0.0)
+                {
+                    return Err(anyhow!(
+                        "cycle ({k} crossings, duration {d}) is not a cycle of 1 to \
+                         {MAX_MULTIPLICITY} crossings with a positive duration"
+                    ));
+                }
+                if !path.iter().all(|u| u.is_finite()) {
+                    return Err(anyhow!("the contact path holds a non-finite point"));
+                }
+            }
+            Run::Cross(Some(k)) if !multiplicity_ok(*k) => {
+                return Err(anyhow!(
+                    "period multiplicity {k} is not 1 to {MAX_MULTIPLICITY}"
+                ));
+            }
+            Run::Cross(_) => {}
+        }
+        Ok(run)
     }
 }
 
 /// Runs the figure: computes it, then writes OUT/sphere-doubling/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-doubling")?;
-    compute(opts)?.write_to(&dir, &opts.inputs())
+    compute(opts)?.write_to(&dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.
@@ -299,7 +327,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
                 1e-9,
             )?;
             Ok(Run::Main {
-                cycle: late_cycle(&crossings, 4, 1e-5),
+                cycle: late_cycle(&crossings, MAX_MULTIPLICITY, 1e-5),
                 path,
             })
         },
@@ -346,7 +374,9 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             let k = mi * n + o;
             match cycles[k] {
                 Some((kk, d)) => {
-                    counts[kk - 1] += 1;
+                    *counts
+                        .get_mut(kk.wrapping_sub(1))
+                        .ok_or_else(|| anyhow!("run {k}: a cycle of {kk} crossings"))? += 1;
                     ratios.push(d / t1);
                 }
                 None => counts[4] += 1,

@@ -125,7 +125,7 @@ fn stays_near(model: &SphereViscous, q: DQuat, rest: DQuat, t_max: f64) -> Resul
 /// Runs the figure: computes it, then writes OUT/sphere-halting/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-halting")?;
-    compute(opts)?.write_to(&dir, &opts.inputs())
+    compute(opts)?.write_to(&dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.

@@ -49,7 +49,7 @@ pub fn random_orientation(body: &Sphere, seed: u64, i: usize) -> glam::DQuat {
 /// Runs the figure: computes it, then writes OUT/sphere-orbits/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-orbits")?;
-    compute(opts)?.write_to(&dir, &opts.inputs())
+    compute(opts)?.write_to(&dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.

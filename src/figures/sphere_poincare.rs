@@ -71,7 +71,7 @@ pub const ALPHA: f64 = 0.3;
 /// Runs the figure: computes it, then writes OUT/sphere-poincare/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-poincare")?;
-    compute(opts)?.write_to(&dir, &opts.inputs())
+    compute(opts)?.write_to(&dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.

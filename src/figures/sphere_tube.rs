@@ -58,7 +58,7 @@ fn split_at_jumps(points: &[DVec3]) -> Vec<Vec<DVec3>> {
 /// Runs the figure: computes it, then writes OUT/sphere-tube/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-tube")?;
-    compute(opts)?.write_to(&dir, &opts.inputs())
+    compute(opts)?.write_to(&dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.

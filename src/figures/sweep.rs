@@ -577,14 +577,14 @@ impl Record for RunResult {
 
 /// Merges a sweep's shards (read from `dir`) into `dir`/sweep.csv and summary.json.
 pub fn merge(dir: &Path, merged: Merged) -> Result<SweepSummary> {
-    let JobId::Sweep { spec, base } = merged.job else {
+    let JobId::Sweep { spec, base } = merged.job.clone() else {
         bail!("{} holds a figure's shards, not a sweep's", dir.display());
     };
     let sweep = Sweep::from_text(&spec, &base).context("the sweep spec stored in the shards")?;
     let inputs = Inputs::of(&merged.files);
     let inputs = sweep.inputs().extend(&inputs);
     output::check_folder(dir, &SWEEP_FILES, &inputs)?;
-    let results = sweep.run(&Ensemble::Merge(std::sync::Arc::new(merged.records)), dir)?;
+    let results = sweep.run(&Ensemble::Merge(std::sync::Arc::new(merged)), dir)?;
     sweep.write(&results, dir, &inputs)
 }
 
