@@ -313,7 +313,9 @@ fn figure_body_and_alpha_options_that_do_not_apply_are_refused() {
     );
     let r = rollphase(&["figure", "sphere-tube", "--shape", &sphere, "--out", &out]);
     fails_with(&r, 1, &["sphere-tube", "perfect sphere", "does not apply"]);
-    // An α at or below the body's α*, and one out of range.
+    // An α below the body's α* where no start rolls on a period-1 orbit (in 3D α* is where
+    // every orientation rolls, so below it the figure runs and says what it found), and one
+    // out of range.
     let r = rollphase(&[
         "figure",
         "sphere-bifurcation",
@@ -322,7 +324,15 @@ fn figure_body_and_alpha_options_that_do_not_apply_are_refused() {
         "--out",
         &out,
     ]);
-    fails_with(&r, 1, &["critical angle α* = 0.1394", "give --alpha above"]);
+    fails_with(
+        &r,
+        1,
+        &[
+            "below this body's α* = 0.1394",
+            "came to rest",
+            "give a larger --alpha",
+        ],
+    );
     let r = rollphase(&["figure", "sphere-poincare", "--alpha", "2", "--out", &out]);
     fails_with(&r, 1, &["--alpha 2 is not allowed", "0 < α < π/2"]);
     // Unknown figure names list every figure.
@@ -733,12 +743,14 @@ fn a_fixed_step_that_leaves_the_constraint_stops_with_dt_and_the_health_figures(
             &csv,
         ])
     };
+    // dt = 1.5 passes the step-doubling check (estimate < 1e-3 per step) but its error adds
+    // up: the health guard stops it. (dt ≥ 2 is refused by the check at the first step.)
     fails_with(
-        &rk4("20"),
+        &rk4("1.5"),
         1,
         &[
-            "--dt 20",
-            "fixed step dt = 20",
+            "--dt 1.5",
+            "fixed step dt = 1.5",
             "||q| − 1| =",
             "contact-normal error =",
             "1e-3",
@@ -821,4 +833,114 @@ fn ctrl_c_leaves_no_partial_output() {
     );
     let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
     assert!(left.is_empty(), "left behind: {left:?}");
+}
+
+#[test]
+fn a_fixed_step_that_would_be_silently_wrong_is_refused_with_dt_and_its_estimate() {
+    let d = temp_dir("coarse-step");
+    let sphere = write(&d, "sphere.json", rollphase::assets::SPHERE);
+    let disk = write(&d, "disk.json", rollphase::assets::DISK);
+    let csv = d.join("rows.csv");
+    let run = |file: &str, integrator: &str, dt: &str| {
+        rollphase(&[
+            "simulate",
+            file,
+            "--alpha",
+            "0.3",
+            "--t-end",
+            "100",
+            "-o",
+            csv.to_str().unwrap(),
+            "--integrator",
+            integrator,
+            "--dt",
+            dt,
+        ])
+    };
+    for dt in ["5", "25", "100"] {
+        for integrator in ["cf4", "rk4"] {
+            let out = run(&sphere, integrator, dt);
+            fails_with(
+                &out,
+                1,
+                &["too coarse", &format!("dt = {dt}"), "use dt ≤", "no CSV"],
+            );
+            assert!(!csv.exists(), "no rows for a refused run");
+        }
+    }
+    fails_with(&run(&disk, "rk4", "100"), 1, &["too coarse", "dt = 100"]);
+    // Longer than the run: refused before it starts, with the number in exponent form.
+    let out = run(&sphere, "cf4", "1e308");
+    fails_with(&out, 1, &["longer than the whole run", "1e308"]);
+    assert!(String::from_utf8_lossy(&out.stderr).len() < 400);
+    // A step of the accuracy table runs.
+    let out = run(&sphere, "cf4", "0.2");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn fit_lag_refuses_data_without_variance_and_flags_a_fit_at_its_bound() {
+    let dir = temp_dir("fit-bounds");
+    let out = dir.join("out");
+    let flat = write(
+        &dir,
+        "flat.csv",
+        "run_idx,alpha*,alpha,t_lag\n0,0.1,0.12,\"[5, 5]\"\n0,0.1,0.14,\"[5, 5]\"\n0,0.1,0.16,\"[5, 5]\"\n0,0.1,0.2,\"[5, 5]\"\n",
+    );
+    let r = rollphase(&["fit-lag", &flat, "--out", out.to_str().unwrap()]);
+    fails_with(&r, 1, &["every lag time is 5 s", "cannot be fitted"]);
+    assert!(!out.join("fit-lag").exists(), "nothing written");
+    // A lag time that grows away from the smallest angle: no α* below it fits, and the search
+    // ends at its bound, which the output says rather than reporting the bound as a fit.
+    let odd = write(
+        &dir,
+        "odd.csv",
+        "run_idx,alpha*,alpha,t_lag\n0,0.1,0.12,\"[1, 1.1]\"\n0,0.1,0.14,\"[2, 2.1]\"\n0,0.1,0.16,\"[3, 3.2]\"\n0,0.1,0.2,\"[5, 5.1]\"\n",
+    );
+    let r = rollphase(&[
+        "fit-lag",
+        &odd,
+        "--out",
+        out.to_str().unwrap(),
+        "--bootstrap",
+        "20",
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("warning:") && err.contains("a bound, not a fit"),
+        "{err}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("fit-lag/summary.json")).unwrap()).unwrap();
+    assert!(!summary["warnings"].as_array().unwrap().is_empty());
+}
+
+#[test]
+fn a_perfect_sphere_is_told_which_figures_do_not_apply_and_why() {
+    let dir = temp_dir("perfect");
+    let perfect = write(&dir, "perfect.json", r#"{"kind":"sphere","coeffs":[]}"#);
+    let out = dir.join("out");
+    for (figure, why) in [
+        ("sphere-poincare", "no attractors to find"),
+        ("sphere-halting", "no halting loops"),
+    ] {
+        // No --alpha given: the message is about the body, not about an α nobody chose.
+        let r = rollphase(&[
+            "figure",
+            figure,
+            "--quick",
+            "--shape",
+            &perfect,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        fails_with(&r, 1, &[figure, "does not apply to a perfect sphere", why]);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(!err.contains("alpha = 0"), "{err}");
+    }
 }

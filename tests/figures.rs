@@ -322,3 +322,33 @@ fn a_figure_folder_holds_the_old_set_or_the_new_one_never_a_mix() {
     assert!(hidden.is_empty(), "{hidden:?}");
     let _ = std::fs::remove_dir_all(&base);
 }
+
+#[test]
+fn three_d_figures_run_below_alpha_star_and_report_the_halting_runs() {
+    // In 3D α* is where every orientation rolls; below it rolling orbits remain (the paper's
+    // body at α = 0.13 < α* = 0.1394), so the figures run and count the starts that halt.
+    let base = std::env::temp_dir().join(format!("rollphase-below-star-{}", std::process::id()));
+    for figure in ["sphere-poincare", "sphere-doubling"] {
+        let o = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+            .args(["figure", figure, "--quick", "--alpha", "0.13", "--out"])
+            .arg(&base)
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "{figure}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    let poincare: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(base.join("sphere-poincare/summary.json")).unwrap())
+            .unwrap();
+    assert!(poincare["alpha"].as_f64().unwrap() < poincare["alpha_star"].as_f64().unwrap());
+    assert!(poincare["attractors"].as_u64().unwrap() >= 1);
+    assert!(poincare["halted"].is_u64());
+    let doubling: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(base.join("sphere-doubling/summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(doubling["options"]["alpha"], 0.13);
+    let _ = std::fs::remove_dir_all(&base);
+}

@@ -177,3 +177,25 @@ fn the_flip_preset_starts_below_the_flip_with_period_one() {
     s.advance_to(s.setup().scene.playback.start_time).unwrap();
     assert_eq!(s.snapshot().period_multiplicity, Some(1));
 }
+
+#[test]
+fn a_fixed_step_too_coarse_stops_the_run_with_a_red_overlay_line() {
+    // CF4 keeps |q| = 1 exactly, so at dt = 5 every health number stays at round-off while the
+    // orbit is wrong by radians; the step-doubling check stops it and says why.
+    let mut s = sim(
+        "name = \"coarse\"\n[body]\nrandom = { dimension = 3, seed = 1, sigma = 0.25 }\n[model]\nalpha_rad = 0.3\n[integrator]\nmethod = \"cf4\"\ndt = 5.0\n",
+    );
+    let e = s.advance_to(100.0).unwrap_err().to_string();
+    assert!(e.contains("too coarse") && e.contains("dt = 5"), "{e}");
+    let stopped = s.snapshot().stopped.expect("the overlay says why");
+    assert!(
+        stopped.starts_with("STOPPED: CF4 dt 5 too coarse") && stopped.contains("use dt ≤"),
+        "{stopped}"
+    );
+    // A step the accuracy table accepts runs and says nothing.
+    let mut fine = sim(
+        "name = \"fine\"\n[body]\nrandom = { dimension = 3, seed = 1, sigma = 0.25 }\n[model]\nalpha_rad = 0.3\n[integrator]\nmethod = \"cf4\"\ndt = 0.2\n",
+    );
+    fine.advance_to(100.0).unwrap();
+    assert_eq!(fine.snapshot().stopped, None);
+}

@@ -315,6 +315,15 @@ fn a_bad_sweep_spec_is_refused_with_the_key_and_what_is_allowed() {
             "alpha = [0.1]\norientations = 1000000\nmass_ratio = { from = 0, to = 10, count = 1000 }\n[bodies]\nseeds = [1]\n",
             "more than 100000000",
         ),
+        (
+            "alpha = [0.1]\nintegrators = [\"cf4:1e308\"]\n[bodies]\nseeds = [1]\n",
+            "longer than the whole run",
+        ),
+        // Unstable at the small mass: refused before the first run, not after all of them.
+        (
+            "alpha = [0.1]\nmass_ratio = [1.0, 0.01]\nintegrators = [\"rk4:0.5\"]\n[bodies]\nseeds = [1]\n",
+            "unstable for m/m0 = 0.01",
+        ),
     ];
     for (k, (spec, says)) in cases.iter().enumerate() {
         let path = root.join(format!("bad{k}.toml"));

@@ -79,6 +79,12 @@ fn golden_min(f: impl Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
     crate::numeric::optimize::golden_max(&|x| -f(x), a, b, tol)
 }
 
+/// How far below the smallest measured α the fitted α* is searched.
+pub const ALPHA_STAR_RANGE: f64 = 0.15;
+
+/// The range the shared exponent is searched in.
+pub const SHARED_EXPONENT_RANGE: (f64, f64) = (-1.5, -0.05);
+
 /// Fits one run's α*, β, A (β fixed if given). α* is searched in (α_min − 0.15, α_min).
 pub fn fit_run(points: &[(f64, f64)], beta: Option<f64>) -> Option<RunFit> {
     let a_min = points.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
@@ -88,7 +94,7 @@ pub fn fit_run(points: &[(f64, f64)], beta: Option<f64>) -> Option<RunFit> {
             .unwrap_or(f64::INFINITY)
     };
     // Coarse scan first (the residual can have several local minima), then golden section.
-    let (lo, hi) = (a_min - 0.15, a_min - 1e-7);
+    let (lo, hi) = (a_min - ALPHA_STAR_RANGE, a_min - 1e-7);
     let n = 300;
     let grid: Vec<f64> = (0..=n)
         .map(|i| lo + (hi - lo) * i as f64 / n as f64)
@@ -131,7 +137,12 @@ fn shared_fit(runs: &[Vec<(f64, f64)>]) -> Option<(f64, Vec<f64>)> {
             .map(|p| fit_run(p, Some(b)).map(|f| f.rss).unwrap_or(f64::INFINITY))
             .sum::<f64>()
     };
-    let beta = golden_min(total, -1.5, -0.05, 1e-9);
+    let beta = golden_min(
+        total,
+        SHARED_EXPONENT_RANGE.0,
+        SHARED_EXPONENT_RANGE.1,
+        1e-9,
+    );
     let stars = runs
         .iter()
         .map(|p| fit_run(p, Some(beta)).map(|f| f.alpha_star))

@@ -182,6 +182,9 @@ pub fn run_fit_lag(a: FitLagArgs) -> Result<()> {
         );
     }
     let s = figures::fit_lag::run(&a.csv, &a.out, a.bootstrap, a.seed)?;
+    for w in &s.warnings {
+        eprintln!("warning: {w}");
+    }
     outln!(
         "fit-lag: {} runs, shared exponent β = {:.4} ± {:.4} (paper: −0.5); wrote {}",
         s.runs,

@@ -292,8 +292,14 @@ pub fn run(a: SimulateArgs) -> Result<()> {
                     format!("{} --dt {}", method.name(), super::short(dt))
                 }
             };
+            // Rows already sent to standard output cannot be taken back; a file is untouched.
+            let left = if a.output.as_os_str() == "-" {
+                "the rows on standard output stop there and are incomplete"
+            } else {
+                "no CSV was written"
+            };
             return Err(e).context(format!(
-                "simulation failed with --alpha {} --mass {} and {settings}; no CSV was written",
+                "simulation failed with --alpha {} --mass {} and {settings}; {left}",
                 super::short(a.alpha),
                 super::short(a.mass)
             ));

@@ -8,7 +8,9 @@ use anyhow::{Context, Result, anyhow};
 use serde::Serialize;
 
 use super::FigureData;
-use crate::analysis::lag_fit::{LagAnalysis, analyse, parse_lag_csv};
+use crate::analysis::lag_fit::{
+    ALPHA_STAR_RANGE, LagAnalysis, LagRun, SHARED_EXPONENT_RANGE, analyse, parse_lag_csv,
+};
 use crate::output::{self, Inputs};
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
@@ -25,8 +27,67 @@ pub struct Summary {
     pub shared_exponent_stderr: f64,
     /// α* reported in the file per run (null if absent).
     pub alpha_star_reported: Vec<Option<f64>>,
+    /// Fitted values that sit at the edge of their search range, where the fit is not a
+    /// minimum but a bound (printed as warnings too).
+    pub warnings: Vec<String>,
     /// Full fit.
     pub analysis: LagAnalysis,
+}
+
+/// Refuses data the fit cannot determine: a run whose lag times are all equal says nothing
+/// about β. (Too few angles per run are refused when the file is read.)
+fn refuse_degenerate(runs: &[LagRun]) -> Result<()> {
+    for r in runs {
+        let times: Vec<f64> = r
+            .points
+            .iter()
+            .flat_map(|p| p.times.iter().copied())
+            .collect();
+        if times.windows(2).all(|w| w[0] == w[1]) {
+            anyhow::bail!(
+                "run {}: every lag time is {} s, so the data say nothing about how t_lag changes \
+                 with α; the exponent cannot be fitted",
+                r.run,
+                times.first().copied().unwrap_or(f64::NAN)
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Fitted α* or β at the edge of the range searched: a bound, not a fit.
+fn bound_warnings(runs: &[LagRun], a: &LagAnalysis) -> Vec<String> {
+    let mut out = Vec::new();
+    for (k, r) in runs.iter().enumerate() {
+        let a_min = r
+            .points
+            .iter()
+            .map(|p| p.alpha)
+            .fold(f64::INFINITY, f64::min);
+        let (lo, hi) = (a_min - ALPHA_STAR_RANGE, a_min);
+        for (what, star) in [
+            ("β free", a.runs[k].alpha_star),
+            ("shared β", a.shared_alpha_stars[k]),
+        ] {
+            if star - lo < 1e-4 * ALPHA_STAR_RANGE || hi - star < 1e-4 * ALPHA_STAR_RANGE {
+                out.push(format!(
+                    "run {}: the fitted α* = {star:.5} ({what}) is at the edge of the range \
+                     searched ({lo:.5} to {hi:.5}): a bound, not a fit; check the angles (a point \
+                     at or below the true α*?)",
+                    r.run
+                ));
+            }
+        }
+    }
+    let (b_lo, b_hi) = SHARED_EXPONENT_RANGE;
+    if a.shared_exponent - b_lo < 1e-4 || b_hi - a.shared_exponent < 1e-4 {
+        out.push(format!(
+            "the shared exponent β = {:.4} is at the edge of the range searched ({b_lo} to \
+             {b_hi}): a bound, not a fit",
+            a.shared_exponent
+        ));
+    }
+    out
 }
 
 /// Fits `csv` and writes OUT/fit-lag/{data.csv, figure.png, summary.json}.
@@ -54,8 +115,10 @@ pub fn compute(
     seed: u64,
 ) -> Result<FigureData<Summary>> {
     let runs = parse_lag_csv(text).map_err(|e| anyhow!("{e}"))?;
+    refuse_degenerate(&runs)?;
     let analysis = analyse(&runs, bootstrap, seed)
         .ok_or_else(|| anyhow!("the fit failed (too few angles in a run?)"))?;
+    let warnings = bound_warnings(&runs, &analysis);
     let mut rows = Vec::new();
     let mut series = Vec::new();
     for (k, r) in runs.iter().enumerate() {
@@ -108,6 +171,7 @@ pub fn compute(
         shared_exponent: analysis.shared_exponent,
         shared_exponent_stderr: analysis.shared_exponent_stderr,
         alpha_star_reported: runs.iter().map(|r| r.alpha_star_reported).collect(),
+        warnings,
         analysis,
     };
     let panel = Panel {

@@ -198,7 +198,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let fig = opts.sphere("sphere-bifurcation")?;
     let body = fig.body;
     let alpha_star = sphere_alpha_star(&body);
-    let alpha = opts.single_alpha("sphere-bifurcation", PAPER_ALPHA, alpha_star)?;
+    let alpha = opts.single_alpha("sphere-bifurcation", PAPER_ALPHA)?;
     let (n_mass, starts, t_end) = if opts.quick {
         (25, 4, 1500.0)
     } else {
@@ -243,8 +243,19 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             .collect()
     };
     if seeds.is_empty() {
+        // Say why: below α* a start can come to rest (no crossings late in the run).
+        let rested = (0..starts)
+            .filter(|&o| run_at(first, o).crossings.is_empty())
+            .count();
+        let below = if alpha < alpha_star {
+            format!(", below this body's α* = {alpha_star:.4}, where some orientations halt")
+        } else {
+            String::new()
+        };
         return Err(anyhow!(
-            "no run settled on a period-1 orbit at m/m0 = {} (α = {alpha}); nothing to continue",
+            "sphere-bifurcation: none of the {starts} runs at m/m0 = {} (α = {alpha}{below}) \
+             settled on a period-1 orbit ({rested} came to rest), so there is no orbit to continue \
+             in m/m0; give a larger --alpha",
             masses[first]
         ));
     }

@@ -275,7 +275,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let fig = opts.sphere("sphere-doubling")?;
     let (body, seed) = (fig.body.clone(), fig.seed);
     let a_star = sphere_alpha_star(&body);
-    let alpha = opts.single_alpha("sphere-doubling", PAPER_ALPHA, a_star)?;
+    let alpha = opts.single_alpha("sphere-doubling", PAPER_ALPHA)?;
     let n = if opts.quick { 8 } else { 100 };
     let (t_end, t_from, t_to) = if opts.quick {
         (1200.0, 600.0, 700.0)

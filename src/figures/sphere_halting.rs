@@ -134,6 +134,12 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let fig = opts.sphere("sphere-halting")?;
     let (body, seed) = (fig.body.clone(), fig.seed);
     let ca = critical_angle(&Body::Sphere(body.clone()));
+    super::refuse_perfect_sphere(
+        "sphere-halting",
+        ca.alpha_star,
+        "it has no rest point on any tilted plane, so there are no halting loops Q = tan α; it \
+         rolls from every orientation",
+    )?;
     let (nt, np) = if opts.quick { (91, 181) } else { (181, 361) };
     let thetas: Vec<f64> = (0..nt)
         .map(|i| std::f64::consts::PI * i as f64 / (nt - 1) as f64)

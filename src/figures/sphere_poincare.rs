@@ -79,13 +79,19 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let fig = opts.sphere("sphere-poincare")?;
     let (body, seed) = (fig.body.clone(), fig.seed);
     let a_star = critical_angle(&Body::Sphere(body.clone())).alpha_star;
+    super::refuse_perfect_sphere(
+        "sphere-poincare",
+        a_star,
+        "it rolls at constant speed on a great circle from every orientation, so every point of \
+         ∂Ω lies on a periodic orbit and the return map has no attractors to find",
+    )?;
     // The paper's α = 0.15 on its body; on another, 0.3 or just above its α*.
     let default_alpha = if fig.is_paper {
         super::PAPER_ALPHA
     } else {
         ALPHA.max(a_star + 0.05)
     };
-    let alpha = opts.single_alpha("sphere-poincare", default_alpha, a_star)?;
+    let alpha = opts.single_alpha("sphere-poincare", default_alpha)?;
     let ramp = Ramp::new(alpha, 0.0)?;
     let n: usize = if opts.quick { 400 } else { 5000 };
     // One ensemble: the attractor search (iterating P from a sub-lattice until |V| < 1e-9; the

@@ -67,7 +67,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         "sphere-tube",
         "follows the perfect sphere, whose orbits have a closed form",
     )?;
-    let alpha = opts.single_alpha("sphere-tube", 0.3, 0.0)?;
+    let alpha = opts.single_alpha("sphere-tube", 0.3)?;
     let body = Sphere::perfect();
     let (th0, ph0) = (1.0, 0.5);
     let u0 = direction(th0, ph0);

@@ -293,13 +293,20 @@ impl Sweep {
             .map(|s| Ok((s.clone(), parse_integrator(s)?)))
             .collect::<Result<Vec<_>>>()?;
         for (name, m) in &integrators {
-            if let Method::Rk4 { dt } | Method::Cf4 { dt } = m
-                && spec.t_max / dt > 1e9
-            {
-                bail!(
-                    "integrators: {name:?} needs t_max/dt = {:.3e} steps per run, more than 1e9",
-                    spec.t_max / dt
-                );
+            if let Method::Rk4 { dt } | Method::Cf4 { dt } = m {
+                if spec.t_max / dt > 1e9 {
+                    bail!(
+                        "integrators: {name:?} needs t_max/dt = {:.3e} steps per run, more than 1e9",
+                        spec.t_max / dt
+                    );
+                }
+                if *dt > spec.t_max {
+                    bail!(
+                        "integrators: {name:?} has a step longer than the whole run (t_max = {}); \
+                         use dt ≤ t_max",
+                        crate::integrate::readable(spec.t_max)
+                    );
+                }
             }
         }
         let b = &spec.bodies;
@@ -369,6 +376,20 @@ impl Sweep {
                 skipped.len(),
                 b.sigma
             );
+        }
+        // Every fixed step against the drag relaxation's stability limit, before the first run
+        // (the limit depends on the body and m/m0 only).
+        for (name, m) in integrators
+            .iter()
+            .filter(|(_, m)| !matches!(m, Method::Dop853 { .. }))
+        {
+            for (label, body) in &bodies {
+                for &mass in &masses {
+                    let ramp = Ramp::new(alphas[0], mass)?;
+                    crate::simulate::choose_model(&Body::Sphere(body.clone()), ramp, *m)
+                        .with_context(|| format!("integrators: {name:?} on body {label}"))?;
+                }
+            }
         }
         Ok(Sweep {
             text: text.into(),

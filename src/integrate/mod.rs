@@ -111,9 +111,19 @@ impl std::fmt::Display for Method {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match *self {
             Method::Dop853 { rtol, .. } => write!(f, "DOP853 rtol {rtol:.0e}"),
-            Method::Rk4 { dt } => write!(f, "RK4 dt {dt}"),
-            Method::Cf4 { dt } => write!(f, "CF4 dt {dt}"),
+            Method::Rk4 { dt } => write!(f, "RK4 dt {}", readable(dt)),
+            Method::Cf4 { dt } => write!(f, "CF4 dt {}", readable(dt)),
         }
+    }
+}
+
+/// A number as people read it: Rust's shortest form between 1e-4 and 1e6, exponent form
+/// outside (so 1e308 is not printed with 309 digits).
+pub fn readable(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
     }
 }
 
@@ -132,6 +142,21 @@ pub enum IntegrateError {
          resolves; the problem is stiff or singular here (try the viscous model for tiny m/m0)"
     )]
     StepTooSmall { t: f64, h: f64 },
+    /// A fixed step whose own error estimate (step doubling) is above the tolerance.
+    #[error(
+        "{method} with dt = {} is too coarse here: at t = {} the step's error estimate (step \
+         doubling) is {estimate:.1e}, above the tolerance {tolerance:e}, so the run would be \
+         silently wrong; use dt ≤ {}, or the adaptive dop853",
+        readable(*dt), readable(*t), readable(*suggested)
+    )]
+    StepTooCoarse {
+        t: f64,
+        method: &'static str,
+        dt: f64,
+        estimate: f64,
+        tolerance: f64,
+        suggested: f64,
+    },
     /// More steps than the caller allowed.
     #[error("integration stopped at t = {t}: more than {max_steps} steps were needed")]
     TooManySteps { t: f64, max_steps: u64 },
@@ -171,6 +196,11 @@ pub trait Stepper<const N: usize> {
     fn dense(&mut self, t: f64) -> [f64; N];
     /// Work done so far.
     fn stats(&self) -> Stats;
+    /// The largest local error estimate a fixed-step method has checked so far (relative to
+    /// 1 + |y|, see [`rk4`]); `None` for adaptive methods, which control their error.
+    fn largest_error_estimate(&self) -> Option<f64> {
+        None
+    }
 }
 
 /// Steps `stepper` until it reaches `t_end`, within `max_steps` accepted steps, calling

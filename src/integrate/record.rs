@@ -63,9 +63,9 @@ mod tests {
     #[test]
     fn records_every_evaluation_of_a_run() {
         let states = recorded_states(&Decay, [1.0], 1.0, Method::Rk4 { dt: 0.25 }).expect("runs");
-        // The stepper's first evaluation at y0 (kept for dense output), then four RK4 steps of
-        // four stages each.
-        assert_eq!(states.len(), 1 + 4 * 4);
+        // The stepper's first evaluation at y0 (kept for dense output), four RK4 steps of four
+        // stages each, and the first step's check by step doubling (two half steps: 3 + 1 + 3).
+        assert_eq!(states.len(), 1 + 4 * 4 + 7);
         assert_eq!(states[0], [1.0]);
         assert!(states.iter().all(|y| y[0] > 0.0 && y[0] <= 1.0));
         let sum = replay(&Decay, &states);

@@ -114,6 +114,8 @@ pub struct Snapshot {
     pub theta: Option<f64>,
     /// Numerical health.
     pub health: Health,
+    /// Why the integration stopped (one overlay line, shown in red), until the settings change.
+    pub stopped: Option<String>,
     /// The views in force (the scene's, as changed by the user or the timeline).
     pub views: ViewsSpec,
     /// The lesson's caption in force, if any.
@@ -154,6 +156,10 @@ pub struct Simulation {
     next_trail_t: f64,
     crossings: VecDeque<(f64, Option<DVec3>)>,
     health: Health,
+    /// The overlay line of the failure that stopped the run, if one did.
+    stopped: Option<String>,
+    /// Set by `drive` when the integrator fails, taken by `advance_to`.
+    last_failure: Option<String>,
     energy0: Option<f64>,
     track_ball: bool,
     /// Timeline steps applied so far.
@@ -197,6 +203,8 @@ impl Simulation {
             next_trail_t: 0.0,
             crossings: VecDeque::new(),
             health: Health::default(),
+            stopped: None,
+            last_failure: None,
             energy0: None,
             steps_done: 0,
             caption: None,
@@ -308,6 +316,7 @@ impl Simulation {
             .validate()
             .map_err(|e| SimError::Refused(e.to_string()))?;
         let ramp = choice.ramp;
+        self.stopped = None;
         self.state = self.state.clone().for_ramp(&ramp);
         self.ramp = ramp;
         self.method = method;
@@ -327,6 +336,14 @@ impl Simulation {
     /// Integrates from the current time to `t_target`, applying the timeline steps on the way
     /// at their times (a step at exactly `t_target` included). No-op if `t_target` is earlier.
     pub fn advance_to(&mut self, t_target: f64) -> Result<(), SimError> {
+        let result = self.advance_through_steps(t_target);
+        if let Err(SimError::Integrate { .. }) = &result {
+            self.stopped = self.last_failure.take();
+        }
+        result
+    }
+
+    fn advance_through_steps(&mut self, t_target: f64) -> Result<(), SimError> {
         while let Some(step) = self
             .setup
             .timeline
@@ -430,14 +447,20 @@ impl Simulation {
     where
         S: OdeSystem<N>,
     {
-        let fail = |t: f64, e: IntegrateError| SimError::Integrate {
+        let fail = |t: f64, e: &IntegrateError| SimError::Integrate {
             t,
             message: e.to_string(),
         };
         let mut st: Box<dyn Stepper<N> + '_> =
-            integrate::stepper(model, self.t, y0, self.method).map_err(|e| fail(self.t, e))?;
+            match integrate::stepper(model, self.t, y0, self.method) {
+                Ok(st) => st,
+                Err(e) => {
+                    self.last_failure = Some(overlay_line(&e));
+                    return Err(fail(self.t, &e));
+                }
+            };
         let mut crossing_times = Vec::new();
-        integrate::step_until(st.as_mut(), t_target, MAX_STEPS_PER_ADVANCE, |st| {
+        let stepped = integrate::step_until(st.as_mut(), t_target, MAX_STEPS_PER_ADVANCE, |st| {
             if st.y().iter().any(|v| !v.is_finite()) {
                 return Err(IntegrateError::NonFinite { t: st.t() });
             }
@@ -468,8 +491,11 @@ impl Simulation {
                 self.health.energy_drift = self.health.energy_drift.max((e - e0).abs());
             }
             Ok(())
-        })
-        .map_err(|e| fail(st.t(), e))?;
+        });
+        if let Err(e) = stepped {
+            self.last_failure = Some(overlay_line(&e));
+            return Err(fail(st.t(), &e));
+        }
         self.health.rhs_evals += st.stats().rhs_evals;
         self.t = st.t();
         let y = *st.y();
@@ -553,6 +579,7 @@ impl Simulation {
                 Model::SphereViscous { .. } | Model::SphereInertial { .. } => None,
             },
             health: self.health,
+            stopped: self.stopped.clone(),
             views: self.setup.scene.views.clone(),
             caption: self.caption.clone(),
             lesson: (!self.setup.timeline.is_empty()).then(|| LessonProgress {
@@ -565,6 +592,33 @@ impl Simulation {
 }
 
 /// What `state` looks like on `ramp`.
+/// One overlay line for an integration failure: a fixed step too coarse says which, by how much
+/// and what to use; anything else its message, cut to a line.
+fn overlay_line(e: &IntegrateError) -> String {
+    match e {
+        IntegrateError::StepTooCoarse {
+            method,
+            dt,
+            estimate,
+            tolerance,
+            suggested,
+            ..
+        } => format!(
+            "STOPPED: {} dt {} too coarse (error estimate {estimate:.1e} > {tolerance:e}); use dt ≤ {} or DOP853",
+            method.to_uppercase(),
+            integrate::readable(*dt),
+            integrate::readable(*suggested)
+        ),
+        other => {
+            let text = format!("STOPPED: {other}");
+            match text.char_indices().nth(100) {
+                Some((cut, _)) => format!("{}…", &text[..cut]),
+                None => text,
+            }
+        }
+    }
+}
+
 fn observe(state: &Model, ramp: &Ramp) -> Observed {
     match state {
         Model::DiskViscous { disk, y } => {

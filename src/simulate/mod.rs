@@ -264,6 +264,15 @@ pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<S
         )));
     }
     if let Method::Rk4 { dt } | Method::Cf4 { dt } = spec.method {
+        if dt > spec.t_end {
+            return Err(RunError::Mismatch(format!(
+                "a fixed step dt = {} is longer than the whole run (t_end = {}): it would silently \
+                 become one step of t_end; use dt ≤ t_end (and small enough to be accurate), or \
+                 DOP853",
+                integrate::readable(dt),
+                integrate::readable(spec.t_end)
+            )));
+        }
         let steps = (spec.t_end / dt).ceil();
         if steps > spec.max_steps as f64 {
             return Err(RunError::Mismatch(format!(

@@ -64,7 +64,15 @@ impl SceneView {
             .quat_norm_error
             .max(snap.health.contact_normal_error);
         let trustworthy = worst <= crate::simulate::FIXED_STEP_HEALTH_LIMIT;
-        if !self.is_disk && !trustworthy {
+        if let Some(stopped) = &snap.stopped {
+            // The run stopped (a fixed step too coarse, say): the numbers above are the last
+            // trustworthy ones, and the reason is what the viewer must read.
+            items.push(PanelItem::Text {
+                text: stopped.clone(),
+                size_px: 16.0 * text,
+                color: [255, 70, 60],
+            });
+        } else if !self.is_disk && !trustworthy {
             // The state has left the rolling constraint: its 1/T would be nonsense.
             items.push(PanelItem::Text {
                 text: format!(
