@@ -944,3 +944,30 @@ fn a_perfect_sphere_is_told_which_figures_do_not_apply_and_why() {
         assert!(!err.contains("alpha = 0"), "{err}");
     }
 }
+
+#[test]
+fn tolerances_and_spans_beyond_double_precision_name_the_real_cause() {
+    let sphere = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/shapes/sphere.json");
+    let disk = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/shapes/disk.json");
+    // Not "stiff, try the viscous model": the tolerance itself is the problem.
+    let r = rollphase(&[
+        "simulate", sphere, "--alpha", "0.3", "--t-end", "10", "--atol", "1e-300", "-o", "-",
+    ]);
+    fails_with(
+        &r,
+        1,
+        &["atol = 1e-300", "1e-20 ≤ atol", "double precision"],
+    );
+    assert!(!String::from_utf8_lossy(&r.stderr).contains("viscous model"));
+    // Not "the step fell below double precision" at t = 0: the span is the problem.
+    let r = rollphase(&[
+        "period", disk, "--alpha", "0.3", "--mass", "1", "--t-max", "1e300",
+    ]);
+    fails_with(&r, 1, &["--t-max 1e300", "t_max ≤ 1e9"]);
+    let r = rollphase(&[
+        "simulate", sphere, "--alpha", "0.3", "--t-end", "1e300", "-o", "-",
+    ]);
+    fails_with(&r, 1, &["t_end = 1e300", "t_end ≤ 1e9"]);
+    // Numbers far from 1 in exponent form: no message spells out 300 digits.
+    assert!(String::from_utf8_lossy(&r.stderr).len() < 400);
+}

@@ -319,6 +319,23 @@ fn a_bad_sweep_spec_is_refused_with_the_key_and_what_is_allowed() {
             "alpha = [0.1]\nintegrators = [\"cf4:1e308\"]\n[bodies]\nseeds = [1]\n",
             "longer than the whole run",
         ),
+        // Axes in plain words, not serde's enum jargon.
+        (
+            "alpha = { from = 0.1, to = 0.2, count = -3 }\n[bodies]\nseeds = [1]\n",
+            "count = -3 is not allowed (needs a whole number from 1",
+        ),
+        (
+            "alpha = { from = 0.1, to = 0.2, count = 3, step = 0.05 }\n[bodies]\nseeds = [1]\n",
+            "\"step\" is not one of them",
+        ),
+        (
+            "alpha = [0.1, \"x\"]\n[bodies]\nseeds = [1]\n",
+            "is not a number",
+        ),
+        (
+            "alpha = { from = 0.1, count = 3 }\n[bodies]\nseeds = [1]\n",
+            "to is missing",
+        ),
         // Unstable at the small mass: refused before the first run, not after all of them.
         (
             "alpha = [0.1]\nmass_ratio = [1.0, 0.01]\nintegrators = [\"rk4:0.5\"]\n[bodies]\nseeds = [1]\n",
@@ -335,6 +352,10 @@ fn a_bad_sweep_spec_is_refused_with_the_key_and_what_is_allowed() {
             root.join("out").to_str().unwrap(),
         ]);
         assert!(e.contains(says), "{spec}: {e}");
+        assert!(
+            !e.contains("untagged") && !e.contains("variant"),
+            "jargon: {e}"
+        );
         assert!(e.contains(&format!("bad{k}.toml")), "names the spec: {e}");
     }
     assert!(!root.join("out").join("sweep.csv").exists());

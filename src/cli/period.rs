@@ -79,10 +79,12 @@ pub fn run(a: PeriodArgs) -> Result<()> {
     };
     body.check_convex()?;
     let ramp = Ramp::new(a.alpha, a.mass)?;
-    if !(a.t_max.is_finite() && a.t_max > 0.0) {
+    if !(a.t_max.is_finite() && a.t_max > 0.0 && a.t_max <= crate::integrate::MAX_SPAN) {
         bail!(
-            "--t-max {} is not allowed (needs a finite value > 0)",
-            a.t_max
+            "--t-max {} is not allowed (needs 0 < t_max ≤ {}: past that the integrator's \
+             smallest step, 16 ε × t_max, exceeds the steps an orbit needs)",
+            super::short(a.t_max),
+            super::short(crate::integrate::MAX_SPAN)
         );
     }
     for (flag, v) in [("--theta0", a.theta0), ("--thetadot0", a.thetadot0)] {

@@ -42,7 +42,7 @@ use crate::analysis::sphere_orbits::{Fate, Settle, settle_with};
 use crate::dynamics::Ramp;
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
 use crate::geometry::{Body, ShapeFile, Sphere, paper_sphere, random_sphere};
-use crate::integrate::{Method, Preset};
+use crate::integrate::{Method, Preset, readable};
 use crate::output::{self, Inputs, OutputSet};
 
 /// Most runs one sweep may hold (all shards together).
@@ -50,9 +50,9 @@ pub const MAX_RUNS: usize = 100_000_000;
 /// Most values in one axis (α, m/m0, bodies, integrators) and most orientations.
 pub const MAX_AXIS: usize = 1_000_000;
 
-/// A list of numbers, or an evenly spaced range.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
+/// A list of numbers, or an evenly spaced range. Read by hand (not serde's untagged enum) so a
+/// mistake is named in plain words: which key, and what is allowed.
+#[derive(Debug, Clone)]
 pub enum Axis {
     /// The values.
     List(Vec<f64>),
@@ -65,6 +65,71 @@ pub enum Axis {
         /// Values (≥ 2; 1 gives `from`).
         count: usize,
     },
+}
+
+/// How an axis is written, for messages.
+const AXIS_FORMS: &str = "a list of numbers like [0.1, 0.2], or a range like \
+                          { from = 0.1, to = 0.2, count = 11 }";
+
+impl<'de> Deserialize<'de> for Axis {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let number = |v: &toml::Value| match v {
+            toml::Value::Float(x) => Some(*x),
+            toml::Value::Integer(i) => Some(*i as f64),
+            _ => None,
+        };
+        match toml::Value::deserialize(d)? {
+            toml::Value::Array(items) => items
+                .iter()
+                .map(|v| {
+                    number(v).ok_or_else(|| {
+                        D::Error::custom(format!("{v} is not a number; an axis is {AXIS_FORMS}"))
+                    })
+                })
+                .collect::<Result<Vec<_>, _>>()
+                .map(Axis::List),
+            v @ (toml::Value::Float(_) | toml::Value::Integer(_)) => {
+                Ok(Axis::List(vec![number(&v).unwrap_or(f64::NAN)]))
+            }
+            toml::Value::Table(t) => {
+                if let Some(k) = t
+                    .keys()
+                    .find(|k| !["from", "to", "count"].contains(&k.as_str()))
+                {
+                    return Err(D::Error::custom(format!(
+                        "a range has the keys from, to and count; {k:?} is not one of them"
+                    )));
+                }
+                let get = |k: &str| {
+                    t.get(k).ok_or_else(|| {
+                        D::Error::custom(format!(
+                            "a range needs from, to and count; {k} is missing"
+                        ))
+                    })
+                };
+                let from = number(get("from")?)
+                    .ok_or_else(|| D::Error::custom("a range's from must be a number"))?;
+                let to = number(get("to")?)
+                    .ok_or_else(|| D::Error::custom("a range's to must be a number"))?;
+                let count = match get("count")? {
+                    toml::Value::Integer(c) if *c >= 1 && *c as u64 <= MAX_AXIS as u64 => {
+                        *c as usize
+                    }
+                    other => {
+                        return Err(D::Error::custom(format!(
+                            "a range's count = {other} is not allowed (needs a whole number from \
+                             1 to {MAX_AXIS})"
+                        )));
+                    }
+                };
+                Ok(Axis::Range { from, to, count })
+            }
+            other => Err(D::Error::custom(format!(
+                "{other} is not an axis; an axis is {AXIS_FORMS}"
+            ))),
+        }
+    }
 }
 
 impl Axis {
@@ -249,13 +314,19 @@ impl Sweep {
         let alphas = spec.alpha.values("alpha")?;
         for &a in &alphas {
             if !(a > 0.0 && a < std::f64::consts::FRAC_PI_2) {
-                bail!("alpha = {a} is not allowed (needs 0 < α < π/2 rad)");
+                bail!(
+                    "alpha = {} is not allowed (needs 0 < α < π/2 rad)",
+                    readable(a)
+                );
             }
         }
         let masses = spec.mass_ratio.values("mass_ratio")?;
         for &m in &masses {
             if !(m.is_finite() && (0.0..=1e6).contains(&m)) {
-                bail!("mass_ratio = {m} is not allowed (needs 0 ≤ m/m0 ≤ 1e6; 0 is viscous)");
+                bail!(
+                    "mass_ratio = {} is not allowed (needs 0 ≤ m/m0 ≤ 1e6; 0 is viscous)",
+                    readable(m)
+                );
             }
         }
         if !(1..=MAX_AXIS).contains(&spec.orientations) {
@@ -267,7 +338,7 @@ impl Sweep {
         if !(spec.t_max.is_finite() && spec.t_max > 0.0 && spec.t_max <= 1e7) {
             bail!(
                 "t_max = {} is not allowed (needs 0 < t_max ≤ 1e7)",
-                spec.t_max
+                readable(spec.t_max)
             );
         }
         if !(1..=16).contains(&spec.max_multiplicity) {
@@ -281,7 +352,10 @@ impl Sweep {
             ("period_rtol", spec.period_rtol),
         ] {
             if !(v.is_finite() && v > 0.0 && v < 1.0) {
-                bail!("{key} = {v} is not allowed (needs 0 < {key} < 1)");
+                bail!(
+                    "{key} = {} is not allowed (needs 0 < {key} < 1)",
+                    readable(v)
+                );
             }
         }
         if spec.integrators.is_empty() || spec.integrators.len() > 100 {

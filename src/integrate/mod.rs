@@ -24,6 +24,13 @@ pub mod rk4;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+/// The smallest absolute tolerance DOP853 accepts (see [`Method::validate`]).
+pub const MIN_ATOL: f64 = 1e-20;
+
+/// The longest time span one integration may cover: DOP853's smallest step is 16 ε times the
+/// span, so past this the steps an orbit needs (~0.01) fall below what it can resolve.
+pub const MAX_SPAN: f64 = 1e9;
+
 /// A first-order system y' = f(t, y) on a fixed-size state.
 pub trait OdeSystem<const N: usize> {
     /// The right-hand side f(t, y). May return non-finite values; steppers turn them into
@@ -71,11 +78,13 @@ impl Method {
                         allowed: "1e-15 ≤ rtol < 1",
                     });
                 }
-                if !(atol.is_finite() && atol > 0.0) {
+                if !(atol.is_finite() && atol >= MIN_ATOL) {
                     return Err(IntegrateError::BadParameter {
                         name: "atol",
                         value: atol,
-                        allowed: "a finite number > 0",
+                        allowed: "1e-20 ≤ atol: the state's components are of order 1, and an \
+                                  absolute tolerance far below double precision's 2.2e-16 \
+                                  resolution makes the first step vanish",
                     });
                 }
                 ("rtol", rtol, (1e-15..1.0).contains(&rtol))
@@ -161,7 +170,7 @@ pub enum IntegrateError {
     #[error("integration stopped at t = {t}: more than {max_steps} steps were needed")]
     TooManySteps { t: f64, max_steps: u64 },
     /// An integrator parameter out of range.
-    #[error("integrator parameter {name} = {value} is not allowed (needs {allowed})")]
+    #[error("integrator parameter {name} = {} is not allowed (needs {allowed})", readable(*value))]
     BadParameter {
         name: &'static str,
         value: f64,

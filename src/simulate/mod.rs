@@ -250,10 +250,12 @@ pub const MAX_SAMPLES: usize = 10_000_000;
 
 /// Runs `spec` on `body`, calling `row(&values)` for each sample (columns as in the headers).
 pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<Summary, RunError> {
-    if !(spec.t_end.is_finite() && spec.t_end > 0.0) {
+    if !(spec.t_end.is_finite() && spec.t_end > 0.0 && spec.t_end <= integrate::MAX_SPAN) {
         return Err(RunError::Mismatch(format!(
-            "t_end = {} is not allowed (needs a finite t_end > 0)",
-            spec.t_end
+            "t_end = {} is not allowed (needs 0 < t_end ≤ {}: past that the integrator's \
+             smallest step, 16 ε × t_end, exceeds the steps an orbit needs)",
+            integrate::readable(spec.t_end),
+            integrate::readable(integrate::MAX_SPAN)
         )));
     }
     if !(2..=MAX_SAMPLES).contains(&spec.samples) {
