@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 
-use crate::figures::shard::{JobId, merge_figure, read_shards};
+use crate::figures::shard::{JobId, merge_figure, merged, scan_shards};
 use crate::figures::sweep;
 
 /// Combine the shards (shard-I-of-N.json) that `figure NAME --shard I/N` or `sweep --shard I/N`
@@ -24,10 +24,10 @@ pub struct MergeArgs {
 
 /// Runs `merge`.
 pub fn run(a: MergeArgs) -> Result<()> {
-    let merged = read_shards(&a.dir)?;
-    match merged.job {
+    let shards = scan_shards(&a.dir)?;
+    match shards.job {
         JobId::Figure { .. } => {
-            let m = merge_figure(&a.dir, merged)?;
+            let m = merge_figure(&a.dir, merged(shards)?)?;
             outln!(
                 "{}: merged {} runs from {} shards; wrote {}",
                 m.name,
@@ -37,8 +37,8 @@ pub fn run(a: MergeArgs) -> Result<()> {
             )?;
         }
         JobId::Sweep { .. } => {
-            let shards = merged.shards;
-            let s = sweep::merge(&a.dir, merged)?;
+            let s = sweep::merge(&a.dir, &shards)?;
+            let shards = shards.shards;
             outln!(
                 "sweep: merged {} runs from {shards} shards ({} halt, {} periodic, {} undecided); wrote {}",
                 s.runs,

@@ -290,9 +290,131 @@ impl Merged {
     }
 }
 
-/// Reads every `shard-*.json` in `dir` and checks that they are the N shards of one ensemble:
-/// the same job and options, each index 1..N exactly once, ranges covering every job.
-pub fn read_shards(dir: &Path) -> Result<Merged> {
+/// The N shards of one ensemble in a folder, checked, with their records left on disk: what
+/// [`scan_shards`] finds. [`read_shards`] collects every record (the figures); a sweep's merge
+/// streams them one file at a time ([`ShardSet::for_each_record`]).
+#[derive(Debug)]
+pub struct ShardSet {
+    /// What ran.
+    pub job: JobId,
+    /// The ensemble's name.
+    pub ensemble: String,
+    /// N.
+    pub shards: usize,
+    /// Jobs in the whole ensemble.
+    pub jobs: usize,
+    /// Each shard file in shard order with the index of its first job.
+    entries: Vec<(PathBuf, usize)>,
+}
+
+impl ShardSet {
+    /// The shard files, in shard order.
+    pub fn files(&self) -> impl Iterator<Item = &Path> {
+        self.entries.iter().map(|(p, _)| p.as_path())
+    }
+
+    /// Calls `f(k, numbers)` for every job's record in index order, reading one shard file at a
+    /// time (each checked against its digest again, so a file changed since the scan is refused).
+    pub fn for_each_record(&self, mut f: impl FnMut(usize, &[f64]) -> Result<()>) -> Result<()> {
+        for (path, first) in &self.entries {
+            let file = read_shard_file(path)?;
+            if file.first != *first || file.job != self.job {
+                bail!("{} changed while merging; merge again", path.display());
+            }
+            for (i, line) in file.records.iter().enumerate() {
+                let numbers = decode_line(line).ok_or_else(|| {
+                    anyhow!(
+                        "shard file {}, record {i} (job {}): not a list of numbers",
+                        path.display(),
+                        first + i
+                    )
+                })?;
+                f(first + i, &numbers)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Decodes job `k`'s record as a `T`, naming the file, record and field of a bad one.
+    pub fn decode<T: Record>(&self, name: &str, k: usize, record: &[f64]) -> Result<T> {
+        let i = self
+            .entries
+            .partition_point(|(_, f)| *f <= k)
+            .saturating_sub(1);
+        let (file, first) = self
+            .entries
+            .get(i)
+            .map_or((Path::new("?"), 0), |(p, f)| (p.as_path(), *f));
+        decode_record(name, file, k - first, k, record)
+    }
+}
+
+/// Decodes one record as a `T`; an error names the file, the record and the field.
+fn decode_record<T: Record>(
+    name: &str,
+    file: &Path,
+    local: usize,
+    k: usize,
+    record: &[f64],
+) -> Result<T> {
+    let mut fields = Fields(record.iter());
+    let place = |left: usize| {
+        format!(
+            "{name}: shard file {}, record {local} (job {k}), field {}",
+            file.display(),
+            record.len() - left
+        )
+    };
+    let v =
+        T::decode(&mut fields).map_err(|e| anyhow!("{}: {e:#}", place(fields_left(&fields))))?;
+    if fields_left(&fields) > 0 {
+        bail!(
+            "{}: more numbers than a result",
+            place(fields_left(&fields))
+        );
+    }
+    Ok(v)
+}
+
+/// Reads one shard file: a regular file (a FIFO or device named like a shard would block or
+/// never end), of this format, matching its digest.
+fn read_shard_file(path: &Path) -> Result<ShardFile> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() => {}
+        Ok(_) => bail!(
+            "{} is not a regular file (a FIFO, device or folder); merge reads shard files \
+             only; remove it and merge again",
+            path.display()
+        ),
+        Err(e) => bail!("cannot read shard file {}: {e}", path.display()),
+    }
+    let text = read_text_capped(path, MAX_SHARD_BYTES)
+        .with_context(|| format!("cannot read shard file {}", path.display()))?;
+    let f: ShardFile = serde_json::from_str(&text)
+        .with_context(|| format!("shard file {} is not a rollphase shard", path.display()))?;
+    drop(text);
+    if f.format != FORMAT {
+        bail!(
+            "shard file {} has format {:?}; this rollphase reads {FORMAT:?} (run the shard \
+             again with this version)",
+            path.display(),
+            f.format
+        );
+    }
+    if f.content_digest()? != f.digest {
+        bail!(
+            "shard file {} does not match its digest: it was edited, truncated or damaged \
+             after it was written; run that shard again",
+            path.display()
+        );
+    }
+    Ok(f)
+}
+
+/// Finds every `shard-*.json` in `dir` and checks that they are the N shards of one ensemble:
+/// the same job and options, each index 1..N exactly once, ranges covering every job. Only one
+/// file's records are in memory at a time.
+pub fn scan_shards(dir: &Path) -> Result<ShardSet> {
     let entries =
         std::fs::read_dir(dir).with_context(|| format!("cannot read folder {}", dir.display()))?;
     let mut files = Vec::new();
@@ -311,38 +433,11 @@ pub fn read_shards(dir: &Path) -> Result<Merged> {
             dir.display()
         );
     }
-    let mut by_index: BTreeMap<usize, (PathBuf, ShardFile)> = BTreeMap::new();
+    let mut by_index: BTreeMap<usize, (PathBuf, usize)> = BTreeMap::new();
     let mut reference: Option<(PathBuf, usize, JobId, usize)> = None;
+    let mut ensemble = String::new();
     for path in files {
-        // A FIFO or device named like a shard would block or never end: only regular files.
-        match std::fs::metadata(&path) {
-            Ok(m) if m.is_file() => {}
-            Ok(_) => bail!(
-                "{} is not a regular file (a FIFO, device or folder); merge reads shard files \
-                 only; remove it and merge again",
-                path.display()
-            ),
-            Err(e) => bail!("cannot read shard file {}: {e}", path.display()),
-        }
-        let text = read_text_capped(&path, MAX_SHARD_BYTES)
-            .with_context(|| format!("cannot read shard file {}", path.display()))?;
-        let f: ShardFile = serde_json::from_str(&text)
-            .with_context(|| format!("shard file {} is not a rollphase shard", path.display()))?;
-        if f.format != FORMAT {
-            bail!(
-                "shard file {} has format {:?}; this rollphase reads {FORMAT:?} (run the shard \
-                 again with this version)",
-                path.display(),
-                f.format
-            );
-        }
-        if f.content_digest()? != f.digest {
-            bail!(
-                "shard file {} does not match its digest: it was edited, truncated or damaged \
-                 after it was written; run that shard again",
-                path.display()
-            );
-        }
+        let f = read_shard_file(&path)?;
         match &reference {
             None => reference = Some((path.clone(), f.of, f.job.clone(), f.jobs)),
             Some((first, of, job, jobs)) => {
@@ -398,7 +493,8 @@ pub fn read_shards(dir: &Path) -> Result<Merged> {
                 path.display()
             );
         }
-        by_index.insert(f.shard, (path, f));
+        ensemble = f.ensemble;
+        by_index.insert(f.shard, (path, f.first));
     }
     let Some((_, of, job, jobs)) = reference else {
         unreachable!("at least one shard file was read")
@@ -415,29 +511,34 @@ pub fn read_shards(dir: &Path) -> Result<Merged> {
             abbreviate(&missing)
         );
     }
-    let mut records = Vec::with_capacity(jobs);
-    let mut ensemble = String::new();
-    let files: Vec<PathBuf> = by_index.values().map(|(p, _)| p.clone()).collect();
-    let firsts: Vec<usize> = by_index.values().map(|(_, f)| f.first).collect();
-    for (_, (path, f)) in by_index {
-        ensemble = f.ensemble;
-        for (k, line) in f.records.iter().enumerate() {
-            records.push(decode_line(line).ok_or_else(|| {
-                anyhow!(
-                    "{}: record {} is not a list of numbers",
-                    path.display(),
-                    f.first + k
-                )
-            })?);
-        }
-    }
-    Ok(Merged {
+    Ok(ShardSet {
         job,
         ensemble,
         shards: of,
+        jobs,
+        entries: by_index.into_values().collect(),
+    })
+}
+
+/// Reads every shard in `dir` ([`scan_shards`]) and collects all records, for a figure's merge.
+pub fn read_shards(dir: &Path) -> Result<Merged> {
+    merged(scan_shards(dir)?)
+}
+
+/// Every record of `set`, in index order.
+pub fn merged(set: ShardSet) -> Result<Merged> {
+    let mut records = Vec::with_capacity(set.jobs.min(1 << 20));
+    set.for_each_record(|_, r| {
+        records.push(r.to_vec());
+        Ok(())
+    })?;
+    Ok(Merged {
+        files: set.entries.iter().map(|(p, _)| p.clone()).collect(),
+        firsts: set.entries.iter().map(|(_, f)| *f).collect(),
+        job: set.job,
+        ensemble: set.ensemble,
+        shards: set.shards,
         records,
-        files,
-        firsts,
     })
 }
 
@@ -559,24 +660,8 @@ where
                 .iter()
                 .enumerate()
                 .map(|(k, r)| {
-                    let mut fields = Fields(r.iter());
                     let (file, local) = merged.source_of(k);
-                    let place = |left: usize| {
-                        format!(
-                            "{name}: shard file {}, record {local} (job {k}), field {}",
-                            file.display(),
-                            r.len() - left
-                        )
-                    };
-                    let v = T::decode(&mut fields)
-                        .map_err(|e| anyhow!("{}: {e:#}", place(fields_left(&fields))))?;
-                    if fields_left(&fields) > 0 {
-                        bail!(
-                            "{}: more numbers than a result",
-                            place(fields_left(&fields))
-                        );
-                    }
-                    Ok(v)
+                    decode_record(name, file, local, k, r)
                 })
                 .collect()
         }

@@ -35,18 +35,22 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use serde::{Deserialize, Serialize};
 
-use super::shard::{Ensemble, Fields, JobId, Merged, Record, ShardSpec, run_ensemble};
+use super::shard::{Ensemble, Fields, JobId, Record, ShardSet, ShardSpec, run_ensemble};
 use super::sphere_orbits::random_orientation;
-use super::{csv_text, number_field, par_map};
+use super::{number_field, par_map};
 use crate::analysis::sphere_orbits::{Fate, Settle, settle_with};
 use crate::dynamics::Ramp;
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
 use crate::geometry::{Body, ShapeFile, Sphere, paper_sphere, random_sphere};
 use crate::integrate::{Method, Preset, readable};
-use crate::output::{self, Inputs, OutputSet};
+use crate::output::{self, Inputs, OutputFile, OutputSet};
+use rayon::prelude::*;
 
-/// Most runs one sweep may hold (all shards together).
-pub const MAX_RUNS: usize = 100_000_000;
+/// Most runs one sweep may hold (all shards together): at the measured ~10 ms a run (paper body,
+/// t_max = 2000, docs/cluster.md) 10⁷ runs are ~28 core-hours, a night on a small cluster or a
+/// day on one 2-core machine; memory stays flat (~10 MB measured at 10⁴, 10⁵ and 10⁶ runs), and
+/// sweep.csv is ~70 bytes a run (0.7 GB).
+pub const MAX_RUNS: usize = 10_000_000;
 /// Most values in one axis (α, m/m0, bodies, integrators) and most orientations.
 pub const MAX_AXIS: usize = 1_000_000;
 
@@ -397,7 +401,10 @@ impl Sweep {
             .saturating_mul(spec.orientations)
             .saturating_mul(integrators.len());
         if runs > MAX_RUNS {
-            bail!("the sweep has {runs} runs, more than {MAX_RUNS}; split it into several specs");
+            bail!(
+                "the sweep has {runs} runs, more than {MAX_RUNS} (at ~10 ms a run, 10⁷ runs are \
+                 already ~28 core-hours); split it into several specs"
+            );
         }
         // Generated bodies, in parallel (each is checked for convexity).
         let generated: Vec<(String, Result<Sphere>)> = b
@@ -529,12 +536,47 @@ impl Sweep {
         })
     }
 
-    /// Runs the sweep (all of it, or one shard) through the ensemble machinery.
-    pub fn run(&self, ensemble: &Ensemble, out: &Path) -> Result<Vec<RunResult>> {
-        let place = || Ok((out.to_path_buf(), self.job_id(), self.inputs()));
-        run_ensemble(ensemble, "sweep", self.runs(), "sweep runs", place, |k| {
-            self.run_one(k)
-        })
+    /// Runs one shard of the sweep and writes its shard file (returned as the
+    /// [`super::shard::ShardWritten`] error), through the ensemble machinery.
+    fn run_shard(&self, spec: ShardSpec, out: &Path, inputs: &Inputs) -> Result<SweepSummary> {
+        let place = || Ok((out.to_path_buf(), self.job_id(), inputs.clone()));
+        run_ensemble(
+            &Ensemble::Shard(spec),
+            "sweep",
+            self.runs(),
+            "sweep runs",
+            place,
+            |k| self.run_one(k),
+        )?;
+        bail!("internal error: a shard run returned without writing its shard")
+    }
+
+    /// Runs the whole sweep, streaming rows to `out`/sweep.csv in blocks of [`BLOCK`] runs, so
+    /// memory does not grow with the run count; sweep.csv and summary.json are committed
+    /// together at the end (nothing is written if a run fails).
+    fn run_whole(&self, out: &Path, inputs: &Inputs) -> Result<SweepSummary> {
+        let n = self.runs();
+        let mut rows = self.rows(out, inputs)?;
+        let bar = super::progress(n, "sweep runs");
+        for start in (0..n).step_by(BLOCK) {
+            let end = (start + BLOCK).min(n);
+            // One task per run (their costs differ by orders of magnitude); results come back
+            // in index order, so the bytes do not depend on the thread count.
+            let results: Vec<Result<RunResult>> = (start..end)
+                .into_par_iter()
+                .with_max_len(1)
+                .map(|k| {
+                    let r = self.run_one(k);
+                    bar.inc(1);
+                    r
+                })
+                .collect();
+            for (k, r) in (start..end).zip(results) {
+                rows.push(k, &r?)?;
+            }
+        }
+        bar.finish_and_clear();
+        rows.finish()
     }
 
     /// What this sweep is, for its shard files.
@@ -545,78 +587,123 @@ impl Sweep {
         }
     }
 
-    /// The CSV: one row per run.
-    pub fn csv(&self, results: &[RunResult]) -> Result<String> {
-        let header = "body,alpha,mass_ratio,orientation,integrator,fate,cruising,period,\
-                      inverse_period,multiplicity,halt_time,omega_end,rhs_evals";
-        csv_text(
-            header,
-            results.iter().enumerate().map(|(k, r)| {
-                let [b, a, m, o, i] = self.indices(k);
-                let (fate, period, mult, halt, omega_end) = match r.fate {
-                    Fate::Halts { t } => ("halts", f64::NAN, String::new(), t, 0.0),
-                    Fate::Periodic { period, k, .. } => {
-                        ("periodic", period, k.to_string(), f64::NAN, f64::NAN)
-                    }
-                    Fate::Undecided { omega_end } => {
-                        ("undecided", f64::NAN, String::new(), f64::NAN, omega_end)
-                    }
-                };
-                vec![
-                    self.bodies[b].0.clone(),
-                    number_field(self.alphas[a]),
-                    number_field(self.masses[m]),
-                    o.to_string(),
-                    self.integrators[i].0.clone(),
-                    fate.to_string(),
-                    r.cruises().to_string(),
-                    number_field(period),
-                    number_field(1.0 / period),
-                    mult,
-                    number_field(halt),
-                    number_field(omega_end),
-                    r.rhs_evals.to_string(),
-                ]
-            }),
-        )
+    /// A writer of sweep.csv's rows (staged in `out`) and the summary's counts.
+    fn rows(&self, out: &Path, inputs: &Inputs) -> Result<SweepRows<'_>> {
+        output::create_folder(out)?;
+        let file = OutputFile::create(&out.join(SWEEP_FILES[0]), inputs)?;
+        let mut csv = csv::Writer::from_writer(file);
+        csv.write_record(CSV_HEADER.split(','))?;
+        Ok(SweepRows {
+            sweep: self,
+            csv,
+            summary: SweepSummary {
+                runs: 0,
+                bodies: self.bodies.iter().map(|b| b.0.clone()).collect(),
+                skipped_not_convex: self.skipped.clone(),
+                halts: 0,
+                periodic: 0,
+                undecided: 0,
+                cruising: 0,
+                rhs_evals: 0,
+            },
+            out: out.to_path_buf(),
+            inputs: inputs.clone(),
+            next: 0,
+        })
     }
 
-    /// Headline numbers.
-    pub fn summary(&self, results: &[RunResult]) -> SweepSummary {
-        let count = |f: &dyn Fn(&RunResult) -> bool| results.iter().filter(|r| f(r)).count();
-        SweepSummary {
-            runs: results.len(),
-            bodies: self.bodies.iter().map(|b| b.0.clone()).collect(),
-            skipped_not_convex: self.skipped.clone(),
-            halts: count(&|r| matches!(r.fate, Fate::Halts { .. })),
-            periodic: count(&|r| matches!(r.fate, Fate::Periodic { .. })),
-            undecided: count(&|r| matches!(r.fate, Fate::Undecided { .. })),
-            cruising: count(&|r| r.cruises()),
-            rhs_evals: results.iter().map(|r| r.rhs_evals).sum(),
-        }
+    /// Run k's CSV row.
+    fn row(&self, k: usize, r: &RunResult) -> [String; 13] {
+        let [b, a, m, o, i] = self.indices(k);
+        let (fate, period, mult, halt, omega_end) = match r.fate {
+            Fate::Halts { t } => ("halts", f64::NAN, String::new(), t, 0.0),
+            Fate::Periodic { period, k, .. } => {
+                ("periodic", period, k.to_string(), f64::NAN, f64::NAN)
+            }
+            Fate::Undecided { omega_end } => {
+                ("undecided", f64::NAN, String::new(), f64::NAN, omega_end)
+            }
+        };
+        [
+            self.bodies[b].0.clone(),
+            number_field(self.alphas[a]),
+            number_field(self.masses[m]),
+            o.to_string(),
+            self.integrators[i].0.clone(),
+            fate.to_string(),
+            r.cruises().to_string(),
+            number_field(period),
+            number_field(1.0 / period),
+            mult,
+            number_field(halt),
+            number_field(omega_end),
+            r.rhs_evals.to_string(),
+        ]
     }
 
     /// The files this sweep reads: its body files (the spec itself is added by [`run`]).
     pub fn inputs(&self) -> Inputs {
         Inputs::of(self.spec.bodies.files.iter().map(|f| self.base.join(f)))
     }
+}
 
-    /// Writes `out`/sweep.csv and summary.json from every run's result, as one set.
-    pub fn write(
-        &self,
-        results: &[RunResult],
-        out: &Path,
-        inputs: &Inputs,
-    ) -> Result<SweepSummary> {
-        let csv = self.csv(results)?;
-        let summary = self.summary(results);
-        let json = super::summary_text(&summary)?;
-        output::create_folder(out)?;
+/// sweep.csv's header.
+const CSV_HEADER: &str = "body,alpha,mass_ratio,orientation,integrator,fate,cruising,period,\
+                          inverse_period,multiplicity,halt_time,omega_end,rhs_evals";
+
+/// Runs computed (and held) at a time by a whole sweep: enough to keep every core busy, small
+/// enough that memory stays flat (a result is ~80 bytes).
+pub const BLOCK: usize = 4096;
+
+/// sweep.csv being written row by row, with the summary's counts.
+struct SweepRows<'a> {
+    sweep: &'a Sweep,
+    csv: csv::Writer<OutputFile>,
+    summary: SweepSummary,
+    out: PathBuf,
+    inputs: Inputs,
+    next: usize,
+}
+
+impl SweepRows<'_> {
+    /// Adds run k (runs arrive in index order).
+    fn push(&mut self, k: usize, r: &RunResult) -> Result<()> {
+        if k != self.next {
+            bail!(
+                "internal error: sweep run {k} arrived before run {}",
+                self.next
+            );
+        }
+        self.next += 1;
+        self.csv.write_record(self.sweep.row(k, r))?;
+        let s = &mut self.summary;
+        s.runs += 1;
+        match r.fate {
+            Fate::Halts { .. } => s.halts += 1,
+            Fate::Periodic { .. } => s.periodic += 1,
+            Fate::Undecided { .. } => s.undecided += 1,
+        }
+        s.cruising += usize::from(r.cruises());
+        s.rhs_evals += r.rhs_evals;
+        Ok(())
+    }
+
+    /// Commits sweep.csv with summary.json.
+    fn finish(self) -> Result<SweepSummary> {
+        let file = self
+            .csv
+            .into_inner()
+            .map_err(|e| anyhow::anyhow!("cannot write sweep.csv: {}", e.error()))?;
         let mut set = OutputSet::new();
-        set.write(&out.join(SWEEP_FILES[0]), csv.as_bytes(), inputs)?;
-        set.write(&out.join(SWEEP_FILES[1]), json.as_bytes(), inputs)?;
+        set.add(file)?;
+        let json = super::summary_text(&self.summary)?;
+        set.write(
+            &self.out.join(SWEEP_FILES[1]),
+            json.as_bytes(),
+            &self.inputs,
+        )?;
         set.commit()?;
-        Ok(summary)
+        Ok(self.summary)
     }
 }
 
@@ -670,17 +757,30 @@ impl Record for RunResult {
     }
 }
 
-/// Merges a sweep's shards (read from `dir`) into `dir`/sweep.csv and summary.json.
-pub fn merge(dir: &Path, merged: Merged) -> Result<SweepSummary> {
-    let JobId::Sweep { spec, base } = merged.job.clone() else {
+/// Merges a sweep's shards (read from `dir`) into `dir`/sweep.csv and summary.json, one shard
+/// file at a time: rows stream out as each shard's records are decoded, so memory is one
+/// shard's, not the sweep's.
+pub fn merge(dir: &Path, shards: &ShardSet) -> Result<SweepSummary> {
+    let JobId::Sweep { spec, base } = shards.job.clone() else {
         bail!("{} holds a figure's shards, not a sweep's", dir.display());
     };
     let sweep = Sweep::from_text(&spec, &base).context("the sweep spec stored in the shards")?;
-    let inputs = Inputs::of(&merged.files);
-    let inputs = sweep.inputs().extend(&inputs);
+    if shards.jobs != sweep.runs() {
+        bail!(
+            "sweep: the shards hold {} runs, but their spec has {}; were they written by another \
+             rollphase version?",
+            shards.jobs,
+            sweep.runs()
+        );
+    }
+    let inputs = sweep.inputs().extend(&Inputs::of(shards.files()));
     output::check_folder(dir, &SWEEP_FILES, &inputs)?;
-    let results = sweep.run(&Ensemble::Merge(std::sync::Arc::new(merged)), dir)?;
-    sweep.write(&results, dir, &inputs)
+    let mut rows = sweep.rows(dir, &inputs)?;
+    shards.for_each_record(|k, record| {
+        let r: RunResult = shards.decode("sweep", k, record)?;
+        rows.push(k, &r)
+    })?;
+    rows.finish()
 }
 
 /// Runs a sweep: all of it, writing `out`/sweep.csv and summary.json, or one shard, writing
@@ -690,12 +790,15 @@ pub fn run(spec: &Path, out: &Path, shard: Option<ShardSpec>) -> Result<SweepSum
     let inputs = sweep.inputs().with(spec);
     // The output folder is checked before the first run, not after the whole sweep.
     match shard {
-        Some(s) => output::check_folder(out, &[s.file_name().as_str()], &inputs)?,
-        None => output::check_folder(out, &SWEEP_FILES, &inputs)?,
+        Some(s) => {
+            output::check_folder(out, &[s.file_name().as_str()], &inputs)?;
+            sweep.run_shard(s, out, &inputs)
+        }
+        None => {
+            output::check_folder(out, &SWEEP_FILES, &inputs)?;
+            sweep.run_whole(out, &inputs)
+        }
     }
-    let ensemble = shard.map_or(Ensemble::Whole, Ensemble::Shard);
-    let results = sweep.run(&ensemble, out)?;
-    sweep.write(&results, out, &inputs)
 }
 
 /// The files a whole sweep (or a merge) writes into its folder, committed together.
