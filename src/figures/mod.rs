@@ -185,6 +185,53 @@ impl FigureOptions {
     }
 }
 
+/// Decodes every record of merged shards as the record type of `name` (a sharded figure or
+/// "sweep"), exactly as its merge does before its reduction, and returns how many there were:
+/// the checks a forged or damaged shard meets (the shard-file fuzz target and tests use it).
+pub fn decode_merged(name: &str, merged: shard::Merged) -> Result<usize> {
+    use shard::{Ensemble, run_ensemble};
+    let n = merged.records.len();
+    let ensemble = Ensemble::Merge(std::sync::Arc::new(merged));
+    let place = || -> Result<(PathBuf, shard::JobId, Inputs)> {
+        bail!("internal error: a merge writes no shard")
+    };
+    fn never<T>(_: usize) -> Result<T> {
+        bail!("internal error: a merge runs nothing")
+    }
+    let decoded = match name {
+        "disk-transition" => run_ensemble::<
+            (
+                disk_transition::DiskTransition,
+                Vec<Vec<f64>>,
+                Vec<Vec<f64>>,
+            ),
+            _,
+        >(&ensemble, name, n, "", place, never)?
+        .len(),
+        "sphere-cruising" => {
+            run_ensemble::<sphere_cruising::Run, _>(&ensemble, name, n, "", place, never)?.len()
+        }
+        "sphere-poincare" => {
+            run_ensemble::<Option<(glam::DVec3, f64)>, _>(&ensemble, name, n, "", place, never)?
+                .len()
+        }
+        "sphere-orbits" => run_ensemble::<crate::analysis::sphere_orbits::Fate, _>(
+            &ensemble, name, n, "", place, never,
+        )?
+        .len(),
+        "sphere-doubling" => {
+            run_ensemble::<sphere_doubling::Run, _>(&ensemble, name, n, "", place, never)?.len()
+        }
+        "sphere-bifurcation" => {
+            run_ensemble::<sphere_bifurcation::LateRun, _>(&ensemble, name, n, "", place, never)?
+                .len()
+        }
+        "sweep" => run_ensemble::<sweep::RunResult, _>(&ensemble, name, n, "", place, never)?.len(),
+        other => bail!("{other} has no shard records"),
+    };
+    Ok(decoded)
+}
+
 /// Below this α* a body is a perfect sphere (or a disk) to double precision.
 pub const PERFECT_ALPHA_STAR: f64 = 1e-9;
 

@@ -132,7 +132,7 @@ pub struct Summary {
 }
 
 /// One direct run's late crossings.
-struct LateRun {
+pub(crate) struct LateRun {
     crossings: Vec<Crossing>,
     omegas: Vec<DVec3>,
     k: Option<usize>,
@@ -145,11 +145,21 @@ impl Record for LateRun {
         self.k.encode(out);
     }
     fn decode(f: &mut Fields) -> Result<Self> {
-        Ok(LateRun {
+        let run = LateRun {
             crossings: Record::decode(f)?,
             omegas: Record::decode(f)?,
             k: Record::decode(f)?,
-        })
+        };
+        // What the reduction relies on: a cycle of 1..=MAX_K crossings, finite ω.
+        if let Some(k) = run.k
+            && !(1..=MAX_K).contains(&k)
+        {
+            return Err(anyhow!("period multiplicity {k} is not 1 to {MAX_K}"));
+        }
+        if !run.omegas.iter().all(|w| w.is_finite()) {
+            return Err(anyhow!("an angular velocity is not finite"));
+        }
+        Ok(run)
     }
 }
 
@@ -333,10 +343,10 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         let mut amps: Vec<Vec<f64>> = vec![Vec::new(); orbits.len()];
         for o in 0..starts {
             let r = run_at(m, o);
-            match r.k {
-                Some(k) => counts[k - 1] += 1,
-                None => counts[4] += 1,
-            }
+            let slot = r.k.map_or(4, |k| k.wrapping_sub(1));
+            *counts.get_mut(slot).ok_or_else(|| {
+                anyhow!("run {o} at m/m0 = {mass}: a cycle of {slot} + 1 crossings")
+            })? += 1;
             let n = r.crossings.len();
             if r.k == Some(2) && n >= 2 {
                 let (a, b) = (r.crossings[n - 1].point, r.crossings[n - 2].point);

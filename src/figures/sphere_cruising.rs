@@ -50,7 +50,7 @@ pub struct Summary {
 
 /// One run of the ensemble: a sphere's fate, or whether a disk cruised.
 #[derive(Debug, Clone, PartialEq)]
-enum Run {
+pub(crate) enum Run {
     Sphere(Fate),
     Disk(bool),
 }

@@ -205,7 +205,7 @@ const MAX_MULTIPLICITY: usize = 4;
 
 /// One run of the ensemble: this body's (its cycle and sampled contact path), or another
 /// body's period multiplicity.
-enum Run {
+pub(crate) enum Run {
     Main {
         cycle: Option<(usize, f64)>,
         path: Vec<DVec3>,
