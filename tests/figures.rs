@@ -9,7 +9,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use rollphase::figures::{self, FigureOptions};
+use rollphase::figures::{self, FIGURE_FILES, FigureOptions};
 
 fn opts(name: &str) -> FigureOptions {
     FigureOptions {
@@ -351,4 +351,79 @@ fn three_d_figures_run_below_alpha_star_and_report_the_halting_runs() {
             .unwrap();
     assert_eq!(doubling["options"]["alpha"], 0.13);
     let _ = std::fs::remove_dir_all(&base);
+}
+
+/// A small tmpfs mounted for one test and unmounted when dropped (needs root; `None` without).
+struct TinyDisk(std::path::PathBuf);
+
+impl TinyDisk {
+    fn mount(name: &str, kib: u32) -> Option<Self> {
+        let dir = std::env::temp_dir().join(format!("rollphase-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).ok()?;
+        let ok = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={kib}k"), "tmpfs"])
+            .arg(&dir)
+            .output()
+            .is_ok_and(|o| o.status.success());
+        ok.then_some(Self(dir))
+    }
+}
+
+impl Drop for TinyDisk {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(&self.0).status();
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+#[test]
+fn a_full_disk_leaves_the_old_figure_set_whole() {
+    let Some(disk) = TinyDisk::mount("full-disk", 256) else {
+        eprintln!("skipped: cannot mount a tmpfs here (not root)");
+        return;
+    };
+    let run = |seed: &str| {
+        Command::new(env!("CARGO_BIN_EXE_rollphase"))
+            .args([
+                "figure",
+                "disk-hysteresis",
+                "--quick",
+                "--seed",
+                seed,
+                "--out",
+            ])
+            .arg(&disk.0)
+            .output()
+            .unwrap()
+    };
+    let first = run("1");
+    assert!(
+        first.status.success(),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    let dir = disk.0.join("disk-hysteresis");
+    let old: Vec<Vec<u8>> = FIGURE_FILES
+        .iter()
+        .map(|f| std::fs::read(dir.join(f)).unwrap())
+        .collect();
+    // Fill what is left, then run another seed: its files cannot be staged.
+    for k in 0.. {
+        let chunk = vec![0u8; 8192];
+        if std::fs::write(disk.0.join(format!("filler{k}")), &chunk).is_err() {
+            break;
+        }
+    }
+    let second = run("2");
+    assert_eq!(second.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&second.stderr);
+    assert!(err.contains("No space left"), "{err}");
+    for (f, bytes) in FIGURE_FILES.iter().zip(&old) {
+        assert_eq!(&std::fs::read(dir.join(f)).unwrap(), bytes, "{f} changed");
+    }
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names.len(), 3, "{names:?}");
 }
