@@ -368,6 +368,11 @@ impl OutputFile {
                     forget_partial(&temp);
                     OutputError::io(path, e)
                 })?;
+                // A file replaced keeps its permission bits (a private 0600 result stays
+                // private); a new one gets the umask's, as a shell redirection would.
+                if let Ok(m) = std::fs::metadata(&destination) {
+                    let _ = std::fs::set_permissions(&temp, m.permissions());
+                }
                 (
                     Target::Staged {
                         temp,
@@ -830,6 +835,21 @@ mod tests {
         assert!(!d.join("new").exists());
         let e = check_file(&d.join("nodir/x.gif"), &Inputs::none()).unwrap_err();
         assert!(e.to_string().contains("nodir"), "{e}");
+    }
+
+    #[test]
+    fn a_replaced_file_keeps_its_permissions() {
+        use std::os::unix::fs::PermissionsExt;
+        let d = temp_dir("mode");
+        let f = d.join("private.csv");
+        std::fs::write(&f, "old").unwrap();
+        std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o600)).unwrap();
+        write_bytes(&f, b"new", &Inputs::none()).unwrap();
+        assert_eq!(std::fs::read(&f).unwrap(), b"new");
+        assert_eq!(
+            std::fs::metadata(&f).unwrap().permissions().mode() & 0o777,
+            0o600
+        );
     }
 
     #[test]

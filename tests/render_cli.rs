@@ -363,6 +363,13 @@ fn mp4_without_ffmpeg_and_gif_without_headless_say_what_to_do() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Two 64×64 headless frames with `extra` arguments (the hostile-output tests).
+fn two_small_frames(extra: &[&str]) -> Output {
+    let mut args = vec!["--headless", "--frames", "2", "--size", "64x64"];
+    args.extend_from_slice(extra);
+    rollphase(&args)
+}
+
 /// A scene file of the default cylinder, for the tests that make it an output too.
 fn small_scene(dir: &std::path::Path) -> PathBuf {
     let scene = dir.join("s.toml");
@@ -381,17 +388,7 @@ fn a_clip_or_frame_that_is_the_scene_is_refused_before_rendering() {
     let before = std::fs::read(&scene).unwrap();
     let s = scene.to_str().unwrap();
     for flag in ["--gif", "--mp4"] {
-        let o = rollphase(&[
-            "--headless",
-            "--scene",
-            s,
-            "--frames",
-            "2",
-            "--size",
-            "64x64",
-            flag,
-            s,
-        ]);
+        let o = two_small_frames(&["--scene", s, flag, s]);
         assert_eq!(o.status.code(), Some(1), "{flag}: {}", stderr(&o));
         assert!(stderr(&o).contains("is also an input"), "{}", stderr(&o));
     }
@@ -399,17 +396,7 @@ fn a_clip_or_frame_that_is_the_scene_is_refused_before_rendering() {
     let frames = dir.join("frames");
     std::fs::create_dir_all(&frames).unwrap();
     std::os::unix::fs::symlink(&scene, frames.join("frame_00000.png")).unwrap();
-    let o = rollphase(&[
-        "--headless",
-        "--scene",
-        s,
-        "--frames",
-        "2",
-        "--size",
-        "64x64",
-        "--out",
-        frames.to_str().unwrap(),
-    ]);
+    let o = two_small_frames(&["--scene", s, "--out", frames.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("is also an input"), "{}", stderr(&o));
     assert_eq!(
@@ -432,15 +419,7 @@ fn a_clip_to_a_device_is_written_through_and_hard_links_share_it() {
         .status()
         .is_ok_and(|s| s.success());
     if made {
-        let o = rollphase(&[
-            "--headless",
-            "--frames",
-            "2",
-            "--size",
-            "64x64",
-            "--gif",
-            null.to_str().unwrap(),
-        ]);
+        let o = two_small_frames(&["--gif", null.to_str().unwrap()]);
         assert!(o.status.success(), "{}", stderr(&o));
         let m = std::fs::metadata(&null).unwrap();
         assert!(m.file_type().is_char_device(), "still a device");
@@ -449,15 +428,7 @@ fn a_clip_to_a_device_is_written_through_and_hard_links_share_it() {
     let h1 = dir.join("h1.gif");
     std::fs::write(&h1, "old").unwrap();
     std::fs::hard_link(&h1, dir.join("h2.gif")).unwrap();
-    let o = rollphase(&[
-        "--headless",
-        "--frames",
-        "2",
-        "--size",
-        "64x64",
-        "--gif",
-        h1.to_str().unwrap(),
-    ]);
+    let o = two_small_frames(&["--gif", h1.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     let h2 = dir.join("h2.gif");
     assert_eq!(std::fs::read(&h1).unwrap(), std::fs::read(&h2).unwrap());
@@ -472,15 +443,7 @@ fn a_clip_to_a_device_is_written_through_and_hard_links_share_it() {
 #[test]
 fn a_clip_in_a_missing_folder_says_so_once() {
     let dir = temp("clip-nodir");
-    let o = rollphase(&[
-        "--headless",
-        "--frames",
-        "2",
-        "--size",
-        "64x64",
-        "--gif",
-        dir.join("nodir/x.gif").to_str().unwrap(),
-    ]);
+    let o = two_small_frames(&["--gif", dir.join("nodir/x.gif").to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
     let err = stderr(&o);
     assert_eq!(err.matches("No such file or directory").count(), 1, "{err}");

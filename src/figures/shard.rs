@@ -203,10 +203,51 @@ impl ShardFile {
     /// The digest of this file's contents (its `digest` field left out).
     pub fn content_digest(&self) -> Result<String> {
         use sha2::{Digest, Sha256};
-        let mut blank = serde_json::to_value(self)?;
-        blank["digest"] = serde_json::Value::String(String::new());
-        let hash = Sha256::digest(serde_json::to_vec(&blank)?);
-        Ok(hash.iter().map(|b| format!("{b:02x}")).collect())
+        /// The file as written, with an empty digest, borrowed (no copy of the records).
+        #[derive(Serialize)]
+        struct Blank<'a> {
+            format: &'a str,
+            job: &'a JobId,
+            ensemble: &'a str,
+            jobs: usize,
+            shard: usize,
+            of: usize,
+            first: usize,
+            records: &'a [String],
+            digest: &'a str,
+        }
+        /// Feeds serialised bytes straight into the hash.
+        struct Hashing(Sha256);
+        impl std::io::Write for Hashing {
+            fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+                self.0.update(buf);
+                Ok(buf.len())
+            }
+            fn flush(&mut self) -> std::io::Result<()> {
+                Ok(())
+            }
+        }
+        let mut hashing = Hashing(Sha256::new());
+        serde_json::to_writer(
+            &mut hashing,
+            &Blank {
+                format: &self.format,
+                job: &self.job,
+                ensemble: &self.ensemble,
+                jobs: self.jobs,
+                shard: self.shard,
+                of: self.of,
+                first: self.first,
+                records: &self.records,
+                digest: "",
+            },
+        )?;
+        Ok(hashing
+            .0
+            .finalize()
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect())
     }
 }
 
