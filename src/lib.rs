@@ -26,23 +26,23 @@
 //! | [`figures`] | the paper's figures (and `sphere-bifurcation`) as data.csv, figure.png, summary.json |
 //! | [`cli`] | the command line (one file per subcommand) |
 //!
-//! The first four never touch a GPU, a window or the wall clock: the same inputs give the same
-//! numbers on every run.
+//! `geometry`, `numeric`, `dynamics`, `integrate` and `analysis` are the crate `rollphase-core`
+//! (crates/core), re-exported: they never touch a GPU, a window or the wall clock, and the
+//! compiler keeps it so. The same inputs give the same numbers on every run.
 
-pub mod analysis;
 #[cfg(feature = "app")]
 pub mod app;
+// The physics core lives in crates/core (package rollphase-core); its modules are re-exported
+// here so `rollphase::geometry::…` and `crate::geometry::…` keep working.
+pub use rollphase_core::{analysis, dynamics, geometry, integrate, numeric};
+
 pub mod assets;
 pub mod cli;
 pub mod clip;
 pub mod colormap;
-pub mod dynamics;
 pub mod figures;
-pub mod geometry;
 #[cfg(feature = "render")]
 pub mod headless;
-pub mod integrate;
-pub mod numeric;
 pub mod output;
 pub mod plot;
 pub mod png;

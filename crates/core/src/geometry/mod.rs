@@ -208,7 +208,7 @@ impl Body {
         }
     }
 
-    /// Curvature extremes and the convexity verdict (see [`curvature_report`]).
+    /// Curvature extremes and the convexity verdict (see `curvature_report`).
     pub fn curvature(&self) -> CurvatureReport {
         curvature_report(self)
     }
@@ -259,7 +259,7 @@ const DISK_GRID: usize = 4096;
 /// (at least 800), a spacing of about 0.35/L rad, so ≥ 18 points per wavelength of the highest
 /// harmonic and ≥ 9 for the products of two that curvature contains. The grid only has to land in
 /// the basin of each candidate extremum; Newton refinement then finds it to round-off.
-/// [`tests`] checks the verdicts and extremes against a 20 000-point grid on a few hundred
+/// The unit tests check the verdicts and extremes against a 20 000-point grid on a few hundred
 /// random bodies at the edge of convexity. A 2500-point grid for L = 5 costs about 0.3 ms.
 pub fn sphere_grid_size(max_degree: u32) -> usize {
     (100 * (max_degree as usize).pow(2)).clamp(800, 20_000)
@@ -363,7 +363,7 @@ pub fn refine_sphere(f: impl Fn(DVec3) -> f64, grid: &[DVec3]) -> (DVec3, f64) {
 /// How many of the best grid values [`refine_sphere_from`] scans for separated candidates.
 const CANDIDATE_POOL: usize = 400;
 
-/// [`refine_sphere`] with f already evaluated on the grid (`values[i]` = f(grid[i])), so that
+/// [`refine_sphere`] with f already evaluated on the grid (`values[i]` = f(`grid[i]`)), so that
 /// several searches can share one pass of an expensive evaluation.
 pub fn refine_sphere_from(
     f: impl Fn(DVec3) -> f64,

@@ -31,9 +31,9 @@ pub const CHECK_EVERY: u64 = 8;
 /// The largest local error a fixed step may make, relative to 1 + |y| per component, as step
 /// doubling estimates it. Measured (`tests/fixed_step_check.rs`): every step of the accuracy
 /// table (dt 0.01 … 0.4, period error < 1e-3 on all four models) estimates at most 3.7e-5 (RK4
-/// dt 0.4 on the inertial disk), while the silently wrong steps estimate 2.2e-2 (dt = 5 on the
-/// viscous sphere at α = 0.3, the mildest) up to 1e65: the tolerance sits near their geometric
-/// mean, 27× above the one and 22× below the other.
+/// dt 0.4 on the inertial disk), while the silently wrong steps estimate 9.4e-3 (CF4 dt = 5 on
+/// the viscous sphere at α = 0.3, the mildest) up to 3.5e65: the tolerance sits between them,
+/// 27× above the one and 9× below the other.
 pub const FIXED_STEP_TOLERANCE: f64 = 1e-3;
 
 /// A fixed-step stepper (RK4 or CF4) with a Hermite interpolant.

@@ -1,0 +1,21 @@
+//! rollphase-core: the physics of rollphase, after Qian, Jung & Mahadevan, *Phase transitions in
+//! rolling of irregular cylinders and spheres*, with no GPU, window, UI or command-line crate in
+//! its dependency tree (the compiler keeps them apart: this crate cannot name them).
+//!
+//! | module | owns |
+//! |---|---|
+//! | [`numeric`] | quadrature, golden-section search, root finding, marching squares, eigenvalues (nalgebra) |
+//! | [`geometry`] | bodies r(θ), r(u): exact derivatives, curvature, support points, shape files, generators (ours, and the paper authors' numpy bodies bit for bit) |
+//! | [`integrate`] | RK4, DOP853 with dense output, the Lie-group CF4 step, event location; fixed steps check their own error |
+//! | [`dynamics`] | the four rolling models (2D/3D, viscous/inertial) as ODE systems |
+//! | [`analysis`] | critical angle α*, 2D periods, accuracy tables, orbits through ∂Ω, return maps and their Floquet multipliers, lag-time fits |
+//!
+//! None of them reads the wall clock: the same inputs give the same numbers on every run and
+//! thread count. The `rollphase` crate re-exports every module, so `rollphase::geometry::…`
+//! paths work as well as `rollphase_core::geometry::…`.
+
+pub mod analysis;
+pub mod dynamics;
+pub mod geometry;
+pub mod integrate;
+pub mod numeric;
