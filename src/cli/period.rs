@@ -37,7 +37,7 @@ pub struct PeriodArgs {
     #[arg(long, default_value_t = 5000.0)]
     pub t_max: f64,
     /// Inertial: DOP853 relative tolerance.
-    #[arg(long, default_value_t = 1e-10)]
+    #[arg(long, default_value = "1e-10")]
     pub rtol: f64,
     /// Print JSON (keys period, mean_angular_speed, halts, …).
     #[arg(long)]

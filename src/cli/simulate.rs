@@ -81,12 +81,13 @@ pub struct SimulateArgs {
     #[arg(long, value_enum, default_value_t = IntegratorName::Dop853)]
     pub integrator: IntegratorName,
     /// DOP853 relative tolerance.
-    #[arg(long, default_value_t = 1e-10)]
+    #[arg(long, default_value = "1e-10")]
     pub rtol: f64,
     /// DOP853 absolute tolerance [default: rtol].
     #[arg(long)]
     pub atol: Option<f64>,
-    /// RK4/CF4 time step.
+    /// RK4/CF4 time step (at most t_end). The run checks it by step doubling and stops, naming a
+    /// step that would pass, when one step's error estimate exceeds 1e-3.
     #[arg(long, default_value_t = 0.01)]
     pub dt: f64,
     /// Number of CSV rows, equally spaced from t = 0 to t-end (from the dense output).

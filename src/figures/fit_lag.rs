@@ -9,7 +9,8 @@ use serde::Serialize;
 
 use super::FigureData;
 use crate::analysis::lag_fit::{
-    ALPHA_STAR_RANGE, LagAnalysis, LagRun, SHARED_EXPONENT_RANGE, analyse, parse_lag_csv,
+    ALPHA_STAR_RANGE, LagAnalysis, LagRun, SHARED_EXPONENT_RANGE, analyse_with_progress,
+    parse_lag_csv,
 };
 use crate::output::{self, Inputs};
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
@@ -116,8 +117,12 @@ pub fn compute(
 ) -> Result<FigureData<Summary>> {
     let runs = parse_lag_csv(text).map_err(|e| anyhow!("{e}"))?;
     refuse_degenerate(&runs)?;
-    let analysis = analyse(&runs, bootstrap, seed)
+    // A bar on a terminal: the bootstrap is the slow part (each resample refits every run and
+    // the shared exponent).
+    let bar = super::progress(bootstrap, "bootstrap");
+    let analysis = analyse_with_progress(&runs, bootstrap, seed, &|| bar.inc(1))
         .ok_or_else(|| anyhow!("the fit failed (too few angles in a run?)"))?;
+    bar.finish_and_clear();
     let warnings = bound_warnings(&runs, &analysis);
     let mut rows = Vec::new();
     let mut series = Vec::new();

@@ -87,10 +87,20 @@ impl SceneView {
             items.push(line(rate, 16.0));
         }
         if !self.is_disk {
+            // Before the first step nothing has been measured: "—", not a reassuring 0.0e0.
+            let measured = |v: f64| {
+                if snap.health.rhs_evals == 0 {
+                    "—".to_string()
+                } else {
+                    format!("{v:.1e}")
+                }
+            };
             items.push(PanelItem::Text {
                 text: format!(
-                    "{}   ||q|−1| ≤ {:.1e}   contact error ≤ {:.1e}",
-                    snap.integrator, snap.health.quat_norm_error, snap.health.contact_normal_error
+                    "{}   ||q|−1| ≤ {}   contact error ≤ {}",
+                    snap.integrator,
+                    measured(snap.health.quat_norm_error),
+                    measured(snap.health.contact_normal_error)
                 ),
                 size_px: 13.0 * text,
                 color: [190; 3],
