@@ -971,3 +971,40 @@ fn tolerances_and_spans_beyond_double_precision_name_the_real_cause() {
     // Numbers far from 1 in exponent form: no message spells out 300 digits.
     assert!(String::from_utf8_lossy(&r.stderr).len() < 400);
 }
+
+#[test]
+fn simulate_writes_rows_to_standard_output_by_default_but_not_two_streams_there() {
+    let sphere = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/shapes/sphere.json");
+    let r = rollphase(&[
+        "simulate",
+        sphere,
+        "--alpha",
+        "0.3",
+        "--t-end",
+        "1",
+        "--samples",
+        "3",
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let text = String::from_utf8_lossy(&r.stdout);
+    assert!(
+        text.starts_with("t,qw") && text.lines().count() == 4,
+        "{text}"
+    );
+    let r = rollphase(&[
+        "simulate",
+        sphere,
+        "--alpha",
+        "0.3",
+        "--t-end",
+        "1",
+        "--summary",
+        "-",
+    ]);
+    fails_with(
+        &r,
+        1,
+        &["--summary -", "both go to standard output", "-o FILE"],
+    );
+    assert!(r.stdout.is_empty());
+}

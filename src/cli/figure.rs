@@ -30,8 +30,10 @@ pub struct FigureArgs {
     /// Output folder (files go to OUT/NAME/).
     #[arg(long, default_value = "figures")]
     pub out: PathBuf,
-    /// Seed of the random orientations, and of a random body of ours in place of the figure's
-    /// default body [default: 1].
+    /// Seed of the random orientations (1 when not given). Giving it also replaces the figure's
+    /// default body (for sphere-*, the paper's) with a random body of ours from this seed, even
+    /// --seed 1; to keep the paper's body with other orientations, add
+    /// --shape assets/shapes/paper-sphere.json.
     #[arg(long)]
     pub seed: Option<u64>,
     /// A shape file to use in place of the figure's body.

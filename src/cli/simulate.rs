@@ -39,6 +39,10 @@ pub enum IntegratorName {
 ///
 /// 3D start: --q0 w,x,y,z, or --contact θ,φ (the body point at polar angle θ, azimuth φ put on the
 /// ramp by the shortest rotation) then --spin s (a turn by s radians about the ramp's normal +z).
+/// With neither, the body's south pole (θ = π, the point at body-frame −z) touches the ramp,
+/// turned by --spin (default 0); released from rest (--omega0 0,0,0).
+///
+/// Rows go to standard output unless -o FILE is given; a file is written whole or not at all.
 #[derive(Debug, Args)]
 #[command(verbatim_doc_comment)]
 pub struct SimulateArgs {
@@ -57,7 +61,7 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub t_end: f64,
     /// Output CSV file ("-" for standard output).
-    #[arg(short, long)]
+    #[arg(short, long, default_value = "-")]
     pub output: PathBuf,
     /// 3D: initial orientation quaternion w,x,y,z (normalised).
     #[arg(long, conflicts_with = "contact", allow_negative_numbers = true)]
@@ -230,6 +234,12 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     // failed run leaves no half file (see `crate::output`: devices and links are kept).
     let inputs = Inputs::of([&a.file]);
     let mut rows_inputs = inputs.clone();
+    if a.summary.as_deref() == Some(std::path::Path::new("-")) && a.output.as_os_str() == "-" {
+        bail!(
+            "--summary - and the CSV rows would both go to standard output; give the rows a file \
+             with -o FILE, or the summary one"
+        );
+    }
     if let Some(s) = &a.summary {
         output::check_file(s, &inputs.clone().with(&a.output))?;
         rows_inputs.add(s);
