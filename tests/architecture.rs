@@ -1,136 +1,69 @@
 //! The layers of ARCHITECTURE.md, checked on the source of both crates (the root package and
-//! crates/core): every `crate::` path a module names is
-//! one its layer may import (downward only), the physics core names no GPU or window crate, and
-//! nothing outside `src/cli` (and `main.rs`) names `crate::cli`. A new module must be added to
-//! the table here and in ARCHITECTURE.md, so the map cannot drift from the code.
+//! crates/core): every path a module names into the crate (`crate::…`, grouped and nested uses,
+//! and `super::` chains that climb to the crate root) is one its layer may import, as the
+//! "Allowed imports" table of ARCHITECTURE.md says (read from the file, so the map cannot drift
+//! from the code); the physics core names no GPU or window crate; nothing outside `src/cli` (and
+//! `main.rs`) names `crate::cli`. Comments and string literals are blanked before the scan.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-/// Each top-level module and the modules it may import, as in ARCHITECTURE.md. `render::types`
-/// names the one part of `render` that `view` may use: the plain draw data.
-const ALLOWED: &[(&str, &[&str])] = &[
-    // Leaves: no other module of the crate.
-    ("assets", &[]),
-    ("colormap", &[]),
-    ("numeric", &[]),
-    ("output", &[]),
-    // Writers over the output layer.
-    ("png", &["output"]),
-    ("clip", &["output"]),
-    // The physics core.
-    ("geometry", &["numeric"]),
-    ("integrate", &["numeric"]),
-    ("dynamics", &["geometry", "integrate", "numeric"]),
-    (
-        "analysis",
-        &["geometry", "integrate", "dynamics", "numeric"],
-    ),
-    // Runs and scenes.
-    (
-        "simulate",
-        &["geometry", "integrate", "dynamics", "analysis", "numeric"],
-    ),
-    (
-        "scene",
-        &[
-            "geometry",
-            "integrate",
-            "dynamics",
-            "analysis",
-            "numeric",
-            "simulate",
-            "assets",
-        ],
-    ),
-    (
-        "sim",
-        &[
-            "geometry",
-            "integrate",
-            "dynamics",
-            "analysis",
-            "numeric",
-            "simulate",
-            "scene",
-        ],
-    ),
-    // Charts and the paper's figures.
-    ("plot", &["colormap", "assets", "output"]),
-    (
-        "figures",
-        &[
-            "geometry",
-            "integrate",
-            "dynamics",
-            "analysis",
-            "numeric",
-            "simulate",
-            "plot",
-            "colormap",
-            "assets",
-            "output",
-        ],
-    ),
-    // Draw data, pixels, front ends.
-    (
-        "view",
-        &[
-            "geometry",
-            "integrate",
-            "dynamics",
-            "analysis",
-            "numeric",
-            "simulate",
-            "scene",
-            "sim",
-            "colormap",
-            "render::types",
-        ],
-    ),
-    ("render", &["colormap", "assets"]),
-    (
-        "headless",
-        &[
-            "geometry",
-            "integrate",
-            "dynamics",
-            "analysis",
-            "numeric",
-            "simulate",
-            "scene",
-            "sim",
-            "view",
-            "render",
-            "png",
-            "clip",
-            "output",
-        ],
-    ),
-    (
-        "ui",
-        &[
-            "geometry",
-            "integrate",
-            "dynamics",
-            "analysis",
-            "numeric",
-            "simulate",
-            "scene",
-            "sim",
-            "view",
-            "render",
-            "png",
-            "clip",
-            "colormap",
-            "assets",
-            "output",
-        ],
-    ),
-    ("app", &["scene", "sim", "view", "render", "ui", "png"]),
-    // The command line may use everything.
-    ("cli", &["*"]),
-];
+#[path = "common/source.rs"]
+mod source;
+use source::code_only;
+
+/// The physics core's modules, which "the core" stands for in the table.
+const CORE: [&str; 5] = ["geometry", "integrate", "dynamics", "analysis", "numeric"];
+
+/// The "Allowed imports" table of an ARCHITECTURE.md text: each module (left cell, in backticks)
+/// and what it may import (the right cell's backticked names; "the core" adds the core's five,
+/// "everything" allows all, "nothing" none). `render::types` in a cell allows that part only.
+fn allowed_table(md: &str) -> BTreeMap<String, Vec<String>> {
+    let section = md
+        .split("## Allowed imports")
+        .nth(1)
+        .expect("ARCHITECTURE.md has an \"Allowed imports\" section");
+    let backticked = |cell: &str| -> Vec<String> {
+        cell.split('`')
+            .skip(1)
+            .step_by(2)
+            .map(str::to_string)
+            .collect()
+    };
+    let mut table = BTreeMap::new();
+    for line in section.lines().skip_while(|l| !l.starts_with('|')) {
+        if !line.starts_with('|') {
+            break;
+        }
+        let cells: Vec<&str> = line.split('|').collect();
+        if cells.len() < 3 || !cells[1].contains('`') {
+            continue;
+        }
+        let right = cells[2];
+        let may: Vec<String> = if right.contains("everything") {
+            vec!["*".into()]
+        } else {
+            let mut v: Vec<String> = backticked(right)
+                .into_iter()
+                .filter(|n| !n.starts_with("crate::"))
+                .collect();
+            if right.contains("the core") {
+                v.extend(CORE.iter().map(|m| m.to_string()));
+            }
+            v
+        };
+        for module in backticked(cells[1]) {
+            table.insert(module, may.clone());
+        }
+    }
+    table
+}
+
+fn architecture_table() -> BTreeMap<String, Vec<String>> {
+    let md = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md"))
+        .expect("ARCHITECTURE.md");
+    allowed_table(&md)
+}
 
 /// Modules that must build without the `render` and `app` features: no GPU, window or UI crate.
 const NO_GPU: &[&str] = &[
@@ -193,67 +126,194 @@ fn module_of(src: &Path, file: &Path) -> String {
     first.trim_end_matches(".rs").to_string()
 }
 
-/// The code of a file without comments (so a doc that mentions `crate::cli` is no import).
-fn code(text: &str) -> String {
-    text.lines()
-        .map(|l| match l.find("//") {
-            Some(i) => &l[..i],
-            None => l,
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
+fn ident(s: &str) -> String {
+    s.chars()
+        .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+        .collect()
 }
 
-/// Every path a text names below `crate::`, to two levels (`crate::a::b::C` → "a::b",
-/// `crate::a` → "a"), also inside `use crate::{a, b::c}`.
-fn crate_paths(code: &str) -> BTreeSet<String> {
-    let mut out = BTreeSet::new();
-    let ident = |s: &str| -> String {
-        s.chars()
-            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
-            .collect()
-    };
-    let mut rest = code;
-    while let Some(i) = rest.find("crate::") {
-        let after = &rest[i + "crate::".len()..];
-        if let Some(group) = after.strip_prefix('{') {
-            let end = group.find('}').unwrap_or(group.len());
-            for item in group[..end].split(',') {
-                let item = item.trim();
-                let first = ident(item);
-                if !first.is_empty() {
-                    let second = item
-                        .strip_prefix(&first)
-                        .and_then(|s| s.strip_prefix("::"))
-                        .map(ident)
-                        .unwrap_or_default();
-                    out.insert(if second.is_empty() {
-                        first
-                    } else {
-                        format!("{first}::{second}")
-                    });
-                }
+/// The items of a `{…}` group that starts at `text` (just after the `{`), split at its own
+/// top-level commas (nested groups kept whole), and the rest after the closing brace.
+fn group_items(text: &str) -> (Vec<&str>, &str) {
+    let (mut depth, mut start, mut items) = (0usize, 0usize, Vec::new());
+    for (i, c) in text.char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' if depth == 0 => {
+                items.push(&text[start..i]);
+                return (items, &text[i + 1..]);
             }
-        } else {
-            let first = ident(after);
-            let second = after[first.len()..]
-                .strip_prefix("::")
-                .map(ident)
-                .unwrap_or_default();
+            '}' => depth -= 1,
+            ',' if depth == 0 => {
+                items.push(&text[start..i]);
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    items.push(&text[start..]);
+    (items, "")
+}
+
+/// The paths (to two levels, `a::b`, or `a`) that `path` names below the crate root; `path` is
+/// what follows `crate::`, e.g. `a::b::C`, `{a::X, b::{Y, Z}}` or `a::{b, c}`.
+fn paths_below_root(path: &str, out: &mut BTreeSet<String>) {
+    let path = path.trim_start();
+    if let Some(group) = path.strip_prefix('{') {
+        for item in group_items(group).0 {
+            paths_below_root(item, out);
+        }
+        return;
+    }
+    let first = ident(path);
+    if first.is_empty() {
+        return;
+    }
+    let rest = path[first.len()..].trim_start();
+    match rest.strip_prefix("::").map(str::trim_start) {
+        Some(r) if r.starts_with('{') => {
+            for item in group_items(&r[1..]).0 {
+                let second = ident(item.trim_start());
+                out.insert(if second.is_empty() || second == "self" {
+                    first.clone()
+                } else {
+                    format!("{first}::{second}")
+                });
+            }
+        }
+        Some(r) => {
+            let second = ident(r);
             out.insert(if second.is_empty() {
                 first
             } else {
                 format!("{first}::{second}")
             });
         }
-        rest = after;
+        None => {
+            out.insert(first);
+        }
+    }
+}
+
+/// Every path below the crate root that `code` (comments and strings already blanked) names:
+/// through `crate::`, and through `super::` chains that climb out of `module` (the file's module
+/// path, e.g. `["view", "body"]`) and of the inline `mod x { … }` blocks around them to the
+/// root.
+fn crate_paths_in(code: &str, module: &[String]) -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    let text = code;
+    // Inline modules around the current character: the brace depth each opened at.
+    let mut inline: Vec<usize> = Vec::new();
+    let mut depth = 0usize;
+    let mut pending_mod = false;
+    let chars: Vec<(usize, char)> = text.char_indices().collect();
+    let mut k = 0;
+    while k < chars.len() {
+        let (at, c) = chars[k];
+        let rest = &text[at..];
+        let boundary = at == 0 || !text[..at].ends_with(|p: char| p.is_alphanumeric() || p == '_');
+        if boundary && rest.starts_with("mod ") {
+            let name = ident(rest[4..].trim_start());
+            let after = rest[4..].trim_start()[name.len()..].trim_start();
+            pending_mod = !name.is_empty() && after.starts_with('{');
+        }
+        match c {
+            '{' => {
+                depth += 1;
+                if pending_mod {
+                    inline.push(depth);
+                    pending_mod = false;
+                }
+            }
+            '}' => {
+                if inline.last() == Some(&depth) {
+                    inline.pop();
+                }
+                depth = depth.saturating_sub(1);
+            }
+            _ => {}
+        }
+        if boundary && rest.starts_with("crate::") {
+            paths_below_root(&rest["crate::".len()..], &mut out);
+        } else if boundary && rest.starts_with("super::") {
+            let mut climbs = 0;
+            let mut r = rest;
+            while let Some(next) = r.strip_prefix("super::") {
+                climbs += 1;
+                r = next.trim_start();
+            }
+            let here = module.len() + inline.len();
+            if climbs >= here {
+                // At the crate root: what follows is a top-level module.
+                paths_below_root(r, &mut out);
+            } else if climbs >= inline.len() {
+                // Inside the file's own module path: `super::…` lands in module[..here - climbs].
+                let landing = &module[..here - climbs];
+                if let Some(top) = landing.first() {
+                    out.insert(top.clone());
+                }
+            }
+            // Skip the chain just read.
+            let skip = rest.len() - r.len();
+            let target = at + skip;
+            while k < chars.len() && chars[k].0 < target {
+                k += 1;
+            }
+            continue;
+        }
+        k += 1;
     }
     out
 }
 
+/// The module path of a source file (`src/view/body.rs` → view::body, `src/view/mod.rs` →
+/// view, `src/app.rs` → app).
+fn module_path(src: &Path, file: &Path) -> Vec<String> {
+    let rel = file.strip_prefix(src).unwrap();
+    let mut parts: Vec<String> = rel
+        .components()
+        .map(|c| {
+            c.as_os_str()
+                .to_string_lossy()
+                .trim_end_matches(".rs")
+                .to_string()
+        })
+        .collect();
+    if parts.last().is_some_and(|p| p == "mod") {
+        parts.pop();
+    }
+    parts
+}
+
+/// Where `file` may not reach: `(path, why)` for each path it names against `table`.
+fn violations_in(
+    table: &BTreeMap<String, Vec<String>>,
+    module_path: &[String],
+    code: &str,
+) -> Result<Vec<String>, String> {
+    let module = module_path.first().cloned().unwrap_or_default();
+    let Some(may) = table.get(&module) else {
+        return Err(format!(
+            "module `{module}` is not in ARCHITECTURE.md's \"Allowed imports\" table (add it there)"
+        ));
+    };
+    if may.iter().any(|m| m == "*") {
+        return Ok(Vec::new());
+    }
+    Ok(crate_paths_in(code, module_path)
+        .into_iter()
+        .filter(|path| {
+            let top = path.split("::").next().unwrap_or("");
+            // An entry like `render::types` allows that part only, not the rest of `render`.
+            !(top == module || may.iter().any(|m| m == top || m == path))
+        })
+        .collect())
+}
+
 #[test]
 fn every_module_imports_only_the_layers_below_it() {
-    let allowed: BTreeMap<&str, &[&str]> = ALLOWED.iter().copied().collect();
+    let table = architecture_table();
+    assert!(table.len() > 20, "the table was read: {table:?}");
     let mut violations = Vec::new();
     let mut seen = BTreeSet::new();
     for (src, file) in &workspace_files() {
@@ -262,33 +322,20 @@ fn every_module_imports_only_the_layers_below_it() {
             continue;
         }
         seen.insert(module.clone());
-        let Some(may) = allowed.get(module.as_str()) else {
-            violations.push(format!(
-                "{}: module `{module}` is not in ARCHITECTURE.md's table (add it there and here)",
-                file.display()
-            ));
-            continue;
-        };
-        if may.contains(&"*") {
-            continue;
-        }
-        let text = code(&std::fs::read_to_string(file).unwrap());
-        for path in crate_paths(&text) {
-            let top = path.split("::").next().unwrap();
-            // An entry like `render::types` allows that part only, not the rest of `render`.
-            let ok = top == module || may.contains(&top) || may.contains(&path.as_str());
-            if !ok {
-                violations.push(format!(
-                    "{}: `{module}` names `crate::{path}`",
-                    file.display()
-                ));
-            }
+        let code = code_only(&std::fs::read_to_string(file).unwrap());
+        match violations_in(&table, &module_path(src, file), &code) {
+            Err(e) => violations.push(format!("{}: {e}", file.display())),
+            Ok(paths) => violations.extend(
+                paths
+                    .into_iter()
+                    .map(|p| format!("{}: `{module}` names `crate::{p}`", file.display())),
+            ),
         }
     }
-    for (module, _) in ALLOWED {
+    for module in table.keys() {
         assert!(
-            seen.contains(*module),
-            "the table lists `{module}`, which is not a module any more"
+            seen.contains(module),
+            "ARCHITECTURE.md's table lists `{module}`, which is not a module any more"
         );
     }
     assert!(
@@ -306,7 +353,7 @@ fn the_physics_core_names_no_gpu_window_or_ui_crate() {
         if !NO_GPU.contains(&module.as_str()) {
             continue;
         }
-        let text = code(&std::fs::read_to_string(file).unwrap());
+        let text = code_only(&std::fs::read_to_string(file).unwrap());
         for krate in [
             "wgpu",
             "winit",
@@ -324,14 +371,82 @@ fn the_physics_core_names_no_gpu_window_or_ui_crate() {
     assert!(violations.is_empty(), "{}", violations.join("\n"));
 }
 
+fn set(items: &[&str]) -> BTreeSet<String> {
+    items.iter().map(|s| s.to_string()).collect()
+}
+
+fn path(parts: &[&str]) -> Vec<String> {
+    parts.iter().map(|s| s.to_string()).collect()
+}
+
 #[test]
 fn the_import_checker_sees_grouped_and_nested_paths() {
-    let paths =
-        crate_paths("use crate::{geometry::Body, cli};\nlet x = crate::render::types::Frame;");
-    let want: BTreeSet<String> = ["geometry::Body", "cli", "render::types"]
-        .into_iter()
-        .map(String::from)
-        .collect();
-    assert_eq!(paths, want);
-    assert_eq!(code("let a = 1; // crate::cli"), "let a = 1; ");
+    let paths = crate_paths_in(
+        &code_only("use crate::{geometry::Body, cli};\nlet x = crate::render::types::Frame;"),
+        &path(&["view"]),
+    );
+    assert_eq!(paths, set(&["geometry::Body", "cli", "render::types"]));
+    // A nested group names both of its modules, not only the first.
+    let nested = crate_paths_in(
+        &code_only("use crate::{sim::{Snapshot, SimStatus}, ui::Workbench};"),
+        &path(&["view"]),
+    );
+    assert_eq!(
+        nested,
+        set(&["sim::Snapshot", "sim::SimStatus", "ui::Workbench"])
+    );
+    let inner = crate_paths_in(
+        &code_only("use crate::sim::{self, Snapshot};"),
+        &path(&["x"]),
+    );
+    assert_eq!(inner, set(&["sim", "sim::Snapshot"]));
+}
+
+#[test]
+fn the_import_checker_is_not_fooled_by_super_chains_strings_or_comments() {
+    // `super::super` from view/body.rs climbs to the crate root: that is `crate::sim`.
+    let up = crate_paths_in(
+        &code_only("use super::super::sim::Snapshot;"),
+        &path(&["view", "body"]),
+    );
+    assert_eq!(up, set(&["sim::Snapshot"]));
+    // One `super` from view/body.rs stays in view: not an import of another module.
+    let sibling = crate_paths_in(
+        &code_only("use super::layout::Layout;"),
+        &path(&["view", "body"]),
+    );
+    assert_eq!(sibling, set(&["view"]));
+    // Inside an inline `mod tests { … }`, `super::super` from view/body.rs is only view.
+    let tests = crate_paths_in(
+        &code_only("mod tests {\n    use super::super::layout::X;\n}\nuse super::super::ui::Y;"),
+        &path(&["view", "body"]),
+    );
+    assert_eq!(tests, set(&["view", "ui::Y"]));
+    // A `//` inside a string does not hide the code after it; a path in a comment or a string
+    // is not an import.
+    let after_string = crate_paths_in(
+        &code_only("let url = \"http://x\"; let s = crate::cli::Cli::parse();"),
+        &path(&["sim"]),
+    );
+    assert_eq!(after_string, set(&["cli::Cli"]));
+    let quiet = crate_paths_in(
+        &code_only("// crate::cli\n/// [`crate::ui`]\nlet m = \"crate::app\";"),
+        &path(&["sim"]),
+    );
+    assert!(quiet.is_empty(), "{quiet:?}");
+    // And each of these is a violation for `sim`, whose row does not allow cli or ui.
+    let table = allowed_table(
+        "## Allowed imports\n\n| module | may import |\n|---|---|\n| `sim` | the core, `simulate` |\n| `view` | `sim`, of `render` only `render::types` |\n| `cli` | everything; nothing else names `crate::cli` |\n",
+    );
+    assert_eq!(table["sim"].len(), 6, "{table:?}");
+    assert_eq!(table["cli"], ["*"]);
+    assert!(table["view"].contains(&"render::types".to_string()));
+    let bad = violations_in(
+        &table,
+        &path(&["sim", "thread"]),
+        &code_only("use super::super::cli::X;\nlet s = \"//\"; crate::ui::Y;"),
+    )
+    .unwrap();
+    assert_eq!(bad, ["cli::X", "ui::Y"]);
+    assert!(violations_in(&table, &path(&["nowhere"]), "").is_err());
 }
