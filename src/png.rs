@@ -48,21 +48,26 @@ impl PngWriter {
         let (sender, receiver) = mpsc::sync_channel::<(PathBuf, RgbaImage)>(4);
         let receiver = Arc::new(Mutex::new(receiver));
         let workers = (0..threads.max(1))
-            .map(|_| {
+            .filter_map(|k| {
                 let rx = receiver.clone();
                 let inputs = inputs.clone();
-                std::thread::spawn(move || -> Result<(), PngError> {
-                    loop {
-                        let job = match rx.lock() {
-                            Ok(guard) => guard.recv(),
-                            Err(_) => return Err(PngError::Stopped { panicked: true }),
-                        };
-                        let Ok((path, image)) = job else {
-                            return Ok(());
-                        };
-                        write_png(&path, &image, &inputs)?;
-                    }
-                })
+                // A writer that cannot start leaves the others; with none, `write` reports the
+                // pool as stopped.
+                std::thread::Builder::new()
+                    .name(format!("png writer {k}"))
+                    .spawn(move || -> Result<(), PngError> {
+                        loop {
+                            let job = match rx.lock() {
+                                Ok(guard) => guard.recv(),
+                                Err(_) => return Err(PngError::Stopped { panicked: true }),
+                            };
+                            let Ok((path, image)) = job else {
+                                return Ok(());
+                            };
+                            write_png(&path, &image, &inputs)?;
+                        }
+                    })
+                    .ok()
             })
             .collect();
         Self {

@@ -57,18 +57,28 @@ impl FieldCache {
         drop(entries);
         let cache = self.entries.clone();
         let (setup, ramp) = (setup.clone(), *ramp);
-        std::thread::spawn(move || {
-            let result = compute_field(&setup, &ramp);
-            if let Ok(mut entries) = cache.lock() {
-                entries.insert(
-                    key,
-                    match result {
-                        Ok(f) => FieldEntry::Ready(Arc::new(f)),
-                        Err(e) => FieldEntry::Failed(e),
-                    },
-                );
+        let failed_key = key.clone();
+        let started = std::thread::Builder::new()
+            .name("poincare field".into())
+            .spawn(move || {
+                let result = compute_field(&setup, &ramp);
+                if let Ok(mut entries) = cache.lock() {
+                    entries.insert(
+                        key,
+                        match result {
+                            Ok(f) => FieldEntry::Ready(Arc::new(f)),
+                            Err(e) => FieldEntry::Failed(e),
+                        },
+                    );
+                }
+            });
+        if let Err(e) = started {
+            let message = format!("cannot start the Poincaré field's thread: {e}");
+            if let Ok(mut entries) = self.entries.lock() {
+                entries.insert(failed_key, FieldEntry::Failed(message.clone()));
             }
-        });
+            return Err(message);
+        }
         Ok(None)
     }
 

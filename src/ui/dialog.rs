@@ -107,14 +107,17 @@ impl FileDialogs {
             dialog = dialog.set_file_name(file.to_string_lossy());
         }
         let (tx, rx) = mpsc::channel();
-        std::thread::spawn(move || {
-            let chosen = if purpose.saves() {
-                dialog.save_file()
-            } else {
-                dialog.pick_file()
-            };
-            let _ = tx.send(chosen);
-        });
+        // A dialog that cannot start answers "cancelled": the sender is dropped with the closure.
+        let _ = std::thread::Builder::new()
+            .name("file dialog".into())
+            .spawn(move || {
+                let chosen = if purpose.saves() {
+                    dialog.save_file()
+                } else {
+                    dialog.pick_file()
+                };
+                let _ = tx.send(chosen);
+            });
         self.pending = Some((purpose, rx));
     }
 
