@@ -223,22 +223,45 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     };
 
     // Panel 1: 2π/T versus α, coloured by α*; panel 2: log-log near α*.
+    // The colour scale spans the α* drawn, smallest (dark) to largest (yellow).
     let a_max = per_disk
         .iter()
         .map(|t| t.alpha_star)
         .fold(0.0, f64::max)
         .max(1e-9);
+    let a_min = per_disk
+        .iter()
+        .map(|t| t.alpha_star)
+        .fold(f64::INFINITY, f64::min)
+        .min(a_max);
+    let shade = |star: f64| viridis(((star - a_min) / (a_max - a_min).max(1e-12)).clamp(0.0, 1.0));
+    // The colour carries α*: the legend names the two ends of the scale (the smallest and the
+    // largest α* drawn), so the colours can be read.
+    let by_star = |pick: fn(f64, f64) -> bool| {
+        (0..per_disk.len()).reduce(|a, b| {
+            if pick(per_disk[b].alpha_star, per_disk[a].alpha_star) {
+                b
+            } else {
+                a
+            }
+        })
+    };
+    let (lowest, highest) = (by_star(|x, y| x < y), by_star(|x, y| x > y));
     let mut curves: Vec<Series> = per_disk
         .iter()
         .enumerate()
         .map(|(i, t)| Series {
-            label: String::new(),
+            label: if Some(i) == lowest || Some(i) == highest {
+                format!("α* = {:.4}", t.alpha_star)
+            } else {
+                String::new()
+            },
             points: rows
                 .iter()
                 .filter(|r| r[0] == i as f64)
                 .map(|r| (r[2], r[3]))
                 .collect(),
-            color: viridis(t.alpha_star / a_max),
+            color: shade(t.alpha_star),
             style: Style::Line,
         })
         .collect();
@@ -262,7 +285,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
                 String::new()
             },
             points: pts,
-            color: viridis(t.alpha_star / a_max),
+            color: shade(t.alpha_star),
             style: Style::Line,
         });
     }
@@ -278,7 +301,8 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     });
     let panels = vec![
         Panel {
-            title: "order parameter 2π/T (viscous disks; colour: α*)".into(),
+            title: "order parameter 2π/T (viscous disks, coloured by α*: dark low, yellow high)"
+                .into(),
             x_label: "ramp angle α (rad)".into(),
             y_label: "mean angular speed 2π/T (1/t0)".into(),
             log_x: false,
