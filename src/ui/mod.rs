@@ -22,6 +22,7 @@
 //! | `plots`, `painter`, `workbench` | the plots, the wgpu painter, the windowless app core |
 
 pub mod dialog;
+pub mod fonts;
 pub mod painter;
 pub mod plots;
 pub mod workbench;

@@ -102,8 +102,10 @@ impl Workbench {
         base: Option<PathBuf>,
     ) -> Self {
         let ui = AppUi::new(&setup, base);
+        let ctx = egui::Context::default();
+        ctx.set_fonts(super::fonts::definitions());
         Self {
-            ctx: egui::Context::default(),
+            ctx,
             ui,
             sim: SimThread::spawn(setup),
             painter: Painter::new(device, queue, format, sample_count),
