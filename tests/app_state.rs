@@ -115,3 +115,14 @@ fn loading_a_preset_replaces_the_scene() {
     assert_eq!(c.simulation().state().kind(), ModelKind::DiskViscous);
     assert_eq!(c.speed(), 30.0);
 }
+
+#[test]
+fn reset_restores_the_scenes_speed_too() {
+    let mut c = controller("sphere-cruising");
+    let scene_speed = c.speed();
+    c.apply(SimCommand::SetSpeed(2.0 * scene_speed));
+    c.tick(0.5, u64::MAX);
+    c.apply(SimCommand::Reset);
+    assert_eq!(c.speed(), scene_speed);
+    assert_eq!(c.simulation().time(), 0.0);
+}

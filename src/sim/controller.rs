@@ -134,7 +134,9 @@ impl Controller {
                 self.advance(t)
             }
             SimCommand::Reset => {
+                // The whole scene as it started, its playback speed included.
                 self.sim = self.sim.restarted();
+                self.speed = self.sim.setup().scene.playback.speed;
                 self.follow_lesson_speed();
                 Ok(())
             }
