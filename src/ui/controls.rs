@@ -300,6 +300,10 @@ impl AppUi {
             status.setup.alpha_star,
             status.setup.alpha_star.to_degrees()
         ));
+        // What the body is, so the generator's settings below are not read as the body's.
+        ui.label(describe_body(&status.setup.scene.body));
+        ui.separator();
+        ui.label("a new random body:");
         ui.horizontal(|ui| {
             ui.radio_value(&mut self.random.dimension, 2, "2D cylinder");
             ui.radio_value(&mut self.random.dimension, 3, "3D sphere");
@@ -427,5 +431,64 @@ pub(super) fn method_spec(method: &Method) -> crate::scene::IntegratorSpec {
             dt: Some(dt),
             ..IntegratorSpec::default()
         },
+    }
+}
+
+/// Where a scene's body comes from, in words: the paper's own body, a file, an inline shape, a
+/// seeded random body of ours, or a perfect one.
+pub(super) fn describe_body(spec: &BodySpec) -> String {
+    if let Some(path) = &spec.shape {
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        return if name == "paper-sphere.json" {
+            "body: the paper's own (the authors' numpy seed 219, σ 0.25, l ≤ 5)".into()
+        } else {
+            format!("body: shape file {}", path.display())
+        };
+    }
+    if spec.inline.is_some() {
+        return "body: a shape given in the scene".into();
+    }
+    if let Some(r) = &spec.random {
+        return format!(
+            "body: random {}D, seed {}, σ {}, l ≤ {}",
+            r.dimension, r.seed, r.sigma, r.modes
+        );
+    }
+    if let Some(p) = &spec.perfect {
+        return format!("body: perfect {p:?}").to_lowercase();
+    }
+    "body: none given".into()
+}
+
+#[cfg(test)]
+mod body_tests {
+    use super::describe_body;
+    use crate::scene::Scene;
+
+    #[test]
+    fn the_body_line_names_the_real_body() {
+        let doubling = Scene::preset("sphere-doubling").unwrap();
+        assert!(
+            describe_body(&doubling.body).contains("paper's own"),
+            "{}",
+            describe_body(&doubling.body)
+        );
+        let mut random = doubling.clone();
+        random.body = crate::scene::BodySpec {
+            random: Some(crate::scene::RandomBody {
+                dimension: 3,
+                seed: 7,
+                sigma: 0.25,
+                modes: 5,
+            }),
+            ..Default::default()
+        };
+        assert_eq!(
+            describe_body(&random.body),
+            "body: random 3D, seed 7, σ 0.25, l ≤ 5"
+        );
     }
 }
