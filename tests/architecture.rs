@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 #[path = "common/source.rs"]
 mod source;
-use source::code_only;
+use source::{code_only, rust_files};
 
 /// The physics core's modules, which "the core" stands for in the table.
 const CORE: [&str; 5] = ["geometry", "integrate", "dynamics", "analysis", "numeric"];
@@ -101,17 +101,6 @@ fn workspace_files() -> Vec<(PathBuf, PathBuf)> {
         out.extend(files.into_iter().map(|f| (src.clone(), f)));
     }
     out
-}
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            rust_files(&path, out);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            out.push(path);
-        }
-    }
 }
 
 /// The top-level module a source file belongs to (`src/view/body.rs` → "view").

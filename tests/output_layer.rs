@@ -4,11 +4,11 @@
 //! remembered every case (devices, links, inputs, a full disk); this scan makes the next writer
 //! go through the one layer that handles them all.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 #[path = "common/source.rs"]
 mod source;
-use source::code_only;
+use source::{code_only, rust_files};
 
 /// The calls that create or change a file, as they appear in Rust source.
 const FORBIDDEN: &[&str] = &[
@@ -30,17 +30,6 @@ const FORBIDDEN: &[&str] = &[
 
 /// The one module allowed to write files.
 const OUTPUT_LAYER: &str = "src/output.rs";
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            rust_files(&p, out);
-        } else if p.extension().is_some_and(|x| x == "rs") {
-            out.push(p);
-        }
-    }
-}
 
 /// Lines of `source` that write a file without the output layer: (line number, call).
 fn direct_writes(source: &str) -> Vec<(usize, &'static str)> {

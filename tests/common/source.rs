@@ -3,6 +3,20 @@
 //! message is not code, and a `//` inside a string does not hide the code after it.
 #![allow(dead_code)]
 
+use std::path::{Path, PathBuf};
+
+/// Every `.rs` file below `dir`, appended to `out`.
+pub fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            rust_files(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
 /// The code of `source` with comments and string literals blanked, so a call named in a doc or a
 /// message is not a hit and a `//` inside a string does not hide the code after it.
 pub fn code_only(source: &str) -> String {
