@@ -1,4 +1,4 @@
-//! The README's library example compiles and runs as written: it is read from the README, and
+//! The guide's library example (docs/guide/library.md) compiles and runs as written: it is read from there, and
 //! the same code is run here. Needs no feature: `cargo test --no-default-features` runs it.
 
 use rollphase::analysis::critical_angle;
@@ -30,10 +30,10 @@ println!("{} ran {} steps", summary.model, summary.steps);"#;
 
 #[test]
 fn the_readme_shows_this_example() {
-    let readme = include_str!("../README.md");
+    let readme = include_str!("../docs/guide/library.md");
     assert!(
         readme.contains(EXAMPLE),
-        "the README's library example differs from tests/library_use.rs; keep them the same"
+        "the guide's library example (docs/guide/library.md) differs from tests/library_use.rs; keep them the same"
     );
 }
 

@@ -39,7 +39,7 @@ pub struct RenderArgs {
     pub msaa: u32,
     /// Write the frames as one looping animated GIF at the scene's frames per second instead
     /// of PNG files (--headless). A 10 s clip at 640x360 takes 18.6 s against 13.9 s for PNGs
-    /// here, and is 23.6 MB; --mp4 is 35 times smaller (README, "Clips").
+    /// here, and is 23.6 MB; --mp4 is 35 times smaller (docs/guide/scenes.md, "Clips").
     #[arg(long, value_name = "FILE", conflicts_with = "mp4")]
     pub gif: Option<PathBuf>,
     /// Write the frames as an H.264 MP4 instead of PNG files (--headless); needs ffmpeg on PATH.

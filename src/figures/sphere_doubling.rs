@@ -8,7 +8,7 @@
 //! units of the viscous period and of the perfect sphere's 2π/sin α.
 //!
 //! **Finding: the paper's period doubling holds on its body.** Period 1 at m/m0 = 0, period 2 at
-//! m/m0 = 6, period 1 again at m/m0 = 10 (see README and `sphere-bifurcation` for the window and
+//! m/m0 = 6, period 1 again at m/m0 = 10 (see docs/guide/figures.md and `sphere-bifurcation` for the window and
 //! the Floquet multipliers). An earlier version of this figure used a body of our own (seed 3)
 //! and found period 1 at m/m0 = 6: the doubling is not generic. The cross-body statistic
 //! answers how common it is: over the first `CROSS_BODIES` paper-generator bodies (numpy seeds
