@@ -21,8 +21,6 @@ pub enum SeriesLabelPosition {
     LowerRight,
     /// Bottom left corner.
     LowerLeft,
-    /// Halfway up the right edge.
-    MiddleRight,
 }
 
 impl SeriesLabelPosition {
@@ -33,7 +31,6 @@ impl SeriesLabelPosition {
             Self::UpperLeft => P::UpperLeft,
             Self::LowerRight => P::LowerRight,
             Self::LowerLeft => P::LowerLeft,
-            Self::MiddleRight => P::MiddleRight,
         }
     }
 }
@@ -91,8 +88,12 @@ pub struct Panel {
     pub log_y: bool,
     /// The data.
     pub series: Vec<Series>,
-    /// Where the legend goes.
+    /// Where the legend goes. The axis range grows to leave it a band of its own, above (or
+    /// below, for the lower corners) the data, so it never covers a point.
     pub legend: SeriesLabelPosition,
+    /// One unit on x spans as many pixels as one unit on y (a circle stays round): for
+    /// geometry such as the boundary of the SO(3) ball. Linear axes only.
+    pub equal_aspect: bool,
 }
 
 /// A palette that stays distinguishable for up to eight series.
@@ -176,17 +177,88 @@ fn tick(v: f64, log: bool) -> String {
 
 type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
 
-fn draw_panel(p: &Panel, area: &Area) -> std::result::Result<(), Box<dyn std::error::Error>> {
-    let xs = p.series.iter().flat_map(|s| s.points.iter().map(|q| q.0));
-    let ys = p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1));
-    let (x0, x1) = range(xs, p.log_x);
-    let (y0, y1) = range(ys, p.log_y);
+/// Pixels of one legend entry and of the legend's frame.
+const LEGEND_ROW_PX: f64 = 20.0;
+const LEGEND_FRAME_PX: f64 = 16.0;
+
+/// The size in pixels of the plotting area `draw_panel` gets inside `area` (measured by laying
+/// the same chart out on a scratch bitmap, so caption and label areas count exactly).
+fn plot_pixels(p: &Panel, area: &Area) -> (f64, f64) {
+    let (w, h) = area.dim_in_pixel();
+    let mut scratch = vec![0u8; (w * h * 3) as usize];
+    let root = BitMapBackend::with_buffer(&mut scratch, (w, h)).into_drawing_area();
+    let chart = chart_builder(p, &root).build_cartesian_2d(0.0..1.0, 0.0..1.0);
+    match chart {
+        Ok(c) => {
+            let (pw, ph) = c.plotting_area().dim_in_pixel();
+            (f64::from(pw.max(1)), f64::from(ph.max(1)))
+        }
+        Err(_) => (f64::from(w.max(1)), f64::from(h.max(1))),
+    }
+}
+
+fn chart_builder<'a, 'b>(p: &Panel, area: &'a Area<'b>) -> ChartBuilder<'a, 'b, BitMapBackend<'b>> {
     let mut builder = ChartBuilder::on(area);
     builder
         .caption(&p.title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(42)
         .y_label_area_size(82);
+    builder
+}
+
+/// Grows (lo, hi) so that the data fill `1 − free` of it, the free part at the top (`top`) or
+/// the bottom; in log10 space on log axes.
+fn make_room((lo, hi): (f64, f64), free: f64, top: bool, log: bool) -> (f64, f64) {
+    let (a, b) = if log {
+        (lo.log10(), hi.log10())
+    } else {
+        (lo, hi)
+    };
+    let span = (b - a) / (1.0 - free);
+    let (a, b) = if top { (a, a + span) } else { (b - span, b) };
+    if log {
+        (10f64.powf(a), 10f64.powf(b))
+    } else {
+        (a, b)
+    }
+}
+
+/// Widens one axis about its centre so that units on x and y span equal pixels.
+fn equal_aspect(x: (f64, f64), y: (f64, f64), (pw, ph): (f64, f64)) -> ((f64, f64), (f64, f64)) {
+    let (sx, sy) = ((x.1 - x.0) / pw, (y.1 - y.0) / ph);
+    let widen = |(lo, hi): (f64, f64), px: f64, scale: f64| {
+        let (c, half) = (0.5 * (lo + hi), 0.5 * scale * px);
+        (c - half, c + half)
+    };
+    if sx > sy {
+        (x, widen(y, ph, sx))
+    } else {
+        (widen(x, pw, sy), y)
+    }
+}
+
+fn draw_panel(p: &Panel, area: &Area) -> std::result::Result<(), Box<dyn std::error::Error>> {
+    let xs = p.series.iter().flat_map(|s| s.points.iter().map(|q| q.0));
+    let ys = p.series.iter().flat_map(|s| s.points.iter().map(|q| q.1));
+    let (mut x0, mut x1) = range(xs, p.log_x);
+    let (mut y0, mut y1) = range(ys, p.log_y);
+    let pixels = plot_pixels(p, area);
+    let labels = p.series.iter().filter(|s| !s.label.is_empty()).count();
+    if labels > 0 {
+        let free = (labels as f64 * LEGEND_ROW_PX + LEGEND_FRAME_PX) / pixels.1;
+        if free < 0.6 {
+            let top = !matches!(
+                p.legend,
+                SeriesLabelPosition::LowerLeft | SeriesLabelPosition::LowerRight
+            );
+            (y0, y1) = make_room((y0, y1), free, top, p.log_y);
+        }
+    }
+    if p.equal_aspect && !p.log_x && !p.log_y {
+        ((x0, x1), (y0, y1)) = equal_aspect((x0, x1), (y0, y1), pixels);
+    }
+    let mut builder = chart_builder(p, area);
     let keep = |x: f64, y: f64| {
         x.is_finite() && y.is_finite() && (!p.log_x || x > 0.0) && (!p.log_y || y > 0.0)
     };

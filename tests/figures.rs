@@ -68,6 +68,77 @@ fn disk_hysteresis_has_a_jump_at_alpha_star_and_a_log_sharp_return() {
     );
 }
 
+/// Every rolling speed of disk-hysteresis is 2π/T with T the exact (event-located) period: the
+/// `period` command, started from the state the CSV records, gives the same T to the last digit.
+#[test]
+fn disk_hysteresis_speeds_are_the_period_commands() {
+    let o = opts("hysteresis-period");
+    let s = figures::disk_hysteresis::run(&o).unwrap();
+    assert_eq!(s.unconverged_periods, 0);
+    let dir = o.out.join("disk-hysteresis");
+    let disk = dir.join("disk.json");
+    let bin = env!("CARGO_BIN_EXE_rollphase");
+    let made = Command::new(bin)
+        .args([
+            "shape", "--dim", "2", "--sigma", "0.12", "--modes", "5", "--seed",
+        ])
+        .arg(s.seed.to_string())
+        .arg("-o")
+        .arg(&disk)
+        .output()
+        .unwrap();
+    assert!(
+        made.status.success(),
+        "{}",
+        String::from_utf8_lossy(&made.stderr)
+    );
+    let text = std::fs::read_to_string(dir.join("data.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("alpha,ascending,mean_angular_speed,period,period_converged,theta,theta_dot")
+    );
+    let mut compared = 0;
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        if f[2].parse::<f64>().unwrap() == 0.0 {
+            assert_eq!(f[3], "", "a resting point has no period: {line}");
+            continue;
+        }
+        let out = Command::new(bin)
+            .arg("period")
+            .arg(&disk)
+            .args([
+                "--mass",
+                "10",
+                "--json",
+                "--alpha",
+                f[0],
+                "--theta0",
+                f[5],
+                "--thetadot0",
+                f[6],
+            ])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let p: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let (t, csv_t) = (p["period"].as_f64().unwrap(), f[3].parse::<f64>().unwrap());
+        assert_eq!(t, csv_t, "α = {}", f[0]);
+        assert_eq!(
+            p["mean_angular_speed"].as_f64().unwrap(),
+            f[2].parse::<f64>().unwrap()
+        );
+        compared += 1;
+    }
+    assert!(compared >= 10, "only {compared} rolling points");
+    let _ = std::fs::remove_dir_all(&o.out);
+}
+
 #[test]
 fn lag_time_exponent_is_minus_one_half_for_every_mass() {
     let s = figures::disk_lag_time::run(&opts("lag")).unwrap();
@@ -257,6 +328,12 @@ fn sphere_doubling_on_the_papers_body_is_period_one_then_two() {
         "{}",
         six.median_period_over_perfect
     );
+    // Runs go on past the paper's t = 2000 until decided: at m/m0 = 10, where a fixed window
+    // left 59 of 100 undecided, every run closes its orbit (period 1) before the cap.
+    let ten = &s.masses[2];
+    assert_eq!(ten.undecided, 0, "{ten:?}");
+    assert_eq!(ten.cycle_counts[0], s.orientations, "{ten:?}");
+    assert!(ten.longest_run <= s.t_cap && s.t_cap > s.t_min);
     // The cross-body statistic ran on bodies with α* < 0.13, each counted once.
     assert_eq!(s.cross_body.seeds.len(), s.cross_body.bodies);
     assert!(s.cross_body.with_period_2 <= s.cross_body.bodies);

@@ -116,6 +116,13 @@ fn bifurcation_windows_start_and_end_where_a_multiplier_crosses_minus_one() {
     };
     let s = figures::sphere_bifurcation::run(&opts).unwrap();
     let step = s.masses[1].mass_ratio - s.masses[0].mass_ratio;
+    // Runs go on until their fate is decided; only those right at a flip may stay open.
+    assert!(
+        s.undecided_runs * 20 <= s.masses.len() * s.starts,
+        "{} undecided",
+        s.undecided_runs
+    );
+    assert!(s.longest_run <= s.t_cap);
     assert_eq!(
         s.orbits.len(),
         2,

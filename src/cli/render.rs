@@ -38,8 +38,8 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 4, value_parser = parse_msaa)]
     pub msaa: u32,
     /// Write the frames as one looping animated GIF at the scene's frames per second instead
-    /// of PNG files (--headless). A 10 s clip at 640x360 takes 18.6 s against 13.9 s for PNGs
-    /// here, and is 23.6 MB; --mp4 is 35 times smaller (docs/guide/scenes.md, "Clips").
+    /// of PNG files (--headless). GIFs are large and a little slower to write than PNGs; --mp4
+    /// is many times smaller (measured sizes and times: docs/guide/scenes.md, "Clips").
     #[arg(long, value_name = "FILE", conflicts_with = "mp4")]
     pub gif: Option<PathBuf>,
     /// Write the frames as an H.264 MP4 instead of PNG files (--headless); needs ffmpeg on PATH.

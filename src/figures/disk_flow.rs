@@ -182,6 +182,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             log_y: false,
             series,
             legend: SeriesLabelPosition::UpperRight,
+            equal_aspect: false,
         });
         out.push(FlowPanel {
             alpha,

@@ -2,7 +2,8 @@
 //! (m/m0 = 10, σ = 0.12, M = 5).
 //!
 //! α is stepped up from rest and then down, the state carried over
-//! ([`crate::analysis::disk_dynamics::hysteresis_sweep`]): on the way up the disk stays put until
+//! ([`crate::analysis::disk_dynamics::hysteresis_sweep`]); each rolling speed is 2π/T with T the
+//! event-located period, so `rollphase period` from the CSV's (θ, θ̇) gives the same T. On the way up the disk stays put until
 //! α*, then jumps to a finite 2π/T; on the way down it keeps rolling below α* until the return
 //! transition α**. α** is then located by bisection, each trial continuing from the rolling
 //! state of the last α that still rolled. Near α** the SI predicts a logarithmically sharp
@@ -42,6 +43,11 @@ pub struct Summary {
     pub hysteresis: bool,
     /// 2π/T just above α* on the way up (the size of the jump).
     pub jump_speed: f64,
+    /// How each speed was measured.
+    pub speed_method: &'static str,
+    /// Rolling points whose period had not settled to 1e-8 within the measuring time (their
+    /// speed is the mean over the periods measured; expect 0).
+    pub unconverged_periods: usize,
     /// R² of T = a − b ln δα near α** (the SI's log law; expect ≈ 1).
     pub log_law_r2: f64,
     /// b of that fit.
@@ -89,10 +95,18 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
                 p.alpha,
                 if p.ascending { 1.0 } else { 0.0 },
                 p.mean_angular_speed,
+                p.period.unwrap_or(f64::NAN),
+                if p.period_converged { 1.0 } else { 0.0 },
+                p.state[0],
+                p.state[1],
             ]
         })
         .collect();
-    let csv_header = "alpha,ascending,mean_angular_speed";
+    let csv_header = "alpha,ascending,mean_angular_speed,period,period_converged,theta,theta_dot";
+    let unconverged_periods = sweep
+        .iter()
+        .filter(|p| p.period.is_some() && !p.period_converged)
+        .count();
     let moving = |p: &&crate::analysis::disk_dynamics::SweepPoint| p.mean_angular_speed > 0.0;
     let up = sweep
         .iter()
@@ -169,6 +183,8 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         return_ratio: alpha_return / a_star,
         hysteresis: alpha_return < a_star,
         jump_speed: up.mean_angular_speed,
+        speed_method: "2π/T, T the event-located time of one whole turn after the dwell (as `rollphase period`); the CSV's theta, theta_dot are the state it was measured from",
+        unconverged_periods,
         log_law_r2: log_fit.r2,
         log_law_slope: -log_fit.slope,
         power_law_slope: pow_fit.slope,
@@ -213,6 +229,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
                 mark(alpha_return, "α**", (120, 120, 120)),
             ],
             legend: SeriesLabelPosition::UpperLeft,
+            equal_aspect: false,
         },
         Panel {
             title: format!("near α**: T = a − b ln δα (R² = {:.5})", log_fit.r2),
@@ -227,6 +244,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
                 style: Style::LineMarkers,
             }],
             legend: SeriesLabelPosition::UpperRight,
+            equal_aspect: false,
         },
     ];
     Ok(FigureData {

@@ -143,6 +143,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         log_y: true,
         series: curves,
         legend: SeriesLabelPosition::UpperRight,
+        equal_aspect: false,
     };
     Ok(FigureData {
         panels: vec![panel],

@@ -309,6 +309,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             log_y: false,
             series: curves,
             legend: SeriesLabelPosition::UpperLeft,
+            equal_aspect: false,
         },
         Panel {
             title: format!(
@@ -321,6 +322,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             log_y: true,
             series: near,
             legend: SeriesLabelPosition::UpperLeft,
+            equal_aspect: false,
         },
     ];
     Ok(FigureData {

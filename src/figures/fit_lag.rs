@@ -187,6 +187,7 @@ pub fn compute(
         log_y: true,
         series,
         legend: SeriesLabelPosition::UpperRight,
+        equal_aspect: false,
     };
     Ok(FigureData {
         panels: vec![panel],

@@ -2,11 +2,14 @@
 //! m/m0, the Floquet multipliers of its period-1 orbits, and the masses where they flip.
 //!
 //! On the paper's body at α = 0.15 (by default), for each m/m0 on a grid:
-//! 1. **Direct simulation.** From several orientations released from rest, the body rolls to
-//!    `t_end`; the crossings of ∂Ω in the second half of the run are the attractor's points. The
-//!    attractor's period k is the smallest k with p_n ≈ p_{n−k} ≈ p_{n−2k}
-//!    ([`late_cycle`], antipodes identified). The diagram plots each late crossing against m:
-//!    one branch per period-1 orbit, two where it has doubled.
+//! 1. **Direct simulation.** From several orientations released from rest, the body rolls at
+//!    least to `t_min`, then on until its late crossings close a cycle (or it rests), at most to
+//!    `t_cap` = 10 `t_min`; the crossings of ∂Ω in the run's last `t_min`/2 are the attractor's
+//!    points. The attractor's period k is the smallest k with p_n ≈ p_{n−k} ≈ p_{n−2k}
+//!    ([`settled_cycle`], antipodes identified; a cycle of k ≥ 2 must also be steady). The
+//!    diagram plots each late crossing against m: one branch per period-1 orbit, two where it
+//!    has doubled. Runs within ~0.01 of a flip can stay undecided to the cap (the summary's
+//!    `undecided_runs`): there the multiplier is so near −1 that the orbit attracts too slowly.
 //! 2. **Floquet multipliers.** Each period-1 orbit found at the lowest inertial mass is
 //!    continued in m as a fixed point of the return map on ∂Ω (5 dimensions: the boundary point
 //!    and ω), by Newton's method with a central-difference Jacobian
@@ -32,10 +35,10 @@ use super::{FigureData, FigureOptions, PAPER_ALPHA, par_map, progress, sphere_al
 use crate::analysis::fit;
 use crate::analysis::return_map::locate_flip;
 use crate::analysis::sphere_orbits::{
-    Crossing, boundary_distance, cluster_antipodal, late_cycle, late_run,
+    Crossing, Decide, boundary_distance, cluster_antipodal, decided_run, settled_cycle,
 };
 use crate::analysis::sphere_return_map::{
-    OrbitSolve, PeriodicOrbit, inertial_crossings, periodic_orbit,
+    OrbitSolve, PeriodicOrbit, SectionState, inertial_crossings_until, periodic_orbit,
 };
 use crate::dynamics::Ramp;
 use crate::geometry::Sphere;
@@ -119,8 +122,15 @@ pub struct Summary {
     pub alpha: f64,
     /// Orientations per mass.
     pub starts: usize,
-    /// Length of each run; crossings after t_end/2 are the attractor's.
-    pub t_end: f64,
+    /// Every run goes on at least this long…
+    pub t_min: f64,
+    /// …then until its late crossings close a cycle of k ≤ 4 or it comes to rest, at most this
+    /// long. The crossings of a run's last t_min/2 are the attractor's.
+    pub t_cap: f64,
+    /// Runs still without a cycle at t_cap (not at rest), over all masses.
+    pub undecided_runs: usize,
+    /// The longest any run went on.
+    pub longest_run: f64,
     /// The orbit diagram, per grid mass.
     pub masses: Vec<MassRow>,
     /// The period-1 orbits continued in m, with their multipliers.
@@ -136,6 +146,8 @@ pub(crate) struct LateRun {
     crossings: Vec<Crossing>,
     omegas: Vec<DVec3>,
     k: Option<usize>,
+    /// When the run ended: its fate decided, or the cap.
+    t_end: f64,
 }
 
 impl Record for LateRun {
@@ -143,13 +155,18 @@ impl Record for LateRun {
         self.crossings.encode(out);
         self.omegas.encode(out);
         self.k.encode(out);
+        self.t_end.encode(out);
     }
     fn decode(f: &mut Fields) -> Result<Self> {
         let run = LateRun {
             crossings: Record::decode(f)?,
             omegas: Record::decode(f)?,
             k: Record::decode(f)?,
+            t_end: Record::decode(f)?,
         };
+        if !(run.t_end.is_finite() && run.t_end >= 0.0) {
+            return Err(anyhow!("the run's end time {} is not a time", run.t_end));
+        }
         // What the reduction relies on: a cycle of 1..=MAX_K crossings, finite ω.
         if let Some(k) = run.k
             && !(1..=MAX_K).contains(&k)
@@ -163,31 +180,58 @@ impl Record for LateRun {
     }
 }
 
-fn direct_run(body: &Sphere, ramp: &Ramp, q0: DQuat, t_end: f64) -> Result<LateRun> {
-    let (crossings, omegas) = if ramp.is_viscous() {
-        let (c, _) = late_run(body, ramp, q0, t_end, 0.0, 0.0, 0, RTOL)?;
-        let n = c.len();
-        (c, vec![DVec3::ZERO; n])
+/// One direct run from rest at `q0`: at least `t_min`, then until its late crossings close a
+/// cycle of k ≤ `MAX_K` (or it comes to rest), at most `t_cap`. The attractor's points are the
+/// crossings of the run's last `t_min`/2 (and after `t_min`/2).
+fn direct_run(
+    body: &Sphere,
+    ramp: &Ramp,
+    q0: DQuat,
+    (t_min, t_cap): (f64, f64),
+) -> Result<LateRun> {
+    let (crossings, omegas, t_end) = if ramp.is_viscous() {
+        let r = decided_run(
+            body,
+            ramp,
+            q0,
+            &Decide {
+                t_min,
+                t_cap,
+                max_k: MAX_K,
+                tol: PERIOD_TOL,
+            },
+            (0.0, 0.0, 0),
+            RTOL,
+        )?;
+        let n = r.crossings.len();
+        (r.crossings, vec![DVec3::ZERO; n], r.t_end)
     } else {
-        let s = inertial_crossings(body, ramp, q0, DVec3::ZERO, t_end, RTOL)?;
+        let to_crossing = |c: &SectionState| Crossing {
+            t: c.t,
+            point: c.point,
+        };
+        let (s, t_end) =
+            inertial_crossings_until(body, ramp, q0, DVec3::ZERO, (t_min, t_cap), RTOL, |s| {
+                let late: Vec<Crossing> = s.iter().map(to_crossing).collect();
+                settled_cycle(&late, MAX_K, PERIOD_TOL).is_some()
+            })?;
         (
-            s.iter()
-                .map(|c| Crossing {
-                    t: c.t,
-                    point: c.point,
-                })
-                .collect(),
+            s.iter().map(to_crossing).collect(),
             s.iter().map(|c| DVec3::from_array(c.omega)).collect(),
+            t_end,
         )
     };
-    let from = crossings.partition_point(|c| c.t < 0.5 * t_end);
+    // The cycle from the whole sequence (its steadiness looks 10k crossings back), the points
+    // from the late window.
+    let k = settled_cycle(&crossings, MAX_K, PERIOD_TOL).map(|c| c.0);
+    let from = crossings.partition_point(|c| c.t < (t_end - 0.5 * t_min).max(0.5 * t_min));
     let crossings = crossings[from..].to_vec();
     let omegas = omegas[from..].to_vec();
-    let k = late_cycle(&crossings, MAX_K, PERIOD_TOL).map(|c| c.0);
     Ok(LateRun {
         crossings,
         omegas,
         k,
+        t_end,
     })
 }
 
@@ -209,11 +253,12 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let body = fig.body;
     let alpha_star = sphere_alpha_star(&body);
     let alpha = opts.single_alpha("sphere-bifurcation", PAPER_ALPHA)?;
-    let (n_mass, starts, t_end) = if opts.quick {
+    let (n_mass, starts, t_min) = if opts.quick {
         (25, 4, 1500.0)
     } else {
         (61, 8, 3000.0)
     };
+    let t_cap = 10.0 * t_min;
     let masses: Vec<f64> = (0..n_mass)
         .map(|i| 12.0 * i as f64 / (n_mass - 1) as f64)
         .collect();
@@ -225,8 +270,18 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let runs = opts.ensemble("sphere-bifurcation", jobs.len(), "runs", |j| {
         let (m, o) = jobs[j];
         let ramp = Ramp::new(alpha, masses[m])?;
-        direct_run(&body, &ramp, random_orientation(&body, opts.seed, o), t_end)
+        direct_run(
+            &body,
+            &ramp,
+            random_orientation(&body, opts.seed, o),
+            (t_min, t_cap),
+        )
     })?;
+    let undecided_runs = runs
+        .iter()
+        .filter(|r| r.k.is_none() && r.t_end >= t_cap)
+        .count();
+    let longest_run = runs.iter().map(|r| r.t_end).fold(0.0, f64::max);
     let run_at = |m: usize, o: usize| &runs[m * starts + o];
 
     // 2. Period-1 orbits at the lowest inertial mass, continued in m.
@@ -450,7 +505,10 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         alpha_star,
         alpha,
         starts,
-        t_end,
+        t_min,
+        t_cap,
+        undecided_runs,
+        longest_run,
         masses: mass_rows,
         orbits,
         flips,
@@ -560,7 +618,8 @@ fn panels(s: &Summary, rows: &[Vec<f64>]) -> Vec<Panel> {
             log_x: false,
             log_y: false,
             series: diagram,
-            legend: SeriesLabelPosition::MiddleRight,
+            legend: SeriesLabelPosition::UpperRight,
+            equal_aspect: false,
         },
         Panel {
             title: format!("(b) time between crossings (α = {})", s.alpha),
@@ -570,6 +629,7 @@ fn panels(s: &Summary, rows: &[Vec<f64>]) -> Vec<Panel> {
             log_y: false,
             series: times,
             legend: SeriesLabelPosition::LowerRight,
+            equal_aspect: false,
         },
         Panel {
             title: format!(
@@ -586,6 +646,7 @@ fn panels(s: &Summary, rows: &[Vec<f64>]) -> Vec<Panel> {
             log_y: false,
             series: multipliers,
             legend: SeriesLabelPosition::UpperLeft,
+            equal_aspect: false,
         },
     ]
 }

@@ -264,6 +264,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             },
         ],
         legend: SeriesLabelPosition::UpperLeft,
+        equal_aspect: false,
     };
     Ok(FigureData {
         panels: vec![panel],

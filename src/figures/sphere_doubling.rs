@@ -2,10 +2,13 @@
 //! body (numpy seed 219, σ = 0.25, l ≤ 5; `--seed` or `--shape` for another) at the paper's
 //! α = 0.15, from 100 random orientations released from rest, the body rolls with m/m0 = 0, 6
 //! and 10; the contact path [θ(t), φ(t)] over 600 < t < 700 is drawn as in the paper, and each
-//! run's period multiplicity is measured from its crossings of ∂Ω up to t = 2000: the smallest k
-//! for which the crossing points repeat to 1e-5 (k = 1 a period-1 orbit, k = 2 a doubled one;
-//! antipodes identified, since q and −q are the same orientation), with the cycle's duration in
-//! units of the viscous period and of the perfect sphere's 2π/sin α.
+//! run's period multiplicity is measured from its crossings of ∂Ω: the smallest k for which the
+//! crossing points repeat to 1e-5 (k = 1 a period-1 orbit, k = 2 a doubled one; antipodes
+//! identified, since q and −q are the same orientation), with the cycle's duration in units of
+//! the viscous period and of the perfect sphere's 2π/sin α. A run goes on at least to the
+//! paper's t = 2000, then until its fate is decided (a cycle closes, checked at every crossing,
+//! or it comes to rest), at most to t = 20 000; the summary counts the runs still undecided
+//! there (`undecided`, per mass) and says how long the longest run went.
 //!
 //! **Finding: the paper's period doubling holds on its body.** Period 1 at m/m0 = 0, period 2 at
 //! m/m0 = 6, period 1 again at m/m0 = 10 (see docs/guide/figures.md and `sphere-bifurcation` for the window and
@@ -24,7 +27,7 @@ use serde::Serialize;
 use super::shard::{Fields, Record};
 use super::sphere_orbits::random_orientation;
 use super::{FigureData, FigureOptions, PAPER_ALPHA, par_map, sphere_alpha_star};
-use crate::analysis::sphere_orbits::{late_cycle, late_run};
+use crate::analysis::sphere_orbits::{Decide, RunEnd, decided_run};
 use crate::dynamics::Ramp;
 use crate::geometry::sphere::angles;
 use crate::geometry::{Body, Sphere, paper_sphere};
@@ -44,6 +47,12 @@ pub struct MassResult {
     pub mass_ratio: f64,
     /// Runs whose crossing sequence closed with k = 1, 2, 3, 4, or not at all.
     pub cycle_counts: [usize; 5],
+    /// Of the runs that did not close: those that came to rest.
+    pub at_rest: usize,
+    /// Of the runs that did not close: those still undecided at the cap (`t_cap`).
+    pub undecided: usize,
+    /// The longest a run of this mass went on before its fate was decided (or the cap).
+    pub longest_run: f64,
     /// Median cycle duration in units of the viscous orbit period (closed runs).
     pub median_period_ratio: f64,
     /// The same in units of the perfect sphere's period 2π/sin α.
@@ -69,7 +78,7 @@ pub struct CrossBody {
     pub fraction_with_period_2: f64,
     /// Bodies whose every run was period 2.
     pub all_period_2: usize,
-    /// Bodies with a run that did not close (k ≤ 4) by t = 2000.
+    /// Bodies with a run that neither closed (k ≤ 4) nor came to rest by the cap.
     pub with_undecided: usize,
 }
 
@@ -88,6 +97,11 @@ pub struct Summary {
     pub orientations: usize,
     /// Median viscous orbit period.
     pub viscous_period: f64,
+    /// Every run goes on at least this long (the paper's t = 2000)…
+    pub t_min: f64,
+    /// …then until its crossings close a cycle of k ≤ 4 (to 1e-5) or it comes to rest, and at
+    /// most this long; runs still open here are counted as undecided.
+    pub t_cap: f64,
     /// Per mass.
     pub masses: Vec<MassResult>,
     /// The same question on other bodies: α* < 0.13 (α/α* > 1.15).
@@ -97,27 +111,45 @@ pub struct Summary {
     pub cross_body_near_critical: CrossBody,
 }
 
-/// The period multiplicity k of a run from rest at orientation `o` (None: not closed).
+/// How long a run goes at least, and at most, and when it is decided.
+fn decide(quick: bool) -> Decide {
+    Decide {
+        t_min: if quick { 1200.0 } else { 2000.0 },
+        t_cap: if quick { 6000.0 } else { T_CAP },
+        max_k: MAX_MULTIPLICITY,
+        tol: CYCLE_TOL,
+    }
+}
+
+/// The longest a run goes on (10 × the paper's t = 2000).
+const T_CAP: f64 = 20_000.0;
+/// Crossing points that repeat to this close a cycle.
+const CYCLE_TOL: f64 = 1e-5;
+
+/// How a run from rest at orientation `o` ends: its period multiplicity k, or 0 at rest, or
+/// `None` when still undecided at the cap.
 fn run_period(
     body: &Sphere,
     alpha: f64,
     mass: f64,
     seed: u64,
     o: usize,
-    t_end: f64,
+    decide: &Decide,
 ) -> Result<Option<usize>> {
     let ramp = Ramp::new(alpha, mass)?;
-    let (c, _) = late_run(
+    let r = decided_run(
         body,
         &ramp,
         random_orientation(body, seed, o),
-        t_end,
-        0.0,
-        0.0,
-        0,
+        decide,
+        (0.0, 0.0, 0),
         1e-9,
     )?;
-    Ok(late_cycle(&c, 4, 1e-5).map(|x| x.0))
+    Ok(match r.end {
+        RunEnd::Periodic => r.cycle.map(|c| c.0),
+        RunEnd::Rest => Some(0),
+        RunEnd::Undecided => None,
+    })
 }
 
 /// The first `n` paper-generator bodies (numpy seeds from 0) that are convex with
@@ -209,17 +241,29 @@ pub(crate) enum Run {
     Main {
         cycle: Option<(usize, f64)>,
         path: Vec<DVec3>,
+        /// Came to rest (else, without a cycle, undecided at the cap).
+        rest: bool,
+        /// When it was decided, or the cap.
+        t_end: f64,
     },
+    /// k, 0 at rest, `None` undecided.
     Cross(Option<usize>),
 }
 
 impl Record for Run {
     fn encode(&self, out: &mut Vec<f64>) {
         match self {
-            Run::Main { cycle, path } => {
+            Run::Main {
+                cycle,
+                path,
+                rest,
+                t_end,
+            } => {
                 out.push(0.0);
                 cycle.encode(out);
                 path.encode(out);
+                rest.encode(out);
+                t_end.encode(out);
             }
             Run::Cross(k) => {
                 out.push(1.0);
@@ -232,6 +276,8 @@ impl Record for Run {
             0 => Run::Main {
                 cycle: Record::decode(f)?,
                 path: Record::decode(f)?,
+                rest: Record::decode(f)?,
+                t_end: Record::decode(f)?,
             },
             1 => Run::Cross(Record::decode(f)?),
             v => return Err(anyhow!("{v} is not a run kind")),
@@ -240,7 +286,12 @@ impl Record for Run {
         // duration, and a finite path.
         let multiplicity_ok = |k: usize| (1..=MAX_MULTIPLICITY).contains(&k);
         match &run {
-            Run::Main { cycle, path } => {
+            Run::Main {
+                cycle, path, t_end, ..
+            } => {
+                if !(t_end.is_finite() && *t_end >= 0.0) {
+                    return Err(anyhow!("the run's end time {t_end} is not a time"));
+                }
                 if let Some((k, d)) = cycle
                     && !(multiplicity_ok(*k) && d.is_finite() && *d > 0.0)
                 {
@@ -253,9 +304,9 @@ impl Record for Run {
                     return Err(anyhow!("the contact path holds a non-finite point"));
                 }
             }
-            Run::Cross(Some(k)) if !multiplicity_ok(*k) => {
+            Run::Cross(Some(k)) if *k != 0 && !multiplicity_ok(*k) => {
                 return Err(anyhow!(
-                    "period multiplicity {k} is not 1 to {MAX_MULTIPLICITY}"
+                    "period multiplicity {k} is not 0 (at rest) or 1 to {MAX_MULTIPLICITY}"
                 ));
             }
             Run::Cross(_) => {}
@@ -277,10 +328,12 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let a_star = sphere_alpha_star(&body);
     let alpha = opts.single_alpha("sphere-doubling", PAPER_ALPHA)?;
     let n = if opts.quick { 8 } else { 100 };
-    let (t_end, t_from, t_to) = if opts.quick {
-        (1200.0, 600.0, 700.0)
-    } else {
-        (2000.0, 600.0, 700.0)
+    let (t_from, t_to) = (600.0, 700.0);
+    let main_decide = decide(opts.quick);
+    // The other bodies' runs start deciding at the paper's t = 2000 even in --quick.
+    let cross_decide = Decide {
+        t_min: 2000.0,
+        ..main_decide
     };
     let jobs: Vec<(usize, usize)> = (0..MASSES.len())
         .flat_map(|m| (0..n).map(move |o| (m, o)))
@@ -311,38 +364,51 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             if let Some(&(band, b, o)) = k.checked_sub(jobs.len()).map(|j| &cross_jobs[j]) {
                 let body = &bands[band].bodies[b].1;
                 return Ok(Run::Cross(run_period(
-                    body, alpha, CROSS_MASS, opts.seed, o, 2000.0,
+                    body,
+                    alpha,
+                    CROSS_MASS,
+                    opts.seed,
+                    o,
+                    &cross_decide,
                 )?));
             }
             let (m, o) = jobs[k];
             let ramp = Ramp::new(alpha, MASSES[m])?;
-            let (crossings, path) = late_run(
+            let r = decided_run(
                 &body,
                 &ramp,
                 random_orientation(&body, opts.seed, o),
-                t_end,
-                t_from,
-                t_to,
-                400,
+                &main_decide,
+                (t_from, t_to, 400),
                 1e-9,
             )?;
             Ok(Run::Main {
-                cycle: late_cycle(&crossings, MAX_MULTIPLICITY, 1e-5),
-                path,
+                cycle: r.cycle,
+                path: r.path,
+                rest: r.end == RunEnd::Rest,
+                t_end: r.t_end,
             })
         },
     )?;
     let (main_runs, cross_runs) = all.split_at(jobs.len());
     let mut cycles = Vec::with_capacity(jobs.len());
     let mut paths = Vec::with_capacity(jobs.len());
+    let mut ends = Vec::with_capacity(jobs.len());
     for r in main_runs {
-        let Run::Main { cycle, path } = r else {
+        let Run::Main {
+            cycle,
+            path,
+            rest,
+            t_end,
+        } = r
+        else {
             return Err(anyhow!(
                 "sphere-doubling: the runs came back in the wrong order"
             ));
         };
         cycles.push(*cycle);
         paths.push(path);
+        ends.push((*rest, *t_end));
     }
     let mut periods = Vec::with_capacity(cross_runs.len());
     for r in cross_runs {
@@ -368,6 +434,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let mut panels = Vec::new();
     for (mi, &m) in MASSES.iter().enumerate() {
         let mut counts = [0usize; 5];
+        let (mut at_rest, mut longest_run) = (0, 0.0f64);
         let mut ratios = Vec::new();
         let mut series = Vec::new();
         for o in 0..n {
@@ -379,8 +446,12 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
                         .ok_or_else(|| anyhow!("run {k}: a cycle of {kk} crossings"))? += 1;
                     ratios.push(d / t1);
                 }
-                None => counts[4] += 1,
+                None => {
+                    counts[4] += 1;
+                    at_rest += usize::from(ends[k].0);
+                }
             }
+            longest_run = longest_run.max(ends[k].1);
             // The contact path in (φ, θ), broken where φ wraps.
             let mut piece: Vec<(f64, f64)> = Vec::new();
             for u in paths[k] {
@@ -412,8 +483,12 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         let majority = (0..4).max_by_key(|&i| counts[i]).unwrap_or(0) + 1;
         panels.push(Panel {
             title: format!(
-                "m/m0 = {m}: period {majority} in {} of {n} runs",
-                counts[majority - 1]
+                "m/m0 = {m}: period {majority} in {} of {n} runs{}",
+                counts[majority - 1],
+                match counts[4] - at_rest {
+                    0 => String::new(),
+                    u => format!(", {u} undecided"),
+                }
             ),
             x_label: "contact azimuth φ (rad), 600 < t < 700".into(),
             y_label: "contact polar angle θ (rad)".into(),
@@ -421,10 +496,14 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             log_y: false,
             series,
             legend: SeriesLabelPosition::UpperRight,
+            equal_aspect: false,
         });
         masses.push(MassResult {
             mass_ratio: m,
             cycle_counts: counts,
+            at_rest,
+            undecided: counts[4] - at_rest,
+            longest_run,
             median_period_ratio: median,
             median_period_over_perfect: median * t1 / perfect,
         });
@@ -438,6 +517,8 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         alpha,
         orientations: n,
         viscous_period: t1,
+        t_min: main_decide.t_min,
+        t_cap: main_decide.t_cap,
         masses,
         cross_body,
         cross_body_near_critical,

@@ -263,6 +263,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         log_y: false,
         series,
         legend: SeriesLabelPosition::UpperRight,
+        equal_aspect: false,
     };
     Ok(FigureData {
         panels: vec![panel],

@@ -166,6 +166,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         log_y: false,
         series,
         legend: SeriesLabelPosition::UpperLeft,
+        equal_aspect: false,
     };
     Ok(FigureData {
         panels: vec![panel],

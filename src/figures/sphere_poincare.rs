@@ -283,6 +283,7 @@ fn plot(field: &[(DVec3, Option<(DVec3, f64)>)], s: &Summary) -> Vec<Panel> {
             log_y: false,
             series: flat_series,
             legend: SeriesLabelPosition::LowerRight,
+            equal_aspect: false,
         },
         Panel {
             title: "∂Ω seen from +z (upper hemisphere)".into(),
@@ -292,6 +293,7 @@ fn plot(field: &[(DVec3, Option<(DVec3, f64)>)], s: &Summary) -> Vec<Panel> {
             log_y: false,
             series: disk_series,
             legend: SeriesLabelPosition::UpperRight,
+            equal_aspect: true,
         },
     ];
     panels

@@ -186,6 +186,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
                 log_y: false,
                 series,
                 legend: SeriesLabelPosition::LowerRight,
+                equal_aspect: true,
             }
         })
         .collect();

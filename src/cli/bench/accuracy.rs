@@ -242,6 +242,7 @@ fn plot_work_precision(
                 log_y: true,
                 series,
                 legend: SeriesLabelPosition::UpperRight,
+                equal_aspect: false,
             }
         })
         .collect();

@@ -38,15 +38,16 @@ pub enum BenchKind {
     Accuracy(AccuracyArgs),
     /// The inertial models as m/m0 → 0: cost (stiffness) and distance from the viscous model.
     Stiff(StiffArgs),
-    /// Wall time of every figure at full size, beside the times before the ensemble speed-up
-    /// and the targets (sphere-cruising ≤ 25 s, all figures ≤ 60 s on 2 cores).
+    /// Wall time of every figure at full size, beside a recorded baseline and the targets
+    /// (sphere-cruising ≤ 25 s, all figures ≤ 60 s on 2 cores).
     Figures(FiguresBenchArgs),
     /// Fixed and per-step costs of the physics core on the paper's 3D body (body check, α*
-    /// search, RHS evaluations per second, whole `simulate` and `inspect` processes) beside the
-    /// figures before the speed-up and the targets.
+    /// search, RHS evaluations per second, whole `simulate` and `inspect` processes) beside a
+    /// recorded baseline and the targets.
     Speed(SpeedBenchArgs),
     /// Frames per second of the headless renderer (rendering alone, with readback, with PNG
-    /// writing on worker threads) at 1280×720 on whatever adapter is found (llvmpipe here).
+    /// writing on worker threads) at 1280×720 on whatever adapter is found (a GPU, or llvmpipe
+    /// without one).
     Render(RenderBenchArgs),
     /// Frame time of the app (UI, 3D view, plots) painted offscreen while the simulation thread
     /// runs at the "precise" setting, and the playback speed the simulation delivers.

@@ -146,6 +146,7 @@ pub fn run(a: StiffArgs) -> Result<()> {
             log_y: true,
             series: series(&|r| r.rhs_evals as f64),
             legend: SeriesLabelPosition::UpperRight,
+            equal_aspect: false,
         },
         Panel {
             title: "inertial minus viscous".into(),
@@ -155,6 +156,7 @@ pub fn run(a: StiffArgs) -> Result<()> {
             log_y: true,
             series: series(&|r| r.period_difference),
             legend: SeriesLabelPosition::UpperLeft,
+            equal_aspect: false,
         },
     ];
     render_png(&panels, 2, (1400, 560), &a.out.join("stiff.png"))?;

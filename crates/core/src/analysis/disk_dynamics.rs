@@ -7,12 +7,14 @@
 //!   saddle-node t_lag ∝ (α − α*)^(−1/2) for any mass: the time is spent creeping through the
 //!   ghost of the fixed points, where θ̈ and θ̇ are both small.
 //! - **Hysteresis** (Fig. 2e): α is stepped up then down with the state carried over; at each α
-//!   the disk runs for a dwell time and its mean angular speed over the second half is recorded.
+//!   the disk runs for a dwell time (the transient), then, if it rolls, its period T is measured
+//!   by locating whole turns as events and its speed is 2π/T.
 //! - **Fixed points** (SI §1D): θ̇ = 0 and r sin α − r' cos α = 0; stable where the drive
 //!   decreases through zero (a restoring torque), saddles where it increases.
 
 use serde::Serialize;
 
+use super::period::inertial_disk_period;
 use crate::dynamics::{DiskInertial, DiskViscous, Ramp};
 use crate::geometry::Disk;
 use crate::integrate::events::{self, Direction};
@@ -64,13 +66,24 @@ pub struct SweepPoint {
     pub alpha: f64,
     /// true on the way up, false on the way down.
     pub ascending: bool,
-    /// Mean angular speed over the second half of the dwell (0 when at rest).
+    /// 2π/T from the event-located period T (0 when at rest).
     pub mean_angular_speed: f64,
+    /// The period T: the time between successive whole turns of θ, located as events
+    /// ([`inertial_disk_period`]); `None` at rest.
+    pub period: Option<f64>,
+    /// Whether three successive periods agreed to 1e-8 (false: the mean of the periods measured
+    /// within the dwell, still drifting).
+    pub period_converged: bool,
+    /// The state (θ, θ̇) at the end of the dwell, from which T was measured: `rollphase period
+    /// --theta0 θ --thetadot0 θ̇` from there gives the same T.
+    pub state: [f64; 2],
 }
 
 /// Sweeps α through `alphas` (ascending then the same values descending) with the inertial
-/// model, carrying (θ, θ̇) over; `dwell` time units per α. The speed is the mean over the second
-/// half of the dwell if the disk made at least one turn there, else 0.
+/// model, carrying (θ, θ̇) over; `dwell` time units per α let the transient die out. Where the
+/// disk made at least one whole turn in the second half of the dwell, its period T is then
+/// measured from the dwell's end state by locating whole turns as events (as `rollphase period`
+/// does, at most 4 × `dwell` time units) and the speed is 2π/T; otherwise the speed is 0.
 pub fn hysteresis_sweep(
     disk: &Disk,
     mass: f64,
@@ -95,17 +108,21 @@ pub fn hysteresis_sweep(
         })?;
         let (advance, end) = dwell(disk, &ramp, [state[0], state[1]], dwell_time, rtol)?;
         state = [end[0], end[1], 0.0, 0.0];
-        // Rolling means at least one whole turn in the measured half; less is a rest point
-        // creeping as α changes, reported as 0.
-        let speed = if advance > std::f64::consts::TAU {
-            advance / (0.5 * dwell_time)
+        // Rolling means at least one whole turn in the second half of the dwell; less is a rest
+        // point creeping as α changes, reported as 0.
+        let measured = if advance > std::f64::consts::TAU {
+            let p = inertial_disk_period(disk, &ramp, end[0], end[1], rtol, 4.0 * dwell_time)?;
+            p.period.map(|t| (t, p.converged))
         } else {
-            0.0
+            None
         };
         out.push(SweepPoint {
             alpha,
             ascending,
-            mean_angular_speed: speed,
+            mean_angular_speed: measured.map_or(0.0, |(t, _)| std::f64::consts::TAU / t),
+            period: measured.map(|(t, _)| t),
+            period_converged: measured.is_some_and(|(_, c)| c),
+            state: end,
         });
         progress();
     }

@@ -11,6 +11,7 @@
 use glam::{DQuat, DVec3};
 use serde::Serialize;
 
+use crate::dynamics::sphere3d::SphereObservation;
 use crate::dynamics::{Ramp, SphereInertial, SphereViscous};
 use crate::geometry::Sphere;
 use crate::integrate::events::{Direction, crossings_in_last_step};
@@ -348,26 +349,96 @@ pub fn late_run(
     samples: usize,
     rtol: f64,
 ) -> Result<(Vec<Crossing>, Vec<DVec3>), IntegrateError> {
-    let times = integrate::uniform_times(t_from, t_to.min(t_end), samples);
+    let r = decided_run(
+        body,
+        ramp,
+        q0,
+        &Decide {
+            t_min: t_end,
+            t_cap: t_end,
+            max_k: 0,
+            tol: 0.0,
+        },
+        (t_from, t_to, samples),
+        rtol,
+    )?;
+    Ok((r.crossings, r.path))
+}
+
+/// When a run's fate counts as decided ([`decided_run`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Decide {
+    /// Run at least this long (the transient, and the sampled window).
+    pub t_min: f64,
+    /// Never longer than this: a run still undecided here is reported as undecided.
+    pub t_cap: f64,
+    /// The longest cycle, in crossings of ∂Ω, that decides a run ([`settled_cycle`]); 0 never
+    /// decides one by its cycle (the run goes to `t_cap`).
+    pub max_k: usize,
+    /// The crossing points' closeness for [`settled_cycle`].
+    pub tol: f64,
+}
+
+/// How a run's fate was decided.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunEnd {
+    /// Its ∂Ω crossings repeat with a steady cycle of k ≤ `max_k` ([`settled_cycle`]).
+    Periodic,
+    /// It came to rest (|ω| < 1e-10, no crossing for the last `t_min`).
+    Rest,
+    /// Neither by `t_cap`.
+    Undecided,
+}
+
+/// A run from [`decided_run`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct DecidedRun {
+    /// Every ∂Ω crossing.
+    pub crossings: Vec<Crossing>,
+    /// The contact point (body frame) at the sampled times.
+    pub path: Vec<DVec3>,
+    /// The cycle found: (k, its duration), as [`settled_cycle`] gives it.
+    pub cycle: Option<(usize, f64)>,
+    /// How it ended.
+    pub end: RunEnd,
+    /// When it ended.
+    pub t_end: f64,
+}
+
+/// A run of the 3D model (viscous if m/m0 = 0, else inertial from rest) that goes on until its
+/// fate is decided: at least `decide.t_min`, then until its crossings close a steady cycle
+/// ([`settled_cycle`] with `decide.max_k`, `decide.tol`, checked at each new crossing) or it comes
+/// to rest, and at most `decide.t_cap`. The contact point (body frame) is sampled at `samples`
+/// times evenly spread over [`t_from`, `t_to`] (`sampling` = (t_from, t_to, samples)), cut at
+/// the run's end.
+pub fn decided_run(
+    body: &Sphere,
+    ramp: &Ramp,
+    q0: DQuat,
+    decide: &Decide,
+    sampling: (f64, f64, usize),
+    rtol: f64,
+) -> Result<DecidedRun, IntegrateError> {
     if ramp.is_viscous() {
         let m = SphereViscous::new(body, ramp);
         record(
             &m,
             SphereViscous::initial_state(q0),
-            t_end,
+            decide,
+            sampling,
             rtol,
-            &times,
-            |y| m.observe(y).contact_dir,
+            |y| m.observe(y),
         )
     } else {
         let m = SphereInertial::new(body, ramp);
         record(
             &m,
             SphereInertial::initial_state(q0, DVec3::ZERO),
-            t_end,
+            decide,
+            sampling,
             rtol,
-            &times,
-            |y| m.observe(y).contact_dir,
+            |y| m.observe(y),
         )
     }
 }
@@ -375,18 +446,21 @@ pub fn late_run(
 fn record<const N: usize, S: OdeSystem<N>>(
     sys: &S,
     y0: [f64; N],
-    t_end: f64,
+    decide: &Decide,
+    (t_from, t_to, samples): (f64, f64, usize),
     rtol: f64,
-    times: &[f64],
-    contact: impl Fn(&[f64; N]) -> DVec3,
-) -> Result<(Vec<Crossing>, Vec<DVec3>), IntegrateError> {
+    observe: impl Fn(&[f64; N]) -> SphereObservation,
+) -> Result<DecidedRun, IntegrateError> {
+    let times = integrate::uniform_times(t_from, t_to.min(decide.t_cap), samples);
     let mut st = integrate::stepper(sys, 0.0, y0, Method::dop853(rtol))?;
     let mut found = Vec::new();
     let mut crossings = Vec::new();
     let mut path = Vec::with_capacity(times.len());
     let mut next = 0;
-    while st.t() < t_end {
-        st.step(t_end)?;
+    let mut cycle = None;
+    let mut end = RunEnd::Undecided;
+    while st.t() < decide.t_cap {
+        st.step(decide.t_cap)?;
         found.clear();
         crossings_in_last_step(
             st.as_mut(),
@@ -407,11 +481,57 @@ fn record<const N: usize, S: OdeSystem<N>>(
             } else {
                 st.dense(times[next])
             };
-            path.push(contact(&y));
+            path.push(observe(&y).contact_dir);
             next += 1;
         }
+        if st.t() >= decide.t_min && next == times.len() {
+            if decide.max_k > 0 && (!found.is_empty() || cycle.is_none()) {
+                cycle = settled_cycle(&crossings, decide.max_k, decide.tol);
+                if cycle.is_some() {
+                    end = RunEnd::Periodic;
+                    break;
+                }
+            }
+            let quiet = crossings
+                .last()
+                .is_none_or(|c| st.t() - c.t >= decide.t_min);
+            if decide.max_k > 0 && quiet && observe(st.y()).omega.length() < 1e-10 {
+                end = RunEnd::Rest;
+                break;
+            }
+        }
     }
-    Ok((crossings, path))
+    if decide.max_k == 0 {
+        cycle = None;
+    }
+    Ok(DecidedRun {
+        crossings,
+        path,
+        cycle,
+        end,
+        t_end: st.t(),
+    })
+}
+
+/// [`late_cycle`], where a cycle of k ≥ 2 must also be steady: the alternation |p_n − p_{n−1}|
+/// equal, to 2·`tol`, to the same distance 10k crossings earlier (so the sequence must hold at
+/// least 10k + 1 crossings). Near a flip a period-1 orbit with multiplier μ ≈ −1 attracts so
+/// slowly that its alternation shrinks by only |μ|^{2} every two crossings; then p_n ≈ p_{n−2}
+/// while p_n and p_{n−1} are still far apart, and [`late_cycle`] alone would call it period 2.
+/// Over 10k crossings the alternation of such an orbit shrinks by about 10k(1 − |μ|), which this
+/// sees for 1 − |μ| above ~1e-3 (with `tol` = 1e-4 and an alternation of 1e-2).
+pub fn settled_cycle(c: &[Crossing], max_k: usize, tol: f64) -> Option<(usize, f64)> {
+    let (k, d) = late_cycle(c, max_k, tol)?;
+    if k == 1 {
+        return Some((k, d));
+    }
+    let n = c.len();
+    let back = 10 * k;
+    (n > back + 1).then_some(())?;
+    let p = |i: usize| DVec3::from_array(c[i].point);
+    let now = boundary_distance(p(n - 1), p(n - 2));
+    let then = boundary_distance(p(n - 1 - back), p(n - 2 - back));
+    ((now - then).abs() < 2.0 * tol).then_some((k, d))
 }
 
 /// The shortest cycle of the crossing sequence at its end: the smallest k ≤ `max_k` with
@@ -431,4 +551,41 @@ pub fn late_cycle(c: &[Crossing], max_k: usize, tol: f64) -> Option<(usize, f64)
         (distinct && boundary_distance(p(a), p(b)) < tol && boundary_distance(p(b), p(d)) < tol)
             .then(|| (k, c[a].t - c[b].t))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Crossings p_n = c + a·μⁿ·e (a period-1 orbit attracting with multiplier μ < 0 when
+    /// |μ| < 1, an exact 2-cycle when μ = −1), one every 50 time units.
+    fn alternating(mu: f64, a: f64, n: usize) -> Vec<Crossing> {
+        let (c, e) = (DVec3::new(0.6, 0.0, 0.8), DVec3::new(0.8, 0.0, -0.6));
+        (0..n)
+            .map(|i| Crossing {
+                t: 50.0 * i as f64,
+                point: (c + a * mu.powi(i as i32) * e).normalize().to_array(),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_slowly_attracting_orbit_is_not_called_period_two() {
+        // μ = −0.999: p_n and p_{n−2} differ by ~2e-3·a, below the tolerance for a = 0.02,
+        // while p_n and p_{n−1} are 0.04 apart: late_cycle alone calls it a 2-cycle.
+        let c = alternating(-0.999, 0.02, 60);
+        assert_eq!(late_cycle(&c, 4, 1e-4).map(|x| x.0), Some(2));
+        assert_eq!(settled_cycle(&c, 4, 1e-4), None);
+    }
+
+    #[test]
+    fn a_true_two_cycle_and_a_settled_orbit_are_decided() {
+        let two = alternating(-1.0, 0.02, 30);
+        assert_eq!(settled_cycle(&two, 4, 1e-4).map(|x| x.0), Some(2));
+        assert_eq!(settled_cycle(&two, 4, 1e-4).map(|x| x.1), Some(100.0));
+        let one = alternating(-0.5, 0.02, 40);
+        assert_eq!(settled_cycle(&one, 4, 1e-4).map(|x| x.0), Some(1));
+        // Too short to see the alternation steady: not decided yet.
+        assert_eq!(settled_cycle(&two[..15], 4, 1e-4), None);
+    }
 }

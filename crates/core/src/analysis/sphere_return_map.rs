@@ -47,6 +47,21 @@ pub fn inertial_crossings(
     t_end: f64,
     rtol: f64,
 ) -> Result<Vec<SectionState>, IntegrateError> {
+    inertial_crossings_until(body, ramp, q0, omega0, (t_end, t_end), rtol, |_| false).map(|r| r.0)
+}
+
+/// [`inertial_crossings`] that goes on until its fate is decided: at least `t_min`, then until
+/// `decided` says so (asked at every new crossing) or the body comes to rest, and at most
+/// `t_cap` (`span` = (t_min, t_cap)). Returns the crossings and the time the run ended.
+pub fn inertial_crossings_until(
+    body: &Sphere,
+    ramp: &Ramp,
+    q0: DQuat,
+    omega0: DVec3,
+    (t_min, t_cap): (f64, f64),
+    rtol: f64,
+    mut decided: impl FnMut(&[SectionState]) -> bool,
+) -> Result<(Vec<SectionState>, f64), IntegrateError> {
     let model = SphereInertial::new(body, ramp);
     let mut st = integrate::stepper(
         &model,
@@ -56,8 +71,8 @@ pub fn inertial_crossings(
     )?;
     let mut times = Vec::new();
     let mut out = Vec::new();
-    while st.t() < t_end {
-        st.step(t_end)?;
+    while st.t() < t_cap {
+        st.step(t_cap)?;
         times.clear();
         crossings_in_last_step(
             st.as_mut(),
@@ -77,8 +92,11 @@ pub fn inertial_crossings(
         if DVec3::new(y[4], y[5], y[6]).length() < OMEGA_REST && st.t() > 1.0 {
             break;
         }
+        if st.t() >= t_min && !times.is_empty() && decided(&out) {
+            break;
+        }
     }
-    Ok(out)
+    Ok((out, st.t()))
 }
 
 /// One application of P: from boundary point `p` with angular velocity `omega` to the next
