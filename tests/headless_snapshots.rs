@@ -175,6 +175,28 @@ fn the_so3_trajectory_is_drawn() {
 }
 
 #[test]
+fn the_contact_point_under_a_sphere_shows_from_the_default_camera() {
+    // The contact is under the body, hidden from any camera above the ramp; its yellow ring is
+    // drawn through the body, so the frame holds its yellow (255, 214, 10) below the centre.
+    let image = render("sphere-cruising", &[0], (1280, 720)).remove(0);
+    let yellow = image
+        .enumerate_pixels()
+        .filter(|(x, y, p)| {
+            (400..900).contains(x)
+                && (300..600).contains(y)
+                && p[0] > 200
+                && p[1] > 160
+                && p[2] < 90
+                && p[0] > p[2] + 120
+        })
+        .count();
+    assert!(
+        yellow > 60,
+        "only {yellow} yellow pixels: the contact ring is not visible"
+    );
+}
+
+#[test]
 fn the_same_frame_renders_to_the_same_bytes() {
     let a = render("sphere-two-orbits", &[FRAME], SIZE).remove(0);
     let b = render("sphere-two-orbits", &[FRAME], SIZE).remove(0);

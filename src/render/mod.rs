@@ -42,6 +42,7 @@ pub struct Renderer {
     mesh_opaque: wgpu::RenderPipeline,
     mesh_blended: wgpu::RenderPipeline,
     lines: wgpu::RenderPipeline,
+    lines_on_top: wgpu::RenderPipeline,
     overlay: wgpu::RenderPipeline,
     camera_layout: wgpu::BindGroupLayout,
     draw_layout: wgpu::BindGroupLayout,

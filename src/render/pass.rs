@@ -117,6 +117,7 @@ impl Renderer {
             opaque: Vec<(usize, u32)>,
             blended: Vec<(usize, u32)>,
             segments: std::ops::Range<u32>,
+            segments_on_top: std::ops::Range<u32>,
         }
         let mut plans = Vec::new();
         for view in &frame.views {
@@ -162,19 +163,23 @@ impl Renderer {
                     opaque.push((inst.mesh.0, offset));
                 }
             }
-            let start = seg_data.len() as u32;
-            seg_data.extend(view.segments.iter().map(|s| SegmentInstance {
+            let instance = |s: &super::Segment| SegmentInstance {
                 a: s.a.extend(s.width_px).to_array(),
                 b: s.b.extend(0.0).to_array(),
                 color: s.color,
-            }));
+            };
+            let start = seg_data.len() as u32;
+            seg_data.extend(view.segments.iter().map(instance));
+            let on_top_start = seg_data.len() as u32;
+            seg_data.extend(view.segments_on_top.iter().map(instance));
             plans.push(ViewPlan {
                 viewport: [x as f32, y as f32, w as f32, h as f32],
                 cam_offset,
                 background,
                 opaque,
                 blended,
-                segments: start..seg_data.len() as u32,
+                segments: start..on_top_start,
+                segments_on_top: on_top_start..seg_data.len() as u32,
             });
         }
         // Panels: rasterised on the CPU, one texture each.
@@ -300,6 +305,11 @@ impl Renderer {
                     for &(mesh, offset) in &plan.blended {
                         self.draw_mesh(&mut pass, mesh, offset);
                     }
+                }
+                if !plan.segments_on_top.is_empty() {
+                    pass.set_pipeline(&self.lines_on_top);
+                    pass.set_vertex_buffer(0, self.segments.buffer.slice(..));
+                    pass.draw(0..6, plan.segments_on_top.clone());
                 }
             }
             pass.set_viewport(0.0, 0.0, width as f32, height as f32, 0.0, 1.0);

@@ -321,6 +321,16 @@ impl Renderer {
             depth_compare: wgpu::CompareFunction::LessEqual,
             cull: None,
         });
+        let lines_on_top = make(PipelineSpec {
+            label: "lines on top",
+            module: &lines_module,
+            layout: &lines_layout,
+            buffers: &sbuf,
+            blend: wgpu::BlendState::ALPHA_BLENDING,
+            depth_write: false,
+            depth_compare: wgpu::CompareFunction::Always,
+            cull: None,
+        });
         let qbuf = [Some(quad_layout)];
         let overlay = make(PipelineSpec {
             label: "overlay",
@@ -353,6 +363,7 @@ impl Renderer {
             mesh_opaque,
             mesh_blended,
             lines,
+            lines_on_top,
             overlay,
             camera_layout,
             draw_layout,

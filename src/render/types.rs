@@ -113,6 +113,9 @@ pub struct View {
     pub meshes: Vec<MeshInstance>,
     /// Line segments.
     pub segments: Vec<Segment>,
+    /// Line segments drawn last and through everything in the view (no depth test): markers
+    /// that must show even where a body hides them, such as the contact point under a sphere.
+    pub segments_on_top: Vec<Segment>,
 }
 
 /// Everything one frame shows.

@@ -50,6 +50,9 @@ fn downhill_arrow(
     last
 }
 
+/// Radius of the ring that marks a sphere's contact point through the body (ramp units, ⟨r⟩ = 1).
+const CONTACT_RING_RADIUS: f64 = 0.12;
+
 impl SceneView {
     pub(super) fn body_view(&self, snap: &Snapshot, rect: [u32; 4], options: &ViewOptions) -> View {
         let alpha = snap.alpha_rad as f32;
@@ -161,6 +164,26 @@ impl SceneView {
                 width_px: 5.0,
             });
         }
+        // Under a sphere the contact point is hidden from any camera above the ramp: a yellow
+        // ring around it, drawn through the body, shows where it is (a cylinder's contact on
+        // its front face is in plain sight).
+        let mut segments_on_top = Vec::new();
+        if !self.is_disk {
+            let contact = snap.contact_on_ramp + DVec3::new(0.0, 0.0, 0.004);
+            let ring: Vec<Vec3> = (0..=32)
+                .map(|i| {
+                    let a = std::f64::consts::TAU * f64::from(i) / 32.0;
+                    to_world(contact + CONTACT_RING_RADIUS * DVec3::new(a.cos(), a.sin(), 0.0))
+                })
+                .collect();
+            let yellow = linear([255, 214, 10], 0.9);
+            segments_on_top.extend(ring.windows(2).map(|w| Segment {
+                a: w[0],
+                b: w[1],
+                color: yellow,
+                width_px: 3.0,
+            }));
+        }
         View {
             viewport: rect,
             background: None,
@@ -168,6 +191,7 @@ impl SceneView {
             light_dir: Vec3::new(-0.4, -0.6, 1.0),
             meshes,
             segments,
+            segments_on_top,
         }
     }
 
@@ -225,6 +249,7 @@ impl SceneView {
             light_dir: Vec3::new(0.3, -0.5, 1.0),
             meshes,
             segments,
+            segments_on_top: Vec::new(),
         }
     }
 
@@ -293,6 +318,7 @@ impl SceneView {
                 },
             }],
             segments,
+            segments_on_top: Vec::new(),
         }
     }
 }
