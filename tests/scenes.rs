@@ -32,6 +32,40 @@ fn preset_files_load_from_disk_like_the_bundled_copies() {
     }
 }
 
+/// `rollphase scenes --toml NAME > my.toml` then `--scene my.toml`, from any folder: the printed
+/// file stands alone (a bundled shape comes inline) and sets up the same body, start and model.
+#[test]
+fn a_printed_preset_works_as_a_scene_file_anywhere() {
+    let dir = std::env::temp_dir().join(format!("rollphase-printed-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, _) in PRESETS {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_rollphase"))
+            .args(["scenes", "--toml", name])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, &out.stdout).unwrap();
+        let printed = load_scene_file(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let bundled = Scene::preset(name).unwrap().setup(None).unwrap();
+        assert_eq!(
+            format!("{:?}", printed.body),
+            format!("{:?}", bundled.body),
+            "{name}"
+        );
+        assert_eq!(printed.alpha_star, bundled.alpha_star, "{name}");
+        assert_eq!(printed.ramp, bundled.ramp, "{name}");
+        assert_eq!(printed.scene.model, bundled.scene.model, "{name}");
+        assert_eq!(printed.scene.initial, bundled.scene.initial, "{name}");
+        assert_eq!(printed.scene.timeline, bundled.scene.timeline, "{name}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn presets_show_what_their_names_promise() {
     let setup = |n: &str| Scene::preset(n).unwrap().setup(None).unwrap();
