@@ -51,7 +51,7 @@ pub struct FigureArgs {
     /// Run only shard I of N (1-based) of the figure's runs, e.g. 3/8, and write them to
     /// OUT/NAME/shard-I-of-N.json without the plot; `rollphase merge OUT/NAME` then writes the
     /// figure once all N are there. For the ensemble figures (sphere-cruising, sphere-poincare,
-    /// sphere-orbits, sphere-doubling, sphere-bifurcation, disk-transition); see docs/cluster.md.
+    /// sphere-orbits, sphere-doubling, sphere-bifurcation, disk-transition); see docs/guide/cluster.md.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<ShardSpec>,
 }

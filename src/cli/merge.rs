@@ -14,7 +14,7 @@ use crate::figures::sweep;
 ///
 /// The shards must all be there, once each, from the same command and options; merge says
 /// which are missing, duplicated or from another run. Work that follows the runs (clustering,
-/// fits, a figure's later stages) happens here. See docs/cluster.md.
+/// fits, a figure's later stages) happens here. See docs/guide/cluster.md.
 #[derive(Debug, Args)]
 #[command(verbatim_doc_comment)]
 pub struct MergeArgs {

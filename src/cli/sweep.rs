@@ -27,7 +27,7 @@ use crate::figures::sweep;
 ///   sigma = 0.25                 # of generated bodies; max_degree = 5
 ///
 /// --shard I/N runs only shard I of N and writes OUT/shard-I-of-N.json; `rollphase merge OUT`
-/// then writes sweep.csv, byte for byte what one unsharded run writes (docs/cluster.md).
+/// then writes sweep.csv, byte for byte what one unsharded run writes (docs/guide/cluster.md).
 #[derive(Debug, Args)]
 #[command(verbatim_doc_comment)]
 pub struct SweepArgs {

@@ -1,5 +1,5 @@
 //! Splitting an ensemble across processes (`--shard I/N`) and putting it back together
-//! (`rollphase merge OUT/NAME`), for a cluster scheduler's array jobs (docs/cluster.md).
+//! (`rollphase merge OUT/NAME`), for a cluster scheduler's array jobs (docs/guide/cluster.md).
 //!
 //! Every ensemble figure computes its runs through [`FigureOptions::ensemble`]: a list of `n`
 //! jobs whose inputs derive from the index and the options alone. How that call behaves depends

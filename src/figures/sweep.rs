@@ -2,7 +2,7 @@
 //! initial orientations × integrators, one CSV row per run with its fate (halts, periodic, or
 //! undecided at `t_max`), period, 1/T, period multiplicity and RHS evaluations. It runs through
 //! the same ensemble as the figures, so `--shard I/N` and `rollphase merge DIR` work the same
-//! way (see [`super::shard`] and docs/cluster.md).
+//! way (see [`super::shard`] and docs/guide/cluster.md).
 //!
 //! Each run is [`settle_with`]: released from rest (viscous if m/m0 = 0), followed until it halts
 //! (|ω| < 1e-9), closes a cycle of k ≤ `max_multiplicity` crossings of ∂Ω twice in a row (points
@@ -47,7 +47,7 @@ use crate::output::{self, Inputs, OutputFile, OutputSet};
 use rayon::prelude::*;
 
 /// Most runs one sweep may hold (all shards together): at the measured ~10 ms a run (paper body,
-/// t_max = 2000, docs/cluster.md) 10⁷ runs are ~28 core-hours, a night on a small cluster or a
+/// t_max = 2000, docs/guide/cluster.md) 10⁷ runs are ~28 core-hours, a night on a small cluster or a
 /// day on one 2-core machine; memory stays flat (~10 MB measured at 10⁴, 10⁵ and 10⁶ runs), and
 /// sweep.csv is ~70 bytes a run (0.7 GB).
 pub const MAX_RUNS: usize = 10_000_000;

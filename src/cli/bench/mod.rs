@@ -105,6 +105,9 @@ pub struct FiguresBenchArgs {
     /// Output folder for the figures produced while timing.
     #[arg(long, default_value = "bench-figures")]
     pub out: PathBuf,
+    /// Time each figure's reduced --quick run instead (for tests; no targets apply).
+    #[arg(long)]
+    pub quick: bool,
 }
 
 /// Runs `bench`.

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Regenerates every image of the README and the user guide from the current code, in place:
+#   docs/figures/NAME.png   each paper figure at full size (`rollphase figure NAME`)
+#   docs/render/*.png       headless frames of the presets the guide shows
+#   docs/render/app.png     the app's window (under Xvfb when there is no display)
+#   docs/lessons/*.png      each lesson's window at a key moment
+#   docs/accuracy/, docs/stiff/   the benchmark plots and tables
+# Run from anywhere: bash docs/images.sh. Takes a few minutes on 2 cores without a GPU.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cargo build --release
+bin="$PWD/target/release/rollphase"
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+
+for name in $("$bin" figure --list | awk 'NF { print $1 }'); do
+    "$bin" figure "$name" --out "$tmp/figures" > /dev/null
+    cp "$tmp/figures/$name/figure.png" "docs/figures/$name.png"
+done
+
+# A frame of a preset after `frames` frames at 960×540 (the README's image is the settled orbit).
+frame() {
+    local preset="$1" frames="$2" out="$3"
+    "$bin" --headless --preset "$preset" --frames "$frames" --size 960x540 --out "$tmp/$preset" > /dev/null
+    cp "$tmp/$preset/$(printf 'frame_%05d.png' $((frames - 1)))" "$out"
+}
+frame sphere-two-orbits 60 docs/render/sphere-two-orbits.png
+frame cylinder-near-critical 60 docs/render/cylinder-near-critical.png
+
+# The app's window; under Xvfb where there is no display.
+window() {
+    if [ -n "${DISPLAY:-}" ]; then "$@"; else xvfb-run -a -s "-screen 0 1600x900x24" "$@"; fi
+}
+window "$bin" app --preset sphere-two-orbits --screenshot-after 6 docs/render/app.png --exit-after 7
+window "$bin" app --preset lesson-critical-angle --screenshot-after 40 docs/lessons/critical-angle.png --exit-after 41
+window "$bin" app --preset lesson-inertia-hysteresis --screenshot-after 40 docs/lessons/inertia-hysteresis.png --exit-after 41
+window "$bin" app --preset lesson-period-doubling --screenshot-after 60 docs/lessons/period-doubling.png --exit-after 61
+
+"$bin" bench accuracy --out docs/accuracy
+"$bin" bench stiff --out docs/stiff
