@@ -26,7 +26,7 @@
 //! | [`figures`] | the paper's figures (and `sphere-bifurcation`) as data.csv, figure.png, summary.json |
 //! | [`cli`] | the command line (one file per subcommand) |
 //!
-//! `geometry`, `numeric`, `dynamics`, `integrate` and `analysis` are the crate `rollphase-core`
+//! `geometry`, `numeric`, `dynamics`, `integrate`, `analysis` and `simulate` are the crate `rollphase-core`
 //! (crates/core), re-exported: they never touch a GPU, a window or the wall clock, and the
 //! compiler keeps it so. The same inputs give the same numbers on every run.
 
@@ -34,7 +34,7 @@
 pub mod app;
 // The physics core lives in crates/core (package rollphase-core); its modules are re-exported
 // here so `rollphase::geometry::…` and `crate::geometry::…` keep working.
-pub use rollphase_core::{analysis, dynamics, geometry, integrate, numeric};
+pub use rollphase_core::{analysis, dynamics, geometry, integrate, numeric, simulate};
 
 pub mod assets;
 pub mod cli;
@@ -50,7 +50,6 @@ pub mod png;
 pub mod render;
 pub mod scene;
 pub mod sim;
-pub mod simulate;
 #[cfg(feature = "app")]
 pub mod ui;
 #[cfg(feature = "render")]

@@ -9,6 +9,7 @@
 //! | [`integrate`] | RK4, DOP853 with dense output, the Lie-group CF4 step, event location; fixed steps check their own error |
 //! | [`dynamics`] | the four rolling models (2D/3D, viscous/inertial) as ODE systems |
 //! | [`analysis`] | critical angle α*, 2D periods, accuracy tables, orbits through ∂Ω, return maps and their Floquet multipliers, lag-time fits |
+//! | [`simulate`] | one run: a body, a ramp, a start and an integrator in; sampled rows (or a typed [`simulate::Trajectory`]) and a [`simulate::Summary`] out |
 //!
 //! None of them reads the wall clock: the same inputs give the same numbers on every run and
 //! thread count. The `rollphase` crate re-exports every module, so `rollphase::geometry::…`
@@ -19,3 +20,4 @@ pub mod dynamics;
 pub mod geometry;
 pub mod integrate;
 pub mod numeric;
+pub mod simulate;
