@@ -34,7 +34,7 @@
 pub mod app;
 // The physics core lives in crates/core (package rollphase-core); its modules are re-exported
 // here so `rollphase::geometry::…` and `crate::geometry::…` keep working.
-pub use rollphase_core::{analysis, dynamics, geometry, integrate, numeric, simulate};
+pub use rollphase_core::{analysis, dynamics, geometry, glam, integrate, numeric, simulate};
 
 pub mod assets;
 pub mod cli;

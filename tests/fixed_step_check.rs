@@ -18,7 +18,7 @@ use rollphase::integrate::rk4::FIXED_STEP_TOLERANCE;
 use rollphase::integrate::{IntegrateError, Method, OdeSystem, stepper};
 
 fn body(text: &str) -> Body {
-    Body::from_file(&ShapeFile::from_json(text).unwrap()).unwrap()
+    Body::from_shape(&ShapeFile::from_json(text).unwrap()).unwrap()
 }
 
 /// Runs `sys` from `y0` to `t_end`: Ok(largest estimate) or the error.

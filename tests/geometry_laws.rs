@@ -192,15 +192,15 @@ proptest! {
         } else {
             Body::Disk(random_disk(seed, sigma, modes).unwrap())
         };
-        let text = body.to_file().to_json();
+        let text = body.to_shape().to_json();
         let back = ShapeFile::from_json(&text).unwrap();
-        prop_assert_eq!(back, body.to_file());
+        prop_assert_eq!(back, body.to_shape());
     }
 
     #[test]
     fn arbitrary_text_never_panics_the_parser(text in ".{0,200}") {
         if let Ok(f) = ShapeFile::from_json(&text) {
-            let _ = Body::from_file(&f);
+            let _ = Body::from_shape(&f);
         }
     }
 
@@ -210,7 +210,7 @@ proptest! {
     ) {
         let json = format!(r#"{{"kind":"sphere","coeffs":[{{"l":{l},"m":{m},"re":{re:?},"im":{im:?}}}]}}"#);
         if let Ok(f) = ShapeFile::from_json(&json) {
-            match Body::from_file(&f) {
+            match Body::from_shape(&f) {
                 Ok(_) => prop_assert!((2..=12).contains(&l) && m.unsigned_abs() <= l && re.abs() <= 1000.0 && im.abs() <= 1000.0),
                 Err(e) => prop_assert!(!e.to_string().is_empty()),
             }

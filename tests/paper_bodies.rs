@@ -162,7 +162,7 @@ fn bundled_paper_sphere_is_seed_219() {
     ))
     .expect("bundled");
     let file = rollphase::geometry::ShapeFile::from_json(&text).expect("shape file");
-    let Body::Sphere(bundled) = Body::from_file(&file).expect("valid") else {
+    let Body::Sphere(bundled) = Body::from_shape(&file).expect("valid") else {
         panic!("paper-sphere.json is a sphere")
     };
     let made = paper_sphere(219, 0.25, 5).expect("valid");

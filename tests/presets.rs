@@ -10,7 +10,7 @@ use rollphase::geometry::{Body, ShapeFile};
 use rollphase::integrate::Preset;
 
 fn body(text: &str) -> Body {
-    Body::from_file(&ShapeFile::from_json(text).unwrap()).unwrap()
+    Body::from_shape(&ShapeFile::from_json(text).unwrap()).unwrap()
 }
 
 #[test]

@@ -10,7 +10,7 @@ use rollphase::geometry::{Body, ShapeFile};
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else { return };
     let Ok(file) = ShapeFile::from_json(text) else { return };
-    let Ok(body) = Body::from_file(&file) else { return };
+    let Ok(body) = Body::from_shape(&file) else { return };
     let report = body.curvature();
     let angle = critical_angle(&body);
     // The numbers a user sees must not be NaN for a validated body.

@@ -178,7 +178,9 @@ fn initial_state(a: &SimulateArgs, body: &Body) -> Result<InitialState> {
                     if q.length() < 1e-12 {
                         bail!("--q0 {text} has zero length; give a rotation quaternion w,x,y,z");
                     }
-                    q.normalize()
+                    // Normalised once, where the run starts (simulate::Start), as for every
+                    // caller of the library.
+                    q
                 }
                 (None, Some(c)) => {
                     let v = super::parse_list(c, 2, "--contact", "θ,φ")?;

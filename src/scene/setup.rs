@@ -204,10 +204,10 @@ impl BodySpec {
                     path.display()
                 ))
             })?;
-            return Ok(Body::from_file(&file)?);
+            return Ok(Body::from_shape(&file)?);
         }
         if let Some(file) = &self.inline {
-            return Ok(Body::from_file(file)?);
+            return Ok(Body::from_shape(file)?);
         }
         if let Some(r) = &self.random {
             return match r.dimension {

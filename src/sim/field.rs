@@ -31,7 +31,7 @@ impl FieldCache {
     fn key(setup: &SceneSetup, ramp: &Ramp) -> FieldKey {
         let p = &setup.scene.poincare;
         (
-            setup.body.to_file().to_json(),
+            setup.body.to_shape().to_json(),
             ramp.alpha_rad.to_bits(),
             p.arrows,
             p.rtol.to_bits(),

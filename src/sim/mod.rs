@@ -18,7 +18,7 @@
 //!
 //! | file | owns |
 //! |---|---|
-//! | `simulation` | [`Simulation`], [`Snapshot`], health (the running model is [`crate::simulate::Model`]) |
+//! | `simulation` | [`Simulation`], [`Snapshot`], health (the running model is [`crate::simulate::ModelState`]) |
 //! | `controller` | [`Controller`], [`SimCommand`] |
 //! | `thread` | [`SimThread`], [`SimStatus`] |
 //! | `field` | [`FieldCache`]: Poincaré fields computed off the render thread |

@@ -11,7 +11,7 @@ use crate::geometry::{Body, Disk, Sphere};
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stepper};
 use crate::scene::{SceneSetup, Step, ViewsSpec};
-use crate::simulate::{Model, choose_model};
+use crate::simulate::{ModelState, choose_model};
 use glam::{DQuat, DVec3};
 use std::collections::VecDeque;
 use thiserror::Error;
@@ -150,7 +150,7 @@ pub struct Simulation {
     ramp: Ramp,
     method: Method,
     t: f64,
-    state: Model,
+    state: ModelState,
     trail: VecDeque<TrailSample>,
     trail_dt: f64,
     next_trail_t: f64,
@@ -187,7 +187,7 @@ struct Observed {
 impl Simulation {
     /// A simulation at the scene's start (t = 0; call [`Self::advance_to`] to skip ahead).
     pub fn new(setup: SceneSetup) -> Self {
-        let state = Model::new(&setup.start, &setup.ramp);
+        let state = ModelState::new(&setup.start, &setup.ramp);
         let playback = &setup.scene.playback;
         let trail_dt = (playback.trail_time / 3000.0).clamp(0.01, 1.0);
         let start_views = setup.scene.views.clone();
@@ -291,7 +291,7 @@ impl Simulation {
     }
 
     /// The integrated state.
-    pub fn state(&self) -> &Model {
+    pub fn state(&self) -> &ModelState {
         &self.state
     }
 
@@ -371,7 +371,7 @@ impl Simulation {
         // The body is borrowed from a copy of the state while `drive` updates `self`.
         let state = self.state.clone();
         self.state = match &state {
-            Model::DiskViscous { disk, y } => {
+            ModelState::DiskViscous { disk, y } => {
                 let m = DiskViscous::new(disk, &ramp);
                 let y = self.drive(
                     &m,
@@ -381,12 +381,12 @@ impl Simulation {
                     |_| None,
                     |y| observe_disk_viscous(&m, disk, y),
                 )?;
-                Model::DiskViscous {
+                ModelState::DiskViscous {
                     disk: disk.clone(),
                     y,
                 }
             }
-            Model::DiskInertial { disk, y } => {
+            ModelState::DiskInertial { disk, y } => {
                 let m = DiskInertial::new(disk, &ramp);
                 let y = self.drive(
                     &m,
@@ -396,12 +396,12 @@ impl Simulation {
                     |_| None,
                     |y| observe_disk_inertial(&m, disk, y),
                 )?;
-                Model::DiskInertial {
+                ModelState::DiskInertial {
                     disk: disk.clone(),
                     y,
                 }
             }
-            Model::SphereViscous { sphere, y } => {
+            ModelState::SphereViscous { sphere, y } => {
                 let m = SphereViscous::new(sphere, &ramp);
                 let y = self.drive(
                     &m,
@@ -411,12 +411,12 @@ impl Simulation {
                     |y| Some(DVec3::new(y[1], y[2], y[3]).normalize()),
                     |y| observe_sphere(sphere, &m.observe(y), None),
                 )?;
-                Model::SphereViscous {
+                ModelState::SphereViscous {
                     sphere: sphere.clone(),
                     y,
                 }
             }
-            Model::SphereInertial { sphere, y } => {
+            ModelState::SphereInertial { sphere, y } => {
                 let m = SphereInertial::new(sphere, &ramp);
                 let y = self.drive(
                     &m,
@@ -426,7 +426,7 @@ impl Simulation {
                     |y| Some(DVec3::new(y[1], y[2], y[3]).normalize()),
                     |y| observe_sphere(sphere, &m.observe(y), m.energy_balance(y)),
                 )?;
-                Model::SphereInertial {
+                ModelState::SphereInertial {
                     sphere: sphere.clone(),
                     y,
                 }
@@ -574,9 +574,9 @@ impl Simulation {
             angular_speed: o.angular_speed,
             theta_dot: o.theta_dot,
             theta: match &self.state {
-                Model::DiskViscous { y, .. } => Some(y[0]),
-                Model::DiskInertial { y, .. } => Some(y[0]),
-                Model::SphereViscous { .. } | Model::SphereInertial { .. } => None,
+                ModelState::DiskViscous { y, .. } => Some(y[0]),
+                ModelState::DiskInertial { y, .. } => Some(y[0]),
+                ModelState::SphereViscous { .. } | ModelState::SphereInertial { .. } => None,
             },
             health: self.health,
             stopped: self.stopped.clone(),
@@ -619,18 +619,18 @@ fn overlay_line(e: &IntegrateError) -> String {
     }
 }
 
-fn observe(state: &Model, ramp: &Ramp) -> Observed {
+fn observe(state: &ModelState, ramp: &Ramp) -> Observed {
     match state {
-        Model::DiskViscous { disk, y } => {
+        ModelState::DiskViscous { disk, y } => {
             observe_disk_viscous(&DiskViscous::new(disk, ramp), disk, y)
         }
-        Model::DiskInertial { disk, y } => {
+        ModelState::DiskInertial { disk, y } => {
             observe_disk_inertial(&DiskInertial::new(disk, ramp), disk, y)
         }
-        Model::SphereViscous { sphere, y } => {
+        ModelState::SphereViscous { sphere, y } => {
             observe_sphere(sphere, &SphereViscous::new(sphere, ramp).observe(y), None)
         }
-        Model::SphereInertial { sphere, y } => {
+        ModelState::SphereInertial { sphere, y } => {
             let m = SphereInertial::new(sphere, ramp);
             observe_sphere(sphere, &m.observe(y), m.energy_balance(y))
         }

@@ -138,7 +138,7 @@ impl AppUi {
     fn save_scene(&mut self, status: &SimStatus) {
         let mut scene = self.current_scene(status);
         scene.body = BodySpec {
-            inline: Some(status.setup.body.to_file()),
+            inline: Some(status.setup.body.to_shape()),
             ..BodySpec::default()
         };
         self.notice = Some(write_file(&self.scene_path, &scene.to_toml()));
@@ -146,7 +146,7 @@ impl AppUi {
 
     /// Writes the body's shape file to the path field's file.
     fn save_shape(&mut self, status: &SimStatus) {
-        let json = status.setup.body.to_file().to_json();
+        let json = status.setup.body.to_shape().to_json();
         self.notice = Some(write_file(&self.shape_path, &json));
     }
 
@@ -341,7 +341,7 @@ impl AppUi {
                 self.remember(&path);
                 let mut scene = self.current_scene(status);
                 scene.body = BodySpec {
-                    inline: Some(body.to_file()),
+                    inline: Some(body.to_shape()),
                     ..BodySpec::default()
                 };
                 // A contact point or angle names a place on the old body; start the new one afresh.

@@ -15,6 +15,12 @@
 //! thread count. The `rollphase` crate re-exports every module, so `rollphase::geometry::…`
 //! paths work as well as `rollphase_core::geometry::…`.
 
+#![warn(missing_docs)]
+
+/// glam, whose `DQuat` and `DVec3` the API speaks (orientations, contact points, ω), so a caller
+/// needs no glam dependency of their own.
+pub use glam;
+
 pub mod analysis;
 pub mod dynamics;
 pub mod geometry;

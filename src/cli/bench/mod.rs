@@ -130,7 +130,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
 
 pub(crate) fn bundled(text: &str) -> Result<Body> {
     let file = ShapeFile::from_json(text).context("bundled shape file")?;
-    Ok(Body::from_file(&file)?)
+    Ok(Body::from_shape(&file)?)
 }
 
 pub(crate) fn fmt_num(v: f64) -> String {

@@ -24,6 +24,21 @@ pub struct CriticalAngle {
     pub q_second_derivative: f64,
 }
 
+impl Body {
+    /// The critical angle α* = atan max|∇ ln r| (rad): above it no orientation can rest, so
+    /// every start rolls. [`critical_angle`] also gives where the maximum is.
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// assert!((body.alpha_star() - 0.1394).abs() < 1e-4);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
+    pub fn alpha_star(&self) -> f64 {
+        critical_angle(self).alpha_star
+    }
+}
+
 /// α* of a body.
 pub fn critical_angle(body: &Body) -> CriticalAngle {
     match body {

@@ -99,7 +99,7 @@ pub struct Disk {
 }
 
 impl Disk {
-    /// A disk from its modes (validated by [`crate::geometry::Body::from_file`]).
+    /// A disk from its modes (validated by [`crate::geometry::Body::from_shape`]).
     pub fn new(modes: Vec<DiskMode>) -> Self {
         Self { modes }
     }

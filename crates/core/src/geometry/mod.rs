@@ -21,7 +21,7 @@ use thiserror::Error;
 
 pub use disk::{Disk, DiskMode, RadiusJet};
 pub use paper_bodies::{paper_disk, paper_sphere};
-pub use shape_file::ShapeFile;
+pub use shape_file::{ShapeFile, ShapeLoadError};
 pub use sphere::{Sphere, SphereCoeff, SurfacePoint};
 
 /// Largest mode number accepted for a disk.
@@ -49,47 +49,159 @@ pub enum ShapeError {
         "{what} l = {l} is not allowed (needs {min} ≤ l ≤ {max}; l = 0 and 1 would change the mean radius or move the centre)"
     )]
     BadDegree {
+        /// "disk mode", "sphere coefficient", …
         what: &'static str,
+        /// The degree given.
         l: u32,
+        /// The lowest allowed.
         min: u32,
+        /// The highest allowed.
         max: u32,
     },
     /// An order out of range.
     #[error("sphere coefficient l = {l}, m = {m} is not allowed (needs −l ≤ m ≤ l)")]
-    BadOrder { l: u32, m: i32 },
+    BadOrder {
+        /// The degree.
+        l: u32,
+        /// The order given.
+        m: i32,
+    },
     /// The same mode given twice.
     #[error("{what} appears twice; give each mode once")]
-    Duplicate { what: String },
+    Duplicate {
+        /// Which mode.
+        what: String,
+    },
     /// A NaN, infinite or absurdly large number.
     #[error("{field} = {value} is not allowed (needs a finite number with |value| ≤ 1000)")]
-    NonFinite { field: String, value: f64 },
+    NonFinite {
+        /// Which number.
+        field: String,
+        /// Its value.
+        value: f64,
+    },
     /// r(u) ≤ 0 somewhere: the coefficients do not describe a star-shaped body.
     #[error(
         "shape is not star-shaped: r = {value:.6} at {place} (needs r > 0 everywhere; the amplitudes are far too large)"
     )]
-    NotStarShaped { value: f64, place: String },
+    NotStarShaped {
+        /// The radius found there.
+        value: f64,
+        /// Where.
+        place: String,
+    },
     /// The body is not strictly convex.
     #[error(
         "shape is not convex: {measure} {value:.6} at {place} (needs > 0); the contact model needs \
          a strictly convex body: lower the amplitudes (σ) or use fewer modes"
     )]
     NotConvex {
+        /// "curvature" (2D) or "Gaussian curvature" (3D).
         measure: &'static str,
+        /// Its value at the worst place.
         value: f64,
+        /// Where.
         place: String,
     },
     /// A generator parameter out of range.
     #[error("{name} = {value} is not allowed (needs {allowed})")]
     BadParameter {
+        /// Which parameter.
         name: &'static str,
+        /// Its value.
         value: f64,
+        /// What is allowed.
         allowed: &'static str,
     },
 }
 
+/// The typed constructors, as the paper names its bodies.
+impl Body {
+    /// The paper authors' 3D body for numpy seed `seed` (their public code, bit for bit), with
+    /// amplitudes A_lm ~ N(0, σ) for 2 ≤ l ≤ `modes`. The paper's own body is
+    /// `Body::paper_sphere(219, 0.25, 5)` (α* = 0.1394). A seed must fit numpy's 32 bits.
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// assert_eq!(body.dimension(), 3);
+    /// assert!(body.is_convex());
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
+    pub fn paper_sphere(seed: u64, sigma: f64, modes: u32) -> Result<Self, ShapeError> {
+        Ok(Body::Sphere(paper_sphere(numpy_seed(seed)?, sigma, modes)?))
+    }
+
+    /// The paper authors' 2D body (a cylinder's section) for numpy seed `seed`, with
+    /// a_l ~ N(0, σ) for 2 ≤ l ≤ `modes` (the paper: σ = 0.08, M = 10 viscous; 0.12, 5 inertial).
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// let disk = Body::paper_disk(84, 0.12, 5)?;
+    /// assert_eq!(disk.dimension(), 2);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
+    pub fn paper_disk(seed: u64, sigma: f64, modes: u32) -> Result<Self, ShapeError> {
+        Ok(Body::Disk(paper_disk(numpy_seed(seed)?, sigma, modes)?))
+    }
+
+    /// A random 3D body from rollphase's own generator (ChaCha, seeded): any u64 seed.
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// let body = Body::random_sphere(1, 0.25, 5)?;
+    /// assert_eq!(body.dimension(), 3);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
+    pub fn random_sphere(seed: u64, sigma: f64, modes: u32) -> Result<Self, ShapeError> {
+        Ok(Body::Sphere(random_sphere(seed, sigma, modes)?))
+    }
+
+    /// A random 2D body from rollphase's own generator: any u64 seed.
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// let disk = Body::random_disk(3, 0.08, 10)?;
+    /// assert_eq!(disk.dimension(), 2);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
+    pub fn random_disk(seed: u64, sigma: f64, modes: u32) -> Result<Self, ShapeError> {
+        Ok(Body::Disk(random_disk(seed, sigma, modes)?))
+    }
+
+    /// Reads, parses and validates a shape file (JSON; the schema is in [`ShapeFile`]). Files
+    /// over 1 MiB are refused after reading that much.
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/shapes/paper-sphere.json");
+    /// let body = Body::from_file(path.as_ref())?;
+    /// assert_eq!(body.dimension(), 3);
+    /// # Ok::<(), rollphase_core::geometry::ShapeLoadError>(())
+    /// ```
+    pub fn from_file(path: &std::path::Path) -> Result<Self, ShapeLoadError> {
+        ShapeFile::load(path)
+    }
+
+    /// Whether the body is strictly convex, as every model needs ([`Body::check_convex`] says
+    /// where it is not).
+    pub fn is_convex(&self) -> bool {
+        self.check_convex().is_ok()
+    }
+}
+
+/// numpy's seeds are 32-bit.
+fn numpy_seed(seed: u64) -> Result<u32, ShapeError> {
+    u32::try_from(seed).map_err(|_| ShapeError::BadParameter {
+        name: "paper seed",
+        value: seed as f64,
+        allowed: "0 ≤ seed ≤ 4294967295, numpy's 32-bit seeds",
+    })
+}
+
 impl Body {
     /// Builds a body from a parsed shape file, checking ranges and finiteness (not convexity).
-    pub fn from_file(file: &ShapeFile) -> Result<Self, ShapeError> {
+    pub fn from_shape(file: &ShapeFile) -> Result<Self, ShapeError> {
         match file {
             ShapeFile::Disk { modes } => {
                 let mut seen = std::collections::BTreeSet::new();
@@ -189,7 +301,7 @@ impl Body {
     }
 
     /// The shape file describing this body.
-    pub fn to_file(&self) -> ShapeFile {
+    pub fn to_shape(&self) -> ShapeFile {
         match self {
             Body::Disk(d) => ShapeFile::Disk {
                 modes: d.modes().to_vec(),

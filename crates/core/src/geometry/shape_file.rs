@@ -43,7 +43,7 @@ pub enum ShapeLoadError {
     },
 }
 
-/// A parsed shape file (not yet validated; see [`super::Body::from_file`]).
+/// A parsed shape file (not yet validated; see [`super::Body::from_shape`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 pub enum ShapeFile {
@@ -100,7 +100,7 @@ impl ShapeFile {
             path: path.to_owned(),
             reason,
         })?;
-        Body::from_file(&file).map_err(|reason| ShapeLoadError::Invalid {
+        Body::from_shape(&file).map_err(|reason| ShapeLoadError::Invalid {
             path: path.to_owned(),
             reason,
         })

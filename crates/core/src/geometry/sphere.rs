@@ -117,7 +117,7 @@ pub struct SupportFailure {
 }
 
 impl Sphere {
-    /// A body from validated coefficients (see [`crate::geometry::Body::from_file`]).
+    /// A body from validated coefficients (see [`crate::geometry::Body::from_shape`]).
     pub fn new(coeffs: Vec<SphereCoeff>) -> Self {
         let mut sum = ComplexPoly::default();
         for c in &coeffs {

@@ -50,12 +50,23 @@ pub trait OdeSystem<const N: usize> {
 #[serde(tag = "kind", rename_all = "lowercase")]
 pub enum Method {
     /// Classical fixed-step fourth-order Runge–Kutta, step `dt`.
-    Rk4 { dt: f64 },
+    Rk4 {
+        /// The step.
+        dt: f64,
+    },
     /// Adaptive 8(5,3) Dormand–Prince with relative tolerance `rtol` and absolute `atol`.
-    Dop853 { rtol: f64, atol: f64 },
+    Dop853 {
+        /// Relative tolerance.
+        rtol: f64,
+        /// Absolute tolerance.
+        atol: f64,
+    },
     /// Fixed-step commutator-free Lie-group RK4 (CF4): the quaternion moves by exponentials, so
     /// |q| = 1 holds to round-off without projection; other components get classical RK4.
-    Cf4 { dt: f64 },
+    Cf4 {
+        /// The step.
+        dt: f64,
+    },
 }
 
 impl Method {
@@ -144,13 +155,21 @@ pub enum IntegrateError {
         "integration failed at t = {t}: the state became non-finite (NaN or infinite); \
          the model left its domain (a non-convex body, or a step too large for a fixed-step method)"
     )]
-    NonFinite { t: f64 },
+    NonFinite {
+        /// When.
+        t: f64,
+    },
     /// The adaptive step fell below what floating point can resolve.
     #[error(
         "integration failed at t = {t}: the step size fell to {h:e}, below what double precision \
          resolves; the problem is stiff or singular here (try the viscous model for tiny m/m0)"
     )]
-    StepTooSmall { t: f64, h: f64 },
+    StepTooSmall {
+        /// When.
+        t: f64,
+        /// The step it fell to.
+        h: f64,
+    },
     /// A fixed step whose own error estimate (step doubling) is above the tolerance.
     #[error(
         "{method} with dt = {} is too coarse here: at t = {} the step's error estimate (step \
@@ -159,21 +178,35 @@ pub enum IntegrateError {
         readable(*dt), readable(*t), readable(*suggested)
     )]
     StepTooCoarse {
+        /// When.
         t: f64,
+        /// "rk4" or "cf4".
         method: &'static str,
+        /// The step.
         dt: f64,
+        /// The step-doubling error estimate.
         estimate: f64,
+        /// The tolerance it exceeded.
         tolerance: f64,
+        /// A step that would pass.
         suggested: f64,
     },
     /// More steps than the caller allowed.
     #[error("integration stopped at t = {t}: more than {max_steps} steps were needed")]
-    TooManySteps { t: f64, max_steps: u64 },
+    TooManySteps {
+        /// Where it stopped.
+        t: f64,
+        /// The budget.
+        max_steps: u64,
+    },
     /// An integrator parameter out of range.
     #[error("integrator parameter {name} = {} is not allowed (needs {allowed})", readable(*value))]
     BadParameter {
+        /// Which parameter.
         name: &'static str,
+        /// Its value.
         value: f64,
+        /// What is allowed.
         allowed: &'static str,
     },
 }

@@ -1,5 +1,7 @@
 //! One simulation run: a body, a ramp, an initial state and an integrator in; sampled rows and a
 //! summary of the numerical health out. The command line's `simulate` and the tests both use it.
+//! [`simulate()`] and [`simulate_streaming`] are the same run with typed input ([`Simulation`],
+//! [`Model`]) and output ([`Trajectory`], [`Sample`]).
 //!
 //! Health is measured at every accepted step, not only at the samples: |q| − 1, the
 //! contact-normal error (3D), and the energy balance E + W − E(0) (inertial models), where W is
@@ -24,7 +26,12 @@ use serde::Serialize;
 use thiserror::Error;
 
 mod model;
-pub use model::{Model, Start};
+mod typed;
+pub use model::{ModelState, Start};
+pub use typed::{
+    DiskSample, DiskTrajectory, Model, Sample, Simulation, SphereSample, SphereTrajectory,
+    Trajectory, simulate, simulate_streaming,
+};
 
 use crate::dynamics::disk2d::pose;
 use crate::dynamics::{
@@ -42,9 +49,19 @@ pub const SPHERE_HEADER: &str = "t,qw,qx,qy,qz,ux,uy,uz,wx,wy,wz,x,y,z";
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum InitialState {
     /// 2D: contact angle and its rate (the rate is ignored by the viscous model).
-    Disk { theta0: f64, theta_dot0: f64 },
+    Disk {
+        /// Contact angle θ₀.
+        theta0: f64,
+        /// θ̇₀.
+        theta_dot0: f64,
+    },
     /// 3D: orientation and lab angular velocity (ω ignored by the viscous model).
-    Sphere { q0: DQuat, omega0: DVec3 },
+    Sphere {
+        /// Orientation q₀ (body to lab; normalised when the run starts).
+        q0: DQuat,
+        /// Lab angular velocity ω₀.
+        omega0: DVec3,
+    },
 }
 
 /// Everything a run needs besides the body.
@@ -173,7 +190,12 @@ pub enum RunError {
     #[error(
         "the run produced a non-finite value at t = {t} in column {column}; nothing after it is trustworthy"
     )]
-    NonFiniteOutput { t: f64, column: &'static str },
+    NonFiniteOutput {
+        /// When.
+        t: f64,
+        /// Which column.
+        column: &'static str,
+    },
 }
 
 /// Which model a run uses, and why when it differs from what was asked.
@@ -292,10 +314,10 @@ pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<S
     };
     let times = integrate::uniform_times(0.0, spec.t_end, spec.samples);
     let start = Start::new(body, spec.initial)?;
-    let model = Model::new(&start, &spec.ramp);
+    let model = ModelState::new(&start, &spec.ramp);
     let summary = Summary::new(model.kind());
     let summary = match &model {
-        Model::DiskViscous { disk, y } => {
+        ModelState::DiskViscous { disk, y } => {
             let m = DiskViscous::new(disk, &spec.ramp);
             let emit = |t: f64, y: &[f64; 2]| {
                 let p = pose(disk, y[0], y[1]);
@@ -313,7 +335,7 @@ pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<S
                 &mut row,
             )?
         }
-        Model::DiskInertial { disk, y } => {
+        ModelState::DiskInertial { disk, y } => {
             let m = DiskInertial::new(disk, &spec.ramp);
             let emit = |t: f64, y: &[f64; 4]| {
                 let p = pose(disk, y[0], y[2]);
@@ -332,7 +354,7 @@ pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<S
                 &mut row,
             )?
         }
-        Model::SphereViscous { sphere, y } => {
+        ModelState::SphereViscous { sphere, y } => {
             let m = SphereViscous::new(sphere, &spec.ramp);
             let emit = |t: f64, y: &[f64; 6]| sphere_row(t, &m.observe(y));
             let health = |y: &[f64; 6]| {
@@ -351,7 +373,7 @@ pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<S
                 &mut row,
             )?
         }
-        Model::SphereInertial { sphere, y } => {
+        ModelState::SphereInertial { sphere, y } => {
             let m = SphereInertial::new(sphere, &spec.ramp);
             let emit = |t: f64, y: &[f64; 10]| sphere_row(t, &m.observe(y));
             let health = |y: &[f64; 10]| {

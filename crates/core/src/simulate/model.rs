@@ -1,4 +1,4 @@
-//! The body paired with its start ([`Start`]), and the running model ([`Model`]): one of the
+//! The body paired with its start ([`Start`]), and the running model ([`ModelState`]): one of the
 //! four models with its body and its integrated state. A disk always carries an angle and a
 //! sphere an orientation, so the code that steps them ([`super::run`] and the app's
 //! `sim::Simulation`) matches one enum, with no impossible combinations to fall back from.
@@ -82,7 +82,7 @@ impl Start {
 /// One of the four models with its body and integrated state: the state vector is the one the
 /// model's [`crate::integrate::OdeSystem`] integrates.
 #[derive(Debug, Clone)]
-pub enum Model {
+pub enum ModelState {
     /// 2D viscous: [θ, x_c].
     DiskViscous {
         /// The cross-section.
@@ -113,11 +113,11 @@ pub enum Model {
     },
 }
 
-impl Model {
+impl ModelState {
     /// The model `start` runs on `ramp` (viscous when m/m0 = 0), at its initial state.
     pub fn new(start: &Start, ramp: &Ramp) -> Self {
         match (start, ramp.is_viscous()) {
-            (Start::Disk { disk, theta0, .. }, true) => Model::DiskViscous {
+            (Start::Disk { disk, theta0, .. }, true) => ModelState::DiskViscous {
                 disk: disk.clone(),
                 y: [*theta0, 0.0],
             },
@@ -128,15 +128,15 @@ impl Model {
                     theta_dot0,
                 },
                 false,
-            ) => Model::DiskInertial {
+            ) => ModelState::DiskInertial {
                 disk: disk.clone(),
                 y: [*theta0, *theta_dot0, 0.0, 0.0],
             },
-            (Start::Sphere { sphere, q0, .. }, true) => Model::SphereViscous {
+            (Start::Sphere { sphere, q0, .. }, true) => ModelState::SphereViscous {
                 sphere: sphere.clone(),
                 y: SphereViscous::initial_state(*q0),
             },
-            (Start::Sphere { sphere, q0, omega0 }, false) => Model::SphereInertial {
+            (Start::Sphere { sphere, q0, omega0 }, false) => ModelState::SphereInertial {
                 sphere: sphere.clone(),
                 y: SphereInertial::initial_state(*q0, *omega0),
             },
@@ -146,10 +146,10 @@ impl Model {
     /// Which of the four this is.
     pub fn kind(&self) -> ModelKind {
         match self {
-            Model::DiskViscous { .. } => ModelKind::DiskViscous,
-            Model::DiskInertial { .. } => ModelKind::DiskInertial,
-            Model::SphereViscous { .. } => ModelKind::SphereViscous,
-            Model::SphereInertial { .. } => ModelKind::SphereInertial,
+            ModelState::DiskViscous { .. } => ModelKind::DiskViscous,
+            ModelState::DiskInertial { .. } => ModelKind::DiskInertial,
+            ModelState::SphereViscous { .. } => ModelKind::SphereViscous,
+            ModelState::SphereInertial { .. } => ModelKind::SphereInertial,
         }
     }
 
@@ -157,19 +157,19 @@ impl Model {
     /// velocity is kept; inertial → viscous drops it; viscous → inertial starts from rest.
     pub fn for_ramp(self, ramp: &Ramp) -> Self {
         match (self, ramp.is_viscous()) {
-            (Model::DiskViscous { disk, y }, false) => Model::DiskInertial {
+            (ModelState::DiskViscous { disk, y }, false) => ModelState::DiskInertial {
                 disk,
                 y: [y[0], 0.0, y[1], 0.0],
             },
-            (Model::DiskInertial { disk, y }, true) => Model::DiskViscous {
+            (ModelState::DiskInertial { disk, y }, true) => ModelState::DiskViscous {
                 disk,
                 y: [y[0], y[2]],
             },
-            (Model::SphereViscous { sphere, y }, false) => Model::SphereInertial {
+            (ModelState::SphereViscous { sphere, y }, false) => ModelState::SphereInertial {
                 sphere,
                 y: [y[0], y[1], y[2], y[3], 0.0, 0.0, 0.0, y[4], y[5], 0.0],
             },
-            (Model::SphereInertial { sphere, y }, true) => Model::SphereViscous {
+            (ModelState::SphereInertial { sphere, y }, true) => ModelState::SphereViscous {
                 sphere,
                 y: [y[0], y[1], y[2], y[3], y[7], y[8]],
             },
@@ -180,12 +180,11 @@ impl Model {
     /// The body, as a [`Body`].
     pub fn body(&self) -> Body {
         match self {
-            Model::DiskViscous { disk, .. } | Model::DiskInertial { disk, .. } => {
+            ModelState::DiskViscous { disk, .. } | ModelState::DiskInertial { disk, .. } => {
                 Body::Disk(disk.clone())
             }
-            Model::SphereViscous { sphere, .. } | Model::SphereInertial { sphere, .. } => {
-                Body::Sphere(sphere.clone())
-            }
+            ModelState::SphereViscous { sphere, .. }
+            | ModelState::SphereInertial { sphere, .. } => Body::Sphere(sphere.clone()),
         }
     }
 }
@@ -215,14 +214,17 @@ mod tests {
         .unwrap();
         let viscous = Ramp::new(0.3, 0.0).unwrap();
         let inertial = Ramp::new(0.3, 2.0).unwrap();
-        let m = Model::new(&start, &inertial);
+        let m = ModelState::new(&start, &inertial);
         assert_eq!(m.kind(), ModelKind::DiskInertial);
-        assert!(matches!(m, Model::DiskInertial { y, .. } if y == [0.5, 2.0, 0.0, 0.0]));
+        assert!(matches!(m, ModelState::DiskInertial { y, .. } if y == [0.5, 2.0, 0.0, 0.0]));
         // Inertial → viscous keeps θ and x_c, drops θ̇ and W; and back starts from rest.
-        let v = Model::new(&start, &inertial).for_ramp(&viscous);
-        assert!(matches!(v, Model::DiskViscous { y, .. } if y == [0.5, 0.0]));
+        let v = ModelState::new(&start, &inertial).for_ramp(&viscous);
+        assert!(matches!(v, ModelState::DiskViscous { y, .. } if y == [0.5, 0.0]));
         let back = v.for_ramp(&inertial);
-        assert!(matches!(back, Model::DiskInertial { y, .. } if y == [0.5, 0.0, 0.0, 0.0]));
-        assert_eq!(Model::new(&start, &viscous).kind(), ModelKind::DiskViscous);
+        assert!(matches!(back, ModelState::DiskInertial { y, .. } if y == [0.5, 0.0, 0.0, 0.0]));
+        assert_eq!(
+            ModelState::new(&start, &viscous).kind(),
+            ModelKind::DiskViscous
+        );
     }
 }

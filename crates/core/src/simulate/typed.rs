@@ -1,0 +1,405 @@
+//! The typed face of a run, in the paper's words: choose a [`Model`] (viscous, or inertial with
+//! its m/m0), describe the run with a [`Simulation`], and get back a [`Trajectory`] whose
+//! columns have names (t, q, contact, ω, centre of mass for a sphere; θ, θ̇, ψ, x, y for a disk)
+//! and the run's [`Summary`]; or hand each [`Sample`] to a closure as it is computed
+//! ([`simulate_streaming`]).
+//!
+//! It is a thin layer over [`super::run`], which the command line uses: the same body, start,
+//! model and integrator give the same numbers, to the last digit, as `rollphase simulate`.
+
+use glam::{DQuat, DVec3};
+
+use super::{InitialState, RunError, RunSpec, Summary, run};
+use crate::dynamics::Ramp;
+use crate::dynamics::sphere3d::orientation_touching;
+use crate::geometry::Body;
+use crate::geometry::sphere::direction;
+use crate::integrate::Method;
+
+/// Which of the paper's limits the body rolls in.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Model {
+    /// No inertia: θ̇ from the torque balance (2D), ω = −r×F/γ (3D).
+    Viscous,
+    /// With inertia: m/m0 > 0 (a finite, positive mass ratio).
+    Inertial {
+        /// m/m0.
+        mass_ratio: f64,
+    },
+}
+
+impl Model {
+    /// The command line's `--mass` convention: 0 is [`Model::Viscous`], anything else
+    /// [`Model::Inertial`] (checked when the run starts).
+    ///
+    /// ```
+    /// use rollphase_core::simulate::Model;
+    /// assert_eq!(Model::from_mass_ratio(0.0), Model::Viscous);
+    /// assert_eq!(Model::from_mass_ratio(6.0), Model::Inertial { mass_ratio: 6.0 });
+    /// ```
+    pub fn from_mass_ratio(mass_ratio: f64) -> Self {
+        if mass_ratio == 0.0 {
+            Model::Viscous
+        } else {
+            Model::Inertial { mass_ratio }
+        }
+    }
+
+    /// m/m0: 0 for [`Model::Viscous`].
+    pub fn mass_ratio(self) -> f64 {
+        match self {
+            Model::Viscous => 0.0,
+            Model::Inertial { mass_ratio } => mass_ratio,
+        }
+    }
+}
+
+impl InitialState {
+    /// The command line's default start, released from rest: a sphere with its south pole (the
+    /// body point in direction −z) touching the ramp, a disk at contact angle θ = 0.
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::InitialState;
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// assert!(matches!(InitialState::at_rest(&body), InitialState::Sphere { .. }));
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
+    pub fn at_rest(body: &Body) -> Self {
+        match body {
+            Body::Disk(_) => InitialState::Disk {
+                theta0: 0.0,
+                theta_dot0: 0.0,
+            },
+            Body::Sphere(_) => InitialState::touching(body, std::f64::consts::PI, 0.0, 0.0)
+                .unwrap_or(InitialState::Sphere {
+                    q0: DQuat::IDENTITY,
+                    omega0: DVec3::ZERO,
+                }),
+        }
+    }
+
+    /// A sphere released from rest with its body point at polar angle `theta`, azimuth `phi`
+    /// touching the ramp (the shortest rotation that puts it there), then turned by `spin`
+    /// radians about the ramp's normal: the command line's `--contact θ,φ --spin s`. `None`
+    /// for a disk, or for angles that are not finite.
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::InitialState;
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// assert!(InitialState::touching(&body, 1.0, 2.0, 0.5).is_some());
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
+    pub fn touching(body: &Body, theta: f64, phi: f64, spin: f64) -> Option<Self> {
+        let Body::Sphere(sphere) = body else {
+            return None;
+        };
+        if !(theta.is_finite() && phi.is_finite() && spin.is_finite()) {
+            return None;
+        }
+        let u = if theta == std::f64::consts::PI && phi == 0.0 {
+            DVec3::NEG_Z
+        } else {
+            direction(theta, phi)
+        };
+        Some(InitialState::Sphere {
+            q0: orientation_touching(sphere, u, spin),
+            omega0: DVec3::ZERO,
+        })
+    }
+}
+
+/// Everything a run needs besides the body. [`Simulation::new`] gives the command line's
+/// defaults; the builder methods change one thing each.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Simulation {
+    /// Ramp angle α (rad), 0 < α < π/2.
+    pub alpha: f64,
+    /// Viscous or inertial.
+    pub model: Model,
+    /// Rotational drag γ in units of γ0 (1 by default; 0 only for inertial runs).
+    pub drag: f64,
+    /// Where it starts; `None`: [`InitialState::at_rest`], the command line's default.
+    pub initial: Option<InitialState>,
+    /// The integrator (DOP853 at rtol 1e-10 by default).
+    pub method: Method,
+    /// The run goes from t = 0 to this.
+    pub t_end: f64,
+    /// Equally spaced samples from t = 0 to `t_end` inclusive (1001 by default).
+    pub samples: usize,
+    /// Step budget (10⁸ by default): the run stops with an error beyond it.
+    pub max_steps: u64,
+}
+
+impl Simulation {
+    /// A viscous run at α from rest to `t_end`, with the command line's defaults.
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{Model, Simulation, simulate};
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// let sim = Simulation::new(0.15, 100.0).model(Model::Inertial { mass_ratio: 6.0 });
+    /// let (trajectory, summary) = simulate(&body, &sim)?;
+    /// assert_eq!(trajectory.len(), 1001);
+    /// assert_eq!(summary.model.to_string(), "sphere-inertial");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn new(alpha: f64, t_end: f64) -> Self {
+        Simulation {
+            alpha,
+            model: Model::Viscous,
+            drag: 1.0,
+            initial: None,
+            method: Method::dop853(1e-10),
+            t_end,
+            samples: 1001,
+            max_steps: 100_000_000,
+        }
+    }
+
+    /// With this model.
+    pub fn model(self, model: Model) -> Self {
+        Simulation { model, ..self }
+    }
+
+    /// From this start.
+    pub fn initial(self, initial: InitialState) -> Self {
+        Simulation {
+            initial: Some(initial),
+            ..self
+        }
+    }
+
+    /// With this integrator.
+    pub fn method(self, method: Method) -> Self {
+        Simulation { method, ..self }
+    }
+
+    /// With this many samples.
+    pub fn samples(self, samples: usize) -> Self {
+        Simulation { samples, ..self }
+    }
+
+    /// With this drag γ/γ0.
+    pub fn drag(self, drag: f64) -> Self {
+        Simulation { drag, ..self }
+    }
+
+    /// The [`RunSpec`] this stands for, for `body`.
+    pub fn spec(&self, body: &Body) -> Result<RunSpec, RunError> {
+        if let Model::Inertial { mass_ratio } = self.model
+            && !(mass_ratio.is_finite() && mass_ratio > 0.0)
+        {
+            return Err(RunError::Mismatch(format!(
+                "Model::Inertial needs a finite m/m0 > 0, not {mass_ratio}; for no inertia use \
+                 Model::Viscous"
+            )));
+        }
+        Ok(RunSpec {
+            ramp: Ramp::with_drag(self.alpha, self.model.mass_ratio(), self.drag)?,
+            initial: self.initial.unwrap_or_else(|| InitialState::at_rest(body)),
+            method: self.method,
+            t_end: self.t_end,
+            samples: self.samples,
+            max_steps: self.max_steps,
+        })
+    }
+}
+
+/// One sample of a sphere's run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SphereSample {
+    /// Time.
+    pub t: f64,
+    /// Orientation, the body-to-lab unit quaternion (Hamilton).
+    pub q: DQuat,
+    /// The contact point as a body-frame unit vector.
+    pub contact: DVec3,
+    /// Lab angular velocity ω.
+    pub omega: DVec3,
+    /// Centre of mass in the ramp frame (x downhill, z the ramp's normal).
+    pub com: DVec3,
+}
+
+/// One sample of a disk's run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DiskSample {
+    /// Time.
+    pub t: f64,
+    /// Contact angle θ in the body.
+    pub theta: f64,
+    /// θ̇.
+    pub theta_dot: f64,
+    /// The body's rotation ψ.
+    pub psi: f64,
+    /// Centre of mass downhill along the ramp.
+    pub x: f64,
+    /// Height of the centre of mass above the ramp.
+    pub y: f64,
+}
+
+/// One sample, of either dimension.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Sample {
+    /// A disk's.
+    Disk(DiskSample),
+    /// A sphere's.
+    Sphere(SphereSample),
+}
+
+impl Sample {
+    /// From a row of [`super::run`] (columns as in [`super::DISK_HEADER`] or
+    /// [`super::SPHERE_HEADER`]).
+    fn from_row(row: &[f64]) -> Self {
+        if row.len() == 6 {
+            Sample::Disk(DiskSample {
+                t: row[0],
+                theta: row[1],
+                theta_dot: row[2],
+                psi: row[3],
+                x: row[4],
+                y: row[5],
+            })
+        } else {
+            Sample::Sphere(SphereSample {
+                t: row[0],
+                q: DQuat::from_xyzw(row[2], row[3], row[4], row[1]),
+                contact: DVec3::new(row[5], row[6], row[7]),
+                omega: DVec3::new(row[8], row[9], row[10]),
+                com: DVec3::new(row[11], row[12], row[13]),
+            })
+        }
+    }
+}
+
+/// A sphere's trajectory, column by column.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SphereTrajectory {
+    /// Times.
+    pub t: Vec<f64>,
+    /// Orientations.
+    pub q: Vec<DQuat>,
+    /// Contact points (body frame, unit).
+    pub contact: Vec<DVec3>,
+    /// Lab angular velocities.
+    pub omega: Vec<DVec3>,
+    /// Centres of mass.
+    pub com: Vec<DVec3>,
+}
+
+/// A disk's trajectory, column by column.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DiskTrajectory {
+    /// Times.
+    pub t: Vec<f64>,
+    /// Contact angles θ.
+    pub theta: Vec<f64>,
+    /// θ̇.
+    pub theta_dot: Vec<f64>,
+    /// Body rotations ψ.
+    pub psi: Vec<f64>,
+    /// Centre of mass downhill.
+    pub x: Vec<f64>,
+    /// Centre of mass height.
+    pub y: Vec<f64>,
+}
+
+/// A run's samples, with named columns.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Trajectory {
+    /// A disk's.
+    Disk(DiskTrajectory),
+    /// A sphere's.
+    Sphere(SphereTrajectory),
+}
+
+impl Trajectory {
+    /// The sample times.
+    pub fn t(&self) -> &[f64] {
+        match self {
+            Trajectory::Disk(d) => &d.t,
+            Trajectory::Sphere(s) => &s.t,
+        }
+    }
+
+    /// The number of samples.
+    pub fn len(&self) -> usize {
+        self.t().len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.t().is_empty()
+    }
+
+    fn push(&mut self, sample: Sample) {
+        match (self, sample) {
+            (Trajectory::Disk(d), Sample::Disk(s)) => {
+                d.t.push(s.t);
+                d.theta.push(s.theta);
+                d.theta_dot.push(s.theta_dot);
+                d.psi.push(s.psi);
+                d.x.push(s.x);
+                d.y.push(s.y);
+            }
+            (Trajectory::Sphere(d), Sample::Sphere(s)) => {
+                d.t.push(s.t);
+                d.q.push(s.q);
+                d.contact.push(s.contact);
+                d.omega.push(s.omega);
+                d.com.push(s.com);
+            }
+            // The body fixes the dimension of every sample of a run.
+            _ => unreachable!("a run's samples all have its body's dimension"),
+        }
+    }
+}
+
+/// Runs `sim` on `body` and returns its whole trajectory and summary.
+///
+/// ```
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::simulate::{Simulation, Trajectory, simulate};
+/// let body = Body::random_sphere(1, 0.25, 5)?;
+/// let sim = Simulation::new(1.5 * body.alpha_star(), 100.0).samples(101);
+/// let (trajectory, summary) = simulate(&body, &sim)?;
+/// let Trajectory::Sphere(path) = trajectory else { unreachable!() };
+/// assert!(path.com.last().unwrap().x > 5.0, "it rolled downhill");
+/// assert!(summary.max_contact_normal_error.unwrap() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn simulate(body: &Body, sim: &Simulation) -> Result<(Trajectory, Summary), RunError> {
+    let mut trajectory = match body {
+        Body::Disk(_) => Trajectory::Disk(DiskTrajectory::default()),
+        Body::Sphere(_) => Trajectory::Sphere(SphereTrajectory::default()),
+    };
+    let summary = simulate_streaming(body, sim, |s| trajectory.push(s))?;
+    Ok((trajectory, summary))
+}
+
+/// Runs `sim` on `body`, handing each sample to `sample` as it is computed (memory stays flat
+/// however many samples), and returns the summary.
+///
+/// ```
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::simulate::{Model, Sample, Simulation, simulate_streaming};
+/// let body = Body::paper_disk(84, 0.12, 5)?;
+/// let sim = Simulation::new(0.06, 500.0).model(Model::Inertial { mass_ratio: 10.0 });
+/// let mut furthest = 0.0f64;
+/// simulate_streaming(&body, &sim, |s| {
+///     if let Sample::Disk(d) = s {
+///         furthest = furthest.max(d.x);
+///     }
+/// })?;
+/// assert!(furthest > 1.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn simulate_streaming(
+    body: &Body,
+    sim: &Simulation,
+    mut sample: impl FnMut(Sample),
+) -> Result<Summary, RunError> {
+    let spec = sim.spec(body)?;
+    run(body, &spec, |row| sample(Sample::from_row(row)))
+}
