@@ -39,10 +39,6 @@ pub enum SimCommand {
     /// A lesson: go back to the start of the step before the current one (the run starts again
     /// and is simulated up to there; a lesson has no way back in time otherwise).
     PreviousStep,
-    /// Panics inside the simulation: fault injection for the tests of [`SimThread`]'s panic
-    /// path. The UI never sends it.
-    #[doc(hidden)]
-    InjectPanic,
 }
 
 /// The simulation's side of the app, free of threads and clocks so it can be tested as a state
@@ -175,7 +171,6 @@ impl Controller {
                 self.sim.set_views(&views);
                 Ok(())
             }
-            SimCommand::InjectPanic => panic!("fault injected by SimCommand::InjectPanic"),
         };
         self.message = result.err();
     }

@@ -269,7 +269,37 @@ impl SpeedWindow {
 
 #[cfg(test)]
 mod tests {
-    use super::SpeedWindow;
+    use super::{SimCommand, SimWorker, SpeedWindow};
+    use crate::scene::Scene;
+
+    /// The panic path of the thread, driven directly: what the worker does with a panic while
+    /// applying a command or ticking (`run` wraps every one in `guarded`). No fault-injecting
+    /// command is needed in the production enum.
+    #[test]
+    fn a_panic_in_the_simulation_is_a_message_and_a_pause_and_reset_recovers() {
+        let setup = Scene::preset("sphere-cruising")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let mut worker = SimWorker::new(setup);
+        worker.guarded("ticking", |c| c.tick(0.05, u64::MAX));
+        let t_before = worker.status().snapshot.t;
+        assert!(t_before > 0.0);
+        worker.guarded("applying a command", |_| panic!("a fault"));
+        let s = worker.status();
+        assert!(s.paused);
+        let m = s.message.unwrap();
+        assert!(
+            m.contains("panicked") && m.contains("a fault") && m.contains("Reset"),
+            "{m}"
+        );
+        worker.guarded("applying a command", |c| c.apply(SimCommand::Reset));
+        worker.guarded("applying a command", |c| c.apply(SimCommand::Play));
+        worker.guarded("ticking", |c| c.tick(0.05, u64::MAX));
+        let s = worker.status();
+        assert!(!s.paused && s.message.is_none(), "{:?}", s.message);
+        assert!(s.snapshot.t > 0.0);
+    }
 
     #[test]
     fn the_window_measures_the_last_second_of_fast_ticks() {
