@@ -23,8 +23,8 @@ use crate::png::{PngWriter, frame_name};
 use crate::render::gpu::OffscreenTarget;
 use crate::render::{GpuContext, Renderer};
 use crate::scene::SceneSetup;
-use crate::sim::FieldCache;
 use crate::sim::Simulation;
+use crate::sim::{FieldCache, FieldWanted};
 use crate::view::{SceneView, ViewOptions};
 
 /// Largest frame side accepted (wgpu's default 2D texture limit is 8192).
@@ -89,16 +89,20 @@ impl HeadlessRenderer {
         Ok(renderer)
     }
 
-    /// Computes the Poincaré field if it is shown and not yet computed for the current ramp.
+    /// Fetches the Poincaré field the simulation wants ([`FieldWanted`]), computing it here
+    /// (frames wait for it); drops it when none is wanted.
     fn update_field(&mut self) -> Result<()> {
-        let ramp = self.sim.ramp();
-        let shown = self.sim.setup().scene.views.poincare;
-        if shown && self.field.as_ref().is_none_or(|(r, _)| *r != ramp) {
-            let arrows = self
-                .fields
-                .get_blocking(self.sim.setup(), &ramp)
-                .map_err(|e| anyhow!("computing the Poincaré field failed: {e}"))?;
-            self.field = Some((ramp, arrows));
+        match self.sim.field_wanted() {
+            FieldWanted::Ramp(ramp) => {
+                if self.field.as_ref().is_none_or(|(r, _)| *r != ramp) {
+                    let arrows = self
+                        .fields
+                        .get_blocking(self.sim.setup(), &ramp)
+                        .map_err(|e| anyhow!("computing the Poincaré field failed: {e}"))?;
+                    self.field = Some((ramp, arrows));
+                }
+            }
+            FieldWanted::Off | FieldWanted::NeedsViscous => self.field = None,
         }
         Ok(())
     }

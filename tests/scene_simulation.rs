@@ -199,3 +199,31 @@ fn a_fixed_step_too_coarse_stops_the_run_with_a_red_overlay_line() {
     fine.advance_to(100.0).unwrap();
     assert_eq!(fine.snapshot().stopped, None);
 }
+
+/// Which Poincaré field is wanted is decided by the simulation, once, for the app and the
+/// headless frames: the field of the current viscous ramp when the view is on, none for a
+/// cylinder or with the view off, and "needs the viscous model" with inertia.
+#[test]
+fn the_simulation_says_which_poincare_field_is_wanted() {
+    use rollphase::dynamics::Ramp;
+    use rollphase::sim::FieldWanted;
+    let mut s = preset("poincare-field");
+    let ramp = s.ramp();
+    assert_eq!(s.snapshot().poincare_field, FieldWanted::Ramp(ramp));
+    // A new α makes the field drawn for the old one stale: the wanted ramp changes with it.
+    let steeper = Ramp::with_drag(ramp.alpha_rad + 0.01, 0.0, ramp.drag).unwrap();
+    s.set_parameters(steeper, s.method()).unwrap();
+    assert_eq!(s.snapshot().poincare_field, FieldWanted::Ramp(steeper));
+    let heavy = Ramp::with_drag(ramp.alpha_rad, 2.0, ramp.drag).unwrap();
+    s.set_parameters(heavy, s.method()).unwrap();
+    assert_eq!(s.snapshot().poincare_field, FieldWanted::NeedsViscous);
+    let mut views = s.snapshot().views;
+    views.poincare = false;
+    s.set_views(&views);
+    assert_eq!(s.snapshot().poincare_field, FieldWanted::Off);
+    let mut cylinder = preset("cylinder-near-critical");
+    let mut views = cylinder.snapshot().views;
+    views.poincare = true;
+    cylinder.set_views(&views);
+    assert_eq!(cylinder.snapshot().poincare_field, FieldWanted::Off);
+}

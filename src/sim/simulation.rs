@@ -122,6 +122,21 @@ pub struct Snapshot {
     pub caption: Option<String>,
     /// Where the lesson is; `None` for a scene without a timeline.
     pub lesson: Option<LessonProgress>,
+    /// Which Poincaré field the view should show now: decided here, once, for the app and the
+    /// headless frames alike (they only fetch and draw it).
+    pub poincare_field: FieldWanted,
+}
+
+/// What the Poincaré-field view needs at a moment of the run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FieldWanted {
+    /// The view is off (or the body is a cylinder: the map on ∂Ω is of 3D orientations).
+    Off,
+    /// The view is on but the model has inertia: the map on ∂Ω is of orientations alone, so
+    /// there is no field to draw (the UI says so).
+    NeedsViscous,
+    /// The field of this viscous ramp; a field drawn for another ramp is stale.
+    Ramp(Ramp),
 }
 
 /// How far a lesson has got.
@@ -587,6 +602,17 @@ impl Simulation {
                 steps: self.setup.timeline.len(),
                 next_at: self.next_step_time(),
             }),
+            poincare_field: self.field_wanted(),
+        }
+    }
+
+    /// See [`Snapshot::poincare_field`].
+    pub fn field_wanted(&self) -> FieldWanted {
+        let shown = self.setup.scene.views.poincare;
+        match (&self.setup.body, shown, self.ramp.is_viscous()) {
+            (Body::Sphere(_), true, true) => FieldWanted::Ramp(self.ramp),
+            (Body::Sphere(_), true, false) => FieldWanted::NeedsViscous,
+            _ => FieldWanted::Off,
         }
     }
 }

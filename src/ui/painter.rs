@@ -12,11 +12,10 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crate::analysis::sphere_orbits::FieldArrow;
-use crate::dynamics::Ramp;
 use crate::render::Renderer;
 use crate::scene::ViewsSpec;
-use crate::sim::FieldCache;
 use crate::sim::SimStatus;
+use crate::sim::{FieldCache, FieldWanted};
 use crate::view::{CurvatureScale, SceneView, ViewOptions};
 
 /// How long α must rest before the Poincaré field is recomputed for it.
@@ -83,16 +82,21 @@ impl Painter {
         (scale, note)
     }
 
+    /// Fetches the field the simulation wants ([`FieldWanted`], decided there), once α has
+    /// rested for [`FIELD_DEBOUNCE`]; returns a note for the status line.
     fn want_field(&mut self, status: &SimStatus) -> Option<String> {
-        let snap = &status.snapshot;
-        if snap.mass_ratio > 0.0 {
-            return Some(
-                "Poincaré field: needs the viscous model (the map on ∂Ω is of orientations \
-                 alone); switch inertia off"
-                    .into(),
-            );
-        }
-        let alpha = snap.alpha_rad;
+        let ramp = match status.snapshot.poincare_field {
+            FieldWanted::Off => return None,
+            FieldWanted::NeedsViscous => {
+                return Some(
+                    "Poincaré field: needs the viscous model (the map on ∂Ω is of orientations \
+                     alone); switch inertia off"
+                        .into(),
+                );
+            }
+            FieldWanted::Ramp(ramp) => ramp,
+        };
+        let alpha = ramp.alpha_rad;
         if self.field.as_ref().is_some_and(|f| f.0 == alpha) {
             return None;
         }
@@ -100,11 +104,7 @@ impl Painter {
         match self.field_wanted {
             Some((a, since)) if a == alpha => {
                 if now - since >= FIELD_DEBOUNCE {
-                    let ramp = Ramp::with_drag(alpha, 0.0, status.setup.ramp.drag);
-                    match ramp
-                        .map_err(|e| e.to_string())
-                        .and_then(|ramp| self.fields.request(&status.setup, &ramp))
-                    {
+                    match self.fields.request(&status.setup, &ramp) {
                         Ok(Some(field)) => {
                             self.field = Some((alpha, field));
                             self.field_error = None;
