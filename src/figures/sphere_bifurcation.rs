@@ -235,216 +235,228 @@ fn direct_run(
     })
 }
 
-/// The sign of a boundary point with p_z ≥ 0 (antipodes identified), for plotting.
-fn canonical(p: [f64; 3]) -> DVec3 {
-    let p = DVec3::from_array(p);
-    if p.z < 0.0 { -p } else { p }
+/// What the stages after the direct runs read: the body, the mass grid and the runs.
+struct Stage<'a> {
+    body: &'a Sphere,
+    alpha: f64,
+    alpha_star: f64,
+    masses: &'a [f64],
+    starts: usize,
+    runs: &'a [LateRun],
 }
 
-/// Runs the figure: computes it, then writes OUT/sphere-bifurcation/{data.csv, summary.json, figure.png}.
-pub fn run(opts: &FigureOptions) -> Result<Summary> {
-    let dir = opts.dir("sphere-bifurcation")?;
-    compute(opts)?.write_to(&dir, opts)
+/// The orbit diagram's rows and per-mass statistics, and where each orbit doubled.
+struct Diagram {
+    rows: Vec<Vec<f64>>,
+    mass_rows: Vec<MassRow>,
+    /// `doubled[orbit][m]`: a period-2 attractor near this orbit at grid mass m.
+    doubled: Vec<Vec<bool>>,
+    /// `amplitude[orbit][m]`: the median alternation |p_n − p_{n−1}| there (0 if none).
+    amplitude: Vec<Vec<f64>>,
 }
 
-/// Computes the figure's rows, headline numbers and chart; writes nothing.
-pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
-    let fig = opts.sphere("sphere-bifurcation")?;
-    let body = fig.body;
-    let alpha_star = sphere_alpha_star(&body);
-    let alpha = opts.single_alpha("sphere-bifurcation", PAPER_ALPHA)?;
-    let (n_mass, starts, t_min) = if opts.quick {
-        (25, 4, 1500.0)
-    } else {
-        (61, 8, 3000.0)
-    };
-    let t_cap = 10.0 * t_min;
-    let masses: Vec<f64> = (0..n_mass)
-        .map(|i| 12.0 * i as f64 / (n_mass - 1) as f64)
-        .collect();
+impl Stage<'_> {
+    fn run_at(&self, m: usize, o: usize) -> &LateRun {
+        &self.runs[m * self.starts + o]
+    }
 
-    // 1. Direct simulation.
-    let jobs: Vec<(usize, usize)> = (0..n_mass)
-        .flat_map(|m| (0..starts).map(move |o| (m, o)))
-        .collect();
-    let runs = opts.ensemble("sphere-bifurcation", jobs.len(), "runs", |j| {
-        let (m, o) = jobs[j];
-        let ramp = Ramp::new(alpha, masses[m])?;
-        direct_run(
-            &body,
-            &ramp,
-            random_orientation(&body, opts.seed, o),
-            (t_min, t_cap),
-        )
-    })?;
-    let undecided_runs = runs
-        .iter()
-        .filter(|r| r.k.is_none() && r.t_end >= t_cap)
-        .count();
-    let longest_run = runs.iter().map(|r| r.t_end).fold(0.0, f64::max);
-    let run_at = |m: usize, o: usize| &runs[m * starts + o];
+    fn solve_at(&self, mass: f64, guess: (DVec3, DVec3)) -> Option<PeriodicOrbit> {
+        let ramp = Ramp::new(self.alpha, mass).ok()?;
+        periodic_orbit(self.body, &ramp, guess.0, guess.1, &OrbitSolve::default()).ok()
+    }
 
-    // 2. Period-1 orbits at the lowest inertial mass, continued in m.
-    let first = 1;
-    let seeds: Vec<(DVec3, DVec3)> = {
-        let finals: Vec<DVec3> = (0..starts)
-            .filter_map(|o| {
-                let r = run_at(first, o);
-                let last = r.crossings.last()?;
-                (r.k == Some(1)).then(|| DVec3::from_array(last.point))
-            })
-            .collect();
-        cluster_antipodal(&finals, 1e-3)
-            .into_iter()
-            .filter_map(|(p, _)| {
-                (0..starts).find_map(|o| {
+    /// The period-1 orbits found at the lowest inertial mass, each continued up the mass grid
+    /// by Newton's method while it converges.
+    fn continue_orbits(&self) -> Result<Vec<OrbitBranch>> {
+        let (masses, starts, alpha, alpha_star) =
+            (self.masses, self.starts, self.alpha, self.alpha_star);
+        let run_at = |m: usize, o: usize| self.run_at(m, o);
+        let first = 1;
+        let seeds: Vec<(DVec3, DVec3)> = {
+            let finals: Vec<DVec3> = (0..starts)
+                .filter_map(|o| {
                     let r = run_at(first, o);
                     let last = r.crossings.last()?;
-                    let omega = *r.omegas.last()?;
-                    (r.k == Some(1) && boundary_distance(DVec3::from_array(last.point), p) < 1e-3)
-                        .then(|| (DVec3::from_array(last.point), omega))
+                    (r.k == Some(1)).then(|| DVec3::from_array(last.point))
                 })
-            })
-            .collect()
-    };
-    if seeds.is_empty() {
-        // Say why: below α* a start can come to rest (no crossings late in the run).
-        let rested = (0..starts)
-            .filter(|&o| run_at(first, o).crossings.is_empty())
-            .count();
-        let below = if alpha < alpha_star {
-            format!(", below this body's α* = {alpha_star:.4}, where some orientations halt")
-        } else {
-            String::new()
+                .collect();
+            cluster_antipodal(&finals, 1e-3)
+                .into_iter()
+                .filter_map(|(p, _)| {
+                    (0..starts).find_map(|o| {
+                        let r = run_at(first, o);
+                        let last = r.crossings.last()?;
+                        let omega = *r.omegas.last()?;
+                        (r.k == Some(1)
+                            && boundary_distance(DVec3::from_array(last.point), p) < 1e-3)
+                            .then(|| (DVec3::from_array(last.point), omega))
+                    })
+                })
+                .collect()
         };
-        return Err(anyhow!(
-            "sphere-bifurcation: none of the {starts} runs at m/m0 = {} (α = {alpha}{below}) \
-             settled on a period-1 orbit ({rested} came to rest), so there is no orbit to continue \
-             in m/m0; give a larger --alpha",
-            masses[first]
-        ));
-    }
-    let solve = OrbitSolve::default();
-    let solve_at = |mass: f64, guess: (DVec3, DVec3)| -> Option<PeriodicOrbit> {
-        let ramp = Ramp::new(alpha, mass).ok()?;
-        periodic_orbit(&body, &ramp, guess.0, guess.1, &solve).ok()
-    };
-    let bar = progress(seeds.len(), "orbits");
-    let orbits: Vec<OrbitBranch> = par_map(seeds.len(), &bar, |j| {
-        let mut guess = seeds[j];
-        let mut solutions = Vec::new();
-        for &mass in &masses[first..] {
-            match solve_at(mass, guess) {
-                Some(o) => {
-                    guess = (DVec3::from_array(o.point), DVec3::from_array(o.omega));
-                    solutions.push(o);
-                }
-                None => break,
-            }
+        if seeds.is_empty() {
+            // Say why: below α* a start can come to rest (no crossings late in the run).
+            let rested = (0..starts)
+                .filter(|&o| run_at(first, o).crossings.is_empty())
+                .count();
+            let below = if alpha < alpha_star {
+                format!(", below this body's α* = {alpha_star:.4}, where some orientations halt")
+            } else {
+                String::new()
+            };
+            return Err(anyhow!(
+                "sphere-bifurcation: none of the {starts} runs at m/m0 = {} (α = {alpha}{below}) \
+                 settled on a period-1 orbit ({rested} came to rest), so there is no orbit to continue \
+                 in m/m0; give a larger --alpha",
+                masses[first]
+            ));
         }
-        OrbitBranch {
-            orbit: j,
-            solutions,
-        }
-    });
-
-    // Flips: where μ_min + 1 changes sign between grid masses, refined by bisection.
-    let flip_value = |o: &PeriodicOrbit| o.most_negative_real.map_or(1.0, |mu| mu + 1.0);
-    let mut brackets = Vec::new();
-    for b in &orbits {
-        for w in b.solutions.windows(2) {
-            let (f0, f1) = (flip_value(&w[0]), flip_value(&w[1]));
-            if f0.signum() != f1.signum() {
-                brackets.push((b.orbit, w[0].clone(), w[1].clone(), f0 > 0.0));
-            }
-        }
-    }
-    let bar = progress(brackets.len(), "flips");
-    let flips: Vec<Flip> = par_map(brackets.len(), &bar, |i| {
-        let (orbit, lo, hi, loses) = &brackets[i];
-        let guess_of = |o: &PeriodicOrbit| (DVec3::from_array(o.point), DVec3::from_array(o.omega));
-        let mid = 0.5 * (lo.mass_ratio + hi.mass_ratio);
-        let m_c = locate_flip(lo.mass_ratio, hi.mass_ratio, 1e-3, |m| {
-            let guess = if m <= mid { guess_of(lo) } else { guess_of(hi) };
-            solve_at(m, guess).map(|o| flip_value(&o))
-        })
-        .unwrap_or(mid);
-        Flip {
-            orbit: *orbit,
-            mass_ratio: m_c,
-            loses_stability: *loses,
-        }
-    });
-
-    // Which orbit a late crossing belongs to: the nearest solved fixed point at that mass.
-    let orbit_of = |m: usize, p: DVec3| -> Option<usize> {
-        orbits
-            .iter()
-            .filter_map(|b| {
-                let s = b.solutions.iter().find(|s| s.mass_ratio == masses[m])?;
-                Some((b.orbit, boundary_distance(DVec3::from_array(s.point), p)))
-            })
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .map(|x| x.0)
-    };
-
-    // The diagram's rows and the per-mass statistics.
-    let mut rows = Vec::new();
-    let mut mass_rows = Vec::new();
-    let mut doubled: Vec<Vec<bool>> = vec![vec![false; n_mass]; orbits.len()];
-    let mut amplitude: Vec<Vec<f64>> = vec![vec![0.0; n_mass]; orbits.len()];
-    for (m, &mass) in masses.iter().enumerate() {
-        let mut counts = [0usize; 5];
-        let mut amps: Vec<Vec<f64>> = vec![Vec::new(); orbits.len()];
-        for o in 0..starts {
-            let r = run_at(m, o);
-            let slot = r.k.map_or(4, |k| k.wrapping_sub(1));
-            *counts.get_mut(slot).ok_or_else(|| {
-                anyhow!("run {o} at m/m0 = {mass}: a cycle of {slot} + 1 crossings")
-            })? += 1;
-            let n = r.crossings.len();
-            if r.k == Some(2) && n >= 2 {
-                let (a, b) = (r.crossings[n - 1].point, r.crossings[n - 2].point);
-                if let Some(j) = orbit_of(m, DVec3::from_array(a)) {
-                    amps[j].push(boundary_distance(
-                        DVec3::from_array(a),
-                        DVec3::from_array(b),
-                    ));
-                    doubled[j][m] = true;
+        let solve_at = |mass: f64, guess: (DVec3, DVec3)| self.solve_at(mass, guess);
+        let bar = progress(seeds.len(), "orbits");
+        let orbits: Vec<OrbitBranch> = par_map(seeds.len(), &bar, |j| {
+            let mut guess = seeds[j];
+            let mut solutions = Vec::new();
+            for &mass in &masses[first..] {
+                match solve_at(mass, guess) {
+                    Some(o) => {
+                        guess = (DVec3::from_array(o.point), DVec3::from_array(o.omega));
+                        solutions.push(o);
+                    }
+                    None => break,
                 }
             }
-            for (i, c) in r.crossings.iter().enumerate().skip(n.saturating_sub(8)) {
-                let p = canonical(c.point);
-                let tau = if i > 0 {
-                    c.t - r.crossings[i - 1].t
-                } else {
-                    f64::NAN
-                };
-                rows.push(vec![
-                    mass,
-                    o as f64,
-                    c.t,
-                    p.z.clamp(-1.0, 1.0).acos(),
-                    p.y.atan2(p.x),
-                    tau,
-                    r.k.map_or(f64::NAN, |k| k as f64),
-                ]);
+            OrbitBranch {
+                orbit: j,
+                solutions,
             }
-        }
-        for (j, a) in amps.iter_mut().enumerate() {
-            a.sort_by(f64::total_cmp);
-            amplitude[j][m] = a.get(a.len() / 2).copied().unwrap_or(0.0);
-        }
-        mass_rows.push(MassRow {
-            mass_ratio: mass,
-            period_counts: counts,
-            alternation_amplitude: amplitude.iter().map(|a| a[m]).collect(),
         });
+        Ok(orbits)
     }
 
-    // Windows of period 2 per orbit, with the flips nearest their edges.
+    /// The flips: where μ_min + 1 changes sign between grid masses, refined by bisection.
+    fn flips(&self, orbits: &[OrbitBranch]) -> Vec<Flip> {
+        let flip_value = |o: &PeriodicOrbit| o.most_negative_real.map_or(1.0, |mu| mu + 1.0);
+        let mut brackets = Vec::new();
+        for b in orbits {
+            for w in b.solutions.windows(2) {
+                let (f0, f1) = (flip_value(&w[0]), flip_value(&w[1]));
+                if f0.signum() != f1.signum() {
+                    brackets.push((b.orbit, w[0].clone(), w[1].clone(), f0 > 0.0));
+                }
+            }
+        }
+        let bar = progress(brackets.len(), "flips");
+        let flips: Vec<Flip> = par_map(brackets.len(), &bar, |i| {
+            let (orbit, lo, hi, loses) = &brackets[i];
+            let guess_of =
+                |o: &PeriodicOrbit| (DVec3::from_array(o.point), DVec3::from_array(o.omega));
+            let mid = 0.5 * (lo.mass_ratio + hi.mass_ratio);
+            let m_c = locate_flip(lo.mass_ratio, hi.mass_ratio, 1e-3, |m| {
+                let guess = if m <= mid { guess_of(lo) } else { guess_of(hi) };
+                self.solve_at(m, guess).map(|o| flip_value(&o))
+            })
+            .unwrap_or(mid);
+            Flip {
+                orbit: *orbit,
+                mass_ratio: m_c,
+                loses_stability: *loses,
+            }
+        });
+        flips
+    }
+
+    /// The diagram's rows (the last 8 crossings of every run) and the per-mass statistics, with
+    /// each period-2 run assigned to the nearest solved orbit.
+    fn diagram(&self, orbits: &[OrbitBranch]) -> Result<Diagram> {
+        let (masses, starts) = (self.masses, self.starts);
+        let n_mass = masses.len();
+        let run_at = |m: usize, o: usize| self.run_at(m, o);
+        // Which orbit a late crossing belongs to: the nearest solved fixed point at that mass.
+        let orbit_of = |m: usize, p: DVec3| -> Option<usize> {
+            orbits
+                .iter()
+                .filter_map(|b| {
+                    let s = b.solutions.iter().find(|s| s.mass_ratio == masses[m])?;
+                    Some((b.orbit, boundary_distance(DVec3::from_array(s.point), p)))
+                })
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|x| x.0)
+        };
+
+        // The diagram's rows and the per-mass statistics.
+        let mut rows = Vec::new();
+        let mut mass_rows = Vec::new();
+        let mut doubled: Vec<Vec<bool>> = vec![vec![false; n_mass]; orbits.len()];
+        let mut amplitude: Vec<Vec<f64>> = vec![vec![0.0; n_mass]; orbits.len()];
+        for (m, &mass) in masses.iter().enumerate() {
+            let mut counts = [0usize; 5];
+            let mut amps: Vec<Vec<f64>> = vec![Vec::new(); orbits.len()];
+            for o in 0..starts {
+                let r = run_at(m, o);
+                let slot = r.k.map_or(4, |k| k.wrapping_sub(1));
+                *counts.get_mut(slot).ok_or_else(|| {
+                    anyhow!("run {o} at m/m0 = {mass}: a cycle of {slot} + 1 crossings")
+                })? += 1;
+                let n = r.crossings.len();
+                if r.k == Some(2) && n >= 2 {
+                    let (a, b) = (r.crossings[n - 1].point, r.crossings[n - 2].point);
+                    if let Some(j) = orbit_of(m, DVec3::from_array(a)) {
+                        amps[j].push(boundary_distance(
+                            DVec3::from_array(a),
+                            DVec3::from_array(b),
+                        ));
+                        doubled[j][m] = true;
+                    }
+                }
+                for (i, c) in r.crossings.iter().enumerate().skip(n.saturating_sub(8)) {
+                    let p = canonical(c.point);
+                    let tau = if i > 0 {
+                        c.t - r.crossings[i - 1].t
+                    } else {
+                        f64::NAN
+                    };
+                    rows.push(vec![
+                        mass,
+                        o as f64,
+                        c.t,
+                        p.z.clamp(-1.0, 1.0).acos(),
+                        p.y.atan2(p.x),
+                        tau,
+                        r.k.map_or(f64::NAN, |k| k as f64),
+                    ]);
+                }
+            }
+            for (j, a) in amps.iter_mut().enumerate() {
+                a.sort_by(f64::total_cmp);
+                amplitude[j][m] = a.get(a.len() / 2).copied().unwrap_or(0.0);
+            }
+            mass_rows.push(MassRow {
+                mass_ratio: mass,
+                period_counts: counts,
+                alternation_amplitude: amplitude.iter().map(|a| a[m]).collect(),
+            });
+        }
+        Ok(Diagram {
+            rows,
+            mass_rows,
+            doubled,
+            amplitude,
+        })
+    }
+}
+
+/// The windows of period 2 per orbit, with the flips nearest their edges and the onset fitted
+/// from the alternation amplitude.
+fn doubling_windows(
+    masses: &[f64],
+    orbits: &[OrbitBranch],
+    flips: &[Flip],
+    diagram: &Diagram,
+) -> Vec<DoublingWindow> {
+    let n_mass = masses.len();
+    let (doubled, amplitude) = (&diagram.doubled, &diagram.amplitude);
     let mut windows = Vec::new();
-    for b in &orbits {
+    for b in orbits {
         let mut m = 0;
         while m < n_mass {
             if !doubled[b.orbit][m] {
@@ -498,6 +510,71 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             });
         }
     }
+    windows
+}
+
+/// The sign of a boundary point with p_z ≥ 0 (antipodes identified), for plotting.
+fn canonical(p: [f64; 3]) -> DVec3 {
+    let p = DVec3::from_array(p);
+    if p.z < 0.0 { -p } else { p }
+}
+
+/// Runs the figure: computes it, then writes OUT/sphere-bifurcation/{data.csv, summary.json, figure.png}.
+pub fn run(opts: &FigureOptions) -> Result<Summary> {
+    let dir = opts.dir("sphere-bifurcation")?;
+    compute(opts)?.write_to(&dir, opts)
+}
+
+/// Computes the figure's rows, headline numbers and chart; writes nothing.
+pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
+    let fig = opts.sphere("sphere-bifurcation")?;
+    let body = fig.body;
+    let alpha_star = sphere_alpha_star(&body);
+    let alpha = opts.single_alpha("sphere-bifurcation", PAPER_ALPHA)?;
+    let (n_mass, starts, t_min) = if opts.quick {
+        (25, 4, 1500.0)
+    } else {
+        (61, 8, 3000.0)
+    };
+    let t_cap = 10.0 * t_min;
+    let masses: Vec<f64> = (0..n_mass)
+        .map(|i| 12.0 * i as f64 / (n_mass - 1) as f64)
+        .collect();
+
+    // 1. Direct simulation.
+    let jobs: Vec<(usize, usize)> = (0..n_mass)
+        .flat_map(|m| (0..starts).map(move |o| (m, o)))
+        .collect();
+    let runs = opts.ensemble("sphere-bifurcation", jobs.len(), "runs", |j| {
+        let (m, o) = jobs[j];
+        let ramp = Ramp::new(alpha, masses[m])?;
+        direct_run(
+            &body,
+            &ramp,
+            random_orientation(&body, opts.seed, o),
+            (t_min, t_cap),
+        )
+    })?;
+    let undecided_runs = runs
+        .iter()
+        .filter(|r| r.k.is_none() && r.t_end >= t_cap)
+        .count();
+    let longest_run = runs.iter().map(|r| r.t_end).fold(0.0, f64::max);
+    let stage = Stage {
+        body: &body,
+        alpha,
+        alpha_star,
+        masses: &masses,
+        starts,
+        runs: &runs,
+    };
+    // 2. Period-1 orbits at the lowest inertial mass, continued in m, and their flips.
+    let orbits = stage.continue_orbits()?;
+    let flips = stage.flips(&orbits);
+    // 3. The diagram, and the windows of period 2 cross-checked against the flips.
+    let diagram = stage.diagram(&orbits)?;
+    let windows = doubling_windows(&masses, &orbits, &flips, &diagram);
+    let (rows, mass_rows) = (diagram.rows, diagram.mass_rows);
 
     let csv_header = "mass_ratio,start,t,crossing_polar,crossing_azimuth,return_time,period";
     let summary = Summary {
