@@ -3,13 +3,10 @@
 //! steps it applies when its time reaches them (so the app and headless mode play a lesson alike).
 
 use crate::analysis::sphere_orbits::{Crossing, ball_point, late_cycle};
-use crate::dynamics::disk2d::pose;
-use crate::dynamics::{
-    DiskInertial, DiskViscous, ModelKind, Observe, Ramp, SphereInertial, SphereViscous,
-};
-use crate::geometry::{Body, Disk, Sphere};
+use crate::dynamics::{ModelKind, ModelVisitor, ModelVisitorMut, Observation, Ramp, RollingModel};
+use crate::geometry::Body;
 use crate::integrate::events::{Direction, crossings_in_last_step};
-use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stepper};
+use crate::integrate::{self, IntegrateError, Method, Stepper};
 use crate::scene::{SceneSetup, Step, ViewsSpec};
 use crate::simulate::{ModelState, choose_model};
 use glam::{DQuat, DVec3};
@@ -193,6 +190,7 @@ struct Observed {
     pose: BodyPose,
     ball: Option<DQuat>,
     angular_speed: f64,
+    theta: Option<f64>,
     theta_dot: Option<f64>,
     quat_err: f64,
     normal_err: f64,
@@ -384,84 +382,29 @@ impl Simulation {
         }
         let ramp = self.ramp;
         // The body is borrowed from a copy of the state while `drive` updates `self`.
-        let state = self.state.clone();
-        self.state = match &state {
-            ModelState::DiskViscous { disk, y } => {
-                let m = DiskViscous::new(disk, &ramp);
-                let y = self.drive(
-                    &m,
-                    *y,
-                    t_target,
-                    |y: &[f64; 2]| (y[0] / 2.0).sin(),
-                    |_| None,
-                    |y| observe_disk_viscous(&m, disk, y),
-                )?;
-                ModelState::DiskViscous {
-                    disk: disk.clone(),
-                    y,
-                }
-            }
-            ModelState::DiskInertial { disk, y } => {
-                let m = DiskInertial::new(disk, &ramp);
-                let y = self.drive(
-                    &m,
-                    *y,
-                    t_target,
-                    |y: &[f64; 4]| (y[0] / 2.0).sin(),
-                    |_| None,
-                    |y| observe_disk_inertial(&m, disk, y),
-                )?;
-                ModelState::DiskInertial {
-                    disk: disk.clone(),
-                    y,
-                }
-            }
-            ModelState::SphereViscous { sphere, y } => {
-                let m = SphereViscous::new(sphere, &ramp);
-                let y = self.drive(
-                    &m,
-                    *y,
-                    t_target,
-                    |y: &[f64; 6]| y[0],
-                    |y| Some(DVec3::new(y[1], y[2], y[3]).normalize()),
-                    |y| observe_sphere(sphere, &m.observe(y), None),
-                )?;
-                ModelState::SphereViscous {
-                    sphere: sphere.clone(),
-                    y,
-                }
-            }
-            ModelState::SphereInertial { sphere, y } => {
-                let m = SphereInertial::new(sphere, &ramp);
-                let y = self.drive(
-                    &m,
-                    *y,
-                    t_target,
-                    |y: &[f64; 10]| y[0],
-                    |y| Some(DVec3::new(y[1], y[2], y[3]).normalize()),
-                    |y| observe_sphere(sphere, &m.observe(y), m.energy_balance(y)),
-                )?;
-                ModelState::SphereInertial {
-                    sphere: sphere.clone(),
-                    y,
-                }
-            }
-        };
+        let mut state = self.state.clone();
+        state.visit_mut(
+            &ramp,
+            Integrate {
+                sim: self,
+                t_target,
+            },
+        )?;
+        self.state = state;
         Ok(())
     }
 
-    fn drive<const N: usize, S>(
+    /// Steps `model` from `y0` to `t_target`, recording crossings of its section, the trails
+    /// and the health as it goes; returns the new state.
+    fn drive<const N: usize, M: RollingModel<N>>(
         &mut self,
-        model: &S,
+        model: &M,
         y0: [f64; N],
         t_target: f64,
-        section: impl Fn(&[f64; N]) -> f64,
-        section_point: impl Fn(&[f64; N]) -> Option<DVec3>,
-        observe: impl Fn(&[f64; N]) -> Observed,
-    ) -> Result<[f64; N], SimError>
-    where
-        S: OdeSystem<N>,
-    {
+    ) -> Result<[f64; N], SimError> {
+        let section = |y: &[f64; N]| model.section(y);
+        let section_point = |y: &[f64; N]| model.section_point(y);
+        let observe = |y: &[f64; N]| Observed::from(model.observation(y));
         let fail = |t: f64, e: &IntegrateError| SimError::Integrate {
             t,
             message: e.to_string(),
@@ -588,11 +531,7 @@ impl Simulation {
             halted: o.angular_speed < 1e-6,
             angular_speed: o.angular_speed,
             theta_dot: o.theta_dot,
-            theta: match &self.state {
-                ModelState::DiskViscous { y, .. } => Some(y[0]),
-                ModelState::DiskInertial { y, .. } => Some(y[0]),
-                ModelState::SphereViscous { .. } | ModelState::SphereInertial { .. } => None,
-            },
+            theta: o.theta,
             health: self.health,
             stopped: self.stopped.clone(),
             views: self.setup.scene.views.clone(),
@@ -646,78 +585,55 @@ fn overlay_line(e: &IntegrateError) -> String {
 }
 
 fn observe(state: &ModelState, ramp: &Ramp) -> Observed {
-    match state {
-        ModelState::DiskViscous { disk, y } => {
-            observe_disk_viscous(&DiskViscous::new(disk, ramp), disk, y)
-        }
-        ModelState::DiskInertial { disk, y } => {
-            observe_disk_inertial(&DiskInertial::new(disk, ramp), disk, y)
-        }
-        ModelState::SphereViscous { sphere, y } => {
-            observe_sphere(sphere, &SphereViscous::new(sphere, ramp).observe(y), None)
-        }
-        ModelState::SphereInertial { sphere, y } => {
-            let m = SphereInertial::new(sphere, ramp);
-            observe_sphere(sphere, &m.observe(y), m.energy_balance(y))
-        }
+    state.visit(ramp, ObserveState)
+}
+
+/// Steps the run's model ([`ModelState::visit_mut`]) to a time.
+struct Integrate<'a> {
+    sim: &'a mut Simulation,
+    t_target: f64,
+}
+
+impl ModelVisitorMut for Integrate<'_> {
+    type Output = Result<(), SimError>;
+
+    fn visit<const N: usize, M: RollingModel<N>>(
+        self,
+        model: &M,
+        y: &mut [f64; N],
+    ) -> Self::Output {
+        *y = self.sim.drive(model, *y, self.t_target)?;
+        Ok(())
     }
 }
 
-fn observe_disk_viscous(m: &DiskViscous, d: &Disk, y: &[f64; 2]) -> Observed {
-    observe_disk(d, y[0], m.theta_dot(y[0]), y[1], None)
-}
+/// What the run's state looks like ([`ModelState::visit`]).
+struct ObserveState;
 
-fn observe_disk_inertial(m: &DiskInertial, d: &Disk, y: &[f64; 4]) -> Observed {
-    observe_disk(d, y[0], y[1], y[2], m.energy_balance(y))
-}
+impl ModelVisitor for ObserveState {
+    type Output = Observed;
 
-/// 2D: the cross-section lies in the ramp's (x, z) plane; ψ turns it about the y axis (the
-/// body point at angle θ sits at r(θ)(cos θ, 0, sin θ) in the body frame, as in
-/// [`crate::geometry::mesh::disk_mesh`]). Contact points are on the mid-plane y = 0; where a
-/// cylinder of some length is drawn is the view's business.
-fn observe_disk(d: &Disk, theta: f64, theta_dot: f64, x_c: f64, energy: Option<f64>) -> Observed {
-    let p = pose(d, theta, x_c);
-    let r = d.jet(theta).r;
-    // Lab 2D (x downhill, y up) maps to ramp 3D (x, z); a counter-clockwise turn ψ in that plane
-    // is a rotation by −ψ about +y.
-    let rotation = DQuat::from_rotation_y(-p.psi);
-    let in_body = DVec3::new(r * theta.cos(), 0.0, r * theta.sin());
-    Observed {
-        on_ramp: DVec3::new(x_c, 0.0, 0.0),
-        in_body,
-        pose: BodyPose {
-            rotation,
-            centre: DVec3::new(p.x, 0.0, p.y),
-        },
-        ball: None,
-        angular_speed: theta_dot.abs(),
-        theta_dot: Some(theta_dot),
-        quat_err: 0.0,
-        normal_err: 0.0,
-        energy,
+    fn visit<const N: usize, M: RollingModel<N>>(self, model: &M, y: &[f64; N]) -> Observed {
+        Observed::from(model.observation(y))
     }
 }
 
-fn observe_sphere(
-    s: &Sphere,
-    o: &crate::dynamics::sphere3d::SphereObservation,
-    energy: Option<f64>,
-) -> Observed {
-    let q = o.q.normalize();
-    let in_body = o.contact_dir * s.radius(o.contact_dir);
-    let on_ramp = o.centre + q * in_body;
-    Observed {
-        on_ramp: DVec3::new(on_ramp.x, on_ramp.y, 0.0),
-        in_body,
-        pose: BodyPose {
-            rotation: q,
-            centre: o.centre,
-        },
-        ball: Some(o.q),
-        angular_speed: o.omega.length(),
-        theta_dot: None,
-        quat_err: o.quat_norm_error,
-        normal_err: o.contact_normal_error,
-        energy,
+impl From<Observation> for Observed {
+    fn from(o: Observation) -> Self {
+        Observed {
+            on_ramp: o.contact_on_ramp,
+            in_body: o.contact_in_body,
+            pose: BodyPose {
+                rotation: o.rotation,
+                centre: o.centre,
+            },
+            ball: o.orientation,
+            angular_speed: o.angular_speed,
+            theta: o.theta,
+            theta_dot: o.theta_dot,
+            quat_err: o.health.quat_norm_error.unwrap_or(0.0),
+            normal_err: o.health.contact_normal_error.unwrap_or(0.0),
+            energy: o.health.energy,
+        }
     }
 }

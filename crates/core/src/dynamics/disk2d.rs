@@ -22,7 +22,9 @@
 
 use std::f64::consts::PI;
 
-use super::{Observe, Ramp};
+use glam::{DQuat, DVec3};
+
+use super::{ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel};
 use crate::geometry::{Disk, RadiusJet};
 use crate::integrate::OdeSystem;
 
@@ -159,5 +161,93 @@ pub fn pose(disk: &Disk, theta: f64, x_c: f64) -> DiskPose {
         psi: 1.5 * PI + j.normal_offset() - theta,
         x: x_c + j.centre_offset(),
         y: j.height(),
+    }
+}
+
+impl RollingModel<2> for DiskViscous<'_> {
+    const KIND: ModelKind = ModelKind::DiskViscous;
+    const COLUMNS: &'static str = "t,theta,theta_dot,psi,x,y";
+
+    fn row(&self, t: f64, y: &[f64; 2], out: &mut Vec<f64>) {
+        let p = pose(self.disk, y[0], y[1]);
+        out.clear();
+        out.extend([t, y[0], self.theta_dot(y[0]), p.psi, p.x, p.y]);
+    }
+
+    fn health(&self, _y: &[f64; 2]) -> ModelHealth {
+        ModelHealth::default()
+    }
+
+    fn observation(&self, y: &[f64; 2]) -> Observation {
+        disk_observation(self.disk, y[0], self.theta_dot(y[0]), y[1], None)
+    }
+
+    fn section(&self, y: &[f64; 2]) -> f64 {
+        (y[0] / 2.0).sin()
+    }
+
+    fn section_point(&self, _y: &[f64; 2]) -> Option<DVec3> {
+        None
+    }
+}
+
+impl RollingModel<4> for DiskInertial<'_> {
+    const KIND: ModelKind = ModelKind::DiskInertial;
+    const COLUMNS: &'static str = "t,theta,theta_dot,psi,x,y";
+
+    fn row(&self, t: f64, y: &[f64; 4], out: &mut Vec<f64>) {
+        let p = pose(self.disk, y[0], y[2]);
+        out.clear();
+        out.extend([t, y[0], y[1], p.psi, p.x, p.y]);
+    }
+
+    fn health(&self, y: &[f64; 4]) -> ModelHealth {
+        ModelHealth {
+            energy: self.energy_balance(y),
+            ..ModelHealth::default()
+        }
+    }
+
+    fn observation(&self, y: &[f64; 4]) -> Observation {
+        disk_observation(self.disk, y[0], y[1], y[2], self.energy_balance(y))
+    }
+
+    fn section(&self, y: &[f64; 4]) -> f64 {
+        (y[0] / 2.0).sin()
+    }
+
+    fn section_point(&self, _y: &[f64; 4]) -> Option<DVec3> {
+        None
+    }
+}
+
+/// 2D: the cross-section lies in the ramp's (x, z) plane; ψ turns it about the y axis (the
+/// body point at angle θ sits at r(θ)(cos θ, 0, sin θ) in the body frame, as in
+/// [`crate::geometry::mesh::disk_mesh`]). Contact points are on the mid-plane y = 0; where a
+/// cylinder of some length is drawn is the view's business.
+fn disk_observation(
+    d: &Disk,
+    theta: f64,
+    theta_dot: f64,
+    x_c: f64,
+    energy: Option<f64>,
+) -> Observation {
+    let p = pose(d, theta, x_c);
+    let r = d.jet(theta).r;
+    // Lab 2D (x downhill, y up) maps to ramp 3D (x, z); a counter-clockwise turn ψ in that plane
+    // is a rotation by −ψ about +y.
+    Observation {
+        rotation: DQuat::from_rotation_y(-p.psi),
+        centre: DVec3::new(p.x, 0.0, p.y),
+        contact_on_ramp: DVec3::new(x_c, 0.0, 0.0),
+        contact_in_body: DVec3::new(r * theta.cos(), 0.0, r * theta.sin()),
+        orientation: None,
+        angular_speed: theta_dot.abs(),
+        theta: Some(theta),
+        theta_dot: Some(theta_dot),
+        health: ModelHealth {
+            energy,
+            ..ModelHealth::default()
+        },
     }
 }

@@ -6,6 +6,7 @@
 //! m0 = γ²/(F⟨r⟩³). The drag γ can be set to 0 (conservative tests) for inertial models only.
 
 pub mod disk2d;
+pub mod model;
 pub mod sphere3d;
 
 use thiserror::Error;
@@ -13,6 +14,7 @@ use thiserror::Error;
 use crate::integrate::OdeSystem;
 
 pub use disk2d::{DiskInertial, DiskViscous};
+pub use model::{ModelHealth, ModelVisitor, ModelVisitorMut, Observation, RollingModel};
 pub use sphere3d::{SphereInertial, SphereViscous};
 
 /// Which of the four models runs: the body's dimension × viscous (m/m0 = 0) or inertial. Its

@@ -24,7 +24,7 @@ use std::cell::Cell;
 
 use glam::{DQuat, DVec3};
 
-use super::{Observe, Ramp};
+use super::{ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel};
 use crate::geometry::{Sphere, SurfacePoint};
 use crate::integrate::OdeSystem;
 use crate::integrate::lie::quat_at;
@@ -273,5 +273,108 @@ impl Observe<10> for SphereInertial<'_> {
                 - self.force.dot(centre)
                 + y[9],
         )
+    }
+}
+
+impl RollingModel<6> for SphereViscous<'_> {
+    const KIND: ModelKind = ModelKind::SphereViscous;
+    const COLUMNS: &'static str = "t,qw,qx,qy,qz,ux,uy,uz,wx,wy,wz,x,y,z";
+
+    fn row(&self, t: f64, y: &[f64; 6], out: &mut Vec<f64>) {
+        sphere_row(t, &self.observe(y), out);
+    }
+
+    fn health(&self, y: &[f64; 6]) -> ModelHealth {
+        let o = self.observe(y);
+        ModelHealth {
+            quat_norm_error: Some(o.quat_norm_error),
+            contact_normal_error: Some(o.contact_normal_error),
+            energy: None,
+        }
+    }
+
+    fn observation(&self, y: &[f64; 6]) -> Observation {
+        sphere_observation(self.tracker.body, &self.observe(y), None)
+    }
+
+    fn section(&self, y: &[f64; 6]) -> f64 {
+        y[0]
+    }
+
+    fn section_point(&self, y: &[f64; 6]) -> Option<DVec3> {
+        Some(DVec3::new(y[1], y[2], y[3]).normalize())
+    }
+}
+
+impl RollingModel<10> for SphereInertial<'_> {
+    const KIND: ModelKind = ModelKind::SphereInertial;
+    const COLUMNS: &'static str = "t,qw,qx,qy,qz,ux,uy,uz,wx,wy,wz,x,y,z";
+
+    fn row(&self, t: f64, y: &[f64; 10], out: &mut Vec<f64>) {
+        sphere_row(t, &self.observe(y), out);
+    }
+
+    fn health(&self, y: &[f64; 10]) -> ModelHealth {
+        let o = self.observe(y);
+        ModelHealth {
+            quat_norm_error: Some(o.quat_norm_error),
+            contact_normal_error: Some(o.contact_normal_error),
+            energy: self.energy_balance(y),
+        }
+    }
+
+    fn observation(&self, y: &[f64; 10]) -> Observation {
+        let o = self.observe(y);
+        sphere_observation(self.tracker.body, &o, self.energy_balance(y))
+    }
+
+    fn section(&self, y: &[f64; 10]) -> f64 {
+        y[0]
+    }
+
+    fn section_point(&self, y: &[f64; 10]) -> Option<DVec3> {
+        Some(DVec3::new(y[1], y[2], y[3]).normalize())
+    }
+}
+
+/// The sample row of a sphere: t, q, contact direction, ω, centre of mass.
+fn sphere_row(t: f64, o: &SphereObservation, out: &mut Vec<f64>) {
+    out.clear();
+    out.extend([
+        t,
+        o.q.w,
+        o.q.x,
+        o.q.y,
+        o.q.z,
+        o.contact_dir.x,
+        o.contact_dir.y,
+        o.contact_dir.z,
+        o.omega.x,
+        o.omega.y,
+        o.omega.z,
+        o.centre.x,
+        o.centre.y,
+        o.centre.z,
+    ]);
+}
+
+fn sphere_observation(s: &Sphere, o: &SphereObservation, energy: Option<f64>) -> Observation {
+    let q = o.q.normalize();
+    let in_body = o.contact_dir * s.radius(o.contact_dir);
+    let on_ramp = o.centre + q * in_body;
+    Observation {
+        rotation: q,
+        centre: o.centre,
+        contact_on_ramp: DVec3::new(on_ramp.x, on_ramp.y, 0.0),
+        contact_in_body: in_body,
+        orientation: Some(o.q),
+        angular_speed: o.omega.length(),
+        theta: None,
+        theta_dot: None,
+        health: ModelHealth {
+            quat_norm_error: Some(o.quat_norm_error),
+            contact_normal_error: Some(o.contact_normal_error),
+            energy,
+        },
     }
 }

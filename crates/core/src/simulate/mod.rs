@@ -33,12 +33,9 @@ pub use typed::{
     Trajectory, simulate, simulate_streaming,
 };
 
-use crate::dynamics::disk2d::pose;
-use crate::dynamics::{
-    DiskInertial, DiskViscous, ModelError, ModelKind, Observe, Ramp, SphereInertial, SphereViscous,
-};
+use crate::dynamics::{ModelError, ModelKind, ModelVisitor, Ramp, RollingModel};
 use crate::geometry::{Body, ShapeError};
-use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stats};
+use crate::integrate::{self, IntegrateError, Method, Stats};
 
 /// CSV header of a 2D trajectory.
 pub const DISK_HEADER: &str = "t,theta,theta_dot,psi,x,y";
@@ -315,169 +312,98 @@ pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<S
     let times = integrate::uniform_times(0.0, spec.t_end, spec.samples);
     let start = Start::new(body, spec.initial)?;
     let model = ModelState::new(&start, &spec.ramp);
-    let summary = Summary::new(model.kind());
-    let summary = match &model {
-        ModelState::DiskViscous { disk, y } => {
-            let m = DiskViscous::new(disk, &spec.ramp);
-            let emit = |t: f64, y: &[f64; 2]| {
-                let p = pose(disk, y[0], y[1]);
-                [t, y[0], m.theta_dot(y[0]), p.psi, p.x, p.y]
-            };
-            drive(
-                &m,
-                *y,
-                spec,
-                &times,
-                emit,
-                DISK_HEADER,
-                |_| (None, None, None),
-                summary,
-                &mut row,
-            )?
-        }
-        ModelState::DiskInertial { disk, y } => {
-            let m = DiskInertial::new(disk, &spec.ramp);
-            let emit = |t: f64, y: &[f64; 4]| {
-                let p = pose(disk, y[0], y[2]);
-                [t, y[0], y[1], p.psi, p.x, p.y]
-            };
-            let health = |y: &[f64; 4]| (None, None, m.energy_balance(y));
-            drive(
-                &m,
-                *y,
-                spec,
-                &times,
-                emit,
-                DISK_HEADER,
-                health,
-                summary,
-                &mut row,
-            )?
-        }
-        ModelState::SphereViscous { sphere, y } => {
-            let m = SphereViscous::new(sphere, &spec.ramp);
-            let emit = |t: f64, y: &[f64; 6]| sphere_row(t, &m.observe(y));
-            let health = |y: &[f64; 6]| {
-                let o = m.observe(y);
-                (Some(o.quat_norm_error), Some(o.contact_normal_error), None)
-            };
-            drive(
-                &m,
-                *y,
-                spec,
-                &times,
-                emit,
-                SPHERE_HEADER,
-                health,
-                summary,
-                &mut row,
-            )?
-        }
-        ModelState::SphereInertial { sphere, y } => {
-            let m = SphereInertial::new(sphere, &spec.ramp);
-            let emit = |t: f64, y: &[f64; 10]| sphere_row(t, &m.observe(y));
-            let health = |y: &[f64; 10]| {
-                let o = m.observe(y);
-                (
-                    Some(o.quat_norm_error),
-                    Some(o.contact_normal_error),
-                    m.energy_balance(y),
-                )
-            };
-            drive(
-                &m,
-                *y,
-                spec,
-                &times,
-                emit,
-                SPHERE_HEADER,
-                health,
-                summary,
-                &mut row,
-            )?
-        }
-    };
+    let summary = model.visit(
+        &spec.ramp,
+        Drive {
+            spec,
+            times: &times,
+            row: &mut row,
+        },
+    )?;
     Ok(Summary {
         model_note: choice.note,
         ..summary
     })
 }
 
-/// Integrates `model` from `y0` over `times`, writing a row per sample (`emit`, checked against
-/// `header`) and measuring health after every accepted step with
-/// `health(y) -> (quat_err, normal_err, energy)`.
-#[allow(clippy::too_many_arguments)]
-fn drive<S: OdeSystem<N>, const N: usize, const C: usize>(
-    model: &S,
-    y0: [f64; N],
-    spec: &RunSpec,
-    times: &[f64],
-    emit: impl Fn(f64, &[f64; N]) -> [f64; C],
-    header: &'static str,
-    health: impl Fn(&[f64; N]) -> (Option<f64>, Option<f64>, Option<f64>),
-    mut summary: Summary,
-    row: &mut impl FnMut(&[f64]),
-) -> Result<Summary, RunError> {
-    let mut stepper = integrate::stepper(model, 0.0, y0, spec.method)?;
-    let mut put = |t: f64, y: &[f64; N]| -> Result<(), RunError> {
-        let v = emit(t, y);
-        check_row(t, &v, header)?;
-        row(&v);
-        Ok(())
-    };
-    let (_, _, e0) = health(stepper.y());
-    let track = |y: &[f64; N], s: &mut Summary| {
-        let (qe, ne, e) = health(y);
-        let max_opt = |a: Option<f64>, b: Option<f64>| match (a, b) {
-            (Some(a), Some(b)) => Some(a.max(b)),
-            (a, None) => a,
-            (None, b) => b,
+/// One run of whichever model [`ModelState::visit`] hands it: integrates from its state over
+/// `times`, writing a row per sample (checked against the model's columns) and measuring the
+/// model's health after every accepted step.
+struct Drive<'a, F: FnMut(&[f64])> {
+    spec: &'a RunSpec,
+    times: &'a [f64],
+    row: &'a mut F,
+}
+
+impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
+    type Output = Result<Summary, RunError>;
+
+    fn visit<const N: usize, M: RollingModel<N>>(self, model: &M, y0: &[f64; N]) -> Self::Output {
+        let Drive { spec, times, row } = self;
+        let mut summary = Summary::new(M::KIND);
+        let mut stepper = integrate::stepper(model, 0.0, *y0, spec.method)?;
+        let mut values = Vec::with_capacity(16);
+        let mut put = |t: f64, y: &[f64; N]| -> Result<(), RunError> {
+            model.row(t, y, &mut values);
+            check_row(t, &values, M::COLUMNS)?;
+            row(&values);
+            Ok(())
         };
-        s.max_quat_norm_error = max_opt(s.max_quat_norm_error, qe);
-        s.max_contact_normal_error = max_opt(s.max_contact_normal_error, ne);
-        if let (Some(e), Some(e0)) = (e, e0) {
-            s.energy_drift = max_opt(s.energy_drift, Some((e - e0).abs()));
-        }
-    };
-    track(stepper.y(), &mut summary);
-    let mut next = 0;
-    while next < times.len() && times[next] <= stepper.t() {
-        let y = *stepper.y();
-        put(times[next], &y)?;
-        next += 1;
-    }
-    let t_end = *times.last().unwrap_or(&0.0);
-    let method = spec.method;
-    integrate::step_until(stepper.as_mut(), t_end, spec.max_steps, |st| {
-        let y = *st.y();
-        track(&y, &mut summary);
-        if let Method::Rk4 { dt } | Method::Cf4 { dt } = method {
-            let worst = summary
-                .max_quat_norm_error
-                .unwrap_or(0.0)
-                .max(summary.max_contact_normal_error.unwrap_or(0.0));
-            if worst > FIXED_STEP_HEALTH_LIMIT || !worst.is_finite() {
-                return Err(RunError::Unhealthy {
-                    dt,
-                    t: st.t(),
-                    quat_norm_error: summary.max_quat_norm_error,
-                    contact_normal_error: summary.max_contact_normal_error,
-                });
-            }
-        }
-        while next < times.len() && times[next] <= st.t() {
-            let ys = if times[next] == st.t() {
-                y
-            } else {
-                st.dense(times[next])
+        let e0 = model.health(stepper.y()).energy;
+        let track = |y: &[f64; N], s: &mut Summary| {
+            let h = model.health(y);
+            let max_opt = |a: Option<f64>, b: Option<f64>| match (a, b) {
+                (Some(a), Some(b)) => Some(a.max(b)),
+                (a, None) => a,
+                (None, b) => b,
             };
-            put(times[next], &ys)?;
+            s.max_quat_norm_error = max_opt(s.max_quat_norm_error, h.quat_norm_error);
+            s.max_contact_normal_error =
+                max_opt(s.max_contact_normal_error, h.contact_normal_error);
+            if let (Some(e), Some(e0)) = (h.energy, e0) {
+                s.energy_drift = max_opt(s.energy_drift, Some((e - e0).abs()));
+            }
+        };
+        track(stepper.y(), &mut summary);
+        let mut next = 0;
+        while next < times.len() && times[next] <= stepper.t() {
+            let y = *stepper.y();
+            put(times[next], &y)?;
             next += 1;
         }
-        Ok(())
-    })?;
-    summary.t_end = stepper.t();
-    Ok(finish(summary, stepper.stats(), method))
+        let t_end = *times.last().unwrap_or(&0.0);
+        let method = spec.method;
+        integrate::step_until(stepper.as_mut(), t_end, spec.max_steps, |st| {
+            let y = *st.y();
+            track(&y, &mut summary);
+            if let Method::Rk4 { dt } | Method::Cf4 { dt } = method {
+                let worst = summary
+                    .max_quat_norm_error
+                    .unwrap_or(0.0)
+                    .max(summary.max_contact_normal_error.unwrap_or(0.0));
+                if worst > FIXED_STEP_HEALTH_LIMIT || !worst.is_finite() {
+                    return Err(RunError::Unhealthy {
+                        dt,
+                        t: st.t(),
+                        quat_norm_error: summary.max_quat_norm_error,
+                        contact_normal_error: summary.max_contact_normal_error,
+                    });
+                }
+            }
+            while next < times.len() && times[next] <= st.t() {
+                let ys = if times[next] == st.t() {
+                    y
+                } else {
+                    st.dense(times[next])
+                };
+                put(times[next], &ys)?;
+                next += 1;
+            }
+            Ok(())
+        })?;
+        summary.t_end = stepper.t();
+        Ok(finish(summary, stepper.stats(), method))
+    }
 }
 
 fn finish(mut s: Summary, stats: Stats, method: Method) -> Summary {
@@ -494,23 +420,4 @@ fn check_row(t: f64, values: &[f64], header: &'static str) -> Result<(), RunErro
         return Err(RunError::NonFiniteOutput { t, column });
     }
     Ok(())
-}
-
-fn sphere_row(t: f64, o: &crate::dynamics::sphere3d::SphereObservation) -> [f64; 14] {
-    [
-        t,
-        o.q.w,
-        o.q.x,
-        o.q.y,
-        o.q.z,
-        o.contact_dir.x,
-        o.contact_dir.y,
-        o.contact_dir.z,
-        o.omega.x,
-        o.omega.y,
-        o.omega.z,
-        o.centre.x,
-        o.centre.y,
-        o.centre.z,
-    ]
 }

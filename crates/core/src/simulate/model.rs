@@ -6,7 +6,10 @@
 use glam::{DQuat, DVec3};
 
 use super::{InitialState, RunError};
-use crate::dynamics::{ModelKind, Ramp, SphereInertial, SphereViscous};
+use crate::dynamics::{
+    DiskInertial, DiskViscous, ModelKind, ModelVisitor, ModelVisitorMut, Ramp, SphereInertial,
+    SphereViscous,
+};
 use crate::geometry::{Body, Disk, Sphere};
 
 /// A body with the start of its run. Built (and checked) once from a body and an
@@ -143,6 +146,41 @@ impl ModelState {
         }
     }
 
+    /// The one place that names the four models: runs `visitor` with this state's model on
+    /// `ramp` and its state. Everything that steps or observes a run (`run`, the app's
+    /// simulation) goes through here, and asks the model
+    /// ([`crate::dynamics::RollingModel`]) for the rest.
+    pub fn visit<V: ModelVisitor>(&self, ramp: &Ramp, visitor: V) -> V::Output {
+        match self {
+            ModelState::DiskViscous { disk, y } => visitor.visit(&DiskViscous::new(disk, ramp), y),
+            ModelState::DiskInertial { disk, y } => {
+                visitor.visit(&DiskInertial::new(disk, ramp), y)
+            }
+            ModelState::SphereViscous { sphere, y } => {
+                visitor.visit(&SphereViscous::new(sphere, ramp), y)
+            }
+            ModelState::SphereInertial { sphere, y } => {
+                visitor.visit(&SphereInertial::new(sphere, ramp), y)
+            }
+        }
+    }
+
+    /// [`Self::visit`] that may change the state (stepping it).
+    pub fn visit_mut<V: ModelVisitorMut>(&mut self, ramp: &Ramp, visitor: V) -> V::Output {
+        match self {
+            ModelState::DiskViscous { disk, y } => visitor.visit(&DiskViscous::new(disk, ramp), y),
+            ModelState::DiskInertial { disk, y } => {
+                visitor.visit(&DiskInertial::new(disk, ramp), y)
+            }
+            ModelState::SphereViscous { sphere, y } => {
+                visitor.visit(&SphereViscous::new(sphere, ramp), y)
+            }
+            ModelState::SphereInertial { sphere, y } => {
+                visitor.visit(&SphereInertial::new(sphere, ramp), y)
+            }
+        }
+    }
+
     /// Which of the four this is.
     pub fn kind(&self) -> ModelKind {
         match self {
@@ -226,5 +264,70 @@ mod tests {
             ModelState::new(&start, &viscous).kind(),
             ModelKind::DiskViscous
         );
+    }
+
+    /// What `visit` hands over: the model's name, its columns and one sample row.
+    struct Describe;
+
+    impl ModelVisitor for Describe {
+        type Output = (ModelKind, &'static str, usize, bool);
+        fn visit<const N: usize, M: crate::dynamics::RollingModel<N>>(
+            self,
+            model: &M,
+            y: &[f64; N],
+        ) -> Self::Output {
+            let mut row = Vec::new();
+            model.row(0.0, y, &mut row);
+            let o = model.observation(y);
+            (
+                M::KIND,
+                M::COLUMNS,
+                row.len(),
+                model.section(y).is_finite() && o.centre.is_finite(),
+            )
+        }
+    }
+
+    #[test]
+    fn visit_hands_each_state_its_own_model_with_matching_columns() {
+        let disk = Body::Disk(Disk::perfect());
+        let sphere = Body::Sphere(Sphere::perfect());
+        let starts = [
+            Start::new(
+                &disk,
+                InitialState::Disk {
+                    theta0: 0.5,
+                    theta_dot0: 0.0,
+                },
+            )
+            .unwrap(),
+            Start::new(
+                &sphere,
+                InitialState::Sphere {
+                    q0: DQuat::IDENTITY,
+                    omega0: DVec3::ZERO,
+                },
+            )
+            .unwrap(),
+        ];
+        let mut seen = Vec::new();
+        for start in &starts {
+            for mass in [0.0, 2.0] {
+                let ramp = Ramp::new(0.3, mass).unwrap();
+                let state = ModelState::new(start, &ramp);
+                let (kind, columns, width, finite) = state.visit(&ramp, Describe);
+                assert_eq!(kind, state.kind());
+                assert_eq!(columns.split(',').count(), width, "{kind}");
+                let header = if matches!(start, Start::Disk { .. }) {
+                    super::super::DISK_HEADER
+                } else {
+                    super::super::SPHERE_HEADER
+                };
+                assert_eq!(columns, header);
+                assert!(finite);
+                seen.push(kind);
+            }
+        }
+        assert_eq!(seen, ModelKind::ALL.to_vec());
     }
 }

@@ -1,0 +1,87 @@
+//! The one model abstraction: what every rolling model offers the code above it
+//! ([`RollingModel`]: its name, its trajectory's columns, a sample row, the health it can
+//! measure, its Poincaré section, and what its state looks like as an [`Observation`]), and the
+//! visitor through which that code reaches the model of a run without naming the four
+//! ([`ModelVisitor`], dispatched once, in `simulate::ModelState::visit`).
+//!
+//! A fifth model implements [`RollingModel`] in its own file, gets a `ModelKind` and a
+//! `ModelState` variant (the one registration: the compiler then points at the one `match` in
+//! `ModelState`), its scene fields, and its tests; `simulate::run`, `sim::Simulation`, the CSV
+//! columns, the overlay and the health plot ask the model and need no change.
+
+use glam::{DQuat, DVec3};
+
+use super::{ModelKind, Observe};
+
+/// The numerical health a model can measure at a state; `None` where it does not apply (|q|
+/// for a cylinder, energy for a viscous model).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ModelHealth {
+    /// ||q| − 1| (3D).
+    pub quat_norm_error: Option<f64>,
+    /// |n_lab − (0, 0, −1)|, the contact normal's error (3D).
+    pub contact_normal_error: Option<f64>,
+    /// E + W, energy plus the work done by drag (inertial models).
+    pub energy: Option<f64>,
+}
+
+/// What a state looks like in the ramp frame (x downhill, z the ramp's normal), for drawing
+/// and the overlay.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Observation {
+    /// Body-to-ramp rotation, unit.
+    pub rotation: DQuat,
+    /// Centre of mass.
+    pub centre: DVec3,
+    /// The contact point on the ramp (z = 0).
+    pub contact_on_ramp: DVec3,
+    /// The contact point in the body frame (a cylinder's on its mid-plane).
+    pub contact_in_body: DVec3,
+    /// The orientation as integrated (3D; not renormalised), for the SO(3) ball.
+    pub orientation: Option<DQuat>,
+    /// |ω| (3D) or |θ̇| (2D).
+    pub angular_speed: f64,
+    /// The contact angle θ (2D).
+    pub theta: Option<f64>,
+    /// θ̇ (2D).
+    pub theta_dot: Option<f64>,
+    /// Its health.
+    pub health: ModelHealth,
+}
+
+/// A rolling model, as everything above the physics sees it. `N` is the size of its state.
+pub trait RollingModel<const N: usize>: Observe<N> {
+    /// Its one name.
+    const KIND: ModelKind;
+    /// Its trajectory's columns, t first (the CSV header).
+    const COLUMNS: &'static str;
+    /// One sample in [`Self::COLUMNS`] order, t first, written to `out` (cleared first).
+    fn row(&self, t: f64, y: &[f64; N], out: &mut Vec<f64>);
+    /// The health it can measure at `y`.
+    fn health(&self, y: &[f64; N]) -> ModelHealth;
+    /// What `y` looks like.
+    fn observation(&self, y: &[f64; N]) -> Observation;
+    /// Its Poincaré section, a function of the state that passes zero at each crossing: sin(θ/2)
+    /// for a cylinder (θ through a multiple of 2π), q_w for a sphere (∂Ω).
+    fn section(&self, y: &[f64; N]) -> f64;
+    /// Where a crossing of the section is: the boundary point of ∂Ω (3D); `None` in 2D.
+    fn section_point(&self, y: &[f64; N]) -> Option<DVec3>;
+}
+
+/// Code that works with any [`RollingModel`] and its state: `simulate::ModelState::visit`
+/// calls [`Self::visit`] with the run's model, so the caller never matches on the four.
+pub trait ModelVisitor {
+    /// What the visit returns.
+    type Output;
+    /// Works with `model` at state `y`.
+    fn visit<const N: usize, M: RollingModel<N>>(self, model: &M, y: &[f64; N]) -> Self::Output;
+}
+
+/// [`ModelVisitor`] that may change the state (stepping it).
+pub trait ModelVisitorMut {
+    /// What the visit returns.
+    type Output;
+    /// Works with `model`, updating `y`.
+    fn visit<const N: usize, M: RollingModel<N>>(self, model: &M, y: &mut [f64; N])
+    -> Self::Output;
+}
