@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use anyhow::{Result, bail};
 use clap::Args;
 
-use crate::figures::shard::{Ensemble, ShardSpec, ShardWritten};
-use crate::figures::{self, BodyChoice, FIGURES, FigureOptions};
+use crate::figures::shard::{Ensemble, ShardSpec};
+use crate::figures::{self, BodyChoice, FIGURES, FigureOptions, Ran};
 
 /// Regenerate one of the paper's figures: OUT/NAME/data.csv, figure.png and summary.json.
 ///
@@ -97,15 +97,12 @@ pub fn run(a: FigureArgs) -> Result<()> {
             SHARDED.join(", ")
         );
     }
-    let summary = match pool.install(|| (entry.run)(&opts)) {
-        Ok(s) => s,
-        Err(e) => match e.downcast_ref::<ShardWritten>() {
-            Some(w) => {
-                outln!("{name}: {w}; {}", w.next_step(&a.out.join(&name)))?;
-                return Ok(());
-            }
-            None => return Err(e),
-        },
+    let summary = match pool.install(|| (entry.run)(&opts))? {
+        Ran::Figure(s) => s,
+        Ran::Shard(w) => {
+            outln!("{name}: {w}; {}", w.next_step(&a.out.join(&name)))?;
+            return Ok(());
+        }
     };
     let headline = summary
         .as_object()

@@ -5,8 +5,9 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 
-use crate::figures::shard::{ShardSpec, ShardWritten};
+use crate::figures::shard::ShardSpec;
 use crate::figures::sweep;
+use crate::figures::sweep::SweepRan;
 
 /// Scan bodies × α × m/m0 × initial orientations × integrators in 3D, one CSV row per run:
 /// its fate (halts, periodic, undecided), period T, 1/T, period multiplicity, when it halted,
@@ -47,8 +48,8 @@ pub struct SweepArgs {
 /// Runs `sweep`.
 pub fn run(a: SweepArgs) -> Result<()> {
     let pool = super::figure::thread_pool(a.threads)?;
-    match pool.install(|| sweep::run(&a.spec, &a.out, a.shard)) {
-        Ok(s) => outln!(
+    match pool.install(|| sweep::run(&a.spec, &a.out, a.shard))? {
+        SweepRan::Whole(s) => outln!(
             "sweep: {} runs ({} halt, {} periodic, {} undecided; {} cruise){}; wrote {}",
             s.runs,
             s.halts,
@@ -62,9 +63,6 @@ pub fn run(a: SweepArgs) -> Result<()> {
             },
             a.out.join("sweep.csv").display()
         ),
-        Err(e) => match e.downcast_ref::<ShardWritten>() {
-            Some(w) => outln!("sweep: {w}; {}", w.next_step(&a.out)),
-            None => Err(e),
-        },
+        SweepRan::Shard(w) => outln!("sweep: {w}; {}", w.next_step(&a.out)),
     }
 }

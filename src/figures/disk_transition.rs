@@ -18,7 +18,7 @@ use anyhow::Result;
 use serde::Serialize;
 
 use super::shard::{Fields, Record};
-use super::{FigureData, FigureOptions};
+use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::fit::{logspace, power_law};
 use crate::analysis::{critical_angle, viscous_disk_period, viscous_disk_period_with};
 use crate::colormap::viridis;
@@ -104,11 +104,11 @@ fn t_star_analytic(d: &Disk, theta: f64, q2: f64) -> f64 {
 /// Runs the figure: computes it, then writes OUT/disk-transition/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("disk-transition")?;
-    compute(opts)?.write_to(&dir, opts)
+    super::written(compute(opts)?, &dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.
-pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
+pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
     opts.no_alpha("disk-transition", "α over [0.005, 0.4]")?;
     // With --shape the ensemble is that one disk.
     let n = if matches!(opts.body, super::BodyChoice::File(_)) {
@@ -121,65 +121,71 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let alphas: Vec<f64> = (1..=80).map(|i| 0.4 * i as f64 / 80.0).collect();
     // Each disk i uses the first convex seed at or after seed + 1000·i: independent of threads.
     type PerDisk = (DiskTransition, Vec<Vec<f64>>, Vec<Vec<f64>>);
-    let results = opts.ensemble("disk-transition", n, "disks", |i| -> Result<PerDisk> {
-        let (d, used) = opts.disk("disk-transition", opts.seed + 1000 * i as u64, 0.08, 10)?;
-        let ca = critical_angle(&Body::Disk(d.clone()));
-        let speed = |a: f64| -> Result<f64> {
-            Ok(viscous_disk_period_with(&d, &Ramp::new(a, 0.0)?, &ca).mean_angular_speed)
-        };
-        // The α grid plus points just above this disk's α*, where 2π/T rises as √δα.
-        let mut grid: Vec<f64> = alphas.clone();
-        grid.extend(
-            [1e-6, 1e-5, 1e-4, 4e-4, 1e-3, 2e-3, 4e-3]
+    let results = super::all_runs!(opts.ensemble(
+        "disk-transition",
+        n,
+        "disks",
+        |i| -> Result<PerDisk> {
+            let (d, used) = opts.disk("disk-transition", opts.seed + 1000 * i as u64, 0.08, 10)?;
+            let ca = critical_angle(&Body::Disk(d.clone()));
+            let speed = |a: f64| -> Result<f64> {
+                Ok(viscous_disk_period_with(&d, &Ramp::new(a, 0.0)?, &ca).mean_angular_speed)
+            };
+            // The α grid plus points just above this disk's α*, where 2π/T rises as √δα.
+            let mut grid: Vec<f64> = alphas.clone();
+            grid.extend(
+                [1e-6, 1e-5, 1e-4, 4e-4, 1e-3, 2e-3, 4e-3]
+                    .iter()
+                    .map(|d| ca.alpha_star + d),
+            );
+            grid.sort_by(f64::total_cmp);
+            let mut rows = Vec::new();
+            for &a in &grid {
+                rows.push(vec![i as f64, ca.alpha_star, a, speed(a)?]);
+            }
+            let period = |da: f64| -> Result<f64> {
+                Ok(
+                    viscous_disk_period_with(&d, &Ramp::new(ca.alpha_star + da, 0.0)?, &ca)
+                        .period
+                        .unwrap_or(f64::NAN),
+                )
+            };
+            let grid = logspace(1e-8, 1e-5, 7);
+            let periods: Vec<(f64, f64, f64)> = grid
                 .iter()
-                .map(|d| ca.alpha_star + d),
-        );
-        grid.sort_by(f64::total_cmp);
-        let mut rows = Vec::new();
-        for &a in &grid {
-            rows.push(vec![i as f64, ca.alpha_star, a, speed(a)?]);
+                .map(|&da| Ok((da, period(da)?, period(2.0 * da)?)))
+                .collect::<Result<_>>()?;
+            let naive: Vec<(f64, f64)> = periods
+                .iter()
+                .map(|&(da, t, _)| (da, std::f64::consts::TAU / t))
+                .collect();
+            let diffs: Vec<(f64, f64)> =
+                periods.iter().map(|&(da, t1, t2)| (da, t1 - t2)).collect();
+            let fit = power_law(&diffs).ok_or_else(|| anyhow::anyhow!("disk {i}: no fit"))?;
+            let naive_fit = power_law(&naive).ok_or_else(|| anyhow::anyhow!("disk {i}: no fit"))?;
+            // Curve for the log–log panel.
+            let near_curve: Vec<Vec<f64>> = logspace(1e-8, 1e-2, 25)
+                .into_iter()
+                .map(|da| Ok(vec![i as f64, da, speed(ca.alpha_star + da)?]))
+                .collect::<Result<_>>()?;
+            let t_meas = (period(1e-8)? - period(1e-6)?) / (1e4 - 1e3);
+            let t_an = t_star_analytic(&d, ca.theta, ca.q_second_derivative);
+            Ok((
+                DiskTransition {
+                    seed: used,
+                    alpha_star: ca.alpha_star,
+                    exponent: -fit.slope,
+                    exponent_stderr: fit.slope_stderr,
+                    exponent_naive: naive_fit.slope,
+                    t_star_measured: t_meas,
+                    t_star_analytic: t_an,
+                    t_star_si_printed: t_an / 2f64.sqrt(),
+                },
+                rows,
+                near_curve,
+            ))
         }
-        let period = |da: f64| -> Result<f64> {
-            Ok(
-                viscous_disk_period_with(&d, &Ramp::new(ca.alpha_star + da, 0.0)?, &ca)
-                    .period
-                    .unwrap_or(f64::NAN),
-            )
-        };
-        let grid = logspace(1e-8, 1e-5, 7);
-        let periods: Vec<(f64, f64, f64)> = grid
-            .iter()
-            .map(|&da| Ok((da, period(da)?, period(2.0 * da)?)))
-            .collect::<Result<_>>()?;
-        let naive: Vec<(f64, f64)> = periods
-            .iter()
-            .map(|&(da, t, _)| (da, std::f64::consts::TAU / t))
-            .collect();
-        let diffs: Vec<(f64, f64)> = periods.iter().map(|&(da, t1, t2)| (da, t1 - t2)).collect();
-        let fit = power_law(&diffs).ok_or_else(|| anyhow::anyhow!("disk {i}: no fit"))?;
-        let naive_fit = power_law(&naive).ok_or_else(|| anyhow::anyhow!("disk {i}: no fit"))?;
-        // Curve for the log–log panel.
-        let near_curve: Vec<Vec<f64>> = logspace(1e-8, 1e-2, 25)
-            .into_iter()
-            .map(|da| Ok(vec![i as f64, da, speed(ca.alpha_star + da)?]))
-            .collect::<Result<_>>()?;
-        let t_meas = (period(1e-8)? - period(1e-6)?) / (1e4 - 1e3);
-        let t_an = t_star_analytic(&d, ca.theta, ca.q_second_derivative);
-        Ok((
-            DiskTransition {
-                seed: used,
-                alpha_star: ca.alpha_star,
-                exponent: -fit.slope,
-                exponent_stderr: fit.slope_stderr,
-                exponent_naive: naive_fit.slope,
-                t_star_measured: t_meas,
-                t_star_analytic: t_an,
-                t_star_si_printed: t_an / 2f64.sqrt(),
-            },
-            rows,
-            near_curve,
-        ))
-    })?;
+    ));
     let mut per_disk = Vec::new();
     let mut rows = Vec::new();
     let mut near_rows = Vec::new();
@@ -325,12 +331,12 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             equal_aspect: false,
         },
     ];
-    Ok(FigureData {
+    Ok(Computed::Figure(FigureData {
         panels,
         columns: 2,
         size: (1500, 620),
         header: csv_header,
         rows,
         summary,
-    })
+    }))
 }

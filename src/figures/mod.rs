@@ -31,6 +31,7 @@ use crate::analysis::critical_angle;
 use crate::geometry::{Body, Disk, ShapeFile, Sphere, paper_sphere, random_disk, random_sphere};
 use crate::output::{self, Inputs, OutputSet};
 use crate::plot::{Panel, png_bytes};
+use shard::ShardWritten;
 
 /// The files every figure writes into OUT/NAME, committed together.
 pub const FIGURE_FILES: [&str; 3] = ["data.csv", "summary.json", "figure.png"];
@@ -207,26 +208,36 @@ pub fn decode_merged(name: &str, merged: shard::Merged) -> Result<usize> {
             ),
             _,
         >(&ensemble, name, n, "", place, never)?
+        .all()?
         .len(),
         "sphere-cruising" => {
-            run_ensemble::<sphere_cruising::Run, _>(&ensemble, name, n, "", place, never)?.len()
+            run_ensemble::<sphere_cruising::Run, _>(&ensemble, name, n, "", place, never)?
+                .all()?
+                .len()
         }
         "sphere-poincare" => {
             run_ensemble::<Option<(glam::DVec3, f64)>, _>(&ensemble, name, n, "", place, never)?
+                .all()?
                 .len()
         }
         "sphere-orbits" => run_ensemble::<crate::analysis::sphere_orbits::Fate, _>(
             &ensemble, name, n, "", place, never,
         )?
+        .all()?
         .len(),
         "sphere-doubling" => {
-            run_ensemble::<sphere_doubling::Run, _>(&ensemble, name, n, "", place, never)?.len()
+            run_ensemble::<sphere_doubling::Run, _>(&ensemble, name, n, "", place, never)?
+                .all()?
+                .len()
         }
         "sphere-bifurcation" => {
             run_ensemble::<sphere_bifurcation::LateRun, _>(&ensemble, name, n, "", place, never)?
+                .all()?
                 .len()
         }
-        "sweep" => run_ensemble::<sweep::RunResult, _>(&ensemble, name, n, "", place, never)?.len(),
+        "sweep" => run_ensemble::<sweep::RunResult, _>(&ensemble, name, n, "", place, never)?
+            .all()?
+            .len(),
         other => bail!("{other} has no shard records"),
     };
     Ok(decoded)
@@ -265,13 +276,69 @@ pub struct FigureEntry {
     pub name: &'static str,
     /// One line for `figure --list`.
     pub about: &'static str,
-    /// Computes and writes the figure; returns its summary.
-    pub run: fn(&FigureOptions) -> Result<serde_json::Value>,
+    /// Computes and writes the figure (its summary), or writes one shard of its ensemble.
+    pub run: fn(&FigureOptions) -> Result<Ran>,
 }
 
-fn summary_value<T: Serialize>(r: Result<T>) -> Result<serde_json::Value> {
-    Ok(serde_json::to_value(r?)?)
+/// A figure's computation: the figure's data, or, for a `--shard I/N` run, the shard file its
+/// ensemble wrote instead (a normal outcome: the figure stops there, with no plot).
+pub enum Computed<T> {
+    /// The figure's rows, summary and chart.
+    Figure(T),
+    /// One shard of its runs, written.
+    Shard(ShardWritten),
 }
+
+/// What running a figure did.
+pub enum Ran {
+    /// Wrote data.csv, summary.json and figure.png; the summary.
+    Figure(serde_json::Value),
+    /// Wrote one shard of its runs.
+    Shard(ShardWritten),
+}
+
+/// The figure `name` for [`FIGURES`]: checks its folder, computes, and writes the figure (or
+/// hands back the shard written).
+fn ran<S: Serialize>(
+    opts: &FigureOptions,
+    name: &str,
+    compute: impl FnOnce(&FigureOptions) -> Result<Computed<FigureData<S>>>,
+) -> Result<Ran> {
+    let dir = opts.dir(name)?;
+    Ok(match compute(opts)? {
+        Computed::Figure(data) => Ran::Figure(serde_json::to_value(data.write_to(&dir, opts)?)?),
+        Computed::Shard(w) => Ran::Shard(w),
+    })
+}
+
+/// A figure module's `run`: the whole figure, written, and its summary. A `--shard` run has
+/// no figure to give back; it goes through [`FIGURES`], which reports the shard.
+pub fn written<S: Serialize>(
+    computed: Computed<FigureData<S>>,
+    dir: &Path,
+    opts: &FigureOptions,
+) -> Result<S> {
+    match computed {
+        Computed::Figure(data) => data.write_to(dir, opts),
+        Computed::Shard(w) => bail!(
+            "{w}: this entry point writes a whole figure; run a shard through figures::FIGURES"
+        ),
+    }
+}
+
+/// The results of an ensemble, or, from a `--shard` run, a return from the figure's `compute`
+/// with the shard it wrote.
+macro_rules! all_runs {
+    ($ensemble:expr) => {
+        match $ensemble? {
+            $crate::figures::shard::Ensembled::All(results) => results,
+            $crate::figures::shard::Ensembled::Shard(written) => {
+                return Ok($crate::figures::Computed::Shard(written));
+            }
+        }
+    };
+}
+pub(crate) use all_runs;
 
 /// Every figure `rollphase figure` knows: the one list behind `--list`, the dispatch and the
 /// benchmarks.
@@ -279,57 +346,77 @@ pub const FIGURES: &[FigureEntry] = &[
     FigureEntry {
         name: "disk-transition",
         about: "Fig. 2d: 2π/T versus α for random disks; the √(α − α*) law and its prefactor",
-        run: |o| summary_value(disk_transition::run(o)),
+        run: |o| ran(o, "disk-transition", disk_transition::compute),
     },
     FigureEntry {
         name: "disk-hysteresis",
         about: "Fig. 2e: inertial disk (m/m0 = 10), α swept up and down: α*, α** and hysteresis",
-        run: |o| summary_value(disk_hysteresis::run(o)),
+        run: |o| {
+            ran(o, "disk-hysteresis", |o| {
+                disk_hysteresis::compute(o).map(Computed::Figure)
+            })
+        },
     },
     FigureEntry {
         name: "disk-lag-time",
         about: "Fig. 2f: lag time versus α − α* for m/m0 = 0.5, 2, 10; exponent −1/2",
-        run: |o| summary_value(disk_lag_time::run(o)),
+        run: |o| {
+            ran(o, "disk-lag-time", |o| {
+                disk_lag_time::compute(o).map(Computed::Figure)
+            })
+        },
     },
     FigureEntry {
         name: "disk-flow",
         about: "SI Fig. S2: the (θ, θ̇) flow at six α around α*, fixed points and a trajectory",
-        run: |o| summary_value(disk_flow::run(o)),
+        run: |o| {
+            ran(o, "disk-flow", |o| {
+                disk_flow::compute(o).map(Computed::Figure)
+            })
+        },
     },
     FigureEntry {
         name: "sphere-cruising",
         about: "Fig. 3b: fraction of orientations that cruise versus α/α*, 3D against 2D",
-        run: |o| summary_value(sphere_cruising::run(o)),
+        run: |o| ran(o, "sphere-cruising", sphere_cruising::compute),
     },
     FigureEntry {
         name: "sphere-orbits",
         about: "Fig. 3c: 1/T versus α for 6 orientations; all collapse onto two closed orbits",
-        run: |o| summary_value(sphere_orbits::run(o)),
+        run: |o| ran(o, "sphere-orbits", sphere_orbits::compute),
     },
     FigureEntry {
         name: "sphere-poincare",
         about: "Fig. 3d: the Poincaré map on ∂Ω of the SO(3) ball at α = 0.15; two attractor pairs",
-        run: |o| summary_value(sphere_poincare::run(o)),
+        run: |o| ran(o, "sphere-poincare", sphere_poincare::compute),
     },
     FigureEntry {
         name: "sphere-doubling",
         about: "Fig. 4e: contact paths at m/m0 = 0, 6, 10 (α = 0.15); period 1, 2, 1; other bodies",
-        run: |o| summary_value(sphere_doubling::run(o)),
+        run: |o| ran(o, "sphere-doubling", sphere_doubling::compute),
     },
     FigureEntry {
         name: "sphere-bifurcation",
         about: "beyond Fig. 4e: orbit diagram in m/m0, Floquet multipliers, the flip masses",
-        run: |o| summary_value(sphere_bifurcation::run(o)),
+        run: |o| ran(o, "sphere-bifurcation", sphere_bifurcation::compute),
     },
     FigureEntry {
         name: "sphere-halting",
         about: "SI §2D–E: the halting loops Q = tan α and their stability, checked by simulation",
-        run: |o| summary_value(sphere_halting::run(o)),
+        run: |o| {
+            ran(o, "sphere-halting", |o| {
+                sphere_halting::compute(o).map(Computed::Figure)
+            })
+        },
     },
     FigureEntry {
         name: "sphere-tube",
         about: "SI Fig. S3: perfect-sphere orbits through one contact point (closed form)",
-        run: |o| summary_value(sphere_tube::run(o)),
+        run: |o| {
+            ran(o, "sphere-tube", |o| {
+                sphere_tube::compute(o).map(Computed::Figure)
+            })
+        },
     },
 ];
 

@@ -6,8 +6,8 @@
 //! on [`Ensemble`]:
 //! - `Whole`: all jobs in parallel, results in index order (an ordinary run);
 //! - `Shard`: only the jobs of shard I of N (a contiguous index range), written to
-//!   `OUT/NAME/shard-I-of-N.json`; the figure then stops with [`ShardWritten`], before any
-//!   reduction or plot;
+//!   `OUT/NAME/shard-I-of-N.json`; the call returns [`Ensembled::Shard`] and the figure stops
+//!   there, before any reduction or plot;
 //! - `Merge`: the jobs' results are read back from the shard files instead of computed, and
 //!   the figure continues exactly as an unsharded run would.
 //!
@@ -21,8 +21,9 @@
 //! computes from the merged runs (e.g. `sphere-bifurcation`'s orbit continuation) runs in
 //! `merge`. Each figure's module doc says which.
 //!
-//! Stopping a sharded figure by an error keeps every figure's `compute` one straight function:
-//! the `?` after the ensemble returns to the caller, which recognises [`ShardWritten`].
+//! A shard run is a normal outcome, not an error: `compute` takes its ensemble's results
+//! through `all_runs!`, which returns [`Ensembled::Shard`] as `Computed::Shard` from the
+//! figure, and the command line reports the shard written and what to do next.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -99,7 +100,7 @@ pub enum Ensemble {
     Merge(Arc<Merged>),
 }
 
-/// What a sharded run wrote: returned as the error that stops the figure after its share.
+/// What a sharded run wrote: the outcome of a `--shard I/N` run ([`Ensembled::Shard`]).
 #[derive(Debug, Clone)]
 pub struct ShardWritten {
     /// The shard.
@@ -125,7 +126,26 @@ impl std::fmt::Display for ShardWritten {
     }
 }
 
-impl std::error::Error for ShardWritten {}
+/// What an ensemble gave.
+#[derive(Debug)]
+pub enum Ensembled<T> {
+    /// Every job's result, in index order: a whole run, or read back from merged shards.
+    All(Vec<T>),
+    /// A `--shard I/N` run: only this shard's jobs ran, and their results are in the file
+    /// written; the figure stops here (no plot) and says what to do next.
+    Shard(ShardWritten),
+}
+
+impl<T> Ensembled<T> {
+    /// The results of a whole or merged run. A shard's results are in its file, not here:
+    /// asking for them is a caller's mistake, reported as an error.
+    pub fn all(self) -> Result<Vec<T>> {
+        match self {
+            Ensembled::All(v) => Ok(v),
+            Ensembled::Shard(w) => bail!("internal error: {w}, where all the results were needed"),
+        }
+    }
+}
 
 impl ShardWritten {
     /// What to do next, for the user: the merge command for `dir`.
@@ -629,9 +649,9 @@ impl FigureOptions {
     }
 
     /// The figure's ensemble: `f(k)` for every job k in 0..n, in index order, computed here,
-    /// for one shard only (then stopping with [`ShardWritten`]), or read back from the shards
-    /// (see the module doc). `what` labels the progress bar and the shard files.
-    pub fn ensemble<T, F>(&self, figure: &str, n: usize, what: &str, f: F) -> Result<Vec<T>>
+    /// for one shard only ([`Ensembled::Shard`]: the figure stops there), or read back from
+    /// the shards (see the module doc). `what` labels the progress bar and the shard files.
+    pub fn ensemble<T, F>(&self, figure: &str, n: usize, what: &str, f: F) -> Result<Ensembled<T>>
     where
         T: Record + Send,
         F: Fn(usize) -> Result<T> + Sync + Send,
@@ -657,7 +677,7 @@ pub fn run_ensemble<T, F>(
     what: &str,
     place: impl FnOnce() -> Result<(PathBuf, JobId, Inputs)>,
     f: F,
-) -> Result<Vec<T>>
+) -> Result<Ensembled<T>>
 where
     T: Record + Send,
     F: Fn(usize) -> Result<T> + Sync + Send,
@@ -665,7 +685,9 @@ where
     match ensemble {
         Ensemble::Whole => {
             let bar = progress(n, what);
-            par_map(n, &bar, f).into_iter().collect()
+            Ok(Ensembled::All(
+                par_map(n, &bar, f).into_iter().collect::<Result<_>>()?,
+            ))
         }
         Ensemble::Shard(spec) => {
             let range = spec.range(n);
@@ -680,13 +702,12 @@ where
             }
             let (dir, job, inputs) = place()?;
             let path = write_shard(&dir, job, what, *spec, n, &records, &inputs)?;
-            Err(ShardWritten {
+            Ok(Ensembled::Shard(ShardWritten {
                 shard: *spec,
                 jobs: records.len(),
                 of_jobs: n,
                 path,
-            }
-            .into())
+            }))
         }
         Ensemble::Merge(merged) => {
             let records = &merged.records;
@@ -697,14 +718,15 @@ where
                     records.len()
                 );
             }
-            records
+            let all = records
                 .iter()
                 .enumerate()
                 .map(|(k, r)| {
                     let (file, local) = merged.source_of(k);
                     decode_record(name, file, local, k, r)
                 })
-                .collect()
+                .collect::<Result<_>>()?;
+            Ok(Ensembled::All(all))
         }
     }
 }

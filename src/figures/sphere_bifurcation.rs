@@ -31,7 +31,9 @@ use serde::Serialize;
 
 use super::shard::{Fields, Record};
 use super::sphere_orbits::random_orientation;
-use super::{FigureData, FigureOptions, PAPER_ALPHA, par_map, progress, sphere_alpha_star};
+use super::{
+    Computed, FigureData, FigureOptions, PAPER_ALPHA, par_map, progress, sphere_alpha_star,
+};
 use crate::analysis::fit;
 use crate::analysis::return_map::locate_flip;
 use crate::analysis::sphere_orbits::{
@@ -522,11 +524,11 @@ fn canonical(p: [f64; 3]) -> DVec3 {
 /// Runs the figure: computes it, then writes OUT/sphere-bifurcation/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-bifurcation")?;
-    compute(opts)?.write_to(&dir, opts)
+    super::written(compute(opts)?, &dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.
-pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
+pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
     let fig = opts.sphere("sphere-bifurcation")?;
     let body = fig.body;
     let alpha_star = sphere_alpha_star(&body);
@@ -545,16 +547,18 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let jobs: Vec<(usize, usize)> = (0..n_mass)
         .flat_map(|m| (0..starts).map(move |o| (m, o)))
         .collect();
-    let runs = opts.ensemble("sphere-bifurcation", jobs.len(), "runs", |j| {
-        let (m, o) = jobs[j];
-        let ramp = Ramp::new(alpha, masses[m])?;
-        direct_run(
-            &body,
-            &ramp,
-            random_orientation(&body, opts.seed, o),
-            (t_min, t_cap),
-        )
-    })?;
+    let runs = super::all_runs!(
+        opts.ensemble("sphere-bifurcation", jobs.len(), "runs", |j| {
+            let (m, o) = jobs[j];
+            let ramp = Ramp::new(alpha, masses[m])?;
+            direct_run(
+                &body,
+                &ramp,
+                random_orientation(&body, opts.seed, o),
+                (t_min, t_cap),
+            )
+        })
+    );
     let undecided_runs = runs
         .iter()
         .filter(|r| r.k.is_none() && r.t_end >= t_cap)
@@ -591,14 +595,14 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         flips,
         period_doubling: windows,
     };
-    Ok(FigureData {
+    Ok(Computed::Figure(FigureData {
         panels: panels(&summary, &rows),
         columns: 3,
         size: (1950, 650),
         header: csv_header,
         rows,
         summary,
-    })
+    }))
 }
 
 fn panels(s: &Summary, rows: &[Vec<f64>]) -> Vec<Panel> {

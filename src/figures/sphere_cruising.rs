@@ -19,7 +19,7 @@ use serde::Serialize;
 
 use super::shard::{Fields, Record};
 use super::sphere_orbits::random_orientation;
-use super::{FigureData, FigureOptions, convex_disk};
+use super::{Computed, FigureData, FigureOptions, convex_disk};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{Fate, Settle, settle};
 use crate::dynamics::{DiskViscous, Ramp};
@@ -153,11 +153,11 @@ fn disk_with_alpha_star(base: &Disk, target: f64) -> Disk {
 /// Runs the figure: computes it, then writes OUT/sphere-cruising/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-cruising")?;
-    compute(opts)?.write_to(&dir, opts)
+    super::written(compute(opts)?, &dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.
-pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
+pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
     opts.no_alpha("sphere-cruising", "α from 0.4 α* upwards")?;
     let fig = opts.sphere("sphere-cruising")?;
     let (body, seed) = (fig.body.clone(), fig.seed);
@@ -178,7 +178,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         ..Settle::default()
     };
     // One ensemble: the 3D runs, then the 2D runs (one shardable list).
-    let runs = opts.ensemble(
+    let runs = super::all_runs!(opts.ensemble(
         "sphere-cruising",
         2 * jobs.len(),
         "3D and 2D runs",
@@ -193,7 +193,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
                 Ok(Run::Disk(disk_cruises(&disk, alphas[a], theta0)?))
             }
         },
-    )?;
+    ));
     let (sphere_runs, disk_runs) = runs.split_at(jobs.len());
     let fates: Vec<&Fate> = sphere_runs
         .iter()
@@ -266,12 +266,12 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         legend: SeriesLabelPosition::UpperLeft,
         equal_aspect: false,
     };
-    Ok(FigureData {
+    Ok(Computed::Figure(FigureData {
         panels: vec![panel],
         columns: 1,
         size: (1000, 650),
         header: csv_header,
         rows,
         summary,
-    })
+    }))
 }

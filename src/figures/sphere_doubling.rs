@@ -26,7 +26,7 @@ use serde::Serialize;
 
 use super::shard::{Fields, Record};
 use super::sphere_orbits::random_orientation;
-use super::{FigureData, FigureOptions, PAPER_ALPHA, par_map, sphere_alpha_star};
+use super::{Computed, FigureData, FigureOptions, PAPER_ALPHA, par_map, sphere_alpha_star};
 use crate::analysis::sphere_orbits::{Decide, RunEnd, decided_run};
 use crate::dynamics::Ramp;
 use crate::geometry::sphere::angles;
@@ -318,11 +318,11 @@ impl Record for Run {
 /// Runs the figure: computes it, then writes OUT/sphere-doubling/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-doubling")?;
-    compute(opts)?.write_to(&dir, opts)
+    super::written(compute(opts)?, &dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.
-pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
+pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
     let fig = opts.sphere("sphere-doubling")?;
     let (body, seed) = (fig.body.clone(), fig.seed);
     let a_star = sphere_alpha_star(&body);
@@ -356,7 +356,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         })
         .collect();
     // One ensemble: this body's runs, then the other bodies' runs at m/m0 = 6.
-    let all = opts.ensemble(
+    let all = super::all_runs!(opts.ensemble(
         "sphere-doubling",
         jobs.len() + cross_jobs.len(),
         "runs",
@@ -389,7 +389,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
                 t_end: r.t_end,
             })
         },
-    )?;
+    ));
     let (main_runs, cross_runs) = all.split_at(jobs.len());
     let mut cycles = Vec::with_capacity(jobs.len());
     let mut paths = Vec::with_capacity(jobs.len());
@@ -523,12 +523,12 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         cross_body,
         cross_body_near_critical,
     };
-    Ok(FigureData {
+    Ok(Computed::Figure(FigureData {
         panels,
         columns: 3,
         size: (1950, 620),
         header: csv_header,
         rows,
         summary,
-    })
+    }))
 }

@@ -11,7 +11,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use super::{FigureData, FigureOptions};
+use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{Fate, Settle, boundary_distance, cluster_antipodal, settle};
 use crate::dynamics::Ramp;
@@ -49,11 +49,11 @@ pub fn random_orientation(body: &Sphere, seed: u64, i: usize) -> glam::DQuat {
 /// Runs the figure: computes it, then writes OUT/sphere-orbits/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-orbits")?;
-    compute(opts)?.write_to(&dir, opts)
+    super::written(compute(opts)?, &dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.
-pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
+pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
     opts.no_alpha("sphere-orbits", "α from 0.3 α* to 0.5")?;
     let fig = opts.sphere("sphere-orbits")?;
     let (body, seed) = (fig.body.clone(), fig.seed);
@@ -66,21 +66,26 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let jobs: Vec<(usize, usize)> = (0..runs)
         .flat_map(|r| (0..na).map(move |a| (r, a)))
         .collect();
-    let fates = opts.ensemble("sphere-orbits", jobs.len(), "orbits", |k| -> Result<Fate> {
-        let (r, a) = jobs[k];
-        let ramp = Ramp::new(alphas[a], 0.0)?;
-        let q0 = random_orientation(&body, opts.seed, r);
-        Ok(settle(
-            &body,
-            &ramp,
-            q0,
-            &Settle {
-                t_max: 4000.0,
-                ..Settle::default()
-            },
-        )?
-        .0)
-    })?;
+    let fates = super::all_runs!(opts.ensemble(
+        "sphere-orbits",
+        jobs.len(),
+        "orbits",
+        |k| -> Result<Fate> {
+            let (r, a) = jobs[k];
+            let ramp = Ramp::new(alphas[a], 0.0)?;
+            let q0 = random_orientation(&body, opts.seed, r);
+            Ok(settle(
+                &body,
+                &ramp,
+                q0,
+                &Settle {
+                    t_max: 4000.0,
+                    ..Settle::default()
+                },
+            )?
+            .0)
+        }
+    ));
     // Label orbits at each α by clustering their ∂Ω points; keep labels consistent across α by
     // matching each cluster to the nearest cluster of the previous α.
     let mut labels = vec![vec![-1i64; na]; runs];
@@ -168,12 +173,12 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         legend: SeriesLabelPosition::UpperLeft,
         equal_aspect: false,
     };
-    Ok(FigureData {
+    Ok(Computed::Figure(FigureData {
         panels: vec![panel],
         columns: 1,
         size: (1000, 700),
         header: csv_header,
         rows,
         summary,
-    })
+    }))
 }

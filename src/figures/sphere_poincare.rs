@@ -16,7 +16,7 @@ use anyhow::Result;
 use glam::DVec3;
 use serde::Serialize;
 
-use super::{FigureData, FigureOptions};
+use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{
     boundary_distance, cluster_antipodal, field_from_images, field_lattice, poincare_step,
@@ -71,11 +71,11 @@ pub const ALPHA: f64 = 0.3;
 /// Runs the figure: computes it, then writes OUT/sphere-poincare/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-poincare")?;
-    compute(opts)?.write_to(&dir, opts)
+    super::written(compute(opts)?, &dir, opts)
 }
 
 /// Computes the figure's rows, headline numbers and chart; writes nothing.
-pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
+pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
     let fig = opts.sphere("sphere-poincare")?;
     let (body, seed) = (fig.body.clone(), fig.seed);
     let a_star = critical_angle(&Body::Sphere(body.clone())).alpha_star;
@@ -104,7 +104,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         .filter(|p| p.z >= 0.0)
         .collect();
     let jobs = upper.len() + seeds.len();
-    let images = opts.ensemble(
+    let images = super::all_runs!(opts.ensemble(
         "sphere-poincare",
         jobs,
         "map and iterate P",
@@ -127,7 +127,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             }
             Ok(None)
         },
-    )?;
+    ));
     let (limits, field_images) = images.split_at(seeds.len());
     let field: Vec<(DVec3, Option<(DVec3, f64)>)> = field_from_images(&upper, field_images)
         .into_iter()
@@ -175,14 +175,14 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         attractor_list,
         converged_starts: limits.len(),
     };
-    Ok(FigureData {
+    Ok(Computed::Figure(FigureData {
         panels: plot(&field, &summary),
         columns: 2,
         size: (1900, 760),
         header: csv_header,
         rows,
         summary,
-    })
+    }))
 }
 
 /// The chart: the field on ∂Ω and the attractors.

@@ -35,7 +35,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use serde::{Deserialize, Serialize};
 
-use super::shard::{Ensemble, Fields, JobId, Record, ShardSet, ShardSpec, run_ensemble};
+use super::shard::{
+    Ensemble, Ensembled, Fields, JobId, Record, ShardSet, ShardSpec, ShardWritten, run_ensemble,
+};
 use super::sphere_orbits::random_orientation;
 use super::{number_field, par_map};
 use crate::analysis::sphere_orbits::{Fate, Settle, settle_with};
@@ -536,11 +538,10 @@ impl Sweep {
         })
     }
 
-    /// Runs one shard of the sweep and writes its shard file (returned as the
-    /// [`super::shard::ShardWritten`] error), through the ensemble machinery.
-    fn run_shard(&self, spec: ShardSpec, out: &Path, inputs: &Inputs) -> Result<SweepSummary> {
+    /// Runs one shard of the sweep and writes its shard file, through the ensemble machinery.
+    fn run_shard(&self, spec: ShardSpec, out: &Path, inputs: &Inputs) -> Result<ShardWritten> {
         let place = || Ok((out.to_path_buf(), self.job_id(), inputs.clone()));
-        run_ensemble(
+        let done = run_ensemble(
             &Ensemble::Shard(spec),
             "sweep",
             self.runs(),
@@ -548,7 +549,10 @@ impl Sweep {
             place,
             |k| self.run_one(k),
         )?;
-        bail!("internal error: a shard run returned without writing its shard")
+        match done {
+            Ensembled::Shard(written) => Ok(written),
+            Ensembled::All(_) => bail!("internal error: a shard run returned every run"),
+        }
     }
 
     /// Runs the whole sweep, streaming rows to `out`/sweep.csv in blocks of [`BLOCK`] runs, so
@@ -783,20 +787,28 @@ pub fn merge(dir: &Path, shards: &ShardSet) -> Result<SweepSummary> {
     rows.finish()
 }
 
+/// What a sweep did.
+pub enum SweepRan {
+    /// Ran all of it and wrote sweep.csv and summary.json.
+    Whole(SweepSummary),
+    /// Ran one shard and wrote its shard file.
+    Shard(ShardWritten),
+}
+
 /// Runs a sweep: all of it, writing `out`/sweep.csv and summary.json, or one shard, writing
-/// `out`/shard-I-of-N.json (returned as the [`super::shard::ShardWritten`] error).
-pub fn run(spec: &Path, out: &Path, shard: Option<ShardSpec>) -> Result<SweepSummary> {
+/// `out`/shard-I-of-N.json.
+pub fn run(spec: &Path, out: &Path, shard: Option<ShardSpec>) -> Result<SweepRan> {
     let sweep = Sweep::load(spec)?;
     let inputs = sweep.inputs().with(spec);
     // The output folder is checked before the first run, not after the whole sweep.
     match shard {
         Some(s) => {
             output::check_folder(out, &[s.file_name().as_str()], &inputs)?;
-            sweep.run_shard(s, out, &inputs)
+            Ok(SweepRan::Shard(sweep.run_shard(s, out, &inputs)?))
         }
         None => {
             output::check_folder(out, &SWEEP_FILES, &inputs)?;
-            sweep.run_whole(out, &inputs)
+            Ok(SweepRan::Whole(sweep.run_whole(out, &inputs)?))
         }
     }
 }
