@@ -1,0 +1,274 @@
+//! Splitting an ensemble across processes (`--shard I/N`) and putting it back together
+//! (`rollphase merge OUT/NAME`), for a cluster scheduler's array jobs (docs/guide/cluster.md).
+//!
+//! Every ensemble figure computes its runs through [`FigureOptions::ensemble`]: a list of `n`
+//! jobs whose inputs derive from the index and the options alone. How that call behaves depends
+//! on [`Ensemble`]:
+//! - `Whole`: all jobs in parallel, results in index order (an ordinary run);
+//! - `Shard`: only the jobs of shard I of N (a contiguous index range), written to
+//!   `OUT/NAME/shard-I-of-N.json`; the call returns [`Ensembled::Shard`] and the figure stops
+//!   there, before any reduction or plot;
+//! - `Merge`: the jobs' results are read back from the shard files instead of computed, and
+//!   the figure continues exactly as an unsharded run would.
+//!
+//! A shard file records the results of its jobs as numbers in Rust's shortest round-trip form
+//! (`{:e}`: NaN, ±inf and −0 included), so the merged results are bit-identical to computed
+//! ones and the reduction writes byte-identical `data.csv` and `summary.json`. It also records
+//! the options the figure ran with, so `merge` needs nothing but the folder, and refuses shards
+//! that ran with other options or another split.
+//!
+//! Only the figure's first ensemble is sharded (the bulk of its work: the runs); what a figure
+//! computes from the merged runs (e.g. `sphere-bifurcation`'s orbit continuation) runs in
+//! `merge`. Each figure's module doc says which.
+//!
+//! A shard run is a normal outcome, not an error: `compute` takes its ensemble's results
+//! through `all_runs!`, which returns [`Ensembled::Shard`] as `Computed::Shard` from the
+//! figure, and the command line reports the shard written and what to do next.
+//!
+//! | file | owns |
+//! |---|---|
+//! | `mod.rs` | the split (`ShardSpec`), what a run is (`Ensemble`, `JobId`) and what it gave (`Ensembled`, `ShardWritten`) |
+//! | `file.rs` | the shard file: its format and digest, writing one, scanning a folder's shards and merging them (`ShardSet`, `Merged`) |
+//! | `ensemble.rs` | the ensemble runner (`FigureOptions::ensemble`, `run_ensemble`) and a figure's merge (`merge_figure`) |
+//! | `record.rs` | a job's result as numbers (`Record`, `Fields`), with the range checks a reduction relies on |
+
+mod ensemble;
+mod file;
+mod record;
+
+pub use ensemble::{MergeOutcome, merge_figure, run_ensemble};
+pub use file::{
+    MAX_SHARD_BYTES, Merged, ShardFile, ShardSet, merged, read_shards, scan_shards, write_shard,
+};
+pub use record::{Fields, MAX_FATE_MULTIPLICITY, Record};
+
+use anyhow::{Result, bail};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use super::BodyChoice;
+
+/// Most shards one ensemble may be split into.
+pub const MAX_SHARDS: usize = 100_000;
+
+/// Shard I of N (1-based), as `--shard I/N` writes it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShardSpec {
+    /// I, 1 ≤ I ≤ N.
+    pub index: usize,
+    /// N.
+    pub count: usize,
+}
+
+impl std::str::FromStr for ShardSpec {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let usage = format!(
+            "{s:?} is not a shard: write I/N with 1 ≤ I ≤ N ≤ {MAX_SHARDS}, e.g. 3/8 for the third of eight"
+        );
+        let (i, n) = s.split_once('/').ok_or_else(|| usage.clone())?;
+        let (Ok(index), Ok(count)) = (i.trim().parse::<usize>(), n.trim().parse::<usize>()) else {
+            return Err(usage);
+        };
+        if index == 0 || count == 0 || index > count || count > MAX_SHARDS {
+            return Err(usage);
+        }
+        Ok(ShardSpec { index, count })
+    }
+}
+
+impl std::fmt::Display for ShardSpec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+impl ShardSpec {
+    /// The job indices of this shard among `n`: contiguous, sizes differing by at most one, and
+    /// together covering 0..n once.
+    pub fn range(&self, n: usize) -> std::ops::Range<usize> {
+        let cut = |i: usize| (n as u128 * i as u128 / self.count as u128) as usize;
+        cut(self.index - 1)..cut(self.index)
+    }
+
+    /// The shard's file name: `shard-I-of-N.json`.
+    pub fn file_name(&self) -> String {
+        format!("shard-{}-of-{}.json", self.index, self.count)
+    }
+}
+
+/// How a figure's ensemble runs (see the module doc).
+#[derive(Debug, Clone, Default)]
+pub enum Ensemble {
+    /// All jobs here.
+    #[default]
+    Whole,
+    /// Only this shard's jobs; write them and stop.
+    Shard(ShardSpec),
+    /// Every job's result, read back from the shard files (records in index order).
+    Merge(Arc<Merged>),
+}
+
+/// What a sharded run wrote: the outcome of a `--shard I/N` run ([`Ensembled::Shard`]).
+#[derive(Debug, Clone)]
+pub struct ShardWritten {
+    /// The shard.
+    pub shard: ShardSpec,
+    /// Jobs in this shard.
+    pub jobs: usize,
+    /// Jobs in the whole ensemble.
+    pub of_jobs: usize,
+    /// The file written.
+    pub path: PathBuf,
+}
+
+impl std::fmt::Display for ShardWritten {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "shard {} wrote {} of {} runs to {}",
+            self.shard,
+            self.jobs,
+            self.of_jobs,
+            self.path.display()
+        )
+    }
+}
+
+/// What an ensemble gave.
+#[derive(Debug)]
+pub enum Ensembled<T> {
+    /// Every job's result, in index order: a whole run, or read back from merged shards.
+    All(Vec<T>),
+    /// A `--shard I/N` run: only this shard's jobs ran, and their results are in the file
+    /// written; the figure stops here (no plot) and says what to do next.
+    Shard(ShardWritten),
+}
+
+impl<T> Ensembled<T> {
+    /// The results of a whole or merged run. A shard's results are in its file, not here:
+    /// asking for them is a caller's mistake, reported as an error.
+    pub fn all(self) -> Result<Vec<T>> {
+        match self {
+            Ensembled::All(v) => Ok(v),
+            Ensembled::Shard(w) => bail!("internal error: {w}, where all the results were needed"),
+        }
+    }
+}
+
+impl ShardWritten {
+    /// What to do next, for the user: the merge command for `dir`.
+    pub fn next_step(&self, dir: &Path) -> String {
+        let when = if self.shard.count == 1 {
+            "now".to_string()
+        } else {
+            format!("when all {} shards are done", self.shard.count)
+        };
+        format!("{when}: rollphase merge {}", dir.display())
+    }
+}
+
+/// What ran: a figure with its options, or a sweep with its spec. Shards merge only with
+/// shards of the same job.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum JobId {
+    /// `rollphase figure NAME`.
+    Figure {
+        /// The figure's name.
+        name: String,
+        /// `--seed` (the default's value when not given).
+        seed: u64,
+        /// `--quick`.
+        quick: bool,
+        /// Where the body came from.
+        body: BodyChoice,
+        /// `--alpha`.
+        alpha: Option<f64>,
+    },
+    /// `rollphase sweep SPEC.toml`.
+    Sweep {
+        /// The spec's text, as read.
+        spec: String,
+        /// The spec's folder, where its body files are.
+        base: PathBuf,
+    },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::file::{decode_line, encode_line};
+    use super::*;
+    use crate::analysis::sphere_orbits::Fate;
+    use glam::DVec3;
+
+    fn round_trip<T: Record + PartialEq + std::fmt::Debug>(x: T) {
+        let mut v = Vec::new();
+        x.encode(&mut v);
+        let line = encode_line(&v);
+        let back = decode_line(&line).expect("numbers");
+        assert_eq!(
+            back.iter().map(|f| f.to_bits()).collect::<Vec<_>>(),
+            v.iter().map(|f| f.to_bits()).collect::<Vec<_>>()
+        );
+        let mut fields = Fields::of(&back);
+        assert_eq!(T::decode(&mut fields).expect("decodes"), x);
+        assert_eq!(super::record::fields_left(&fields), 0);
+    }
+
+    #[test]
+    fn records_round_trip_bit_for_bit() {
+        round_trip(0.1f64 + 0.2);
+        round_trip(-0.0f64);
+        round_trip(f64::MIN_POSITIVE / 3.0);
+        round_trip(f64::INFINITY);
+        round_trip(Some((DVec3::new(1e-300, -2.5, 1.0 / 3.0), 7.25)));
+        round_trip(None::<(DVec3, f64)>);
+        round_trip(u64::MAX - 2);
+        round_trip((true, 3usize, vec![vec![1.5f64], vec![]]));
+        round_trip(vec![
+            Fate::Halts { t: 12.5 },
+            Fate::Periodic {
+                period: 9.87654321,
+                k: 2,
+                point: [0.6, -0.8, 1e-17],
+                t: 1999.9,
+            },
+            Fate::Undecided { omega_end: 3e-4 },
+        ]);
+        // NaN compares unequal, so check its bits directly.
+        let line = encode_line(&[f64::NAN, f64::NEG_INFINITY]);
+        let back = decode_line(&line).expect("numbers");
+        assert!(back[0].is_nan() && back[1] == f64::NEG_INFINITY);
+    }
+
+    #[test]
+    fn shards_cover_every_job_once_in_order() {
+        for n in [0, 1, 7, 100, 9001] {
+            for count in [1, 2, 3, 8, 13] {
+                let mut next = 0;
+                for index in 1..=count {
+                    let r = ShardSpec { index, count }.range(n);
+                    assert_eq!(r.start, next);
+                    assert!(r.len() <= n / count + 1);
+                    next = r.end;
+                }
+                assert_eq!(next, n);
+            }
+        }
+    }
+
+    #[test]
+    fn bad_shard_specs_are_refused_with_the_form() {
+        for bad in ["0/4", "5/4", "1/0", "a/b", "3", "-1/2", "1/200000"] {
+            let e = bad.parse::<ShardSpec>().expect_err(bad);
+            assert!(e.contains("I/N"), "{bad}: {e}");
+        }
+        assert_eq!(
+            "3/8".parse::<ShardSpec>(),
+            Ok(ShardSpec { index: 3, count: 8 })
+        );
+    }
+}
