@@ -82,6 +82,27 @@ impl Start {
     }
 }
 
+/// The match behind [`ModelState::visit`] and [`ModelState::visit_mut`] (the same arms, over a
+/// shared or a mutable state).
+macro_rules! dispatch {
+    ($state:expr, $ramp:expr, $visitor:expr) => {
+        match $state {
+            ModelState::DiskViscous { disk, y } => {
+                $visitor.visit(&DiskViscous::new(disk, $ramp), y)
+            }
+            ModelState::DiskInertial { disk, y } => {
+                $visitor.visit(&DiskInertial::new(disk, $ramp), y)
+            }
+            ModelState::SphereViscous { sphere, y } => {
+                $visitor.visit(&SphereViscous::new(sphere, $ramp), y)
+            }
+            ModelState::SphereInertial { sphere, y } => {
+                $visitor.visit(&SphereInertial::new(sphere, $ramp), y)
+            }
+        }
+    };
+}
+
 /// One of the four models with its body and integrated state: the state vector is the one the
 /// model's [`crate::integrate::OdeSystem`] integrates.
 #[derive(Debug, Clone)]
@@ -151,34 +172,12 @@ impl ModelState {
     /// simulation) goes through here, and asks the model
     /// ([`crate::dynamics::RollingModel`]) for the rest.
     pub fn visit<V: ModelVisitor>(&self, ramp: &Ramp, visitor: V) -> V::Output {
-        match self {
-            ModelState::DiskViscous { disk, y } => visitor.visit(&DiskViscous::new(disk, ramp), y),
-            ModelState::DiskInertial { disk, y } => {
-                visitor.visit(&DiskInertial::new(disk, ramp), y)
-            }
-            ModelState::SphereViscous { sphere, y } => {
-                visitor.visit(&SphereViscous::new(sphere, ramp), y)
-            }
-            ModelState::SphereInertial { sphere, y } => {
-                visitor.visit(&SphereInertial::new(sphere, ramp), y)
-            }
-        }
+        dispatch!(self, ramp, visitor)
     }
 
     /// [`Self::visit`] that may change the state (stepping it).
     pub fn visit_mut<V: ModelVisitorMut>(&mut self, ramp: &Ramp, visitor: V) -> V::Output {
-        match self {
-            ModelState::DiskViscous { disk, y } => visitor.visit(&DiskViscous::new(disk, ramp), y),
-            ModelState::DiskInertial { disk, y } => {
-                visitor.visit(&DiskInertial::new(disk, ramp), y)
-            }
-            ModelState::SphereViscous { sphere, y } => {
-                visitor.visit(&SphereViscous::new(sphere, ramp), y)
-            }
-            ModelState::SphereInertial { sphere, y } => {
-                visitor.visit(&SphereInertial::new(sphere, ramp), y)
-            }
-        }
+        dispatch!(self, ramp, visitor)
     }
 
     /// Which of the four this is.
