@@ -101,133 +101,79 @@ fn t_star_analytic(d: &Disk, theta: f64, q2: f64) -> f64 {
     2f64.sqrt() * g * std::f64::consts::PI / (-q2).sqrt()
 }
 
-/// Runs the figure: computes it, then writes OUT/disk-transition/{data.csv, summary.json, figure.png}.
-pub fn run(opts: &FigureOptions) -> Result<Summary> {
-    let dir = opts.dir("disk-transition")?;
-    super::written(compute(opts)?, &dir, opts)
+/// One disk's headline numbers, its rows on the α grid and its curve near α*.
+type PerDisk = (DiskTransition, Vec<Vec<f64>>, Vec<Vec<f64>>);
+
+/// One disk of the ensemble: disk `i`'s 2π/T over the α grid and just above its α*, the
+/// exponent fitted on period differences (and naively), and its T* measured and analytic.
+fn one_disk(opts: &FigureOptions, i: usize, alphas: &[f64]) -> Result<PerDisk> {
+    let (d, used) = opts.disk("disk-transition", opts.seed + 1000 * i as u64, 0.08, 10)?;
+    let ca = critical_angle(&Body::Disk(d.clone()));
+    let speed = |a: f64| -> Result<f64> {
+        Ok(viscous_disk_period_with(&d, &Ramp::new(a, 0.0)?, &ca).mean_angular_speed)
+    };
+    // The α grid plus points just above this disk's α*, where 2π/T rises as √δα.
+    let mut grid: Vec<f64> = alphas.to_vec();
+    grid.extend(
+        [1e-6, 1e-5, 1e-4, 4e-4, 1e-3, 2e-3, 4e-3]
+            .iter()
+            .map(|d| ca.alpha_star + d),
+    );
+    grid.sort_by(f64::total_cmp);
+    let mut rows = Vec::new();
+    for &a in &grid {
+        rows.push(vec![i as f64, ca.alpha_star, a, speed(a)?]);
+    }
+    let period = |da: f64| -> Result<f64> {
+        Ok(
+            viscous_disk_period_with(&d, &Ramp::new(ca.alpha_star + da, 0.0)?, &ca)
+                .period
+                .unwrap_or(f64::NAN),
+        )
+    };
+    let grid = logspace(1e-8, 1e-5, 7);
+    let periods: Vec<(f64, f64, f64)> = grid
+        .iter()
+        .map(|&da| Ok((da, period(da)?, period(2.0 * da)?)))
+        .collect::<Result<_>>()?;
+    let naive: Vec<(f64, f64)> = periods
+        .iter()
+        .map(|&(da, t, _)| (da, std::f64::consts::TAU / t))
+        .collect();
+    let diffs: Vec<(f64, f64)> = periods.iter().map(|&(da, t1, t2)| (da, t1 - t2)).collect();
+    let fit = power_law(&diffs).ok_or_else(|| anyhow::anyhow!("disk {i}: no fit"))?;
+    let naive_fit = power_law(&naive).ok_or_else(|| anyhow::anyhow!("disk {i}: no fit"))?;
+    // Curve for the log–log panel.
+    let near_curve: Vec<Vec<f64>> = logspace(1e-8, 1e-2, 25)
+        .into_iter()
+        .map(|da| Ok(vec![i as f64, da, speed(ca.alpha_star + da)?]))
+        .collect::<Result<_>>()?;
+    let t_meas = (period(1e-8)? - period(1e-6)?) / (1e4 - 1e3);
+    let t_an = t_star_analytic(&d, ca.theta, ca.q_second_derivative);
+    Ok((
+        DiskTransition {
+            seed: used,
+            alpha_star: ca.alpha_star,
+            exponent: -fit.slope,
+            exponent_stderr: fit.slope_stderr,
+            exponent_naive: naive_fit.slope,
+            t_star_measured: t_meas,
+            t_star_analytic: t_an,
+            t_star_si_printed: t_an / 2f64.sqrt(),
+        },
+        rows,
+        near_curve,
+    ))
 }
 
-/// Computes the figure's rows, headline numbers and chart; writes nothing.
-pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
-    opts.no_alpha("disk-transition", "α over [0.005, 0.4]")?;
-    // With --shape the ensemble is that one disk.
-    let n = if matches!(opts.body, super::BodyChoice::File(_)) {
-        1
-    } else if opts.quick {
-        6
-    } else {
-        24
-    };
-    let alphas: Vec<f64> = (1..=80).map(|i| 0.4 * i as f64 / 80.0).collect();
-    // Each disk i uses the first convex seed at or after seed + 1000·i: independent of threads.
-    type PerDisk = (DiskTransition, Vec<Vec<f64>>, Vec<Vec<f64>>);
-    let results = super::all_runs!(opts.ensemble(
-        "disk-transition",
-        n,
-        "disks",
-        |i| -> Result<PerDisk> {
-            let (d, used) = opts.disk("disk-transition", opts.seed + 1000 * i as u64, 0.08, 10)?;
-            let ca = critical_angle(&Body::Disk(d.clone()));
-            let speed = |a: f64| -> Result<f64> {
-                Ok(viscous_disk_period_with(&d, &Ramp::new(a, 0.0)?, &ca).mean_angular_speed)
-            };
-            // The α grid plus points just above this disk's α*, where 2π/T rises as √δα.
-            let mut grid: Vec<f64> = alphas.clone();
-            grid.extend(
-                [1e-6, 1e-5, 1e-4, 4e-4, 1e-3, 2e-3, 4e-3]
-                    .iter()
-                    .map(|d| ca.alpha_star + d),
-            );
-            grid.sort_by(f64::total_cmp);
-            let mut rows = Vec::new();
-            for &a in &grid {
-                rows.push(vec![i as f64, ca.alpha_star, a, speed(a)?]);
-            }
-            let period = |da: f64| -> Result<f64> {
-                Ok(
-                    viscous_disk_period_with(&d, &Ramp::new(ca.alpha_star + da, 0.0)?, &ca)
-                        .period
-                        .unwrap_or(f64::NAN),
-                )
-            };
-            let grid = logspace(1e-8, 1e-5, 7);
-            let periods: Vec<(f64, f64, f64)> = grid
-                .iter()
-                .map(|&da| Ok((da, period(da)?, period(2.0 * da)?)))
-                .collect::<Result<_>>()?;
-            let naive: Vec<(f64, f64)> = periods
-                .iter()
-                .map(|&(da, t, _)| (da, std::f64::consts::TAU / t))
-                .collect();
-            let diffs: Vec<(f64, f64)> =
-                periods.iter().map(|&(da, t1, t2)| (da, t1 - t2)).collect();
-            let fit = power_law(&diffs).ok_or_else(|| anyhow::anyhow!("disk {i}: no fit"))?;
-            let naive_fit = power_law(&naive).ok_or_else(|| anyhow::anyhow!("disk {i}: no fit"))?;
-            // Curve for the log–log panel.
-            let near_curve: Vec<Vec<f64>> = logspace(1e-8, 1e-2, 25)
-                .into_iter()
-                .map(|da| Ok(vec![i as f64, da, speed(ca.alpha_star + da)?]))
-                .collect::<Result<_>>()?;
-            let t_meas = (period(1e-8)? - period(1e-6)?) / (1e4 - 1e3);
-            let t_an = t_star_analytic(&d, ca.theta, ca.q_second_derivative);
-            Ok((
-                DiskTransition {
-                    seed: used,
-                    alpha_star: ca.alpha_star,
-                    exponent: -fit.slope,
-                    exponent_stderr: fit.slope_stderr,
-                    exponent_naive: naive_fit.slope,
-                    t_star_measured: t_meas,
-                    t_star_analytic: t_an,
-                    t_star_si_printed: t_an / 2f64.sqrt(),
-                },
-                rows,
-                near_curve,
-            ))
-        }
-    ));
-    let mut per_disk = Vec::new();
-    let mut rows = Vec::new();
-    let mut near_rows = Vec::new();
-    for (t, mut rs, mut nr) in results {
-        per_disk.push(t);
-        rows.append(&mut rs);
-        near_rows.append(&mut nr);
-    }
-    let perfect: Vec<(f64, f64)> = alphas
-        .iter()
-        .map(|&a| {
-            Ok((
-                a,
-                viscous_disk_period(&Disk::perfect(), &Ramp::new(a, 0.0)?).mean_angular_speed,
-            ))
-        })
-        .collect::<Result<_>>()?;
-    for (a, w) in &perfect {
-        rows.push(vec![-1.0, 0.0, *a, *w]);
-    }
-    let csv_header = "disk,alpha_star,alpha,mean_angular_speed";
-
-    let mean = |f: &dyn Fn(&DiskTransition) -> f64| {
-        per_disk.iter().map(f).sum::<f64>() / per_disk.len() as f64
-    };
-    let summary = Summary {
-        disks: n,
-        exponent_mean: mean(&|t| t.exponent),
-        exponent_max_deviation: per_disk
-            .iter()
-            .map(|t| (t.exponent - 0.5).abs())
-            .fold(0.0, f64::max),
-        exponent_naive_mean: mean(&|t| t.exponent_naive),
-        t_star_ratio_analytic: mean(&|t| t.t_star_measured / t.t_star_analytic),
-        t_star_ratio_si_printed: mean(&|t| t.t_star_measured / t.t_star_si_printed),
-        perfect_disk_max_error: perfect
-            .iter()
-            .map(|(a, w)| (w - a.sin()).abs())
-            .fold(0.0, f64::max),
-        per_disk: per_disk.clone(),
-    };
-
+/// Panel 1: 2π/T versus α, coloured by α*; panel 2: log-log near α*.
+fn panels(
+    per_disk: &[DiskTransition],
+    rows: &[Vec<f64>],
+    near_rows: &[Vec<f64>],
+    perfect: Vec<(f64, f64)>,
+    exponent_mean: f64,
+) -> Vec<Panel> {
     // Panel 1: 2π/T versus α, coloured by α*; panel 2: log-log near α*.
     // The colour scale spans the α* drawn, smallest (dark) to largest (yellow).
     let a_max = per_disk
@@ -305,7 +251,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
         color: PALETTE[1],
         style: Style::Line,
     });
-    let panels = vec![
+    vec![
         Panel {
             title: "order parameter 2π/T (viscous disks, coloured by α*: dark low, yellow high)"
                 .into(),
@@ -318,10 +264,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
             equal_aspect: false,
         },
         Panel {
-            title: format!(
-                "near α*: fitted exponent {:.4} (expect 0.5)",
-                summary.exponent_mean
-            ),
+            title: format!("near α*: fitted exponent {:.4} (expect 0.5)", exponent_mean),
             x_label: "α − α* (rad)".into(),
             y_label: "2π/T (1/t0)".into(),
             log_x: true,
@@ -330,7 +273,74 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
             legend: SeriesLabelPosition::UpperLeft,
             equal_aspect: false,
         },
-    ];
+    ]
+}
+
+/// Runs the figure: computes it, then writes OUT/disk-transition/{data.csv, summary.json, figure.png}.
+pub fn run(opts: &FigureOptions) -> Result<Summary> {
+    let dir = opts.dir("disk-transition")?;
+    super::written(compute(opts)?, &dir, opts)
+}
+
+/// Computes the figure's rows, headline numbers and chart; writes nothing.
+pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
+    opts.no_alpha("disk-transition", "α over [0.005, 0.4]")?;
+    // With --shape the ensemble is that one disk.
+    let n = if matches!(opts.body, super::BodyChoice::File(_)) {
+        1
+    } else if opts.quick {
+        6
+    } else {
+        24
+    };
+    let alphas: Vec<f64> = (1..=80).map(|i| 0.4 * i as f64 / 80.0).collect();
+    // Each disk i uses the first convex seed at or after seed + 1000·i: independent of threads.
+    let results = super::all_runs!(opts.ensemble("disk-transition", n, "disks", |i| one_disk(
+        opts, i, &alphas
+    )));
+    let mut per_disk = Vec::new();
+    let mut rows = Vec::new();
+    let mut near_rows = Vec::new();
+    for (t, mut rs, mut nr) in results {
+        per_disk.push(t);
+        rows.append(&mut rs);
+        near_rows.append(&mut nr);
+    }
+    let perfect: Vec<(f64, f64)> = alphas
+        .iter()
+        .map(|&a| {
+            Ok((
+                a,
+                viscous_disk_period(&Disk::perfect(), &Ramp::new(a, 0.0)?).mean_angular_speed,
+            ))
+        })
+        .collect::<Result<_>>()?;
+    for (a, w) in &perfect {
+        rows.push(vec![-1.0, 0.0, *a, *w]);
+    }
+    let csv_header = "disk,alpha_star,alpha,mean_angular_speed";
+
+    let mean = |f: &dyn Fn(&DiskTransition) -> f64| {
+        per_disk.iter().map(f).sum::<f64>() / per_disk.len() as f64
+    };
+    let summary = Summary {
+        disks: n,
+        exponent_mean: mean(&|t| t.exponent),
+        exponent_max_deviation: per_disk
+            .iter()
+            .map(|t| (t.exponent - 0.5).abs())
+            .fold(0.0, f64::max),
+        exponent_naive_mean: mean(&|t| t.exponent_naive),
+        t_star_ratio_analytic: mean(&|t| t.t_star_measured / t.t_star_analytic),
+        t_star_ratio_si_printed: mean(&|t| t.t_star_measured / t.t_star_si_printed),
+        perfect_disk_max_error: perfect
+            .iter()
+            .map(|(a, w)| (w - a.sin()).abs())
+            .fold(0.0, f64::max),
+        per_disk: per_disk.clone(),
+    };
+
+    let panels = panels(&per_disk, &rows, &near_rows, perfect, summary.exponent_mean);
     Ok(Computed::Figure(FigureData {
         panels,
         columns: 2,
