@@ -315,6 +315,94 @@ impl Record for Run {
     }
 }
 
+/// One mass's runs (in orientation order): the counts of each period, the median cycle, its
+/// panel of contact paths, and its rows (appended to `rows`). `first` is the index of its first
+/// run among all, `t1` the viscous period.
+fn mass_result(
+    m: f64,
+    cycles: &[Option<(usize, f64)>],
+    paths: &[&Vec<DVec3>],
+    ends: &[(bool, f64)],
+    (first, t1, alpha): (usize, f64, f64),
+    rows: &mut Vec<Vec<f64>>,
+) -> Result<(MassResult, Panel)> {
+    let n = cycles.len();
+    let mut counts = [0usize; 5];
+    let (mut at_rest, mut longest_run) = (0, 0.0f64);
+    let mut ratios = Vec::new();
+    let mut series = Vec::new();
+    for o in 0..n {
+        match cycles[o] {
+            Some((kk, d)) => {
+                *counts
+                    .get_mut(kk.wrapping_sub(1))
+                    .ok_or_else(|| anyhow!("run {}: a cycle of {kk} crossings", first + o))? += 1;
+                ratios.push(d / t1);
+            }
+            None => {
+                counts[4] += 1;
+                at_rest += usize::from(ends[o].0);
+            }
+        }
+        longest_run = longest_run.max(ends[o].1);
+        // The contact path in (φ, θ), broken where φ wraps.
+        let mut piece: Vec<(f64, f64)> = Vec::new();
+        for u in paths[o] {
+            let (th, ph) = angles(*u);
+            if piece
+                .last()
+                .is_some_and(|l| (ph - l.0).abs() > std::f64::consts::PI)
+            {
+                series.push(Series {
+                    label: String::new(),
+                    points: std::mem::take(&mut piece),
+                    color: (0, 0, 0),
+                    style: Style::Line,
+                });
+            }
+            piece.push((ph, th));
+            rows.push(vec![m, o as f64, ph, th]);
+        }
+        series.push(Series {
+            label: String::new(),
+            points: piece,
+            color: (0, 0, 0),
+            style: Style::Line,
+        });
+    }
+    ratios.sort_by(f64::total_cmp);
+    let median = ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN);
+    let perfect = std::f64::consts::TAU / alpha.sin();
+    let majority = (0..4).max_by_key(|&i| counts[i]).unwrap_or(0) + 1;
+    let panel = Panel {
+        title: format!(
+            "m/m0 = {m}: period {majority} in {} of {n} runs{}",
+            counts[majority - 1],
+            match counts[4] - at_rest {
+                0 => String::new(),
+                u => format!(", {u} undecided"),
+            }
+        ),
+        x_label: "contact azimuth φ (rad), 600 < t < 700".into(),
+        y_label: "contact polar angle θ (rad)".into(),
+        log_x: false,
+        log_y: false,
+        series,
+        legend: SeriesLabelPosition::UpperRight,
+        equal_aspect: false,
+    };
+    let result = MassResult {
+        mass_ratio: m,
+        cycle_counts: counts,
+        at_rest,
+        undecided: counts[4] - at_rest,
+        longest_run,
+        median_period_ratio: median,
+        median_period_over_perfect: median * t1 / perfect,
+    };
+    Ok((result, panel))
+}
+
 /// Runs the figure: computes it, then writes OUT/sphere-doubling/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-doubling")?;
@@ -433,82 +521,17 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
     let mut rows = Vec::new();
     let mut panels = Vec::new();
     for (mi, &m) in MASSES.iter().enumerate() {
-        let mut counts = [0usize; 5];
-        let (mut at_rest, mut longest_run) = (0, 0.0f64);
-        let mut ratios = Vec::new();
-        let mut series = Vec::new();
-        for o in 0..n {
-            let k = mi * n + o;
-            match cycles[k] {
-                Some((kk, d)) => {
-                    *counts
-                        .get_mut(kk.wrapping_sub(1))
-                        .ok_or_else(|| anyhow!("run {k}: a cycle of {kk} crossings"))? += 1;
-                    ratios.push(d / t1);
-                }
-                None => {
-                    counts[4] += 1;
-                    at_rest += usize::from(ends[k].0);
-                }
-            }
-            longest_run = longest_run.max(ends[k].1);
-            // The contact path in (φ, θ), broken where φ wraps.
-            let mut piece: Vec<(f64, f64)> = Vec::new();
-            for u in paths[k] {
-                let (th, ph) = angles(*u);
-                if piece
-                    .last()
-                    .is_some_and(|l| (ph - l.0).abs() > std::f64::consts::PI)
-                {
-                    series.push(Series {
-                        label: String::new(),
-                        points: std::mem::take(&mut piece),
-                        color: (0, 0, 0),
-                        style: Style::Line,
-                    });
-                }
-                piece.push((ph, th));
-                rows.push(vec![m, o as f64, ph, th]);
-            }
-            series.push(Series {
-                label: String::new(),
-                points: piece,
-                color: (0, 0, 0),
-                style: Style::Line,
-            });
-        }
-        ratios.sort_by(f64::total_cmp);
-        let median = ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN);
-        let perfect = std::f64::consts::TAU / alpha.sin();
-        let majority = (0..4).max_by_key(|&i| counts[i]).unwrap_or(0) + 1;
-        panels.push(Panel {
-            title: format!(
-                "m/m0 = {m}: period {majority} in {} of {n} runs{}",
-                counts[majority - 1],
-                match counts[4] - at_rest {
-                    0 => String::new(),
-                    u => format!(", {u} undecided"),
-                }
-            ),
-            x_label: "contact azimuth φ (rad), 600 < t < 700".into(),
-            y_label: "contact polar angle θ (rad)".into(),
-            log_x: false,
-            log_y: false,
-            series,
-            legend: SeriesLabelPosition::UpperRight,
-            equal_aspect: false,
-        });
-        masses.push(MassResult {
-            mass_ratio: m,
-            cycle_counts: counts,
-            at_rest,
-            undecided: counts[4] - at_rest,
-            longest_run,
-            median_period_ratio: median,
-            median_period_over_perfect: median * t1 / perfect,
-        });
+        let (result, panel) = mass_result(
+            m,
+            &cycles[mi * n..(mi + 1) * n],
+            &paths[mi * n..(mi + 1) * n],
+            &ends[mi * n..(mi + 1) * n],
+            (mi * n, t1, alpha),
+            &mut rows,
+        )?;
+        masses.push(result);
+        panels.push(panel);
     }
-
     let csv_header = "mass_ratio,orientation,phi,theta";
     let summary = Summary {
         body: fig.label,
