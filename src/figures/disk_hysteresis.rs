@@ -16,7 +16,7 @@ use serde::Serialize;
 
 use super::{FigureData, FigureOptions, progress};
 use crate::analysis::critical_angle;
-use crate::analysis::disk_dynamics::{dwell, fixed_points, hysteresis_sweep};
+use crate::analysis::disk_dynamics::{SweepPoint, dwell, fixed_points, hysteresis_sweep};
 use crate::analysis::fit::{line, logspace};
 use crate::analysis::inertial_disk_period;
 use crate::dynamics::Ramp;
@@ -63,6 +63,117 @@ fn rolls(disk: &Disk, alpha: f64, state: [f64; 2], duration: f64) -> Result<(boo
     Ok((advance > std::f64::consts::TAU, end))
 }
 
+/// α** by bisection between the lowest descending α that rolled and the next one below, each
+/// trial continuing from the rolling state of the last α that still rolled. Returns α**, the
+/// lowest α found rolling and its rolling state.
+fn locate_return(
+    disk: &Disk,
+    sweep: &[SweepPoint],
+    alphas: &[f64],
+    dwell: f64,
+    quick: bool,
+) -> Result<(f64, f64, [f64; 2])> {
+    // Bisection for α** between the lowest descending α that rolled and the next one below.
+    let down: Vec<_> = sweep.iter().filter(|p| !p.ascending).collect();
+    let last_rolling = down
+        .iter()
+        .rposition(|p| p.mean_angular_speed > 0.0)
+        .ok_or_else(|| anyhow!("never rolled on the way down"))?;
+    let (mut hi, mut lo) = (
+        down[last_rolling].alpha,
+        down.get(last_rolling + 1)
+            .map(|p| p.alpha)
+            .unwrap_or(alphas[0]),
+    );
+    // The rolling state at `hi`: re-run the descent from the top with continuation.
+    let mut state = [0.0, 0.05];
+    for &a in alphas.iter().rev().filter(|&&a| a >= hi) {
+        state = rolls(disk, a, state, dwell)?.1;
+    }
+    let iterations = if quick { 14 } else { 30 };
+    let bar = progress(iterations, "α** bisection");
+    for _ in 0..iterations {
+        let mid = 0.5 * (lo + hi);
+        let (r, end) = rolls(disk, mid, state, 3.0 * dwell)?;
+        if r {
+            hi = mid;
+            state = end;
+        } else {
+            lo = mid;
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok((0.5 * (lo + hi), hi, state))
+}
+
+/// The sweep's two branches with α* and α** marked, and T against ln δα near α**.
+fn panels(
+    sweep: &[SweepPoint],
+    summary: &Summary,
+    jump_speed: f64,
+    near: Vec<(f64, f64)>,
+) -> Vec<Panel> {
+    let pts = |asc: bool| -> Vec<(f64, f64)> {
+        sweep
+            .iter()
+            .filter(|p| p.ascending == asc)
+            .map(|p| (p.alpha, p.mean_angular_speed))
+            .collect()
+    };
+    let mark = |a: f64, label: &str, c| Series {
+        label: label.into(),
+        points: vec![(a, 0.0), (a, 0.9 * jump_speed.max(0.02))],
+        color: c,
+        style: Style::Line,
+    };
+    vec![
+        Panel {
+            title: format!(
+                "inertial disk m/m0 = {MASS}: hysteresis, α**/α* = {:.3}",
+                summary.return_ratio
+            ),
+            x_label: "ramp angle α (rad)".into(),
+            y_label: "mean angular speed 2π/T (1/t0)".into(),
+            log_x: false,
+            log_y: false,
+            series: vec![
+                Series {
+                    label: "α increasing".into(),
+                    points: pts(true),
+                    color: PALETTE[0],
+                    style: Style::LineMarkers,
+                },
+                Series {
+                    label: "α decreasing".into(),
+                    points: pts(false),
+                    color: PALETTE[1],
+                    style: Style::LineMarkers,
+                },
+                mark(summary.alpha_star, "α*", (0, 0, 0)),
+                mark(summary.alpha_return, "α**", (120, 120, 120)),
+            ],
+            legend: SeriesLabelPosition::UpperLeft,
+            equal_aspect: false,
+        },
+        Panel {
+            title: format!("near α**: T = a − b ln δα (R² = {:.5})", summary.log_law_r2),
+            x_label: "α − α** (rad)".into(),
+            y_label: "period T (t0)".into(),
+            log_x: true,
+            log_y: false,
+            series: vec![Series {
+                label: "simulated".into(),
+                points: near,
+                color: PALETTE[2],
+                style: Style::LineMarkers,
+            }],
+            legend: SeriesLabelPosition::UpperRight,
+            equal_aspect: false,
+        },
+    ]
+}
+
 /// Runs the figure: computes it, then writes OUT/disk-hysteresis/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("disk-hysteresis")?;
@@ -107,44 +218,13 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         .iter()
         .filter(|p| p.period.is_some() && !p.period_converged)
         .count();
-    let moving = |p: &&crate::analysis::disk_dynamics::SweepPoint| p.mean_angular_speed > 0.0;
+    let moving = |p: &&SweepPoint| p.mean_angular_speed > 0.0;
     let up = sweep
         .iter()
         .filter(|p| p.ascending)
         .find(moving)
         .ok_or_else(|| anyhow!("never rolled on the way up"))?;
-    // Bisection for α** between the lowest descending α that rolled and the next one below.
-    let down: Vec<_> = sweep.iter().filter(|p| !p.ascending).collect();
-    let last_rolling = down
-        .iter()
-        .rposition(|p| p.mean_angular_speed > 0.0)
-        .ok_or_else(|| anyhow!("never rolled on the way down"))?;
-    let (mut hi, mut lo) = (
-        down[last_rolling].alpha,
-        down.get(last_rolling + 1)
-            .map(|p| p.alpha)
-            .unwrap_or(alphas[0]),
-    );
-    // The rolling state at `hi`: re-run the descent from the top with continuation.
-    let mut state = [0.0, 0.05];
-    for &a in alphas.iter().rev().filter(|&&a| a >= hi) {
-        state = rolls(&disk, a, state, dwell)?.1;
-    }
-    let iterations = if opts.quick { 14 } else { 30 };
-    let bar = progress(iterations, "α** bisection");
-    for _ in 0..iterations {
-        let mid = 0.5 * (lo + hi);
-        let (r, end) = rolls(&disk, mid, state, 3.0 * dwell)?;
-        if r {
-            hi = mid;
-            state = end;
-        } else {
-            lo = mid;
-        }
-        bar.inc(1);
-    }
-    bar.finish_and_clear();
-    let alpha_return = 0.5 * (lo + hi);
+    let (alpha_return, hi, state) = locate_return(&disk, &sweep, &alphas, dwell, opts.quick)?;
     // Periods just above α**, each continued from the rolling state found at `hi`.
     let deltas = logspace(
         if opts.quick { 1e-5 } else { 1e-7 },
@@ -189,64 +269,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         log_law_slope: -log_fit.slope,
         power_law_slope: pow_fit.slope,
     };
-    let pts = |asc: bool| -> Vec<(f64, f64)> {
-        sweep
-            .iter()
-            .filter(|p| p.ascending == asc)
-            .map(|p| (p.alpha, p.mean_angular_speed))
-            .collect()
-    };
-    let mark = |a: f64, label: &str, c| Series {
-        label: label.into(),
-        points: vec![(a, 0.0), (a, 0.9 * up.mean_angular_speed.max(0.02))],
-        color: c,
-        style: Style::Line,
-    };
-    let panels = vec![
-        Panel {
-            title: format!(
-                "inertial disk m/m0 = {MASS}: hysteresis, α**/α* = {:.3}",
-                summary.return_ratio
-            ),
-            x_label: "ramp angle α (rad)".into(),
-            y_label: "mean angular speed 2π/T (1/t0)".into(),
-            log_x: false,
-            log_y: false,
-            series: vec![
-                Series {
-                    label: "α increasing".into(),
-                    points: pts(true),
-                    color: PALETTE[0],
-                    style: Style::LineMarkers,
-                },
-                Series {
-                    label: "α decreasing".into(),
-                    points: pts(false),
-                    color: PALETTE[1],
-                    style: Style::LineMarkers,
-                },
-                mark(a_star, "α*", (0, 0, 0)),
-                mark(alpha_return, "α**", (120, 120, 120)),
-            ],
-            legend: SeriesLabelPosition::UpperLeft,
-            equal_aspect: false,
-        },
-        Panel {
-            title: format!("near α**: T = a − b ln δα (R² = {:.5})", log_fit.r2),
-            x_label: "α − α** (rad)".into(),
-            y_label: "period T (t0)".into(),
-            log_x: true,
-            log_y: false,
-            series: vec![Series {
-                label: "simulated".into(),
-                points: near,
-                color: PALETTE[2],
-                style: Style::LineMarkers,
-            }],
-            legend: SeriesLabelPosition::UpperRight,
-            equal_aspect: false,
-        },
-    ];
+    let panels = panels(&sweep, &summary, up.mean_angular_speed, near);
     Ok(FigureData {
         panels,
         columns: 2,
