@@ -186,7 +186,9 @@ pub(super) struct PipelineSpec<'a> {
 }
 
 impl Renderer {
-    /// Builds the pipelines for targets of `format`, with `sample_count` (1 or 4) MSAA.
+    /// Builds the pipelines for targets of `format`, with `sample_count` (1 or 4) MSAA. Long on
+    /// purpose: a flat list of wgpu descriptors (shaders, layouts, one pipeline each), read top
+    /// to bottom; each is used once.
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
