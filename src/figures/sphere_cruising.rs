@@ -21,7 +21,8 @@ use super::shard::{Fields, Record};
 use super::sphere_orbits::random_orientation;
 use super::{Computed, FigureData, FigureOptions, convex_disk};
 use crate::analysis::critical_angle;
-use crate::analysis::sphere_orbits::{Fate, Settle, settle};
+use crate::analysis::sphere_orbits::{Fate, settle};
+use crate::analysis::studies::cruising_settle;
 use crate::dynamics::{DiskViscous, Ramp};
 use crate::geometry::{Body, Disk, DiskMode};
 use crate::integrate::{self, Method};
@@ -77,15 +78,7 @@ impl Record for Run {
     }
 }
 
-/// A run cruises unless it halted or, undecided at the time limit, was still creeping to rest
-/// (|ω| < 1e-3, far below any cruising orbit's |ω| ≈ sin α).
-pub fn cruises(f: &Fate) -> bool {
-    match f {
-        Fate::Halts { .. } => false,
-        Fate::Periodic { .. } => true,
-        Fate::Undecided { omega_end } => *omega_end >= 1e-3,
-    }
-}
+pub use crate::analysis::studies::cruises;
 
 /// Whether a viscous disk from θ₀ makes a whole turn (cruises) before halting.
 fn disk_cruises(disk: &Disk, alpha: f64, theta0: f64) -> Result<bool> {
@@ -171,12 +164,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
         .collect();
     // The 2D comparison: a disk with the same α*, from as many evenly spaced θ₀.
     let disk = comparison_disk(opts.seed, a_star)?;
-    let settle_opts = Settle {
-        t_max: 2000.0,
-        point_tol: 1e-5,
-        period_rtol: 1e-5,
-        ..Settle::default()
-    };
+    let settle_opts = cruising_settle();
     // One ensemble: the 3D runs, then the 2D runs (one shardable list).
     let runs = super::all_runs!(opts.ensemble(
         "sphere-cruising",

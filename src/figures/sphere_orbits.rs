@@ -7,16 +7,13 @@
 
 use anyhow::Result;
 use glam::DVec3;
-use rand::{RngExt, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
 use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{Fate, Settle, boundary_distance, cluster_antipodal, settle};
 use crate::dynamics::Ramp;
-use crate::dynamics::sphere3d::orientation_touching;
-use crate::geometry::{Body, Sphere};
+use crate::geometry::Body;
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Headline numbers.
@@ -36,15 +33,7 @@ pub struct Summary {
     pub labels: Vec<Vec<i64>>,
 }
 
-/// Random orientation i of a seed: a uniformly random contact point, then a random spin.
-pub fn random_orientation(body: &Sphere, seed: u64, i: usize) -> glam::DQuat {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_mul(1_000_003).wrapping_add(i as u64));
-    let z: f64 = rng.random_range(-1.0..1.0);
-    let phi: f64 = rng.random_range(0.0..std::f64::consts::TAU);
-    let s = (1.0 - z * z).sqrt();
-    let spin: f64 = rng.random_range(0.0..std::f64::consts::TAU);
-    orientation_touching(body, DVec3::new(s * phi.cos(), s * phi.sin(), z), spin)
-}
+pub use crate::analysis::studies::random_orientation;
 
 /// Runs the figure: computes it, then writes OUT/sphere-orbits/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {

@@ -12,6 +12,7 @@ pub mod period;
 pub mod return_map;
 pub mod sphere_orbits;
 pub mod sphere_return_map;
+pub mod studies;
 
 pub use critical_angle::{CriticalAngle, critical_angle};
 pub use period::{

@@ -1,0 +1,88 @@
+//! The 3D studies with plain parameters (`analysis::studies`) give the figures' numbers: the
+//! cruising fraction equals `sphere-cruising`'s at the same α, seed and orientations, and the
+//! Poincaré map equals the Poincaré field's arrows; bad input is an error naming it.
+
+use rollphase::analysis::sphere_orbits::{field_lattice, poincare_field};
+use rollphase::analysis::studies::{StudyError, cruising_fraction, poincare_map};
+use rollphase::dynamics::Ramp;
+use rollphase::figures::{self, FigureOptions};
+use rollphase::geometry::Body;
+use rollphase::glam::DVec3;
+
+#[test]
+fn the_cruising_fraction_is_the_figures() {
+    let opts = FigureOptions {
+        out: std::env::temp_dir().join(format!("rollphase-studies-{}", std::process::id())),
+        seed: 1,
+        quick: true,
+        ..FigureOptions::default()
+    };
+    let s = figures::sphere_cruising::run(&opts).unwrap();
+    assert!(s.body.starts_with("paper"), "{}", s.body);
+    let body = Body::paper_sphere(219, 0.25, 5).unwrap();
+    // Where the fraction is between 0 and 1, and where it is 1.
+    let mut compared = 0;
+    for (k, &alpha) in s.alphas.iter().enumerate() {
+        if s.fraction_3d[k] > 0.0 {
+            let c = cruising_fraction(&body, alpha, s.orientations, opts.seed).unwrap();
+            assert_eq!(c.fraction, s.fraction_3d[k], "α = {alpha}");
+            assert!(c.cruising + c.halted <= s.orientations);
+            compared += 1;
+        }
+    }
+    assert!(compared >= 2);
+    let _ = std::fs::remove_dir_all(&opts.out);
+}
+
+#[test]
+fn the_poincare_map_is_the_fields_arrows() {
+    let body = Body::paper_sphere(219, 0.25, 5).unwrap();
+    let Body::Sphere(sphere) = &body else {
+        unreachable!()
+    };
+    let ramp = Ramp::new(0.15, 0.0).unwrap();
+    let field = poincare_field(sphere, &ramp, 60, 200.0, 1e-8, &|| {}).unwrap();
+    let upper = field_lattice(60);
+    let map = poincare_map(&body, 0.15, &upper, 200.0, 1e-8).unwrap();
+    for (p, image) in upper.iter().zip(&map) {
+        let arrow = field.iter().find(|a| a.start == *p).unwrap();
+        assert_eq!(arrow.end, image.map(|(q, _)| q));
+        assert_eq!(arrow.time, image.map_or(0.0, |(_, t)| t));
+    }
+}
+
+#[test]
+fn bad_study_input_is_an_error_naming_it() {
+    let sphere = Body::paper_sphere(219, 0.25, 5).unwrap();
+    let disk = Body::paper_disk(84, 0.12, 5).unwrap();
+    assert!(matches!(
+        poincare_map(&disk, 0.15, &[DVec3::X], 100.0, 1e-8),
+        Err(StudyError::NotASphere(_))
+    ));
+    assert!(matches!(
+        poincare_map(
+            &sphere,
+            0.15,
+            &[DVec3::X, DVec3::splat(f64::NAN)],
+            100.0,
+            1e-8
+        ),
+        Err(StudyError::BadStart { index: 1, .. })
+    ));
+    assert!(matches!(
+        poincare_map(&sphere, 2.0, &[DVec3::X], 100.0, 1e-8),
+        Err(StudyError::Model(_))
+    ));
+    assert!(matches!(
+        poincare_map(&sphere, 0.15, &[DVec3::X], f64::INFINITY, 1e-8),
+        Err(StudyError::BadArgument(_))
+    ));
+    assert!(matches!(
+        cruising_fraction(&sphere, 0.15, 0, 1),
+        Err(StudyError::BadArgument(_))
+    ));
+    assert!(matches!(
+        cruising_fraction(&disk, 0.15, 8, 1),
+        Err(StudyError::NotASphere(_))
+    ));
+}
