@@ -39,7 +39,15 @@ impl Body {
     }
 }
 
-/// α* of a body.
+/// α* of a body, and where on it the maximum of |∇ ln r| is.
+///
+/// ```
+/// use rollphase_core::analysis::critical_angle;
+/// use rollphase_core::geometry::Body;
+/// let ca = critical_angle(&Body::paper_disk(84, 0.12, 5)?);
+/// assert!((ca.alpha_star - 0.0572145495).abs() < 1e-9);
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
 pub fn critical_angle(body: &Body) -> CriticalAngle {
     match body {
         Body::Disk(d) => disk_critical_angle(d),

@@ -35,6 +35,16 @@ pub struct PeriodResult {
 }
 
 /// Viscous period by quadrature (SI eq. for T). Halts iff tan α ≤ Q* = tan α*.
+///
+/// ```
+/// use rollphase_core::analysis::viscous_disk_period;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Disk;
+/// // A perfect disk rolls at 2π/T = sin α.
+/// let p = viscous_disk_period(&Disk::perfect(), &Ramp::new(0.3, 0.0)?);
+/// assert!((p.mean_angular_speed - 0.3f64.sin()).abs() < 1e-12);
+/// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+/// ```
 pub fn viscous_disk_period(disk: &Disk, ramp: &Ramp) -> PeriodResult {
     let ca = critical_angle::critical_angle(&Body::Disk(disk.clone()));
     viscous_disk_period_with(disk, ramp, &ca)
@@ -85,7 +95,19 @@ pub fn viscous_disk_period_with(
     }
 }
 
-/// Inertial period by simulation from (θ₀, θ̇₀), at most `t_max` time units.
+/// Inertial period by simulation from (θ₀, θ̇₀), at most `t_max` time units: the time between
+/// whole turns of θ, located as events, once three in a row agree to 1e-8 (`rollphase period
+/// --mass`).
+///
+/// ```
+/// use rollphase_core::analysis::inertial_disk_period;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// let Body::Disk(disk) = Body::paper_disk(84, 0.12, 5)? else { unreachable!() };
+/// let p = inertial_disk_period(&disk, &Ramp::new(0.039, 10.0)?, 1.5707963267948966, 0.04, 1e-10, 5000.0)?;
+/// assert!(!p.halts && p.converged); // the SI's "halting near 0.039" does not hold on this disk
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn inertial_disk_period(
     disk: &Disk,
     ramp: &Ramp,

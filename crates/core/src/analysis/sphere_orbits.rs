@@ -105,6 +105,17 @@ impl Default for Settle {
 
 /// Follows the 3D model (viscous if m/m0 = 0, else inertial from rest) from q0 and returns its
 /// fate and all ∂Ω crossings (for plots).
+///
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::{Fate, Settle, settle};
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::DQuat;
+/// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// let (fate, _crossings) = settle(&s, &Ramp::new(0.15, 0.0)?, DQuat::IDENTITY, &Settle::default())?;
+/// assert!(matches!(fate, Fate::Periodic { k: 1, .. })); // above α*, a closed orbit
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn settle(
     body: &Sphere,
     ramp: &Ramp,

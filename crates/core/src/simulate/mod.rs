@@ -268,6 +268,29 @@ fn fmt_health(v: Option<f64>) -> String {
 pub const MAX_SAMPLES: usize = 10_000_000;
 
 /// Runs `spec` on `body`, calling `row(&values)` for each sample (columns as in the headers).
+///
+/// ```
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::integrate::Method;
+/// use rollphase_core::simulate::{InitialState, RunSpec, run};
+/// let body = Body::random_disk(3, 0.08, 10)?;
+/// let spec = RunSpec {
+///     ramp: Ramp::new(0.3, 0.0)?,
+///     initial: InitialState::at_rest(&body),
+///     method: Method::dop853(1e-10),
+///     t_end: 50.0,
+///     samples: 11,
+///     max_steps: 1_000_000,
+/// };
+/// let mut rows = 0;
+/// let summary = run(&body, &spec, |row| {
+///     assert_eq!(row.len(), 6); // t, θ, θ̇, ψ, x, y
+///     rows += 1;
+/// })?;
+/// assert_eq!((rows, summary.model.to_string().as_str()), (11, "disk-viscous"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<Summary, RunError> {
     if !(spec.t_end.is_finite() && spec.t_end > 0.0 && spec.t_end <= integrate::MAX_SPAN) {
         return Err(RunError::Mismatch(format!(
