@@ -146,13 +146,33 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
     let panels: Vec<Panel> = views
         .iter()
         .map(|(name, proj)| {
+            // The colour carries the start's spin s = 2πj/n about the ramp normal: the legend
+            // names the scale's two ends.
+            let mut labelled = [false, false];
             let mut series: Vec<Series> = traj_series
                 .iter()
-                .map(|(j, pc)| Series {
-                    label: String::new(),
-                    points: pc.iter().map(|p| proj(*p)).collect(),
-                    color: viridis(*j as f64 / n as f64),
-                    style: Style::Line,
+                .map(|(j, pc)| {
+                    let end = if *j == 0 {
+                        Some(0)
+                    } else {
+                        (*j == n - 1).then_some(1)
+                    };
+                    let label = match end {
+                        Some(e) if !labelled[e] => {
+                            labelled[e] = true;
+                            format!(
+                                "start spin s = {:.2} rad",
+                                std::f64::consts::TAU * *j as f64 / n as f64
+                            )
+                        }
+                        _ => String::new(),
+                    };
+                    Series {
+                        label,
+                        points: pc.iter().map(|p| proj(*p)).collect(),
+                        color: viridis(*j as f64 / n as f64),
+                        style: Style::Line,
+                    }
                 })
                 .collect();
             // The ring of spins also wraps through ∂Ω: break it there instead of drawing a chord.
