@@ -2,8 +2,9 @@
 //! cruising fraction equals `sphere-cruising`'s at the same α, seed and orientations, and the
 //! Poincaré map equals the Poincaré field's arrows; bad input is an error naming it.
 
+use rollphase::analysis::sphere_orbits::Decide;
 use rollphase::analysis::sphere_orbits::{field_lattice, poincare_field};
-use rollphase::analysis::studies::{StudyError, cruising_fraction, poincare_map};
+use rollphase::analysis::studies::{StudyError, cruising_fraction, period_counts, poincare_map};
 use rollphase::dynamics::Ramp;
 use rollphase::figures::{self, FigureOptions};
 use rollphase::geometry::Body;
@@ -31,6 +32,42 @@ fn the_cruising_fraction_is_the_figures() {
         }
     }
     assert!(compared >= 2);
+    let _ = std::fs::remove_dir_all(&opts.out);
+}
+
+#[test]
+fn the_period_counts_are_sphere_doublings() {
+    let opts = FigureOptions {
+        out: std::env::temp_dir().join(format!("rollphase-studies-d-{}", std::process::id())),
+        seed: 1,
+        quick: true,
+        ..FigureOptions::default()
+    };
+    let s = figures::sphere_doubling::run(&opts).unwrap();
+    let body = Body::paper_sphere(219, 0.25, 5).unwrap();
+    let decide = Decide {
+        t_min: s.t_min,
+        t_cap: s.t_cap,
+        max_k: 4,
+        tol: 1e-5,
+    };
+    for m in &s.masses {
+        let c = period_counts(
+            &body,
+            s.alpha,
+            m.mass_ratio,
+            s.orientations,
+            opts.seed,
+            &decide,
+        )
+        .unwrap();
+        assert_eq!(c.cycle_counts, m.cycle_counts, "m/m0 = {}", m.mass_ratio);
+        assert_eq!((c.at_rest, c.undecided), (m.at_rest, m.undecided));
+    }
+    assert!(matches!(
+        period_counts(&body, 0.15, 6.0, 4, 1, &Decide { max_k: 9, ..decide }),
+        Err(StudyError::BadArgument(_))
+    ));
     let _ = std::fs::remove_dir_all(&opts.out);
 }
 

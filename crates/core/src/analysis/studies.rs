@@ -1,5 +1,6 @@
 //! The paper's 3D studies callable with plain parameters and returning data: the Poincaré map
-//! on ∂Ω over any starts, and the cruising fraction over random orientations. Each runs its
+//! on ∂Ω over any starts, the cruising fraction over random orientations, and how the runs from
+//! random orientations end at one m/m0 (the period-doubling statistics). Each runs its
 //! starts in parallel (rayon) and gives the same numbers for any thread count; the figures
 //! `sphere-poincare` and `sphere-cruising` compute the same things run by run (so a library or
 //! Python caller gets the figures' numbers without the figure).
@@ -11,7 +12,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 use thiserror::Error;
 
-use super::sphere_orbits::{Fate, Settle, poincare_step, settle};
+use super::sphere_orbits::{Decide, Fate, RunEnd, Settle, decided_run, poincare_step, settle};
 use crate::dynamics::sphere3d::orientation_touching;
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::{Body, Sphere};
@@ -204,4 +205,95 @@ pub fn cruising_fraction(
             .count(),
         fraction: cruising as f64 / orientations as f64,
     })
+}
+
+/// How the runs from random orientations ended at one m/m0 ([`period_counts`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PeriodCounts {
+    /// Runs whose crossings of ∂Ω closed a cycle of k = 1, 2, 3, 4, …, `max_k` (index k − 1);
+    /// the last entry counts the runs that closed none.
+    pub cycle_counts: [usize; 5],
+    /// Of the runs that closed no cycle: those that came to rest.
+    pub at_rest: usize,
+    /// Of the runs that closed no cycle: those still undecided at the cap.
+    pub undecided: usize,
+    /// The longest any run went on before its fate was decided (or the cap).
+    pub longest_run: f64,
+}
+
+/// The period multiplicities of `orientations` runs released from rest at random orientations
+/// ([`random_orientation`] with `seed`) at ramp angle `alpha` and `mass_ratio` (0: viscous),
+/// each going on until `decide` says its fate is decided (paper Fig. 4e; `sphere-doubling`
+/// counts the same). `decide.max_k` is at most 4.
+///
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::Decide;
+/// use rollphase_core::analysis::studies::period_counts;
+/// use rollphase_core::geometry::Body;
+/// let body = Body::paper_sphere(219, 0.25, 5)?;
+/// let decide = Decide { t_min: 1200.0, t_cap: 6000.0, max_k: 4, tol: 1e-5 };
+/// let c = period_counts(&body, 0.15, 6.0, 2, 1, &decide)?;
+/// assert_eq!(c.cycle_counts[1], 2); // period 2 at m/m0 = 6 on the paper's body
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn period_counts(
+    body: &Body,
+    alpha: f64,
+    mass_ratio: f64,
+    orientations: usize,
+    seed: u64,
+    decide: &Decide,
+) -> Result<PeriodCounts, StudyError> {
+    let sphere = sphere_of(body, "the period statistics over orientations")?;
+    let ramp = Ramp::new(alpha, mass_ratio)?;
+    if !(1..=MAX_STARTS).contains(&orientations) {
+        return Err(StudyError::BadArgument(format!(
+            "orientations = {orientations} is not allowed (needs 1 ≤ orientations ≤ {MAX_STARTS})"
+        )));
+    }
+    let valid = (1..=4).contains(&decide.max_k)
+        && decide.t_min.is_finite()
+        && decide.t_min > 0.0
+        && decide.t_cap >= decide.t_min
+        && decide.tol.is_finite()
+        && decide.tol > 0.0;
+    if !valid {
+        return Err(StudyError::BadArgument(format!(
+            "{decide:?} is not allowed (needs 1 ≤ max_k ≤ 4, 0 < t_min ≤ t_cap, tol > 0)"
+        )));
+    }
+    let runs: Vec<_> = (0..orientations)
+        .into_par_iter()
+        .map(|o| {
+            decided_run(
+                sphere,
+                &ramp,
+                random_orientation(sphere, seed, o),
+                decide,
+                (0.0, 0.0, 0),
+                1e-9,
+            )
+        })
+        .collect::<Result<_, _>>()?;
+    let mut c = PeriodCounts {
+        cycle_counts: [0; 5],
+        at_rest: 0,
+        undecided: 0,
+        longest_run: 0.0,
+    };
+    for r in &runs {
+        match r.cycle {
+            Some((k, _)) => c.cycle_counts[k - 1] += 1,
+            None => {
+                c.cycle_counts[4] += 1;
+                if r.end == RunEnd::Rest {
+                    c.at_rest += 1;
+                } else {
+                    c.undecided += 1;
+                }
+            }
+        }
+        c.longest_run = c.longest_run.max(r.t_end);
+    }
+    Ok(c)
 }
