@@ -1,6 +1,6 @@
 //! The guide's library example (docs/guide/library.md) compiles and runs as written: it is read
 //! from there, and the same code is run here. The typed API gives the command line's numbers to
-//! the last digit, for every model. Needs no feature: `cargo test --no-default-features` runs it.
+//! the last digit, for every model and for the command line's ways to start a sphere. Needs no feature: `cargo test --no-default-features` runs it.
 
 use std::process::Command;
 
@@ -144,6 +144,25 @@ fn the_typed_api_gives_the_command_lines_numbers_to_the_last_digit() {
                 "0.9,0.1,0.2,0.3",
                 "--omega0",
                 "0,0.1,0",
+            ],
+        ),
+        (
+            &sphere,
+            &sphere_file,
+            Simulation::new(0.15, 50.0)
+                .samples(51)
+                .initial(InitialState::touching(&sphere, 1.0, 2.0, 0.5).unwrap()),
+            vec![
+                "--alpha",
+                "0.15",
+                "--t-end",
+                "50",
+                "--samples",
+                "51",
+                "--contact",
+                "1,2",
+                "--spin",
+                "0.5",
             ],
         ),
         (

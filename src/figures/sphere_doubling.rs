@@ -28,6 +28,7 @@ use super::shard::{Fields, Record};
 use super::sphere_orbits::random_orientation;
 use super::{Computed, FigureData, FigureOptions, PAPER_ALPHA, par_map, sphere_alpha_star};
 use crate::analysis::sphere_orbits::{Decide, RunEnd, decided_run};
+use crate::analysis::studies::decided_from_rest;
 use crate::dynamics::Ramp;
 use crate::geometry::sphere::angles;
 use crate::geometry::{Body, Sphere, paper_sphere};
@@ -136,15 +137,7 @@ fn run_period(
     o: usize,
     decide: &Decide,
 ) -> Result<Option<usize>> {
-    let ramp = Ramp::new(alpha, mass)?;
-    let r = decided_run(
-        body,
-        &ramp,
-        random_orientation(body, seed, o),
-        decide,
-        (0.0, 0.0, 0),
-        1e-9,
-    )?;
+    let r = decided_from_rest(body, &Ramp::new(alpha, mass)?, seed, o, decide)?;
     Ok(match r.end {
         RunEnd::Periodic => r.cycle.map(|c| c.0),
         RunEnd::Rest => Some(0),

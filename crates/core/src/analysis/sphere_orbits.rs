@@ -512,9 +512,6 @@ fn record<const N: usize, S: OdeSystem<N>>(
             }
         }
     }
-    if decide.max_k == 0 {
-        cycle = None;
-    }
     Ok(DecidedRun {
         crossings,
         path,

@@ -12,7 +12,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 use thiserror::Error;
 
-use super::sphere_orbits::{Decide, Fate, RunEnd, Settle, decided_run, poincare_step, settle};
+use super::sphere_orbits::{
+    Decide, DecidedRun, Fate, RunEnd, Settle, decided_run, poincare_step, settle,
+};
 use crate::dynamics::sphere3d::orientation_touching;
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::{Body, Sphere};
@@ -207,6 +209,26 @@ pub fn cruising_fraction(
     })
 }
 
+/// Run `o` of [`period_counts`]: released from rest at [`random_orientation`] `o` of `seed`,
+/// going on until `decide` says its fate is decided (DOP853 at rtol 1e-9). `sphere-doubling`'s
+/// runs on other bodies are these.
+pub fn decided_from_rest(
+    sphere: &Sphere,
+    ramp: &Ramp,
+    seed: u64,
+    o: usize,
+    decide: &Decide,
+) -> Result<DecidedRun, IntegrateError> {
+    decided_run(
+        sphere,
+        ramp,
+        random_orientation(sphere, seed, o),
+        decide,
+        (0.0, 0.0, 0),
+        1e-9,
+    )
+}
+
 /// How the runs from random orientations ended at one m/m0 ([`period_counts`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct PeriodCounts {
@@ -264,16 +286,7 @@ pub fn period_counts(
     }
     let runs: Vec<_> = (0..orientations)
         .into_par_iter()
-        .map(|o| {
-            decided_run(
-                sphere,
-                &ramp,
-                random_orientation(sphere, seed, o),
-                decide,
-                (0.0, 0.0, 0),
-                1e-9,
-            )
-        })
+        .map(|o| decided_from_rest(sphere, &ramp, seed, o, decide))
         .collect::<Result<_, _>>()?;
     let mut c = PeriodCounts {
         cycle_counts: [0; 5],

@@ -71,11 +71,10 @@ impl InitialState {
                 theta0: 0.0,
                 theta_dot0: 0.0,
             },
-            Body::Sphere(_) => InitialState::touching(body, std::f64::consts::PI, 0.0, 0.0)
-                .unwrap_or(InitialState::Sphere {
-                    q0: DQuat::IDENTITY,
-                    omega0: DVec3::ZERO,
-                }),
+            Body::Sphere(sphere) => InitialState::Sphere {
+                q0: orientation_touching(sphere, DVec3::NEG_Z, 0.0),
+                omega0: DVec3::ZERO,
+            },
         }
     }
 
@@ -98,13 +97,8 @@ impl InitialState {
         if !(theta.is_finite() && phi.is_finite() && spin.is_finite()) {
             return None;
         }
-        let u = if theta == std::f64::consts::PI && phi == 0.0 {
-            DVec3::NEG_Z
-        } else {
-            direction(theta, phi)
-        };
         Some(InitialState::Sphere {
-            q0: orientation_touching(sphere, u, spin),
+            q0: orientation_touching(sphere, direction(theta, phi), spin),
             omega0: DVec3::ZERO,
         })
     }
@@ -249,10 +243,10 @@ pub enum Sample {
 }
 
 impl Sample {
-    /// From a row of [`super::run`] (columns as in [`super::DISK_HEADER`] or
-    /// [`super::SPHERE_HEADER`]).
-    fn from_row(row: &[f64]) -> Self {
-        if row.len() == 6 {
+    /// From a row of [`super::run`] for a disk (columns as in [`super::DISK_HEADER`]) or a
+    /// sphere ([`super::SPHERE_HEADER`]).
+    fn from_row(disk: bool, row: &[f64]) -> Self {
+        if disk {
             Sample::Disk(DiskSample {
                 t: row[0],
                 theta: row[1],
@@ -401,5 +395,6 @@ pub fn simulate_streaming(
     mut sample: impl FnMut(Sample),
 ) -> Result<Summary, RunError> {
     let spec = sim.spec(body)?;
-    run(body, &spec, |row| sample(Sample::from_row(row)))
+    let disk = matches!(body, Body::Disk(_));
+    run(body, &spec, |row| sample(Sample::from_row(disk, row)))
 }
