@@ -11,6 +11,9 @@ use std::process::Command;
 
 use rollphase::figures::{self, FIGURE_FILES, FigureOptions};
 
+#[path = "common/cli.rs"]
+mod cli;
+
 fn opts(name: &str) -> FigureOptions {
     FigureOptions {
         out: std::env::temp_dir().join(format!("rollphase-fig-{name}-{}", std::process::id())),
@@ -77,21 +80,11 @@ fn disk_hysteresis_speeds_are_the_period_commands() {
     assert_eq!(s.unconverged_periods, 0);
     let dir = o.out.join("disk-hysteresis");
     let disk = dir.join("disk.json");
-    let bin = env!("CARGO_BIN_EXE_rollphase");
-    let made = Command::new(bin)
-        .args([
-            "shape", "--dim", "2", "--sigma", "0.12", "--modes", "5", "--seed",
-        ])
-        .arg(s.seed.to_string())
-        .arg("-o")
-        .arg(&disk)
-        .output()
-        .unwrap();
-    assert!(
-        made.status.success(),
-        "{}",
-        String::from_utf8_lossy(&made.stderr)
-    );
+    let disk_arg = disk.to_string_lossy().into_owned();
+    let seed = s.seed.to_string();
+    cli::rollphase_ok([
+        "shape", "--dim", "2", "--sigma", "0.12", "--modes", "5", "--seed", &seed, "-o", &disk_arg,
+    ]);
     let text = std::fs::read_to_string(dir.join("data.csv")).unwrap();
     let mut lines = text.lines();
     assert_eq!(
@@ -105,28 +98,20 @@ fn disk_hysteresis_speeds_are_the_period_commands() {
             assert_eq!(f[3], "", "a resting point has no period: {line}");
             continue;
         }
-        let out = Command::new(bin)
-            .arg("period")
-            .arg(&disk)
-            .args([
-                "--mass",
-                "10",
-                "--json",
-                "--alpha",
-                f[0],
-                "--theta0",
-                f[5],
-                "--thetadot0",
-                f[6],
-            ])
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let p: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let out = cli::rollphase_ok([
+            "period",
+            &disk_arg,
+            "--mass",
+            "10",
+            "--json",
+            "--alpha",
+            f[0],
+            "--theta0",
+            f[5],
+            "--thetadot0",
+            f[6],
+        ]);
+        let p: serde_json::Value = serde_json::from_slice(&out).unwrap();
         let (t, csv_t) = (p["period"].as_f64().unwrap(), f[3].parse::<f64>().unwrap());
         assert_eq!(t, csv_t, "α = {}", f[0]);
         assert_eq!(

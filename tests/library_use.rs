@@ -2,7 +2,8 @@
 //! from there, and the same code is run here. The typed API gives the command line's numbers to
 //! the last digit, for every model and for the command line's ways to start a sphere. Needs no feature: `cargo test --no-default-features` runs it.
 
-use std::process::Command;
+#[path = "common/cli.rs"]
+mod cli;
 
 use rollphase::geometry::Body;
 use rollphase::glam::{DQuat, DVec3};
@@ -56,17 +57,8 @@ fn the_library_example_runs() -> Result<(), Box<dyn std::error::Error>> {
 
 /// `rollphase simulate ARGS` as rows of numbers.
 fn cli_rows(args: &[&str]) -> Vec<Vec<f64>> {
-    let out = Command::new(env!("CARGO_BIN_EXE_rollphase"))
-        .arg("simulate")
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout)
+    let out = cli::rollphase_ok(std::iter::once("simulate").chain(args.iter().copied()));
+    String::from_utf8(out)
         .unwrap()
         .lines()
         .skip(1)

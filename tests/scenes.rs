@@ -3,6 +3,9 @@
 
 use rollphase::scene::{PRESETS, Scene, load_scene_file};
 
+#[path = "common/cli.rs"]
+mod cli;
+
 #[test]
 fn presets_are_exactly_the_scene_files() {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes");
@@ -39,17 +42,9 @@ fn a_printed_preset_works_as_a_scene_file_anywhere() {
     let dir = std::env::temp_dir().join(format!("rollphase-printed-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     for (name, _) in PRESETS {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_rollphase"))
-            .args(["scenes", "--toml", name])
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let toml = cli::rollphase_ok(["scenes", "--toml", name]);
         let path = dir.join(format!("{name}.toml"));
-        std::fs::write(&path, &out.stdout).unwrap();
+        std::fs::write(&path, toml).unwrap();
         let printed = load_scene_file(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
         let bundled = Scene::preset(name).unwrap().setup(None).unwrap();
         assert_eq!(
