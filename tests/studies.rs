@@ -123,3 +123,105 @@ fn bad_study_input_is_an_error_naming_it() {
         Err(StudyError::NotASphere(_))
     ));
 }
+
+#[test]
+fn the_viscous_orbits_are_fixed_points_of_the_poincare_map() {
+    use rollphase::analysis::studies::periodic_orbits;
+    let body = Body::paper_sphere(219, 0.25, 5).unwrap();
+    let decide = Decide {
+        t_min: 600.0,
+        t_cap: 6000.0,
+        max_k: 1,
+        tol: 1e-5,
+    };
+    let orbits = periodic_orbits(&body, 0.15, 0.0, 16, 1, &decide).unwrap();
+    // Paper Fig. 3d: two stable orbits, and every orientation cruises onto one of them.
+    assert_eq!(orbits.len(), 2, "{orbits:?}");
+    assert_eq!(orbits.iter().map(|o| o.starts).sum::<usize>(), 16);
+    for found in &orbits {
+        let o = &found.orbit;
+        assert_eq!(o.multipliers.len(), 2);
+        assert!(o.max_modulus < 1.0, "{o:?}");
+        let p = DVec3::from_array(o.point);
+        let image = poincare_map(&body, 0.15, &[p], 400.0, 1e-11).unwrap()[0].unwrap();
+        assert!(
+            (image.0 - p).length() < 1e-7,
+            "P(p*) = {:?} ≠ p* = {p:?}",
+            image.0
+        );
+        assert!((image.1 - o.period).abs() < 1e-7 * o.period);
+    }
+    // The periods of sphere-poincare's two attractors (docs/guide/figures.md: 51.95 and 51.60).
+    let mut periods: Vec<f64> = orbits.iter().map(|o| o.orbit.period).collect();
+    periods.sort_by(f64::total_cmp);
+    assert!(
+        (periods[0] - 51.60).abs() < 0.01 && (periods[1] - 51.95).abs() < 0.01,
+        "{periods:?}"
+    );
+}
+
+/// The largest Floquet multiplier's modulus is the rate at which a nearby start approaches the
+/// orbit, measured by iterating the return map itself.
+#[test]
+fn the_inertial_multipliers_are_the_measured_rate_of_approach() {
+    use rollphase::analysis::sphere_return_map::next_crossing;
+    use rollphase::analysis::studies::periodic_orbits;
+    let body = Body::paper_sphere(219, 0.25, 5).unwrap();
+    let Body::Sphere(sphere) = &body else {
+        unreachable!()
+    };
+    let decide = Decide {
+        t_min: 600.0,
+        t_cap: 6000.0,
+        max_k: 1,
+        tol: 1e-5,
+    };
+    let orbits = periodic_orbits(&body, 0.15, 10.0, 8, 1, &decide).unwrap();
+    assert_eq!(orbits.len(), 2, "{orbits:?}");
+    let ramp = Ramp::new(0.15, 10.0).unwrap();
+    for found in &orbits {
+        let o = &found.orbit;
+        assert_eq!(o.multipliers.len(), 5);
+        let (p0, w0) = (DVec3::from_array(o.point), DVec3::from_array(o.omega));
+        let distance = |p: DVec3, w: DVec3| {
+            let p = if p.dot(p0) < 0.0 { -p } else { p };
+            ((p - p0).length_squared() + (w - w0).length_squared()).sqrt()
+        };
+        let (mut p, mut w) = ((p0 + DVec3::new(1e-4, -1e-4, 5e-5)).normalize(), w0);
+        let mut d = Vec::new();
+        for _ in 0..24 {
+            let (p1, w1, _) = next_crossing(sphere, &ramp, p, w, 400.0, 1e-12)
+                .unwrap()
+                .unwrap();
+            (p, w) = (p1, w1);
+            d.push(distance(p, w));
+        }
+        let rate = (d[23] / d[7]).powf(1.0 / 16.0);
+        assert!(
+            (rate - o.max_modulus).abs() < 0.05 * o.max_modulus,
+            "measured {rate}, {o:?}"
+        );
+    }
+    // At m/m0 = 6 both orbits have doubled (paper Fig. 4e): no start settles on period 1.
+    assert!(
+        periodic_orbits(&body, 0.15, 6.0, 8, 1, &decide)
+            .unwrap()
+            .is_empty()
+    );
+}
+
+#[test]
+fn a_stopped_study_says_so() {
+    use rollphase::analysis::studies::{cruising_fraction_until, poincare_map_until};
+    use std::sync::atomic::AtomicBool;
+    let body = Body::paper_sphere(219, 0.25, 5).unwrap();
+    let stop = AtomicBool::new(true);
+    assert!(matches!(
+        cruising_fraction_until(&body, 0.15, 100, 1, &stop),
+        Err(StudyError::Stopped)
+    ));
+    assert!(matches!(
+        poincare_map_until(&body, 0.15, &[DVec3::X], 100.0, 1e-8, &stop),
+        Err(StudyError::Stopped)
+    ));
+}

@@ -16,8 +16,8 @@ use nalgebra::DVector;
 use serde::Serialize;
 
 use super::return_map::{self, ReturnMapError};
-use super::sphere_orbits::{first_crossing, nearest_sign};
-use crate::dynamics::{Ramp, SphereInertial};
+use super::sphere_orbits::{first_crossing, nearest_sign, poincare_step};
+use crate::dynamics::{Ramp, SphereInertial, SphereViscous};
 use crate::geometry::Sphere;
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::{self, IntegrateError, Method};
@@ -252,6 +252,73 @@ pub fn periodic_orbit(
         mass_ratio: ramp.mass_ratio,
         point: p.to_array(),
         omega: w.to_array(),
+        period,
+        max_modulus: fp.multipliers.first().map_or(0.0, |c| c.norm()),
+        most_negative_real: return_map::most_negative_real(&fp.multipliers),
+        multipliers: fp.multipliers.iter().map(|c| [c.re, c.im]).collect(),
+        newton_steps: fp.iterations,
+    })
+}
+
+/// A period-1 orbit of the viscous model near the boundary point `p`: a fixed point of the
+/// viscous Poincaré map on ∂Ω (two dimensions: the boundary point in a gnomonic chart around
+/// `p`, ω following from the orientation), by Newton on the map, with its two multipliers.
+/// `omega` in the result is ω at the crossing; `solve.t_max` and `solve.rtol` apply to each
+/// map evaluation.
+///
+/// ```
+/// use rollphase_core::analysis::sphere_return_map::{OrbitSolve, viscous_periodic_orbit};
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::DVec3;
+/// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// let guess = DVec3::new(-0.04, -0.26, -0.96); // near one of the paper's two orbits
+/// let orbit = viscous_periodic_orbit(&s, &Ramp::new(0.15, 0.0)?, guess, &OrbitSolve::default())?;
+/// assert_eq!(orbit.multipliers.len(), 2);
+/// assert!(orbit.max_modulus < 1.0, "a stable orbit");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn viscous_periodic_orbit(
+    body: &Sphere,
+    ramp: &Ramp,
+    p: DVec3,
+    solve: &OrbitSolve,
+) -> Result<PeriodicOrbit, ReturnMapError> {
+    let base = p.normalize();
+    let (e1, e2) = base.any_orthonormal_pair();
+    let unpack = |x: &DVector<f64>| (base + x[0] * e1 + x[1] * e2).normalize();
+    let pack = |p: DVec3| {
+        let p = nearest_sign(base, p);
+        let d = p.dot(base);
+        DVector::from_vec(vec![p.dot(e1) / d, p.dot(e2) / d])
+    };
+    let step = |p: DVec3| {
+        poincare_step(body, ramp, p, solve.t_max, solve.rtol)
+            .ok()
+            .flatten()
+    };
+    let map = |x: &DVector<f64>| step(unpack(x)).map(|(p1, _)| pack(p1));
+    let fp = return_map::find_fixed_point(
+        &map,
+        pack(base),
+        solve.fd_step,
+        solve.tol,
+        0.2,
+        solve.max_newton,
+    )?;
+    let p = unpack(&fp.point);
+    let Some((_, period)) = step(p) else {
+        return Err(ReturnMapError::Undefined {
+            at: fp.point.iter().copied().collect(),
+        });
+    };
+    let model = SphereViscous::new(body, ramp);
+    let q = DQuat::from_xyzw(p.x, p.y, p.z, 0.0);
+    let omega = model.observe(&SphereViscous::initial_state(q)).omega;
+    Ok(PeriodicOrbit {
+        mass_ratio: 0.0,
+        point: p.to_array(),
+        omega: omega.to_array(),
         period,
         max_modulus: fp.multipliers.first().map_or(0.0, |c| c.norm()),
         most_negative_real: return_map::most_negative_real(&fp.multipliers),

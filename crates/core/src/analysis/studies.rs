@@ -5,6 +5,8 @@
 //! `sphere-poincare` and `sphere-cruising` compute the same things run by run (so a library or
 //! Python caller gets the figures' numbers without the figure).
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use glam::{DQuat, DVec3};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -12,8 +14,14 @@ use rayon::prelude::*;
 use serde::Serialize;
 use thiserror::Error;
 
+use super::return_map::ReturnMapError;
 use super::sphere_orbits::{
-    Decide, DecidedRun, Fate, RunEnd, Settle, decided_run, poincare_step, settle,
+    Crossing, Decide, DecidedRun, Fate, RunEnd, Settle, boundary_distance, cluster_antipodal,
+    decided_run, poincare_step, settle, settled_cycle,
+};
+use super::sphere_return_map::{
+    OrbitSolve, PeriodicOrbit, SectionState, inertial_crossings_until, periodic_orbit,
+    viscous_periodic_orbit,
 };
 use crate::dynamics::sphere3d::orientation_touching;
 use crate::dynamics::{ModelError, Ramp};
@@ -45,6 +53,29 @@ pub enum StudyError {
     /// A count or limit out of range.
     #[error("{0}")]
     BadArgument(String),
+    /// A run closed a period-1 cycle that Newton's method could not refine as a fixed point of
+    /// the return map (an orbit too weakly attracting, near a bifurcation).
+    #[error(
+        "a period-1 cycle seen near {near:?} is not a fixed point Newton's method can refine: \
+         {source}; the orbit may be too weakly attracting at this α and m/m0"
+    )]
+    NoFixedPoint {
+        /// The cycle's crossing point.
+        near: [f64; 3],
+        /// Why Newton failed.
+        source: ReturnMapError,
+    },
+    /// Stopped on request (the `_until` variants).
+    #[error("the study was stopped before its end")]
+    Stopped,
+}
+
+fn stopped(stop: &AtomicBool) -> Result<(), StudyError> {
+    if stop.load(Ordering::Relaxed) {
+        Err(StudyError::Stopped)
+    } else {
+        Ok(())
+    }
 }
 
 fn sphere_of<'a>(body: &'a Body, what: &'static str) -> Result<&'a Sphere, StudyError> {
@@ -96,6 +127,19 @@ pub fn poincare_map(
     t_max: f64,
     rtol: f64,
 ) -> Result<Vec<Option<(DVec3, f64)>>, StudyError> {
+    poincare_map_until(body, alpha, starts, t_max, rtol, &AtomicBool::new(false))
+}
+
+/// [`poincare_map`] that stops with [`StudyError::Stopped`] once `stop` is set (each start
+/// already under way finishes first).
+pub fn poincare_map_until(
+    body: &Body,
+    alpha: f64,
+    starts: &[DVec3],
+    t_max: f64,
+    rtol: f64,
+    stop: &AtomicBool,
+) -> Result<Vec<Option<(DVec3, f64)>>, StudyError> {
     let sphere = sphere_of(body, "the Poincaré map on ∂Ω")?;
     let ramp = Ramp::new(alpha, 0.0)?;
     if !(t_max.is_finite() && t_max > 0.0) {
@@ -111,20 +155,21 @@ pub fn poincare_map(
             });
         }
     }
-    Ok(starts
+    starts
         .par_iter()
         .map(|p| {
+            stopped(stop)?;
             // A unit vector is used as given (as the Poincaré field does), any other normalised.
             let unit = (p.length_squared() - 1.0).abs() <= 4.0 * f64::EPSILON;
-            poincare_step(
+            Ok(poincare_step(
                 sphere,
                 &ramp,
                 if unit { *p } else { p.normalize() },
                 t_max,
                 rtol,
-            )
+            )?)
         })
-        .collect::<Result<_, _>>()?)
+        .collect::<Result<_, StudyError>>()
 }
 
 /// How the starts of [`cruising_fraction`] ended.
@@ -182,6 +227,18 @@ pub fn cruising_fraction(
     orientations: usize,
     seed: u64,
 ) -> Result<Cruising, StudyError> {
+    cruising_fraction_until(body, alpha, orientations, seed, &AtomicBool::new(false))
+}
+
+/// [`cruising_fraction`] that stops with [`StudyError::Stopped`] once `stop` is set (each run
+/// already under way finishes first).
+pub fn cruising_fraction_until(
+    body: &Body,
+    alpha: f64,
+    orientations: usize,
+    seed: u64,
+    stop: &AtomicBool,
+) -> Result<Cruising, StudyError> {
     let sphere = sphere_of(body, "the cruising fraction over orientations")?;
     let ramp = Ramp::new(alpha, 0.0)?;
     if !(1..=MAX_STARTS).contains(&orientations) {
@@ -192,8 +249,11 @@ pub fn cruising_fraction(
     let opts = cruising_settle();
     let fates: Vec<Fate> = (0..orientations)
         .into_par_iter()
-        .map(|o| settle(sphere, &ramp, random_orientation(sphere, seed, o), &opts).map(|r| r.0))
-        .collect::<Result<_, _>>()?;
+        .map(|o| {
+            stopped(stop)?;
+            Ok(settle(sphere, &ramp, random_orientation(sphere, seed, o), &opts)?.0)
+        })
+        .collect::<Result<_, StudyError>>()?;
     let cruising = fates.iter().filter(|f| cruises(f)).count();
     Ok(Cruising {
         cruising,
@@ -266,28 +326,38 @@ pub fn period_counts(
     seed: u64,
     decide: &Decide,
 ) -> Result<PeriodCounts, StudyError> {
+    period_counts_until(
+        body,
+        alpha,
+        mass_ratio,
+        orientations,
+        seed,
+        decide,
+        &AtomicBool::new(false),
+    )
+}
+
+/// [`period_counts`] that stops with [`StudyError::Stopped`] once `stop` is set (each run
+/// already under way finishes first).
+pub fn period_counts_until(
+    body: &Body,
+    alpha: f64,
+    mass_ratio: f64,
+    orientations: usize,
+    seed: u64,
+    decide: &Decide,
+    stop: &AtomicBool,
+) -> Result<PeriodCounts, StudyError> {
     let sphere = sphere_of(body, "the period statistics over orientations")?;
     let ramp = Ramp::new(alpha, mass_ratio)?;
-    if !(1..=MAX_STARTS).contains(&orientations) {
-        return Err(StudyError::BadArgument(format!(
-            "orientations = {orientations} is not allowed (needs 1 ≤ orientations ≤ {MAX_STARTS})"
-        )));
-    }
-    let valid = (1..=4).contains(&decide.max_k)
-        && decide.t_min.is_finite()
-        && decide.t_min > 0.0
-        && decide.t_cap >= decide.t_min
-        && decide.tol.is_finite()
-        && decide.tol > 0.0;
-    if !valid {
-        return Err(StudyError::BadArgument(format!(
-            "{decide:?} is not allowed (needs 1 ≤ max_k ≤ 4, 0 < t_min ≤ t_cap, tol > 0)"
-        )));
-    }
+    check_counts(orientations, decide)?;
     let runs: Vec<_> = (0..orientations)
         .into_par_iter()
-        .map(|o| decided_from_rest(sphere, &ramp, seed, o, decide))
-        .collect::<Result<_, _>>()?;
+        .map(|o| {
+            stopped(stop)?;
+            Ok(decided_from_rest(sphere, &ramp, seed, o, decide)?)
+        })
+        .collect::<Result<_, StudyError>>()?;
     let mut c = PeriodCounts {
         cycle_counts: [0; 5],
         at_rest: 0,
@@ -309,4 +379,171 @@ pub fn period_counts(
         c.longest_run = c.longest_run.max(r.t_end);
     }
     Ok(c)
+}
+
+/// A period-1 orbit found by [`periodic_orbits`]: the fixed point of the return map on ∂Ω
+/// with its Floquet multipliers, and how many of the starts settled on it.
+#[derive(Debug, Clone, Serialize)]
+pub struct FoundOrbit {
+    /// The orbit: its crossing point on ∂Ω, ω there, period and multipliers.
+    pub orbit: PeriodicOrbit,
+    /// Starts whose runs closed a period-1 cycle on this orbit.
+    pub starts: usize,
+}
+
+/// Two fixed points closer than this on ∂Ω (antipodes identified) are one orbit.
+const SAME_ORBIT: f64 = 1e-6;
+
+/// The period-1 orbits that `orientations` runs from rest at random orientations
+/// ([`random_orientation`] with `seed`) settle on at ramp angle `alpha` and `mass_ratio`
+/// (0: viscous), each refined as a fixed point of the return map on ∂Ω by Newton's method, with
+/// its Floquet multipliers (two for the viscous map, five for the inertial one: see
+/// [`crate::analysis::sphere_return_map`]). Each run goes on as `decide` says (DOP853 at rtol
+/// 1e-9); a run that closes a period-1 cycle seeds an orbit, and seeds within 1e-3 of each
+/// other (antipodes identified) are solved once. Orbits are listed most-visited first. Runs
+/// that halt, double or stay undecided seed nothing.
+///
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::Decide;
+/// use rollphase_core::analysis::studies::periodic_orbits;
+/// use rollphase_core::geometry::Body;
+/// let body = Body::paper_sphere(219, 0.25, 5)?;
+/// let decide = Decide { t_min: 600.0, t_cap: 6000.0, max_k: 1, tol: 1e-5 };
+/// let orbits = periodic_orbits(&body, 0.15, 0.0, 8, 1, &decide)?;
+/// assert_eq!(orbits.len(), 2, "the paper's two stable orbits (Fig. 3d)");
+/// assert!(orbits.iter().all(|o| o.orbit.max_modulus < 1.0));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn periodic_orbits(
+    body: &Body,
+    alpha: f64,
+    mass_ratio: f64,
+    orientations: usize,
+    seed: u64,
+    decide: &Decide,
+) -> Result<Vec<FoundOrbit>, StudyError> {
+    periodic_orbits_until(
+        body,
+        alpha,
+        mass_ratio,
+        orientations,
+        seed,
+        decide,
+        &AtomicBool::new(false),
+    )
+}
+
+/// [`periodic_orbits`] that stops with [`StudyError::Stopped`] once `stop` is set (each run or
+/// Newton solve already under way finishes first).
+pub fn periodic_orbits_until(
+    body: &Body,
+    alpha: f64,
+    mass_ratio: f64,
+    orientations: usize,
+    seed: u64,
+    decide: &Decide,
+    stop: &AtomicBool,
+) -> Result<Vec<FoundOrbit>, StudyError> {
+    let sphere = sphere_of(body, "the periodic orbits over orientations")?;
+    let ramp = Ramp::new(alpha, mass_ratio)?;
+    check_counts(orientations, decide)?;
+    const RTOL: f64 = 1e-9;
+    // Each run's last crossing (point, ω) when it closed a period-1 cycle.
+    let seeds: Vec<Option<(DVec3, DVec3)>> = (0..orientations)
+        .into_par_iter()
+        .map(|o| {
+            stopped(stop)?;
+            let q0 = random_orientation(sphere, seed, o);
+            let span = (decide.t_min, decide.t_cap);
+            let (max_k, tol) = (decide.max_k, decide.tol);
+            if ramp.is_viscous() {
+                let r = decided_run(sphere, &ramp, q0, decide, (0.0, 0.0, 0), RTOL)?;
+                let last = r.crossings.last().map(|c| DVec3::from_array(c.point));
+                Ok(last
+                    .filter(|_| matches!(r.cycle, Some((1, _))))
+                    .map(|p| (p, DVec3::ZERO)))
+            } else {
+                let to_crossing = |c: &SectionState| Crossing {
+                    t: c.t,
+                    point: c.point,
+                };
+                let (s, _) =
+                    inertial_crossings_until(sphere, &ramp, q0, DVec3::ZERO, span, RTOL, |s| {
+                        let c: Vec<Crossing> = s.iter().map(to_crossing).collect();
+                        settled_cycle(&c, max_k, tol).is_some()
+                    })?;
+                let c: Vec<Crossing> = s.iter().map(to_crossing).collect();
+                let period_one = matches!(settled_cycle(&c, max_k, tol), Some((1, _)));
+                Ok(s.last()
+                    .filter(|_| period_one)
+                    .map(|c| (DVec3::from_array(c.point), DVec3::from_array(c.omega))))
+            }
+        })
+        .collect::<Result<_, StudyError>>()?;
+    let found: Vec<(DVec3, DVec3)> = seeds.into_iter().flatten().collect();
+    let points: Vec<DVec3> = found.iter().map(|s| s.0).collect();
+    let clusters = cluster_antipodal(&points, 1e-3);
+    let solve = OrbitSolve::default();
+    let solved: Vec<(PeriodicOrbit, usize)> = clusters
+        .par_iter()
+        .map(|&(centre, count)| {
+            stopped(stop)?;
+            let &(p, omega) = found
+                .iter()
+                .find(|s| boundary_distance(s.0, centre) < 1e-3)
+                .unwrap_or(&(centre, DVec3::ZERO));
+            let orbit = if ramp.is_viscous() {
+                viscous_periodic_orbit(sphere, &ramp, p, &solve)
+            } else {
+                periodic_orbit(sphere, &ramp, p, omega, &solve)
+            };
+            orbit
+                .map(|o| (o, count))
+                .map_err(|source| StudyError::NoFixedPoint {
+                    near: p.to_array(),
+                    source,
+                })
+        })
+        .collect::<Result<_, StudyError>>()?;
+    let mut orbits: Vec<FoundOrbit> = Vec::new();
+    for (orbit, count) in solved {
+        let p = DVec3::from_array(orbit.point);
+        match orbits
+            .iter_mut()
+            .find(|o| boundary_distance(DVec3::from_array(o.orbit.point), p) < SAME_ORBIT)
+        {
+            Some(same) => same.starts += count,
+            None => orbits.push(FoundOrbit {
+                orbit,
+                starts: count,
+            }),
+        }
+    }
+    orbits.sort_by(|a, b| {
+        b.starts
+            .cmp(&a.starts)
+            .then(a.orbit.period.total_cmp(&b.orbit.period))
+    });
+    Ok(orbits)
+}
+
+fn check_counts(orientations: usize, decide: &Decide) -> Result<(), StudyError> {
+    if !(1..=MAX_STARTS).contains(&orientations) {
+        return Err(StudyError::BadArgument(format!(
+            "orientations = {orientations} is not allowed (needs 1 ≤ orientations ≤ {MAX_STARTS})"
+        )));
+    }
+    let valid = (1..=4).contains(&decide.max_k)
+        && decide.t_min.is_finite()
+        && decide.t_min > 0.0
+        && decide.t_cap.is_finite()
+        && decide.t_cap >= decide.t_min
+        && decide.tol.is_finite()
+        && decide.tol > 0.0;
+    if !valid {
+        return Err(StudyError::BadArgument(format!(
+            "{decide:?} is not allowed (needs 1 ≤ max_k ≤ 4, 0 < t_min ≤ t_cap < ∞, tol > 0)"
+        )));
+    }
+    Ok(())
 }

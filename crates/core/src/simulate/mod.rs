@@ -21,6 +21,8 @@
 //! - otherwise runs the inertial model as asked: between m ≈ rtol and 1e-2 that is exact physics
 //!   at a cost ∝ 1/m, which the summary's `rhs_evals` shows.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use glam::{DQuat, DVec3};
 use serde::Serialize;
 use thiserror::Error;
@@ -30,7 +32,7 @@ mod typed;
 pub use model::{ModelState, Start};
 pub use typed::{
     DiskSample, DiskTrajectory, Model, Sample, Simulation, SphereSample, SphereTrajectory,
-    Trajectory, simulate, simulate_streaming,
+    Trajectory, simulate, simulate_streaming, simulate_until,
 };
 
 use crate::dynamics::{ModelError, ModelKind, ModelVisitor, Ramp, RollingModel};
@@ -183,6 +185,12 @@ pub enum RunError {
         /// What was given.
         given: &'static str,
     },
+    /// Stopped on request ([`run_until`]) before the end.
+    #[error("the run was stopped at t = {t} before its end")]
+    Stopped {
+        /// When.
+        t: f64,
+    },
     /// A sampled value was not finite.
     #[error(
         "the run produced a non-finite value at t = {t} in column {column}; nothing after it is trustworthy"
@@ -291,7 +299,30 @@ pub const MAX_SAMPLES: usize = 10_000_000;
 /// assert_eq!((rows, summary.model.to_string().as_str()), (11, "disk-viscous"));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<Summary, RunError> {
+pub fn run(body: &Body, spec: &RunSpec, row: impl FnMut(&[f64])) -> Result<Summary, RunError> {
+    run_until(body, spec, &AtomicBool::new(false), row)
+}
+
+/// [`run`] that stops, with [`RunError::Stopped`], at the first accepted step after `stop` is
+/// set (from another thread: a Ctrl-C handler, a UI, Python's signal check). Rows already handed
+/// out stay handed out.
+///
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::simulate::{RunError, Simulation, run_until};
+/// let body = Body::paper_sphere(219, 0.25, 5)?;
+/// let spec = Simulation::new(0.15, 100.0).spec(&body)?;
+/// let stopped = run_until(&body, &spec, &AtomicBool::new(true), |_| {});
+/// assert!(matches!(stopped, Err(RunError::Stopped { .. })));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn run_until(
+    body: &Body,
+    spec: &RunSpec,
+    stop: &AtomicBool,
+    mut row: impl FnMut(&[f64]),
+) -> Result<Summary, RunError> {
     if !(spec.t_end.is_finite() && spec.t_end > 0.0 && spec.t_end <= integrate::MAX_SPAN) {
         return Err(RunError::Mismatch(format!(
             "t_end = {} is not allowed (needs 0 < t_end ≤ {}: past that the integrator's \
@@ -340,6 +371,7 @@ pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<S
         Drive {
             spec,
             times: &times,
+            stop,
             row: &mut row,
         },
     )?;
@@ -355,6 +387,7 @@ pub fn run(body: &Body, spec: &RunSpec, mut row: impl FnMut(&[f64])) -> Result<S
 struct Drive<'a, F: FnMut(&[f64])> {
     spec: &'a RunSpec,
     times: &'a [f64],
+    stop: &'a AtomicBool,
     row: &'a mut F,
 }
 
@@ -362,7 +395,12 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
     type Output = Result<Summary, RunError>;
 
     fn visit<const N: usize, M: RollingModel<N>>(self, model: &M, y0: &[f64; N]) -> Self::Output {
-        let Drive { spec, times, row } = self;
+        let Drive {
+            spec,
+            times,
+            stop,
+            row,
+        } = self;
         let mut summary = Summary::new(M::KIND);
         let mut stepper = integrate::stepper(model, 0.0, *y0, spec.method)?;
         let mut values = Vec::with_capacity(16);
@@ -397,6 +435,9 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
         let t_end = *times.last().unwrap_or(&0.0);
         let method = spec.method;
         integrate::step_until(stepper.as_mut(), t_end, spec.max_steps, |st| {
+            if stop.load(Ordering::Relaxed) {
+                return Err(RunError::Stopped { t: st.t() });
+            }
             let y = *st.y();
             track(&y, &mut summary);
             if let Method::Rk4 { dt } | Method::Cf4 { dt } = method {

@@ -9,7 +9,9 @@
 
 use glam::{DQuat, DVec3};
 
-use super::{InitialState, RunError, RunSpec, Summary, run};
+use std::sync::atomic::AtomicBool;
+
+use super::{InitialState, RunError, RunSpec, Summary, run, run_until};
 use crate::dynamics::Ramp;
 use crate::dynamics::sphere3d::orientation_touching;
 use crate::geometry::Body;
@@ -364,11 +366,35 @@ impl Trajectory {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn simulate(body: &Body, sim: &Simulation) -> Result<(Trajectory, Summary), RunError> {
+    simulate_until(body, sim, &AtomicBool::new(false))
+}
+
+/// [`simulate`] that stops with [`RunError::Stopped`] soon after `stop` is set (from another
+/// thread), as [`super::run_until`] does.
+///
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::simulate::{Simulation, simulate_until};
+/// let body = Body::paper_disk(84, 0.12, 5)?;
+/// let (trajectory, _) = simulate_until(&body, &Simulation::new(0.1, 10.0), &AtomicBool::new(false))?;
+/// assert_eq!(trajectory.len(), 1001);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn simulate_until(
+    body: &Body,
+    sim: &Simulation,
+    stop: &AtomicBool,
+) -> Result<(Trajectory, Summary), RunError> {
     let mut trajectory = match body {
         Body::Disk(_) => Trajectory::Disk(DiskTrajectory::default()),
         Body::Sphere(_) => Trajectory::Sphere(SphereTrajectory::default()),
     };
-    let summary = simulate_streaming(body, sim, |s| trajectory.push(s))?;
+    let spec = sim.spec(body)?;
+    let disk = matches!(body, Body::Disk(_));
+    let summary = run_until(body, &spec, stop, |row| {
+        trajectory.push(Sample::from_row(disk, row))
+    })?;
     Ok((trajectory, summary))
 }
 
