@@ -5,6 +5,7 @@
 #   docs/render/app.png     the app's window (under Xvfb when there is no display)
 #   docs/lessons/*.png      each lesson's window at a key moment
 #   docs/accuracy/, docs/stiff/   the benchmark plots and tables
+#   docs/python/fig3d.png, fig4e.png   the Python module's figures (docs/python/paper_figures.py)
 # Run from anywhere: bash docs/images.sh. Takes a few minutes on 2 cores without a GPU.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -38,3 +39,9 @@ window "$bin" app --preset lesson-period-doubling --screenshot-after 60 docs/les
 
 "$bin" bench accuracy --out docs/accuracy
 "$bin" bench stiff --out docs/stiff
+
+# The Python module's figures (docs/python/fig3d.png, fig4e.png), from a fresh virtual
+# environment with the module built from this checkout.
+python3 -m venv "$tmp/venv"
+"$tmp/venv/bin/pip" install -q ./python matplotlib
+"$tmp/venv/bin/python" docs/python/paper_figures.py docs/python

@@ -43,7 +43,7 @@ pub mod colormap;
 pub mod figures;
 #[cfg(feature = "render")]
 pub mod headless;
-pub mod output;
+pub use rollphase_output::output;
 pub mod plot;
 pub mod png;
 #[cfg(feature = "render")]

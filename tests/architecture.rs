@@ -1,5 +1,5 @@
-//! The layers of ARCHITECTURE.md, checked on the source of both crates (the root package and
-//! crates/core): every path a module names into the crate (`crate::…`, grouped and nested uses,
+//! The layers of ARCHITECTURE.md, checked on the source of the Rust crates (the root package,
+//! crates/core and crates/output): every path a module names into the crate (`crate::…`, grouped and nested uses,
 //! and `super::` chains that climb to the crate root) is one its layer may import, as the
 //! "Allowed imports" table of ARCHITECTURE.md says (read from the file, so the map cannot drift
 //! from the code); the physics core names no GPU or window crate; nothing outside `src/cli` (and
@@ -84,12 +84,16 @@ const NO_GPU: &[&str] = &[
     "figures",
 ];
 
-/// The source folders of the workspace's crates: the root package and the physics core, whose
-/// modules share one table (in the core, `crate::` is the core itself; in the root, `crate::x`
+/// The source folders of the workspace's crates: the root package, the physics core and the
+/// output layer, whose modules share one table (in the core, `crate::` is the core itself; in the root, `crate::x`
 /// of a core module is its re-export).
 fn source_roots() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    vec![root.join("src"), root.join("crates/core/src")]
+    vec![
+        root.join("src"),
+        root.join("crates/core/src"),
+        root.join("crates/output/src"),
+    ]
 }
 
 /// Every (source root, file) pair of the workspace.

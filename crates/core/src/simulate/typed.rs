@@ -184,6 +184,8 @@ impl Simulation {
 
     /// The [`RunSpec`] this stands for, for `body`.
     pub fn spec(&self, body: &Body) -> Result<RunSpec, RunError> {
+        // The ramp first, so a bad m/m0 gets the command line's message for `--mass`.
+        let ramp = Ramp::with_drag(self.alpha, self.model.mass_ratio(), self.drag)?;
         if let Model::Inertial { mass_ratio } = self.model
             && !(mass_ratio.is_finite() && mass_ratio > 0.0)
         {
@@ -193,7 +195,7 @@ impl Simulation {
             )));
         }
         Ok(RunSpec {
-            ramp: Ramp::with_drag(self.alpha, self.model.mass_ratio(), self.drag)?,
+            ramp,
             initial: self.initial.unwrap_or_else(|| InitialState::at_rest(body)),
             method: self.method,
             t_end: self.t_end,

@@ -17,7 +17,8 @@
 //!   device and inode, which catches hard links) and refused before anything is written.
 //!   [`check_file`] and [`check_folder`] let a command do that before its first expensive step.
 //!
-//! Imports nothing else of the crate: it sits at the bottom of the layers, below `png`, `clip`,
+//! Its own crate (rollphase-output, re-exported as `rollphase::output`), depending on nothing of
+//! rollphase: it sits at the bottom of the layers, below `png`, `clip`,
 //! `figures`, `headless`, `ui` and `cli`.
 
 use std::fs::{File, OpenOptions};

@@ -1,0 +1,193 @@
+"""Irregular cylinders and spheres rolling down a ramp (Qian, Jung & Mahadevan, PNAS 2025).
+
+Units: the force F, the drag γ and the mean radius ⟨r⟩ are 1; angles are in radians; mass is
+m/m0 (0: the viscous model). Orientations are body-to-lab unit quaternions (w, x, y, z); the
+ramp frame has x downhill and z along the ramp's normal. Bad input raises ValueError with the
+command line's message; Ctrl-C stops a long call with KeyboardInterrupt.
+"""
+
+from os import PathLike
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+_Path = Union[str, PathLike]
+_Floats = npt.ArrayLike
+
+class Body:
+    """A rolling body: a disk (2D, r(θ) = 1 + Σ a_l/l² sin(l(θ − θ_l))) or a sphere (3D,
+    r(u) = 1 + Re Σ A_lm/(l(l+1)) Y_lm(u)), with mean radius 1."""
+
+    @staticmethod
+    def paper_sphere(seed: int, sigma: float = 0.25, modes: int = 5) -> Body:
+        """The paper's 3D body for a numpy seed (the authors' generator, bit for bit); seed 219
+        is the body of the paper's Figs. 3 and 4."""
+    @staticmethod
+    def paper_disk(seed: int, sigma: float = 0.08, modes: int = 10) -> Body:
+        """The paper's 2D body for a numpy seed (the authors' generator, bit for bit)."""
+    @staticmethod
+    def random_sphere(seed: int, sigma: float = 0.25, modes: int = 5) -> Body:
+        """A random sphere from rollphase's own seeded generator."""
+    @staticmethod
+    def random_disk(seed: int, sigma: float = 0.08, modes: int = 10) -> Body:
+        """A random disk from rollphase's own seeded generator."""
+    @staticmethod
+    def from_file(path: _Path) -> Body:
+        """A body from a shape file (JSON, as `rollphase shape` writes)."""
+    def to_file(self, path: _Path) -> None:
+        """Writes the body as a shape file, whole or not at all (a link stays a link)."""
+    def to_json(self) -> str:
+        """The shape file's JSON text."""
+    @property
+    def alpha_star(self) -> float:
+        """The critical angle α* = atan max |∇ ln r| (rad)."""
+    @property
+    def dimension(self) -> int:
+        """2 for a disk, 3 for a sphere."""
+    @property
+    def is_convex(self) -> bool:
+        """Whether the body is convex (runs refuse a non-convex body)."""
+    def radius(self, points: _Floats) -> npt.NDArray[np.float64]:
+        """Disk: r(θ) at each angle (any shape, the same shape back). Sphere: r(u) at each
+        direction of an (N, 3) array (normalised; N radii back) or of one (3,) direction."""
+
+class Trajectory:
+    """A run's samples as numpy arrays. Sphere: t (N,), q (N, 4) w, x, y, z, contact (N, 3)
+    body-frame contact point, omega (N, 3) lab angular velocity, com (N, 3) centre of mass.
+    Disk: t, theta, theta_dot, psi, x, y, each (N,). From simulate_many every array but t has a
+    leading axis of one row per start, and summary is a list."""
+
+    @property
+    def t(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def q(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def contact(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def omega(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def com(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def theta(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def theta_dot(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def psi(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def x(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def y(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def summary(self) -> Union[Dict[str, Any], List[Dict[str, Any]]]:
+        """The command line's --summary keys: model, integrator, rhs_evals, steps, rejected,
+        max_quat_norm_error, max_contact_normal_error, energy_drift, t_end, model_note,
+        wall_seconds, rhs_evals_per_second, alpha, mass_ratio."""
+    @property
+    def dimension(self) -> int: ...
+    @property
+    def columns(self) -> List[str]: ...
+    def __len__(self) -> int: ...
+
+def simulate(
+    body: Body,
+    alpha: float,
+    t_end: float,
+    mass_ratio: float = 0.0,
+    q0: Optional[Sequence[float]] = None,
+    contact: Optional[Sequence[float]] = None,
+    spin: float = 0.0,
+    omega0: Optional[Sequence[float]] = None,
+    theta0: Optional[float] = None,
+    theta_dot0: Optional[float] = None,
+    integrator: str = "dop853",
+    rtol: float = 1e-10,
+    atol: Optional[float] = None,
+    dt: float = 0.01,
+    samples: int = 1001,
+    drag: float = 1.0,
+    max_steps: int = 100_000_000,
+) -> Trajectory:
+    """One run on a ramp at angle alpha (rad) from t = 0 to t_end, as `rollphase simulate`
+    (the same numbers to the last digit). mass_ratio 0 is viscous, > 0 inertial. Sphere start:
+    q0 (w, x, y, z) or contact (θ, φ) turned by spin; omega0 for inertial runs. Disk start:
+    theta0, theta_dot0. integrator: "dop853" (rtol, atol), "rk4" or "cf4" (dt)."""
+
+def simulate_many(
+    body: Body,
+    alpha: float,
+    q0s: _Floats,
+    t_end: float,
+    mass_ratio: float = 0.0,
+    omega0: Optional[Sequence[float]] = None,
+    integrator: str = "dop853",
+    rtol: float = 1e-10,
+    atol: Optional[float] = None,
+    dt: float = 0.01,
+    samples: int = 1001,
+    drag: float = 1.0,
+    max_steps: int = 100_000_000,
+) -> Trajectory:
+    """A sphere from each quaternion of the (N, 4) array q0s, in parallel with the GIL
+    released; arrays stacked: q (N, S, 4), contact, omega, com (N, S, 3), t (S,)."""
+
+def critical_angle(body: Body) -> float:
+    """α* = atan max |∇ ln r| (rad), as body.alpha_star."""
+
+def period(
+    body: Body,
+    alpha: float,
+    mass_ratio: float = 0.0,
+    theta0: float = 0.0,
+    theta_dot0: float = 0.0,
+    t_max: float = 5000.0,
+    rtol: float = 1e-10,
+) -> Optional[float]:
+    """A disk's period T (time for θ to advance 2π), None when it halts, nan (with a
+    RuntimeWarning) when not measurable; as `rollphase period`."""
+
+def poincare_map(
+    body: Body,
+    alpha: float,
+    starts: _Floats,
+    t_max: float = 2000.0,
+    rtol: float = 1e-10,
+) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """The viscous Poincaré map on ∂Ω: from an (N, 4) array of quaternions with w = 0, the
+    next crossings (N, 4) and return times (N,); nan where the body halts or t_max passes."""
+
+def cruising_fraction(
+    body: Body, alpha: float, orientations: int = 1000, seed: int = 1
+) -> Dict[str, Any]:
+    """Fig. 3b: of random orientations released from rest (viscous), how many cruise. Keys:
+    cruising, halted, undecided, fraction."""
+
+def periodic_orbits(
+    body: Body,
+    alpha: float,
+    mass_ratio: float = 0.0,
+    orientations: int = 64,
+    seed: int = 1,
+    t_min: float = 2000.0,
+    t_cap: float = 20000.0,
+    tol: float = 1e-5,
+) -> List[Dict[str, Any]]:
+    """The period-1 orbits random starts settle on, each a fixed point of the return map on ∂Ω
+    with its Floquet multipliers. Keys: point, omega, period, multipliers (complex),
+    max_modulus, stable, starts, newton_steps."""
+
+def period_counts(
+    body: Body,
+    alpha: float,
+    mass_ratio: float,
+    orientations: int = 100,
+    seed: int = 1,
+    t_min: float = 2000.0,
+    t_cap: float = 20000.0,
+    max_k: int = 4,
+    tol: float = 1e-5,
+) -> Dict[str, Any]:
+    """Fig. 4e: the period multiplicities of runs from random orientations at one m/m0. Keys:
+    cycle_counts (k = 1..4, then none), at_rest, undecided, longest_run."""

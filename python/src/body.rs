@@ -1,0 +1,189 @@
+//! `rollphase.Body`: a star-shaped body, built from the paper's generator (numpy seeds, bit for
+//! bit the authors' bodies), from rollphase's own generator, or from a shape file; its α*,
+//! convexity and radius over numpy arrays; written back to a shape file through the output
+//! layer.
+
+use std::path::PathBuf;
+
+use numpy::ndarray::{ArrayD, IxDyn};
+use numpy::{AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn};
+use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::prelude::*;
+use rollphase_core::geometry::Body as CoreBody;
+use rollphase_core::glam::DVec3;
+use rollphase_output::output::{self, OutputError};
+
+use crate::{value_error, whole};
+
+/// A rolling body: a disk (2D, r(θ) = 1 + Σ a_l/l² sin(l(θ − θ_l))) or a sphere (3D,
+/// r(u) = 1 + Re Σ A_lm/(l(l+1)) Y_lm(u)), with mean radius 1.
+///
+/// Build one with Body.paper_sphere(219) (the paper's own body), Body.paper_disk,
+/// Body.random_sphere, Body.random_disk or Body.from_file.
+#[pyclass(frozen, module = "rollphase", name = "Body")]
+pub struct Body {
+    pub(crate) body: CoreBody,
+    origin: String,
+}
+
+impl Body {
+    fn made(body: Result<CoreBody, impl std::fmt::Display>, origin: String) -> PyResult<Self> {
+        Ok(Body {
+            body: body.map_err(value_error)?,
+            origin,
+        })
+    }
+
+    /// The core body, refusing a non-convex one the way a run does.
+    pub(crate) fn convex(&self) -> PyResult<&CoreBody> {
+        self.body.check_convex().map_err(value_error)?;
+        Ok(&self.body)
+    }
+}
+
+#[pymethods]
+impl Body {
+    /// The paper's 3D body for a numpy seed (the authors' generator, bit for bit): seed 219,
+    /// sigma 0.25, modes 5 is the body of the paper's Figs. 3 and 4.
+    #[staticmethod]
+    #[pyo3(signature = (seed, sigma = 0.25, modes = 5))]
+    fn paper_sphere(seed: i128, sigma: f64, modes: i128) -> PyResult<Self> {
+        let (seed, modes): (u64, u32) = (whole("seed", seed)?, whole("modes", modes)?);
+        Body::made(
+            CoreBody::paper_sphere(seed, sigma, modes),
+            format!("paper sphere (numpy seed {seed}, sigma {sigma}, l <= {modes})"),
+        )
+    }
+
+    /// The paper's 2D body for a numpy seed (the authors' generator, bit for bit).
+    #[staticmethod]
+    #[pyo3(signature = (seed, sigma = 0.08, modes = 10))]
+    fn paper_disk(seed: i128, sigma: f64, modes: i128) -> PyResult<Self> {
+        let (seed, modes): (u64, u32) = (whole("seed", seed)?, whole("modes", modes)?);
+        Body::made(
+            CoreBody::paper_disk(seed, sigma, modes),
+            format!("paper disk (numpy seed {seed}, sigma {sigma}, l <= {modes})"),
+        )
+    }
+
+    /// A random sphere from rollphase's own generator (seeded, the same on every machine).
+    #[staticmethod]
+    #[pyo3(signature = (seed, sigma = 0.25, modes = 5))]
+    fn random_sphere(seed: i128, sigma: f64, modes: i128) -> PyResult<Self> {
+        let (seed, modes): (u64, u32) = (whole("seed", seed)?, whole("modes", modes)?);
+        Body::made(
+            CoreBody::random_sphere(seed, sigma, modes),
+            format!("random sphere (seed {seed}, sigma {sigma}, l <= {modes})"),
+        )
+    }
+
+    /// A random disk from rollphase's own generator (seeded, the same on every machine).
+    #[staticmethod]
+    #[pyo3(signature = (seed, sigma = 0.08, modes = 10))]
+    fn random_disk(seed: i128, sigma: f64, modes: i128) -> PyResult<Self> {
+        let (seed, modes): (u64, u32) = (whole("seed", seed)?, whole("modes", modes)?);
+        Body::made(
+            CoreBody::random_disk(seed, sigma, modes),
+            format!("random disk (seed {seed}, sigma {sigma}, l <= {modes})"),
+        )
+    }
+
+    /// A body from a shape file (JSON, as `rollphase shape` writes).
+    #[staticmethod]
+    fn from_file(path: PathBuf) -> PyResult<Self> {
+        let origin = format!("shape file {}", path.display());
+        Body::made(CoreBody::from_file(&path), origin)
+    }
+
+    /// Writes the body as a shape file (JSON) that Body.from_file and the command line read.
+    /// The file is written whole or not at all; a link stays a link.
+    fn to_file(&self, path: PathBuf) -> PyResult<()> {
+        if path.as_os_str() == "-" {
+            return Err(PyValueError::new_err(
+                "to_file needs a file path; \"-\" (standard output) is for the command line",
+            ));
+        }
+        let text = self.body.to_shape().to_json() + "\n";
+        output::write_bytes(&path, text.as_bytes(), &output::Inputs::none()).map_err(|e| match e {
+            OutputError::Io { .. } | OutputError::Stdout(_) => PyOSError::new_err(e.to_string()),
+            _ => PyValueError::new_err(e.to_string()),
+        })
+    }
+
+    /// The critical angle α* = atan max |∇ ln r| (rad): below it a viscous body halts.
+    #[getter]
+    fn alpha_star(&self) -> f64 {
+        self.body.alpha_star()
+    }
+
+    /// 2 for a disk, 3 for a sphere.
+    #[getter]
+    fn dimension(&self) -> u32 {
+        self.body.dimension()
+    }
+
+    /// Whether the body is convex (the rolling models need it; runs refuse a non-convex body).
+    #[getter]
+    fn is_convex(&self) -> bool {
+        self.body.is_convex()
+    }
+
+    /// The body's radius: for a disk r(θ) at each angle of an array of any shape (the same
+    /// shape back); for a sphere r(u) at each direction of an (N, 3) array (normalised here;
+    /// N radii back), or of one (3,) direction (one radius back, as a 0-d array).
+    fn radius<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let points = points.as_array();
+        if let Some(bad) = points.iter().find(|v| !v.is_finite()) {
+            return Err(PyValueError::new_err(format!(
+                "radius: {bad} is not a finite number"
+            )));
+        }
+        match &self.body {
+            CoreBody::Disk(disk) => Ok(points.mapv(|theta| disk.jet(theta).r).into_pyarray(py)),
+            CoreBody::Sphere(sphere) => {
+                let shape = points.shape();
+                let (n, out_shape) = match shape {
+                    [3] => (1, vec![]),
+                    [n, 3] => (*n, vec![*n]),
+                    _ => {
+                        return Err(PyValueError::new_err(format!(
+                            "radius of a sphere takes directions as an (N, 3) array (or one (3,) \
+                             direction), not shape {shape:?}"
+                        )));
+                    }
+                };
+                let flat: Vec<f64> = points.iter().copied().collect();
+                let mut radii = Vec::with_capacity(n);
+                for (i, u) in flat.chunks_exact(3).enumerate() {
+                    let u = DVec3::from_slice(u);
+                    if u.length() < 1e-300 {
+                        return Err(PyValueError::new_err(format!(
+                            "radius: direction {i} is the zero vector, which has no direction"
+                        )));
+                    }
+                    radii.push(sphere.radius(u.normalize()));
+                }
+                let out = ArrayD::from_shape_vec(IxDyn(&out_shape), radii)
+                    .map_err(|e| PyValueError::new_err(e.to_string()))?;
+                Ok(out.into_pyarray(py))
+            }
+        }
+    }
+
+    /// The shape file's JSON text.
+    fn to_json(&self) -> String {
+        self.body.to_shape().to_json()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<rollphase.Body: {}, alpha_star = {:.6}>",
+            self.origin,
+            self.body.alpha_star()
+        )
+    }
+}

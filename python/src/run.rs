@@ -1,0 +1,590 @@
+//! `rollphase.simulate` and `rollphase.simulate_many`: one run, or many from an array of starts
+//! in parallel, returned as a `Trajectory` of numpy arrays with the command line's summary.
+//!
+//! The start is built as `rollphase simulate` builds it from its flags (the same checks, named
+//! by the Python argument), then the core's typed [`Simulation`] runs it: the numbers are the
+//! command line's to the last digit.
+
+use std::collections::BTreeMap;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use numpy::IntoPyArray;
+use numpy::ndarray::{Array1, Array2, Array3};
+use numpy::{AllowTypeChange, PyArrayLike2};
+use pyo3::exceptions::{PyAttributeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use rayon::prelude::*;
+use rollphase_core::dynamics::sphere3d::orientation_touching;
+use rollphase_core::geometry::Body as CoreBody;
+use rollphase_core::geometry::sphere::direction;
+use rollphase_core::glam::{DQuat, DVec3};
+use rollphase_core::integrate::Method;
+use rollphase_core::simulate::{
+    InitialState, Model, RunError, Simulation, Summary, Trajectory as CoreTrajectory,
+    simulate_until,
+};
+
+use crate::body::Body;
+use crate::{interruptible, value_error, whole};
+
+/// Beyond this many numbers in all a `simulate_many` result would not fit in memory on most
+/// machines (8 bytes each, held twice while it is handed to numpy).
+const MAX_VALUES: usize = 500_000_000;
+
+/// Angles beyond this are reduced modulo 2π with a warning, as the command line does.
+const MAX_PLAIN_ANGLE: f64 = 1e6;
+
+/// A run's samples as numpy arrays.
+///
+/// A sphere's: t (N,), q (N, 4) as w, x, y, z (body-to-lab, Hamilton), contact (N, 3) (the
+/// contact point as a body-frame unit vector), omega (N, 3) (lab angular velocity), com (N, 3)
+/// (centre of mass: x downhill, z above the ramp). A disk's: t, theta (contact angle in the
+/// body), theta_dot, psi (the body's rotation), x (downhill), y (height), each (N,).
+/// From simulate_many every array but t gains a leading axis, one row per start.
+/// summary: the command line's --summary keys (a list of them from simulate_many).
+#[pyclass(frozen, module = "rollphase", name = "Trajectory")]
+pub struct Trajectory {
+    columns: BTreeMap<&'static str, Py<PyAny>>,
+    summary: Py<PyAny>,
+    dimension: u32,
+}
+
+impl Trajectory {
+    fn column(&self, py: Python<'_>, name: &str) -> PyResult<Py<PyAny>> {
+        self.columns
+            .get(name)
+            .map(|c| c.clone_ref(py))
+            .ok_or_else(|| {
+                let (what, has) = if self.dimension == 3 {
+                    ("a sphere's", "t, q, contact, omega, com")
+                } else {
+                    ("a disk's", "t, theta, theta_dot, psi, x, y")
+                };
+                PyAttributeError::new_err(format!(
+                    "{what} trajectory has no {name}; its columns are {has}"
+                ))
+            })
+    }
+}
+
+#[pymethods]
+impl Trajectory {
+    /// Sample times (N,).
+    #[getter]
+    fn t(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.column(py, "t")
+    }
+    /// Sphere: orientations (N, 4), w, x, y, z.
+    #[getter]
+    fn q(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.column(py, "q")
+    }
+    /// Sphere: contact points in the body frame (N, 3).
+    #[getter]
+    fn contact(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.column(py, "contact")
+    }
+    /// Sphere: lab angular velocities (N, 3).
+    #[getter]
+    fn omega(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.column(py, "omega")
+    }
+    /// Sphere: centres of mass (N, 3), x downhill, z above the ramp.
+    #[getter]
+    fn com(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.column(py, "com")
+    }
+    /// Disk: contact angles θ (N,).
+    #[getter]
+    fn theta(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.column(py, "theta")
+    }
+    /// Disk: θ̇ (N,).
+    #[getter]
+    fn theta_dot(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.column(py, "theta_dot")
+    }
+    /// Disk: body rotation ψ (N,).
+    #[getter]
+    fn psi(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.column(py, "psi")
+    }
+    /// Disk: centre of mass downhill (N,).
+    #[getter]
+    fn x(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.column(py, "x")
+    }
+    /// Disk: centre of mass height above the ramp (N,).
+    #[getter]
+    fn y(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.column(py, "y")
+    }
+    /// The run's summary (a dict with the command line's --summary keys), or a list of them.
+    #[getter]
+    fn summary(&self, py: Python<'_>) -> Py<PyAny> {
+        self.summary.clone_ref(py)
+    }
+    /// 2 for a disk, 3 for a sphere.
+    #[getter]
+    fn dimension(&self) -> u32 {
+        self.dimension
+    }
+    /// The names of the columns this trajectory has.
+    #[getter]
+    fn columns(&self) -> Vec<&'static str> {
+        let order: &[&str] = if self.dimension == 3 {
+            &["t", "q", "contact", "omega", "com"]
+        } else {
+            &["t", "theta", "theta_dot", "psi", "x", "y"]
+        };
+        order.to_vec()
+    }
+    fn __len__(&self, py: Python<'_>) -> PyResult<usize> {
+        self.columns["t"].bind(py).len()
+    }
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        Ok(format!(
+            "<rollphase.Trajectory: {}D, {} samples, columns {}>",
+            self.dimension,
+            self.__len__(py)?,
+            self.columns().join(", ")
+        ))
+    }
+}
+
+/// The integrator named `name` with its settings, checked as the command line checks them.
+fn method(name: &str, rtol: f64, atol: Option<f64>, dt: f64) -> PyResult<Method> {
+    let m = match name {
+        "dop853" => Method::Dop853 {
+            rtol,
+            atol: atol.unwrap_or(rtol),
+        },
+        "rk4" => Method::Rk4 { dt },
+        "cf4" => Method::Cf4 { dt },
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "integrator={other:?} is not one of \"dop853\" (adaptive, rtol/atol), \"rk4\" or \
+                 \"cf4\" (fixed step dt; cf4 keeps |q| = 1 exactly)"
+            )));
+        }
+    };
+    m.validate().map_err(value_error)?;
+    Ok(m)
+}
+
+fn finite_list(name: &str, v: &[f64], n: usize, names: &str) -> PyResult<Vec<f64>> {
+    if v.len() != n {
+        return Err(PyValueError::new_err(format!(
+            "{name} expects {n} numbers {names}, got {}",
+            v.len()
+        )));
+    }
+    if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "{name}: {bad} is not a finite number (expected {names})"
+        )));
+    }
+    Ok(v.to_vec())
+}
+
+/// The start arguments of `simulate`, as the command line's flags.
+pub struct StartArgs {
+    pub mass_ratio: f64,
+    pub q0: Option<Vec<f64>>,
+    pub contact: Option<Vec<f64>>,
+    pub spin: f64,
+    pub omega0: Option<Vec<f64>>,
+    pub theta0: Option<f64>,
+    pub theta_dot0: Option<f64>,
+}
+
+/// The initial state, with the command line's checks (`cli::simulate::initial_state`).
+fn initial_state(py: Python<'_>, a: &StartArgs, body: &CoreBody) -> PyResult<InitialState> {
+    let theta_dot0 = a.theta_dot0.unwrap_or(0.0);
+    if a.mass_ratio == 0.0 {
+        if a.omega0.is_some() {
+            return Err(PyValueError::new_err(
+                "omega0 does not apply to the viscous model (mass_ratio=0): its angular velocity \
+                 follows from the orientation; give mass_ratio > 0 for an initial spin",
+            ));
+        }
+        if theta_dot0 != 0.0 {
+            return Err(PyValueError::new_err(
+                "theta_dot0 does not apply to the viscous model (mass_ratio=0): θ̇ follows from \
+                 θ; give mass_ratio > 0 for an initial angular velocity",
+            ));
+        }
+    }
+    match body {
+        CoreBody::Disk(_) => {
+            if a.q0.is_some() || a.contact.is_some() || a.omega0.is_some() {
+                return Err(PyValueError::new_err(
+                    "this body is a 2D disk: give theta0 (and theta_dot0), not q0/contact/omega0",
+                ));
+            }
+            let mut theta0 = a.theta0.unwrap_or(0.0);
+            if theta0.is_finite() && theta0.abs() > MAX_PLAIN_ANGLE {
+                let reduced = theta0.rem_euclid(std::f64::consts::TAU);
+                let message = std::ffi::CString::new(format!(
+                    "theta0 {theta0:e} reduced modulo 2π to {reduced} (beyond ±1e6 rad an angle \
+                     has too few digits left to advance)"
+                ))
+                .unwrap_or_default();
+                let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+                PyErr::warn(py, category.as_any(), &message, 1)?;
+                theta0 = reduced;
+            }
+            Ok(InitialState::Disk { theta0, theta_dot0 })
+        }
+        CoreBody::Sphere(s) => {
+            if a.theta0.is_some() || a.theta_dot0.is_some() {
+                return Err(PyValueError::new_err(
+                    "this body is a 3D sphere: give q0 or contact=(θ, φ) (and spin), not \
+                     theta0/theta_dot0",
+                ));
+            }
+            if a.q0.is_some() && a.contact.is_some() {
+                return Err(PyValueError::new_err(
+                    "give q0 or contact, not both: each sets the starting orientation",
+                ));
+            }
+            if !a.spin.is_finite() {
+                return Err(PyValueError::new_err(format!(
+                    "spin {} is not a finite number",
+                    a.spin
+                )));
+            }
+            let q0 = match (&a.q0, &a.contact) {
+                (Some(q), _) => {
+                    let v = finite_list("q0", q, 4, "w, x, y, z")?;
+                    let q = DQuat::from_xyzw(v[1], v[2], v[3], v[0]);
+                    if q.length() < 1e-12 {
+                        return Err(PyValueError::new_err(format!(
+                            "q0 {v:?} has zero length; give a rotation quaternion w, x, y, z"
+                        )));
+                    }
+                    q
+                }
+                (None, Some(c)) => {
+                    let v = finite_list("contact", c, 2, "θ, φ")?;
+                    orientation_touching(s, direction(v[0], v[1]), a.spin)
+                }
+                (None, None) => orientation_touching(s, DVec3::NEG_Z, a.spin),
+            };
+            let omega0 = match &a.omega0 {
+                Some(w) => DVec3::from_slice(&finite_list("omega0", w, 3, "x, y, z")?),
+                None => DVec3::ZERO,
+            };
+            Ok(InitialState::Sphere { q0, omega0 })
+        }
+    }
+}
+
+/// The summary as the command line's `--summary` JSON, as a dict.
+fn summary_dict<'py>(
+    py: Python<'py>,
+    summary: &Summary,
+    wall: f64,
+    alpha: f64,
+    mass_ratio: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let value = serde_json::to_value(summary).map_err(value_error)?;
+    let d = PyDict::new(py);
+    if let serde_json::Value::Object(map) = value {
+        for (k, v) in map {
+            d.set_item(k, json_to_py(py, &v)?)?;
+        }
+    }
+    d.set_item("wall_seconds", wall)?;
+    d.set_item(
+        "rhs_evals_per_second",
+        summary.rhs_evals as f64 / wall.max(1e-12),
+    )?;
+    d.set_item("alpha", alpha)?;
+    d.set_item("mass_ratio", mass_ratio)?;
+    Ok(d)
+}
+
+/// A JSON value as the Python value `json.loads` would give.
+pub(crate) fn json_to_py(py: Python<'_>, v: &serde_json::Value) -> PyResult<Py<PyAny>> {
+    use serde_json::Value;
+    Ok(match v {
+        Value::Null => py.None(),
+        Value::Bool(b) => b.into_pyobject(py)?.to_owned().into_any().unbind(),
+        Value::Number(n) => match n.as_u64() {
+            Some(u) => u.into_pyobject(py)?.into_any().unbind(),
+            None => n
+                .as_f64()
+                .unwrap_or(f64::NAN)
+                .into_pyobject(py)?
+                .into_any()
+                .unbind(),
+        },
+        Value::String(s) => s.into_pyobject(py)?.into_any().unbind(),
+        Value::Array(a) => {
+            let items: Vec<Py<PyAny>> = a
+                .iter()
+                .map(|x| json_to_py(py, x))
+                .collect::<PyResult<_>>()?;
+            PyList::new(py, items)?.into_any().unbind()
+        }
+        Value::Object(m) => {
+            let d = PyDict::new(py);
+            for (k, x) in m {
+                d.set_item(k, json_to_py(py, x)?)?;
+            }
+            d.into_any().unbind()
+        }
+    })
+}
+
+fn flat3(v: &[DVec3]) -> Vec<f64> {
+    v.iter().flat_map(|p| p.to_array()).collect()
+}
+
+fn flat4(v: &[DQuat]) -> Vec<f64> {
+    v.iter().flat_map(|q| [q.w, q.x, q.y, q.z]).collect()
+}
+
+/// A run's error as ValueError (a stopped run never gets here: [`interruptible`] raises the
+/// interrupt first).
+fn run_error(e: RunError) -> PyErr {
+    value_error(e)
+}
+
+fn arr1(py: Python<'_>, v: Vec<f64>) -> Py<PyAny> {
+    Array1::from_vec(v).into_pyarray(py).into_any().unbind()
+}
+
+fn arr2(py: Python<'_>, v: Vec<f64>, n: usize, k: usize) -> PyResult<Py<PyAny>> {
+    Ok(Array2::from_shape_vec((n, k), v)
+        .map_err(value_error)?
+        .into_pyarray(py)
+        .into_any()
+        .unbind())
+}
+
+fn arr3(py: Python<'_>, v: Vec<f64>, shape: (usize, usize, usize)) -> PyResult<Py<PyAny>> {
+    Ok(Array3::from_shape_vec(shape, v)
+        .map_err(value_error)?
+        .into_pyarray(py)
+        .into_any()
+        .unbind())
+}
+
+/// Simulates one run of `body` on a ramp at angle `alpha` (rad) from t = 0 to `t_end`.
+///
+/// mass_ratio: m/m0; 0 is the viscous model (first order), > 0 the inertial one.
+/// Start (sphere): q0 = (w, x, y, z), or contact = (θ, φ) (the body point at polar angle θ,
+/// azimuth φ put on the ramp) then turned by spin (rad) about the ramp's normal; by default the
+/// south pole touches, turned by spin; omega0 = (x, y, z) for an inertial run (default at rest).
+/// Start (disk): theta0 (contact angle, default 0), theta_dot0 (inertial only).
+/// integrator: "dop853" (rtol, atol = rtol by default), "rk4" or "cf4" (fixed step dt).
+/// samples: equally spaced samples from 0 to t_end inclusive.
+/// Returns a Trajectory (numpy arrays) with .summary, the command line's --summary keys; the
+/// numbers equal `rollphase simulate`'s to the last digit. Ctrl-C stops it (KeyboardInterrupt).
+#[pyfunction]
+#[pyo3(signature = (body, alpha, t_end, mass_ratio = 0.0, q0 = None, contact = None, spin = 0.0,
+    omega0 = None, theta0 = None, theta_dot0 = None, integrator = "dop853", rtol = 1e-10,
+    atol = None, dt = 0.01, samples = 1001, drag = 1.0, max_steps = 100_000_000))]
+pub fn simulate(
+    py: Python<'_>,
+    body: &Body,
+    alpha: f64,
+    t_end: f64,
+    mass_ratio: f64,
+    q0: Option<Vec<f64>>,
+    contact: Option<Vec<f64>>,
+    spin: f64,
+    omega0: Option<Vec<f64>>,
+    theta0: Option<f64>,
+    theta_dot0: Option<f64>,
+    integrator: &str,
+    rtol: f64,
+    atol: Option<f64>,
+    dt: f64,
+    samples: i128,
+    drag: f64,
+    max_steps: i128,
+) -> PyResult<Trajectory> {
+    let (samples, max_steps): (usize, u64) =
+        (whole("samples", samples)?, whole("max_steps", max_steps)?);
+    let core = &body.body;
+    let method = method(integrator, rtol, atol, dt)?;
+    let start = StartArgs {
+        mass_ratio,
+        q0,
+        contact,
+        spin,
+        omega0,
+        theta0,
+        theta_dot0,
+    };
+    let initial = initial_state(py, &start, core)?;
+    let mut sim = Simulation::new(alpha, t_end)
+        .model(Model::from_mass_ratio(mass_ratio))
+        .drag(drag)
+        .method(method)
+        .samples(samples)
+        .initial(initial);
+    sim.max_steps = max_steps;
+    // Every argument is checked (the ramp, the sampling, the step) before the worker starts.
+    sim.spec(core).map_err(run_error)?;
+    let clock = Instant::now();
+    let (trajectory, summary) =
+        interruptible(py, |stop| simulate_until(core, &sim, stop))?.map_err(run_error)?;
+    let wall = clock.elapsed().as_secs_f64();
+    let summary = summary_dict(py, &summary, wall, alpha, mass_ratio)?;
+    let mut columns = BTreeMap::new();
+    match trajectory {
+        CoreTrajectory::Sphere(s) => {
+            let n = s.t.len();
+            columns.insert("t", arr1(py, s.t));
+            columns.insert("q", arr2(py, flat4(&s.q), n, 4)?);
+            columns.insert("contact", arr2(py, flat3(&s.contact), n, 3)?);
+            columns.insert("omega", arr2(py, flat3(&s.omega), n, 3)?);
+            columns.insert("com", arr2(py, flat3(&s.com), n, 3)?);
+        }
+        CoreTrajectory::Disk(d) => {
+            columns.insert("t", arr1(py, d.t));
+            columns.insert("theta", arr1(py, d.theta));
+            columns.insert("theta_dot", arr1(py, d.theta_dot));
+            columns.insert("psi", arr1(py, d.psi));
+            columns.insert("x", arr1(py, d.x));
+            columns.insert("y", arr1(py, d.y));
+        }
+    }
+    Ok(Trajectory {
+        columns,
+        summary: summary.into_any().unbind(),
+        dimension: core.dimension(),
+    })
+}
+
+/// Simulates a sphere from each orientation of `q0s`, an (N, 4) array of quaternions w, x, y,
+/// z (normalised, as simulate's q0), in parallel with the GIL released. The other arguments are
+/// simulate's, the same for every run. Returns one Trajectory whose arrays are stacked: t (S,),
+/// q (N, S, 4), contact, omega and com (N, S, 3), and .summary a list of N dicts. Each run
+/// equals simulate(body, alpha, t_end, q0=q0s[i], …). Ctrl-C stops it (KeyboardInterrupt).
+#[pyfunction]
+#[pyo3(signature = (body, alpha, q0s, t_end, mass_ratio = 0.0, omega0 = None,
+    integrator = "dop853", rtol = 1e-10, atol = None, dt = 0.01, samples = 1001, drag = 1.0,
+    max_steps = 100_000_000))]
+pub fn simulate_many(
+    py: Python<'_>,
+    body: &Body,
+    alpha: f64,
+    q0s: PyArrayLike2<'_, f64, AllowTypeChange>,
+    t_end: f64,
+    mass_ratio: f64,
+    omega0: Option<Vec<f64>>,
+    integrator: &str,
+    rtol: f64,
+    atol: Option<f64>,
+    dt: f64,
+    samples: i128,
+    drag: f64,
+    max_steps: i128,
+) -> PyResult<Trajectory> {
+    let (samples, max_steps): (usize, u64) =
+        (whole("samples", samples)?, whole("max_steps", max_steps)?);
+    let core = &body.body;
+    if !matches!(core, CoreBody::Sphere(_)) {
+        return Err(PyValueError::new_err(
+            "simulate_many runs a sphere from many orientations; this body is a 2D disk (call \
+             simulate for each theta0)",
+        ));
+    }
+    let q0s = q0s.as_array();
+    let (n, width) = q0s.dim();
+    if width != 4 {
+        return Err(PyValueError::new_err(format!(
+            "q0s must be an (N, 4) array of quaternions w, x, y, z, not shape ({n}, {width})"
+        )));
+    }
+    if n == 0 {
+        return Err(PyValueError::new_err(
+            "q0s is empty: give at least one start",
+        ));
+    }
+    let values = n.saturating_mul(samples).saturating_mul(14);
+    if values > MAX_VALUES {
+        return Err(PyValueError::new_err(format!(
+            "{n} runs × {samples} samples would return {values:.3e} numbers ({:.1} GB), more \
+             than the {MAX_VALUES:.0e} allowed; use fewer samples or split the starts",
+            values as f64 * 8e-9
+        )));
+    }
+    let method = method(integrator, rtol, atol, dt)?;
+    let mut sims = Vec::with_capacity(n);
+    for (i, row) in q0s.outer_iter().enumerate() {
+        let start = StartArgs {
+            mass_ratio,
+            q0: Some(row.to_vec()),
+            contact: None,
+            spin: 0.0,
+            omega0: omega0.clone(),
+            theta0: None,
+            theta_dot0: None,
+        };
+        let initial = initial_state(py, &start, core)
+            .map_err(|e| PyValueError::new_err(format!("q0s[{i}]: {}", e.value(py))))?;
+        let mut sim = Simulation::new(alpha, t_end)
+            .model(Model::from_mass_ratio(mass_ratio))
+            .drag(drag)
+            .method(method)
+            .samples(samples)
+            .initial(initial);
+        sim.max_steps = max_steps;
+        sims.push(sim);
+    }
+    sims[0].spec(core).map_err(run_error)?;
+    let results = interruptible(py, |stop: &AtomicBool| {
+        sims.par_iter()
+            .enumerate()
+            .map(|(i, sim)| {
+                let started = Instant::now();
+                simulate_until(core, sim, stop)
+                    .map(|r| (r, started.elapsed().as_secs_f64()))
+                    .map_err(|e| (i, e))
+            })
+            .collect::<Result<Vec<_>, _>>()
+    })?;
+    let runs = results
+        .map_err(|(i, e)| PyValueError::new_err(format!("the run from q0s[{i}] failed: {e}")))?;
+    let s = samples;
+    let mut t = Vec::new();
+    let (mut q, mut contact, mut omega, mut com) = (
+        Vec::with_capacity(n * s * 4),
+        Vec::with_capacity(n * s * 3),
+        Vec::with_capacity(n * s * 3),
+        Vec::with_capacity(n * s * 3),
+    );
+    let summaries = PyList::empty(py);
+    for ((trajectory, summary), wall) in runs {
+        let CoreTrajectory::Sphere(path) = trajectory else {
+            unreachable!("a sphere's runs are sphere trajectories")
+        };
+        if t.is_empty() {
+            t = path.t.clone();
+        }
+        q.extend(flat4(&path.q));
+        contact.extend(flat3(&path.contact));
+        omega.extend(flat3(&path.omega));
+        com.extend(flat3(&path.com));
+        summaries.append(summary_dict(py, &summary, wall, alpha, mass_ratio)?)?;
+    }
+    let mut columns = BTreeMap::new();
+    columns.insert("t", arr1(py, t));
+    columns.insert("q", arr3(py, q, (n, s, 4))?);
+    columns.insert("contact", arr3(py, contact, (n, s, 3))?);
+    columns.insert("omega", arr3(py, omega, (n, s, 3))?);
+    columns.insert("com", arr3(py, com, (n, s, 3))?);
+    Ok(Trajectory {
+        columns,
+        summary: summaries.into_any().unbind(),
+        dimension: 3,
+    })
+}

@@ -1,0 +1,306 @@
+//! The paper's analyses from Python with plain arguments: α*, the 2D period, the Poincaré map
+//! on ∂Ω, the cruising fraction, the period-1 orbits with their Floquet multipliers and the
+//! period-doubling statistics. Each is the core's function of the same name
+//! (`rollphase_core::analysis`), run with the GIL released and stopped by Ctrl-C.
+
+use numpy::ndarray::{Array1, Array2};
+use numpy::{AllowTypeChange, Complex64, IntoPyArray, PyArray1, PyArray2, PyArrayLike2};
+use pyo3::exceptions::{PyRuntimeWarning, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use rollphase_core::analysis::sphere_orbits::Decide;
+use rollphase_core::analysis::studies::{
+    cruising_fraction_until, period_counts_until, periodic_orbits_until, poincare_map_until,
+};
+use rollphase_core::analysis::{inertial_disk_period, viscous_disk_period};
+use rollphase_core::dynamics::Ramp;
+use rollphase_core::geometry::Body as CoreBody;
+use rollphase_core::glam::DVec3;
+use rollphase_core::integrate::MAX_SPAN;
+
+use crate::body::Body;
+use crate::{interruptible, value_error, whole};
+
+/// The critical angle α* = atan max |∇ ln r| of `body` (rad): a viscous body released at
+/// α ≤ α* comes to rest; above it a disk rolls for ever. The same as body.alpha_star.
+#[pyfunction]
+pub fn critical_angle(body: &Body) -> f64 {
+    body.body.alpha_star()
+}
+
+/// The period T of a disk rolling at ramp angle `alpha` (rad): the time for its contact angle
+/// to advance 2π, or None when it comes to rest. mass_ratio = 0 (viscous): T = ∫ dθ/θ̇ by
+/// adaptive quadrature, and the disk halts iff α ≤ α*. mass_ratio > 0 (inertial): simulated
+/// from (theta0, theta_dot0) until successive periods agree to 1e-8, at most t_max; with
+/// inertia a disk can keep rolling below α* (hysteresis). Where T is not measurable (too close
+/// to α*, or no steady period by t_max) it returns nan with a RuntimeWarning saying why. The
+/// same numbers as `rollphase period`.
+#[pyfunction]
+#[pyo3(signature = (body, alpha, mass_ratio = 0.0, theta0 = 0.0, theta_dot0 = 0.0,
+    t_max = 5000.0, rtol = 1e-10))]
+pub fn period(
+    py: Python<'_>,
+    body: &Body,
+    alpha: f64,
+    mass_ratio: f64,
+    theta0: f64,
+    theta_dot0: f64,
+    t_max: f64,
+    rtol: f64,
+) -> PyResult<Option<f64>> {
+    let CoreBody::Disk(disk) = body.convex()? else {
+        return Err(PyValueError::new_err(
+            "this body is a 3D sphere; period is for disks. A sphere's orbits are found by \
+             simulation: use simulate, or periodic_orbits",
+        ));
+    };
+    let ramp = Ramp::new(alpha, mass_ratio).map_err(value_error)?;
+    if !(t_max.is_finite() && t_max > 0.0 && t_max <= MAX_SPAN) {
+        return Err(PyValueError::new_err(format!(
+            "t_max = {t_max} is not allowed (needs 0 < t_max ≤ {MAX_SPAN:e}: past that the \
+             integrator's smallest step, 16 ε × t_max, exceeds the steps an orbit needs)"
+        )));
+    }
+    for (name, v) in [("theta0", theta0), ("theta_dot0", theta_dot0)] {
+        if !v.is_finite() {
+            return Err(PyValueError::new_err(format!(
+                "{name} {v} is not a finite number"
+            )));
+        }
+    }
+    let p = if ramp.is_viscous() {
+        viscous_disk_period(disk, &ramp)
+    } else {
+        let disk = disk.clone();
+        interruptible(py, move |_| {
+            inertial_disk_period(&disk, &ramp, theta0, theta_dot0, rtol, t_max)
+        })?
+        .map_err(value_error)?
+    };
+    match (p.period, p.halts) {
+        (Some(t), _) => Ok(Some(t)),
+        (None, true) => Ok(None),
+        (None, false) => {
+            let why = if ramp.is_viscous() {
+                format!(
+                    "T is not measurable: α − α* = {:.3e} is too close to α* for the period \
+                     integral to converge (T grows as (α − α*)^−½)",
+                    alpha - body.body.alpha_star()
+                )
+            } else {
+                format!(
+                    "T is not measurable within t_max = {t_max}: no steady period was reached \
+                     (a heavy disk accelerates on a time scale ≈ m/m0 = {mass_ratio}); raise t_max"
+                )
+            };
+            let message = std::ffi::CString::new(why).unwrap_or_default();
+            let category = py.get_type::<PyRuntimeWarning>();
+            PyErr::warn(py, category.as_any(), &message, 1)?;
+            Ok(Some(f64::NAN))
+        }
+    }
+}
+
+/// poincare_map's (ends, times).
+type MapImages<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
+
+/// The viscous Poincaré map P on ∂Ω, the boundary of the SO(3) ball (rotations by π), at ramp
+/// angle `alpha`. starts: an (N, 4) array of quaternions w, x, y, z with w = 0 (points of ∂Ω;
+/// the vector part is normalised here). Returns (ends, times): ends (N, 4), the next crossing
+/// of ∂Ω from each start (w = 0, the sign nearest the start, since q and −q are one
+/// orientation), and times (N,), the time to it; rows of nan where the body comes to rest first
+/// or does not return by t_max. DOP853 at rtol, in parallel; the numbers of `rollphase figure
+/// sphere-poincare`'s field.
+#[pyfunction]
+#[pyo3(signature = (body, alpha, starts, t_max = 2000.0, rtol = 1e-10))]
+pub fn poincare_map<'py>(
+    py: Python<'py>,
+    body: &Body,
+    alpha: f64,
+    starts: PyArrayLike2<'py, f64, AllowTypeChange>,
+    t_max: f64,
+    rtol: f64,
+) -> PyResult<MapImages<'py>> {
+    let core = body.convex()?;
+    let starts = starts.as_array();
+    let (n, width) = starts.dim();
+    if width != 4 {
+        return Err(PyValueError::new_err(format!(
+            "starts must be an (N, 4) array of quaternions w, x, y, z on ∂Ω (w = 0), not shape \
+             ({n}, {width})"
+        )));
+    }
+    if !(rtol.is_finite() && rtol > 0.0 && rtol < 1.0) {
+        return Err(PyValueError::new_err(format!(
+            "rtol = {rtol} is not allowed (needs 0 < rtol < 1)"
+        )));
+    }
+    let mut points = Vec::with_capacity(n);
+    for (i, q) in starts.outer_iter().enumerate() {
+        let p = DVec3::new(q[1], q[2], q[3]);
+        if !(q[0].is_finite() && q[0].abs() <= 1e-9 * p.length()) {
+            return Err(PyValueError::new_err(format!(
+                "starts[{i}] = {:?} is not on ∂Ω: points of ∂Ω are rotations by π, w = 0",
+                q.to_vec()
+            )));
+        }
+        points.push(p);
+    }
+    let images = interruptible(py, |stop| {
+        poincare_map_until(core, alpha, &points, t_max, rtol, stop)
+    })?
+    .map_err(value_error)?;
+    let mut ends = Vec::with_capacity(4 * n);
+    let mut times = Vec::with_capacity(n);
+    for image in images {
+        match image {
+            Some((p, t)) => {
+                ends.extend([0.0, p.x, p.y, p.z]);
+                times.push(t);
+            }
+            None => {
+                ends.extend([f64::NAN; 4]);
+                times.push(f64::NAN);
+            }
+        }
+    }
+    let ends = Array2::from_shape_vec((n, 4), ends).map_err(value_error)?;
+    Ok((
+        ends.into_pyarray(py),
+        Array1::from_vec(times).into_pyarray(py),
+    ))
+}
+
+/// The fraction of `orientations` random orientations (seeded, the same on every machine)
+/// released from rest at ramp angle `alpha` with the viscous model that cruise (reach a closed
+/// orbit, or still roll at t = 2000) rather than halt: the paper's Fig. 3b, and `rollphase
+/// figure sphere-cruising`'s numbers. Returns a dict: cruising, halted, undecided, fraction.
+#[pyfunction]
+#[pyo3(signature = (body, alpha, orientations = 1000, seed = 1))]
+pub fn cruising_fraction<'py>(
+    py: Python<'py>,
+    body: &Body,
+    alpha: f64,
+    orientations: i128,
+    seed: i128,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (orientations, seed): (usize, u64) =
+        (whole("orientations", orientations)?, whole("seed", seed)?);
+    let core = body.convex()?;
+    let c = interruptible(py, |stop| {
+        cruising_fraction_until(core, alpha, orientations, seed, stop)
+    })?
+    .map_err(value_error)?;
+    let d = PyDict::new(py);
+    d.set_item("cruising", c.cruising)?;
+    d.set_item("halted", c.halted)?;
+    d.set_item("undecided", c.undecided)?;
+    d.set_item("fraction", c.fraction)?;
+    Ok(d)
+}
+
+fn decide(t_min: f64, t_cap: f64, max_k: usize, tol: f64) -> Decide {
+    Decide {
+        t_min,
+        t_cap,
+        max_k,
+        tol,
+    }
+}
+
+/// The period-1 orbits that `orientations` random starts released from rest settle on at ramp
+/// angle `alpha` and `mass_ratio` (0: viscous), each refined as a fixed point of the return map
+/// on ∂Ω by Newton's method, with its Floquet multipliers (2 for the viscous map, 5 for the
+/// inertial one). Each run goes on for at least t_min, then until its crossings of ∂Ω repeat
+/// (to tol) or it comes to rest, at most t_cap. Returns a list, most-visited first, of dicts:
+/// point (3,) (the crossing on ∂Ω, sign arbitrary), omega (3,) (ω there), period,
+/// multipliers (complex array, largest modulus first), max_modulus, stable (max_modulus < 1),
+/// starts (how many starts settled on it), newton_steps. On the paper's body at α = 0.15 the
+/// viscous model gives the paper's two stable orbits (Fig. 3d).
+#[pyfunction]
+#[pyo3(signature = (body, alpha, mass_ratio = 0.0, orientations = 64, seed = 1, t_min = 2000.0,
+    t_cap = 20000.0, tol = 1e-5))]
+pub fn periodic_orbits<'py>(
+    py: Python<'py>,
+    body: &Body,
+    alpha: f64,
+    mass_ratio: f64,
+    orientations: i128,
+    seed: i128,
+    t_min: f64,
+    t_cap: f64,
+    tol: f64,
+) -> PyResult<Bound<'py, PyList>> {
+    let (orientations, seed): (usize, u64) =
+        (whole("orientations", orientations)?, whole("seed", seed)?);
+    let core = body.convex()?;
+    let rule = decide(t_min, t_cap, 1, tol);
+    let found = interruptible(py, |stop| {
+        periodic_orbits_until(core, alpha, mass_ratio, orientations, seed, &rule, stop)
+    })?
+    .map_err(value_error)?;
+    let list = PyList::empty(py);
+    for f in found {
+        let o = &f.orbit;
+        let d = PyDict::new(py);
+        d.set_item("point", Array1::from_vec(o.point.to_vec()).into_pyarray(py))?;
+        d.set_item("omega", Array1::from_vec(o.omega.to_vec()).into_pyarray(py))?;
+        d.set_item("period", o.period)?;
+        let multipliers: Vec<Complex64> = o
+            .multipliers
+            .iter()
+            .map(|&[re, im]| Complex64::new(re, im))
+            .collect();
+        d.set_item(
+            "multipliers",
+            Array1::from_vec(multipliers).into_pyarray(py),
+        )?;
+        d.set_item("max_modulus", o.max_modulus)?;
+        d.set_item("stable", o.max_modulus < 1.0)?;
+        d.set_item("starts", f.starts)?;
+        d.set_item("newton_steps", o.newton_steps)?;
+        list.append(d)?;
+    }
+    Ok(list)
+}
+
+/// How `orientations` runs released from rest at random orientations end at one mass ratio:
+/// the period-doubling statistics of the paper's Fig. 4e (`rollphase figure sphere-doubling`
+/// counts the same). Each run goes on for at least t_min, then until its crossings of ∂Ω close a
+/// steady cycle of k ≤ max_k crossings (to tol) or it comes to rest, at most t_cap. Returns a
+/// dict: cycle_counts (array of max 5: runs with period k = 1, 2, 3, 4, then runs with none),
+/// at_rest and undecided (of those with none), longest_run (the longest a run went on).
+#[pyfunction]
+#[pyo3(signature = (body, alpha, mass_ratio, orientations = 100, seed = 1, t_min = 2000.0,
+    t_cap = 20000.0, max_k = 4, tol = 1e-5))]
+pub fn period_counts<'py>(
+    py: Python<'py>,
+    body: &Body,
+    alpha: f64,
+    mass_ratio: f64,
+    orientations: i128,
+    seed: i128,
+    t_min: f64,
+    t_cap: f64,
+    max_k: i128,
+    tol: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (orientations, seed, max_k): (usize, u64, usize) = (
+        whole("orientations", orientations)?,
+        whole("seed", seed)?,
+        whole("max_k", max_k)?,
+    );
+    let core = body.convex()?;
+    let rule = decide(t_min, t_cap, max_k, tol);
+    let c = interruptible(py, |stop| {
+        period_counts_until(core, alpha, mass_ratio, orientations, seed, &rule, stop)
+    })?
+    .map_err(value_error)?;
+    let d = PyDict::new(py);
+    let counts: Vec<u64> = c.cycle_counts.iter().map(|&k| k as u64).collect();
+    d.set_item("cycle_counts", Array1::from_vec(counts).into_pyarray(py))?;
+    d.set_item("at_rest", c.at_rest)?;
+    d.set_item("undecided", c.undecided)?;
+    d.set_item("longest_run", c.longest_run)?;
+    Ok(d)
+}

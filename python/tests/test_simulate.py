@@ -1,0 +1,223 @@
+"""simulate and simulate_many: the command line's numbers to the last digit, its summary keys,
+its error messages, and Ctrl-C."""
+
+import json
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+import _thread
+import time
+
+import numpy as np
+import pytest
+
+import rollphase
+from rollphase import Body
+
+from conftest import read_csv
+
+SPHERE = ["t", "qw", "qx", "qy", "qz", "ux", "uy", "uz", "wx", "wy", "wz", "x", "y", "z"]
+DISK = ["t", "theta", "theta_dot", "psi", "x", "y"]
+
+
+def as_rows(run):
+    """A Trajectory as the command line's CSV columns."""
+    if run.dimension == 3:
+        return np.column_stack([run.t, run.q, run.contact, run.omega, run.com])
+    return np.column_stack([run.t, run.theta, run.theta_dot, run.psi, run.x, run.y])
+
+
+CASES = [
+    # (body, python keyword arguments, command-line flags)
+    ("sphere", dict(alpha=0.15, t_end=100.0), ["--alpha", 0.15, "--t-end", 100]),
+    (
+        "sphere",
+        dict(alpha=0.2, t_end=60.0, q0=[0.3, 0.1, -0.5, 0.8], samples=77),
+        ["--alpha", 0.2, "--t-end", 60, "--q0", "0.3,0.1,-0.5,0.8", "--samples", 77],
+    ),
+    (
+        "sphere",
+        dict(alpha=0.15, t_end=50.0, contact=[1.1, 2.3], spin=0.7, mass_ratio=6.0),
+        ["--alpha", 0.15, "--t-end", 50, "--contact", "1.1,2.3", "--spin", 0.7, "--mass", 6],
+    ),
+    (
+        "sphere",
+        dict(alpha=0.3, t_end=20.0, mass_ratio=2.0, omega0=[0.1, -0.2, 0.05], rtol=1e-8),
+        ["--alpha", 0.3, "--t-end", 20, "--mass", 2, "--omega0", "0.1,-0.2,0.05", "--rtol", 1e-8],
+    ),
+    (
+        "sphere",
+        dict(alpha=0.2, t_end=10.0, integrator="cf4", dt=0.01),
+        ["--alpha", 0.2, "--t-end", 10, "--integrator", "cf4", "--dt", 0.01],
+    ),
+    ("disk", dict(alpha=0.1, t_end=200.0), ["--alpha", 0.1, "--t-end", 200]),
+    (
+        "disk",
+        dict(alpha=0.05, t_end=300.0, mass_ratio=10.0, theta0=1.0, theta_dot0=0.5),
+        ["--alpha", 0.05, "--t-end", 300, "--mass", 10, "--theta0", 1.0, "--thetadot0", 0.5],
+    ),
+    (
+        "disk",
+        dict(alpha=0.1, t_end=50.0, integrator="rk4", dt=0.005),
+        ["--alpha", 0.1, "--t-end", 50, "--integrator", "rk4", "--dt", 0.005],
+    ),
+]
+
+
+@pytest.fixture(scope="module")
+def shapes(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("shapes")
+    bodies = {"sphere": Body.paper_sphere(219), "disk": Body.paper_disk(84, 0.12, 5)}
+    for name, body in bodies.items():
+        body.to_file(folder / f"{name}.json")
+    return folder, bodies
+
+
+@pytest.mark.parametrize("kind,kwargs,flags", CASES)
+def test_simulate_is_the_command_line_to_the_last_digit(kind, kwargs, flags, shapes, cli, tmp_path):
+    folder, bodies = shapes
+    summary = tmp_path / "summary.json"
+    out, _, _ = cli("simulate", folder / f"{kind}.json", *flags, "--summary", summary)
+    header, rows = read_csv(out)
+    run = rollphase.simulate(bodies[kind], **kwargs)
+    assert header == (SPHERE if kind == "sphere" else DISK)
+    assert run.columns[0] == "t" and len(run) == len(rows)
+    np.testing.assert_array_equal(as_rows(run), rows)
+    theirs = json.loads(summary.read_text())
+    assert set(run.summary) == set(theirs)
+    for key, value in theirs.items():
+        if key not in ("wall_seconds", "rhs_evals_per_second"):
+            assert run.summary[key] == value, key
+
+
+def test_simulate_many_is_simulate_for_each_start():
+    body = Body.paper_sphere(219)
+    rng = np.random.default_rng(7)
+    q0s = rng.normal(size=(12, 4))
+    many = rollphase.simulate_many(body, 0.15, q0s, 40.0, samples=41, mass_ratio=3.0)
+    assert many.q.shape == (12, 41, 4) and many.com.shape == (12, 41, 3)
+    assert many.t.shape == (41,) and len(many.summary) == 12
+    for i in (0, 5, 11):
+        one = rollphase.simulate(body, 0.15, 40.0, q0=q0s[i], samples=41, mass_ratio=3.0)
+        np.testing.assert_array_equal(many.q[i], one.q)
+        np.testing.assert_array_equal(many.omega[i], one.omega)
+        assert many.summary[i]["steps"] == one.summary["steps"]
+
+
+def test_perfect_bodies_roll_as_the_exact_solution(tmp_path):
+    # A perfect sphere or disk (r = 1) in the viscous model turns at ω = F sin α r / γ = sin α
+    # and rolls without slipping: its centre moves downhill at x = t sin α, at height 1.
+    alpha = 0.3
+    for kind, empty in [("sphere", '"coeffs": []'), ("disk", '"modes": []')]:
+        path = tmp_path / f"perfect-{kind}.json"
+        path.write_text(f'{{"kind": "{kind}", {empty}}}')
+        run = rollphase.simulate(Body.from_file(path), alpha, 50.0, samples=51)
+        x = run.com[:, 0] - run.com[0, 0] if kind == "sphere" else run.x - run.x[0]
+        np.testing.assert_allclose(x, run.t * np.sin(alpha), rtol=1e-9, atol=1e-12)
+        if kind == "sphere":
+            np.testing.assert_allclose(run.com[:, 2], 1.0, atol=1e-12)
+            np.testing.assert_allclose(np.linalg.norm(run.q, axis=1), 1.0, atol=1e-10)
+
+
+def cli_error(cli, *args):
+    _, err, code = cli(*args, check=False)
+    assert code != 0
+    return err
+
+
+@pytest.mark.parametrize(
+    "kwargs,flags",
+    [
+        (dict(alpha=2.0), ["--alpha", 2.0]),
+        (dict(alpha=float("nan")), ["--alpha", "NaN"]),
+        (dict(alpha=0.1, t_end=-1.0), ["--alpha", 0.1, "--t-end=-1"]),
+        (dict(alpha=0.1, samples=1), ["--alpha", 0.1, "--samples", 1]),
+        (dict(alpha=0.1, rtol=0.0), ["--alpha", 0.1, "--rtol", 0]),
+        (dict(alpha=0.1, mass_ratio=-1.0), ["--alpha", 0.1, "--mass", -1]),
+        (dict(alpha=0.1, integrator="rk4", dt=20.0), ["--alpha", 0.1, "--integrator", "rk4", "--dt", 20]),
+    ],
+)
+def test_bad_input_raises_the_command_lines_message(kwargs, flags, shapes, cli):
+    folder, bodies = shapes
+    args = dict(t_end=10.0)
+    args.update(kwargs)
+    if not any(str(f).startswith("--t-end") for f in flags):
+        flags = flags + ["--t-end", 10]
+    with pytest.raises(ValueError) as caught:
+        rollphase.simulate(bodies["sphere"], **args)
+    message = str(caught.value)
+    assert message, "a message"
+    assert message in cli_error(cli, "simulate", folder / "sphere.json", *flags)
+
+
+def test_bad_starts_name_the_argument():
+    sphere, disk = Body.paper_sphere(219), Body.paper_disk(84, 0.12, 5)
+    cases = [
+        (sphere, dict(q0=[0, 0, 0, 0]), "zero length"),
+        (sphere, dict(q0=[1, 0, float("nan"), 0]), "q0: NaN is not a finite"),
+        (sphere, dict(q0=[1, 0, 0]), "q0 expects 4 numbers"),
+        (sphere, dict(q0=[1, 0, 0, 0], contact=[1, 1]), "not both"),
+        (sphere, dict(theta0=1.0), "3D sphere"),
+        (sphere, dict(omega0=[1, 0, 0]), "viscous model"),
+        (sphere, dict(spin=float("inf")), "spin inf"),
+        (disk, dict(q0=[1, 0, 0, 0]), "2D disk"),
+        (disk, dict(theta_dot0=1.0), "viscous model"),
+        (sphere, dict(integrator="euler"), "not one of"),
+        (sphere, dict(samples=-5), "samples = -5"),
+    ]
+    for body, kwargs, text in cases:
+        with pytest.raises(ValueError, match=text):
+            rollphase.simulate(body, 0.2, 10.0, **kwargs)
+
+
+def test_simulate_many_refuses_bad_arrays_before_running():
+    body = Body.paper_sphere(219)
+    with pytest.raises(ValueError, match=r"\(N, 4\)"):
+        rollphase.simulate_many(body, 0.15, np.zeros((3, 3)), 10.0)
+    with pytest.raises(ValueError, match="empty"):
+        rollphase.simulate_many(body, 0.15, np.zeros((0, 4)), 10.0)
+    with pytest.raises(ValueError, match=r"q0s\[1\]"):
+        rollphase.simulate_many(body, 0.15, [[1, 0, 0, 0], [0, 0, 0, 0]], 10.0)
+    started = time.perf_counter()
+    with pytest.raises(ValueError, match="GB"):
+        rollphase.simulate_many(body, 0.15, np.tile([1.0, 0, 0, 0], (10**6, 1)), 10.0)
+    assert time.perf_counter() - started < 5, "refused before any run"
+    with pytest.raises(ValueError, match="disk"):
+        rollphase.simulate_many(Body.paper_disk(84, 0.12, 5), 0.1, [[1, 0, 0, 0]], 10.0)
+
+
+def test_ctrl_c_stops_simulate_many():
+    body = Body.paper_sphere(219)
+    q0s = np.tile([1.0, 0.0, 0.0, 0.0], (4000, 1))
+    q0s[:, 1] = np.linspace(0, 1, 4000)
+    timer = threading.Timer(0.5, _thread.interrupt_main)
+    timer.start()
+    started = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        rollphase.simulate_many(body, 0.15, q0s, 2000.0, samples=11)
+    assert time.perf_counter() - started < 5, "stopped soon after Ctrl-C"
+    # The module still works afterwards.
+    assert len(rollphase.simulate(body, 0.15, 10.0, samples=3)) == 3
+
+
+def test_a_real_sigint_stops_a_long_simulate():
+    script = textwrap.dedent(
+        """
+        import sys, rollphase
+        body = rollphase.Body.paper_sphere(219)
+        print("ready", flush=True)
+        try:
+            rollphase.simulate(body, 0.15, 1e7, samples=2)
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(3)
+        """
+    )
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "ready"
+    time.sleep(0.5)
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=10)
+    assert p.returncode == 3 and "interrupted" in out
