@@ -8,7 +8,78 @@ use crate::integrate::{Method, Preset};
 use crate::scene::{BodySpec, PRESETS, Scene};
 use crate::sim::{SimCommand, SimStatus};
 
-use super::{ALPHA_MAX, AppUi, MASS_RANGE, SPEED_RANGE, UiAction};
+use super::{ALPHA_MAX, ALPHA_MIN, AppUi, MASS_RANGE, SPEED_RANGE, UiAction};
+
+/// The α and m/m0 rails' width in points.
+const SLIDER_WIDTH: f32 = 260.0;
+const ERROR: Color32 = Color32::from_rgb(230, 90, 80);
+const GOOD: Color32 = Color32::from_rgb(120, 200, 120);
+
+/// The α slider's scale: a handle position p ∈ [−1, 1] with α* at 0 and the ends at
+/// [`ALPHA_MIN`] and [`ALPHA_MAX`], and |α − α*| = F ((1 + R/F)^|p| − 1) with F =
+/// [`FineAlpha::FINEST`] and R the reach to that side's end: linear in p below F, one step of
+/// the handle a fixed ratio of |α − α*| above it. On a linear rail of ~300 px the region around α* that matters
+/// (the √(α − α*) law lives within a few per cent of α*) was a few pixels wide.
+#[derive(Debug, Clone, Copy)]
+pub struct FineAlpha {
+    alpha_star: f64,
+}
+
+impl FineAlpha {
+    /// The |α − α*| below which the rail is linear: a pixel of a 300 px rail there is about
+    /// 8e-6 rad, and 1.05 α* sits near the middle of each half.
+    pub const FINEST: f64 = 1e-4;
+
+    /// The scale around `alpha_star` (clamped into the rail; 0 or NaN centres it).
+    pub fn new(alpha_star: f64) -> Self {
+        let centre = 0.5 * (ALPHA_MIN + ALPHA_MAX);
+        let alpha_star = if alpha_star.is_finite() && alpha_star > 0.0 {
+            alpha_star.clamp(2.0 * ALPHA_MIN, ALPHA_MAX - ALPHA_MIN)
+        } else {
+            centre
+        };
+        Self { alpha_star }
+    }
+
+    /// The largest |α − α*| on the side of `sign`.
+    fn reach(&self, sign: f64) -> f64 {
+        if sign > 0.0 {
+            ALPHA_MAX - self.alpha_star
+        } else {
+            self.alpha_star - ALPHA_MIN
+        }
+    }
+
+    /// The handle position of α.
+    pub fn position(&self, alpha: f64) -> f64 {
+        let d = alpha - self.alpha_star;
+        if d == 0.0 || !d.is_finite() {
+            return 0.0;
+        }
+        let sign = d.signum();
+        let reach = self.reach(sign);
+        let ratio = 1.0 + reach / Self::FINEST;
+        let p = (1.0 + d.abs().min(reach) / Self::FINEST).ln() / ratio.ln();
+        sign * p.clamp(0.0, 1.0)
+    }
+
+    /// α at handle position `p` (clamped to [−1, 1]).
+    pub fn alpha(&self, p: f64) -> f64 {
+        let p = if p.is_finite() {
+            p.clamp(-1.0, 1.0)
+        } else {
+            0.0
+        };
+        let sign = if p < 0.0 { -1.0 } else { 1.0 };
+        if p.abs() == 1.0 {
+            // The ends exactly, not within a rounding of them.
+            return if p < 0.0 { ALPHA_MIN } else { ALPHA_MAX };
+        }
+        let reach = self.reach(sign);
+        let d = Self::FINEST * ((1.0 + reach / Self::FINEST).powf(p.abs()) - 1.0);
+        (self.alpha_star + sign * d.min(reach)).clamp(ALPHA_MIN, ALPHA_MAX)
+    }
+}
 
 impl AppUi {
     pub(super) fn menu_ui(&mut self, ui: &mut egui::Ui, actions: &mut Vec<UiAction>) {
@@ -96,20 +167,45 @@ impl AppUi {
 
         ui.separator();
         ui.heading("Ramp");
-        ui.label(format!(
-            "α = {:.4} rad = {:.2}°   (α* = {:.4} rad = {:.2}°)",
-            self.alpha,
-            self.alpha.to_degrees(),
-            snap.alpha_star,
-            snap.alpha_star.to_degrees()
-        ));
-        let response = ui.add(
-            egui::Slider::new(&mut self.alpha, 0.001..=ALPHA_MAX)
-                .show_value(false)
-                .step_by(0.0),
-        );
-        mark_on_slider(ui, &response, snap.alpha_star, 0.001..=ALPHA_MAX, "α*");
+        // Rails as wide as the panel's default width allows (egui's are 100 px): a wider rail is
+        // a finer one. A fixed width: one taken from the available width would widen the
+        // resizable panel frame after frame.
+        ui.spacing_mut().slider_width = SLIDER_WIDTH;
+        ui.horizontal(|ui| {
+            ui.label("α");
+            let typed = ui
+                .add(
+                    egui::DragValue::new(&mut self.alpha)
+                        .range(ALPHA_MIN..=ALPHA_MAX)
+                        .speed(1e-4)
+                        .max_decimals(6)
+                        .suffix(" rad"),
+                )
+                .on_hover_text("type a value, or drag");
+            if typed.changed() {
+                actions.push(UiAction::Sim(SimCommand::SetAlpha(self.alpha)));
+            }
+            ui.label(format!(
+                "= {:.2}°   α* = {:.4} rad = {:.2}°",
+                self.alpha.to_degrees(),
+                snap.alpha_star,
+                snap.alpha_star.to_degrees()
+            ));
+        });
+        // The rail is finest at α*, where the transition is: equal steps of the handle are
+        // equal ratios of |α − α*| (FineAlpha), from 10⁻⁴ rad up to the ends.
+        let scale = FineAlpha::new(snap.alpha_star);
+        let mut position = scale.position(self.alpha);
+        let response = ui
+            .add(
+                egui::Slider::new(&mut position, -1.0..=1.0)
+                    .show_value(false)
+                    .step_by(0.0),
+            )
+            .on_hover_text("finest near α*: each step is a fixed ratio of |α − α*|");
+        mark_on_slider(ui, &response, 0.0, -1.0..=1.0, "α*");
         if response.changed() {
+            self.alpha = scale.alpha(position);
             actions.push(UiAction::Sim(SimCommand::SetAlpha(self.alpha)));
         }
         ui.horizontal(|ui| {
@@ -120,20 +216,36 @@ impl AppUi {
                 ("2 α*", 2.0),
             ] {
                 if ui.small_button(label).clicked() && snap.alpha_star > 0.0 {
-                    self.alpha = (factor * snap.alpha_star).clamp(0.001, ALPHA_MAX);
+                    self.alpha = (factor * snap.alpha_star).clamp(ALPHA_MIN, ALPHA_MAX);
                     actions.push(UiAction::Sim(SimCommand::SetAlpha(self.alpha)));
                 }
             }
         });
         let was = self.inertial;
         ui.checkbox(&mut self.inertial, "inertia (m/m0 > 0; off: viscous model)");
-        let mass = ui.add_enabled(
-            self.inertial,
-            egui::Slider::new(&mut self.mass_ratio, MASS_RANGE.0..=MASS_RANGE.1)
-                .logarithmic(true)
-                .text("m/m0"),
-        );
-        if was != self.inertial || (self.inertial && mass.changed()) {
+        let mut mass_changed = false;
+        ui.add_enabled_ui(self.inertial, |ui| {
+            ui.horizontal(|ui| {
+                ui.label("m/m0");
+                mass_changed |= ui
+                    .add(
+                        egui::DragValue::new(&mut self.mass_ratio)
+                            .range(MASS_RANGE.0..=MASS_RANGE.1)
+                            .speed(0.01)
+                            .max_decimals(4),
+                    )
+                    .on_hover_text("type a value, or drag")
+                    .changed();
+            });
+            mass_changed |= ui
+                .add(
+                    egui::Slider::new(&mut self.mass_ratio, MASS_RANGE.0..=MASS_RANGE.1)
+                        .logarithmic(true)
+                        .show_value(false),
+                )
+                .changed();
+        });
+        if was != self.inertial || (self.inertial && mass_changed) {
             let m = if self.inertial { self.mass_ratio } else { 0.0 };
             actions.push(UiAction::Sim(SimCommand::SetMassRatio(m)));
         }
@@ -154,14 +266,25 @@ impl AppUi {
         ui.separator();
         ui.heading("Files");
         self.files_ui(ui, status, actions);
-        if let Some((text, error)) = &self.notice {
-            let color = if *error {
-                Color32::from_rgb(230, 90, 80)
+    }
+
+    /// The bar along the window's bottom, always shown: the latest notice (saved, loaded, a bad
+    /// file's reason, in red for an error) and the simulation's refusal, if any. Messages used to
+    /// end the scrolling controls panel, often off-screen.
+    pub(super) fn status_bar_ui(&self, ui: &mut egui::Ui, status: &SimStatus) {
+        ui.horizontal_wrapped(|ui| {
+            let snap = &status.snapshot;
+            let state = if status.paused { "paused" } else { "playing" };
+            ui.label(RichText::new(format!("t = {:>9.2}  {state}", snap.t)).monospace());
+            ui.separator();
+            if let Some(m) = &status.message {
+                ui.label(RichText::new(m).color(ERROR));
+            } else if let Some((text, error)) = &self.notice {
+                ui.label(RichText::new(text).color(if *error { ERROR } else { GOOD }));
             } else {
-                Color32::from_rgb(120, 200, 120)
-            };
-            ui.label(RichText::new(text).color(color));
-        }
+                ui.label(RichText::new("ready").weak());
+            }
+        });
     }
 
     /// The lesson's place, its caption, and buttons for the previous and next step.
@@ -236,9 +359,7 @@ impl AppUi {
         if let Some(r) = self.recording {
             ui.label(format!("recording frame {} of {}", r.done, r.total));
         }
-        if let Some(m) = &status.message {
-            ui.label(RichText::new(m).color(Color32::from_rgb(230, 90, 80)));
-        }
+        // The simulation's refusals and the notices are in the status bar (status_bar_ui).
     }
 
     pub(super) fn integrator_ui(
@@ -461,6 +582,45 @@ pub(super) fn describe_body(spec: &BodySpec) -> String {
         return format!("body: perfect {p:?}").to_lowercase();
     }
     "body: none given".into()
+}
+
+#[cfg(test)]
+mod fine_alpha_tests {
+    use super::{ALPHA_MAX, ALPHA_MIN, FineAlpha};
+
+    #[test]
+    fn the_rail_runs_from_end_to_end_through_alpha_star_and_back() {
+        for alpha_star in [0.0572, 0.1394, 0.6, 1.4] {
+            let s = FineAlpha::new(alpha_star);
+            assert_eq!(s.alpha(-1.0), ALPHA_MIN);
+            assert_eq!(s.alpha(1.0), ALPHA_MAX);
+            assert_eq!(s.alpha(0.0), alpha_star);
+            assert_eq!(s.position(alpha_star), 0.0);
+            let mut last = f64::NEG_INFINITY;
+            for i in 0..=2000 {
+                let p = -1.0 + i as f64 / 1000.0;
+                let a = s.alpha(p);
+                assert!(a >= last, "monotone at p = {p}");
+                last = a;
+                assert!((s.position(a) - p).abs() < 1e-9, "round trip at p = {p}");
+            }
+        }
+    }
+
+    #[test]
+    fn it_is_fine_near_alpha_star_and_coarse_far_away() {
+        let s = FineAlpha::new(0.1394);
+        // One thousandth of the rail moves α by about 1e-6 next to α*, by 1e-2 at the end.
+        let near = s.alpha(0.001) - s.alpha(0.0);
+        let far = s.alpha(1.0) - s.alpha(0.999);
+        assert!(near < 2e-6 && far / near > 1000.0, "{near} {far}");
+        // …while 1.05 α* (5 % above) sits well inside the rail, not at its edge.
+        let p = s.position(1.05 * 0.1394);
+        assert!(p > 0.3 && p < 0.7, "{p}");
+        // Bad values do not panic.
+        assert_eq!(FineAlpha::new(f64::NAN).position(f64::NAN), 0.0);
+        assert!(s.alpha(f64::NAN).is_finite());
+    }
 }
 
 #[cfg(test)]

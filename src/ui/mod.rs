@@ -41,6 +41,8 @@ use plots::{CurvatureMap, PlotHistory, plots_ui};
 
 /// Largest α the slider offers (the models need α < π/2).
 const ALPHA_MAX: f64 = 1.5;
+/// The α slider's smallest value.
+const ALPHA_MIN: f64 = 0.001;
 /// m/m0 range of the logarithmic slider.
 const MASS_RANGE: (f64, f64) = (1e-3, 1e3);
 /// Playback speeds offered, simulation time per wall second.
@@ -180,7 +182,7 @@ impl AppUi {
         }
     }
 
-    /// Shows a one-line notice under the controls (`error` in red).
+    /// Shows a one-line notice in the status bar (`error` in red).
     pub fn notify(&mut self, text: String, error: bool) {
         self.notice = Some((text, error));
     }
@@ -266,6 +268,8 @@ impl AppUi {
         }
         self.keyboard(ui.ctx(), status, &mut actions);
         egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, &mut actions));
+        // Outermost at the bottom, so no panel or plot hides it.
+        egui::Panel::bottom("status").show(ui, |ui| self.status_bar_ui(ui, status));
         if self.show_controls {
             egui::Panel::left("controls")
                 .resizable(true)
