@@ -5,6 +5,7 @@
 #   docs/render/app.png     the app's window (under Xvfb when there is no display)
 #   docs/lessons/*.png      each lesson's window at a key moment
 #   docs/accuracy/, docs/stiff/   the benchmark plots and tables
+#   docs/plot-data/lesson-*/   the CSVs of the lessons' α and m/m0 sweeps (--plot-data)
 #   docs/python/fig3d.png, fig4e.png   the Python module's figures (docs/python/paper_figures.py)
 # Run from anywhere: bash docs/images.sh. Takes a few minutes on 2 cores without a GPU.
 set -euo pipefail
@@ -36,6 +37,12 @@ window "$bin" app --preset sphere-two-orbits --screenshot-after 6 docs/render/ap
 window "$bin" app --preset lesson-critical-angle --screenshot-after 40 docs/lessons/critical-angle.png --exit-after 41
 window "$bin" app --preset lesson-inertia-hysteresis --screenshot-after 40 docs/lessons/inertia-hysteresis.png --exit-after 41
 window "$bin" app --preset lesson-period-doubling --screenshot-after 60 docs/lessons/period-doubling.png --exit-after 61
+
+# The plots' data of one α sweep and one m/m0 sweep (the two lessons that sweep them).
+for lesson in critical-angle period-doubling; do
+    "$bin" --headless --preset "lesson-$lesson" --frames all --size 160x90 --msaa 1 \
+        --out "$tmp/plot-frames" --plot-data "docs/plot-data/lesson-$lesson" > /dev/null
+done
 
 "$bin" bench accuracy --out docs/accuracy
 "$bin" bench stiff --out docs/stiff

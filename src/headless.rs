@@ -24,6 +24,7 @@ use crate::render::gpu::OffscreenTarget;
 use crate::render::{GpuContext, Renderer};
 use crate::scene::SceneSetup;
 use crate::sim::Simulation;
+use crate::sim::history::{PlotData, PlotHistory};
 use crate::sim::{FieldCache, FieldWanted};
 use crate::view::{SceneView, ViewOptions};
 
@@ -197,7 +198,10 @@ pub fn write_frames(
         sample_count,
         FrameSink::Pngs(out),
         &Inputs::none(),
-        progress,
+        RenderExtras {
+            progress,
+            plot_data: None,
+        },
     )
 }
 
@@ -205,6 +209,16 @@ pub fn write_frames(
 enum Frames<'a> {
     Pngs(PngWriter, &'a Path),
     Clip(ClipWriter),
+}
+
+/// What a headless run does besides the frames.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RenderExtras<'a> {
+    /// Show a progress bar.
+    pub progress: bool,
+    /// Also write the app's plot data (1/T against α, ∂Ω crossings against m/m0, the health
+    /// history, collected frame by frame as the app collects them) as CSV into this folder.
+    pub plot_data: Option<&'a Path>,
 }
 
 /// Renders `frames` frames of `setup` at `size` into `sink`, through the output layer; no
@@ -216,11 +230,17 @@ pub fn render_to(
     sample_count: u32,
     sink: FrameSink,
     inputs: &Inputs,
-    progress: bool,
+    extras: RenderExtras,
 ) -> Result<HeadlessReport> {
     if frames == 0 {
         bail!("--frames 0 renders nothing (needs at least 1)");
     }
+    let progress = extras.progress;
+    if let Some(dir) = extras.plot_data {
+        let names: Vec<&str> = PlotData::ALL.iter().map(|d| d.file_name()).collect();
+        crate::output::check_folder(dir, &names, inputs).context("--plot-data")?;
+    }
+    let mut history = PlotHistory::default();
     let fps = setup.scene.playback.fps;
     // PNG files in a folder (written by a pool of threads), or one clip.
     let mut writer = match sink {
@@ -260,6 +280,9 @@ pub fn render_to(
     bar.set_message("rendering");
     for k in 0..frames {
         let image = hr.frame(k)?;
+        if extras.plot_data.is_some() {
+            history.push(&hr.simulation().snapshot());
+        }
         match &mut writer {
             Frames::Clip(clip) => clip.push(image)?,
             Frames::Pngs(pngs, out) => pngs.write(out.join(frame_name(k)), image)?,
@@ -272,6 +295,12 @@ pub fn render_to(
             clip.finish()?;
         }
         Frames::Pngs(pngs, _) => pngs.close()?,
+    }
+    if let Some(dir) = extras.plot_data {
+        let measured = hr.simulation().snapshot().health.measured;
+        history
+            .write_csv_files(dir, measured, inputs)
+            .context("--plot-data")?;
     }
     bar.finish_and_clear();
     Ok(HeadlessReport {

@@ -421,6 +421,48 @@ fn a_click_on_the_curvature_map_restarts_from_that_contact_point() {
     assert!(!is_error && text.contains("restarted"), "{text}");
 }
 
+/// Save writes the state that runs: the clicked start, the changed α and speed, and a
+/// description naming the new α rather than the preset's.
+#[test]
+fn save_writes_the_running_state_with_a_description_that_matches() {
+    use rollphase::ui::dialog::DialogPurpose;
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.5);
+    settle_layout(&mut bench, &gpu, &target);
+    let pos = bench.ui.map_position(1.2, -0.7).expect("the map is drawn");
+    click_until_restart(&mut bench, &gpu, &target, pos);
+    bench.sim.send(SimCommand::SetAlpha(0.22));
+    bench.sim.send(SimCommand::SetSpeed(7.0));
+    frames_until(&mut bench, &gpu, &target, vec![], |s| {
+        s.snapshot.alpha_rad == 0.22 && s.speed == 7.0
+    });
+    let path = std::env::temp_dir().join(format!("rollphase-save-{}.toml", std::process::id()));
+    bench
+        .ui
+        .dialogs
+        .answer(DialogPurpose::SaveScene, Some(path.clone()));
+    frames_until(&mut bench, &gpu, &target, vec![], |_| true);
+    let saved = Scene::from_toml(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    std::fs::remove_file(&path).ok();
+    assert_eq!(saved.model.alpha_rad, Some(0.22));
+    assert_eq!(saved.playback.speed, 7.0);
+    let [theta, phi] = saved.initial.contact.expect("the clicked start");
+    assert!(
+        (theta - 1.2).abs() < 0.03 && (phi + 0.7).abs() < 0.03,
+        "{theta}, {phi}"
+    );
+    assert!(
+        saved
+            .description
+            .starts_with("Saved from the app at α = 0.2200 rad"),
+        "{}",
+        saved.description
+    );
+    // It loads and runs as saved.
+    let setup = saved.setup(None).unwrap();
+    assert_eq!(setup.ramp.alpha_rad, 0.22);
+}
+
 #[test]
 fn a_click_on_the_poincare_sphere_restarts_from_that_orientation_on_the_boundary() {
     use glam::DVec3;
@@ -638,5 +680,29 @@ fn a_file_dialogs_answer_opens_or_saves_that_file() {
     let s = frames_until(&mut bench, &gpu, &target, vec![], |_| true);
     assert_eq!(s.scene_id, 1);
     assert!(!bench.ui.dialogs.is_open());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Export CSV writes the plotted data through the output layer and says so in the status bar;
+/// a destination that is a file is refused with the reason, and the file is kept.
+#[test]
+fn export_csv_writes_the_plotted_data_and_says_where() {
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 2.0);
+    let dir = std::env::temp_dir().join(format!("rollphase-export-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    bench.ui.set_plot_data_dir(&dir);
+    bench.ui.export_plot_data(&s);
+    let (text, error) = bench.ui.notice().cloned().unwrap();
+    assert!(!error && text.contains("exported 3 CSV files"), "{text}");
+    let health = std::fs::read_to_string(dir.join("health.csv")).unwrap();
+    assert!(health.starts_with("t,quat_norm_error,contact_normal_error\n"));
+    assert!(health.lines().count() > 2, "{health}");
+    let file = dir.join("health.csv");
+    bench.ui.set_plot_data_dir(&file);
+    bench.ui.export_plot_data(&s);
+    let (text, error) = bench.ui.notice().cloned().unwrap();
+    assert!(error && text.contains("not a folder"), "{text}");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), health);
     std::fs::remove_dir_all(&dir).ok();
 }

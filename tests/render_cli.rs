@@ -450,3 +450,47 @@ fn a_clip_in_a_missing_folder_says_so_once() {
     assert!(err.contains("nodir"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--plot-data DIR` writes the app's plot data of a headless run as three CSV files (a lesson
+/// that sweeps m/m0 gives the mass sweep); a file, a non-folder or a missing --headless is
+/// refused before any frame is rendered, and nothing is left behind.
+#[test]
+fn plot_data_writes_the_plots_csv_of_a_headless_run() {
+    let dir = temp("plot-data");
+    let data = dir.join("data");
+    let o = two_small_frames(&[
+        "--preset",
+        "sphere-cruising",
+        "--out",
+        dir.join("frames").to_str().unwrap(),
+        "--plot-data",
+        data.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let read = |name: &str| std::fs::read_to_string(data.join(name)).unwrap();
+    assert!(read("sweep-alpha.csv").starts_with("direction,alpha,inverse_period\n"));
+    assert!(read("sweep-mass.csv").starts_with("mass_ratio,polar_angle\n"));
+    let health = read("health.csv");
+    assert!(
+        health.starts_with("t,quat_norm_error,contact_normal_error\n"),
+        "a viscous sphere: no energy column\n{health}"
+    );
+    assert_eq!(health.lines().count(), 3, "one row per frame\n{health}");
+    // Refusals: the destination is a file; no --headless.
+    let file = dir.join("a-file");
+    std::fs::write(&file, "keep").unwrap();
+    let o = two_small_frames(&[
+        "--out",
+        dir.join("frames2").to_str().unwrap(),
+        "--plot-data",
+        file.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--plot-data"), "{}", stderr(&o));
+    assert!(!dir.join("frames2").exists(), "refused before rendering");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "keep");
+    let o = rollphase(&["--plot-data", data.to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("add --headless"), "{}", stderr(&o));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -110,6 +110,12 @@ pub fn run(cli: Cli) -> Result<()> {
                  window's Record writes PNG frames)"
             );
         }
+        if cli.render.plot_data.is_some() {
+            bail!(
+                "--plot-data writes the plots' data of a --headless run; add --headless (in the \
+                 window, Files → plot data → Export CSV writes the same files)"
+            );
+        }
         return app::run_window(
             cli.render.scene.as_deref(),
             cli.render.preset.as_deref(),

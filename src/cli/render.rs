@@ -45,6 +45,11 @@ pub struct RenderArgs {
     /// Write the frames as an H.264 MP4 instead of PNG files (--headless); needs ffmpeg on PATH.
     #[arg(long, value_name = "FILE")]
     pub mp4: Option<PathBuf>,
+    /// Also write the plotted data the app shows (1/T against α as sweep-alpha.csv, ∂Ω crossings
+    /// against m/m0 as sweep-mass.csv, the numerical health as health.csv), collected frame by
+    /// frame, into this folder (--headless). A lesson that sweeps α or m/m0 gives its sweep.
+    #[arg(long, value_name = "DIR")]
+    pub plot_data: Option<PathBuf>,
     /// Window only: the smoke-test flags.
     #[command(flatten)]
     pub window: crate::cli::app::WindowFlags,
@@ -195,7 +200,11 @@ fn write_headless(a: &RenderArgs, setup: SceneSetup, frames: u64) -> Result<()> 
         Some((kind, p)) => FrameSink::Clip(*kind, p),
         None => FrameSink::Pngs(&a.out),
     };
-    let report = crate::headless::render_to(setup, frames, a.size, a.msaa, sink, &inputs, true)?;
+    let extras = crate::headless::RenderExtras {
+        progress: true,
+        plot_data: a.plot_data.as_deref(),
+    };
+    let report = crate::headless::render_to(setup, frames, a.size, a.msaa, sink, &inputs, extras)?;
     if let Some(note) = &report.model_note {
         eprintln!("note: {note}");
     }

@@ -22,9 +22,11 @@
 //! | `controller` | [`Controller`], [`SimCommand`] |
 //! | `thread` | [`SimThread`], [`SimStatus`] |
 //! | `field` | [`FieldCache`]: Poincaré fields computed off the render thread |
+//! | `history` | [`history::PlotHistory`]: the plotted series accumulated from snapshots, and their CSV |
 
 mod controller;
 mod field;
+pub mod history;
 mod simulation;
 mod thread;
 

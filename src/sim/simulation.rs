@@ -53,6 +53,20 @@ pub struct Health {
     pub energy_drift: f64,
     /// Right-hand-side evaluations.
     pub rhs_evals: u64,
+    /// Which of the three the running model measures (the model says: |q| and the contact
+    /// normal are a sphere's, the energy balance an inertial model's); the others stay 0.
+    pub measured: Measured,
+}
+
+/// Which health quantities a model has.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Measured {
+    /// ||q| − 1|.
+    pub quat_norm: bool,
+    /// The contact normal's error.
+    pub contact_normal: bool,
+    /// |E + W − E(0)|.
+    pub energy: bool,
 }
 
 /// Pose of the body in the ramp frame (x downhill, y across, z the ramp's normal).
@@ -195,6 +209,7 @@ struct Observed {
     quat_err: f64,
     normal_err: f64,
     energy: Option<f64>,
+    measured: Measured,
 }
 
 impl Simulation {
@@ -443,6 +458,7 @@ impl Simulation {
                 self.next_trail_t += self.trail_dt;
             }
             let o = observe(st.y());
+            self.health.measured = o.measured;
             self.health.quat_norm_error = self.health.quat_norm_error.max(o.quat_err);
             self.health.contact_normal_error = self.health.contact_normal_error.max(o.normal_err);
             if let (Some(e), Some(e0)) = (o.energy, self.energy0) {
@@ -634,6 +650,11 @@ impl From<Observation> for Observed {
             quat_err: o.health.quat_norm_error.unwrap_or(0.0),
             normal_err: o.health.contact_normal_error.unwrap_or(0.0),
             energy: o.health.energy,
+            measured: Measured {
+                quat_norm: o.health.quat_norm_error.is_some(),
+                contact_normal: o.health.contact_normal_error.is_some(),
+                energy: o.health.energy.is_some(),
+            },
         }
     }
 }

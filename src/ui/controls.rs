@@ -399,10 +399,18 @@ impl AppUi {
             }
         }
         let h = &status.snapshot.health;
-        ui.label(format!(
-            "health: ||q|−1| {:.1e}, normal {:.1e}, energy {:.1e}; {} RHS evaluations",
-            h.quat_norm_error, h.contact_normal_error, h.energy_drift, h.rhs_evals
-        ));
+        // Only the quantities the model has (a cylinder has no |q|, a viscous model no energy).
+        let mut parts: Vec<String> = [
+            (h.measured.quat_norm, "||q|−1|", h.quat_norm_error),
+            (h.measured.contact_normal, "normal", h.contact_normal_error),
+            (h.measured.energy, "energy", h.energy_drift),
+        ]
+        .into_iter()
+        .filter(|q| q.0)
+        .map(|(_, name, v)| format!("{name} {v:.1e}"))
+        .collect();
+        parts.push(format!("{} RHS evaluations", h.rhs_evals));
+        ui.label(format!("health: {}", parts.join(", ")));
     }
 
     pub(super) fn body_ui(

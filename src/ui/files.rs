@@ -86,6 +86,19 @@ impl AppUi {
                 });
             }
         });
+        path_field(ui, "plot data", &mut self.plot_data_dir);
+        buttons_row(ui, |ui| {
+            if ui
+                .button("Export CSV")
+                .on_hover_text(
+                    "the plotted data into this folder: sweep-alpha.csv (1/T against α), \
+                     sweep-mass.csv (∂Ω crossings against m/m0), health.csv",
+                )
+                .clicked()
+            {
+                self.export_plot_data(status);
+            }
+        });
         if !self.recent.is_empty() {
             ui.label("recent");
             let mut reopen = None;
@@ -142,6 +155,30 @@ impl AppUi {
             ..BodySpec::default()
         };
         self.notice = Some(write_file(&self.scene_path, &scene.to_toml()));
+    }
+
+    /// Sets the plot data folder (as typed into its field).
+    pub fn set_plot_data_dir(&mut self, dir: &Path) {
+        self.plot_data_dir = dir.display().to_string();
+    }
+
+    /// Writes the plotted data (the α sweep, the mass sweep, the health history) into the plot
+    /// data folder; the notice says where, or why not.
+    pub fn export_plot_data(&mut self, status: &SimStatus) {
+        let dir = PathBuf::from(&self.plot_data_dir);
+        self.notice = Some(
+            match self.history.write_csv_files(
+                &dir,
+                status.snapshot.health.measured,
+                &crate::output::Inputs::none(),
+            ) {
+                Ok(files) => (
+                    format!("exported {} CSV files to {}", files.len(), dir.display()),
+                    false,
+                ),
+                Err(e) => (e.to_string(), true),
+            },
+        );
     }
 
     /// Writes the body's shape file to the path field's file.
@@ -362,9 +399,28 @@ impl AppUi {
 
     /// The scene as it runs now: the loaded one with the live α, m/m0, integrator, speed and
     /// views.
+    /// The scene as it runs now: the running setup's scene (so a start clicked on the map or the
+    /// Poincaré sphere, or turned by a shift-drag, is the saved start), with the current α, m/m0,
+    /// integrator, speed and views, and, when α or m/m0 were changed, a description that says
+    /// so rather than the original one (which may name another α).
     pub(super) fn current_scene(&self, status: &SimStatus) -> Scene {
-        let mut scene = self.scene.clone();
+        let mut scene = status.setup.scene.clone();
         let snap = &status.snapshot;
+        let ramp = &status.setup.ramp;
+        if snap.alpha_rad != ramp.alpha_rad || snap.mass_ratio != ramp.mass_ratio {
+            let first = scene.description.trim();
+            scene.description = format!(
+                "Saved from the app at α = {:.4} rad ({:.3} α*), m/m0 = {}{}",
+                snap.alpha_rad,
+                snap.alpha_rad / status.setup.alpha_star,
+                snap.mass_ratio,
+                if first.is_empty() {
+                    String::new()
+                } else {
+                    format!("; it started as: {first}")
+                }
+            );
+        }
         scene.model.alpha_rad = Some(snap.alpha_rad);
         scene.model.alpha_over_critical = None;
         scene.model.mass_ratio = snap.mass_ratio;

@@ -6,177 +6,23 @@
 //! crossings repeat: one branch per period-1 orbit, two where it has doubled), and the numerical
 //! health against time.
 //!
-//! [`PlotHistory`] is plain data, tested without a window; [`plots_ui`] draws it.
-
-use std::collections::{BTreeMap, VecDeque};
+//! [`PlotHistory`] (in `sim::history`, so the headless renderer collects the same data) is plain
+//! data, tested without a window; [`plots_ui`] draws it as instruments: numbered ticks on every
+//! axis at any size ([`nice_marks`], [`tick_label`]), values under the pointer, and only the
+//! health quantities the model has.
 
 use egui::Color32;
-use egui_plot::{Heatmap, Legend, Line, Plot, PlotPoint, PlotPoints, Points, VLine};
+use egui_plot::{
+    GridInput, GridMark, Heatmap, HoverPosition, Legend, Line, Plot, PlotPoint, PlotPoints, Points,
+    VLine,
+};
 
 use crate::colormap::{DIVERGING, sample};
 use crate::geometry::Body;
 use crate::geometry::sphere::{angles, direction};
 use crate::sim::Snapshot;
+pub use crate::sim::history::{PLOT_POINTS, PlotHistory, Sample, Sweep};
 use crate::view::CurvatureScale;
-
-/// Samples kept per time series (older ones are dropped).
-const MAX_SAMPLES: usize = 20_000;
-
-/// Points per plotted time series (see [`PlotHistory::plotted`]).
-pub const PLOT_POINTS: usize = 1000;
-
-/// Width of the α bins of the 1/T sweep in ln α: 0.1 % of α (a slider step is far finer than
-/// a user can resolve; one point per bin and direction keeps the newest measurement). Relative,
-/// so that steps of 1 % of α* near a small α* (0.05 rad) stay apart, as the critical-angle
-/// lesson needs.
-const SWEEP_BIN: f64 = 1e-3;
-
-/// One sample of the time series.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sample {
-    /// Simulation time.
-    pub t: f64,
-    /// 2D: θ (unwrapped); 3D: the contact's polar angle θ.
-    pub theta: f64,
-    /// 2D: θ̇; 3D: |ω|.
-    pub rate: f64,
-    /// 3D: the contact's azimuth φ; 2D: 0.
-    pub phi: f64,
-    /// Worst ||q| − 1| so far.
-    pub quat_norm_error: f64,
-    /// Worst contact-normal error so far.
-    pub contact_normal_error: f64,
-    /// Worst |E + W − E(0)| so far.
-    pub energy_drift: f64,
-}
-
-/// Which way α was last moved.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Sweep {
-    /// α increased (or not moved yet).
-    Up,
-    /// α decreased.
-    Down,
-}
-
-/// What the plots show, accumulated from snapshots.
-#[derive(Debug, Clone, Default)]
-pub struct PlotHistory {
-    samples: VecDeque<Sample>,
-    /// (direction, α bin) → (α, 1/T).
-    sweep: BTreeMap<(Sweep, i64), (f64, f64)>,
-    last_alpha: Option<f64>,
-    direction: Option<Sweep>,
-    last_period: Option<f64>,
-    /// (m/m0, polar angle of the crossing point with p_z ≥ 0) of settled ∂Ω crossings.
-    crossings_by_mass: VecDeque<[f64; 2]>,
-    last_crossing_t: Option<f64>,
-}
-
-/// Crossing points kept for the mass sweep.
-const MAX_CROSSING_POINTS: usize = 5000;
-
-impl PlotHistory {
-    /// Clears the time series (a new run); the α sweep is kept, since it describes the body.
-    pub fn clear_run(&mut self) {
-        self.samples.clear();
-        self.last_period = None;
-    }
-
-    /// Clears everything (a new body).
-    pub fn clear_all(&mut self) {
-        *self = Self::default();
-    }
-
-    /// Takes in one snapshot: a new sample if time moved on, and a sweep point when a new
-    /// period was measured or the body halted.
-    pub fn push(&mut self, snap: &Snapshot) {
-        if self.samples.back().is_some_and(|s| snap.t <= s.t) {
-            return;
-        }
-        let (theta, phi) = match snap.theta {
-            Some(theta) => (theta, 0.0),
-            None => angles(snap.contact_in_body),
-        };
-        self.samples.push_back(Sample {
-            t: snap.t,
-            theta,
-            rate: snap.theta_dot.unwrap_or(snap.angular_speed),
-            phi,
-            quat_norm_error: snap.health.quat_norm_error,
-            contact_normal_error: snap.health.contact_normal_error,
-            energy_drift: snap.health.energy_drift,
-        });
-        while self.samples.len() > MAX_SAMPLES {
-            self.samples.pop_front();
-        }
-
-        let alpha = snap.alpha_rad;
-        if let Some(prev) = self.last_alpha
-            && alpha != prev
-        {
-            self.direction = Some(if alpha > prev { Sweep::Up } else { Sweep::Down });
-            // Periods measured before the change belong to the old α.
-            self.last_period = snap.period;
-        }
-        self.last_alpha = Some(alpha);
-        let direction = self.direction.unwrap_or(Sweep::Up);
-        let bin = (alpha.ln() / SWEEP_BIN).round() as i64;
-        if snap.halted {
-            self.sweep.insert((direction, bin), (alpha, 0.0));
-        } else if let Some(period) = snap.period
-            && self.last_period != Some(period)
-            && period > 0.0
-        {
-            self.sweep.insert((direction, bin), (alpha, 1.0 / period));
-        }
-        self.last_period = snap.period;
-
-        if let Some((t, p)) = snap.last_crossing
-            && self.last_crossing_t != Some(t)
-            && snap.period_multiplicity.is_some()
-            && snap.mass_ratio > 0.0
-        {
-            let p = if p.z < 0.0 { -p } else { p };
-            self.crossings_by_mass
-                .push_back([snap.mass_ratio, p.z.clamp(-1.0, 1.0).acos()]);
-            while self.crossings_by_mass.len() > MAX_CROSSING_POINTS {
-                self.crossings_by_mass.pop_front();
-            }
-            self.last_crossing_t = Some(t);
-        }
-    }
-
-    /// The settled crossing points of ∂Ω as (m/m0, polar angle), oldest first.
-    pub fn crossings_by_mass(&self) -> Vec<[f64; 2]> {
-        self.crossings_by_mass.iter().copied().collect()
-    }
-
-    /// The samples, oldest first.
-    pub fn samples(&self) -> impl Iterator<Item = &Sample> {
-        self.samples.iter()
-    }
-
-    /// At most about [`PLOT_POINTS`] evenly spaced samples, the newest always included: a
-    /// plot a few hundred pixels wide shows no more, and every point drawn costs tessellation
-    /// and fill time (on a CPU renderer the full series doubled the frame time).
-    pub fn plotted(&self) -> impl Iterator<Item = &Sample> {
-        let n = self.samples.len();
-        let stride = n.div_ceil(PLOT_POINTS).max(1);
-        // Count from the newest sample so it is always drawn.
-        let offset = (n + stride - 1) % stride;
-        self.samples.iter().skip(offset).step_by(stride)
-    }
-
-    /// The sweep points (α, 1/T) of one direction, by α.
-    pub fn sweep(&self, direction: Sweep) -> Vec<[f64; 2]> {
-        self.sweep
-            .iter()
-            .filter(|((d, _), _)| *d == direction)
-            .map(|(_, &(a, f))| [a, f])
-            .collect()
-    }
-}
 
 /// The Gaussian curvature K on a (φ, θ) grid, for the contact-path plot of a sphere.
 #[derive(Debug, Clone)]
@@ -213,6 +59,113 @@ impl CurvatureMap {
     }
 }
 
+/// The closest x tick numbers may be, in points.
+const X_LABEL_SPACING: f32 = 45.0;
+
+/// The step of rung `k` of the 1-2-5 ladder: …, 0.1, 0.2, 0.5, 1, 2, 5, 10, … (k = 0 is 1).
+fn rung(k: i32) -> f64 {
+    [1.0, 2.0, 5.0][k.rem_euclid(3) as usize] * 10f64.powi(k.div_euclid(3))
+}
+
+/// Grid marks on the 1-2-5 ladder (egui_plot's default has steps of 10× only, so a narrow range
+/// such as α from 0.0489 to 0.0499 got one labelled tick, or none): marks at the finest rung
+/// at least `base_step_size`, each with the coarsest of the next six rungs that divides it, so
+/// that some rung falls 2–2.5× under the label spacing and every axis shows several numbers.
+pub fn nice_marks(input: GridInput) -> Vec<GridMark> {
+    let (lo, hi) = input.bounds;
+    if !(lo.is_finite() && hi.is_finite() && hi > lo && input.base_step_size > 0.0) {
+        return Vec::new();
+    }
+    let mut k = input.base_step_size.log10().floor() as i32 * 3 - 3;
+    while rung(k) < input.base_step_size {
+        k += 1;
+    }
+    let fine = rung(k);
+    let first = (lo / fine).ceil() as i64;
+    let last = (hi / fine).floor() as i64;
+    if last - first > 10_000 {
+        return Vec::new();
+    }
+    (first..=last)
+        .map(|i| {
+            let value = i as f64 * fine;
+            let step_size = (0..7)
+                .rev()
+                .map(|j| rung(k + j))
+                .find(|&s| {
+                    let q = value / s;
+                    (q - q.round()).abs() < 1e-6
+                })
+                .unwrap_or(fine);
+            GridMark { value, step_size }
+        })
+        .collect()
+}
+
+/// A tick's number with as many decimals as its step needs (a step of 0.0005 shows 0.0495, not
+/// egui_plot's rounded 0.050), and as the finest ticks of the visible `range` need, so that
+/// all of an axis's numbers have the same decimals (0.0490 beside 0.0492, not 0.049).
+pub fn tick_label(mark: GridMark, range: &std::ops::RangeInclusive<f64>) -> String {
+    let decimals = |step: f64| (-step.log10() - 1e-9).ceil().max(0.0) as usize;
+    let width = range.end() - range.start();
+    let finest = if width.is_finite() && width > 0.0 {
+        decimals(width / 5.0)
+    } else {
+        0
+    };
+    format!(
+        "{:.*}",
+        decimals(mark.step_size).max(finest).min(12),
+        mark.value
+    )
+}
+
+/// A plot that reads as an instrument: numbered ticks on both axes at any size, and the
+/// values under the pointer named by the axes (`x` and `y`), with the series' name near a point.
+fn instrument<'a>(plot: Plot<'a>, x: &'static str, y: &'static str) -> Plot<'a> {
+    plot.x_grid_spacer(nice_marks)
+        .y_grid_spacer(nice_marks)
+        // Numbers from 45 points apart (egui_plot's x axis wants 60, which a 180-point plot
+        // over a 1-2-5 step may not have twice).
+        .custom_x_axes(vec![
+            egui_plot::AxisHints::new_x()
+                .formatter(tick_label)
+                .label_spacing(X_LABEL_SPACING..=65.0),
+        ])
+        .y_axis_formatter(tick_label)
+        .label_formatter(move |pos| {
+            Some(match pos {
+                HoverPosition::NearDataPoint {
+                    plot_name,
+                    position,
+                    ..
+                } => format!(
+                    "{plot_name}\n{x} = {}\n{y} = {}",
+                    hover_number(position.x),
+                    hover_number(position.y)
+                ),
+                HoverPosition::Elsewhere { position } => format!(
+                    "{x} = {}\n{y} = {}",
+                    hover_number(position.x),
+                    hover_number(position.y)
+                ),
+            })
+        })
+}
+
+/// A hovered value with five significant digits.
+fn hover_number(v: f64) -> String {
+    if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e5) {
+        format!("{v:.4e}")
+    } else {
+        format!(
+            "{:.*}",
+            (4 - v.abs().max(1e-300).log10().floor() as i64).max(0) as usize,
+            v
+        )
+    }
+}
+
 /// Draws the plots that fit the body: 2D θ(t) and θ̇(θ); 3D the contact path on the curvature
 /// map; both the 1/T sweep and the health. `alpha_star` marks the sweep plot; `height` is each
 /// plot's height in points.
@@ -230,23 +183,37 @@ pub fn plots_ui(
     ui.horizontal(|ui| {
         if is_disk {
             let theta_t: PlotPoints = history.plotted().map(|s| [s.t, s.theta]).collect();
-            Plot::new("theta_t")
+            instrument(Plot::new("theta_t"), "t", "θ")
                 .width(width)
                 .height(height)
                 .x_axis_label("t")
                 .y_axis_label("θ")
                 .show(ui, |p| p.line(Line::new("θ(t)", theta_t)));
-            let phase: PlotPoints = history
-                .plotted()
-                .map(|s| [s.theta.rem_euclid(std::f64::consts::TAU), s.rate])
-                .collect();
-            Plot::new("phase")
+            // The phase curve as a line, broken where θ wraps at 2π.
+            let mut pieces: Vec<Vec<[f64; 2]>> = vec![Vec::new()];
+            let mut prev: Option<f64> = None;
+            for s in history.plotted() {
+                let theta = s.theta.rem_euclid(std::f64::consts::TAU);
+                if prev.is_some_and(|q| (theta - q).abs() > std::f64::consts::PI) {
+                    pieces.push(Vec::new());
+                }
+                if let Some(piece) = pieces.last_mut() {
+                    piece.push([theta, s.rate]);
+                }
+                prev = Some(theta);
+            }
+            // "dθ/dt": the combining dot of θ̇ is lost on egui's rotated axis label.
+            instrument(Plot::new("phase"), "θ", "dθ/dt")
                 .width(width)
                 .height(height)
                 .x_axis_label("θ mod 2π")
-                .y_axis_label("θ̇")
-                .show(ui, |p| p.points(Points::new("θ̇(θ)", phase).radius(1.0)));
-        } else if history.crossings_by_mass.is_empty() {
+                .y_axis_label("dθ/dt")
+                .show(ui, |p| {
+                    for piece in pieces.into_iter().filter(|piece| piece.len() > 1) {
+                        p.line(Line::new("dθ/dt (θ)", PlotPoints::from(piece)).width(1.5));
+                    }
+                });
+        } else if !history.has_crossings() {
             input = contact_map_ui(
                 ui,
                 snap,
@@ -259,7 +226,7 @@ pub fn plots_ui(
             crossings_ui(ui, history, snap, width, height);
         }
         sweep_ui(ui, history, snap, alpha_star, width, height);
-        health_ui(ui, history, width, height);
+        health_ui(ui, history, snap.health.measured, width, height);
     });
     input
 }
@@ -303,7 +270,7 @@ fn contact_map_ui(
     let (theta_now, phi_now) = angles(snap.contact_in_body);
     // The map is the whole body, always: fixed bounds, and no pan or zoom, so a click names a
     // body point (it restarts the run from there).
-    let shown = Plot::new("contact_map")
+    let shown = instrument(Plot::new("contact_map"), "φ", "θ")
         .width(width)
         .height(height)
         .x_axis_label("φ (click: start here)")
@@ -402,7 +369,7 @@ fn sweep_ui(
     }
     let spans = [[alpha_star, 0.0], [snap.alpha_rad, 0.0]];
     let corner = legend_corner(&marks, &spans, &labels, [width, height]);
-    Plot::new("sweep")
+    instrument(Plot::new("sweep"), "α", "1/T")
         .width(width)
         .height(height)
         .legend(Legend::default().position(corner))
@@ -509,7 +476,7 @@ fn crossings_ui(
     let labels = ["m/m0 now", "settled crossings"];
     let spans = [[snap.mass_ratio, f64::NAN]];
     let corner = legend_corner(&points, &spans, &labels, [width, height]);
-    Plot::new("crossings_by_mass")
+    instrument(Plot::new("crossings_by_mass"), "m/m0", "polar angle")
         .width(width)
         .height(height)
         .legend(Legend::default().position(corner))
@@ -525,20 +492,38 @@ fn crossings_ui(
         });
 }
 
-fn health_ui(ui: &mut egui::Ui, history: &PlotHistory, width: f32, height: f32) {
+fn health_ui(
+    ui: &mut egui::Ui,
+    history: &PlotHistory,
+    measured: crate::sim::Measured,
+    width: f32,
+    height: f32,
+) {
     let log = |v: f64| v.max(1e-17).log10();
-    let series = |f: &dyn Fn(&Sample) -> f64| -> PlotPoints<'static> {
-        history.plotted().map(|s| [s.t, log(f(s))]).collect()
-    };
+    // Only what the running model has (flat lines at the floor said nothing).
+    let quantities = crate::sim::history::health_quantities(measured);
+    if quantities.is_empty() {
+        ui.allocate_ui(egui::vec2(width, height), |ui| {
+            ui.vertical_centered(|ui| {
+                ui.add_space(height * 0.35);
+                ui.label("health: this model has no constraint or conserved quantity to drift");
+                ui.label(egui::RichText::new("(θ is integrated directly)").weak());
+            });
+        });
+        return;
+    }
     let marks: Vec<[f64; 2]> = history
         .plotted()
         .flat_map(|s| {
-            [s.quat_norm_error, s.contact_normal_error, s.energy_drift].map(|v| [s.t, log(v)])
+            quantities
+                .iter()
+                .map(|q| [s.t, log((q.value)(s))])
+                .collect::<Vec<_>>()
         })
         .collect();
-    let labels = ["||q|−1|", "contact normal", "|E+W−E₀|"];
+    let labels: Vec<&str> = quantities.iter().map(|q| q.label).collect();
     let corner = legend_corner(&marks, &[[f64::NAN, -16.0]], &labels, [width, height]);
-    Plot::new("health")
+    instrument(Plot::new("health"), "t", "log₁₀ error")
         .width(width)
         .height(height)
         .legend(Legend::default().position(corner))
@@ -546,13 +531,67 @@ fn health_ui(ui: &mut egui::Ui, history: &PlotHistory, width: f32, height: f32) 
         .y_axis_label("log₁₀ error")
         .include_y(-16.0)
         .show(ui, |p| {
-            p.line(Line::new("||q|−1|", series(&|s| s.quat_norm_error)));
-            p.line(Line::new(
-                "contact normal",
-                series(&|s| s.contact_normal_error),
-            ));
-            p.line(Line::new("|E+W−E₀|", series(&|s| s.energy_drift)));
+            for q in &quantities {
+                let points: PlotPoints = history
+                    .plotted()
+                    .map(|s| [s.t, log((q.value)(s))])
+                    .collect();
+                p.line(Line::new(q.label, points));
+            }
         });
+}
+
+#[cfg(test)]
+mod axis_tests {
+    use super::{nice_marks, tick_label};
+    use egui_plot::GridInput;
+
+    /// The labelled ticks of an axis `pixels` long over `bounds`, as egui_plot labels them: a
+    /// mark whose step spans more than the x-axis label spacing.
+    fn labelled(bounds: (f64, f64), pixels: f64) -> Vec<String> {
+        let per_point = (bounds.1 - bounds.0) / pixels;
+        // egui_plot asks for steps of at least 8 points.
+        let marks = nice_marks(GridInput {
+            bounds,
+            base_step_size: 8.0 * per_point,
+        });
+        marks
+            .iter()
+            .filter(|m| m.step_size / per_point > f64::from(super::X_LABEL_SPACING))
+            .map(|m| tick_label(*m, &(bounds.0..=bounds.1)))
+            .collect()
+    }
+
+    #[test]
+    fn every_axis_gets_several_numbers_at_any_range_and_size() {
+        for bounds in [
+            (0.0489, 0.0499),
+            (0.0, 1.0),
+            (-16.0, -15.2),
+            (0.0, 2000.0),
+            (0.1, 6.3),
+        ] {
+            for pixels in [180.0, 320.0, 900.0] {
+                let ticks = labelled(bounds, pixels);
+                assert!(ticks.len() >= 2, "{bounds:?} over {pixels} px: {ticks:?}");
+                // Distinct numbers: enough decimals for the step.
+                let mut unique = ticks.clone();
+                unique.dedup();
+                assert_eq!(unique, ticks, "{bounds:?}");
+            }
+        }
+        // The case of the issue: α from α* = 0.0489 to 0.0499 on a 300 px plot.
+        let ticks = labelled((0.0489, 0.0499), 300.0);
+        assert!(ticks.contains(&"0.0490".to_string()), "{ticks:?}");
+        // Nothing for a broken range.
+        assert!(
+            nice_marks(GridInput {
+                bounds: (1.0, f64::NAN),
+                base_step_size: 0.1
+            })
+            .is_empty()
+        );
+    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,376 @@
+//! The plots' history: what the app's plots (and `--headless --plot-data`) show, accumulated
+//! from the snapshots of a run: θ(t) and θ̇(θ) or the contact's angles, 1/T against α collected
+//! while α is swept (a halted body counts as 1/T = 0, separately for sweeps up and down, so
+//! hysteresis shows as two branches), the settled crossings of ∂Ω against m/m0 collected while
+//! the mass is swept, and the numerical health against time. Plain data, tested without a
+//! window; [`PlotHistory::csv`] writes each series as CSV (the app's "Export CSV", and the
+//! headless renderer's).
+
+use std::collections::{BTreeMap, VecDeque};
+
+use std::path::Path;
+
+use crate::geometry::sphere::angles;
+use crate::output::{self, Inputs, OutputSet};
+
+use super::{Measured, Snapshot};
+
+/// Samples kept per time series (older ones are dropped).
+const MAX_SAMPLES: usize = 20_000;
+
+/// Points per plotted time series (see [`PlotHistory::plotted`]).
+pub const PLOT_POINTS: usize = 1000;
+
+/// Width of the α bins of the 1/T sweep in ln α: 0.1 % of α (a slider step is far finer than
+/// a user can resolve; one point per bin and direction keeps the newest measurement). Relative,
+/// so that steps of 1 % of α* near a small α* (0.05 rad) stay apart, as the critical-angle
+/// lesson needs.
+const SWEEP_BIN: f64 = 1e-3;
+
+/// One sample of the time series.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// Simulation time.
+    pub t: f64,
+    /// 2D: θ (unwrapped); 3D: the contact's polar angle θ.
+    pub theta: f64,
+    /// 2D: θ̇; 3D: |ω|.
+    pub rate: f64,
+    /// 3D: the contact's azimuth φ; 2D: 0.
+    pub phi: f64,
+    /// Worst ||q| − 1| so far.
+    pub quat_norm_error: f64,
+    /// Worst contact-normal error so far.
+    pub contact_normal_error: f64,
+    /// Worst |E + W − E(0)| so far.
+    pub energy_drift: f64,
+}
+
+/// Which way α was last moved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Sweep {
+    /// α increased (or not moved yet).
+    Up,
+    /// α decreased.
+    Down,
+}
+
+/// What the plots show, accumulated from snapshots.
+#[derive(Debug, Clone, Default)]
+pub struct PlotHistory {
+    samples: VecDeque<Sample>,
+    /// (direction, α bin) → (α, 1/T).
+    sweep: BTreeMap<(Sweep, i64), (f64, f64)>,
+    last_alpha: Option<f64>,
+    direction: Option<Sweep>,
+    last_period: Option<f64>,
+    /// (m/m0, polar angle of the crossing point with p_z ≥ 0) of settled ∂Ω crossings.
+    crossings_by_mass: VecDeque<[f64; 2]>,
+    last_crossing_t: Option<f64>,
+}
+
+/// Crossing points kept for the mass sweep.
+const MAX_CROSSING_POINTS: usize = 5000;
+
+impl PlotHistory {
+    /// Clears the time series (a new run); the α sweep is kept, since it describes the body.
+    pub fn clear_run(&mut self) {
+        self.samples.clear();
+        self.last_period = None;
+    }
+
+    /// Clears everything (a new body).
+    pub fn clear_all(&mut self) {
+        *self = Self::default();
+    }
+
+    /// Takes in one snapshot: a new sample if time moved on, and a sweep point when a new
+    /// period was measured or the body halted.
+    pub fn push(&mut self, snap: &Snapshot) {
+        if self.samples.back().is_some_and(|s| snap.t <= s.t) {
+            return;
+        }
+        let (theta, phi) = match snap.theta {
+            Some(theta) => (theta, 0.0),
+            None => angles(snap.contact_in_body),
+        };
+        self.samples.push_back(Sample {
+            t: snap.t,
+            theta,
+            rate: snap.theta_dot.unwrap_or(snap.angular_speed),
+            phi,
+            quat_norm_error: snap.health.quat_norm_error,
+            contact_normal_error: snap.health.contact_normal_error,
+            energy_drift: snap.health.energy_drift,
+        });
+        while self.samples.len() > MAX_SAMPLES {
+            self.samples.pop_front();
+        }
+
+        let alpha = snap.alpha_rad;
+        if let Some(prev) = self.last_alpha
+            && alpha != prev
+        {
+            self.direction = Some(if alpha > prev { Sweep::Up } else { Sweep::Down });
+            // Periods measured before the change belong to the old α.
+            self.last_period = snap.period;
+        }
+        self.last_alpha = Some(alpha);
+        let direction = self.direction.unwrap_or(Sweep::Up);
+        let bin = (alpha.ln() / SWEEP_BIN).round() as i64;
+        if snap.halted {
+            self.sweep.insert((direction, bin), (alpha, 0.0));
+        } else if let Some(period) = snap.period
+            && self.last_period != Some(period)
+            && period > 0.0
+        {
+            self.sweep.insert((direction, bin), (alpha, 1.0 / period));
+        }
+        self.last_period = snap.period;
+
+        if let Some((t, p)) = snap.last_crossing
+            && self.last_crossing_t != Some(t)
+            && snap.period_multiplicity.is_some()
+            && snap.mass_ratio > 0.0
+        {
+            let p = if p.z < 0.0 { -p } else { p };
+            self.crossings_by_mass
+                .push_back([snap.mass_ratio, p.z.clamp(-1.0, 1.0).acos()]);
+            while self.crossings_by_mass.len() > MAX_CROSSING_POINTS {
+                self.crossings_by_mass.pop_front();
+            }
+            self.last_crossing_t = Some(t);
+        }
+    }
+
+    /// Whether any settled crossing of ∂Ω was collected (the mass sweep plot is shown then).
+    pub fn has_crossings(&self) -> bool {
+        !self.crossings_by_mass.is_empty()
+    }
+
+    /// The settled crossing points of ∂Ω as (m/m0, polar angle), oldest first.
+    pub fn crossings_by_mass(&self) -> Vec<[f64; 2]> {
+        self.crossings_by_mass.iter().copied().collect()
+    }
+
+    /// The samples, oldest first.
+    pub fn samples(&self) -> impl Iterator<Item = &Sample> {
+        self.samples.iter()
+    }
+
+    /// At most about [`PLOT_POINTS`] evenly spaced samples, the newest always included: a
+    /// plot a few hundred pixels wide shows no more, and every point drawn costs tessellation
+    /// and fill time (on a CPU renderer the full series doubled the frame time).
+    pub fn plotted(&self) -> impl Iterator<Item = &Sample> {
+        let n = self.samples.len();
+        let stride = n.div_ceil(PLOT_POINTS).max(1);
+        // Count from the newest sample so it is always drawn.
+        let offset = (n + stride - 1) % stride;
+        self.samples.iter().skip(offset).step_by(stride)
+    }
+
+    /// The sweep points (α, 1/T) of one direction, by α.
+    pub fn sweep(&self, direction: Sweep) -> Vec<[f64; 2]> {
+        self.sweep
+            .iter()
+            .filter(|((d, _), _)| *d == direction)
+            .map(|(_, &(a, f))| [a, f])
+            .collect()
+    }
+}
+
+/// A health quantity of the plots: its label, its CSV column and its value in a sample.
+#[derive(Debug, Clone, Copy)]
+pub struct HealthQuantity {
+    /// As the plot's legend names it.
+    pub label: &'static str,
+    /// As health.csv's header names it.
+    pub column: &'static str,
+    /// Its worst value so far in a sample.
+    pub value: fn(&Sample) -> f64,
+}
+
+/// The health quantities the running model measures (`measured`), in plot order: a cylinder
+/// has no quaternion or contact normal, the viscous models no energy balance.
+pub fn health_quantities(measured: Measured) -> Vec<HealthQuantity> {
+    [
+        (
+            measured.quat_norm,
+            HealthQuantity {
+                label: "||q|−1|",
+                column: "quat_norm_error",
+                value: |s| s.quat_norm_error,
+            },
+        ),
+        (
+            measured.contact_normal,
+            HealthQuantity {
+                label: "contact normal",
+                column: "contact_normal_error",
+                value: |s| s.contact_normal_error,
+            },
+        ),
+        (
+            measured.energy,
+            HealthQuantity {
+                label: "|E+W−E₀|",
+                column: "energy_drift",
+                value: |s| s.energy_drift,
+            },
+        ),
+    ]
+    .into_iter()
+    .filter_map(|(has, q)| has.then_some(q))
+    .collect()
+}
+
+/// One of the plotted data sets, as CSV.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlotData {
+    /// 1/T against α: `direction,alpha,inverse_period` (direction "up" or "down").
+    Sweep,
+    /// Settled ∂Ω crossings against m/m0: `mass_ratio,polar_angle`.
+    Crossings,
+    /// The numerical health against time: `t` and the quantities the model measures.
+    Health,
+}
+
+impl PlotData {
+    /// All three, in file order.
+    pub const ALL: [PlotData; 3] = [PlotData::Sweep, PlotData::Crossings, PlotData::Health];
+
+    /// The file name each is written to.
+    pub fn file_name(self) -> &'static str {
+        match self {
+            PlotData::Sweep => "sweep-alpha.csv",
+            PlotData::Crossings => "sweep-mass.csv",
+            PlotData::Health => "health.csv",
+        }
+    }
+}
+
+impl PlotHistory {
+    /// `data` as CSV text (a header and one row per point; numbers in shortest round-trip
+    /// form). `measured` picks the health columns.
+    pub fn csv(&self, data: PlotData, measured: Measured) -> String {
+        let mut out = csv::Writer::from_writer(Vec::new());
+        // Shortest round-trip digits with an exponent where short (4.5e-16, not 0.000…045),
+        // as `rollphase simulate` writes its CSV.
+        let number = |v: f64| ryu::Buffer::new().format(v).to_string();
+        // Writing to memory cannot fail.
+        let mut row = |fields: Vec<String>| {
+            out.write_record(&fields).expect("CSV to memory");
+        };
+        match data {
+            PlotData::Sweep => {
+                row(vec![
+                    "direction".into(),
+                    "alpha".into(),
+                    "inverse_period".into(),
+                ]);
+                for (direction, name) in [(Sweep::Up, "up"), (Sweep::Down, "down")] {
+                    for [a, f] in self.sweep(direction) {
+                        row(vec![name.into(), number(a), number(f)]);
+                    }
+                }
+            }
+            PlotData::Crossings => {
+                row(vec!["mass_ratio".into(), "polar_angle".into()]);
+                for [m, theta] in self.crossings_by_mass() {
+                    row(vec![number(m), number(theta)]);
+                }
+            }
+            PlotData::Health => {
+                let columns = health_quantities(measured);
+                let mut header = vec!["t".to_string()];
+                header.extend(columns.iter().map(|c| c.column.to_string()));
+                row(header);
+                for s in self.samples() {
+                    let mut fields = vec![number(s.t)];
+                    fields.extend(columns.iter().map(|c| number((c.value)(s))));
+                    row(fields);
+                }
+            }
+        }
+        String::from_utf8(out.into_inner().expect("CSV to memory")).expect("CSV of ASCII")
+    }
+}
+
+impl PlotHistory {
+    /// Writes the three data sets into the folder `dir` (created if missing) as
+    /// [`PlotData::file_name`]s, through the output layer: all three or none, none of them one
+    /// of `inputs`. Returns the files written.
+    pub fn write_csv_files(
+        &self,
+        dir: &Path,
+        measured: Measured,
+        inputs: &Inputs,
+    ) -> output::Result<Vec<std::path::PathBuf>> {
+        let names: Vec<&str> = PlotData::ALL.iter().map(|d| d.file_name()).collect();
+        output::check_folder(dir, &names, inputs)?;
+        output::create_folder(dir)?;
+        let mut set = OutputSet::new();
+        let mut written = Vec::new();
+        for data in PlotData::ALL {
+            let path = dir.join(data.file_name());
+            set.write(&path, self.csv(data, measured).as_bytes(), inputs)?;
+            written.push(path);
+        }
+        set.commit()?;
+        Ok(written)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{PlotData, PlotHistory};
+    use crate::scene::Scene;
+    use crate::sim::{Measured, Simulation};
+
+    /// An α sweep up and down on the near-critical cylinder: both directions in sweep-alpha.csv,
+    /// a halted body as 1/T = 0, and the health columns of the model only.
+    #[test]
+    fn the_csv_holds_what_the_plots_show() {
+        let setup = Scene::preset("cylinder-near-critical")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let alpha_star = setup.alpha_star;
+        let mut sim = Simulation::new(setup);
+        let mut history = PlotHistory::default();
+        let mut t = 0.0;
+        for alpha in [1.5, 2.0, 1.5, 0.9].map(|f| f * alpha_star) {
+            let ramp = crate::dynamics::Ramp::with_drag(alpha, 0.0, 1.0).unwrap();
+            sim.set_parameters(ramp, sim.method()).unwrap();
+            for _ in 0..400 {
+                t += 1.0;
+                sim.advance_to(t).unwrap();
+                history.push(&sim.snapshot());
+            }
+        }
+        let measured = sim.snapshot().health.measured;
+        assert_eq!(
+            measured,
+            Measured::default(),
+            "the viscous disk measures none"
+        );
+        let sweep = history.csv(PlotData::Sweep, measured);
+        let rows: Vec<Vec<&str>> = sweep.lines().map(|l| l.split(',').collect()).collect();
+        assert_eq!(rows[0], ["direction", "alpha", "inverse_period"]);
+        assert!(rows.iter().any(|r| r[0] == "up") && rows.iter().any(|r| r[0] == "down"));
+        let halted = rows.iter().find(|r| r[0] == "down" && r[2] == "0.0");
+        assert!(
+            halted.is_some(),
+            "0.9 α* halts: 1/T = 0 on the way down\n{sweep}"
+        );
+        let health = history.csv(PlotData::Health, measured);
+        assert_eq!(health.lines().next(), Some("t"));
+        assert_eq!(health.lines().count(), 1 + history.samples().count());
+        let crossings = history.csv(PlotData::Crossings, measured);
+        assert_eq!(crossings.trim(), "mass_ratio,polar_angle");
+        // Every number parses back to the value plotted.
+        for r in &rows[1..] {
+            assert!(r[1].parse::<f64>().unwrap() > 0.0);
+        }
+    }
+}
