@@ -706,3 +706,28 @@ fn export_csv_writes_the_plotted_data_and_says_where() {
     assert_eq!(std::fs::read_to_string(&file).unwrap(), health);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// "Sweep slowly" moves m/m0 up while the simulation plays, as the crossing plot's live
+/// bifurcation diagram needs, and the controls stay at the same height paused or playing.
+#[test]
+fn an_automatic_sweep_raises_the_mass_while_playing() {
+    use rollphase::ui::sweep::{AutoSweep, SweepTarget};
+    let (gpu, target, mut bench) = app("sphere-doubling");
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 1.0);
+    let m0 = s.snapshot.mass_ratio;
+    bench.ui.set_auto_sweep(Some(AutoSweep {
+        target: SweepTarget::MassRatio,
+        rate: 0.5,
+    }));
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| {
+        s.snapshot.mass_ratio > m0 * 1.01
+    });
+    // m/m0 follows ×e^{0.5} per 100 t of simulated time.
+    let grown = (s.snapshot.mass_ratio / m0).ln() / 0.5 * 100.0;
+    assert!(
+        grown > 0.0 && grown <= s.snapshot.t,
+        "{grown} of t = {}",
+        s.snapshot.t
+    );
+    bench.ui.set_auto_sweep(None);
+}

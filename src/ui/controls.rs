@@ -8,6 +8,7 @@ use crate::integrate::{Method, Preset};
 use crate::scene::{BodySpec, PRESETS, Scene};
 use crate::sim::{SimCommand, SimStatus};
 
+use super::sweep::SweepTarget;
 use super::{ALPHA_MAX, ALPHA_MIN, AppUi, MASS_RANGE, SPEED_RANGE, UiAction};
 
 /// The α and m/m0 rails' width in points.
@@ -250,6 +251,7 @@ impl AppUi {
             actions.push(UiAction::Sim(SimCommand::SetMassRatio(m)));
         }
         ui.label(format!("model: {}", snap.model));
+        self.auto_sweep_ui(ui);
 
         ui.separator();
         ui.heading("Integrator");
@@ -277,12 +279,74 @@ impl AppUi {
             let state = if status.paused { "paused" } else { "playing" };
             ui.label(RichText::new(format!("t = {:>9.2}  {state}", snap.t)).monospace());
             ui.separator();
+            if let Some(r) = self.recording {
+                ui.label(format!("recording frame {} of {}", r.done, r.total));
+                ui.separator();
+            }
+            if let Some(sweep) = self.auto_sweep.filter(|_| !status.paused) {
+                ui.label(RichText::new(sweep.describe()).color(GOOD));
+                ui.separator();
+            }
+            if status.lagging {
+                ui.label(
+                    RichText::new(
+                        "⚠ the simulation cannot keep up with this speed at this integrator \
+                         setting: lower the speed or pick a faster preset",
+                    )
+                    .color(Color32::from_rgb(240, 170, 40)),
+                );
+                ui.separator();
+            }
             if let Some(m) = &status.message {
                 ui.label(RichText::new(m).color(ERROR));
             } else if let Some((text, error)) = &self.notice {
                 ui.label(RichText::new(text).color(if *error { ERROR } else { GOOD }));
             } else {
                 ui.label(RichText::new("ready").weak());
+            }
+        });
+    }
+
+    /// The slow automatic sweep of α or m/m0 (a live bifurcation diagram): which, and how fast.
+    fn auto_sweep_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            let mut on = self.auto_sweep.is_some();
+            if ui
+                .checkbox(&mut on, "sweep slowly")
+                .on_hover_text(
+                    "moves α or m/m0 a little every time unit while playing, so the 1/T and \
+                     crossing plots draw the bifurcation diagram live",
+                )
+                .changed()
+            {
+                self.auto_sweep = on.then_some(self.sweep_choice);
+            }
+            let mut choice = self.sweep_choice;
+            egui::ComboBox::from_id_salt("sweep_what")
+                .selected_text(choice.target.name())
+                .show_ui(ui, |ui| {
+                    for t in SweepTarget::ALL {
+                        if ui
+                            .selectable_value(&mut choice.target, t, t.name())
+                            .changed()
+                        {
+                            choice.rate = t.default_rate();
+                        }
+                    }
+                });
+            ui.add(
+                egui::DragValue::new(&mut choice.rate)
+                    .range(-1.0..=1.0)
+                    .speed(1e-4)
+                    .max_decimals(5),
+            )
+            .on_hover_text(choice.target.rate_hint());
+            ui.label("per 100 t");
+            if choice != self.sweep_choice {
+                self.sweep_choice = choice;
+                if self.auto_sweep.is_some() {
+                    self.auto_sweep = Some(choice);
+                }
             }
         });
     }
@@ -320,6 +384,8 @@ impl AppUi {
         });
     }
 
+    /// The playback status: always the same four lines (paused or playing, measuring or not),
+    /// so the controls below never jump; warnings go to the status bar.
     pub(super) fn status_ui(&self, ui: &mut egui::Ui, status: &SimStatus) {
         let snap = &status.snapshot;
         let state = if status.paused { "paused" } else { "playing" };
@@ -337,29 +403,18 @@ impl AppUi {
             }
         };
         ui.label(order);
-        if let Some(d) = status.delivered_speed {
-            ui.label(format!(
+        ui.label(match status.delivered_speed {
+            Some(d) => format!(
                 "delivering {d:.2} of {:.2} t per s (tick {:.1} ms)",
                 status.speed,
                 status.tick_seconds * 1e3
-            ));
-        }
-        if status.lagging {
-            ui.label(
-                RichText::new(
-                    "⚠ the simulation cannot keep up with this speed at this integrator \
-                     setting: lower the speed or pick a faster preset",
-                )
-                .color(Color32::from_rgb(240, 170, 40)),
-            );
-        }
-        if let Some(fps) = self.fps {
-            ui.label(format!("window: {fps:.0} frames/s"));
-        }
-        if let Some(r) = self.recording {
-            ui.label(format!("recording frame {} of {}", r.done, r.total));
-        }
-        // The simulation's refusals and the notices are in the status bar (status_bar_ui).
+            ),
+            None => format!("delivering — of {:.2} t per s", status.speed),
+        });
+        ui.label(match self.fps {
+            Some(fps) => format!("window: {fps:.0} frames/s"),
+            None => "window: — frames/s".into(),
+        });
     }
 
     pub(super) fn integrator_ui(

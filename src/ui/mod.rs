@@ -25,6 +25,7 @@ pub mod dialog;
 pub mod fonts;
 pub mod painter;
 pub mod plots;
+pub mod sweep;
 pub mod workbench;
 
 mod controls;
@@ -106,6 +107,14 @@ pub struct AppUi {
     record_dir: String,
     record_frames: u32,
     plot_data_dir: String,
+    /// The automatic sweep running, if any.
+    auto_sweep: Option<sweep::AutoSweep>,
+    /// The sweep the controls offer (kept while it is off).
+    sweep_choice: sweep::AutoSweep,
+    /// The simulation time the sweep last moved its parameter at.
+    sweep_last_t: Option<f64>,
+    /// The notice shown as a toast over the 3D view, and when it appeared (egui's clock).
+    toast: Option<((String, bool), f64)>,
     notice: Option<(String, bool)>,
     history: PlotHistory,
     map: Option<(u64, Option<CurvatureMap>)>,
@@ -168,6 +177,10 @@ impl AppUi {
             record_dir: "recording".into(),
             record_frames: 120,
             plot_data_dir: "plot-data".into(),
+            auto_sweep: None,
+            sweep_choice: sweep::AutoSweep::default(),
+            sweep_last_t: None,
+            toast: None,
             notice: None,
             history: PlotHistory::default(),
             map: None,
@@ -250,6 +263,90 @@ impl AppUi {
         self.views = snap.views.clone();
     }
 
+    /// Moves the swept parameter by the time simulated since the last frame (a new run, or a
+    /// pause, starts the count afresh).
+    fn advance_sweep(&mut self, status: &SimStatus, actions: &mut Vec<UiAction>) {
+        let t = status.snapshot.t;
+        let Some(sweep) = self.auto_sweep.filter(|_| !status.paused) else {
+            self.sweep_last_t = None;
+            return;
+        };
+        let dt = match self.sweep_last_t {
+            Some(last) if t >= last => t - last,
+            _ => 0.0,
+        };
+        self.sweep_last_t = Some(t);
+        if dt == 0.0 {
+            return;
+        }
+        let snap = &status.snapshot;
+        match sweep.step(snap.alpha_rad, snap.mass_ratio, self.mass_ratio, dt) {
+            sweep::SweepStep::Alpha(alpha) => {
+                self.alpha = alpha;
+                actions.push(UiAction::Sim(SimCommand::SetAlpha(alpha)));
+            }
+            sweep::SweepStep::MassRatio(m) => {
+                self.mass_ratio = m;
+                self.inertial = true;
+                actions.push(UiAction::Sim(SimCommand::SetMassRatio(m)));
+            }
+            sweep::SweepStep::Done => {
+                self.auto_sweep = None;
+                self.notice = Some((
+                    format!(
+                        "the {} sweep reached the end of its range",
+                        sweep.target.name()
+                    ),
+                    false,
+                ));
+            }
+        }
+    }
+
+    /// A new notice (saved, loaded, a refusal) also shows for a few seconds as a toast at the top
+    /// of the 3D view, where the eye is; the status bar keeps it.
+    fn toast_ui(&mut self, ctx: &egui::Context) {
+        const SHOWN: f64 = 3.5;
+        let now = ctx.input(|i| i.time);
+        if let Some(notice) = &self.notice
+            && self.toast.as_ref().map(|t| &t.0) != Some(notice)
+        {
+            self.toast = Some((notice.clone(), now));
+        }
+        let Some(((text, error), since)) = &self.toast else {
+            return;
+        };
+        if now - since > SHOWN {
+            return;
+        }
+        ctx.request_repaint_after(std::time::Duration::from_millis(250));
+        let Some(rect) = self.scene_rect else {
+            return;
+        };
+        egui::Area::new(egui::Id::unique("rollphase-toast"))
+            .fixed_pos(egui::pos2(rect.center().x, rect.top() + 12.0))
+            .pivot(egui::Align2::CENTER_TOP)
+            .interactable(false)
+            .show(ctx, |ui| {
+                egui::Frame::popup(ui.style()).show(ui, |ui| {
+                    let color = if *error {
+                        egui::Color32::from_rgb(230, 90, 80)
+                    } else {
+                        egui::Color32::from_rgb(120, 200, 120)
+                    };
+                    ui.label(egui::RichText::new(text).color(color));
+                });
+            });
+    }
+
+    /// Starts (or with `None` stops) an automatic sweep.
+    pub fn set_auto_sweep(&mut self, sweep: Option<sweep::AutoSweep>) {
+        if let Some(s) = sweep {
+            self.sweep_choice = s;
+        }
+        self.auto_sweep = sweep;
+    }
+
     /// Draws the whole UI for one frame into the root `ui` and returns what it asks for.
     pub fn show(&mut self, ui: &mut egui::Ui, status: &SimStatus) -> Vec<UiAction> {
         let mut actions = Vec::new();
@@ -269,13 +366,17 @@ impl AppUi {
             self.dialog_answered(purpose, chosen, status, &mut actions);
         }
         self.keyboard(ui.ctx(), status, &mut actions);
+        self.advance_sweep(status, &mut actions);
         egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, &mut actions));
         // Outermost at the bottom, so no panel or plot hides it.
         egui::Panel::bottom("status").show(ui, |ui| self.status_bar_ui(ui, status));
         if self.show_controls {
+            // A floor on the width: after the window shrank (or a 4K detour) the panel comes back
+            // to a usable width instead of staying as narrow as the small window forced it.
             egui::Panel::left("controls")
                 .resizable(true)
                 .default_size(300.0)
+                .min_size(280.0)
                 .show(ui, |ui| {
                     egui::ScrollArea::vertical().show(ui, |ui| {
                         self.controls_ui(ui, status, &mut actions);
@@ -303,6 +404,7 @@ impl AppUi {
                 });
         }
         egui::CentralPanel::no_frame().show(ui, |ui| self.scene_ui(ui, status, &mut actions));
+        self.toast_ui(ui.ctx());
         actions
     }
 }
