@@ -37,6 +37,8 @@ pub struct AppOptions {
     pub screenshot_after: Option<(f64, PathBuf)>,
     /// Close after this many seconds.
     pub exit_after: Option<f64>,
+    /// Open in presentation mode.
+    pub present: bool,
 }
 
 /// Opens the window and runs until it is closed.
@@ -161,7 +163,7 @@ impl App {
             .options
             .take()
             .ok_or_else(|| anyhow!("the window was already opened"))?;
-        let bench = Workbench::new(
+        let mut bench = Workbench::new(
             &gpu.device,
             &gpu.queue,
             format,
@@ -169,6 +171,9 @@ impl App {
             options.setup.clone(),
             options.base.clone(),
         );
+        if options.present {
+            bench.ui.present_on_start();
+        }
         let egui_winit = egui_winit::State::new(
             bench.ctx.clone(),
             egui::ViewportId::ROOT,
@@ -210,6 +215,11 @@ impl App {
                 w.fullscreen = *on;
                 w.window
                     .set_fullscreen(on.then_some(Fullscreen::Borderless(None)));
+                // Without a window manager (a bare X server, a kiosk) the fullscreen request
+                // does nothing: ask for the monitor's size as well.
+                if *on && let Some(monitor) = w.window.current_monitor() {
+                    let _ = w.window.request_inner_size(monitor.size());
+                }
             }
         }
         let texture = match w.surface.get_current_texture() {

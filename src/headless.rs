@@ -21,6 +21,7 @@ use crate::dynamics::Ramp;
 use crate::output::Inputs;
 use crate::png::{PngWriter, frame_name};
 use crate::render::gpu::OffscreenTarget;
+use crate::render::types::Frame;
 use crate::render::{GpuContext, Renderer};
 use crate::scene::SceneSetup;
 use crate::sim::Simulation;
@@ -125,8 +126,9 @@ impl HeadlessRenderer {
         &self.sim
     }
 
-    /// Advances the simulation to frame `k`'s time and submits its drawing; does not wait.
-    pub fn draw(&mut self, k: u64) -> Result<()> {
+    /// Advances the simulation to frame `k`'s time and returns what that frame draws (the
+    /// views with their cameras and viewports, and the panels), without drawing it.
+    pub fn frame_data(&mut self, k: u64) -> Result<Frame> {
         let t = self.sim.setup().frame_time(k);
         self.sim
             .advance_to(t)
@@ -135,12 +137,22 @@ impl HeadlessRenderer {
         let snap = self.sim.snapshot();
         let v = &snap.views;
         self.view.set_views(v.body, v.ball, v.poincare, v.overlay);
-        let frame = self.view.frame(
+        Ok(self.view.frame(
             &snap,
             self.field.as_ref().map(|(_, arrows)| arrows.as_slice()),
             self.target.size,
             &self.options,
-        );
+        ))
+    }
+
+    /// Sets the camera and text options (e.g. class mode's text scale) of the frames to come.
+    pub fn set_view_options(&mut self, options: ViewOptions) {
+        self.options = options;
+    }
+
+    /// Advances the simulation to frame `k`'s time and submits its drawing; does not wait.
+    pub fn draw(&mut self, k: u64) -> Result<()> {
+        let frame = self.frame_data(k)?;
         self.renderer
             .render(&self.target.view, self.target.size, &frame);
         Ok(())

@@ -731,3 +731,43 @@ fn an_automatic_sweep_raises_the_mass_while_playing() {
     );
     bench.ui.set_auto_sweep(None);
 }
+
+/// F5: presentation mode gives the whole window to the 3D view (no menu, controls, plots or
+/// status bar) with class mode's large text; F5 again brings the panels back as they were. `?`
+/// toggles the legend of the keys. With the camera held (F), it looks where the body was, and
+/// re-frames the body once it has rolled away.
+#[test]
+fn presentation_mode_gives_the_window_to_the_3d_view_and_back() {
+    let (gpu, target, mut bench) = app("lesson-critical-angle");
+    frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.0);
+    let frame = bench.run_ui(offscreen_input(SIZE, now(), key(egui::Key::F5)), SIZE);
+    assert!(bench.ui.presenting && bench.ui.class_mode);
+    let frame = if frame.scene_rect[0] == 0 {
+        frame
+    } else {
+        bench.run_ui(offscreen_input(SIZE, now(), vec![]), SIZE)
+    };
+    assert_eq!(
+        frame.scene_rect,
+        [0, 0, SIZE.0, SIZE.1],
+        "the 3D view fills the window"
+    );
+    bench.run_ui(
+        offscreen_input(SIZE, now(), key(egui::Key::Questionmark)),
+        SIZE,
+    );
+    assert!(bench.ui.show_keys);
+    bench.run_ui(offscreen_input(SIZE, now(), key(egui::Key::F5)), SIZE);
+    let frame = bench.run_ui(offscreen_input(SIZE, now(), vec![]), SIZE);
+    assert!(!bench.ui.presenting && !bench.ui.class_mode);
+    assert!(
+        frame.scene_rect[0] > 150,
+        "the controls are back: {:?}",
+        frame.scene_rect
+    );
+    // F holds the camera where the body is, not at the ramp's origin.
+    let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::F), |_| true);
+    let held = bench.ui.view_options.fixed_target.expect("a held target");
+    assert!(!bench.ui.view_options.follow);
+    assert!((held - s.snapshot.pose.centre).length() < 1.0, "{held:?}");
+}

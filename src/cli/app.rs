@@ -17,6 +17,10 @@ pub struct WindowFlags {
     /// Close the window after SECONDS of wall time and print a frame-time summary.
     #[arg(long, value_name = "SECONDS")]
     pub exit_after: Option<f64>,
+    /// Open in presentation mode (F5 in the window): the 3D view fills the screen with large
+    /// captions and no panels, for a projector; F5 or Esc leaves it.
+    #[arg(long)]
+    pub present: bool,
 }
 
 /// `rollphase app`.
@@ -64,6 +68,7 @@ pub fn run_window(scene: Option<&Path>, preset: Option<&str>, flags: &WindowFlag
             base: scene.and_then(Path::parent).map(Path::to_path_buf),
             screenshot_after,
             exit_after,
+            present: flags.present,
         })
     }
     #[cfg(not(feature = "app"))]

@@ -102,6 +102,13 @@ pub fn run(cli: Cli) -> Result<()> {
                      as a PNG already (see --frames and --out)"
                 );
             }
+            if w.present {
+                bail!(
+                    "--present opens the window in presentation mode; a --headless run draws \
+                     lessons' captions in their own band already (use --size for the projector's \
+                     resolution)"
+                );
+            }
             return render::run_headless(&cli.render);
         }
         if cli.render.gif.is_some() || cli.render.mp4.is_some() {

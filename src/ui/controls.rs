@@ -111,6 +111,12 @@ impl AppUi {
                 ui.checkbox(&mut self.show_controls, "Controls (H)");
                 ui.checkbox(&mut self.show_plots, "Plots (P)");
                 ui.checkbox(&mut self.view_options.follow, "Follow the body (F)");
+                let mut present = self.presenting;
+                if ui.checkbox(&mut present, "Presentation (F5)").changed() {
+                    let ctx = ui.ctx().clone();
+                    self.set_presentation(&ctx, present, actions);
+                }
+                ui.checkbox(&mut self.show_keys, "Keys (?)");
                 let mut class = self.class_mode;
                 if ui.checkbox(&mut class, "Class mode (C)").changed() {
                     let ctx = ui.ctx().clone();

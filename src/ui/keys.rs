@@ -1,4 +1,5 @@
-//! The keyboard bindings (see the module map in [`super`]) and class mode.
+//! The keyboard bindings (see the module map in [`super`]), class mode, presentation mode and
+//! the `?` legend of the keys.
 
 use egui::Key;
 
@@ -49,12 +50,24 @@ impl AppUi {
         }
         if pressed(Key::F) {
             self.view_options.follow = !self.view_options.follow;
+            // Where the body is now: the camera stays there, not at the ramp's far origin.
+            self.view_options.fixed_target = Some(status.snapshot.pose.centre);
+        }
+        if pressed(Key::F5) {
+            self.set_presentation(ctx, !self.presenting, actions);
+        }
+        if pressed(Key::Questionmark) || pressed(Key::F1) {
+            self.show_keys = !self.show_keys;
         }
         if pressed(Key::C) {
             self.set_class_mode(ctx, !self.class_mode, actions);
         }
-        if pressed(Key::Escape) && self.class_mode {
-            self.set_class_mode(ctx, false, actions);
+        if pressed(Key::Escape) {
+            if self.presenting {
+                self.set_presentation(ctx, false, actions);
+            } else if self.class_mode {
+                self.set_class_mode(ctx, false, actions);
+            }
         }
         if pressed(Key::H) {
             self.show_controls = !self.show_controls;
@@ -76,10 +89,74 @@ impl AppUi {
         actions.push(UiAction::Fullscreen(on));
     }
 
+    /// Presentation mode: the 3D view fills the (full) screen with class mode's large text; the
+    /// menu, controls, plots and status bar are hidden until it is left (F5 or Esc), when the
+    /// panels come back as they were.
+    pub fn set_presentation(&mut self, ctx: &egui::Context, on: bool, actions: &mut Vec<UiAction>) {
+        if on == self.presenting {
+            return;
+        }
+        if on {
+            self.panels_before = (self.show_controls, self.show_plots);
+            self.show_controls = false;
+            self.show_plots = false;
+            self.view_options.follow = true;
+            self.notice = Some((
+                "presentation: F5 or Esc to leave, ? for the keys".into(),
+                false,
+            ));
+        } else {
+            (self.show_controls, self.show_plots) = self.panels_before;
+        }
+        self.presenting = on;
+        self.set_class_mode(ctx, on, actions);
+    }
+
+    /// The keys, as the `?` legend lists them.
+    pub const KEYS: [(&'static str, &'static str); 13] = [
+        ("Space", "play / pause"),
+        ("→", "one step"),
+        ("R", "restart the scene"),
+        ("+ / −", "speed ×2 / ÷2"),
+        ("N, Page Down", "next lesson step"),
+        ("B, Page Up", "previous lesson step"),
+        ("F", "follow the body / hold the camera"),
+        ("F5", "presentation mode"),
+        ("C", "class mode (large text, full screen)"),
+        ("H", "hide / show the controls"),
+        ("P", "hide / show the plots"),
+        ("Esc", "leave presentation or class mode"),
+        ("?", "this list"),
+    ];
+
+    pub(super) fn keys_legend_ui(&self, ctx: &egui::Context) {
+        if !self.show_keys {
+            return;
+        }
+        let Some(rect) = self.scene_rect else {
+            return;
+        };
+        egui::Area::new(egui::Id::unique("rollphase-keys"))
+            .fixed_pos(egui::pos2(rect.left() + 12.0, rect.top() + 12.0))
+            .interactable(false)
+            .show(ctx, |ui| {
+                egui::Frame::popup(ui.style()).show(ui, |ui| {
+                    egui::Grid::new("keys").num_columns(2).show(ui, |ui| {
+                        for (key, what) in Self::KEYS {
+                            ui.label(egui::RichText::new(key).strong());
+                            ui.label(what);
+                            ui.end_row();
+                        }
+                    });
+                });
+            });
+    }
+
     pub(super) fn reset_camera(&mut self) {
         self.view_options = ViewOptions {
             text_scale: self.view_options.text_scale,
             follow: self.view_options.follow,
+            fixed_target: None,
             ..ViewOptions::default()
         };
     }

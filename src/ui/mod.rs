@@ -7,8 +7,9 @@
 //! thread, and reads the latest [`SimStatus`].
 //!
 //! Keys (as in MuJoCo's viewer): Space pause/play, → one step, R reset, + / − speed ×2 / ÷2,
-//! F follow camera, C class mode (large fonts and caption, full screen), H hide the controls,
-//! P plots, Esc leaves class mode; in a lesson, N or Page Down the next step, B or Page Up the
+//! F follow camera or hold it, F5 presentation mode (the 3D view alone), C class mode (large
+//! fonts and caption, full screen), H hide the controls, P plots, ? the keys, Esc leaves
+//! presentation or class mode; in a lesson, N or Page Down the next step, B or Page Up the
 //! previous one (a presenter's clicker sends Page Down / Page Up). Mouse on the 3D view: drag to orbit, wheel to zoom, double-click to
 //! reset the camera.
 //!
@@ -88,6 +89,14 @@ pub struct AppUi {
     pub show_controls: bool,
     /// Class mode: large fonts, full screen.
     pub class_mode: bool,
+    /// Presentation mode (F5, `--present`): only the 3D view, large text, full screen.
+    pub presenting: bool,
+    /// The controls and plots as they were before presentation mode hid them.
+    panels_before: (bool, bool),
+    /// The `?` legend of the keys is showing.
+    pub show_keys: bool,
+    /// Presentation mode asked for before the first frame (`--present`).
+    present_on_start: bool,
     /// Where the 3D view is, in points (set by [`Self::show`]).
     pub scene_rect: Option<egui::Rect>,
     /// A recording in progress (set by the app).
@@ -149,6 +158,10 @@ impl AppUi {
             show_plots: true,
             show_controls: true,
             class_mode: false,
+            presenting: false,
+            panels_before: (true, true),
+            show_keys: false,
+            present_on_start: false,
             scene_rect: None,
             recording: None,
             field_note: None,
@@ -339,6 +352,27 @@ impl AppUi {
             });
     }
 
+    /// Opens in presentation mode (`--present`): applied on the first frame.
+    pub fn present_on_start(&mut self) {
+        self.present_on_start = true;
+    }
+
+    /// With the camera held (F), moves where it looks to the body when the body has rolled
+    /// more than 6 ⟨r⟩ away, so the view re-frames the body instead of losing it.
+    fn keep_body_in_view(&mut self, status: &SimStatus) {
+        if self.view_options.follow {
+            return;
+        }
+        let centre = status.snapshot.pose.centre;
+        let far = self
+            .view_options
+            .fixed_target
+            .is_none_or(|f| (f - centre).length() > 6.0);
+        if far {
+            self.view_options.fixed_target = Some(centre);
+        }
+    }
+
     /// Starts (or with `None` stops) an automatic sweep.
     pub fn set_auto_sweep(&mut self, sweep: Option<sweep::AutoSweep>) {
         if let Some(s) = sweep {
@@ -365,11 +399,18 @@ impl AppUi {
         if let Some((purpose, chosen)) = self.dialogs.poll() {
             self.dialog_answered(purpose, chosen, status, &mut actions);
         }
+        if std::mem::take(&mut self.present_on_start) {
+            let ctx = ui.ctx().clone();
+            self.set_presentation(&ctx, true, &mut actions);
+        }
         self.keyboard(ui.ctx(), status, &mut actions);
         self.advance_sweep(status, &mut actions);
-        egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, &mut actions));
-        // Outermost at the bottom, so no panel or plot hides it.
-        egui::Panel::bottom("status").show(ui, |ui| self.status_bar_ui(ui, status));
+        self.keep_body_in_view(status);
+        if !self.presenting {
+            egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, &mut actions));
+            // Outermost at the bottom, so no panel or plot hides it.
+            egui::Panel::bottom("status").show(ui, |ui| self.status_bar_ui(ui, status));
+        }
         if self.show_controls {
             // A floor on the width: after the window shrank (or a 4K detour) the panel comes back
             // to a usable width instead of staying as narrow as the small window forced it.
@@ -405,6 +446,7 @@ impl AppUi {
         }
         egui::CentralPanel::no_frame().show(ui, |ui| self.scene_ui(ui, status, &mut actions));
         self.toast_ui(ui.ctx());
+        self.keys_legend_ui(ui.ctx());
         actions
     }
 }

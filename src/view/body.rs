@@ -14,17 +14,23 @@ use super::{CYLINDER_LENGTH, SceneView, ViewOptions};
 
 /// The downhill arrow's three strokes on the ramp (ramp coordinates): the first placement, from
 /// the preferred one (2.2 ⟨r⟩ in front of the body, 2.4 ⟨r⟩ long) towards smaller and nearer
-/// ones, whose every point projects inside the frame with a 6% margin; the smallest if none
-/// does (an extreme aspect ratio or zoom).
+/// ones, then the same behind the body, whose every point projects inside the frame with a 6%
+/// margin and outside the body's silhouette (the body, a sphere of `body.1` around `body.0` in
+/// world coordinates, would hide it or show a stick poking out); the smallest if none does (an
+/// extreme aspect ratio or zoom).
 fn downhill_arrow(
     camera: &Camera,
     aspect: f32,
-    centre_x: f64,
+    (centre_x, centre_y): (f64, f64),
     to_world: impl Fn(DVec3) -> Vec3,
+    body: (Vec3, f32),
 ) -> [(DVec3, DVec3); 3] {
-    let strokes = |y: f64, half: f64| {
+    // Centred `ahead` downhill of the body and `y` across the ramp from it (a sphere drifts
+    // across the ramp as it rolls), `half` its half length.
+    let strokes = |y: f64, half: f64, ahead: f64| {
+        let y = centre_y + y;
         let barb = (0.35 * half / 1.2, 0.25 * half / 1.2);
-        let (x0, x1) = (centre_x - half, centre_x + half);
+        let (x0, x1) = (centre_x + ahead - half, centre_x + ahead + half);
         let tip = DVec3::new(x1, y, 0.01);
         [
             (DVec3::new(x0, y, 0.01), tip),
@@ -33,18 +39,57 @@ fn downhill_arrow(
         ]
     };
     let view_proj = camera.view_proj(aspect);
-    let inside = |p: DVec3| {
-        let c = view_proj * to_world(p).extend(1.0);
-        c.w > 0.0 && (c.x / c.w).abs() <= 0.94 && (c.y / c.w).abs() <= 0.94
+    let ndc = |p: Vec3| {
+        let c = view_proj * p.extend(1.0);
+        (c.w > 0.0).then(|| (c.x / c.w, c.y / c.w))
     };
-    let mut last = strokes(-1.4, 0.5);
-    for half in [1.2, 1.0, 0.8, 0.6, 0.5] {
-        for y in [-2.2, -2.0, -1.8, -1.6, -1.4] {
-            let s = strokes(y, half);
-            if s.iter().all(|&(a, b)| inside(a) && inside(b)) {
-                return s;
+    // The body's silhouette, as an ellipse in clip space, widened by 10 %.
+    let forward = (camera.target - camera.eye).normalize();
+    let right = forward.cross(camera.up).normalize();
+    let up = right.cross(forward);
+    let silhouette = ndc(body.0).and_then(|(cx, cy)| {
+        let (rx, _) = ndc(body.0 + right * body.1)?;
+        let (_, ry) = ndc(body.0 + up * body.1)?;
+        Some((cx, cy, 1.1 * (rx - cx).abs(), 1.1 * (ry - cy).abs()))
+    });
+    let visible = |p: Vec3, need_clear: bool| {
+        let Some((x, y)) = ndc(p) else {
+            return false;
+        };
+        let in_frame = x.abs() <= 0.94 && y.abs() <= 0.94;
+        let clear = !need_clear
+            || silhouette.is_none_or(|(cx, cy, rx, ry)| {
+                ((x - cx) / rx.max(1e-6)).powi(2) + ((y - cy) / ry.max(1e-6)).powi(2) > 1.0
+            });
+        in_frame && clear
+    };
+    // Every point along each stroke, not only its ends: a shaft can cross the body.
+    let stroke_visible = |(a, b): (DVec3, DVec3), need_clear: bool| {
+        (0..=8).all(|i| visible(to_world(a.lerp(b, f64::from(i) / 8.0)), need_clear))
+    };
+    let mut last = strokes(-1.4, 0.5, 0.0);
+    // In front of the body (towards the camera), from far and long to near and short; then
+    // ahead of it downhill, beside it on the screen (a short, wide view under a caption band
+    // has no room in front); then behind it. Clear of the body if any placement is; else
+    // the first inside the frame.
+    for need_clear in [true, false] {
+        for (ahead, side) in [(0.0, 1.0), (2.6, 1.0), (0.0, -1.0)] {
+            let ys: &[f64] = if ahead > 0.0 {
+                &[0.0, -0.4, -0.8, -1.2]
+            } else {
+                &[-2.2, -2.0, -1.8, -1.6, -1.4]
+            };
+            for half in [1.2, 1.0, 0.8, 0.6, 0.5] {
+                for &y in ys {
+                    let s = strokes(side * y, half, ahead + half);
+                    if s.iter().all(|&st| stroke_visible(st, need_clear)) {
+                        return s;
+                    }
+                    if side > 0.0 && ahead == 0.0 {
+                        last = s;
+                    }
+                }
             }
-            last = s;
         }
     }
     last
@@ -67,10 +112,9 @@ impl SceneView {
             }
         };
         let centre = snap.pose.centre.as_vec3();
-        let target = if options.follow {
-            world_from_ramp.transform_point3(centre)
-        } else {
-            Vec3::ZERO
+        let target = match (options.follow, options.fixed_target) {
+            (false, Some(fixed)) => world_from_ramp.transform_point3(fixed.as_vec3()),
+            _ => world_from_ramp.transform_point3(centre),
         };
         let base_dir = if self.is_disk {
             Vec3::new(-0.12, -1.0, 0.3)
@@ -156,7 +200,9 @@ impl SceneView {
         // it lies inside the frame (at 1280×720 the old fixed place cut its lower barb).
         let aspect = rect[2].max(1) as f32 / rect[3].max(1) as f32;
         let orange = linear([255, 140, 0], 1.0);
-        for (a, b) in downhill_arrow(&camera, aspect, centre.x as f64, to_world) {
+        let body = (world_from_ramp.transform_point3(centre), self.body_radius);
+        let at = (f64::from(centre.x), f64::from(centre.y));
+        for (a, b) in downhill_arrow(&camera, aspect, at, to_world, body) {
             segments.push(Segment {
                 a: to_world(a),
                 b: to_world(b),
@@ -437,7 +483,8 @@ mod tests {
             (320, 180),
         ] {
             let aspect = w as f32 / h as f32;
-            let strokes = downhill_arrow(&camera, aspect, 0.0, to_world);
+            let strokes =
+                downhill_arrow(&camera, aspect, (0.0, 0.0), to_world, (camera.target, 1.2));
             let view_proj = camera.view_proj(aspect);
             for (a, b) in strokes {
                 for p in [a, b] {
@@ -451,6 +498,34 @@ mod tests {
             }
             // It still points downhill (+x), from left to right.
             assert!(strokes[0].1.x > strokes[0].0.x + 0.9);
+        }
+        // Seen from any side the arrow is clear of the body's silhouette (it moves behind the
+        // body when the body would hide it).
+        let target = camera.target;
+        for yaw_deg in (-180..180).step_by(15) {
+            let dir = Quat::from_rotation_z((yaw_deg as f32).to_radians())
+                * (camera.eye - target).normalize();
+            let turned = Camera {
+                eye: target + dir * 7.0,
+                ..camera
+            };
+            let strokes = downhill_arrow(&turned, 16.0 / 9.0, (0.0, 0.0), to_world, (target, 1.2));
+            let vp = turned.view_proj(16.0 / 9.0);
+            let c = vp.project_point3(target);
+            let right = (target - turned.eye).normalize().cross(Vec3::Z).normalize();
+            let rx = (vp.project_point3(target + right * 1.2).x - c.x).abs() * 1.1;
+            let up = right.cross((target - turned.eye).normalize());
+            let ry = (vp.project_point3(target + up * 1.2).y - c.y).abs() * 1.1;
+            for (a, b) in strokes {
+                for i in 0..=8 {
+                    let p = vp.project_point3(to_world(a.lerp(b, f64::from(i) / 8.0)));
+                    let e = ((p.x - c.x) / rx).powi(2) + ((p.y - c.y) / ry).powi(2);
+                    assert!(
+                        e > 1.0,
+                        "yaw {yaw_deg}°: arrow point inside the body ({e:.2})"
+                    );
+                }
+            }
         }
         // At 1280×720 the old fixed place (2.2 in front, 2.4 long) had its lower barb at
         // y = −1.03 in clip space: outside the frame.

@@ -69,6 +69,8 @@ pub struct SceneView {
     ball_mesh: MeshHandle,
     boundary_mesh: MeshHandle,
     is_disk: bool,
+    /// The body's bounding radius in ⟨r⟩.
+    body_radius: f32,
     /// The curvature colour scale of the body.
     pub scale: CurvatureScale,
     name: String,
@@ -87,8 +89,12 @@ pub struct ViewOptions {
     pub pitch: f32,
     /// Distance multiplier of the main camera.
     pub zoom: f32,
-    /// Follow the body (otherwise look at the ramp's origin).
+    /// Follow the body; otherwise look at `fixed_target`.
     pub follow: bool,
+    /// Where the camera looks when it does not follow (ramp coordinates); `None`: the body's
+    /// centre now. The app moves it to the body when the body leaves the frame, so the view
+    /// never loses the body.
+    pub fixed_target: Option<glam::DVec3>,
     /// Multiplies every overlay font size (the app's "class" mode).
     pub text_scale: f32,
 }
@@ -100,6 +106,7 @@ impl Default for ViewOptions {
             pitch: 0.0,
             zoom: 1.0,
             follow: true,
+            fixed_target: None,
             text_scale: 1.0,
         }
     }
@@ -140,6 +147,13 @@ impl SceneView {
             Body::Disk(d) => disk_mesh(d, DISK_SEGMENTS, CYLINDER_LENGTH),
         };
         let scale = CurvatureScale::new(mesh.value_range());
+        // The body's bounding radius (a cylinder's half length included), for keeping the
+        // downhill arrow clear of it.
+        let body_radius = mesh
+            .positions
+            .iter()
+            .map(|p| glam::Vec3::from_array(*p).length())
+            .fold(0.0f32, f32::max);
         let body_mesh = renderer.upload_mesh(&to_mesh_data(&mesh, |v| {
             // NaN: a cylinder cap's centre, drawn in the scale's neutral colour.
             linear(
@@ -174,6 +188,7 @@ impl SceneView {
             ball_mesh,
             boundary_mesh,
             is_disk: matches!(setup.body, Body::Disk(_)),
+            body_radius,
             scale,
             name: setup.scene.name.clone(),
             show_body: views.body,
@@ -199,7 +214,7 @@ impl SceneView {
         size: (u32, u32),
         options: &ViewOptions,
     ) -> Frame {
-        let [body_rect, ball_rect, poincare_rect] = self.layout(size);
+        let [mut body_rect, ball_rect, poincare_rect] = self.layout(size);
         let inset_bg = Some(linear([24, 26, 34], 1.0));
         let mut views = Vec::new();
         let mut panels = Vec::new();
@@ -207,6 +222,21 @@ impl SceneView {
         // square frame keeps its panels inside the frame and clear of the insets.
         let fit = (size.0 as f32 / 1280.0).min(size.1 as f32 / 720.0);
         let text = options.text_scale * fit.clamp(0.3, 3.0);
+        // A lesson's caption is part of what it shows, so it stays when the overlay is off.
+        // It sits above the colour legend (about 70 px tall at text scale 1), in a band of its
+        // own: the body's view ends above the band, so the caption never covers the body (the
+        // camera centres the body in what is left; tests/presentation.rs measures it on every
+        // lesson step).
+        let lift = if self.show_overlay && body_rect.is_some() {
+            10 + (72.0 * text) as u32
+        } else {
+            10
+        };
+        let caption = panels::caption_panel(snap, text, 0.86 * size.0 as f32, lift);
+        if let (Some(rect), Some(c)) = (body_rect.as_mut(), &caption) {
+            let band = lift + panels::estimated_height(c) + (6.0 * text) as u32;
+            rect[3] = rect[3].saturating_sub(band).max(rect[3] / 2);
+        }
         if let Some(rect) = body_rect {
             views.push(self.body_view(snap, rect, options));
         }
@@ -259,7 +289,14 @@ impl SceneView {
             }
         }
         if self.show_overlay {
-            let mut status = self.status_panel(snap, text);
+            // Under a caption the body's view is shorter: class mode's large numbers would cover
+            // the body, so they keep the plain size (the caption is what the room reads).
+            let status_text = if caption.is_some() {
+                text.min(fit.clamp(0.3, 3.0))
+            } else {
+                text
+            };
+            let mut status = self.status_panel(snap, status_text);
             if body_rect.is_none() {
                 // The views' titles hold the top edge; keep the numbers clear of them.
                 status.anchor = Anchor::BottomLeft(10, 10);
@@ -269,14 +306,7 @@ impl SceneView {
                 panels.push(self.legend_panel(text));
             }
         }
-        // A lesson's caption is part of what it shows, so it stays when the overlay is off.
-        // It sits above the colour legend (about 70 px tall at text scale 1).
-        let lift = if self.show_overlay && body_rect.is_some() {
-            10 + (72.0 * text) as u32
-        } else {
-            10
-        };
-        if let Some(caption) = panels::caption_panel(snap, text, 0.86 * size.0 as f32, lift) {
+        if let Some(caption) = caption {
             panels.push(caption);
         }
         // Line widths are given for 720 rows; keep their look at other sizes.

@@ -194,6 +194,24 @@ pub(super) fn caption_panel(
     })
 }
 
+/// A panel's height in pixels as the overlay will draw it, from above: DejaVu Sans's line is
+/// 1.164 of its size (ascent 0.928 + descent 0.236), taken as 1.2, plus the 2 px the overlay
+/// puts under each item and the padding (the view layer has no font metrics; `render::overlay`
+/// measures exactly, and tests/presentation.rs checks the band it sets against it).
+pub(super) fn estimated_height(panel: &Panel) -> u32 {
+    let items: f32 = panel
+        .items
+        .iter()
+        .map(|item| match item {
+            PanelItem::Text { size_px, .. } => (1.2 * size_px).ceil() + 2.0,
+            PanelItem::ColorBar {
+                height, size_px, ..
+            } => *height as f32 + 4.0 + (1.2 * size_px).ceil() + 2.0,
+        })
+        .sum();
+    items as u32 + 2 * panel.padding
+}
+
 /// Greedy word wrap to at most `width` characters a line (a longer word gets a line of its own).
 pub(super) fn wrap(text: &str, width: usize) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
@@ -220,11 +238,14 @@ pub(super) fn trim(x: f64) -> String {
 }
 
 pub(super) fn title_panel(rect: [u32; 4], title: &str, text: f32) -> Panel {
+    // The title fits its inset: at class mode's large text a long title was cut at the frame's
+    // edge ("vector part of q (c"). CHARS_EM overestimates DejaVu's advance, so it fits.
+    let fits = (rect[2].saturating_sub(16) as f32) / (CHARS_EM * title.chars().count() as f32);
     Panel {
         anchor: Anchor::TopLeft(rect[0] + 6, rect[1] + 6),
         items: vec![PanelItem::Text {
             text: title.into(),
-            size_px: 14.0 * text,
+            size_px: (14.0 * text).min(fits),
             color: [225; 3],
         }],
         background: [0, 0, 0, 0],

@@ -1,0 +1,175 @@
+//! Presentation on a projector: on every bundled lesson, at every step, at 1600×900 and
+//! 3840×2160, in plain and class text sizes, nothing covers the body: the body's screen box (its
+//! bounding sphere projected through the frame's own camera and viewport) meets neither the
+//! caption's box nor any other panel's (the numbers, the colour legend, the insets' titles; each
+//! as the overlay rasterises it, placed by its anchor) nor an inset view. The downhill arrow
+//! stays inside the body's view, so clear of the caption.
+#![cfg(feature = "render")]
+
+use rollphase::geometry::Body;
+use rollphase::headless::HeadlessRenderer;
+use rollphase::render::overlay::{Font, rasterise};
+use rollphase::render::types::{Anchor, Frame};
+use rollphase::scene::{PRESETS, Scene};
+use rollphase::view::ViewOptions;
+
+/// A radius that contains the body (its largest r over a fine set of directions, plus 2 %; a
+/// cylinder's half length counts too).
+fn bounding_radius(body: &Body) -> f32 {
+    let r_max = match body {
+        Body::Sphere(s) => {
+            let n = 4000;
+            (0..n)
+                .map(|i| {
+                    let z = 1.0 - (2.0 * i as f64 + 1.0) / n as f64;
+                    let phi = i as f64 * std::f64::consts::PI * (3.0 - 5f64.sqrt());
+                    let rho = (1.0 - z * z).sqrt();
+                    s.radius(glam::DVec3::new(rho * phi.cos(), rho * phi.sin(), z))
+                })
+                .fold(0.0, f64::max)
+        }
+        Body::Disk(d) => (0..3600)
+            .map(|i| d.jet(i as f64 * std::f64::consts::TAU / 3600.0).r)
+            .fold(0.0, f64::max),
+    };
+    let half_length = if matches!(body, Body::Disk(_)) {
+        0.5 * rollphase::view::CYLINDER_LENGTH
+    } else {
+        0.0
+    };
+    (1.02 * (r_max * r_max + half_length * half_length).sqrt()) as f32
+}
+
+/// The body's box on screen (x0, y0, x1, y1 in frame pixels): the main view's camera looks at
+/// the body's centre, so the box is centred on the target's projection, and its half size is
+/// the projected radius, enlarged for the perspective silhouette.
+fn body_box(frame: &Frame, radius: f32) -> [f32; 4] {
+    let view = &frame.views[0];
+    let [vx, vy, vw, vh] = view.viewport.map(|v| v as f32);
+    let cam = &view.camera;
+    let view_proj = cam.view_proj(vw / vh);
+    let to_pixel = |p: glam::Vec3| {
+        let c = view_proj.project_point3(p);
+        (vx + (c.x + 1.0) * 0.5 * vw, vy + (1.0 - c.y) * 0.5 * vh)
+    };
+    let forward = (cam.target - cam.eye).normalize();
+    let right = forward.cross(cam.up).normalize();
+    let up = right.cross(forward);
+    let (cx, cy) = to_pixel(cam.target);
+    let distance = (cam.target - cam.eye).length();
+    let silhouette = 1.0 / (1.0 - (radius / distance).powi(2)).sqrt();
+    let rx = (to_pixel(cam.target + right * radius).0 - cx).abs() * silhouette;
+    let ry = (to_pixel(cam.target + up * radius).1 - cy).abs() * silhouette;
+    [cx - rx, cy - ry, cx + rx, cy + ry]
+}
+
+/// Each panel's box as the overlay draws it, the caption's marked.
+fn panel_boxes(frame: &Frame, size: (u32, u32), font: &Font) -> Vec<([f32; 4], bool)> {
+    frame
+        .panels
+        .iter()
+        .map(|panel| {
+            let image = rasterise(panel, font);
+            let (x, y) = panel.anchor.place(image.width, image.height, size);
+            let b = [
+                x as f32,
+                y as f32,
+                (x + image.width) as f32,
+                (y + image.height) as f32,
+            ];
+            (b, matches!(panel.anchor, Anchor::BottomCentre(_)))
+        })
+        .collect()
+}
+
+fn apart(a: [f32; 4], b: [f32; 4]) -> bool {
+    a[3] <= b[1] || b[3] <= a[1] || a[2] <= b[0] || b[2] <= a[0]
+}
+
+#[test]
+fn the_caption_never_covers_the_body_on_any_lesson_step() {
+    let font = Font::bundled();
+    let mut measured = 0;
+    for (name, _) in PRESETS.iter().filter(|(n, _)| n.starts_with("lesson-")) {
+        let setup = Scene::preset(name).unwrap().setup(None).unwrap();
+        let radius = bounding_radius(&setup.body);
+        let steps: Vec<f64> = setup.timeline.iter().map(|s| s.at).collect();
+        for size in [(1600, 900), (3840, 2160)] {
+            for text_scale in [1.0, 1.8] {
+                let mut r = HeadlessRenderer::new(setup.clone(), size, 1).unwrap();
+                r.set_view_options(ViewOptions {
+                    text_scale,
+                    ..ViewOptions::default()
+                });
+                let mut k = 0;
+                for &at in &steps {
+                    // The first frame of the step (its caption showing), and one 2 s later.
+                    while setup.frame_time(k) <= at {
+                        k += 1;
+                    }
+                    for frame_k in [k, k + 60] {
+                        let frame = r.frame_data(frame_k).unwrap();
+                        let body = body_box(&frame, radius);
+                        let boxes = panel_boxes(&frame, size, &font);
+                        let caption = boxes
+                            .iter()
+                            .find(|b| b.1)
+                            .unwrap_or_else(|| panic!("{name} at t = {at}: no caption"))
+                            .0;
+                        for (b, is_caption) in &boxes {
+                            assert!(
+                                apart(body, *b),
+                                "{name}, step at t = {at}, {size:?}, text ×{text_scale}: body \
+                                 box {body:?} meets the {} box {b:?}",
+                                if *is_caption { "caption" } else { "panel" }
+                            );
+                        }
+                        // The downhill arrow (orange strokes) is drawn, inside the body's view.
+                        let view = &frame.views[0];
+                        let orange = rollphase::colormap::linear([255, 140, 0], 1.0);
+                        let [vx, vy, vw, vh] = view.viewport.map(|v| v as f32);
+                        let vp = view.camera.view_proj(vw / vh);
+                        let arrow: Vec<_> =
+                            view.segments.iter().filter(|s| s.color == orange).collect();
+                        assert_eq!(arrow.len(), 3, "{name} at t = {at}: the downhill arrow");
+                        for seg in arrow {
+                            for p in [seg.a, seg.b] {
+                                let c = vp.project_point3(p);
+                                let (x, y) =
+                                    (vx + (c.x + 1.0) * 0.5 * vw, vy + (1.0 - c.y) * 0.5 * vh);
+                                assert!(
+                                    x >= vx && x <= vx + vw && y >= vy && y <= vy + vh,
+                                    "{name} at t = {at}, {size:?}, frame {frame_k}, text ×{text_scale}: the arrow leaves the view at ({x}, {y}) of {:?}: {p:?} → {c:?} cam {:?}",
+                                    view.viewport,
+                                    view.camera
+                                );
+                            }
+                        }
+                        for inset in &frame.views[1..] {
+                            let [x, y, w, h] = inset.viewport.map(|v| v as f32);
+                            assert!(
+                                apart(body, [x, y, x + w, y + h]),
+                                "{name} at t = {at}, {size:?}: the body is under an inset"
+                            );
+                        }
+                        if frame_k == k && text_scale == 1.8 {
+                            eprintln!(
+                                "{name} t = {at:>6} {}x{} class: body y {:.0}–{:.0}, caption y \
+                                 {:.0}–{:.0} (gap {:.0} px)",
+                                size.0,
+                                size.1,
+                                body[1],
+                                body[3],
+                                caption[1],
+                                caption[3],
+                                caption[1] - body[3]
+                            );
+                        }
+                        measured += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(measured >= 3 * 4 * 2 * 4, "{measured} frames measured");
+}
