@@ -83,6 +83,9 @@ struct WindowState {
     egui_winit: egui_winit::State,
     bench: Workbench,
     fullscreen: bool,
+    /// The window is hidden (minimised, or fully covered where the platform says so): no
+    /// frames are drawn, and the loop sleeps.
+    hidden: bool,
 }
 
 struct App {
@@ -195,6 +198,7 @@ impl App {
             egui_winit,
             bench,
             fullscreen: false,
+            hidden: false,
         })
     }
 
@@ -323,6 +327,7 @@ impl ApplicationHandler for App {
                 w.surface.configure(&w.gpu.device, &w.config);
                 w.window.request_redraw();
             }
+            WindowEvent::Occluded(hidden) => w.hidden = hidden,
             WindowEvent::RedrawRequested => self.redraw(event_loop),
             _ => {
                 if response.repaint {
@@ -334,12 +339,22 @@ impl ApplicationHandler for App {
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
         // The simulation moves on by itself, so the window redraws continuously (vsync paces
-        // it); a short sleep keeps a window without vsync from spinning a core.
-        if let Some(w) = &self.window {
+        // it); a short sleep keeps a window without vsync from spinning a core. A minimised or
+        // covered window draws nothing and wakes ten times a second only to notice it is back
+        // (the simulation thread keeps time on its own).
+        let hidden = self.window.as_ref().is_some_and(|w| {
+            w.hidden
+                || w.window.is_minimized() == Some(true)
+                || !w.window.is_visible().unwrap_or(true)
+        });
+        if let Some(w) = &self.window
+            && !hidden
+        {
             w.window.request_redraw();
         }
+        let nap = if hidden { 100 } else { 1 };
         event_loop.set_control_flow(ControlFlow::WaitUntil(
-            Instant::now() + Duration::from_millis(1),
+            Instant::now() + Duration::from_millis(nap),
         ));
     }
 }

@@ -184,33 +184,50 @@ impl Renderer {
                 segments_on_top: on_top_start..seg_data.len() as u32,
             });
         }
-        // Panels: rasterised on the CPU, one texture each.
+        // Panels: rasterised on the CPU, one texture each; a panel the last frames showed
+        // unchanged reuses its texture.
         let mut panel_draws = Vec::new();
+        let mut cache = std::mem::take(&mut self.panel_cache);
+        let mut kept = Vec::with_capacity(frame.panels.len());
         for panel in &frame.panels {
-            let image = overlay::rasterise(panel, &self.font);
-            if image.width == 0 || image.height == 0 {
-                continue;
-            }
-            let texture = srgba_texture(
-                &self.device,
-                &self.queue,
-                "panel",
-                (image.width, image.height),
-                &image.rgba,
-            );
-            let group = texture_group(&self.device, &self.texture_layout, &texture, &self.sampler);
-            let (px, py) = panel.anchor.place(image.width, image.height, picture);
+            let cached = cache
+                .iter()
+                .position(|c| c.0 == *panel)
+                .map(|i| cache.swap_remove(i));
+            let (panel, (w, h), group) = match cached {
+                Some(c) => c,
+                None => {
+                    let image = overlay::rasterise(panel, &self.font);
+                    if image.width == 0 || image.height == 0 {
+                        continue;
+                    }
+                    let texture = srgba_texture(
+                        &self.device,
+                        &self.queue,
+                        "panel",
+                        (image.width, image.height),
+                        &image.rgba,
+                    );
+                    let group =
+                        texture_group(&self.device, &self.texture_layout, &texture, &self.sampler);
+                    (panel.clone(), (image.width, image.height), group)
+                }
+            };
+            let (px, py) = panel.anchor.place(w, h, picture);
             let (px, py) = (px + ox, py + oy);
             let start = quad_data.len() as u32;
             quad_data.extend(quad(
-                [px, py, image.width, image.height],
+                [px, py, w, h],
                 size,
                 0.0,
                 [0.0, 0.0, 1.0, 1.0],
                 [1.0; 4],
             ));
-            panel_draws.push((group, start..quad_data.len() as u32));
+            panel_draws.push((group.clone(), start..quad_data.len() as u32));
+            kept.push((panel, (w, h), group));
         }
+        // Only this frame's panels stay: the cache never outgrows one frame's.
+        self.panel_cache = kept;
         if cam_bytes.is_empty() {
             cam_bytes.resize(cam_stride as usize, 0);
         }

@@ -382,6 +382,7 @@ impl Renderer {
             meshes: Vec::new(),
             targets: None,
             font: overlay::Font::bundled(),
+            panel_cache: Vec::new(),
         }
     }
 }

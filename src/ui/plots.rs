@@ -13,8 +13,7 @@
 
 use egui::Color32;
 use egui_plot::{
-    GridInput, GridMark, Heatmap, HoverPosition, Legend, Line, Plot, PlotPoint, PlotPoints, Points,
-    VLine,
+    GridInput, GridMark, HoverPosition, Legend, Line, Plot, PlotPoint, PlotPoints, Points, VLine,
 };
 
 use crate::colormap::{DIVERGING, sample};
@@ -24,16 +23,50 @@ use crate::sim::Snapshot;
 pub use crate::sim::history::{PLOT_POINTS, PlotHistory, Sample, Sweep};
 use crate::view::CurvatureScale;
 
-/// The Gaussian curvature K on a (φ, θ) grid, for the contact-path plot of a sphere.
-#[derive(Debug, Clone)]
+/// The Gaussian curvature K on a (φ, θ) grid, for the contact-path plot of a sphere, drawn as
+/// one texture: as 2592 heatmap cells it was re-tessellated and filled cell by cell every frame,
+/// which on a CPU renderer cost about a third of the frame.
+#[derive(Clone)]
 pub struct CurvatureMap {
     values: Vec<f64>,
     cols: usize,
     rows: usize,
     scale: CurvatureScale,
+    /// The map's colours as a texture, uploaded on first draw.
+    texture: std::cell::OnceCell<egui::TextureHandle>,
+}
+
+impl std::fmt::Debug for CurvatureMap {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CurvatureMap")
+            .field("cols", &self.cols)
+            .field("rows", &self.rows)
+            .field("uploaded", &self.texture.get().is_some())
+            .finish()
+    }
 }
 
 impl CurvatureMap {
+    /// The map as an image, θ = π on the top row (the plot's θ axis points up).
+    fn image(&self) -> egui::ColorImage {
+        let mut pixels = Vec::with_capacity(self.cols * self.rows);
+        for row in (0..self.rows).rev() {
+            for col in 0..self.cols {
+                let k = self.values[row * self.cols + col];
+                let [r, g, b] = sample(&DIVERGING, self.scale.position(k as f32));
+                pixels.push(Color32::from_rgb(r, g, b));
+            }
+        }
+        egui::ColorImage::new([self.cols, self.rows], pixels)
+    }
+
+    /// The map's texture, uploaded once.
+    fn texture(&self, ctx: &egui::Context) -> &egui::TextureHandle {
+        self.texture.get_or_init(|| {
+            ctx.load_texture("curvature-map", self.image(), egui::TextureOptions::LINEAR)
+        })
+    }
+
     /// The map of a 3D body (`None` for a cylinder), on a `cols`×`rows` grid; `scale` is the
     /// one the 3D view colours the body with, so the two agree.
     pub fn new(body: &Body, scale: CurvatureScale, cols: usize, rows: usize) -> Option<Self> {
@@ -55,6 +88,7 @@ impl CurvatureMap {
             cols,
             rows,
             scale,
+            texture: std::cell::OnceCell::new(),
         })
     }
 }
@@ -268,6 +302,7 @@ fn contact_map_ui(
         prev_phi = Some(phi);
     }
     let (theta_now, phi_now) = angles(snap.contact_in_body);
+    let ctx = ui.ctx().clone();
     // The map is the whole body, always: fixed bounds, and no pan or zoom, so a click names a
     // body point (it restarts the run from there).
     let shown = instrument(Plot::new("contact_map"), "φ", "θ")
@@ -285,20 +320,12 @@ fn contact_map_ui(
         .allow_double_click_reset(false)
         .show(ui, |p| {
             if let Some(m) = map {
-                let scale = m.scale;
-                let heat = Heatmap::new(m.values.clone(), m.cols)
-                    .at(PlotPoint::new(-std::f64::consts::PI, 0.0))
-                    .tile_size(
-                        (std::f64::consts::TAU / m.cols as f64) as f32,
-                        (std::f64::consts::PI / m.rows as f64) as f32,
-                    )
-                    .show_labels(false)
-                    .custom_mapping(Box::new(move |k| {
-                        let [r, g, b] = sample(&DIVERGING, scale.position(k as f32));
-                        Color32::from_rgb(r, g, b)
-                    }))
-                    .name("Gaussian curvature K");
-                p.heatmap(heat);
+                p.image(egui_plot::PlotImage::new(
+                    "Gaussian curvature K",
+                    m.texture(&ctx).id(),
+                    PlotPoint::new(0.0, std::f64::consts::FRAC_PI_2),
+                    egui::vec2(std::f32::consts::TAU, std::f32::consts::PI),
+                ));
             }
             for piece in pieces.into_iter().filter(|piece| piece.len() > 1) {
                 p.line(
