@@ -771,3 +771,35 @@ fn presentation_mode_gives_the_window_to_the_3d_view_and_back() {
     assert!(!bench.ui.view_options.follow);
     assert!((held - s.snapshot.pose.centre).length() < 1.0, "{held:?}");
 }
+
+/// A click on the SO(3) ball inset restarts nothing (a point inside the ball is no start on
+/// ∂Ω) but says where to click instead.
+#[test]
+fn a_click_on_the_ball_inset_says_where_to_click() {
+    let (gpu, target, mut bench) = app("sphere-doubling");
+    frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.5);
+    settle_layout(&mut bench, &gpu, &target);
+    let rect = bench.ui.scene_rect.expect("a 3D area");
+    // The ball is the top-right inset (sphere-doubling shows no Poincaré field).
+    let ppp = 1.0;
+    let size = ((rect.width() * ppp) as u32, (rect.height() * ppp) as u32);
+    let [x, y, w, h] = rollphase::view::layout::layout_for(size, true, true, false)[1].unwrap();
+    let pos = rect.min + egui::vec2((x + w / 2) as f32, (y + h / 2) as f32);
+    let button = |pressed| egui::Event::PointerButton {
+        pos,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: egui::Modifiers::NONE,
+    };
+    frames_until(
+        &mut bench,
+        &gpu,
+        &target,
+        vec![egui::Event::PointerMoved(pos), button(true)],
+        |_| true,
+    );
+    let s = frames_until(&mut bench, &gpu, &target, vec![button(false)], |_| true);
+    assert_eq!(s.run_id, 0, "no restart");
+    let (text, error) = bench.ui.notice().cloned().expect("a message");
+    assert!(!error && text.contains("Poincaré sphere"), "{text}");
+}

@@ -294,6 +294,24 @@ impl AppUi {
             .flatten()
     }
 
+    /// Whether `pos` (points) falls on the SO(3) ball's inset of the scene area `rect`.
+    fn in_ball_inset(&self, rect: egui::Rect, pos: egui::Pos2, status: &SimStatus) -> bool {
+        let disk = status.snapshot.theta.is_some();
+        let ppp = self.pixels_per_point;
+        let size = ((rect.width() * ppp) as u32, (rect.height() * ppp) as u32);
+        let ball = crate::view::layout::layout_for(
+            size,
+            self.views.body,
+            self.views.ball && !disk,
+            self.views.poincare && !disk,
+        )[1];
+        let (x, y) = ((pos.x - rect.min.x) * ppp, (pos.y - rect.min.y) * ppp);
+        ball.is_some_and(|[rx, ry, rw, rh]| {
+            let [rx, ry, rw, rh] = [rx, ry, rw, rh].map(|v| v as f32);
+            x >= rx && x < rx + rw && y >= ry && y < ry + rh
+        })
+    }
+
     /// The Poincaré view's rectangle (pixels, relative to the scene area), if it is shown.
     fn poincare_rect(&self, scene: egui::Vec2, status: &SimStatus) -> Option<[u32; 4]> {
         let disk = status.snapshot.theta.is_some();
@@ -483,9 +501,20 @@ impl AppUi {
         // A click on the Poincaré sphere starts from that orientation on ∂Ω.
         if response.clicked()
             && let Some(pos) = response.interact_pointer_pos()
-            && let Some(p) = self.poincare_pick(rect, pos, status)
         {
-            self.restart_from_boundary(p, status, actions);
+            if let Some(p) = self.poincare_pick(rect, pos, status) {
+                self.restart_from_boundary(p, status, actions);
+            } else if self.in_ball_inset(rect, pos, status) {
+                // The ball shows where the orientation has been; it is not a place to start
+                // from (a point inside it is no rotation by π). Say where to click instead.
+                self.notice = Some((
+                    "the SO(3) ball shows the path of the orientation; to start from an \
+                     orientation, click the Poincaré sphere (Views: Poincaré field on ∂Ω), or a \
+                     body point on the curvature map"
+                        .into(),
+                    false,
+                ));
+            }
         }
         if response.dragged() && !turning {
             let d = response.drag_delta();
