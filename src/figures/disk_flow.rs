@@ -66,56 +66,8 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         let alpha = ca.alpha_star * f;
         let ramp = Ramp::new(alpha, MASS)?;
         let model = DiskInertial::new(&disk, &ramp);
-        // Field: unit arrows of (θ̇, θ̈) scaled to the plot's aspect.
-        let mut arrows = Vec::new();
-        let (nx, ny) = (36, 14);
-        let (sx, sy) = (
-            std::f64::consts::TAU / nx as f64,
-            (th_hi - th_lo) / ny as f64,
-        );
-        for i in 0..nx {
-            for j in 0..=ny {
-                let (t, w) = ((i as f64 + 0.5) * sx, th_lo + j as f64 * sy);
-                let acc = model.theta_ddot(t, w);
-                let (dx, dy) = (w / sx, acc / sy);
-                let len = (dx * dx + dy * dy).sqrt();
-                if len > 0.0 && len.is_finite() {
-                    let k = 0.42 / len;
-                    arrows.push((t, w));
-                    arrows.push((t + dx * k * sx, w + dy * k * sy));
-                    rows.push(vec![alpha, t, w, w, acc]);
-                }
-            }
-        }
-        // Trajectory, wrapped to [0, 2π) and broken at the wraps.
-        let mut st = integrate::stepper(
-            &model,
-            0.0,
-            [std::f64::consts::FRAC_PI_2, 0.04, 0.0, 0.0],
-            Method::dop853(1e-10),
-        )?;
-        let mut pieces: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
-        let n = 4000;
-        for k in 0..=n {
-            let t = t_end * k as f64 / n as f64;
-            while st.t() < t {
-                st.step(t_end)?;
-            }
-            let y = if t == st.t() { *st.y() } else { st.dense(t) };
-            let th = y[0].rem_euclid(std::f64::consts::TAU);
-            let wrapped = pieces
-                .last()
-                .and_then(|p| p.last())
-                .is_some_and(|last| (th - last.0).abs() > std::f64::consts::PI);
-            if wrapped {
-                pieces.push(Vec::new());
-            }
-            if let Some(p) = pieces.last_mut() {
-                p.push((th, y[1]));
-            }
-        }
-        let end = *st.y();
-        let rolls = end[1].abs() > 1e-6;
+        let arrows = flow_arrows(&model, alpha, (th_lo, th_hi), &mut rows);
+        let (pieces, rolls) = trajectory(&model, t_end)?;
         let fps = fixed_points(&disk, alpha);
         let mut series = vec![Series {
             label: String::new(),
@@ -206,4 +158,72 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         rows,
         summary,
     })
+}
+
+/// The flow field of the inertial disk at one α: unit arrows of (θ̇, θ̈) on a 36 × 15 grid of
+/// (θ, θ̇) in [0, 2π) × [`th_lo`, `th_hi`], scaled to the plot's aspect, as (tail, head) point
+/// pairs; each arrow's row (α, θ, θ̇, flow) goes to `rows`.
+fn flow_arrows(
+    model: &DiskInertial,
+    alpha: f64,
+    (th_lo, th_hi): (f64, f64),
+    rows: &mut Vec<Vec<f64>>,
+) -> Vec<(f64, f64)> {
+    let mut arrows = Vec::new();
+    let (nx, ny) = (36, 14);
+    let (sx, sy) = (
+        std::f64::consts::TAU / nx as f64,
+        (th_hi - th_lo) / ny as f64,
+    );
+    for i in 0..nx {
+        for j in 0..=ny {
+            let (t, w) = ((i as f64 + 0.5) * sx, th_lo + j as f64 * sy);
+            let acc = model.theta_ddot(t, w);
+            let (dx, dy) = (w / sx, acc / sy);
+            let len = (dx * dx + dy * dy).sqrt();
+            if len > 0.0 && len.is_finite() {
+                let k = 0.42 / len;
+                arrows.push((t, w));
+                arrows.push((t + dx * k * sx, w + dy * k * sy));
+                rows.push(vec![alpha, t, w, w, acc]);
+            }
+        }
+    }
+    arrows
+}
+
+/// Points of one unbroken piece of a drawn curve.
+type Polyline = Vec<(f64, f64)>;
+
+/// The trajectory from (θ, θ̇) = (π/2, 0.04) to `t_end`, sampled 4001 times, wrapped to
+/// [0, 2π) and broken at the wraps; and whether the disk still rolls at the end.
+fn trajectory(model: &DiskInertial, t_end: f64) -> Result<(Vec<Polyline>, bool)> {
+    let mut st = integrate::stepper(
+        model,
+        0.0,
+        [std::f64::consts::FRAC_PI_2, 0.04, 0.0, 0.0],
+        Method::dop853(1e-10),
+    )?;
+    let mut pieces: Vec<Polyline> = vec![Vec::new()];
+    let n = 4000;
+    for k in 0..=n {
+        let t = t_end * k as f64 / n as f64;
+        while st.t() < t {
+            st.step(t_end)?;
+        }
+        let y = if t == st.t() { *st.y() } else { st.dense(t) };
+        let th = y[0].rem_euclid(std::f64::consts::TAU);
+        let wrapped = pieces
+            .last()
+            .and_then(|p| p.last())
+            .is_some_and(|last| (th - last.0).abs() > std::f64::consts::PI);
+        if wrapped {
+            pieces.push(Vec::new());
+        }
+        if let Some(p) = pieces.last_mut() {
+            p.push((th, y[1]));
+        }
+    }
+    let rolls = st.y()[1].abs() > 1e-6;
+    Ok((pieces, rolls))
 }
