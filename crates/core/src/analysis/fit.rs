@@ -73,6 +73,17 @@ pub fn power_law(points: &[(f64, f64)]) -> Option<LineFit> {
 /// (1/√(α − α*), T) to the rolling points (α, 1/T) with α* < α ≤ 1.2 α* (further out the
 /// bottleneck no longer dominates a turn). Returns (a, b);
 /// `None` with fewer than 3 such points or a fit that does not diverge (a ≤ 0).
+///
+/// ```
+/// use rollphase_core::analysis::fit::sqrt_law;
+/// // Points of T = 2/√(α − 0.1) + 5 exactly.
+/// let points: Vec<[f64; 2]> = [0.101, 0.103, 0.106, 0.11, 0.115]
+///     .iter()
+///     .map(|&a| [a, 1.0 / (2.0 / (a - 0.1f64).sqrt() + 5.0)])
+///     .collect();
+/// let (a, b) = sqrt_law(&points, 0.1).unwrap();
+/// assert!((a - 2.0).abs() < 1e-9 && (b - 5.0).abs() < 1e-7);
+/// ```
 pub fn sqrt_law(points: &[[f64; 2]], alpha_star: f64) -> Option<(f64, f64)> {
     let pairs: Vec<(f64, f64)> = points
         .iter()

@@ -217,6 +217,19 @@ fn periodic(c: &[Crossing], s: &Settle) -> Option<Fate> {
 
 /// One step of the viscous Poincaré map from the boundary point `p` (q = (0, p)): the next
 /// crossing's point (sign nearest p) and the time taken, or `None` if the body halts first.
+///
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::poincare_step;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::DVec3;
+/// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// let (p, t) = poincare_step(&s, &Ramp::new(0.15, 0.0)?, DVec3::Z, 400.0, 1e-10)?
+///     .expect("above α* it crosses ∂Ω again");
+/// assert!(p.dot(DVec3::Z) >= 0.0, "the sign nearest the start");
+/// assert!(t > 0.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn poincare_step(
     body: &Sphere,
     ramp: &Ramp,
@@ -423,6 +436,19 @@ pub struct DecidedRun {
 /// to rest, and at most `decide.t_cap`. The contact point (body frame) is sampled at `samples`
 /// times evenly spread over [`t_from`, `t_to`] (`sampling` = (t_from, t_to, samples)), cut at
 /// the run's end.
+///
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::{Decide, RunEnd, decided_run};
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::DQuat;
+/// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// let decide = Decide { t_min: 1200.0, t_cap: 6000.0, max_k: 4, tol: 1e-5 };
+/// let run = decided_run(&s, &Ramp::new(0.15, 6.0)?, DQuat::IDENTITY, &decide, (0.0, 0.0, 0), 1e-9)?;
+/// assert_eq!(run.end, RunEnd::Periodic);
+/// assert_eq!(run.cycle.map(|c| c.0), Some(2), "period doubling at m/m0 = 6");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn decided_run(
     body: &Sphere,
     ramp: &Ramp,

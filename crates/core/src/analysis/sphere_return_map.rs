@@ -39,6 +39,18 @@ pub struct SectionState {
 /// Every crossing of ∂Ω of the inertial model from orientation `q0` and angular velocity
 /// `omega0` up to `t_end` (DOP853 at `rtol`, crossings located on the dense output). Stops early
 /// if the body comes to rest.
+///
+/// ```
+/// use rollphase_core::analysis::sphere_return_map::inertial_crossings;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::{DQuat, DVec3};
+/// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// let ramp = Ramp::new(0.15, 6.0)?;
+/// let crossings = inertial_crossings(&s, &ramp, DQuat::IDENTITY, DVec3::ZERO, 300.0, 1e-9)?;
+/// assert!(crossings.len() > 3, "it rolls through ∂Ω again and again");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn inertial_crossings(
     body: &Sphere,
     ramp: &Ramp,
@@ -102,6 +114,19 @@ pub fn inertial_crossings_until(
 /// One application of P: from boundary point `p` with angular velocity `omega` to the next
 /// crossing (sign of the point raw), with the time taken; `None` if the body halts or does not
 /// return by `t_max`.
+///
+/// ```
+/// use rollphase_core::analysis::sphere_return_map::next_crossing;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::DVec3;
+/// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// let ramp = Ramp::new(0.15, 2.0)?;
+/// let (p, _omega, t) = next_crossing(&s, &ramp, DVec3::X, DVec3::ZERO, 400.0, 1e-9)?
+///     .expect("it comes back to ∂Ω");
+/// assert!((p.length() - 1.0).abs() < 1e-12 && t > 0.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn next_crossing(
     body: &Sphere,
     ramp: &Ramp,
@@ -216,6 +241,25 @@ impl Default for OrbitSolve {
 
 /// The period-1 orbit near the crossing (`p`, `omega`), by Newton on the return map, with its
 /// multipliers.
+///
+/// ```
+/// use rollphase_core::analysis::sphere_return_map::{OrbitSolve, periodic_orbit};
+/// use rollphase_core::analysis::studies::periodic_orbits;
+/// use rollphase_core::analysis::sphere_orbits::Decide;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::DVec3;
+/// let body = Body::paper_sphere(219, 0.25, 5)?;
+/// let decide = Decide { t_min: 600.0, t_cap: 6000.0, max_k: 1, tol: 1e-5 };
+/// let found = &periodic_orbits(&body, 0.15, 10.0, 2, 1, &decide)?[0].orbit;
+/// // Continued to m/m0 = 10.5 from the orbit at 10.
+/// let Body::Sphere(s) = &body else { unreachable!() };
+/// let (p, w) = (DVec3::from_array(found.point), DVec3::from_array(found.omega));
+/// let next = periodic_orbit(s, &Ramp::new(0.15, 10.5)?, p, w, &OrbitSolve::default())?;
+/// assert_eq!(next.multipliers.len(), 5);
+/// assert!(next.max_modulus < 1.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn periodic_orbit(
     body: &Sphere,
     ramp: &Ramp,

@@ -301,6 +301,14 @@ impl Body {
     }
 
     /// The shape file describing this body.
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// let body = Body::paper_disk(84, 0.12, 5)?;
+    /// let again = Body::from_shape(&body.to_shape())?;
+    /// assert_eq!(again.alpha_star(), body.alpha_star());
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn to_shape(&self) -> ShapeFile {
         match self {
             Body::Disk(d) => ShapeFile::Disk {
@@ -333,6 +341,15 @@ impl Body {
     }
 
     /// Returns an error naming the worst point unless the body is strictly convex.
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// assert!(Body::paper_sphere(219, 0.25, 5)?.check_convex().is_ok());
+    /// // Large amplitudes dent the body: the error says where.
+    /// let dented = Body::random_disk(1, 3.0, 10)?;
+    /// assert!(dented.check_convex().is_err());
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn check_convex(&self) -> Result<(), ShapeError> {
         let rep = self.curvature();
         if rep.convex {

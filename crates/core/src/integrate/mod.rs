@@ -270,6 +270,27 @@ pub fn step_until<const N: usize, E: From<IntegrateError>>(
 }
 
 /// Builds the stepper for `method` starting at (t0, y0).
+///
+/// ```
+/// use rollphase_core::integrate::{Method, OdeSystem, step_until, stepper};
+/// use rollphase_core::integrate::IntegrateError;
+/// // y' = −y from y(0) = 1: y(1) = e^−1.
+/// struct Decay;
+/// impl OdeSystem<1> for Decay {
+///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+///         [-y[0]]
+///     }
+/// }
+/// let mut st = stepper(&Decay, 0.0, [1.0], Method::dop853(1e-12))?;
+/// let mut steps = 0;
+/// step_until::<1, IntegrateError>(st.as_mut(), 1.0, 1000, |_| {
+///     steps += 1;
+///     Ok(())
+/// })?;
+/// assert!((st.y()[0] - (-1.0f64).exp()).abs() < 1e-11);
+/// assert!(steps > 0);
+/// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
+/// ```
 pub fn stepper<'a, S, const N: usize>(
     system: &'a S,
     t0: f64,
