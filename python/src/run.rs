@@ -22,8 +22,8 @@ use rollphase_core::geometry::sphere::direction;
 use rollphase_core::glam::{DQuat, DVec3};
 use rollphase_core::integrate::Method;
 use rollphase_core::simulate::{
-    InitialState, Model, RunError, Simulation, Summary, Trajectory as CoreTrajectory,
-    simulate_until,
+    InitialState, Model, RunError, Simulation, Summary, SummaryReport,
+    Trajectory as CoreTrajectory, simulate_until,
 };
 
 use crate::body::Body;
@@ -282,7 +282,7 @@ fn initial_state(py: Python<'_>, a: &StartArgs, body: &CoreBody) -> PyResult<Ini
     }
 }
 
-/// The summary as the command line's `--summary` JSON, as a dict.
+/// The summary as the command line's `--summary` JSON ([`SummaryReport`]), as a dict.
 fn summary_dict<'py>(
     py: Python<'py>,
     summary: &Summary,
@@ -290,20 +290,14 @@ fn summary_dict<'py>(
     alpha: f64,
     mass_ratio: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let value = serde_json::to_value(summary).map_err(value_error)?;
+    let report = SummaryReport::new(summary.clone(), wall, alpha, mass_ratio);
+    let value = serde_json::to_value(&report).map_err(value_error)?;
     let d = PyDict::new(py);
     if let serde_json::Value::Object(map) = value {
         for (k, v) in map {
             d.set_item(k, json_to_py(py, &v)?)?;
         }
     }
-    d.set_item("wall_seconds", wall)?;
-    d.set_item(
-        "rhs_evals_per_second",
-        summary.rhs_evals as f64 / wall.max(1e-12),
-    )?;
-    d.set_item("alpha", alpha)?;
-    d.set_item("mass_ratio", mass_ratio)?;
     Ok(d)
 }
 

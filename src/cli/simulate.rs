@@ -6,14 +6,13 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use glam::{DQuat, DVec3};
-use serde::Serialize;
 
 use crate::dynamics::Ramp;
 use crate::dynamics::sphere3d::orientation_touching;
 use crate::geometry::{Body, sphere::direction};
 use crate::integrate::Method;
 use crate::output::{self, Inputs};
-use crate::simulate::{DISK_HEADER, InitialState, RunSpec, SPHERE_HEADER, Summary};
+use crate::simulate::{DISK_HEADER, InitialState, RunSpec, SPHERE_HEADER, SummaryReport};
 
 /// Which integrator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -104,22 +103,6 @@ pub struct SimulateArgs {
     /// energy_drift, wall_seconds.
     #[arg(long)]
     pub summary: Option<PathBuf>,
-}
-
-/// What `--summary` writes.
-#[derive(Debug, Serialize)]
-pub struct SummaryFile {
-    /// Numerical health and work.
-    #[serde(flatten)]
-    pub summary: Summary,
-    /// Wall-clock seconds for the run (CSV writing included).
-    pub wall_seconds: f64,
-    /// RHS evaluations per wall second.
-    pub rhs_evals_per_second: f64,
-    /// α (rad).
-    pub alpha: f64,
-    /// m/m0.
-    pub mass_ratio: f64,
 }
 
 /// Angles beyond this are reduced modulo 2π (with a warning): at 1e17 an f64 has no digits
@@ -329,14 +312,7 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         eprintln!("note: {note}");
     }
     if let Some(path) = &a.summary {
-        let rhs_evals_per_second = summary.rhs_evals as f64 / wall.max(1e-12);
-        let file = SummaryFile {
-            summary,
-            wall_seconds: wall,
-            rhs_evals_per_second,
-            alpha: a.alpha,
-            mass_ratio: a.mass,
-        };
+        let file = SummaryReport::new(summary, wall, a.alpha, a.mass);
         let text = serde_json::to_string_pretty(&file)? + "\n";
         outputs.write(path, text.as_bytes(), &inputs)?;
     }

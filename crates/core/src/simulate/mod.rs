@@ -106,6 +106,45 @@ pub struct Summary {
     pub model_note: Option<String>,
 }
 
+/// What `rollphase simulate --summary` writes and Python's `Trajectory.summary` holds: the
+/// run's [`Summary`] with its wall time and the ramp, one definition for both.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SummaryReport {
+    /// Numerical health and work.
+    #[serde(flatten)]
+    pub summary: Summary,
+    /// Wall-clock seconds for the run.
+    pub wall_seconds: f64,
+    /// RHS evaluations per wall second.
+    pub rhs_evals_per_second: f64,
+    /// α (rad).
+    pub alpha: f64,
+    /// m/m0.
+    pub mass_ratio: f64,
+}
+
+impl SummaryReport {
+    /// The report of a run that took `wall_seconds` at `alpha` and `mass_ratio`.
+    ///
+    /// ```
+    /// use rollphase_core::dynamics::ModelKind;
+    /// use rollphase_core::simulate::{Summary, SummaryReport};
+    /// let mut summary = Summary::new(ModelKind::SphereViscous);
+    /// summary.rhs_evals = 1000;
+    /// let report = SummaryReport::new(summary, 0.5, 0.15, 0.0);
+    /// assert_eq!(report.rhs_evals_per_second, 2000.0);
+    /// ```
+    pub fn new(summary: Summary, wall_seconds: f64, alpha: f64, mass_ratio: f64) -> Self {
+        Self {
+            rhs_evals_per_second: summary.rhs_evals as f64 / wall_seconds.max(1e-12),
+            summary,
+            wall_seconds,
+            alpha,
+            mass_ratio,
+        }
+    }
+}
+
 impl Summary {
     /// An empty summary of a run of `model`, filled in as the run goes.
     pub fn new(model: ModelKind) -> Self {
