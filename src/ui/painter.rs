@@ -1,6 +1,6 @@
 //! Draws one app frame into any wgpu target: the 3D scene through the same [`Renderer`] as
 //! headless frames, into the rectangle the UI leaves for it, then the egui panels on top
-//! (egui-wgpu). The window, the screenshot and `rollphase bench app` all paint through here;
+//! ([`EguiRenderer`]). The window, the screenshot and `rollphase bench app` all paint through here;
 //! only the target differs. Knows wgpu and egui, not winit.
 //!
 //! The Poincaré field is computed off the UI thread ([`FieldCache::request`]) and only once α
@@ -16,6 +16,7 @@ use crate::render::Renderer;
 use crate::scene::ViewsSpec;
 use crate::sim::SimStatus;
 use crate::sim::{FieldCache, FieldWanted};
+use crate::ui::egui_renderer::EguiRenderer;
 use crate::view::{CurvatureScale, SceneView, ViewOptions};
 
 /// How long α must rest before the Poincaré field is recomputed for it.
@@ -32,7 +33,7 @@ pub struct EguiFrame {
 /// The 3D renderer and egui's renderer for one target format.
 pub struct Painter {
     renderer: Renderer,
-    egui: egui_wgpu::Renderer,
+    egui: EguiRenderer,
     scene: Option<(u64, SceneView)>,
     fields: FieldCache,
     field: Option<(f64, Arc<Vec<FieldArrow>>)>,
@@ -50,7 +51,7 @@ impl Painter {
     ) -> Self {
         Self {
             renderer: Renderer::new(device, queue, format, sample_count),
-            egui: egui_wgpu::Renderer::new(device, format, egui_wgpu::RendererOptions::default()),
+            egui: EguiRenderer::new(device, format),
             scene: None,
             fields: FieldCache::default(),
             field: None,
@@ -141,15 +142,13 @@ impl Painter {
                 self.egui.update_texture(device, queue, id, &delta);
             }
         }
-        let mut encoder = device.create_command_encoder(&Default::default());
-        let extra = self.egui.update_buffers(
+        self.egui.update_buffers(
             device,
             queue,
-            &mut encoder,
             &egui_frame.primitives,
-            &screen(size, egui_frame.pixels_per_point),
+            size,
+            egui_frame.pixels_per_point,
         );
-        queue.submit(extra.into_iter().chain([encoder.finish()]));
     }
 
     /// Frees the textures egui is done with; call once after the frame's last paint.
@@ -193,7 +192,8 @@ impl Painter {
         self.renderer.render_in(target, size, rect, &frame);
     }
 
-    /// The whole frame: the 3D scene in `scene_rect` (pixels), egui's panels over it.
+    /// The whole frame: the 3D scene in `scene_rect` (pixels), egui's panels (uploaded by
+    /// [`Self::prepare`]) over it.
     #[allow(clippy::too_many_arguments)]
     pub fn paint(
         &mut self,
@@ -205,7 +205,6 @@ impl Painter {
         status: &SimStatus,
         views: &ViewsSpec,
         options: &ViewOptions,
-        egui_frame: &EguiFrame,
     ) {
         let has_scene = scene_rect[2] >= 16 && scene_rect[3] >= 16;
         if has_scene {
@@ -219,7 +218,7 @@ impl Painter {
             } else {
                 wgpu::LoadOp::Clear(wgpu::Color::BLACK)
             };
-            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("egui"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                     view: target,
@@ -235,21 +234,9 @@ impl Painter {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            let mut pass = pass.forget_lifetime();
-            self.egui.render(
-                &mut pass,
-                &egui_frame.primitives,
-                &screen(size, egui_frame.pixels_per_point),
-            );
+            self.egui.render(&mut pass);
         }
         queue.submit([encoder.finish()]);
-    }
-}
-
-fn screen(size: (u32, u32), pixels_per_point: f32) -> egui_wgpu::ScreenDescriptor {
-    egui_wgpu::ScreenDescriptor {
-        size_in_pixels: [size.0, size.1],
-        pixels_per_point,
     }
 }
 

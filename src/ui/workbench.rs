@@ -267,7 +267,6 @@ impl Workbench {
             &frame.status,
             &self.ui.views,
             &self.ui.view_options,
-            &frame.egui,
         );
     }
 
