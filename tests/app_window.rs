@@ -91,3 +91,72 @@ fn window_under_xvfb_shows_the_body_and_the_controls() {
     assert!(body > 2000, "no curvature-coloured body: {body} pixels");
     let _ = std::fs::remove_file(&shot);
 }
+
+/// Under Xvfb, minimised the way a window manager does it (the window unmapped and marked
+/// `_NET_WM_STATE_HIDDEN` by `tests/fixtures/x11_minimise.py`), the app stops drawing: its CPU
+/// time over three seconds falls to a small fraction of what it uses while shown, and comes back
+/// when restored.
+#[test]
+fn a_minimised_window_sleeps_and_wakes_when_restored() {
+    let missing: Vec<&str> = ["xvfb-run", "xwininfo", "python3"]
+        .into_iter()
+        .filter(|tool| Command::new(tool).arg("--help").output().is_err())
+        .collect();
+    if !missing.is_empty() {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI must run the window tests: {missing:?} missing (apt-get install xvfb xauth \
+             x11-utils python3)"
+        );
+        eprintln!("skipped: {missing:?} not installed");
+        return;
+    }
+    let helper = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/x11_minimise.py"
+    );
+    // CPU ticks (user + system) of the app over 3 s, shown, minimised and restored.
+    let script = format!(
+        r#"set -e
+"$0" app --preset sphere-two-orbits --exit-after 30 > /dev/null 2>&1 &
+pid=$!
+sleep 4
+cpu() {{ awk '{{print $14+$15}}' /proc/$pid/stat; }}
+window=$(xwininfo -root -tree | grep '"rollphase' | head -1 | awk '{{print $1}}')
+a=$(cpu); sleep 3; b=$(cpu); echo "shown $((b-a))"
+python3 {helper} "$window" hide; sleep 1
+a=$(cpu); sleep 3; b=$(cpu); echo "minimised $((b-a))"
+python3 {helper} "$window" show; sleep 1
+a=$(cpu); sleep 3; b=$(cpu); echo "restored $((b-a))"
+kill $pid
+"#
+    );
+    let o = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
+        .arg(env!("CARGO_BIN_EXE_rollphase"))
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    let ticks = |what: &str| -> u64 {
+        out.lines()
+            .find_map(|l| l.strip_prefix(what)?.trim().parse().ok())
+            .unwrap_or_else(|| {
+                panic!(
+                    "no {what:?} line: {out}\n{}",
+                    String::from_utf8_lossy(&o.stderr)
+                )
+            })
+    };
+    let (shown, minimised, restored) = (ticks("shown "), ticks("minimised "), ticks("restored "));
+    // Shown, it draws continuously on llvmpipe (most of a core); minimised it wakes ten times
+    // a second and draws nothing.
+    assert!(shown >= 50, "shown: only {shown} ticks in 3 s; {out}");
+    assert!(
+        minimised * 10 < shown,
+        "minimised: {minimised} ticks against {shown} shown"
+    );
+    assert!(
+        restored * 2 > shown,
+        "restored: {restored} ticks against {shown} shown"
+    );
+}
