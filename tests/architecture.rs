@@ -443,3 +443,102 @@ fn the_import_checker_is_not_fooled_by_super_chains_strings_or_comments() {
     assert_eq!(bad, ["cli::X", "ui::Y"]);
     assert!(violations_in(&table, &path(&["nowhere"]), "").is_err());
 }
+
+/// The most lines a function may span without saying why ("Long on purpose: …" in its doc).
+const LONG_FUNCTION: usize = 150;
+
+/// Functions (name, first line, lines spanned) in `text` longer than [`LONG_FUNCTION`] whose
+/// doc comment does not say "Long on purpose". A function ends at the first `}` at its own
+/// indentation, which rustfmt guarantees.
+fn unexplained_long_functions(text: &str) -> Vec<(String, usize, usize)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut out = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let trimmed = line.trim_start();
+        let indent = line.len() - trimmed.len();
+        let after_vis = trimmed
+            .strip_prefix("pub ")
+            .or_else(|| {
+                trimmed
+                    .strip_prefix("pub(")
+                    .and_then(|r| r.split_once(") ").map(|(_, rest)| rest))
+            })
+            .unwrap_or(trimmed);
+        let after_const = after_vis.strip_prefix("const ").unwrap_or(after_vis);
+        let Some(signature) = after_const.strip_prefix("fn ") else {
+            continue;
+        };
+        if line.trim_end().ends_with(';') {
+            continue;
+        }
+        let close = " ".repeat(indent) + "}";
+        let Some(end) = lines[i + 1..]
+            .iter()
+            .position(|l| l.starts_with(&close) && l.len() - l.trim_start().len() == indent)
+        else {
+            continue;
+        };
+        let span = end + 2;
+        if span <= LONG_FUNCTION {
+            continue;
+        }
+        let mut doc: Vec<&str> = lines[..i]
+            .iter()
+            .rev()
+            .take_while(|l| {
+                let t = l.trim_start();
+                t.starts_with("///") || t.starts_with("#[")
+            })
+            .map(|l| l.trim_start().trim_start_matches('/'))
+            .collect();
+        doc.reverse();
+        let doc = doc.join(" ");
+        let doc = doc.split_whitespace().collect::<Vec<_>>().join(" ");
+        if !doc.contains("Long on purpose") {
+            out.push((ident(signature), i + 1, span));
+        }
+    }
+    out
+}
+
+#[test]
+fn no_function_is_over_150_lines_without_a_reason_in_its_doc() {
+    let mut offenders = Vec::new();
+    let python = Path::new(env!("CARGO_MANIFEST_DIR")).join("python/src");
+    let mut files: Vec<PathBuf> = workspace_files().into_iter().map(|(_, f)| f).collect();
+    rust_files(&python, &mut files);
+    for file in files {
+        let text = std::fs::read_to_string(&file).unwrap();
+        for (name, line, span) in unexplained_long_functions(&text) {
+            offenders.push(format!("{}:{line} fn {name}: {span} lines", file.display()));
+        }
+    }
+    assert!(
+        offenders.is_empty(),
+        "split these, or say in the doc why not (\"Long on purpose: …\"):\n{}",
+        offenders.join("\n")
+    );
+}
+
+#[test]
+fn the_length_check_sees_long_functions_in_impls_and_reads_their_reasons() {
+    let body = "        let x = 1;\n".repeat(LONG_FUNCTION);
+    let long = |doc: &str, head: &str| {
+        format!("impl A {{\n    {doc}\n    {head} {{\n{body}    }}\n\n    fn short() {{}}\n}}\n")
+    };
+    let found = unexplained_long_functions(&long("/// Builds it.", "pub(crate) fn build(&self)"));
+    assert_eq!(found, vec![("build".to_string(), 3, LONG_FUNCTION + 2)]);
+    let found = unexplained_long_functions(&long("/// Builds it.", "pub const fn k()"));
+    assert_eq!(found.len(), 1, "{found:?}");
+    // The reason may wrap across doc lines.
+    let explained = long(
+        "/// Builds it. Long on\n    /// purpose: one flat list.",
+        "pub fn build()",
+    );
+    assert_eq!(unexplained_long_functions(&explained), vec![]);
+    // Short functions and declarations pass.
+    assert_eq!(
+        unexplained_long_functions("trait T {\n    fn f(&self);\n}\nfn g() {\n}\n"),
+        vec![]
+    );
+}

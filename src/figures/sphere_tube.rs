@@ -4,20 +4,16 @@
 //! straight down, q(t) = R_y(t sin α) q₀, closing after T = 2π/sin α. Drawn as the vector part of
 //! ±q (q_w ≥ 0) in the unit ball, broken where it jumps to the antipode on ∂Ω; together the
 //! trajectories form a tube through the ball. One trajectory is also integrated with DOP853 and
-//! compared with the closed form.
+//! compared with the closed form. The numbers come from the core
+//! ([`crate::analysis::contact_tube`]); this file writes and draws them.
 
 use anyhow::Result;
-use glam::{DQuat, DVec3};
+use glam::DVec3;
 use serde::Serialize;
 
 use super::{FigureData, FigureOptions};
-use crate::analysis::sphere_orbits::ball_point;
+use crate::analysis::contact_tube::{contact_tube, split_at_jumps};
 use crate::colormap::viridis;
-use crate::dynamics::sphere3d::orientation_touching;
-use crate::dynamics::{Ramp, SphereViscous};
-use crate::geometry::Sphere;
-use crate::geometry::sphere::direction;
-use crate::integrate::{self, Method};
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Headline numbers.
@@ -37,24 +33,6 @@ pub struct Summary {
     pub integration_error: f64,
 }
 
-/// Splits a ball-point polyline where it jumps to the antipode (consecutive points > 1 apart).
-fn split_at_jumps(points: &[DVec3]) -> Vec<Vec<DVec3>> {
-    let mut out: Vec<Vec<DVec3>> = vec![Vec::new()];
-    for p in points {
-        let jump = out
-            .last()
-            .and_then(|v| v.last())
-            .is_some_and(|l| (*p - *l).length() > 1.0);
-        if jump {
-            out.push(Vec::new());
-        }
-        if let Some(v) = out.last_mut() {
-            v.push(*p);
-        }
-    }
-    out
-}
-
 /// Runs the figure: computes it, then writes OUT/sphere-tube/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-tube")?;
@@ -68,67 +46,37 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         "follows the perfect sphere, whose orbits have a closed form",
     )?;
     let alpha = opts.single_alpha("sphere-tube", 0.3)?;
-    let body = Sphere::perfect();
-    let (th0, ph0) = (1.0, 0.5);
-    let u0 = direction(th0, ph0);
     let n = if opts.quick { 16 } else { 48 };
-    let period = std::f64::consts::TAU / alpha.sin();
-    let steps = 400;
-    let q_at = |q0: DQuat, t: f64| DQuat::from_rotation_y(t * alpha.sin()) * q0;
-    let mut rows = Vec::new();
-    let mut closure: f64 = 0.0;
-    let mut traj_series = Vec::new();
-    let ring: Vec<DVec3> = (0..=720)
-        .map(|k| {
-            ball_point(orientation_touching(
-                &body,
-                u0,
-                std::f64::consts::TAU * k as f64 / 720.0,
-            ))
+    let tube = contact_tube(alpha, [1.0, 0.5], n, 400)?;
+    let rows = tube
+        .trajectories
+        .iter()
+        .enumerate()
+        .flat_map(|(j, traj)| {
+            traj.t
+                .iter()
+                .zip(&traj.ball)
+                .map(move |(t, p)| vec![j as f64, *t, p.x, p.y, p.z])
         })
         .collect();
-    for j in 0..n {
-        let s = std::f64::consts::TAU * j as f64 / n as f64;
-        let q0 = orientation_touching(&body, u0, s);
-        let mut path = Vec::with_capacity(steps + 1);
-        for k in 0..=steps {
-            let t = period * k as f64 / steps as f64;
-            let p = ball_point(q_at(q0, t));
-            path.push(p);
-            rows.push(vec![j as f64, t, p.x, p.y, p.z]);
-        }
-        let pieces = split_at_jumps(&path);
-        let end = q_at(q0, period);
-        closure = closure.max((end - q0).length().min((end + q0).length()));
-        for pc in pieces {
-            traj_series.push((j, pc));
-        }
-    }
-    // DOP853 against the closed form for one start.
-    let q0 = orientation_touching(&body, u0, 1.0);
-    let model = SphereViscous::new(&body, &Ramp::new(alpha, 0.0)?);
-    let mut st = integrate::stepper(
-        &model,
-        0.0,
-        SphereViscous::initial_state(q0),
-        Method::dop853(1e-12),
-    )?;
-    let mut integration_error: f64 = 0.0;
-    while st.t() < period {
-        st.step(period)?;
-        let y = st.y();
-        let q = DQuat::from_xyzw(y[1], y[2], y[3], y[0]);
-        let e = q_at(q0, st.t());
-        integration_error = integration_error.max((q - e).length().min((q + e).length()));
-    }
+    let traj_series: Vec<(usize, Vec<DVec3>)> = tube
+        .trajectories
+        .iter()
+        .enumerate()
+        .flat_map(|(j, traj)| {
+            split_at_jumps(&traj.ball)
+                .into_iter()
+                .map(move |pc| (j, pc))
+        })
+        .collect();
     let csv_header = "trajectory,t,bx,by,bz";
     let summary = Summary {
         alpha,
-        contact: [th0, ph0],
+        contact: tube.contact,
         trajectories: n,
-        period,
-        closure_error: closure,
-        integration_error,
+        period: tube.period,
+        closure_error: tube.closure_error,
+        integration_error: tube.integration_error,
     };
     // Three orthographic views of the ball.
     type Projection = fn(DVec3) -> (f64, f64);
@@ -177,7 +125,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
                 .collect();
             // The ring of spins also wraps through ∂Ω: break it there instead of drawing a chord.
             let mut first = true;
-            for piece in split_at_jumps(&ring) {
+            for piece in split_at_jumps(&tube.ring) {
                 series.push(Series {
                     label: if first {
                         "orientations touching u₀".into()
