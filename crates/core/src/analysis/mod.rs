@@ -8,6 +8,7 @@ pub mod contact_tube;
 pub mod critical_angle;
 pub mod disk_dynamics;
 pub mod fit;
+pub mod halting;
 pub mod lag_fit;
 pub mod period;
 pub mod return_map;
