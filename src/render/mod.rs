@@ -25,7 +25,7 @@ mod pipelines;
 pub mod types;
 
 pub use gpu::{GpuContext, GpuError};
-pub use pipelines::SHADERS;
+pub use pipelines::{SHADERS, texture_group, texture_sampler_layout};
 pub use types::*;
 
 use pipelines::{GpuMesh, Scratch, Targets};

@@ -17,6 +17,8 @@ use std::collections::HashMap;
 
 use egui::epaint::{self, ClippedPrimitive, ImageData, Primitive, TextureId};
 
+use crate::render::{texture_group, texture_sampler_layout};
+
 /// The shader (`shaders/egui.wgsl`), validated by `tests/shaders.rs` with the renderer's own.
 pub const SHADER: (&str, &str) = ("egui.wgsl", include_str!("../../shaders/egui.wgsl"));
 
@@ -72,27 +74,7 @@ impl EguiRenderer {
                 count: None,
             }],
         });
-        let texture_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("egui texture"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-            ],
-        });
+        let texture_layout = texture_sampler_layout(device, "egui texture");
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("egui"),
             bind_group_layouts: &[Some(&screen_layout), Some(&texture_layout)],
@@ -220,22 +202,7 @@ impl EguiRenderer {
                     .samplers
                     .entry(delta.options)
                     .or_insert_with(|| sampler(device, delta.options));
-                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("egui texture"),
-                    layout: &self.texture_layout,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: wgpu::BindingResource::TextureView(
-                                &texture.create_view(&Default::default()),
-                            ),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: wgpu::BindingResource::Sampler(sampler),
-                        },
-                    ],
-                });
+                let group = texture_group(device, &self.texture_layout, &texture, sampler);
                 if let Some((old, _)) = self.textures.insert(id, (texture, group)) {
                     old.destroy();
                 }
