@@ -25,10 +25,10 @@ mod pipelines;
 pub mod types;
 
 pub use gpu::{GpuContext, GpuError};
-pub use pipelines::{SHADERS, texture_group, texture_sampler_layout};
+pub use pipelines::{SHADERS, Scratch, texture_group, texture_sampler_layout};
 pub use types::*;
 
-use pipelines::{GpuMesh, Scratch, Targets};
+use pipelines::{GpuMesh, Targets};
 
 /// Format of the depth buffer.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;

@@ -52,19 +52,18 @@ pub(super) struct GpuMesh {
     pub(super) index_count: u32,
 }
 
-/// A growable GPU buffer rewritten each frame.
-pub(super) struct Scratch {
-    pub(super) buffer: wgpu::Buffer,
-    pub(super) usage: wgpu::BufferUsages,
-    pub(super) label: &'static str,
+/// A growable GPU buffer rewritten each frame (the renderer's uniforms and instances, egui's
+/// vertices and indices in the app).
+pub struct Scratch {
+    /// The buffer; replaced by a larger one when a write does not fit.
+    pub buffer: wgpu::Buffer,
+    usage: wgpu::BufferUsages,
+    label: &'static str,
 }
 
 impl Scratch {
-    pub(super) fn new(
-        device: &wgpu::Device,
-        label: &'static str,
-        usage: wgpu::BufferUsages,
-    ) -> Self {
+    /// A 4 KiB buffer for `usage` (COPY_DST added).
+    pub fn new(device: &wgpu::Device, label: &'static str, usage: wgpu::BufferUsages) -> Self {
         Self {
             buffer: Self::alloc(device, label, usage, 4096),
             usage,
@@ -72,7 +71,7 @@ impl Scratch {
         }
     }
 
-    pub(super) fn alloc(
+    fn alloc(
         device: &wgpu::Device,
         label: &'static str,
         usage: wgpu::BufferUsages,
@@ -86,13 +85,8 @@ impl Scratch {
         })
     }
 
-    /// Writes `bytes`; returns whether the buffer was reallocated.
-    pub(super) fn write(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        bytes: &[u8],
-    ) -> bool {
+    /// Writes `bytes` (a multiple of 4 long); returns whether the buffer was reallocated.
+    pub fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) -> bool {
         let mut grown = false;
         if bytes.len() as u64 > self.buffer.size() {
             let size = (bytes.len() as u64).next_power_of_two();

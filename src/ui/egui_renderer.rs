@@ -17,7 +17,7 @@ use std::collections::HashMap;
 
 use egui::epaint::{self, ClippedPrimitive, ImageData, Primitive, TextureId};
 
-use crate::render::{texture_group, texture_sampler_layout};
+use crate::render::{Scratch, texture_group, texture_sampler_layout};
 
 /// The shader (`shaders/egui.wgsl`), validated by `tests/shaders.rs` with the renderer's own.
 pub const SHADER: (&str, &str) = ("egui.wgsl", include_str!("../../shaders/egui.wgsl"));
@@ -48,8 +48,8 @@ pub struct EguiRenderer {
     texture_layout: wgpu::BindGroupLayout,
     textures: HashMap<TextureId, (wgpu::Texture, wgpu::BindGroup)>,
     samplers: HashMap<epaint::textures::TextureOptions, wgpu::Sampler>,
-    vertices: wgpu::Buffer,
-    indices: wgpu::Buffer,
+    vertices: Scratch,
+    indices: Scratch,
     draws: Vec<Draw>,
 }
 
@@ -150,8 +150,8 @@ impl EguiRenderer {
             texture_layout,
             textures: HashMap::new(),
             samplers: HashMap::new(),
-            vertices: buffer(device, "egui vertices", wgpu::BufferUsages::VERTEX, 1 << 16),
-            indices: buffer(device, "egui indices", wgpu::BufferUsages::INDEX, 1 << 16),
+            vertices: Scratch::new(device, "egui vertices", wgpu::BufferUsages::VERTEX),
+            indices: Scratch::new(device, "egui indices", wgpu::BufferUsages::INDEX),
             draws: Vec::new(),
         }
     }
@@ -286,22 +286,11 @@ impl EguiRenderer {
                 color: u32::from_le_bytes(v.color.to_array()),
             }));
         }
-        write_growing(
-            device,
-            queue,
-            &mut self.vertices,
-            "egui vertices",
-            wgpu::BufferUsages::VERTEX,
-            bytemuck::cast_slice(&vertices),
-        );
-        write_growing(
-            device,
-            queue,
-            &mut self.indices,
-            "egui indices",
-            wgpu::BufferUsages::INDEX,
-            bytemuck::cast_slice(&indices),
-        );
+        // Vertices are 20 bytes and indices u32: both multiples of 4, as write_buffer needs.
+        self.vertices
+            .write(device, queue, bytemuck::cast_slice(&vertices));
+        self.indices
+            .write(device, queue, bytemuck::cast_slice(&indices));
     }
 
     /// Draws the meshes uploaded by [`Self::update_buffers`] into `pass`, whose target has
@@ -312,8 +301,8 @@ impl EguiRenderer {
         }
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.screen_group, &[]);
-        pass.set_vertex_buffer(0, self.vertices.slice(..));
-        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.set_vertex_buffer(0, self.vertices.buffer.slice(..));
+        pass.set_index_buffer(self.indices.buffer.slice(..), wgpu::IndexFormat::Uint32);
         for draw in &self.draws {
             let Some((_, group)) = self.textures.get(&draw.texture) else {
                 continue;
@@ -356,44 +345,6 @@ fn sampler(device: &wgpu::Device, options: epaint::textures::TextureOptions) -> 
         address_mode_v: address,
         ..Default::default()
     })
-}
-
-fn buffer(
-    device: &wgpu::Device,
-    label: &'static str,
-    usage: wgpu::BufferUsages,
-    size: u64,
-) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size,
-        usage: usage | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
-}
-
-/// Writes `bytes` to `target`, first replacing it by one twice as large as needed when it is
-/// too small (so a growing UI reallocates a few times, not every frame).
-fn write_growing(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    target: &mut wgpu::Buffer,
-    label: &'static str,
-    usage: wgpu::BufferUsages,
-    bytes: &[u8],
-) {
-    if bytes.len() as u64 > target.size() {
-        *target = buffer(
-            device,
-            label,
-            usage,
-            (2 * bytes.len() as u64).next_power_of_two(),
-        );
-    }
-    if !bytes.is_empty() {
-        // write_buffer needs a multiple of 4 bytes: vertices (20 B) and u32 indices are.
-        queue.write_buffer(target, 0, bytes);
-    }
 }
 
 #[cfg(test)]
