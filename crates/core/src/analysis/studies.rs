@@ -132,6 +132,19 @@ pub fn poincare_map(
 
 /// [`poincare_map`] that stops with [`StudyError::Stopped`] once `stop` is set (each start
 /// already under way finishes first).
+///
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use rollphase_core::analysis::studies::{StudyError, poincare_map_until};
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::DVec3;
+/// let body = Body::paper_sphere(219, 0.25, 5)?;
+/// // A flag set before the call (from a Ctrl-C handler, say) stops it at once.
+/// let stop = AtomicBool::new(true);
+/// let r = poincare_map_until(&body, 0.15, &[DVec3::X; 64], 200.0, 1e-8, &stop);
+/// assert!(matches!(r, Err(StudyError::Stopped)));
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
 pub fn poincare_map_until(
     body: &Body,
     alpha: f64,
@@ -187,6 +200,14 @@ pub struct Cruising {
 
 /// Whether a run's fate counts as cruising: a closed orbit, or an undecided run still turning
 /// (|ω| ≥ 1e-3 at the end).
+///
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::Fate;
+/// use rollphase_core::analysis::studies::cruises;
+/// assert!(!cruises(&Fate::Halts { t: 3.0 }));
+/// assert!(cruises(&Fate::Undecided { omega_end: 0.2 }));
+/// assert!(!cruises(&Fate::Undecided { omega_end: 1e-6 }));
+/// ```
 pub fn cruises(f: &Fate) -> bool {
     match f {
         Fate::Halts { .. } => false,
@@ -272,6 +293,23 @@ pub fn cruising_fraction_until(
 /// Run `o` of [`period_counts`]: released from rest at [`random_orientation`] `o` of `seed`,
 /// going on until `decide` says its fate is decided (DOP853 at rtol 1e-9). `sphere-doubling`'s
 /// runs on other bodies are these.
+///
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::{Decide, RunEnd};
+/// use rollphase_core::analysis::studies::decided_from_rest;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// let Body::Sphere(sphere) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// // A short window: decided by t = 400 at the latest.
+/// let decide = Decide { t_min: 100.0, t_cap: 400.0, max_k: 4, tol: 1e-5 };
+/// let run = decided_from_rest(&sphere, &Ramp::new(0.15, 1.0)?, 1, 0, &decide)?;
+/// // This start settles on a period-1 orbit: one crossing of ∂Ω per period.
+/// assert_eq!(run.end, RunEnd::Periodic);
+/// let (k, period) = run.cycle.unwrap();
+/// assert_eq!(k, 1);
+/// assert!(period > 0.0 && run.crossings.len() >= 2);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn decided_from_rest(
     sphere: &Sphere,
     ramp: &Ramp,

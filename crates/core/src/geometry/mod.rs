@@ -185,6 +185,17 @@ impl Body {
 
     /// Whether the body is strictly convex, as every model needs ([`Body::check_convex`] says
     /// where it is not).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    ///
+    /// assert!(Body::paper_sphere(219, 0.25, 5)?.is_convex());
+    /// // Strong modes dent the outline: not every random disk is convex.
+    /// assert!(!Body::random_disk(3, 2.0, 5)?.is_convex());
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn is_convex(&self) -> bool {
         self.check_convex().is_ok()
     }
@@ -201,6 +212,17 @@ fn numpy_seed(seed: u64) -> Result<u32, ShapeError> {
 
 impl Body {
     /// Builds a body from a parsed shape file, checking ranges and finiteness (not convexity).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use rollphase_core::geometry::{Body, ShapeFile};
+    ///
+    /// let disk = Body::paper_disk(1, 0.25, 5)?;
+    /// let file: ShapeFile = disk.to_shape();
+    /// assert_eq!(Body::from_shape(&file)?.alpha_star(), disk.alpha_star());
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn from_shape(file: &ShapeFile) -> Result<Self, ShapeError> {
         match file {
             ShapeFile::Disk { modes } => {
@@ -329,6 +351,18 @@ impl Body {
     }
 
     /// Curvature extremes and the convexity verdict (see `curvature_report`).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    ///
+    /// // The unit circle has curvature 1 everywhere.
+    /// let report = Body::random_disk(1, 0.0, 5)?.curvature();
+    /// assert!((report.curvature_min - 1.0).abs() < 1e-9 && (report.curvature_max - 1.0).abs() < 1e-9);
+    /// assert!(report.convex);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn curvature(&self) -> CurvatureReport {
         curvature_report(self)
     }
@@ -577,6 +611,16 @@ fn newton_max_on_sphere(f: &impl Fn(DVec3) -> f64, start: DVec3) -> (DVec3, f64)
 
 /// Seeded random disk (SI §1C): A_l ~ N(0, σ), θ_l ~ U[0, 2π) for l = 2..=modes, drawn in that
 /// order (A_l then θ_l for each l) from ChaCha8 seeded with `seed`.
+///
+/// # Example
+///
+/// ```
+/// use rollphase_core::geometry::random_disk;
+///
+/// // The same seed gives the same disk on every run and machine.
+/// assert_eq!(random_disk(7, 0.25, 5)?, random_disk(7, 0.25, 5)?);
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
 pub fn random_disk(seed: u64, sigma: f64, modes: u32) -> Result<Disk, ShapeError> {
     check_sigma(sigma)?;
     if !(2..=MAX_DISK_L).contains(&modes) {
@@ -601,6 +645,20 @@ pub fn random_disk(seed: u64, sigma: f64, modes: u32) -> Result<Disk, ShapeError
 
 /// Seeded random sphere (SI §2F and the issue's generator): for l = 2..=degree and m = −l..=l in
 /// that order, a ~ N(0, σ) then P ~ U[0, 2π), A_lm = a·e^{imP}; ChaCha8 seeded with `seed`.
+///
+/// # Example
+///
+/// ```
+/// use glam::DVec3;
+/// use rollphase_core::geometry::random_sphere;
+///
+/// // The same seed gives the same body on every run and machine.
+/// let u = DVec3::new(0.3, -0.5, 0.8).normalize();
+/// assert_eq!(random_sphere(7, 0.25, 5)?.radius(u), random_sphere(7, 0.25, 5)?.radius(u));
+/// // σ must be finite and ≥ 0.
+/// assert!(random_sphere(7, f64::NAN, 5).is_err());
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
 pub fn random_sphere(seed: u64, sigma: f64, degree: u32) -> Result<Sphere, ShapeError> {
     check_sigma(sigma)?;
     if !(2..=MAX_SPHERE_L).contains(&degree) {

@@ -252,6 +252,22 @@ pub struct ModelChoice {
 }
 
 /// Applies the stiff-corner policy (module doc) to a request for `body`.
+///
+/// ```
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::integrate::Method;
+/// use rollphase_core::simulate::{RunError, choose_model};
+/// let body = Body::paper_disk(1, 0.25, 5)?;
+/// // m/m0 below DOP853's tolerance: the viscous limit is run, and the summary says why.
+/// let choice = choose_model(&body, Ramp::new(0.3, 1e-12)?, Method::dop853(1e-8))?;
+/// assert_eq!(choice.ramp.mass_ratio, 0.0);
+/// assert!(choice.note.unwrap().contains("viscous"));
+/// // A fixed step far longer than the inertial relaxation time is refused, not run unstable.
+/// let refused = choose_model(&body, Ramp::new(0.3, 1e-4)?, Method::Rk4 { dt: 0.1 });
+/// assert!(matches!(refused, Err(RunError::UnstableStep { .. })));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn choose_model(body: &Body, ramp: Ramp, method: Method) -> Result<ModelChoice, RunError> {
     let m = ramp.mass_ratio;
     if m == 0.0 || ramp.drag == 0.0 {
