@@ -28,7 +28,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::analysis::critical_angle;
-use crate::geometry::{Body, Disk, ShapeFile, Sphere, paper_sphere, random_disk, random_sphere};
+use crate::geometry::{Body, Disk, ShapeFile, Sphere, paper_sphere};
 use crate::output::{self, Inputs, OutputSet};
 use crate::plot::{Panel, png_bytes};
 use shard::ShardWritten;
@@ -593,22 +593,10 @@ pub fn par_map<T: Send>(
 
 /// The first strictly convex random disk at seed, seed + 1, …: (disk, seed used).
 pub fn convex_disk(seed: u64, sigma: f64, modes: u32) -> Result<(Disk, u64)> {
-    for s in seed..seed.saturating_add(1000) {
-        let d = random_disk(s, sigma, modes)?;
-        if Body::Disk(d.clone()).check_convex().is_ok() {
-            return Ok((d, s));
-        }
-    }
-    anyhow::bail!("no convex disk among 1000 seeds from {seed} (σ = {sigma}, M = {modes})")
+    Ok(crate::geometry::first_convex_disk(seed, sigma, modes)?)
 }
 
 /// The first strictly convex random sphere (σ = 0.25, l ≤ 5) at seed, seed + 1, …
 pub fn convex_sphere(seed: u64) -> Result<(Sphere, u64)> {
-    for s in seed..seed.saturating_add(1000) {
-        let b = random_sphere(s, 0.25, 5)?;
-        if Body::Sphere(b.clone()).check_convex().is_ok() {
-            return Ok((b, s));
-        }
-    }
-    anyhow::bail!("no convex sphere among 1000 seeds from {seed}")
+    Ok(crate::geometry::first_convex_sphere(seed, 0.25, 5)?)
 }

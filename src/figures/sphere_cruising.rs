@@ -8,7 +8,7 @@
 //! cruising. In 2D the
 //! state space is a loop, so a disk halts for every start below α* and cruises for every start
 //! above: the 2D curve is a step. It is computed, not drawn: a convex disk with the sphere's α*
-//! (low modes rescaled, see [`comparison_disk`]) is simulated from as many starts θ₀.
+//! (low modes rescaled, see [`convex_disk_with_alpha_star`]) is simulated from as many starts θ₀.
 //! In 3D halting loops and cruising orbits coexist below α*, so the fraction rises gradually and
 //! reaches 1 at α*, above which no rest point exists.
 //!
@@ -19,13 +19,14 @@ use serde::Serialize;
 
 use super::shard::{Fields, Record};
 use super::sphere_orbits::random_orientation;
-use super::{Computed, FigureData, FigureOptions, convex_disk};
+use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::critical_angle;
+use crate::analysis::critical_angle::convex_disk_with_alpha_star;
+use crate::analysis::disk_dynamics::disk_cruises;
 use crate::analysis::sphere_orbits::{Fate, settle};
 use crate::analysis::studies::cruising_settle;
-use crate::dynamics::{DiskViscous, Ramp};
-use crate::geometry::{Body, Disk, DiskMode};
-use crate::integrate::{self, Method};
+use crate::dynamics::Ramp;
+use crate::geometry::Body;
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Headline numbers.
@@ -80,69 +81,6 @@ impl Record for Run {
 
 pub use crate::analysis::studies::cruises;
 
-/// Whether a viscous disk from θ₀ makes a whole turn (cruises) before halting.
-fn disk_cruises(disk: &Disk, alpha: f64, theta0: f64) -> Result<bool> {
-    let ramp = Ramp::new(alpha, 0.0)?;
-    let m = DiskViscous::new(disk, &ramp);
-    let mut st = integrate::stepper(&m, 0.0, [theta0, 0.0], Method::dop853(1e-10))?;
-    while st.t() < 1e6 {
-        st.step(1e6)?;
-        if st.y()[0] - theta0 > std::f64::consts::TAU {
-            return Ok(true);
-        }
-        if m.theta_dot(st.y()[0]).abs() < 1e-12 {
-            return Ok(false);
-        }
-    }
-    Ok(false)
-}
-
-/// A convex disk with α* = `target`: the modes l = 2, 3 of a random disk rescaled (bisection on
-/// the scale), or, if that is not convex, the single mode r = 1 + (a/4) sin 2θ, whose
-/// Q* = (a/2)/√(1 − a²/16) is inverted exactly.
-fn comparison_disk(seed: u64, target: f64) -> Result<Disk> {
-    let base = convex_disk(seed, 0.08, 3)?.0;
-    let d = disk_with_alpha_star(&base, target);
-    if Body::Disk(d.clone()).check_convex().is_ok() {
-        return Ok(d);
-    }
-    let q = target.tan();
-    let a = 2.0 * q / (1.0 + q * q / 4.0).sqrt();
-    let d = Disk::new(vec![DiskMode {
-        l: 2,
-        a,
-        phase: 0.0,
-    }]);
-    Body::Disk(d.clone()).check_convex()?;
-    Ok(d)
-}
-
-/// A disk rescaled (all amplitudes × s) so that its α* equals `target`, by bisection on s.
-fn disk_with_alpha_star(base: &Disk, target: f64) -> Disk {
-    let scaled = |s: f64| {
-        Disk::new(
-            base.modes()
-                .iter()
-                .map(|m| DiskMode { a: m.a * s, ..*m })
-                .collect(),
-        )
-    };
-    let a_of = |s: f64| critical_angle(&Body::Disk(scaled(s))).alpha_star;
-    let (mut lo, mut hi) = (0.0, 1.0);
-    while a_of(hi) < target {
-        hi *= 2.0;
-    }
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        if a_of(mid) < target {
-            lo = mid
-        } else {
-            hi = mid
-        }
-    }
-    scaled(0.5 * (lo + hi))
-}
-
 /// Runs the figure: computes it, then writes OUT/sphere-cruising/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {
     let dir = opts.dir("sphere-cruising")?;
@@ -163,7 +101,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
         .flat_map(|a| (0..n_or).map(move |o| (a, o)))
         .collect();
     // The 2D comparison: a disk with the same α*, from as many evenly spaced θ₀.
-    let disk = comparison_disk(opts.seed, a_star)?;
+    let disk = convex_disk_with_alpha_star(opts.seed, a_star)?;
     let settle_opts = cruising_settle();
     // One ensemble: the 3D runs, then the 2D runs (one shardable list).
     let runs = super::all_runs!(opts.ensemble(
@@ -178,7 +116,11 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
                 Ok(Run::Sphere(settle(&body, &ramp, q0, &settle_opts)?.0))
             } else {
                 let theta0 = std::f64::consts::TAU * o as f64 / n_or as f64;
-                Ok(Run::Disk(disk_cruises(&disk, alphas[a], theta0)?))
+                Ok(Run::Disk(disk_cruises(
+                    &disk,
+                    &Ramp::new(alphas[a], 0.0)?,
+                    theta0,
+                )?))
             }
         },
     ));

@@ -5,7 +5,9 @@
 use glam::DVec3;
 use serde::Serialize;
 
-use crate::geometry::{Body, Disk, refine_sphere, sphere, sphere_grid_size};
+use crate::geometry::{
+    Body, Disk, DiskMode, ShapeError, first_convex_disk, refine_sphere, sphere, sphere_grid_size,
+};
 
 /// α* and its maximiser.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -106,4 +108,62 @@ fn disk_critical_angle(d: &Disk) -> CriticalAngle {
         direction: [0.0; 3],
         q_second_derivative: d.jet(theta).quality_d2(),
     }
+}
+
+/// `base` with all its mode amplitudes scaled by one factor, found by bisection, so that its α*
+/// equals `target` (convexity not checked).
+pub fn disk_with_alpha_star(base: &Disk, target: f64) -> Disk {
+    let scaled = |s: f64| {
+        Disk::new(
+            base.modes()
+                .iter()
+                .map(|m| DiskMode { a: m.a * s, ..*m })
+                .collect(),
+        )
+    };
+    let a_of = |s: f64| critical_angle(&Body::Disk(scaled(s))).alpha_star;
+    let (mut lo, mut hi) = (0.0, 1.0);
+    while a_of(hi) < target {
+        hi *= 2.0;
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if a_of(mid) < target {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    scaled(0.5 * (lo + hi))
+}
+
+/// A strictly convex disk with α* = `target`, to compare a sphere with: the modes l = 2, 3 of
+/// the first convex random disk from `seed` (σ = 0.08) rescaled ([`disk_with_alpha_star`]), or,
+/// if that is not convex, the single mode r = 1 + (a/4) sin 2θ, whose
+/// Q* = (a/2)/√(1 − a²/16) is inverted exactly.
+///
+/// # Example
+///
+/// ```
+/// use rollphase_core::analysis::critical_angle::convex_disk_with_alpha_star;
+/// use rollphase_core::geometry::Body;
+/// let disk = Body::Disk(convex_disk_with_alpha_star(1, 0.14)?);
+/// assert!((disk.alpha_star() - 0.14).abs() < 1e-9 && disk.is_convex());
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
+pub fn convex_disk_with_alpha_star(seed: u64, target: f64) -> Result<Disk, ShapeError> {
+    let base = first_convex_disk(seed, 0.08, 3)?.0;
+    let d = disk_with_alpha_star(&base, target);
+    if Body::Disk(d.clone()).check_convex().is_ok() {
+        return Ok(d);
+    }
+    let q = target.tan();
+    let a = 2.0 * q / (1.0 + q * q / 4.0).sqrt();
+    let d = Disk::new(vec![DiskMode {
+        l: 2,
+        a,
+        phase: 0.0,
+    }]);
+    Body::Disk(d.clone()).check_convex()?;
+    Ok(d)
 }

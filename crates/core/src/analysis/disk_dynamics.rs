@@ -188,3 +188,36 @@ pub fn fixed_points(disk: &Disk, alpha: f64) -> Vec<FixedPoint> {
     }
     out
 }
+
+/// Whether a viscous disk released at θ₀ makes a whole turn (cruises) before halting
+/// (|θ̇| < 1e-12), DOP853 at rtol 1e-10 up to t = 10⁶: the 2D side of the cruising fraction
+/// (paper Fig. 3b).
+///
+/// # Example
+///
+/// ```
+/// use rollphase_core::analysis::disk_dynamics::disk_cruises;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// let disk = Body::paper_disk(1, 0.25, 5)?;
+/// let alpha_star = disk.alpha_star();
+/// let Body::Disk(disk) = disk else { unreachable!() };
+/// // In 2D the fate does not depend on the start: halts below α*, cruises above.
+/// assert!(!disk_cruises(&disk, &Ramp::new(0.9 * alpha_star, 0.0)?, 0.0)?);
+/// assert!(disk_cruises(&disk, &Ramp::new(1.1 * alpha_star, 0.0)?, 0.0)?);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn disk_cruises(disk: &Disk, ramp: &Ramp, theta0: f64) -> Result<bool, IntegrateError> {
+    let m = DiskViscous::new(disk, ramp);
+    let mut st = integrate::stepper(&m, 0.0, [theta0, 0.0], Method::dop853(1e-10))?;
+    while st.t() < 1e6 {
+        st.step(1e6)?;
+        if st.y()[0] - theta0 > std::f64::consts::TAU {
+            return Ok(true);
+        }
+        if m.theta_dot(st.y()[0]).abs() < 1e-12 {
+            return Ok(false);
+        }
+    }
+    Ok(false)
+}

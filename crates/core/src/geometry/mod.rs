@@ -103,6 +103,17 @@ pub enum ShapeError {
         /// Where.
         place: String,
     },
+    /// No strictly convex body among the seeds tried ([`first_convex_disk`],
+    /// [`first_convex_sphere`]).
+    #[error("no convex {what} among 1000 seeds from {from}{parameters}")]
+    NoConvexSeed {
+        /// "disk" or "sphere".
+        what: &'static str,
+        /// The first seed tried.
+        from: u64,
+        /// The generator's parameters, as " (σ = …, M = …)", or empty.
+        parameters: String,
+    },
     /// A generator parameter out of range.
     #[error("{name} = {value} is not allowed (needs {allowed})")]
     BadParameter {
@@ -702,4 +713,50 @@ fn bad_sigma(sigma: f64) -> ShapeError {
         value: sigma,
         allowed: "a finite number ≥ 0",
     }
+}
+
+/// The first strictly convex [`random_disk`] at seed `seed`, `seed` + 1, … (1000 tried): the
+/// disk and the seed that gave it.
+///
+/// # Example
+///
+/// ```
+/// use rollphase_core::geometry::{Body, first_convex_disk};
+///
+/// let (disk, seed) = first_convex_disk(3, 0.25, 5)?;
+/// assert!(seed >= 3 && Body::Disk(disk).is_convex());
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
+pub fn first_convex_disk(seed: u64, sigma: f64, modes: u32) -> Result<(Disk, u64), ShapeError> {
+    for s in seed..seed.saturating_add(1000) {
+        let d = random_disk(s, sigma, modes)?;
+        if Body::Disk(d.clone()).check_convex().is_ok() {
+            return Ok((d, s));
+        }
+    }
+    Err(ShapeError::NoConvexSeed {
+        what: "disk",
+        from: seed,
+        parameters: format!(" (σ = {sigma}, M = {modes})"),
+    })
+}
+
+/// The first strictly convex [`random_sphere`] at seed `seed`, `seed` + 1, … (1000 tried): the
+/// sphere and the seed that gave it.
+pub fn first_convex_sphere(
+    seed: u64,
+    sigma: f64,
+    degree: u32,
+) -> Result<(Sphere, u64), ShapeError> {
+    for s in seed..seed.saturating_add(1000) {
+        let b = random_sphere(s, sigma, degree)?;
+        if Body::Sphere(b.clone()).check_convex().is_ok() {
+            return Ok((b, s));
+        }
+    }
+    Err(ShapeError::NoConvexSeed {
+        what: "sphere",
+        from: seed,
+        parameters: String::new(),
+    })
 }
