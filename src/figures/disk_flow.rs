@@ -11,10 +11,9 @@ use serde::Serialize;
 
 use super::{FigureData, FigureOptions};
 use crate::analysis::critical_angle;
-use crate::analysis::disk_dynamics::{FixedPoint, fixed_points};
+use crate::analysis::disk_dynamics::{FixedPoint, fixed_points, phase_path};
 use crate::dynamics::{DiskInertial, Ramp};
 use crate::geometry::Body;
-use crate::integrate::{self, Method};
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// One panel's numbers.
@@ -195,24 +194,12 @@ fn flow_arrows(
 /// Points of one unbroken piece of a drawn curve.
 type Polyline = Vec<(f64, f64)>;
 
-/// The trajectory from (θ, θ̇) = (π/2, 0.04) to `t_end`, sampled 4001 times, wrapped to
-/// [0, 2π) and broken at the wraps; and whether the disk still rolls at the end.
+/// The trajectory from (θ, θ̇) = (π/2, 0.04) to `t_end`, sampled 4001 times
+/// ([`phase_path`]), broken where θ wraps at 2π; and whether the disk still rolls at the end.
 fn trajectory(model: &DiskInertial, t_end: f64) -> Result<(Vec<Polyline>, bool)> {
-    let mut st = integrate::stepper(
-        model,
-        0.0,
-        [std::f64::consts::FRAC_PI_2, 0.04, 0.0, 0.0],
-        Method::dop853(1e-10),
-    )?;
+    let (points, rolls) = phase_path(model, [std::f64::consts::FRAC_PI_2, 0.04], t_end, 4000)?;
     let mut pieces: Vec<Polyline> = vec![Vec::new()];
-    let n = 4000;
-    for k in 0..=n {
-        let t = t_end * k as f64 / n as f64;
-        while st.t() < t {
-            st.step(t_end)?;
-        }
-        let y = if t == st.t() { *st.y() } else { st.dense(t) };
-        let th = y[0].rem_euclid(std::f64::consts::TAU);
+    for [th, w] in points {
         let wrapped = pieces
             .last()
             .and_then(|p| p.last())
@@ -221,9 +208,8 @@ fn trajectory(model: &DiskInertial, t_end: f64) -> Result<(Vec<Polyline>, bool)>
             pieces.push(Vec::new());
         }
         if let Some(p) = pieces.last_mut() {
-            p.push((th, y[1]));
+            p.push((th, w));
         }
     }
-    let rolls = st.y()[1].abs() > 1e-6;
     Ok((pieces, rolls))
 }

@@ -221,3 +221,48 @@ pub fn disk_cruises(disk: &Disk, ramp: &Ramp, theta0: f64) -> Result<bool, Integ
     }
     Ok(false)
 }
+
+/// The inertial disk's path in the (θ, θ̇) plane from `start` = (θ, θ̇) to `t_end`: `samples` + 1
+/// evenly spaced points (θ wrapped to [0, 2π), dense output of DOP853 at rtol 1e-10), and
+/// whether it still rolls at the end (|θ̇| > 1e-6). SI Fig. S2's trajectories.
+///
+/// # Example
+///
+/// ```
+/// use rollphase_core::analysis::disk_dynamics::phase_path;
+/// use rollphase_core::dynamics::{DiskInertial, Ramp};
+/// use rollphase_core::geometry::Body;
+/// let body = Body::paper_disk(1, 0.12, 5)?;
+/// let alpha_star = body.alpha_star();
+/// let Body::Disk(disk) = body else { unreachable!() };
+/// // Above α* there is no fixed point: the disk keeps rolling.
+/// let model = DiskInertial::new(&disk, &Ramp::new(1.2 * alpha_star, 10.0)?);
+/// let (points, rolls) = phase_path(&model, [std::f64::consts::FRAC_PI_2, 0.04], 300.0, 1000)?;
+/// assert_eq!(points.len(), 1001);
+/// assert!(rolls && points.iter().all(|p| (0.0..std::f64::consts::TAU).contains(&p[0])));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn phase_path(
+    model: &DiskInertial,
+    start: [f64; 2],
+    t_end: f64,
+    samples: usize,
+) -> Result<(Vec<[f64; 2]>, bool), IntegrateError> {
+    let mut st = integrate::stepper(
+        model,
+        0.0,
+        [start[0], start[1], 0.0, 0.0],
+        Method::dop853(1e-10),
+    )?;
+    let mut points = Vec::with_capacity(samples + 1);
+    for k in 0..=samples {
+        let t = t_end * k as f64 / samples as f64;
+        while st.t() < t {
+            st.step(t_end)?;
+        }
+        let y = if t == st.t() { *st.y() } else { st.dense(t) };
+        points.push([y[0].rem_euclid(std::f64::consts::TAU), y[1]]);
+    }
+    let rolls = st.y()[1].abs() > 1e-6;
+    Ok((points, rolls))
+}
