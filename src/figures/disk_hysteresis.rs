@@ -2,7 +2,8 @@
 //! (m/m0 = 10, σ = 0.12, M = 5).
 //!
 //! α is stepped up from rest and then down, the state carried over
-//! ([`crate::analysis::disk_dynamics::hysteresis_sweep`]); each rolling speed is 2π/T with T the
+//! ([`crate::analysis::disk_dynamics::hysteresis_sweep`]; α** by
+//! [`crate::analysis::disk_dynamics::return_transition`]); each rolling speed is 2π/T with T the
 //! event-located period, so `rollphase period` from the CSV's (θ, θ̇) gives the same T. On the way up the disk stays put until
 //! α*, then jumps to a finite 2π/T; on the way down it keeps rolling below α* until the return
 //! transition α**. α** is then located by bisection, each trial continuing from the rolling
@@ -16,11 +17,13 @@ use serde::Serialize;
 
 use super::{FigureData, FigureOptions, progress};
 use crate::analysis::critical_angle;
-use crate::analysis::disk_dynamics::{SweepPoint, dwell, fixed_points, hysteresis_sweep};
+use crate::analysis::disk_dynamics::{
+    SweepPoint, fixed_points, hysteresis_sweep, return_transition,
+};
 use crate::analysis::fit::{line, logspace};
 use crate::analysis::inertial_disk_period;
 use crate::dynamics::Ramp;
-use crate::geometry::{Body, Disk};
+use crate::geometry::Body;
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 const MASS: f64 = 10.0;
@@ -54,57 +57,6 @@ pub struct Summary {
     pub log_law_slope: f64,
     /// Slope of ln T against ln δα near α** (a saddle-node would give −0.5).
     pub power_law_slope: f64,
-}
-
-/// Whether the disk, started from `state` at `alpha`, still rolls after `duration`; the end state.
-fn rolls(disk: &Disk, alpha: f64, state: [f64; 2], duration: f64) -> Result<(bool, [f64; 2])> {
-    let (advance, end) = dwell(disk, &Ramp::new(alpha, MASS)?, state, duration, RTOL)?;
-    // Rolling: at least one more turn in the second half.
-    Ok((advance > std::f64::consts::TAU, end))
-}
-
-/// α** by bisection between the lowest descending α that rolled and the next one below, each
-/// trial continuing from the rolling state of the last α that still rolled. Returns α**, the
-/// lowest α found rolling and its rolling state.
-fn locate_return(
-    disk: &Disk,
-    sweep: &[SweepPoint],
-    alphas: &[f64],
-    dwell: f64,
-    quick: bool,
-) -> Result<(f64, f64, [f64; 2])> {
-    // Bisection for α** between the lowest descending α that rolled and the next one below.
-    let down: Vec<_> = sweep.iter().filter(|p| !p.ascending).collect();
-    let last_rolling = down
-        .iter()
-        .rposition(|p| p.mean_angular_speed > 0.0)
-        .ok_or_else(|| anyhow!("never rolled on the way down"))?;
-    let (mut hi, mut lo) = (
-        down[last_rolling].alpha,
-        down.get(last_rolling + 1)
-            .map(|p| p.alpha)
-            .unwrap_or(alphas[0]),
-    );
-    // The rolling state at `hi`: re-run the descent from the top with continuation.
-    let mut state = [0.0, 0.05];
-    for &a in alphas.iter().rev().filter(|&&a| a >= hi) {
-        state = rolls(disk, a, state, dwell)?.1;
-    }
-    let iterations = if quick { 14 } else { 30 };
-    let bar = progress(iterations, "α** bisection");
-    for _ in 0..iterations {
-        let mid = 0.5 * (lo + hi);
-        let (r, end) = rolls(disk, mid, state, 3.0 * dwell)?;
-        if r {
-            hi = mid;
-            state = end;
-        } else {
-            lo = mid;
-        }
-        bar.inc(1);
-    }
-    bar.finish_and_clear();
-    Ok((0.5 * (lo + hi), hi, state))
 }
 
 /// The sweep's two branches with α* and α** marked, and T against ln δα near α**.
@@ -224,7 +176,20 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         .filter(|p| p.ascending)
         .find(moving)
         .ok_or_else(|| anyhow!("never rolled on the way up"))?;
-    let (alpha_return, hi, state) = locate_return(&disk, &sweep, &alphas, dwell, opts.quick)?;
+    let iterations = if opts.quick { 14 } else { 30 };
+    let bar = progress(iterations, "α** bisection");
+    let back = return_transition(
+        &disk,
+        MASS,
+        &sweep,
+        &alphas,
+        dwell,
+        iterations,
+        RTOL,
+        &|| bar.inc(1),
+    )?;
+    bar.finish_and_clear();
+    let (alpha_return, hi, state) = (back.alpha_return, back.lowest_rolling, back.state);
     // Periods just above α**, each continued from the rolling state found at `hi`.
     let deltas = logspace(
         if opts.quick { 1e-5 } else { 1e-7 },

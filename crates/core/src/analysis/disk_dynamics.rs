@@ -15,7 +15,7 @@
 use serde::Serialize;
 
 use super::period::inertial_disk_period;
-use crate::dynamics::{DiskInertial, DiskViscous, Ramp};
+use crate::dynamics::{DiskInertial, DiskViscous, ModelError, Ramp};
 use crate::geometry::Disk;
 use crate::integrate::events::{self, Direction};
 use crate::integrate::{self, IntegrateError, Method};
@@ -265,4 +265,117 @@ pub fn phase_path(
     }
     let rolls = st.y()[1].abs() > 1e-6;
     Ok((points, rolls))
+}
+
+/// Why the return transition α** could not be located.
+#[derive(Debug, thiserror::Error)]
+pub enum ReturnTransitionError {
+    /// The descending sweep never rolled, so there is no rolling state to lower α from.
+    #[error("never rolled on the way down")]
+    NeverRolledDown,
+    /// A bad α or m/m0 along the way.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// An integration failed.
+    #[error(transparent)]
+    Integrate(#[from] IntegrateError),
+}
+
+/// Where the inertial disk stops rolling on the way down ([`return_transition`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReturnTransition {
+    /// α**, the midpoint of the final bisection bracket.
+    pub alpha_return: f64,
+    /// The lowest α found rolling (the bracket's top).
+    pub lowest_rolling: f64,
+    /// The rolling state (θ, θ̇) there, to continue from.
+    pub state: [f64; 2],
+}
+
+/// Whether the disk, started from `state` at `alpha`, still rolls after `duration` (at least one
+/// more turn in the second half); the end state.
+pub fn still_rolls(
+    disk: &Disk,
+    ramp: &Ramp,
+    state: [f64; 2],
+    duration: f64,
+    rtol: f64,
+) -> Result<(bool, [f64; 2]), IntegrateError> {
+    let (advance, end) = dwell(disk, ramp, state, duration, rtol)?;
+    Ok((advance > std::f64::consts::TAU, end))
+}
+
+/// α** of a [`hysteresis_sweep`] over `alphas` at `mass` with `dwell_time`: bisection
+/// (`iterations` halvings) between the lowest descending α that rolled and the next one below,
+/// each trial run for 3 × `dwell_time` from the rolling state of the last α that still rolled.
+/// `on_step` is called after each halving (a progress bar).
+///
+/// # Example
+///
+/// ```
+/// use rollphase_core::analysis::disk_dynamics::{fixed_points, hysteresis_sweep, return_transition};
+/// use rollphase_core::geometry::{Body, first_convex_disk};
+/// let (disk, _) = first_convex_disk(1, 0.12, 5)?;
+/// let alpha_star = Body::Disk(disk.clone()).alpha_star();
+/// // disk-hysteresis's sweep, coarser: 0.5 α* to 1.3 α* and back, m/m0 = 10, from rest.
+/// let alphas: Vec<f64> = (0..9).map(|i| alpha_star * (0.5 + 0.1 * i as f64)).collect();
+/// let rest = fixed_points(&disk, alphas[0]).into_iter().find(|p| p.stable).unwrap();
+/// let sweep = hysteresis_sweep(&disk, 10.0, &alphas, [rest.theta, 0.0], 600.0, 1e-10, || {})?;
+/// let back = return_transition(&disk, 10.0, &sweep, &alphas, 600.0, 10, 1e-10, &|| {})?;
+/// // With inertia it keeps rolling below α*: hysteresis.
+/// assert!(back.alpha_return < alpha_star);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn return_transition(
+    disk: &Disk,
+    mass: f64,
+    sweep: &[SweepPoint],
+    alphas: &[f64],
+    dwell_time: f64,
+    iterations: usize,
+    rtol: f64,
+    on_step: &dyn Fn(),
+) -> Result<ReturnTransition, ReturnTransitionError> {
+    let rolls = |alpha: f64, state: [f64; 2], duration: f64| {
+        Ok::<_, ReturnTransitionError>(still_rolls(
+            disk,
+            &Ramp::new(alpha, mass)?,
+            state,
+            duration,
+            rtol,
+        )?)
+    };
+    let down: Vec<_> = sweep.iter().filter(|p| !p.ascending).collect();
+    let last_rolling = down
+        .iter()
+        .rposition(|p| p.mean_angular_speed > 0.0)
+        .ok_or(ReturnTransitionError::NeverRolledDown)?;
+    let (mut hi, mut lo) = (
+        down[last_rolling].alpha,
+        down.get(last_rolling + 1)
+            .map(|p| p.alpha)
+            .unwrap_or(alphas[0]),
+    );
+    // The rolling state at `hi`: re-run the descent from the top with continuation.
+    let mut state = [0.0, 0.05];
+    for &a in alphas.iter().rev().filter(|&&a| a >= hi) {
+        state = rolls(a, state, dwell_time)?.1;
+    }
+    for _ in 0..iterations {
+        let mid = 0.5 * (lo + hi);
+        let (r, end) = rolls(mid, state, 3.0 * dwell_time)?;
+        if r {
+            hi = mid;
+            state = end;
+        } else {
+            lo = mid;
+        }
+        on_step();
+    }
+    Ok(ReturnTransition {
+        alpha_return: 0.5 * (lo + hi),
+        lowest_rolling: hi,
+        state,
+    })
 }
