@@ -19,11 +19,12 @@ use serde::Serialize;
 
 use super::shard::{Fields, Record};
 use super::{Computed, FigureData, FigureOptions};
-use crate::analysis::fit::{logspace, power_law};
-use crate::analysis::{critical_angle, viscous_disk_period, viscous_disk_period_with};
+use crate::analysis::disk_dynamics::saddle_node_law;
+use crate::analysis::fit::logspace;
+use crate::analysis::viscous_disk_period;
 use crate::colormap::viridis;
 use crate::dynamics::Ramp;
-use crate::geometry::{Body, Disk};
+use crate::geometry::Disk;
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Per-disk results.
@@ -95,71 +96,33 @@ impl Record for DiskTransition {
     }
 }
 
-fn t_star_analytic(d: &Disk, theta: f64, q2: f64) -> f64 {
-    let j = d.jet(theta);
-    let g = (j.r * j.r + j.r1 * j.r1) * j.curvature() / (j.r * j.r);
-    2f64.sqrt() * g * std::f64::consts::PI / (-q2).sqrt()
-}
-
 /// One disk's headline numbers, its rows on the α grid and its curve near α*.
 type PerDisk = (DiskTransition, Vec<Vec<f64>>, Vec<Vec<f64>>);
 
-/// One disk of the ensemble: disk `i`'s 2π/T over the α grid and just above its α*, the
-/// exponent fitted on period differences (and naively), and its T* measured and analytic.
+/// One disk of the ensemble: disk `i`'s [`saddle_node_law`] as the figure's record and rows.
 fn one_disk(opts: &FigureOptions, i: usize, alphas: &[f64]) -> Result<PerDisk> {
     let (d, used) = opts.disk("disk-transition", opts.seed + 1000 * i as u64, 0.08, 10)?;
-    let ca = critical_angle(&Body::Disk(d.clone()));
-    let speed = |a: f64| -> Result<f64> {
-        Ok(viscous_disk_period_with(&d, &Ramp::new(a, 0.0)?, &ca).mean_angular_speed)
-    };
-    // The α grid plus points just above this disk's α*, where 2π/T rises as √δα.
-    let mut grid: Vec<f64> = alphas.to_vec();
-    grid.extend(
-        [1e-6, 1e-5, 1e-4, 4e-4, 1e-3, 2e-3, 4e-3]
-            .iter()
-            .map(|d| ca.alpha_star + d),
-    );
-    grid.sort_by(f64::total_cmp);
-    let mut rows = Vec::new();
-    for &a in &grid {
-        rows.push(vec![i as f64, ca.alpha_star, a, speed(a)?]);
-    }
-    let period = |da: f64| -> Result<f64> {
-        Ok(
-            viscous_disk_period_with(&d, &Ramp::new(ca.alpha_star + da, 0.0)?, &ca)
-                .period
-                .unwrap_or(f64::NAN),
-        )
-    };
-    let grid = logspace(1e-8, 1e-5, 7);
-    let periods: Vec<(f64, f64, f64)> = grid
+    let law = saddle_node_law(&d, alphas).map_err(|e| anyhow::anyhow!("disk {i}: {e}"))?;
+    let rows = law
+        .speeds
         .iter()
-        .map(|&da| Ok((da, period(da)?, period(2.0 * da)?)))
-        .collect::<Result<_>>()?;
-    let naive: Vec<(f64, f64)> = periods
-        .iter()
-        .map(|&(da, t, _)| (da, std::f64::consts::TAU / t))
+        .map(|&(a, speed)| vec![i as f64, law.alpha_star, a, speed])
         .collect();
-    let diffs: Vec<(f64, f64)> = periods.iter().map(|&(da, t1, t2)| (da, t1 - t2)).collect();
-    let fit = power_law(&diffs).ok_or_else(|| anyhow::anyhow!("disk {i}: no fit"))?;
-    let naive_fit = power_law(&naive).ok_or_else(|| anyhow::anyhow!("disk {i}: no fit"))?;
-    // Curve for the log–log panel.
-    let near_curve: Vec<Vec<f64>> = logspace(1e-8, 1e-2, 25)
-        .into_iter()
-        .map(|da| Ok(vec![i as f64, da, speed(ca.alpha_star + da)?]))
-        .collect::<Result<_>>()?;
-    let t_meas = (period(1e-8)? - period(1e-6)?) / (1e4 - 1e3);
-    let t_an = t_star_analytic(&d, ca.theta, ca.q_second_derivative);
+    let near_curve = law
+        .near
+        .iter()
+        .map(|&(da, speed)| vec![i as f64, da, speed])
+        .collect();
     Ok((
         DiskTransition {
             seed: used,
-            alpha_star: ca.alpha_star,
-            exponent: -fit.slope,
-            exponent_stderr: fit.slope_stderr,
-            exponent_naive: naive_fit.slope,
-            t_star_measured: t_meas,
-            t_star_analytic: t_an,
-            t_star_si_printed: t_an / 2f64.sqrt(),
+            alpha_star: law.alpha_star,
+            exponent: law.exponent,
+            exponent_stderr: law.exponent_stderr,
+            exponent_naive: law.exponent_naive,
+            t_star_measured: law.t_star_measured,
+            t_star_analytic: law.t_star_analytic,
+            t_star_si_printed: law.t_star_analytic / 2f64.sqrt(),
         },
         rows,
         near_curve,

@@ -14,9 +14,11 @@
 
 use serde::Serialize;
 
-use super::period::inertial_disk_period;
+use super::critical_angle::critical_angle;
+use super::fit::{logspace, power_law};
+use super::period::{inertial_disk_period, viscous_disk_period_with};
 use crate::dynamics::{DiskInertial, DiskViscous, ModelError, Ramp};
-use crate::geometry::Disk;
+use crate::geometry::{Body, Disk};
 use crate::integrate::events::{self, Direction};
 use crate::integrate::{self, IntegrateError, Method};
 
@@ -377,5 +379,126 @@ pub fn return_transition(
         alpha_return: 0.5 * (lo + hi),
         lowest_rolling: hi,
         state,
+    })
+}
+
+/// The saddle-node prefactor T* of the viscous disk's period near α*, T ≈ T*·δα^(−1/2), from the
+/// expansion Q(θ* + δθ) = Q* + ½Q''δθ²: T* = √2 · G(θ*) π / √(−Q''(θ*)), G = (r² + r'²)κ/r²
+/// (γ = F = 1). The SI prints it without the √2 (it drops the ½).
+///
+/// # Example
+///
+/// ```
+/// use rollphase_core::analysis::critical_angle;
+/// use rollphase_core::analysis::disk_dynamics::saddle_node_prefactor;
+/// use rollphase_core::geometry::{Body, first_convex_disk};
+/// let (disk, _) = first_convex_disk(1, 0.08, 10)?;
+/// let ca = critical_angle(&Body::Disk(disk.clone()));
+/// assert!(saddle_node_prefactor(&disk, ca.theta, ca.q_second_derivative) > 0.0);
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
+pub fn saddle_node_prefactor(disk: &Disk, theta_star: f64, q_second_derivative: f64) -> f64 {
+    let j = disk.jet(theta_star);
+    let g = (j.r * j.r + j.r1 * j.r1) * j.curvature() / (j.r * j.r);
+    2f64.sqrt() * g * std::f64::consts::PI / (-q_second_derivative).sqrt()
+}
+
+/// The viscous disk's transition at α* measured ([`saddle_node_law`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SaddleNodeLaw {
+    /// α* (rad).
+    pub alpha_star: f64,
+    /// β of T(δα) − T(2δα) ∝ δα^(−β) on δα = 1e-8…1e-5 (the differences cancel T's regular
+    /// part; expect ½).
+    pub exponent: f64,
+    /// Its standard error.
+    pub exponent_stderr: f64,
+    /// The slope of a plain log–log fit of 2π/T on the same δα (biased by the regular part).
+    pub exponent_naive: f64,
+    /// T* measured: (T(1e-8) − T(1e-6)) / (1e4 − 1e3).
+    pub t_star_measured: f64,
+    /// T* from [`saddle_node_prefactor`].
+    pub t_star_analytic: f64,
+    /// (α, 2π/T) on the given α grid plus seven points just above α*, ascending.
+    pub speeds: Vec<(f64, f64)>,
+    /// (δα, 2π/T) at 25 δα from 1e-8 to 1e-2 above α*.
+    pub near: Vec<(f64, f64)>,
+}
+
+/// Why [`saddle_node_law`] failed.
+#[derive(Debug, thiserror::Error)]
+pub enum SaddleNodeError {
+    /// A bad α on the grid.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// Too few finite periods to fit a power law.
+    #[error("no power-law fit: too few finite periods just above α*")]
+    NoFit,
+}
+
+/// 2π/T of the viscous `disk` (by quadrature) over `alphas` and just above its α*, the exponent
+/// of the √δα law fitted on period differences (and naively), and the prefactor T* measured and
+/// analytic: one disk of paper Fig. 2d.
+///
+/// # Example
+///
+/// ```
+/// use rollphase_core::analysis::disk_dynamics::saddle_node_law;
+/// use rollphase_core::geometry::first_convex_disk;
+/// let (disk, _) = first_convex_disk(1, 0.08, 10)?;
+/// let law = saddle_node_law(&disk, &[0.1, 0.3])?;
+/// // The square-root law, and the prefactor with the √2 the SI drops.
+/// assert!((law.exponent - 0.5).abs() < 1e-3);
+/// assert!((law.t_star_measured / law.t_star_analytic - 1.0).abs() < 1e-3);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn saddle_node_law(disk: &Disk, alphas: &[f64]) -> Result<SaddleNodeLaw, SaddleNodeError> {
+    let ca = critical_angle(&Body::Disk(disk.clone()));
+    let speed = |a: f64| -> Result<f64, ModelError> {
+        Ok(viscous_disk_period_with(disk, &Ramp::new(a, 0.0)?, &ca).mean_angular_speed)
+    };
+    let mut grid: Vec<f64> = alphas.to_vec();
+    grid.extend(
+        [1e-6, 1e-5, 1e-4, 4e-4, 1e-3, 2e-3, 4e-3]
+            .iter()
+            .map(|d| ca.alpha_star + d),
+    );
+    grid.sort_by(f64::total_cmp);
+    let speeds = grid
+        .iter()
+        .map(|&a| Ok((a, speed(a)?)))
+        .collect::<Result<Vec<_>, ModelError>>()?;
+    let period = |da: f64| -> Result<f64, ModelError> {
+        Ok(
+            viscous_disk_period_with(disk, &Ramp::new(ca.alpha_star + da, 0.0)?, &ca)
+                .period
+                .unwrap_or(f64::NAN),
+        )
+    };
+    let periods: Vec<(f64, f64, f64)> = logspace(1e-8, 1e-5, 7)
+        .iter()
+        .map(|&da| Ok((da, period(da)?, period(2.0 * da)?)))
+        .collect::<Result<_, ModelError>>()?;
+    let naive: Vec<(f64, f64)> = periods
+        .iter()
+        .map(|&(da, t, _)| (da, std::f64::consts::TAU / t))
+        .collect();
+    let diffs: Vec<(f64, f64)> = periods.iter().map(|&(da, t1, t2)| (da, t1 - t2)).collect();
+    let fit = power_law(&diffs).ok_or(SaddleNodeError::NoFit)?;
+    let naive_fit = power_law(&naive).ok_or(SaddleNodeError::NoFit)?;
+    let near = logspace(1e-8, 1e-2, 25)
+        .into_iter()
+        .map(|da| Ok((da, speed(ca.alpha_star + da)?)))
+        .collect::<Result<Vec<_>, ModelError>>()?;
+    let t_star_measured = (period(1e-8)? - period(1e-6)?) / (1e4 - 1e3);
+    Ok(SaddleNodeLaw {
+        alpha_star: ca.alpha_star,
+        exponent: -fit.slope,
+        exponent_stderr: fit.slope_stderr,
+        exponent_naive: naive_fit.slope,
+        t_star_measured,
+        t_star_analytic: saddle_node_prefactor(disk, ca.theta, ca.q_second_derivative),
+        speeds,
+        near,
     })
 }
