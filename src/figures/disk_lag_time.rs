@@ -2,21 +2,21 @@
 //! the viscous limit), on one inertial disk (σ = 0.12, M = 5).
 //!
 //! t_lag: released from rest at the bottleneck θ* at α = α* + δα, the time until θ − θ* = π
-//! ([`crate::analysis::disk_dynamics::lag_time`]). As for the period, t_lag = A δα^(−β) + C, so
+//! ([`crate::analysis::disk_dynamics::lag_time`]; the law by
+//! [`crate::analysis::disk_dynamics::lag_time_law`]). As for the period, t_lag = A δα^(−β) + C, so
 //! β is fitted on differences t(δα) − t(2δα) over δα = 1e-7…1e-5 (expect β = 1/2 for every mass:
 //! the time is spent at the saddle-node ghost, where inertia does not matter). Inertia adds
 //! corrections of relative size ≈ (1.5 m)·√δα, so the heaviest disk needs δα ≲ 1e-5 to show it:
 //! on the default disk m/m0 = 10 gives β = 0.4904 fitted on δα ≤ 1e-4 and 0.4959 on δα ≤ 1e-5,
 //! while m/m0 = 0, 0.5, 2 give 0.4997, 0.4995, 0.4989.
 
-use anyhow::{Result, anyhow};
+use anyhow::Result;
 use serde::Serialize;
 
-use super::{FigureData, FigureOptions, par_map, progress};
+use super::{FigureData, FigureOptions, progress};
 use crate::analysis::critical_angle;
-use crate::analysis::disk_dynamics::lag_time;
-use crate::analysis::fit::{logspace, power_law};
-use crate::dynamics::Ramp;
+use crate::analysis::disk_dynamics::lag_time_law;
+use crate::analysis::fit::logspace;
 use crate::geometry::Body;
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
@@ -63,39 +63,19 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
         if opts.quick { 1e-5 } else { 1e-2 },
         if opts.quick { 4 } else { 19 },
     );
-    // Every (mass, δα) pair and its double, in parallel.
-    let jobs: Vec<(f64, f64)> = masses
-        .iter()
-        .flat_map(|&m| deltas.iter().flat_map(move |&d| [(m, d), (m, 2.0 * d)]))
-        .collect();
-    let bar = progress(jobs.len(), "lag times");
-    let times = par_map(jobs.len(), &bar, |k| -> Result<f64> {
-        let (m, d) = jobs[k];
-        let ramp = Ramp::new(ca.alpha_star + d, m)?;
-        lag_time(&disk, &ramp, ca.theta, std::f64::consts::PI, 1e-11, 1e7)?
-            .ok_or_else(|| anyhow!("m/m0 = {m}, δα = {d}: the disk did not roll away"))
-    });
-    let times: Vec<f64> = times.into_iter().collect::<Result<_>>()?;
+    let bar = progress(2 * masses.len() * deltas.len(), "lag times");
+    let laws = lag_time_law(&disk, &masses, &deltas, &|| bar.inc(1))?;
+    bar.finish_and_clear();
     let mut rows = Vec::new();
     let mut fits = Vec::new();
     let mut curves = Vec::new();
-    for (mi, &m) in masses.iter().enumerate() {
-        let mut diffs = Vec::new();
-        let mut pts = Vec::new();
-        for (di, &d) in deltas.iter().enumerate() {
-            let k = 2 * (mi * deltas.len() + di);
-            let (t1, t2) = (times[k], times[k + 1]);
-            rows.push(vec![m, d, t1]);
-            pts.push((d, t1));
-            if d <= 1e-5 {
-                diffs.push((d, t1 - t2));
-            }
-        }
-        let f = power_law(&diffs).ok_or_else(|| anyhow!("m/m0 = {m}: no fit"))?;
+    for (mi, law) in laws.iter().enumerate() {
+        let m = law.mass_ratio;
+        rows.extend(law.lag_times.iter().map(|&(d, t)| vec![m, d, t]));
         fits.push(MassFit {
             mass_ratio: m,
-            exponent: -f.slope,
-            exponent_stderr: f.slope_stderr,
+            exponent: law.exponent,
+            exponent_stderr: law.exponent_stderr,
         });
         curves.push(Series {
             label: if m == 0.0 {
@@ -103,7 +83,7 @@ pub fn compute(opts: &FigureOptions) -> Result<FigureData<Summary>> {
             } else {
                 format!("m/m0 = {m}")
             },
-            points: pts,
+            points: law.lag_times.clone(),
             color: PALETTE[mi],
             style: Style::LineMarkers,
         });

@@ -12,6 +12,7 @@
 //! - **Fixed points** (SI §1D): θ̇ = 0 and r sin α − r' cos α = 0; stable where the drive
 //!   decreases through zero (a restoring torque), saddles where it increases.
 
+use rayon::prelude::*;
 use serde::Serialize;
 
 use super::critical_angle::critical_angle;
@@ -501,4 +502,113 @@ pub fn saddle_node_law(disk: &Disk, alphas: &[f64]) -> Result<SaddleNodeLaw, Sad
         speeds,
         near,
     })
+}
+
+/// The lag time's law at one m/m0 ([`lag_time_law`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LagLaw {
+    /// m/m0 (0: viscous).
+    pub mass_ratio: f64,
+    /// (δα, t_lag) for each δα given.
+    pub lag_times: Vec<(f64, f64)>,
+    /// β of t(δα) − t(2δα) ∝ δα^(−β), fitted on the δα ≤ 1e-5 (the differences cancel t_lag's
+    /// regular part; expect ½).
+    pub exponent: f64,
+    /// Its standard error.
+    pub exponent_stderr: f64,
+}
+
+/// Why [`lag_time_law`] failed.
+#[derive(Debug, thiserror::Error)]
+pub enum LagLawError {
+    /// A bad α or m/m0.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// An integration failed.
+    #[error(transparent)]
+    Integrate(#[from] IntegrateError),
+    /// The disk had not rolled half a turn by t = 10⁷.
+    #[error("m/m0 = {mass_ratio}, δα = {delta}: the disk did not roll away")]
+    NeverRolled {
+        /// m/m0.
+        mass_ratio: f64,
+        /// δα.
+        delta: f64,
+    },
+    /// Fewer than two δα ≤ 1e-5 to fit.
+    #[error("m/m0 = {0}: no fit")]
+    NoFit(f64),
+}
+
+/// Paper Fig. 2f: the lag time (released from rest at θ*, until θ − θ* = π; DOP853 at
+/// rtol 1e-11) at α* + δα and α* + 2δα for every m/m0 in `masses` and δα in `deltas`, in
+/// parallel (two runs per (m/m0, δα) pair; `on_run` is called after each, for a progress bar),
+/// and the exponent fitted on the differences.
+///
+/// # Example
+///
+/// ```
+/// use rollphase_core::analysis::disk_dynamics::lag_time_law;
+/// use rollphase_core::geometry::first_convex_disk;
+/// let (disk, _) = first_convex_disk(1, 0.12, 5)?;
+/// let laws = lag_time_law(&disk, &[0.0, 2.0], &[1e-8, 1e-7, 1e-6, 1e-5], &|| {})?;
+/// // t_lag ∝ δα^(−1/2), whatever the mass: the time is spent at the saddle-node ghost.
+/// for law in &laws {
+///     assert!((law.exponent - 0.5).abs() < 0.01, "{law:?}");
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn lag_time_law(
+    disk: &Disk,
+    masses: &[f64],
+    deltas: &[f64],
+    on_run: &(dyn Fn() + Sync),
+) -> Result<Vec<LagLaw>, LagLawError> {
+    let ca = critical_angle(&Body::Disk(disk.clone()));
+    // Every (mass, δα) pair and its double.
+    let jobs: Vec<(f64, f64)> = masses
+        .iter()
+        .flat_map(|&m| deltas.iter().flat_map(move |&d| [(m, d), (m, 2.0 * d)]))
+        .collect();
+    // One task per run: their costs differ by orders of magnitude.
+    let times: Vec<Result<f64, LagLawError>> = (0..jobs.len())
+        .into_par_iter()
+        .with_max_len(1)
+        .map(|k| {
+            let (m, d) = jobs[k];
+            let ramp = Ramp::new(ca.alpha_star + d, m)?;
+            let t = lag_time(disk, &ramp, ca.theta, std::f64::consts::PI, 1e-11, 1e7)?.ok_or(
+                LagLawError::NeverRolled {
+                    mass_ratio: m,
+                    delta: d,
+                },
+            );
+            on_run();
+            t
+        })
+        .collect();
+    let times: Vec<f64> = times.into_iter().collect::<Result<_, _>>()?;
+    masses
+        .iter()
+        .enumerate()
+        .map(|(mi, &m)| {
+            let mut diffs = Vec::new();
+            let mut lag_times = Vec::new();
+            for (di, &d) in deltas.iter().enumerate() {
+                let k = 2 * (mi * deltas.len() + di);
+                let (t1, t2) = (times[k], times[k + 1]);
+                lag_times.push((d, t1));
+                if d <= 1e-5 {
+                    diffs.push((d, t1 - t2));
+                }
+            }
+            let fit = power_law(&diffs).ok_or(LagLawError::NoFit(m))?;
+            Ok(LagLaw {
+                mass_ratio: m,
+                lag_times,
+                exponent: -fit.slope,
+                exponent_stderr: fit.slope_stderr,
+            })
+        })
+        .collect()
 }
