@@ -26,12 +26,13 @@ use serde::Serialize;
 
 use super::shard::{Fields, Record};
 use super::sphere_orbits::random_orientation;
-use super::{Computed, FigureData, FigureOptions, PAPER_ALPHA, par_map, sphere_alpha_star};
+use super::{Computed, FigureData, FigureOptions, PAPER_ALPHA, sphere_alpha_star};
+use crate::analysis::critical_angle::paper_spheres_with_alpha_star;
 use crate::analysis::sphere_orbits::{Decide, RunEnd, decided_run};
 use crate::analysis::studies::decided_from_rest;
 use crate::dynamics::Ramp;
+use crate::geometry::Sphere;
 use crate::geometry::sphere::angles;
-use crate::geometry::{Body, Sphere, paper_sphere};
 use crate::plot::{Panel, Series, SeriesLabelPosition, Style};
 use glam::DVec3;
 
@@ -127,8 +128,7 @@ const T_CAP: f64 = 20_000.0;
 /// Crossing points that repeat to this close a cycle.
 const CYCLE_TOL: f64 = 1e-5;
 
-/// How a run from rest at orientation `o` ends: its period multiplicity k, or 0 at rest, or
-/// `None` when still undecided at the cap.
+/// How a run from rest at orientation `o` ends ([`DecidedRun::multiplicity`]).
 fn run_period(
     body: &Sphere,
     alpha: f64,
@@ -137,48 +137,7 @@ fn run_period(
     o: usize,
     decide: &Decide,
 ) -> Result<Option<usize>> {
-    let r = decided_from_rest(body, &Ramp::new(alpha, mass)?, seed, o, decide)?;
-    Ok(match r.end {
-        RunEnd::Periodic => r.cycle.map(|c| c.0),
-        RunEnd::Rest => Some(0),
-        RunEnd::Undecided => None,
-    })
-}
-
-/// The first `n` paper-generator bodies (numpy seeds from 0) that are convex with
-/// `from` ≤ α* < `below`.
-fn cross_bodies(n: usize, from: f64, below: f64) -> Result<Vec<(u32, Sphere)>> {
-    let mut found = Vec::new();
-    let chunk = 64u32;
-    let mut next_seed = 0u32;
-    while found.len() < n {
-        let bar = indicatif::ProgressBar::hidden();
-        let batch = par_map(chunk as usize, &bar, |i| -> Result<Option<(u32, Sphere)>> {
-            let seed = next_seed + i as u32;
-            let b = paper_sphere(seed, 0.25, 5)?;
-            if Body::Sphere(b.clone()).check_convex().is_err() {
-                return Ok(None);
-            }
-            let a = sphere_alpha_star(&b);
-            if a < from || a >= below {
-                return Ok(None);
-            }
-            Ok(Some((seed, b)))
-        });
-        for r in batch {
-            if let Some(x) = r? {
-                found.push(x);
-            }
-        }
-        next_seed += chunk;
-        if next_seed > 100_000 {
-            return Err(anyhow!(
-                "fewer than {n} convex bodies with {from} ≤ α* < {below} among 100 000 seeds"
-            ));
-        }
-    }
-    found.truncate(n);
-    Ok(found)
+    Ok(decided_from_rest(body, &Ramp::new(alpha, mass)?, seed, o, decide)?.multiplicity())
 }
 
 /// The bodies of one α* band of the cross-body statistic and the starts each one gets.
@@ -195,7 +154,7 @@ impl CrossBand {
             from,
             below,
             orientations,
-            bodies: cross_bodies(n, from, below)?,
+            bodies: paper_spheres_with_alpha_star(n, from, below)?,
         })
     }
 

@@ -6,7 +6,8 @@ use glam::DVec3;
 use serde::Serialize;
 
 use crate::geometry::{
-    Body, Disk, DiskMode, ShapeError, first_convex_disk, refine_sphere, sphere, sphere_grid_size,
+    Body, Disk, DiskMode, ShapeError, Sphere, first_convex_disk, refine_sphere, sphere,
+    sphere_grid_size,
 };
 
 /// α* and its maximiser.
@@ -166,4 +167,65 @@ pub fn convex_disk_with_alpha_star(seed: u64, target: f64) -> Result<Disk, Shape
     }]);
     Body::Disk(d.clone()).check_convex()?;
     Ok(d)
+}
+
+/// The first `n` of the paper authors' 3D bodies (σ = 0.25, l ≤ 5; numpy seeds 0, 1, 2, …) that
+/// are strictly convex with `from` ≤ α* < `below`, with their seeds: the other bodies of the
+/// cross-body statistics. Seeds are tried 64 at a time in parallel, up to 100 000.
+///
+/// # Example
+///
+/// ```
+/// use rollphase_core::analysis::critical_angle::paper_spheres_with_alpha_star;
+/// use rollphase_core::geometry::Body;
+/// let bodies = paper_spheres_with_alpha_star(2, 0.13, 0.15)?;
+/// assert_eq!(bodies.len(), 2);
+/// for (_, sphere) in bodies {
+///     let alpha_star = Body::Sphere(sphere).alpha_star();
+///     assert!((0.13..0.15).contains(&alpha_star));
+/// }
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
+pub fn paper_spheres_with_alpha_star(
+    n: usize,
+    from: f64,
+    below: f64,
+) -> Result<Vec<(u32, Sphere)>, ShapeError> {
+    use rayon::prelude::*;
+    let mut found = Vec::new();
+    let chunk = 64u32;
+    let mut next_seed = 0u32;
+    while found.len() < n {
+        let batch: Vec<Result<Option<(u32, Sphere)>, ShapeError>> = (0..chunk)
+            .into_par_iter()
+            .with_max_len(1)
+            .map(|i| {
+                let seed = next_seed + i;
+                let b = crate::geometry::paper_sphere(seed, 0.25, 5)?;
+                let body = Body::Sphere(b);
+                if body.check_convex().is_err() {
+                    return Ok(None);
+                }
+                let a = critical_angle(&body).alpha_star;
+                let Body::Sphere(b) = body else {
+                    unreachable!("built as a sphere above")
+                };
+                if a < from || a >= below {
+                    return Ok(None);
+                }
+                Ok(Some((seed, b)))
+            })
+            .collect();
+        for r in batch {
+            if let Some(x) = r? {
+                found.push(x);
+            }
+        }
+        next_seed += chunk;
+        if next_seed > 100_000 {
+            return Err(ShapeError::TooFewBodies { n, from, below });
+        }
+    }
+    found.truncate(n);
+    Ok(found)
 }

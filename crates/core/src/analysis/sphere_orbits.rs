@@ -430,6 +430,30 @@ pub struct DecidedRun {
     pub t_end: f64,
 }
 
+impl DecidedRun {
+    /// The run's period multiplicity: k for a cycle of k crossings, 0 at rest, `None` when still
+    /// undecided (the statistic of paper Fig. 4e).
+    ///
+    /// ```
+    /// use rollphase_core::analysis::sphere_orbits::{Decide, decided_run};
+    /// use rollphase_core::dynamics::Ramp;
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::glam::DQuat;
+    /// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+    /// let decide = Decide { t_min: 1200.0, t_cap: 6000.0, max_k: 4, tol: 1e-5 };
+    /// let run = decided_run(&s, &Ramp::new(0.15, 6.0)?, DQuat::IDENTITY, &decide, (0.0, 0.0, 0), 1e-9)?;
+    /// assert_eq!(run.multiplicity(), Some(2));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn multiplicity(&self) -> Option<usize> {
+        match self.end {
+            RunEnd::Periodic => self.cycle.map(|c| c.0),
+            RunEnd::Rest => Some(0),
+            RunEnd::Undecided => None,
+        }
+    }
+}
+
 /// A run of the 3D model (viscous if m/m0 = 0, else inertial from rest) that goes on until its
 /// fate is decided: at least `decide.t_min`, then until its crossings close a steady cycle
 /// ([`settled_cycle`] with `decide.max_k`, `decide.tol`, checked at each new crossing) or it comes

@@ -114,6 +114,16 @@ pub enum ShapeError {
         /// The generator's parameters, as " (σ = …, M = …)", or empty.
         parameters: String,
     },
+    /// Fewer bodies than asked in an α* band ([`crate::analysis::critical_angle::paper_spheres_with_alpha_star`]).
+    #[error("fewer than {n} convex bodies with {from} ≤ α* < {below} among 100 000 seeds")]
+    TooFewBodies {
+        /// How many were asked for.
+        n: usize,
+        /// The band's lower end.
+        from: f64,
+        /// The band's upper end (excluded).
+        below: f64,
+    },
     /// A generator parameter out of range.
     #[error("{name} = {value} is not allowed (needs {allowed})")]
     BadParameter {
