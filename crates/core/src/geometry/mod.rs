@@ -738,17 +738,14 @@ fn bad_sigma(sigma: f64) -> ShapeError {
 /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
 /// ```
 pub fn first_convex_disk(seed: u64, sigma: f64, modes: u32) -> Result<(Disk, u64), ShapeError> {
-    for s in seed..seed.saturating_add(1000) {
-        let d = random_disk(s, sigma, modes)?;
-        if Body::Disk(d.clone()).check_convex().is_ok() {
-            return Ok((d, s));
-        }
+    match first_convex(seed, |s| Ok(Body::Disk(random_disk(s, sigma, modes)?)))? {
+        Some((Body::Disk(d), s)) => Ok((d, s)),
+        _ => Err(ShapeError::NoConvexSeed {
+            what: "disk",
+            from: seed,
+            parameters: format!(" (σ = {sigma}, M = {modes})"),
+        }),
     }
-    Err(ShapeError::NoConvexSeed {
-        what: "disk",
-        from: seed,
-        parameters: format!(" (σ = {sigma}, M = {modes})"),
-    })
 }
 
 /// The first strictly convex [`random_sphere`] at seed `seed`, `seed` + 1, … (1000 tried): the
@@ -758,15 +755,27 @@ pub fn first_convex_sphere(
     sigma: f64,
     degree: u32,
 ) -> Result<(Sphere, u64), ShapeError> {
+    match first_convex(seed, |s| Ok(Body::Sphere(random_sphere(s, sigma, degree)?)))? {
+        Some((Body::Sphere(b), s)) => Ok((b, s)),
+        _ => Err(ShapeError::NoConvexSeed {
+            what: "sphere",
+            from: seed,
+            parameters: String::new(),
+        }),
+    }
+}
+
+/// The first strictly convex body `make(s)` for s = `seed`, `seed` + 1, … (1000 tried), with its
+/// seed; `None` when none is.
+fn first_convex(
+    seed: u64,
+    make: impl Fn(u64) -> Result<Body, ShapeError>,
+) -> Result<Option<(Body, u64)>, ShapeError> {
     for s in seed..seed.saturating_add(1000) {
-        let b = random_sphere(s, sigma, degree)?;
-        if Body::Sphere(b.clone()).check_convex().is_ok() {
-            return Ok((b, s));
+        let body = make(s)?;
+        if body.check_convex().is_ok() {
+            return Ok(Some((body, s)));
         }
     }
-    Err(ShapeError::NoConvexSeed {
-        what: "sphere",
-        from: seed,
-        parameters: String::new(),
-    })
+    Ok(None)
 }
