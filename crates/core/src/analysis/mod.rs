@@ -10,6 +10,7 @@ pub mod disk_dynamics;
 pub mod fit;
 pub mod halting;
 pub mod lag_fit;
+pub mod orbit_diagram;
 pub mod period;
 pub mod return_map;
 pub mod sphere_orbits;
