@@ -4,7 +4,9 @@
 
 use rollphase::analysis::sphere_orbits::Decide;
 use rollphase::analysis::sphere_orbits::{field_lattice, poincare_field};
-use rollphase::analysis::studies::{StudyError, cruising_fraction, period_counts, poincare_map};
+use rollphase::analysis::studies::{
+    StudyError, cruising_fraction, doubling_across_bodies, period_counts, poincare_map,
+};
 use rollphase::dynamics::Ramp;
 use rollphase::figures::{self, FigureOptions};
 use rollphase::geometry::Body;
@@ -68,6 +70,27 @@ fn the_period_counts_are_sphere_doublings() {
         period_counts(&body, 0.15, 6.0, 4, 1, &Decide { max_k: 9, ..decide }),
         Err(StudyError::BadArgument(_))
     ));
+    // The cross-body statistics (other bodies at m/m0 = 6, their runs deciding from t = 2000).
+    let cross = Decide {
+        t_min: 2000.0,
+        ..decide
+    };
+    for (d, n) in [(&s.cross_body, 4), (&s.cross_body_near_critical, 2)] {
+        let band = (d.alpha_star_from, d.alpha_star_below);
+        let c = doubling_across_bodies(n, band, d.orientations, s.alpha, 6.0, opts.seed, &cross)
+            .unwrap();
+        assert_eq!(c.seeds, d.seeds);
+        assert_eq!(
+            (c.with_period_2, c.all_period_2, c.with_undecided),
+            (d.with_period_2, d.all_period_2, d.with_undecided)
+        );
+    }
+    for bodies in [0, 1001] {
+        assert!(matches!(
+            doubling_across_bodies(bodies, (0.0, 0.13), 2, 0.15, 6.0, 1, &cross),
+            Err(StudyError::BadArgument(_))
+        ));
+    }
     let _ = std::fs::remove_dir_all(&opts.out);
 }
 

@@ -29,7 +29,9 @@ use super::sphere_orbits::random_orientation;
 use super::{Computed, FigureData, FigureOptions, PAPER_ALPHA, sphere_alpha_star};
 use crate::analysis::critical_angle::paper_spheres_with_alpha_star;
 use crate::analysis::sphere_orbits::{Decide, RunEnd, decided_run};
-use crate::analysis::studies::decided_from_rest;
+use crate::analysis::studies::{
+    DoublingAcrossBodies, PeriodCounts, RunOutcome, decided_from_rest, median_cycle_duration,
+};
 use crate::dynamics::Ramp;
 use crate::geometry::Sphere;
 use crate::geometry::sphere::angles;
@@ -61,29 +63,6 @@ pub struct MassResult {
     pub median_period_over_perfect: f64,
 }
 
-/// Is period doubling at m/m0 = 6 generic? Paper-generator bodies in a band of α*.
-#[derive(Debug, Clone, Serialize)]
-pub struct CrossBody {
-    /// The band: lowest α* included.
-    pub alpha_star_from: f64,
-    /// The band: α* below this.
-    pub alpha_star_below: f64,
-    /// Bodies examined (the first convex ones in the band among numpy seeds 0, 1, …).
-    pub bodies: usize,
-    /// Their numpy seeds.
-    pub seeds: Vec<u32>,
-    /// Orientations per body.
-    pub orientations: usize,
-    /// Bodies with at least one period-2 attractor.
-    pub with_period_2: usize,
-    /// with_period_2 / bodies.
-    pub fraction_with_period_2: f64,
-    /// Bodies whose every run was period 2.
-    pub all_period_2: usize,
-    /// Bodies with a run that neither closed (k ≤ 4) nor came to rest by the cap.
-    pub with_undecided: usize,
-}
-
 /// Headline numbers.
 #[derive(Debug, Serialize)]
 pub struct Summary {
@@ -107,10 +86,10 @@ pub struct Summary {
     /// Per mass.
     pub masses: Vec<MassResult>,
     /// The same question on other bodies: α* < 0.13 (α/α* > 1.15).
-    pub cross_body: CrossBody,
+    pub cross_body: DoublingAcrossBodies,
     /// The same for bodies as close to rolling as the paper's (0.13 ≤ α* < 0.15, α/α* < 1.15;
     /// the paper's body has α* = 0.139).
-    pub cross_body_near_critical: CrossBody,
+    pub cross_body_near_critical: DoublingAcrossBodies,
 }
 
 /// How long a run goes at least, and at most, and when it is decided.
@@ -129,6 +108,8 @@ const T_CAP: f64 = 20_000.0;
 const CYCLE_TOL: f64 = 1e-5;
 
 /// How a run from rest at orientation `o` ends ([`DecidedRun::multiplicity`]).
+///
+/// [`DecidedRun::multiplicity`]: crate::analysis::sphere_orbits::DecidedRun::multiplicity
 fn run_period(
     body: &Sphere,
     alpha: f64,
@@ -142,19 +123,17 @@ fn run_period(
 
 /// The bodies of one α* band of the cross-body statistic and the starts each one gets.
 struct CrossBand {
-    from: f64,
-    below: f64,
+    band: (f64, f64),
     orientations: usize,
     bodies: Vec<(u32, Sphere)>,
 }
 
 impl CrossBand {
-    fn find(n: usize, from: f64, below: f64, orientations: usize) -> Result<Self> {
+    fn find(n: usize, band: (f64, f64), orientations: usize) -> Result<Self> {
         Ok(CrossBand {
-            from,
-            below,
+            band,
             orientations,
-            bodies: paper_spheres_with_alpha_star(n, from, below)?,
+            bodies: paper_spheres_with_alpha_star(n, band.0, band.1)?,
         })
     }
 
@@ -162,25 +141,9 @@ impl CrossBand {
         self.bodies.len() * self.orientations
     }
 
-    /// The fraction of the band's bodies whose runs at m/m0 = 6 close with period 2, from their
-    /// multiplicities (body-major).
-    fn statistic(&self, periods: &[Option<usize>]) -> CrossBody {
-        let per_body: Vec<&[Option<usize>]> = periods.chunks(self.orientations).collect();
-        let with_period_2 = per_body.iter().filter(|r| r.contains(&Some(2))).count();
-        CrossBody {
-            alpha_star_from: self.from,
-            alpha_star_below: self.below,
-            bodies: self.bodies.len(),
-            seeds: self.bodies.iter().map(|b| b.0).collect(),
-            orientations: self.orientations,
-            with_period_2,
-            fraction_with_period_2: with_period_2 as f64 / self.bodies.len() as f64,
-            all_period_2: per_body
-                .iter()
-                .filter(|r| r.iter().all(|k| *k == Some(2)))
-                .count(),
-            with_undecided: per_body.iter().filter(|r| r.contains(&None)).count(),
-        }
+    fn statistic(&self, periods: &[Option<usize>]) -> DoublingAcrossBodies {
+        let seeds = self.bodies.iter().map(|b| b.0).collect();
+        DoublingAcrossBodies::from_periods(self.band, seeds, self.orientations, periods)
     }
 }
 
@@ -267,39 +230,23 @@ impl Record for Run {
     }
 }
 
-/// One mass's runs (in orientation order): the counts of each period, the median cycle, its
-/// panel of contact paths, and its rows (appended to `rows`). `first` is the index of its first
-/// run among all, `t1` the viscous period.
+/// One mass's runs (in orientation order): the counts of each period and the median cycle
+/// (from the core), its panel of contact paths, and its rows (appended to `rows`); `t1` is the
+/// viscous period.
 fn mass_result(
     m: f64,
-    cycles: &[Option<(usize, f64)>],
+    outcomes: &[RunOutcome],
     paths: &[&Vec<DVec3>],
-    ends: &[(bool, f64)],
-    (first, t1, alpha): (usize, f64, f64),
+    (t1, alpha): (f64, f64),
     rows: &mut Vec<Vec<f64>>,
 ) -> Result<(MassResult, Panel)> {
-    let n = cycles.len();
-    let mut counts = [0usize; 5];
-    let (mut at_rest, mut longest_run) = (0, 0.0f64);
-    let mut ratios = Vec::new();
+    let n = outcomes.len();
+    let counts = PeriodCounts::of(outcomes)?;
     let mut series = Vec::new();
-    for o in 0..n {
-        match cycles[o] {
-            Some((kk, d)) => {
-                *counts
-                    .get_mut(kk.wrapping_sub(1))
-                    .ok_or_else(|| anyhow!("run {}: a cycle of {kk} crossings", first + o))? += 1;
-                ratios.push(d / t1);
-            }
-            None => {
-                counts[4] += 1;
-                at_rest += usize::from(ends[o].0);
-            }
-        }
-        longest_run = longest_run.max(ends[o].1);
+    for (o, path) in paths.iter().enumerate() {
         // The contact path in (φ, θ), broken where φ wraps.
         let mut piece: Vec<(f64, f64)> = Vec::new();
-        for u in paths[o] {
+        for u in path.iter() {
             let (th, ph) = angles(*u);
             if piece
                 .last()
@@ -322,15 +269,15 @@ fn mass_result(
             style: Style::Line,
         });
     }
-    ratios.sort_by(f64::total_cmp);
-    let median = ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN);
+    let median = median_cycle_duration(outcomes, None).map_or(f64::NAN, |d| d / t1);
     let perfect = std::f64::consts::TAU / alpha.sin();
-    let majority = (0..4).max_by_key(|&i| counts[i]).unwrap_or(0) + 1;
+    let cycle_counts = counts.cycle_counts;
+    let majority = (0..4).max_by_key(|&i| cycle_counts[i]).unwrap_or(0) + 1;
     let panel = Panel {
         title: format!(
             "m/m0 = {m}: period {majority} in {} of {n} runs{}",
-            counts[majority - 1],
-            match counts[4] - at_rest {
+            cycle_counts[majority - 1],
+            match counts.undecided {
                 0 => String::new(),
                 u => format!(", {u} undecided"),
             }
@@ -345,10 +292,10 @@ fn mass_result(
     };
     let result = MassResult {
         mass_ratio: m,
-        cycle_counts: counts,
-        at_rest,
-        undecided: counts[4] - at_rest,
-        longest_run,
+        cycle_counts,
+        at_rest: counts.at_rest,
+        undecided: counts.undecided,
+        longest_run: counts.longest_run,
         median_period_ratio: median,
         median_period_over_perfect: median * t1 / perfect,
     };
@@ -385,8 +332,8 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
         (CROSS_BODIES, 30, 4)
     };
     let bands = [
-        CrossBand::find(n_bodies, 0.0, 0.13, n_orient)?,
-        CrossBand::find(n_near, 0.13, 0.15, n_orient)?,
+        CrossBand::find(n_bodies, (0.0, 0.13), n_orient)?,
+        CrossBand::find(n_near, (0.13, 0.15), n_orient)?,
     ];
     let cross_jobs: Vec<(usize, usize, usize)> = bands
         .iter()
@@ -431,9 +378,8 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
         },
     ));
     let (main_runs, cross_runs) = all.split_at(jobs.len());
-    let mut cycles = Vec::with_capacity(jobs.len());
+    let mut outcomes = Vec::with_capacity(jobs.len());
     let mut paths = Vec::with_capacity(jobs.len());
-    let mut ends = Vec::with_capacity(jobs.len());
     for r in main_runs {
         let Run::Main {
             cycle,
@@ -446,9 +392,12 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
                 "sphere-doubling: the runs came back in the wrong order"
             ));
         };
-        cycles.push(*cycle);
+        outcomes.push(RunOutcome {
+            cycle: *cycle,
+            at_rest: *rest,
+            t_end: *t_end,
+        });
         paths.push(path);
-        ends.push((*rest, *t_end));
     }
     let mut periods = Vec::with_capacity(cross_runs.len());
     for r in cross_runs {
@@ -462,12 +411,8 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
     let (first_band, near_band) = periods.split_at(bands[0].runs());
     let cross_body = bands[0].statistic(first_band);
     let cross_body_near_critical = bands[1].statistic(near_band);
-    let mut viscous: Vec<f64> = (0..n)
-        .filter_map(|o| cycles[o].filter(|c| c.0 == 1).map(|c| c.1))
-        .collect();
-    viscous.sort_by(f64::total_cmp);
-    let t1 = *viscous
-        .get(viscous.len() / 2)
+    // The viscous period: the median period-1 cycle at m/m0 = 0.
+    let t1 = median_cycle_duration(&outcomes[..n], Some(1))
         .ok_or_else(|| anyhow!("no viscous run closed an orbit"))?;
     let mut masses = Vec::new();
     let mut rows = Vec::new();
@@ -475,10 +420,9 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
     for (mi, &m) in MASSES.iter().enumerate() {
         let (result, panel) = mass_result(
             m,
-            &cycles[mi * n..(mi + 1) * n],
+            &outcomes[mi * n..(mi + 1) * n],
             &paths[mi * n..(mi + 1) * n],
-            &ends[mi * n..(mi + 1) * n],
-            (mi * n, t1, alpha),
+            (t1, alpha),
             &mut rows,
         )?;
         masses.push(result);

@@ -68,6 +68,17 @@ pub enum StudyError {
     /// Stopped on request (the `_until` variants).
     #[error("the study was stopped before its end")]
     Stopped,
+    /// The bodies of a cross-body statistic could not be found.
+    #[error(transparent)]
+    Shape(#[from] crate::geometry::ShapeError),
+    /// A run's cycle is not 1 to 4 crossings long.
+    #[error("run {run}: a cycle of {k} crossings (1 to 4 are counted)")]
+    BadCycle {
+        /// Which run, in the order given.
+        run: usize,
+        /// Its cycle length.
+        k: usize,
+    },
 }
 
 fn stopped(stop: &AtomicBool) -> Result<(), StudyError> {
@@ -341,6 +352,213 @@ pub struct PeriodCounts {
     pub longest_run: f64,
 }
 
+/// How one run from rest ended, as the period statistics read it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunOutcome {
+    /// The cycle its crossings of ∂Ω closed: (k, its duration).
+    pub cycle: Option<(usize, f64)>,
+    /// It came to rest (else, without a cycle, it was still undecided at the cap).
+    pub at_rest: bool,
+    /// When its fate was decided, or the cap.
+    pub t_end: f64,
+}
+
+impl From<&DecidedRun> for RunOutcome {
+    fn from(r: &DecidedRun) -> Self {
+        RunOutcome {
+            cycle: r.cycle,
+            at_rest: r.end == RunEnd::Rest,
+            t_end: r.t_end,
+        }
+    }
+}
+
+impl PeriodCounts {
+    /// Counts the runs by cycle length, at rest and undecided, and their longest duration.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::studies::{PeriodCounts, RunOutcome};
+    /// let runs = [
+    ///     RunOutcome { cycle: Some((2, 87.0)), at_rest: false, t_end: 2000.0 },
+    ///     RunOutcome { cycle: None, at_rest: true, t_end: 150.0 },
+    ///     RunOutcome { cycle: None, at_rest: false, t_end: 20_000.0 },
+    /// ];
+    /// let c = PeriodCounts::of(&runs)?;
+    /// assert_eq!(c.cycle_counts, [0, 1, 0, 0, 2]);
+    /// assert_eq!((c.at_rest, c.undecided, c.longest_run), (1, 1, 20_000.0));
+    /// // A cycle of 5 crossings is not one the statistics count.
+    /// let five = [RunOutcome { cycle: Some((5, 1.0)), ..runs[0] }];
+    /// assert!(PeriodCounts::of(&five).is_err());
+    /// # Ok::<(), rollphase_core::analysis::studies::StudyError>(())
+    /// ```
+    pub fn of(runs: &[RunOutcome]) -> Result<Self, StudyError> {
+        let mut c = PeriodCounts {
+            cycle_counts: [0; 5],
+            at_rest: 0,
+            undecided: 0,
+            longest_run: 0.0,
+        };
+        for (run, r) in runs.iter().enumerate() {
+            match r.cycle {
+                Some((k, _)) => {
+                    *c.cycle_counts
+                        .get_mut(k.wrapping_sub(1))
+                        .filter(|_| k <= 4)
+                        .ok_or(StudyError::BadCycle { run, k })? += 1
+                }
+                None => {
+                    c.cycle_counts[4] += 1;
+                    if r.at_rest {
+                        c.at_rest += 1;
+                    } else {
+                        c.undecided += 1;
+                    }
+                }
+            }
+            c.longest_run = c.longest_run.max(r.t_end);
+        }
+        Ok(c)
+    }
+}
+
+/// The median duration of the closed cycles among `runs` (of `k` crossings only, if given):
+/// the middle one, the upper of the two for an even count; `None` if none closed.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::studies::{RunOutcome, median_cycle_duration};
+/// let run = |cycle| RunOutcome { cycle, at_rest: false, t_end: 2000.0 };
+/// let runs = [run(Some((1, 43.0))), run(Some((2, 87.0))), run(Some((1, 44.0))), run(None)];
+/// assert_eq!(median_cycle_duration(&runs, None), Some(44.0));
+/// assert_eq!(median_cycle_duration(&runs, Some(1)), Some(44.0));
+/// assert_eq!(median_cycle_duration(&runs, Some(3)), None);
+/// ```
+pub fn median_cycle_duration(runs: &[RunOutcome], k: Option<usize>) -> Option<f64> {
+    let mut durations: Vec<f64> = runs
+        .iter()
+        .filter_map(|r| r.cycle)
+        .filter(|c| k.is_none_or(|k| c.0 == k))
+        .map(|c| c.1)
+        .collect();
+    durations.sort_by(f64::total_cmp);
+    durations.get(durations.len() / 2).copied()
+}
+
+/// Is period doubling generic? The period multiplicities of paper-generator bodies in a band of
+/// α*, at one m/m0 (paper Fig. 4e asks it of one body).
+#[derive(Debug, Clone, Serialize)]
+pub struct DoublingAcrossBodies {
+    /// The band: lowest α* included.
+    pub alpha_star_from: f64,
+    /// The band: α* below this.
+    pub alpha_star_below: f64,
+    /// Bodies examined (the first convex ones in the band among numpy seeds 0, 1, …).
+    pub bodies: usize,
+    /// Their numpy seeds.
+    pub seeds: Vec<u32>,
+    /// Orientations per body.
+    pub orientations: usize,
+    /// Bodies with at least one period-2 attractor.
+    pub with_period_2: usize,
+    /// with_period_2 / bodies.
+    pub fraction_with_period_2: f64,
+    /// Bodies whose every run was period 2.
+    pub all_period_2: usize,
+    /// Bodies with a run that neither closed (k ≤ 4) nor came to rest by the cap.
+    pub with_undecided: usize,
+}
+
+impl DoublingAcrossBodies {
+    /// The statistic from each body's run multiplicities ([`DecidedRun::multiplicity`]:
+    /// k, 0 at rest, `None` undecided), body-major, `orientations` runs per body in the order
+    /// of `seeds`; `band` is (lowest α* included, α* below).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::studies::DoublingAcrossBodies;
+    /// // Two bodies, two runs each: the first doubles once, the second rests and stays open.
+    /// let periods = [Some(2), Some(1), Some(0), None];
+    /// let d = DoublingAcrossBodies::from_periods((0.0, 0.13), vec![4, 9], 2, &periods);
+    /// assert_eq!((d.with_period_2, d.all_period_2, d.with_undecided), (1, 0, 1));
+    /// assert_eq!(d.fraction_with_period_2, 0.5);
+    /// ```
+    pub fn from_periods(
+        band: (f64, f64),
+        seeds: Vec<u32>,
+        orientations: usize,
+        periods: &[Option<usize>],
+    ) -> Self {
+        let per_body: Vec<&[Option<usize>]> = periods.chunks(orientations.max(1)).collect();
+        let with_period_2 = per_body.iter().filter(|r| r.contains(&Some(2))).count();
+        DoublingAcrossBodies {
+            alpha_star_from: band.0,
+            alpha_star_below: band.1,
+            bodies: seeds.len(),
+            with_period_2,
+            fraction_with_period_2: with_period_2 as f64 / seeds.len() as f64,
+            seeds,
+            orientations,
+            all_period_2: per_body
+                .iter()
+                .filter(|r| r.iter().all(|k| *k == Some(2)))
+                .count(),
+            with_undecided: per_body.iter().filter(|r| r.contains(&None)).count(),
+        }
+    }
+}
+
+/// The cross-body statistic of period doubling: the first `bodies` convex paper-generator bodies
+/// with α* in `band` ([`crate::analysis::critical_angle::paper_spheres_with_alpha_star`]), each
+/// released from rest at `orientations` random orientations ([`random_orientation`] with
+/// `seed`) at ramp angle `alpha` and `mass_ratio`, every run going on as `decide` says; in
+/// parallel, one task per run.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::Decide;
+/// use rollphase_core::analysis::studies::doubling_across_bodies;
+/// let decide = Decide { t_min: 1200.0, t_cap: 6000.0, max_k: 4, tol: 1e-5 };
+/// let d = doubling_across_bodies(2, (0.13, 0.15), 1, 0.15, 6.0, 1, &decide)?;
+/// assert_eq!((d.bodies, d.seeds.len()), (2, 2));
+/// assert!(d.with_period_2 <= d.bodies);
+/// # Ok::<(), rollphase_core::analysis::studies::StudyError>(())
+/// ```
+pub fn doubling_across_bodies(
+    bodies: usize,
+    band: (f64, f64),
+    orientations: usize,
+    alpha: f64,
+    mass_ratio: f64,
+    seed: u64,
+    decide: &Decide,
+) -> Result<DoublingAcrossBodies, StudyError> {
+    check_counts(orientations, decide)?;
+    if !(1..=1000).contains(&bodies) {
+        return Err(StudyError::BadArgument(format!(
+            "bodies = {bodies} is not allowed (needs 1 ≤ bodies ≤ 1000)"
+        )));
+    }
+    let ramp = Ramp::new(alpha, mass_ratio)?;
+    let found =
+        crate::analysis::critical_angle::paper_spheres_with_alpha_star(bodies, band.0, band.1)?;
+    let periods: Vec<Option<usize>> = (0..found.len() * orientations)
+        .into_par_iter()
+        .with_max_len(1)
+        .map(|j| {
+            let (body, o) = (&found[j / orientations].1, j % orientations);
+            Ok(decided_from_rest(body, &ramp, seed, o, decide)?.multiplicity())
+        })
+        .collect::<Result<_, StudyError>>()?;
+    let seeds = found.iter().map(|b| b.0).collect();
+    Ok(DoublingAcrossBodies::from_periods(
+        band,
+        seeds,
+        orientations,
+        &periods,
+    ))
+}
+
 /// The period multiplicities of `orientations` runs released from rest at random orientations
 /// ([`random_orientation`] with `seed`) at ramp angle `alpha` and `mass_ratio` (0: viscous),
 /// each going on until `decide` says its fate is decided (paper Fig. 4e; `sphere-doubling`
@@ -396,27 +614,8 @@ pub fn period_counts_until(
             Ok(decided_from_rest(sphere, &ramp, seed, o, decide)?)
         })
         .collect::<Result<_, StudyError>>()?;
-    let mut c = PeriodCounts {
-        cycle_counts: [0; 5],
-        at_rest: 0,
-        undecided: 0,
-        longest_run: 0.0,
-    };
-    for r in &runs {
-        match r.cycle {
-            Some((k, _)) => c.cycle_counts[k - 1] += 1,
-            None => {
-                c.cycle_counts[4] += 1;
-                if r.end == RunEnd::Rest {
-                    c.at_rest += 1;
-                } else {
-                    c.undecided += 1;
-                }
-            }
-        }
-        c.longest_run = c.longest_run.max(r.t_end);
-    }
-    Ok(c)
+    let outcomes: Vec<RunOutcome> = runs.iter().map(RunOutcome::from).collect();
+    PeriodCounts::of(&outcomes)
 }
 
 /// A period-1 orbit found by [`periodic_orbits`]: the fixed point of the return map on ∂Ω
