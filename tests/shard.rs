@@ -207,6 +207,26 @@ fn a_sweep_writes_one_row_per_run_and_its_shards_merge_to_the_same_bytes() {
     ok(&["merge", parts.to_str().unwrap()]);
     same_bytes(&whole.join("sweep.csv"), &parts.join("sweep.csv"));
     same_bytes(&whole.join("summary.json"), &parts.join("summary.json"));
+
+    // The library's scan of the same grid gives the command line's counts, run by run.
+    let sweep = rollphase::figures::sweep::Sweep::load(&spec).unwrap();
+    let (runs, tally) = sweep.scan.run_all().unwrap();
+    assert_eq!(runs.len(), rows.len());
+    for (r, row) in runs.iter().zip(&rows) {
+        assert_eq!(r.rhs_evals.to_string(), row[col("rhs_evals")]);
+        assert_eq!(r.cruises().to_string(), row[col("cruising")]);
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(whole.join("summary.json")).unwrap())
+            .unwrap();
+    for (key, n) in [
+        ("halts", tally.halts),
+        ("periodic", tally.periodic),
+        ("undecided", tally.undecided),
+        ("cruising", tally.cruising),
+    ] {
+        assert_eq!(summary[key], n as u64, "{key}");
+    }
     let _ = std::fs::remove_dir_all(&root);
 }
 

@@ -4,11 +4,12 @@
 //! the same ensemble as the figures, so `--shard I/N` and `rollphase merge DIR` work the same
 //! way (see [`super::shard`] and docs/guide/cluster.md).
 //!
-//! Each run is [`settle_with`]: released from rest (viscous if m/m0 = 0), followed until it halts
-//! (|ω| < 1e-9), closes a cycle of k ≤ `max_multiplicity` crossings of ∂Ω twice in a row (points
+//! Each run is the core's [`Scan::run`] ([`crate::analysis::sphere_orbits::settle_with`]):
+//! released from rest (viscous if m/m0 = 0), followed until it halts (|ω| < 1e-9), closes a cycle of k ≤ `max_multiplicity` crossings of ∂Ω twice in a row (points
 //! to `point_tol`, durations to `period_rtol`), or reaches `t_max`. An undecided run counts as
 //! cruising if its final |ω| ≥ 1e-3 (as in `sphere-cruising`). Orientation o of a body is
-//! [`random_orientation`]`(body, orientation_seed, o)`, the one the figures use.
+//! [`crate::analysis::studies::random_orientation`]`(body, orientation_seed, o)`, the one the
+//! figures use. This module reads and checks the spec, shards the runs and writes the rows.
 //!
 //! A spec (all keys but `alpha` and one body source optional; TOML puts the plain keys before
 //! the `[bodies]` table):
@@ -38,9 +39,9 @@ use serde::{Deserialize, Serialize};
 use super::shard::{
     Ensemble, Ensembled, Fields, JobId, Record, ShardSet, ShardSpec, ShardWritten, run_ensemble,
 };
-use super::sphere_orbits::random_orientation;
 use super::{number_field, par_map};
-use crate::analysis::sphere_orbits::{Fate, Settle, settle_with};
+use crate::analysis::scan::{Scan, ScanTally};
+use crate::analysis::sphere_orbits::{Fate, Settle};
 use crate::dynamics::Ramp;
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
 use crate::geometry::{Body, ShapeFile, Sphere, paper_sphere, random_sphere};
@@ -274,22 +275,21 @@ fn parse_integrator(s: &str) -> Result<Method> {
     Ok(m)
 }
 
-/// A sweep ready to run: its bodies built and checked, its axes expanded.
+/// A sweep ready to run: its bodies built and checked, its axes expanded into the core's
+/// [`Scan`], which runs it.
 pub struct Sweep {
     /// The spec's text, as read (stored in shard files).
     pub text: String,
     /// The spec's folder (for relative body files).
     pub base: PathBuf,
-    /// The bodies, labelled ("paper:219", "seed:3", or the file).
-    pub bodies: Vec<(String, Sphere)>,
+    /// The bodies' labels ("paper:219", "seed:3", or the file), in the order of `scan.bodies`.
+    pub labels: Vec<String>,
     /// Generated seeds skipped as not convex.
     pub skipped: Vec<String>,
-    /// α values.
-    pub alphas: Vec<f64>,
-    /// m/m0 values.
-    pub masses: Vec<f64>,
-    /// Integrators with their spec names.
-    pub integrators: Vec<(String, Method)>,
+    /// The integrators' names in the spec, in the order of `scan.methods`.
+    pub integrator_names: Vec<String>,
+    /// The grid of runs.
+    pub scan: Scan,
     /// The spec.
     pub spec: SweepSpec,
 }
@@ -476,67 +476,52 @@ impl Sweep {
                 }
             }
         }
+        let (labels, bodies) = bodies.into_iter().unzip();
+        let (integrator_names, methods) = integrators.into_iter().unzip();
+        let scan = Scan {
+            bodies,
+            alphas,
+            masses,
+            orientations: spec.orientations,
+            orientation_seed: spec.orientation_seed,
+            methods,
+            settle: Settle {
+                t_max: spec.t_max,
+                point_tol: spec.point_tol,
+                period_rtol: spec.period_rtol,
+                max_k: spec.max_multiplicity,
+                ..Settle::default()
+            },
+        };
+        scan.check()?;
         Ok(Sweep {
             text: text.into(),
             base: base.to_path_buf(),
-            bodies,
+            labels,
             skipped,
-            alphas,
-            masses,
-            integrators,
+            integrator_names,
+            scan,
             spec,
         })
     }
 
     /// Runs in the sweep.
     pub fn runs(&self) -> usize {
-        self.bodies.len()
-            * self.alphas.len()
-            * self.masses.len()
-            * self.spec.orientations
-            * self.integrators.len()
+        self.scan.runs()
     }
 
-    /// Run k's (body, α, m/m0, orientation, integrator) indices: body-major, integrator fastest.
-    fn indices(&self, k: usize) -> [usize; 5] {
-        let sizes = [
-            self.bodies.len(),
-            self.alphas.len(),
-            self.masses.len(),
-            self.spec.orientations,
-            self.integrators.len(),
-        ];
-        let mut out = [0; 5];
-        let mut rest = k;
-        for d in (0..5).rev() {
-            out[d] = rest % sizes[d];
-            rest /= sizes[d];
-        }
-        out
-    }
-
+    /// Run k, with the run named in its error (body label, α, m/m0, orientation, integrator).
     fn run_one(&self, k: usize) -> Result<RunResult> {
-        let [b, a, m, o, i] = self.indices(k);
-        let (label, body) = &self.bodies[b];
-        let ramp = Ramp::new(self.alphas[a], self.masses[m])?;
-        let settle = Settle {
-            t_max: self.spec.t_max,
-            point_tol: self.spec.point_tol,
-            period_rtol: self.spec.period_rtol,
-            max_k: self.spec.max_multiplicity,
-            ..Settle::default()
-        };
-        let q0 = random_orientation(body, self.spec.orientation_seed, o);
-        let (fate, _, stats) = settle_with(body, &ramp, q0, &settle, self.integrators[i].1)
-            .with_context(|| {
-                format!(
-                    "run {k}: body {label}, α = {}, m/m0 = {}, orientation {o}, {}",
-                    self.alphas[a], self.masses[m], self.integrators[i].0
-                )
-            })?;
-        Ok(RunResult {
-            fate,
-            rhs_evals: stats.rhs_evals,
+        self.scan.run(k).with_context(|| {
+            let p = self.scan.point(k);
+            format!(
+                "run {k}: body {}, α = {}, m/m0 = {}, orientation {}, {}",
+                self.labels[p.body],
+                self.scan.alphas[p.alpha],
+                self.scan.masses[p.mass],
+                p.orientation,
+                self.integrator_names[p.method]
+            )
         })
     }
 
@@ -602,16 +587,7 @@ impl Sweep {
         Ok(SweepRows {
             sweep: self,
             csv,
-            summary: SweepSummary {
-                runs: 0,
-                bodies: self.bodies.iter().map(|b| b.0.clone()).collect(),
-                skipped_not_convex: self.skipped.clone(),
-                halts: 0,
-                periodic: 0,
-                undecided: 0,
-                cruising: 0,
-                rhs_evals: 0,
-            },
+            tally: ScanTally::default(),
             out: out.to_path_buf(),
             inputs: inputs.clone(),
             next: 0,
@@ -620,7 +596,7 @@ impl Sweep {
 
     /// Run k's CSV row.
     fn row(&self, k: usize, r: &RunResult) -> [String; 13] {
-        let [b, a, m, o, i] = self.indices(k);
+        let p = self.scan.point(k);
         let (fate, period, mult, halt, omega_end) = match r.fate {
             Fate::Halts { t } => ("halts", f64::NAN, String::new(), t, 0.0),
             Fate::Periodic { period, k, .. } => {
@@ -631,11 +607,11 @@ impl Sweep {
             }
         };
         [
-            self.bodies[b].0.clone(),
-            number_field(self.alphas[a]),
-            number_field(self.masses[m]),
-            o.to_string(),
-            self.integrators[i].0.clone(),
+            self.labels[p.body].clone(),
+            number_field(self.scan.alphas[p.alpha]),
+            number_field(self.scan.masses[p.mass]),
+            p.orientation.to_string(),
+            self.integrator_names[p.method].clone(),
             fate.to_string(),
             r.cruises().to_string(),
             number_field(period),
@@ -665,7 +641,7 @@ pub const BLOCK: usize = 4096;
 struct SweepRows<'a> {
     sweep: &'a Sweep,
     csv: csv::Writer<OutputFile>,
-    summary: SweepSummary,
+    tally: ScanTally,
     out: PathBuf,
     inputs: Inputs,
     next: usize,
@@ -682,15 +658,7 @@ impl SweepRows<'_> {
         }
         self.next += 1;
         self.csv.write_record(self.sweep.row(k, r))?;
-        let s = &mut self.summary;
-        s.runs += 1;
-        match r.fate {
-            Fate::Halts { .. } => s.halts += 1,
-            Fate::Periodic { .. } => s.periodic += 1,
-            Fate::Undecided { .. } => s.undecided += 1,
-        }
-        s.cruising += usize::from(r.cruises());
-        s.rhs_evals += r.rhs_evals;
+        self.tally.add(r);
         Ok(())
     }
 
@@ -700,16 +668,27 @@ impl SweepRows<'_> {
             .csv
             .into_inner()
             .map_err(|e| anyhow::anyhow!("cannot write sweep.csv: {}", e.error()))?;
+        let t = self.tally;
+        let summary = SweepSummary {
+            runs: t.runs,
+            bodies: self.sweep.labels.clone(),
+            skipped_not_convex: self.sweep.skipped.clone(),
+            halts: t.halts,
+            periodic: t.periodic,
+            undecided: t.undecided,
+            cruising: t.cruising,
+            rhs_evals: t.rhs_evals,
+        };
         let mut set = OutputSet::new();
         set.add(file)?;
-        let json = super::summary_text(&self.summary)?;
+        let json = super::summary_text(&summary)?;
         set.write(
             &self.out.join(SWEEP_FILES[1]),
             json.as_bytes(),
             &self.inputs,
         )?;
         set.commit()?;
-        Ok(self.summary)
+        Ok(summary)
     }
 }
 
@@ -735,20 +714,7 @@ pub struct SweepSummary {
 }
 
 /// One run's outcome.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RunResult {
-    /// Its fate.
-    pub fate: Fate,
-    /// RHS evaluations it took.
-    pub rhs_evals: u64,
-}
-
-impl RunResult {
-    /// Cruises: periodic, or still moving (|ω| ≥ 1e-3) at t_max.
-    pub fn cruises(&self) -> bool {
-        super::sphere_cruising::cruises(&self.fate)
-    }
-}
+pub use crate::analysis::scan::ScanRun as RunResult;
 
 impl Record for RunResult {
     fn encode(&self, out: &mut Vec<f64>) {

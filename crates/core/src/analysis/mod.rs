@@ -13,6 +13,7 @@ pub mod lag_fit;
 pub mod orbit_diagram;
 pub mod period;
 pub mod return_map;
+pub mod scan;
 pub mod sphere_orbits;
 pub mod sphere_return_map;
 pub mod studies;
