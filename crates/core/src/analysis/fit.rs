@@ -21,6 +21,14 @@ pub struct LineFit {
 }
 
 /// Ordinary least squares through (x, y); `None` with fewer than 2 distinct x.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::fit::line;
+/// let fit = line(&[(0.0, 1.0), (1.0, 3.0), (2.0, 5.0)]).unwrap();
+/// assert!((fit.slope - 2.0).abs() < 1e-12 && (fit.intercept - 1.0).abs() < 1e-12);
+/// assert!(line(&[(1.0, 1.0), (1.0, 2.0)]).is_none()); // one distinct x
+/// ```
 pub fn line(points: &[(f64, f64)]) -> Option<LineFit> {
     let n = points.len();
     if n < 2 {
@@ -59,6 +67,15 @@ pub fn line(points: &[(f64, f64)]) -> Option<LineFit> {
 
 /// y = c·x^β fitted as a line through (ln x, ln y); points with x ≤ 0 or y ≤ 0 are skipped.
 /// Returns the line fit (slope = β, intercept = ln c).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::fit::power_law;
+/// // T = 3·δα^(−1/2), the saddle-node law.
+/// let points: Vec<(f64, f64)> = [1e-6, 1e-5, 1e-4].iter().map(|&d: &f64| (d, 3.0 * d.powf(-0.5))).collect();
+/// let fit = power_law(&points).unwrap();
+/// assert!((fit.slope + 0.5).abs() < 1e-12 && (fit.intercept.exp() - 3.0).abs() < 1e-10);
+/// ```
 pub fn power_law(points: &[(f64, f64)]) -> Option<LineFit> {
     let logs: Vec<(f64, f64)> = points
         .iter()
@@ -98,6 +115,14 @@ pub fn sqrt_law(points: &[[f64; 2]], alpha_star: f64) -> Option<(f64, f64)> {
 }
 
 /// `n` logarithmically spaced values from `a` to `b` inclusive.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::fit::logspace;
+/// let v = logspace(1e-6, 1e-2, 5);
+/// assert_eq!(v.len(), 5);
+/// assert!((v[2] - 1e-4).abs() < 1e-18);
+/// ```
 pub fn logspace(a: f64, b: f64, n: usize) -> Vec<f64> {
     if n == 1 {
         return vec![a];

@@ -54,6 +54,17 @@ pub struct FixedPoint {
 }
 
 /// DP(x) by central differences with step `h` in every coordinate.
+///
+/// # Example
+/// ```
+/// use nalgebra::{DMatrix, DVector};
+/// use rollphase_core::analysis::return_map::jacobian;
+/// // A linear map P(x) = A x has DP = A.
+/// let a = DMatrix::from_row_slice(2, 2, &[0.5, 1.0, 0.0, -0.3]);
+/// let j = jacobian(&|x: &DVector<f64>| Some(&a * x), &DVector::from_vec(vec![1.0, 2.0]), 1e-6)?;
+/// assert!((j - a).norm() < 1e-9);
+/// # Ok::<(), rollphase_core::analysis::return_map::ReturnMapError>(())
+/// ```
 pub fn jacobian(
     map: &impl Fn(&DVector<f64>) -> Option<DVector<f64>>,
     x: &DVector<f64>,
@@ -77,6 +88,15 @@ pub fn jacobian(
 }
 
 /// The most negative real eigenvalue (imaginary part below 1e-9 of the modulus), if any is < 0.
+///
+/// # Example
+/// ```
+/// use nalgebra::Complex;
+/// use rollphase_core::analysis::return_map::most_negative_real;
+/// let mu = [Complex::new(0.3, 0.4), Complex::new(-1.2, 0.0), Complex::new(-0.5, 0.0)];
+/// assert_eq!(most_negative_real(&mu), Some(-1.2));
+/// assert_eq!(most_negative_real(&mu[..1]), None); // a complex pair is not real
+/// ```
 pub fn most_negative_real(multipliers: &[Complex<f64>]) -> Option<f64> {
     multipliers
         .iter()
@@ -88,6 +108,18 @@ pub fn most_negative_real(multipliers: &[Complex<f64>]) -> Option<f64> {
 /// Newton's method for P(x) = x from `x0`: steps solve (DP − I) δ = −(P(x) − x), with DP from
 /// central differences of step `h`, each step limited to length `max_step`. Stops when
 /// |P(x) − x| ≤ `tol`, then linearises at the solution.
+///
+/// # Example
+/// ```
+/// use nalgebra::DVector;
+/// use rollphase_core::analysis::return_map::find_fixed_point;
+/// // P(x) = cos x has its fixed point at x = 0.739085…, with multiplier −sin x* there.
+/// let map = |x: &DVector<f64>| Some(x.map(f64::cos));
+/// let fp = find_fixed_point(&map, DVector::from_vec(vec![1.0]), 1e-6, 1e-12, 1.0, 20)?;
+/// assert!((fp.point[0] - 0.739_085_133_215_160_6).abs() < 1e-11);
+/// assert!((fp.multipliers[0].re + fp.point[0].sin()).abs() < 1e-8);
+/// # Ok::<(), rollphase_core::analysis::return_map::ReturnMapError>(())
+/// ```
 pub fn find_fixed_point(
     map: &impl Fn(&DVector<f64>) -> Option<DVector<f64>>,
     x0: DVector<f64>,
@@ -136,6 +168,15 @@ pub fn find_fixed_point(
 
 /// The parameter in [lo, hi] where `flip(p)` (μ_min + 1 of the orbit at p) changes sign, by
 /// bisection to `tol`; `None` if it has the same sign at both ends or is undefined there.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::return_map::locate_flip;
+/// // μ_min(p) = −p/2: it passes −1 at p = 2.
+/// let p = locate_flip(0.0, 5.0, 1e-9, |p| Some(1.0 - p / 2.0)).unwrap();
+/// assert!((p - 2.0).abs() < 1e-8);
+/// assert_eq!(locate_flip(0.0, 1.0, 1e-9, |p| Some(1.0 - p / 2.0)), None);
+/// ```
 pub fn locate_flip(
     mut lo: f64,
     mut hi: f64,

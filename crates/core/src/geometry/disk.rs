@@ -30,26 +30,68 @@ pub struct RadiusJet {
 
 impl RadiusJet {
     /// Curvature κ = (r² + 2r'² − r r'') / (r² + r'²)^{3/2} (SI eq. after "dψ/dθ").
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Disk;
+    /// // The perfect disk is a unit circle: κ = 1 everywhere.
+    /// assert!((Disk::perfect().jet(0.4).curvature() - 1.0).abs() < 1e-15);
+    /// ```
     pub fn curvature(&self) -> f64 {
         self.convexity() / (self.r * self.r + self.r1 * self.r1).powf(1.5)
     }
 
     /// The convexity numerator r² + 2r'² − r r'' (must be > 0 everywhere).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// // A strong l = 2 mode flattens the body: the numerator turns negative somewhere.
+    /// let flat = Disk::new(vec![DiskMode { l: 2, a: 3.0, phase: 0.0 }]);
+    /// assert!((0..360).any(|i| flat.jet(i as f64 * 0.0175).convexity() < 0.0));
+    /// ```
     pub fn convexity(&self) -> f64 {
         self.r * self.r + 2.0 * self.r1 * self.r1 - self.r * self.r2
     }
 
     /// Quality factor Q = r'/r = d ln r / dθ (SI §1B).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// let disk = Disk::new(vec![DiskMode { l: 2, a: 0.4, phase: 0.3 }]);
+    /// let (t, h) = (0.7, 1e-6);
+    /// let d_ln_r = (disk.jet(t + h).r.ln() - disk.jet(t - h).r.ln()) / (2.0 * h);
+    /// assert!((disk.jet(t).quality() - d_ln_r).abs() < 1e-9);
+    /// ```
     pub fn quality(&self) -> f64 {
         self.r1 / self.r
     }
 
     /// dQ/dθ = r''/r − r'²/r².
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// let disk = Disk::new(vec![DiskMode { l: 3, a: 0.5, phase: 0.1 }]);
+    /// let (t, h) = (0.7, 1e-5);
+    /// let fd = (disk.jet(t + h).quality() - disk.jet(t - h).quality()) / (2.0 * h);
+    /// assert!((disk.jet(t).quality_d1() - fd).abs() < 1e-8);
+    /// ```
     pub fn quality_d1(&self) -> f64 {
         self.r2 / self.r - (self.r1 / self.r).powi(2)
     }
 
     /// d²Q/dθ² = r'''/r − 3 r' r''/r² + 2 r'³/r³.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// let disk = Disk::new(vec![DiskMode { l: 3, a: 0.5, phase: 0.1 }]);
+    /// let (t, h) = (0.7, 1e-5);
+    /// let fd = (disk.jet(t + h).quality_d1() - disk.jet(t - h).quality_d1()) / (2.0 * h);
+    /// assert!((disk.jet(t).quality_d2() - fd).abs() < 1e-7);
+    /// ```
     pub fn quality_d2(&self) -> f64 {
         let q = self.r1 / self.r;
         self.r3 / self.r - 3.0 * q * self.r2 / self.r + 2.0 * q * q * q
@@ -57,11 +99,31 @@ impl RadiusJet {
 
     /// s(θ) = −dψ/dθ = √(r² + r'²) κ = (r² + 2r'² − r r'')/(r² + r'²): how fast the body turns per
     /// unit of contact angle.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// // The body turns once per turn of the contact angle: ∫ s dθ over a period is 2π.
+    /// let disk = Disk::new(vec![DiskMode { l: 2, a: 0.5, phase: 0.0 }]);
+    /// let n = 4000;
+    /// let total: f64 = (0..n).map(|i| disk.jet(i as f64 * std::f64::consts::TAU / n as f64).turn_rate()).sum::<f64>()
+    ///     * std::f64::consts::TAU / n as f64;
+    /// assert!((total - std::f64::consts::TAU).abs() < 1e-9);
+    /// ```
     pub fn turn_rate(&self) -> f64 {
         self.convexity() / (self.r * self.r + self.r1 * self.r1)
     }
 
     /// ds/dθ, exact.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// let disk = Disk::new(vec![DiskMode { l: 4, a: 0.6, phase: 0.2 }]);
+    /// let (t, h) = (1.1, 1e-5);
+    /// let fd = (disk.jet(t + h).turn_rate() - disk.jet(t - h).turn_rate()) / (2.0 * h);
+    /// assert!((disk.jet(t).turn_rate_d1() - fd).abs() < 1e-8);
+    /// ```
     pub fn turn_rate_d1(&self) -> f64 {
         let (r, r1, r2, r3) = (self.r, self.r1, self.r2, self.r3);
         let num = r * r + 2.0 * r1 * r1 - r * r2;
@@ -72,21 +134,54 @@ impl RadiusJet {
     }
 
     /// Arc length per unit contact angle, √(r² + r'²).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// // On the unit circle a radian of contact angle is a unit of arc.
+    /// let disk = Disk::perfect();
+    /// assert_eq!(disk.jet(0.3).arc_rate(), 1.0);
+    /// let bumpy = Disk::new(vec![DiskMode { l: 2, a: 0.5, phase: 0.0 }]);
+    /// assert!(bumpy.jet(0.3).arc_rate() > bumpy.jet(0.3).r);
+    /// ```
     pub fn arc_rate(&self) -> f64 {
         (self.r * self.r + self.r1 * self.r1).sqrt()
     }
 
     /// Height of the centre above the ramp when this point touches it: r²/√(r² + r'²).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Disk;
+    /// assert_eq!(Disk::perfect().jet(2.0).height(), 1.0);
+    /// ```
     pub fn height(&self) -> f64 {
         self.r * self.r / self.arc_rate()
     }
 
     /// Downhill offset of the centre from the contact point: −r r'/√(r² + r'²).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// assert_eq!(Disk::perfect().jet(2.0).centre_offset(), 0.0);
+    /// // Where r grows with θ the centre sits uphill of the contact point.
+    /// let disk = Disk::new(vec![DiskMode { l: 2, a: 0.5, phase: 0.0 }]);
+    /// assert!(disk.jet(0.1).r1 > 0.0 && disk.jet(0.1).centre_offset() < 0.0);
+    /// ```
     pub fn centre_offset(&self) -> f64 {
         -self.r * self.r1 / self.arc_rate()
     }
 
     /// Angle Δθ between contact vector and normal, tan Δθ = r'/r.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// let disk = Disk::new(vec![DiskMode { l: 2, a: 0.5, phase: 0.0 }]);
+    /// let j = disk.jet(0.4);
+    /// assert!((j.normal_offset().tan() - j.quality()).abs() < 1e-14);
+    /// ```
     pub fn normal_offset(&self) -> f64 {
         self.r1.atan2(self.r)
     }
@@ -100,21 +195,53 @@ pub struct Disk {
 
 impl Disk {
     /// A disk from its modes (validated by [`crate::geometry::Body::from_shape`]).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// let disk = Disk::new(vec![DiskMode { l: 2, a: 0.4, phase: 0.0 }]);
+    /// // r = 1 + 0.4/4 · sin 2θ.
+    /// assert!((disk.jet(std::f64::consts::FRAC_PI_4).r - 1.1).abs() < 1e-15);
+    /// ```
     pub fn new(modes: Vec<DiskMode>) -> Self {
         Self { modes }
     }
 
     /// The perfect disk r ≡ 1.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Disk;
+    /// let disk = Disk::perfect();
+    /// assert!(disk.modes().is_empty() && disk.jet(1.0).r == 1.0);
+    /// ```
     pub fn perfect() -> Self {
         Self { modes: Vec::new() }
     }
 
     /// The modes.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// let mode = DiskMode { l: 3, a: 0.2, phase: 1.0 };
+    /// assert_eq!(Disk::new(vec![mode]).modes(), &[mode]);
+    /// ```
     pub fn modes(&self) -> &[DiskMode] {
         &self.modes
     }
 
     /// r, r', r'', r''' at contact angle θ, exact.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// let disk = Disk::new(vec![DiskMode { l: 2, a: 0.4, phase: 0.3 }]);
+    /// let (t, h) = (0.9, 1e-5);
+    /// let j = disk.jet(t);
+    /// assert!((j.r1 - (disk.jet(t + h).r - disk.jet(t - h).r) / (2.0 * h)).abs() < 1e-9);
+    /// assert!((j.r3 - (disk.jet(t + h).r2 - disk.jet(t - h).r2) / (2.0 * h)).abs() < 1e-8);
+    /// ```
     pub fn jet(&self, theta: f64) -> RadiusJet {
         let mut j = RadiusJet {
             r: 1.0,

@@ -52,11 +52,30 @@ pub struct SurfacePoint {
 
 impl SurfacePoint {
     /// An orthonormal basis (e1, e2) of the tangent plane.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::random_sphere;
+    /// use rollphase_core::glam::DVec3;
+    /// let p = random_sphere(1, 0.2, 4)?.surface(DVec3::new(0.3, -0.2, 0.9));
+    /// let (e1, e2) = p.tangent_basis();
+    /// assert!(e1.dot(p.normal).abs() < 1e-14 && e2.dot(p.normal).abs() < 1e-14 && e1.dot(e2).abs() < 1e-14);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn tangent_basis(&self) -> (DVec3, DVec3) {
         self.tangent
     }
 
     /// The shape operator in the tangent basis, [[a, b], [b, c]], with the basis.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::glam::DVec3;
+    /// // On the unit sphere the shape operator is the identity: a = c = 1, b = 0.
+    /// let (a, b, c, _, _) = Sphere::perfect().surface(DVec3::Y).shape_2x2();
+    /// assert!((a - 1.0).abs() < 1e-14 && b.abs() < 1e-14 && (c - 1.0).abs() < 1e-14);
+    /// ```
     pub fn shape_2x2(&self) -> (f64, f64, f64, DVec3, DVec3) {
         let [a, b, c] = self.shape_in_tangent;
         let (e1, e2) = self.tangent;
@@ -64,6 +83,19 @@ impl SurfacePoint {
     }
 
     /// The shape operator as a 3×3 map (acts on tangent vectors; zero along the normal).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::random_sphere;
+    /// use rollphase_core::glam::DVec3;
+    /// let p = random_sphere(2, 0.2, 4)?.surface(DVec3::new(1.0, 0.5, -0.3));
+    /// let s = p.shape_matrix();
+    /// assert!((s * p.normal).length() < 1e-12, "zero along the normal");
+    /// // Symmetric: ⟨S e1, e2⟩ = ⟨e1, S e2⟩.
+    /// let (e1, e2) = p.tangent_basis();
+    /// assert!(((s * e1).dot(e2) - e1.dot(s * e2)).abs() < 1e-12);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn shape_matrix(&self) -> DMat3 {
         let [a, b, c] = self.shape_in_tangent;
         let (e1, e2) = self.tangent;
@@ -71,12 +103,29 @@ impl SurfacePoint {
     }
 
     /// Gaussian curvature K = det S.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::glam::DVec3;
+    /// assert!((Sphere::perfect().surface(DVec3::Z).gaussian_curvature() - 1.0).abs() < 1e-14);
+    /// ```
     pub fn gaussian_curvature(&self) -> f64 {
         let (a, b, c, _, _) = self.shape_2x2();
         a * c - b * b
     }
 
     /// Principal curvatures (k_min, k_max).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::random_sphere;
+    /// use rollphase_core::glam::DVec3;
+    /// let p = random_sphere(3, 0.2, 4)?.surface(DVec3::new(0.2, 0.7, 0.1));
+    /// let (k_min, k_max) = p.principal_curvatures();
+    /// assert!(k_min <= k_max && (k_min * k_max - p.gaussian_curvature()).abs() < 1e-12);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn principal_curvatures(&self) -> (f64, f64) {
         let (a, b, c, _, _) = self.shape_2x2();
         let mean = 0.5 * (a + c);
@@ -85,12 +134,33 @@ impl SurfacePoint {
     }
 
     /// Q = |∇_s ln r| = |∇_s r| / r; the body can rest on this point iff Q ≥ tan α.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Sphere, random_sphere};
+    /// use rollphase_core::glam::DVec3;
+    /// assert_eq!(Sphere::perfect().surface(DVec3::X).quality(), 0.0);
+    /// let p = random_sphere(1, 0.25, 5)?.surface(DVec3::new(0.1, 0.2, 0.9));
+    /// assert!((p.quality() - p.grad_s.length() / p.r).abs() < 1e-15);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn quality(&self) -> f64 {
         self.grad_s.length() / self.r
     }
 
     /// Solves S v = w for a tangent vector w (the shape operator is invertible on a strictly
     /// convex body); returns a tangent vector.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::random_sphere;
+    /// use rollphase_core::glam::DVec3;
+    /// let p = random_sphere(1, 0.1, 3)?.surface(DVec3::new(0.4, -0.1, 0.8));
+    /// let (e1, e2) = p.tangent_basis();
+    /// let w = 0.3 * e1 - 0.7 * e2;
+    /// assert!((p.shape_matrix() * p.solve_shape(w) - w).length() < 1e-12);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn solve_shape(&self, w: DVec3) -> DVec3 {
         let (a, b, c, e1, e2) = self.shape_2x2();
         let (w1, w2) = (w.dot(e1), w.dot(e2));
@@ -118,6 +188,15 @@ pub struct SupportFailure {
 
 impl Sphere {
     /// A body from validated coefficients (see [`crate::geometry::Body::from_shape`]).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Sphere, SphereCoeff};
+    /// use rollphase_core::glam::DVec3;
+    /// // r = 1 + Re A_20 Y_20 / 6 with A_20 = 0.6: longer along z than across.
+    /// let s = Sphere::new(vec![SphereCoeff { l: 2, m: 0, re: 0.6, im: 0.0 }]);
+    /// assert!(s.radius(DVec3::Z) > 1.0 && s.radius(DVec3::X) < 1.0);
+    /// ```
     pub fn new(coeffs: Vec<SphereCoeff>) -> Self {
         let mut sum = ComplexPoly::default();
         for c in &coeffs {
@@ -129,31 +208,83 @@ impl Sphere {
     }
 
     /// The perfect unit sphere.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::glam::DVec3;
+    /// let s = Sphere::perfect();
+    /// assert_eq!((s.max_degree(), s.radius(DVec3::new(1.0, 2.0, 3.0).normalize())), (0, 1.0));
+    /// ```
     pub fn perfect() -> Self {
         Self::new(Vec::new())
     }
 
     /// The largest degree l among the coefficients (0 for the perfect sphere).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+    /// assert_eq!(s.max_degree(), 5);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn max_degree(&self) -> u32 {
         self.coeffs.iter().map(|c| c.l).max().unwrap_or(0)
     }
 
     /// The coefficients.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Sphere, SphereCoeff};
+    /// let c = SphereCoeff { l: 3, m: -2, re: 0.1, im: 0.2 };
+    /// assert_eq!(Sphere::new(vec![c]).coeffs()[0].l, 3);
+    /// ```
     pub fn coeffs(&self) -> &[SphereCoeff] {
         &self.coeffs
     }
 
     /// r(u) for a unit vector u.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::random_sphere;
+    /// use rollphase_core::glam::DVec3;
+    /// let s = random_sphere(5, 0.25, 5)?;
+    /// let u = DVec3::new(1.0, 1.0, 0.0).normalize();
+    /// assert_eq!(s.radius(u), s.surface(u).r);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn radius(&self, u: DVec3) -> f64 {
         1.0 + self.poly.value(u.x, u.y, u.z)
     }
 
     /// r(θ, φ) with θ polar and φ azimuth.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::random_sphere;
+    /// use rollphase_core::geometry::sphere::direction;
+    /// let s = random_sphere(5, 0.25, 5)?;
+    /// assert!((s.radius_at(1.0, 2.0) - s.radius(direction(1.0, 2.0))).abs() < 1e-14);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn radius_at(&self, theta: f64, phi: f64) -> f64 {
         self.radius(direction(theta, phi))
     }
 
     /// Full local geometry above the direction `u` (normalised here).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::random_sphere;
+    /// use rollphase_core::glam::DVec3;
+    /// let p = random_sphere(4, 0.2, 4)?.surface(DVec3::new(0.0, 3.0, 4.0)); // normalised here
+    /// assert!((p.u - DVec3::new(0.0, 0.6, 0.8)).length() < 1e-15);
+    /// assert!((p.p - p.r * p.u).length() < 1e-15 && (p.normal.length() - 1.0).abs() < 1e-14);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn surface(&self, u: DVec3) -> SurfacePoint {
         let u = u.normalize();
         let j = self.poly.jet(u.x, u.y, u.z);
@@ -198,6 +329,17 @@ impl Sphere {
     /// (use `d` when nothing better is known): solve S δp = d − (d·n)n in the tangent plane, move
     /// along the ray through p + δp, repeat. Quadratic convergence; 2–3 iterations from the
     /// previous contact during a simulation. Unique on a strictly convex body.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::random_sphere;
+    /// use rollphase_core::glam::DVec3;
+    /// let s = random_sphere(1, 0.2, 4)?;
+    /// let d = DVec3::new(0.3, -0.5, -0.8).normalize();
+    /// let contact = s.support_point(d, d).unwrap();
+    /// assert!((contact.normal - d).length() < 1e-12);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn support_point(&self, d: DVec3, guess: DVec3) -> Result<SurfacePoint, SupportFailure> {
         self.support_point_from(d, self.surface(guess))
     }
@@ -205,6 +347,19 @@ impl Sphere {
     /// [`Sphere::support_point`] starting from a surface point already evaluated (the previous
     /// contact during a run): its geometry gives the first Newton step for free, which saves one
     /// of the three or four surface evaluations a warm-started solve needs.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::random_sphere;
+    /// use rollphase_core::glam::DVec3;
+    /// let s = random_sphere(1, 0.2, 4)?;
+    /// let (d0, d1) = (DVec3::new(0.0, 0.0, -1.0), DVec3::new(0.05, 0.0, -1.0).normalize());
+    /// // The previous contact warm-starts the next one, as during a run.
+    /// let previous = s.support_point(d0, d0).unwrap();
+    /// let next = s.support_point_from(d1, previous).unwrap();
+    /// assert!((next.normal - d1).length() < 1e-12);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn support_point_from(
         &self,
         d: DVec3,
@@ -248,6 +403,14 @@ impl Sphere {
 }
 
 /// Unit vector for polar angle θ and azimuth φ.
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::sphere::direction;
+/// use rollphase_core::glam::DVec3;
+/// assert!((direction(std::f64::consts::FRAC_PI_2, 0.0) - DVec3::X).length() < 1e-15);
+/// assert_eq!(direction(0.0, 1.0).z, 1.0);
+/// ```
 pub fn direction(theta: f64, phi: f64) -> DVec3 {
     let (st, ct) = theta.sin_cos();
     let (sp, cp) = phi.sin_cos();
@@ -255,6 +418,13 @@ pub fn direction(theta: f64, phi: f64) -> DVec3 {
 }
 
 /// (θ, φ) of a unit vector, θ ∈ [0, π], φ ∈ (−π, π].
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::sphere::{angles, direction};
+/// let (theta, phi) = angles(direction(0.8, -2.5));
+/// assert!((theta - 0.8).abs() < 1e-14 && (phi + 2.5).abs() < 1e-14);
+/// ```
 pub fn angles(u: DVec3) -> (f64, f64) {
     let u = u.normalize();
     (u.z.clamp(-1.0, 1.0).acos(), u.y.atan2(u.x))
@@ -265,6 +435,16 @@ fn outer(a: DVec3, b: DVec3) -> DMat3 {
 }
 
 /// `n` nearly uniform unit vectors (Fibonacci lattice), deterministic.
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::sphere::fibonacci_sphere;
+/// let points = fibonacci_sphere(1000);
+/// assert!(points.iter().all(|u| (u.length() - 1.0).abs() < 1e-14));
+/// // Nearly uniform: the mean is near the centre.
+/// let mean = points.iter().sum::<rollphase_core::glam::DVec3>() / 1000.0;
+/// assert!(mean.length() < 1e-2);
+/// ```
 pub fn fibonacci_sphere(n: usize) -> Vec<DVec3> {
     let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
     (0..n)

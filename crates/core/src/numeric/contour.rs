@@ -2,6 +2,17 @@
 //! crosses a level (the halting loops Q = tan α on a body's (θ, φ) grid).
 
 /// Marching squares on Q − level over a (θ, φ) grid: segments in (φ, θ).
+///
+/// # Example
+/// ```
+/// use rollphase_core::numeric::contour::level_set;
+/// // Q = θ on a 3 × 3 grid: the level 0.5 is the line θ = 0.5, crossed by two cells.
+/// let (thetas, phis) = ([0.0, 1.0, 2.0], [0.0, 1.0, 2.0]);
+/// let q: Vec<Vec<f64>> = thetas.iter().map(|&t| vec![t; 3]).collect();
+/// let segments = level_set(&q, &thetas, &phis, 0.5);
+/// assert_eq!(segments.len(), 2);
+/// assert!(segments.iter().all(|((_, t0), (_, t1))| *t0 == 0.5 && *t1 == 0.5));
+/// ```
 pub fn level_set(
     q: &[Vec<f64>],
     thetas: &[f64],

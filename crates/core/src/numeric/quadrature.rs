@@ -5,6 +5,15 @@
 //! a few thousand evaluations even 1e-6 above α*, and needs no crate.
 
 /// Nodes and weights of n-point Gauss–Legendre on [−1, 1] (Newton on P_n, to round-off).
+///
+/// # Example
+/// ```
+/// use rollphase_core::numeric::quadrature::gauss_legendre;
+/// let (x, w) = gauss_legendre(5);
+/// // Exact for polynomials up to degree 9: the integral of x⁸ over [−1, 1] is 2/9.
+/// let sum: f64 = x.iter().zip(&w).map(|(x, w)| w * x.powi(8)).sum();
+/// assert!((sum - 2.0 / 9.0).abs() < 1e-15);
+/// ```
 pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
     let mut nodes = vec![0.0; n];
     let mut weights = vec![0.0; n];
@@ -48,6 +57,15 @@ pub struct Quadrature {
 /// Gauss–Legendre panels): the panel with the largest error estimate is bisected until the
 /// summed estimate is ≤ `rtol`·|value| or `max_evals` is spent. A local-tolerance bisection would
 /// instead chase rounding noise (1/θ̇ within 1e-8 of α* carries ~1e-8 relative noise) forever.
+///
+/// # Example
+/// ```
+/// use rollphase_core::numeric::quadrature::integrate_adaptive;
+/// // A sharply peaked integrand: ∫ dx / (x² + 1e-6) over [−1, 1] = 2·atan(1000)/1e-3.
+/// let q = integrate_adaptive(&|x: f64| 1.0 / (x * x + 1e-6), -1.0, 1.0, 1e-12, 1_000_000);
+/// let exact = 2.0 * 1000f64.atan() / 1e-3;
+/// assert!(((q.value - exact) / exact).abs() < 1e-11, "{q:?}");
+/// ```
 pub fn integrate_adaptive(
     f: &impl Fn(f64) -> f64,
     a: f64,

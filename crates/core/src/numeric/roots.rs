@@ -5,6 +5,14 @@
 //! needs no allocation and keeps the caller's f(a), f(b).
 
 /// Brent's root finder on a bracket [a, b] with f(a)·f(b) ≤ 0 (Brent 1973, `zero`).
+///
+/// # Example
+/// ```
+/// use rollphase_core::numeric::roots::brent;
+/// let f = |x: f64| x * x - 2.0;
+/// let root = brent(f, 0.0, 2.0, f(0.0), f(2.0), 1e-14);
+/// assert!((root - 2f64.sqrt()).abs() < 1e-13);
+/// ```
 pub fn brent(mut f: impl FnMut(f64) -> f64, a: f64, b: f64, fa: f64, fb: f64, tol: f64) -> f64 {
     let (mut a, mut b, mut fa, mut fb) = (a, b, fa, fb);
     if fa == 0.0 {
