@@ -52,6 +52,17 @@ impl ComplexPoly {
     }
 
     /// Adds (re + i·im)·`other` to this polynomial.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::harmonics::spherical_harmonic;
+    /// // Y_1^1 + conj-scaled Y_1^{−1}: 2 Re Y_1^1 = Y_1^1 − Y_1^{−1}.
+    /// let mut p = spherical_harmonic(1, 1);
+    /// p.add_scaled(&spherical_harmonic(1, -1), -1.0, 0.0);
+    /// let (re, im) = p.eval(1.0, 0.0, 0.0);
+    /// let expected = -2.0 * (3.0 / (8.0 * std::f64::consts::PI)).sqrt();
+    /// assert!((re - expected).abs() < 1e-14 && im.abs() < 1e-14);
+    /// ```
     pub fn add_scaled(&mut self, other: &Self, re: f64, im: f64) {
         for (e, (a, b)) in other.scale(re, im).0 {
             self.add_term(e, a, b);
@@ -68,6 +79,14 @@ impl ComplexPoly {
     }
 
     /// Value at a point (x, y, z) as (re, im).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::harmonics::spherical_harmonic;
+    /// // Y_1^0 = √(3/4π) z.
+    /// let (re, im) = spherical_harmonic(1, 0).eval(0.0, 0.0, 1.0);
+    /// assert!((re - (3.0 / (4.0 * std::f64::consts::PI)).sqrt()).abs() < 1e-15 && im == 0.0);
+    /// ```
     pub fn eval(&self, x: f64, y: f64, z: f64) -> (f64, f64) {
         self.0.iter().fold((0.0, 0.0), |(sr, si), (e, (a, b))| {
             let m = x.powi(e[0] as i32) * y.powi(e[1] as i32) * z.powi(e[2] as i32);
@@ -104,6 +123,20 @@ fn legendre_derivative(l: u32, m: u32) -> Vec<f64> {
 }
 
 /// Y_l^m as a homogeneous complex polynomial of degree l (exact on the unit sphere).
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::harmonics::spherical_harmonic;
+/// use rollphase_core::geometry::sphere::fibonacci_sphere;
+/// // Orthonormal on the sphere: the mean of |Y_3^2|² over nearly uniform points is 1/4π.
+/// let y = spherical_harmonic(3, 2);
+/// let points = fibonacci_sphere(20_000);
+/// let mean: f64 = points.iter().map(|u| {
+///     let (re, im) = y.eval(u.x, u.y, u.z);
+///     re * re + im * im
+/// }).sum::<f64>() / points.len() as f64;
+/// assert!((mean * 4.0 * std::f64::consts::PI - 1.0).abs() < 1e-3);
+/// ```
 pub fn spherical_harmonic(l: u32, m: i32) -> ComplexPoly {
     let k = m.unsigned_abs();
     assert!(k <= l, "|m| ≤ l is checked by the shape validator");
@@ -184,6 +217,16 @@ fn horner2(coeffs: &[f64], x: f64) -> (f64, f64, f64) {
 impl SpherePoly {
     /// Re of the complex polynomial `poly`, reduced on the sphere. Degrees above
     /// [`MAX_SPHERE_POLY_DEGREE`] are refused by the shape validator before this is reached.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::harmonics::{SpherePoly, spherical_harmonic};
+    /// // Re Y_2^0 = √(5/16π)(3z² − 1), here with z² written as 1 − x² − y².
+    /// let p = SpherePoly::real_part_on_sphere(&spherical_harmonic(2, 0));
+    /// let z: f64 = 0.6;
+    /// let exact = (5.0 / (16.0 * std::f64::consts::PI)).sqrt() * (3.0 * z * z - 1.0);
+    /// assert!((p.value(0.8, 0.0, z) - exact).abs() < 1e-14);
+    /// ```
     pub fn real_part_on_sphere(poly: &ComplexPoly) -> Self {
         let mut acc: BTreeMap<(u8, u8, bool), f64> = BTreeMap::new();
         let mut degree = 0;
@@ -220,6 +263,15 @@ impl SpherePoly {
     }
 
     /// Value at a point.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::harmonics::{SpherePoly, spherical_harmonic};
+    /// let poly = spherical_harmonic(4, 3);
+    /// let p = SpherePoly::real_part_on_sphere(&poly);
+    /// let u = rollphase_core::glam::DVec3::new(0.2, -0.5, 0.7).normalize();
+    /// assert!((p.value(u.x, u.y, u.z) - poly.eval(u.x, u.y, u.z).0).abs() < 1e-14);
+    /// ```
     pub fn value(&self, x: f64, y: f64, z: f64) -> f64 {
         self.rows.iter().rev().fold(0.0, |acc, row| {
             let (a, b) = row.split_at(row.len() / 2);
@@ -229,6 +281,17 @@ impl SpherePoly {
     }
 
     /// Value, gradient and Hessian of this polynomial (as a function on R³) at a point.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::harmonics::{SpherePoly, spherical_harmonic};
+    /// let p = SpherePoly::real_part_on_sphere(&spherical_harmonic(3, 1));
+    /// let (x, y, z, h) = (0.3, 0.4, 0.5, 1e-6);
+    /// let jet = p.jet(x, y, z);
+    /// let d_dy = (p.value(x, y + h, z) - p.value(x, y - h, z)) / (2.0 * h);
+    /// assert!((jet.grad[1] - d_dy).abs() < 1e-8);
+    /// assert!((jet.hess[0][1] - jet.hess[1][0]).abs() < 1e-14);
+    /// ```
     pub fn jet(&self, x: f64, y: f64, z: f64) -> PolyJet {
         // Outer Horner in y over the rows; each sequence needs its value and as many
         // y-derivatives as the Hessian asks for (d2 terms are halved second derivatives).

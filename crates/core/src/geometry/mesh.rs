@@ -34,6 +34,15 @@ pub struct TriMesh {
 
 impl TriMesh {
     /// Smallest and largest finite vertex value.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::geometry::mesh::sphere_mesh;
+    /// // Every vertex of the unit sphere has K = 1.
+    /// let (lo, hi) = sphere_mesh(&Sphere::perfect(), 2).value_range();
+    /// assert!((lo - 1.0).abs() < 1e-6 && (hi - 1.0).abs() < 1e-6);
+    /// ```
     pub fn value_range(&self) -> (f32, f32) {
         self.values
             .iter()
@@ -44,6 +53,16 @@ impl TriMesh {
     }
 
     /// Volume enclosed (divergence theorem); positive when the triangles face outward.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::geometry::mesh::sphere_mesh;
+    /// // The inscribed polyhedron approaches 4π/3 from below.
+    /// let v = sphere_mesh(&Sphere::perfect(), 4).volume();
+    /// let ball = 4.0 / 3.0 * std::f64::consts::PI;
+    /// assert!(v < ball && v > 0.99 * ball);
+    /// ```
     pub fn volume(&self) -> f64 {
         self.indices
             .iter()
@@ -57,6 +76,13 @@ impl TriMesh {
     /// Edges that are not shared by exactly two triangles in opposite directions, after
     /// welding vertices with identical positions. Zero means the surface is closed and
     /// consistently oriented (watertight), which a slicer for 3D printing needs.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Disk;
+    /// use rollphase_core::geometry::mesh::disk_mesh;
+    /// assert_eq!(disk_mesh(&Disk::perfect(), 64, 1.0).open_edges(), 0);
+    /// ```
     pub fn open_edges(&self) -> usize {
         let mut weld: HashMap<[u32; 3], u32> = HashMap::new();
         let ids: Vec<u32> = self
@@ -83,6 +109,18 @@ impl TriMesh {
     }
 
     /// Writes binary STL with every coordinate multiplied by `scale` (e.g. millimetres per ⟨r⟩).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::geometry::mesh::sphere_mesh;
+    /// let mesh = sphere_mesh(&Sphere::perfect(), 1);
+    /// let mut stl = Vec::new();
+    /// mesh.write_stl(&mut stl, 10.0, "ball")?;
+    /// // 80-byte header, a count, then 50 bytes a triangle.
+    /// assert_eq!(stl.len(), 84 + 50 * mesh.indices.len());
+    /// # Ok::<(), std::io::Error>(())
+    /// ```
     pub fn write_stl(&self, out: &mut impl Write, scale: f64, solid_name: &str) -> io::Result<()> {
         let mut header = [b' '; 80];
         let text = format!("rollphase {solid_name}");
@@ -114,6 +152,14 @@ fn as_f32(v: DVec3) -> [f32; 3] {
 
 /// The unit icosphere: an icosahedron subdivided `level` times (10·4^level + 2 vertices),
 /// vertices on the unit sphere, triangles counter-clockwise from outside.
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::mesh::icosphere;
+/// let (vertices, triangles) = icosphere(2);
+/// assert_eq!((vertices.len(), triangles.len()), (162, 320));
+/// assert!(vertices.iter().all(|v| (v.length() - 1.0).abs() < 1e-14));
+/// ```
 pub fn icosphere(level: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let g = (1.0 + 5f64.sqrt()) / 2.0;
     let mut verts: Vec<DVec3> = [
@@ -177,6 +223,17 @@ pub fn icosphere(level: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
 
 /// The 3D body as a closed mesh: icosphere directions u mapped to r(u)·u, with the exact
 /// outward normal and Gaussian curvature K of the surface at each vertex.
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::{Body, mesh::sphere_mesh};
+/// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// let mesh = sphere_mesh(&s, 3);
+/// assert_eq!(mesh.open_edges(), 0);
+/// // A convex body: K > 0 at every vertex.
+/// assert!(mesh.value_range().0 > 0.0);
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
 pub fn sphere_mesh(body: &Sphere, level: u32) -> TriMesh {
     let (dirs, indices) = icosphere(level);
     let mut mesh = TriMesh {
@@ -195,6 +252,14 @@ pub fn sphere_mesh(body: &Sphere, level: u32) -> TriMesh {
 /// The 2D body as a closed cylinder of the given length: `segments` points around r(θ) (side
 /// coloured by κ), flat caps. Rim vertices are duplicated (side and cap normals differ) at
 /// bit-identical positions, so the welded surface is watertight.
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::{Disk, mesh::disk_mesh};
+/// // A cylinder of radius 1 and length 2: volume 2π (less the polygon's shortfall).
+/// let v = disk_mesh(&Disk::perfect(), 256, 2.0).volume();
+/// assert!((v - 2.0 * std::f64::consts::PI).abs() < 1e-3);
+/// ```
 pub fn disk_mesh(body: &Disk, segments: usize, length: f64) -> TriMesh {
     let n = segments.max(8);
     let half = length / 2.0;

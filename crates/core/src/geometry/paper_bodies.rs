@@ -30,6 +30,13 @@ pub struct NumpyRandomState {
 
 impl NumpyRandomState {
     /// `np.random.seed(seed)`.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::paper_bodies::NumpyRandomState;
+    /// // np.random.seed(0); np.random.random() → 0.5488135039273248
+    /// assert_eq!(NumpyRandomState::new(0).random(), 0.5488135039273248);
+    /// ```
     pub fn new(seed: u32) -> Self {
         Self {
             mt: Mt::new(seed),
@@ -38,6 +45,14 @@ impl NumpyRandomState {
     }
 
     /// One `np.random.random()`: a uniform double in [0, 1) with 53 random bits.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::paper_bodies::NumpyRandomState;
+    /// let mut rng = NumpyRandomState::new(0);
+    /// let x = rng.random();
+    /// assert!((0.0..1.0).contains(&x));
+    /// ```
     pub fn random(&mut self) -> f64 {
         let a = (self.mt.next_u32() >> 5) as f64;
         let b = (self.mt.next_u32() >> 6) as f64;
@@ -45,6 +60,13 @@ impl NumpyRandomState {
     }
 
     /// One standard normal deviate, as numpy's legacy `gauss`.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::paper_bodies::NumpyRandomState;
+    /// // np.random.seed(0); np.random.normal() → 1.764052345967664
+    /// assert!((NumpyRandomState::new(0).gauss() - 1.764052345967664).abs() < 1e-15);
+    /// ```
     pub fn gauss(&mut self) -> f64 {
         if let Some(g) = self.cached_gauss.take() {
             return g;
@@ -62,17 +84,42 @@ impl NumpyRandomState {
     }
 
     /// `np.random.normal(loc, scale, n)`.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::paper_bodies::NumpyRandomState;
+    /// // np.random.seed(0); np.random.normal(1.0, 0.5, 1) → [1.882026172983832]
+    /// let v = NumpyRandomState::new(0).normal(1.0, 0.5, 1);
+    /// assert!((v[0] - 1.882026172983832).abs() < 1e-15);
+    /// ```
     pub fn normal(&mut self, loc: f64, scale: f64, n: usize) -> Vec<f64> {
         (0..n).map(|_| loc + scale * self.gauss()).collect()
     }
 
     /// `np.random.random(n)`.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::paper_bodies::NumpyRandomState;
+    /// // np.random.seed(0); np.random.random(3) → [0.5488135, 0.71518937, 0.60276338]
+    /// let v = NumpyRandomState::new(0).random_vec(3);
+    /// assert!((v[1] - 0.71518937).abs() < 1e-8 && (v[2] - 0.60276338).abs() < 1e-8);
+    /// ```
     pub fn random_vec(&mut self, n: usize) -> Vec<f64> {
         (0..n).map(|_| self.random()).collect()
     }
 }
 
 /// The paper's 3D body for numpy seed `seed` (see the module doc); `degree` is the largest l.
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::{Body, paper_sphere};
+/// // The body of the paper's Figs. 3–4: α* = 0.1394.
+/// let body = Body::Sphere(paper_sphere(219, 0.25, 5)?);
+/// assert!((body.alpha_star() - 0.1394).abs() < 1e-4);
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
 pub fn paper_sphere(seed: u32, sigma: f64, degree: u32) -> Result<Sphere, ShapeError> {
     super::check_sigma(sigma)?;
     if !(2..=MAX_SPHERE_L).contains(&degree) {
@@ -104,6 +151,15 @@ pub fn paper_sphere(seed: u32, sigma: f64, degree: u32) -> Result<Sphere, ShapeE
 }
 
 /// The paper's 2D body for numpy seed `seed` (see the module doc); `modes` is the largest l = M.
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::paper_disk;
+/// // M = 5: modes l = 2..5, as the authors' get_r(seed, 4, σ) draws them.
+/// let disk = paper_disk(1, 0.2, 5)?;
+/// assert_eq!(disk.modes().iter().map(|m| m.l).collect::<Vec<_>>(), [2, 3, 4, 5]);
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
 pub fn paper_disk(seed: u32, sigma: f64, modes: u32) -> Result<Disk, ShapeError> {
     super::check_sigma(sigma)?;
     if !(2..=MAX_DISK_L).contains(&modes) {

@@ -64,6 +64,14 @@ pub const MAX_INPUT_FILE_BYTES: u64 = 1 << 20;
 
 /// Reads a text file of at most `limit` bytes; a longer one (or an endless device such as
 /// /dev/zero) is an error saying the limit, after reading only `limit` + 1 bytes.
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::shape_file::read_text_capped;
+/// // An endless device is refused after limit + 1 bytes.
+/// let e = read_text_capped(std::path::Path::new("/dev/zero"), 1000).unwrap_err();
+/// assert!(e.to_string().contains("1000"), "{e}");
+/// ```
 pub fn read_text_capped(path: &Path, limit: u64) -> std::io::Result<String> {
     use std::io::Read;
     let file = std::fs::File::open(path)?;
@@ -83,12 +91,34 @@ pub fn read_text_capped(path: &Path, limit: u64) -> std::io::Result<String> {
 
 impl ShapeFile {
     /// Parses JSON text; errors carry serde's line and column.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::ShapeFile;
+    /// let file = ShapeFile::from_json(r#"{"kind": "disk", "modes": [{"l": 2, "a": 0.3, "phase": 0.0}]}"#)?;
+    /// assert!(matches!(file, ShapeFile::Disk { ref modes } if modes.len() == 1));
+    /// // A misspelt key is named.
+    /// let e = ShapeFile::from_json(r#"{"kind": "disk", "mode": []}"#).unwrap_err();
+    /// assert!(e.to_string().contains("`mode`"), "{e}");
+    /// # Ok::<(), serde_json::Error>(())
+    /// ```
     pub fn from_json(text: &str) -> Result<Self, serde_json::Error> {
         serde_json::from_str(text)
     }
 
     /// Reads, parses and validates the shape file at `path` (ranges and finiteness, not
     /// convexity: see [`Body::check_convex`]).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::ShapeFile;
+    /// let path = std::env::temp_dir().join(format!("rollphase-doc-shape-{}.json", std::process::id()));
+    /// std::fs::write(&path, r#"{"kind": "sphere", "coeffs": [{"l": 2, "m": 0, "re": 0.2, "im": 0.0}]}"#)?;
+    /// let body = ShapeFile::load(&path)?;
+    /// assert_eq!(body.dimension(), 3);
+    /// std::fs::remove_file(&path)?;
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn load(path: &Path) -> Result<Body, ShapeLoadError> {
         let text = read_text_capped(path, MAX_INPUT_FILE_BYTES).map_err(|reason| {
             ShapeLoadError::Read {
@@ -107,6 +137,15 @@ impl ShapeFile {
     }
 
     /// Pretty JSON text.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::ShapeFile;
+    /// let text = r#"{"kind": "disk", "modes": [{"l": 3, "a": 0.1, "phase": 1.0}]}"#;
+    /// let file = ShapeFile::from_json(text)?;
+    /// assert_eq!(ShapeFile::from_json(&file.to_json())?, file);
+    /// # Ok::<(), serde_json::Error>(())
+    /// ```
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_default()
     }
