@@ -38,6 +38,16 @@ pub struct DiskViscous<'a> {
 
 impl<'a> DiskViscous<'a> {
     /// The model for `disk` on `ramp` (mass ignored).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{DiskViscous, Ramp};
+    /// use rollphase_core::geometry::Disk;
+    /// let disk = Disk::perfect();
+    /// let model = DiskViscous::new(&disk, &Ramp::new(0.3, 0.0)?);
+    /// assert!((model.theta_dot(1.0) - 0.3f64.sin()).abs() < 1e-15);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
     pub fn new(disk: &'a Disk, ramp: &Ramp) -> Self {
         Self {
             disk,
@@ -48,6 +58,21 @@ impl<'a> DiskViscous<'a> {
     }
 
     /// θ̇(θ) = r (r sin α − r' cos α) / ((r² + r'²) κ) / γ.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{DiskViscous, Ramp};
+    /// use rollphase_core::geometry::Body;
+    /// // Below α* the flow has a zero (a rest point); above it θ̇ never vanishes.
+    /// let Body::Disk(disk) = Body::random_disk(2, 0.3, 5)? else { unreachable!() };
+    /// let alpha_star = Body::Disk(disk.clone()).alpha_star();
+    /// let min_rate = |alpha: f64| -> Result<f64, rollphase_core::dynamics::ModelError> {
+    ///     let model = DiskViscous::new(&disk, &Ramp::new(alpha, 0.0)?);
+    ///     Ok((0..2000).map(|i| model.theta_dot(i as f64 * 0.00314159)).fold(f64::INFINITY, f64::min))
+    /// };
+    /// assert!(min_rate(0.5 * alpha_star)? < 0.0 && min_rate(1.5 * alpha_star)? > 0.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn theta_dot(&self, theta: f64) -> f64 {
         let j = self.disk.jet(theta);
         theta_dot_viscous(&j, self.sin_a, self.cos_a) / self.drag
@@ -84,6 +109,18 @@ pub struct DiskInertial<'a> {
 
 impl<'a> DiskInertial<'a> {
     /// The model for `disk` on `ramp`; needs m/m0 > 0.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{DiskInertial, Ramp};
+    /// use rollphase_core::geometry::Disk;
+    /// let disk = Disk::perfect();
+    /// let model = DiskInertial::new(&disk, &Ramp::new(0.3, 2.0)?);
+    /// // At the viscous rate sin α the drag balances gravity: no acceleration.
+    /// assert!(model.theta_ddot(0.5, 0.3f64.sin()).abs() < 1e-14);
+    /// assert!(model.theta_ddot(0.5, 0.0) > 0.0);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
     pub fn new(disk: &'a Disk, ramp: &Ramp) -> Self {
         Self {
             disk,
@@ -95,6 +132,17 @@ impl<'a> DiskInertial<'a> {
     }
 
     /// θ̈ from the Lagrangian form above.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{DiskInertial, Ramp};
+    /// use rollphase_core::geometry::Disk;
+    /// let disk = Disk::perfect();
+    /// let model = DiskInertial::new(&disk, &Ramp::new(0.3, 2.0)?);
+    /// // Faster than terminal: it slows down.
+    /// assert!(model.theta_ddot(0.0, 1.0) < 0.0);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
     pub fn theta_ddot(&self, theta: f64, theta_dot: f64) -> f64 {
         let j = self.disk.jet(theta);
         self.theta_ddot_jet(&j, theta_dot)
@@ -109,6 +157,20 @@ impl<'a> DiskInertial<'a> {
     }
 
     /// Moment J(θ) = (I + m r²) s² of the reduced one-degree-of-freedom system.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{DiskInertial, Ramp};
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// // The perfect disk's moment is the same at every contact angle; a bumpy one's is not.
+    /// let round = Disk::perfect();
+    /// let m = DiskInertial::new(&round, &Ramp::new(0.3, 2.0)?);
+    /// assert!((m.reduced_inertia(0.1) - m.reduced_inertia(2.0)).abs() < 1e-14);
+    /// let bumpy = Disk::new(vec![DiskMode { l: 2, a: 0.5, phase: 0.0 }]);
+    /// let b = DiskInertial::new(&bumpy, &Ramp::new(0.3, 2.0)?);
+    /// assert!((b.reduced_inertia(0.1) - b.reduced_inertia(1.0)).abs() > 1e-3);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
     pub fn reduced_inertia(&self, theta: f64) -> f64 {
         let j = self.disk.jet(theta);
         let s = j.turn_rate();
@@ -116,6 +178,18 @@ impl<'a> DiskInertial<'a> {
     }
 
     /// Potential V = −F sin α x_cm + F cos α h for contact angle θ and rolled arc x_c.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{DiskInertial, Ramp};
+    /// use rollphase_core::geometry::Disk;
+    /// let disk = Disk::perfect();
+    /// let model = DiskInertial::new(&disk, &Ramp::new(0.3, 2.0)?);
+    /// // The unit disk's centre stays at height 1: V = −sin α x + cos α.
+    /// let v = model.potential(0.7, 5.0);
+    /// assert!((v - (-0.3f64.sin() * 5.0 + 0.3f64.cos())).abs() < 1e-14);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
     pub fn potential(&self, theta: f64, x_c: f64) -> f64 {
         let j = self.disk.jet(theta);
         -self.sin_a * (x_c + j.centre_offset()) + self.cos_a * j.height()
@@ -155,6 +229,15 @@ pub struct DiskPose {
 }
 
 /// ψ and the centre of mass for contact angle θ and rolled arc x_c.
+///
+/// # Example
+/// ```
+/// use rollphase_core::dynamics::disk2d::pose;
+/// use rollphase_core::geometry::Disk;
+/// let p = pose(&Disk::perfect(), 0.4, 2.0);
+/// assert_eq!((p.x, p.y), (2.0, 1.0));
+/// assert!((p.psi - (1.5 * std::f64::consts::PI - 0.4)).abs() < 1e-15);
+/// ```
 pub fn pose(disk: &Disk, theta: f64, x_c: f64) -> DiskPose {
     let j = disk.jet(theta);
     DiskPose {

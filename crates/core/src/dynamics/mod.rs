@@ -43,6 +43,16 @@ impl ModelKind {
     ];
 
     /// The model a body runs with on `ramp` (m/m0 = 0: viscous).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{ModelKind, Ramp};
+    /// use rollphase_core::geometry::Body;
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// assert_eq!(ModelKind::of(&body, &Ramp::new(0.15, 0.0)?), ModelKind::SphereViscous);
+    /// assert_eq!(ModelKind::of(&body, &Ramp::new(0.15, 6.0)?), ModelKind::SphereInertial);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn of(body: &crate::geometry::Body, ramp: &Ramp) -> Self {
         match (body, ramp.is_viscous()) {
             (crate::geometry::Body::Disk(_), true) => ModelKind::DiskViscous,
@@ -53,6 +63,13 @@ impl ModelKind {
     }
 
     /// The name: "disk-viscous", "disk-inertial", "sphere-viscous" or "sphere-inertial".
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::ModelKind;
+    /// assert_eq!(ModelKind::DiskInertial.name(), "disk-inertial");
+    /// assert_eq!(ModelKind::SphereViscous.to_string(), "sphere-viscous");
+    /// ```
     pub fn name(self) -> &'static str {
         match self {
             ModelKind::DiskViscous => "disk-viscous",
@@ -98,11 +115,29 @@ pub enum ModelError {
 
 impl Ramp {
     /// A ramp with unit drag.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{ModelError, Ramp};
+    /// let ramp = Ramp::new(0.15, 6.0)?;
+    /// assert_eq!((ramp.drag, ramp.is_viscous()), (1.0, false));
+    /// assert_eq!(Ramp::new(2.0, 0.0), Err(ModelError::BadAlpha(2.0)));
+    /// assert!(Ramp::new(0.15, f64::NAN).is_err());
+    /// # Ok::<(), ModelError>(())
+    /// ```
     pub fn new(alpha_rad: f64, mass_ratio: f64) -> Result<Self, ModelError> {
         Self::with_drag(alpha_rad, mass_ratio, 1.0)
     }
 
     /// A ramp with the given drag, validated.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{ModelError, Ramp};
+    /// // No drag: allowed with inertia (free rolling), not in the viscous model.
+    /// assert!(Ramp::with_drag(0.15, 1.0, 0.0).is_ok());
+    /// assert_eq!(Ramp::with_drag(0.15, 0.0, 0.0), Err(ModelError::BadDrag(0.0)));
+    /// ```
     pub fn with_drag(alpha_rad: f64, mass_ratio: f64, drag: f64) -> Result<Self, ModelError> {
         if !(alpha_rad.is_finite() && alpha_rad > 0.0 && alpha_rad < std::f64::consts::FRAC_PI_2) {
             return Err(ModelError::BadAlpha(alpha_rad));
@@ -121,6 +156,14 @@ impl Ramp {
     }
 
     /// Whether the viscous (massless) model applies.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::Ramp;
+    /// assert!(Ramp::new(0.2, 0.0)?.is_viscous());
+    /// assert!(!Ramp::new(0.2, 1e-3)?.is_viscous());
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
     pub fn is_viscous(&self) -> bool {
         self.mass_ratio == 0.0
     }

@@ -66,6 +66,21 @@ impl<'a> ContactTracker<'a> {
 
 /// The orientation that puts the surface point above body direction `u` in contact with the
 /// ramp, then spins the body on the spot by `spin_rad` about the lab's +z axis (SI §2F).
+///
+/// # Example
+/// ```
+/// use rollphase_core::dynamics::sphere3d::orientation_touching;
+/// use rollphase_core::dynamics::{Ramp, SphereViscous};
+/// use rollphase_core::geometry::random_sphere;
+/// use rollphase_core::glam::DVec3;
+/// let body = random_sphere(1, 0.2, 4)?;
+/// let u = DVec3::new(0.3, 0.4, -0.5).normalize();
+/// let q = orientation_touching(&body, u, 0.7);
+/// let model = SphereViscous::new(&body, &Ramp::new(0.2, 0.0)?);
+/// let seen = model.observe(&SphereViscous::initial_state(q));
+/// assert!((seen.contact_dir - u).length() < 1e-9);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn orientation_touching(body: &Sphere, u: DVec3, spin_rad: f64) -> DQuat {
     let n0 = body.surface(u).normal;
     let tilt = DQuat::from_rotation_arc(n0, DOWN);
@@ -137,6 +152,19 @@ pub struct SphereViscous<'a> {
 
 impl<'a> SphereViscous<'a> {
     /// The model for `body` on `ramp` (mass ignored).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{Ramp, SphereViscous};
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::glam::DQuat;
+    /// let ball = Sphere::perfect();
+    /// let model = SphereViscous::new(&ball, &Ramp::new(0.3, 0.0)?);
+    /// let seen = model.observe(&SphereViscous::initial_state(DQuat::IDENTITY));
+    /// // The unit ball rolls at |ω| = sin α / γ about the horizontal axis across the slope.
+    /// assert!((seen.omega.length() - 0.3f64.sin()).abs() < 1e-12 && seen.omega.x.abs() < 1e-12);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
     pub fn new(body: &'a Sphere, ramp: &Ramp) -> Self {
         Self {
             tracker: ContactTracker::new(body),
@@ -146,16 +174,51 @@ impl<'a> SphereViscous<'a> {
     }
 
     /// Initial state for orientation q at the origin.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::SphereViscous;
+    /// use rollphase_core::glam::DQuat;
+    /// let y = SphereViscous::initial_state(DQuat::IDENTITY);
+    /// assert_eq!(y, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    /// ```
     pub fn initial_state(q: DQuat) -> [f64; 6] {
         [q.w, q.x, q.y, q.z, 0.0, 0.0]
     }
 
     /// ω = −r × F / γ for lab contact vector r.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{Ramp, SphereViscous};
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::glam::DVec3;
+    /// let ball = Sphere::perfect();
+    /// let model = SphereViscous::new(&ball, &Ramp::new(0.3, 0.0)?);
+    /// let r = DVec3::new(0.0, 0.0, -1.0);
+    /// let omega = model.omega(r);
+    /// // ω is perpendicular to the contact vector, with |ω| = sin α / γ on the unit ball.
+    /// assert!(omega.dot(r).abs() < 1e-15 && (omega.length() - 0.3f64.sin()).abs() < 1e-15);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
     pub fn omega(&self, r: DVec3) -> DVec3 {
         -r.cross(self.force) / self.drag
     }
 
     /// What the state shows.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{Ramp, SphereViscous};
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::glam::{DQuat, DVec3};
+    /// let ball = Sphere::perfect();
+    /// let model = SphereViscous::new(&ball, &Ramp::new(0.3, 0.0)?);
+    /// let seen = model.observe(&SphereViscous::initial_state(DQuat::IDENTITY));
+    /// assert!((seen.centre - DVec3::new(0.0, 0.0, 1.0)).length() < 1e-12);
+    /// assert!(seen.quat_norm_error == 0.0 && seen.contact_normal_error < 1e-12);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
     pub fn observe(&self, y: &[f64; 6]) -> SphereObservation {
         observe(&self.tracker, quat_at(y, 0), |r| self.omega(r), y[4], y[5])
     }
@@ -195,6 +258,19 @@ pub struct SphereInertial<'a> {
 
 impl<'a> SphereInertial<'a> {
     /// The model for `body` on `ramp`; needs m/m0 > 0.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{Ramp, SphereInertial};
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::glam::{DQuat, DVec3};
+    /// let ball = Sphere::perfect();
+    /// let model = SphereInertial::new(&ball, &Ramp::new(0.3, 2.0)?);
+    /// let omega = DVec3::new(0.0, 0.2, 0.0);
+    /// let seen = model.observe(&SphereInertial::initial_state(DQuat::IDENTITY, omega));
+    /// assert!((seen.omega - omega).length() < 1e-15);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
     pub fn new(body: &'a Sphere, ramp: &Ramp) -> Self {
         Self {
             tracker: ContactTracker::new(body),
@@ -206,11 +282,32 @@ impl<'a> SphereInertial<'a> {
     }
 
     /// Initial state for orientation q and lab angular velocity ω at the origin.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::SphereInertial;
+    /// use rollphase_core::glam::{DQuat, DVec3};
+    /// let y = SphereInertial::initial_state(DQuat::IDENTITY, DVec3::new(0.1, 0.2, 0.3));
+    /// assert_eq!(y.len(), 10);
+    /// assert_eq!(&y[..4], &[1.0, 0.0, 0.0, 0.0]);
+    /// ```
     pub fn initial_state(q: DQuat, omega: DVec3) -> [f64; 10] {
         [q.w, q.x, q.y, q.z, omega.x, omega.y, omega.z, 0.0, 0.0, 0.0]
     }
 
     /// What the state shows.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{Ramp, SphereInertial};
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::glam::{DQuat, DVec3};
+    /// let ball = Sphere::perfect();
+    /// let model = SphereInertial::new(&ball, &Ramp::new(0.3, 2.0)?);
+    /// let seen = model.observe(&SphereInertial::initial_state(DQuat::IDENTITY, DVec3::ZERO));
+    /// assert!((seen.centre.z - 1.0).abs() < 1e-12 && seen.omega == DVec3::ZERO);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
     pub fn observe(&self, y: &[f64; 10]) -> SphereObservation {
         let omega = DVec3::new(y[4], y[5], y[6]);
         observe(&self.tracker, quat_at(y, 0), |_| omega, y[7], y[8])

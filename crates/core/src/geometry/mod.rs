@@ -364,6 +364,14 @@ impl Body {
     }
 
     /// 2 or 3.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// assert_eq!(Body::random_disk(1, 0.1, 5)?.dimension(), 2);
+    /// assert_eq!(Body::random_sphere(1, 0.1, 5)?.dimension(), 3);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn dimension(&self) -> u32 {
         match self {
             Body::Disk(_) => 2,
@@ -391,6 +399,17 @@ impl Body {
     /// [`Body::curvature`] searched from a grid of `grid_size` points (the disk's θ grid or the
     /// sphere's Fibonacci lattice) instead of the default size: for checking the default
     /// against a denser search.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// // A denser search agrees with the default one on the extremes.
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// let (default, dense) = (body.curvature(), body.curvature_on_grid(20_000));
+    /// assert!((default.curvature_min - dense.curvature_min).abs() < 1e-9);
+    /// assert_eq!(default.convex, dense.convex);
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn curvature_on_grid(&self, grid_size: usize) -> CurvatureReport {
         curvature_report_on(self, grid_size.max(8))
     }
@@ -445,6 +464,13 @@ const DISK_GRID: usize = 4096;
 /// the basin of each candidate extremum; Newton refinement then finds it to round-off.
 /// The unit tests check the verdicts and extremes against a 20 000-point grid on a few hundred
 /// random bodies at the edge of convexity. A 2500-point grid for L = 5 costs about 0.3 ms.
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::sphere_grid_size;
+/// // Finer bodies need finer grids.
+/// assert!(sphere_grid_size(5) >= sphere_grid_size(2));
+/// ```
 pub fn sphere_grid_size(max_degree: u32) -> usize {
     (100 * (max_degree as usize).pow(2)).clamp(800, 20_000)
 }
@@ -511,6 +537,13 @@ fn curvature_report_on(body: &Body, grid_size: usize) -> CurvatureReport {
 
 /// Maximises a smooth 2π-periodic f: best of `n` grid points, then golden-section search on the
 /// bracketing cell pair, to |Δθ| ≈ 1e-12. Returns (θ, f(θ)).
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::refine_1d;
+/// let (theta, value) = refine_1d(|t| (t - 1.0).cos(), 16);
+/// assert!((theta - 1.0).abs() < 1e-7 && (value - 1.0).abs() < 1e-14);
+/// ```
 pub fn refine_1d(f: impl Fn(f64) -> f64, n: usize) -> (f64, f64) {
     let h = TAU / n as f64;
     let (mut best_i, mut best) = (0, f64::NEG_INFINITY);
@@ -539,6 +572,15 @@ pub fn refine_1d(f: impl Fn(f64) -> f64, n: usize) -> (f64, f64) {
 /// of the grid are refined by Newton's method in a tangent chart (finite-difference gradient and
 /// Hessian, backtracking), which converges to the maximiser to ~1e-8 and so to the maximum value
 /// to ~1e-15. Returns (u, f(u)).
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::{refine_sphere, sphere::fibonacci_sphere};
+/// use rollphase_core::glam::DVec3;
+/// let target = DVec3::new(1.0, 2.0, -2.0).normalize();
+/// let (u, value) = refine_sphere(|u| u.dot(target), &fibonacci_sphere(200));
+/// assert!((u - target).length() < 1e-6 && (value - 1.0).abs() < 1e-12);
+/// ```
 pub fn refine_sphere(f: impl Fn(DVec3) -> f64, grid: &[DVec3]) -> (DVec3, f64) {
     let values: Vec<f64> = grid.iter().map(|&u| f(u)).collect();
     refine_sphere_from(f, grid, &values)
@@ -549,6 +591,20 @@ const CANDIDATE_POOL: usize = 400;
 
 /// [`refine_sphere`] with f already evaluated on the grid (`values[i]` = f(`grid[i]`)), so that
 /// several searches can share one pass of an expensive evaluation.
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::{refine_sphere_from, sphere::fibonacci_sphere};
+/// use rollphase_core::glam::DVec3;
+/// let grid = fibonacci_sphere(200);
+/// // One pass of values, two searches: the maximum of f and of −f.
+/// let f = |u: DVec3| u.z + 0.5 * u.x;
+/// let values: Vec<f64> = grid.iter().map(|&u| f(u)).collect();
+/// let negated: Vec<f64> = values.iter().map(|v| -v).collect();
+/// let (_, max) = refine_sphere_from(f, &grid, &values);
+/// let (_, min) = refine_sphere_from(|u| -f(u), &grid, &negated);
+/// assert!((max - 1.25f64.sqrt()).abs() < 1e-12 && (min - 1.25f64.sqrt()).abs() < 1e-12);
+/// ```
 pub fn refine_sphere_from(
     f: impl Fn(DVec3) -> f64,
     grid: &[DVec3],
@@ -750,6 +806,14 @@ pub fn first_convex_disk(seed: u64, sigma: f64, modes: u32) -> Result<(Disk, u64
 
 /// The first strictly convex [`random_sphere`] at seed `seed`, `seed` + 1, … (1000 tried): the
 /// sphere and the seed that gave it.
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::{Body, first_convex_sphere};
+/// let (sphere, seed) = first_convex_sphere(1, 0.25, 5)?;
+/// assert!(seed >= 1 && Body::Sphere(sphere).is_convex());
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
 pub fn first_convex_sphere(
     seed: u64,
     sigma: f64,
