@@ -234,6 +234,27 @@ pub struct Dop853<'a, S, const N: usize> {
 
 impl<'a, S: OdeSystem<N>, const N: usize> Dop853<'a, S, N> {
     /// Starts at (t0, y0); the first step is chosen by Hairer's heuristic.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::dop853::Dop853;
+    /// use rollphase_core::integrate::{OdeSystem, Stepper};
+    /// struct Decay;
+    /// impl OdeSystem<1> for Decay {
+    ///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+    ///         [-y[0]]
+    ///     }
+    /// }
+    /// let mut d = Dop853::new(&Decay, 0.0, [1.0], 1e-12, 1e-12);
+    /// while d.t() < 5.0 {
+    ///     d.step(5.0)?;
+    /// }
+    /// assert!((d.y()[0] - (-5.0f64).exp()).abs() < 1e-12);
+    /// // Dense output between the last two steps.
+    /// let mid = 0.5 * (d.t_prev() + d.t());
+    /// assert!((d.dense(mid)[0] - (-mid).exp()).abs() < 1e-12);
+    /// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
+    /// ```
     pub fn new(system: &'a S, t0: f64, y0: [f64; N], rtol: f64, atol: f64) -> Self {
         let f0 = system.rhs(t0, &y0);
         let mut k = [[0.0; N]; 16];

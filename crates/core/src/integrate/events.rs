@@ -25,6 +25,28 @@ const PROBES: usize = 3;
 
 /// Finds the crossings of `g` in the step just taken by `stepper` (from `t_prev` to `t`), in
 /// time order, appending their times to `out`.
+///
+/// # Example
+/// ```
+/// use rollphase_core::integrate::events::{Direction, crossings_in_last_step};
+/// use rollphase_core::integrate::{Method, OdeSystem, stepper};
+/// // The oscillator y'' = −y from (0, 1): y = sin t rises through 0 at t = 2π.
+/// struct Oscillator;
+/// impl OdeSystem<2> for Oscillator {
+///     fn rhs(&self, _t: f64, y: &[f64; 2]) -> [f64; 2] {
+///         [y[1], -y[0]]
+///     }
+/// }
+/// let mut st = stepper(&Oscillator, 0.0, [0.0, 1.0], Method::dop853(1e-12))?;
+/// let mut rising = Vec::new();
+/// while st.t() < 7.0 {
+///     st.step(7.0)?;
+///     crossings_in_last_step(st.as_mut(), &|_t, y: &[f64; 2]| y[0], Direction::Rising, &mut rising);
+/// }
+/// assert_eq!(rising.len(), 1);
+/// assert!((rising[0] - std::f64::consts::TAU).abs() < 1e-10);
+/// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
+/// ```
 pub fn crossings_in_last_step<const N: usize>(
     stepper: &mut dyn Stepper<N>,
     g: &impl Fn(f64, &[f64; N]) -> f64,
@@ -79,6 +101,29 @@ pub fn crossings_in_last_step<const N: usize>(
 /// Times in the last step where state component `slot` rises through `*next_target`, then
 /// `*next_target + step`, …: used to time whole turns of an angle (θ passing θ₀ + 2πk).
 /// Advances `*next_target` past every crossing found.
+///
+/// # Example
+/// ```
+/// use rollphase_core::integrate::events::turns_in_last_step;
+/// use rollphase_core::integrate::{Method, OdeSystem, stepper};
+/// // θ' = 1: whole turns at t = 2π, 4π.
+/// struct Spin;
+/// impl OdeSystem<1> for Spin {
+///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+///         [1.0]
+///     }
+/// }
+/// let tau = std::f64::consts::TAU;
+/// let mut st = stepper(&Spin, 0.0, [0.0], Method::dop853(1e-12))?;
+/// let (mut next, mut turns) = (tau, Vec::new());
+/// while st.t() < 13.0 {
+///     st.step(13.0)?;
+///     turns_in_last_step(st.as_mut(), 0, &mut next, tau, &mut turns);
+/// }
+/// assert_eq!(turns.len(), 2);
+/// assert!((turns[1] - 2.0 * tau).abs() < 1e-9 && (next - 3.0 * tau).abs() < 1e-12);
+/// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
+/// ```
 pub fn turns_in_last_step<const N: usize>(
     stepper: &mut dyn Stepper<N>,
     slot: usize,
@@ -103,6 +148,24 @@ pub fn turns_in_last_step<const N: usize>(
 }
 
 /// Integrates until `t_end` or until `stop(events_so_far)` says so, collecting crossings.
+///
+/// # Example
+/// ```
+/// use rollphase_core::integrate::events::{Direction, integrate_collecting};
+/// use rollphase_core::integrate::{Method, OdeSystem, stepper};
+/// struct Oscillator;
+/// impl OdeSystem<2> for Oscillator {
+///     fn rhs(&self, _t: f64, y: &[f64; 2]) -> [f64; 2] {
+///         [y[1], -y[0]]
+///     }
+/// }
+/// // Zeros of sin t in either direction, stopping at the third: π, 2π, 3π.
+/// let mut st = stepper(&Oscillator, 0.0, [0.0, 1.0], Method::dop853(1e-12))?;
+/// let zeros = integrate_collecting(st.as_mut(), 100.0, 100_000, &|_t, y: &[f64; 2]| y[0], Direction::Both, |e| e.len() >= 3)?;
+/// assert_eq!(zeros.len(), 3);
+/// assert!((zeros[2] - 3.0 * std::f64::consts::PI).abs() < 1e-10 && st.t() < 100.0);
+/// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
+/// ```
 pub fn integrate_collecting<const N: usize>(
     stepper: &mut dyn Stepper<N>,
     t_end: f64,

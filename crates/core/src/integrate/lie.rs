@@ -21,11 +21,31 @@ use glam::{DQuat, DVec3};
 use super::{OdeSystem, rk4::rk4_step};
 
 /// Reads q (w, x, y, z) from a state slot.
+///
+/// # Example
+/// ```
+/// use rollphase_core::integrate::lie::{quat_at, set_quat};
+/// use rollphase_core::glam::DQuat;
+/// let mut y = [0.0; 6];
+/// let q = DQuat::from_rotation_z(0.5);
+/// set_quat(&mut y, 2, q);
+/// assert_eq!(quat_at(&y, 2), q);
+/// assert_eq!(y[2], q.w); // stored w first
+/// ```
 pub fn quat_at(y: &[f64], slot: usize) -> DQuat {
     DQuat::from_xyzw(y[slot + 1], y[slot + 2], y[slot + 3], y[slot])
 }
 
 /// Writes q (w, x, y, z) into a state slot.
+///
+/// # Example
+/// ```
+/// use rollphase_core::integrate::lie::set_quat;
+/// use rollphase_core::glam::DQuat;
+/// let mut y = [9.0; 4];
+/// set_quat(&mut y, 0, DQuat::IDENTITY);
+/// assert_eq!(y, [1.0, 0.0, 0.0, 0.0]);
+/// ```
 pub fn set_quat(y: &mut [f64], slot: usize, q: DQuat) {
     y[slot] = q.w;
     y[slot + 1] = q.x;

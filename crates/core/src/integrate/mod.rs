@@ -71,11 +71,25 @@ pub enum Method {
 
 impl Method {
     /// DOP853 with `atol = rtol`, the setting used throughout the paper's reproductions.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::Method;
+    /// assert!(matches!(Method::dop853(1e-9), Method::Dop853 { rtol, atol } if rtol == 1e-9 && atol == 1e-9));
+    /// ```
     pub fn dop853(rtol: f64) -> Self {
         Method::Dop853 { rtol, atol: rtol }
     }
 
     /// Checks the accuracy parameter: steps and tolerances must be finite and positive.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::Method;
+    /// assert!(Method::Rk4 { dt: 0.01 }.validate().is_ok());
+    /// assert!(Method::Rk4 { dt: -0.01 }.validate().is_err());
+    /// assert!(Method::dop853(f64::NAN).validate().is_err());
+    /// ```
     pub fn validate(&self) -> Result<(), IntegrateError> {
         let (name, value, ok) = match *self {
             Method::Rk4 { dt } | Method::Cf4 { dt } => ("dt", dt, dt.is_finite() && dt > 0.0),
@@ -117,6 +131,12 @@ impl Method {
     }
 
     /// Short human name, as used on the command line.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::Method;
+    /// assert_eq!(Method::Cf4 { dt: 0.05 }.name(), "cf4");
+    /// ```
     pub fn name(&self) -> &'static str {
         match self {
             Method::Rk4 { .. } => "rk4",
@@ -139,6 +159,13 @@ impl std::fmt::Display for Method {
 
 /// A number as people read it: Rust's shortest form between 1e-4 and 1e6, exponent form
 /// outside (so 1e308 is not printed with 309 digits).
+///
+/// # Example
+/// ```
+/// use rollphase_core::integrate::readable;
+/// assert_eq!(readable(0.25), "0.25");
+/// assert_eq!(readable(1e308), "1e308");
+/// ```
 pub fn readable(v: f64) -> String {
     if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&v.abs()) {
         format!("{v}")
@@ -248,6 +275,25 @@ pub trait Stepper<const N: usize> {
 /// Steps `stepper` until it reaches `t_end`, within `max_steps` accepted steps, calling
 /// `after_step` after each one: the one stepping loop of `simulate::run` (samples, health) and
 /// the app's `sim::Simulation` (trails, crossings, health).
+///
+/// # Example
+/// ```
+/// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem, step_until, stepper};
+/// struct Decay;
+/// impl OdeSystem<1> for Decay {
+///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+///         [-y[0]]
+///     }
+/// }
+/// // Steps of about 0.1 reach t = 1 within 20; a budget of 3 is an error, not a silent stop.
+/// let mut st = stepper(&Decay, 0.0, [1.0], Method::Rk4 { dt: 0.1 })?;
+/// step_until::<1, IntegrateError>(st.as_mut(), 1.0, 20, |_| Ok(()))?;
+/// assert!((st.t() - 1.0).abs() < 1e-12);
+/// let mut short = stepper(&Decay, 0.0, [1.0], Method::Rk4 { dt: 0.1 })?;
+/// let e = step_until::<1, IntegrateError>(short.as_mut(), 1.0, 3, |_| Ok(()));
+/// assert!(matches!(e, Err(IntegrateError::TooManySteps { .. })));
+/// # Ok::<(), IntegrateError>(())
+/// ```
 pub fn step_until<const N: usize, E: From<IntegrateError>>(
     stepper: &mut dyn Stepper<N>,
     t_end: f64,
@@ -313,6 +359,23 @@ where
 
 /// Integrates to `t_end` and calls `visit(t, y)` at each of the `times` (ascending, within
 /// [t0, t_end]) from the dense output, so samples do not depend on where steps fall.
+///
+/// # Example
+/// ```
+/// use rollphase_core::integrate::{Method, OdeSystem, sample, stepper, uniform_times};
+/// struct Decay;
+/// impl OdeSystem<1> for Decay {
+///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+///         [-y[0]]
+///     }
+/// }
+/// let mut st = stepper(&Decay, 0.0, [1.0], Method::dop853(1e-12))?;
+/// let mut seen = Vec::new();
+/// sample(st.as_mut(), &uniform_times(0.0, 2.0, 5), 10_000, |t, y| seen.push((t, y[0])))?;
+/// assert_eq!(seen.len(), 5);
+/// assert!(seen.iter().all(|(t, y)| (y - (-t).exp()).abs() < 1e-11));
+/// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
+/// ```
 pub fn sample<const N: usize>(
     stepper: &mut dyn Stepper<N>,
     times: &[f64],
@@ -350,6 +413,13 @@ pub fn sample<const N: usize>(
 }
 
 /// `n` equally spaced times from `t0` to `t_end` inclusive (n ≥ 2), or just `[t_end]` for n = 1.
+///
+/// # Example
+/// ```
+/// use rollphase_core::integrate::uniform_times;
+/// assert_eq!(uniform_times(0.0, 1.0, 5), [0.0, 0.25, 0.5, 0.75, 1.0]);
+/// assert_eq!(uniform_times(0.0, 1.0, 1), [1.0]);
+/// ```
 pub fn uniform_times(t0: f64, t_end: f64, n: usize) -> Vec<f64> {
     match n {
         0 => Vec::new(),
@@ -417,6 +487,12 @@ impl Preset {
     pub const ALL: [Preset; 3] = [Preset::Fast, Preset::Balanced, Preset::Precise];
 
     /// The integrator setting.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::{Method, Preset};
+    /// assert_eq!(Preset::Balanced.method(), Method::dop853(1e-8));
+    /// ```
     pub fn method(self) -> Method {
         Method::dop853(match self {
             Preset::Fast => 1e-6,
@@ -427,6 +503,13 @@ impl Preset {
 
     /// Expected state error at t = 100: the largest measured over the four models on the bundled
     /// bodies (orientation in rad, position in ⟨r⟩), rounded up. `tests/presets.rs` re-measures it.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::Preset;
+    /// // More precise presets promise smaller errors.
+    /// assert!(Preset::Precise.expected_state_error() < Preset::Fast.expected_state_error());
+    /// ```
     pub fn expected_state_error(self) -> f64 {
         match self {
             Preset::Fast => 6e-5,
@@ -436,6 +519,12 @@ impl Preset {
     }
 
     /// Expected relative error of the orbit period, measured likewise.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::Preset;
+    /// assert!(Preset::Precise.expected_period_error() < Preset::Balanced.expected_period_error());
+    /// ```
     pub fn expected_period_error(self) -> f64 {
         match self {
             Preset::Fast => 2e-6,
@@ -445,6 +534,12 @@ impl Preset {
     }
 
     /// Lower-case name.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::Preset;
+    /// assert_eq!(Preset::Fast.name(), "fast");
+    /// ```
     pub fn name(self) -> &'static str {
         match self {
             Preset::Fast => "fast",

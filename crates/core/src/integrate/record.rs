@@ -26,6 +26,22 @@ impl<S: OdeSystem<N>, const N: usize> OdeSystem<N> for Recorder<'_, S, N> {
 
 /// The states, in order, at which a run of `method` from (0, `y0`) to `t_end` evaluates the
 /// right-hand side of `system`.
+///
+/// # Example
+/// ```
+/// use rollphase_core::integrate::record::recorded_states;
+/// use rollphase_core::integrate::{Method, OdeSystem};
+/// struct Decay;
+/// impl OdeSystem<1> for Decay {
+///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+///         [-y[0]]
+///     }
+/// }
+/// // RK4 evaluates four times a step: 10 steps, 40 states (plus its step-doubling checks).
+/// let states = recorded_states(&Decay, [1.0], 1.0, Method::Rk4 { dt: 0.1 })?;
+/// assert!(states.len() >= 40 && states[0] == [1.0]);
+/// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
+/// ```
 pub fn recorded_states<S: OdeSystem<N>, const N: usize>(
     system: &S,
     y0: [f64; N],
@@ -45,6 +61,19 @@ pub fn recorded_states<S: OdeSystem<N>, const N: usize>(
 
 /// Evaluates the right-hand side at each state in order; returns a sum of the results so that
 /// the work cannot be optimised away.
+///
+/// # Example
+/// ```
+/// use rollphase_core::integrate::OdeSystem;
+/// use rollphase_core::integrate::record::replay;
+/// struct Decay;
+/// impl OdeSystem<1> for Decay {
+///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+///         [-y[0]]
+///     }
+/// }
+/// assert_eq!(replay(&Decay, &[[1.0], [2.0]]), -3.0);
+/// ```
 pub fn replay<S: OdeSystem<N>, const N: usize>(system: &S, states: &[[f64; N]]) -> f64 {
     states.iter().map(|y| system.rhs(0.0, y)[0]).sum()
 }

@@ -53,6 +53,25 @@ pub struct FixedStep<'a, S, const N: usize> {
 
 impl<'a, S: OdeSystem<N>, const N: usize> FixedStep<'a, S, N> {
     /// Starts at (t0, y0) with nominal step `dt`.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::rk4::{FixedStep, Scheme};
+    /// use rollphase_core::integrate::{OdeSystem, Stepper};
+    /// struct Decay;
+    /// impl OdeSystem<1> for Decay {
+    ///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+    ///         [-y[0]]
+    ///     }
+    /// }
+    /// let mut rk4 = FixedStep::new(&Decay, Scheme::Rk4, 0.0, [1.0], 0.1);
+    /// while rk4.t() < 1.0 {
+    ///     rk4.step(1.0)?;
+    /// }
+    /// // Fourth order: the error at t = 1 is ~h⁴/120 · e^−1.
+    /// assert!((rk4.y()[0] - (-1.0f64).exp()).abs() < 1e-6);
+    /// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
+    /// ```
     pub fn new(system: &'a S, scheme: Scheme, t0: f64, y0: [f64; N], dt: f64) -> Self {
         let f = system.rhs(t0, &y0);
         Self {
