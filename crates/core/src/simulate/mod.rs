@@ -147,6 +147,14 @@ impl SummaryReport {
 
 impl Summary {
     /// An empty summary of a run of `model`, filled in as the run goes.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::ModelKind;
+    /// use rollphase_core::simulate::Summary;
+    /// let s = Summary::new(ModelKind::DiskInertial);
+    /// assert_eq!((s.rhs_evals, s.energy_drift), (0, None));
+    /// ```
     pub fn new(model: ModelKind) -> Self {
         Self {
             model,

@@ -40,6 +40,18 @@ pub enum Start {
 impl Start {
     /// Pairs `body` with `initial`: the dimensions must agree and the numbers be finite (a
     /// quaternion also non-zero; it is normalised here).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{InitialState, Start};
+    /// let disk = Body::paper_disk(84, 0.12, 5)?;
+    /// assert!(Start::new(&disk, InitialState::Disk { theta0: 0.0, theta_dot0: 0.0 }).is_ok());
+    /// // A 3D start on a 2D body, or a NaN, is refused.
+    /// assert!(Start::new(&disk, InitialState::at_rest(&Body::random_sphere(1, 0.1, 3)?)).is_err());
+    /// assert!(Start::new(&disk, InitialState::Disk { theta0: f64::NAN, theta_dot0: 0.0 }).is_err());
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
     pub fn new(body: &Body, initial: InitialState) -> Result<Self, RunError> {
         match (body, initial) {
             (Body::Disk(d), InitialState::Disk { theta0, theta_dot0 }) => {
@@ -139,6 +151,18 @@ pub enum ModelState {
 
 impl ModelState {
     /// The model `start` runs on `ramp` (viscous when m/m0 = 0), at its initial state.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{ModelKind, Ramp};
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{InitialState, ModelState, Start};
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// let start = Start::new(&body, InitialState::at_rest(&body))?;
+    /// let state = ModelState::new(&start, &Ramp::new(0.15, 6.0)?);
+    /// assert_eq!(state.kind(), ModelKind::SphereInertial);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn new(start: &Start, ramp: &Ramp) -> Self {
         match (start, ramp.is_viscous()) {
             (Start::Disk { disk, theta0, .. }, true) => ModelState::DiskViscous {
@@ -171,16 +195,72 @@ impl ModelState {
     /// `ramp` and its state. Everything that steps or observes a run (`run`, the app's
     /// simulation) goes through here, and asks the model
     /// ([`crate::dynamics::RollingModel`]) for the rest.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{ModelVisitor, Ramp, RollingModel};
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{InitialState, ModelState, Start};
+    /// // A visitor reads what any of the four models offers, here its CSV columns.
+    /// struct Columns;
+    /// impl ModelVisitor for Columns {
+    ///     type Output = &'static str;
+    ///     fn visit<const N: usize, M: RollingModel<N>>(self, _model: &M, _y: &[f64; N]) -> &'static str {
+    ///         M::COLUMNS
+    ///     }
+    /// }
+    /// let disk = Body::paper_disk(84, 0.12, 5)?;
+    /// let ramp = Ramp::new(0.1, 0.0)?;
+    /// let state = ModelState::new(&Start::new(&disk, InitialState::at_rest(&disk))?, &ramp);
+    /// assert_eq!(state.visit(&ramp, Columns), "t,theta,theta_dot,psi,x,y");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn visit<V: ModelVisitor>(&self, ramp: &Ramp, visitor: V) -> V::Output {
         dispatch!(self, ramp, visitor)
     }
 
     /// [`Self::visit`] that may change the state (stepping it).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{ModelVisitorMut, Ramp, RollingModel};
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{InitialState, ModelState, Start};
+    /// // A visitor that moves the body's first state component (θ for a disk) and says where
+    /// // it is now.
+    /// struct Nudge;
+    /// impl ModelVisitorMut for Nudge {
+    ///     type Output = f64;
+    ///     fn visit<const N: usize, M: RollingModel<N>>(self, _model: &M, y: &mut [f64; N]) -> f64 {
+    ///         y[0] += 0.5;
+    ///         y[0]
+    ///     }
+    /// }
+    /// let disk = Body::paper_disk(84, 0.12, 5)?;
+    /// let ramp = Ramp::new(0.1, 0.0)?;
+    /// let start = Start::new(&disk, InitialState::Disk { theta0: 1.0, theta_dot0: 0.0 })?;
+    /// let mut state = ModelState::new(&start, &ramp);
+    /// assert_eq!(state.visit_mut(&ramp, Nudge), 1.5);
+    /// assert_eq!(state.visit_mut(&ramp, Nudge), 2.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn visit_mut<V: ModelVisitorMut>(&mut self, ramp: &Ramp, visitor: V) -> V::Output {
         dispatch!(self, ramp, visitor)
     }
 
     /// Which of the four this is.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{ModelKind, Ramp};
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{InitialState, ModelState, Start};
+    /// let disk = Body::paper_disk(84, 0.12, 5)?;
+    /// let start = Start::new(&disk, InitialState::at_rest(&disk))?;
+    /// assert_eq!(ModelState::new(&start, &Ramp::new(0.1, 0.0)?).kind(), ModelKind::DiskViscous);
+    /// assert_eq!(ModelState::new(&start, &Ramp::new(0.1, 2.0)?).kind(), ModelKind::DiskInertial);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn kind(&self) -> ModelKind {
         match self {
             ModelState::DiskViscous { .. } => ModelKind::DiskViscous,
@@ -192,6 +272,20 @@ impl ModelState {
 
     /// The same body in the same pose under `ramp`: between inertial settings the angular
     /// velocity is kept; inertial → viscous drops it; viscous → inertial starts from rest.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{ModelKind, Ramp};
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{InitialState, ModelState, Start};
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// let start = Start::new(&body, InitialState::at_rest(&body))?;
+    /// let viscous = ModelState::new(&start, &Ramp::new(0.15, 0.0)?);
+    /// // Turning on inertia mid-lesson: the same pose, now with m/m0 = 6, from rest.
+    /// let heavy = viscous.for_ramp(&Ramp::new(0.15, 6.0)?);
+    /// assert_eq!(heavy.kind(), ModelKind::SphereInertial);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn for_ramp(self, ramp: &Ramp) -> Self {
         match (self, ramp.is_viscous()) {
             (ModelState::DiskViscous { disk, y }, false) => ModelState::DiskInertial {
@@ -215,6 +309,17 @@ impl ModelState {
     }
 
     /// The body, as a [`Body`].
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::Ramp;
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{InitialState, ModelState, Start};
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// let state = ModelState::new(&Start::new(&body, InitialState::at_rest(&body))?, &Ramp::new(0.15, 0.0)?);
+    /// assert_eq!(state.body().alpha_star(), body.alpha_star());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn body(&self) -> Body {
         match self {
             ModelState::DiskViscous { disk, .. } | ModelState::DiskInertial { disk, .. } => {

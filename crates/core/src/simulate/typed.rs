@@ -48,6 +48,13 @@ impl Model {
     }
 
     /// m/m0: 0 for [`Model::Viscous`].
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::simulate::Model;
+    /// assert_eq!(Model::Viscous.mass_ratio(), 0.0);
+    /// assert_eq!(Model::Inertial { mass_ratio: 6.0 }.mass_ratio(), 6.0);
+    /// ```
     pub fn mass_ratio(self) -> f64 {
         match self {
             Model::Viscous => 0.0,
@@ -155,11 +162,31 @@ impl Simulation {
     }
 
     /// With this model.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{Model, Simulation};
+    /// let body = Body::paper_disk(84, 0.12, 5)?;
+    /// let spec = Simulation::new(0.1, 10.0).model(Model::Inertial { mass_ratio: 2.0 }).spec(&body)?;
+    /// assert_eq!(spec.ramp.mass_ratio, 2.0);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn model(self, model: Model) -> Self {
         Simulation { model, ..self }
     }
 
     /// From this start.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{InitialState, Simulation};
+    /// let body = Body::paper_disk(84, 0.12, 5)?;
+    /// let start = InitialState::Disk { theta0: 1.0, theta_dot0: 0.0 };
+    /// assert_eq!(Simulation::new(0.1, 10.0).initial(start).spec(&body)?.initial, start);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn initial(self, initial: InitialState) -> Self {
         Simulation {
             initial: Some(initial),
@@ -168,21 +195,66 @@ impl Simulation {
     }
 
     /// With this integrator.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::integrate::Method;
+    /// use rollphase_core::simulate::Simulation;
+    /// let body = Body::paper_disk(84, 0.12, 5)?;
+    /// let spec = Simulation::new(0.1, 10.0).method(Method::Rk4 { dt: 0.01 }).spec(&body)?;
+    /// assert_eq!(spec.method, Method::Rk4 { dt: 0.01 });
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn method(self, method: Method) -> Self {
         Simulation { method, ..self }
     }
 
     /// With this many samples.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{Simulation, simulate};
+    /// let body = Body::paper_disk(84, 0.12, 5)?;
+    /// let (trajectory, _) = simulate(&body, &Simulation::new(0.1, 10.0).samples(11))?;
+    /// assert_eq!(trajectory.t(), &[0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn samples(self, samples: usize) -> Self {
         Simulation { samples, ..self }
     }
 
     /// With this drag γ/γ0.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::Simulation;
+    /// let body = Body::paper_disk(84, 0.12, 5)?;
+    /// assert_eq!(Simulation::new(0.1, 10.0).drag(2.0).spec(&body)?.ramp.drag, 2.0);
+    /// // A viscous run needs drag.
+    /// assert!(Simulation::new(0.1, 10.0).drag(0.0).spec(&body).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn drag(self, drag: f64) -> Self {
         Simulation { drag, ..self }
     }
 
     /// The [`RunSpec`] this stands for, for `body`.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::Simulation;
+    /// let body = Body::paper_disk(84, 0.12, 5)?;
+    /// let spec = Simulation::new(0.1, 10.0).spec(&body)?;
+    /// assert_eq!((spec.t_end, spec.ramp.alpha_rad), (10.0, 0.1));
+    /// // The run checks the rest before any work, naming the value.
+    /// let e = rollphase_core::simulate::simulate(&body, &Simulation::new(0.1, f64::INFINITY));
+    /// assert!(e.unwrap_err().to_string().contains("t_end = inf"));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn spec(&self, body: &Body) -> Result<RunSpec, RunError> {
         // The ramp first, so a bad m/m0 gets the command line's message for `--mass`.
         let ramp = Ramp::with_drag(self.alpha, self.model.mass_ratio(), self.drag)?;
@@ -314,6 +386,16 @@ pub enum Trajectory {
 
 impl Trajectory {
     /// The sample times.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{Simulation, simulate};
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// let (trajectory, _) = simulate(&body, &Simulation::new(0.15, 2.0).samples(3))?;
+    /// assert_eq!(trajectory.t(), &[0.0, 1.0, 2.0]);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn t(&self) -> &[f64] {
         match self {
             Trajectory::Disk(d) => &d.t,
@@ -322,11 +404,30 @@ impl Trajectory {
     }
 
     /// The number of samples.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{Simulation, simulate};
+    /// let body = Body::paper_disk(84, 0.12, 5)?;
+    /// let (trajectory, _) = simulate(&body, &Simulation::new(0.1, 5.0).samples(6))?;
+    /// assert_eq!(trajectory.len(), 6);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn len(&self) -> usize {
         self.t().len()
     }
 
     /// Whether there are none.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{Simulation, simulate};
+    /// let body = Body::paper_disk(84, 0.12, 5)?;
+    /// assert!(!simulate(&body, &Simulation::new(0.1, 5.0))?.0.is_empty());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn is_empty(&self) -> bool {
         self.t().is_empty()
     }
