@@ -19,11 +19,27 @@ use crate::integrate::lie::quat_at;
 use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stats};
 
 /// Distance between two boundary points with antipodes identified.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::boundary_distance;
+/// use rollphase_core::glam::DVec3;
+/// // q and −q are one orientation: antipodes are the same point of ∂Ω.
+/// assert_eq!(boundary_distance(DVec3::X, -DVec3::X), 0.0);
+/// assert!((boundary_distance(DVec3::X, DVec3::Y) - 2f64.sqrt()).abs() < 1e-15);
+/// ```
 pub fn boundary_distance(a: DVec3, b: DVec3) -> f64 {
     (a - b).length().min((a + b).length())
 }
 
 /// `b` or `−b`, whichever is nearer `a`.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::nearest_sign;
+/// use rollphase_core::glam::DVec3;
+/// assert_eq!(nearest_sign(DVec3::Z, DVec3::new(0.1, 0.0, -1.0)), DVec3::new(-0.1, 0.0, 1.0));
+/// ```
 pub fn nearest_sign(a: DVec3, b: DVec3) -> DVec3 {
     if (a - b).length() <= (a + b).length() {
         b
@@ -33,6 +49,17 @@ pub fn nearest_sign(a: DVec3, b: DVec3) -> DVec3 {
 }
 
 /// The ball point of an orientation: vector part of ±q with q_w ≥ 0.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::ball_point;
+/// use rollphase_core::glam::{DQuat, DVec3};
+/// // A rotation by π about x lies on ∂Ω at x; the identity at the centre.
+/// let p = ball_point(DQuat::from_rotation_x(std::f64::consts::PI));
+/// assert!((p - DVec3::X).length() < 1e-15);
+/// assert_eq!(ball_point(DQuat::IDENTITY), DVec3::ZERO);
+/// assert_eq!(ball_point(-DQuat::from_rotation_y(0.4)), ball_point(DQuat::from_rotation_y(0.4)));
+/// ```
 pub fn ball_point(q: DQuat) -> DVec3 {
     let q = if q.w < 0.0 { -q } else { q };
     DVec3::new(q.x, q.y, q.z)
@@ -126,6 +153,20 @@ pub fn settle(
 }
 
 /// [`settle`] with any integrator in place of DOP853 at `s.rtol`; also returns the work done.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::{Fate, Settle, settle_with};
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::DQuat;
+/// use rollphase_core::integrate::Method;
+/// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// let (fate, _, stats) = settle_with(&s, &Ramp::new(0.15, 0.0)?, DQuat::IDENTITY, &Settle::default(), Method::dop853(1e-8))?;
+/// assert!(matches!(fate, Fate::Periodic { k: 1, .. }));
+/// assert!(stats.rhs_evals > 0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn settle_with(
     body: &Sphere,
     ramp: &Ramp,
@@ -250,6 +291,21 @@ pub fn poincare_step(
 
 /// The first crossing of ∂Ω (q_w = 0, state slot 0) after t = 0 from `y0`: its time and state,
 /// or `None` if |ω| (`omega`) falls below 1e-9 first (the body halts) or `t_max` passes.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::first_crossing;
+/// use rollphase_core::dynamics::{Ramp, SphereViscous};
+/// use rollphase_core::geometry::Sphere;
+/// use rollphase_core::glam::DQuat;
+/// // The unit ball turns at sin α: from q = 1 it reaches ∂Ω (a half turn) at t = π / sin α.
+/// let ball = Sphere::perfect();
+/// let model = SphereViscous::new(&ball, &Ramp::new(0.3, 0.0)?);
+/// let y0 = SphereViscous::initial_state(DQuat::IDENTITY);
+/// let (t, _) = first_crossing(&model, y0, 100.0, 1e-12, |_| 1.0)?.unwrap();
+/// assert!((t - std::f64::consts::PI / 0.3f64.sin()).abs() < 1e-9);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn first_crossing<const N: usize, S: OdeSystem<N>>(
     sys: &S,
     y0: [f64; N],
@@ -292,6 +348,19 @@ pub struct FieldArrow {
 /// of ∂Ω. Only the upper half (p_z ≥ 0) is integrated, in parallel: V(−p) = −V(p) because q
 /// and −q are the same orientation. `tick` is called once per integrated start (progress).
 /// The result is in lattice order whatever the thread count.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::poincare_field;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// let field = poincare_field(&s, &Ramp::new(0.15, 0.0)?, 40, 400.0, 1e-9, &|| {})?;
+/// assert_eq!(field.len(), 40);
+/// // Above α* = 0.139 no start halts: every arrow has an end.
+/// assert!(field.iter().all(|a| a.end.is_some() && a.time > 0.0));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn poincare_field(
     body: &Sphere,
     ramp: &Ramp,
@@ -314,6 +383,13 @@ pub fn poincare_field(
 }
 
 /// The starts of [`poincare_field`] that are integrated: the lattice points with p_z ≥ 0.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::field_lattice;
+/// let upper = field_lattice(100);
+/// assert!(upper.iter().all(|p| p.z >= 0.0) && upper.len() <= 100);
+/// ```
 pub fn field_lattice(n: usize) -> Vec<DVec3> {
     crate::geometry::sphere::fibonacci_sphere(n)
         .into_iter()
@@ -323,6 +399,16 @@ pub fn field_lattice(n: usize) -> Vec<DVec3> {
 
 /// The whole field from the images of the [`field_lattice`] starts (next crossing and time, or
 /// `None` for a halt): each arrow and, for p_z > 0, its antipode.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::field_from_images;
+/// use rollphase_core::glam::DVec3;
+/// // One integrated start above the equator gives its arrow and the antipode's, reversed.
+/// let arrows = field_from_images(&[DVec3::Z], &[Some((DVec3::X, 2.0))]);
+/// assert_eq!(arrows.len(), 2);
+/// assert_eq!((arrows[1].start, arrows[1].end), (-DVec3::Z, Some(-DVec3::X)));
+/// ```
 pub fn field_from_images(upper: &[DVec3], images: &[Option<(DVec3, f64)>]) -> Vec<FieldArrow> {
     let mut field = Vec::with_capacity(2 * upper.len());
     for (&p, &r) in upper.iter().zip(images) {
@@ -344,6 +430,14 @@ pub fn field_from_images(upper: &[DVec3], images: &[Option<(DVec3, f64)>]) -> Ve
 }
 
 /// Clusters unit vectors (antipodes identified) within `tol`; returns (representative, count).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::cluster_antipodal;
+/// use rollphase_core::glam::DVec3;
+/// let clusters = cluster_antipodal(&[DVec3::X, -DVec3::X, DVec3::Y], 1e-6);
+/// assert_eq!(clusters.iter().map(|c| c.1).collect::<Vec<_>>(), [2, 1]);
+/// ```
 pub fn cluster_antipodal(points: &[DVec3], tol: f64) -> Vec<(DVec3, usize)> {
     let mut clusters: Vec<(DVec3, usize)> = Vec::new();
     for &p in points {
@@ -362,6 +456,19 @@ pub fn cluster_antipodal(points: &[DVec3], tol: f64) -> Vec<(DVec3, usize)> {
 /// A run of the 3D model (viscous if m/m0 = 0, else inertial from rest) to `t_end`: all ∂Ω
 /// crossings, and the contact point (body frame) at `samples` times evenly spread over
 /// [`t_from`, `t_to`].
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::late_run;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::DQuat;
+/// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// let (crossings, path) = late_run(&s, &Ramp::new(0.15, 0.0)?, DQuat::IDENTITY, 500.0, 400.0, 500.0, 11, 1e-9)?;
+/// assert_eq!(path.len(), 11);
+/// assert!(crossings.len() > 2 && crossings.last().unwrap().t <= 500.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[allow(clippy::too_many_arguments)]
 pub fn late_run(
     body: &Sphere,
@@ -578,6 +685,17 @@ fn record<const N: usize, S: OdeSystem<N>>(
 /// while p_n and p_{n−1} are still far apart, and [`late_cycle`] alone would call it period 2.
 /// Over 10k crossings the alternation of such an orbit shrinks by about 10k(1 − |μ|), which this
 /// sees for 1 − |μ| above ~1e-3 (with `tol` = 1e-4 and an alternation of 1e-2).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::{Crossing, settled_cycle};
+/// // A steady 2-cycle: the points alternate between two places, 40 crossings long.
+/// let (a, b) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+/// let c: Vec<Crossing> = (0..40).map(|i| Crossing { t: 10.0 * i as f64, point: if i % 2 == 0 { a } else { b } }).collect();
+/// assert_eq!(settled_cycle(&c, 4, 1e-6), Some((2, 20.0)));
+/// // Too short to be called steady.
+/// assert_eq!(settled_cycle(&c[..12], 4, 1e-6), None);
+/// ```
 pub fn settled_cycle(c: &[Crossing], max_k: usize, tol: f64) -> Option<(usize, f64)> {
     let (k, d) = late_cycle(c, max_k, tol)?;
     if k == 1 {
@@ -599,6 +717,14 @@ pub fn settled_cycle(c: &[Crossing], max_k: usize, tol: f64) -> Option<(usize, f
 /// crossings but only by |1 + μ|·d between every second one, so it could pass for a doubled orbit
 /// while the alternation is still large; with this rule that happens only within |1 + μ| < 1/100
 /// of the flip itself.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::{Crossing, late_cycle};
+/// let p = [0.0, 0.0, 1.0];
+/// let c: Vec<Crossing> = (0..3).map(|i| Crossing { t: 43.5 * i as f64, point: p }).collect();
+/// assert_eq!(late_cycle(&c, 4, 1e-6), Some((1, 43.5)));
+/// ```
 pub fn late_cycle(c: &[Crossing], max_k: usize, tol: f64) -> Option<(usize, f64)> {
     let n = c.len();
     let p = |i: usize| DVec3::from_array(c[i].point);
