@@ -542,3 +542,63 @@ fn the_length_check_sees_long_functions_in_impls_and_reads_their_reasons() {
         vec![]
     );
 }
+
+/// The public functions (`pub fn`, at any indentation) of a source text whose doc holds no
+/// example (a fenced code block), with their lines; the text's tests (from `#[cfg(test)]` at
+/// the start of a line) are not looked at.
+fn public_functions_without_example(text: &str) -> Vec<(String, usize)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut out = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        if line.starts_with("#[cfg(test)]") {
+            break;
+        }
+        let Some(rest) = line.trim_start().strip_prefix("pub fn ") else {
+            continue;
+        };
+        let name: String = rest
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        let doc = lines[..i]
+            .iter()
+            .rev()
+            .take_while(|l| {
+                let l = l.trim_start();
+                l.starts_with("///") || l.starts_with("#[")
+            })
+            .any(|l| l.contains("```"));
+        if !doc {
+            out.push((name, i + 1));
+        }
+    }
+    out
+}
+
+#[test]
+fn every_public_function_of_the_core_has_an_example() {
+    let core = Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/core/src");
+    let mut files = Vec::new();
+    rust_files(&core, &mut files);
+    let mut missing = Vec::new();
+    for file in files {
+        let text = std::fs::read_to_string(&file).unwrap();
+        for (name, line) in public_functions_without_example(&text) {
+            missing.push(format!("{}:{line} fn {name}", file.display()));
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "give these an example in their doc (run as a doctest):\n{}",
+        missing.join("\n")
+    );
+}
+
+#[test]
+fn the_example_check_reads_docs_and_attributes_and_skips_tests() {
+    let text = "/// Doubles.\n///\n/// ```\n/// assert_eq!(f(1), 2);\n/// ```\n#[must_use]\npub fn f(x: i32) -> i32 {\n    2 * x\n}\n\nimpl A {\n    /// No example.\n    pub fn g(&self) {}\n    pub(crate) fn h() {}\n}\n#[cfg(test)]\nmod tests {\n    pub fn helper() {}\n}\n";
+    assert_eq!(
+        public_functions_without_example(text),
+        vec![("g".to_string(), 13)]
+    );
+}

@@ -53,6 +53,16 @@ pub struct Outcome {
 
 impl Case {
     /// The model this case runs: the body's dimension, viscous when m/m0 = 0.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::accuracy::Case;
+    /// use rollphase_core::dynamics::{ModelKind, Ramp};
+    /// use rollphase_core::geometry::Body;
+    /// let case = Case { body: Body::paper_disk(84, 0.12, 5)?, ramp: Ramp::new(0.2, 2.0)?, start: [0.0; 3], t_end: 10.0 };
+    /// assert_eq!(case.model(), ModelKind::DiskInertial);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn model(&self) -> ModelKind {
         ModelKind::of(&self.body, &self.ramp)
     }
@@ -80,6 +90,18 @@ pub struct AccuracyRow {
 }
 
 /// The four models on the bundled bodies, at the angles the paper's figures use.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::accuracy::default_cases;
+/// use rollphase_core::dynamics::ModelKind;
+/// use rollphase_core::geometry::Body;
+/// let (disk, sphere) = (Body::paper_disk(84, 0.12, 5)?, Body::paper_sphere(219, 0.25, 5)?);
+/// let cases = default_cases(&disk, &disk, &sphere);
+/// // One case per model, in ModelKind's order.
+/// assert_eq!(cases.iter().map(|c| c.model()).collect::<Vec<_>>(), ModelKind::ALL);
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
 pub fn default_cases(disk: &Body, disk_inertial: &Body, sphere: &Body) -> Vec<Case> {
     let ramp = |a: f64, m: f64| Ramp::new(a, m).expect("fixed valid parameters");
     vec![
@@ -112,6 +134,17 @@ pub fn default_cases(disk: &Body, disk_inertial: &Body, sphere: &Body) -> Vec<Ca
 
 /// The settings tabulated for a case: RK4 and (3D) CF4 at several steps, DOP853 at several
 /// tolerances.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::accuracy::{default_cases, default_settings};
+/// use rollphase_core::geometry::Body;
+/// let (disk, sphere) = (Body::paper_disk(84, 0.12, 5)?, Body::paper_sphere(219, 0.25, 5)?);
+/// let cases = default_cases(&disk, &disk, &sphere);
+/// // 2D: six RK4 steps and five DOP853 tolerances; 3D adds six CF4 steps.
+/// assert_eq!((default_settings(&cases[0]).len(), default_settings(&cases[2]).len()), (11, 17));
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
 pub fn default_settings(case: &Case) -> Vec<Method> {
     let mut v = Vec::new();
     for dt in [0.4, 0.2, 0.1, 0.05, 0.02, 0.01] {
@@ -185,6 +218,21 @@ fn drive<const N: usize, S: OdeSystem<N>>(
 }
 
 /// Runs `case` with `method`.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::accuracy::{Case, run_case, state_error};
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::integrate::Method;
+/// let case = Case { body: Body::paper_sphere(219, 0.25, 5)?, ramp: Ramp::new(0.3, 0.0)?, start: [1.0, 2.0, 0.5], t_end: 20.0 };
+/// let reference = run_case(&case, Method::dop853(1e-12))?;
+/// let coarse = run_case(&case, Method::Rk4 { dt: 0.1 })?;
+/// // RK4 at dt = 0.1 is close to the reference, but not to round-off.
+/// let e = state_error(&coarse, &reference);
+/// assert!(e > 1e-12 && e < 1e-3, "{e}");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn run_case(case: &Case, method: Method) -> Result<Outcome, IntegrateError> {
     match &case.body {
         Body::Disk(d) => {
@@ -249,6 +297,14 @@ pub fn run_case(case: &Case, method: Method) -> Result<Outcome, IntegrateError> 
 }
 
 /// Mean interval between crossings in (t_end/5, t_end], if there are at least two.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::accuracy::period_estimate;
+/// // Crossings every 2.5 time units; only those after t_end/5 = 2 count.
+/// assert_eq!(period_estimate(&[0.5, 3.0, 5.5, 8.0, 10.5], 10.5), Some(2.5));
+/// assert_eq!(period_estimate(&[9.0], 10.0), None);
+/// ```
 pub fn period_estimate(crossings: &[f64], t_end: f64) -> Option<f64> {
     let w: Vec<f64> = crossings
         .iter()
@@ -259,6 +315,18 @@ pub fn period_estimate(crossings: &[f64], t_end: f64) -> Option<f64> {
 }
 
 /// State error between two outcomes (see the module doc).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::accuracy::{Case, run_case, state_error};
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::integrate::Method;
+/// let case = Case { body: Body::paper_disk(84, 0.12, 5)?, ramp: Ramp::new(0.25, 0.0)?, start: [0.0; 3], t_end: 10.0 };
+/// let run = run_case(&case, Method::dop853(1e-10))?;
+/// assert_eq!(state_error(&run, &run), 0.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn state_error(a: &Outcome, reference: &Outcome) -> f64 {
     let orientation = if a.angle.is_nan() {
         let qa = quat_at(&a.quat, 0).normalize();
@@ -273,6 +341,22 @@ pub fn state_error(a: &Outcome, reference: &Outcome) -> f64 {
 }
 
 /// Builds a table row from a run (or its failure) and the reference.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::accuracy::{Case, row, run_case};
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::integrate::{IntegrateError, Method};
+/// let case = Case { body: Body::paper_disk(84, 0.12, 5)?, ramp: Ramp::new(0.25, 0.0)?, start: [0.0; 3], t_end: 10.0 };
+/// let reference = run_case(&case, Method::dop853(1e-12))?;
+/// let r = row(&case, Method::Rk4 { dt: 0.05 }, &run_case(&case, Method::Rk4 { dt: 0.05 }), &reference);
+/// assert_eq!((r.integrator, r.parameter), ("rk4", 0.05));
+/// // A failed run is a row with its reason, not a panic.
+/// let failed: Result<_, IntegrateError> = Err(IntegrateError::NonFinite { t: 1.0 });
+/// assert!(row(&case, Method::Rk4 { dt: 9.0 }, &failed, &reference).failure.is_some());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn row(
     case: &Case,
     method: Method,
@@ -317,6 +401,18 @@ pub fn row(
 }
 
 /// The unit quaternion of an outcome (3D), for callers that need it.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::accuracy::{Case, outcome_quat, run_case};
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::integrate::Method;
+/// let case = Case { body: Body::paper_sphere(219, 0.25, 5)?, ramp: Ramp::new(0.3, 2.0)?, start: [1.0, 2.0, 0.5], t_end: 5.0 };
+/// let q = outcome_quat(&run_case(&case, Method::dop853(1e-10))?);
+/// assert!((q.length() - 1.0).abs() < 1e-8);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn outcome_quat(o: &Outcome) -> DQuat {
     quat_at(&o.quat, 0)
 }

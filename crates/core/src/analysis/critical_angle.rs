@@ -113,6 +113,15 @@ fn disk_critical_angle(d: &Disk) -> CriticalAngle {
 
 /// `base` with all its mode amplitudes scaled by one factor, found by bisection, so that its α*
 /// equals `target` (convexity not checked).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::critical_angle::disk_with_alpha_star;
+/// use rollphase_core::geometry::{Body, Disk, DiskMode};
+/// let base = Disk::new(vec![DiskMode { l: 3, a: 0.2, phase: 0.4 }]);
+/// let tuned = disk_with_alpha_star(&base, 0.1);
+/// assert!((Body::Disk(tuned).alpha_star() - 0.1).abs() < 1e-9);
+/// ```
 pub fn disk_with_alpha_star(base: &Disk, target: f64) -> Disk {
     let scaled = |s: f64| {
         Disk::new(

@@ -25,6 +25,17 @@ use crate::integrate::{self, IntegrateError, Method};
 
 /// Time for the disk, released from rest at `theta0`, to reach θ = θ0 + `distance`; `None` if it
 /// has not got there by `t_max` (it halted).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::disk_dynamics::lag_time;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Disk;
+/// // The perfect disk rolls at θ̇ = sin α from the start: half a turn takes π / sin α.
+/// let t = lag_time(&Disk::perfect(), &Ramp::new(0.3, 0.0)?, 0.0, std::f64::consts::PI, 1e-12, 1e3)?;
+/// assert!((t.unwrap() - std::f64::consts::PI / 0.3f64.sin()).abs() < 1e-9);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn lag_time(
     disk: &Disk,
     ramp: &Ramp,
@@ -87,6 +98,25 @@ pub struct SweepPoint {
 /// disk made at least one whole turn in the second half of the dwell, its period T is then
 /// measured from the dwell's end state by locating whole turns as events (as `rollphase period`
 /// does, at most 4 × `dwell` time units) and the speed is 2π/T; otherwise the speed is 0.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::critical_angle;
+/// use rollphase_core::analysis::disk_dynamics::{fixed_points, hysteresis_sweep};
+/// use rollphase_core::geometry::{Body, first_convex_disk};
+/// // `figure disk-hysteresis --quick`'s disk and ladder: α*/2 to 1.3 α* in steps of α*/20.
+/// let (disk, _) = first_convex_disk(1, 0.12, 5)?;
+/// let alpha_star = critical_angle(&Body::Disk(disk.clone())).alpha_star;
+/// let alphas: Vec<f64> = (0..17).map(|k| (0.5 + 0.05 * k as f64) * alpha_star).collect();
+/// let rest = fixed_points(&disk, alphas[0]).into_iter().find(|p| p.stable).unwrap();
+/// let sweep = hysteresis_sweep(&disk, 10.0, &alphas, [rest.theta, 0.0], 600.0, 1e-10, || {})?;
+/// assert_eq!(sweep.len(), 33); // the top angle once
+/// assert!(sweep[8].ascending && sweep[8].mean_angular_speed == 0.0, "at rest at 0.9 α* going up");
+/// assert!(sweep[16].mean_angular_speed > 0.0, "rolling at 1.3 α*");
+/// // Hysteresis: the heavy disk, once rolling, keeps rolling at 0.9 α* on the way down.
+/// assert!(!sweep[24].ascending && sweep[24].mean_angular_speed > 0.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn hysteresis_sweep(
     disk: &Disk,
     mass: f64,
@@ -134,6 +164,17 @@ pub fn hysteresis_sweep(
 
 /// Runs the inertial disk from (θ, θ̇) = `state` on `ramp` for `duration`; returns how far θ
 /// advanced over the second half, and the end state.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::disk_dynamics::dwell;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Disk;
+/// // The perfect disk at terminal speed: θ advances sin α · T/2 over the second half.
+/// let (advance, end) = dwell(&Disk::perfect(), &Ramp::new(0.3, 2.0)?, [0.0, 0.3f64.sin()], 10.0, 1e-12)?;
+/// assert!((advance - 5.0 * 0.3f64.sin()).abs() < 1e-9 && (end[1] - 0.3f64.sin()).abs() < 1e-9);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn dwell(
     disk: &Disk,
     ramp: &Ramp,
@@ -169,6 +210,21 @@ pub struct FixedPoint {
 }
 
 /// Zeros of r sin α − r' cos α on [0, 2π), located by sign changes on a fine grid and Brent.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::disk_dynamics::fixed_points;
+/// use rollphase_core::geometry::Body;
+/// let body = Body::paper_disk(84, 0.12, 5)?;
+/// let alpha_star = body.alpha_star();
+/// let Body::Disk(disk) = body else { unreachable!() };
+/// // Below α* rest points come in stable/saddle pairs; above it there are none.
+/// let below = fixed_points(&disk, 0.5 * alpha_star);
+/// assert!(!below.is_empty() && below.len() % 2 == 0);
+/// assert_eq!(below.iter().filter(|p| p.stable).count(), below.len() / 2);
+/// assert!(fixed_points(&disk, 1.1 * alpha_star).is_empty());
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
 pub fn fixed_points(disk: &Disk, alpha: f64) -> Vec<FixedPoint> {
     let (sa, ca) = alpha.sin_cos();
     let drive = |t: f64| {
@@ -297,6 +353,16 @@ pub struct ReturnTransition {
 
 /// Whether the disk, started from `state` at `alpha`, still rolls after `duration` (at least one
 /// more turn in the second half); the end state.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::disk_dynamics::still_rolls;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Disk;
+/// let (rolls, _) = still_rolls(&Disk::perfect(), &Ramp::new(0.3, 2.0)?, [0.0, 0.0], 100.0, 1e-10)?;
+/// assert!(rolls, "a perfect disk never stops");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn still_rolls(
     disk: &Disk,
     ramp: &Ramp,

@@ -84,6 +84,14 @@ pub struct RestSegment {
 
 impl RestSegment {
     /// The midpoint's contact direction (θ, φ averaged over the two ends).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::halting::RestSegment;
+    /// let s = RestSegment { from: (0.0, 1.0), to: (0.2, 1.2), stable: true };
+    /// let u = s.midpoint();
+    /// assert!((u.z - 1.1f64.cos()).abs() < 1e-15);
+    /// ```
     pub fn midpoint(&self) -> DVec3 {
         let ((p0, t0), (p1, t1)) = (self.from, self.to);
         direction(0.5 * (t0 + t1), 0.5 * (p0 + p1))
@@ -105,6 +113,14 @@ pub struct HaltingLoops {
 
 impl HaltingLoops {
     /// Fraction of segments classified stable (0 when there are none).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::halting::{HaltingLoops, RestSegment};
+    /// let seg = |stable| RestSegment { from: (0.0, 1.0), to: (0.1, 1.0), stable };
+    /// let loops = HaltingLoops { alpha: 0.1, segments: vec![seg(true), seg(false), seg(true), seg(true)], stable_confirmed: [0, 0], unstable_confirmed: [0, 0] };
+    /// assert_eq!(loops.stable_fraction(), 0.75);
+    /// ```
     pub fn stable_fraction(&self) -> f64 {
         let stable = self.segments.iter().filter(|s| s.stable).count();
         stable as f64 / self.segments.len().max(1) as f64
@@ -211,6 +227,24 @@ pub fn rest_orientation(body: &Sphere, u: DVec3) -> DQuat {
 
 /// J = ∂ω/∂μ at q for the viscous model, μ the small rotation exp(μ)q (central differences,
 /// ε = 1e-6).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::halting::{QualityGrid, halting_loops, is_stable_rest, rest_jacobian, rest_orientation};
+/// use rollphase_core::dynamics::{Ramp, SphereViscous};
+/// use rollphase_core::geometry::Body;
+/// let paper = Body::paper_sphere(219, 0.25, 5)?;
+/// let alpha = 0.9 * paper.alpha_star();
+/// let Body::Sphere(body) = paper else { unreachable!() };
+/// let loops = halting_loops(&body, &QualityGrid::new(&body, 31, 61), alpha, &|_| {})?;
+/// // The classification of every segment is the sign of this Jacobian's eigenvalues.
+/// let model = SphereViscous::new(&body, &Ramp::new(alpha, 0.0)?);
+/// for s in &loops.segments {
+///     let j = rest_jacobian(&model, rest_orientation(&body, s.midpoint()));
+///     assert_eq!(is_stable_rest(j), s.stable);
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn rest_jacobian(model: &SphereViscous, q: DQuat) -> DMat3 {
     let eps = 1e-6;
     let omega = |q: DQuat| model.observe(&SphereViscous::initial_state(q)).omega;
@@ -245,6 +279,15 @@ pub fn eigen_real_parts(m: DMat3) -> [f64; 3] {
 
 /// Stable when the two eigenvalues other than the one nearest 0 (along the loop of rest
 /// states) have negative real parts.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::halting::is_stable_rest;
+/// use rollphase_core::glam::{DMat3, DVec3};
+/// // One eigenvalue near 0 (along the loop of rest states); the others decide.
+/// assert!(is_stable_rest(DMat3::from_diagonal(DVec3::new(-0.3, 1e-9, -0.1))));
+/// assert!(!is_stable_rest(DMat3::from_diagonal(DVec3::new(-0.3, 1e-9, 0.1))));
+/// ```
 pub fn is_stable_rest(j: DMat3) -> bool {
     let mut e = eigen_real_parts(j);
     e.sort_by(|x, y| x.abs().total_cmp(&y.abs()));
@@ -255,6 +298,24 @@ pub fn is_stable_rest(j: DMat3) -> bool {
 /// near it: it comes to rest (|ω| < 1e-8) within `t_max` less than 0.05 rad from `rest`. A
 /// neighbour on the (neutral) loop counts as near; an unstable point is left for good, either
 /// rolling away or settling on a distant stable part of the loop.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::halting::{QualityGrid, halting_loops, rest_orientation, returns_to_rest};
+/// use rollphase_core::dynamics::{Ramp, SphereViscous};
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::{DQuat, DVec3};
+/// let paper = Body::paper_sphere(219, 0.25, 5)?;
+/// let alpha = 0.9 * paper.alpha_star();
+/// let Body::Sphere(body) = paper else { unreachable!() };
+/// let loops = halting_loops(&body, &QualityGrid::new(&body, 31, 61), alpha, &|_| {})?;
+/// let stable = loops.segments.iter().find(|s| s.stable).unwrap();
+/// let rest = rest_orientation(&body, stable.midpoint());
+/// let kicked = DQuat::from_scaled_axis(DVec3::new(1e-4, -2e-4, 1.5e-4)) * rest;
+/// let model = SphereViscous::new(&body, &Ramp::new(alpha, 0.0)?);
+/// assert!(returns_to_rest(&model, kicked, rest, 400.0)?);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn returns_to_rest(
     model: &SphereViscous,
     q: DQuat,

@@ -104,6 +104,18 @@ pub const ALPHA_STAR_RANGE: f64 = 0.15;
 pub const SHARED_EXPONENT_RANGE: (f64, f64) = (-1.5, -0.05);
 
 /// Fits one run's α*, β, A (β fixed if given). α* is searched in (α_min − 0.15, α_min).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::lag_fit::fit_run;
+/// // t = 0.3 (α − 0.18)^(−1/2) at six angles above α* = 0.18.
+/// let points: Vec<(f64, f64)> = [0.19, 0.2, 0.21, 0.22, 0.24, 0.26].iter().map(|&a: &f64| (a, 0.3 * (a - 0.18).powf(-0.5))).collect();
+/// let fit = fit_run(&points, None).unwrap();
+/// // The file's convention: t = A (α − α*)^β, so β = −1/2.
+/// assert!((fit.alpha_star - 0.18).abs() < 1e-9 && (fit.exponent + 0.5).abs() < 1e-9);
+/// // With β fixed, only α* and A are fitted.
+/// assert_eq!(fit_run(&points, Some(-0.5)).unwrap().exponent, -0.5);
+/// ```
 pub fn fit_run(points: &[(f64, f64)], beta: Option<f64>) -> Option<RunFit> {
     fit_run_logs(&with_log_times(points), beta)
 }
@@ -179,12 +191,46 @@ fn shared_fit(runs: &[Vec<(f64, f64)>]) -> Option<(f64, Vec<f64>)> {
 }
 
 /// Fits every run and the shared exponent, with `bootstrap` resamples for the uncertainties.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::lag_fit::{analyse, parse_lag_csv};
+/// // Two runs of the law t = A (α − α*)^(−1/2), five angles each.
+/// let mut text = String::from("run_idx,alpha*,alpha,t_lag\n");
+/// for (run, alpha_star) in [(0, 0.18), (1, 0.2)] {
+///     for d in [0.01, 0.02, 0.03, 0.05, 0.08] {
+///         let t = 0.3 * f64::powf(d, -0.5);
+///         text += &format!("{run},{alpha_star},{},\"[{t}, {t}]\"\n", alpha_star + d);
+///     }
+/// }
+/// let a = analyse(&parse_lag_csv(&text)?, 50, 1).unwrap();
+/// assert!((a.shared_exponent + 0.5).abs() < 1e-6);
+/// assert!((a.shared_alpha_stars[1] - 0.2).abs() < 1e-4);
+/// # Ok::<(), String>(())
+/// ```
 pub fn analyse(runs: &[LagRun], bootstrap: usize, seed: u64) -> Option<LagAnalysis> {
     analyse_with_progress(runs, bootstrap, seed, &|| {})
 }
 
 /// [`analyse`], calling `resampled()` after each bootstrap resample (from any thread), so a
 /// caller can show progress.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::lag_fit::{analyse_with_progress, parse_lag_csv};
+/// use std::sync::atomic::{AtomicUsize, Ordering};
+/// let mut text = String::from("run_idx,alpha*,alpha,t_lag\n");
+/// for d in [0.01, 0.02, 0.03, 0.05, 0.08] {
+///     text += &format!("0,0.18,{},\"[{}]\"\n", 0.18 + d, 0.3 * f64::powf(d, -0.5));
+/// }
+/// let done = AtomicUsize::new(0);
+/// let a = analyse_with_progress(&parse_lag_csv(&text)?, 20, 1, &|| {
+///     done.fetch_add(1, Ordering::Relaxed);
+/// });
+/// assert!(a.is_some());
+/// assert_eq!(done.load(Ordering::Relaxed), 20);
+/// # Ok::<(), String>(())
+/// ```
 pub fn analyse_with_progress(
     runs: &[LagRun],
     bootstrap: usize,
@@ -259,6 +305,23 @@ pub const MIN_ANGLES_PER_RUN: usize = 4;
 
 /// Parses the layout of `cylinder_lag_times.csv`: `run_idx,alpha*,alpha,t_lag` with t_lag a
 /// quoted list `"[t1, t2, …]"`. Errors name the line and the field.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::lag_fit::parse_lag_csv;
+/// let mut text = String::from("run_idx,alpha*,alpha,t_lag\n");
+/// for alpha in [0.19, 0.2, 0.21, 0.22] {
+///     text += &format!("3,0.18,{alpha},\"[2.8, 2.7]\"\n");
+/// }
+/// let runs = parse_lag_csv(&text)?;
+/// assert_eq!((runs[0].run, runs[0].points.len(), runs[0].points[0].times.len()), (3, 4, 2));
+/// // A run with fewer angles than the fit has unknowns is refused, saying why.
+/// assert!(parse_lag_csv("run_idx,alpha*,alpha,t_lag\n3,0.18,0.2,\"[2.8]\"\n").is_err());
+/// // Errors name the line and the field.
+/// let e = parse_lag_csv("run_idx,alpha*,alpha,t_lag\n3,0.18,abc,\"[2.8]\"\n").unwrap_err();
+/// assert!(e.contains("line 2"), "{e}");
+/// # Ok::<(), String>(())
+/// ```
 pub fn parse_lag_csv(text: &str) -> Result<Vec<LagRun>, String> {
     // The t_lag list is quoted in the authors' files ("[2.8, 2.7]"); an unquoted list arrives as
     // extra fields, which are joined back (flexible records).

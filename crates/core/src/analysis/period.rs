@@ -52,6 +52,23 @@ pub fn viscous_disk_period(disk: &Disk, ramp: &Ramp) -> PeriodResult {
 
 /// [`viscous_disk_period`] with the disk's critical angle already known (`ca` must be this
 /// disk's): a sweep over α finds α* once instead of at every α.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::critical_angle;
+/// use rollphase_core::analysis::period::{viscous_disk_period, viscous_disk_period_with};
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// let body = Body::paper_disk(84, 0.12, 5)?;
+/// let ca = critical_angle(&body);
+/// let Body::Disk(disk) = &body else { unreachable!() };
+/// // A sweep over α finds α* once; each period is the same as computing it afresh.
+/// for alpha in [1.05, 1.2, 1.5].map(|f| f * ca.alpha_star) {
+///     let ramp = Ramp::new(alpha, 0.0)?;
+///     assert_eq!(viscous_disk_period_with(disk, &ramp, &ca).period, viscous_disk_period(disk, &ramp).period);
+/// }
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn viscous_disk_period_with(
     disk: &Disk,
     ramp: &Ramp,

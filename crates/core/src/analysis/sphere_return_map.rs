@@ -65,6 +65,19 @@ pub fn inertial_crossings(
 /// [`inertial_crossings`] that goes on until its fate is decided: at least `t_min`, then until
 /// `decided` says so (asked at every new crossing) or the body comes to rest, and at most
 /// `t_cap` (`span` = (t_min, t_cap)). Returns the crossings and the time the run ended.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_return_map::inertial_crossings_until;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::{DQuat, DVec3};
+/// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// // Decided once three crossings are in, after t = 100.
+/// let (crossings, t_end) = inertial_crossings_until(&s, &Ramp::new(0.15, 1.0)?, DQuat::IDENTITY, DVec3::ZERO, (100.0, 5000.0), 1e-9, |c| c.len() >= 3)?;
+/// assert!(crossings.len() >= 3 && t_end >= 100.0 && t_end < 5000.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn inertial_crossings_until(
     body: &Sphere,
     ramp: &Ramp,
@@ -163,6 +176,15 @@ pub struct SectionChart {
 
 impl SectionChart {
     /// The chart centred on the unit vector `base`.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::sphere_return_map::SectionChart;
+    /// use rollphase_core::glam::DVec3;
+    /// let chart = SectionChart::new(DVec3::new(0.0, 0.0, 2.0)); // normalised here
+    /// let (p, _) = chart.unpack(&chart.pack(DVec3::Z, DVec3::ZERO));
+    /// assert!((p - DVec3::Z).length() < 1e-15);
+    /// ```
     pub fn new(base: DVec3) -> Self {
         let base = base.normalize();
         let (e1, e2) = base.any_orthonormal_pair();
@@ -170,12 +192,35 @@ impl SectionChart {
     }
 
     /// Chart coordinates (s₁, s₂, ω) → (p, ω).
+    ///
+    /// # Example
+    /// ```
+    /// use nalgebra::DVector;
+    /// use rollphase_core::analysis::sphere_return_map::SectionChart;
+    /// use rollphase_core::glam::DVec3;
+    /// let chart = SectionChart::new(DVec3::Z);
+    /// // The chart's origin is its base point.
+    /// let (p, omega) = chart.unpack(&DVector::from_vec(vec![0.0, 0.0, 0.1, 0.2, 0.3]));
+    /// assert_eq!((p, omega), (DVec3::Z, DVec3::new(0.1, 0.2, 0.3)));
+    /// ```
     pub fn unpack(&self, x: &DVector<f64>) -> (DVec3, DVec3) {
         let p = (self.base + x[0] * self.e1 + x[1] * self.e2).normalize();
         (p, DVec3::new(x[2], x[3], x[4]))
     }
 
     /// (p, ω) → chart coordinates; p's sign is taken nearest the base.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::sphere_return_map::SectionChart;
+    /// use rollphase_core::glam::DVec3;
+    /// let chart = SectionChart::new(DVec3::X);
+    /// let p = DVec3::new(-0.9, 0.3, 0.1).normalize();
+    /// // The sign nearest the base is taken: −p and p pack alike.
+    /// assert_eq!(chart.pack(p, DVec3::ZERO), chart.pack(-p, DVec3::ZERO));
+    /// let (back, _) = chart.unpack(&chart.pack(p, DVec3::ONE));
+    /// assert!((back + p).length() < 1e-14);
+    /// ```
     pub fn pack(&self, p: DVec3, omega: DVec3) -> DVector<f64> {
         let p = nearest_sign(self.base, p);
         let d = p.dot(self.base);

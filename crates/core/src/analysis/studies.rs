@@ -229,6 +229,13 @@ pub fn cruises(f: &Fate) -> bool {
 
 /// The settling criteria of the cruising study (as `sphere-cruising`): at most t = 2000, a
 /// cycle's points and duration repeating to 1e-5.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::studies::cruising_settle;
+/// let s = cruising_settle();
+/// assert_eq!((s.t_max, s.point_tol), (2000.0, 1e-5));
+/// ```
 pub fn cruising_settle() -> Settle {
     Settle {
         t_max: 2000.0,
@@ -264,6 +271,18 @@ pub fn cruising_fraction(
 
 /// [`cruising_fraction`] that stops with [`StudyError::Stopped`] once `stop` is set (each run
 /// already under way finishes first).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::studies::{StudyError, cruising_fraction_until};
+/// use rollphase_core::geometry::Body;
+/// use std::sync::atomic::AtomicBool;
+/// let body = Body::paper_sphere(219, 0.25, 5)?;
+/// // Stopped before it starts: an error saying so, not a partial answer.
+/// let stop = AtomicBool::new(true);
+/// assert!(matches!(cruising_fraction_until(&body, 0.12, 8, 1, &stop), Err(StudyError::Stopped)));
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
 pub fn cruising_fraction_until(
     body: &Body,
     alpha: f64,
@@ -595,6 +614,21 @@ pub fn period_counts(
 
 /// [`period_counts`] that stops with [`StudyError::Stopped`] once `stop` is set (each run
 /// already under way finishes first).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::Decide;
+/// use rollphase_core::analysis::studies::{StudyError, period_counts_until};
+/// use rollphase_core::geometry::Body;
+/// use std::sync::atomic::AtomicBool;
+/// let body = Body::paper_sphere(219, 0.25, 5)?;
+/// let decide = Decide { t_min: 1200.0, t_cap: 6000.0, max_k: 4, tol: 1e-5 };
+/// let c = period_counts_until(&body, 0.15, 0.0, 2, 1, &decide, &AtomicBool::new(false))?;
+/// assert_eq!(c.cycle_counts[0], 2);
+/// let stop = AtomicBool::new(true);
+/// assert!(matches!(period_counts_until(&body, 0.15, 0.0, 2, 1, &decide, &stop), Err(StudyError::Stopped)));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn period_counts_until(
     body: &Body,
     alpha: f64,
@@ -672,6 +706,19 @@ pub fn periodic_orbits(
 
 /// [`periodic_orbits`] that stops with [`StudyError::Stopped`] once `stop` is set (each run or
 /// Newton solve already under way finishes first).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::Decide;
+/// use rollphase_core::analysis::studies::{StudyError, periodic_orbits_until};
+/// use rollphase_core::geometry::Body;
+/// use std::sync::atomic::AtomicBool;
+/// let body = Body::paper_sphere(219, 0.25, 5)?;
+/// let decide = Decide { t_min: 600.0, t_cap: 6000.0, max_k: 1, tol: 1e-5 };
+/// let stop = AtomicBool::new(true);
+/// assert!(matches!(periodic_orbits_until(&body, 0.15, 0.0, 4, 1, &decide, &stop), Err(StudyError::Stopped)));
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
 pub fn periodic_orbits_until(
     body: &Body,
     alpha: f64,
