@@ -652,6 +652,29 @@ fn options_that_do_not_apply_are_errors_not_ignored() {
         1,
         &["--thetadot0 does not apply", "--mass 0"],
     );
+    // A flag of the other kind of body, or one that the orientation already fixes, is refused,
+    // never ignored.
+    fails_with(
+        &sim(&sphere, &["--mass", "1", "--thetadot0", "1"]),
+        1,
+        &["3D sphere", "not --thetadot0"],
+    );
+    fails_with(
+        &sim(&disk, &["--mass", "1", "--spin", "1"]),
+        1,
+        &["2D disk", "not --spin"],
+    );
+    fails_with(
+        &sim(&sphere, &["--q0", "1,0,0,0", "--spin", "1"]),
+        1,
+        &["--q0 is already the whole orientation"],
+    );
+    // `period` checks its start as `simulate` does.
+    fails_with(
+        &rollphase(&["period", &disk, "--alpha", "0.3", "--thetadot0", "0.5"]),
+        1,
+        &["--thetadot0 does not apply", "--mass 0"],
+    );
     fails_with(
         &rollphase(&[
             "export-stl",
@@ -720,6 +743,20 @@ fn options_that_do_not_apply_are_errors_not_ignored() {
         1,
         &["initial.theta0", "3D sphere"],
     );
+    fails_with(
+        &scene("disk", "spin = 1.0"),
+        1,
+        &["2D disk", "not initial.spin"],
+    );
+    fails_with(
+        &scene("sphere", "q0 = [1.0, 0.0, 0.0, 0.0]\nspin = 0.5"),
+        1,
+        &["initial.q0 is already the whole orientation"],
+    );
+    // An initial velocity kept in a viscous scene (as the app saves it with the mass slider at
+    // 0) loads; the velocity is not used.
+    let r = scene("sphere", "omega = [0.0, 0.1, 0.0]");
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
 }
 
 #[test]

@@ -16,11 +16,10 @@ use pyo3::exceptions::{PyAttributeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
-use rollphase_core::dynamics::sphere3d::orientation_touching;
 use rollphase_core::geometry::Body as CoreBody;
-use rollphase_core::geometry::sphere::direction;
 use rollphase_core::glam::{DQuat, DVec3};
 use rollphase_core::integrate::Method;
+use rollphase_core::simulate::start::{Spelling, StartField, StartRequest, check_start};
 use rollphase_core::simulate::{
     InitialState, Model, RunError, Simulation, Summary, SummaryReport,
     Trajectory as CoreTrajectory, simulate_until,
@@ -32,9 +31,6 @@ use crate::{interruptible, value_error, whole};
 /// Beyond this many numbers in all a `simulate_many` result would not fit in memory on most
 /// machines (8 bytes each, held twice while it is handed to numpy).
 const MAX_VALUES: usize = 500_000_000;
-
-/// Angles beyond this are reduced modulo 2π with a warning, as the command line does.
-const MAX_PLAIN_ANGLE: f64 = 1e6;
 
 /// A run's samples as numpy arrays.
 ///
@@ -200,86 +196,65 @@ pub struct StartArgs {
     pub theta_dot0: Option<f64>,
 }
 
-/// The initial state, with the command line's checks (`cli::simulate::initial_state`).
+/// Python's names of the start's fields, for the core's messages.
+fn argument(f: StartField) -> &'static str {
+    match f {
+        StartField::Q0 => "q0",
+        StartField::Contact => "contact",
+        StartField::Spin => "spin",
+        StartField::Omega0 => "omega0",
+        StartField::Theta0 => "theta0",
+        StartField::ThetaDot0 => "theta_dot0",
+    }
+}
+
+/// The initial state, checked by the core as the command line's is ([`check_start`]).
 fn initial_state(py: Python<'_>, a: &StartArgs, body: &CoreBody) -> PyResult<InitialState> {
-    let theta_dot0 = a.theta_dot0.unwrap_or(0.0);
-    if a.mass_ratio == 0.0 {
-        if a.omega0.is_some() {
-            return Err(PyValueError::new_err(
-                "omega0 does not apply to the viscous model (mass_ratio=0): its angular velocity \
-                 follows from the orientation; give mass_ratio > 0 for an initial spin",
-            ));
-        }
-        if theta_dot0 != 0.0 {
-            return Err(PyValueError::new_err(
-                "theta_dot0 does not apply to the viscous model (mass_ratio=0): θ̇ follows from \
-                 θ; give mass_ratio > 0 for an initial angular velocity",
-            ));
-        }
+    let list = |v: &Option<Vec<f64>>, n: usize, f: StartField, names: &str| {
+        v.as_deref()
+            .map(|v| finite_list(argument(f), v, n, names))
+            .transpose()
+    };
+    let q0 = list(&a.q0, 4, StartField::Q0, "w, x, y, z")?;
+    let contact = list(&a.contact, 2, StartField::Contact, "θ, φ")?;
+    let omega0 = list(&a.omega0, 3, StartField::Omega0, "x, y, z")?;
+    let request = StartRequest {
+        q0: q0.map(|v| [v[0], v[1], v[2], v[3]]),
+        contact: contact.map(|v| [v[0], v[1]]),
+        spin: Some(a.spin),
+        omega0: omega0.map(|v| [v[0], v[1], v[2]]),
+        theta0: a.theta0,
+        theta_dot0: a.theta_dot0,
+    };
+    checked_start(py, body, a.mass_ratio, &request)
+}
+
+/// [`check_start`] with Python's argument names, warning when θ0 is reduced (`simulate`,
+/// `simulate_many` and `period`).
+pub(crate) fn checked_start(
+    py: Python<'_>,
+    body: &CoreBody,
+    mass_ratio: f64,
+    request: &StartRequest,
+) -> PyResult<InitialState> {
+    let spelling = Spelling {
+        field: argument,
+        mass: "mass_ratio",
+        viscous: "mass_ratio=0",
+        body: "this body",
+    };
+    let start = check_start(body, mass_ratio, request)
+        .map_err(|e| PyValueError::new_err(e.explain(&spelling)))?;
+    if let Some((given, reduced)) = start.reduced_theta0 {
+        let message = std::ffi::CString::new(format!(
+            "theta0 {given:e} reduced modulo 2π to {reduced} (beyond ±1e6 rad an angle has too \
+             few digits left to advance)"
+        ))
+        .unwrap_or_default();
+        let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+        PyErr::warn(py, category.as_any(), &message, 1)?;
     }
-    match body {
-        CoreBody::Disk(_) => {
-            if a.q0.is_some() || a.contact.is_some() || a.omega0.is_some() {
-                return Err(PyValueError::new_err(
-                    "this body is a 2D disk: give theta0 (and theta_dot0), not q0/contact/omega0",
-                ));
-            }
-            let mut theta0 = a.theta0.unwrap_or(0.0);
-            if theta0.is_finite() && theta0.abs() > MAX_PLAIN_ANGLE {
-                let reduced = theta0.rem_euclid(std::f64::consts::TAU);
-                let message = std::ffi::CString::new(format!(
-                    "theta0 {theta0:e} reduced modulo 2π to {reduced} (beyond ±1e6 rad an angle \
-                     has too few digits left to advance)"
-                ))
-                .unwrap_or_default();
-                let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
-                PyErr::warn(py, category.as_any(), &message, 1)?;
-                theta0 = reduced;
-            }
-            Ok(InitialState::Disk { theta0, theta_dot0 })
-        }
-        CoreBody::Sphere(s) => {
-            if a.theta0.is_some() || a.theta_dot0.is_some() {
-                return Err(PyValueError::new_err(
-                    "this body is a 3D sphere: give q0 or contact=(θ, φ) (and spin), not \
-                     theta0/theta_dot0",
-                ));
-            }
-            if a.q0.is_some() && a.contact.is_some() {
-                return Err(PyValueError::new_err(
-                    "give q0 or contact, not both: each sets the starting orientation",
-                ));
-            }
-            if !a.spin.is_finite() {
-                return Err(PyValueError::new_err(format!(
-                    "spin {} is not a finite number",
-                    a.spin
-                )));
-            }
-            let q0 = match (&a.q0, &a.contact) {
-                (Some(q), _) => {
-                    let v = finite_list("q0", q, 4, "w, x, y, z")?;
-                    let q = DQuat::from_xyzw(v[1], v[2], v[3], v[0]);
-                    if q.length() < 1e-12 {
-                        return Err(PyValueError::new_err(format!(
-                            "q0 {v:?} has zero length; give a rotation quaternion w, x, y, z"
-                        )));
-                    }
-                    q
-                }
-                (None, Some(c)) => {
-                    let v = finite_list("contact", c, 2, "θ, φ")?;
-                    orientation_touching(s, direction(v[0], v[1]), a.spin)
-                }
-                (None, None) => orientation_touching(s, DVec3::NEG_Z, a.spin),
-            };
-            let omega0 = match &a.omega0 {
-                Some(w) => DVec3::from_slice(&finite_list("omega0", w, 3, "x, y, z")?),
-                None => DVec3::ZERO,
-            };
-            Ok(InitialState::Sphere { q0, omega0 })
-        }
-    }
+    Ok(start.initial)
 }
 
 /// The summary as the command line's `--summary` JSON ([`SummaryReport`]), as a dict.

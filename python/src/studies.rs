@@ -17,8 +17,11 @@ use rollphase_core::dynamics::Ramp;
 use rollphase_core::geometry::Body as CoreBody;
 use rollphase_core::glam::DVec3;
 use rollphase_core::integrate::MAX_SPAN;
+use rollphase_core::simulate::InitialState;
+use rollphase_core::simulate::start::StartRequest;
 
 use crate::body::Body;
+use crate::run::checked_start;
 use crate::{interruptible, value_error, whole};
 
 /// The critical angle α* = atan max |∇ ln r| of `body` (rad): a viscous body released at
@@ -61,13 +64,18 @@ pub fn period(
              integrator's smallest step, 16 ε × t_max, exceeds the steps an orbit needs)"
         )));
     }
-    for (name, v) in [("theta0", theta0), ("theta_dot0", theta_dot0)] {
-        if !v.is_finite() {
-            return Err(PyValueError::new_err(format!(
-                "{name} {v} is not a finite number"
-            )));
-        }
-    }
+    // The start checked as `simulate` checks it: theta_dot0 with mass_ratio=0 is an error, not
+    // ignored (the viscous period does not depend on where the disk starts).
+    let request = StartRequest {
+        theta0: Some(theta0),
+        theta_dot0: Some(theta_dot0).filter(|v| *v != 0.0),
+        ..StartRequest::default()
+    };
+    let InitialState::Disk { theta0, theta_dot0 } =
+        checked_start(py, &body.body, mass_ratio, &request)?
+    else {
+        return Err(PyValueError::new_err("period is for a 2D disk"));
+    };
     let p = if ramp.is_viscous() {
         viscous_disk_period(disk, &ramp)
     } else {

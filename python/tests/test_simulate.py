@@ -164,6 +164,8 @@ def test_bad_starts_name_the_argument():
         (sphere, dict(spin=float("inf")), "spin inf"),
         (disk, dict(q0=[1, 0, 0, 0]), "2D disk"),
         (disk, dict(theta_dot0=1.0), "viscous model"),
+        (disk, dict(mass_ratio=1.0, spin=1.0), "2D disk: give theta0 .* not spin"),
+        (sphere, dict(q0=[1, 0, 0, 0], spin=0.5), "q0 is already the whole orientation"),
         (sphere, dict(integrator="euler"), "not one of"),
         (sphere, dict(samples=-5), "samples = -5"),
     ]

@@ -64,6 +64,9 @@ def test_period_halts_below_the_critical_angle_and_obeys_the_square_root_law():
         rollphase.period(Body.paper_sphere(219), 0.2)
     with pytest.raises(ValueError, match="t_max"):
         rollphase.period(body, 0.1, mass_ratio=1.0, t_max=float("inf"))
+    # A start velocity the viscous model cannot take is refused, as by `rollphase period`.
+    with pytest.raises(ValueError, match="theta_dot0 does not apply to the viscous model"):
+        rollphase.period(body, 0.1, theta_dot0=0.5)
 
 
 def test_the_cruising_fraction_is_figure_sphere_cruisings(cli, tmp_path):

@@ -9,6 +9,8 @@ use serde::Serialize;
 use crate::analysis::{critical_angle, inertial_disk_period, viscous_disk_period};
 use crate::dynamics::{ModelKind, Ramp};
 use crate::geometry::Body;
+use crate::simulate::InitialState;
+use crate::simulate::start::StartRequest;
 
 /// Period T of a rolling disk and its mean angular speed 2π/T, or that it halts.
 ///
@@ -87,17 +89,24 @@ pub fn run(a: PeriodArgs) -> Result<()> {
             super::short(crate::integrate::MAX_SPAN)
         );
     }
-    for (flag, v) in [("--theta0", a.theta0), ("--thetadot0", a.thetadot0)] {
-        if !v.is_finite() {
-            bail!("{flag} {v} is not a finite number");
-        }
-    }
+    // The start checked as `simulate` checks it: --thetadot0 with --mass 0 is an error, not
+    // ignored (the viscous period does not depend on where the disk starts).
+    let request = StartRequest {
+        theta0: Some(a.theta0),
+        theta_dot0: Some(a.thetadot0).filter(|v| *v != 0.0),
+        ..StartRequest::default()
+    };
+    let InitialState::Disk { theta0, theta_dot0 } =
+        super::simulate::checked_start(&body, &a.file, a.mass, &request)?
+    else {
+        bail!("{} is not a disk", a.file.display());
+    };
     let alpha_star = critical_angle(&body).alpha_star;
     let (p, model) = if ramp.is_viscous() {
         (viscous_disk_period(disk, &ramp), ModelKind::DiskViscous)
     } else {
         (
-            inertial_disk_period(disk, &ramp, a.theta0, a.thetadot0, a.rtol, a.t_max)?,
+            inertial_disk_period(disk, &ramp, theta0, theta_dot0, a.rtol, a.t_max)?,
             ModelKind::DiskInertial,
         )
     };

@@ -3,15 +3,14 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, ValueEnum};
-use glam::{DQuat, DVec3};
 
 use crate::dynamics::Ramp;
-use crate::dynamics::sphere3d::orientation_touching;
-use crate::geometry::{Body, sphere::direction};
+use crate::geometry::Body;
 use crate::integrate::Method;
 use crate::output::{self, Inputs};
+use crate::simulate::start::{Spelling, StartField, StartRequest, check_start};
 use crate::simulate::{DISK_HEADER, InitialState, RunSpec, SPHERE_HEADER, SummaryReport};
 
 /// Which integrator.
@@ -39,7 +38,9 @@ pub enum IntegratorName {
 /// 3D start: --q0 w,x,y,z, or --contact θ,φ (the body point at polar angle θ, azimuth φ put on the
 /// ramp by the shortest rotation) then --spin s (a turn by s radians about the ramp's normal +z).
 /// With neither, the body's south pole (θ = π, the point at body-frame −z) touches the ramp,
-/// turned by --spin (default 0); released from rest (--omega0 0,0,0).
+/// turned by --spin (default 0); released from rest (--omega0 0,0,0). --q0 is the whole
+/// orientation, so --spin does not go with it. A flag of the other kind of body, or an initial
+/// velocity (--omega0, --thetadot0) with --mass 0, is an error, never ignored.
 ///
 /// Rows go to standard output unless -o FILE is given; a file is written whole or not at all.
 #[derive(Debug, Args)]
@@ -105,87 +106,65 @@ pub struct SimulateArgs {
     pub summary: Option<PathBuf>,
 }
 
-/// Angles beyond this are reduced modulo 2π (with a warning): at 1e17 an f64 has no digits
-/// left below 2π, so θ could not move.
-const MAX_PLAIN_ANGLE: f64 = 1e6;
+/// The command line's names of the start's fields, for the core's messages.
+pub(super) fn flag(f: StartField) -> &'static str {
+    match f {
+        StartField::Q0 => "--q0",
+        StartField::Contact => "--contact",
+        StartField::Spin => "--spin",
+        StartField::Omega0 => "--omega0",
+        StartField::Theta0 => "--theta0",
+        StartField::ThetaDot0 => "--thetadot0",
+    }
+}
 
+/// The start from the flags, checked by the core ([`check_start`], as Python's `simulate`):
+/// a flag that does not apply to this body or model is an error, never ignored.
 fn initial_state(a: &SimulateArgs, body: &Body) -> Result<InitialState> {
-    if a.mass == 0.0 {
-        if a.omega0.is_some() {
-            bail!(
-                "--omega0 does not apply to the viscous model (--mass 0): its angular velocity \
-                 follows from the orientation; give --mass > 0 for an initial spin"
-            );
-        }
-        if a.thetadot0 != 0.0 {
-            bail!(
-                "--thetadot0 does not apply to the viscous model (--mass 0): θ̇ follows from θ; \
-                 give --mass > 0 for an initial angular velocity"
-            );
-        }
+    let list = |text: &Option<String>, n: usize, f: StartField, names: &str| {
+        text.as_deref()
+            .map(|t| super::parse_list(t, n, flag(f), names))
+            .transpose()
+    };
+    let q0 = list(&a.q0, 4, StartField::Q0, "w,x,y,z")?;
+    let contact = list(&a.contact, 2, StartField::Contact, "θ,φ")?;
+    let omega0 = list(&a.omega0, 3, StartField::Omega0, "x,y,z")?;
+    let request = StartRequest {
+        q0: q0.map(|v| [v[0], v[1], v[2], v[3]]),
+        contact: contact.map(|v| [v[0], v[1]]),
+        spin: Some(a.spin),
+        omega0: omega0.map(|v| [v[0], v[1], v[2]]),
+        theta0: a.theta0,
+        // The flag defaults to 0, so only a non-zero value says it was given.
+        theta_dot0: Some(a.thetadot0).filter(|v| *v != 0.0),
+    };
+    checked_start(body, &a.file, a.mass, &request)
+}
+
+/// [`check_start`] with the command line's flag names and its warning for a reduced θ0
+/// (`simulate` and `period`).
+pub(super) fn checked_start(
+    body: &Body,
+    file: &std::path::Path,
+    mass: f64,
+    request: &StartRequest,
+) -> Result<InitialState> {
+    let body_name = file.display().to_string();
+    let spelling = Spelling {
+        field: flag,
+        mass: "--mass",
+        viscous: "--mass 0",
+        body: &body_name,
+    };
+    let start = check_start(body, mass, request).map_err(|e| anyhow!(e.explain(&spelling)))?;
+    if let Some((given, reduced)) = start.reduced_theta0 {
+        eprintln!(
+            "warning: --theta0 {} reduced modulo 2π to {reduced} (beyond ±1e6 rad an angle has \
+             too few digits left to advance)",
+            super::short(given)
+        );
     }
-    match body {
-        Body::Disk(_) => {
-            if a.q0.is_some() || a.contact.is_some() || a.omega0.is_some() {
-                bail!(
-                    "{} is a 2D disk: give --theta0 (and --thetadot0), not --q0/--contact/--omega0",
-                    a.file.display()
-                );
-            }
-            let mut theta0 = a.theta0.unwrap_or(0.0);
-            if theta0.is_finite() && theta0.abs() > MAX_PLAIN_ANGLE {
-                let reduced = theta0.rem_euclid(std::f64::consts::TAU);
-                eprintln!(
-                    "warning: --theta0 {} reduced modulo 2π to {reduced} (beyond ±1e6 rad an \
-                     angle has too few digits left to advance)",
-                    super::short(theta0)
-                );
-                theta0 = reduced;
-            }
-            Ok(InitialState::Disk {
-                theta0,
-                theta_dot0: a.thetadot0,
-            })
-        }
-        Body::Sphere(s) => {
-            if a.theta0.is_some() {
-                bail!(
-                    "{} is a 3D sphere: give --q0 or --contact θ,φ (and --spin), not --theta0",
-                    a.file.display()
-                );
-            }
-            let q0 = match (&a.q0, &a.contact) {
-                (Some(text), _) => {
-                    let v = super::parse_list(text, 4, "--q0", "w,x,y,z")?;
-                    let q = DQuat::from_xyzw(v[1], v[2], v[3], v[0]);
-                    if q.length() < 1e-12 {
-                        bail!("--q0 {text} has zero length; give a rotation quaternion w,x,y,z");
-                    }
-                    // Normalised once, where the run starts (simulate::Start), as for every
-                    // caller of the library.
-                    q
-                }
-                (None, Some(c)) => {
-                    let v = super::parse_list(c, 2, "--contact", "θ,φ")?;
-                    if !a.spin.is_finite() {
-                        bail!("--spin {} is not a finite number", a.spin);
-                    }
-                    orientation_touching(s, direction(v[0], v[1]), a.spin)
-                }
-                (None, None) => {
-                    if !a.spin.is_finite() {
-                        bail!("--spin {} is not a finite number", a.spin);
-                    }
-                    orientation_touching(s, DVec3::new(0.0, 0.0, -1.0), a.spin)
-                }
-            };
-            let omega0 = match &a.omega0 {
-                Some(w) => DVec3::from_slice(&super::parse_list(w, 3, "--omega0", "x,y,z")?),
-                None => DVec3::ZERO,
-            };
-            Ok(InitialState::Sphere { q0, omega0 })
-        }
-    }
+    Ok(start.initial)
 }
 
 /// Runs `simulate`.

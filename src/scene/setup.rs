@@ -3,14 +3,12 @@
 //! the value and what is allowed.
 
 use crate::analysis::critical_angle::critical_angle;
-use crate::dynamics::sphere3d::orientation_touching;
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
-use crate::geometry::sphere::direction;
 use crate::geometry::{Body, Disk, ShapeError, ShapeFile, Sphere, random_disk, random_sphere};
 use crate::integrate::{IntegrateError, Method, Preset};
+use crate::simulate::start::{Spelling, StartField, StartRequest, check_start};
 use crate::simulate::{InitialState, Start, choose_model};
-use glam::{DQuat, DVec3};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
@@ -156,8 +154,8 @@ impl Scene {
         let ramp = Ramp::with_drag(alpha, m.mass_ratio, m.drag)?;
         let method = self.integrator.method()?;
         let choice = choose_model(&body, ramp, method).map_err(|e| invalid(e.to_string()))?;
-        let start =
-            Start::new(&body, self.initial.build(&body)?).map_err(|e| invalid(e.to_string()))?;
+        let start = Start::new(&body, self.initial.build(&body, m.mass_ratio)?)
+            .map_err(|e| invalid(e.to_string()))?;
         self.playback.validate()?;
         self.views.validate(&body, &choice.ramp)?;
         self.poincare.validate()?;
@@ -245,71 +243,47 @@ pub fn bundled_shape(path: &Path) -> Result<&'static str, SceneError> {
         })
 }
 
+/// The scene file's names of the start's fields, for the core's messages.
+fn scene_key(f: StartField) -> &'static str {
+    match f {
+        StartField::Q0 => "initial.q0",
+        StartField::Contact => "initial.contact",
+        StartField::Spin => "initial.spin",
+        StartField::Omega0 => "initial.omega",
+        StartField::Theta0 => "initial.theta0",
+        StartField::ThetaDot0 => "initial.theta_dot0",
+    }
+}
+
 impl InitialSpec {
-    fn build(&self, body: &Body) -> Result<InitialState, SceneError> {
-        let finite = |name: &str, v: &[f64]| {
-            if v.iter().all(|x| x.is_finite()) {
-                Ok(())
-            } else {
-                Err(invalid(format!(
-                    "initial.{name} = {v:?} is not allowed (needs finite numbers)"
-                )))
-            }
+    /// The start, checked by the core as the command line's and Python's are ([`check_start`]):
+    /// a key that does not apply to this body is an error, never ignored. The keys default to
+    /// 0, so a zero is read as not given. One difference: an initial velocity (`omega`,
+    /// `theta_dot0`) with `model.mass_ratio = 0` is kept in the file but not used, because a
+    /// scene is edited live: the app saves the scene with the mass slider wherever it is, and
+    /// the preset's velocity must not make that file unloadable.
+    fn build(&self, body: &Body, mass_ratio: f64) -> Result<InitialState, SceneError> {
+        let given = |v: f64| Some(v).filter(|v| *v != 0.0);
+        // The velocity of the body's own kind is dropped when viscous; the other kind's is
+        // still refused.
+        let (sphere, inertial) = (body.dimension() == 3, mass_ratio > 0.0);
+        let request = StartRequest {
+            q0: self.q0,
+            contact: self.contact,
+            spin: Some(self.spin),
+            omega0: Some(self.omega).filter(|w| *w != [0.0; 3] && (inertial || !sphere)),
+            theta0: given(self.theta0),
+            theta_dot0: given(self.theta_dot0).filter(|_| inertial || sphere),
         };
-        match body {
-            Body::Disk(_) => {
-                if self.contact.is_some()
-                    || self.q0.is_some()
-                    || self.spin != 0.0
-                    || self.omega != [0.0; 3]
-                {
-                    return Err(invalid(
-                        "initial.contact, q0, spin and omega are for a 3D body, and this scene's \
-                         body is a 2D disk: give initial.theta0 (and theta_dot0) instead",
-                    ));
-                }
-                finite("theta0", &[self.theta0])?;
-                finite("theta_dot0", &[self.theta_dot0])?;
-                Ok(InitialState::Disk {
-                    theta0: self.theta0,
-                    theta_dot0: self.theta_dot0,
-                })
-            }
-            Body::Sphere(s) => {
-                if self.theta0 != 0.0 || self.theta_dot0 != 0.0 {
-                    return Err(invalid(
-                        "initial.theta0 and theta_dot0 are for a 2D body, and this scene's body is \
-                         a 3D sphere: give initial.contact = [θ, φ] (and spin) or q0 instead",
-                    ));
-                }
-                finite("spin", &[self.spin])?;
-                finite("omega", &self.omega)?;
-                let q0 = match (self.q0, self.contact) {
-                    (Some(_), Some(_)) => {
-                        return Err(invalid("give initial.q0 or initial.contact, not both"));
-                    }
-                    (Some([w, x, y, z]), None) => {
-                        finite("q0", &[w, x, y, z])?;
-                        let q = DQuat::from_xyzw(x, y, z, w);
-                        if q.length() < 1e-12 {
-                            return Err(invalid(
-                                "initial.q0 = [0, 0, 0, 0] is not an orientation (needs |q| > 0)",
-                            ));
-                        }
-                        q.normalize()
-                    }
-                    (None, Some([theta, phi])) => {
-                        finite("contact", &[theta, phi])?;
-                        orientation_touching(s, direction(theta, phi), self.spin)
-                    }
-                    (None, None) => orientation_touching(s, DVec3::NEG_Z, self.spin),
-                };
-                Ok(InitialState::Sphere {
-                    q0,
-                    omega0: DVec3::from_array(self.omega),
-                })
-            }
-        }
+        let spelling = Spelling {
+            field: scene_key,
+            mass: "model.mass_ratio",
+            viscous: "model.mass_ratio = 0",
+            body: "this scene's body",
+        };
+        let start =
+            check_start(body, mass_ratio, &request).map_err(|e| invalid(e.explain(&spelling)))?;
+        Ok(start.initial)
     }
 }
 

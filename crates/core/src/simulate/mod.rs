@@ -28,6 +28,7 @@ use serde::Serialize;
 use thiserror::Error;
 
 mod model;
+pub mod start;
 mod typed;
 pub use model::{ModelState, Start};
 pub use typed::{
