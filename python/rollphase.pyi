@@ -191,3 +191,19 @@ def period_counts(
 ) -> Dict[str, Any]:
     """Fig. 4e: the period multiplicities of runs from random orientations at one m/m0. Keys:
     cycle_counts (k = 1..4, then none), at_rest, undecided, longest_run."""
+
+def mass_bifurcation(
+    body: Body,
+    alpha: float,
+    masses: Sequence[float],
+    starts: int = 4,
+    seed: int = 1,
+    t_min: float = 1500.0,
+    t_cap: Optional[float] = None,
+) -> Dict[str, Any]:
+    """The orbit diagram in m/m0 (beyond Fig. 4e): the period-1 orbits continued in m with their
+    Floquet multipliers, the flips where a multiplier passes −1, and the period-2 windows the
+    runs show. masses ascend from 0. Keys: masses, period_counts (n, 5), orbits (mass_ratio,
+    period, multipliers (k, 5) complex, most_negative_real), flips (orbit, mass_ratio,
+    loses_stability), windows (orbit, onset_mass, end_mass, flip_onset_mass, flip_end_mass),
+    undecided_runs, longest_run."""

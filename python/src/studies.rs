@@ -1,14 +1,17 @@
 //! The paper's analyses from Python with plain arguments: α*, the 2D period, the Poincaré map
-//! on ∂Ω, the cruising fraction, the period-1 orbits with their Floquet multipliers and the
-//! period-doubling statistics. Each is the core's function of the same name
-//! (`rollphase_core::analysis`), run with the GIL released and stopped by Ctrl-C.
+//! on ∂Ω, the cruising fraction, the period-1 orbits with their Floquet multipliers, the
+//! period-doubling statistics and the orbit diagram in m/m0 (`mass_bifurcation`). Each is the
+//! core's function of the same name (`rollphase_core::analysis`), run with the GIL released and
+//! stopped by Ctrl-C.
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{AllowTypeChange, Complex64, IntoPyArray, PyArray1, PyArray2, PyArrayLike2};
 use pyo3::exceptions::{PyRuntimeWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
+use rollphase_core::analysis::orbit_diagram::{DirectRuns, RunWindow, mass_bifurcation_until};
 use rollphase_core::analysis::sphere_orbits::Decide;
+use rollphase_core::analysis::sphere_return_map::PeriodicOrbit;
 use rollphase_core::analysis::studies::{
     cruising_fraction_until, period_counts_until, periodic_orbits_until, poincare_map_until,
 };
@@ -310,5 +313,109 @@ pub fn period_counts<'py>(
     d.set_item("at_rest", c.at_rest)?;
     d.set_item("undecided", c.undecided)?;
     d.set_item("longest_run", c.longest_run)?;
+    Ok(d)
+}
+
+/// The orbit diagram of 3D rolling in m/m0 (beyond the paper's Fig. 4e; `rollphase figure
+/// sphere-bifurcation` computes the same): at ramp angle `alpha`, `starts` random orientations
+/// per mass (seed `seed`) released from rest at every m/m0 in `masses` (ascending, the first
+/// 0), each run going on for at least t_min, then until its crossings of ∂Ω close a cycle or it
+/// rests, at most t_cap (10 t_min when not given). The period-1 orbits found at masses[1] are
+/// continued up the grid by Newton's method on the return map, with their five Floquet
+/// multipliers, and the masses where a multiplier passes −1 (flips) are found by bisection.
+/// Returns a dict: masses, period_counts ((n, 5): runs with period 1, 2, 3, 4, none),
+/// orbits (a list of dicts: mass_ratio (k,), period (k,), multipliers (k, 5) complex,
+/// most_negative_real (k,), nan where none), flips (a list of dicts: orbit, mass_ratio,
+/// loses_stability), windows (the period-2 windows the runs show: orbit, onset_mass, end_mass,
+/// flip_onset_mass, flip_end_mass; None where absent), undecided_runs, longest_run.
+#[pyfunction]
+#[pyo3(signature = (body, alpha, masses, starts = 4, seed = 1, t_min = 1500.0, t_cap = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn mass_bifurcation<'py>(
+    py: Python<'py>,
+    body: &Body,
+    alpha: f64,
+    masses: Vec<f64>,
+    starts: i128,
+    seed: i128,
+    t_min: f64,
+    t_cap: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (starts, seed): (usize, u64) = (whole("starts", starts)?, whole("seed", seed)?);
+    let CoreBody::Sphere(sphere) = body.convex()? else {
+        return Err(PyValueError::new_err(
+            "mass_bifurcation needs a 3D body (a sphere); this one is a 2D disk",
+        ));
+    };
+    let window = RunWindow {
+        t_min,
+        t_cap: t_cap.unwrap_or(10.0 * t_min),
+    };
+    let b = interruptible(py, |stop| {
+        mass_bifurcation_until(sphere, alpha, &masses, starts, seed, window, stop)
+    })?
+    .map_err(value_error)?;
+    let d = PyDict::new(py);
+    d.set_item("masses", Array1::from_vec(masses.clone()).into_pyarray(py))?;
+    let counts: Vec<u64> = b
+        .diagram
+        .masses
+        .iter()
+        .flat_map(|m| m.period_counts.iter().map(|&k| k as u64))
+        .collect();
+    let counts = Array2::from_shape_vec((masses.len(), 5), counts).map_err(value_error)?;
+    d.set_item("period_counts", counts.into_pyarray(py))?;
+    let orbits = PyList::empty(py);
+    for o in &b.orbits {
+        let od = PyDict::new(py);
+        let col =
+            |f: &dyn Fn(&PeriodicOrbit) -> f64| -> Vec<f64> { o.solutions.iter().map(f).collect() };
+        od.set_item("orbit", o.orbit)?;
+        od.set_item(
+            "mass_ratio",
+            Array1::from_vec(col(&|s| s.mass_ratio)).into_pyarray(py),
+        )?;
+        od.set_item(
+            "period",
+            Array1::from_vec(col(&|s| s.period)).into_pyarray(py),
+        )?;
+        od.set_item(
+            "most_negative_real",
+            Array1::from_vec(col(&|s| s.most_negative_real.unwrap_or(f64::NAN))).into_pyarray(py),
+        )?;
+        let mu: Vec<Complex64> = o
+            .solutions
+            .iter()
+            .flat_map(|s| s.multipliers.iter().map(|&[re, im]| Complex64::new(re, im)))
+            .collect();
+        let width = o.solutions.first().map_or(0, |s| s.multipliers.len());
+        let mu = Array2::from_shape_vec((o.solutions.len(), width), mu).map_err(value_error)?;
+        od.set_item("multipliers", mu.into_pyarray(py))?;
+        orbits.append(od)?;
+    }
+    d.set_item("orbits", orbits)?;
+    let flips = PyList::empty(py);
+    for f in &b.flips {
+        let fd = PyDict::new(py);
+        fd.set_item("orbit", f.orbit)?;
+        fd.set_item("mass_ratio", f.mass_ratio)?;
+        fd.set_item("loses_stability", f.loses_stability)?;
+        flips.append(fd)?;
+    }
+    d.set_item("flips", flips)?;
+    let windows = PyList::empty(py);
+    for w in &b.windows {
+        let wd = PyDict::new(py);
+        wd.set_item("orbit", w.orbit)?;
+        wd.set_item("onset_mass", w.onset_mass)?;
+        wd.set_item("end_mass", w.end_mass)?;
+        wd.set_item("flip_onset_mass", w.flip_onset_mass)?;
+        wd.set_item("flip_end_mass", w.flip_end_mass)?;
+        windows.append(wd)?;
+    }
+    d.set_item("windows", windows)?;
+    let grid = DirectRuns::new(&masses, starts, &b.runs).map_err(value_error)?;
+    d.set_item("undecided_runs", grid.undecided(window.t_cap))?;
+    d.set_item("longest_run", grid.longest())?;
     Ok(d)
 }

@@ -1,6 +1,7 @@
 """The analyses: α* and the period as `rollphase period` gives them, the cruising fraction as
 `figure sphere-cruising`, the Poincaré map's fixed points, the two stable orbits and their
-Floquet multipliers, the doubling at m/m0 = 6, and bad input as ValueError."""
+Floquet multipliers, the doubling at m/m0 = 6, the orbit diagram as `figure sphere-bifurcation`,
+and bad input as ValueError."""
 
 import json
 import threading
@@ -67,6 +68,27 @@ def test_period_halts_below_the_critical_angle_and_obeys_the_square_root_law():
     # A start velocity the viscous model cannot take is refused, as by `rollphase period`.
     with pytest.raises(ValueError, match="theta_dot0 does not apply to the viscous model"):
         rollphase.period(body, 0.1, theta_dot0=0.5)
+
+
+def test_the_orbit_diagram_is_figure_sphere_bifurcations(cli, tmp_path):
+    cli("figure", "sphere-bifurcation", "--quick", "--out", tmp_path)
+    summary = json.loads((tmp_path / "sphere-bifurcation/summary.json").read_text())
+    masses = [12.0 * i / 24 for i in range(25)]  # the figure's --quick grid, bit for bit
+    ours = rollphase.mass_bifurcation(Body.paper_sphere(219), 0.15, masses, starts=4, t_min=1500.0)
+    assert ours["period_counts"].tolist() == [m["period_counts"] for m in summary["masses"]]
+    assert [f["mass_ratio"] for f in ours["flips"]] == [f["mass_ratio"] for f in summary["flips"]]
+    assert len(ours["orbits"]) == len(summary["orbits"]) == 2
+    for o, s in zip(ours["orbits"], summary["orbits"]):
+        assert o["mass_ratio"].tolist() == [x["mass_ratio"] for x in s["solutions"]]
+        assert o["multipliers"].shape == (len(s["solutions"]), 5)
+    assert ours["undecided_runs"] == summary["undecided_runs"]
+    # The paper's doubling (Fig. 4e): each orbit's window holds m/m0 = 6 and closes before 10.
+    assert len(ours["windows"]) == 2
+    assert all(w["onset_mass"] < 6.0 < w["end_mass"] < 10.0 for w in ours["windows"])
+    with pytest.raises(ValueError, match="the first 0"):
+        rollphase.mass_bifurcation(Body.paper_sphere(219), 0.15, [1.0, 2.0])
+    with pytest.raises(ValueError, match="3D body"):
+        rollphase.mass_bifurcation(Body.paper_disk(84, 0.12, 5), 0.15, [0.0, 1.0])
 
 
 def test_the_cruising_fraction_is_figure_sphere_cruisings(cli, tmp_path):

@@ -16,6 +16,8 @@
 //!
 //! [`mass_bifurcation`] runs all four in parallel (rayon) for a caller that needs neither.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use glam::{DQuat, DVec3};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -31,7 +33,7 @@ use super::sphere_return_map::{
 use super::studies::random_orientation;
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::Sphere;
-use crate::integrate::IntegrateError;
+use crate::integrate::{IntegrateError, MAX_SPAN};
 
 /// Two crossing points closer than this (antipodes identified) are the same point when the
 /// period is read off the late crossings.
@@ -111,6 +113,12 @@ pub enum OrbitDiagramError {
         /// Starts per mass.
         starts: usize,
     },
+    /// A bad argument of [`mass_bifurcation`]: which, and what is allowed.
+    #[error("{0}")]
+    BadArgument(String),
+    /// Stopped on request ([`mass_bifurcation_until`]).
+    #[error("the orbit diagram was stopped before its end")]
+    Stopped,
     /// A run claims a period outside 1..=[`MAX_K`].
     #[error("run {start} at m/m0 = {mass_ratio}: a cycle of {period} crossings")]
     BadPeriod {
@@ -795,30 +803,131 @@ pub fn mass_bifurcation(
     seed: u64,
     window: RunWindow,
 ) -> Result<MassBifurcation, OrbitDiagramError> {
+    mass_bifurcation_until(
+        body,
+        alpha,
+        masses,
+        starts,
+        seed,
+        window,
+        &AtomicBool::new(false),
+    )
+}
+
+/// Most grid masses, and most starts per mass, of [`mass_bifurcation`].
+pub const MAX_GRID: usize = 100_000;
+
+/// Checks [`mass_bifurcation`]'s arguments before any run.
+fn check_grid(masses: &[f64], starts: usize, window: RunWindow) -> Result<(), OrbitDiagramError> {
+    let bad = |s: String| Err(OrbitDiagramError::BadArgument(s));
+    if !(2..=MAX_GRID).contains(&masses.len()) || masses[0] != 0.0 {
+        return bad(format!(
+            "masses needs 2 to {MAX_GRID} values, the first 0 (viscous) and then the inertial \
+             ones ascending; got {} values starting {:?}",
+            masses.len(),
+            masses.first()
+        ));
+    }
+    if let Some(w) = masses
+        .windows(2)
+        .find(|w| !(w[1].is_finite() && w[1] > w[0]))
+    {
+        return bad(format!(
+            "masses must ascend through finite values: {} follows {}",
+            w[1], w[0]
+        ));
+    }
+    if !(1..=MAX_GRID).contains(&starts) {
+        return bad(format!(
+            "starts = {starts} is not allowed (needs 1 ≤ starts ≤ {MAX_GRID})"
+        ));
+    }
+    let RunWindow { t_min, t_cap } = window;
+    if !(t_min.is_finite()
+        && t_min > 0.0
+        && t_cap.is_finite()
+        && t_cap >= t_min
+        && t_cap <= MAX_SPAN)
+    {
+        return bad(format!(
+            "the run window t_min = {t_min}, t_cap = {t_cap} is not allowed (needs 0 < t_min ≤ \
+             t_cap ≤ {MAX_SPAN:e})"
+        ));
+    }
+    Ok(())
+}
+
+/// [`mass_bifurcation`] that stops with [`OrbitDiagramError::Stopped`] once `stop` is set
+/// (each run or orbit already under way finishes first).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::orbit_diagram::{OrbitDiagramError, RunWindow, mass_bifurcation_until};
+/// use rollphase_core::geometry::Body;
+/// use std::sync::atomic::AtomicBool;
+/// let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// let window = RunWindow { t_min: 400.0, t_cap: 4000.0 };
+/// let stop = AtomicBool::new(true);
+/// let r = mass_bifurcation_until(&body, 0.15, &[0.0, 1.0], 2, 1, window, &stop);
+/// assert!(matches!(r, Err(OrbitDiagramError::Stopped)));
+/// // Arguments are checked before any run: the grid starts at the viscous m/m0 = 0.
+/// let r = mass_bifurcation_until(&body, 0.15, &[1.0, 2.0], 2, 1, window, &AtomicBool::new(false));
+/// assert!(matches!(r, Err(OrbitDiagramError::BadArgument(_))));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn mass_bifurcation_until(
+    body: &Sphere,
+    alpha: f64,
+    masses: &[f64],
+    starts: usize,
+    seed: u64,
+    window: RunWindow,
+    stop: &AtomicBool,
+) -> Result<MassBifurcation, OrbitDiagramError> {
+    check_grid(masses, starts, window)?;
     let ramps: Vec<Ramp> = masses
         .iter()
         .map(|&m| Ramp::new(alpha, m))
         .collect::<Result<_, _>>()?;
+    let stopped = || {
+        if stop.load(Ordering::Relaxed) {
+            Err(OrbitDiagramError::Stopped)
+        } else {
+            Ok(())
+        }
+    };
     let runs: Vec<LateRun> = (0..masses.len() * starts)
         .into_par_iter()
         .with_max_len(1)
         .map(|j| {
+            stopped()?;
             let (m, o) = (j / starts, j % starts);
-            late_run(body, &ramps[m], random_orientation(body, seed, o), window)
+            Ok(late_run(
+                body,
+                &ramps[m],
+                random_orientation(body, seed, o),
+                window,
+            )?)
         })
-        .collect::<Result<_, _>>()?;
+        .collect::<Result<_, OrbitDiagramError>>()?;
     let grid = DirectRuns::new(masses, starts, &runs)?;
     let seeds = period_one_seeds(&grid)?;
     let orbits: Vec<OrbitBranch> = (0..seeds.len())
         .into_par_iter()
         .with_max_len(1)
-        .map(|j| continue_orbit(body, alpha, &masses[1..], j, seeds[j]))
-        .collect();
+        .map(|j| {
+            stopped()?;
+            Ok(continue_orbit(body, alpha, &masses[1..], j, seeds[j]))
+        })
+        .collect::<Result<_, OrbitDiagramError>>()?;
     let flips: Vec<Flip> = flip_brackets(&orbits)
         .par_iter()
         .with_max_len(1)
-        .map(|b| locate_flip_in(body, alpha, b))
-        .collect();
+        .map(|b| {
+            stopped()?;
+            Ok(locate_flip_in(body, alpha, b))
+        })
+        .collect::<Result<_, OrbitDiagramError>>()?;
     let diagram = orbit_diagram(&grid, &orbits)?;
     let windows = doubling_windows(masses, &orbits, &flips, &diagram);
     Ok(MassBifurcation {
