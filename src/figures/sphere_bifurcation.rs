@@ -35,8 +35,8 @@ use super::{
     Computed, FigureData, FigureOptions, PAPER_ALPHA, par_map, progress, sphere_alpha_star,
 };
 use crate::analysis::orbit_diagram::{
-    DirectRuns, OrbitDiagramError, RunWindow, continue_orbit, doubling_windows, flip_brackets,
-    late_run, locate_flip_in, orbit_diagram, period_one_seeds,
+    DirectRuns, OrbitDiagramError, RunWindow, continue_orbit, direct_run, doubling_windows,
+    flip_brackets, locate_flip_in, orbit_diagram, period_one_seeds,
 };
 pub use crate::analysis::orbit_diagram::{
     DoublingWindow, Flip, LateRun, MAX_K, MassRow, OrbitBranch, PERIOD_TOL,
@@ -137,7 +137,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
         opts.ensemble("sphere-bifurcation", jobs.len(), "runs", |j| {
             let (m, o) = jobs[j];
             let ramp = Ramp::new(alpha, masses[m])?;
-            Ok(late_run(
+            Ok(direct_run(
                 &body,
                 &ramp,
                 random_orientation(&body, opts.seed, o),

@@ -4,7 +4,7 @@
 //!
 //! The steps, each callable on its own so that a batch job can shard the first (the bulk of the
 //! work) and a progress bar can follow the others:
-//! 1. [`late_run`] per (mass, start): a run released from rest, long enough to read the period k
+//! 1. [`direct_run`] per (mass, start): a run released from rest, long enough to read the period k
 //!    of its attractor off its late crossings of ∂Ω ([`settled_cycle`], antipodes identified).
 //! 2. [`period_one_seeds`] picks one run per period-1 orbit at the lowest inertial mass;
 //!    [`continue_orbit`] follows each up the mass grid by Newton's method on the return map
@@ -137,20 +137,20 @@ pub enum OrbitDiagramError {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbit_diagram::{RunWindow, late_run};
+/// use rollphase_core::analysis::orbit_diagram::{RunWindow, direct_run};
 /// use rollphase_core::analysis::studies::random_orientation;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
 /// let ramp = Ramp::new(0.15, 1.0)?;
 /// let window = RunWindow { t_min: 400.0, t_cap: 4000.0 };
-/// let run = late_run(&body, &ramp, random_orientation(&body, 1, 0), window)?;
+/// let run = direct_run(&body, &ramp, random_orientation(&body, 1, 0), window)?;
 /// // At m/m0 = 1 the paper's body cruises on a period-1 orbit.
 /// assert_eq!(run.period, Some(1));
 /// assert!(run.crossings.iter().all(|c| c.t >= 200.0));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn late_run(
+pub fn direct_run(
     body: &Sphere,
     ramp: &Ramp,
     q0: DQuat,
@@ -480,7 +480,7 @@ fn solve_at(body: &Sphere, alpha: f64, mass: f64, guess: (DVec3, DVec3)) -> Opti
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbit_diagram::{RunWindow, continue_orbit, late_run};
+/// use rollphase_core::analysis::orbit_diagram::{RunWindow, continue_orbit, direct_run};
 /// use rollphase_core::analysis::studies::random_orientation;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
@@ -488,7 +488,7 @@ fn solve_at(body: &Sphere, alpha: f64, mass: f64, guess: (DVec3, DVec3)) -> Opti
 /// let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
 /// // A run at m/m0 = 1 ends on a period-1 orbit: its last crossing is the guess.
 /// let window = RunWindow { t_min: 400.0, t_cap: 4000.0 };
-/// let run = late_run(&body, &Ramp::new(0.15, 1.0)?, random_orientation(&body, 1, 0), window)?;
+/// let run = direct_run(&body, &Ramp::new(0.15, 1.0)?, random_orientation(&body, 1, 0), window)?;
 /// let point = DVec3::from_array(run.crossings.last().unwrap().point);
 /// let branch = continue_orbit(&body, 0.15, &[1.0, 1.2], 0, (point, *run.omegas.last().unwrap()));
 /// assert_eq!(branch.solutions.len(), 2);
@@ -558,7 +558,7 @@ pub fn flip_brackets(orbits: &[OrbitBranch]) -> Vec<FlipBracket> {
 /// use rollphase_core::glam::DVec3;
 /// let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
 /// let window = RunWindow { t_min: 400.0, t_cap: 4000.0 };
-/// let run = late_run(&body, &Ramp::new(0.15, 1.0)?, random_orientation(&body, 1, 1), window)?;
+/// let run = direct_run(&body, &Ramp::new(0.15, 1.0)?, random_orientation(&body, 1, 1), window)?;
 /// let seed = (DVec3::from_array(run.crossings.last().unwrap().point), *run.omegas.last().unwrap());
 /// let branch = continue_orbit(&body, 0.15, &[1.0, 2.0, 3.0, 3.4], 0, seed);
 /// // This orbit's multiplier passes −1 between m/m0 = 3 and 3.4: it loses stability there.
@@ -902,7 +902,7 @@ pub fn mass_bifurcation_until(
         .map(|j| {
             stopped()?;
             let (m, o) = (j / starts, j % starts);
-            Ok(late_run(
+            Ok(direct_run(
                 body,
                 &ramps[m],
                 random_orientation(body, seed, o),
