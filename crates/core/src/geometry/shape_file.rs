@@ -111,12 +111,15 @@ impl ShapeFile {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::geometry::ShapeFile;
-    /// let path = std::env::temp_dir().join(format!("rollphase-doc-shape-{}.json", std::process::id()));
-    /// std::fs::write(&path, r#"{"kind": "sphere", "coeffs": [{"l": 2, "m": 0, "re": 0.2, "im": 0.0}]}"#)?;
-    /// let body = ShapeFile::load(&path)?;
+    /// use rollphase_core::geometry::{ShapeFile, ShapeLoadError};
+    /// use std::path::Path;
+    /// let shapes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/shapes");
+    /// let body = ShapeFile::load(&shapes.join("paper-sphere.json"))?;
     /// assert_eq!(body.dimension(), 3);
-    /// std::fs::remove_file(&path)?;
+    /// // A file that is not there is an error naming it.
+    /// let missing = ShapeFile::load(&shapes.join("no-such-body.json")).unwrap_err();
+    /// assert!(matches!(missing, ShapeLoadError::Read { .. }));
+    /// assert!(missing.to_string().contains("no-such-body.json"));
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn load(path: &Path) -> Result<Body, ShapeLoadError> {
