@@ -5,8 +5,9 @@
 //! way (see [`super::shard`] and docs/guide/cluster.md).
 //!
 //! Each run is the core's [`Scan::run`] ([`crate::analysis::sphere_orbits::settle_with`]):
-//! released from rest (viscous if m/m0 = 0), followed until it halts (|ω| < 1e-9), closes a cycle of k ≤ `max_multiplicity` crossings of ∂Ω twice in a row (points
-//! to `point_tol`, durations to `period_rtol`), or reaches `t_max`. An undecided run counts as
+//! released from rest (viscous if m/m0 = 0), followed until it halts (|ω| < 1e-9), closes a
+//! cycle of k ≤ `max_multiplicity` crossings of ∂Ω twice in a row (points to `point_tol`,
+//! durations to `period_rtol`), or reaches `t_max`. An undecided run counts as
 //! cruising if its final |ω| ≥ 1e-3 (as in `sphere-cruising`). Orientation o of a body is
 //! [`crate::analysis::studies::random_orientation`]`(body, orientation_seed, o)`, the one the
 //! figures use. This module reads and checks the spec, shards the runs and writes the rows.
