@@ -2,7 +2,8 @@
 //! (0 success, 1 a failed command with its reason on standard error, 2 bad usage from clap). A
 //! reader that closes the pipe early (`rollphase … | head`) ends the command quietly with 0, as
 //! Unix tools do; any other failure to write standard output (a full disk) is an error. Ctrl-C
-//! removes the outputs still being written and exits with 130.
+//! removes the outputs still being written and exits with 130 (a commit under way is let
+//! finish first, so no file is ever cut).
 
 use std::io::Write;
 
@@ -12,9 +13,11 @@ fn main() {
     let cli = rollphase::cli::Cli::parse();
     // Ctrl-C (or a termination signal): remove the outputs still being written, then stop with
     // the conventional status 130. The destinations are untouched until a command succeeds.
+    // A commit under way when the signal comes is let finish (see `output::remove_partial_outputs`),
+    // and the message says which of the two happened.
     let _ = ctrlc::set_handler(|| {
-        rollphase::output::remove_partial_outputs();
-        eprintln!("interrupted; no partial output was left");
+        let when = rollphase::output::remove_partial_outputs();
+        eprintln!("{}", when.message());
         std::process::exit(130);
     });
     let result = rollphase::cli::run(cli).and_then(|()| {
@@ -22,6 +25,12 @@ fn main() {
             .flush()
             .map_err(|e| anyhow::Error::new(e).context("cannot write to standard output"))
     });
+    // The command finished while the handler ran: its exit (130, with its message) is the one.
+    if rollphase::output::interrupt_pending() {
+        loop {
+            std::thread::park();
+        }
+    }
     if let Err(e) = result {
         let broken_pipe = e.chain().any(|c| {
             c.downcast_ref::<std::io::Error>()

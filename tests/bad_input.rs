@@ -1049,7 +1049,174 @@ fn simulate_writes_rows_to_standard_output_by_default_but_not_two_streams_there(
     fails_with(
         &r,
         1,
-        &["--summary -", "both go to standard output", "-o FILE"],
+        &["-o and --summary both name standard output", "its own file"],
     );
     assert!(r.stdout.is_empty());
+}
+
+/// Issue 33, case 4: an interrupt while a hard-linked file is rewritten in place leaves every
+/// name with the old contents or the complete new ones, never a cut file, and no backup behind.
+#[test]
+fn an_interrupt_during_an_in_place_rewrite_leaves_every_name_whole() {
+    let dir = temp_dir("interrupt-in-place");
+    let body = write(&dir, "body.json", SPHERE);
+    let run = |alpha: &str, out: &std::path::Path| {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_rollphase"));
+        c.args(["simulate", &body, "--alpha", alpha, "--t-end", "100"])
+            .args(["--samples", "200000", "-o"])
+            .arg(out)
+            .stderr(std::process::Stdio::piped());
+        c
+    };
+    let out = dir.join("out.csv");
+    let link = dir.join("out-link.csv");
+    assert!(run("0.30", &out).status().unwrap().success());
+    std::fs::hard_link(&out, &link).unwrap();
+    let old = std::fs::read(&out).unwrap();
+    let new_path = dir.join("expected-new.csv");
+    assert!(run("0.31", &new_path).status().unwrap().success());
+    let new = std::fs::read(&new_path).unwrap();
+    assert_ne!(old, new);
+    let mut child = run("0.31", &out).spawn().unwrap();
+    // Interrupt once the commit has begun (its backup of the old contents exists), or as soon
+    // as the destination changes, whichever is seen first.
+    let started = std::time::Instant::now();
+    loop {
+        let committing = std::fs::read_dir(&dir).unwrap().any(|e| {
+            e.unwrap()
+                .file_name()
+                .to_string_lossy()
+                .contains("previous")
+        });
+        let changed = std::fs::metadata(&out).map(|m| m.len()).ok() != Some(old.len() as u64);
+        if committing || changed || child.try_wait().unwrap().is_some() {
+            break;
+        }
+        assert!(started.elapsed().as_secs() < 60, "the rewrite never began");
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    let _ = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status();
+    let finished = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&finished.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    let after = std::fs::read(&out).unwrap();
+    assert_eq!(after, std::fs::read(&link).unwrap(), "the two names differ");
+    assert!(
+        after == old || after == new,
+        "a name holds neither the old nor the complete new file ({} bytes; old {}, new {}); {err}",
+        after.len(),
+        old.len(),
+        new.len()
+    );
+    if finished.status.code() == Some(130) && after == new {
+        assert!(err.contains("files written are complete"), "{err}");
+    }
+    let left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+}
+
+/// Issue 33, case 5: a path naming one of the process's descriptors is written through it (a log
+/// the shell appends to keeps its lines), never replaced by a rename.
+#[test]
+fn an_output_naming_a_descriptor_writes_through_it() {
+    let dir = temp_dir("descriptor");
+    let body = write(&dir, "body.json", SPHERE);
+    let log = dir.join("log.txt");
+    std::fs::write(&log, "IMPORTANT\n").unwrap();
+    let appending = std::fs::OpenOptions::new().append(true).open(&log).unwrap();
+    let r = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        .args(["simulate", &body, "--alpha", "0.4", "--t-end", "1"])
+        .args(["--samples", "3", "-o", "/proc/self/fd/1"])
+        .stdout(appending)
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let text = std::fs::read_to_string(&log).unwrap();
+    assert!(text.starts_with("IMPORTANT\nt,qw"), "{text}");
+    assert_eq!(text.lines().count(), 5, "{text}");
+    // The summary through standard error, appended to its log too.
+    let err_log = dir.join("err.log");
+    std::fs::write(&err_log, "EARLIER\n").unwrap();
+    let appending = std::fs::OpenOptions::new()
+        .append(true)
+        .open(&err_log)
+        .unwrap();
+    let csv = dir.join("rows.csv");
+    let r = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        .args(["simulate", &body, "--alpha", "0.4", "--t-end", "1"])
+        .args(["--samples", "3", "--summary", "/dev/stderr", "-o"])
+        .arg(&csv)
+        .stderr(appending)
+        .output()
+        .unwrap();
+    assert!(r.status.success());
+    let text = std::fs::read_to_string(&err_log).unwrap();
+    assert!(text.starts_with("EARLIER\n{"), "{text}");
+    assert!(std::fs::read_to_string(&csv).unwrap().starts_with("t,qw"));
+}
+
+/// Issue 33, case 6: two outputs of one command naming one file are refused before any work,
+/// saying so; the null device takes both.
+#[test]
+fn two_outputs_naming_one_file_are_refused_but_the_null_device_takes_both() {
+    let dir = temp_dir("collide");
+    let body = write(&dir, "body.json", SPHERE);
+    let in_dir = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_rollphase"))
+            .args([
+                "simulate",
+                &body,
+                "--alpha",
+                "0.4",
+                "--t-end",
+                "1",
+                "--samples",
+                "3",
+            ])
+            .args(args)
+            .current_dir(&dir)
+            .output()
+            .unwrap()
+    };
+    let r = in_dir(&["-o", "run.csv", "--summary", "./run.csv"]);
+    fails_with(
+        &r,
+        1,
+        &["-o and --summary both name ./run.csv", "its own file"],
+    );
+    assert!(!dir.join("run.csv").exists());
+    // The same when the file exists: the message is the collision, not "is also an input".
+    std::fs::write(dir.join("run.csv"), "keep").unwrap();
+    let r = in_dir(&["-o", "run.csv", "--summary", "run.csv"]);
+    fails_with(&r, 1, &["both name run.csv"]);
+    assert!(!String::from_utf8_lossy(&r.stderr).contains("is also an input"));
+    assert_eq!(
+        std::fs::read_to_string(dir.join("run.csv")).unwrap(),
+        "keep"
+    );
+    let r = in_dir(&["-o", "/dev/null", "--summary", "/dev/null"]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+}
+
+/// Issue 33, case 9: binary output on standard output is the data alone; the status line goes
+/// to standard error.
+#[test]
+fn binary_output_on_standard_output_is_the_data_alone() {
+    let dir = temp_dir("stl-stdout");
+    let body = write(&dir, "body.json", SPHERE);
+    for out in ["-", "/dev/stdout"] {
+        let r = rollphase(&["export-stl", &body, "--detail", "1", "-o", out]);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        let stl = &r.stdout;
+        assert!(stl.len() > 84);
+        let triangles = u32::from_le_bytes(stl[80..84].try_into().unwrap()) as usize;
+        assert_eq!(stl.len(), 84 + 50 * triangles, "{out}: bytes after the STL");
+        assert!(String::from_utf8_lossy(&r.stderr).contains("triangles, watertight"));
+    }
 }

@@ -82,11 +82,17 @@ pub fn run(a: ExportStlArgs) -> Result<()> {
         .with_context(|| format!("cannot write {}", a.output.display()))?;
     file.commit()?;
     let volume_cm3 = mesh.volume() * a.radius_mm.powi(3) / 1000.0;
-    outln!(
+    let status = format!(
         "wrote {} ({} triangles, watertight, volume {volume_cm3:.2} cm³ at ⟨r⟩ = {} mm)",
         a.output.display(),
         mesh.indices.len(),
         a.radius_mm
-    )?;
+    );
+    // Standard output carries the STL itself: nothing else may follow it there.
+    if crate::output::is_standard_output(&a.output) {
+        eprintln!("{status}");
+    } else {
+        outln!("{status}")?;
+    }
     Ok(())
 }

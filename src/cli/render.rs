@@ -186,6 +186,12 @@ fn write_headless(a: &RenderArgs, setup: SceneSetup, frames: u64) -> Result<()> 
     let clip = match clip {
         Some((kind, flag, p)) => {
             crate::output::check_file(p, &inputs).with_context(|| flag.to_string())?;
+            if let Some(dir) = &a.plot_data {
+                for data in crate::sim::history::PlotData::ALL {
+                    let file = dir.join(data.file_name());
+                    crate::output::check_distinct(&[(flag, p), ("--plot-data", &file)])?;
+                }
+            }
             if kind == ClipKind::Mp4 && !crate::clip::ffmpeg_available() {
                 return Err(crate::clip::ClipError::NoFfmpeg.into());
             }
@@ -216,13 +222,18 @@ fn write_headless(a: &RenderArgs, setup: SceneSetup, frames: u64) -> Result<()> 
         ),
         None => a.out.display().to_string(),
     };
-    outln!(
+    let status = format!(
         "wrote {} frame(s) of {name} at {}x{} to {written} (t = 0 … {:.3}) on {}",
-        report.frames,
-        a.size.0,
-        a.size.1,
-        report.t_last,
-        report.adapter
-    )?;
+        report.frames, a.size.0, a.size.1, report.t_last, report.adapter
+    );
+    // A clip on standard output: nothing but its bytes may go there.
+    if clip
+        .as_ref()
+        .is_some_and(|(_, p)| crate::output::is_standard_output(p))
+    {
+        eprintln!("{status}");
+    } else {
+        outln!("{status}")?;
+    }
     Ok(())
 }

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result, anyhow, bail};
+use anyhow::{Context, Result, anyhow};
 use clap::{Args, ValueEnum};
 
 use crate::dynamics::Ramp;
@@ -197,18 +197,11 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     // Staged beside the destination and moved into place at the end, with the summary, so a
     // failed run leaves no half file (see `crate::output`: devices and links are kept).
     let inputs = Inputs::of([&a.file]);
-    let mut rows_inputs = inputs.clone();
-    if a.summary.as_deref() == Some(std::path::Path::new("-")) && a.output.as_os_str() == "-" {
-        bail!(
-            "--summary - and the CSV rows would both go to standard output; give the rows a file \
-             with -o FILE, or the summary one"
-        );
-    }
     if let Some(s) = &a.summary {
-        output::check_file(s, &inputs.clone().with(&a.output))?;
-        rows_inputs.add(s);
+        output::check_distinct(&[("-o", &a.output), ("--summary", s)])?;
+        output::check_file(s, &inputs)?;
     }
-    let mut file = output::OutputFile::create(&a.output, &rows_inputs)?;
+    let mut file = output::OutputFile::create(&a.output, &inputs)?;
     // The header goes out with the first row, so a run refused before it starts writes nothing
     // (also on standard output).
     let mut header = Some(header);
@@ -268,7 +261,7 @@ pub fn run(a: SimulateArgs) -> Result<()> {
                 }
             };
             // Rows already sent to standard output cannot be taken back; a file is untouched.
-            let left = if a.output.as_os_str() == "-" {
+            let left = if output::is_standard_output(&a.output) {
                 "the rows on standard output stop there and are incomplete"
             } else {
                 "no CSV was written"
