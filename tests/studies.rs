@@ -248,3 +248,78 @@ fn a_stopped_study_says_so() {
         Err(StudyError::Stopped)
     ));
 }
+
+/// Issue 33, case 1: a scan's answers do not depend on the integrator picked for speed. The
+/// issue's spec (paper body, α = 0.2, m/m0 = 6, two orientations) gave period 64.84 with
+/// multiplicity 2 for rk4:0.5, cf4:0.5 and dop853:1e-4 where the reference gives 32.419 with
+/// multiplicity 1; viscous at α = 0.2, rk4:0.8 and cf4:0.8 gave period 3. Every run now reports
+/// the reference's answer, and the ones the reference corrected say what the fast setting said.
+#[test]
+fn a_scans_answers_do_not_depend_on_the_integrator_picked_for_speed() {
+    use rollphase::analysis::scan::Scan;
+    use rollphase::analysis::sphere_orbits::{AnswerCheck, Fate, Settle, same_answer};
+    use rollphase::integrate::{Method, Preset};
+    let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5).unwrap() else {
+        unreachable!()
+    };
+    let settle = Settle {
+        t_max: 1500.0,
+        point_tol: 1e-5,
+        period_rtol: 1e-5,
+        max_k: 4,
+        ..Settle::default()
+    };
+    for (mass, fast) in [
+        (
+            6.0,
+            vec![
+                Method::Rk4 { dt: 0.4 },
+                Method::Rk4 { dt: 0.5 },
+                Method::Cf4 { dt: 0.5 },
+                Method::dop853(1e-4),
+            ],
+        ),
+        (0.0, vec![Method::Rk4 { dt: 0.8 }, Method::Cf4 { dt: 0.8 }]),
+    ] {
+        let mut methods = vec![Preset::Precise.method()];
+        methods.extend(fast.iter().copied());
+        let scan = Scan {
+            bodies: vec![body.clone()],
+            alphas: vec![0.2],
+            masses: vec![mass],
+            orientations: 2,
+            orientation_seed: 1,
+            methods,
+            settle,
+        };
+        let (runs, tally) = scan.run_all().unwrap();
+        let per_start = fast.len() + 1;
+        let mut fast_doublings = 0;
+        for start in runs.chunks(per_start) {
+            let reference = &start[0];
+            assert_eq!(reference.check, AnswerCheck::Reference);
+            assert!(
+                matches!(reference.fate, Fate::Periodic { k: 1, .. }),
+                "{:?}",
+                reference.fate
+            );
+            for run in &start[1..] {
+                assert!(
+                    same_answer(&run.fate, &reference.fate, 1e-5),
+                    "m/m0 = {mass}: {:?} against the reference's {:?}",
+                    run.fate,
+                    reference.fate
+                );
+                if let AnswerCheck::Corrected {
+                    fast: Fate::Periodic { k, .. },
+                } = run.check
+                {
+                    fast_doublings += usize::from(k > 1);
+                }
+            }
+        }
+        // The defect is still there in the fast settings' own answers: the check caught it.
+        assert!(fast_doublings >= 2, "m/m0 = {mass}: {fast_doublings}");
+        assert!(tally.corrected >= fast_doublings);
+    }
+}

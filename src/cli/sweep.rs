@@ -13,6 +13,12 @@ use crate::figures::sweep::SweepRan;
 /// its fate (halts, periodic, undecided), period T, 1/T, period multiplicity, when it halted,
 /// and the RHS evaluations it took. Writes OUT/sweep.csv and OUT/summary.json.
 ///
+/// Answers do not depend on the integrator: a fate found with a setting coarser than DOP853 at
+/// rtol 1e-10 is re-decided by that reference before it is written (a cycle from its last
+/// crossing, a few periods; a halt or an undecided run from the start). The column
+/// answer_check says "confirmed" or "corrected" (fast_fate, fast_period, fast_multiplicity then
+/// hold what the fast setting said), or "reference" for a setting at least that precise.
+///
 /// The spec (TOML: plain keys first, then the [bodies] table; paths relative to its folder):
 ///   alpha = [0.12, 0.15]         # or { from = 0.1, to = 0.2, count = 11 }
 ///   mass_ratio = [0.0, 6.0]      # 0 = viscous; same forms [default: 0]
@@ -50,12 +56,14 @@ pub fn run(a: SweepArgs) -> Result<()> {
     let pool = super::figure::thread_pool(a.threads)?;
     match pool.install(|| sweep::run(&a.spec, &a.out, a.shard))? {
         SweepRan::Whole(s) => outln!(
-            "sweep: {} runs ({} halt, {} periodic, {} undecided; {} cruise){}; wrote {}",
+            "sweep: {} runs ({} halt, {} periodic, {} undecided; {} cruise; {} corrected by the \
+             reference){}; wrote {}",
             s.runs,
             s.halts,
             s.periodic,
             s.undecided,
             s.cruising,
+            s.corrected,
             if s.skipped_not_convex.is_empty() {
                 String::new()
             } else {

@@ -1,16 +1,21 @@
 //! `rollphase sweep SPEC.toml`: a general parameter scan of 3D rolling, bodies × α × m/m0 ×
 //! initial orientations × integrators, one CSV row per run with its fate (halts, periodic, or
-//! undecided at `t_max`), period, 1/T, period multiplicity and RHS evaluations. It runs through
+//! undecided at `t_max`), period, 1/T, period multiplicity, RHS evaluations, and whether the
+//! run's own integrator gave that answer (`answer_check`; what it said instead in the `fast_…`
+//! columns when the reference corrected it). It runs through
 //! the same ensemble as the figures, so `--shard I/N` and `rollphase merge DIR` work the same
 //! way (see [`super::shard`] and docs/guide/cluster.md).
 //!
-//! Each run is the core's [`Scan::run`] ([`crate::analysis::sphere_orbits::settle_with`]):
+//! Each run is the core's [`Scan::run`] ([`crate::analysis::sphere_orbits::settle_checked`]):
 //! released from rest (viscous if m/m0 = 0), followed until it halts (|ω| < 1e-9), closes a
 //! cycle of k ≤ `max_multiplicity` crossings of ∂Ω twice in a row (points to `point_tol`,
 //! durations to `period_rtol`), or reaches `t_max`. An undecided run counts as
 //! cruising if its final |ω| ≥ 1e-3 (as in `sphere-cruising`). Orientation o of a body is
 //! [`crate::analysis::studies::random_orientation`]`(body, orientation_seed, o)`, the one the
-//! figures use. This module reads and checks the spec, shards the runs and writes the rows.
+//! figures use. A fate found with a setting coarser than DOP853 at rtol 1e-10 is re-decided with
+//! that reference before it is written (a cycle from its last crossing, a halt or an undecided
+//! run from the start), so a row's fate, period and multiplicity never depend on the integrator
+//! picked for speed. This module reads and checks the spec, shards the runs and writes the rows.
 //!
 //! A spec (all keys but `alpha` and one body source optional; TOML puts the plain keys before
 //! the `[bodies]` table):
@@ -42,7 +47,7 @@ use super::shard::{
 };
 use super::{number_field, par_map};
 use crate::analysis::scan::{Scan, ScanTally};
-use crate::analysis::sphere_orbits::{Fate, Settle};
+use crate::analysis::sphere_orbits::{AnswerCheck, Fate, Settle};
 use crate::dynamics::Ramp;
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
 use crate::geometry::{Body, ShapeFile, Sphere, paper_sphere, random_sphere};
@@ -596,16 +601,15 @@ impl Sweep {
     }
 
     /// Run k's CSV row.
-    fn row(&self, k: usize, r: &RunResult) -> [String; 13] {
+    fn row(&self, k: usize, r: &RunResult) -> [String; 17] {
         let p = self.scan.point(k);
-        let (fate, period, mult, halt, omega_end) = match r.fate {
-            Fate::Halts { t } => ("halts", f64::NAN, String::new(), t, 0.0),
-            Fate::Periodic { period, k, .. } => {
-                ("periodic", period, k.to_string(), f64::NAN, f64::NAN)
+        let (fate, period, mult, halt, omega_end) = fate_fields(&r.fate);
+        let (fast_fate, fast_period, fast_mult) = match &r.check {
+            AnswerCheck::Corrected { fast } => {
+                let (f, period, mult, ..) = fate_fields(fast);
+                (f.to_string(), number_field(period), mult)
             }
-            Fate::Undecided { omega_end } => {
-                ("undecided", f64::NAN, String::new(), f64::NAN, omega_end)
-            }
+            _ => (String::new(), String::new(), String::new()),
         };
         [
             self.labels[p.body].clone(),
@@ -621,6 +625,10 @@ impl Sweep {
             number_field(halt),
             number_field(omega_end),
             r.rhs_evals.to_string(),
+            r.check.name().to_string(),
+            fast_fate,
+            fast_period,
+            fast_mult,
         ]
     }
 
@@ -630,9 +638,21 @@ impl Sweep {
     }
 }
 
+/// A fate's CSV fields: its name, period, multiplicity, halt time and end |ω|.
+fn fate_fields(fate: &Fate) -> (&'static str, f64, String, f64, f64) {
+    match *fate {
+        Fate::Halts { t } => ("halts", f64::NAN, String::new(), t, 0.0),
+        Fate::Periodic { period, k, .. } => ("periodic", period, k.to_string(), f64::NAN, f64::NAN),
+        Fate::Undecided { omega_end } => {
+            ("undecided", f64::NAN, String::new(), f64::NAN, omega_end)
+        }
+    }
+}
+
 /// sweep.csv's header.
 const CSV_HEADER: &str = "body,alpha,mass_ratio,orientation,integrator,fate,cruising,period,\
-                          inverse_period,multiplicity,halt_time,omega_end,rhs_evals";
+                          inverse_period,multiplicity,halt_time,omega_end,rhs_evals,answer_check,\
+                          fast_fate,fast_period,fast_multiplicity";
 
 /// Runs computed (and held) at a time by a whole sweep: enough to keep every core busy, small
 /// enough that memory stays flat (a result is ~80 bytes).
@@ -678,6 +698,7 @@ impl SweepRows<'_> {
             periodic: t.periodic,
             undecided: t.undecided,
             cruising: t.cruising,
+            corrected: t.corrected,
             rhs_evals: t.rhs_evals,
         };
         let mut set = OutputSet::new();
@@ -710,7 +731,9 @@ pub struct SweepSummary {
     pub undecided: usize,
     /// Runs that cruise (periodic, or undecided with |ω| ≥ 1e-3).
     pub cruising: usize,
-    /// RHS evaluations, all runs.
+    /// Runs whose own integrator's fate the reference corrected (sweep.csv's `answer_check`).
+    pub corrected: usize,
+    /// RHS evaluations, all runs (the reference's re-decisions included).
     pub rhs_evals: u64,
 }
 
@@ -721,11 +744,30 @@ impl Record for RunResult {
     fn encode(&self, out: &mut Vec<f64>) {
         self.fate.encode(out);
         self.rhs_evals.encode(out);
+        match &self.check {
+            AnswerCheck::Reference => out.push(0.0),
+            AnswerCheck::Confirmed => out.push(1.0),
+            AnswerCheck::Corrected { fast } => {
+                out.push(2.0);
+                fast.encode(out);
+            }
+        }
     }
     fn decode(f: &mut Fields) -> Result<Self> {
+        let fate = Fate::decode(f)?;
+        let rhs_evals = u64::decode(f)?;
+        let check = match f.count()? {
+            0 => AnswerCheck::Reference,
+            1 => AnswerCheck::Confirmed,
+            2 => AnswerCheck::Corrected {
+                fast: Fate::decode(f)?,
+            },
+            v => bail!("{v} is not an answer check (0 reference, 1 confirmed, 2 corrected)"),
+        };
         Ok(RunResult {
-            fate: Fate::decode(f)?,
-            rhs_evals: u64::decode(f)?,
+            fate,
+            check,
+            rhs_evals,
         })
     }
 }

@@ -1,5 +1,7 @@
 //! `bench accuracy`: every model × integrator setting against a converged reference at t = 100,
-//! as accuracy.csv (deterministic), timing.csv (wall clock) and work–precision plots.
+//! as accuracy.csv (deterministic), timing.csv (wall clock) and work–precision plots; then the
+//! same settings measured on the *answers* (fate, multiplicity, period, orbits found) over many
+//! starts of the paper's body, raw and as `sweep` checks them, as answers.csv.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -14,6 +16,7 @@ use crate::assets::{
 };
 use crate::dynamics::ModelKind;
 use crate::figures::csv_text;
+use crate::geometry::Body;
 use crate::integrate::Method;
 use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
 
@@ -24,6 +27,12 @@ use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png
 /// t = 100 against DOP853 at rtol 1e-13, right-hand-side evaluations, wall time and simulated
 /// time per wall second. Writes OUT/accuracy.csv (deterministic), OUT/timing.csv (wall
 /// clock), OUT/work_precision.png and OUT/period_precision.png.
+///
+/// Then the answers: on the paper's sphere (seed 219) viscous at α = 0.15 and 0.2 and at
+/// m/m0 = 6, α = 0.2, from --starts random orientations, each setting's fate, period
+/// multiplicity and period against DOP853 at rtol 1e-12, and the distinct orbits it finds;
+/// raw (the setting alone) and checked (as `rollphase sweep` reports them, re-decided by the
+/// reference where the setting is coarser). Writes OUT/answers.csv.
 #[derive(Debug, Args)]
 #[command(verbatim_doc_comment)]
 pub struct AccuracyArgs {
@@ -33,10 +42,19 @@ pub struct AccuracyArgs {
     /// Runs per setting for the wall time (the minimum is reported).
     #[arg(long, default_value_t = 3)]
     pub repeats: u32,
-    /// Reduced run for tests: t = 20, and two tolerances for DOP853.
+    /// Reduced run for tests: t = 20, and two tolerances for DOP853; 2 starts per answer case.
     #[arg(long)]
     pub quick: bool,
+    /// Random starts per answer case [default: 16, or 2 with --quick].
+    #[arg(long)]
+    pub starts: Option<usize>,
 }
+
+/// Most starts per answer case: each is up to 1500 time units per setting, twice.
+const MAX_STARTS: usize = 1000;
+
+/// Most repeats of a timed run.
+const MAX_REPEATS: u32 = 100;
 
 fn time_run(
     case: &Case,
@@ -71,6 +89,28 @@ pub fn cheapest_below(rows: &[AccuracyRow], model: ModelKind, limit: f64) -> Opt
 
 /// Runs `bench accuracy`.
 pub fn run(a: AccuracyArgs) -> Result<()> {
+    if !(1..=MAX_REPEATS).contains(&a.repeats) {
+        anyhow::bail!(
+            "--repeats {} is not allowed (needs 1 ≤ repeats ≤ {MAX_REPEATS}: the minimum wall \
+             time of a few runs is already stable)",
+            a.repeats
+        );
+    }
+    let starts = a.starts.unwrap_or(if a.quick { 2 } else { 16 });
+    if !(1..=MAX_STARTS).contains(&starts) {
+        anyhow::bail!("--starts {starts} is not allowed (needs 1 ≤ starts ≤ {MAX_STARTS})");
+    }
+    crate::output::check_folder(
+        &a.out,
+        &[
+            "accuracy.csv",
+            "timing.csv",
+            "answers.csv",
+            "work_precision.png",
+            "period_precision.png",
+        ],
+        &crate::output::Inputs::none(),
+    )?;
     crate::output::create_folder(&a.out)?;
     let mut cases = accuracy::default_cases(
         &bundled(BUNDLED_DISK)?,
@@ -177,7 +217,7 @@ pub fn run(a: AccuracyArgs) -> Result<()> {
     for name in &names {
         match cheapest_below(&rows, *name, 1e-3) {
             Some(r) => outln!(
-                "{name}: cheapest setting with period error < 1e-3: {} {:e} ({} RHS evaluations, period error {:.1e})",
+                "{name}: cheapest setting with period error < 1e-3 over one run to t = 100: {} {:e} ({} RHS evaluations, period error {:.1e}); a trajectory measure only, see the answers below",
                 r.integrator,
                 r.parameter,
                 r.rhs_evals,
@@ -186,8 +226,110 @@ pub fn run(a: AccuracyArgs) -> Result<()> {
             None => outln!("{name}: no setting reached period error < 1e-3")?,
         }
     }
+    answers(&a.out, starts, a.quick)?;
     outln!("wrote {}", a.out.display())?;
     Ok(())
+}
+
+/// The answer table: each setting's fates on the paper's questions, raw and checked.
+fn answers(out: &Path, starts: usize, quick: bool) -> Result<()> {
+    use crate::analysis::answers::{
+        answer_row, answer_settings, paper_answer_cases, reference_fates,
+    };
+    let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5)? else {
+        anyhow::bail!("internal error: the paper's sphere is not a sphere");
+    };
+    let cases = paper_answer_cases(&body, starts)?;
+    let settings: Vec<Method> = answer_settings()
+        .into_iter()
+        .filter(|m| {
+            !quick || matches!(m, Method::Rk4 { dt } if *dt == 0.5) || *m == Method::dop853(1e-8)
+        })
+        .collect();
+    outln!()?;
+    outln!(
+        "answers on the paper's sphere (seed 219), {starts} starts per case, against DOP853 rtol 1e-12:"
+    )?;
+    outln!(
+        "{:<18} {:<12} {:>9} {:>9} {:>7} {:>11} {:>9} {:>7} {:>11}  {}",
+        "case",
+        "setting",
+        "raw fate",
+        "raw all",
+        "orbits",
+        "raw RHS",
+        "checked",
+        "orbits",
+        "checked RHS",
+        "keeps the answers alone"
+    )?;
+    let bar = indicatif::ProgressBar::new((cases.len() * settings.len()) as u64);
+    let mut csv = Vec::new();
+    let mut cheapest: Vec<(String, Option<(String, u64)>)> = Vec::new();
+    for case in &cases {
+        let mut best: Option<(String, u64)> = None;
+        let reference =
+            reference_fates(case).with_context(|| format!("reference runs of {}", case.name))?;
+        for &method in &settings {
+            let row = answer_row(case, method, &reference)
+                .with_context(|| format!("{} with {method}", case.name))?;
+            bar.inc(1);
+            bar.suspend(|| {
+                outln!(
+                    "{:<18} {:<12} {:>4}/{:<4} {:>4}/{:<4} {:>3}/{:<3} {:>11} {:>4}/{:<4} {:>3}/{:<3} {:>11}  {}",
+                    row.case,
+                    row.setting,
+                    row.raw_fate,
+                    row.runs,
+                    row.raw_answer,
+                    row.runs,
+                    row.raw_orbits,
+                    row.reference_orbits,
+                    row.raw_rhs_evals,
+                    row.checked_answer,
+                    row.runs,
+                    row.checked_orbits,
+                    row.reference_orbits,
+                    row.checked_rhs_evals,
+                    if row.keeps_answers() { "yes" } else { "no" }
+                )
+            })?;
+            csv.push(vec![
+                row.case.clone(),
+                row.setting.clone(),
+                row.runs.to_string(),
+                row.raw_fate.to_string(),
+                row.raw_answer.to_string(),
+                row.raw_orbits.to_string(),
+                row.raw_rhs_evals.to_string(),
+                row.checked_answer.to_string(),
+                row.checked_orbits.to_string(),
+                row.checked_rhs_evals.to_string(),
+                row.reference_orbits.to_string(),
+                row.keeps_answers().to_string(),
+            ]);
+            if row.keeps_answers() && best.as_ref().is_none_or(|b| row.raw_rhs_evals < b.1) {
+                best = Some((row.setting.clone(), row.raw_rhs_evals));
+            }
+        }
+        cheapest.push((case.name.clone(), best));
+    }
+    bar.finish_and_clear();
+    outln!()?;
+    for (name, best) in cheapest {
+        match best {
+            Some((setting, rhs)) => outln!(
+                "{name}: cheapest setting that keeps every answer by itself: {setting} ({rhs} RHS evaluations)"
+            )?,
+            None => outln!("{name}: no setting tried keeps every answer by itself")?,
+        }
+    }
+    let csv = csv_text(
+        "case,setting,runs,raw_fate_agree,raw_answer_agree,raw_orbits,raw_rhs_evals,\
+         checked_answer_agree,checked_orbits,checked_rhs_evals,reference_orbits,keeps_answers",
+        csv,
+    )?;
+    write(&out.join("answers.csv"), &csv)
 }
 
 fn settings(case: &Case, quick: bool) -> Vec<Method> {

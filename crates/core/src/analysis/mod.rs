@@ -4,6 +4,7 @@
 //! Pure math: no GPU or UI imports.
 
 pub mod accuracy;
+pub mod answers;
 pub mod contact_tube;
 pub mod critical_angle;
 pub mod disk_dynamics;

@@ -1,6 +1,8 @@
 //! A general parameter scan of 3D rolling: bodies × α × m/m0 × initial orientations ×
 //! integrators, each run released from rest and followed until its fate is known
-//! ([`settle_with`]: it halts, closes a cycle, or is still undecided at `t_max`). `rollphase
+//! ([`settle_checked`]: it halts, closes a cycle, or is still undecided at `t_max`; a fate found
+//! with a setting coarser than the reference is re-decided by the reference, so a scan's
+//! answers do not depend on the integrator picked for speed). `rollphase
 //! sweep SPEC.toml` reads a spec into a [`Scan`], shards it and writes one CSV row per run;
 //! a library caller builds the [`Scan`] directly and calls [`Scan::run_all`].
 //!
@@ -9,7 +11,7 @@
 
 use rayon::prelude::*;
 
-use super::sphere_orbits::{Fate, Settle, settle_with};
+use super::sphere_orbits::{AnswerCheck, Fate, Settle, settle_checked};
 use super::studies::{cruises, random_orientation};
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::Sphere;
@@ -53,8 +55,10 @@ pub struct ScanPoint {
 /// One run's outcome.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScanRun {
-    /// Its fate.
+    /// Its fate (the reference integrator's: see [`ScanRun::check`]).
     pub fate: Fate,
+    /// Whether the run's own integrator gave the same fate.
+    pub check: AnswerCheck,
     /// Right-hand-side evaluations it took.
     pub rhs_evals: u64,
 }
@@ -65,8 +69,9 @@ impl ScanRun {
     /// # Example
     /// ```
     /// use rollphase_core::analysis::scan::ScanRun;
-    /// use rollphase_core::analysis::sphere_orbits::Fate;
-    /// assert!(!ScanRun { fate: Fate::Halts { t: 3.0 }, rhs_evals: 10 }.cruises());
+    /// use rollphase_core::analysis::sphere_orbits::{AnswerCheck, Fate};
+    /// let run = ScanRun { fate: Fate::Halts { t: 3.0 }, check: AnswerCheck::Reference, rhs_evals: 10 };
+    /// assert!(!run.cruises());
     /// ```
     pub fn cruises(&self) -> bool {
         cruises(&self.fate)
@@ -86,6 +91,8 @@ pub struct ScanTally {
     pub undecided: usize,
     /// Runs that cruise (periodic, or undecided with |ω| ≥ 1e-3).
     pub cruising: usize,
+    /// Runs whose own integrator's fate the reference corrected.
+    pub corrected: usize,
     /// Right-hand-side evaluations, all runs.
     pub rhs_evals: u64,
 }
@@ -96,12 +103,13 @@ impl ScanTally {
     /// # Example
     /// ```
     /// use rollphase_core::analysis::scan::{ScanRun, ScanTally};
-    /// use rollphase_core::analysis::sphere_orbits::Fate;
+    /// use rollphase_core::analysis::sphere_orbits::{AnswerCheck, Fate};
     /// let mut tally = ScanTally::default();
-    /// tally.add(&ScanRun { fate: Fate::Undecided { omega_end: 0.1 }, rhs_evals: 40 });
-    /// tally.add(&ScanRun { fate: Fate::Halts { t: 9.0 }, rhs_evals: 2 });
+    /// let check = AnswerCheck::Corrected { fast: Fate::Halts { t: 4.0 } };
+    /// tally.add(&ScanRun { fate: Fate::Undecided { omega_end: 0.1 }, check, rhs_evals: 40 });
+    /// tally.add(&ScanRun { fate: Fate::Halts { t: 9.0 }, check: AnswerCheck::Confirmed, rhs_evals: 2 });
     /// assert_eq!((tally.runs, tally.undecided, tally.halts, tally.cruising), (2, 1, 1, 1));
-    /// assert_eq!(tally.rhs_evals, 42);
+    /// assert_eq!((tally.rhs_evals, tally.corrected), (42, 1));
     /// ```
     pub fn add(&mut self, r: &ScanRun) {
         self.runs += 1;
@@ -111,6 +119,7 @@ impl ScanTally {
             Fate::Undecided { .. } => self.undecided += 1,
         }
         self.cruising += usize::from(r.cruises());
+        self.corrected += usize::from(matches!(r.check, AnswerCheck::Corrected { .. }));
         self.rhs_evals += r.rhs_evals;
     }
 }
@@ -232,10 +241,11 @@ impl Scan {
         let body = &self.bodies[p.body];
         let ramp = Ramp::new(self.alphas[p.alpha], self.masses[p.mass])?;
         let q0 = random_orientation(body, self.orientation_seed, p.orientation);
-        let (fate, _, stats) = settle_with(body, &ramp, q0, &self.settle, self.methods[p.method])?;
+        let run = settle_checked(body, &ramp, q0, &self.settle, self.methods[p.method])?;
         Ok(ScanRun {
-            fate,
-            rhs_evals: stats.rhs_evals,
+            fate: run.fate,
+            check: run.check,
+            rhs_evals: run.stats.rhs_evals,
         })
     }
 

@@ -7,6 +7,17 @@
 //! (with the sign of P(p) chosen nearest p) is the paper's vector field on ∂Ω. A fixed point of P
 //! is a closed, period-1 orbit; a cycle of P of length k a period-k orbit (period doubling:
 //! k = 2).
+//!
+//! A fate found with a fast integrator is an answer of that integrator, not of the model: a step
+//! of 0.5 turns the paper body's period-1 orbit at α = 0.2, m/m0 = 6 into a period-2 one. So
+//! [`settle_checked`] re-decides every fate that a setting coarser than the reference (DOP853 at
+//! [`Settle::rtol`]) reports before it is given out: a period-1 cycle is followed on from its
+//! last crossing with the reference until the reference closes its own cycle (cheap: a few
+//! periods after the fast run's transient); a cycle of k ≥ 2, a halt, or a run undecided at
+//! `t_max` is run again from the start with the reference (a halt cannot be checked from the
+//! rest point it ended at, and near a flip the k the settle criterion finds depends on where
+//! the transient stands). The reported fate is the reference's, with [`AnswerCheck`] saying
+//! whether the fast one agreed.
 
 use glam::{DQuat, DVec3};
 use serde::Serialize;
@@ -17,6 +28,27 @@ use crate::geometry::Sphere;
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::lie::quat_at;
 use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stats};
+
+/// Expands `$run` for the body's 3D model (viscous if m/m0 = 0, else inertial from rest),
+/// with `$sys` the model, `$y0` its initial state and `$omega` its |ω| (a macro rather than a
+/// closure: the two models' states differ in size, a const generic a closure cannot take).
+macro_rules! on_model {
+    ($body:expr, $ramp:expr, $q0:expr, |$sys:ident, $y0:ident, $omega:ident| $run:expr) => {
+        if $ramp.is_viscous() {
+            let model = SphereViscous::new($body, $ramp);
+            let $sys = &model;
+            let $y0 = SphereViscous::initial_state($q0);
+            let $omega = |y: &[f64; 6]| model.observe(y).omega.length();
+            $run
+        } else {
+            let model = SphereInertial::new($body, $ramp);
+            let $sys = &model;
+            let $y0 = SphereInertial::initial_state($q0, DVec3::ZERO);
+            let $omega = |y: &[f64; 10]| DVec3::new(y[4], y[5], y[6]).length();
+            $run
+        }
+    };
+}
 
 /// Distance between two boundary points with antipodes identified.
 ///
@@ -113,8 +145,87 @@ pub struct Settle {
     pub period_rtol: f64,
     /// Longest cycle searched.
     pub max_k: usize,
-    /// DOP853 tolerance.
+    /// DOP853 tolerance: the reference integrator ([`settle`]'s, and the one that
+    /// [`settle_checked`] re-decides a faster setting's fate with).
     pub rtol: f64,
+}
+
+/// Whether a run's fate was checked against the reference integrator ([`settle_checked`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum AnswerCheck {
+    /// The run's own integrator is at least as precise as the reference: its fate is reported.
+    Reference,
+    /// The reference gave the same fate: the same kind, and for a cycle the same length k and
+    /// a period within the settle tolerance.
+    Confirmed,
+    /// The reference gave another fate, which is the one reported; `fast` is what the run's own
+    /// integrator said.
+    Corrected {
+        /// The run's integrator's fate.
+        fast: Fate,
+    },
+}
+
+impl AnswerCheck {
+    /// "reference", "confirmed" or "corrected".
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::sphere_orbits::{AnswerCheck, Fate};
+    /// let c = AnswerCheck::Corrected { fast: Fate::Halts { t: 1.0 } };
+    /// assert_eq!(c.name(), "corrected");
+    /// ```
+    pub fn name(&self) -> &'static str {
+        match self {
+            AnswerCheck::Reference => "reference",
+            AnswerCheck::Confirmed => "confirmed",
+            AnswerCheck::Corrected { .. } => "corrected",
+        }
+    }
+}
+
+/// A run's checked fate ([`settle_checked`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settled {
+    /// The fate: the reference integrator's.
+    pub fate: Fate,
+    /// Whether the run's own integrator agreed.
+    pub check: AnswerCheck,
+    /// The ∂Ω crossings of the run as its own integrator followed it.
+    pub crossings: Vec<Crossing>,
+    /// Work done, the reference's re-decision included.
+    pub stats: Stats,
+}
+
+/// Cycles the reference follows a fast run's cycle for, at the least, to re-decide it (the
+/// settle window `t_max` is extended to that when the fast run decided late).
+pub const VERIFY_CYCLES: f64 = 40.0;
+
+/// Whether two fates are the same answer: the same kind, and for cycles the same length with
+/// periods within `period_rtol` (halt times and the end |ω| of undecided runs are not compared).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::{Fate, same_answer};
+/// let cycle = |period, k| Fate::Periodic { period, k, point: [1.0, 0.0, 0.0], t: 100.0 };
+/// assert!(same_answer(&cycle(32.419, 1), &cycle(32.4190001, 1), 1e-5));
+/// assert!(!same_answer(&cycle(32.419, 1), &cycle(64.84, 2), 1e-5));
+/// assert!(same_answer(&Fate::Halts { t: 3.0 }, &Fate::Halts { t: 9.0 }, 1e-5));
+/// ```
+pub fn same_answer(a: &Fate, b: &Fate, period_rtol: f64) -> bool {
+    match (a, b) {
+        (Fate::Halts { .. }, Fate::Halts { .. }) => true,
+        (Fate::Undecided { .. }, Fate::Undecided { .. }) => true,
+        (
+            Fate::Periodic {
+                period: pa, k: ka, ..
+            },
+            Fate::Periodic {
+                period: pb, k: kb, ..
+            },
+        ) => ka == kb && (pa - pb).abs() <= period_rtol.max(1e-12) * pa.abs().max(pb.abs()),
+        _ => false,
+    }
 }
 
 impl Default for Settle {
@@ -153,6 +264,8 @@ pub fn settle(
 }
 
 /// [`settle`] with any integrator in place of DOP853 at `s.rtol`; also returns the work done.
+/// The fate is that integrator's alone, unchecked: a coarse setting can report a cycle of the
+/// wrong length, or a halt the model does not make. [`settle_checked`] gives the checked one.
 ///
 /// # Example
 /// ```
@@ -174,35 +287,70 @@ pub fn settle_with(
     s: &Settle,
     method: Method,
 ) -> Result<(Fate, Vec<Crossing>, Stats), IntegrateError> {
-    if ramp.is_viscous() {
-        let m = SphereViscous::new(body, ramp);
-        follow(&m, SphereViscous::initial_state(q0), s, method, |y| {
-            m.observe(y).omega.length()
-        })
-    } else {
-        let m = SphereInertial::new(body, ramp);
-        follow(
-            &m,
-            SphereInertial::initial_state(q0, DVec3::ZERO),
-            s,
-            method,
-            |y| DVec3::new(y[4], y[5], y[6]).length(),
-        )
-    }
+    on_model!(body, ramp, q0, |sys, y0, omega| {
+        follow(sys, 0.0, y0, s.t_max, s, method, omega).map(|f| (f.fate, f.crossings, f.stats))
+    })
+}
+
+/// [`settle_with`], with the fate checked against the reference integrator (DOP853 at `s.rtol`)
+/// whenever `method` is coarser (see the module doc): the reported fate never depends on the
+/// setting picked for speed. Which of two coexisting orbits a start reaches can still differ
+/// between settings (a basin boundary moves with the error); `bench accuracy` measures that.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::{AnswerCheck, Fate, Settle, settle_checked};
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::DQuat;
+/// use rollphase_core::integrate::Method;
+/// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// let ramp = Ramp::new(0.15, 0.0)?;
+/// let run = settle_checked(&s, &ramp, DQuat::IDENTITY, &Settle::default(), Method::dop853(1e-8))?;
+/// assert!(matches!(run.fate, Fate::Periodic { k: 1, .. }));
+/// assert_eq!(run.check, AnswerCheck::Confirmed);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn settle_checked(
+    body: &Sphere,
+    ramp: &Ramp,
+    q0: DQuat,
+    s: &Settle,
+    method: Method,
+) -> Result<Settled, IntegrateError> {
+    on_model!(body, ramp, q0, |sys, y0, omega| {
+        follow_checked(sys, y0, s, method, omega)
+    })
+}
+
+/// Whether `method` is at least as precise as the reference of `s`.
+fn is_reference(method: Method, s: &Settle) -> bool {
+    matches!(method, Method::Dop853 { rtol, atol } if rtol <= s.rtol && atol <= s.rtol)
+}
+
+/// One integrator's run to its fate, and the state at its last ∂Ω crossing.
+struct Followed<const N: usize> {
+    fate: Fate,
+    crossings: Vec<Crossing>,
+    stats: Stats,
+    last_crossing: Option<(f64, [f64; N])>,
 }
 
 fn follow<const N: usize, S: OdeSystem<N>>(
     sys: &S,
+    t0: f64,
     y0: [f64; N],
+    t_end: f64,
     s: &Settle,
     method: Method,
     omega: impl Fn(&[f64; N]) -> f64,
-) -> Result<(Fate, Vec<Crossing>, Stats), IntegrateError> {
-    let mut st = integrate::stepper(sys, 0.0, y0, method)?;
+) -> Result<Followed<N>, IntegrateError> {
+    let mut st = integrate::stepper(sys, t0, y0, method)?;
     let mut times = Vec::new();
     let mut crossings: Vec<Crossing> = Vec::new();
-    while st.t() < s.t_max {
-        st.step(s.t_max)?;
+    let mut last_crossing = None;
+    while st.t() < t_end {
+        st.step(t_end)?;
         times.clear();
         crossings_in_last_step(
             st.as_mut(),
@@ -217,17 +365,86 @@ fn follow<const N: usize, S: OdeSystem<N>>(
                 t,
                 point: p.to_array(),
             });
-            if let Some(f) = periodic(&crossings, s) {
-                return Ok((f, crossings, st.stats()));
+            last_crossing = Some((t, y));
+            if let Some(fate) = periodic(&crossings, s) {
+                let stats = st.stats();
+                return Ok(Followed {
+                    fate,
+                    crossings,
+                    stats,
+                    last_crossing,
+                });
             }
         }
         // At rest: the viscous ω vanishes at a rest point; the inertial one decays to it.
-        if omega(st.y()) < s.omega_rest && st.t() > 1.0 {
-            return Ok((Fate::Halts { t: st.t() }, crossings, st.stats()));
+        if omega(st.y()) < s.omega_rest && st.t() > t0 + 1.0 {
+            return Ok(Followed {
+                fate: Fate::Halts { t: st.t() },
+                crossings,
+                stats: st.stats(),
+                last_crossing,
+            });
         }
     }
     let omega_end = omega(st.y());
-    Ok((Fate::Undecided { omega_end }, crossings, st.stats()))
+    Ok(Followed {
+        fate: Fate::Undecided { omega_end },
+        crossings,
+        stats: st.stats(),
+        last_crossing,
+    })
+}
+
+/// [`settle_checked`] on one model.
+fn follow_checked<const N: usize, S: OdeSystem<N>>(
+    sys: &S,
+    y0: [f64; N],
+    s: &Settle,
+    method: Method,
+    omega: impl Fn(&[f64; N]) -> f64,
+) -> Result<Settled, IntegrateError> {
+    let fast = follow(sys, 0.0, y0, s.t_max, s, method, &omega)?;
+    if is_reference(method, s) {
+        return Ok(Settled {
+            fate: fast.fate,
+            check: AnswerCheck::Reference,
+            crossings: fast.crossings,
+            stats: fast.stats,
+        });
+    }
+    let reference = Method::dop853(s.rtol);
+    let checked = match (&fast.fate, fast.last_crossing) {
+        // A period-1 cycle can be wrong by its period, or by hiding a doubling: the reference
+        // followed on from its last crossing shows both, in a few periods.
+        (Fate::Periodic { period, k: 1, .. }, Some((t_c, y_c))) => {
+            let t_end = s.t_max.max(t_c + VERIFY_CYCLES * period);
+            follow(sys, t_c, y_c, t_end, s, reference, &omega)?
+        }
+        // A cycle of k ≥ 2 is what a coarse step invents (its error moves a flip), and near a
+        // flip the settle criterion's k depends on where the transient stands when it fires;
+        // a halt ends at a rest point, where every integrator rests. Both are re-decided from
+        // the start, as the reference alone decides them.
+        _ => follow(sys, 0.0, y0, s.t_max, s, reference, &omega)?,
+    };
+    let mut stats = fast.stats;
+    stats.rhs_evals += checked.stats.rhs_evals;
+    stats.steps += checked.stats.steps;
+    stats.rejected += checked.stats.rejected;
+    let check = if same_answer(&fast.fate, &checked.fate, s.period_rtol) {
+        AnswerCheck::Confirmed
+    } else {
+        AnswerCheck::Corrected {
+            fast: fast.fate.clone(),
+        }
+    };
+    // A confirmed halt or undecided run reports the reference's time and |ω|; a cycle the
+    // reference's period and point.
+    Ok(Settled {
+        fate: checked.fate,
+        check,
+        crossings: fast.crossings,
+        stats,
+    })
 }
 
 /// A cycle of length k ≤ max_k closing twice in a row (points and durations).

@@ -201,7 +201,8 @@ pub enum IntegrateError {
     #[error(
         "{method} with dt = {} is too coarse here: at t = {} the step's error estimate (step \
          doubling) is {estimate:.1e}, above the tolerance {tolerance:e}, so the run would be \
-         silently wrong; use dt ≤ {}, or the adaptive dop853",
+         silently wrong; use dt ≤ {} (a step whose estimate is near 2e-7, where the paper's \
+         answers are kept: docs/guide/accuracy.md), or the adaptive dop853",
         readable(*dt), readable(*t), readable(*suggested)
     )]
     StepTooCoarse {
@@ -215,7 +216,7 @@ pub enum IntegrateError {
         estimate: f64,
         /// The tolerance it exceeded.
         tolerance: f64,
-        /// A step that would pass.
+        /// A step that would pass and keep the answers ([`rk4::ANSWER_STEP_ESTIMATE`]).
         suggested: f64,
     },
     /// More steps than the caller allowed.
