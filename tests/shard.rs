@@ -561,3 +561,117 @@ fn an_edited_shard_is_refused_by_its_digest_and_a_forged_one_by_record_and_field
     ok(&["merge", dir.to_str().unwrap()]);
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// Issue 33, case 2: shards are bound to their bodies. Shards of one `--shape` name run on two
+/// different files never merge; a body file replaced before the merge is refused by name; a
+/// shard re-sealed (with a valid file digest) to claim a digest that is not the file's is refused
+/// as well, and so is one whose body digest was removed. The same for a sweep's `bodies.files`.
+/// (A forgery consistent with the file cannot be told from the real thing: the digests guard
+/// against accidents, not adversaries.)
+#[test]
+fn shards_are_bound_to_the_bodies_they_ran_on() {
+    use rollphase::figures::shard::{JobId, ShardFile};
+    let root = scratch("bodies");
+    let out = root.join("o");
+    let cur = root.join("cur.json");
+    let body_a = include_str!("../assets/shapes/paper-sphere.json");
+    let body_b = include_str!("../assets/shapes/sphere.json");
+    assert_ne!(body_a, body_b);
+    let shard = |i: usize| {
+        rollphase(&[
+            "figure",
+            "sphere-poincare",
+            "--quick",
+            "--shape",
+            cur.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--shard",
+            &format!("{i}/2"),
+        ])
+    };
+    let dir = out.join("sphere-poincare");
+    let d = dir.to_str().unwrap();
+    // Two bodies behind one name.
+    std::fs::write(&cur, body_a).unwrap();
+    assert!(shard(1).status.success());
+    std::fs::write(&cur, body_b).unwrap();
+    assert!(shard(2).status.success());
+    let e = fails(&["merge", d]);
+    assert!(
+        e.contains("different options") && e.contains("body SHA-256"),
+        "{e}"
+    );
+    // Both shards on body A, the file replaced by B before the merge.
+    std::fs::write(&cur, body_a).unwrap();
+    assert!(shard(2).status.success());
+    std::fs::write(&cur, body_b).unwrap();
+    let e = fails(&["merge", d]);
+    assert!(
+        e.contains(cur.to_str().unwrap()) && e.contains("changed since the shards ran"),
+        "{e}"
+    );
+    assert!(!dir.join("data.csv").exists());
+    // Forged: both shards re-sealed (valid file digests) to claim a body digest that is not the
+    // file's, or none at all: refused, naming the file.
+    let originals: Vec<(PathBuf, String)> = (1..=2)
+        .map(|i| {
+            let p = dir.join(format!("shard-{i}-of-2.json"));
+            let text = std::fs::read_to_string(&p).unwrap();
+            (p, text)
+        })
+        .collect();
+    std::fs::write(&cur, body_a).unwrap();
+    for (claim, needle) in [
+        (Some("0".repeat(64)), "changed since the shards ran"),
+        (None, "record no digest"),
+    ] {
+        for (p, text) in &originals {
+            let mut file: ShardFile = serde_json::from_str(text).unwrap();
+            let JobId::Figure { body_sha256, .. } = &mut file.job else {
+                panic!("a figure's shard")
+            };
+            *body_sha256 = claim.clone();
+            let forged = file.sealed().unwrap();
+            std::fs::write(p, serde_json::to_string(&forged).unwrap()).unwrap();
+        }
+        let e = fails(&["merge", d]);
+        assert!(
+            e.contains(needle) && e.contains(cur.to_str().unwrap()),
+            "{e}"
+        );
+        assert!(!dir.join("data.csv").exists());
+    }
+    // The real shards and the real body merge.
+    for (p, text) in &originals {
+        std::fs::write(p, text).unwrap();
+    }
+    std::fs::write(&cur, body_a).unwrap();
+    ok(&["merge", d]);
+    assert!(dir.join("summary.json").is_file());
+
+    // A sweep over a body file: replaced before the merge, refused by name.
+    let sweep_root = root.join("sweep");
+    std::fs::create_dir_all(&sweep_root).unwrap();
+    let spec = small_sweep(&sweep_root, "spec.toml");
+    let sweep_out = sweep_root.join("out");
+    for i in 1..=2 {
+        ok(&[
+            "sweep",
+            spec.to_str().unwrap(),
+            "--out",
+            sweep_out.to_str().unwrap(),
+            "--shard",
+            &format!("{i}/2"),
+        ]);
+    }
+    std::fs::write(sweep_root.join("body.json"), body_b).unwrap();
+    let e = fails(&["merge", sweep_out.to_str().unwrap()]);
+    assert!(
+        e.contains("body.json") && e.contains("changed since the shards ran"),
+        "{e}"
+    );
+    std::fs::write(sweep_root.join("body.json"), body_a).unwrap();
+    ok(&["merge", sweep_out.to_str().unwrap()]);
+    let _ = std::fs::remove_dir_all(&root);
+}

@@ -93,6 +93,7 @@ fuzz_target!(|input: Input| {
         JobId::Sweep {
             spec: String::new(),
             base: PathBuf::from("/"),
+            body_sha256: Vec::new(),
         }
     } else {
         JobId::Figure {
@@ -101,6 +102,7 @@ fuzz_target!(|input: Input| {
             quick: true,
             body: BodyChoice::FigureDefault,
             alpha: None,
+            body_sha256: None,
         }
     };
     for (i, s) in input.shards.iter().take(4).enumerate() {

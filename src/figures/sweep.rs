@@ -298,6 +298,8 @@ pub struct Sweep {
     pub scan: Scan,
     /// The spec.
     pub spec: SweepSpec,
+    /// The SHA-256 of each of `spec.bodies.files`, as read (recorded in shard files).
+    pub body_sha256: Vec<String>,
 }
 
 impl Sweep {
@@ -448,8 +450,10 @@ impl Sweep {
                 None => skipped.push(generated[i].0.clone()),
             }
         }
+        let mut body_sha256 = Vec::with_capacity(b.files.len());
         for f in &b.files {
             let path = base.join(f);
+            body_sha256.push(super::shard::body_digest(&path)?);
             let body = ShapeFile::load(&path)?;
             body.check_convex()
                 .with_context(|| format!("bodies.files: {}", path.display()))?;
@@ -508,6 +512,7 @@ impl Sweep {
             integrator_names,
             scan,
             spec,
+            body_sha256,
         })
     }
 
@@ -581,6 +586,7 @@ impl Sweep {
         JobId::Sweep {
             spec: self.text.clone(),
             base: self.base.clone(),
+            body_sha256: self.body_sha256.clone(),
         }
     }
 
@@ -776,10 +782,19 @@ impl Record for RunResult {
 /// file at a time: rows stream out as each shard's records are decoded, so memory is one
 /// shard's, not the sweep's.
 pub fn merge(dir: &Path, shards: &ShardSet) -> Result<SweepSummary> {
-    let JobId::Sweep { spec, base } = shards.job.clone() else {
+    let JobId::Sweep {
+        spec,
+        base,
+        body_sha256,
+    } = shards.job.clone()
+    else {
         bail!("{} holds a figure's shards, not a sweep's", dir.display());
     };
     let sweep = Sweep::from_text(&spec, &base).context("the sweep spec stored in the shards")?;
+    // The bodies as they are now against the ones the shards ran on, file by file.
+    for (k, f) in sweep.spec.bodies.files.iter().enumerate() {
+        super::shard::check_body_unchanged(&base.join(f), body_sha256.get(k).map(String::as_str))?;
+    }
     if shards.jobs != sweep.runs() {
         bail!(
             "sweep: the shards hold {} runs, but their spec has {}; were they written by another \

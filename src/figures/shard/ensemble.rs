@@ -12,15 +12,20 @@ use crate::figures::{BodyChoice, FigureOptions, par_map, progress};
 use crate::output::{self, Inputs};
 
 impl FigureOptions {
-    /// What this figure run is, for its shard files.
-    pub fn job_id(&self, figure: &str) -> JobId {
-        JobId::Figure {
+    /// What this figure run is, for its shard files: its options and its body file's digest.
+    pub fn job_id(&self, figure: &str) -> Result<JobId> {
+        let body_sha256 = match &self.body {
+            BodyChoice::File(p) => Some(super::body_digest(p)?),
+            _ => None,
+        };
+        Ok(JobId::Figure {
             name: figure.into(),
             seed: self.seed,
             quick: self.quick,
             body: self.body.clone(),
             alpha: self.alpha,
-        }
+            body_sha256,
+        })
     }
 
     /// The figure's ensemble: `f(k)` for every job k in 0..n, in index order, computed here,
@@ -36,7 +41,7 @@ impl FigureOptions {
             figure,
             n,
             what,
-            || Ok((self.out.join(figure), self.job_id(figure), self.inputs())),
+            || Ok((self.out.join(figure), self.job_id(figure)?, self.inputs())),
             f,
         )
     }
@@ -44,7 +49,8 @@ impl FigureOptions {
 
 /// The one implementation behind [`FigureOptions::ensemble`] and `sweep`: `f(k)` for k in 0..n
 /// as `ensemble` says. `place` gives the folder and identity of a shard file, asked only when
-/// one is written; `name` prefixes messages.
+/// one is written (before its runs, so the body digests are of the files the runs read);
+/// `name` prefixes messages.
 pub fn run_ensemble<T, F>(
     ensemble: &Ensemble,
     name: &str,
@@ -65,6 +71,8 @@ where
             ))
         }
         Ensemble::Shard(spec) => {
+            // The identity first: the body files' digests as the runs read them, not after.
+            let (dir, job, inputs) = place()?;
             let range = spec.range(n);
             let bar = progress(range.len(), what);
             let start = range.start;
@@ -75,7 +83,6 @@ where
                 r?.encode(&mut fields);
                 records.push(fields);
             }
-            let (dir, job, inputs) = place()?;
             let path = write_shard(&dir, job, what, *spec, n, &records, &inputs)?;
             Ok(Ensembled::Shard(ShardWritten {
                 shard: *spec,
@@ -128,6 +135,7 @@ pub fn merge_figure(dir: &Path, merged: Merged) -> Result<MergeOutcome> {
         quick,
         body,
         alpha,
+        body_sha256,
     } = merged.job.clone()
     else {
         bail!("{} holds sweep shards, not a figure's", dir.display());
@@ -146,6 +154,7 @@ pub fn merge_figure(dir: &Path, merged: Merged) -> Result<MergeOutcome> {
     // linked to a shard file, say).
     let mut inputs = Inputs::of(&merged.files);
     if let BodyChoice::File(p) = &body {
+        super::check_body_unchanged(p, body_sha256.as_deref())?;
         inputs.add(p);
     }
     output::check_folder(dir, &crate::figures::FIGURE_FILES, &inputs)?;

@@ -450,15 +450,28 @@ fn describe(job: &JobId) -> String {
             quick,
             body,
             alpha,
+            body_sha256,
         } => format!(
-            "figure {name}, seed {seed}{}{}{}",
+            "figure {name}, seed {seed}{}{}{}{}",
             if *quick { ", --quick" } else { "" },
             match body {
                 BodyChoice::FigureDefault => String::new(),
                 BodyChoice::Seeded => ", --seed body".into(),
                 BodyChoice::File(p) => format!(", --shape {}", p.display()),
             },
-            alpha.map(|a| format!(", --alpha {a}")).unwrap_or_default()
+            alpha.map(|a| format!(", --alpha {a}")).unwrap_or_default(),
+            body_sha256
+                .as_deref()
+                .map(|d| format!(" (body SHA-256 {}…)", &d[..d.len().min(12)]))
+                .unwrap_or_default()
+        ),
+        JobId::Sweep { body_sha256, .. } if !body_sha256.is_empty() => format!(
+            "a sweep spec with body files of SHA-256 {}",
+            body_sha256
+                .iter()
+                .map(|d| format!("{}…", &d[..d.len().min(12)]))
+                .collect::<Vec<_>>()
+                .join(", ")
         ),
         JobId::Sweep { .. } => "a sweep spec".into(),
     }

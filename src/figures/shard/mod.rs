@@ -21,6 +21,11 @@
 //! computes from the merged runs (e.g. `sphere-bifurcation`'s orbit continuation) runs in
 //! `merge`. Each figure's module doc says which.
 //!
+//! A shard also records the SHA-256 of every body file its runs read (`--shape`, a sweep's
+//! `bodies.files`), so shards run on different bodies behind one file name never merge, and
+//! `merge` refuses a body file whose contents changed since the shards ran (the merge reads it
+//! again for the summary: α*, labels), naming the file.
+//!
 //! A shard run is a normal outcome, not an error: `compute` takes its ensemble's results
 //! through `all_runs!`, which returns [`Ensembled::Shard`] as `Computed::Shard` from the
 //! figure, and the command line reports the shard written and what to do next.
@@ -42,7 +47,7 @@ pub use file::{
 };
 pub use record::{Fields, MAX_FATE_MULTIPLICITY, Record};
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -170,6 +175,53 @@ impl ShardWritten {
     }
 }
 
+/// Most bytes of a body file that [`body_digest`] reads: far above any shape file (a few kB),
+/// so a device or a huge file named as a body cannot stall a shard run.
+const MAX_BODY_FILE_BYTES: u64 = 64 << 20;
+
+/// The SHA-256 of a body file's bytes, in hex: shards record it ([`JobId`]), and `merge`
+/// compares it with the file's contents then.
+pub fn body_digest(path: &Path) -> Result<String> {
+    use sha2::{Digest, Sha256};
+    use std::io::Read;
+    let file =
+        std::fs::File::open(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_BODY_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .with_context(|| format!("cannot read {}", path.display()))?;
+    if bytes.len() as u64 > MAX_BODY_FILE_BYTES {
+        bail!(
+            "{} is over {} MiB; a body file is a few kB",
+            path.display(),
+            MAX_BODY_FILE_BYTES >> 20
+        );
+    }
+    Ok(format!("{:x}", Sha256::digest(&bytes)))
+}
+
+/// Refuses a merge whose body file changed since its shards ran: `file` now digests to
+/// something other than `recorded`.
+pub fn check_body_unchanged(file: &Path, recorded: Option<&str>) -> Result<()> {
+    let now = body_digest(file)?;
+    match recorded {
+        Some(r) if r == now => Ok(()),
+        Some(r) => bail!(
+            "{} changed since the shards ran on it (SHA-256 {}… then, {}… now); the merge would \
+             describe runs of one body with another. Restore the body the shards ran on, or run \
+             the shards again",
+            file.display(),
+            &r[..r.len().min(12)],
+            &now[..12]
+        ),
+        None => bail!(
+            "the shards record no digest of {}, so they cannot be checked against it (written \
+             by an older rollphase); run the shards again",
+            file.display()
+        ),
+    }
+}
+
 /// What ran: a figure with its options, or a sweep with its spec. Shards merge only with
 /// shards of the same job.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -187,6 +239,9 @@ pub enum JobId {
         body: BodyChoice,
         /// `--alpha`.
         alpha: Option<f64>,
+        /// The SHA-256 of the `--shape` file ([`body_digest`]); none for other bodies.
+        #[serde(default)]
+        body_sha256: Option<String>,
     },
     /// `rollphase sweep SPEC.toml`.
     Sweep {
@@ -194,6 +249,9 @@ pub enum JobId {
         spec: String,
         /// The spec's folder, where its body files are.
         base: PathBuf,
+        /// The SHA-256 of each of the spec's `bodies.files`, in its order.
+        #[serde(default)]
+        body_sha256: Vec<String>,
     },
 }
 
