@@ -350,9 +350,15 @@ fn figure_list_shows_every_figure() {
     assert!(r.status.success());
     let text = String::from_utf8_lossy(&r.stdout);
     for f in rollphase::figures::FIGURES {
-        assert!(text.contains(f.name), "{} missing from --list", f.name);
+        let line = text
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(f.name))
+            .unwrap_or_else(|| panic!("{} missing from --list", f.name));
+        // The shardable ones are marked, from the one registry `--shard` and `merge` read.
+        assert_eq!(line.ends_with("[--shard]"), f.sharded, "{line}");
     }
     assert_eq!(text.lines().count(), 11, "{text}");
+    assert_eq!(text.matches("[--shard]").count(), 6, "{text}");
 }
 
 #[test]

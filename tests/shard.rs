@@ -675,3 +675,56 @@ fn shards_are_bound_to_the_bodies_they_ran_on() {
     ok(&["merge", sweep_out.to_str().unwrap()]);
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// Issue 33, cases 3 and 10: a re-sealed shard naming a figure without an ensemble
+/// (`sphere-tube`) is refused instead of "merged", and one claiming 10¹⁵ shards is refused at
+/// once, without listing the missing ones (merge grew by hundreds of MB/s before).
+#[test]
+fn forged_shards_naming_no_ensemble_or_a_huge_split_are_refused_at_once() {
+    use rollphase::figures::shard::{JobId, ShardFile};
+    let root = scratch("forged-split");
+    let out = root.to_str().unwrap();
+    ok(&[
+        "figure",
+        "sphere-orbits",
+        "--quick",
+        "--out",
+        out,
+        "--shard",
+        "1/2",
+    ]);
+    let source = root.join("sphere-orbits/shard-1-of-2.json");
+    let text = std::fs::read_to_string(&source).unwrap();
+
+    let tube = root.join("sphere-tube");
+    std::fs::create_dir_all(&tube).unwrap();
+    let mut file: ShardFile = serde_json::from_str(&text).unwrap();
+    let JobId::Figure { name, .. } = &mut file.job else {
+        panic!("a figure's shard")
+    };
+    *name = "sphere-tube".into();
+    file.of = 1;
+    file.shard = 1;
+    file.jobs = file.records.len();
+    std::fs::write(
+        tube.join("shard-1-of-1.json"),
+        serde_json::to_string(&file.sealed().unwrap()).unwrap(),
+    )
+    .unwrap();
+    let e = fails(&["merge", tube.to_str().unwrap()]);
+    assert!(e.contains("no ensemble to merge"), "{e}");
+    assert!(!tube.join("data.csv").exists());
+
+    let huge = root.join("huge/sphere-orbits");
+    std::fs::create_dir_all(&huge).unwrap();
+    let mut file: ShardFile = serde_json::from_str(&text).unwrap();
+    file.of = 1_000_000_000_000_000;
+    std::fs::write(
+        huge.join("shard-1-of-2.json"),
+        serde_json::to_string(&file.sealed().unwrap()).unwrap(),
+    )
+    .unwrap();
+    let e = fails(&["merge", huge.to_str().unwrap()]);
+    assert!(e.contains("one of 1000000000000000 shards"), "{e}");
+    let _ = std::fs::remove_dir_all(&root);
+}

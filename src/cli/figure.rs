@@ -50,8 +50,8 @@ pub struct FigureArgs {
     pub threads: Option<usize>,
     /// Run only shard I of N (1-based) of the figure's runs, e.g. 3/8, and write them to
     /// OUT/NAME/shard-I-of-N.json without the plot; `rollphase merge OUT/NAME` then writes the
-    /// figure once all N are there. For the ensemble figures (sphere-cruising, sphere-poincare,
-    /// sphere-orbits, sphere-doubling, sphere-bifurcation, disk-transition); see docs/guide/cluster.md.
+    /// figure once all N are there. For the ensemble figures, which `figure --list` marks
+    /// [--shard]; see docs/guide/cluster.md.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<ShardSpec>,
 }
@@ -60,7 +60,8 @@ pub struct FigureArgs {
 pub fn run(a: FigureArgs) -> Result<()> {
     if a.list {
         for f in FIGURES {
-            outln!("{:<20} {}", f.name, f.about)?;
+            let mark = if f.sharded { " [--shard]" } else { "" };
+            outln!("{:<20} {}{mark}", f.name, f.about)?;
         }
         return Ok(());
     }
@@ -91,10 +92,10 @@ pub fn run(a: FigureArgs) -> Result<()> {
         },
     };
     let pool = thread_pool(a.threads)?;
-    if a.shard.is_some() && !SHARDED.contains(&name.as_str()) {
+    if a.shard.is_some() && !entry.sharded {
         bail!(
             "{name} has no ensemble to split; --shard applies to {}",
-            SHARDED.join(", ")
+            crate::figures::sharded_figures().join(", ")
         );
     }
     let summary = match pool.install(|| (entry.run)(&opts))? {
@@ -153,16 +154,6 @@ pub struct FitLagArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
 }
-
-/// The figures whose runs `--shard` splits.
-pub const SHARDED: [&str; 6] = [
-    "sphere-cruising",
-    "sphere-poincare",
-    "sphere-orbits",
-    "sphere-doubling",
-    "sphere-bifurcation",
-    "disk-transition",
-];
 
 /// Most worker threads a figure may ask for.
 pub const MAX_THREADS: usize = 1024;

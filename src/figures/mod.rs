@@ -278,6 +278,18 @@ pub struct FigureEntry {
     pub about: &'static str,
     /// Computes and writes the figure (its summary), or writes one shard of its ensemble.
     pub run: fn(&FigureOptions) -> Result<Ran>,
+    /// Whether its runs go through [`FigureOptions::ensemble`], so that `--shard` splits them
+    /// and `merge` puts them back (its record type is then in [`decode_merged`]).
+    pub sharded: bool,
+}
+
+/// The names of the figures whose runs `--shard` splits, in [`FIGURES`] order.
+pub fn sharded_figures() -> Vec<&'static str> {
+    FIGURES
+        .iter()
+        .filter(|f| f.sharded)
+        .map(|f| f.name)
+        .collect()
 }
 
 /// A figure's computation: the figure's data, or, for a `--shard I/N` run, the shard file its
@@ -345,11 +357,13 @@ pub(crate) use all_runs;
 pub const FIGURES: &[FigureEntry] = &[
     FigureEntry {
         name: "disk-transition",
+        sharded: true,
         about: "Fig. 2d: 2π/T versus α for random disks; the √(α − α*) law and its prefactor",
         run: |o| ran(o, "disk-transition", disk_transition::compute),
     },
     FigureEntry {
         name: "disk-hysteresis",
+        sharded: false,
         about: "Fig. 2e: inertial disk (m/m0 = 10), α swept up and down: α*, α** and hysteresis",
         run: |o| {
             ran(o, "disk-hysteresis", |o| {
@@ -359,6 +373,7 @@ pub const FIGURES: &[FigureEntry] = &[
     },
     FigureEntry {
         name: "disk-lag-time",
+        sharded: false,
         about: "Fig. 2f: lag time versus α − α* for m/m0 = 0.5, 2, 10; exponent −1/2",
         run: |o| {
             ran(o, "disk-lag-time", |o| {
@@ -368,6 +383,7 @@ pub const FIGURES: &[FigureEntry] = &[
     },
     FigureEntry {
         name: "disk-flow",
+        sharded: false,
         about: "SI Fig. S2: the (θ, θ̇) flow at six α around α*, fixed points and a trajectory",
         run: |o| {
             ran(o, "disk-flow", |o| {
@@ -377,31 +393,37 @@ pub const FIGURES: &[FigureEntry] = &[
     },
     FigureEntry {
         name: "sphere-cruising",
+        sharded: true,
         about: "Fig. 3b: fraction of orientations that cruise versus α/α*, 3D against 2D",
         run: |o| ran(o, "sphere-cruising", sphere_cruising::compute),
     },
     FigureEntry {
         name: "sphere-orbits",
+        sharded: true,
         about: "Fig. 3c: 1/T versus α for 6 orientations; all collapse onto two closed orbits",
         run: |o| ran(o, "sphere-orbits", sphere_orbits::compute),
     },
     FigureEntry {
         name: "sphere-poincare",
+        sharded: true,
         about: "Fig. 3d: the Poincaré map on ∂Ω of the SO(3) ball at α = 0.15; two attractor pairs",
         run: |o| ran(o, "sphere-poincare", sphere_poincare::compute),
     },
     FigureEntry {
         name: "sphere-doubling",
+        sharded: true,
         about: "Fig. 4e: contact paths at m/m0 = 0, 6, 10 (α = 0.15); period 1, 2, 1; other bodies",
         run: |o| ran(o, "sphere-doubling", sphere_doubling::compute),
     },
     FigureEntry {
         name: "sphere-bifurcation",
+        sharded: true,
         about: "beyond Fig. 4e: orbit diagram in m/m0, Floquet multipliers, the flip masses",
         run: |o| ran(o, "sphere-bifurcation", sphere_bifurcation::compute),
     },
     FigureEntry {
         name: "sphere-halting",
+        sharded: false,
         about: "SI §2D–E: the halting loops Q = tan α and their stability, checked by simulation",
         run: |o| {
             ran(o, "sphere-halting", |o| {
@@ -411,6 +433,7 @@ pub const FIGURES: &[FigureEntry] = &[
     },
     FigureEntry {
         name: "sphere-tube",
+        sharded: false,
         about: "SI Fig. S3: perfect-sphere orbits through one contact point (closed form)",
         run: |o| {
             ran(o, "sphere-tube", |o| {

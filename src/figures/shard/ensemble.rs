@@ -142,6 +142,13 @@ pub fn merge_figure(dir: &Path, merged: Merged) -> Result<MergeOutcome> {
     };
     let entry = crate::figures::figure(&name)
         .ok_or_else(|| anyhow!("the shards name figure {name:?}, which this rollphase lacks"))?;
+    if !entry.sharded {
+        bail!(
+            "the shards name figure {name}, which has no ensemble to merge (a figure with one: {}); \
+             they were not written by this rollphase",
+            crate::figures::sharded_figures().join(", ")
+        );
+    }
     if dir.file_name().and_then(|n| n.to_str()) != Some(name.as_str()) {
         bail!(
             "{} holds shards of {name}; merge writes into OUT/{name}, so the folder must keep \

@@ -356,6 +356,15 @@ pub fn scan_shards(dir: &Path) -> Result<ShardSet> {
             index: f.shard,
             count: f.of,
         };
+        if f.of == 0 || f.of > super::MAX_SHARDS {
+            bail!(
+                "{} says it is one of {} shards; a split has 1 to {} (the file is damaged or \
+                 was edited)",
+                path.display(),
+                f.of,
+                super::MAX_SHARDS
+            );
+        }
         if f.shard == 0 || f.shard > f.of {
             bail!(
                 "{} names shard {spec}, which does not exist",
@@ -388,16 +397,19 @@ pub fn scan_shards(dir: &Path) -> Result<ShardSet> {
     let Some((_, of, job, jobs)) = reference else {
         unreachable!("at least one shard file was read")
     };
-    let missing: Vec<String> = (1..=of)
-        .filter(|i| !by_index.contains_key(i))
-        .map(|i| format!("{i}/{of}"))
-        .collect();
-    if !missing.is_empty() {
+    // Counted without listing them all: only the first few are named.
+    let missing_count = of - by_index.len();
+    if missing_count > 0 {
+        let missing: Vec<String> = (1..=of)
+            .filter(|i| !by_index.contains_key(i))
+            .take(11)
+            .map(|i| format!("{i}/{of}"))
+            .collect();
         bail!(
-            "{} of {of} shards are missing from {}: {}; run them (--shard I/N) and merge again",
-            missing.len(),
+            "{missing_count} of {of} shards are missing from {}: {}; run them (--shard I/N) and \
+             merge again",
             dir.display(),
-            abbreviate(&missing)
+            abbreviate_of(&missing, missing_count)
         );
     }
     Ok(ShardSet {
@@ -434,11 +446,12 @@ pub fn merged(set: ShardSet) -> Result<Merged> {
 /// Largest shard file `merge` reads.
 pub const MAX_SHARD_BYTES: u64 = 1 << 30;
 
-fn abbreviate(items: &[String]) -> String {
-    if items.len() <= 10 {
-        items.join(", ")
+/// The first ten of `count` items, and how many more.
+fn abbreviate_of(first: &[String], count: usize) -> String {
+    if count <= 10 {
+        first.join(", ")
     } else {
-        format!("{}, … ({} more)", items[..10].join(", "), items.len() - 10)
+        format!("{}, … ({} more)", first[..10].join(", "), count - 10)
     }
 }
 
