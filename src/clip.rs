@@ -248,6 +248,9 @@ fn write_gif(
     Ok(file)
 }
 
+/// Bytes of ffmpeg's standard error kept for the message of a failed encode.
+const STDERR_TAIL_BYTES: usize = 16 * 1024;
+
 fn spawn_ffmpeg(path: &Path, size: (u32, u32), fps: f64) -> std::io::Result<Child> {
     Command::new("ffmpeg")
         .args([
@@ -288,6 +291,26 @@ fn write_mp4(
         path: path.to_path_buf(),
         error: source,
     };
+    // ffmpeg's standard error is read on its own thread while the frames go in: a pipe holds
+    // 64 KiB, and an ffmpeg that writes more (warnings per frame) would block on it while we
+    // block on its full stdin.
+    let stderr_reader = child.stderr.take().map(|mut pipe| {
+        std::thread::spawn(move || {
+            let mut tail = Vec::new();
+            let mut chunk = [0u8; 8192];
+            while let Ok(n) = std::io::Read::read(&mut pipe, &mut chunk) {
+                if n == 0 {
+                    break;
+                }
+                tail.extend_from_slice(&chunk[..n]);
+                // Only the end is shown; keep memory flat however much ffmpeg says.
+                if tail.len() > STDERR_TAIL_BYTES * 2 {
+                    tail.drain(..tail.len() - STDERR_TAIL_BYTES);
+                }
+            }
+            tail
+        })
+    });
     if let Some(mut stdin) = child.stdin.take() {
         for image in frames.iter() {
             if let Err(e) = stdin.write_all(image.as_raw()) {
@@ -299,13 +322,16 @@ fn write_mp4(
             }
         }
     }
-    let out = child.wait_with_output().map_err(io)?;
-    if !out.status.success() {
-        let text = String::from_utf8_lossy(&out.stderr);
+    let status = child.wait().map_err(io)?;
+    let stderr = stderr_reader
+        .and_then(|r| r.join().ok())
+        .unwrap_or_default();
+    if !status.success() {
+        let text = String::from_utf8_lossy(&stderr);
         let tail: String = text.lines().rev().take(3).collect::<Vec<_>>().join(" | ");
         return Err(ClipError::Ffmpeg {
             path: path.to_path_buf(),
-            status: out.status.to_string(),
+            status: status.to_string(),
             stderr: tail,
         });
     }

@@ -494,3 +494,59 @@ fn plot_data_writes_the_plots_csv_of_a_headless_run() {
     assert!(stderr(&o).contains("add --headless"), "{}", stderr(&o));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 33, case 10: an ffmpeg that writes more than a pipe holds (64 KiB) to standard error
+/// while reading frames no longer deadlocks the MP4 writer. A stand-in `ffmpeg` on PATH writes
+/// 256 KiB of warnings before it reads a byte, then the frames, then the file it was given.
+#[test]
+fn an_ffmpeg_that_floods_standard_error_does_not_stall_the_clip() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = temp("ffmpeg-flood");
+    let bin = dir.join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    let fake = bin.join("ffmpeg");
+    std::fs::write(
+        &fake,
+        "#!/bin/sh\n\
+         [ \"$1\" = -version ] && { echo fake; exit 0; }\n\
+         for last; do :; done\n\
+         head -c 262144 /dev/zero | tr '\\0' w >&2\n\
+         cat > /dev/null\n\
+         printf 'mp4 from the stand-in' > \"$last\"\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let clip = dir.join("a.mp4");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        .args(["--headless", "--frames", "3", "--size", "256x256", "--mp4"])
+        .arg(&clip)
+        .env("PATH", path)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if started.elapsed().as_secs() > 60 {
+            let _ = child.kill();
+            panic!("the MP4 writer stalled on ffmpeg's standard error");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    assert!(status.success(), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(&clip).unwrap(),
+        "mp4 from the stand-in"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
