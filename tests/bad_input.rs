@@ -1226,3 +1226,62 @@ fn binary_output_on_standard_output_is_the_data_alone() {
         assert!(String::from_utf8_lossy(&r.stderr).contains("triangles, watertight"));
     }
 }
+
+/// Issue 33, case 10: the stiff corner. `period` takes the viscous limit at m/m0 ≤ rtol as
+/// `simulate` does (it failed with "step size fell to 0e0" at 1e-300), saying so; a stiff run
+/// that would take minutes is announced with an estimate before it starts.
+#[test]
+fn stiff_corners_take_the_viscous_limit_or_warn_with_an_estimate_before_running() {
+    use std::io::BufRead;
+    let dir = temp_dir("stiff");
+    let disk = write(&dir, "disk.json", DISK);
+    let r = rollphase(&[
+        "period", &disk, "--alpha", "0.3", "--mass", "1e-300", "--json",
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+    assert_eq!(report["model"], "disk-viscous");
+    assert!(
+        report["note"]
+            .as_str()
+            .unwrap()
+            .contains("ran the viscous model")
+    );
+    let viscous = rollphase(&["period", &disk, "--alpha", "0.3", "--json"]);
+    let viscous: serde_json::Value = serde_json::from_slice(&viscous.stdout).unwrap();
+    assert_eq!(report["period"], viscous["period"]);
+
+    let sphere = write(&dir, "sphere.json", SPHERE);
+    for args in [
+        vec![
+            "simulate",
+            &sphere,
+            "--alpha",
+            "0.3",
+            "--mass",
+            "1e-8",
+            "--t-end",
+            "0.5",
+            "-o",
+            "/dev/null",
+        ],
+        vec!["period", &disk, "--alpha", "0.3", "--mass", "1e-6"],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+            .args(&args)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut first = String::new();
+        std::io::BufReader::new(child.stderr.take().unwrap())
+            .read_line(&mut first)
+            .unwrap();
+        let _ = child.kill();
+        let _ = child.wait();
+        assert!(
+            first.starts_with("warning: m/m0 =") && first.contains("right-hand-side evaluations"),
+            "{args:?}: {first}"
+        );
+    }
+}

@@ -198,6 +198,30 @@ pub fn parse_list(text: &str, n: usize, flag: &str, names: &str) -> Result<Vec<f
         .collect()
 }
 
+/// Warns on standard error before a run in the stiff corner that would take minutes: the
+/// inertial model at a tiny m/m0, which an explicit integrator must follow on its relaxation
+/// time ([`crate::simulate::stiff_work_estimate`]). `span` is the simulated time, `flag` names it.
+pub fn warn_if_stiff(
+    body: &crate::geometry::Body,
+    ramp: &crate::dynamics::Ramp,
+    span: f64,
+    flag: &str,
+) {
+    let evals = crate::simulate::stiff_work_estimate(body, ramp, span);
+    if evals > crate::simulate::STIFF_WARNING_EVALS {
+        eprintln!(
+            "warning: m/m0 = {} relaxes to the viscous model on τ ≈ {:.1e}, which an explicit \
+             integrator must follow: about {:.0e} right-hand-side evaluations over {flag} {} \
+             (minutes or more at a few million a second). --mass 0 runs the viscous limit, which \
+             differs by O(m/m0); an --rtol above m/m0 chooses it for you",
+            short(ramp.mass_ratio),
+            crate::simulate::relaxation_time(body, ramp),
+            evals,
+            short(span)
+        );
+    }
+}
+
 /// Writes text to a file, or to standard output for `None` or "-", through the output layer
 /// ([`crate::output`]); `inputs` are the command's input files, which it refuses to overwrite.
 pub fn write_output(

@@ -101,6 +101,15 @@ pub fn run(a: PeriodArgs) -> Result<()> {
     else {
         bail!("{} is not a disk", a.file.display());
     };
+    // The stiff corner as `simulate` handles it: at m/m0 ≤ rtol the viscous limit (which
+    // differs by O(m/m0), below the tolerance), said in the note; above it a warning when the
+    // run would take minutes.
+    let choice =
+        crate::simulate::choose_model(&body, ramp, crate::integrate::Method::dop853(a.rtol))?;
+    let ramp = choice.ramp;
+    if !ramp.is_viscous() {
+        super::warn_if_stiff(&body, &ramp, a.t_max, "--t-max");
+    }
     let alpha_star = critical_angle(&body).alpha_star;
     let (p, model) = if ramp.is_viscous() {
         (viscous_disk_period(disk, &ramp), ModelKind::DiskViscous)
@@ -122,7 +131,7 @@ pub fn run(a: PeriodArgs) -> Result<()> {
             super::short(a.t_max),
             super::short(a.mass)
         )),
-        _ => None,
+        _ => choice.note.clone(),
     };
     let report = PeriodReport {
         note: note.clone(),
@@ -154,7 +163,12 @@ pub fn run(a: PeriodArgs) -> Result<()> {
                 }
             )?,
             None if p.halts => outln!("  halts: 2π/T = 0")?,
-            None => outln!("  {}", note.unwrap_or_default())?,
+            None => outln!("  {}", note.clone().unwrap_or_default())?,
+        }
+        if let (Some(n), Some(_) | None) = (&choice.note, p.period)
+            && (p.period.is_some() || p.halts)
+        {
+            outln!("  note: {n}")?;
         }
     }
     Ok(())

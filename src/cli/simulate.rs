@@ -181,6 +181,11 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     };
     method.validate()?;
     let initial = initial_state(&a, &body)?;
+    // The model the run will use (the viscous limit below rtol), then the cost of a stiff one.
+    let chosen = crate::simulate::choose_model(&body, ramp, method)?;
+    if matches!(method, Method::Dop853 { .. }) {
+        super::warn_if_stiff(&body, &chosen.ramp, a.t_end, "--t-end");
+    }
     let spec = RunSpec {
         ramp,
         initial,
