@@ -550,3 +550,11 @@ fn an_ffmpeg_that_floods_standard_error_does_not_stall_the_clip() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 33, case 10: `bench render` bounds its frame count before any work.
+#[test]
+fn bench_render_refuses_a_frame_count_beyond_its_bound() {
+    let o = rollphase(&["bench", "render", "--frames", "100000000000"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("1 ≤ frames ≤ 100000"), "{}", stderr(&o));
+}

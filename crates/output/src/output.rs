@@ -196,6 +196,47 @@ impl Inputs {
 /// interrupts the command (Ctrl-C), so an interrupted run leaves nothing behind.
 static PARTIAL_OUTPUTS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
+/// The scratch folders alive now ([`ScratchFolder`]), removed with the partial outputs on Ctrl-C.
+static SCRATCH_FOLDERS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// A folder of scratch files in the system's temporary folder (a benchmark's frames): removed
+/// with everything in it when dropped, and by [`remove_partial_outputs`] on Ctrl-C, so nothing
+/// is left behind either way.
+pub struct ScratchFolder {
+    path: PathBuf,
+}
+
+impl ScratchFolder {
+    /// Creates `TMP/rollphase-WHAT-PID-K`.
+    pub fn create(what: &str) -> Result<Self> {
+        let k = NEXT_TEMP.fetch_add(1, Ordering::Relaxed);
+        let path =
+            std::env::temp_dir().join(format!("rollphase-{what}-{}-{k}", std::process::id()));
+        SCRATCH_FOLDERS
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(path.clone());
+        let made = std::fs::create_dir_all(&path).map_err(|e| OutputError::io(&path, e));
+        let folder = Self { path };
+        made.map(|()| folder)
+    }
+
+    /// Where it is.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+impl Drop for ScratchFolder {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.path);
+        SCRATCH_FOLDERS
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .retain(|p| *p != self.path);
+    }
+}
+
 /// Tells apart the temporary files of one process.
 static NEXT_TEMP: AtomicU64 = AtomicU64::new(0);
 
@@ -221,6 +262,10 @@ pub fn remove_partial_outputs() -> Interrupted {
     let files = PARTIAL_OUTPUTS.lock().unwrap_or_else(|e| e.into_inner());
     for f in files.iter() {
         let _ = std::fs::remove_file(f);
+    }
+    let folders = SCRATCH_FOLDERS.lock().unwrap_or_else(|e| e.into_inner());
+    for d in folders.iter() {
+        let _ = std::fs::remove_dir_all(d);
     }
     if waited {
         Interrupted::AfterCommit
@@ -1322,6 +1367,17 @@ mod tests {
         rx.recv().unwrap();
         writer.join().unwrap();
         assert_eq!(std::fs::read(d.join("a.csv")).unwrap(), b"new");
+    }
+
+    #[test]
+    fn a_scratch_folder_is_gone_when_dropped() {
+        let scratch = ScratchFolder::create("test").unwrap();
+        let path = scratch.path().to_path_buf();
+        write_bytes(&path.join("frame.png"), b"png", &Inputs::none()).unwrap();
+        assert!(path.join("frame.png").is_file());
+        drop(scratch);
+        assert!(!path.exists());
+        assert!(!SCRATCH_FOLDERS.lock().unwrap().iter().any(|p| *p == path));
     }
 
     #[test]

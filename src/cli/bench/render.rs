@@ -8,16 +8,24 @@ use anyhow::Result;
 
 use super::RenderBenchArgs;
 
+/// Most frames a row of `bench render` times.
+const MAX_BENCH_FRAMES: u64 = 100_000;
+
 /// Runs `bench render`.
 pub fn run(a: RenderBenchArgs) -> Result<()> {
     use crate::headless::HeadlessRenderer;
     use crate::png::{PngWriter, frame_name};
-    if a.frames == 0 {
-        anyhow::bail!("--frames 0 times nothing (needs at least 1)");
+    if !(1..=MAX_BENCH_FRAMES).contains(&a.frames) {
+        anyhow::bail!(
+            "--frames {} is not allowed (needs 1 ≤ frames ≤ {MAX_BENCH_FRAMES}: each row of the \
+             table renders that many, and a few hundred give a steady rate)",
+            a.frames
+        );
     }
     let setup = crate::cli::render::pick_scene(None, Some(&a.preset))?;
-    let out = std::env::temp_dir().join(format!("rollphase-bench-render-{}", std::process::id()));
-    crate::output::create_folder(&out)?;
+    // The PNGs of the last row go to a scratch folder, removed at the end or on Ctrl-C.
+    let scratch = crate::output::ScratchFolder::create("bench-render")?;
+    let out = scratch.path().to_path_buf();
     let mut table = String::new();
     let (w, h) = a.size;
     let mut adapter = String::new();
@@ -79,7 +87,7 @@ pub fn run(a: RenderBenchArgs) -> Result<()> {
             seconds,
         )?;
     }
-    let _ = std::fs::remove_dir_all(&out);
+    drop(scratch);
     outln!(
         "{} at {w}x{h}, {} frames a row, on {adapter}\n",
         a.preset,

@@ -317,6 +317,9 @@ pub const MIN_ANGLES_PER_RUN: usize = 4;
 /// assert_eq!((runs[0].run, runs[0].points.len(), runs[0].points[0].times.len()), (3, 4, 2));
 /// // A run with fewer angles than the fit has unknowns is refused, saying why.
 /// assert!(parse_lag_csv("run_idx,alpha*,alpha,t_lag\n3,0.18,0.2,\"[2.8]\"\n").is_err());
+/// // An angle past a quarter turn is no ramp (degrees given as radians, say).
+/// let e = parse_lag_csv("run_idx,alpha*,alpha,t_lag\n3,0.18,20,\"[2.8]\"\n").unwrap_err();
+/// assert!(e.contains("π/2"), "{e}");
 /// // Errors name the line and the field.
 /// let e = parse_lag_csv("run_idx,alpha*,alpha,t_lag\n3,0.18,abc,\"[2.8]\"\n").unwrap_err();
 /// assert!(e.contains("line 2"), "{e}");
@@ -396,6 +399,23 @@ pub fn parse_lag_csv(text: &str) -> Result<Vec<LagRun>, String> {
         {
             return Err(format!(
                 "line {n}: alpha and every t_lag must be finite and > 0"
+            ));
+        }
+        // Ramp angles in radians: beyond a quarter turn a "ramp" is upside down, and a fit
+        // through such points gives exponents like −4e9 with no meaning.
+        let quarter = std::f64::consts::FRAC_PI_2;
+        if alpha >= quarter {
+            return Err(format!(
+                "line {n}: alpha = {alpha} is not a ramp angle (needs 0 < alpha < π/2 ≈ 1.5708 rad; \
+                 degrees? divide by 57.3)"
+            ));
+        }
+        if let Some(a) = star
+            && !(a.is_finite() && (0.0..quarter).contains(&a))
+        {
+            return Err(format!(
+                "line {n}: alpha* = {a} is not a critical angle (needs 0 ≤ alpha* < π/2 rad, or \
+                 empty)"
             ));
         }
         match runs.iter_mut().find(|r| r.run == run) {
