@@ -1377,7 +1377,7 @@ mod tests {
         assert!(path.join("frame.png").is_file());
         drop(scratch);
         assert!(!path.exists());
-        assert!(!SCRATCH_FOLDERS.lock().unwrap().iter().any(|p| *p == path));
+        assert!(!SCRATCH_FOLDERS.lock().unwrap().contains(&path));
     }
 
     #[test]
