@@ -42,9 +42,9 @@ const SPHERE: &str = r#"{"kind":"sphere","coeffs":[{"l":2,"m":-2,"re":0.1,"im":0
 fn alpha_outside_the_open_quarter_turn_is_rejected() {
     let d = temp_dir("alpha");
     let disk = write(&d, "disk.json", DISK);
-    for alpha in ["0", "-0.1", "1.5708", "2", "NaN", "inf"] {
+    for alpha in ["0", "-0.1", "1e-16", "1.5708", "2", "NaN", "inf"] {
         let out = rollphase(&["period", &disk, "--alpha", alpha]);
-        fails_with(&out, 1, &["alpha", "0 < alpha < π/2"]);
+        fails_with(&out, 1, &["alpha", "1e-9 ≤ alpha < π/2"]);
     }
 }
 
@@ -334,7 +334,7 @@ fn figure_body_and_alpha_options_that_do_not_apply_are_refused() {
         ],
     );
     let r = rollphase(&["figure", "sphere-poincare", "--alpha", "2", "--out", &out]);
-    fails_with(&r, 1, &["--alpha 2 is not allowed", "0 < α < π/2"]);
+    fails_with(&r, 1, &["--alpha 2 is not allowed", "1e-9 ≤ α < π/2"]);
     // Unknown figure names list every figure.
     let r = rollphase(&["figure", "sphere-nope", "--out", &out]);
     fails_with(

@@ -88,7 +88,7 @@ fn bad_scenes_are_refused_with_the_reason() {
     let cases: &[(String, &[&str])] = &[
         (
             format!("name = \"x\"\n{BODY}[model]\nalpha_rad = 2.0\n"),
-            &["alpha = 2", "0 < alpha < π/2"],
+            &["alpha = 2", "1e-9 ≤ alpha < π/2"],
         ),
         (
             format!("name = \"x\"\n{BODY}[model]\nalpha_rad = 0.3\nalpha_over_critical = 1.1\n"),

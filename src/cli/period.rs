@@ -23,7 +23,7 @@ use crate::simulate::start::StartRequest;
 pub struct PeriodArgs {
     /// Shape file of a disk (JSON, "kind": "disk").
     pub file: PathBuf,
-    /// Ramp angle α in radians, 0 < α < π/2.
+    /// Ramp angle α in radians, 1e-9 ≤ α < π/2.
     #[arg(long, allow_negative_numbers = true)]
     pub alpha: f64,
     /// Mass ratio m/m0 ≥ 0 (0: viscous model).

@@ -160,8 +160,11 @@ impl FigureOptions {
     /// when none rolls.
     pub fn single_alpha(&self, figure: &str, default: f64) -> Result<f64> {
         let alpha = self.alpha.unwrap_or(default);
-        if !(alpha > 0.0 && alpha < std::f64::consts::FRAC_PI_2) {
-            bail!("{figure}: --alpha {alpha} is not allowed (needs 0 < α < π/2 rad)");
+        if !(alpha >= crate::dynamics::MIN_ALPHA && alpha < std::f64::consts::FRAC_PI_2) {
+            bail!(
+                "{figure}: --alpha {} is not allowed (needs 1e-9 ≤ α < π/2 rad)",
+                crate::integrate::readable(alpha)
+            );
         }
         Ok(alpha)
     }

@@ -329,9 +329,9 @@ impl Sweep {
         let spec: SweepSpec = toml::from_str(text).map_err(|e| anyhow::anyhow!("{e}"))?;
         let alphas = spec.alpha.values("alpha")?;
         for &a in &alphas {
-            if !(a > 0.0 && a < std::f64::consts::FRAC_PI_2) {
+            if !(a >= crate::dynamics::MIN_ALPHA && a < std::f64::consts::FRAC_PI_2) {
                 bail!(
-                    "alpha = {} is not allowed (needs 0 < α < π/2 rad)",
+                    "alpha = {} is not allowed (needs 1e-9 ≤ α < π/2 rad)",
                     readable(a)
                 );
             }

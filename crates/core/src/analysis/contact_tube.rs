@@ -71,7 +71,7 @@ pub fn contact_tube(
     trajectories: usize,
     samples: usize,
 ) -> Result<ContactTube, StudyError> {
-    // Checked before any work: α as the model checks it (0 < α < π/2, finite).
+    // Checked before any work: α as the model checks it (1e-9 ≤ α < π/2, finite).
     let ramp = Ramp::new(alpha, 0.0)?;
     if trajectories == 0 || samples == 0 {
         return Err(StudyError::BadArgument(format!(

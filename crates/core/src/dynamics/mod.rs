@@ -89,7 +89,7 @@ impl std::fmt::Display for ModelKind {
 /// The ramp and the body's dynamical constants.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ramp {
-    /// Tilt α in radians, 0 < α < π/2.
+    /// Tilt α in radians, [`MIN_ALPHA`] ≤ α < π/2.
     pub alpha_rad: f64,
     /// m/m0; 0 selects the viscous model.
     pub mass_ratio: f64,
@@ -100,8 +100,8 @@ pub struct Ramp {
 /// A bad model parameter.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum ModelError {
-    /// α outside (0, π/2).
-    #[error("alpha = {0} rad is not allowed (needs 0 < alpha < π/2 ≈ 1.5708, in radians)")]
+    /// α outside [[`MIN_ALPHA`], π/2).
+    #[error("{}", bad_alpha_text(*.0))]
     BadAlpha(f64),
     /// Negative or non-finite mass ratio.
     #[error(
@@ -113,6 +113,29 @@ pub enum ModelError {
     BadDrag(f64),
 }
 
+/// [`ModelError::BadAlpha`]'s message: why a tiny angle is refused only where it is tiny.
+fn bad_alpha_text(alpha: f64) -> String {
+    let shown = crate::integrate::readable(alpha);
+    if alpha > 0.0 && alpha < MIN_ALPHA {
+        format!(
+            "alpha = {shown} rad is not allowed (needs 1e-9 ≤ alpha < π/2 ≈ 1.5708, in radians): \
+             below 1e-9 rad the tilt's pull is within a few million round-offs of the contact \
+             geometry's forces, and near 1e-14 the computed motion is round-off alone"
+        )
+    } else {
+        format!(
+            "alpha = {shown} rad is not allowed (needs 1e-9 ≤ alpha < π/2 ≈ 1.5708, in radians)"
+        )
+    }
+}
+
+/// The smallest ramp angle (rad). The tilt's pull is F sin α, the geometry's forces are of
+/// order F with round-off 1e-16: on the perfect sphere the computed motion is round-off alone
+/// below α ≈ 1e-14 (at 1e-16 it rolls uphill; from 1e-20 down it goes 1,689 times too far), so
+/// 1e-9 keeps every answer to about 1e-7 of itself. No body of the paper does anything at such
+/// a tilt but rest (α* ≥ 1e-3 for any irregular one).
+pub const MIN_ALPHA: f64 = 1e-9;
+
 impl Ramp {
     /// A ramp with unit drag.
     ///
@@ -122,6 +145,8 @@ impl Ramp {
     /// let ramp = Ramp::new(0.15, 6.0)?;
     /// assert_eq!((ramp.drag, ramp.is_viscous()), (1.0, false));
     /// assert_eq!(Ramp::new(2.0, 0.0), Err(ModelError::BadAlpha(2.0)));
+    /// // Below 1e-9 rad the tilt is lost in round-off.
+    /// assert_eq!(Ramp::new(1e-16, 0.0), Err(ModelError::BadAlpha(1e-16)));
     /// assert!(Ramp::new(0.15, f64::NAN).is_err());
     /// # Ok::<(), ModelError>(())
     /// ```
@@ -139,7 +164,10 @@ impl Ramp {
     /// assert_eq!(Ramp::with_drag(0.15, 0.0, 0.0), Err(ModelError::BadDrag(0.0)));
     /// ```
     pub fn with_drag(alpha_rad: f64, mass_ratio: f64, drag: f64) -> Result<Self, ModelError> {
-        if !(alpha_rad.is_finite() && alpha_rad > 0.0 && alpha_rad < std::f64::consts::FRAC_PI_2) {
+        if !(alpha_rad.is_finite()
+            && alpha_rad >= MIN_ALPHA
+            && alpha_rad < std::f64::consts::FRAC_PI_2)
+        {
             return Err(ModelError::BadAlpha(alpha_rad));
         }
         if !(mass_ratio.is_finite() && mass_ratio >= 0.0) {

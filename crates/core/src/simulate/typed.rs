@@ -117,7 +117,7 @@ impl InitialState {
 /// defaults; the builder methods change one thing each.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Simulation {
-    /// Ramp angle α (rad), 0 < α < π/2.
+    /// Ramp angle α (rad), 1e-9 ≤ α < π/2.
     pub alpha: f64,
     /// Viscous or inertial.
     pub model: Model,
