@@ -90,6 +90,14 @@ fn bad_scenes_are_refused_with_the_reason() {
             format!("name = \"x\"\n{BODY}[model]\nalpha_rad = 2.0\n"),
             &["alpha = 2", "1e-9 ≤ alpha < π/2"],
         ),
+        // Issue 33: a fixed step longer than a frame's simulated time (speed 1 / 30 fps) was
+        // rendered with exit 0, cut to a frame's time at every frame.
+        (
+            format!(
+                "name = \"x\"\n{BODY}[model]\nalpha_rad = 0.3\n[integrator]\nmethod = \"rk4\"\ndt = 5.0\n[playback]\nspeed = 1.0\nfps = 30.0\n"
+            ),
+            &["integrator.dt = 5", "one frame's simulated time", "dt ≤ 0.0333"],
+        ),
         (
             format!("name = \"x\"\n{BODY}[model]\nalpha_rad = 0.3\nalpha_over_critical = 1.1\n"),
             &["exactly one of model.alpha_rad"],

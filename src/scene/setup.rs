@@ -157,6 +157,7 @@ impl Scene {
         let start = Start::new(&body, self.initial.build(&body, m.mass_ratio)?)
             .map_err(|e| invalid(e.to_string()))?;
         self.playback.validate()?;
+        self.check_step_fits_a_frame(method)?;
         self.views.validate(&body, &choice.ramp)?;
         self.poincare.validate()?;
         let timeline = super::timeline::resolve(self, &body, alpha_star, choice.ramp, method)?;
@@ -170,6 +171,36 @@ impl Scene {
             start,
             timeline,
         })
+    }
+}
+
+impl Scene {
+    /// A fixed step longer than one frame's simulated time (playback speed / fps, at the
+    /// slowest speed the lesson plays at) would be cut to a frame at every frame, so the run
+    /// would not use the step asked for; `simulate` refuses dt > t_end for the same reason.
+    fn check_step_fits_a_frame(&self, method: Method) -> Result<(), SceneError> {
+        let (Method::Rk4 { dt } | Method::Cf4 { dt }) = method else {
+            return Ok(());
+        };
+        let slowest = self
+            .timeline
+            .iter()
+            .filter_map(|s| s.speed)
+            .fold(self.playback.speed, f64::min);
+        let frame = slowest / self.playback.fps;
+        if dt > frame {
+            return Err(invalid(format!(
+                "integrator.dt = {} is longer than one frame's simulated time ({} = the slowest \
+                 playback speed {} / fps {}): every frame would take one shorter step instead, so \
+                 the run would not use the step asked for; use dt ≤ {}",
+                crate::integrate::readable(dt),
+                crate::integrate::readable(frame),
+                crate::integrate::readable(slowest),
+                crate::integrate::readable(self.playback.fps),
+                crate::integrate::readable(frame)
+            )));
+        }
+        Ok(())
     }
 }
 
