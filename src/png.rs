@@ -11,7 +11,7 @@ use std::thread::JoinHandle;
 use image::RgbaImage;
 use thiserror::Error;
 
-use crate::output::{self, Inputs, OutputError};
+use crate::output::{self, Inputs, OutputError, OutputSet};
 
 /// Why frames could not be written.
 #[derive(Debug, Error)]
@@ -27,18 +27,21 @@ pub enum PngError {
     /// Writing one file failed (or it is one of the command's inputs).
     #[error(transparent)]
     Write(#[from] OutputError),
-    /// A writer thread stopped (after an error, reported by [`PngWriter::close`]) or panicked.
-    #[error("a PNG writer stopped early{}", if *panicked { " (it panicked)" } else { "; see the error that follows" })]
+    /// A writer thread stopped without saying why (it could not start, or it panicked).
+    #[error("a PNG writer stopped early{}", if *panicked { " (it panicked)" } else { " (no writer thread could start)" })]
     Stopped {
         /// Whether it panicked.
         panicked: bool,
     },
 }
 
-/// A pool of PNG writer threads fed through a bounded channel.
+/// A pool of PNG writer threads fed through a bounded channel. Each frame is encoded and staged
+/// beside its destination as it comes; [`PngWriter::close`] moves them all into place as one
+/// [`OutputSet`], so a folder of frames holds the old set or the new one, never a mix (a full
+/// disk at frame 5 of 30 leaves frames 0–29 as they were).
 pub struct PngWriter {
     sender: Option<mpsc::SyncSender<(PathBuf, RgbaImage)>>,
-    workers: Vec<JoinHandle<Result<(), PngError>>>,
+    workers: Vec<JoinHandle<Result<OutputSet, PngError>>>,
 }
 
 impl PngWriter {
@@ -55,16 +58,17 @@ impl PngWriter {
                 // pool as stopped.
                 std::thread::Builder::new()
                     .name(format!("png writer {k}"))
-                    .spawn(move || -> Result<(), PngError> {
+                    .spawn(move || -> Result<OutputSet, PngError> {
+                        let mut staged = OutputSet::new();
                         loop {
                             let job = match rx.lock() {
                                 Ok(guard) => guard.recv(),
                                 Err(_) => return Err(PngError::Stopped { panicked: true }),
                             };
                             let Ok((path, image)) = job else {
-                                return Ok(());
+                                return Ok(staged);
                             };
-                            write_png(&path, &image, &inputs)?;
+                            staged.write(&path, &encode_png(&path, &image)?, &inputs)?;
                         }
                     })
                     .ok()
@@ -76,28 +80,55 @@ impl PngWriter {
         }
     }
 
-    /// Queues one image (blocks while the queue is full).
-    pub fn write(&self, path: PathBuf, image: RgbaImage) -> Result<(), PngError> {
-        self.sender
-            .as_ref()
-            .ok_or(PngError::Stopped { panicked: false })?
-            .send((path, image))
-            .map_err(|_| PngError::Stopped { panicked: false })
+    /// Queues one image (blocks while the queue is full). If the writers have stopped, their
+    /// error is returned (a full disk, a frame that is an input), not just that they stopped.
+    pub fn write(&mut self, path: PathBuf, image: RgbaImage) -> Result<(), PngError> {
+        let sent = match self.sender.as_ref() {
+            Some(sender) => sender.send((path, image)).is_ok(),
+            None => false,
+        };
+        if sent {
+            return Ok(());
+        }
+        self.sender = None;
+        Err(self
+            .join_workers()
+            .err()
+            .unwrap_or(PngError::Stopped { panicked: false }))
     }
 
-    /// Waits for every queued image to be written; the first error wins.
+    /// Waits for every queued image, then moves every frame into place together; the first
+    /// error wins, and then no frame is moved.
     pub fn close(mut self) -> Result<(), PngError> {
         self.sender = None;
-        for w in self.workers.drain(..) {
-            w.join()
-                .map_err(|_| PngError::Stopped { panicked: true })??;
-        }
+        self.join_workers()?.commit()?;
         Ok(())
+    }
+
+    /// Joins the writers, merging what they staged.
+    fn join_workers(&mut self) -> Result<OutputSet, PngError> {
+        let mut all = OutputSet::new();
+        let mut first_error = None;
+        for w in self.workers.drain(..) {
+            match w.join() {
+                Ok(Ok(set)) => all.extend(set),
+                Ok(Err(e)) => {
+                    first_error.get_or_insert(e);
+                }
+                Err(_) => {
+                    first_error.get_or_insert(PngError::Stopped { panicked: true });
+                }
+            }
+        }
+        match first_error {
+            Some(e) => Err(e),
+            None => Ok(all),
+        }
     }
 }
 
-/// Writes `image` as a PNG file at `path` through the output layer.
-pub fn write_png(path: &Path, image: &RgbaImage, inputs: &Inputs) -> Result<(), PngError> {
+/// `image` as PNG bytes (`path` names it in an error).
+fn encode_png(path: &Path, image: &RgbaImage) -> Result<Vec<u8>, PngError> {
     let mut bytes = Vec::new();
     image
         .write_to(
@@ -108,7 +139,16 @@ pub fn write_png(path: &Path, image: &RgbaImage, inputs: &Inputs) -> Result<(), 
             path: path.to_path_buf(),
             error,
         })?;
-    Ok(output::write_bytes(path, &bytes, inputs)?)
+    Ok(bytes)
+}
+
+/// Writes `image` as a PNG file at `path` through the output layer.
+pub fn write_png(path: &Path, image: &RgbaImage, inputs: &Inputs) -> Result<(), PngError> {
+    Ok(output::write_bytes(
+        path,
+        &encode_png(path, image)?,
+        inputs,
+    )?)
 }
 
 /// The file name of frame `k`.

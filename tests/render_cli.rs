@@ -558,3 +558,46 @@ fn bench_render_refuses_a_frame_count_beyond_its_bound() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("1 ≤ frames ≤ 100000"), "{}", stderr(&o));
 }
+
+/// Issue 33, case 9: headless frames are committed as a set. A frame that cannot be written
+/// (here frame 5 is a folder; a full disk does the same) leaves every old frame as it was, says
+/// which file and why, and leaves no staged file behind.
+#[test]
+fn headless_frames_are_committed_as_a_set() {
+    let dir = temp("frames-as-a-set");
+    for k in 0..8 {
+        std::fs::write(dir.join(format!("frame_{k:05}.png")), format!("old {k}")).unwrap();
+    }
+    std::fs::remove_file(dir.join("frame_00005.png")).unwrap();
+    std::fs::create_dir(dir.join("frame_00005.png")).unwrap();
+    let o = rollphase(&[
+        "--headless",
+        "--frames",
+        "8",
+        "--size",
+        "64x64",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("frame_00005.png") && stderr(&o).contains("is a folder"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!stderr(&o).contains("see the error that follows"));
+    for k in [0, 1, 2, 3, 4, 6, 7] {
+        assert_eq!(
+            std::fs::read_to_string(dir.join(format!("frame_{k:05}.png"))).unwrap(),
+            format!("old {k}"),
+            "frame {k} was replaced though the set failed"
+        );
+    }
+    let hidden: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(hidden.is_empty(), "left behind: {hidden:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

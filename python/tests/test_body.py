@@ -85,6 +85,10 @@ def test_bad_files_and_parameters_are_value_errors(tmp_path, repo):
         Body.paper_sphere(-1)
     with pytest.raises(ValueError, match="sigma"):
         Body.random_sphere(1, sigma=float("nan"))
+    # Issue 33: amplitudes so large that r < 0 somewhere made a "body" with alpha_star = pi/2,
+    # which to_file wrote and from_file refused. Now refused where it is made.
+    with pytest.raises(ValueError, match="star-shaped"):
+        Body.random_sphere(1, sigma=5)
     with pytest.raises(ValueError, match="modes"):
         Body.random_disk(1, modes=10**30)
 

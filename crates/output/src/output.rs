@@ -194,7 +194,9 @@ impl Inputs {
 
 /// The temporary files being written now, removed by [`remove_partial_outputs`] when the user
 /// interrupts the command (Ctrl-C), so an interrupted run leaves nothing behind.
-static PARTIAL_OUTPUTS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// A set, not a list: a run that stages a million frames forgets each in constant time.
+static PARTIAL_OUTPUTS: std::sync::LazyLock<Mutex<std::collections::HashSet<PathBuf>>> =
+    std::sync::LazyLock::new(|| Mutex::new(std::collections::HashSet::new()));
 
 /// The scratch folders alive now ([`ScratchFolder`]), removed with the partial outputs on Ctrl-C.
 static SCRATCH_FOLDERS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
@@ -309,14 +311,14 @@ fn remember_partial(temp: &Path) {
     PARTIAL_OUTPUTS
         .lock()
         .unwrap_or_else(|e| e.into_inner())
-        .push(temp.to_path_buf());
+        .insert(temp.to_path_buf());
 }
 
 fn forget_partial(temp: &Path) {
     PARTIAL_OUTPUTS
         .lock()
         .unwrap_or_else(|e| e.into_inner())
-        .retain(|p| p != temp);
+        .remove(temp);
 }
 
 /// Bytes of the destination's name kept in a staging name, so that `.NAME.partial-PID-K` fits
@@ -766,6 +768,11 @@ impl OutputSet {
         file.finish_writing()?;
         self.files.push(file);
         Ok(())
+    }
+
+    /// Adds every file of `other` (staged by another thread, say) to this set.
+    pub fn extend(&mut self, other: OutputSet) {
+        self.files.extend(other.files);
     }
 
     /// Stages `bytes` for `path` (see [`write_bytes`]).

@@ -70,7 +70,7 @@ pub fn run(a: RenderBenchArgs) -> Result<()> {
             },
         )?;
         row("+ readback to memory", &mut |r, k| r.frame(k).map(|_| ()))?;
-        let writer = PngWriter::new(2, crate::output::Inputs::none());
+        let mut writer = PngWriter::new(2, crate::output::Inputs::none());
         let start = Instant::now();
         for _ in 0..a.frames {
             let img = r.frame(k)?;

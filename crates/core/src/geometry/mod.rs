@@ -150,7 +150,7 @@ impl Body {
     /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
     /// ```
     pub fn paper_sphere(seed: u64, sigma: f64, modes: u32) -> Result<Self, ShapeError> {
-        Ok(Body::Sphere(paper_sphere(numpy_seed(seed)?, sigma, modes)?))
+        Body::Sphere(paper_sphere(numpy_seed(seed)?, sigma, modes)?).as_a_shape_file_would_be()
     }
 
     /// The paper authors' 2D body (a cylinder's section) for numpy seed `seed`, with
@@ -163,7 +163,7 @@ impl Body {
     /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
     /// ```
     pub fn paper_disk(seed: u64, sigma: f64, modes: u32) -> Result<Self, ShapeError> {
-        Ok(Body::Disk(paper_disk(numpy_seed(seed)?, sigma, modes)?))
+        Body::Disk(paper_disk(numpy_seed(seed)?, sigma, modes)?).as_a_shape_file_would_be()
     }
 
     /// A random 3D body from rollphase's own generator (ChaCha, seeded): any u64 seed.
@@ -172,10 +172,12 @@ impl Body {
     /// use rollphase_core::geometry::Body;
     /// let body = Body::random_sphere(1, 0.25, 5)?;
     /// assert_eq!(body.dimension(), 3);
+    /// // Amplitudes so large that r < 0 somewhere are no body: refused, as a shape file would be.
+    /// assert!(Body::random_sphere(1, 5.0, 5).is_err());
     /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
     /// ```
     pub fn random_sphere(seed: u64, sigma: f64, modes: u32) -> Result<Self, ShapeError> {
-        Ok(Body::Sphere(random_sphere(seed, sigma, modes)?))
+        Body::Sphere(random_sphere(seed, sigma, modes)?).as_a_shape_file_would_be()
     }
 
     /// A random 2D body from rollphase's own generator: any u64 seed.
@@ -187,7 +189,13 @@ impl Body {
     /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
     /// ```
     pub fn random_disk(seed: u64, sigma: f64, modes: u32) -> Result<Self, ShapeError> {
-        Ok(Body::Disk(random_disk(seed, sigma, modes)?))
+        Body::Disk(random_disk(seed, sigma, modes)?).as_a_shape_file_would_be()
+    }
+
+    /// The body, checked as [`Body::from_shape`] checks a shape file (star-shaped, amplitudes
+    /// in range), so a generated body is one that its written shape file loads back as.
+    fn as_a_shape_file_would_be(self) -> Result<Self, ShapeError> {
+        Body::from_shape(&self.to_shape())
     }
 
     /// Reads, parses and validates a shape file (JSON; the schema is in [`ShapeFile`]). Files
