@@ -160,7 +160,7 @@ impl FigureOptions {
     /// when none rolls.
     pub fn single_alpha(&self, figure: &str, default: f64) -> Result<f64> {
         let alpha = self.alpha.unwrap_or(default);
-        if !(alpha >= crate::dynamics::MIN_ALPHA && alpha < std::f64::consts::FRAC_PI_2) {
+        if !(crate::dynamics::MIN_ALPHA..std::f64::consts::FRAC_PI_2).contains(&alpha) {
             bail!(
                 "{figure}: --alpha {} is not allowed (needs 1e-9 ≤ α < π/2 rad)",
                 crate::integrate::readable(alpha)

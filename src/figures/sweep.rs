@@ -329,7 +329,7 @@ impl Sweep {
         let spec: SweepSpec = toml::from_str(text).map_err(|e| anyhow::anyhow!("{e}"))?;
         let alphas = spec.alpha.values("alpha")?;
         for &a in &alphas {
-            if !(a >= crate::dynamics::MIN_ALPHA && a < std::f64::consts::FRAC_PI_2) {
+            if !(crate::dynamics::MIN_ALPHA..std::f64::consts::FRAC_PI_2).contains(&a) {
                 bail!(
                     "alpha = {} is not allowed (needs 1e-9 ≤ α < π/2 rad)",
                     readable(a)

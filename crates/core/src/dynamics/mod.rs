@@ -164,10 +164,7 @@ impl Ramp {
     /// assert_eq!(Ramp::with_drag(0.15, 0.0, 0.0), Err(ModelError::BadDrag(0.0)));
     /// ```
     pub fn with_drag(alpha_rad: f64, mass_ratio: f64, drag: f64) -> Result<Self, ModelError> {
-        if !(alpha_rad.is_finite()
-            && alpha_rad >= MIN_ALPHA
-            && alpha_rad < std::f64::consts::FRAC_PI_2)
-        {
+        if !(MIN_ALPHA..std::f64::consts::FRAC_PI_2).contains(&alpha_rad) {
             return Err(ModelError::BadAlpha(alpha_rad));
         }
         if !(mass_ratio.is_finite() && mass_ratio >= 0.0) {

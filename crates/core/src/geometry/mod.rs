@@ -150,7 +150,7 @@ impl Body {
     /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
     /// ```
     pub fn paper_sphere(seed: u64, sigma: f64, modes: u32) -> Result<Self, ShapeError> {
-        Body::Sphere(paper_sphere(numpy_seed(seed)?, sigma, modes)?).as_a_shape_file_would_be()
+        Body::Sphere(paper_sphere(numpy_seed(seed)?, sigma, modes)?).checked_as_a_shape_file()
     }
 
     /// The paper authors' 2D body (a cylinder's section) for numpy seed `seed`, with
@@ -163,7 +163,7 @@ impl Body {
     /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
     /// ```
     pub fn paper_disk(seed: u64, sigma: f64, modes: u32) -> Result<Self, ShapeError> {
-        Body::Disk(paper_disk(numpy_seed(seed)?, sigma, modes)?).as_a_shape_file_would_be()
+        Body::Disk(paper_disk(numpy_seed(seed)?, sigma, modes)?).checked_as_a_shape_file()
     }
 
     /// A random 3D body from rollphase's own generator (ChaCha, seeded): any u64 seed.
@@ -177,7 +177,7 @@ impl Body {
     /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
     /// ```
     pub fn random_sphere(seed: u64, sigma: f64, modes: u32) -> Result<Self, ShapeError> {
-        Body::Sphere(random_sphere(seed, sigma, modes)?).as_a_shape_file_would_be()
+        Body::Sphere(random_sphere(seed, sigma, modes)?).checked_as_a_shape_file()
     }
 
     /// A random 2D body from rollphase's own generator: any u64 seed.
@@ -189,12 +189,12 @@ impl Body {
     /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
     /// ```
     pub fn random_disk(seed: u64, sigma: f64, modes: u32) -> Result<Self, ShapeError> {
-        Body::Disk(random_disk(seed, sigma, modes)?).as_a_shape_file_would_be()
+        Body::Disk(random_disk(seed, sigma, modes)?).checked_as_a_shape_file()
     }
 
     /// The body, checked as [`Body::from_shape`] checks a shape file (star-shaped, amplitudes
     /// in range), so a generated body is one that its written shape file loads back as.
-    fn as_a_shape_file_would_be(self) -> Result<Self, ShapeError> {
+    fn checked_as_a_shape_file(self) -> Result<Self, ShapeError> {
         Body::from_shape(&self.to_shape())
     }
 
