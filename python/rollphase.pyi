@@ -24,10 +24,13 @@ class Body:
     @staticmethod
     def paper_sphere(seed: int, sigma: float = 0.25, modes: int = 5) -> Body:
         """The paper's 3D body for a numpy seed (the authors' generator, bit for bit); seed 219
-        is the body of the paper's Figs. 3 and 4."""
+        is the body of the paper's Figs. 3 and 4. modes is the highest degree l, as the
+        authors' L."""
     @staticmethod
     def paper_disk(seed: int, sigma: float = 0.08, modes: int = 10) -> Body:
-        """The paper's 2D body for a numpy seed (the authors' generator, bit for bit)."""
+        """The paper's 2D body for a numpy seed (the authors' generator, bit for bit). modes is the
+        highest degree l; the authors' get_r(seed, num_modes, std) covers l = 2 … num_modes + 1,
+        so their num_modes = 8 is modes=9 here."""
     @staticmethod
     def random_sphere(seed: int, sigma: float = 0.25, modes: int = 5) -> Body:
         """A random sphere from rollphase's own seeded generator."""

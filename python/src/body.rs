@@ -44,7 +44,8 @@ impl Body {
 #[pymethods]
 impl Body {
     /// The paper's 3D body for a numpy seed (the authors' generator, bit for bit): seed 219,
-    /// sigma 0.25, modes 5 is the body of the paper's Figs. 3 and 4.
+    /// sigma 0.25, modes 5 is the body of the paper's Figs. 3 and 4. modes is the highest degree
+    /// l, as the authors' L.
     #[staticmethod]
     #[pyo3(signature = (seed, sigma = 0.25, modes = 5))]
     fn paper_sphere(seed: i128, sigma: f64, modes: i128) -> PyResult<Self> {
@@ -55,7 +56,9 @@ impl Body {
         )
     }
 
-    /// The paper's 2D body for a numpy seed (the authors' generator, bit for bit).
+    /// The paper's 2D body for a numpy seed (the authors' generator, bit for bit). modes is the
+    /// highest degree l; the authors' get_r(seed, num_modes, std) covers l = 2 … num_modes + 1,
+    /// so their num_modes = 8 is modes=9 here.
     #[staticmethod]
     #[pyo3(signature = (seed, sigma = 0.08, modes = 10))]
     fn paper_disk(seed: i128, sigma: f64, modes: i128) -> PyResult<Self> {
@@ -102,6 +105,20 @@ impl Body {
             return Err(PyValueError::new_err(
                 "to_file needs a file path; \"-\" (standard output) is for the command line",
             ));
+        }
+        // Opening a FIFO for writing waits for a reader, holding the GIL and deaf to Ctrl-C;
+        // a socket cannot be opened at all. Both are for streams: write body.to_json() there.
+        {
+            use std::os::unix::fs::FileTypeExt;
+            if let Ok(m) = std::fs::metadata(&path)
+                && (m.file_type().is_fifo() || m.file_type().is_socket())
+            {
+                return Err(PyValueError::new_err(format!(
+                    "{} is a pipe or socket, not a file; to_file writes files (write \
+                     body.to_json() to a stream yourself)",
+                    path.display()
+                )));
+            }
         }
         let text = self.body.to_shape().to_json() + "\n";
         output::write_bytes(&path, text.as_bytes(), &output::Inputs::none()).map_err(|e| match e {

@@ -15,7 +15,7 @@ use rollphase_core::analysis::sphere_return_map::PeriodicOrbit;
 use rollphase_core::analysis::studies::{
     cruising_fraction_until, period_counts_until, periodic_orbits_until, poincare_map_until,
 };
-use rollphase_core::analysis::{inertial_disk_period, viscous_disk_period};
+use rollphase_core::analysis::{inertial_disk_period_until, viscous_disk_period};
 use rollphase_core::dynamics::Ramp;
 use rollphase_core::geometry::Body as CoreBody;
 use rollphase_core::glam::DVec3;
@@ -79,14 +79,25 @@ pub fn period(
     else {
         return Err(PyValueError::new_err("period is for a 2D disk"));
     };
+    // The stiff corner as the command line handles it: at m/m0 ≤ rtol the viscous limit.
+    let ramp = rollphase_core::simulate::choose_model(
+        &body.body,
+        ramp,
+        rollphase_core::integrate::Method::dop853(rtol),
+    )
+    .map_err(value_error)?
+    .ramp;
     let p = if ramp.is_viscous() {
         viscous_disk_period(disk, &ramp)
     } else {
         let disk = disk.clone();
-        interruptible(py, move |_| {
-            inertial_disk_period(&disk, &ramp, theta0, theta_dot0, rtol, t_max)
+        // Ctrl-C sets the stop flag: a stiff run (m/m0 = 1e-9) ends at once instead of after
+        // minutes. A stopped run's outcome is never read: the interrupt is raised instead.
+        let run = interruptible(py, move |stop| {
+            inertial_disk_period_until(&disk, &ramp, theta0, theta_dot0, rtol, t_max, stop)
         })?
-        .map_err(value_error)?
+        .map_err(value_error)?;
+        run.ok_or_else(|| PyValueError::new_err("the period run was stopped"))?
     };
     match (p.period, p.halts) {
         (Some(t), _) => Ok(Some(t)),

@@ -69,6 +69,11 @@ def test_to_file_refuses_what_it_cannot_write(tmp_path):
     with pytest.raises(ValueError, match="file path"):
         body.to_file("-")
     assert list(tmp_path.iterdir()) == [], "nothing staged is left behind"
+    # Issue 33: a FIFO with no reader deadlocked holding the GIL; refused at once now.
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    with pytest.raises(ValueError, match="pipe or socket"):
+        body.to_file(fifo)
 
 
 def test_bad_files_and_parameters_are_value_errors(tmp_path, repo):

@@ -181,3 +181,16 @@ def test_ctrl_c_stops_a_study():
     with pytest.raises(KeyboardInterrupt):
         rollphase.cruising_fraction(body, 0.13, 100000)
     assert time.perf_counter() - started < 10
+
+
+def test_period_in_the_stiff_corner_takes_the_viscous_limit_or_stops_on_ctrl_c():
+    # Issue 33: period(mass_ratio=1e-9) ignored Ctrl-C for over a minute; at m/m0 <= rtol it
+    # is the viscous period, as the command line's.
+    disk = Body.paper_disk(84, 0.12, 5)
+    assert rollphase.period(disk, 0.3, mass_ratio=1e-300) == rollphase.period(disk, 0.3)
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    timer.start()
+    started = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        rollphase.period(disk, 0.3, mass_ratio=1e-9)
+    assert time.perf_counter() - started < 5, "stopped soon after Ctrl-C"

@@ -39,7 +39,10 @@ pub struct ShapeArgs {
     /// Standard deviation σ of the amplitudes [default: 0.08 in 2D, 0.25 in 3D].
     #[arg(long, allow_negative_numbers = true)]
     pub sigma: Option<f64>,
-    /// Highest mode: M in 2D (2..=64), L in 3D (2..=12) [default: 10 in 2D, 5 in 3D].
+    /// Highest degree l of the modes: M in 2D (2..=64), L in 3D (2..=12) [default: 10 in 2D, 5
+    /// in 3D]. The paper authors' 2D generator counts modes instead: their get_r(seed,
+    /// num_modes, std) covers l = 2 … num_modes + 1, so their num_modes = 8 is --modes 9 here.
+    /// In 3D their L is this L (seed 219, l ≤ 5: --modes 5).
     #[arg(long)]
     pub modes: Option<u32>,
     /// Output file [default: standard output].

@@ -21,5 +21,6 @@ pub mod studies;
 
 pub use critical_angle::{CriticalAngle, critical_angle};
 pub use period::{
-    PeriodResult, inertial_disk_period, viscous_disk_period, viscous_disk_period_with,
+    PeriodResult, inertial_disk_period, inertial_disk_period_until, viscous_disk_period,
+    viscous_disk_period_with,
 };

@@ -133,6 +133,35 @@ pub fn inertial_disk_period(
     rtol: f64,
     t_max: f64,
 ) -> Result<PeriodResult, IntegrateError> {
+    let never = std::sync::atomic::AtomicBool::new(false);
+    inertial_disk_period_until(disk, ramp, theta0, theta_dot0, rtol, t_max, &never)
+        .map(|p| p.expect("never stopped"))
+}
+
+/// [`inertial_disk_period`], ending early (`Ok(None)`) once `stop` is set: a stiff run (tiny
+/// m/m0) can take minutes, and a caller (Python's Ctrl-C) must be able to end it.
+///
+/// # Example
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use rollphase_core::analysis::period::inertial_disk_period_until;
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// let Body::Disk(disk) = Body::paper_disk(84, 0.12, 5)? else { unreachable!() };
+/// let stop = AtomicBool::new(true); // already asked to stop
+/// let p = inertial_disk_period_until(&disk, &Ramp::new(0.3, 1e-9)?, 0.0, 0.0, 1e-10, 5000.0, &stop)?;
+/// assert!(p.is_none());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn inertial_disk_period_until(
+    disk: &Disk,
+    ramp: &Ramp,
+    theta0: f64,
+    theta_dot0: f64,
+    rtol: f64,
+    t_max: f64,
+    stop: &std::sync::atomic::AtomicBool,
+) -> Result<Option<PeriodResult>, IntegrateError> {
     let model = DiskInertial::new(disk, ramp);
     let mut st = integrate::stepper(
         &model,
@@ -145,6 +174,9 @@ pub fn inertial_disk_period(
     let mut periods: Vec<f64> = Vec::new();
     let max_steps = 50_000_000;
     while st.t() < t_max {
+        if stop.load(std::sync::atomic::Ordering::Relaxed) {
+            return Ok(None);
+        }
         if st.stats().steps >= max_steps {
             return Err(IntegrateError::TooManySteps {
                 t: st.t(),
@@ -167,14 +199,14 @@ pub fn inertial_disk_period(
             let n = periods.len();
             let (a, b, c) = (periods[n - 3], periods[n - 2], periods[n - 1]);
             if (a - b).abs() <= 1e-8 * c && (b - c).abs() <= 1e-8 * c {
-                return Ok(PeriodResult {
+                return Ok(Some(PeriodResult {
                     period: Some(c),
                     mean_angular_speed: std::f64::consts::TAU / c,
                     halts: false,
                     converged: true,
                     relative_error: 1e-8,
                     t_simulated: st.t(),
-                });
+                }));
             }
         }
     }
@@ -193,20 +225,20 @@ pub fn inertial_disk_period(
         t_simulated: st.t(),
     };
     if resting || periods.is_empty() || (st.t() - last_crossing) > 0.5 * t_max {
-        return Ok(not_measured);
+        return Ok(Some(not_measured));
     }
     // Still rolling but not yet periodic to 1e-8: report the mean over the second half.
     let half: Vec<f64> = periods.iter().skip(periods.len() / 2).copied().collect();
     let mean = half.iter().sum::<f64>() / half.len() as f64;
     if !(mean.is_finite() && mean > 0.0) {
-        return Ok(not_measured);
+        return Ok(Some(not_measured));
     }
-    Ok(PeriodResult {
+    Ok(Some(PeriodResult {
         period: Some(mean),
         mean_angular_speed: std::f64::consts::TAU / mean,
         halts: false,
         converged: false,
         relative_error: f64::NAN,
         t_simulated: st.t(),
-    })
+    }))
 }
