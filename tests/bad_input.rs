@@ -1285,3 +1285,68 @@ fn stiff_corners_take_the_viscous_limit_or_warn_with_an_estimate_before_running(
         );
     }
 }
+
+/// Issue 33, case 11: messages that were false or unreadable. A quaternion of huge or tiny
+/// components is a direction like any other; a negative --atol gets the tolerance's own
+/// message, not clap's "unexpected argument"; a sweep spec's 400 kB line is not echoed whole;
+/// `max_degree` is called `max_degree`; a stiff or singular step names no "tiny m/m0" it was
+/// not given; angles print readably.
+#[test]
+fn messages_say_what_is_true_in_readable_numbers() {
+    let dir = temp_dir("messages");
+    let sphere = write(&dir, "sphere.json", SPHERE);
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "simulate",
+            &sphere,
+            "--alpha",
+            "0.3",
+            "--t-end",
+            "1",
+            "--samples",
+            "2",
+        ];
+        args.extend_from_slice(extra);
+        rollphase(&args)
+    };
+    let reference = run(&["--q0", "1,1,0,0"]);
+    assert!(reference.status.success());
+    for q0 in ["1e154,1e154,0,0", "1e-160,1e-160,0,0"] {
+        let r = run(&["--q0", q0]);
+        assert!(
+            r.status.success(),
+            "{q0}: {}",
+            String::from_utf8_lossy(&r.stderr)
+        );
+        assert_eq!(
+            r.stdout, reference.stdout,
+            "{q0} is the direction of 1,1,0,0"
+        );
+    }
+    fails_with(
+        &run(&["--q0", "0,0,0,0"]),
+        1,
+        &["--q0 0,0,0,0 has zero length"],
+    );
+    fails_with(&run(&["--atol", "-1"]), 1, &["atol = -1 is not allowed"]);
+    let r = run(&["--drag", "1e-300"]);
+    assert!(!String::from_utf8_lossy(&r.stderr).contains("tiny m/m0"));
+    let r = rollphase(&["period", &write(&dir, "d.json", DISK), "--alpha", "1e-300"]);
+    fails_with(&r, 1, &["alpha = 1e-300 rad", "round-off"]);
+
+    let long = format!(
+        "alpha = [{}x]\n[bodies]\npaper_seeds = [219]\n",
+        "0.1,".repeat(100_000)
+    );
+    let spec = write(&dir, "long.toml", &long);
+    let r = rollphase(&["sweep", &spec, "--out", dir.join("o").to_str().unwrap()]);
+    fails_with(&r, 1, &["characters in all"]);
+    assert!(r.stderr.len() < 2000, "{} bytes of message", r.stderr.len());
+    let spec = write(
+        &dir,
+        "degree.toml",
+        "alpha = [0.2]\n[bodies]\nseeds = [1]\nmax_degree = 20\n",
+    );
+    let r = rollphase(&["sweep", &spec, "--out", dir.join("o").to_str().unwrap()]);
+    fails_with(&r, 1, &["bodies.max_degree = 20", "2 ≤ max_degree ≤ 12"]);
+}

@@ -728,3 +728,28 @@ fn forged_shards_naming_no_ensemble_or_a_huge_split_are_refused_at_once() {
     assert!(e.contains("one of 1000000000000000 shards"), "{e}");
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// Issue 33, case 11: `merge .` from inside OUT/NAME merges there (it was refused, saying the
+/// folder must keep the figure's name).
+#[test]
+fn merge_dot_from_inside_the_figures_folder_merges_there() {
+    let root = scratch("merge-dot");
+    ok(&[
+        "figure",
+        "sphere-orbits",
+        "--quick",
+        "--out",
+        root.to_str().unwrap(),
+        "--shard",
+        "1/1",
+    ]);
+    let dir = root.join("sphere-orbits");
+    let o = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        .args(["merge", "."])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(dir.join("data.csv").is_file() && dir.join("summary.json").is_file());
+    let _ = std::fs::remove_dir_all(&root);
+}

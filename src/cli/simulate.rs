@@ -85,10 +85,10 @@ pub struct SimulateArgs {
     #[arg(long, value_enum, default_value_t = IntegratorName::Dop853)]
     pub integrator: IntegratorName,
     /// DOP853 relative tolerance.
-    #[arg(long, default_value = "1e-10")]
+    #[arg(long, default_value = "1e-10", allow_negative_numbers = true)]
     pub rtol: f64,
     /// DOP853 absolute tolerance [default: rtol].
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub atol: Option<f64>,
     /// RK4/CF4 time step (at most t_end). The run checks it by step doubling and stops, naming a
     /// step that would pass, when one step's error estimate exceeds 1e-3.
@@ -269,7 +269,10 @@ pub fn run(a: SimulateArgs) -> Result<()> {
                 }
             };
             // Rows already sent to standard output cannot be taken back; a file is untouched.
-            let left = if output::is_standard_output(&a.output) {
+            // (The header goes out with the first row: none sent, none to take back.)
+            let left = if header.is_some() {
+                "no rows were written"
+            } else if output::is_standard_output(&a.output) {
                 "the rows on standard output stop there and are incomplete"
             } else {
                 "no CSV was written"

@@ -326,7 +326,8 @@ impl Sweep {
     /// validates every key in the spec's order, each with its own message (which key, which
     /// value, what is allowed), before any run; split up, the checks would only be scattered.
     pub fn from_text(text: &str, base: &Path) -> Result<Self> {
-        let spec: SweepSpec = toml::from_str(text).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let spec: SweepSpec = toml::from_str(text)
+            .map_err(|e| anyhow::anyhow!("{}", clip_long_lines(&e.to_string())))?;
         let alphas = spec.alpha.values("alpha")?;
         for &a in &alphas {
             if !(crate::dynamics::MIN_ALPHA..std::f64::consts::FRAC_PI_2).contains(&a) {
@@ -400,6 +401,14 @@ impl Sweep {
             }
         }
         let b = &spec.bodies;
+        let max_l = rollphase_core::geometry::MAX_SPHERE_L;
+        if !(2..=max_l).contains(&b.max_degree) {
+            bail!(
+                "bodies.max_degree = {} is not allowed (needs 2 ≤ max_degree ≤ {max_l}: the \
+                 highest degree l of the generated bodies' modes)",
+                b.max_degree
+            );
+        }
         let n_bodies = b.paper_seeds.len() + b.seeds.len() + b.files.len();
         if n_bodies == 0 {
             bail!("bodies: give at least one of paper_seeds, seeds or files");
@@ -653,6 +662,21 @@ fn fate_fields(fate: &Fate) -> (&'static str, f64, String, f64, f64) {
             ("undecided", f64::NAN, String::new(), f64::NAN, omega_end)
         }
     }
+}
+
+/// Longest line of a spec's text quoted in an error: TOML's messages quote the offending line,
+/// which in a generated spec can be hundreds of kB.
+const MAX_QUOTED_LINE: usize = 200;
+
+/// `text` with every line over [`MAX_QUOTED_LINE`] characters cut there (and marked).
+fn clip_long_lines(text: &str) -> String {
+    text.lines()
+        .map(|l| match l.char_indices().nth(MAX_QUOTED_LINE) {
+            Some((cut, _)) => format!("{} … ({} characters in all)", &l[..cut], l.chars().count()),
+            None => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// sweep.csv's header.

@@ -87,6 +87,31 @@ pub enum OutputError {
         /// The file as the second named it, or "standard output".
         place: String,
     },
+    /// The folder an output goes into takes no new files (read-only, or no permission).
+    #[error(
+        "cannot write {}: its folder {} takes no new files ({error}); rollphase writes a new \
+         file beside the old one and moves it into place, so the folder must be writable",
+        path.display(), folder.display()
+    )]
+    FolderNotWritable {
+        /// The output as given.
+        path: PathBuf,
+        /// Its folder.
+        folder: PathBuf,
+        /// What the OS said.
+        error: io::Error,
+    },
+    /// A folder named by a symbolic link whose target does not exist.
+    #[error(
+        "{} is a link to {}, which does not exist; make that folder, or give another",
+        path.display(), target.display()
+    )]
+    DanglingFolderLink {
+        /// The link.
+        path: PathBuf,
+        /// Where it points.
+        target: PathBuf,
+    },
     /// Standard output refused (a closed pipe, a full disk behind it).
     #[error("cannot write to standard output: {0}")]
     Stdout(io::Error),
@@ -540,7 +565,8 @@ fn place_of(path: &Path) -> Result<Place> {
 }
 
 /// Checks, before a command's expensive work, that `path` can be written: not one of `inputs`,
-/// not a folder, and its folder exists. Nothing is created.
+/// not a folder, and its folder exists and takes new files (the output is staged there). Only a
+/// probe file is made and removed at once.
 pub fn check_file(path: &Path, inputs: &Inputs) -> Result<()> {
     inputs.refuse(path)?;
     if let Place::Staged { destination, .. } = place_of(path)? {
@@ -553,8 +579,29 @@ pub fn check_file(path: &Path, inputs: &Inputs) -> Result<()> {
             Ok(_) => return Err(OutputError::NotFolder { path: dir }),
             Err(e) => return Err(OutputError::io(path, e)),
         }
+        probe_writable(&dir, path)?;
     }
     Ok(())
+}
+
+/// Whether new files can be made in the folder `dir` (for the output `named`): a probe file is
+/// created and removed. A read-only folder or file system is found here, before the work,
+/// rather than when the finished output is staged.
+fn probe_writable(dir: &Path, named: &Path) -> Result<()> {
+    let k = NEXT_TEMP.fetch_add(1, Ordering::Relaxed);
+    let probe = dir.join(format!(".rollphase-probe-{}-{k}", std::process::id()));
+    match OpenOptions::new().write(true).create_new(true).open(&probe) {
+        Ok(f) => {
+            drop(f);
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) => Err(OutputError::FolderNotWritable {
+            path: named.to_path_buf(),
+            folder: dir.to_path_buf(),
+            error: e,
+        }),
+    }
 }
 
 /// Checks, before a command's expensive work, that the files `names` can be written into the
@@ -576,6 +623,14 @@ pub fn check_folder(dir: &Path, names: &[&str], inputs: &Inputs) -> Result<()> {
                     io::ErrorKind::NotFound | io::ErrorKind::NotADirectory
                 ) =>
             {
+                // A link to nowhere: making the folder would fail with "File exists", after
+                // the work.
+                if std::fs::symlink_metadata(existing).is_ok_and(|m| m.file_type().is_symlink()) {
+                    return Err(OutputError::DanglingFolderLink {
+                        path: existing.to_path_buf(),
+                        target: std::fs::read_link(existing).unwrap_or_default(),
+                    });
+                }
                 match existing.parent() {
                     Some(p) if !p.as_os_str().is_empty() => existing = p,
                     _ => break,
@@ -589,6 +644,12 @@ pub fn check_folder(dir: &Path, names: &[&str], inputs: &Inputs) -> Result<()> {
         inputs.refuse(&path)?;
         place_of(&path)?;
     }
+    // The folder the files go into, or the nearest one that exists (where it will be made; a
+    // relative path with no existing part is made in the working folder).
+    if !std::fs::metadata(existing).is_ok_and(|m| m.is_dir()) {
+        existing = Path::new(".");
+    }
+    probe_writable(existing, dir)?;
     Ok(())
 }
 
@@ -1374,6 +1435,42 @@ mod tests {
         rx.recv().unwrap();
         writer.join().unwrap();
         assert_eq!(std::fs::read(d.join("a.csv")).unwrap(), b"new");
+    }
+
+    #[test]
+    fn an_unusable_output_folder_is_found_before_the_work() {
+        use std::os::unix::fs::PermissionsExt;
+        let d = temp_dir("unusable");
+        std::os::unix::fs::symlink(d.join("nowhere"), d.join("dangling")).unwrap();
+        let e =
+            check_folder(&d.join("dangling").join("fig"), &["a.csv"], &Inputs::none()).unwrap_err();
+        assert!(matches!(e, OutputError::DanglingFolderLink { .. }), "{e}");
+        assert!(e.to_string().contains("nowhere"), "{e}");
+        // A folder without write permission: refused up front as a new file there would be
+        // (root may write anyway, and then so does the check).
+        let ro = d.join("ro");
+        std::fs::create_dir(&ro).unwrap();
+        std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o555)).unwrap();
+        let can = OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(ro.join("try"))
+            .is_ok();
+        let _ = std::fs::remove_file(ro.join("try"));
+        let file_check = check_file(&ro.join("out.csv"), &Inputs::none());
+        let folder_check = check_folder(&ro.join("fig"), &["a.csv"], &Inputs::none());
+        assert_eq!(file_check.is_ok(), can, "{file_check:?}");
+        assert_eq!(folder_check.is_ok(), can, "{folder_check:?}");
+        if !can {
+            let e = file_check.unwrap_err();
+            assert!(e.to_string().contains("takes no new files"), "{e}");
+        }
+        assert_eq!(
+            std::fs::read_dir(&ro).unwrap().count(),
+            0,
+            "the probe is gone"
+        );
+        std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o755)).unwrap();
     }
 
     #[test]

@@ -149,7 +149,9 @@ pub fn merge_figure(dir: &Path, merged: Merged) -> Result<MergeOutcome> {
             crate::figures::sharded_figures().join(", ")
         );
     }
-    if dir.file_name().and_then(|n| n.to_str()) != Some(name.as_str()) {
+    // By its real name: `merge .` from inside OUT/NAME is that folder too.
+    let real = std::fs::canonicalize(dir).unwrap_or_else(|_| dir.to_path_buf());
+    if real.file_name().and_then(|n| n.to_str()) != Some(name.as_str()) {
         bail!(
             "{} holds shards of {name}; merge writes into OUT/{name}, so the folder must keep \
              that name",
@@ -166,7 +168,7 @@ pub fn merge_figure(dir: &Path, merged: Merged) -> Result<MergeOutcome> {
     }
     output::check_folder(dir, &crate::figures::FIGURE_FILES, &inputs)?;
     let opts = FigureOptions {
-        out: dir.parent().map(Path::to_path_buf).unwrap_or_default(),
+        out: real.parent().map(Path::to_path_buf).unwrap_or_default(),
         seed,
         quick,
         body,

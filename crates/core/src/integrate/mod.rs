@@ -189,7 +189,7 @@ pub enum IntegrateError {
     /// The adaptive step fell below what floating point can resolve.
     #[error(
         "integration failed at t = {t}: the step size fell to {h:e}, below what double precision \
-         resolves; the problem is stiff or singular here (try the viscous model for tiny m/m0)"
+         resolves; the problem is stiff or singular here"
     )]
     StepTooSmall {
         /// When.

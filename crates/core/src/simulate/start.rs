@@ -254,12 +254,14 @@ pub fn check_start(
                         return Err(StartError::SpinWithQ0);
                     }
                     finite(StartField::Q0, &v)?;
-                    let q = DQuat::from_xyzw(v[1], v[2], v[3], v[0]);
-                    if q.length() < 1e-12 {
+                    // Scaled by its largest component first: only the direction matters, and
+                    // |q| of 1e154-sized components overflows (1e-160-sized ones underflow).
+                    let scale = v.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+                    if scale == 0.0 {
                         return Err(StartError::ZeroQuaternion(v));
                     }
                     // Normalised once, where the run starts (`Start`), as for every caller.
-                    q
+                    DQuat::from_xyzw(v[1] / scale, v[2] / scale, v[3] / scale, v[0] / scale)
                 }
                 (None, Some(c)) => {
                     finite(StartField::Contact, &c)?;
