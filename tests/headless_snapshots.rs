@@ -212,11 +212,13 @@ fn a_run_that_left_the_rolling_constraint_shows_a_red_warning_instead_of_numbers
     // RK4 at dt = 1.5 on the default body passes each step's own check but ||q| − 1| adds up
     // past 1e-3, so the overlay's 1/T line is replaced by a red "NOT TRUSTWORTHY" line; at
     // dt = 0.2 there is none. (A step the check refuses stops the run: see
-    // `a_fixed_step_too_coarse_stops_the_run_with_a_red_overlay_line`.)
+    // `a_fixed_step_too_coarse_stops_the_run_with_a_red_overlay_line`.) The playback speed
+    // makes a frame's simulated time (45 / 30 fps = 1.5) at least the step, as a scene must.
     let red_text_pixels = |dt: f64| {
         let toml = format!(
             "name = \"s\"\n[body]\nshape = \"../shapes/sphere.json\"\n[model]\nalpha_rad = 0.3\n\
-             [integrator]\nmethod = \"rk4\"\ndt = {dt}\n[playback]\nstart_time = 100.0\n"
+             [integrator]\nmethod = \"rk4\"\ndt = {dt}\n[playback]\nstart_time = 100.0\n\
+             speed = 45.0\n"
         );
         let mut scene = Scene::from_toml(&toml).unwrap();
         // Resolve the bundled shape as a preset would.

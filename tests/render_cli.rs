@@ -601,3 +601,31 @@ fn headless_frames_are_committed_as_a_set() {
     assert!(hidden.is_empty(), "left behind: {hidden:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 33, case 11: a scene named like one of the frames in --out is refused before the
+/// frames are rendered (it was refused when its frame's turn came, after the work).
+#[test]
+fn a_scene_named_like_a_frame_in_out_is_refused_before_rendering() {
+    let dir = temp("scene-like-frame");
+    let scene = dir.join("frame_00001.png");
+    std::fs::write(
+        &scene,
+        "name = \"mine\"\n[body]\nrandom = { dimension = 2, seed = 1, sigma = 0.08 }\n[model]\nalpha_rad = 0.4\n",
+    )
+    .unwrap();
+    let before = std::fs::read(&scene).unwrap();
+    let o = two_small_frames(&[
+        "--scene",
+        scene.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("named like frame 1"), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&scene).unwrap(), before);
+    assert!(
+        !dir.join("frame_00000.png").exists(),
+        "no frame was written"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -183,7 +183,8 @@ fn a_fixed_step_too_coarse_stops_the_run_with_a_red_overlay_line() {
     // CF4 keeps |q| = 1 exactly, so at dt = 5 every health number stays at round-off while the
     // orbit is wrong by radians; the step-doubling check stops it and says why.
     let mut s = sim(
-        "name = \"coarse\"\n[body]\nrandom = { dimension = 3, seed = 1, sigma = 0.25 }\n[model]\nalpha_rad = 0.3\n[integrator]\nmethod = \"cf4\"\ndt = 5.0\n",
+        // (Played at 150 time units a second, so that a frame, 5 time units, holds the step.)
+        "name = \"coarse\"\n[body]\nrandom = { dimension = 3, seed = 1, sigma = 0.25 }\n[model]\nalpha_rad = 0.3\n[integrator]\nmethod = \"cf4\"\ndt = 5.0\n[playback]\nspeed = 150.0\n",
     );
     let e = s.advance_to(100.0).unwrap_err().to_string();
     assert!(e.contains("too coarse") && e.contains("dt = 5"), "{e}");
@@ -194,7 +195,7 @@ fn a_fixed_step_too_coarse_stops_the_run_with_a_red_overlay_line() {
     );
     // A step the accuracy table accepts runs and says nothing.
     let mut fine = sim(
-        "name = \"fine\"\n[body]\nrandom = { dimension = 3, seed = 1, sigma = 0.25 }\n[model]\nalpha_rad = 0.3\n[integrator]\nmethod = \"cf4\"\ndt = 0.2\n",
+        "name = \"fine\"\n[body]\nrandom = { dimension = 3, seed = 1, sigma = 0.25 }\n[model]\nalpha_rad = 0.3\n[integrator]\nmethod = \"cf4\"\ndt = 0.2\n[playback]\nspeed = 150.0\n",
     );
     fine.advance_to(100.0).unwrap();
     assert_eq!(fine.snapshot().stopped, None);

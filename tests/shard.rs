@@ -753,3 +753,34 @@ fn merge_dot_from_inside_the_figures_folder_merges_there() {
     assert!(dir.join("data.csv").is_file() && dir.join("summary.json").is_file());
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// Issue 33, case 9: a sweep spec kept in the output folder as summary.json (or sweep.csv) is
+/// not replaced by `merge`: refused, naming it.
+#[test]
+fn merge_refuses_to_replace_the_sweep_spec_it_ran() {
+    let root = scratch("spec-in-out");
+    let out = root.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(
+        out.join("body.json"),
+        include_str!("../assets/shapes/paper-sphere.json"),
+    )
+    .unwrap();
+    let spec = out.join("summary.json");
+    std::fs::write(&spec, SMALL_SWEEP).unwrap();
+    ok(&[
+        "sweep",
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--shard",
+        "1/1",
+    ]);
+    let e = fails(&["merge", out.to_str().unwrap()]);
+    assert!(
+        e.contains("summary.json") && e.contains("holds the sweep spec"),
+        "{e}"
+    );
+    assert_eq!(std::fs::read_to_string(&spec).unwrap(), SMALL_SWEEP);
+    let _ = std::fs::remove_dir_all(&root);
+}

@@ -29,6 +29,33 @@ mod body;
 mod run;
 mod studies;
 
+/// `array` as a 2-D view, or a ValueError in Python's words naming `name` and what it must be
+/// (numpy's own extraction says "dimensionality mismatch: from=1, to=2").
+pub(crate) fn two_dimensional<'a>(
+    name: &str,
+    what: &str,
+    array: numpy::ndarray::ArrayViewD<'a, f64>,
+) -> PyResult<numpy::ndarray::ArrayView2<'a, f64>> {
+    let shape = array.shape().to_vec();
+    array
+        .into_dimensionality::<numpy::ndarray::Ix2>()
+        .map_err(|_| {
+            PyValueError::new_err(format!(
+                "{name} must be an {what}, not an array of shape {}",
+                match shape.as_slice() {
+                    [n] => format!("({n},)"),
+                    dims => format!(
+                        "({})",
+                        dims.iter()
+                            .map(usize::to_string)
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                }
+            ))
+        })
+}
+
 /// How often the calling thread looks for Ctrl-C while a worker computes.
 const SIGNAL_POLL: Duration = Duration::from_millis(50);
 

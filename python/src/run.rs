@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use numpy::IntoPyArray;
 use numpy::ndarray::{Array1, Array2, Array3};
-use numpy::{AllowTypeChange, PyArrayLike2};
+use numpy::{AllowTypeChange, PyArrayLikeDyn};
 use pyo3::exceptions::{PyAttributeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -445,7 +445,7 @@ pub fn simulate_many(
     py: Python<'_>,
     body: &Body,
     alpha: f64,
-    q0s: PyArrayLike2<'_, f64, AllowTypeChange>,
+    q0s: PyArrayLikeDyn<'_, f64, AllowTypeChange>,
     t_end: f64,
     mass_ratio: f64,
     omega0: Option<Vec<f64>>,
@@ -466,7 +466,11 @@ pub fn simulate_many(
              simulate for each theta0)",
         ));
     }
-    let q0s = q0s.as_array();
+    let q0s = crate::two_dimensional(
+        "q0s",
+        "(N, 4) array of quaternions w, x, y, z",
+        q0s.as_array(),
+    )?;
     let (n, width) = q0s.dim();
     if width != 4 {
         return Err(PyValueError::new_err(format!(

@@ -5,7 +5,7 @@
 //! stopped by Ctrl-C.
 
 use numpy::ndarray::{Array1, Array2};
-use numpy::{AllowTypeChange, Complex64, IntoPyArray, PyArray1, PyArray2, PyArrayLike2};
+use numpy::{AllowTypeChange, Complex64, IntoPyArray, PyArray1, PyArray2, PyArrayLikeDyn};
 use pyo3::exceptions::{PyRuntimeWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -139,12 +139,16 @@ pub fn poincare_map<'py>(
     py: Python<'py>,
     body: &Body,
     alpha: f64,
-    starts: PyArrayLike2<'py, f64, AllowTypeChange>,
+    starts: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
     t_max: f64,
     rtol: f64,
 ) -> PyResult<MapImages<'py>> {
     let core = body.convex()?;
-    let starts = starts.as_array();
+    let starts = crate::two_dimensional(
+        "starts",
+        "(N, 4) array of quaternions w, x, y, z with w = 0",
+        starts.as_array(),
+    )?;
     let (n, width) = starts.dim();
     if width != 4 {
         return Err(PyValueError::new_err(format!(

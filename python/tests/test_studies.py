@@ -194,3 +194,16 @@ def test_period_in_the_stiff_corner_takes_the_viscous_limit_or_stops_on_ctrl_c()
     with pytest.raises(KeyboardInterrupt):
         rollphase.period(disk, 0.3, mass_ratio=1e-9)
     assert time.perf_counter() - started < 5, "stopped soon after Ctrl-C"
+
+
+def test_bad_arrays_and_settings_are_named_in_pythons_words():
+    # Issue 33: a 1-D array gave numpy's "dimensionality mismatch: from=1, to=2", and a bad
+    # settle rule printed a Rust struct ("Decide { ... }").
+    body = Body.paper_sphere(219)
+    with pytest.raises(ValueError, match=r"q0s must be an \(N, 4\) array .* shape \(4,\)"):
+        rollphase.simulate_many(body, 0.15, [1.0, 0.0, 0.0, 0.0], 10.0)
+    with pytest.raises(ValueError, match=r"starts must be an \(N, 4\) array"):
+        rollphase.poincare_map(body, 0.15, [0.0, 1.0, 0.0, 0.0])
+    with pytest.raises(ValueError) as e:
+        rollphase.periodic_orbits(body, 0.15, t_min=-1.0)
+    assert "t_min = -1" in str(e.value) and "Decide" not in str(e.value)

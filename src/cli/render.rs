@@ -153,6 +153,48 @@ pub fn run_headless(a: &RenderArgs) -> Result<()> {
     write_headless(a, setup, frames)
 }
 
+/// Refuses, before rendering, a scene (or its shape file) that sits in --out under the name of
+/// one of the frames to be written (frame_00003.png): the frame would be refused as an input
+/// only when its turn came, after the work.
+#[cfg(feature = "render")]
+fn refuse_inputs_named_like_frames(a: &RenderArgs, setup: &SceneSetup, frames: u64) -> Result<()> {
+    let Some(scene) = &a.scene else {
+        return Ok(());
+    };
+    let mut files = vec![scene.clone()];
+    if let Some(shape) = &setup.scene.body.shape {
+        files.push(
+            scene
+                .parent()
+                .unwrap_or(std::path::Path::new("."))
+                .join(shape),
+        );
+    }
+    let out = crate::output::real_path(&a.out);
+    for f in files {
+        let real = crate::output::real_path(&f);
+        let index = real
+            .file_name()
+            .and_then(|n| n.to_str())
+            .and_then(|n| n.strip_prefix("frame_"))
+            .and_then(|n| n.strip_suffix(".png"))
+            .and_then(|n| n.parse::<u64>().ok());
+        if let Some(k) = index
+            && k < frames
+            && real.parent() == Some(out.as_path())
+            && real.file_name().and_then(|n| n.to_str()) == Some(crate::png::frame_name(k).as_str())
+        {
+            bail!(
+                "{} is an input of this command and is named like frame {k} in --out {}; the \
+                 frame would overwrite it. Move the file, or give another --out",
+                f.display(),
+                a.out.display()
+            );
+        }
+    }
+    Ok(())
+}
+
 fn check_frames(n: u64) -> Result<()> {
     if !(1..=MAX_FRAMES).contains(&n) {
         bail!(
@@ -199,6 +241,7 @@ fn write_headless(a: &RenderArgs, setup: SceneSetup, frames: u64) -> Result<()> 
         }
         None => {
             crate::output::check_folder(&a.out, &[], &inputs).context("--out")?;
+            refuse_inputs_named_like_frames(a, &setup, frames)?;
             None
         }
     };

@@ -829,6 +829,20 @@ pub fn merge(dir: &Path, shards: &ShardSet) -> Result<SweepSummary> {
     }
     let inputs = sweep.inputs().extend(&Inputs::of(shards.files()));
     output::check_folder(dir, &SWEEP_FILES, &inputs)?;
+    // The spec itself is no input of a merge (its text is in the shards), but it may sit in the
+    // folder under an output's name: a file there holding exactly the spec's text is it.
+    for name in SWEEP_FILES {
+        let path = dir.join(name);
+        if std::fs::metadata(&path).is_ok_and(|m| m.is_file() && m.len() == spec.len() as u64)
+            && std::fs::read_to_string(&path).is_ok_and(|t| t == spec)
+        {
+            bail!(
+                "{} holds the sweep spec these shards ran; merge writes {name} there and would \
+                 replace it. Move the spec elsewhere and merge again",
+                path.display()
+            );
+        }
+    }
     let mut rows = sweep.rows(dir, &inputs)?;
     shards.for_each_record(|k, record| {
         let r: RunResult = shards.decode("sweep", k, record)?;

@@ -826,7 +826,12 @@ fn check_counts(orientations: usize, decide: &Decide) -> Result<(), StudyError> 
         && decide.tol > 0.0;
     if !valid {
         return Err(StudyError::BadArgument(format!(
-            "{decide:?} is not allowed (needs 1 ≤ max_k ≤ 4, 0 < t_min ≤ t_cap < ∞, tol > 0)"
+            "t_min = {}, t_cap = {}, max_k = {}, tol = {} is not allowed (needs 1 ≤ max_k ≤ 4, \
+             0 < t_min ≤ t_cap < ∞, tol > 0)",
+            crate::integrate::readable(decide.t_min),
+            crate::integrate::readable(decide.t_cap),
+            decide.max_k,
+            crate::integrate::readable(decide.tol)
         )));
     }
     Ok(())

@@ -50,17 +50,32 @@ pub enum StartField {
     ThetaDot0,
 }
 
+/// The field's name as the library's own messages give it (a front-end names it its own way
+/// through [`Spelling`]).
+impl std::fmt::Display for StartField {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            StartField::Q0 => "q0",
+            StartField::Contact => "contact",
+            StartField::Spin => "spin",
+            StartField::Omega0 => "omega0",
+            StartField::Theta0 => "theta0",
+            StartField::ThetaDot0 => "theta_dot0",
+        })
+    }
+}
+
 /// Why a start was refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum StartError {
     /// An initial angular velocity given to the viscous model, where it follows from the state.
-    #[error("{0:?} does not apply to the viscous model (m/m0 = 0)")]
+    #[error("{0} does not apply to the viscous model (m/m0 = 0)")]
     NotViscous(StartField),
     /// A sphere's field given for a disk.
-    #[error("{0:?} does not apply to a 2D disk")]
+    #[error("{0} does not apply to a 2D disk")]
     NotDisk(StartField),
     /// A disk's field given for a sphere.
-    #[error("{0:?} does not apply to a 3D sphere")]
+    #[error("{0} does not apply to a 3D sphere")]
     NotSphere(StartField),
     /// Both ways of giving the orientation.
     #[error("q0 and contact both set the starting orientation")]
@@ -69,7 +84,7 @@ pub enum StartError {
     #[error("spin turns the body after contact puts it on the ramp; q0 is already the orientation")]
     SpinWithQ0,
     /// A number that is not finite.
-    #[error("{field:?} {value} is not a finite number")]
+    #[error("{field} {value} is not a finite number")]
     NotFinite {
         /// Which field.
         field: StartField,
@@ -254,14 +269,21 @@ pub fn check_start(
                         return Err(StartError::SpinWithQ0);
                     }
                     finite(StartField::Q0, &v)?;
-                    // Scaled by its largest component first: only the direction matters, and
-                    // |q| of 1e154-sized components overflows (1e-160-sized ones underflow).
+                    let q = DQuat::from_xyzw(v[1], v[2], v[3], v[0]);
                     let scale = v.iter().fold(0.0f64, |m, c| m.max(c.abs()));
                     if scale == 0.0 {
                         return Err(StartError::ZeroQuaternion(v));
                     }
                     // Normalised once, where the run starts (`Start`), as for every caller.
-                    DQuat::from_xyzw(v[1] / scale, v[2] / scale, v[3] / scale, v[0] / scale)
+                    // Only the direction matters: where |q| over- or underflows (components
+                    // of 1e154, or 1e-160) it is scaled by its largest component first; other
+                    // quaternions are kept as given, so their numbers stay bit for bit.
+                    let length = q.length();
+                    if length.is_finite() && length > 1e-150 {
+                        q
+                    } else {
+                        q / scale
+                    }
                 }
                 (None, Some(c)) => {
                     finite(StartField::Contact, &c)?;
