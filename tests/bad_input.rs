@@ -1333,6 +1333,10 @@ fn messages_say_what_is_true_in_readable_numbers() {
     assert!(!String::from_utf8_lossy(&r.stderr).contains("tiny m/m0"));
     let r = rollphase(&["period", &write(&dir, "d.json", DISK), "--alpha", "1e-300"]);
     fails_with(&r, 1, &["alpha = 1e-300 rad", "round-off"]);
+    let r = run(&["--mass=-1e-300"]);
+    fails_with(&r, 1, &["m/m0 = -1e-300 is not allowed"]);
+    let r = run(&["--drag=-1e-300"]);
+    fails_with(&r, 1, &["gamma = -1e-300 is not allowed"]);
 
     let long = format!(
         "alpha = [{}x]\n[bodies]\npaper_seeds = [219]\n",

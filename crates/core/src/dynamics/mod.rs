@@ -105,11 +105,15 @@ pub enum ModelError {
     BadAlpha(f64),
     /// Negative or non-finite mass ratio.
     #[error(
-        "mass ratio m/m0 = {0} is not allowed (needs a finite m/m0 ≥ 0; 0 means the viscous model)"
+        "mass ratio m/m0 = {} is not allowed (needs a finite m/m0 ≥ 0; 0 means the viscous model)",
+        crate::integrate::readable(*.0)
     )]
     BadMass(f64),
     /// Negative or non-finite drag, or zero drag in a viscous model.
-    #[error("drag gamma = {0} is not allowed (needs a finite gamma ≥ 0, and > 0 when m/m0 = 0)")]
+    #[error(
+        "drag gamma = {} is not allowed (needs a finite gamma ≥ 0, and > 0 when m/m0 = 0)",
+        crate::integrate::readable(*.0)
+    )]
     BadDrag(f64),
 }
 

@@ -105,12 +105,17 @@ pub enum ShapeError {
     },
     /// No strictly convex body among the seeds tried ([`first_convex_disk`],
     /// [`first_convex_sphere`]).
-    #[error("no convex {what} among 1000 seeds from {from}{parameters}")]
+    #[error(
+        "no convex {what} among {tried} seeds from {from}{parameters}{}",
+        if *tried < 1000 { " (the seeds end at 18446744073709551615; start lower)" } else { "" }
+    )]
     NoConvexSeed {
         /// "disk" or "sphere".
         what: &'static str,
         /// The first seed tried.
         from: u64,
+        /// How many were tried: 1000, or fewer where the seeds run out at `u64::MAX`.
+        tried: u64,
         /// The generator's parameters, as " (σ = …, M = …)", or empty.
         parameters: String,
     },
@@ -807,6 +812,7 @@ pub fn first_convex_disk(seed: u64, sigma: f64, modes: u32) -> Result<(Disk, u64
         _ => Err(ShapeError::NoConvexSeed {
             what: "disk",
             from: seed,
+            tried: seeds_tried(seed),
             parameters: format!(" (σ = {sigma}, M = {modes})"),
         }),
     }
@@ -820,6 +826,9 @@ pub fn first_convex_disk(seed: u64, sigma: f64, modes: u32) -> Result<(Disk, u64
 /// use rollphase_core::geometry::{Body, first_convex_sphere};
 /// let (sphere, seed) = first_convex_sphere(1, 0.25, 5)?;
 /// assert!(seed >= 1 && Body::Sphere(sphere).is_convex());
+/// // At the end of the seeds fewer are tried, and the message says how many.
+/// let e = first_convex_sphere(u64::MAX - 1, 3.0, 5).unwrap_err().to_string();
+/// assert!(e.contains("among 2 seeds") && e.contains("start lower"), "{e}");
 /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
 /// ```
 pub fn first_convex_sphere(
@@ -832,6 +841,7 @@ pub fn first_convex_sphere(
         _ => Err(ShapeError::NoConvexSeed {
             what: "sphere",
             from: seed,
+            tried: seeds_tried(seed),
             parameters: String::new(),
         }),
     }
@@ -839,11 +849,16 @@ pub fn first_convex_sphere(
 
 /// The first strictly convex body `make(s)` for s = `seed`, `seed` + 1, … (1000 tried), with its
 /// seed; `None` when none is.
+/// How many seeds [`first_convex`] tries from `seed`: 1000, fewer near `u64::MAX`.
+fn seeds_tried(seed: u64) -> u64 {
+    seed.saturating_add(999) - seed + 1
+}
+
 fn first_convex(
     seed: u64,
     make: impl Fn(u64) -> Result<Body, ShapeError>,
 ) -> Result<Option<(Body, u64)>, ShapeError> {
-    for s in seed..seed.saturating_add(1000) {
+    for s in seed..=seed.saturating_add(999) {
         let body = make(s)?;
         if body.check_convex().is_ok() {
             return Ok(Some((body, s)));
