@@ -784,3 +784,28 @@ fn merge_refuses_to_replace_the_sweep_spec_it_ran() {
     assert_eq!(std::fs::read_to_string(&spec).unwrap(), SMALL_SWEEP);
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// Issue 33, case 11: a full disk under a sweep names the file it stopped (sweep.csv linked to
+/// /dev/full, which fails every write with "No space left on device").
+#[test]
+fn a_full_disk_under_a_sweep_names_the_file() {
+    if !Path::new("/dev/full").exists() {
+        panic!("/dev/full is missing; this test needs Linux's full device");
+    }
+    let root = scratch("full-disk");
+    let spec = small_sweep(&root, "spec.toml");
+    let out = root.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    std::os::unix::fs::symlink("/dev/full", out.join("sweep.csv")).unwrap();
+    let e = fails(&[
+        "sweep",
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        e.contains(&out.join("sweep.csv").display().to_string()) && e.contains("No space left"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&root);
+}

@@ -141,6 +141,21 @@ pub(crate) fn whole<T: TryFrom<i128>>(name: &str, v: i128) -> PyResult<T> {
     })
 }
 
+/// `samples` as a count, with the run's own bounds in the message (2 ≤ samples ≤ 10⁷) rather
+/// than the integer type's.
+pub(crate) fn sample_count(samples: i128) -> PyResult<usize> {
+    let max = rollphase_core::simulate::MAX_SAMPLES;
+    usize::try_from(samples)
+        .ok()
+        .filter(|n| (2..=max).contains(n))
+        .ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "samples = {samples} is not allowed (needs 2 ≤ samples ≤ {max}: t = 0, t_end and \
+                 rows between)"
+            ))
+        })
+}
+
 /// `ValueError` with an error's message (the command line's text for the same mistake).
 pub(crate) fn value_error(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())

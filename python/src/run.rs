@@ -378,8 +378,10 @@ pub fn simulate(
     drag: f64,
     max_steps: i128,
 ) -> PyResult<Trajectory> {
-    let (samples, max_steps): (usize, u64) =
-        (whole("samples", samples)?, whole("max_steps", max_steps)?);
+    let (samples, max_steps): (usize, u64) = (
+        crate::sample_count(samples)?,
+        whole("max_steps", max_steps)?,
+    );
     let core = &body.body;
     let method = method(integrator, rtol, atol, dt)?;
     let start = StartArgs {
@@ -457,8 +459,10 @@ pub fn simulate_many(
     drag: f64,
     max_steps: i128,
 ) -> PyResult<Trajectory> {
-    let (samples, max_steps): (usize, u64) =
-        (whole("samples", samples)?, whole("max_steps", max_steps)?);
+    let (samples, max_steps): (usize, u64) = (
+        crate::sample_count(samples)?,
+        whole("max_steps", max_steps)?,
+    );
     let core = &body.body;
     if !matches!(core, CoreBody::Sphere(_)) {
         return Err(PyValueError::new_err(

@@ -223,3 +223,13 @@ def test_a_real_sigint_stops_a_long_simulate():
     p.send_signal(signal.SIGINT)
     out, _ = p.communicate(timeout=10)
     assert p.returncode == 3 and "interrupted" in out
+
+
+def test_a_bad_sample_count_states_the_runs_own_bounds():
+    # Issue 33: samples=-1 said "a whole number from 0 to 18446744073709551615" while the run
+    # allows 2 to 10^7.
+    body = Body.paper_sphere(219)
+    for samples in (-1, 1, 10**8):
+        with pytest.raises(ValueError, match="2 ≤ samples ≤ 10000000") as caught:
+            rollphase.simulate(body, 0.15, 1.0, samples=samples)
+        assert "18446744073709551615" not in str(caught.value)

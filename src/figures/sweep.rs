@@ -708,17 +708,23 @@ impl SweepRows<'_> {
             );
         }
         self.next += 1;
-        self.csv.write_record(self.sweep.row(k, r))?;
+        // A full disk is named with the file it stopped (the csv error says only "I/O error").
+        self.csv
+            .write_record(self.sweep.row(k, r))
+            .with_context(|| format!("cannot write {}", self.out.join(SWEEP_FILES[0]).display()))?;
         self.tally.add(r);
         Ok(())
     }
 
     /// Commits sweep.csv with summary.json.
     fn finish(self) -> Result<SweepSummary> {
-        let file = self
-            .csv
-            .into_inner()
-            .map_err(|e| anyhow::anyhow!("cannot write sweep.csv: {}", e.error()))?;
+        let file = self.csv.into_inner().map_err(|e| {
+            anyhow::anyhow!(
+                "cannot write {}: {}",
+                self.out.join(SWEEP_FILES[0]).display(),
+                e.error()
+            )
+        })?;
         let t = self.tally;
         let summary = SweepSummary {
             runs: t.runs,
