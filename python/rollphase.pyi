@@ -101,7 +101,7 @@ def simulate(
     mass_ratio: float = 0.0,
     q0: Optional[Sequence[float]] = None,
     contact: Optional[Sequence[float]] = None,
-    spin: float = 0.0,
+    spin: Optional[float] = None,
     omega0: Optional[Sequence[float]] = None,
     theta0: Optional[float] = None,
     theta_dot0: Optional[float] = None,

@@ -15,7 +15,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use anyhow::{Result, anyhow, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::WindowEvent;
@@ -173,7 +173,8 @@ impl App {
             samples,
             options.setup.clone(),
             options.base.clone(),
-        );
+        )
+        .context("cannot start the simulation thread")?;
         if options.present {
             bench.ui.present_on_start();
         }

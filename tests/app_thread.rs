@@ -10,7 +10,7 @@ use rollphase::scene::Scene;
 use rollphase::sim::{SimCommand, SimStatus, SimThread};
 
 fn thread(preset: &str) -> SimThread {
-    SimThread::spawn(Scene::preset(preset).unwrap().setup(None).unwrap())
+    SimThread::spawn(Scene::preset(preset).unwrap().setup(None).unwrap()).unwrap()
 }
 
 /// Polls the status until `done` holds (or panics after 30 s: generous, since CI machines vary).

@@ -23,7 +23,7 @@ fn app(preset: &str) -> (GpuContext, OffscreenTarget, Workbench) {
     let gpu = GpuContext::headless().unwrap();
     let target = OffscreenTarget::new(&gpu.device, SIZE);
     let setup = Scene::preset(preset).unwrap().setup(None).unwrap();
-    let bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None);
+    let bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
     (gpu, target, bench)
 }
 
@@ -354,7 +354,10 @@ fn a_dropped_file_loads_and_a_bad_one_leaves_the_scene_running_with_a_message() 
     let scene = dir.join("scenes/cyl.toml");
     std::fs::write(
         &scene,
-        Scene::preset("cylinder-hysteresis").unwrap().to_toml(),
+        Scene::preset("cylinder-hysteresis")
+            .unwrap()
+            .to_toml()
+            .unwrap(),
     )
     .unwrap();
     drop_file(&mut bench, &gpu, &target, &scene);
@@ -562,7 +565,10 @@ fn a_shift_drag_turns_the_body_about_the_ramp_normal_and_restarts_there() {
 fn a_lessons_steps_apply_at_their_times_and_the_keys_move_between_them() {
     // A short lesson on the near-critical cylinder: α steps at t = 3, 6 and 9, with captions,
     // played at 5 time units per second.
-    let text = Scene::preset("cylinder-near-critical").unwrap().to_toml()
+    let text = Scene::preset("cylinder-near-critical")
+        .unwrap()
+        .to_toml()
+        .unwrap()
         + r#"
 [[timeline]]
 at = 0.0
@@ -585,7 +591,8 @@ caption = ""
     let alpha_star = setup.alpha_star;
     let gpu = GpuContext::headless().unwrap();
     let target = OffscreenTarget::new(&gpu.device, SIZE);
-    let mut bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None);
+    let mut bench =
+        Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
     let steps = [
         (0.0, 1.02, Some("first")),
         (3.0, 1.5, Some("second")),

@@ -1354,3 +1354,33 @@ fn messages_say_what_is_true_in_readable_numbers() {
     let r = rollphase(&["sweep", &spec, "--out", dir.join("o").to_str().unwrap()]);
     fails_with(&r, 1, &["bodies.max_degree = 20", "2 ≤ max_degree ≤ 12"]);
 }
+
+/// Issue 37: `--spin 0 --q0 …` passed because a zero spin counted as not given; given is given.
+#[test]
+fn a_zero_spin_is_still_a_spin() {
+    let dir = temp_dir("zero-spin");
+    let sphere = write(&dir, "sphere.json", SPHERE);
+    let disk = write(&dir, "disk.json", DISK);
+    let r = rollphase(&[
+        "simulate", &sphere, "--alpha", "0.3", "--t-end", "1", "--spin", "0", "--q0", "1,0,0,0",
+    ]);
+    fails_with(&r, 1, &["--spin", "--q0 is already the whole orientation"]);
+    let r = rollphase(&[
+        "simulate", &disk, "--alpha", "0.3", "--t-end", "1", "--spin", "0",
+    ]);
+    fails_with(&r, 1, &["2D disk", "not --spin"]);
+    // Without --spin, the default (no turn) applies as before.
+    let r = rollphase(&[
+        "simulate",
+        &sphere,
+        "--alpha",
+        "0.3",
+        "--t-end",
+        "1",
+        "--samples",
+        "2",
+        "--q0",
+        "1,0,0,0",
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+}

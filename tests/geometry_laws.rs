@@ -192,7 +192,7 @@ proptest! {
         } else {
             Body::Disk(random_disk(seed, sigma, modes).unwrap())
         };
-        let text = body.to_shape().to_json();
+        let text = body.to_shape().to_json().unwrap();
         let back = ShapeFile::from_json(&text).unwrap();
         prop_assert_eq!(back, body.to_shape());
     }

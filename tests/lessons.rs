@@ -156,7 +156,7 @@ fn next_and_previous_jump_between_steps_and_reset_restarts_the_lesson() {
 
 #[test]
 fn a_timeline_step_can_turn_views_on_and_change_the_integrator() {
-    let text = Scene::preset("sphere-cruising").unwrap().to_toml()
+    let text = Scene::preset("sphere-cruising").unwrap().to_toml().unwrap()
         + "\n[[timeline]]\nat = 5.0\nviews = { ball = true }\nintegrator = \"precise\"\n";
     let mut scene = Scene::from_toml(&text).unwrap();
     scene.views.ball = false;

@@ -132,6 +132,7 @@ fn the_heavy_cylinder_keeps_rolling_below_alpha_star_and_a_light_one_halts() {
     let toml = Scene::preset("cylinder-hysteresis")
         .unwrap()
         .to_toml()
+        .unwrap()
         .replace("mass_ratio = 10.0", "mass_ratio = 0.0");
     let mut light = sim(&toml);
     light.advance_to(400.0).unwrap();

@@ -120,7 +120,7 @@ impl Body {
                 )));
             }
         }
-        let text = self.body.to_shape().to_json() + "\n";
+        let text = self.body.to_shape().to_json().map_err(value_error)? + "\n";
         output::write_bytes(&path, text.as_bytes(), &output::Inputs::none()).map_err(|e| match e {
             OutputError::Io { .. } | OutputError::Stdout(_) => PyOSError::new_err(e.to_string()),
             _ => PyValueError::new_err(e.to_string()),
@@ -192,8 +192,8 @@ impl Body {
     }
 
     /// The shape file's JSON text.
-    fn to_json(&self) -> String {
-        self.body.to_shape().to_json()
+    fn to_json(&self) -> PyResult<String> {
+        self.body.to_shape().to_json().map_err(value_error)
     }
 
     fn __repr__(&self) -> String {

@@ -190,7 +190,7 @@ pub struct StartArgs {
     pub mass_ratio: f64,
     pub q0: Option<Vec<f64>>,
     pub contact: Option<Vec<f64>>,
-    pub spin: f64,
+    pub spin: Option<f64>,
     pub omega0: Option<Vec<f64>>,
     pub theta0: Option<f64>,
     pub theta_dot0: Option<f64>,
@@ -221,7 +221,7 @@ fn initial_state(py: Python<'_>, a: &StartArgs, body: &CoreBody) -> PyResult<Ini
     let request = StartRequest {
         q0: q0.map(|v| [v[0], v[1], v[2], v[3]]),
         contact: contact.map(|v| [v[0], v[1]]),
-        spin: Some(a.spin),
+        spin: a.spin,
         omega0: omega0.map(|v| [v[0], v[1], v[2]]),
         theta0: a.theta0,
         theta_dot0: a.theta_dot0,
@@ -355,7 +355,7 @@ fn arr3(py: Python<'_>, v: Vec<f64>, shape: (usize, usize, usize)) -> PyResult<P
 /// Returns a Trajectory (numpy arrays) with .summary, the command line's --summary keys; the
 /// numbers equal `rollphase simulate`'s to the last digit. Ctrl-C stops it (KeyboardInterrupt).
 #[pyfunction]
-#[pyo3(signature = (body, alpha, t_end, mass_ratio = 0.0, q0 = None, contact = None, spin = 0.0,
+#[pyo3(signature = (body, alpha, t_end, mass_ratio = 0.0, q0 = None, contact = None, spin = None,
     omega0 = None, theta0 = None, theta_dot0 = None, integrator = "dop853", rtol = 1e-10,
     atol = None, dt = 0.01, samples = 1001, drag = 1.0, max_steps = 100_000_000))]
 pub fn simulate(
@@ -366,7 +366,7 @@ pub fn simulate(
     mass_ratio: f64,
     q0: Option<Vec<f64>>,
     contact: Option<Vec<f64>>,
-    spin: f64,
+    spin: Option<f64>,
     omega0: Option<Vec<f64>>,
     theta0: Option<f64>,
     theta_dot0: Option<f64>,
@@ -501,7 +501,7 @@ pub fn simulate_many(
             mass_ratio,
             q0: Some(row.to_vec()),
             contact: None,
-            spin: 0.0,
+            spin: None,
             omega0: omega0.clone(),
             theta0: None,
             theta_dot0: None,

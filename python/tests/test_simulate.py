@@ -166,6 +166,8 @@ def test_bad_starts_name_the_argument():
         (disk, dict(theta_dot0=1.0), "viscous model"),
         (disk, dict(mass_ratio=1.0, spin=1.0), "2D disk: give theta0 .* not spin"),
         (sphere, dict(q0=[1, 0, 0, 0], spin=0.5), "q0 is already the whole orientation"),
+        # Issue 37: a spin of 0 is a spin given.
+        (sphere, dict(q0=[1, 0, 0, 0], spin=0.0), "q0 is already the whole orientation"),
         (sphere, dict(integrator="euler"), "not one of"),
         (sphere, dict(samples=-5), "samples = -5"),
     ]

@@ -70,7 +70,7 @@ pub fn run(a: ShapeArgs) -> Result<()> {
     }
     super::write_output(
         a.output.as_ref(),
-        &(body.to_shape().to_json() + "\n"),
+        &(body.to_shape().to_json()? + "\n"),
         &crate::output::Inputs::none(),
     )
 }

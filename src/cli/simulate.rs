@@ -69,9 +69,9 @@ pub struct SimulateArgs {
     /// 3D: initial contact point θ,φ in the body frame (polar, azimuth).
     #[arg(long, allow_negative_numbers = true)]
     pub contact: Option<String>,
-    /// 3D: spin about the ramp normal after --contact, radians.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    pub spin: f64,
+    /// 3D: spin about the ramp normal after --contact, radians [default: 0].
+    #[arg(long, allow_negative_numbers = true)]
+    pub spin: Option<f64>,
     /// 3D inertial: initial lab angular velocity x,y,z.
     #[arg(long, allow_negative_numbers = true)]
     pub omega0: Option<String>,
@@ -132,7 +132,7 @@ fn initial_state(a: &SimulateArgs, body: &Body) -> Result<InitialState> {
     let request = StartRequest {
         q0: q0.map(|v| [v[0], v[1], v[2], v[3]]),
         contact: contact.map(|v| [v[0], v[1]]),
-        spin: Some(a.spin),
+        spin: a.spin,
         omega0: omega0.map(|v| [v[0], v[1], v[2]]),
         theta0: a.theta0,
         // The flag defaults to 0, so only a non-zero value says it was given.

@@ -89,9 +89,11 @@ impl Scene {
         Ok(toml::from_str(text)?)
     }
 
-    /// TOML text of the scene.
-    pub fn to_toml(&self) -> String {
-        toml::to_string(self).unwrap_or_default()
+    /// TOML text of the scene, or why it cannot be written (never an empty text that would be
+    /// saved as a scene).
+    pub fn to_toml(&self) -> Result<String, SceneError> {
+        toml::to_string(self)
+            .map_err(|e| SceneError::Invalid(format!("cannot write the scene as TOML: {e}")))
     }
 
     /// A bundled preset by name.
@@ -301,7 +303,8 @@ impl InitialSpec {
         let request = StartRequest {
             q0: self.q0,
             contact: self.contact,
-            spin: Some(self.spin),
+            // A saved scene writes spin = 0.0 beside its q0: here 0 is "not given".
+            spin: Some(self.spin).filter(|s| *s != 0.0),
             omega0: Some(self.omega).filter(|w| *w != [0.0; 3] && (inertial || !sphere)),
             theta0: given(self.theta0),
             theta_dot0: given(self.theta_dot0).filter(|_| inertial || sphere),
@@ -479,7 +482,7 @@ mod tests {
     fn scenes_round_trip_through_toml() {
         for (name, _) in PRESETS {
             let scene = Scene::preset(name).unwrap();
-            assert_eq!(Scene::from_toml(&scene.to_toml()).unwrap(), scene);
+            assert_eq!(Scene::from_toml(&scene.to_toml().unwrap()).unwrap(), scene);
         }
     }
 }

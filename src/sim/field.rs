@@ -31,7 +31,12 @@ impl FieldCache {
     fn key(setup: &SceneSetup, ramp: &Ramp) -> FieldKey {
         let p = &setup.scene.poincare;
         (
-            setup.body.to_shape().to_json(),
+            // The key only tells bodies apart; a body JSON cannot refuse is keyed by its Debug.
+            setup
+                .body
+                .to_shape()
+                .to_json()
+                .unwrap_or_else(|_| format!("{:?}", setup.body.to_shape())),
             ramp.alpha_rad.to_bits(),
             p.arrows,
             p.rtol.to_bits(),

@@ -59,21 +59,21 @@ pub struct SimThread {
 }
 
 impl SimThread {
-    /// Starts the thread on `setup`, playing.
-    pub fn spawn(setup: SceneSetup) -> Self {
+    /// Starts the thread on `setup`, playing; the OS's error if no thread can be started (a
+    /// simulation that never runs must not look like a paused one).
+    pub fn spawn(setup: SceneSetup) -> std::io::Result<Self> {
         let (commands, inbox) = mpsc::channel();
         let mut worker = SimWorker::new(setup);
         let status = Arc::new(Mutex::new(Arc::new(worker.status())));
         let published = status.clone();
         let handle = std::thread::Builder::new()
             .name("rollphase-sim".into())
-            .spawn(move || worker.run(&inbox, &published))
-            .ok();
-        Self {
+            .spawn(move || worker.run(&inbox, &published))?;
+        Ok(Self {
             commands,
             status,
-            handle,
-        }
+            handle: Some(handle),
+        })
     }
 
     /// Queues a command; it takes effect at the thread's next tick.

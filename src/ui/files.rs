@@ -154,7 +154,10 @@ impl AppUi {
             inline: Some(status.setup.body.to_shape()),
             ..BodySpec::default()
         };
-        self.notice = Some(write_file(&self.scene_path, &scene.to_toml()));
+        self.notice = Some(match scene.to_toml() {
+            Ok(text) => write_file(&self.scene_path, &text),
+            Err(e) => (e.to_string(), true),
+        });
     }
 
     /// Sets the plot data folder (as typed into its field).
@@ -183,8 +186,10 @@ impl AppUi {
 
     /// Writes the body's shape file to the path field's file.
     fn save_shape(&mut self, status: &SimStatus) {
-        let json = status.setup.body.to_shape().to_json();
-        self.notice = Some(write_file(&self.shape_path, &json));
+        self.notice = Some(match status.setup.body.to_shape().to_json() {
+            Ok(json) => write_file(&self.shape_path, &json),
+            Err(e) => (format!("cannot write the shape file: {e}"), true),
+        });
     }
 
     /// Acts on a file dialog's answer: open the file, or save to it (the path field takes the

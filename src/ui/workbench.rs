@@ -92,7 +92,8 @@ pub struct Workbench {
 }
 
 impl Workbench {
-    /// Starts the simulation of `setup` and builds the renderers for `format`.
+    /// Starts the simulation of `setup` and builds the renderers for `format`; fails only when
+    /// the simulation's thread cannot be started.
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
@@ -100,21 +101,21 @@ impl Workbench {
         sample_count: u32,
         setup: SceneSetup,
         base: Option<PathBuf>,
-    ) -> Self {
+    ) -> std::io::Result<Self> {
         let ui = AppUi::new(&setup, base);
         let ctx = egui::Context::default();
         ctx.set_fonts(super::fonts::definitions());
-        Self {
+        Ok(Self {
             ctx,
             ui,
-            sim: SimThread::spawn(setup),
+            sim: SimThread::spawn(setup)?,
             painter: Painter::new(device, queue, format, sample_count),
             format,
             recording: None,
             pending_screenshots: Vec::new(),
             textures: egui::TexturesDelta::default(),
             frame_times: Default::default(),
-        }
+        })
     }
 
     /// Runs the UI on `input` for a `size`-pixel target: reads the latest status (never

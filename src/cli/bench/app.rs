@@ -40,7 +40,7 @@ pub fn run(a: AppBenchArgs) -> Result<()> {
         a.msaa,
         setup,
         None,
-    );
+    )?;
     bench.ui.show_plots = !a.no_plots;
     bench
         .sim

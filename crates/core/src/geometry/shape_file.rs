@@ -146,10 +146,10 @@ impl ShapeFile {
     /// use rollphase_core::geometry::ShapeFile;
     /// let text = r#"{"kind": "disk", "modes": [{"l": 3, "a": 0.1, "phase": 1.0}]}"#;
     /// let file = ShapeFile::from_json(text)?;
-    /// assert_eq!(ShapeFile::from_json(&file.to_json())?, file);
+    /// assert_eq!(ShapeFile::from_json(&file.to_json()?)?, file);
     /// # Ok::<(), serde_json::Error>(())
     /// ```
-    pub fn to_json(&self) -> String {
-        serde_json::to_string_pretty(self).unwrap_or_default()
+    pub fn to_json(&self) -> Result<String, serde_json::Error> {
+        serde_json::to_string_pretty(self)
     }
 }

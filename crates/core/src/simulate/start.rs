@@ -231,7 +231,7 @@ pub fn check_start(
                 (r.q0.is_some(), StartField::Q0),
                 (r.contact.is_some(), StartField::Contact),
                 (r.omega0.is_some(), StartField::Omega0),
-                (r.spin.is_some_and(|s| s != 0.0), StartField::Spin),
+                (r.spin.is_some(), StartField::Spin),
             ];
             if let Some(&(_, f)) = sphere_fields.iter().find(|(given, _)| *given) {
                 return Err(StartError::NotDisk(f));
@@ -265,7 +265,8 @@ pub fn check_start(
             finite(StartField::Spin, &[spin])?;
             let q0 = match (r.q0, r.contact) {
                 (Some(v), _) => {
-                    if spin != 0.0 {
+                    // Given is given, 0 included: `--spin 0 --q0 …` names two orientations.
+                    if r.spin.is_some() {
                         return Err(StartError::SpinWithQ0);
                     }
                     finite(StartField::Q0, &v)?;
@@ -470,37 +471,39 @@ mod tests {
     }
 
     #[test]
-    fn defaults_zero_spin_and_huge_angles_are_accepted() {
+    fn a_given_spin_is_given_even_when_zero_and_huge_angles_are_accepted() {
         let (disk, sphere) = bodies();
-        // A zero spin with q0 is no spin, and a spin of 0 on a disk is no spin either.
+        // Issue 37: a spin of 0 was taken as "not given", so `--spin 0 --q0 …` passed. Given
+        // is given: with q0 it names a second orientation, and a disk has no spin.
         let q = StartRequest {
             q0: Some([2.0, 0.0, 0.0, 0.0]),
             spin: Some(0.0),
             ..Default::default()
         };
-        let s = check_start(&sphere, 1.0, &q).unwrap();
-        // Left as given: `Start` normalises it, for every caller at once.
+        assert_eq!(check_start(&sphere, 1.0, &q), Err(StartError::SpinWithQ0));
+        let spun_disk = StartRequest {
+            spin: Some(0.0),
+            ..Default::default()
+        };
         assert_eq!(
-            s.initial,
-            InitialState::Sphere {
-                q0: DQuat::from_xyzw(0.0, 0.0, 0.0, 2.0),
-                omega0: DVec3::ZERO
-            }
+            check_start(&disk, 0.0, &spun_disk),
+            Err(StartError::NotDisk(StartField::Spin))
         );
-        let d = check_start(
-            &disk,
-            0.0,
+        // Without the spin, q0 is left as given: `Start` normalises it, for every caller.
+        let s = check_start(
+            &sphere,
+            1.0,
             &StartRequest {
-                spin: Some(0.0),
+                q0: Some([2.0, 0.0, 0.0, 0.0]),
                 ..Default::default()
             },
         )
         .unwrap();
         assert_eq!(
-            d.initial,
-            InitialState::Disk {
-                theta0: 0.0,
-                theta_dot0: 0.0
+            s.initial,
+            InitialState::Sphere {
+                q0: DQuat::from_xyzw(0.0, 0.0, 0.0, 2.0),
+                omega0: DVec3::ZERO
             }
         );
         let huge = StartRequest {
