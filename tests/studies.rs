@@ -257,18 +257,13 @@ fn a_stopped_study_says_so() {
 #[test]
 fn a_scans_answers_do_not_depend_on_the_integrator_picked_for_speed() {
     use rollphase::analysis::scan::Scan;
-    use rollphase::analysis::sphere_orbits::{AnswerCheck, Fate, Settle, same_answer};
+    use rollphase::analysis::sphere_orbits::{AnswerCheck, Fate, same_answer};
     use rollphase::integrate::{Method, Preset};
     let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5).unwrap() else {
         unreachable!()
     };
-    let settle = Settle {
-        t_max: 1500.0,
-        point_tol: 1e-5,
-        period_rtol: 1e-5,
-        max_k: 4,
-        ..Settle::default()
-    };
+    // Decided as the answer table decides (sweep's tolerances, t_max 1500, cycles up to 4).
+    let settle = rollphase::analysis::answers::paper_answer_cases(&body, 2).unwrap()[0].settle;
     for (mass, fast) in [
         (
             6.0,

@@ -196,16 +196,9 @@ pub struct StartArgs {
     pub theta_dot0: Option<f64>,
 }
 
-/// Python's names of the start's fields, for the core's messages.
+/// Python's names of the start's fields, for the core's messages: the core's own names.
 fn argument(f: StartField) -> &'static str {
-    match f {
-        StartField::Q0 => "q0",
-        StartField::Contact => "contact",
-        StartField::Spin => "spin",
-        StartField::Omega0 => "omega0",
-        StartField::Theta0 => "theta0",
-        StartField::ThetaDot0 => "theta_dot0",
-    }
+    f.name()
 }
 
 /// The initial state, checked by the core as the command line's is ([`check_start`]).

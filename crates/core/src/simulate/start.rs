@@ -50,18 +50,30 @@ pub enum StartField {
     ThetaDot0,
 }
 
-/// The field's name as the library's own messages give it (a front-end names it its own way
-/// through [`Spelling`]).
-impl std::fmt::Display for StartField {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
+impl StartField {
+    /// The field's name as the library (and Python, whose arguments have these names) gives
+    /// it; the command line and scenes name it their own way through [`Spelling`].
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::simulate::start::StartField;
+    /// assert_eq!(StartField::ThetaDot0.name(), "theta_dot0");
+    /// ```
+    pub fn name(self) -> &'static str {
+        match self {
             StartField::Q0 => "q0",
             StartField::Contact => "contact",
             StartField::Spin => "spin",
             StartField::Omega0 => "omega0",
             StartField::Theta0 => "theta0",
             StartField::ThetaDot0 => "theta_dot0",
-        })
+        }
+    }
+}
+
+impl std::fmt::Display for StartField {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
     }
 }
 
