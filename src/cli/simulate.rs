@@ -11,7 +11,10 @@ use crate::geometry::Body;
 use crate::integrate::Method;
 use crate::output::{self, Inputs};
 use crate::simulate::start::{Spelling, StartField, StartRequest, check_start};
-use crate::simulate::{DISK_HEADER, InitialState, RunSpec, SPHERE_HEADER, SummaryReport};
+use crate::simulate::{
+    ContactLimits, DISK_HEADER, FORCE_HEADER, InitialState, OnViolation, RunError, RunSpec,
+    SPHERE_HEADER, SummaryReport,
+};
 
 /// Which integrator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -41,6 +44,16 @@ pub enum IntegratorName {
 /// turned by --spin (default 0); released from rest (--omega0 0,0,0). --q0 is the whole
 /// orientation, so --spin does not go with it. A flag of the other kind of body, or an initial
 /// velocity (--omega0, --thetadot0) with --mass 0, is an error, never ignored.
+///
+/// Where the model holds: every model assumes the body stays on the ramp and rolls without
+/// slipping. The run follows the exact contact force (f = m a − F, in units of the weight F:
+/// the normal force N and the friction needed |f_t|/N), and the summary gives their extremes,
+/// the first time N ≤ 0 (the body leaves the ramp) and, with --friction μ, the first time the
+/// friction needed exceeds μ (it slips). --on-invalid says what happens then: `warn` (the
+/// default) goes on and says so on standard error and in the summary; `stop` ends the run
+/// there with an error naming the time and the force. --forces adds the force to the CSV
+/// (normal_force, friction_x, friction_y, friction_needed; inf where N ≤ 0). The viscous
+/// model (m/m0 = 0) presses with N = cos α and needs μ = tan α throughout.
 ///
 /// Rows go to standard output unless -o FILE is given; a file is written whole or not at all.
 #[derive(Debug, Args)]
@@ -101,9 +114,41 @@ pub struct SimulateArgs {
     #[arg(long, default_value_t = 100_000_000)]
     pub max_steps: u64,
     /// Write a JSON summary: rhs_evals, steps, max_quat_norm_error, max_contact_normal_error,
-    /// energy_drift, wall_seconds.
+    /// energy_drift, wall_seconds, min_normal_force, max_normal_force, max_friction_needed,
+    /// lift_off_t, slip_t, friction.
     #[arg(long)]
     pub summary: Option<PathBuf>,
+    /// Add the contact force's columns to the CSV: normal_force, friction_x, friction_y (units
+    /// of the weight F; friction_x < 0 points uphill) and friction_needed (|f_t|/N).
+    #[arg(long)]
+    pub forces: bool,
+    /// The surface's coefficient of static friction μ ≥ 0: the run reports the first time
+    /// rolling needs more (it slips) [default: slip not checked].
+    #[arg(long, allow_negative_numbers = true)]
+    pub friction: Option<f64>,
+    /// What a lift-off (N ≤ 0) or a slip (friction needed > --friction) does: `warn` goes on
+    /// and says so; `stop` ends the run there with an error and writes no CSV.
+    #[arg(long, value_enum, default_value_t = OnInvalid::Warn)]
+    pub on_invalid: OnInvalid,
+}
+
+/// What a run does when the motion stops being rollable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum OnInvalid {
+    /// Go on; a warning on standard error and in the summary.
+    Warn,
+    /// Stop with an error naming the time and the force.
+    Stop,
+}
+
+impl OnInvalid {
+    /// The core's name for it.
+    pub(super) fn policy(self) -> OnViolation {
+        match self {
+            OnInvalid::Warn => OnViolation::Warn,
+            OnInvalid::Stop => OnViolation::Stop,
+        }
+    }
 }
 
 /// The command line's names of the start's fields, for the core's messages.
@@ -180,6 +225,11 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         IntegratorName::Cf4 => Method::Cf4 { dt: a.dt },
     };
     method.validate()?;
+    let limits = ContactLimits {
+        friction: a.friction,
+        on_violation: a.on_invalid.policy(),
+    };
+    limits.validate().map_err(|e| anyhow!("--friction: {e}"))?;
     let initial = initial_state(&a, &body)?;
     // The model the run will use (the viscous limit below rtol), then the cost of a stiff one.
     // (A fixed step is refused there when too long for the stiffness; that error comes from the
@@ -196,12 +246,19 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         t_end: a.t_end,
         samples: a.samples,
         max_steps: a.max_steps,
+        limits,
     };
-    let header = if body.dimension() == 2 {
+    let model_header = if body.dimension() == 2 {
         DISK_HEADER
     } else {
         SPHERE_HEADER
     };
+    let header = if a.forces {
+        format!("{model_header},{FORCE_HEADER}")
+    } else {
+        model_header.to_string()
+    };
+    let columns = header.split(',').count();
     // Staged beside the destination and moved into place at the end, with the summary, so a
     // failed run leaves no half file (see `crate::output`: devices and links are kept).
     let inputs = Inputs::of([&a.file]);
@@ -212,7 +269,7 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     let mut file = output::OutputFile::create(&a.output, &inputs)?;
     // The header goes out with the first row, so a run refused before it starts writes nothing
     // (also on standard output).
-    let mut header = Some(header);
+    let mut header = Some(header.as_str());
     let mut out = csv::WriterBuilder::new().from_writer(&mut file);
     let bar = indicatif::ProgressBar::new(a.samples as u64);
     bar.set_style(
@@ -238,7 +295,7 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         let written = header
             .take()
             .map_or(Ok(()), |h| out.write_record(h.split(',')))
-            .and_then(|()| write_row(&mut out, row));
+            .and_then(|()| write_row(&mut out, &row[..columns]));
         if let Err(e) = written {
             io_error = Some(csv_io_error(e));
         }
@@ -268,6 +325,13 @@ pub fn run(a: SimulateArgs) -> Result<()> {
                     format!("{} --dt {}", method.name(), super::short(dt))
                 }
             };
+            if let RunError::LeftModel { report, .. } = &e {
+                eprintln!(
+                    "contact force up to there: N/F from {:.4} to {:.4}, friction needed up to \
+                     {:.4}",
+                    report.min_normal_force, report.max_normal_force, report.max_friction_needed
+                );
+            }
             // Rows already sent to standard output cannot be taken back; a file is untouched.
             // (The header goes out with the first row: none sent, none to take back.)
             let left = if header.is_some() {
@@ -293,6 +357,9 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     let wall = start.elapsed().as_secs_f64();
     if let Some(note) = &summary.model_note {
         eprintln!("note: {note}");
+    }
+    for warning in summary.validity_warnings() {
+        eprintln!("warning: the body {warning}");
     }
     if let Some(path) = &a.summary {
         let file = SummaryReport::new(summary, wall, a.alpha, a.mass);

@@ -54,6 +54,7 @@ pub fn run_rows(
         t_end,
         samples,
         max_steps: 100_000_000,
+        limits: Default::default(),
     };
     let mut rows = Vec::new();
     let summary = run(body, &spec, |r| rows.push(r.to_vec())).expect("run succeeds");

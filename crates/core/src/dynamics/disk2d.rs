@@ -24,7 +24,7 @@ use std::f64::consts::PI;
 
 use glam::{DQuat, DVec3};
 
-use super::{ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel};
+use super::{ContactForce, ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel};
 use crate::geometry::{Disk, RadiusJet};
 use crate::integrate::OdeSystem;
 
@@ -156,6 +156,42 @@ impl<'a> DiskInertial<'a> {
         accel - (self.mass * j.r * j.r1 / inertia + j.turn_rate_d1() / s) * td * td
     }
 
+    /// The ramp's force on the body at contact angle θ and rate θ̇: f = m a_cm − F, with the
+    /// centre's acceleration from the exact θ-derivatives of its position. The centre moves by
+    /// dx_cm/dθ = g = κ r² = s h and dh/dθ = k = −s c (c the centre's downhill offset), so
+    ///   a = (g' θ̇² + g θ̈, k' θ̇² + k θ̈),  g' = s' h − s² c,  k' = −s' c − s (g − √(r² + r'²)).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{DiskInertial, Ramp};
+    /// use rollphase_core::geometry::Disk;
+    /// // A uniform disk rolling freely (no drag) accelerates at (2/3) g sin α, so the ramp
+    /// // holds it back with (1/3) F sin α and presses with F cos α.
+    /// let disk = Disk::perfect();
+    /// let model = DiskInertial::new(&disk, &Ramp::with_drag(0.3, 2.0, 0.0)?);
+    /// let f = model.contact_force_at(0.4, 0.7);
+    /// assert!((f.normal - 0.3f64.cos()).abs() < 1e-14);
+    /// assert!((f.friction[0] + 0.3f64.sin() / 3.0).abs() < 1e-14);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
+    pub fn contact_force_at(&self, theta: f64, theta_dot: f64) -> ContactForce {
+        let j = self.disk.jet(theta);
+        let accel = self.theta_ddot_jet(&j, theta_dot);
+        let (s, s1) = (j.turn_rate(), j.turn_rate_d1());
+        let (h, c, rho) = (j.height(), j.centre_offset(), j.arc_rate());
+        let g = s * h;
+        let k = -s * c;
+        let g1 = s1 * h - s * s * c;
+        let k1 = -s1 * c - s * (g - rho);
+        let v2 = theta_dot * theta_dot;
+        let a_x = g1 * v2 + g * accel;
+        let a_y = k1 * v2 + k * accel;
+        ContactForce {
+            normal: self.mass * a_y + self.cos_a,
+            friction: [self.mass * a_x - self.sin_a, 0.0],
+        }
+    }
+
     /// Moment J(θ) = (I + m r²) s² of the reduced one-degree-of-freedom system.
     ///
     /// # Example
@@ -261,6 +297,13 @@ impl RollingModel<2> for DiskViscous<'_> {
         ModelHealth::default()
     }
 
+    fn contact_force(&self, _y: &[f64; 2]) -> ContactForce {
+        ContactForce {
+            normal: self.cos_a,
+            friction: [-self.sin_a, 0.0],
+        }
+    }
+
     fn observation(&self, y: &[f64; 2]) -> Observation {
         disk_observation(self.disk, y[0], self.theta_dot(y[0]), y[1], None)
     }
@@ -289,6 +332,10 @@ impl RollingModel<4> for DiskInertial<'_> {
             energy: self.energy_balance(y),
             ..ModelHealth::default()
         }
+    }
+
+    fn contact_force(&self, y: &[f64; 4]) -> ContactForce {
+        self.contact_force_at(y[0], y[1])
     }
 
     fn observation(&self, y: &[f64; 4]) -> Observation {

@@ -14,7 +14,10 @@ use thiserror::Error;
 use crate::integrate::OdeSystem;
 
 pub use disk2d::{DiskInertial, DiskViscous};
-pub use model::{ModelHealth, ModelVisitor, ModelVisitorMut, Observation, RollingModel};
+pub use model::{
+    ContactForce, FORCE_COLUMNS, ModelHealth, ModelVisitor, ModelVisitorMut, Observation,
+    RollingModel,
+};
 pub use sphere3d::{SphereInertial, SphereViscous};
 
 /// Which of the four models runs: the body's dimension × viscous (m/m0 = 0) or inertial. Its

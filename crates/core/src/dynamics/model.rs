@@ -49,6 +49,60 @@ pub struct Observation {
     pub health: ModelHealth,
 }
 
+/// The force the ramp exerts on the body at the contact, in units of the weight F, in the ramp
+/// frame (x downhill, y across, z the ramp's normal): f = m a_cm − F, Newton's law for the centre
+/// of mass with the model's own acceleration (the drag is a pure torque, SI eq. 1), so it is exact
+/// for the motion the model computes. In the viscous limit m → 0 it is −F: N = cos α and the
+/// friction needed is tan α.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactForce {
+    /// The normal force N (> 0 pushes the body off the ramp; ≤ 0 means the ramp would have to
+    /// pull: the body leaves it).
+    pub normal: f64,
+    /// The tangential (friction) force (f_x, f_y); f_x < 0 points uphill.
+    pub friction: [f64; 2],
+}
+
+impl ContactForce {
+    /// The coefficient of static friction rolling needs, |f_t|/N; infinite where N ≤ 0 (no
+    /// friction holds a body the ramp does not press).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::ContactForce;
+    /// let f = ContactForce { normal: 0.5, friction: [-0.3, 0.4] };
+    /// assert!((f.friction_needed() - 1.0).abs() < 1e-15);
+    /// let off = ContactForce { normal: -0.1, friction: [0.0, 0.0] };
+    /// assert!(off.friction_needed().is_infinite());
+    /// ```
+    pub fn friction_needed(&self) -> f64 {
+        if self.normal > 0.0 {
+            self.friction[0].hypot(self.friction[1]) / self.normal
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// The force of the viscous limit, −F: N = cos α, friction (−sin α, 0).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::ContactForce;
+    /// let f = ContactForce::viscous(0.3);
+    /// assert!((f.friction_needed() - 0.3f64.tan()).abs() < 1e-15);
+    /// ```
+    pub fn viscous(alpha_rad: f64) -> Self {
+        ContactForce {
+            normal: alpha_rad.cos(),
+            friction: [-alpha_rad.sin(), 0.0],
+        }
+    }
+}
+
+/// The trajectory columns of [`ContactForce`] that every model appends to its row
+/// (`friction_y` is 0 in 2D; `friction_needed` is `inf` where N ≤ 0).
+pub const FORCE_COLUMNS: &str = "normal_force,friction_x,friction_y,friction_needed";
+
 /// A rolling model, as everything above the physics sees it. `N` is the size of its state.
 pub trait RollingModel<const N: usize>: Observe<N> {
     /// Its one name.
@@ -59,6 +113,8 @@ pub trait RollingModel<const N: usize>: Observe<N> {
     fn row(&self, t: f64, y: &[f64; N], out: &mut Vec<f64>);
     /// The health it can measure at `y`.
     fn health(&self, y: &[f64; N]) -> ModelHealth;
+    /// The ramp's force on the body at `y` ([`ContactForce`]), from the equations of motion.
+    fn contact_force(&self, y: &[f64; N]) -> ContactForce;
     /// What `y` looks like.
     fn observation(&self, y: &[f64; N]) -> Observation;
     /// Its Poincaré section, a function of the state that passes zero at each crossing: sin(θ/2)

@@ -24,7 +24,7 @@ use std::cell::Cell;
 
 use glam::{DQuat, DVec3};
 
-use super::{ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel};
+use super::{ContactForce, ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel};
 use crate::geometry::{Sphere, SurfacePoint};
 use crate::integrate::OdeSystem;
 use crate::integrate::lie::quat_at;
@@ -313,8 +313,46 @@ impl<'a> SphereInertial<'a> {
         observe(&self.tracker, quat_at(y, 0), |_| omega, y[7], y[8])
     }
 
-    /// ω̇ and ṙ-free pieces for contact `sp`, orientation q (unit) and ω (SI eq. 34).
-    fn omega_dot(&self, q: DQuat, sp: &SurfacePoint, omega: DVec3) -> (DVec3, DVec3) {
+    /// The ramp's force on the body at state `y`: f = m a_cm − F with the centre's
+    /// acceleration a = −ω̇ × r − ω × ṙ (the derivative of the rolling condition v = −ω × r,
+    /// ṙ including the contact's motion over the body); NaN where the contact is not found.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{Ramp, SphereInertial};
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::glam::{DQuat, DVec3};
+    /// // A uniform ball rolling freely accelerates at (5/7) g sin α: the ramp holds it back
+    /// // with (2/7) F sin α and presses with F cos α.
+    /// let ball = Sphere::perfect();
+    /// let model = SphereInertial::new(&ball, &Ramp::with_drag(0.3, 2.0, 0.0)?);
+    /// let y = SphereInertial::initial_state(DQuat::IDENTITY, DVec3::new(0.0, 0.5, 0.0));
+    /// let f = model.contact_force_at(&y);
+    /// assert!((f.normal - 0.3f64.cos()).abs() < 1e-12);
+    /// assert!((f.friction[0] + 2.0 / 7.0 * 0.3f64.sin()).abs() < 1e-12);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
+    pub fn contact_force_at(&self, y: &[f64; 10]) -> ContactForce {
+        let q = quat_at(y, 0);
+        let Some(sp) = self.tracker.contact(q) else {
+            return ContactForce {
+                normal: f64::NAN,
+                friction: [f64::NAN; 2],
+            };
+        };
+        let omega = DVec3::new(y[4], y[5], y[6]);
+        let (omega_dot, r, r_dot) = self.omega_dot(q.normalize(), &sp, omega);
+        let a = -omega_dot.cross(r) - omega.cross(r_dot);
+        let f = self.mass * a - self.force;
+        ContactForce {
+            normal: f.z,
+            friction: [f.x, f.y],
+        }
+    }
+
+    /// ω̇, the lab contact vector r and its full derivative ṙ for contact `sp`, orientation q
+    /// (unit) and ω (SI eq. 34).
+    fn omega_dot(&self, q: DQuat, sp: &SurfacePoint, omega: DVec3) -> (DVec3, DVec3, DVec3) {
         let r = q * sp.p;
         let d = q.conjugate() * DOWN;
         let omega_body = q.conjugate() * omega;
@@ -325,7 +363,7 @@ impl<'a> SphereInertial<'a> {
             - self.drag * omega
             - (m * self.drag / self.inertia) * r.dot(omega) * r
             - m * r.cross(omega.cross(r_dot));
-        (rhs / (self.inertia + m * r.length_squared()), r)
+        (rhs / (self.inertia + m * r.length_squared()), r, r_dot)
     }
 }
 
@@ -336,7 +374,7 @@ impl OdeSystem<10> for SphereInertial<'_> {
             return [f64::NAN; 10];
         };
         let omega = DVec3::new(y[4], y[5], y[6]);
-        let (omega_dot, r) = self.omega_dot(q.normalize(), &sp, omega);
+        let (omega_dot, r, _) = self.omega_dot(q.normalize(), &sp, omega);
         let qdot = pure(omega) * q * 0.5;
         let v = -omega.cross(r);
         [
@@ -390,6 +428,13 @@ impl RollingModel<6> for SphereViscous<'_> {
         }
     }
 
+    fn contact_force(&self, _y: &[f64; 6]) -> ContactForce {
+        ContactForce {
+            normal: -self.force.z,
+            friction: [-self.force.x, -self.force.y],
+        }
+    }
+
     fn observation(&self, y: &[f64; 6]) -> Observation {
         sphere_observation(self.tracker.body, &self.observe(y), None)
     }
@@ -418,6 +463,10 @@ impl RollingModel<10> for SphereInertial<'_> {
             contact_normal_error: Some(o.contact_normal_error),
             energy: self.energy_balance(y),
         }
+    }
+
+    fn contact_force(&self, y: &[f64; 10]) -> ContactForce {
+        self.contact_force_at(y)
     }
 
     fn observation(&self, y: &[f64; 10]) -> Observation {

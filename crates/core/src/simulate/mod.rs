@@ -30,13 +30,15 @@ use thiserror::Error;
 mod model;
 pub mod start;
 mod typed;
+mod validity;
 pub use model::{ModelState, Start};
 pub use typed::{
     DiskSample, DiskTrajectory, Model, Sample, Simulation, SphereSample, SphereTrajectory,
     Trajectory, simulate, simulate_streaming, simulate_until,
 };
+pub use validity::{ContactLimits, ContactReport, ContactWatch, OnViolation, Violation};
 
-use crate::dynamics::{ModelError, ModelKind, ModelVisitor, Ramp, RollingModel};
+use crate::dynamics::{FORCE_COLUMNS, ModelError, ModelKind, ModelVisitor, Ramp, RollingModel};
 use crate::geometry::{Body, ShapeError};
 use crate::integrate::{self, IntegrateError, Method, Stats};
 
@@ -44,6 +46,9 @@ use crate::integrate::{self, IntegrateError, Method, Stats};
 pub const DISK_HEADER: &str = "t,theta,theta_dot,psi,x,y";
 /// CSV header of a 3D trajectory (u: contact point as a body-frame unit vector; w: lab ω).
 pub const SPHERE_HEADER: &str = "t,qw,qx,qy,qz,ux,uy,uz,wx,wy,wz,x,y,z";
+/// The contact-force columns [`run`] appends to every row after the model's
+/// ([`crate::dynamics::ContactForce`], in units of the weight F).
+pub const FORCE_HEADER: &str = FORCE_COLUMNS;
 
 /// Where a run starts.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -79,6 +84,9 @@ pub struct RunSpec {
     pub samples: usize,
     /// Step budget.
     pub max_steps: u64,
+    /// The surface the run is checked against (lift-off always; slip when it has a μ) and
+    /// what a violation does.
+    pub limits: ContactLimits,
 }
 
 /// Numerical health of a run.
@@ -105,6 +113,30 @@ pub struct Summary {
     pub t_end: f64,
     /// Why the model run differs from the one asked for (the stiff-corner policy), if it does.
     pub model_note: Option<String>,
+    /// The contact force over the run: its extremes, and when the body would leave the ramp
+    /// or slip ([`validity`](ContactWatch)).
+    #[serde(flatten)]
+    pub contact: Option<ContactReport>,
+}
+
+impl Summary {
+    /// The warnings a run that went on past a violation owes its user, one sentence each.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{Model, Simulation, simulate};
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// let sim = Simulation::new(1.0, 40.0).model(Model::Inertial { mass_ratio: 10.0 });
+    /// let (_, summary) = simulate(&body, &sim)?;
+    /// assert!(summary.validity_warnings()[0].contains("leaves the ramp at t = 20.2"));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn validity_warnings(&self) -> Vec<String> {
+        self.contact
+            .map(|c| c.violations().iter().map(Violation::describe).collect())
+            .unwrap_or_default()
+    }
 }
 
 /// What `rollphase simulate --summary` writes and Python's `Trajectory.summary` holds: the
@@ -168,6 +200,7 @@ impl Summary {
             energy_drift: None,
             t_end: 0.0,
             model_note: None,
+            contact: None,
         }
     }
 }
@@ -238,6 +271,15 @@ pub enum RunError {
     Stopped {
         /// When.
         t: f64,
+    },
+    /// The motion stopped being rollable and the run was asked to stop there
+    /// ([`OnViolation::Stop`]).
+    #[error("the run stopped where the rolling model stops holding: the body {}", .violation.describe())]
+    LeftModel {
+        /// What happened, when.
+        violation: Violation,
+        /// The contact force up to there.
+        report: ContactReport,
     },
     /// A sampled value was not finite.
     #[error(
@@ -402,6 +444,7 @@ pub const MAX_SAMPLES: usize = 10_000_000;
 ///     t_end: 50.0,
 ///     samples: 11,
 ///     max_steps: 1_000_000,
+///     limits: Default::default(),
 /// };
 /// let mut rows = 0;
 /// let summary = run(&body, &spec, |row| {
@@ -469,6 +512,7 @@ pub fn run_until(
             )));
         }
     }
+    spec.limits.validate().map_err(RunError::Mismatch)?;
     body.check_convex()?;
     let choice = choose_model(body, spec.ramp, spec.method)?;
     let spec = &RunSpec {
@@ -519,9 +563,25 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
         let mut put = |t: f64, y: &[f64; N]| -> Result<(), RunError> {
             model.row(t, y, &mut values);
             check_row(t, &values, M::COLUMNS)?;
+            let f = model.contact_force(y);
+            // The friction needed is infinite where N ≤ 0; the forces themselves must be finite.
+            let forces = [f.normal, f.friction[0], f.friction[1]];
+            check_row(t, &forces, FORCE_HEADER)?;
+            values.extend(forces);
+            values.push(f.friction_needed());
             row(&values);
             Ok(())
         };
+        let mut watch = ContactWatch::new(spec.limits, 0.0, model.contact_force(y0));
+        if let (OnViolation::Stop, Some(v)) = (
+            spec.limits.on_violation,
+            watch.report().violations().first(),
+        ) {
+            return Err(RunError::LeftModel {
+                violation: *v,
+                report: watch.report(),
+            });
+        }
         let e0 = model.health(stepper.y()).energy;
         let track = |y: &[f64; N], s: &mut Summary| {
             let h = model.health(y);
@@ -552,6 +612,26 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
             }
             let y = *st.y();
             track(&y, &mut summary);
+            let t_now = st.t();
+            let stopped = watch.step(t_now, |t| {
+                if t == t_now {
+                    model.contact_force(&y)
+                } else {
+                    model.contact_force(&st.dense(t))
+                }
+            });
+            if let Some(violation) = stopped {
+                // The rows up to the violation, then the error.
+                while next < times.len() && times[next] <= violation.t() {
+                    let ys = st.dense(times[next]);
+                    put(times[next], &ys)?;
+                    next += 1;
+                }
+                return Err(RunError::LeftModel {
+                    violation,
+                    report: watch.report(),
+                });
+            }
             if let Method::Rk4 { dt } | Method::Cf4 { dt } = method {
                 let worst = summary
                     .max_quat_norm_error
@@ -578,6 +658,7 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
             Ok(())
         })?;
         summary.t_end = stepper.t();
+        summary.contact = Some(watch.report());
         Ok(finish(summary, stepper.stats(), method))
     }
 }

@@ -11,9 +11,9 @@ use glam::{DQuat, DVec3};
 
 use std::sync::atomic::AtomicBool;
 
-use super::{InitialState, RunError, RunSpec, Summary, run, run_until};
-use crate::dynamics::Ramp;
+use super::{ContactLimits, InitialState, RunError, RunSpec, Summary, run, run_until};
 use crate::dynamics::sphere3d::orientation_touching;
+use crate::dynamics::{ContactForce, Ramp};
 use crate::geometry::Body;
 use crate::geometry::sphere::direction;
 use crate::integrate::Method;
@@ -133,6 +133,9 @@ pub struct Simulation {
     pub samples: usize,
     /// Step budget (10⁸ by default): the run stops with an error beyond it.
     pub max_steps: u64,
+    /// The surface the run is checked against, and what a lift-off or slip does (by default:
+    /// lift-off checked, slip not, a violation reported in the summary).
+    pub limits: ContactLimits,
 }
 
 impl Simulation {
@@ -158,6 +161,7 @@ impl Simulation {
             t_end,
             samples: 1001,
             max_steps: 100_000_000,
+            limits: ContactLimits::default(),
         }
     }
 
@@ -241,6 +245,23 @@ impl Simulation {
         Simulation { drag, ..self }
     }
 
+    /// With this surface: its μ, and whether a lift-off or slip stops the run.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{ContactLimits, OnViolation, RunError, Simulation, simulate};
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// // The viscous body needs μ = tan α = 0.15 on this ramp: μ = 0.1 is not enough.
+    /// let slippery = ContactLimits { friction: Some(0.1), on_violation: OnViolation::Stop };
+    /// let e = simulate(&body, &Simulation::new(0.15, 10.0).limits(slippery));
+    /// assert!(matches!(e, Err(RunError::LeftModel { .. })));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn limits(self, limits: ContactLimits) -> Self {
+        Simulation { limits, ..self }
+    }
+
     /// The [`RunSpec`] this stands for, for `body`.
     ///
     /// # Example
@@ -273,6 +294,7 @@ impl Simulation {
             t_end: self.t_end,
             samples: self.samples,
             max_steps: self.max_steps,
+            limits: self.limits,
         })
     }
 }
@@ -290,6 +312,8 @@ pub struct SphereSample {
     pub omega: DVec3,
     /// Centre of mass in the ramp frame (x downhill, z the ramp's normal).
     pub com: DVec3,
+    /// The ramp's force on the body.
+    pub force: ContactForce,
 }
 
 /// One sample of a disk's run.
@@ -307,6 +331,8 @@ pub struct DiskSample {
     pub x: f64,
     /// Height of the centre of mass above the ramp.
     pub y: f64,
+    /// The ramp's force on the body.
+    pub force: ContactForce,
 }
 
 /// One sample, of either dimension.
@@ -316,6 +342,14 @@ pub enum Sample {
     Disk(DiskSample),
     /// A sphere's.
     Sphere(SphereSample),
+}
+
+/// The force columns of a run's row, from `first` on.
+fn force_at(row: &[f64], first: usize) -> ContactForce {
+    ContactForce {
+        normal: row[first],
+        friction: [row[first + 1], row[first + 2]],
+    }
 }
 
 impl Sample {
@@ -330,6 +364,7 @@ impl Sample {
                 psi: row[3],
                 x: row[4],
                 y: row[5],
+                force: force_at(row, 6),
             })
         } else {
             Sample::Sphere(SphereSample {
@@ -338,6 +373,7 @@ impl Sample {
                 contact: DVec3::new(row[5], row[6], row[7]),
                 omega: DVec3::new(row[8], row[9], row[10]),
                 com: DVec3::new(row[11], row[12], row[13]),
+                force: force_at(row, 14),
             })
         }
     }
@@ -356,6 +392,8 @@ pub struct SphereTrajectory {
     pub omega: Vec<DVec3>,
     /// Centres of mass.
     pub com: Vec<DVec3>,
+    /// The ramp's force on the body.
+    pub force: Vec<ContactForce>,
 }
 
 /// A disk's trajectory, column by column.
@@ -373,6 +411,8 @@ pub struct DiskTrajectory {
     pub x: Vec<f64>,
     /// Centre of mass height.
     pub y: Vec<f64>,
+    /// The ramp's force on the body.
+    pub force: Vec<ContactForce>,
 }
 
 /// A run's samples, with named columns.
@@ -400,6 +440,25 @@ impl Trajectory {
         match self {
             Trajectory::Disk(d) => &d.t,
             Trajectory::Sphere(s) => &s.t,
+        }
+    }
+
+    /// The ramp's force on the body at each sample.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{Simulation, simulate};
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// let (trajectory, _) = simulate(&body, &Simulation::new(0.15, 2.0).samples(3))?;
+    /// // Viscous: N = cos α throughout.
+    /// assert!(trajectory.forces().iter().all(|f| (f.normal - 0.15f64.cos()).abs() < 1e-15));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn forces(&self) -> &[ContactForce] {
+        match self {
+            Trajectory::Disk(d) => &d.force,
+            Trajectory::Sphere(s) => &s.force,
         }
     }
 
@@ -441,6 +500,7 @@ impl Trajectory {
                 d.psi.push(s.psi);
                 d.x.push(s.x);
                 d.y.push(s.y);
+                d.force.push(s.force);
             }
             (Trajectory::Sphere(d), Sample::Sphere(s)) => {
                 d.t.push(s.t);
@@ -448,6 +508,7 @@ impl Trajectory {
                 d.contact.push(s.contact);
                 d.omega.push(s.omega);
                 d.com.push(s.com);
+                d.force.push(s.force);
             }
             // The body fixes the dimension of every sample of a run.
             _ => unreachable!("a run's samples all have its body's dimension"),
