@@ -60,8 +60,11 @@ class Body:
 class Trajectory:
     """A run's samples as numpy arrays. Sphere: t (N,), q (N, 4) w, x, y, z, contact (N, 3)
     body-frame contact point, omega (N, 3) lab angular velocity, com (N, 3) centre of mass.
-    Disk: t, theta, theta_dot, psi, x, y, each (N,). From simulate_many every array but t has a
-    leading axis of one row per start, and summary is a list."""
+    Disk: t, theta, theta_dot, psi, x, y, each (N,). Both: the ramp's force on the body in
+    units of the weight F: normal_force (N,), friction (N, 2) (x downhill, y across) and
+    friction_needed (N,) = |friction|/normal_force (inf where normal_force ≤ 0). From
+    simulate_many every array but t has a leading axis of one row per start, and summary is a
+    list."""
 
     @property
     def t(self) -> npt.NDArray[np.float64]: ...
@@ -84,9 +87,16 @@ class Trajectory:
     @property
     def y(self) -> npt.NDArray[np.float64]: ...
     @property
+    def normal_force(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def friction(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def friction_needed(self) -> npt.NDArray[np.float64]: ...
+    @property
     def summary(self) -> Union[Dict[str, Any], List[Dict[str, Any]]]:
         """The command line's --summary keys: model, integrator, rhs_evals, steps, rejected,
         max_quat_norm_error, max_contact_normal_error, energy_drift, t_end, model_note,
+        min_normal_force, max_normal_force, max_friction_needed, lift_off_t, slip_t, friction,
         wall_seconds, rhs_evals_per_second, alpha, mass_ratio."""
     @property
     def dimension(self) -> int: ...
@@ -112,11 +122,15 @@ def simulate(
     samples: int = 1001,
     drag: float = 1.0,
     max_steps: int = 100_000_000,
+    friction: Optional[float] = None,
+    on_invalid: str = "warn",
 ) -> Trajectory:
     """One run on a ramp at angle alpha (rad) from t = 0 to t_end, as `rollphase simulate`
     (the same numbers to the last digit). mass_ratio 0 is viscous, > 0 inertial. Sphere start:
     q0 (w, x, y, z) or contact (θ, φ) turned by spin; omega0 for inertial runs. Disk start:
-    theta0, theta_dot0. integrator: "dop853" (rtol, atol), "rk4" or "cf4" (dt)."""
+    theta0, theta_dot0. integrator: "dop853" (rtol, atol), "rk4" or "cf4" (dt).
+    friction: the surface's μ (slip is checked against it); on_invalid: "warn" (a
+    RuntimeWarning when the body leaves the ramp or slips) or "stop" (RuntimeError there)."""
 
 def simulate_many(
     body: Body,
@@ -132,6 +146,8 @@ def simulate_many(
     samples: int = 1001,
     drag: float = 1.0,
     max_steps: int = 100_000_000,
+    friction: Optional[float] = None,
+    on_invalid: str = "warn",
 ) -> Trajectory:
     """A sphere from each quaternion of the (N, 4) array q0s, in parallel with the GIL
     released; arrays stacked: q (N, S, 4), contact, omega, com (N, S, 3), t (S,)."""

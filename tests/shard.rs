@@ -162,6 +162,19 @@ fn a_sweep_writes_one_row_per_run_and_its_shards_merge_to_the_same_bytes() {
     for r in &rows {
         let evals: u64 = r[col("rhs_evals")].parse().unwrap();
         assert!(evals > 0);
+        // The contact force along each run: N/F in order around cos α, the friction needed
+        // at least tan α's share (a viscous run needs exactly tan α), no lift-off this gently.
+        let alpha: f64 = r[col("alpha")].parse().unwrap();
+        let n_min: f64 = r[col("min_normal_force")].parse().unwrap();
+        let n_max: f64 = r[col("max_normal_force")].parse().unwrap();
+        let mu: f64 = r[col("max_friction_needed")].parse().unwrap();
+        assert!(0.0 < n_min && n_min <= alpha.cos() + 1e-12 && alpha.cos() - 1e-12 <= n_max);
+        assert!(mu >= alpha.tan() - 1e-12, "{r:?}");
+        if r[col("mass_ratio")] == "0" {
+            assert_eq!((n_min, n_max), (alpha.cos(), alpha.cos()));
+            assert!((mu - alpha.tan()).abs() < 1e-15, "{mu}");
+        }
+        assert!(r[col("lift_off_t")].is_empty());
         match r[col("fate")] {
             "periodic" => {
                 let t: f64 = r[col("period")].parse().unwrap();

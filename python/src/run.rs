@@ -16,12 +16,13 @@ use pyo3::exceptions::{PyAttributeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
+use rollphase_core::dynamics::ContactForce;
 use rollphase_core::geometry::Body as CoreBody;
 use rollphase_core::glam::{DQuat, DVec3};
 use rollphase_core::integrate::Method;
 use rollphase_core::simulate::start::{Spelling, StartField, StartRequest, check_start};
 use rollphase_core::simulate::{
-    InitialState, Model, RunError, Simulation, Summary, SummaryReport,
+    ContactLimits, InitialState, Model, OnViolation, RunError, Simulation, Summary, SummaryReport,
     Trajectory as CoreTrajectory, simulate_until,
 };
 
@@ -38,6 +39,9 @@ const MAX_VALUES: usize = 500_000_000;
 /// contact point as a body-frame unit vector), omega (N, 3) (lab angular velocity), com (N, 3)
 /// (centre of mass: x downhill, z above the ramp). A disk's: t, theta (contact angle in the
 /// body), theta_dot, psi (the body's rotation), x (downhill), y (height), each (N,).
+/// Both: the ramp's force on the body in units of the weight F, normal_force (N,), friction
+/// (N, 2) (along x downhill, y across; negative x points uphill) and friction_needed (N,),
+/// |friction|/normal_force, inf where the normal force is ≤ 0.
 /// From simulate_many every array but t gains a leading axis, one row per start.
 /// summary: the command line's --summary keys (a list of them from simulate_many).
 #[pyclass(frozen, module = "rollphase", name = "Trajectory")]
@@ -53,13 +57,14 @@ impl Trajectory {
             .get(name)
             .map(|c| c.clone_ref(py))
             .ok_or_else(|| {
-                let (what, has) = if self.dimension == 3 {
-                    ("a sphere's", "t, q, contact, omega, com")
+                let what = if self.dimension == 3 {
+                    "a sphere's"
                 } else {
-                    ("a disk's", "t, theta, theta_dot, psi, x, y")
+                    "a disk's"
                 };
                 PyAttributeError::new_err(format!(
-                    "{what} trajectory has no {name}; its columns are {has}"
+                    "{what} trajectory has no {name}; its columns are {}",
+                    self.columns().join(", ")
                 ))
             })
     }
@@ -117,6 +122,22 @@ impl Trajectory {
     fn y(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         self.column(py, "y")
     }
+    /// The ramp's normal force on the body, in units of the weight F (N,).
+    #[getter]
+    fn normal_force(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.column(py, "normal_force")
+    }
+    /// The ramp's tangential (friction) force, x downhill and y across (N, 2).
+    #[getter]
+    fn friction(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.column(py, "friction")
+    }
+    /// The coefficient of friction rolling needs, |friction|/normal_force; inf where the
+    /// normal force is ≤ 0 (N,).
+    #[getter]
+    fn friction_needed(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        self.column(py, "friction_needed")
+    }
     /// The run's summary (a dict with the command line's --summary keys), or a list of them.
     #[getter]
     fn summary(&self, py: Python<'_>) -> Py<PyAny> {
@@ -135,7 +156,9 @@ impl Trajectory {
         } else {
             &["t", "theta", "theta_dot", "psi", "x", "y"]
         };
-        order.to_vec()
+        let mut all = order.to_vec();
+        all.extend(["normal_force", "friction", "friction_needed"]);
+        all
     }
     fn __len__(&self, py: Python<'_>) -> PyResult<usize> {
         self.columns["t"].bind(py).len()
@@ -310,10 +333,54 @@ fn flat4(v: &[DQuat]) -> Vec<f64> {
     v.iter().flat_map(|q| [q.w, q.x, q.y, q.z]).collect()
 }
 
-/// A run's error as ValueError (a stopped run never gets here: [`interruptible`] raises the
-/// interrupt first).
+/// A run's error as ValueError, or RuntimeError for a run stopped where the rolling model
+/// stops holding (on_invalid="stop"). (A run stopped by Ctrl-C never gets here:
+/// [`interruptible`] raises the interrupt first.)
 fn run_error(e: RunError) -> PyErr {
-    value_error(e)
+    match e {
+        RunError::LeftModel { .. } => pyo3::exceptions::PyRuntimeError::new_err(e.to_string()),
+        e => value_error(e),
+    }
+}
+
+/// The surface from simulate's friction and on_invalid arguments.
+fn contact_limits(friction: Option<f64>, on_invalid: &str) -> PyResult<ContactLimits> {
+    let on_violation = match on_invalid {
+        "warn" => OnViolation::Warn,
+        "stop" => OnViolation::Stop,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "on_invalid={other:?} is not one of \"warn\" (go on, with a RuntimeWarning and \
+                 the summary's lift_off_t / slip_t) or \"stop\" (raise RuntimeError at the first \
+                 lift-off or slip)"
+            )));
+        }
+    };
+    let limits = ContactLimits {
+        friction,
+        on_violation,
+    };
+    limits.validate().map_err(PyValueError::new_err)?;
+    Ok(limits)
+}
+
+/// A RuntimeWarning for each way a run left the rolling model (on_invalid="warn").
+fn warn_validity(py: Python<'_>, summary: &Summary, which: &str) -> PyResult<()> {
+    for w in summary.validity_warnings() {
+        let message = std::ffi::CString::new(format!("{which}the body {w}")).unwrap_or_default();
+        let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+        PyErr::warn(py, category.as_any(), &message, 1)?;
+    }
+    Ok(())
+}
+
+/// The force columns: normal (S,), friction (S, 2) flattened, friction needed (S,).
+fn force_columns(f: &[ContactForce]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    (
+        f.iter().map(|f| f.normal).collect(),
+        f.iter().flat_map(|f| f.friction).collect(),
+        f.iter().map(ContactForce::friction_needed).collect(),
+    )
 }
 
 fn arr1(py: Python<'_>, v: Vec<f64>) -> Py<PyAny> {
@@ -350,7 +417,8 @@ fn arr3(py: Python<'_>, v: Vec<f64>, shape: (usize, usize, usize)) -> PyResult<P
 #[pyfunction]
 #[pyo3(signature = (body, alpha, t_end, mass_ratio = 0.0, q0 = None, contact = None, spin = None,
     omega0 = None, theta0 = None, theta_dot0 = None, integrator = "dop853", rtol = 1e-10,
-    atol = None, dt = 0.01, samples = 1001, drag = 1.0, max_steps = 100_000_000))]
+    atol = None, dt = 0.01, samples = 1001, drag = 1.0, max_steps = 100_000_000, friction = None,
+    on_invalid = "warn"))]
 pub fn simulate(
     py: Python<'_>,
     body: &Body,
@@ -370,6 +438,8 @@ pub fn simulate(
     samples: i128,
     drag: f64,
     max_steps: i128,
+    friction: Option<f64>,
+    on_invalid: &str,
 ) -> PyResult<Trajectory> {
     let (samples, max_steps): (usize, u64) = (
         crate::sample_count(samples)?,
@@ -377,6 +447,7 @@ pub fn simulate(
     );
     let core = &body.body;
     let method = method(integrator, rtol, atol, dt)?;
+    let limits = contact_limits(friction, on_invalid)?;
     let start = StartArgs {
         mass_ratio,
         q0,
@@ -392,7 +463,8 @@ pub fn simulate(
         .drag(drag)
         .method(method)
         .samples(samples)
-        .initial(initial);
+        .initial(initial)
+        .limits(limits);
     sim.max_steps = max_steps;
     // Every argument is checked (the ramp, the sampling, the step) before the worker starts.
     sim.spec(core).map_err(run_error)?;
@@ -400,8 +472,14 @@ pub fn simulate(
     let (trajectory, summary) =
         interruptible(py, |stop| simulate_until(core, &sim, stop))?.map_err(run_error)?;
     let wall = clock.elapsed().as_secs_f64();
+    warn_validity(py, &summary, "")?;
     let summary = summary_dict(py, &summary, wall, alpha, mass_ratio)?;
     let mut columns = BTreeMap::new();
+    let n = trajectory.len();
+    let (normal, friction, needed) = force_columns(trajectory.forces());
+    columns.insert("normal_force", arr1(py, normal));
+    columns.insert("friction", arr2(py, friction, n, 2)?);
+    columns.insert("friction_needed", arr1(py, needed));
     match trajectory {
         CoreTrajectory::Sphere(s) => {
             let n = s.t.len();
@@ -435,7 +513,7 @@ pub fn simulate(
 #[pyfunction]
 #[pyo3(signature = (body, alpha, q0s, t_end, mass_ratio = 0.0, omega0 = None,
     integrator = "dop853", rtol = 1e-10, atol = None, dt = 0.01, samples = 1001, drag = 1.0,
-    max_steps = 100_000_000))]
+    max_steps = 100_000_000, friction = None, on_invalid = "warn"))]
 pub fn simulate_many(
     py: Python<'_>,
     body: &Body,
@@ -451,11 +529,14 @@ pub fn simulate_many(
     samples: i128,
     drag: f64,
     max_steps: i128,
+    friction: Option<f64>,
+    on_invalid: &str,
 ) -> PyResult<Trajectory> {
     let (samples, max_steps): (usize, u64) = (
         crate::sample_count(samples)?,
         whole("max_steps", max_steps)?,
     );
+    let limits = contact_limits(friction, on_invalid)?;
     let core = &body.body;
     if !matches!(core, CoreBody::Sphere(_)) {
         return Err(PyValueError::new_err(
@@ -479,7 +560,7 @@ pub fn simulate_many(
             "q0s is empty: give at least one start",
         ));
     }
-    let values = n.saturating_mul(samples).saturating_mul(14);
+    let values = n.saturating_mul(samples).saturating_mul(18);
     if values > MAX_VALUES {
         return Err(PyValueError::new_err(format!(
             "{n} runs × {samples} samples would return {values:.3e} numbers ({:.1} GB), more \
@@ -506,7 +587,8 @@ pub fn simulate_many(
             .drag(drag)
             .method(method)
             .samples(samples)
-            .initial(initial);
+            .initial(initial)
+            .limits(limits);
         sim.max_steps = max_steps;
         sims.push(sim);
     }
@@ -522,8 +604,13 @@ pub fn simulate_many(
             })
             .collect::<Result<Vec<_>, _>>()
     })?;
-    let runs = results
-        .map_err(|(i, e)| PyValueError::new_err(format!("the run from q0s[{i}] failed: {e}")))?;
+    let runs = results.map_err(|(i, e)| {
+        let message = format!("the run from q0s[{i}] failed: {e}");
+        match e {
+            RunError::LeftModel { .. } => pyo3::exceptions::PyRuntimeError::new_err(message),
+            _ => PyValueError::new_err(message),
+        }
+    })?;
     let s = samples;
     let mut t = Vec::new();
     let (mut q, mut contact, mut omega, mut com) = (
@@ -532,8 +619,18 @@ pub fn simulate_many(
         Vec::with_capacity(n * s * 3),
         Vec::with_capacity(n * s * 3),
     );
+    let (mut normal, mut friction, mut needed) = (
+        Vec::with_capacity(n * s),
+        Vec::with_capacity(n * s * 2),
+        Vec::with_capacity(n * s),
+    );
     let summaries = PyList::empty(py);
-    for ((trajectory, summary), wall) in runs {
+    for (i, ((trajectory, summary), wall)) in runs.into_iter().enumerate() {
+        let (a, b, c) = force_columns(trajectory.forces());
+        normal.extend(a);
+        friction.extend(b);
+        needed.extend(c);
+        warn_validity(py, &summary, &format!("the run from q0s[{i}]: "))?;
         let CoreTrajectory::Sphere(path) = trajectory else {
             unreachable!("a sphere's runs are sphere trajectories")
         };
@@ -552,6 +649,9 @@ pub fn simulate_many(
     columns.insert("contact", arr3(py, contact, (n, s, 3))?);
     columns.insert("omega", arr3(py, omega, (n, s, 3))?);
     columns.insert("com", arr3(py, com, (n, s, 3))?);
+    columns.insert("normal_force", arr2(py, normal, n, s)?);
+    columns.insert("friction", arr3(py, friction, (n, s, 2))?);
+    columns.insert("friction_needed", arr2(py, needed, n, s)?);
     Ok(Trajectory {
         columns,
         summary: summaries.into_any().unbind(),

@@ -235,3 +235,49 @@ def test_a_bad_sample_count_states_the_runs_own_bounds():
         with pytest.raises(ValueError, match="2 ≤ samples ≤ 10000000") as caught:
             rollphase.simulate(body, 0.15, 1.0, samples=samples)
         assert "18446744073709551615" not in str(caught.value)
+
+
+def test_contact_forces_are_the_command_lines_and_lift_off_warns(shapes, cli, tmp_path):
+    folder, bodies = shapes
+    summary = tmp_path / "summary.json"
+    out, err, _ = cli(
+        "simulate", folder / "sphere.json", "--alpha", 1.0, "--mass", 10, "--t-end", 30,
+        "--samples", 301, "--forces", "--friction", 1.0, "--summary", summary,
+    )
+    assert "warning: the body slips at t = " in err and "leaves the ramp at t = 20.2" in err
+    header, rows = read_csv(out)
+    assert header[-4:] == ["normal_force", "friction_x", "friction_y", "friction_needed"]
+    with pytest.warns(RuntimeWarning, match="leaves the ramp at t = 20.2"):
+        run = rollphase.simulate(bodies["sphere"], 1.0, 30.0, mass_ratio=10.0, samples=301, friction=1.0)
+    assert "normal_force" in run.columns and run.friction.shape == (301, 2)
+    np.testing.assert_array_equal(run.normal_force, rows[:, -4])
+    np.testing.assert_array_equal(run.friction, rows[:, -3:-1])
+    np.testing.assert_array_equal(run.friction_needed, rows[:, -1])
+    assert np.isinf(run.friction_needed[-1])
+    theirs = json.loads(summary.read_text())
+    for key in ("min_normal_force", "max_normal_force", "lift_off_t", "slip_t", "friction"):
+        assert run.summary[key] == theirs[key], key
+    # Infinite once the body left the ramp: JSON has no inf, so null on both sides.
+    assert run.summary["max_friction_needed"] is None and theirs["max_friction_needed"] is None
+    assert run.summary["slip_t"] < run.summary["lift_off_t"]
+
+
+def test_a_viscous_run_needs_tan_alpha_and_stop_raises():
+    body = Body.paper_disk(84, 0.12, 5)
+    run = rollphase.simulate(body, 0.3, 10.0, samples=11)
+    np.testing.assert_array_equal(run.normal_force, np.cos(0.3))
+    np.testing.assert_array_equal(run.friction_needed, np.tan(0.3))
+    assert run.summary["max_friction_needed"] == np.tan(0.3) and run.summary["slip_t"] is None
+    with pytest.raises(RuntimeError, match="slips at t = 0"):
+        rollphase.simulate(body, 0.3, 10.0, friction=0.2, on_invalid="stop")
+    many = rollphase.simulate_many(
+        Body.paper_sphere(219), 0.15, np.eye(4)[:2], 5.0, samples=6, mass_ratio=2.0
+    )
+    assert many.normal_force.shape == (2, 6) and many.friction.shape == (2, 6, 2)
+    for bad, match in [
+        (dict(friction=float("nan")), "friction mu = NaN"),
+        (dict(friction=-1.0), "mu ≥ 0"),
+        (dict(on_invalid="ignore"), "on_invalid='ignore'|on_invalid=\"ignore\""),
+    ]:
+        with pytest.raises(ValueError, match=match):
+            rollphase.simulate(body, 0.3, 10.0, **bad)

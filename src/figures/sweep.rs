@@ -49,6 +49,7 @@ use super::{number_field, par_map};
 use crate::analysis::scan::{Scan, ScanTally};
 use crate::analysis::sphere_orbits::{AnswerCheck, Fate, Settle};
 use crate::dynamics::Ramp;
+use crate::dynamics::validity::ContactReport;
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
 use crate::geometry::{Body, ShapeFile, Sphere, paper_sphere, random_sphere};
 use crate::integrate::{Method, Preset, readable};
@@ -616,7 +617,7 @@ impl Sweep {
     }
 
     /// Run k's CSV row.
-    fn row(&self, k: usize, r: &RunResult) -> [String; 17] {
+    fn row(&self, k: usize, r: &RunResult) -> [String; 21] {
         let p = self.scan.point(k);
         let (fate, period, mult, halt, omega_end) = fate_fields(&r.fate);
         let (fast_fate, fast_period, fast_mult) = match &r.check {
@@ -644,6 +645,15 @@ impl Sweep {
             fast_fate,
             fast_period,
             fast_mult,
+            number_field(r.contact.min_normal_force),
+            number_field(r.contact.max_normal_force),
+            // Infinite once the body left the ramp: "inf", not an empty field.
+            if r.contact.max_friction_needed.is_infinite() {
+                "inf".to_string()
+            } else {
+                number_field(r.contact.max_friction_needed)
+            },
+            r.contact.lift_off_t.map_or_else(String::new, number_field),
         ]
     }
 
@@ -682,7 +692,8 @@ fn clip_long_lines(text: &str) -> String {
 /// sweep.csv's header.
 const CSV_HEADER: &str = "body,alpha,mass_ratio,orientation,integrator,fate,cruising,period,\
                           inverse_period,multiplicity,halt_time,omega_end,rhs_evals,answer_check,\
-                          fast_fate,fast_period,fast_multiplicity";
+                          fast_fate,fast_period,fast_multiplicity,min_normal_force,\
+                          max_normal_force,max_friction_needed,lift_off_t";
 
 /// Runs computed (and held) at a time by a whole sweep: enough to keep every core busy, small
 /// enough that memory stays flat (a result is ~80 bytes).
@@ -780,6 +791,7 @@ impl Record for RunResult {
     fn encode(&self, out: &mut Vec<f64>) {
         self.fate.encode(out);
         self.rhs_evals.encode(out);
+        self.contact.encode(out);
         match &self.check {
             AnswerCheck::Reference => out.push(0.0),
             AnswerCheck::Confirmed => out.push(1.0),
@@ -792,6 +804,7 @@ impl Record for RunResult {
     fn decode(f: &mut Fields) -> Result<Self> {
         let fate = Fate::decode(f)?;
         let rhs_evals = u64::decode(f)?;
+        let contact = ContactReport::decode(f)?;
         let check = match f.count()? {
             0 => AnswerCheck::Reference,
             1 => AnswerCheck::Confirmed,
@@ -804,6 +817,7 @@ impl Record for RunResult {
             fate,
             check,
             rhs_evals,
+            contact,
         })
     }
 }

@@ -6,6 +6,7 @@ use anyhow::{Result, anyhow, bail};
 use glam::DVec3;
 
 use crate::analysis::sphere_orbits::{Crossing, Fate};
+use crate::dynamics::validity::ContactReport;
 
 /// The largest period multiplicity a shard's fate may hold (a sweep's `max_multiplicity` is
 /// capped at it).
@@ -177,6 +178,50 @@ impl Record for Crossing {
             bail!("a crossing of ∂Ω at t = {} holds a non-finite number", c.t);
         }
         Ok(c)
+    }
+}
+
+impl Record for ContactReport {
+    fn encode(&self, out: &mut Vec<f64>) {
+        out.extend([
+            self.min_normal_force,
+            self.max_normal_force,
+            self.max_friction_needed,
+        ]);
+        self.lift_off_t.encode(out);
+        self.slip_t.encode(out);
+        self.friction.encode(out);
+    }
+    fn decode(f: &mut Fields) -> Result<Self> {
+        let r = ContactReport {
+            min_normal_force: f.number()?,
+            max_normal_force: f.number()?,
+            max_friction_needed: f.number()?,
+            lift_off_t: Option::decode(f)?,
+            slip_t: Option::decode(f)?,
+            friction: Option::decode(f)?,
+        };
+        // What the reductions rely on: finite forces in order, a friction needed ≥ 0 (infinite
+        // once the body left the ramp), times and μ finite and ≥ 0.
+        if !(r.min_normal_force.is_finite()
+            && r.max_normal_force.is_finite()
+            && r.min_normal_force <= r.max_normal_force)
+        {
+            bail!(
+                "normal forces {} … {} are not finite and in order",
+                r.min_normal_force,
+                r.max_normal_force
+            );
+        }
+        if r.max_friction_needed.is_nan() || r.max_friction_needed < 0.0 {
+            bail!("friction needed {} is not ≥ 0", r.max_friction_needed);
+        }
+        for v in [r.lift_off_t, r.slip_t, r.friction].into_iter().flatten() {
+            if !(v.is_finite() && v >= 0.0) {
+                bail!("{v} is not a finite time or coefficient ≥ 0");
+            }
+        }
+        Ok(r)
     }
 }
 

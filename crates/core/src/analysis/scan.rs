@@ -9,6 +9,7 @@
 //! Runs are numbered body-major, integrator fastest ([`Scan::point`]), so run k is the same
 //! run whatever the shard or thread count.
 
+use crate::dynamics::validity::ContactReport;
 use rayon::prelude::*;
 
 use super::sphere_orbits::{AnswerCheck, Fate, Settle, settle_checked};
@@ -61,6 +62,9 @@ pub struct ScanRun {
     pub check: AnswerCheck,
     /// Right-hand-side evaluations it took.
     pub rhs_evals: u64,
+    /// The contact force along it: whether the body stays on the ramp and the friction it
+    /// needs ([`Settled::contact`](super::sphere_orbits::Settled)).
+    pub contact: ContactReport,
 }
 
 impl ScanRun {
@@ -70,7 +74,9 @@ impl ScanRun {
     /// ```
     /// use rollphase_core::analysis::scan::ScanRun;
     /// use rollphase_core::analysis::sphere_orbits::{AnswerCheck, Fate};
-    /// let run = ScanRun { fate: Fate::Halts { t: 3.0 }, check: AnswerCheck::Reference, rhs_evals: 10 };
+    /// use rollphase_core::dynamics::{ContactForce, validity::{ContactLimits, ContactWatch}};
+    /// let contact = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.1)).report();
+    /// let run = ScanRun { fate: Fate::Halts { t: 3.0 }, check: AnswerCheck::Reference, rhs_evals: 10, contact };
     /// assert!(!run.cruises());
     /// ```
     pub fn cruises(&self) -> bool {
@@ -106,8 +112,10 @@ impl ScanTally {
     /// use rollphase_core::analysis::sphere_orbits::{AnswerCheck, Fate};
     /// let mut tally = ScanTally::default();
     /// let check = AnswerCheck::Corrected { fast: Fate::Halts { t: 4.0 } };
-    /// tally.add(&ScanRun { fate: Fate::Undecided { omega_end: 0.1 }, check, rhs_evals: 40 });
-    /// tally.add(&ScanRun { fate: Fate::Halts { t: 9.0 }, check: AnswerCheck::Confirmed, rhs_evals: 2 });
+    /// # use rollphase_core::dynamics::{ContactForce, validity::{ContactLimits, ContactWatch}};
+    /// # let contact = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.1)).report();
+    /// tally.add(&ScanRun { fate: Fate::Undecided { omega_end: 0.1 }, check, rhs_evals: 40, contact });
+    /// tally.add(&ScanRun { fate: Fate::Halts { t: 9.0 }, check: AnswerCheck::Confirmed, rhs_evals: 2, contact });
     /// assert_eq!((tally.runs, tally.undecided, tally.halts, tally.cruising), (2, 1, 1, 1));
     /// assert_eq!((tally.rhs_evals, tally.corrected), (42, 1));
     /// ```
@@ -246,6 +254,7 @@ impl Scan {
             fate: run.fate,
             check: run.check,
             rhs_evals: run.stats.rhs_evals,
+            contact: run.contact,
         })
     }
 

@@ -23,7 +23,8 @@ use glam::{DQuat, DVec3};
 use serde::Serialize;
 
 use crate::dynamics::sphere3d::SphereObservation;
-use crate::dynamics::{Ramp, SphereInertial, SphereViscous};
+use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch};
+use crate::dynamics::{Ramp, RollingModel, SphereInertial, SphereViscous};
 use crate::geometry::Sphere;
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::lie::quat_at;
@@ -195,6 +196,10 @@ pub struct Settled {
     pub crossings: Vec<Crossing>,
     /// Work done, the reference's re-decision included.
     pub stats: Stats,
+    /// The contact force along the run (the reference's where it re-ran from the start; the
+    /// run's own and the reference's continuation where it continued a cycle): whether the body
+    /// stays on the ramp and how much friction it needs.
+    pub contact: ContactReport,
 }
 
 /// Cycles the reference follows a fast run's cycle for, at the least, to re-decide it (the
@@ -288,7 +293,8 @@ pub fn settle_with(
     method: Method,
 ) -> Result<(Fate, Vec<Crossing>, Stats), IntegrateError> {
     on_model!(body, ramp, q0, |sys, y0, omega| {
-        follow(sys, 0.0, y0, s.t_max, s, method, omega).map(|f| (f.fate, f.crossings, f.stats))
+        follow(sys, 0.0, y0, s.t_max, s, method, omega, Watch::Not)
+            .map(|f| (f.fate, f.crossings, f.stats))
     })
 }
 
@@ -334,9 +340,19 @@ struct Followed<const N: usize> {
     crossings: Vec<Crossing>,
     stats: Stats,
     last_crossing: Option<(f64, [f64; N])>,
+    /// The contact force along it, when watched.
+    contact: Option<ContactReport>,
 }
 
-fn follow<const N: usize, S: OdeSystem<N>>(
+/// Whether [`follow`] watches the contact force (a few force evaluations a step).
+#[derive(Clone, Copy, PartialEq)]
+enum Watch {
+    Contact,
+    Not,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn follow<const N: usize, S: RollingModel<N>>(
     sys: &S,
     t0: f64,
     y0: [f64; N],
@@ -344,13 +360,26 @@ fn follow<const N: usize, S: OdeSystem<N>>(
     s: &Settle,
     method: Method,
     omega: impl Fn(&[f64; N]) -> f64,
+    watch: Watch,
 ) -> Result<Followed<N>, IntegrateError> {
     let mut st = integrate::stepper(sys, t0, y0, method)?;
     let mut times = Vec::new();
     let mut crossings: Vec<Crossing> = Vec::new();
     let mut last_crossing = None;
+    let mut contact = (watch == Watch::Contact)
+        .then(|| ContactWatch::new(ContactLimits::default(), t0, sys.contact_force(&y0)));
     while st.t() < t_end {
         st.step(t_end)?;
+        if let Some(w) = contact.as_mut() {
+            let (t_now, y_now) = (st.t(), *st.y());
+            w.step(t_now, |t| {
+                if t == t_now {
+                    sys.contact_force(&y_now)
+                } else {
+                    sys.contact_force(&st.dense(t))
+                }
+            });
+        }
         times.clear();
         crossings_in_last_step(
             st.as_mut(),
@@ -373,6 +402,7 @@ fn follow<const N: usize, S: OdeSystem<N>>(
                     crossings,
                     stats,
                     last_crossing,
+                    contact: contact.map(|w| w.report()),
                 });
             }
         }
@@ -383,6 +413,7 @@ fn follow<const N: usize, S: OdeSystem<N>>(
                 crossings,
                 stats: st.stats(),
                 last_crossing,
+                contact: contact.map(|w| w.report()),
             });
         }
     }
@@ -392,24 +423,27 @@ fn follow<const N: usize, S: OdeSystem<N>>(
         crossings,
         stats: st.stats(),
         last_crossing,
+        contact: contact.map(|w| w.report()),
     })
 }
 
 /// [`settle_checked`] on one model.
-fn follow_checked<const N: usize, S: OdeSystem<N>>(
+fn follow_checked<const N: usize, S: RollingModel<N>>(
     sys: &S,
     y0: [f64; N],
     s: &Settle,
     method: Method,
     omega: impl Fn(&[f64; N]) -> f64,
 ) -> Result<Settled, IntegrateError> {
-    let fast = follow(sys, 0.0, y0, s.t_max, s, method, &omega)?;
+    let fast = follow(sys, 0.0, y0, s.t_max, s, method, &omega, Watch::Contact)?;
+    let fast_contact = fast.contact.unwrap_or_else(|| unreachable!("watched"));
     if is_reference(method, s) {
         return Ok(Settled {
             fate: fast.fate,
             check: AnswerCheck::Reference,
             crossings: fast.crossings,
             stats: fast.stats,
+            contact: fast_contact,
         });
     }
     let reference = Method::dop853(s.rtol);
@@ -418,13 +452,20 @@ fn follow_checked<const N: usize, S: OdeSystem<N>>(
         // followed on from its last crossing shows both, in a few periods.
         (Fate::Periodic { period, k: 1, .. }, Some((t_c, y_c))) => {
             let t_end = s.t_max.max(t_c + VERIFY_CYCLES * period);
-            follow(sys, t_c, y_c, t_end, s, reference, &omega)?
+            follow(sys, t_c, y_c, t_end, s, reference, &omega, Watch::Contact)?
         }
         // A cycle of k ≥ 2 is what a coarse step invents (its error moves a flip), and near a
         // flip the settle criterion's k depends on where the transient stands when it fires;
         // a halt ends at a rest point, where every integrator rests. Both are re-decided from
         // the start, as the reference alone decides them.
-        _ => follow(sys, 0.0, y0, s.t_max, s, reference, &omega)?,
+        _ => follow(sys, 0.0, y0, s.t_max, s, reference, &omega, Watch::Contact)?,
+    };
+    let checked_contact = checked.contact.unwrap_or_else(|| unreachable!("watched"));
+    let contact = match &fast.fate {
+        Fate::Periodic { k: 1, .. } if fast.last_crossing.is_some() => {
+            fast_contact.merged(&checked_contact)
+        }
+        _ => checked_contact,
     };
     let mut stats = fast.stats;
     stats.rhs_evals += checked.stats.rhs_evals;
@@ -444,6 +485,7 @@ fn follow_checked<const N: usize, S: OdeSystem<N>>(
         check,
         crossings: fast.crossings,
         stats,
+        contact,
     })
 }
 

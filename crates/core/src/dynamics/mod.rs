@@ -8,6 +8,7 @@
 pub mod disk2d;
 pub mod model;
 pub mod sphere3d;
+pub mod validity;
 
 use thiserror::Error;
 

@@ -30,13 +30,14 @@ use thiserror::Error;
 mod model;
 pub mod start;
 mod typed;
-mod validity;
+pub use crate::dynamics::validity::{
+    ContactLimits, ContactReport, ContactWatch, OnViolation, Violation,
+};
 pub use model::{ModelState, Start};
 pub use typed::{
     DiskSample, DiskTrajectory, Model, Sample, Simulation, SphereSample, SphereTrajectory,
     Trajectory, simulate, simulate_streaming, simulate_until,
 };
-pub use validity::{ContactLimits, ContactReport, ContactWatch, OnViolation, Violation};
 
 use crate::dynamics::{FORCE_COLUMNS, ModelError, ModelKind, ModelVisitor, Ramp, RollingModel};
 use crate::geometry::{Body, ShapeError};

@@ -12,7 +12,7 @@
 
 use serde::Serialize;
 
-use crate::dynamics::ContactForce;
+use super::ContactForce;
 use crate::numeric::optimize::golden_max;
 use crate::numeric::roots::brent;
 
@@ -113,11 +113,18 @@ impl Violation {
                 t,
                 friction,
                 needed,
-            } => format!(
+            } if needed.is_finite() => format!(
                 "slips at t = {}: it needs mu ≥ {} to roll without slipping, more than the \
                  surface's mu = {}; the rolling model does not hold after it",
                 short(*t),
                 short(*needed),
+                short(*friction)
+            ),
+            Violation::Slip { t, friction, .. } => format!(
+                "slips at t = {}: it needs more friction than the surface's mu = {} to roll \
+                 without slipping (and later no friction at all would do: it leaves the ramp); \
+                 the rolling model does not hold after it",
+                short(*t),
                 short(*friction)
             ),
         }
@@ -148,11 +155,36 @@ pub struct ContactReport {
 }
 
 impl ContactReport {
+    /// This report followed by `later`'s (a run continued from where this one ended): the
+    /// extremes of both, and the first times from this one where it has them.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::validity::ContactReport;
+    /// let early = ContactReport {
+    ///     min_normal_force: 0.9, max_normal_force: 1.1, max_friction_needed: 0.2,
+    ///     lift_off_t: None, slip_t: None, friction: None,
+    /// };
+    /// let late = ContactReport { min_normal_force: -0.1, lift_off_t: Some(80.0), ..early };
+    /// let both = early.merged(&late);
+    /// assert_eq!((both.min_normal_force, both.lift_off_t), (-0.1, Some(80.0)));
+    /// ```
+    pub fn merged(&self, later: &ContactReport) -> ContactReport {
+        ContactReport {
+            min_normal_force: self.min_normal_force.min(later.min_normal_force),
+            max_normal_force: self.max_normal_force.max(later.max_normal_force),
+            max_friction_needed: self.max_friction_needed.max(later.max_friction_needed),
+            lift_off_t: self.lift_off_t.or(later.lift_off_t),
+            slip_t: self.slip_t.or(later.slip_t),
+            friction: self.friction,
+        }
+    }
+
     /// The violations, first first: lift-off and slip (each if it happened).
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::simulate::{ContactReport, Violation};
+    /// use rollphase_core::dynamics::validity::{ContactReport, Violation};
     /// let r = ContactReport {
     ///     min_normal_force: -0.1, max_normal_force: 2.0, max_friction_needed: f64::INFINITY,
     ///     lift_off_t: Some(20.2), slip_t: Some(3.0), friction: Some(1.0),
@@ -198,7 +230,7 @@ impl ContactWatch {
     /// # Example
     /// ```
     /// use rollphase_core::dynamics::ContactForce;
-    /// use rollphase_core::simulate::{ContactLimits, ContactWatch};
+    /// use rollphase_core::dynamics::validity::{ContactLimits, ContactWatch};
     /// let limits = ContactLimits { friction: Some(0.2), ..ContactLimits::default() };
     /// let watch = ContactWatch::new(limits, 0.0, ContactForce::viscous(0.3));
     /// // tan 0.3 = 0.31 > 0.2: a viscous body on this ramp slips from the start.
@@ -226,7 +258,7 @@ impl ContactWatch {
     /// # Example
     /// ```
     /// use rollphase_core::dynamics::ContactForce;
-    /// use rollphase_core::simulate::{ContactLimits, ContactWatch};
+    /// use rollphase_core::dynamics::validity::{ContactLimits, ContactWatch};
     /// let watch = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.3));
     /// assert_eq!(watch.report().min_normal_force, 0.3f64.cos());
     /// ```
@@ -239,7 +271,7 @@ impl ContactWatch {
     /// # Example
     /// ```
     /// use rollphase_core::dynamics::ContactForce;
-    /// use rollphase_core::simulate::{ContactLimits, ContactWatch};
+    /// use rollphase_core::dynamics::validity::{ContactLimits, ContactWatch};
     /// let watch = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.3));
     /// assert_eq!(watch.limits().friction, None);
     /// ```
@@ -254,7 +286,7 @@ impl ContactWatch {
     /// # Example
     /// ```
     /// use rollphase_core::dynamics::ContactForce;
-    /// use rollphase_core::simulate::{ContactLimits, ContactWatch, OnViolation, Violation};
+    /// use rollphase_core::dynamics::validity::{ContactLimits, ContactWatch, OnViolation, Violation};
     /// // A made-up force whose N dips to −0.25 at t = 1.5 inside one long step: the dip is found
     /// // between the samples, and the lift-off time is the root of N.
     /// let force = |t: f64| ContactForce { normal: (t - 1.5).powi(2) - 0.25, friction: [0.1, 0.0] };
