@@ -325,6 +325,45 @@ fn sphere_doubling_on_the_papers_body_is_period_one_then_two() {
 }
 
 #[test]
+fn model_validity_marks_the_viscous_limit_slip_and_lift_off() {
+    use figures::model_validity::Verdict;
+    let s = figures::model_validity::run(&opts("validity")).unwrap();
+    // 6 α × 5 m/m0, every cell classified.
+    assert_eq!(s.cells.iter().sum::<usize>(), 30);
+    // The paper's experiments (sin α = 0.2) roll on a μ = 0.5 surface; the heavy, steep corner
+    // leaves the ramp, and every verdict shows up somewhere in between.
+    assert!(
+        s.experiments
+            .iter()
+            .all(|e| e.verdict == Verdict::RollsAtHalf)
+    );
+    assert!(s.experiments.iter().all(|e| e.min_normal_force > 0.9));
+    assert!(s.cells.iter().all(|&c| c > 0), "{:?}", s.cells);
+    let data =
+        std::fs::read_to_string(opts("validity").out.join("model-validity/data.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = data
+        .lines()
+        .skip(1)
+        .map(|l| {
+            l.split(',')
+                .map(|v| v.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect();
+    // Nearly viscous (m/m0 = 0.01): the friction needed is tan α to O(m/m0), N is cos α.
+    for r in rows.iter().filter(|r| r[1] == 0.01) {
+        assert!(
+            (r[5] - r[0].tan()).abs() < 0.05 * r[0].tan() + 0.01,
+            "{r:?}"
+        );
+        assert!((r[3] - r[0].cos()).abs() < 0.05, "{r:?}");
+    }
+    let corner = rows.iter().find(|r| r[0] == 1.2 && r[1] == 100.0).unwrap();
+    assert_eq!(corner[7], 3.0, "{corner:?}");
+    assert!(corner[6] > 0.0, "lift-off time {corner:?}");
+}
+
+#[test]
 fn sphere_halting_loops_shrink_towards_alpha_star_with_stable_and_unstable_arcs() {
     let s = figures::sphere_halting::run(&opts("halting")).unwrap();
     for w in s.levels.windows(2) {

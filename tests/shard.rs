@@ -109,6 +109,11 @@ fn sphere_bifurcation_shards_merge_to_the_unsharded_bytes() {
 }
 
 #[test]
+fn model_validity_shards_merge_to_the_unsharded_bytes() {
+    figure_shards_merge_to_the_whole("model-validity", 4);
+}
+
+#[test]
 fn disk_transition_shards_merge_to_the_unsharded_bytes() {
     // More shards than disks would leave some empty: 7 shards of 6 disks covers that case.
     figure_shards_merge_to_the_whole("disk-transition", 7);

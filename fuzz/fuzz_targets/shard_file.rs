@@ -16,8 +16,9 @@ use rollphase::figures::BodyChoice;
 use rollphase::figures::shard::{JobId, ShardFile, merged, scan_shards};
 
 /// The jobs a shard can belong to: the sharded figures and sweeps.
-const JOBS: [&str; 7] = [
+const JOBS: [&str; 8] = [
     "disk-transition",
+    "model-validity",
     "sphere-cruising",
     "sphere-poincare",
     "sphere-orbits",

@@ -11,6 +11,7 @@ pub mod disk_hysteresis;
 pub mod disk_lag_time;
 pub mod disk_transition;
 pub mod fit_lag;
+pub mod model_validity;
 pub mod shard;
 pub mod sphere_bifurcation;
 pub mod sphere_cruising;
@@ -238,6 +239,11 @@ pub fn decode_merged(name: &str, merged: shard::Merged) -> Result<usize> {
                 .all()?
                 .len()
         }
+        "model-validity" => run_ensemble::<crate::dynamics::validity::ContactReport, _>(
+            &ensemble, name, n, "", place, never,
+        )?
+        .all()?
+        .len(),
         "sweep" => run_ensemble::<sweep::RunResult, _>(&ensemble, name, n, "", place, never)?
             .all()?
             .len(),
@@ -423,6 +429,12 @@ pub const FIGURES: &[FigureEntry] = &[
         sharded: true,
         about: "beyond Fig. 4e: orbit diagram in m/m0, Floquet multipliers, the flip masses",
         run: |o| ran(o, "sphere-bifurcation", sphere_bifurcation::compute),
+    },
+    FigureEntry {
+        name: "model-validity",
+        sharded: true,
+        about: "where the model holds: lift-off and slip (μ = 0.5, 1) over α × m/m0, experiments marked",
+        run: |o| ran(o, "model-validity", model_validity::compute),
     },
     FigureEntry {
         name: "sphere-halting",
