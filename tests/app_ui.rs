@@ -709,7 +709,15 @@ fn export_csv_writes_the_plotted_data_and_says_where() {
     bench.ui.set_plot_data_dir(&dir);
     bench.ui.export_plot_data(&s);
     let (text, error) = bench.ui.notice().cloned().unwrap();
-    assert!(!error && text.contains("exported 3 CSV files"), "{text}");
+    assert!(!error && text.contains("exported 4 CSV files"), "{text}");
+    // The contact force the plot shows: a viscous sphere is pressed with cos α and needs tan α.
+    let forces = std::fs::read_to_string(dir.join("contact-force.csv")).unwrap();
+    assert!(forces.starts_with("t,normal_force,friction_needed\n"), "{forces}");
+    let alpha = s.snapshot.alpha_rad;
+    for line in forces.lines().skip(1) {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!((v[1] - alpha.cos()).abs() < 1e-12 && (v[2] - alpha.tan()).abs() < 1e-12);
+    }
     let health = std::fs::read_to_string(dir.join("health.csv")).unwrap();
     assert!(health.starts_with("t,quat_norm_error,contact_normal_error\n"));
     assert!(health.lines().count() > 2, "{health}");

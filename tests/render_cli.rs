@@ -476,6 +476,9 @@ fn plot_data_writes_the_plots_csv_of_a_headless_run() {
         "a viscous sphere: no energy column\n{health}"
     );
     assert_eq!(health.lines().count(), 3, "one row per frame\n{health}");
+    let forces = read("contact-force.csv");
+    assert!(forces.starts_with("t,normal_force,friction_needed\n"), "{forces}");
+    assert_eq!(forces.lines().count(), 3, "one row per frame\n{forces}");
     // Refusals: the destination is a file; no --headless.
     let file = dir.join("a-file");
     std::fs::write(&file, "keep").unwrap();

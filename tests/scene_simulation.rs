@@ -229,3 +229,34 @@ fn the_simulation_says_which_poincare_field_is_wanted() {
     cylinder.set_views(&views);
     assert_eq!(cylinder.snapshot().poincare_field, FieldWanted::Off);
 }
+
+/// The app's simulation follows the exact contact force: a heavy body on a steep ramp first
+/// needs more friction than the scene's surface gives, then would leave the ramp; the overlay
+/// line says so from that moment, and changing the parameters starts the check afresh.
+#[test]
+fn a_scene_says_when_its_motion_stops_being_rollable() {
+    let toml = "name = \"steep\"\n[body]\nshape = \"../shapes/paper-sphere.json\"\n\
+                [model]\nalpha_rad = 1.0\nmass_ratio = 10.0\nfriction = 1.0\n";
+    let scene = Scene::from_toml(toml).unwrap();
+    let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let mut s = Simulation::new(scene.setup(Some(&base)).unwrap());
+    s.advance_to(2.0).unwrap();
+    assert_eq!(s.snapshot().validity, None, "rolls at first");
+    s.advance_to(25.0).unwrap();
+    let snap = s.snapshot();
+    let line = snap.validity.expect("flagged");
+    // It slips first (t ≈ 8.0); the friction needed then grows without bound towards the
+    // lift-off, so the line names the surface's μ rather than a number.
+    assert!(line.starts_with("slips at t = 8.0") && line.contains("μ = 1"), "{line}");
+    assert!((snap.contact.lift_off_t.unwrap() - 20.207).abs() < 0.01);
+    // The same motion as `simulate`: the first lift-off at t ≈ 20.2 (issue 34's table).
+    assert!(snap.contact.min_normal_force < 0.0);
+    // Changing the parameters is a new regime: checked afresh from there.
+    let ramp = rollphase::dynamics::Ramp::new(0.15, 1.0).unwrap();
+    s.set_parameters(ramp, s.method()).unwrap();
+    assert_eq!(s.snapshot().validity, None);
+    // A bad μ is refused with the field's name.
+    let bad = toml.replace("friction = 1.0", "friction = -0.5");
+    let e = Scene::from_toml(&bad).unwrap().setup(Some(&base)).unwrap_err();
+    assert!(e.to_string().contains("model.friction"), "{e}");
+}

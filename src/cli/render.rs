@@ -46,8 +46,9 @@ pub struct RenderArgs {
     #[arg(long, value_name = "FILE")]
     pub mp4: Option<PathBuf>,
     /// Also write the plotted data the app shows (1/T against α as sweep-alpha.csv, ∂Ω crossings
-    /// against m/m0 as sweep-mass.csv, the numerical health as health.csv), collected frame by
-    /// frame, into this folder (--headless). A lesson that sweeps α or m/m0 gives its sweep.
+    /// against m/m0 as sweep-mass.csv, the numerical health as health.csv, the contact force
+    /// N/F and the friction needed as contact-force.csv), collected frame by frame, into this
+    /// folder (--headless). A lesson that sweeps α or m/m0 gives its sweep.
     #[arg(long, value_name = "DIR")]
     pub plot_data: Option<PathBuf>,
     /// Window only: the smoke-test flags.

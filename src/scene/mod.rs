@@ -15,6 +15,7 @@
 //! [model]                            #  or: perfect = "sphere" | "disk", or an inline shape
 //! alpha_rad = 0.3                    # or alpha_over_critical = 1.05 (α = 1.05 α*)
 //! mass_ratio = 0.0                   # 0 = viscous model
+//! friction = 0.5                     # optional: the surface's μ, checked against slip
 //! [initial]
 //! contact = [1.0, 2.0]               # 3D: body point (θ, φ) on the ramp, then `spin` about +z
 //! [integrator]
@@ -141,6 +142,10 @@ pub struct ModelSpec {
     /// Rotational drag γ in units of γ0.
     #[serde(default = "one")]
     pub drag: f64,
+    /// The surface's coefficient of static friction μ: the overlay says when rolling needs
+    /// more (the body would slip). Without it only lift-off (N ≤ 0) is flagged.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
 }
 
 fn one() -> f64 {

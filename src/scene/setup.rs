@@ -2,6 +2,7 @@
 //! `alpha_over_critical`), the integrator and the start checked. Every error names the field,
 //! the value and what is allowed.
 
+use crate::simulate::{ContactLimits, OnViolation};
 use crate::analysis::critical_angle::critical_angle;
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
@@ -81,6 +82,9 @@ pub struct SceneSetup {
     pub start: Start,
     /// The lesson's steps, validated (empty for an ordinary scene).
     pub timeline: Vec<Step>,
+    /// The surface the run is checked against (lift-off always, slip with `model.friction`);
+    /// the app and headless frames report a violation and go on.
+    pub limits: ContactLimits,
 }
 
 impl Scene {
@@ -154,6 +158,13 @@ impl Scene {
             }
         };
         let ramp = Ramp::with_drag(alpha, m.mass_ratio, m.drag)?;
+        let limits = ContactLimits {
+            friction: m.friction,
+            on_violation: OnViolation::Warn,
+        };
+        limits
+            .validate()
+            .map_err(|e| invalid(format!("model.{e}")))?;
         let method = self.integrator.method()?;
         let choice = choose_model(&body, ramp, method).map_err(|e| invalid(e.to_string()))?;
         let start = Start::new(&body, self.initial.build(&body, m.mass_ratio)?)
@@ -172,6 +183,7 @@ impl Scene {
             method,
             start,
             timeline,
+            limits,
         })
     }
 }

@@ -44,6 +44,10 @@ pub struct Sample {
     pub contact_normal_error: f64,
     /// Worst |E + W − E(0)| so far.
     pub energy_drift: f64,
+    /// The ramp's normal force N/F.
+    pub normal_force: f64,
+    /// The friction rolling needs, |f_t|/N (infinite where N ≤ 0).
+    pub friction_needed: f64,
 }
 
 /// Which way α was last moved.
@@ -102,6 +106,8 @@ impl PlotHistory {
             quat_norm_error: snap.health.quat_norm_error,
             contact_normal_error: snap.health.contact_normal_error,
             energy_drift: snap.health.energy_drift,
+            normal_force: snap.contact_force.normal,
+            friction_needed: snap.contact_force.friction_needed(),
         });
         while self.samples.len() > MAX_SAMPLES {
             self.samples.pop_front();
@@ -233,11 +239,19 @@ pub enum PlotData {
     Crossings,
     /// The numerical health against time: `t` and the quantities the model measures.
     Health,
+    /// The contact force against time: `t,normal_force,friction_needed` (units of the weight
+    /// F; friction_needed is `inf` where N ≤ 0).
+    Forces,
 }
 
 impl PlotData {
-    /// All three, in file order.
-    pub const ALL: [PlotData; 3] = [PlotData::Sweep, PlotData::Crossings, PlotData::Health];
+    /// All four, in file order.
+    pub const ALL: [PlotData; 4] = [
+        PlotData::Sweep,
+        PlotData::Crossings,
+        PlotData::Health,
+        PlotData::Forces,
+    ];
 
     /// The file name each is written to.
     pub fn file_name(self) -> &'static str {
@@ -245,6 +259,7 @@ impl PlotData {
             PlotData::Sweep => "sweep-alpha.csv",
             PlotData::Crossings => "sweep-mass.csv",
             PlotData::Health => "health.csv",
+            PlotData::Forces => "contact-force.csv",
         }
     }
 }
@@ -291,13 +306,27 @@ impl PlotHistory {
                     row(fields);
                 }
             }
+            PlotData::Forces => {
+                row(vec![
+                    "t".into(),
+                    "normal_force".into(),
+                    "friction_needed".into(),
+                ]);
+                for s in self.samples() {
+                    row(vec![
+                        number(s.t),
+                        number(s.normal_force),
+                        number(s.friction_needed),
+                    ]);
+                }
+            }
         }
         String::from_utf8(out.into_inner().expect("CSV to memory")).expect("CSV of ASCII")
     }
 }
 
 impl PlotHistory {
-    /// Writes the three data sets into the folder `dir` (created if missing) as
+    /// Writes the data sets into the folder `dir` (created if missing) as
     /// [`PlotData::file_name`]s, through the output layer: all three or none, none of them one
     /// of `inputs`. Returns the files written.
     pub fn write_csv_files(

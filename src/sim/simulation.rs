@@ -3,7 +3,10 @@
 //! steps it applies when its time reaches them (so the app and headless mode play a lesson alike).
 
 use crate::analysis::sphere_orbits::{Crossing, ball_point, late_cycle};
-use crate::dynamics::{ModelKind, ModelVisitor, ModelVisitorMut, Observation, Ramp, RollingModel};
+use crate::dynamics::validity::{ContactReport, ContactWatch};
+use crate::dynamics::{
+    ContactForce, ModelKind, ModelVisitor, ModelVisitorMut, Observation, Ramp, RollingModel,
+};
 use crate::geometry::Body;
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::{self, IntegrateError, Method, Stepper};
@@ -127,6 +130,14 @@ pub struct Snapshot {
     pub health: Health,
     /// Why the integration stopped (one overlay line, shown in red), until the settings change.
     pub stopped: Option<String>,
+    /// The ramp's force on the body now, in units of the weight F.
+    pub contact_force: ContactForce,
+    /// The contact force since the parameters last changed: its extremes, and when the body
+    /// left the ramp or slipped on the scene's surface.
+    pub contact: ContactReport,
+    /// The first way the motion stopped being rollable since the parameters last changed (one
+    /// overlay line, in red): the model's numbers go on, but no real body moves so.
+    pub validity: Option<String>,
     /// The views in force (the scene's, as changed by the user or the timeline).
     pub views: ViewsSpec,
     /// The lesson's caption in force, if any.
@@ -195,6 +206,8 @@ pub struct Simulation {
     speed_change: Option<f64>,
     /// The views when this run started (a lesson restarts with them).
     start_views: ViewsSpec,
+    /// The contact force followed since the parameters last changed.
+    contact: ContactWatch,
 }
 
 /// What a model gives the simulation at a state.
@@ -210,6 +223,7 @@ struct Observed {
     normal_err: f64,
     energy: Option<f64>,
     measured: Measured,
+    force: ContactForce,
 }
 
 impl Simulation {
@@ -219,6 +233,8 @@ impl Simulation {
         let playback = &setup.scene.playback;
         let trail_dt = (playback.trail_time / 3000.0).clamp(0.01, 1.0);
         let start_views = setup.scene.views.clone();
+        let first = observe(&state, &setup.ramp);
+        let contact = ContactWatch::new(setup.limits, 0.0, first.force);
         let mut sim = Self {
             ramp: setup.ramp,
             method: setup.method,
@@ -238,6 +254,7 @@ impl Simulation {
             caption: None,
             speed_change: None,
             start_views,
+            contact,
         };
         let o = observe(&sim.state, &sim.ramp);
         sim.energy0 = o.energy;
@@ -351,6 +368,8 @@ impl Simulation {
         self.crossings.clear();
         let o = observe(&self.state, &ramp);
         self.energy0 = o.energy;
+        // A new regime: the force is followed afresh from here.
+        self.contact = ContactWatch::new(self.setup.limits, self.t, o.force);
         Ok(())
     }
 
@@ -419,7 +438,7 @@ impl Simulation {
     ) -> Result<[f64; N], SimError> {
         let section = |y: &[f64; N]| model.section(y);
         let section_point = |y: &[f64; N]| model.section_point(y);
-        let observe = |y: &[f64; N]| Observed::from(model.observation(y));
+        let observe = |y: &[f64; N]| Observed::of(model, y);
         let fail = |t: f64, e: &IntegrateError| SimError::Integrate {
             t,
             message: e.to_string(),
@@ -457,6 +476,14 @@ impl Simulation {
                 self.record(ts, &o);
                 self.next_trail_t += self.trail_dt;
             }
+            let (t_now, y_now) = (st.t(), *st.y());
+            self.contact.step(t_now, |t| {
+                if t == t_now {
+                    model.contact_force(&y_now)
+                } else {
+                    model.contact_force(&st.dense(t))
+                }
+            });
             let o = observe(st.y());
             self.health.measured = o.measured;
             self.health.quat_norm_error = self.health.quat_norm_error.max(o.quat_err);
@@ -550,6 +577,14 @@ impl Simulation {
             theta: o.theta,
             health: self.health,
             stopped: self.stopped.clone(),
+            contact_force: o.force,
+            contact: self.contact.report(),
+            validity: self
+                .contact
+                .report()
+                .violations()
+                .first()
+                .map(|v| v.headline()),
             views: self.setup.scene.views.clone(),
             caption: self.caption.clone(),
             lesson: (!self.setup.timeline.is_empty()).then(|| LessonProgress {
@@ -630,7 +665,16 @@ impl ModelVisitor for ObserveState {
     type Output = Observed;
 
     fn visit<const N: usize, M: RollingModel<N>>(self, model: &M, y: &[f64; N]) -> Observed {
-        Observed::from(model.observation(y))
+        Observed::of(model, y)
+    }
+}
+
+impl Observed {
+    /// What `model` shows at `y`, its contact force included.
+    fn of<const N: usize, M: RollingModel<N>>(model: &M, y: &[f64; N]) -> Self {
+        let mut o = Observed::from(model.observation(y));
+        o.force = model.contact_force(y);
+        o
     }
 }
 
@@ -654,6 +698,10 @@ impl From<Observation> for Observed {
                 quat_norm: o.health.quat_norm_error.is_some(),
                 contact_normal: o.health.contact_normal_error.is_some(),
                 energy: o.health.energy.is_some(),
+            },
+            force: ContactForce {
+                normal: f64::NAN,
+                friction: [f64::NAN; 2],
             },
         }
     }

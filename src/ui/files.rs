@@ -92,7 +92,7 @@ impl AppUi {
                 .button("Export CSV")
                 .on_hover_text(
                     "the plotted data into this folder: sweep-alpha.csv (1/T against α), \
-                     sweep-mass.csv (∂Ω crossings against m/m0), health.csv",
+                     sweep-mass.csv (∂Ω crossings against m/m0), health.csv, contact-force.csv",
                 )
                 .clicked()
             {

@@ -213,7 +213,7 @@ pub fn plots_ui(
 ) -> MapInput {
     let mut input = MapInput::default();
     let is_disk = snap.theta.is_some();
-    let width = ((ui.available_width() - 3.0 * ui.spacing().item_spacing.x) / 4.0).max(120.0);
+    let width = ((ui.available_width() - 4.0 * ui.spacing().item_spacing.x) / 5.0).max(120.0);
     ui.horizontal(|ui| {
         if is_disk {
             let theta_t: PlotPoints = history.plotted().map(|s| [s.t, s.theta]).collect();
@@ -261,8 +261,48 @@ pub fn plots_ui(
         }
         sweep_ui(ui, history, snap, alpha_star, width, height);
         health_ui(ui, history, snap.health.measured, width, height);
+        force_ui(ui, history, snap, width, height);
     });
     input
+}
+
+/// The contact force against time: N/F and the friction rolling needs, with the scene's μ
+/// (when it has one) and N = 0 as the lines the model must stay within.
+fn force_ui(ui: &mut egui::Ui, history: &PlotHistory, snap: &Snapshot, width: f32, height: f32) {
+    let normal: Vec<[f64; 2]> = history
+        .plotted()
+        .map(|s| [s.t, s.normal_force])
+        .collect();
+    // Where N ≤ 0 no friction holds the body: drawn as a gap, not a line off to infinity.
+    let needed: Vec<[f64; 2]> = history
+        .plotted()
+        .map(|s| [s.t, s.friction_needed])
+        .filter(|p| p[1].is_finite())
+        .collect();
+    let friction = snap.contact.friction;
+    let red = Color32::from_rgb(230, 60, 50);
+    let labels = ["N/F", "μ needed", "surface μ"];
+    let corner = legend_corner(
+        &[normal.clone(), needed.clone()].concat(),
+        &[[f64::NAN, 0.0]],
+        &labels,
+        [width, height],
+    );
+    instrument(Plot::new("contact_force"), "t", "force / F")
+        .width(width)
+        .height(height)
+        .legend(Legend::default().position(corner))
+        .x_axis_label("t")
+        .y_axis_label("N/F, μ needed")
+        .include_y(0.0)
+        .show(ui, |p| {
+            p.line(Line::new(labels[0], PlotPoints::from(normal)));
+            p.line(Line::new(labels[1], PlotPoints::from(needed)));
+            p.hline(egui_plot::HLine::new("N = 0", 0.0).color(Color32::GRAY));
+            if let Some(mu) = friction {
+                p.hline(egui_plot::HLine::new(labels[2], mu).color(red));
+            }
+        });
 }
 
 /// What the contact map reports back to the app: a click, and where the map is on screen.

@@ -86,6 +86,15 @@ impl SceneView {
         } else {
             items.push(line(rate, 16.0));
         }
+        if let Some(validity) = &snap.validity {
+            // The motion computed is no longer a real body's (it would leave the ramp or slip):
+            // the viewer must not take it for one.
+            items.push(PanelItem::Text {
+                text: validity.clone(),
+                size_px: 16.0 * text,
+                color: [255, 70, 60],
+            });
+        }
         if !self.is_disk {
             // Before the first step nothing has been measured: "—", not a reassuring 0.0e0.
             let measured = |v: f64| {

@@ -131,6 +131,41 @@ impl Violation {
     }
 }
 
+impl Violation {
+    /// One short line for the app's overlay: "leaves the ramp at t = 20.2" or "slips at
+    /// t = 3.1: needs μ ≥ 1.37 to roll without slipping (surface μ = 0.5)".
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::validity::Violation;
+    /// let v = Violation::LiftOff { t: 20.207 };
+    /// assert_eq!(v.headline(), "leaves the ramp at t = 20.207: the rolling model stops holding");
+    /// ```
+    pub fn headline(&self) -> String {
+        match self {
+            Violation::LiftOff { t } => format!(
+                "leaves the ramp at t = {}: the rolling model stops holding",
+                short(*t)
+            ),
+            Violation::Slip {
+                t,
+                friction,
+                needed,
+            } if needed.is_finite() => format!(
+                "slips at t = {}: needs μ ≥ {} to roll without slipping (surface μ = {})",
+                short(*t),
+                short(*needed),
+                short(*friction)
+            ),
+            Violation::Slip { t, friction, .. } => format!(
+                "slips at t = {}: needs more than the surface's μ = {}",
+                short(*t),
+                short(*friction)
+            ),
+        }
+    }
+}
+
 fn short(v: f64) -> String {
     let s = format!("{v:.4}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
