@@ -712,7 +712,10 @@ fn export_csv_writes_the_plotted_data_and_says_where() {
     assert!(!error && text.contains("exported 4 CSV files"), "{text}");
     // The contact force the plot shows: a viscous sphere is pressed with cos α and needs tan α.
     let forces = std::fs::read_to_string(dir.join("contact-force.csv")).unwrap();
-    assert!(forces.starts_with("t,normal_force,friction_needed\n"), "{forces}");
+    assert!(
+        forces.starts_with("t,normal_force,friction_needed\n"),
+        "{forces}"
+    );
     let alpha = s.snapshot.alpha_rad;
     for line in forces.lines().skip(1) {
         let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();

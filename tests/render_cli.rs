@@ -477,7 +477,10 @@ fn plot_data_writes_the_plots_csv_of_a_headless_run() {
     );
     assert_eq!(health.lines().count(), 3, "one row per frame\n{health}");
     let forces = read("contact-force.csv");
-    assert!(forces.starts_with("t,normal_force,friction_needed\n"), "{forces}");
+    assert!(
+        forces.starts_with("t,normal_force,friction_needed\n"),
+        "{forces}"
+    );
     assert_eq!(forces.lines().count(), 3, "one row per frame\n{forces}");
     // Refusals: the destination is a file; no --headless.
     let file = dir.join("a-file");

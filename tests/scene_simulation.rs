@@ -247,7 +247,10 @@ fn a_scene_says_when_its_motion_stops_being_rollable() {
     let line = snap.validity.expect("flagged");
     // It slips first (t ≈ 8.0); the friction needed then grows without bound towards the
     // lift-off, so the line names the surface's μ rather than a number.
-    assert!(line.starts_with("slips at t = 8.0") && line.contains("μ = 1"), "{line}");
+    assert!(
+        line.starts_with("slips at t = 8.0") && line.contains("μ = 1"),
+        "{line}"
+    );
     assert!((snap.contact.lift_off_t.unwrap() - 20.207).abs() < 0.01);
     // The same motion as `simulate`: the first lift-off at t ≈ 20.2 (issue 34's table).
     assert!(snap.contact.min_normal_force < 0.0);
@@ -257,6 +260,9 @@ fn a_scene_says_when_its_motion_stops_being_rollable() {
     assert_eq!(s.snapshot().validity, None);
     // A bad μ is refused with the field's name.
     let bad = toml.replace("friction = 1.0", "friction = -0.5");
-    let e = Scene::from_toml(&bad).unwrap().setup(Some(&base)).unwrap_err();
+    let e = Scene::from_toml(&bad)
+        .unwrap()
+        .setup(Some(&base))
+        .unwrap_err();
     assert!(e.to_string().contains("model.friction"), "{e}");
 }

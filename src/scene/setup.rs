@@ -2,13 +2,13 @@
 //! `alpha_over_critical`), the integrator and the start checked. Every error names the field,
 //! the value and what is allowed.
 
-use crate::simulate::{ContactLimits, OnViolation};
 use crate::analysis::critical_angle::critical_angle;
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
 use crate::geometry::{Body, Disk, ShapeError, ShapeFile, Sphere, random_disk, random_sphere};
 use crate::integrate::{IntegrateError, Method, Preset};
 use crate::simulate::start::{Spelling, StartField, StartRequest, check_start};
+use crate::simulate::{ContactLimits, OnViolation};
 use crate::simulate::{InitialState, Start, choose_model};
 use std::path::{Path, PathBuf};
 use thiserror::Error;

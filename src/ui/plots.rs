@@ -269,10 +269,7 @@ pub fn plots_ui(
 /// The contact force against time: N/F and the friction rolling needs, with the scene's μ
 /// (when it has one) and N = 0 as the lines the model must stay within.
 fn force_ui(ui: &mut egui::Ui, history: &PlotHistory, snap: &Snapshot, width: f32, height: f32) {
-    let normal: Vec<[f64; 2]> = history
-        .plotted()
-        .map(|s| [s.t, s.normal_force])
-        .collect();
+    let normal: Vec<[f64; 2]> = history.plotted().map(|s| [s.t, s.normal_force]).collect();
     // Where N ≤ 0 no friction holds the body: drawn as a gap, not a line off to infinity.
     let needed: Vec<[f64; 2]> = history
         .plotted()
