@@ -53,6 +53,11 @@ pub struct Inspection {
     pub phi_star: f64,
     /// Maximiser as a body-frame unit vector (3D; zeros in 2D).
     pub direction_star: [f64; 3],
+    /// A 2D body that is not convex: the flats of its convex hull it rolls on, over its dents.
+    pub hull_flats: Vec<crate::geometry::hull::Bridge>,
+    /// A 2D body that is not convex: the steepest ramp it can rest on a flat at, and α* of its
+    /// curved parts alone (α* is the larger).
+    pub flat_rest: Option<crate::analysis::critical_angle::FlatRest>,
 }
 
 /// Computes the inspection of a body.
@@ -73,6 +78,11 @@ pub fn inspect(body: &Body) -> Inspection {
         theta_star: a.theta,
         phi_star: a.phi,
         direction_star: a.direction,
+        hull_flats: match body {
+            Body::Disk(d) => d.hull().bridges().to_vec(),
+            Body::Sphere(_) => Vec::new(),
+        },
+        flat_rest: a.flat,
     }
 }
 
@@ -114,6 +124,24 @@ pub fn run(a: InspectArgs) -> Result<()> {
         r.alpha_star_deg,
         r.q_star
     )?;
+    if let Some(f) = r.flat_rest {
+        outln!(
+            "  on its hull:     not convex, so it rolls on its convex hull: {} flat(s) over \
+             dent(s), the deepest {:.4}",
+            r.hull_flats.len(),
+            r.hull_flats.iter().map(|b| b.depth).fold(0.0, f64::max)
+        )?;
+        outln!(
+            "                   the curved parts rest up to α = {:.10}; the steepest flat \
+             (θ = {:.6} … {:.6}) holds it while the weight's line falls between its ends, from α = \
+             {:.10} up to {:.10}: α* is the larger",
+            f.curve_alpha,
+            f.theta_a,
+            f.theta_b,
+            f.alpha_from,
+            f.alpha
+        )?;
+    }
     if r.dimension == 2 {
         outln!("  maximiser:       θ* = {:.10}", r.theta_star)?;
     } else {

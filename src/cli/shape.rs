@@ -64,9 +64,19 @@ pub fn run(a: ShapeArgs) -> Result<()> {
         (None, Some(n)) => (Body::Sphere(random_sphere(n, sigma, modes)?), "seed"),
         (None, None) => bail!("give --seed N or --paper-seed N"),
     };
-    if let Err(e) = body.check_convex() {
+    if let Err(e) = body.check_rollable() {
         let n = a.paper_seed.map_or_else(|| a.seed.unwrap_or(0), u64::from);
         bail!("{which} {n} gives a body the models cannot roll: {e}");
+    }
+    if let (Body::Disk(d), Err(_)) = (&body, body.check_convex()) {
+        let bridges = d.hull().bridges();
+        let deepest = bridges.iter().map(|b| b.depth).fold(0.0, f64::max);
+        eprintln!(
+            "note: this body is not convex: it has {} dent(s), the deepest {deepest:.4} ⟨r⟩ under \
+             the flat that spans it; `simulate` rolls it on its convex hull (across a dent on the \
+             flat, tipping from one end to the other), the other commands refuse it",
+            bridges.len()
+        );
     }
     super::write_output(
         a.output.as_ref(),

@@ -315,16 +315,7 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         Ok(s) => s,
         Err(e) => {
             file.abort();
-            let settings = match method {
-                Method::Dop853 { rtol, atol } => format!(
-                    "dop853 --rtol {} --atol {}",
-                    super::short(rtol),
-                    super::short(atol)
-                ),
-                Method::Rk4 { dt } | Method::Cf4 { dt } => {
-                    format!("{} --dt {}", method.name(), super::short(dt))
-                }
-            };
+            let settings = settings_text(method);
             if let RunError::LeftModel { report, .. } = &e {
                 eprintln!(
                     "contact force up to there: N/F from {:.4} to {:.4}, friction needed up to \
@@ -368,6 +359,20 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     }
     outputs.commit()?;
     Ok(())
+}
+
+/// The integrator's flags as the user gave them, for a failed run's message.
+fn settings_text(method: Method) -> String {
+    match method {
+        Method::Dop853 { rtol, atol } => format!(
+            "dop853 --rtol {} --atol {}",
+            super::short(rtol),
+            super::short(atol)
+        ),
+        Method::Rk4 { dt } | Method::Cf4 { dt } => {
+            format!("{} --dt {}", method.name(), super::short(dt))
+        }
+    }
 }
 
 /// The I/O error inside a CSV error (a closed pipe must stay recognisable as one).

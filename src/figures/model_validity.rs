@@ -190,7 +190,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
             } else {
                 InitialState::Sphere {
                     q0: random_orientation(&fig.body, opts.seed, o - 1),
-                    omega0: crate::glam::DVec3::ZERO,
+                    omega0: glam::DVec3::ZERO,
                 }
             };
             let sim = Simulation::new(alpha, window(mass))
@@ -258,6 +258,38 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
             }
         })
         .collect();
+    let panel = chart(
+        points,
+        &masses,
+        alpha_star,
+        &format!(
+            "where rolling holds: {}, worst of {starts} start(s) per cell",
+            fig.label
+        ),
+    );
+    let summary = Summary {
+        body: fig.label,
+        alpha_star,
+        alphas,
+        masses,
+        starts,
+        cells,
+        experiments,
+    };
+    Ok(Computed::Figure(FigureData {
+        panels: vec![panel],
+        columns: 1,
+        size: (1100, 800),
+        header: "alpha,mass_ratio,start,min_normal_force,max_normal_force,max_friction_needed,\
+                 lift_off_t,verdict,cell_verdict",
+        rows,
+        summary,
+    }))
+}
+
+/// The map: each cell's verdict as a coloured point, α* and the viscous limit's lines, and the
+/// paper's experiments.
+fn chart(points: [Vec<(f64, f64)>; 4], masses: &[f64], alpha_star: f64, title: &str) -> Panel {
     let mut series: Vec<Series> = Verdict::ALL
         .iter()
         .zip(points)
@@ -289,11 +321,8 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
         color: (0, 0, 0),
         style: Style::Markers,
     });
-    let panel = Panel {
-        title: format!(
-            "where rolling holds: {}, worst of {starts} start(s) per cell",
-            fig.label
-        ),
+    Panel {
+        title: title.to_string(),
         x_label: "ramp angle α (rad)".into(),
         y_label: "m/m0".into(),
         log_x: false,
@@ -301,23 +330,5 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
         series,
         legend: SeriesLabelPosition::UpperLeft,
         equal_aspect: false,
-    };
-    let summary = Summary {
-        body: fig.label,
-        alpha_star,
-        alphas,
-        masses,
-        starts,
-        cells,
-        experiments,
-    };
-    Ok(Computed::Figure(FigureData {
-        panels: vec![panel],
-        columns: 1,
-        size: (1100, 800),
-        header: "alpha,mass_ratio,start,min_normal_force,max_normal_force,max_friction_needed,\
-                 lift_off_t,verdict,cell_verdict",
-        rows,
-        summary,
-    }))
+    }
 }

@@ -25,6 +25,28 @@ pub struct CriticalAngle {
     pub direction: [f64; 3],
     /// 2D: Q''(θ*) (< 0), which sets the prefactor of T ∝ (α − α*)^(−1/2); NaN in 3D.
     pub q_second_derivative: f64,
+    /// A dented 2D body: the largest angle at which it can rest on a flat of its hull (a bridge
+    /// over a dent), with the bridge's ends θ_a, θ_b; `None` for a convex body. α* is the
+    /// larger of this and the curved parts' atan max Q.
+    pub flat: Option<FlatRest>,
+}
+
+/// The steepest ramp on which a dented 2D body can rest on one of its hull's flats. The body
+/// rests on a flat while the weight's line through the centre falls between its ends: from
+/// α = atan Q(θ_a) (the line through P_a) to atan Q(θ_b) (through P_b), Q = r'/r of the curve at
+/// the ends, so the flats extend the curved parts' range of rest up to their ends.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct FlatRest {
+    /// atan((L − foot)/height) of the bridge (rad): the weight's line through P_b.
+    pub alpha: f64,
+    /// Where resting on it starts: the weight's line through P_a (rad; may be negative: never).
+    pub alpha_from: f64,
+    /// Where the bridge leaves the curve.
+    pub theta_a: f64,
+    /// Where it meets it again.
+    pub theta_b: f64,
+    /// α* of the curved parts alone, their ends (which touch the flats) excluded.
+    pub curve_alpha: f64,
 }
 
 impl Body {
@@ -65,6 +87,7 @@ pub fn critical_angle(body: &Body) -> CriticalAngle {
                 phi,
                 direction: u.to_array(),
                 q_second_derivative: f64::NAN,
+                flat: None,
             }
         }
     }
@@ -74,8 +97,13 @@ fn disk_critical_angle(d: &Disk) -> CriticalAngle {
     let n = 4096;
     let h = std::f64::consts::TAU / n as f64;
     let mut best = (0.0, f64::NEG_INFINITY);
+    let hull = d.hull();
+    // A dented body rests only where it touches its hull: the dents' points never touch.
     for i in 0..n {
         let t = i as f64 * h;
+        if hull.bridge_at(t).is_some() {
+            continue;
+        }
         let q = d.jet(t).quality();
         if q > best.1 {
             best = (t, q);
@@ -96,18 +124,56 @@ fn disk_critical_angle(d: &Disk) -> CriticalAngle {
         }
     }
     let j = d.jet(theta);
-    let (theta, q) = if j.quality() >= best.1 {
+    // (A refinement that wandered into a dent does not count.)
+    let (theta, q) = if j.quality() >= best.1 && hull.bridge_at(theta).is_none() {
         (theta, j.quality())
     } else {
         best
     };
-    CriticalAngle {
+    // A curved part's ends need no candidate of their own: resting on a flat runs from the
+    // weight's line through P_a (α = atan Q(θ_a)) to its line through P_b (atan Q(θ_b)), so
+    // the flats below cover them.
+    let curve = CriticalAngle {
         alpha_star: q.atan(),
         q_star: q,
         theta: theta.rem_euclid(std::f64::consts::TAU),
         phi: 0.0,
         direction: [0.0; 3],
         q_second_derivative: d.jet(theta).quality_d2(),
+        flat: None,
+    };
+    let steepest = hull
+        .bridges()
+        .iter()
+        .filter_map(|b| b.rest_angle().map(|a| (a, b)))
+        .max_by(|x, y| x.0.total_cmp(&y.0));
+    match steepest {
+        None => curve,
+        Some((alpha, b)) => {
+            let flat = FlatRest {
+                alpha,
+                alpha_from: (-b.foot).atan2(b.height),
+                theta_a: b.theta_a,
+                theta_b: b.theta_b.rem_euclid(std::f64::consts::TAU),
+                curve_alpha: curve.alpha_star,
+            };
+            if alpha > curve.alpha_star {
+                // Resting on a flat: no √ law there (Q'' does not apply).
+                CriticalAngle {
+                    alpha_star: alpha,
+                    q_star: alpha.tan(),
+                    theta: b.theta_a,
+                    q_second_derivative: f64::NAN,
+                    flat: Some(flat),
+                    ..curve
+                }
+            } else {
+                CriticalAngle {
+                    flat: Some(flat),
+                    ..curve
+                }
+            }
+        }
     }
 }
 

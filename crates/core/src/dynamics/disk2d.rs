@@ -19,13 +19,145 @@
 //!
 //! Drawing: ψ = 3π/2 + Δθ − θ with tan Δθ = r'/r (continuous with an unwrapped θ), the centre at
 //! x_cm = x_c − r r'/√(r² + r'²) downhill and height h above the ramp.
+//!
+//! **A dented body rolls on its convex hull** ([`crate::geometry::hull`], issue 34): on the
+//! curve where the curve is on the hull, by the equations above; a contact angle inside a
+//! bridge's span means the body lies on that bridge, on both ends, at rest (θ is kept in the
+//! middle of the span, x_c at the uphill end P_a). When the contact reaches a bridge end (the
+//! switching function [`RollingModel::switching`] passes zero) the body either **tips** across
+//! to the far end or **comes to rest** on the bridge ([`RollingModel::switch`]):
+//! - viscous: it tips if the weight's torque about the far end turns it onward (the viscous
+//!   rate at the far end has the direction of travel), instantly (θ jumps across the span, x_c
+//!   by the bridge's length L); otherwise it rests;
+//! - inertial: the far end strikes the ramp, an impact that keeps the angular momentum about
+//!   the far end (the rimless wheel's law): ψ̇⁺ = ψ̇⁻ (I + m P_a·P_b)/(I + m |P_far|²), the
+//!   kinetic energy lost added to W (so E + W stays constant). Repeated rocking across one bridge
+//!   loses energy geometrically; once the speed after an impact is below [`REST_RATE`] and the
+//!   weight's line falls between the two ends, the body rests.
+//!
+//! Just past a bridge end (a step's overshoot, within a quarter of the span) the equations are
+//! those of the end itself, so an integrator step across the end sees a continuous right-hand
+//! side until the switch is located.
 
-use std::f64::consts::PI;
+use std::f64::consts::{PI, TAU};
 
 use glam::{DQuat, DVec3};
 
-use super::{ContactForce, ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel};
+use super::{
+    ContactForce, ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel, Switched,
+};
+use crate::geometry::hull::Bridge;
 use crate::geometry::{Disk, RadiusJet};
+
+/// Below this |θ̇| after an impact, a body whose weight falls between a bridge's ends rests on
+/// it: the rocking that is left would take infinitely many ever smaller impacts (a Zeno
+/// sequence) whose total time is finite and whose energy is below 1e-18 of F⟨r⟩.
+pub const REST_RATE: f64 = 1e-9;
+
+/// Where a contact angle stands on the hull of a disk.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum OnHull {
+    /// On the curve: θ itself.
+    Curve(f64),
+    /// Just past a bridge end (a step's overshoot): the end's angle, unwrapped near θ.
+    PastEnd(f64),
+    /// Resting on a bridge: its uphill end θ_a, unwrapped near θ (the body lies as there).
+    Resting(f64),
+}
+
+impl OnHull {
+    fn of(disk: &Disk, theta: f64) -> Self {
+        match disk.hull().bridge_at(theta) {
+            None => OnHull::Curve(theta),
+            Some(b) => {
+                let span = b.theta_b - b.theta_a;
+                let t = (theta - b.theta_a).rem_euclid(TAU);
+                let a = theta - t;
+                if t < 0.25 * span {
+                    OnHull::PastEnd(a)
+                } else if t > 0.75 * span {
+                    OnHull::PastEnd(a + span)
+                } else {
+                    OnHull::Resting(a)
+                }
+            }
+        }
+    }
+
+    /// The contact angle whose geometry the body has.
+    fn geometry(self) -> f64 {
+        match self {
+            OnHull::Curve(t) | OnHull::PastEnd(t) | OnHull::Resting(t) => t,
+        }
+    }
+}
+
+/// The switching function of a dented disk: the angle from θ to the nearest bridge end, negative
+/// inside a bridge's span; `None` for a convex disk.
+fn hull_switching(disk: &Disk, theta: f64) -> Option<f64> {
+    let bridges = disk.hull().bridges();
+    if bridges.is_empty() {
+        return None;
+    }
+    Some(match disk.hull().bridge_at(theta) {
+        Some(b) => {
+            let t = (theta - b.theta_a).rem_euclid(TAU);
+            -t.min(b.theta_b - b.theta_a - t)
+        }
+        None => bridges
+            .iter()
+            .map(|b| {
+                (b.theta_a - theta)
+                    .rem_euclid(TAU)
+                    .min((theta - b.theta_b).rem_euclid(TAU))
+            })
+            .fold(f64::INFINITY, f64::min),
+    })
+}
+
+/// Which end of a bridge θ is at (to 1e-6 rad), with the end's angle unwrapped near θ: `true`
+/// for the uphill end θ_a.
+fn bridge_end(disk: &Disk, theta: f64) -> Option<(Bridge, bool, f64)> {
+    let near = |to: f64| (theta - to + PI).rem_euclid(TAU) - PI;
+    disk.hull().bridges().iter().find_map(|b| {
+        let (da, db) = (near(b.theta_a), near(b.theta_b));
+        if da.abs() < 1e-6 {
+            Some((*b, true, theta - da))
+        } else if db.abs() < 1e-6 {
+            Some((*b, false, theta - db))
+        } else {
+            None
+        }
+    })
+}
+
+/// A start θ0 inside a flat's span, placed as the body lies (see [`RollingModel::placed`]): on
+/// the flat (θ at the span's middle, x_c at P_a) if `rate(θ_a) ≥ 0 ≥ rate(θ_b)` (the weight's
+/// line between the ends), else at the end it leans towards, with x_c there; `moving` (an
+/// inertial start's θ̇ ≠ 0) puts it at the end it moves towards. Returns (θ, Δx_c).
+fn placed_on_flat(
+    disk: &Disk,
+    theta: f64,
+    moving: f64,
+    rate: impl Fn(f64) -> f64,
+) -> Option<(f64, f64)> {
+    let b = disk.hull().bridge_at(theta)?;
+    let span = b.theta_b - b.theta_a;
+    let a = theta - (theta - b.theta_a).rem_euclid(TAU);
+    Some(if moving > 0.0 || (moving == 0.0 && rate(a + span) > 0.0) {
+        (a + span, b.length)
+    } else if moving < 0.0 || rate(a) < 0.0 {
+        (a, 0.0)
+    } else {
+        (a + 0.5 * span, 0.0)
+    })
+}
+
+/// The body point at contact angle θ, body frame.
+fn body_point(disk: &Disk, theta: f64) -> [f64; 2] {
+    let r = disk.jet(theta).r;
+    [r * theta.cos(), r * theta.sin()]
+}
 use crate::integrate::OdeSystem;
 
 /// Viscous 2D model; state [θ, x_c].
@@ -74,8 +206,13 @@ impl<'a> DiskViscous<'a> {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn theta_dot(&self, theta: f64) -> f64 {
-        let j = self.disk.jet(theta);
-        theta_dot_viscous(&j, self.sin_a, self.cos_a) / self.drag
+        match OnHull::of(self.disk, theta) {
+            OnHull::Resting(_) => 0.0,
+            on => {
+                let j = self.disk.jet(on.geometry());
+                theta_dot_viscous(&j, self.sin_a, self.cos_a) / self.drag
+            }
+        }
     }
 }
 
@@ -86,7 +223,11 @@ pub(crate) fn theta_dot_viscous(j: &RadiusJet, sin_a: f64, cos_a: f64) -> f64 {
 
 impl OdeSystem<2> for DiskViscous<'_> {
     fn rhs(&self, _t: f64, y: &[f64; 2]) -> [f64; 2] {
-        let j = self.disk.jet(y[0]);
+        let on = OnHull::of(self.disk, y[0]);
+        if let OnHull::Resting(_) = on {
+            return [0.0, 0.0];
+        }
+        let j = self.disk.jet(on.geometry());
         let td = theta_dot_viscous(&j, self.sin_a, self.cos_a) / self.drag;
         [td, j.arc_rate() * td]
     }
@@ -175,6 +316,16 @@ impl<'a> DiskInertial<'a> {
     /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
     /// ```
     pub fn contact_force_at(&self, theta: f64, theta_dot: f64) -> ContactForce {
+        let theta = match OnHull::of(self.disk, theta) {
+            // At rest on two points: the ramp holds the whole weight.
+            OnHull::Resting(_) => {
+                return ContactForce {
+                    normal: self.cos_a,
+                    friction: [-self.sin_a, 0.0],
+                };
+            }
+            on => on.geometry(),
+        };
         let j = self.disk.jet(theta);
         let accel = self.theta_ddot_jet(&j, theta_dot);
         let (s, s1) = (j.turn_rate(), j.turn_rate_d1());
@@ -234,7 +385,11 @@ impl<'a> DiskInertial<'a> {
 
 impl OdeSystem<4> for DiskInertial<'_> {
     fn rhs(&self, _t: f64, y: &[f64; 4]) -> [f64; 4] {
-        let j = self.disk.jet(y[0]);
+        let on = OnHull::of(self.disk, y[0]);
+        if let OnHull::Resting(_) = on {
+            return [0.0; 4];
+        }
+        let j = self.disk.jet(on.geometry());
         let td = y[1];
         let s = j.turn_rate();
         [
@@ -248,8 +403,9 @@ impl OdeSystem<4> for DiskInertial<'_> {
 
 impl Observe<4> for DiskInertial<'_> {
     fn energy_balance(&self, y: &[f64; 4]) -> Option<f64> {
-        let kinetic = 0.5 * self.reduced_inertia(y[0]) * y[1] * y[1];
-        Some(kinetic + self.potential(y[0], y[2]) + y[3])
+        let theta = OnHull::of(self.disk, y[0]).geometry();
+        let kinetic = 0.5 * self.reduced_inertia(theta) * y[1] * y[1];
+        Some(kinetic + self.potential(theta, y[2]) + y[3])
     }
 }
 
@@ -275,6 +431,7 @@ pub struct DiskPose {
 /// assert!((p.psi - (1.5 * std::f64::consts::PI - 0.4)).abs() < 1e-15);
 /// ```
 pub fn pose(disk: &Disk, theta: f64, x_c: f64) -> DiskPose {
+    let theta = OnHull::of(disk, theta).geometry();
     let j = disk.jet(theta);
     DiskPose {
         psi: 1.5 * PI + j.normal_offset() - theta,
@@ -315,6 +472,38 @@ impl RollingModel<2> for DiskViscous<'_> {
     fn section_point(&self, _y: &[f64; 2]) -> Option<DVec3> {
         None
     }
+
+    fn switching(&self, y: &[f64; 2]) -> Option<f64> {
+        hull_switching(self.disk, y[0])
+    }
+
+    fn placed(&self, y: [f64; 2]) -> [f64; 2] {
+        let rate = |t: f64| theta_dot_viscous(&self.disk.jet(t), self.sin_a, self.cos_a);
+        match placed_on_flat(self.disk, y[0], 0.0, rate) {
+            Some((theta, dx)) => [theta, y[1] + dx],
+            None => y,
+        }
+    }
+
+    fn switch(&self, y: &[f64; 2]) -> Option<([f64; 2], Switched)> {
+        let (b, uphill_end, theta) = bridge_end(self.disk, y[0])?;
+        let span = b.theta_b - b.theta_a;
+        let rate = |t: f64| theta_dot_viscous(&self.disk.jet(t), self.sin_a, self.cos_a);
+        let rested = Switched::Rest { energy_lost: 0.0 };
+        let tipped = Switched::Tip { energy_lost: 0.0 };
+        Some(if uphill_end {
+            // Rolling forward onto the bridge: on to P_b if the weight turns it onward there.
+            if rate(theta + span) > 0.0 {
+                ([theta + span, y[1] + b.length], tipped)
+            } else {
+                ([theta + 0.5 * span, y[1]], rested)
+            }
+        } else if rate(theta - span) < 0.0 {
+            ([theta - span, y[1] - b.length], tipped)
+        } else {
+            ([theta - 0.5 * span, y[1] - b.length], rested)
+        })
+    }
 }
 
 impl RollingModel<4> for DiskInertial<'_> {
@@ -349,6 +538,75 @@ impl RollingModel<4> for DiskInertial<'_> {
     fn section_point(&self, _y: &[f64; 4]) -> Option<DVec3> {
         None
     }
+
+    fn switching(&self, y: &[f64; 4]) -> Option<f64> {
+        hull_switching(self.disk, y[0])
+    }
+
+    fn placed(&self, y: [f64; 4]) -> [f64; 4] {
+        let rate = |t: f64| theta_dot_viscous(&self.disk.jet(t), self.sin_a, self.cos_a);
+        match placed_on_flat(self.disk, y[0], y[1], rate) {
+            // On the flat: at rest, whatever rate was given.
+            Some((theta, dx)) if self.disk.hull().bridge_at(theta).is_some() => {
+                [theta, 0.0, y[2] + dx, y[3]]
+            }
+            Some((theta, dx)) => [theta, y[1], y[2] + dx, y[3]],
+            None => y,
+        }
+    }
+
+    fn switch(&self, y: &[f64; 4]) -> Option<([f64; 4], Switched)> {
+        let (b, uphill_end, theta) = bridge_end(self.disk, y[0])?;
+        let span = b.theta_b - b.theta_a;
+        let (from, to) = if uphill_end {
+            (theta, theta + span)
+        } else {
+            (theta, theta - span)
+        };
+        let (p_from, p_to) = (body_point(self.disk, from), body_point(self.disk, to));
+        let inertia = 0.5 * self.mass;
+        let moment = |p: [f64; 2]| inertia + self.mass * (p[0] * p[0] + p[1] * p[1]);
+        let dot = p_from[0] * p_to[0] + p_from[1] * p_to[1];
+        // ψ̇ = −s θ̇ on the curve; the impact keeps the angular momentum about the far end.
+        let psi_before = -self.disk.jet(from).turn_rate() * y[1];
+        let psi_after = psi_before * (inertia + self.mass * dot) / moment(p_to);
+        let theta_dot_after = -psi_after / self.disk.jet(to).turn_rate();
+        let before = 0.5 * moment(p_from) * psi_before * psi_before;
+        let after = 0.5 * moment(p_to) * psi_after * psi_after;
+        let moving_in = if uphill_end { y[1] > 0.0 } else { y[1] < 0.0 };
+        let onward = theta_dot_viscous(&self.disk.jet(to), self.sin_a, self.cos_a);
+        let weight_onward = if uphill_end {
+            onward > 0.0
+        } else {
+            onward < 0.0
+        };
+        let x_at_a = if uphill_end { y[2] } else { y[2] - b.length };
+        if !moving_in || (theta_dot_after.abs() < REST_RATE && !weight_onward) {
+            // The last rocking, or a start on the end itself moving out: at rest on both ends.
+            let mid = if uphill_end {
+                theta + 0.5 * span
+            } else {
+                theta - 0.5 * span
+            };
+            return Some((
+                [mid, 0.0, x_at_a, y[3] + before],
+                Switched::Rest {
+                    energy_lost: before,
+                },
+            ));
+        }
+        let x = if uphill_end {
+            y[2] + b.length
+        } else {
+            y[2] - b.length
+        };
+        Some((
+            [to, theta_dot_after, x, y[3] + (before - after)],
+            Switched::Tip {
+                energy_lost: before - after,
+            },
+        ))
+    }
 }
 
 /// 2D: the cross-section lies in the ramp's (x, z) plane; ψ turns it about the y axis (the
@@ -363,6 +621,7 @@ fn disk_observation(
     energy: Option<f64>,
 ) -> Observation {
     let p = pose(d, theta, x_c);
+    let theta = OnHull::of(d, theta).geometry();
     let r = d.jet(theta).r;
     // Lab 2D (x downhill, y up) maps to ramp 3D (x, z); a counter-clockwise turn ψ in that plane
     // is a rotation by −ψ about +y.

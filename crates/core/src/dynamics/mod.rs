@@ -17,7 +17,7 @@ use crate::integrate::OdeSystem;
 pub use disk2d::{DiskInertial, DiskViscous};
 pub use model::{
     ContactForce, FORCE_COLUMNS, ModelHealth, ModelVisitor, ModelVisitorMut, Observation,
-    RollingModel,
+    RollingModel, Switched,
 };
 pub use sphere3d::{SphereInertial, SphereViscous};
 

@@ -122,6 +122,54 @@ pub trait RollingModel<const N: usize>: Observe<N> {
     fn section(&self, y: &[f64; N]) -> f64;
     /// Where a crossing of the section is: the boundary point of ∂Ω (3D); `None` in 2D.
     fn section_point(&self, y: &[f64; N]) -> Option<DVec3>;
+    /// A function of the state that passes from ≥ 0 to < 0 where the motion switches: a dented
+    /// 2D body's contact reaching the end of a bridge of its hull. `None` for a smooth model
+    /// (every convex body, every sphere).
+    fn switching(&self, _y: &[f64; N]) -> Option<f64> {
+        None
+    }
+    /// A start as the body would lie: a dented body started on a flat of its hull rests there
+    /// if its weight falls between the flat's ends, and otherwise tips onto the end it leans
+    /// towards at once. The identity for every other model.
+    fn placed(&self, y: [f64; N]) -> [f64; N] {
+        y
+    }
+    /// The state right after the switch at `y` (on the switching surface), and what happened
+    /// there; `None` if `y` is not at a switch.
+    fn switch(&self, _y: &[f64; N]) -> Option<([f64; N], Switched)> {
+        None
+    }
+}
+
+/// What happened at a switch of a hybrid model ([`RollingModel::switch`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Switched {
+    /// The body tipped across a bridge onto its far end: instantly in the viscous model; with an
+    /// impact in the inertial one, which loses this much kinetic energy (units of F⟨r⟩).
+    Tip {
+        /// Kinetic energy lost in the impact (0 in the viscous model).
+        energy_lost: f64,
+    },
+    /// The body came to rest on a bridge, on both its ends (it stays there).
+    Rest {
+        /// Kinetic energy it still had, dissipated in the last, unresolved rocking.
+        energy_lost: f64,
+    },
+}
+
+impl Switched {
+    /// The kinetic energy lost.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::Switched;
+    /// assert_eq!(Switched::Tip { energy_lost: 0.25 }.energy_lost(), 0.25);
+    /// ```
+    pub fn energy_lost(&self) -> f64 {
+        match self {
+            Switched::Tip { energy_lost } | Switched::Rest { energy_lost } => *energy_lost,
+        }
+    }
 }
 
 /// Code that works with any [`RollingModel`] and its state: `simulate::ModelState::visit`

@@ -5,10 +5,13 @@
 //! either assumption fails ([`ContactReport`]); the caller's [`ContactLimits`] say whether a
 //! failure stops the run ([`OnViolation::Stop`]) or is reported as a warning.
 //!
-//! The force is evaluated at each accepted step's end and at three interior points of its
-//! dense output; an extreme that may beat the run's so far is refined by golden-section search
-//! on the dense output, and a sign change of N or of μ_req − μ by Brent's method, so the
-//! extremes and the first times do not depend on where the integrator happened to step.
+//! The force is evaluated once a step, at its end. Between two step ends a quantity can dip
+//! below both by at most |q''| h²/8 (h the step, q'' its second derivative, estimated from the
+//! last three ends); only a step where that could beat the run's extreme so far (with a
+//! safety factor of 4) is searched, by golden section on the step's dense output, and a sign
+//! change of N or of μ_req − μ is located by Brent's method. So the extremes and the first
+//! times do not depend on where the integrator stepped, and a run pays one force evaluation a
+//! step plus a search or two per period of its motion (measured in the issue 34 note).
 
 use serde::Serialize;
 
@@ -245,11 +248,13 @@ impl ContactReport {
     }
 }
 
-/// How far (in units of F for N, relative for μ) a sampled value may lie from the run's extreme
-/// and still be refined: between samples a quarter-step apart the force moves by far less.
-const REFINE_MARGIN: f64 = 0.05;
-/// Time tolerance of the refinements.
+/// The safety factor on the curvature bound of what a step's interior can hide.
+const HIDDEN_FACTOR: f64 = 4.0;
+/// Time tolerance of the crossing times (lift-off, slip).
 const TIME_TOL: f64 = 1e-9;
+/// Tolerance of an extreme's search, relative to the step: an extreme's value is flat to second
+/// order, so a time within 1e-4 of the step gives the value to ~1e-8 of its variation.
+const SEARCH_TOL: f64 = 1e-4;
 
 /// Follows the contact force along a run.
 #[derive(Debug, Clone)]
@@ -257,6 +262,28 @@ pub struct ContactWatch {
     limits: ContactLimits,
     report: ContactReport,
     last: (f64, ContactForce),
+    /// The step end before `last`, for the curvature estimate.
+    before: Option<(f64, ContactForce)>,
+}
+
+/// How far a quantity `q` could reach beyond its values at the step's ends t0, t1 inside the
+/// step: |q''| h²/8 with q'' the second divided difference through (tm, t0, t1), times
+/// [`HIDDEN_FACTOR`]; infinite without an earlier end (the first step is always searched).
+fn hidden(before: Option<(f64, f64)>, (t0, q0): (f64, f64), (t1, q1): (f64, f64)) -> f64 {
+    let Some((tm, qm)) = before else {
+        return f64::INFINITY;
+    };
+    let h = t1 - t0;
+    if !(h > 0.0 && t0 > tm) {
+        return f64::INFINITY;
+    }
+    let second = 2.0 * ((q1 - q0) / h - (q0 - qm) / (t0 - tm)) / (t1 - tm);
+    let bound = HIDDEN_FACTOR * second.abs() * h * h / 8.0;
+    if bound.is_finite() {
+        bound
+    } else {
+        f64::INFINITY
+    }
 }
 
 impl ContactWatch {
@@ -285,7 +312,36 @@ impl ContactWatch {
             limits,
             report,
             last: (t0, f0),
+            before: None,
         }
+    }
+
+    /// Goes on from a state reached by a jump at `t` (a tip across a bridge), with force `f`
+    /// there: the force in the jump itself is impulsive and not followed.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::ContactForce;
+    /// use rollphase_core::dynamics::validity::{ContactLimits, ContactWatch};
+    /// let mut w = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.3));
+    /// w.jump(1.0, ContactForce { normal: 0.5, friction: [0.0, 0.0] });
+    /// assert_eq!(w.report().min_normal_force, 0.5);
+    /// ```
+    pub fn jump(&mut self, t: f64, f: ContactForce) {
+        let r = &mut self.report;
+        r.min_normal_force = r.min_normal_force.min(f.normal);
+        r.max_normal_force = r.max_normal_force.max(f.normal);
+        r.max_friction_needed = r.max_friction_needed.max(f.friction_needed());
+        if f.normal <= 0.0 && r.lift_off_t.is_none() {
+            r.lift_off_t = Some(t);
+        }
+        if let (Some(mu), None) = (self.limits.friction, r.slip_t)
+            && f.friction_needed() > mu
+        {
+            r.slip_t = Some(t);
+        }
+        self.last = (t, f);
+        self.before = None;
     }
 
     /// What it has seen so far.
@@ -337,92 +393,85 @@ impl ContactWatch {
         mut force: impl FnMut(f64) -> ContactForce,
     ) -> Option<Violation> {
         let before = self.report.violations().len();
-        let t0 = self.last.0;
-        let mut pts = [self.last; 5];
-        for (k, p) in pts.iter_mut().enumerate().skip(1) {
-            let t = if k == 4 {
-                t1
-            } else {
-                t0 + (t1 - t0) * k as f64 / 4.0
-            };
-            *p = (t, force(t));
-        }
-        self.last = pts[4];
-        let normal = |p: &(f64, ContactForce)| p.1.normal;
-        let needed = |p: &(f64, ContactForce)| p.1.friction_needed();
-        let bracket = |k: usize| (pts[k.saturating_sub(1)].0, pts[(k + 1).min(4)].0);
+        let (t0, f0) = self.last;
+        let f1 = force(t1);
+        let prior = self.before;
+        self.before = Some(self.last);
+        self.last = (t1, f1);
+        let (n0, n1) = (f0.normal, f1.normal);
+        let n_hidden = hidden(prior.map(|(t, f)| (t, f.normal)), (t0, n0), (t1, n1));
 
-        // N's minimum (refined when it may be the run's), then the first time N ≤ 0.
-        let k_min = argmin(&pts, normal);
-        if normal(&pts[k_min]) < self.report.min_normal_force + REFINE_MARGIN {
-            let (a, b) = bracket(k_min);
-            let t = golden_max(|t| -force(t).normal, a, b, TIME_TOL);
-            let v = force(t).normal.min(normal(&pts[k_min]));
+        // N's minimum, searched where the step may hide one below the run's; then the first
+        // time N ≤ 0.
+        let lo = n0.min(n1);
+        if lo - n_hidden < self.report.min_normal_force || n1 <= 0.0 {
+            let t = golden_max(|t| -force(t).normal, t0, t1, SEARCH_TOL * (t1 - t0));
+            let at_t = force(t).normal;
+            let v = at_t.min(lo);
             self.report.min_normal_force = self.report.min_normal_force.min(v);
             if self.report.lift_off_t.is_none() && v <= 0.0 {
-                // The first sign change up to the minimum.
-                let (ta, na) = pts
-                    .iter()
-                    .take_while(|p| p.0 < t)
-                    .take_while(|p| p.1.normal > 0.0)
-                    .last()
-                    .map_or((t0, normal(&pts[0])), |p| (p.0, p.1.normal));
-                let tb = pts
-                    .iter()
-                    .find(|p| p.0 > ta && p.1.normal <= 0.0)
-                    .map_or(t, |p| p.0.min(t));
-                let nb = force(tb).normal;
-                self.report.lift_off_t = Some(if na > 0.0 && nb <= 0.0 {
-                    brent(|t| force(t).normal, ta, tb, na, nb, TIME_TOL)
+                // The first crossing: before the interior minimum if N dips below 0 there,
+                // else before the step's end.
+                let (tb, nb) = if at_t <= 0.0 { (t, at_t) } else { (t1, n1) };
+                self.report.lift_off_t = Some(if n0 > 0.0 && nb <= 0.0 {
+                    brent(|t| force(t).normal, t0, tb, n0, nb, TIME_TOL)
                 } else {
-                    ta
+                    t0
                 });
             }
         }
-        let k_max = argmin(&pts, |p| -normal(p));
-        if normal(&pts[k_max]) > self.report.max_normal_force - REFINE_MARGIN {
-            let (a, b) = bracket(k_max);
-            let t = golden_max(|t| force(t).normal, a, b, TIME_TOL);
-            let v = force(t).normal.max(normal(&pts[k_max]));
+        let hi = n0.max(n1);
+        if hi + n_hidden > self.report.max_normal_force {
+            let t = golden_max(|t| force(t).normal, t0, t1, SEARCH_TOL * (t1 - t0));
+            let v = force(t).normal.max(hi);
             self.report.max_normal_force = self.report.max_normal_force.max(v);
         }
 
         // The friction needed, while the body is pressed on the ramp.
-        let k_mu = argmin(&pts, |p| -needed(p));
-        let mu_max = needed(&pts[k_mu]);
-        let mut t_mu = pts[k_mu].0;
-        if mu_max.is_finite() && mu_max > self.report.max_friction_needed * (1.0 - REFINE_MARGIN) {
-            let (a, b) = bracket(k_mu);
-            let t = golden_max(|t| force(t).friction_needed(), a, b, TIME_TOL);
-            let at_t = force(t).friction_needed();
-            if at_t > mu_max {
-                t_mu = t;
+        let (m0, m1) = (f0.friction_needed(), f1.friction_needed());
+        if m0.is_finite() && m1.is_finite() {
+            let m_hidden = hidden(
+                prior.map(|(t, f)| (t, f.friction_needed())),
+                (t0, m0),
+                (t1, m1),
+            );
+            let top = m0.max(m1);
+            let mut t_top = if m1 >= m0 { t1 } else { t0 };
+            if top + m_hidden > self.report.max_friction_needed {
+                let t = golden_max(
+                    |t| force(t).friction_needed(),
+                    t0,
+                    t1,
+                    SEARCH_TOL * (t1 - t0),
+                );
+                let at_t = force(t).friction_needed();
+                if at_t > top {
+                    t_top = t;
+                }
+                self.report.max_friction_needed =
+                    self.report.max_friction_needed.max(at_t.max(top));
             }
-            let v = at_t.max(mu_max);
-            self.report.max_friction_needed = self.report.max_friction_needed.max(v);
-        } else if !mu_max.is_finite() {
+            if let (Some(mu), None) = (self.limits.friction, self.report.slip_t)
+                && self.report.max_friction_needed > mu
+            {
+                let excess = |f: ContactForce| f.friction_needed().min(1e300) - mu;
+                let (tb, eb) = if m1 > mu {
+                    (t1, m1 - mu)
+                } else {
+                    (t_top, excess(force(t_top)))
+                };
+                self.report.slip_t = Some(if m0 <= mu && eb > 0.0 {
+                    brent(|t| excess(force(t)), t0, tb, m0 - mu, eb, TIME_TOL)
+                } else {
+                    t0
+                });
+            }
+        } else {
             self.report.max_friction_needed = f64::INFINITY;
-        }
-        if let (Some(mu), None) = (self.limits.friction, self.report.slip_t)
-            && self.report.max_friction_needed > mu
-        {
-            let excess = |f: ContactForce| f.friction_needed().min(1e300) - mu;
-            let (ta, ea) = pts
-                .iter()
-                .take_while(|p| excess(p.1) <= 0.0)
-                .last()
-                .map_or((t0, excess(pts[0].1)), |p| (p.0, excess(p.1)));
-            let tb = pts
-                .iter()
-                .find(|p| p.0 > ta && excess(p.1) > 0.0)
-                .map_or(t_mu, |p| p.0);
-            let tb = if tb > ta { tb } else { t1 };
-            let eb = excess(force(tb));
-            self.report.slip_t = Some(if ea <= 0.0 && eb > 0.0 {
-                brent(|t| excess(force(t)), ta, tb, ea, eb, TIME_TOL)
-            } else {
-                ta
-            });
+            if let (Some(_), None) = (self.limits.friction, self.report.slip_t) {
+                // No friction holds a body the ramp does not press: from where N reached 0.
+                self.report.slip_t = self.report.lift_off_t.or(Some(t1));
+            }
         }
 
         if self.limits.on_violation == OnViolation::Stop && before == 0 {
@@ -431,12 +480,6 @@ impl ContactWatch {
             None
         }
     }
-}
-
-fn argmin(pts: &[(f64, ContactForce); 5], key: impl Fn(&(f64, ContactForce)) -> f64) -> usize {
-    (0..pts.len())
-        .min_by(|&a, &b| key(&pts[a]).total_cmp(&key(&pts[b])))
-        .unwrap_or(0)
 }
 
 #[cfg(test)]

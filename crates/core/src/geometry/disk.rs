@@ -188,9 +188,17 @@ impl RadiusJet {
 }
 
 /// A star-shaped 2D body (a cylinder's cross-section) with ⟨r⟩ = 1.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Disk {
     modes: Vec<DiskMode>,
+    /// Its convex hull, found the first time it is asked for (a run of a dented body).
+    hull: std::sync::OnceLock<super::hull::DiskHull>,
+}
+
+impl PartialEq for Disk {
+    fn eq(&self, other: &Self) -> bool {
+        self.modes == other.modes
+    }
 }
 
 impl Disk {
@@ -204,7 +212,10 @@ impl Disk {
     /// assert!((disk.jet(std::f64::consts::FRAC_PI_4).r - 1.1).abs() < 1e-15);
     /// ```
     pub fn new(modes: Vec<DiskMode>) -> Self {
-        Self { modes }
+        Self {
+            modes,
+            hull: std::sync::OnceLock::new(),
+        }
     }
 
     /// The perfect disk r ≡ 1.
@@ -216,7 +227,20 @@ impl Disk {
     /// assert!(disk.modes().is_empty() && disk.jet(1.0).r == 1.0);
     /// ```
     pub fn perfect() -> Self {
-        Self { modes: Vec::new() }
+        Self::new(Vec::new())
+    }
+
+    /// Its convex hull: the bridges over its dents, none for a convex body (computed once).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// assert!(Disk::perfect().hull().bridges().is_empty());
+    /// let dented = Disk::new(vec![DiskMode { l: 3, a: 2.0, phase: 0.0 }]);
+    /// assert_eq!(dented.hull().bridges().len(), 3);
+    /// ```
+    pub fn hull(&self) -> &super::hull::DiskHull {
+        self.hull.get_or_init(|| super::hull::DiskHull::of(self))
     }
 
     /// The modes.

@@ -5,6 +5,7 @@
 
 pub mod disk;
 pub mod harmonics;
+pub mod hull;
 pub mod mesh;
 pub mod paper_bodies;
 pub mod shape_file;
@@ -93,7 +94,12 @@ pub enum ShapeError {
     /// The body is not strictly convex.
     #[error(
         "shape is not convex: {measure} {value:.6} at {place} (needs > 0); the contact model needs \
-         a strictly convex body: lower the amplitudes (σ) or use fewer modes"
+         a strictly convex body: lower the amplitudes (σ) or use fewer modes{}",
+        if *measure == "curvature" {
+            " (`rollphase simulate` rolls a 2D body like this on its convex hull)"
+        } else {
+            ""
+        }
     )]
     NotConvex {
         /// "curvature" (2D) or "Gaussian curvature" (3D).
@@ -425,6 +431,43 @@ impl Body {
     /// ```
     pub fn curvature_on_grid(&self, grid_size: usize) -> CurvatureReport {
         curvature_report_on(self, grid_size.max(8))
+    }
+
+    /// Whether `simulate` can roll the body: a strictly convex one, or a 2D body that is not
+    /// convex but rolls on its convex hull (issue 34: across a dent on the bridge that spans it)
+    /// and whose hull's curved parts are strictly convex. A 3D body must be convex.
+    ///
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// // The authors' printed σ = 0.5 cylinder has two dents: it rolls on its hull.
+    /// let printed = Body::paper_disk(219, 0.5, 9)?;
+    /// assert!(printed.check_convex().is_err() && printed.check_rollable().is_ok());
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
+    pub fn check_rollable(&self) -> Result<(), ShapeError> {
+        let Err(e) = self.check_convex() else {
+            return Ok(());
+        };
+        let Body::Disk(d) = self else {
+            return Err(e);
+        };
+        // A dented disk rolls on its hull: its curved parts must be strictly convex.
+        let hull = d.hull();
+        let n = DISK_GRID;
+        let worst = (0..n)
+            .map(|i| i as f64 * std::f64::consts::TAU / n as f64)
+            .filter(|t| hull.bridge_at(*t).is_none())
+            .map(|t| (d.jet(t).convexity(), t))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        match worst {
+            Some((c, _)) if c > 0.0 && !hull.bridges().is_empty() => Ok(()),
+            Some((c, t)) => Err(ShapeError::NotConvex {
+                measure: "curvature on the convex hull",
+                value: c,
+                place: format!("θ = {t:.6}"),
+            }),
+            None => Err(e),
+        }
     }
 
     /// Returns an error naming the worst point unless the body is strictly convex.

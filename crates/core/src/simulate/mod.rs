@@ -39,7 +39,9 @@ pub use typed::{
     Trajectory, simulate, simulate_streaming, simulate_until,
 };
 
-use crate::dynamics::{FORCE_COLUMNS, ModelError, ModelKind, ModelVisitor, Ramp, RollingModel};
+use crate::dynamics::{
+    FORCE_COLUMNS, ModelError, ModelKind, ModelVisitor, Ramp, RollingModel, Switched,
+};
 use crate::geometry::{Body, ShapeError};
 use crate::integrate::{self, IntegrateError, Method, Stats};
 
@@ -118,6 +120,21 @@ pub struct Summary {
     /// or slip ([`validity`](ContactWatch)).
     #[serde(flatten)]
     pub contact: Option<ContactReport>,
+    /// A dented 2D body rolling on its convex hull: its tips across bridges and the energy they
+    /// cost, and when it came to rest on one (`None` for a convex body or a sphere).
+    #[serde(flatten)]
+    pub hull: Option<HullReport>,
+}
+
+/// What a dented 2D body did on its hull's bridges during a run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct HullReport {
+    /// Tips across a bridge (each an impact in the inertial model).
+    pub tips: u64,
+    /// Kinetic energy the impacts took, in all (units of F⟨r⟩; 0 in the viscous model).
+    pub tip_energy_lost: f64,
+    /// When the body came to rest on a bridge, if it did.
+    pub rested_t: Option<f64>,
 }
 
 impl Summary {
@@ -202,6 +219,7 @@ impl Summary {
             t_end: 0.0,
             model_note: None,
             contact: None,
+            hull: None,
         }
     }
 }
@@ -430,7 +448,8 @@ fn fmt_health(v: Option<f64>) -> String {
 /// Most output rows of one run (a CSV of 10⁷ rows is about 1.4 GB).
 pub const MAX_SAMPLES: usize = 10_000_000;
 
-/// Runs `spec` on `body`, calling `row(&values)` for each sample (columns as in the headers).
+/// Runs `spec` on `body`, calling `row(&values)` for each sample: the model's columns (as in
+/// [`DISK_HEADER`] or [`SPHERE_HEADER`]) then [`FORCE_HEADER`]'s.
 ///
 /// ```
 /// use rollphase_core::dynamics::Ramp;
@@ -449,7 +468,8 @@ pub const MAX_SAMPLES: usize = 10_000_000;
 /// };
 /// let mut rows = 0;
 /// let summary = run(&body, &spec, |row| {
-///     assert_eq!(row.len(), 6); // t, θ, θ̇, ψ, x, y
+///     // t, θ, θ̇, ψ, x, y, then the contact force: N, f_x, f_y, μ needed.
+///     assert_eq!(row.len(), 10);
 ///     rows += 1;
 /// })?;
 /// assert_eq!((rows, summary.model.to_string().as_str()), (11, "disk-viscous"));
@@ -514,7 +534,9 @@ pub fn run_until(
         }
     }
     spec.limits.validate().map_err(RunError::Mismatch)?;
-    body.check_convex()?;
+    // A dented 2D body rolls on its convex hull (the models' switches); anything else must be
+    // strictly convex.
+    body.check_rollable()?;
     let choice = choose_model(body, spec.ramp, spec.method)?;
     let spec = &RunSpec {
         ramp: choice.ramp,
@@ -548,9 +570,71 @@ struct Drive<'a, F: FnMut(&[f64])> {
     row: &'a mut F,
 }
 
+/// Why one stepper's run ended early: an error, or a switch of a hybrid model at (t, y) (a
+/// dented body reaching a bridge of its hull), after which a new stepper starts.
+enum Halt<const N: usize> {
+    Run(RunError),
+    Switch(f64, [f64; N]),
+}
+
+impl<const N: usize> From<IntegrateError> for Halt<N> {
+    fn from(e: IntegrateError) -> Self {
+        Halt::Run(e.into())
+    }
+}
+
+impl<const N: usize> From<RunError> for Halt<N> {
+    fn from(e: RunError) -> Self {
+        Halt::Run(e)
+    }
+}
+
+/// Most switches (tips and impacts) one run may take: beyond it the rocking is not settling.
+pub const MAX_SWITCHES: u64 = 10_000_000;
+
+/// The first time in the last step where the model's switching function passes from ≥ 0 to
+/// < 0, and the state there (from the step's dense output, to 1e-13 in time).
+pub(crate) fn locate_switch<const N: usize, M: RollingModel<N>>(
+    st: &mut dyn integrate::Stepper<N>,
+    model: &M,
+) -> Option<(f64, [f64; N])> {
+    let g0 = model.switching(st.y_prev())?;
+    let g1 = model.switching(st.y())?;
+    if !(g0 >= 0.0 && g1 < 0.0) {
+        return None;
+    }
+    let (t0, t1) = (st.t_prev(), st.t());
+    const PARTS: usize = 16;
+    let mut prev = (t0, g0);
+    for k in 1..=PARTS {
+        let t = if k == PARTS {
+            t1
+        } else {
+            t0 + (t1 - t0) * k as f64 / PARTS as f64
+        };
+        let g = model.switching(&st.dense(t)).unwrap_or(g1);
+        if g < 0.0 {
+            let root = crate::numeric::roots::brent(
+                |t| model.switching(&st.dense(t)).unwrap_or(g1),
+                prev.0,
+                t,
+                prev.1,
+                g,
+                1e-13 * t1.abs().max(1.0),
+            );
+            return Some((root, st.dense(root)));
+        }
+        prev = (t, g);
+    }
+    None
+}
+
 impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
     type Output = Result<Summary, RunError>;
 
+    /// Long on purpose: one loop over the steps of a run and over the restarts a hybrid model's
+    /// switches make, with the rows, the health, the contact force and the switches kept in
+    /// step; split, each piece would need all of that state handed to it.
     fn visit<const N: usize, M: RollingModel<N>>(self, model: &M, y0: &[f64; N]) -> Self::Output {
         let Drive {
             spec,
@@ -559,8 +643,10 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
             row,
         } = self;
         let mut summary = Summary::new(M::KIND);
-        let mut stepper = integrate::stepper(model, 0.0, *y0, spec.method)?;
-        let mut values = Vec::with_capacity(16);
+        // A dented body started on a flat lies as the statics say (the identity otherwise).
+        let placed = model.placed(*y0);
+        let y0 = &placed;
+        let mut values = Vec::with_capacity(20);
         let mut put = |t: f64, y: &[f64; N]| -> Result<(), RunError> {
             model.row(t, y, &mut values);
             check_row(t, &values, M::COLUMNS)?;
@@ -583,7 +669,7 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
                 report: watch.report(),
             });
         }
-        let e0 = model.health(stepper.y()).energy;
+        let e0 = model.health(y0).energy;
         let track = |y: &[f64; N], s: &mut Summary| {
             let h = model.health(y);
             let max_opt = |a: Option<f64>, b: Option<f64>| match (a, b) {
@@ -598,69 +684,120 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
                 s.energy_drift = max_opt(s.energy_drift, Some((e - e0).abs()));
             }
         };
-        track(stepper.y(), &mut summary);
+        track(y0, &mut summary);
+        let mut hull = model.switching(y0).map(|_| HullReport::default());
         let mut next = 0;
-        while next < times.len() && times[next] <= stepper.t() {
-            let y = *stepper.y();
-            put(times[next], &y)?;
+        while next < times.len() && times[next] <= 0.0 {
+            put(times[next], y0)?;
             next += 1;
         }
         let t_end = *times.last().unwrap_or(&0.0);
         let method = spec.method;
-        integrate::step_until(stepper.as_mut(), t_end, spec.max_steps, |st| {
-            if stop.load(Ordering::Relaxed) {
-                return Err(RunError::Stopped { t: st.t() });
-            }
-            let y = *st.y();
-            track(&y, &mut summary);
-            let t_now = st.t();
-            let stopped = watch.step(t_now, |t| {
-                if t == t_now {
-                    model.contact_force(&y)
-                } else {
-                    model.contact_force(&st.dense(t))
+        let (mut t_start, mut y_start) = (0.0, *y0);
+        let mut stats = Stats::default();
+        loop {
+            let mut stepper = integrate::stepper(model, t_start, y_start, method)?;
+            let budget = spec.max_steps.saturating_sub(stats.steps).max(1);
+            let ran = integrate::step_until(stepper.as_mut(), t_end, budget, |st| {
+                if stop.load(Ordering::Relaxed) {
+                    return Err(Halt::Run(RunError::Stopped { t: st.t() }));
                 }
-            });
-            if let Some(violation) = stopped {
-                // The rows up to the violation, then the error.
-                while next < times.len() && times[next] <= violation.t() {
-                    let ys = st.dense(times[next]);
+                let switch = locate_switch(st, model);
+                let (t_now, y_now) = switch.unwrap_or((st.t(), *st.y()));
+                track(&y_now, &mut summary);
+                let stopped = watch.step(t_now, |t| {
+                    if t == t_now {
+                        model.contact_force(&y_now)
+                    } else {
+                        model.contact_force(&st.dense(t))
+                    }
+                });
+                if let Some(violation) = stopped {
+                    // The rows up to the violation, then the error.
+                    while next < times.len() && times[next] <= violation.t() {
+                        let ys = st.dense(times[next]);
+                        put(times[next], &ys)?;
+                        next += 1;
+                    }
+                    return Err(Halt::Run(RunError::LeftModel {
+                        violation,
+                        report: watch.report(),
+                    }));
+                }
+                if let Method::Rk4 { dt } | Method::Cf4 { dt } = method {
+                    let worst = summary
+                        .max_quat_norm_error
+                        .unwrap_or(0.0)
+                        .max(summary.max_contact_normal_error.unwrap_or(0.0));
+                    if worst > FIXED_STEP_HEALTH_LIMIT || !worst.is_finite() {
+                        return Err(Halt::Run(RunError::Unhealthy {
+                            dt,
+                            t: st.t(),
+                            quat_norm_error: summary.max_quat_norm_error,
+                            contact_normal_error: summary.max_contact_normal_error,
+                        }));
+                    }
+                }
+                while next < times.len() && times[next] <= t_now {
+                    let ys = if switch.is_none() && times[next] == t_now {
+                        y_now
+                    } else {
+                        st.dense(times[next])
+                    };
                     put(times[next], &ys)?;
                     next += 1;
                 }
-                return Err(RunError::LeftModel {
-                    violation,
-                    report: watch.report(),
-                });
-            }
-            if let Method::Rk4 { dt } | Method::Cf4 { dt } = method {
-                let worst = summary
-                    .max_quat_norm_error
-                    .unwrap_or(0.0)
-                    .max(summary.max_contact_normal_error.unwrap_or(0.0));
-                if worst > FIXED_STEP_HEALTH_LIMIT || !worst.is_finite() {
-                    return Err(RunError::Unhealthy {
-                        dt,
-                        t: st.t(),
-                        quat_norm_error: summary.max_quat_norm_error,
-                        contact_normal_error: summary.max_contact_normal_error,
-                    });
+                match switch {
+                    Some((t, y)) => Err(Halt::Switch(t, y)),
+                    None => Ok(()),
+                }
+            });
+            let done = stepper.stats();
+            stats.rhs_evals += done.rhs_evals;
+            stats.steps += done.steps;
+            stats.rejected += done.rejected;
+            match ran {
+                Ok(()) => {
+                    summary.t_end = stepper.t();
+                    break;
+                }
+                Err(Halt::Run(e)) => return Err(e),
+                Err(Halt::Switch(t, y)) => {
+                    let Some((after, what)) = model.switch(&y) else {
+                        return Err(RunError::Mismatch(format!(
+                            "internal error: a switch at t = {t} that the model does not take"
+                        )));
+                    };
+                    let report = hull.get_or_insert_with(HullReport::default);
+                    match what {
+                        Switched::Tip { energy_lost } => {
+                            report.tips += 1;
+                            report.tip_energy_lost += energy_lost;
+                        }
+                        Switched::Rest { energy_lost } => {
+                            report.tip_energy_lost += energy_lost;
+                            report.rested_t.get_or_insert(t);
+                        }
+                    }
+                    if report.tips > MAX_SWITCHES {
+                        return Err(RunError::Mismatch(format!(
+                            "more than {MAX_SWITCHES} tips across the hull's bridges by t = {t}: \
+                             the body rocks without settling"
+                        )));
+                    }
+                    watch.jump(t, model.contact_force(&after));
+                    track(&after, &mut summary);
+                    if t >= t_end {
+                        summary.t_end = t;
+                        break;
+                    }
+                    (t_start, y_start) = (t, after);
                 }
             }
-            while next < times.len() && times[next] <= st.t() {
-                let ys = if times[next] == st.t() {
-                    y
-                } else {
-                    st.dense(times[next])
-                };
-                put(times[next], &ys)?;
-                next += 1;
-            }
-            Ok(())
-        })?;
-        summary.t_end = stepper.t();
+        }
         summary.contact = Some(watch.report());
-        Ok(finish(summary, stepper.stats(), method))
+        summary.hull = hull;
+        Ok(finish(summary, stats, method))
     }
 }
 
