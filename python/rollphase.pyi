@@ -97,7 +97,8 @@ class Trajectory:
         """The command line's --summary keys: model, integrator, rhs_evals, steps, rejected,
         max_quat_norm_error, max_contact_normal_error, energy_drift, t_end, model_note,
         min_normal_force, max_normal_force, max_friction_needed, lift_off_t, slip_t, friction,
-        wall_seconds, rhs_evals_per_second, alpha, mass_ratio."""
+        wall_seconds, rhs_evals_per_second, alpha, mass_ratio; for a 2D body that is not convex
+        (it rolls on its hull) also tips, tip_energy_lost, rested_t."""
     @property
     def dimension(self) -> int: ...
     @property
