@@ -60,6 +60,9 @@ fn negative_or_nan_mass_is_rejected() {
     }
 }
 
+/// `figure --list`'s lines: one a figure.
+const FIGURES_LISTED: usize = 12;
+
 #[test]
 fn non_convex_shape_names_the_worst_point() {
     let d = temp_dir("convex");
@@ -69,10 +72,28 @@ fn non_convex_shape_names_the_worst_point() {
         "bad.json",
         r#"{"kind":"disk","modes":[{"l":8,"a":3.0,"phase":0.0}]}"#,
     );
+    // `simulate` rolls a dented cylinder on its convex hull (tests/dented_bodies.rs); a command
+    // that needs a convex body refuses it, naming the place and where it would run.
     let out = rollphase(&[
         "simulate", &bad, "--alpha", "0.3", "--t-end", "1", "-o", "-",
     ]);
-    fails_with(&out, 1, &["not convex", "curvature", "θ =", "needs > 0"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = rollphase(&["period", &bad, "--alpha", "0.3"]);
+    fails_with(
+        &out,
+        1,
+        &[
+            "not convex",
+            "curvature",
+            "θ =",
+            "needs > 0",
+            "on its convex hull",
+        ],
+    );
     // inspect reports it without failing
     let out = rollphase(&["inspect", &bad, "--json"]);
     assert!(out.status.success());
@@ -357,8 +378,15 @@ fn figure_list_shows_every_figure() {
         // The shardable ones are marked, from the one registry `--shard` and `merge` read.
         assert_eq!(line.ends_with("[--shard]"), f.sharded, "{line}");
     }
-    assert_eq!(text.lines().count(), 11, "{text}");
-    assert_eq!(text.matches("[--shard]").count(), 6, "{text}");
+    assert_eq!(text.lines().count(), FIGURES_LISTED, "{text}");
+    assert_eq!(
+        text.matches("[--shard]").count(),
+        rollphase::figures::FIGURES
+            .iter()
+            .filter(|f| f.sharded)
+            .count(),
+        "{text}"
+    );
 }
 
 #[test]

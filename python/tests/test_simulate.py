@@ -281,3 +281,22 @@ def test_a_viscous_run_needs_tan_alpha_and_stop_raises():
     ]:
         with pytest.raises(ValueError, match=match):
             rollphase.simulate(body, 0.3, 10.0, **bad)
+
+
+def test_a_dented_cylinder_rolls_on_its_hull_as_on_the_command_line(cli, tmp_path):
+    # The authors' printed σ = 0.5 cylinder (their num_modes = 8) has two dents.
+    body = Body.paper_disk(219, 0.5, 9)
+    assert not body.is_convex
+    path = tmp_path / "printed.json"
+    body.to_file(path)
+    summary = tmp_path / "summary.json"
+    out, _, _ = cli(
+        "simulate", path, "--alpha", 0.3, "--mass", 2, "--theta0", 1.5, "--t-end", 100,
+        "--samples", 51, "--summary", summary,
+    )
+    _, rows = read_csv(out)
+    run = rollphase.simulate(body, 0.3, 100.0, mass_ratio=2.0, theta0=1.5, samples=51)
+    np.testing.assert_array_equal(as_rows(run), rows)
+    theirs = json.loads(summary.read_text())
+    assert run.summary["tips"] == theirs["tips"] > 0
+    assert run.summary["tip_energy_lost"] == theirs["tip_energy_lost"] > 0.0

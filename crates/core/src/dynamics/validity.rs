@@ -385,7 +385,7 @@ impl ContactWatch {
     /// let mut watch = ContactWatch::new(limits, 0.0, force(0.0));
     /// let v = watch.step(3.0, force);
     /// assert!(matches!(v, Some(Violation::LiftOff { t }) if (t - 1.0).abs() < 1e-8));
-    /// assert!((watch.report().min_normal_force + 0.25).abs() < 1e-12);
+    /// assert!((watch.report().min_normal_force + 0.25).abs() < 1e-8);
     /// ```
     pub fn step(
         &mut self,
@@ -512,9 +512,10 @@ mod tests {
         };
         for steps in [7, 13, 50, 400] {
             let r = watch_of(f, Some(1.0), steps, 10.0);
-            assert!((r.min_normal_force - 0.2).abs() < 1e-10, "{steps}: {r:?}");
-            assert!((r.max_normal_force - 1.8).abs() < 1e-10, "{steps}: {r:?}");
-            assert!((r.max_friction_needed - 1.5).abs() < 1e-9, "{steps}: {r:?}");
+            // To SEARCH_TOL's promise: 1e-8 of the variation (1.6 in N, 1.3 in μ).
+            assert!((r.min_normal_force - 0.2).abs() < 2e-8, "{steps}: {r:?}");
+            assert!((r.max_normal_force - 1.8).abs() < 2e-8, "{steps}: {r:?}");
+            assert!((r.max_friction_needed - 1.5).abs() < 2e-8, "{steps}: {r:?}");
             // μ_req = 1 where N = 0.3: sin 3t = −0.875, first at t = (π + asin 0.875)/3.
             let t_slip = (std::f64::consts::PI + 0.875f64.asin()) / 3.0;
             assert!((r.slip_t.unwrap() - t_slip).abs() < 1e-8, "{steps}: {r:?}");
