@@ -272,3 +272,115 @@ fn the_command_line_accepts_a_dented_cylinder_and_explains_its_hull() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("not convex"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The rimless wheel, generalised to round lobes: a three-lobed body rolling freely (no drag)
+/// settles on the cycle where each impact takes what gravity gives over one lobe and its flat,
+/// so the kinetic energy just before an impact is KE⁻ = sin α · (P/3) / (1 − ρ²), with P the
+/// hull's perimeter and ρ = (I + m P_a·P_b)/(I + m r²) the impact's ratio (r_a = r_b by
+/// symmetry). And the angle below which it stops: a viscous body rests on a flat up to α*, a
+/// little under the triangle's π/3 (its corners are round).
+#[test]
+fn a_three_lobed_body_is_a_rimless_wheel() {
+    use rollphase::geometry::DiskMode;
+    let disk = Disk::new(vec![DiskMode {
+        l: 3,
+        a: 2.0,
+        phase: 0.0,
+    }]);
+    let body = Body::Disk(disk.clone());
+    let bridges = disk.hull().bridges().to_vec();
+    assert_eq!(bridges.len(), 3);
+    let b = bridges[0];
+    // One lobe's arc, from the end of the previous flat to the start of the next.
+    let prev = bridges[2];
+    let (from, to) = (prev.theta_b - std::f64::consts::TAU, b.theta_a);
+    let n = 20_000;
+    let h = (to - from) / n as f64;
+    let arc: f64 = (0..n)
+        .map(|i| disk.jet(from + (i as f64 + 0.5) * h).arc_rate())
+        .sum::<f64>()
+        * h;
+    let per_lobe = arc + b.length;
+    let (m, alpha) = (2.0, 0.8f64);
+    let point = |t: f64| {
+        let r = disk.jet(t).r;
+        [r * t.cos(), r * t.sin()]
+    };
+    let (pa, pb) = (point(b.theta_a), point(b.theta_b));
+    let r2 = pb[0] * pb[0] + pb[1] * pb[1];
+    let inertia = 0.5 * m;
+    let rho = (inertia + m * (pa[0] * pb[0] + pa[1] * pb[1])) / (inertia + m * r2);
+    let predicted = alpha.sin() * per_lobe / (1.0 - rho * rho);
+
+    let sim = Simulation::new(alpha, 80.0)
+        .model(Model::Inertial { mass_ratio: m })
+        .drag(0.0)
+        .samples(400_001)
+        .initial(InitialState::Disk {
+            theta0: 0.0,
+            theta_dot0: 2.0,
+        });
+    let (tr, s) = simulate(&body, &sim).unwrap();
+    let tips = s.hull.unwrap().tips;
+    assert!(tips > 20, "{tips} tips, α* = {}", body.alpha_star());
+    let Trajectory::Disk(d) = tr else {
+        unreachable!()
+    };
+    let model = DiskInertial::new(&disk, &Ramp::with_drag(alpha, m, 0.0).unwrap());
+    // The last samples before the late impacts (θ jumps across a flat between two samples).
+    let before: Vec<f64> = (1..d.theta.len())
+        .filter(|&i| d.t[i] > 40.0 && d.theta[i] - d.theta[i - 1] > 0.5 * (b.theta_b - b.theta_a))
+        .map(|i| {
+            // The energy is conserved on the arc: carry the sample's kinetic energy to the flat's
+            // end through the potential.
+            let j = i - 1;
+            let kinetic = 0.5 * model.reduced_inertia(d.theta[j]) * d.theta_dot[j].powi(2);
+            let e = kinetic
+                + model.potential(d.theta[j], d.x[j] - disk.jet(d.theta[j]).centre_offset());
+            let end =
+                d.theta[j] + (b.theta_a - d.theta[j]).rem_euclid(2.0 * std::f64::consts::PI / 3.0);
+            let arc_left = (b.theta_a - d.theta[j]).rem_euclid(2.0 * std::f64::consts::PI / 3.0);
+            let x_c_end = d.x[j] - disk.jet(d.theta[j]).centre_offset()
+                + arc_left * disk.jet(0.5 * (d.theta[j] + end)).arc_rate();
+            e - model.potential(end, x_c_end)
+        })
+        .collect();
+    assert!(before.len() > 10, "{}", before.len());
+    let worst = before
+        .iter()
+        .map(|ke| (ke - predicted).abs())
+        .fold(0.0, f64::max);
+    println!(
+        "rimless wheel: KE⁻ predicted {predicted:.6}, {} impacts after t = 40, worst relative \
+         deviation {:.2e}, ρ = {rho:.4}",
+        before.len(),
+        worst / predicted
+    );
+    for ke in &before {
+        assert!(
+            (ke - predicted).abs() < 1e-6 * predicted,
+            "KE⁻ {ke} against {predicted}"
+        );
+    }
+
+    // The angle below which it stops (viscous): rests on a flat just below α*, rolls above.
+    let alpha_star = body.alpha_star();
+    // Round lobes rest less steeply than a triangle's corners (π/3): here 0.570.
+    let flat = critical_angle(&body).flat.unwrap();
+    assert_eq!(alpha_star, flat.alpha.max(flat.curve_alpha));
+    assert!(
+        alpha_star < std::f64::consts::FRAC_PI_3,
+        "α* = {alpha_star}"
+    );
+    let rests = |a: f64| {
+        let sim = Simulation::new(a, 200.0).samples(2);
+        simulate(&body, &sim)
+            .unwrap()
+            .1
+            .hull
+            .unwrap()
+            .rested_t
+            .is_some()
+    };
+    assert!(rests(alpha_star - 1e-3) && !rests(alpha_star + 1e-3));
+}

@@ -123,7 +123,8 @@ impl Scene {
     /// (shape paths are relative to it); `None` for a bundled preset.
     pub fn setup(&self, base: Option<&Path>) -> Result<SceneSetup, SceneError> {
         let body = self.body.build(base)?;
-        body.check_convex()?;
+        // A dented cylinder rolls on its convex hull; a sphere must be convex.
+        body.check_rollable()?;
         let alpha_star = critical_angle(&body).alpha_star;
         let m = &self.model;
         let alpha = match (m.alpha_rad, m.alpha_over_critical) {

@@ -11,7 +11,7 @@ use crate::geometry::Body;
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::{self, IntegrateError, Method, Stepper};
 use crate::scene::{SceneSetup, Step, ViewsSpec};
-use crate::simulate::{ModelState, choose_model};
+use crate::simulate::{ModelState, choose_model, locate_switch};
 use glam::{DQuat, DVec3};
 use std::collections::VecDeque;
 use thiserror::Error;
@@ -20,6 +20,21 @@ use thiserror::Error;
 const MAX_CROSSINGS_KEPT: usize = 12;
 /// Step budget of one `advance_to` (a frame), against a stuck integrator.
 const MAX_STEPS_PER_ADVANCE: u64 = 5_000_000;
+/// Most switches (tips across a dented cylinder's flats) one advance may take.
+const MAX_SWITCHES_PER_ADVANCE: usize = 100_000;
+
+/// Why one stepper's share of an advance ended early.
+enum Interrupt {
+    Failed(IntegrateError),
+    /// A hybrid model reached a switch (its time and state are kept by the caller).
+    Switch,
+}
+
+impl From<IntegrateError> for Interrupt {
+    fn from(e: IntegrateError) -> Self {
+        Interrupt::Failed(e)
+    }
+}
 /// A target closer than this (relative to the time) to the current time counts as reached.
 const NOW_RELATIVE: f64 = 1e-12;
 /// Longest cycle of ∂Ω crossings the live display looks for.
@@ -138,6 +153,9 @@ pub struct Snapshot {
     /// The first way the motion stopped being rollable since the parameters last changed (one
     /// overlay line, in red): the model's numbers go on, but no real body moves so.
     pub validity: Option<String>,
+    /// A dented cylinder on its hull: tips across its flats so far, and the kinetic energy
+    /// their impacts took; `None` for a convex body.
+    pub hull_tips: Option<(u64, f64)>,
     /// The views in force (the scene's, as changed by the user or the timeline).
     pub views: ViewsSpec,
     /// The lesson's caption in force, if any.
@@ -208,6 +226,8 @@ pub struct Simulation {
     start_views: ViewsSpec,
     /// The contact force followed since the parameters last changed.
     contact: ContactWatch,
+    /// Tips across a dented cylinder's flats and the energy they took (`None`: convex body).
+    hull_tips: Option<(u64, f64)>,
 }
 
 /// What a model gives the simulation at a state.
@@ -234,6 +254,10 @@ impl Simulation {
         let trail_dt = (playback.trail_time / 3000.0).clamp(0.01, 1.0);
         let start_views = setup.scene.views.clone();
         let first = observe(&state, &setup.ramp);
+        let setup_body_dented = match &setup.body {
+            Body::Disk(d) => !d.hull().bridges().is_empty(),
+            Body::Sphere(_) => false,
+        };
         let contact = ContactWatch::new(setup.limits, 0.0, first.force);
         let mut sim = Self {
             ramp: setup.ramp,
@@ -255,6 +279,7 @@ impl Simulation {
             speed_change: None,
             start_views,
             contact,
+            hull_tips: setup_body_dented.then_some((0, 0.0)),
         };
         let o = observe(&sim.state, &sim.ramp);
         sim.energy0 = o.energy;
@@ -429,13 +454,69 @@ impl Simulation {
     }
 
     /// Steps `model` from `y0` to `t_target`, recording crossings of its section, the trails
-    /// and the health as it goes; returns the new state.
+    /// and the health as it goes; returns the new state. A dented cylinder's switches (a tip
+    /// across a flat of its hull, a rest on one) restart the integration from the state after
+    /// the switch, as `simulate::run` does.
     fn drive<const N: usize, M: RollingModel<N>>(
         &mut self,
         model: &M,
         y0: [f64; N],
         t_target: f64,
     ) -> Result<[f64; N], SimError> {
+        // A body resting on a flat lies as the statics of the current ramp say (α may have
+        // changed since): it tips if its weight has left the flat.
+        let mut y = model.placed(y0);
+        let mut switches = 0usize;
+        loop {
+            match self.drive_until_switch(model, y, t_target)? {
+                (y_end, None) => {
+                    y = y_end;
+                    break;
+                }
+                (_, Some((t, y_at))) => {
+                    let Some((after, what)) = model.switch(&y_at) else {
+                        break;
+                    };
+                    if let Some((tips, lost)) = self.hull_tips.as_mut() {
+                        *lost += what.energy_lost();
+                        if let crate::dynamics::Switched::Tip { .. } = what {
+                            *tips += 1;
+                        }
+                    }
+                    self.t = t;
+                    self.contact.jump(t, model.contact_force(&after));
+                    y = after;
+                    switches += 1;
+                    if switches > MAX_SWITCHES_PER_ADVANCE {
+                        let e = IntegrateError::TooManySteps {
+                            t,
+                            max_steps: MAX_SWITCHES_PER_ADVANCE as u64,
+                        };
+                        self.last_failure = Some(overlay_line(&e));
+                        return Err(SimError::Integrate {
+                            t,
+                            message: e.to_string(),
+                        });
+                    }
+                }
+            }
+        }
+        let trail_horizon = self.t - self.setup.scene.playback.trail_time;
+        while self.trail.front().is_some_and(|s| s.t < trail_horizon) {
+            self.trail.pop_front();
+        }
+        Ok(y)
+    }
+
+    /// One stepper's share of [`Self::drive`]: to `t_target`, or to the first switch of a hybrid
+    /// model, whose time and state it returns with the state reached.
+    #[allow(clippy::type_complexity)]
+    fn drive_until_switch<const N: usize, M: RollingModel<N>>(
+        &mut self,
+        model: &M,
+        y0: [f64; N],
+        t_target: f64,
+    ) -> Result<([f64; N], Option<(f64, [f64; N])>), SimError> {
         let section = |y: &[f64; N]| model.section(y);
         let section_point = |y: &[f64; N]| model.section_point(y);
         let observe = |y: &[f64; N]| Observed::of(model, y);
@@ -452,10 +533,13 @@ impl Simulation {
                 }
             };
         let mut crossing_times = Vec::new();
+        let mut switch = None;
         let stepped = integrate::step_until(st.as_mut(), t_target, MAX_STEPS_PER_ADVANCE, |st| {
             if st.y().iter().any(|v| !v.is_finite()) {
-                return Err(IntegrateError::NonFinite { t: st.t() });
+                return Err(Interrupt::Failed(IntegrateError::NonFinite { t: st.t() }));
             }
+            let found = locate_switch(st, model);
+            let (t_now, y_now) = found.unwrap_or((st.t(), *st.y()));
             crossing_times.clear();
             crossings_in_last_step(
                 st,
@@ -463,20 +547,19 @@ impl Simulation {
                 Direction::Both,
                 &mut crossing_times,
             );
-            for &tc in &crossing_times {
+            for &tc in crossing_times.iter().filter(|&&tc| tc <= t_now) {
                 let point = section_point(&st.dense(tc));
                 self.crossings.push_back((tc, point));
                 if self.crossings.len() > MAX_CROSSINGS_KEPT {
                     self.crossings.pop_front();
                 }
             }
-            while self.next_trail_t <= st.t() {
+            while self.next_trail_t <= t_now {
                 let ts = self.next_trail_t.max(st.t_prev());
                 let o = observe(&st.dense(ts));
                 self.record(ts, &o);
                 self.next_trail_t += self.trail_dt;
             }
-            let (t_now, y_now) = (st.t(), *st.y());
             self.contact.step(t_now, |t| {
                 if t == t_now {
                     model.contact_force(&y_now)
@@ -484,27 +567,31 @@ impl Simulation {
                     model.contact_force(&st.dense(t))
                 }
             });
-            let o = observe(st.y());
+            let o = observe(&y_now);
             self.health.measured = o.measured;
             self.health.quat_norm_error = self.health.quat_norm_error.max(o.quat_err);
             self.health.contact_normal_error = self.health.contact_normal_error.max(o.normal_err);
             if let (Some(e), Some(e0)) = (o.energy, self.energy0) {
                 self.health.energy_drift = self.health.energy_drift.max((e - e0).abs());
             }
+            if found.is_some() {
+                switch = found;
+                // Ends this stepper: `drive` switches and starts the next.
+                return Err(Interrupt::Switch);
+            }
             Ok(())
         });
-        if let Err(e) = stepped {
-            self.last_failure = Some(overlay_line(&e));
-            return Err(fail(st.t(), &e));
-        }
         self.health.rhs_evals += st.stats().rhs_evals;
-        self.t = st.t();
-        let y = *st.y();
-        let trail_horizon = self.t - self.setup.scene.playback.trail_time;
-        while self.trail.front().is_some_and(|s| s.t < trail_horizon) {
-            self.trail.pop_front();
+        match (stepped, switch) {
+            (Err(Interrupt::Switch), Some((t, y))) => return Ok((y, Some((t, y)))),
+            (Err(Interrupt::Failed(e)), _) => {
+                self.last_failure = Some(overlay_line(&e));
+                return Err(fail(st.t(), &e));
+            }
+            _ => {}
         }
-        Ok(y)
+        self.t = st.t();
+        Ok((*st.y(), None))
     }
 
     fn record(&mut self, t: f64, o: &Observed) {
@@ -585,6 +672,7 @@ impl Simulation {
                 .violations()
                 .first()
                 .map(|v| v.headline()),
+            hull_tips: self.hull_tips,
             views: self.setup.scene.views.clone(),
             caption: self.caption.clone(),
             lesson: (!self.setup.timeline.is_empty()).then(|| LessonProgress {

@@ -196,6 +196,16 @@ impl SceneView {
             2.5,
             |age| linear([20, 20, 20], 0.35 + 0.65 * age),
         );
+        // A dented cylinder's hull: the flats it rolls on across its dents, on the front face.
+        for &(a, b) in &self.hull_flats {
+            let to = |p: DVec3| body_to_world.transform_point3(push_out(on_face(p)).as_vec3());
+            segments.push(Segment {
+                a: to(a),
+                b: to(b),
+                color: linear([0, 170, 220], 1.0),
+                width_px: 4.0,
+            });
+        }
         // Downhill arrow, painted on the ramp in front of the body, placed and sized so that
         // it lies inside the frame (at 1280×720 the old fixed place cut its lower barb).
         let aspect = rect[2].max(1) as f32 / rect[3].max(1) as f32;

@@ -25,6 +25,7 @@ use crate::geometry::mesh::{TriMesh, disk_mesh, icosphere, sphere_mesh};
 use crate::render::types::{Anchor, Frame, MeshData, MeshHandle, MeshStore, Panel, PanelItem};
 use crate::scene::SceneSetup;
 use crate::sim::Snapshot;
+use glam::DVec3;
 
 mod body;
 pub mod layout;
@@ -69,6 +70,9 @@ pub struct SceneView {
     ball_mesh: MeshHandle,
     boundary_mesh: MeshHandle,
     is_disk: bool,
+    /// A dented cylinder's hull flats (P_a, P_b in the body frame, mid-plane): the straight
+    /// sides it rolls on across its dents, drawn over the body as it is.
+    hull_flats: Vec<(DVec3, DVec3)>,
     /// The body's bounding radius in ⟨r⟩.
     body_radius: f32,
     /// The curvature colour scale of the body.
@@ -188,6 +192,21 @@ impl SceneView {
             ball_mesh,
             boundary_mesh,
             is_disk: matches!(setup.body, Body::Disk(_)),
+            hull_flats: match &setup.body {
+                Body::Disk(d) => d
+                    .hull()
+                    .bridges()
+                    .iter()
+                    .map(|b| {
+                        let at = |t: f64| {
+                            let r = d.jet(t).r;
+                            DVec3::new(r * t.cos(), 0.0, r * t.sin())
+                        };
+                        (at(b.theta_a), at(b.theta_b))
+                    })
+                    .collect(),
+                Body::Sphere(_) => Vec::new(),
+            },
             body_radius,
             scale,
             name: setup.scene.name.clone(),

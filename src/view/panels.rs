@@ -86,6 +86,13 @@ impl SceneView {
         } else {
             items.push(line(rate, 16.0));
         }
+        if let Some((tips, lost)) = snap.hull_tips {
+            // A dented cylinder rolls on its hull: say what the flats did.
+            items.push(line(
+                format!("on its convex hull: {tips} tip(s) across its flats, impacts took ΔE = {lost:.4}"),
+                14.0,
+            ));
+        }
         if let Some(validity) = &snap.validity {
             // The motion computed is no longer a real body's (it would leave the ramp or slip):
             // the viewer must not take it for one.

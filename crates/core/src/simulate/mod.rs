@@ -593,8 +593,28 @@ impl<const N: usize> From<RunError> for Halt<N> {
 pub const MAX_SWITCHES: u64 = 10_000_000;
 
 /// The first time in the last step where the model's switching function passes from ≥ 0 to
-/// < 0, and the state there (from the step's dense output, to 1e-13 in time).
-pub(crate) fn locate_switch<const N: usize, M: RollingModel<N>>(
+/// < 0, and the state there (from the step's dense output, to 1e-13 in time); `None` for a step
+/// without one, and always for a smooth model. `run` and the app's simulation restart their
+/// integration there, from the model's [`RollingModel::switch`].
+///
+/// # Example
+/// ```
+/// use rollphase_core::dynamics::{DiskViscous, Ramp, RollingModel};
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::integrate::{Method, stepper};
+/// use rollphase_core::simulate::locate_switch;
+/// // The printed σ = 0.5 cylinder rolls onto a flat of its hull within a few time units.
+/// let Body::Disk(disk) = Body::paper_disk(219, 0.5, 9)? else { unreachable!() };
+/// let model = DiskViscous::new(&disk, &Ramp::new(0.45, 0.0)?);
+/// let mut st = stepper(&model, 0.0, [4.5, 0.0], Method::dop853(1e-10))?;
+/// let (t, y) = loop {
+///     st.step(100.0)?;
+///     if let Some(found) = locate_switch(st.as_mut(), &model) { break found; }
+/// };
+/// assert!(model.switching(&y).unwrap().abs() < 1e-9 && t > 0.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn locate_switch<const N: usize, M: RollingModel<N>>(
     st: &mut dyn integrate::Stepper<N>,
     model: &M,
 ) -> Option<(f64, [f64; N])> {
@@ -685,7 +705,11 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
             }
         };
         track(y0, &mut summary);
-        let mut hull = model.switching(y0).map(|_| HullReport::default());
+        let mut hull = model.switching(y0).map(|g| HullReport {
+            // Started on a flat, where its weight falls between the ends: at rest from t = 0.
+            rested_t: (g < 0.0).then_some(0.0),
+            ..HullReport::default()
+        });
         let mut next = 0;
         while next < times.len() && times[next] <= 0.0 {
             put(times[next], y0)?;
