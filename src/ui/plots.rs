@@ -293,8 +293,15 @@ fn force_ui(ui: &mut egui::Ui, history: &PlotHistory, snap: &Snapshot, width: f3
         .y_axis_label("N/F, μ needed")
         .include_y(0.0)
         .show(ui, |p| {
-            p.line(Line::new(labels[0], PlotPoints::from(normal)));
-            p.line(Line::new(labels[1], PlotPoints::from(needed)));
+            // Colours apart from the surface's red line: N orange, μ needed blue.
+            p.line(
+                Line::new(labels[0], PlotPoints::from(normal))
+                    .color(Color32::from_rgb(255, 150, 30)),
+            );
+            p.line(
+                Line::new(labels[1], PlotPoints::from(needed))
+                    .color(Color32::from_rgb(70, 140, 230)),
+            );
             p.hline(egui_plot::HLine::new("N = 0", 0.0).color(Color32::GRAY));
             if let Some(mu) = friction {
                 p.hline(egui_plot::HLine::new(labels[2], mu).color(red));
