@@ -197,15 +197,8 @@ impl SceneView {
             |age| linear([20, 20, 20], 0.35 + 0.65 * age),
         );
         // A dented cylinder's hull: the flats it rolls on across its dents, on the front face.
-        for &(a, b) in &self.hull_flats {
-            let to = |p: DVec3| body_to_world.transform_point3(push_out(on_face(p)).as_vec3());
-            segments.push(Segment {
-                a: to(a),
-                b: to(b),
-                color: linear([0, 170, 220], 1.0),
-                width_px: 4.0,
-            });
-        }
+        let on_front = |p: DVec3| body_to_world.transform_point3(push_out(on_face(p)).as_vec3());
+        segments.extend(self.hull_flat_segments(on_front));
         // Downhill arrow, painted on the ramp in front of the body, placed and sized so that
         // it lies inside the frame (at 1280×720 the old fixed place cut its lower barb).
         let aspect = rect[2].max(1) as f32 / rect[3].max(1) as f32;
@@ -249,6 +242,20 @@ impl SceneView {
             segments,
             segments_on_top,
         }
+    }
+
+    /// A dented cylinder's hull flats (none for a convex body) as blue segments, each end put
+    /// where `to` draws a body point.
+    fn hull_flat_segments(&self, to: impl Fn(DVec3) -> Vec3) -> Vec<Segment> {
+        self.hull_flats
+            .iter()
+            .map(|&(a, b)| Segment {
+                a: to(a),
+                b: to(b),
+                color: linear([0, 170, 220], 1.0),
+                width_px: 4.0,
+            })
+            .collect()
     }
 
     pub(super) fn ball_view(
