@@ -484,6 +484,14 @@ impl Simulation {
                         }
                     }
                     self.t = t;
+                    // A tip can jump over the section (a flat that spans θ = 0 mod 2π): the
+                    // crossing is then at the tip.
+                    if model.section(&y_at).signum() != model.section(&after).signum() {
+                        self.crossings.push_back((t, model.section_point(&after)));
+                        if self.crossings.len() > MAX_CROSSINGS_KEPT {
+                            self.crossings.pop_front();
+                        }
+                    }
                     self.contact.jump(t, model.contact_force(&after));
                     y = after;
                     switches += 1;
