@@ -312,7 +312,10 @@ fn a_dented_cylinder_tips_across_its_flats_in_the_app_as_in_simulate() {
     // (time between turns) is still measured, and is the time the command line's run takes
     // for θ to advance by 2π.
     s.advance_to(200.0).unwrap();
-    let period = s.snapshot().period.expect("turns are counted across the flat");
+    let period = s
+        .snapshot()
+        .period
+        .expect("turns are counted across the flat");
     let long = Run::new(0.3, 200.0)
         .model(Model::Inertial { mass_ratio: 2.0 })
         .samples(200_001)
@@ -330,6 +333,9 @@ fn a_dented_cylinder_tips_across_its_flats_in_the_app_as_in_simulate() {
     };
     let turns = ((d.theta[d.theta.len() - 1] - 5.7) / std::f64::consts::TAU).floor();
     let last = turn(turns) - turn(turns - 1.0);
-    assert!((period - last).abs() < 2e-3 * last, "app {period} vs simulate {last}");
+    assert!(
+        (period - last).abs() < 2e-3 * last,
+        "app {period} vs simulate {last}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
