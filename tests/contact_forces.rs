@@ -3,7 +3,10 @@
 //! sphere's table of lift-off and slip, and the command line's flags and refusals.
 
 use std::path::PathBuf;
-use std::process::{Command, Output};
+
+#[path = "common/cli.rs"]
+mod cli;
+use cli::rollphase;
 
 use rollphase::dynamics::ContactForce;
 use rollphase::geometry::{Body, Disk, Sphere};
@@ -220,13 +223,6 @@ fn stop_and_warn_policies() {
     assert!(s.contact.unwrap().min_normal_force.is_finite());
 }
 
-fn rollphase(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rollphase"))
-        .args(args)
-        .output()
-        .expect("runs")
-}
-
 fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("rollphase-forces-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
@@ -238,7 +234,7 @@ fn temp_dir(name: &str) -> PathBuf {
 fn simulate_reports_and_writes_the_forces() {
     let dir = temp_dir("cli");
     let shape = dir.join("sphere.json");
-    let s = rollphase(&[
+    let s = rollphase([
         "shape",
         "--dim",
         "3",
@@ -308,7 +304,7 @@ fn simulate_reports_and_writes_the_forces() {
     let out = rollphase(&args);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.contains("slips at t = ") && err.contains("mu = 0.5"),
+        err.contains("slips at t = ") && err.contains("μ = 0.5"),
         "{err}"
     );
     // Bad μ: refused before the run, naming the flag.

@@ -4,7 +4,9 @@
 //! statics say; the inertial body's impacts keep the angular momentum about the new contact and
 //! its energy balance, impacts included, closes; a convex body's runs are unchanged.
 
-use std::process::Command;
+#[path = "common/cli.rs"]
+mod cli;
+use cli::rollphase;
 
 use rollphase::analysis::critical_angle;
 use rollphase::dynamics::{DiskInertial, Ramp, RollingModel, Switched};
@@ -192,82 +194,61 @@ fn a_convex_body_runs_exactly_as_before() {
 
 #[test]
 fn the_command_line_accepts_a_dented_cylinder_and_explains_its_hull() {
-    let bin = env!("CARGO_BIN_EXE_rollphase");
     let dir = std::env::temp_dir().join(format!("rollphase-dented-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let shape = dir.join("printed.json");
-    let out = Command::new(bin)
-        .args([
-            "shape",
-            "--dim",
-            "2",
-            "--paper-seed",
-            "219",
-            "--sigma",
-            "0.5",
-            "--modes",
-            "9",
-        ])
-        .arg("-o")
-        .arg(&shape)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(String::from_utf8_lossy(&out.stderr).contains("rolls it on its convex hull"));
-    let out = Command::new(bin)
-        .arg("inspect")
-        .arg(&shape)
-        .output()
-        .unwrap();
+    let summary = dir.join("s.json");
+    let path = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    let (shape_arg, summary_arg) = (path(&shape), path(&summary));
+    let printed = [
+        "--dim",
+        "2",
+        "--paper-seed",
+        "219",
+        "--sigma",
+        "0.5",
+        "--modes",
+        "9",
+    ];
+    let out = rollphase([&["shape"][..], &printed, &["-o", &shape_arg]].concat());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("rolls it on its convex hull"), "{err}");
+    let out = rollphase(["inspect", &shape_arg]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
         text.contains("2 flat(s)") && text.contains("α* is the larger"),
         "{text}"
     );
-    let out = Command::new(bin)
-        .arg("simulate")
-        .arg(&shape)
-        .args([
-            "--alpha",
-            "0.5",
-            "--mass",
-            "2",
-            "--t-end",
-            "50",
-            "--samples",
-            "11",
-        ])
-        .arg("--summary")
-        .arg(dir.join("s.json"))
-        .output()
-        .unwrap();
+    let out = rollphase([
+        "simulate",
+        &shape_arg,
+        "--alpha",
+        "0.5",
+        "--mass",
+        "2",
+        "--t-end",
+        "50",
+        "--samples",
+        "11",
+        "--summary",
+        &summary_arg,
+    ]);
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
     let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("s.json")).unwrap()).unwrap();
+        serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
     assert!(summary["tips"].as_u64().unwrap() > 0);
     assert!(summary["tip_energy_lost"].as_f64().unwrap() > 0.0);
     // The commands that need a convex body say where simulate helps.
-    let out = Command::new(bin)
-        .arg("period")
-        .arg(&shape)
-        .args(["--alpha", "0.3"])
-        .output()
-        .unwrap();
+    let out = rollphase(["period", &shape_arg, "--alpha", "0.3"]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("on its convex hull"));
     // A 3D body that is not convex stays refused, with the place.
-    let out = Command::new(bin)
-        .args(["shape", "--dim", "3", "--seed", "1", "--sigma", "2.0"])
-        .output()
-        .unwrap();
+    let out = rollphase(["shape", "--dim", "3", "--seed", "1", "--sigma", "2.0"]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("not convex"));
     let _ = std::fs::remove_dir_all(&dir);

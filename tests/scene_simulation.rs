@@ -290,17 +290,22 @@ fn a_dented_cylinder_tips_across_its_flats_in_the_app_as_in_simulate() {
     let (tips, lost) = snap.hull_tips.unwrap();
     assert_eq!(tips, 1);
     assert!(lost > 0.0);
-    let run = Run::new(0.3, 6.0)
-        .model(Model::Inertial { mass_ratio: 2.0 })
-        .samples(2)
-        .initial(InitialState::Disk {
-            theta0: 5.7,
-            theta_dot0: 0.0,
-        });
-    let (tr, summary) = simulate(&body, &run).unwrap();
-    let Trajectory::Disk(d) = tr else {
-        unreachable!()
+    // The scene's run on the command line's side, to `t_end` in `samples` rows.
+    let on_the_command_line = |t_end: f64, samples: usize| {
+        let run = Run::new(0.3, t_end)
+            .model(Model::Inertial { mass_ratio: 2.0 })
+            .samples(samples)
+            .initial(InitialState::Disk {
+                theta0: 5.7,
+                theta_dot0: 0.0,
+            });
+        let (tr, summary) = simulate(&body, &run).unwrap();
+        let Trajectory::Disk(d) = tr else {
+            unreachable!()
+        };
+        (d, summary)
     };
+    let (d, summary) = on_the_command_line(6.0, 2);
     assert_eq!(summary.hull.unwrap().tips, 1);
     assert!(
         (snap.theta.unwrap() - d.theta[1]).abs() < 1e-7,
@@ -316,17 +321,7 @@ fn a_dented_cylinder_tips_across_its_flats_in_the_app_as_in_simulate() {
         .snapshot()
         .period
         .expect("turns are counted across the flat");
-    let long = Run::new(0.3, 200.0)
-        .model(Model::Inertial { mass_ratio: 2.0 })
-        .samples(200_001)
-        .initial(InitialState::Disk {
-            theta0: 5.7,
-            theta_dot0: 0.0,
-        });
-    let (tr, _) = simulate(&body, &long).unwrap();
-    let Trajectory::Disk(d) = tr else {
-        unreachable!()
-    };
+    let (d, _) = on_the_command_line(200.0, 200_001);
     let turn = |k: f64| {
         let target = 5.7 + k * std::f64::consts::TAU;
         d.t[d.theta.iter().position(|&th| th >= target).unwrap()]

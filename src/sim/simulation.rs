@@ -568,13 +568,8 @@ impl Simulation {
                 self.record(ts, &o);
                 self.next_trail_t += self.trail_dt;
             }
-            self.contact.step(t_now, |t| {
-                if t == t_now {
-                    model.contact_force(&y_now)
-                } else {
-                    model.contact_force(&st.dense(t))
-                }
-            });
+            self.contact
+                .step_along(st, (t_now, y_now), |y| model.contact_force(y));
             let o = observe(&y_now);
             self.health.measured = o.measured;
             self.health.quat_norm_error = self.health.quat_norm_error.max(o.quat_err);

@@ -371,14 +371,8 @@ fn follow<const N: usize, S: RollingModel<N>>(
     while st.t() < t_end {
         st.step(t_end)?;
         if let Some(w) = contact.as_mut() {
-            let (t_now, y_now) = (st.t(), *st.y());
-            w.step(t_now, |t| {
-                if t == t_now {
-                    sys.contact_force(&y_now)
-                } else {
-                    sys.contact_force(&st.dense(t))
-                }
-            });
+            let end = (st.t(), *st.y());
+            w.step_along(st.as_mut(), end, |y| sys.contact_force(y));
         }
         times.clear();
         crossings_in_last_step(

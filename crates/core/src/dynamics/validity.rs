@@ -16,6 +16,7 @@
 use serde::Serialize;
 
 use super::ContactForce;
+use crate::integrate::Stepper;
 use crate::numeric::optimize::golden_max;
 use crate::numeric::roots::brent;
 
@@ -97,57 +98,40 @@ impl Violation {
         }
     }
 
-    /// One sentence, as the app's overlay and the warnings say it.
+    /// One sentence for the warnings and errors: [`Self::headline`] and what it means for the
+    /// numbers after it.
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::simulate::Violation;
+    /// use rollphase_core::dynamics::validity::Violation;
     /// let v = Violation::Slip { t: 3.0, friction: 0.5, needed: 1.374 };
-    /// assert!(v.describe().contains("needs mu ≥ 1.374"));
+    /// assert!(v.describe().contains("needs μ ≥ 1.374"));
+    /// assert!(v.describe().ends_with("the rolling model does not hold after it"));
     /// ```
     pub fn describe(&self) -> String {
-        match self {
-            Violation::LiftOff { t } => format!(
-                "leaves the ramp at t = {}: the normal force falls to 0 there, so the ramp would \
-                 have to pull the body down; the rolling model does not hold after it",
-                short(*t)
-            ),
-            Violation::Slip {
-                t,
-                friction,
-                needed,
-            } if needed.is_finite() => format!(
-                "slips at t = {}: it needs mu ≥ {} to roll without slipping, more than the \
-                 surface's mu = {}; the rolling model does not hold after it",
-                short(*t),
-                short(*needed),
-                short(*friction)
-            ),
-            Violation::Slip { t, friction, .. } => format!(
-                "slips at t = {}: it needs more friction than the surface's mu = {} to roll \
-                 without slipping (and later no friction at all would do: it leaves the ramp); \
-                 the rolling model does not hold after it",
-                short(*t),
-                short(*friction)
-            ),
-        }
+        format!(
+            "{}; the rolling model does not hold after it",
+            self.headline()
+        )
     }
-}
 
-impl Violation {
-    /// One short line for the app's overlay: "leaves the ramp at t = 20.2" or "slips at
-    /// t = 3.1: needs μ ≥ 1.37 to roll without slipping (surface μ = 0.5)".
+    /// One short line, as the app's overlay says it: "leaves the ramp at t = 20.2 (N falls to
+    /// 0)" or "slips at t = 3.1: needs μ ≥ 1.37 to roll without slipping (surface μ = 0.5)".
     ///
     /// # Example
     /// ```
     /// use rollphase_core::dynamics::validity::Violation;
     /// let v = Violation::LiftOff { t: 20.207 };
-    /// assert_eq!(v.headline(), "leaves the ramp at t = 20.207: the rolling model stops holding");
+    /// assert_eq!(
+    ///     v.headline(),
+    ///     "leaves the ramp at t = 20.207 (the normal force falls to 0: the ramp would have to pull)"
+    /// );
     /// ```
     pub fn headline(&self) -> String {
         match self {
             Violation::LiftOff { t } => format!(
-                "leaves the ramp at t = {}: the rolling model stops holding",
+                "leaves the ramp at t = {} (the normal force falls to 0: the ramp would have to \
+                 pull)",
                 short(*t)
             ),
             Violation::Slip {
@@ -160,8 +144,9 @@ impl Violation {
                 short(*needed),
                 short(*friction)
             ),
+            // Once the body has gone on to leave the ramp, the friction needed grew without bound.
             Violation::Slip { t, friction, .. } => format!(
-                "slips at t = {}: needs more than the surface's μ = {}",
+                "slips at t = {}: needs more than the surface's μ = {} (and later leaves the ramp)",
                 short(*t),
                 short(*friction)
             ),
@@ -314,6 +299,43 @@ impl ContactWatch {
             last: (t0, f0),
             before: None,
         }
+    }
+
+    /// [`Self::step`] over an integrator's last step, up to `(t1, y1)` (the step's end, or a
+    /// switch inside it), with `force` the model's force at a state: evaluated at `y1`, and on
+    /// the step's dense output only where a search needs it. The one way the runs call it.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::validity::{ContactLimits, ContactWatch};
+    /// use rollphase_core::dynamics::{DiskInertial, Ramp, RollingModel};
+    /// use rollphase_core::geometry::Disk;
+    /// use rollphase_core::integrate::{Method, stepper};
+    /// let disk = Disk::perfect();
+    /// let model = DiskInertial::new(&disk, &Ramp::with_drag(0.3, 2.0, 0.0)?);
+    /// let y0 = [0.0, 0.0, 0.0, 0.0];
+    /// let mut watch = ContactWatch::new(ContactLimits::default(), 0.0, model.contact_force(&y0));
+    /// let mut st = stepper(&model, 0.0, y0, Method::dop853(1e-10))?;
+    /// st.step(5.0)?;
+    /// let end = (st.t(), *st.y());
+    /// watch.step_along(st.as_mut(), end, |y| model.contact_force(y));
+    /// // A uniform disk rolling freely is pressed with cos α throughout.
+    /// assert!((watch.report().min_normal_force - 0.3f64.cos()).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn step_along<const N: usize>(
+        &mut self,
+        st: &mut dyn Stepper<N>,
+        (t1, y1): (f64, [f64; N]),
+        force: impl Fn(&[f64; N]) -> ContactForce,
+    ) -> Option<Violation> {
+        self.step(t1, |t| {
+            if t == t1 {
+                force(&y1)
+            } else {
+                force(&st.dense(t))
+            }
+        })
     }
 
     /// Goes on from a state reached by a jump at `t` (a tip across a bridge), with force `f`

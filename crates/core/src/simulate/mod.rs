@@ -729,13 +729,7 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
                 let switch = locate_switch(st, model);
                 let (t_now, y_now) = switch.unwrap_or((st.t(), *st.y()));
                 track(&y_now, &mut summary);
-                let stopped = watch.step(t_now, |t| {
-                    if t == t_now {
-                        model.contact_force(&y_now)
-                    } else {
-                        model.contact_force(&st.dense(t))
-                    }
-                });
+                let stopped = watch.step_along(st, (t_now, y_now), |y| model.contact_force(y));
                 if let Some(violation) = stopped {
                     // The rows up to the violation, then the error.
                     while next < times.len() && times[next] <= violation.t() {
