@@ -46,21 +46,31 @@ impl<'a> ContactTracker<'a> {
         }
     }
 
-    /// The contact geometry for orientation q (normalised here), or `None` if Newton fails.
+    /// The contact geometry for orientation q (normalised here), or `None` if Newton fails;
+    /// the next search starts from it.
     fn contact(&self, q: DQuat) -> Option<SurfacePoint> {
+        let found = self.look_up(q);
+        if found.is_some() {
+            self.last.set(found);
+        }
+        found
+    }
+
+    /// [`Self::contact`] that leaves the warm start alone: for observers between the
+    /// integrator's evaluations (the contact-force watch), whose look-ups must not move where
+    /// the integrator's next Newton search starts, and so its last bits.
+    fn peek(&self, q: DQuat) -> Option<SurfacePoint> {
+        self.look_up(q)
+    }
+
+    fn look_up(&self, q: DQuat) -> Option<SurfacePoint> {
         let q = q.normalize();
         let d = q.conjugate() * DOWN;
         let found = match self.last.get() {
             Some(last) if last.normal.dot(d) > 0.5 => self.body.support_point_from(d, last),
             _ => self.body.support_point(d, d),
         };
-        match found {
-            Ok(sp) => {
-                self.last.set(Some(sp));
-                Some(sp)
-            }
-            Err(_) => None,
-        }
+        found.ok()
     }
 }
 
@@ -334,7 +344,7 @@ impl<'a> SphereInertial<'a> {
     /// ```
     pub fn contact_force_at(&self, y: &[f64; 10]) -> ContactForce {
         let q = quat_at(y, 0);
-        let Some(sp) = self.tracker.contact(q) else {
+        let Some(sp) = self.tracker.peek(q) else {
             return ContactForce {
                 normal: f64::NAN,
                 friction: [f64::NAN; 2],
