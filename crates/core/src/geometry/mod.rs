@@ -7,6 +7,8 @@ pub mod disk;
 pub mod harmonics;
 pub mod hull;
 pub mod mesh;
+pub mod mesh_fit;
+pub mod mesh_read;
 pub mod paper_bodies;
 pub mod shape_file;
 pub mod sphere;
@@ -30,6 +32,8 @@ pub const MAX_DISK_L: u32 = 64;
 /// Largest |amplitude| or |phase| accepted in a shape file: far beyond any convex body (whose
 /// amplitudes are O(l²)), it keeps every computed quantity finite.
 pub const MAX_AMPLITUDE: f64 = 1000.0;
+/// Largest `scale_mm` accepted (10 m per ⟨r⟩: no printed or scanned body comes near it).
+pub const MAX_SCALE_MM: f64 = 1e4;
 /// Largest degree accepted for a sphere (the polynomial evaluator handles degree ≤ 15).
 pub const MAX_SPHERE_L: u32 = 12;
 
@@ -73,6 +77,9 @@ pub enum ShapeError {
         /// Which mode.
         what: String,
     },
+    /// A `scale_mm` that is not a size.
+    #[error("scale_mm = {0} is not allowed (needs 0 < scale_mm ≤ 10000, millimetres per ⟨r⟩)")]
+    BadScale(f64),
     /// A NaN, infinite or absurdly large number.
     #[error("{field} = {value} is not allowed (needs a finite number with |value| ≤ 1000)")]
     NonFinite {
@@ -264,8 +271,13 @@ impl Body {
     /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
     /// ```
     pub fn from_shape(file: &ShapeFile) -> Result<Self, ShapeError> {
+        if let Some(scale) = file.scale_mm()
+            && !(scale.is_finite() && scale > 0.0 && scale <= MAX_SCALE_MM)
+        {
+            return Err(ShapeError::BadScale(scale));
+        }
         match file {
-            ShapeFile::Disk { modes } => {
+            ShapeFile::Disk { modes, .. } => {
                 let mut seen = std::collections::BTreeSet::new();
                 for (i, m) in modes.iter().enumerate() {
                     if !(2..=MAX_DISK_L).contains(&m.l) {
@@ -308,7 +320,7 @@ impl Body {
                 }
                 Ok(Body::Disk(disk))
             }
-            ShapeFile::Sphere { coeffs } => {
+            ShapeFile::Sphere { coeffs, .. } => {
                 let mut seen = std::collections::BTreeSet::new();
                 for (i, c) in coeffs.iter().enumerate() {
                     if !(2..=MAX_SPHERE_L).contains(&c.l) {
@@ -375,9 +387,11 @@ impl Body {
         match self {
             Body::Disk(d) => ShapeFile::Disk {
                 modes: d.modes().to_vec(),
+                scale_mm: None,
             },
             Body::Sphere(s) => ShapeFile::Sphere {
                 coeffs: s.coeffs().to_vec(),
+                scale_mm: None,
             },
         }
     }

@@ -51,11 +51,18 @@ pub enum ShapeFile {
     Disk {
         /// Its Fourier modes.
         modes: Vec<DiskMode>,
+        /// Millimetres per ⟨r⟩ of the real object (a body fitted to a mesh keeps its size here,
+        /// so that predictions can speak in mm); absent for a body of the model alone.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        scale_mm: Option<f64>,
     },
     /// A 3D body.
     Sphere {
         /// Its spherical-harmonic coefficients.
         coeffs: Vec<SphereCoeff>,
+        /// Millimetres per ⟨r⟩, as for a disk.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        scale_mm: Option<f64>,
     },
 }
 
@@ -96,7 +103,7 @@ impl ShapeFile {
     /// ```
     /// use rollphase_core::geometry::ShapeFile;
     /// let file = ShapeFile::from_json(r#"{"kind": "disk", "modes": [{"l": 2, "a": 0.3, "phase": 0.0}]}"#)?;
-    /// assert!(matches!(file, ShapeFile::Disk { ref modes } if modes.len() == 1));
+    /// assert!(matches!(file, ShapeFile::Disk { ref modes, .. } if modes.len() == 1));
     /// // A misspelt key is named.
     /// let e = ShapeFile::from_json(r#"{"kind": "disk", "mode": []}"#).unwrap_err();
     /// assert!(e.to_string().contains("`mode`"), "{e}");
@@ -123,6 +130,22 @@ impl ShapeFile {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn load(path: &Path) -> Result<Body, ShapeLoadError> {
+        Ok(Self::load_scaled(path)?.0)
+    }
+
+    /// [`ShapeFile::load`] that also gives the file's `scale_mm` (millimetres per ⟨r⟩), when it
+    /// has one.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::ShapeFile;
+    /// use std::path::Path;
+    /// let shapes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/shapes");
+    /// let (body, scale) = ShapeFile::load_scaled(&shapes.join("paper-sphere.json"))?;
+    /// assert_eq!((body.dimension(), scale), (3, None));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn load_scaled(path: &Path) -> Result<(Body, Option<f64>), ShapeLoadError> {
         let text = read_text_capped(path, MAX_INPUT_FILE_BYTES).map_err(|reason| {
             ShapeLoadError::Read {
                 path: path.to_owned(),
@@ -133,10 +156,48 @@ impl ShapeFile {
             path: path.to_owned(),
             reason,
         })?;
-        Body::from_shape(&file).map_err(|reason| ShapeLoadError::Invalid {
+        let body = Body::from_shape(&file).map_err(|reason| ShapeLoadError::Invalid {
             path: path.to_owned(),
             reason,
-        })
+        })?;
+        Ok((body, file.scale_mm()))
+    }
+
+    /// Millimetres per ⟨r⟩ of the real object, when the file says (a body fitted to a mesh).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::ShapeFile;
+    /// let file = ShapeFile::from_json(r#"{"kind": "disk", "modes": [], "scale_mm": 10.0}"#)?;
+    /// assert_eq!(file.scale_mm(), Some(10.0));
+    /// # Ok::<(), serde_json::Error>(())
+    /// ```
+    pub fn scale_mm(&self) -> Option<f64> {
+        match self {
+            ShapeFile::Disk { scale_mm, .. } | ShapeFile::Sphere { scale_mm, .. } => *scale_mm,
+        }
+    }
+
+    /// This file with `scale_mm` set.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// let file = Body::paper_disk(0, 0.1, 6)?.to_shape().with_scale_mm(Some(10.0));
+    /// assert_eq!(file.scale_mm(), Some(10.0));
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
+    pub fn with_scale_mm(self, scale: Option<f64>) -> Self {
+        match self {
+            ShapeFile::Disk { modes, .. } => ShapeFile::Disk {
+                modes,
+                scale_mm: scale,
+            },
+            ShapeFile::Sphere { coeffs, .. } => ShapeFile::Sphere {
+                coeffs,
+                scale_mm: scale,
+            },
+        }
     }
 
     /// Pretty JSON text.

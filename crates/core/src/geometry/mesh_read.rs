@@ -1,0 +1,482 @@
+//! Reading triangle meshes from STL (binary and ASCII), OBJ and PLY files, as a stream of
+//! triangles that can be walked several times (the fit in [`super::mesh_fit`] makes three passes).
+//!
+//! Parsing is the maintained crates' (`stl_io`, `tobj`, `ply-rs-bw`); this module adds what a
+//! fit needs of them: a binary STL is streamed from disk on every pass, never held (so a 10⁷-
+//! triangle file costs the same memory as a small one), its length checked against its triangle
+//! count before the first pass (a truncated file is named as such, not as a parse error deep
+//! inside), and every triangle's coordinates checked finite, naming the triangle. OBJ and PLY
+//! files are held in memory as the crates load them. The input must be a regular file: a FIFO
+//! cannot be read twice and a device such as /dev/zero never ends.
+
+use std::fs::File;
+use std::io::{BufReader, Read, Seek};
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use thiserror::Error;
+
+/// A mesh file's format, from its extension (or its first bytes for STL).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MeshFormat {
+    /// STL, binary or ASCII.
+    Stl,
+    /// Wavefront OBJ (polygons are triangulated).
+    Obj,
+    /// PLY, ASCII or binary, with `vertex` x, y, z and `face` vertex_indices (or vertex_index).
+    Ply,
+}
+
+impl std::fmt::Display for MeshFormat {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            MeshFormat::Stl => "STL",
+            MeshFormat::Obj => "OBJ",
+            MeshFormat::Ply => "PLY",
+        })
+    }
+}
+
+/// Why a mesh could not be read or fitted; each message names the file and, where there is one,
+/// the place (triangle number, direction about the centroid).
+#[derive(Debug, Error)]
+pub enum MeshError {
+    /// The file could not be opened or read.
+    #[error("cannot read mesh {}: {reason}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's or the parser's reason.
+        reason: String,
+    },
+    /// Not a regular file.
+    #[error(
+        "{} is not a regular file (a device, FIFO or folder); a mesh is read several times, so \
+         give a file on disk",
+        path.display()
+    )]
+    NotAFile {
+        /// The path.
+        path: PathBuf,
+    },
+    /// An extension that names no supported format.
+    #[error(
+        "{} has extension {ext:?}: the mesh formats read are .stl (binary or ASCII), .obj and .ply",
+        path.display()
+    )]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+        /// Its extension.
+        ext: String,
+    },
+    /// A binary STL whose length disagrees with its triangle count.
+    #[error(
+        "{} is a damaged binary STL: its header counts {count} triangles, which take {expected} \
+         bytes, but the file has {actual} (truncated or with extra bytes)",
+        path.display()
+    )]
+    Truncated {
+        /// The file.
+        path: PathBuf,
+        /// Triangles the header counts.
+        count: u64,
+        /// Bytes those need (84 + 50 per triangle).
+        expected: u64,
+        /// Bytes there are.
+        actual: u64,
+    },
+    /// A vertex coordinate that is NaN or infinite.
+    #[error("{}: triangle {index} has a vertex that is not a finite number ({vertex:?})", path.display())]
+    NonFinite {
+        /// The file.
+        path: PathBuf,
+        /// The triangle, counting from 0 in file order.
+        index: usize,
+        /// The offending vertex.
+        vertex: [f64; 3],
+    },
+    /// A face naming a vertex that is not there.
+    #[error("{}: face {face} names vertex {vertex}, but there are only {count} vertices", path.display())]
+    BadIndex {
+        /// The file.
+        path: PathBuf,
+        /// The face, counting from 0.
+        face: usize,
+        /// The index it names.
+        vertex: usize,
+        /// Vertices in the file.
+        count: usize,
+    },
+    /// Too few triangles to enclose anything.
+    #[error("{} has {count} triangles; a closed surface needs at least 4", path.display())]
+    TooFew {
+        /// The file.
+        path: PathBuf,
+        /// Triangles found.
+        count: usize,
+    },
+    /// The surface does not make a body the models can take.
+    #[error("{}: {reason}", path.display())]
+    Shape {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong and where.
+        reason: String,
+    },
+    /// The fit asked for cannot be made.
+    #[error("{0}")]
+    Options(String),
+}
+
+/// A mesh file opened for reading its triangles, as many times as needed.
+#[derive(Debug)]
+pub struct MeshSource {
+    path: PathBuf,
+    format: MeshFormat,
+    triangles: usize,
+    /// OBJ and PLY, as loaded; empty for STL (streamed on each pass).
+    held: Vec<[DVec3; 3]>,
+}
+
+/// Most triangles accepted (a binary STL of this many is 5 GB).
+pub const MAX_TRIANGLES: u64 = 100_000_000;
+
+impl MeshSource {
+    /// Opens `path`, finds its format from the extension (.stl, .obj, .ply, any case), and
+    /// checks what can be checked before the first pass: a regular file, a binary STL's
+    /// length, the OBJ or PLY loaded whole with its indices in range.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::mesh_read::{MeshError, MeshSource};
+    /// // A device is refused before anything is read.
+    /// let e = MeshSource::open(std::path::Path::new("/dev/zero")).unwrap_err();
+    /// assert!(matches!(e, MeshError::NotAFile { .. }), "{e}");
+    /// ```
+    pub fn open(path: &Path) -> Result<Self, MeshError> {
+        let read_error = |reason: String| MeshError::Read {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let meta = std::fs::metadata(path).map_err(|e| read_error(e.to_string()))?;
+        if !meta.is_file() {
+            return Err(MeshError::NotAFile {
+                path: path.to_path_buf(),
+            });
+        }
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_lowercase())
+            .unwrap_or_default();
+        let format = match ext.as_str() {
+            "stl" => MeshFormat::Stl,
+            "obj" => MeshFormat::Obj,
+            "ply" => MeshFormat::Ply,
+            _ => {
+                return Err(MeshError::UnknownFormat {
+                    path: path.to_path_buf(),
+                    ext,
+                });
+            }
+        };
+        let mut source = MeshSource {
+            path: path.to_path_buf(),
+            format,
+            triangles: 0,
+            held: Vec::new(),
+        };
+        match format {
+            MeshFormat::Stl => source.triangles = source.check_stl(meta.len())?,
+            MeshFormat::Obj => source.held = source.load_obj()?,
+            MeshFormat::Ply => source.held = source.load_ply()?,
+        }
+        if format != MeshFormat::Stl {
+            source.triangles = source.held.len();
+        }
+        if source.triangles < 4 {
+            return Err(MeshError::TooFew {
+                path: path.to_path_buf(),
+                count: source.triangles,
+            });
+        }
+        Ok(source)
+    }
+
+    /// The file.
+    ///
+    /// # Example
+    /// ```
+    /// # use rollphase_core::geometry::mesh_read::MeshSource;
+    /// # let dir = std::env::temp_dir().join(format!("rp-doc-path-{}", std::process::id()));
+    /// # std::fs::create_dir_all(&dir)?;
+    /// # let path = dir.join("tet.obj");
+    /// # std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")?;
+    /// let mesh = MeshSource::open(&path)?;
+    /// assert_eq!(mesh.path(), path.as_path());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The format read.
+    ///
+    /// # Example
+    /// ```
+    /// # use rollphase_core::geometry::mesh_read::{MeshFormat, MeshSource};
+    /// # let dir = std::env::temp_dir().join(format!("rp-doc-format-{}", std::process::id()));
+    /// # std::fs::create_dir_all(&dir)?;
+    /// # let path = dir.join("tet.obj");
+    /// # std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")?;
+    /// assert_eq!(MeshSource::open(&path)?.format(), MeshFormat::Obj);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn format(&self) -> MeshFormat {
+        self.format
+    }
+
+    /// Triangles in the file (polygons of an OBJ or PLY count as the triangles they are cut
+    /// into).
+    ///
+    /// # Example
+    /// ```
+    /// # use rollphase_core::geometry::mesh_read::MeshSource;
+    /// # let dir = std::env::temp_dir().join(format!("rp-doc-count-{}", std::process::id()));
+    /// # std::fs::create_dir_all(&dir)?;
+    /// # let path = dir.join("tet.obj");
+    /// # std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")?;
+    /// assert_eq!(MeshSource::open(&path)?.triangles(), 4);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn triangles(&self) -> usize {
+        self.triangles
+    }
+
+    /// Calls `f(index, [a, b, c])` for every triangle in file order, vertices in the file's
+    /// winding; stops at the first error (a parse error, a non-finite vertex) or the first
+    /// error `f` returns.
+    ///
+    /// # Example
+    /// ```
+    /// # use rollphase_core::geometry::mesh_read::MeshSource;
+    /// # let dir = std::env::temp_dir().join(format!("rp-doc-each-{}", std::process::id()));
+    /// # std::fs::create_dir_all(&dir)?;
+    /// # let path = dir.join("tet.obj");
+    /// # std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")?;
+    /// let mut volume = 0.0;
+    /// MeshSource::open(&path)?.for_each(|_, [a, b, c]| {
+    ///     volume += a.dot(b.cross(c)) / 6.0;
+    ///     Ok(())
+    /// })?;
+    /// assert!((volume - 1.0 / 6.0).abs() < 1e-15);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn for_each(
+        &self,
+        mut f: impl FnMut(usize, [DVec3; 3]) -> Result<(), MeshError>,
+    ) -> Result<(), MeshError> {
+        let mut visit = |index: usize, t: [DVec3; 3]| {
+            if let Some(v) = t.iter().find(|v| !v.is_finite()) {
+                return Err(MeshError::NonFinite {
+                    path: self.path.clone(),
+                    index,
+                    vertex: v.to_array(),
+                });
+            }
+            f(index, t)
+        };
+        if self.format != MeshFormat::Stl {
+            for (i, t) in self.held.iter().enumerate() {
+                visit(i, *t)?;
+            }
+            return Ok(());
+        }
+        let file = File::open(&self.path).map_err(|e| self.read_error(e.to_string()))?;
+        let mut reader = BufReader::with_capacity(1 << 20, file);
+        let triangles =
+            stl_io::create_stl_reader(&mut reader).map_err(|e| self.read_error(e.to_string()))?;
+        for (i, t) in triangles.enumerate() {
+            let t = t.map_err(|e| self.read_error(format!("triangle {i}: {e}")))?;
+            let v = t
+                .vertices
+                .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64));
+            visit(i, v)?;
+        }
+        Ok(())
+    }
+
+    fn read_error(&self, reason: String) -> MeshError {
+        MeshError::Read {
+            path: self.path.clone(),
+            reason,
+        }
+    }
+
+    /// The triangle count of an STL: a binary one's from its header, checked against the file's
+    /// length; an ASCII one's by a first pass.
+    fn check_stl(&self, len: u64) -> Result<usize, MeshError> {
+        let mut file = File::open(&self.path).map_err(|e| self.read_error(e.to_string()))?;
+        let mut head = vec![0u8; 84.min(len as usize)];
+        file.read_exact(&mut head)
+            .map_err(|e| self.read_error(e.to_string()))?;
+        file.rewind().map_err(|e| self.read_error(e.to_string()))?;
+        let ascii = head.starts_with(b"solid") && !binary_length_matches(&head, len);
+        if !ascii {
+            if len < 84 {
+                return Err(self.read_error(format!(
+                    "{len} bytes is shorter than a binary STL's 84-byte header, and the file is \
+                     not ASCII STL"
+                )));
+            }
+            let count = u32::from_le_bytes([head[80], head[81], head[82], head[83]]) as u64;
+            let expected = 84 + 50 * count;
+            if expected != len {
+                return Err(MeshError::Truncated {
+                    path: self.path.clone(),
+                    count,
+                    expected,
+                    actual: len,
+                });
+            }
+            return Ok(count as usize);
+        }
+        let mut count = 0usize;
+        self.for_each(|_, _| {
+            count += 1;
+            if count as u64 > MAX_TRIANGLES {
+                return Err(self.read_error(format!("more than {MAX_TRIANGLES} triangles")));
+            }
+            Ok(())
+        })?;
+        Ok(count)
+    }
+
+    fn load_obj(&self) -> Result<Vec<[DVec3; 3]>, MeshError> {
+        let options = tobj::LoadOptions {
+            triangulate: true,
+            single_index: false,
+            ..Default::default()
+        };
+        let file = File::open(&self.path).map_err(|e| self.read_error(e.to_string()))?;
+        let mut reader = BufReader::new(file);
+        // Materials are irrelevant to the shape: a missing .mtl must not stop the read.
+        let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
+            Ok((Vec::new(), Default::default()))
+        })
+        .map_err(|e| self.read_error(format!("not a readable OBJ file: {e}")))?;
+        let mut out = Vec::new();
+        let mut face = 0usize;
+        for model in &models {
+            let m = &model.mesh;
+            let count = m.positions.len() / 3;
+            for tri in m.indices.chunks_exact(3) {
+                let mut t = [DVec3::ZERO; 3];
+                for (k, &i) in tri.iter().enumerate() {
+                    let i = i as usize;
+                    if i >= count {
+                        return Err(MeshError::BadIndex {
+                            path: self.path.clone(),
+                            face,
+                            vertex: i,
+                            count,
+                        });
+                    }
+                    t[k] = DVec3::new(
+                        m.positions[3 * i] as f64,
+                        m.positions[3 * i + 1] as f64,
+                        m.positions[3 * i + 2] as f64,
+                    );
+                }
+                out.push(t);
+                face += 1;
+            }
+        }
+        Ok(out)
+    }
+
+    fn load_ply(&self) -> Result<Vec<[DVec3; 3]>, MeshError> {
+        use ply_rs_bw::parser::Parser;
+        use ply_rs_bw::ply::{DefaultElement, Property};
+        let file = File::open(&self.path).map_err(|e| self.read_error(e.to_string()))?;
+        let mut reader = BufReader::new(file);
+        let ply = Parser::<DefaultElement>::new()
+            .read_ply(&mut reader)
+            .map_err(|e| self.read_error(format!("not a readable PLY file: {e}")))?;
+        let scalar = |p: Option<&Property>| -> Option<f64> {
+            Some(match p? {
+                Property::Float(v) => *v as f64,
+                Property::Double(v) => *v,
+                Property::Int(v) => *v as f64,
+                Property::UInt(v) => *v as f64,
+                Property::Short(v) => *v as f64,
+                Property::UShort(v) => *v as f64,
+                Property::Char(v) => *v as f64,
+                Property::UChar(v) => *v as f64,
+                _ => return None,
+            })
+        };
+        let missing = |what: &str| {
+            self.read_error(format!(
+                "a PLY mesh needs a `vertex` element with x, y, z and a `face` element with \
+                 vertex_indices; {what} is missing"
+            ))
+        };
+        let vertices = ply
+            .payload
+            .get("vertex")
+            .ok_or_else(|| missing("`vertex`"))?;
+        let points: Vec<DVec3> = vertices
+            .iter()
+            .map(|v| {
+                Some(DVec3::new(
+                    scalar(v.get("x"))?,
+                    scalar(v.get("y"))?,
+                    scalar(v.get("z"))?,
+                ))
+            })
+            .collect::<Option<_>>()
+            .ok_or_else(|| missing("a vertex's x, y or z"))?;
+        let faces = ply.payload.get("face").ok_or_else(|| missing("`face`"))?;
+        let mut out = Vec::new();
+        for (face, f) in faces.iter().enumerate() {
+            let list = f
+                .get("vertex_indices")
+                .or_else(|| f.get("vertex_index"))
+                .ok_or_else(|| missing("a face's vertex_indices"))?;
+            let idx: Vec<i64> = match list {
+                Property::ListInt(v) => v.iter().map(|&i| i as i64).collect(),
+                Property::ListUInt(v) => v.iter().map(|&i| i as i64).collect(),
+                Property::ListShort(v) => v.iter().map(|&i| i as i64).collect(),
+                Property::ListUShort(v) => v.iter().map(|&i| i as i64).collect(),
+                Property::ListChar(v) => v.iter().map(|&i| i as i64).collect(),
+                Property::ListUChar(v) => v.iter().map(|&i| i as i64).collect(),
+                _ => return Err(missing("an integer list of a face's vertex_indices")),
+            };
+            let mut corner = Vec::with_capacity(idx.len());
+            for &i in &idx {
+                if i < 0 || i as usize >= points.len() {
+                    return Err(MeshError::BadIndex {
+                        path: self.path.clone(),
+                        face,
+                        vertex: i.max(0) as usize,
+                        count: points.len(),
+                    });
+                }
+                corner.push(points[i as usize]);
+            }
+            // A polygon is cut as a fan from its first corner.
+            for k in 1..corner.len().saturating_sub(1) {
+                out.push([corner[0], corner[k], corner[k + 1]]);
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Whether a file of `len` bytes starting with `head` is exactly a binary STL's length (some
+/// binary STLs start their header with "solid", as ASCII ones do).
+fn binary_length_matches(head: &[u8], len: u64) -> bool {
+    head.len() == 84
+        && 84 + 50 * u32::from_le_bytes([head[80], head[81], head[82], head[83]]) as u64 == len
+}

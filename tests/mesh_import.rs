@@ -1,0 +1,498 @@
+//! `shape --from-mesh`: the printed bodies fit back to the paper generator's bodies (the meshes
+//! were made from them, so this is an exact check of the importer), a body written as a mesh in
+//! every format reads back as itself, and every way a mesh can be wrong gets an error naming the
+//! file and the place, never a body.
+
+#[path = "common/cli.rs"]
+mod cli;
+
+use std::f64::consts::TAU;
+use std::path::{Path, PathBuf};
+
+use cli::{rollphase, rollphase_ok};
+use rollphase::geometry::mesh::{TriMesh, disk_mesh, sphere_mesh};
+use rollphase::geometry::sphere::fibonacci_sphere;
+use rollphase::geometry::{Body, Disk, ShapeFile, Sphere};
+use serde_json::Value;
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/data")
+        .join(name)
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rp-mesh-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Fits `mesh` with extra flags; returns the body, its scale and the report.
+fn fit(mesh: &Path, extra: &[&str], dir: &Path) -> (Body, Option<f64>, Value) {
+    let shape = dir.join("fit.json");
+    let report = dir.join("fit-report.json");
+    let mut args: Vec<String> = vec!["shape".into(), "--from-mesh".into()];
+    args.push(mesh.display().to_string());
+    args.extend(extra.iter().map(|s| s.to_string()));
+    args.extend([
+        "-o".into(),
+        shape.display().to_string(),
+        "--report".into(),
+        report.display().to_string(),
+    ]);
+    rollphase_ok(&args);
+    let (body, scale) = ShapeFile::load_scaled(&shape).unwrap();
+    let report: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    (body, scale, report)
+}
+
+/// rms and max of r₁ − r₂ over nearly uniform directions.
+fn sphere_difference(a: &Sphere, b: &Sphere) -> (f64, f64) {
+    let points = fibonacci_sphere(20_000);
+    let d: Vec<f64> = points.iter().map(|&u| a.radius(u) - b.radius(u)).collect();
+    let rms = (d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64).sqrt();
+    (rms, d.iter().fold(0.0f64, |m, x| m.max(x.abs())))
+}
+
+/// rms of r₁(θ) − r₂(±θ + δ) at the best turn δ and mirror (a mesh has no preferred θ = 0).
+fn disk_difference(a: &Disk, b: &Disk) -> f64 {
+    let n = 720;
+    let mut best = f64::INFINITY;
+    for mirror in [1.0, -1.0] {
+        for k in 0..3600 {
+            let delta = k as f64 * TAU / 3600.0;
+            let sum: f64 = (0..n)
+                .map(|i| {
+                    let th = i as f64 * TAU / n as f64;
+                    (a.jet(th).r - b.jet(mirror * th + delta).r).powi(2)
+                })
+                .sum();
+            best = best.min((sum / n as f64).sqrt());
+        }
+    }
+    best
+}
+
+#[test]
+fn printed_sphere_is_the_generators_seed_6_body() {
+    let dir = scratch("sphere");
+    let (body, scale, report) = fit(&data("printed-sphere.stl"), &[], &dir);
+    let Body::Sphere(fitted) = &body else {
+        panic!("a 3D fit")
+    };
+    let Body::Sphere(paper) = Body::paper_sphere(6, 0.25, 4).unwrap() else {
+        unreachable!()
+    };
+    assert_eq!(report["dimension"], 3);
+    assert_eq!(report["modes"], 4, "the rule finds the generator's l ≤ 4");
+    let scale = scale.unwrap();
+    assert!((scale - 10.0).abs() < 0.01, "⟨r⟩ = {scale} mm");
+    let (rms, max) = sphere_difference(fitted, &paper);
+    eprintln!("printed sphere vs paper_sphere(6, 0.25, 4): rms {rms:.2e}, max {max:.2e}");
+    // Measured 6.7e-5 rms, 1.6e-4 max (2026-11-25): the facets' sag and the single-precision
+    // STL. (The body's centroid is 9e-4 of ⟨r⟩ from the generator's origin: the l = 1 part the
+    // fit leaves out.)
+    assert!(rms < 2e-4 && max < 5e-4, "rms {rms}, max {max}");
+    let residual = report["rms_residual"].as_f64().unwrap();
+    assert!(residual < 1e-3, "rms residual {residual}");
+    let alpha_star = report["alpha_star"].as_f64().unwrap();
+    assert!((alpha_star - body.alpha_star()).abs() < 1e-12);
+    assert!(
+        (alpha_star - Body::Sphere(paper).alpha_star()).abs() < 5e-3,
+        "α* {alpha_star}"
+    );
+    assert_eq!(report["convex"], true);
+}
+
+#[test]
+fn printed_cylinder_is_the_generators_seed_0_body() {
+    let dir = scratch("cylinder");
+    let (body, scale, report) = fit(&data("printed-cylinder.stl"), &[], &dir);
+    let Body::Disk(fitted) = &body else {
+        panic!("an extrusion is found and fitted in 2D: {report}")
+    };
+    assert_eq!(report["axis"], serde_json::json!([0.0, 0.0, 1.0]));
+    // Their num_modes = 5 is l = 2 … 6.
+    assert_eq!(report["modes"], 6);
+    let Body::Disk(paper) = Body::paper_disk(0, 0.1, 6).unwrap() else {
+        unreachable!()
+    };
+    let rms = disk_difference(fitted, &paper);
+    eprintln!("printed cylinder vs paper_disk(0, 0.1, 6): rms {rms:.2e}");
+    // Measured 2.4e-5 (2026-11-25).
+    assert!(rms < 1e-4, "rms {rms}");
+    assert!((scale.unwrap() - 10.0).abs() < 0.01);
+    // 65 mm long: the section's centroid is at mid-length.
+    assert!((report["centroid"][2].as_f64().unwrap() - 32.5).abs() < 1e-9);
+}
+
+fn write_ascii_stl(mesh: &TriMesh, path: &Path) {
+    let mut text = String::from("solid test\n");
+    for t in &mesh.indices {
+        text += "facet normal 0 0 0\nouter loop\n";
+        for &i in t {
+            let p = mesh.positions[i as usize];
+            text += &format!("vertex {} {} {}\n", p[0], p[1], p[2]);
+        }
+        text += "endloop\nendfacet\n";
+    }
+    text += "endsolid test\n";
+    std::fs::write(path, text).unwrap();
+}
+
+fn write_obj(mesh: &TriMesh, path: &Path) {
+    let mut text = String::new();
+    for p in &mesh.positions {
+        text += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+    }
+    for t in &mesh.indices {
+        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    std::fs::write(path, text).unwrap();
+}
+
+fn write_ply(mesh: &TriMesh, path: &Path) {
+    let mut text = format!(
+        "ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\n\
+         property float z\nelement face {}\nproperty list uchar int vertex_indices\nend_header\n",
+        mesh.positions.len(),
+        mesh.indices.len()
+    );
+    for p in &mesh.positions {
+        text += &format!("{} {} {}\n", p[0], p[1], p[2]);
+    }
+    for t in &mesh.indices {
+        text += &format!("3 {} {} {}\n", t[0], t[1], t[2]);
+    }
+    std::fs::write(path, text).unwrap();
+}
+
+fn write_binary_stl(mesh: &TriMesh, path: &Path, scale: f64) {
+    let mut bytes = Vec::new();
+    mesh.write_stl(&mut bytes, scale, "test").unwrap();
+    std::fs::write(path, bytes).unwrap();
+}
+
+#[test]
+fn every_format_reads_back_the_body_it_was_written_from() {
+    let dir = scratch("formats");
+    let Body::Sphere(s) = Body::random_sphere(3, 0.2, 3).unwrap() else {
+        unreachable!()
+    };
+    let mut mesh = sphere_mesh(&s, 5);
+    // At 12.5 mm per ⟨r⟩, the size a user would print.
+    for p in &mut mesh.positions {
+        *p = p.map(|x| x * 12.5);
+    }
+    let stl = dir.join("body.stl");
+    write_binary_stl(&mesh, &stl, 1.0);
+    let (reference, scale, report) = fit(&stl, &["--modes", "3"], &dir);
+    assert!((scale.unwrap() - 12.5).abs() < 0.01);
+    let Body::Sphere(first) = &reference else {
+        panic!()
+    };
+    let (rms, _) = sphere_difference(first, &s);
+    assert!(rms < 2e-4, "written and read back: rms {rms}");
+    assert_eq!(report["format"], "STL");
+    for (name, write) in [
+        ("body-ascii.stl", write_ascii_stl as fn(&TriMesh, &Path)),
+        ("body.obj", write_obj),
+        ("body.ply", write_ply),
+    ] {
+        let path = dir.join(name);
+        write(&mesh, &path);
+        let (body, _, _) = fit(&path, &["--modes", "3"], &dir);
+        let Body::Sphere(again) = &body else { panic!() };
+        let (rms, _) = sphere_difference(again, first);
+        // ASCII formats carry the shortest decimal of each f32: the same numbers.
+        assert!(rms < 1e-9, "{name}: rms {rms} from the binary STL's fit");
+    }
+    // Units: the same file in cm, said as such, is the same body at the same size.
+    let cm = dir.join("body-cm.stl");
+    write_binary_stl(&mesh, &cm, 0.1);
+    let (body, scale, _) = fit(&cm, &["--modes", "3", "--mm-per-unit", "10"], &dir);
+    assert!((scale.unwrap() - 12.5).abs() < 0.01);
+    let Body::Sphere(again) = &body else { panic!() };
+    assert!(sphere_difference(again, first).0 < 1e-6);
+}
+
+#[test]
+fn cylinders_read_back_in_2d_with_the_axis_found_or_given() {
+    let dir = scratch("disk");
+    let Body::Disk(d) = Body::paper_disk(84, 0.12, 5).unwrap() else {
+        unreachable!()
+    };
+    // Exported along y, θ from x towards z (the STL export's frame).
+    let mesh = disk_mesh(&d, 720, 3.0);
+    let stl = dir.join("cylinder.stl");
+    write_binary_stl(&mesh, &stl, 10.0);
+    let (body, _, report) = fit(&stl, &["--modes", "5"], &dir);
+    assert_eq!(report["dimension"], 2);
+    assert_eq!(report["axis"], serde_json::json!([0.0, 1.0, 0.0]));
+    let Body::Disk(found) = &body else { panic!() };
+    assert!(disk_difference(found, &d) < 1e-4);
+    // Given as −y, θ runs as the export wrote it: the same modes, no turn or mirror needed.
+    let (body, _, _) = fit(&stl, &["--modes", "5", "--axis", "0,-1,0"], &dir);
+    let Body::Disk(given) = &body else { panic!() };
+    let max = (0..360)
+        .map(|i| {
+            let th = i as f64 * TAU / 360.0;
+            (given.jet(th).r - d.jet(th).r).abs()
+        })
+        .fold(0.0, f64::max);
+    assert!(max < 1e-4, "max |Δr| {max}");
+    // The same mesh forced to 3D: a cylinder's edges are far from any convex low-degree body,
+    // and the refusal says so, with each degree's residual.
+    let e = refused(&stl, &["--dim", "3", "--modes", "4"]);
+    assert!(e.contains("not convex") && e.contains("L = 8:"), "{e}");
+}
+
+/// An extruded polygon (counter-clockwise in x, y) from z = 0 to `length`, caps as fans.
+fn extrude(polygon: &[[f64; 2]], length: f64) -> TriMesh {
+    let n = polygon.len() as u32;
+    let mut mesh = TriMesh::default();
+    for z in [0.0, length] {
+        for p in polygon {
+            mesh.positions.push([p[0] as f32, p[1] as f32, z as f32]);
+        }
+    }
+    for i in 0..n {
+        let j = (i + 1) % n;
+        mesh.indices.push([i, j, n + j]);
+        mesh.indices.push([i, n + j, n + i]);
+    }
+    for k in 1..n - 1 {
+        mesh.indices.push([0, k + 1, k]);
+        mesh.indices.push([n, n + k, n + k + 1]);
+    }
+    mesh.normals = vec![[0.0; 3]; mesh.positions.len()];
+    mesh.values = vec![0.0; mesh.positions.len()];
+    mesh
+}
+
+fn refused(mesh: &Path, extra: &[&str]) -> String {
+    let mut args = vec![
+        "shape".to_string(),
+        "--from-mesh".into(),
+        mesh.display().to_string(),
+    ];
+    args.extend(extra.iter().map(|s| s.to_string()));
+    args.extend([
+        "-o".into(),
+        mesh.with_extension("json").display().to_string(),
+    ]);
+    let out = rollphase(&args);
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(!out.status.success(), "{args:?} was accepted: {err}");
+    assert!(
+        !mesh.with_extension("json").exists(),
+        "a refused fit wrote a shape file"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    err
+}
+
+#[test]
+fn bad_meshes_are_refused_naming_the_place() {
+    let dir = scratch("bad");
+    let Body::Sphere(s) = Body::random_sphere(3, 0.2, 3).unwrap() else {
+        unreachable!()
+    };
+    let mesh = sphere_mesh(&s, 4);
+    let good = dir.join("good.stl");
+    write_binary_stl(&mesh, &good, 10.0);
+    let bytes = std::fs::read(&good).unwrap();
+
+    // Truncated: the header's count and the length disagree.
+    let cut = dir.join("cut.stl");
+    std::fs::write(&cut, &bytes[..bytes.len() - 30]).unwrap();
+    let e = refused(&cut, &[]);
+    assert!(
+        e.contains("damaged binary STL") && e.contains("cut.stl"),
+        "{e}"
+    );
+
+    // A NaN coordinate is named by its triangle.
+    let mut nan = bytes.clone();
+    let at = 84 + 50 * 7 + 12; // triangle 7's first vertex
+    nan[at..at + 4].copy_from_slice(&f32::NAN.to_le_bytes());
+    let p = dir.join("nan.stl");
+    std::fs::write(&p, nan).unwrap();
+    let e = refused(&p, &[]);
+    assert!(e.contains("triangle 7") && e.contains("finite"), "{e}");
+
+    // Open: a cap of 40 triangles removed leaves a hole, located.
+    let mut open = mesh.clone();
+    open.indices.truncate(open.indices.len() - 40);
+    let p = dir.join("open.stl");
+    write_binary_stl(&open, &p, 10.0);
+    let e = refused(&p, &[]);
+    assert!(e.contains("open") && e.contains("θ ="), "{e}");
+
+    // Duplicated faces cover the sphere twice.
+    let mut twice = mesh.clone();
+    let extra = twice.indices.clone();
+    twice.indices.extend(extra);
+    let p = dir.join("twice.stl");
+    write_binary_stl(&twice, &p, 10.0);
+    let e = refused(&p, &[]);
+    assert!(e.contains("overlap"), "{e}");
+
+    // A T-shaped prism is not star-shaped about its centroid (which is in the stem): rays to
+    // the underside of the bar cross the stem's wall first.
+    let t = [
+        [-0.5, -3.0],
+        [0.5, -3.0],
+        [0.5, 1.0],
+        [3.0, 1.0],
+        [3.0, 2.0],
+        [-3.0, 2.0],
+        [-3.0, 1.0],
+        [-0.5, 1.0],
+    ];
+    let p = dir.join("tee.stl");
+    write_binary_stl(&extrude(&t, 4.0), &p, 10.0);
+    let e = refused(&p, &["--dim", "3"]);
+    assert!(e.contains("not star-shaped") && e.contains("θ ="), "{e}");
+    let e = refused(&p, &["--dim", "2"]);
+    assert!(e.contains("not star-shaped") && e.contains("θ ="), "{e}");
+
+    // An L-shaped prism has its centroid outside itself: nothing is seen once.
+    let l = [
+        [0.0, 0.0],
+        [3.0, 0.0],
+        [3.0, 1.0],
+        [1.0, 1.0],
+        [1.0, 3.0],
+        [0.0, 3.0],
+    ];
+    let p = dir.join("ell.stl");
+    write_binary_stl(&extrude(&l, 1.0), &p, 10.0);
+    let e = refused(&p, &["--dim", "3"]);
+    assert!(
+        e.contains("not exactly once") || e.contains("star-shaped"),
+        "{e}"
+    );
+
+    // A sphere asked to be a cylinder: no axis.
+    let e = refused(&good, &["--dim", "2"]);
+    assert!(e.contains("not an extruded cylinder"), "{e}");
+
+    // Devices, FIFOs, folders, unknown formats, an ASCII file that is not STL.
+    let e = refused(Path::new("/dev/zero"), &[]);
+    assert!(e.contains("not a regular file"), "{e}");
+    let e = refused(&dir, &[]);
+    assert!(e.contains("not a regular file"), "{e}");
+    let p = dir.join("body.step");
+    std::fs::write(&p, "ISO-10303-21;").unwrap();
+    let e = refused(&p, &[]);
+    assert!(e.contains(".stl") && e.contains(".obj"), "{e}");
+    let p = dir.join("garbage.obj");
+    std::fs::write(&p, "v 1 2\nf 1 2 3\n").unwrap();
+    refused(&p, &[]);
+    let p = dir.join("garbage.ply");
+    std::fs::write(&p, "ply\nformat ascii 1.0\nend_header\n").unwrap();
+    let e = refused(&p, &[]);
+    assert!(e.contains("vertex"), "{e}");
+    let p = dir.join("faces.obj");
+    std::fs::write(&p, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n").unwrap();
+    refused(&p, &[]);
+
+    // Bad options are named before the mesh is read.
+    for (flags, needle) in [
+        (&["--modes", "13"][..], "modes = 13"),
+        (&["--modes", "1"][..], "modes = 1"),
+        (&["--mm-per-unit", "nan"][..], "millimetres per mesh unit"),
+        (&["--mm-per-unit", "-1"][..], "millimetres per mesh unit"),
+        (&["--axis", "0,0,0"][..], "axis"),
+        (&["--axis", "1,2"][..], "--axis"),
+    ] {
+        let e = refused(&good, flags);
+        assert!(e.contains(needle), "{flags:?}: {e}");
+    }
+}
+
+#[test]
+fn inside_out_meshes_are_read_as_the_reverse_with_a_warning() {
+    let dir = scratch("inside-out");
+    let Body::Sphere(s) = Body::random_sphere(3, 0.2, 3).unwrap() else {
+        unreachable!()
+    };
+    let mut mesh = sphere_mesh(&s, 4);
+    let stl = dir.join("good.stl");
+    write_binary_stl(&mesh, &stl, 10.0);
+    let (good, _, _) = fit(&stl, &["--modes", "3"], &dir);
+    for t in &mut mesh.indices {
+        t.swap(1, 2);
+    }
+    let inverted = dir.join("inverted.stl");
+    write_binary_stl(&mesh, &inverted, 10.0);
+    let (body, _, report) = fit(&inverted, &["--modes", "3"], &dir);
+    let warnings = report["warnings"].to_string();
+    assert!(warnings.contains("inside-out"), "{warnings}");
+    let (Body::Sphere(a), Body::Sphere(b)) = (&good, &body) else {
+        panic!()
+    };
+    assert!(sphere_difference(a, b).0 < 1e-12);
+}
+
+#[test]
+fn the_shape_file_keeps_its_scale_and_its_outputs_are_checked_first() {
+    let dir = scratch("outputs");
+    let mesh = data("printed-cylinder.stl");
+    // Its own input as output: refused, the mesh untouched.
+    let before = std::fs::read(&mesh).unwrap();
+    let copy = dir.join("cyl.stl");
+    std::fs::write(&copy, &before).unwrap();
+    let out = rollphase([
+        "shape",
+        "--from-mesh",
+        copy.to_str().unwrap(),
+        "-o",
+        copy.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success());
+    assert_eq!(std::fs::read(&copy).unwrap(), before);
+    // -o and --report the same file: refused before the fit.
+    let same = dir.join("same.json");
+    let out = rollphase([
+        "shape",
+        "--from-mesh",
+        copy.to_str().unwrap(),
+        "-o",
+        same.to_str().unwrap(),
+        "--report",
+        same.to_str().unwrap(),
+    ]);
+    assert!(!out.status.success() && !same.exists());
+    // Seeds and meshes do not mix.
+    let out = rollphase([
+        "shape",
+        "--from-mesh",
+        copy.to_str().unwrap(),
+        "--seed",
+        "1",
+    ]);
+    assert!(!out.status.success());
+    // Without --report the fit is described on standard error; the shape file has scale_mm.
+    let out = rollphase(["shape", "--from-mesh", copy.to_str().unwrap()]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        text.contains("⟨r⟩ = 9.99") && text.contains("rms residual") && text.contains("α*"),
+        "{text}"
+    );
+    let shape: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!((shape["scale_mm"].as_f64().unwrap() - 10.0).abs() < 0.01);
+    // A scale that is not a size is refused when the file is read back.
+    let bad = dir.join("bad-scale.json");
+    std::fs::write(
+        &bad,
+        r#"{"kind": "disk", "modes": [{"l": 2, "a": 0.1, "phase": 0.0}], "scale_mm": -3}"#,
+    )
+    .unwrap();
+    let out = rollphase(["inspect", bad.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("scale_mm = -3"));
+}
