@@ -40,6 +40,20 @@ class Body:
     @staticmethod
     def from_file(path: _Path) -> Body:
         """A body from a shape file (JSON, as `rollphase shape` writes)."""
+    @staticmethod
+    def from_mesh(
+        path: _Path,
+        modes: Optional[int] = None,
+        dim: Optional[int] = None,
+        axis: Optional[Tuple[float, float, float]] = None,
+        mm_per_unit: float = 1.0,
+    ) -> Body:
+        """A body fitted to a printed or scanned mesh (.stl, .obj, .ply; mm unless mm_per_unit
+        says otherwise), as `rollphase shape --from-mesh` fits it: 3D by real spherical harmonics
+        about the volume centroid, 2D (an extruded cylinder, found or dim=2) by a Fourier
+        series of its section. The report is body.mesh_fit; warnings are UserWarnings; a mesh
+        that is open, not star-shaped about its centroid, or fits no convex body raises
+        ValueError naming the place."""
     def to_file(self, path: _Path) -> None:
         """Writes the body as a shape file, whole or not at all (a link stays a link)."""
     def to_json(self) -> str:
@@ -50,6 +64,15 @@ class Body:
     @property
     def dimension(self) -> int:
         """2 for a disk, 3 for a sphere."""
+    @property
+    def scale_mm(self) -> Optional[float]:
+        """Millimetres per mean radius of the real object (a fitted body, or a shape file with
+        scale_mm); None otherwise."""
+    @property
+    def mesh_fit(self) -> Optional[Dict[str, Any]]:
+        """The mesh fit's report for a body from Body.from_mesh: rms_residual(_mm),
+        max_residual(_mm), max_residual_at, l1_part, l1_offset_mm, scale_mm, modes, modes_rule,
+        degree_residuals, convex, alpha_star, warnings, …; None otherwise."""
     @property
     def is_convex(self) -> bool:
         """Whether the body is convex (runs refuse a non-convex body)."""
@@ -197,6 +220,21 @@ def periodic_orbits(
     """The period-1 orbits random starts settle on, each a fixed point of the return map on ∂Ω
     with its Floquet multipliers. Keys: point, omega, period, multipliers (complex),
     max_modulus, stable, starts, newton_steps."""
+
+def predict(
+    body: Body,
+    alpha: float,
+    mass_ratio: float = 0.0,
+    starts: int = 32,
+    seed: int = 1,
+    t_cap: float = 20000.0,
+) -> Dict[str, Any]:
+    """The stable periodic motions runs from rest settle into, as `rollphase predict` gives them.
+    Keys: alpha, mass_ratio, alpha_star, starts, halts, undecided, scale_mm, and orbits (most
+    visited first), each with period, repeat (1 or 2), advance_down, advance_across (per
+    repeat, in mean radii), advance_down_mm, advance_across_mm (None without a scale), speed,
+    stable, multipliers (complex), max_modulus, fraction, starts, crossing, omega, and path
+    (an (N, 2) array of the centre over three repeats)."""
 
 def period_counts(
     body: Body,

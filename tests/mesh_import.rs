@@ -496,3 +496,32 @@ fn the_shape_file_keeps_its_scale_and_its_outputs_are_checked_first() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("scale_mm = -3"));
 }
+
+#[test]
+fn the_fit_is_the_same_bits_on_any_thread_count() {
+    let dir = scratch("threads");
+    let fit_with = |threads: &str| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_rollphase"))
+            .env("RAYON_NUM_THREADS", threads)
+            .args(["shape", "--from-mesh"])
+            .arg(data("printed-sphere.stl"))
+            .arg("--report")
+            .arg(dir.join(format!("report-{threads}.json")))
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        (
+            out.stdout,
+            std::fs::read(dir.join(format!("report-{threads}.json"))).unwrap(),
+        )
+    };
+    let one = fit_with("1");
+    for threads in ["2", "3", "8"] {
+        let (shape, report) = fit_with(threads);
+        assert_eq!(shape, one.0, "the shape file with {threads} threads");
+        let a: Value = serde_json::from_slice(&report).unwrap();
+        let b: Value = serde_json::from_slice(&one.1).unwrap();
+        assert_eq!(a["rms_residual"], b["rms_residual"]);
+        assert_eq!(a["max_residual"], b["max_residual"]);
+    }
+}

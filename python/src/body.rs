@@ -9,7 +9,7 @@ use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::{AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
-use rollphase_core::geometry::Body as CoreBody;
+use rollphase_core::geometry::{Body as CoreBody, ShapeFile};
 use rollphase_core::glam::DVec3;
 use rollphase_output::output::{self, OutputError};
 
@@ -24,6 +24,11 @@ use crate::{value_error, whole};
 pub struct Body {
     pub(crate) body: CoreBody,
     origin: String,
+    /// Millimetres per ⟨r⟩ of the real object (a body fitted to a mesh, or a shape file's
+    /// scale_mm).
+    pub(crate) scale_mm: Option<f64>,
+    /// The mesh fit's report as JSON (Body.from_mesh).
+    fit: Option<String>,
 }
 
 impl Body {
@@ -31,6 +36,8 @@ impl Body {
         Ok(Body {
             body: body.map_err(value_error)?,
             origin,
+            scale_mm: None,
+            fit: None,
         })
     }
 
@@ -95,7 +102,86 @@ impl Body {
     #[staticmethod]
     fn from_file(path: PathBuf) -> PyResult<Self> {
         let origin = format!("shape file {}", path.display());
-        Body::made(CoreBody::from_file(&path), origin)
+        let (body, scale_mm) = ShapeFile::load_scaled(&path).map_err(value_error)?;
+        Ok(Body {
+            scale_mm,
+            ..Body::made(Ok::<_, String>(body), origin)?
+        })
+    }
+
+    /// A body fitted to a printed or scanned mesh (.stl binary or ASCII, .obj, .ply; in mm
+    /// unless mm_per_unit says otherwise), as `rollphase shape --from-mesh` fits it: the radius
+    /// about the volume centroid by real spherical harmonics (3D), or an extruded cylinder's
+    /// section by a Fourier series (2D, found from the mesh or dim=2; axis=(x, y, z) gives the
+    /// cylinder's axis). modes is the degree (None: the smallest whose rms residual is within
+    /// 10 % of the best fit's, or under 5e-5 of the mean radius). The fit's report (residuals in
+    /// mm and relative, scale_mm, the l = 1 part left out, alpha_star, warnings) is
+    /// body.mesh_fit; a mesh that is open, not star-shaped about its centroid, or fits no
+    /// convex body raises ValueError naming the place.
+    #[staticmethod]
+    #[pyo3(signature = (path, modes = None, dim = None, axis = None, mm_per_unit = 1.0))]
+    fn from_mesh(
+        py: Python<'_>,
+        path: PathBuf,
+        modes: Option<i128>,
+        dim: Option<i128>,
+        axis: Option<[f64; 3]>,
+        mm_per_unit: f64,
+    ) -> PyResult<Self> {
+        use rollphase_core::geometry::mesh_fit::{FitOptions, fit_mesh};
+        use rollphase_core::geometry::mesh_read::MeshSource;
+        let modes: Option<u32> = modes.map(|m| whole("modes", m)).transpose()?;
+        let dim: Option<u32> = dim.map(|d| whole("dim", d)).transpose()?;
+        let options = FitOptions {
+            dim: if axis.is_some() { Some(2) } else { dim },
+            modes,
+            axis: axis.map(DVec3::from_array),
+            mm_per_unit,
+        };
+        let fit = py
+            .detach(|| {
+                let source = MeshSource::open(&path)?;
+                fit_mesh(&source, &options, &|_, _, _| {})
+            })
+            .map_err(value_error)?;
+        for w in &fit.report.warnings {
+            pyo3::PyErr::warn(
+                py,
+                &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+                &std::ffi::CString::new(w.as_str()).unwrap_or_default(),
+                1,
+            )?;
+        }
+        let report = serde_json::to_string(&fit.report).map_err(value_error)?;
+        Ok(Body {
+            body: fit.body,
+            origin: format!(
+                "mesh {} (fitted, l <= {})",
+                path.display(),
+                fit.report.modes
+            ),
+            scale_mm: fit.shape.scale_mm(),
+            fit: Some(report),
+        })
+    }
+
+    /// Millimetres per mean radius of the real object: set for a body fitted to a mesh or read
+    /// from a shape file that has scale_mm; None otherwise.
+    #[getter]
+    fn scale_mm(&self) -> Option<f64> {
+        self.scale_mm
+    }
+
+    /// The mesh fit's report (a dict: rms_residual, rms_residual_mm, max_residual,
+    /// max_residual_mm, max_residual_at, l1_part, l1_offset_mm, scale_mm, modes, modes_rule,
+    /// degree_residuals, convex, alpha_star, warnings, …) for a body from Body.from_mesh;
+    /// None otherwise.
+    #[getter]
+    fn mesh_fit<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        match &self.fit {
+            Some(text) => Ok(Some(py.import("json")?.call_method1("loads", (text,))?)),
+            None => Ok(None),
+        }
     }
 
     /// Writes the body as a shape file (JSON) that Body.from_file and the command line read.
@@ -120,7 +206,13 @@ impl Body {
                 )));
             }
         }
-        let text = self.body.to_shape().to_json().map_err(value_error)? + "\n";
+        let text = self
+            .body
+            .to_shape()
+            .with_scale_mm(self.scale_mm)
+            .to_json()
+            .map_err(value_error)?
+            + "\n";
         output::write_bytes(&path, text.as_bytes(), &output::Inputs::none()).map_err(|e| match e {
             OutputError::Io { .. } | OutputError::Stdout(_) => PyOSError::new_err(e.to_string()),
             _ => PyValueError::new_err(e.to_string()),
@@ -193,7 +285,11 @@ impl Body {
 
     /// The shape file's JSON text.
     fn to_json(&self) -> PyResult<String> {
-        self.body.to_shape().to_json().map_err(value_error)
+        self.body
+            .to_shape()
+            .with_scale_mm(self.scale_mm)
+            .to_json()
+            .map_err(value_error)
     }
 
     fn __repr__(&self) -> String {

@@ -179,6 +179,7 @@ fn rollphase(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(studies::poincare_map, m)?)?;
     m.add_function(wrap_pyfunction!(studies::cruising_fraction, m)?)?;
     m.add_function(wrap_pyfunction!(studies::periodic_orbits, m)?)?;
+    m.add_function(wrap_pyfunction!(studies::predict, m)?)?;
     m.add_function(wrap_pyfunction!(studies::period_counts, m)?)?;
     m.add_function(wrap_pyfunction!(studies::mass_bifurcation, m)?)?;
     Ok(())

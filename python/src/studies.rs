@@ -434,3 +434,97 @@ pub fn mass_bifurcation<'py>(
     d.set_item("longest_run", grid.longest())?;
     Ok(d)
 }
+
+/// What `body` does on a ramp at angle `alpha` and `mass_ratio` (0: viscous), as
+/// `rollphase predict` answers: runs from rest at `starts` random orientations (3D) or equally
+/// spaced contact angles (2D) until each settles on a periodic motion or comes to rest (at most
+/// t_cap). Returns a dict: alpha, mass_ratio, alpha_star, starts, halts and undecided (fractions),
+/// scale_mm (the body's, or None), and orbits, most visited first, each a dict: period (t0),
+/// repeat (1, or 2 for a doubled orbit: period and advances are then per repeat), advance_down
+/// and advance_across (mean radii per repeat), advance_down_mm and advance_across_mm (None
+/// without a scale), speed, stable, multipliers (complex array: 2 for 3D viscous, 5 for 3D
+/// inertial, none for a disk or a doubled orbit), max_modulus, fraction, starts, crossing and
+/// omega (3D: where the orbit crosses ∂Ω), and path, an (N, 2) array of the centre's
+/// (down, across) for a sphere or (down, height) for a disk over three repeats.
+#[pyfunction]
+#[pyo3(signature = (body, alpha, mass_ratio = 0.0, starts = 32, seed = 1, t_cap = 20000.0))]
+pub fn predict<'py>(
+    py: Python<'py>,
+    body: &Body,
+    alpha: f64,
+    mass_ratio: f64,
+    starts: i128,
+    seed: i128,
+    t_cap: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    use rollphase_core::analysis::prediction::{PredictOptions, predict_until};
+    let (starts, seed): (usize, u64) = (whole("starts", starts)?, whole("seed", seed)?);
+    let core = body.convex()?;
+    if !(t_cap.is_finite() && (10.0..=MAX_SPAN).contains(&t_cap)) {
+        return Err(PyValueError::new_err(format!(
+            "t_cap = {t_cap} is not allowed (needs 10 ≤ t_cap ≤ {MAX_SPAN:e})"
+        )));
+    }
+    let options = PredictOptions {
+        starts,
+        seed,
+        decide: decide(600f64.min(t_cap), t_cap, 2, 1e-5),
+        ..PredictOptions::default()
+    };
+    let p = interruptible(py, |stop| {
+        predict_until(core, alpha, mass_ratio, &options, stop)
+    })?
+    .map_err(value_error)?;
+    let d = PyDict::new(py);
+    d.set_item("dimension", p.dimension)?;
+    d.set_item("alpha", p.alpha)?;
+    d.set_item("mass_ratio", p.mass_ratio)?;
+    d.set_item("alpha_star", p.alpha_star)?;
+    d.set_item("starts", p.starts)?;
+    d.set_item("halts", p.halts)?;
+    d.set_item("undecided", p.undecided)?;
+    d.set_item("scale_mm", body.scale_mm)?;
+    let list = PyList::empty(py);
+    for o in &p.orbits {
+        let e = PyDict::new(py);
+        e.set_item("period", o.period)?;
+        e.set_item("repeat", o.repeat)?;
+        e.set_item("advance_down", o.advance_down)?;
+        e.set_item("advance_across", o.advance_across)?;
+        e.set_item("advance_down_mm", body.scale_mm.map(|s| s * o.advance_down))?;
+        e.set_item(
+            "advance_across_mm",
+            body.scale_mm.map(|s| s * o.advance_across),
+        )?;
+        e.set_item("speed", o.speed)?;
+        e.set_item("stable", o.stable)?;
+        let multipliers: Vec<Complex64> = o
+            .multipliers
+            .iter()
+            .map(|&[re, im]| Complex64::new(re, im))
+            .collect();
+        e.set_item(
+            "multipliers",
+            Array1::from_vec(multipliers).into_pyarray(py),
+        )?;
+        e.set_item("max_modulus", o.max_modulus)?;
+        e.set_item("fraction", o.fraction)?;
+        e.set_item("starts", o.starts)?;
+        e.set_item(
+            "crossing",
+            o.crossing
+                .map(|c| Array1::from_vec(c.to_vec()).into_pyarray(py)),
+        )?;
+        e.set_item(
+            "omega",
+            o.omega
+                .map(|c| Array1::from_vec(c.to_vec()).into_pyarray(py)),
+        )?;
+        let flat: Vec<f64> = o.path.iter().flatten().copied().collect();
+        let path = Array2::from_shape_vec((o.path.len(), 2), flat).map_err(value_error)?;
+        e.set_item("path", path.into_pyarray(py))?;
+        list.append(e)?;
+    }
+    d.set_item("orbits", list)?;
+    Ok(d)
+}

@@ -18,11 +18,13 @@ pub mod figure;
 pub mod inspect;
 pub mod merge;
 pub mod period;
+pub mod predict;
 pub mod render;
 pub mod scenes;
 pub mod shape;
 pub mod simulate;
 pub mod sweep;
+pub mod track;
 
 use std::path::{Path, PathBuf};
 
@@ -73,6 +75,8 @@ pub enum Command {
     Inspect(inspect::InspectArgs),
     /// Period T and mean angular speed 2π/T of a rolling disk (2D), or that it halts.
     Period(period::PeriodArgs),
+    /// The periodic motions a body settles into: period, advance per period (⟨r⟩ or mm), stability.
+    Predict(predict::PredictArgs),
     /// Simulate one run and write the trajectory as CSV.
     Simulate(simulate::SimulateArgs),
     /// Measure the speed/accuracy trade of the integrators (tables, CSV, plots).
@@ -85,6 +89,8 @@ pub enum Command {
     Merge(merge::MergeArgs),
     /// Fit measured lag times t_lag ∝ (α − α*)^β (per-run α*, shared β, bootstrap errors).
     FitLag(figure::FitLagArgs),
+    /// Read a tracked video of a rolling body: period, advance per period, folded track, model.
+    Track(track::TrackArgs),
     /// List the preset scenes for --preset (or print one as TOML).
     Scenes(scenes::ScenesArgs),
     /// Write a body as a watertight STL mesh in millimetres, for 3D printing.
@@ -134,6 +140,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Shape(a) => shape::run(a),
         Command::Inspect(a) => inspect::run(a),
         Command::Period(a) => period::run(a),
+        Command::Predict(a) => predict::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Figure(a) => figure::run(a),
@@ -141,6 +148,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => merge::run(a),
         Command::Scenes(a) => scenes::run(a),
+        Command::Track(a) => track::run(a),
         Command::ExportStl(a) => export_stl::run(a),
     }
 }

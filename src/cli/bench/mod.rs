@@ -1,13 +1,15 @@
 //! `rollphase bench`: measured speed/accuracy trade-offs, printed as tables and written as CSV
 //! and PNG, one file per benchmark: [`accuracy`] (every model × integrator setting against a
 //! converged reference), [`stiff`] (the inertial model as m/m0 → 0), [`figures`] (wall time of
-//! the ensemble figures), [`render`] (headless frames per second, feature `render`) and [`app`]
-//! (the app's frame time painted offscreen, feature `app`).
+//! the ensemble figures), [`mesh`] (fitting bodies to meshes of 10⁴ to 5·10⁶ triangles),
+//! [`render`] (headless frames per second, feature `render`) and [`app`] (the app's frame time
+//! painted offscreen, feature `app`).
 
 mod accuracy;
 #[cfg(feature = "app")]
 mod app;
 mod figures;
+mod mesh;
 #[cfg(feature = "render")]
 mod render;
 mod speed;
@@ -45,6 +47,9 @@ pub enum BenchKind {
     /// search, RHS evaluations per second, whole `simulate` and `inspect` processes) beside a
     /// recorded baseline and the targets.
     Speed(SpeedBenchArgs),
+    /// Time to fit a body to a mesh (`shape --from-mesh`): the printed sphere's STL and the
+    /// paper's sphere written as STL from 20,480 to 5,242,880 triangles.
+    Mesh(MeshBenchArgs),
     /// Frames per second of the headless renderer (rendering alone, with readback, with PNG
     /// writing on worker threads) at 1280×720 on whatever adapter is found (a GPU, or llvmpipe
     /// without one).
@@ -91,6 +96,14 @@ pub struct RenderBenchArgs {
     pub frames: u64,
 }
 
+/// Options of `bench mesh`.
+#[derive(Debug, Args)]
+pub struct MeshBenchArgs {
+    /// The finest mesh: icosphere level 5 to 9 (20·4^level triangles; 9 is a 262 MB STL).
+    #[arg(long, default_value_t = 8)]
+    pub largest: u32,
+}
+
 /// Options of `bench speed`.
 #[derive(Debug, Args)]
 pub struct SpeedBenchArgs {
@@ -117,6 +130,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
         BenchKind::Stiff(a) => stiff::run(a),
         BenchKind::Figures(a) => figures::run(a),
         BenchKind::Speed(a) => speed::run(a),
+        BenchKind::Mesh(a) => mesh::run(a),
         #[cfg(feature = "render")]
         BenchKind::Render(a) => render::run(a),
         #[cfg(not(feature = "render"))]

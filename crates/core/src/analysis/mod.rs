@@ -13,11 +13,13 @@ pub mod halting;
 pub mod lag_fit;
 pub mod orbit_diagram;
 pub mod period;
+pub mod prediction;
 pub mod return_map;
 pub mod scan;
 pub mod sphere_orbits;
 pub mod sphere_return_map;
 pub mod studies;
+pub mod tracking;
 
 pub use critical_angle::{CriticalAngle, critical_angle};
 pub use period::{

@@ -887,8 +887,12 @@ fn fit_sphere(
             }
             (g, h, r2)
         })
-        .reduce(
-            || (vec![0.0; basis * basis], vec![0.0; basis], 0.0),
+        // Summed in chunk order, not as rayon's work-stealing tree would: the same bits on
+        // every run and thread count.
+        .collect::<Vec<_>>()
+        .into_iter()
+        .fold(
+            (vec![0.0; basis * basis], vec![0.0; basis], 0.0),
             |mut x, y| {
                 x.0.iter_mut().zip(&y.0).for_each(|(a, b)| *a += b);
                 x.1.iter_mut().zip(&y.1).for_each(|(a, b)| *a += b);
@@ -980,13 +984,13 @@ fn fit_sphere(
                 }
                 (s2, sw, w, at)
             })
-            .reduce(
-                || (0.0, 0.0, 0.0, DVec3::Z),
-                |x, y| {
-                    let (w, at) = if y.2 > x.2 { (y.2, y.3) } else { (x.2, x.3) };
-                    (x.0 + y.0, x.1 + y.1, w, at)
-                },
-            );
+            // In triangle order (see the Gram matrix above).
+            .collect::<Vec<_>>()
+            .into_iter()
+            .fold((0.0, 0.0, 0.0, DVec3::Z), |x, y| {
+                let (w, at) = if y.2 > x.2 { (y.2, y.3) } else { (x.2, x.3) };
+                (x.0 + y.0, x.1 + y.1, w, at)
+            });
         sum2 += s2;
         sum_w += sw;
         if w > worst {

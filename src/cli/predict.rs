@@ -1,0 +1,316 @@
+//! `rollphase predict`: the stable periodic motions a body settles into, in the lab's terms.
+
+use std::path::PathBuf;
+
+use anyhow::{Result, bail};
+use clap::Args;
+use serde::Serialize;
+
+use crate::analysis::prediction::{
+    MAX_PREDICT_STARTS, PredictOptions, PredictedOrbit, Prediction, predict,
+};
+use crate::analysis::sphere_orbits::Decide;
+use crate::geometry::{Body, ShapeFile};
+use crate::output::{self, Inputs};
+use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
+
+/// What a body does on a ramp: the periodic motions it settles into from many starts.
+///
+/// Runs from rest at --starts random orientations (3D) or equally spaced contact angles (2D) go
+/// on until they settle on a periodic motion or come to rest. Each motion found is listed with
+/// the fraction of starts that reach it, its period (t0 = γ/(F⟨r⟩)), how far the centre moves
+/// down and across the ramp per period (⟨r⟩, and mm when the shape file has "scale_mm", as a
+/// body fitted by `shape --from-mesh` does), its mean speed, and its Floquet multipliers (3D
+/// period-1 orbits; stable when every |μ| < 1). With inertia (--mass > 0) a 3D orbit may be
+/// doubled (period 2): its period and advances are then per repeat, two crossings of ∂Ω.
+///
+/// Seconds need the time unit t0, which depends on the surface's drag: `rollphase track` fits
+/// it from a filmed run. For example, the paper authors' printed sphere at sin α = 0.2:
+///   rollphase shape --from-mesh printed-sphere.stl -o printed-sphere.json
+///   rollphase predict printed-sphere.json --alpha 0.2014 --figure paths.png
+#[derive(Debug, Args)]
+#[command(verbatim_doc_comment)]
+pub struct PredictArgs {
+    /// Shape file (JSON), of a disk or a sphere.
+    pub file: PathBuf,
+    /// Ramp angle α in radians, 1e-9 ≤ α < π/2 (sin α = 0.2 is α = 0.2014).
+    #[arg(long, allow_negative_numbers = true)]
+    pub alpha: f64,
+    /// Mass ratio m/m0 ≥ 0 (0: the viscous model).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub mass: f64,
+    /// Starts from rest: random orientations (3D) or contact angles (2D), 1 to 100000.
+    #[arg(long, default_value_t = 32)]
+    pub starts: usize,
+    /// Seed of the random orientations.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Longest run (t0): a start neither periodic nor at rest by then is counted as undecided.
+    #[arg(long, default_value_t = 20_000.0)]
+    pub t_cap: f64,
+    /// Print JSON (keys orbits [period, advance_down, advance_across, stable, fraction, …],
+    /// halts, undecided, alpha_star, scale_mm).
+    #[arg(long)]
+    pub json: bool,
+    /// Also draw each orbit's centre path over three periods as a PNG (from above for a
+    /// sphere: down the ramp against across it; from the side for a disk).
+    #[arg(long, value_name = "FILE.png")]
+    pub figure: Option<PathBuf>,
+}
+
+/// One orbit as `predict --json` prints it.
+#[derive(Debug, Serialize)]
+pub struct OrbitReport {
+    /// The orbit in the model's units.
+    #[serde(flatten)]
+    pub orbit: PredictedOrbit,
+    /// Advance down the ramp per repeat in mm (`null` without a scale).
+    pub advance_down_mm: Option<f64>,
+    /// Advance across the ramp per repeat in mm.
+    pub advance_across_mm: Option<f64>,
+}
+
+/// What `predict --json` prints.
+#[derive(Debug, Serialize)]
+pub struct PredictReport {
+    /// The shape file.
+    pub body: String,
+    /// "viscous" or "inertial".
+    pub model: &'static str,
+    /// Millimetres per ⟨r⟩ (from the shape file), `null` if it has none.
+    pub scale_mm: Option<f64>,
+    /// α, α*, the fractions and counts.
+    #[serde(flatten)]
+    pub prediction: PredictionHead,
+    /// The stable periodic motions, most visited first.
+    pub orbits: Vec<OrbitReport>,
+}
+
+/// The prediction without its orbits.
+#[derive(Debug, Serialize)]
+pub struct PredictionHead {
+    /// 2 or 3.
+    pub dimension: u32,
+    /// α (rad).
+    pub alpha: f64,
+    /// m/m0.
+    pub mass_ratio: f64,
+    /// α* (rad).
+    pub alpha_star: f64,
+    /// Starts tried.
+    pub starts: usize,
+    /// Fraction of starts that come to rest.
+    pub halts: f64,
+    /// Fraction undecided at --t-cap.
+    pub undecided: f64,
+}
+
+/// Runs `predict`.
+pub fn run(a: PredictArgs) -> Result<()> {
+    let (body, scale) = ShapeFile::load_scaled(&a.file)?;
+    body.check_convex()?;
+    crate::dynamics::Ramp::new(a.alpha, a.mass)?;
+    if !(1..=MAX_PREDICT_STARTS).contains(&a.starts) {
+        bail!(
+            "--starts {} is not allowed (needs 1 ≤ starts ≤ {MAX_PREDICT_STARTS})",
+            a.starts
+        );
+    }
+    if !(a.t_cap.is_finite() && a.t_cap >= 10.0 && a.t_cap <= crate::integrate::MAX_SPAN) {
+        bail!(
+            "--t-cap {} is not allowed (needs 10 ≤ t_cap ≤ {}: a run must have time to settle)",
+            super::short(a.t_cap),
+            super::short(crate::integrate::MAX_SPAN)
+        );
+    }
+    let inputs = Inputs::of([&a.file]);
+    if let Some(f) = &a.figure {
+        output::check_file(f, &inputs)?;
+    }
+    if a.mass > 0.0 {
+        let ramp = crate::dynamics::Ramp::new(a.alpha, a.mass)?;
+        super::warn_if_stiff(&body, &ramp, a.t_cap, "--t-cap");
+    }
+    let options = PredictOptions {
+        starts: a.starts,
+        seed: a.seed,
+        decide: Decide {
+            t_min: 600f64.min(a.t_cap),
+            t_cap: a.t_cap,
+            max_k: 2,
+            tol: 1e-5,
+        },
+        ..PredictOptions::default()
+    };
+    let spinner = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        indicatif::ProgressBar::new_spinner()
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    spinner.set_message(format!("{} runs from rest…", a.starts));
+    spinner.enable_steady_tick(std::time::Duration::from_millis(200));
+    let p = predict(&body, a.alpha, a.mass, &options)?;
+    spinner.finish_and_clear();
+    let mut outputs = output::OutputSet::new();
+    if let Some(f) = &a.figure {
+        let true_scale = path_panel(&p, &body, scale);
+        let mut magnified = true_scale.clone();
+        magnified.equal_aspect = false;
+        magnified.title = "the same paths, the vertical axis magnified".into();
+        let png = crate::plot::png_bytes(&[true_scale, magnified], 1, (1100, 1100))?;
+        outputs.write(f, &png, &inputs)?;
+    }
+    let report = report_of(&a, p, scale);
+    if a.json {
+        outln!("{}", serde_json::to_string_pretty(&report)?)?;
+    } else {
+        print_table(&report)?;
+    }
+    outputs.commit()?;
+    Ok(())
+}
+
+fn report_of(a: &PredictArgs, p: Prediction, scale: Option<f64>) -> PredictReport {
+    let orbits = p
+        .orbits
+        .into_iter()
+        .map(|orbit| OrbitReport {
+            advance_down_mm: scale.map(|s| s * orbit.advance_down),
+            advance_across_mm: scale.map(|s| s * orbit.advance_across),
+            orbit,
+        })
+        .collect();
+    PredictReport {
+        body: a.file.display().to_string(),
+        model: if a.mass > 0.0 { "inertial" } else { "viscous" },
+        scale_mm: scale,
+        prediction: PredictionHead {
+            dimension: p.dimension,
+            alpha: p.alpha,
+            mass_ratio: p.mass_ratio,
+            alpha_star: p.alpha_star,
+            starts: p.starts,
+            halts: p.halts,
+            undecided: p.undecided,
+        },
+        orbits,
+    }
+}
+
+fn print_table(r: &PredictReport) -> Result<()> {
+    let h = &r.prediction;
+    outln!(
+        "{}: {}D, {} model, α = {} rad (sin α = {:.4}; α* = {:.4}){}",
+        r.body,
+        h.dimension,
+        r.model,
+        h.alpha,
+        h.alpha.sin(),
+        h.alpha_star,
+        if h.mass_ratio > 0.0 {
+            format!(", m/m0 = {}", h.mass_ratio)
+        } else {
+            String::new()
+        }
+    )?;
+    outln!(
+        "  {} starts from rest: {:.1} % settle on the motions below, {:.1} % halt, {:.1} % undecided",
+        h.starts,
+        100.0 * r.orbits.iter().map(|o| o.orbit.fraction).sum::<f64>(),
+        100.0 * h.halts,
+        100.0 * h.undecided
+    )?;
+    if r.orbits.is_empty() {
+        outln!("  no periodic motion: the body comes to rest")?;
+        return Ok(());
+    }
+    let unit = if r.scale_mm.is_some() {
+        "mm"
+    } else {
+        "⟨r⟩"
+    };
+    outln!(
+        "  {:<6} {:>9} {:>9} {:>12} {:>12} {:>12} {:>10} {:>8}",
+        "orbit",
+        "fraction",
+        "repeat",
+        "period (t0)",
+        format!("down ({unit})"),
+        format!("across ({unit})"),
+        "speed",
+        "|μ| max"
+    )?;
+    for (i, o) in r.orbits.iter().enumerate() {
+        let k = &o.orbit;
+        let (down, across) = match (o.advance_down_mm, o.advance_across_mm) {
+            (Some(d), Some(c)) => (d, c),
+            _ => (k.advance_down, k.advance_across),
+        };
+        outln!(
+            "  {:<6} {:>8.1}% {:>9} {:>12.4} {:>12.4} {:>12.4} {:>10.5} {:>8}",
+            i + 1,
+            100.0 * k.fraction,
+            if k.repeat == 2 { "2 doubled" } else { "1" },
+            k.period,
+            down,
+            across,
+            k.speed,
+            k.max_modulus
+                .map_or_else(|| "–".to_string(), |m| format!("{m:.4}"))
+        )?;
+    }
+    outln!(
+        "  per repeat; speed in ⟨r⟩/t0; {}",
+        if r.orbits.iter().all(|o| o.orbit.stable) {
+            "every motion listed is stable"
+        } else {
+            "a motion with |μ| max ≥ 1 is not stable"
+        }
+    )?;
+    Ok(())
+}
+
+/// Each orbit's centre path, in mm when the body has a scale.
+fn path_panel(p: &Prediction, body: &Body, scale: Option<f64>) -> Panel {
+    let (k, unit) = scale.map_or((1.0, "⟨r⟩"), |s| (s, "mm"));
+    let series = p
+        .orbits
+        .iter()
+        .enumerate()
+        .map(|(i, o)| Series {
+            label: format!(
+                "orbit {}: T = {:.2} t0, {:.1} % of starts{}",
+                i + 1,
+                o.period,
+                100.0 * o.fraction,
+                if o.repeat == 2 { ", period 2" } else { "" }
+            ),
+            points: o.path.iter().map(|c| (k * c[0], k * c[1])).collect(),
+            color: PALETTE[i % PALETTE.len()],
+            style: Style::Line,
+        })
+        .collect();
+    let sphere = matches!(body, Body::Sphere(_));
+    Panel {
+        title: format!(
+            "centre path over three periods, to scale, α = {:.4} rad{}",
+            p.alpha,
+            if p.mass_ratio > 0.0 {
+                format!(", m/m0 = {}", p.mass_ratio)
+            } else {
+                String::new()
+            }
+        ),
+        x_label: format!("down the ramp ({unit})"),
+        y_label: if sphere {
+            format!("across the ramp ({unit})")
+        } else {
+            format!("height of the centre ({unit})")
+        },
+        log_x: false,
+        log_y: false,
+        series,
+        legend: SeriesLabelPosition::UpperLeft,
+        equal_aspect: sphere,
+    }
+}

@@ -1,0 +1,694 @@
+//! `rollphase track`: a tracked video of a rolling body read as a measurement, and compared with
+//! the model's prediction for the same body.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use serde::Serialize;
+
+use crate::analysis::prediction::{PredictOptions, PredictedOrbit, predict};
+use crate::analysis::tracking::{CleanTrack, Folded, PeriodFit, fold, measure};
+use crate::geometry::ShapeFile;
+use crate::output::{self, Inputs, OutputSet};
+use crate::plot::{Panel, Series, SeriesLabelPosition, Style};
+
+/// Read a tracked run: its period, advance per period and folded track, and the model's.
+///
+/// FILE is a CSV with one row per video frame: a frame number and the body's centre in two
+/// coordinates of the ramp's plane (--frame-column, --down-column, --across-column; the
+/// defaults read the paper authors' files, whose rectified `yn` runs down the ramp and `xn`
+/// across it). --scale SX,SY gives cm per unit of the across and down columns, --fps the frame
+/// rate. The period is found automatically, with its uncertainty from the spread of the whole
+/// cycles' own periods; where no period can be found with confidence the command says so and
+/// exits with an error rather than guess. The release and the end of the ramp (where the speed
+/// is not steady), gaps of up to 10 frames, tracker jumps and missing values are handled and
+/// each is reported.
+///
+/// Writes to --out: data.csv (every centre and marker point with its period and local
+/// coordinates), figure.png (the track folded into local coordinates, as the paper's Fig. 5c,
+/// markers coloured by period in two alternating colours as Fig. 5e), summary.json (period_s,
+/// advance_down_cm, advance_across_cm, speed, …). With --body and --alpha: the time unit t0
+/// fitted from the period, m/m0 estimated from the speed (SI §2H: v²/(g⟨r⟩ sin α)), and the
+/// predicted orbit's advance and path against the measured ones. For example:
+///   rollphase track sphere-track-viscous.csv --markers sphere-markers-viscous.csv \
+///       --fps 30 --scale 0.0404,0.0361 --body printed-sphere.json --alpha 0.2014 --out run
+#[derive(Debug, Args)]
+#[command(verbatim_doc_comment)]
+pub struct TrackArgs {
+    /// The centre's track (CSV with a header row).
+    pub file: PathBuf,
+    /// Frames per second of the video.
+    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
+    pub fps: f64,
+    /// cm per unit of the across and of the down column, as SX,SY.
+    #[arg(long, default_value = "0.0404,0.0361", allow_negative_numbers = true)]
+    pub scale: String,
+    /// Column of the frame number.
+    #[arg(long, default_value = "frame")]
+    pub frame_column: String,
+    /// Column of the position across the ramp (scaled by SX).
+    #[arg(long, default_value = "xn")]
+    pub across_column: String,
+    /// Column of the position down the ramp (scaled by SY).
+    #[arg(long, default_value = "yn")]
+    pub down_column: String,
+    /// Markers drawn on the body (CSV, the same column names), folded with the centre.
+    #[arg(long, value_name = "FILE")]
+    pub markers: Option<PathBuf>,
+    /// Output folder for data.csv, figure.png and summary.json.
+    #[arg(long, default_value = "track")]
+    pub out: PathBuf,
+    /// The body's shape file (with scale_mm, as `shape --from-mesh` writes), to compare with
+    /// the model.
+    #[arg(long, requires = "alpha")]
+    pub body: Option<PathBuf>,
+    /// The ramp's angle α (rad), with --body.
+    #[arg(long, requires = "body", allow_negative_numbers = true)]
+    pub alpha: Option<f64>,
+    /// m/m0 for the prediction [default: estimated from the speed; below 0.1 the viscous model].
+    #[arg(long, requires = "body", allow_negative_numbers = true)]
+    pub mass: Option<f64>,
+}
+
+const FILES: [&str; 3] = ["data.csv", "figure.png", "summary.json"];
+/// Most rows read from a track file (a video of a day at 1000 frames/s is 8.6e7).
+const MAX_ROWS: usize = 10_000_000;
+/// Standard gravity (m/s²), for m/m0 from the speed.
+const G: f64 = 9.81;
+
+/// The model's side of the comparison.
+#[derive(Debug, Serialize)]
+pub struct Comparison {
+    /// The shape file.
+    pub body: String,
+    /// α (rad).
+    pub alpha: f64,
+    /// ⟨r⟩ of the body (mm).
+    pub scale_mm: f64,
+    /// m/m0 from the measured speed, v²/(g⟨r⟩ sin α) (SI §2H).
+    pub mass_ratio_estimate: f64,
+    /// m/m0 the prediction used (0: viscous).
+    pub mass_ratio_used: f64,
+    /// The predicted orbit closest in advance down the ramp: its period (t0).
+    pub predicted_period_t0: f64,
+    /// The time unit t0 = γ/(F⟨r⟩) that makes the predicted period the measured one (s).
+    pub t0_s: f64,
+    /// Its advance down the ramp per period (cm), to compare with `advance_down_cm`.
+    pub predicted_advance_down_cm: f64,
+    /// Its advance across the ramp per period (cm), to compare with `advance_across_cm`.
+    pub predicted_advance_across_cm: f64,
+    /// (measured − predicted)/predicted advance down the ramp.
+    pub advance_down_difference: f64,
+    /// Fraction of starts that settle on this orbit, of the orbits found.
+    pub orbit_fraction: f64,
+    /// All the predicted orbits' advances down the ramp (cm) and periods (t0).
+    pub orbits: Vec<[f64; 2]>,
+    /// Whether the predicted path is drawn mirrored across the ramp (a body placed the other
+    /// way round).
+    pub mirrored_across: bool,
+}
+
+/// What `track` writes as summary.json.
+#[derive(Debug, Serialize)]
+pub struct TrackSummary {
+    /// The track file.
+    pub file: String,
+    /// Frames per second.
+    pub fps: f64,
+    /// Frames read, and the frames used (the steady stretch).
+    pub frames_read: usize,
+    /// First and last frame used.
+    pub frames_used: [f64; 2],
+    /// The period (s).
+    pub period_s: f64,
+    /// Its standard error (s).
+    pub period_error_s: f64,
+    /// The spread of the cycles' own periods (s).
+    pub period_spread_s: f64,
+    /// The period in frames.
+    pub period_frames: f64,
+    /// Whole periods seen.
+    pub periods_seen: usize,
+    /// Unexplained fraction of the track's variation at the period (0 perfect, 1 none).
+    pub mismatch: f64,
+    /// Advance per period down the ramp (cm).
+    pub advance_down_cm: f64,
+    /// Advance per period across the ramp (cm).
+    pub advance_across_cm: f64,
+    /// Mean speed down the ramp (cm/s).
+    pub speed_cm_s: f64,
+    /// Each whole cycle's own period (s).
+    pub cycle_periods_s: Vec<f64>,
+    /// Markers read (0 without --markers).
+    pub markers: usize,
+    /// What was cleaned or left out.
+    pub warnings: Vec<String>,
+    /// The model's prediction for the body, with --body.
+    pub model: Option<Comparison>,
+}
+
+/// Runs `track`.
+pub fn run(a: TrackArgs) -> Result<()> {
+    if !(a.fps.is_finite() && a.fps > 0.0 && a.fps <= 1e6) {
+        bail!(
+            "--fps {} is not allowed (needs 0 < fps ≤ 1e6 frames per second)",
+            a.fps
+        );
+    }
+    let scale = super::parse_list(&a.scale, 2, "--scale", "SX,SY (cm per unit across, down)")?;
+    if scale.iter().any(|s| *s == 0.0 || s.abs() > 1e6) {
+        bail!(
+            "--scale {} is not allowed (needs two non-zero cm-per-unit factors of at most 1e6)",
+            a.scale
+        );
+    }
+    let (sx, sy) = (scale[0], scale[1]);
+    let body = match (&a.body, a.alpha) {
+        (Some(path), Some(alpha)) => {
+            let (body, scale_mm) = ShapeFile::load_scaled(path)?;
+            body.check_convex()?;
+            crate::dynamics::Ramp::new(alpha, a.mass.unwrap_or(0.0))?;
+            let Some(scale_mm) = scale_mm else {
+                bail!(
+                    "{} has no scale_mm: a comparison in cm needs the body's size (fit it from \
+                     its mesh with `rollphase shape --from-mesh`, or add \"scale_mm\" to the file)",
+                    path.display()
+                );
+            };
+            Some((path.clone(), body, scale_mm, alpha))
+        }
+        _ => None,
+    };
+    let mut inputs = Inputs::of([&a.file]);
+    if let Some(m) = &a.markers {
+        inputs.add(m);
+    }
+    if let Some(b) = &a.body {
+        inputs.add(b);
+    }
+    output::check_folder(&a.out, &FILES, &inputs)?;
+    let columns = [&a.frame_column, &a.across_column, &a.down_column];
+    let rows = read_columns(&a.file, &columns)?;
+    let frames_read = rows.len();
+    let frames: Vec<f64> = rows.iter().map(|r| r[0]).collect();
+    let down: Vec<f64> = rows.iter().map(|r| r[2] * sy).collect();
+    let across: Vec<f64> = rows.iter().map(|r| r[1] * sx).collect();
+    let (track, fit) = measure(&frames, &down, &across, (0.5 * a.fps).max(4.0))
+        .with_context(|| format!("track {}", a.file.display()))?;
+    for w in &track.warnings {
+        eprintln!("warning: {w}");
+    }
+    let markers: Vec<(f64, f64, f64)> = match &a.markers {
+        Some(path) => read_columns(path, &columns)?
+            .into_iter()
+            .filter(|r| r.iter().all(|v| v.is_finite()))
+            .map(|r| (r[0], r[2] * sy, r[1] * sx))
+            .collect(),
+        None => Vec::new(),
+    };
+    let start = track.frames[0];
+    let origin = (track.down[0], track.across[0]);
+    let advance = (fit.advance_down, fit.advance_across);
+    let centre_points: Vec<(f64, f64, f64)> = (0..track.frames.len())
+        .map(|i| (track.frames[i], track.down[i], track.across[i]))
+        .collect();
+    let folded_centre = fold(&centre_points, start, origin, fit.period_frames, advance);
+    let end = track.frames[track.frames.len() - 1];
+    let in_range: Vec<(f64, f64, f64)> = markers
+        .iter()
+        .copied()
+        .filter(|m| m.0 >= start && m.0 <= end)
+        .collect();
+    let folded_markers = fold(&in_range, start, origin, fit.period_frames, advance);
+    let period_s = fit.period_frames / a.fps;
+    let speed = fit.advance_down / period_s;
+    let mut summary = TrackSummary {
+        file: a.file.display().to_string(),
+        fps: a.fps,
+        frames_read,
+        frames_used: [start, end],
+        period_s,
+        period_error_s: fit.period_error_frames / a.fps,
+        period_spread_s: fit.period_spread_frames / a.fps,
+        period_frames: fit.period_frames,
+        periods_seen: fit.periods_seen,
+        mismatch: fit.mismatch,
+        advance_down_cm: fit.advance_down,
+        advance_across_cm: fit.advance_across,
+        speed_cm_s: speed,
+        cycle_periods_s: fit.cycle_periods.iter().map(|p| p / a.fps).collect(),
+        markers: in_range.len(),
+        warnings: track.warnings.clone(),
+        model: None,
+    };
+    let mut predicted_path = None;
+    if let Some((path, body, scale_mm, alpha)) = &body {
+        let (comparison, drawn) = compare(
+            path,
+            body,
+            *scale_mm,
+            *alpha,
+            a.mass,
+            &fit,
+            &folded_centre,
+            a.fps,
+        )?;
+        summary.model = Some(comparison);
+        predicted_path = Some(drawn);
+    }
+    let figure = figure(
+        &fit,
+        &folded_centre,
+        &folded_markers,
+        &a,
+        predicted_path.as_ref(),
+    );
+    let png = crate::plot::png_bytes(&figure, 2, (1400, 1000))?;
+    let csv = data_csv(&folded_centre, &track, &folded_markers, &in_range, a.fps)?;
+    output::create_folder(&a.out)?;
+    let mut set = OutputSet::new();
+    set.write(&a.out.join("data.csv"), csv.as_bytes(), &inputs)?;
+    set.write(&a.out.join("figure.png"), &png, &inputs)?;
+    set.write(
+        &a.out.join("summary.json"),
+        (serde_json::to_string_pretty(&summary)? + "\n").as_bytes(),
+        &inputs,
+    )?;
+    set.commit()?;
+    print_summary(&a, &summary)
+}
+
+/// The measurement (and the model's) for people.
+fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
+    outln!(
+        "{}: period {:.3} ± {:.3} s ({:.2} frames; {} whole periods seen, cycles spread {:.3} s)",
+        a.file.display(),
+        summary.period_s,
+        summary.period_error_s,
+        summary.period_frames,
+        summary.periods_seen,
+        summary.period_spread_s
+    )?;
+    outln!(
+        "  per period: {:.3} cm down the ramp, {:.3} cm across; speed {:.3} cm/s",
+        summary.advance_down_cm,
+        summary.advance_across_cm,
+        summary.speed_cm_s
+    )?;
+    if let Some(m) = &summary.model {
+        outln!(
+            "  model ({}, m/m0 {} — estimated {:.3} from the speed): {:.3} cm down, {:.3} cm \
+             across per period ({:+.1} % measured against predicted); t0 = {:.4} s",
+            m.body,
+            if m.mass_ratio_used == 0.0 {
+                "0, viscous".to_string()
+            } else {
+                format!("{:.3}", m.mass_ratio_used)
+            },
+            m.mass_ratio_estimate,
+            m.predicted_advance_down_cm,
+            m.predicted_advance_across_cm,
+            100.0 * m.advance_down_difference,
+            m.t0_s
+        )?;
+    }
+    outln!(
+        "  wrote {}/{{data.csv, figure.png, summary.json}}",
+        a.out.display()
+    )?;
+    Ok(())
+}
+
+/// The predicted orbit drawn over the folded track: the orbit, cm per ⟨r⟩, frames per t0, the
+/// phase (path sample) it starts at, and whether it is mirrored across the ramp.
+type Drawn = (PredictedOrbit, f64, f64, usize, bool);
+
+/// The model's prediction for `body` against the measured `fit`: m/m0 from the speed, the
+/// predicted orbit nearest in advance down the ramp, t0 from the period, and the path aligned
+/// with the folded track.
+#[allow(clippy::too_many_arguments)]
+fn compare(
+    path: &Path,
+    body: &crate::geometry::Body,
+    scale_mm: f64,
+    alpha: f64,
+    mass: Option<f64>,
+    fit: &PeriodFit,
+    folded: &[Folded],
+    fps: f64,
+) -> Result<(Comparison, Drawn)> {
+    let period_s = fit.period_frames / fps;
+    let speed = fit.advance_down / period_s;
+    let estimate = (speed / 100.0).powi(2) / (G * scale_mm / 1000.0 * alpha.sin());
+    let used = mass.unwrap_or(if estimate < 0.1 { 0.0 } else { estimate });
+    let p = predict(body, alpha, used, &PredictOptions::default())?;
+    let cm = scale_mm / 10.0;
+    let Some(orbit) = p.orbits.iter().min_by(|x, y| {
+        (x.advance_down * cm - fit.advance_down)
+            .abs()
+            .total_cmp(&(y.advance_down * cm - fit.advance_down).abs())
+    }) else {
+        bail!(
+            "the model predicts no periodic motion for {} at α = {alpha} (m/m0 = {used}): it \
+             comes to rest, while the track rolls",
+            path.display()
+        );
+    };
+    let t0 = period_s / orbit.period;
+    let (phase, mirrored) = align(folded, orbit, cm, t0 * fps);
+    let comparison = Comparison {
+        body: path.display().to_string(),
+        alpha,
+        scale_mm,
+        mass_ratio_estimate: estimate,
+        mass_ratio_used: used,
+        predicted_period_t0: orbit.period,
+        t0_s: t0,
+        predicted_advance_down_cm: orbit.advance_down * cm,
+        predicted_advance_across_cm: orbit.advance_across * cm,
+        advance_down_difference: (fit.advance_down - orbit.advance_down * cm)
+            / (orbit.advance_down * cm),
+        orbit_fraction: orbit.fraction,
+        orbits: p
+            .orbits
+            .iter()
+            .map(|o| [o.advance_down * cm, o.period])
+            .collect(),
+        mirrored_across: mirrored,
+    };
+    Ok((comparison, (orbit.clone(), cm, t0 * fps, phase, mirrored)))
+}
+
+/// The rows of `path`'s named columns as numbers; an empty cell or "nan" is NaN (the cleaning
+/// counts it), any other text an error naming the row and column.
+fn read_columns(path: &Path, names: &[&String; 3]) -> Result<Vec<[f64; 3]>> {
+    let meta =
+        std::fs::metadata(path).with_context(|| format!("cannot read {}", path.display()))?;
+    if !meta.is_file() {
+        bail!(
+            "{} is not a regular file (a device, FIFO or folder): give the track's CSV file",
+            path.display()
+        );
+    }
+    let mut reader = csv::ReaderBuilder::new()
+        .flexible(false)
+        .from_path(path)
+        .with_context(|| format!("cannot read {}", path.display()))?;
+    let header = reader
+        .headers()
+        .with_context(|| format!("{} has no header row", path.display()))?
+        .clone();
+    let index: Vec<usize> = names
+        .iter()
+        .map(|n| {
+            header
+                .iter()
+                .position(|h| h.trim() == n.as_str())
+                .with_context(|| {
+                    format!(
+                        "{} has no column {n:?} (its columns: {}); name the columns with \
+                     --frame-column, --across-column, --down-column",
+                        path.display(),
+                        header
+                            .iter()
+                            .map(|h| format!("{h:?}"))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )
+                })
+        })
+        .collect::<Result<_>>()?;
+    let mut rows = Vec::new();
+    for (r, record) in reader.records().enumerate() {
+        let record = record.with_context(|| format!("{}: row {}", path.display(), r + 1))?;
+        if rows.len() >= MAX_ROWS {
+            bail!("{} has more than {MAX_ROWS} rows", path.display());
+        }
+        let mut row = [0.0; 3];
+        for (k, &i) in index.iter().enumerate() {
+            let cell = record.get(i).unwrap_or("").trim();
+            row[k] = if cell.is_empty() || cell.eq_ignore_ascii_case("nan") {
+                f64::NAN
+            } else {
+                cell.parse().with_context(|| {
+                    format!(
+                        "{}: row {}, column {:?}: {cell:?} is not a number",
+                        path.display(),
+                        r + 1,
+                        names[k]
+                    )
+                })?
+            };
+        }
+        rows.push(row);
+    }
+    Ok(rows)
+}
+
+/// The phase (in predicted-path samples) at which the predicted orbit's down-ramp path best
+/// matches the folded centre track, and whether across the ramp it matches better mirrored.
+fn align(folded: &[Folded], orbit: &PredictedOrbit, cm: f64, frames_per_t0: f64) -> (usize, bool) {
+    let per = (orbit.path.len() - 1) / 3;
+    let frames_per_sample = orbit.period * frames_per_t0 / per as f64;
+    let predicted = |phase: usize, t_local: f64, k: usize| {
+        let x = phase as f64 + t_local / frames_per_sample;
+        let i = (x.floor() as usize).min(orbit.path.len() - 2);
+        let s = x - i as f64;
+        let p = |j: usize| orbit.path[j][k] - orbit.path[phase][k];
+        cm * (p(i) + s * (p(i + 1) - p(i)))
+    };
+    let cost = |phase: usize, k: usize, sign: f64| {
+        // Least squares with a free offset.
+        let r: Vec<f64> = folded
+            .iter()
+            .map(|f| {
+                let m = if k == 0 { f.down_local } else { f.across_local };
+                m - sign * predicted(phase, f.t_local, k)
+            })
+            .collect();
+        let mean = r.iter().sum::<f64>() / r.len() as f64;
+        r.iter().map(|v| (v - mean).powi(2)).sum::<f64>()
+    };
+    let phase = (0..per)
+        .min_by(|&a, &b| cost(a, 0, 1.0).total_cmp(&cost(b, 0, 1.0)))
+        .unwrap_or(0);
+    let mirrored = cost(phase, 1, -1.0) < cost(phase, 1, 1.0);
+    (phase, mirrored)
+}
+
+/// Long on purpose: four panels (the track and its cycles, the two folded coordinates with the
+/// markers and the prediction, the period's evidence), each a handful of series.
+fn figure(
+    fit: &PeriodFit,
+    centre: &[Folded],
+    markers: &[Folded],
+    a: &TrackArgs,
+    predicted: Option<&Drawn>,
+) -> Vec<Panel> {
+    let fps = a.fps;
+    let grey = (150, 150, 150);
+    let (blue, red) = ((31, 119, 180), (214, 39, 40));
+    let periods = centre.iter().map(|f| f.period).max().unwrap_or(0) + 1;
+    let per_period = |k: usize, coord: fn(&Folded) -> f64| Series {
+        label: if k == 0 {
+            "centre, each period".into()
+        } else {
+            String::new()
+        },
+        points: centre
+            .iter()
+            .filter(|f| f.period == k)
+            .map(|f| (f.t_local / fps, coord(f)))
+            .collect(),
+        color: grey,
+        style: Style::Line,
+    };
+    let marker_series = |even: bool, coord: fn(&Folded) -> f64| Series {
+        label: if even {
+            "markers, even periods".into()
+        } else {
+            "markers, odd periods".into()
+        },
+        points: markers
+            .iter()
+            .filter(|f| (f.period % 2 == 0) == even)
+            .map(|f| (f.t_local / fps, coord(f)))
+            .collect(),
+        color: if even { blue } else { red },
+        style: Style::Markers,
+    };
+    let model_series = |k: usize| -> Option<Series> {
+        let (orbit, cm, frames_per_t0, phase, mirrored) = predicted?;
+        let per = (orbit.path.len() - 1) / 3;
+        let sign = if k == 1 && *mirrored { -1.0 } else { 1.0 };
+        let dt = orbit.period * frames_per_t0 / per as f64 / fps;
+        let points = (0..=per + per / 10)
+            .filter(|j| phase + j < orbit.path.len())
+            .map(|j| {
+                (
+                    j as f64 * dt,
+                    sign * cm * (orbit.path[phase + j][k] - orbit.path[*phase][k]),
+                )
+            })
+            .collect();
+        Some(Series {
+            label: "model (offset free)".into(),
+            points,
+            color: (0, 0, 0),
+            style: Style::Line,
+        })
+    };
+    let folded_panel = |title: &str, y: &str, coord: fn(&Folded) -> f64, k: usize| {
+        let mut series: Vec<Series> = (0..periods).map(|p| per_period(p, coord)).collect();
+        if !markers.is_empty() {
+            series.push(marker_series(true, coord));
+            series.push(marker_series(false, coord));
+        }
+        series.extend(model_series(k));
+        Panel {
+            title: title.into(),
+            x_label: "t local (s)".into(),
+            y_label: y.into(),
+            log_x: false,
+            log_y: false,
+            series,
+            legend: SeriesLabelPosition::UpperLeft,
+            equal_aspect: false,
+        }
+    };
+    let starts: Vec<(f64, f64)> = centre
+        .windows(2)
+        .filter(|w| w[1].period != w[0].period)
+        .map(|w| {
+            (
+                w[1].t_local / fps + (w[1].period as f64 * fit.period_frames) / fps,
+                w[1].down_local + w[1].period as f64 * fit.advance_down,
+            )
+        })
+        .collect();
+    let global = Panel {
+        title: format!(
+            "the track: {} periods of {:.3} s",
+            fit.periods_seen,
+            fit.period_frames / fps
+        ),
+        x_label: "t from the first frame used (s)".into(),
+        y_label: "down the ramp (cm)".into(),
+        log_x: false,
+        log_y: false,
+        series: vec![
+            Series {
+                label: "centre".into(),
+                points: centre
+                    .iter()
+                    .map(|f| {
+                        (
+                            (f.t_local + f.period as f64 * fit.period_frames) / fps,
+                            f.down_local + f.period as f64 * fit.advance_down,
+                        )
+                    })
+                    .collect(),
+                color: grey,
+                style: Style::Line,
+            },
+            Series {
+                label: "start of each period".into(),
+                points: starts,
+                color: red,
+                style: Style::Markers,
+            },
+        ],
+        legend: SeriesLabelPosition::UpperLeft,
+        equal_aspect: false,
+    };
+    let evidence = Panel {
+        title: "how well the track repeats after a shift".into(),
+        x_label: "shift (s)".into(),
+        y_label: "unexplained fraction".into(),
+        log_x: false,
+        log_y: false,
+        series: vec![
+            Series {
+                label: "mismatch".into(),
+                points: fit
+                    .mismatch_curve
+                    .iter()
+                    .map(|c| (c[0] / fps, c[1]))
+                    .collect(),
+                color: blue,
+                style: Style::Line,
+            },
+            Series {
+                label: format!("period {:.3} s", fit.period_frames / fps),
+                points: vec![(fit.period_frames / fps, fit.mismatch)],
+                color: red,
+                style: Style::Markers,
+            },
+        ],
+        legend: SeriesLabelPosition::UpperRight,
+        equal_aspect: false,
+    };
+    vec![
+        global,
+        evidence,
+        folded_panel(
+            "folded: down the ramp (Fig. 5c)",
+            "x local, down the ramp (cm)",
+            |f| f.down_local,
+            0,
+        ),
+        folded_panel(
+            "folded: across the ramp",
+            "y local, across the ramp (cm)",
+            |f| f.across_local,
+            1,
+        ),
+    ]
+}
+
+/// data.csv: every centre and marker point with its period and local coordinates.
+fn data_csv(
+    centre: &[Folded],
+    track: &CleanTrack,
+    markers: &[Folded],
+    marker_points: &[(f64, f64, f64)],
+    fps: f64,
+) -> Result<String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record([
+        "kind",
+        "frame",
+        "t_s",
+        "down_cm",
+        "across_cm",
+        "period",
+        "t_local_s",
+        "down_local_cm",
+        "across_local_cm",
+    ])?;
+    let mut row = |kind: &str, (f, d, a): (f64, f64, f64), x: &Folded| {
+        w.write_record([
+            kind.to_string(),
+            f.to_string(),
+            (f / fps).to_string(),
+            d.to_string(),
+            a.to_string(),
+            x.period.to_string(),
+            (x.t_local / fps).to_string(),
+            x.down_local.to_string(),
+            x.across_local.to_string(),
+        ])
+    };
+    for (i, x) in centre.iter().enumerate() {
+        row(
+            "centre",
+            (track.frames[i], track.down[i], track.across[i]),
+            x,
+        )?;
+    }
+    for (m, x) in marker_points.iter().zip(markers) {
+        row("marker", *m, x)?;
+    }
+    Ok(String::from_utf8(w.into_inner()?)?)
+}
