@@ -551,7 +551,11 @@ fn predict_disk(
     }
     // Every rolling start is on the same cycle (the disk's phase space is a cylinder with one
     // rolling orbit at most at this α; shown by the periods agreeing).
-    let period = rolling.iter().sum::<f64>() / rolling.len() as f64;
+    let period = if ramp.is_viscous() {
+        rolling[0]
+    } else {
+        rolling.iter().sum::<f64>() / rolling.len() as f64
+    };
     let perimeter = disk_perimeter(disk);
     let per = options.samples_per_period;
     let n = options.periods_drawn * per;

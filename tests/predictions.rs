@@ -1,0 +1,200 @@
+//! `rollphase predict`: the issue's numbers for the printed sphere's generator body (two stable
+//! viscous orbits of periods 37.98 and 37.11 t0, advancing 6.19 and 6.18 ⟨r⟩), a disk's one
+//! rolling cycle against `period` and its exact perimeter, the doubled orbits at m/m0 = 6, a body
+//! below α* that comes to rest, and bad input refused before any run.
+
+#[path = "common/cli.rs"]
+mod cli;
+
+use std::path::{Path, PathBuf};
+
+use cli::{rollphase, rollphase_ok};
+use serde_json::Value;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rp-predict-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn predict(body: &Path, extra: &[&str]) -> Value {
+    let mut args = vec![
+        "predict".to_string(),
+        body.display().to_string(),
+        "--json".into(),
+    ];
+    args.extend(extra.iter().map(|s| s.to_string()));
+    serde_json::from_slice(&rollphase_ok(&args)).unwrap()
+}
+
+fn paper_body(dir: &Path, dim: &str, seed: &str, sigma: &str, modes: &str) -> PathBuf {
+    let path = dir.join(format!("body-{dim}-{seed}.json"));
+    rollphase_ok([
+        "shape",
+        "--dim",
+        dim,
+        "--paper-seed",
+        seed,
+        "--sigma",
+        sigma,
+        "--modes",
+        modes,
+        "-o",
+        path.to_str().unwrap(),
+    ]);
+    path
+}
+
+#[test]
+fn the_printed_spheres_generator_body_has_the_issues_two_orbits() {
+    let dir = scratch("issue");
+    let body = paper_body(&dir, "3", "6", "0.25", "4");
+    let alpha = 0.2f64.asin().to_string();
+    let p = predict(&body, &["--alpha", &alpha]);
+    let orbits = p["orbits"].as_array().unwrap();
+    assert_eq!(orbits.len(), 2, "{p}");
+    let mut periods: Vec<(f64, f64)> = orbits
+        .iter()
+        .map(|o| {
+            (
+                o["period"].as_f64().unwrap(),
+                o["advance_down"].as_f64().unwrap(),
+            )
+        })
+        .collect();
+    periods.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // The issue's hand measurement: 37.11 and 37.98 t0, 6.18 and 6.19 ⟨r⟩ per period.
+    assert!((periods[0].0 - 37.11).abs() < 0.01 && (periods[1].0 - 37.98).abs() < 0.01);
+    assert!((periods[0].1 - 6.18).abs() < 0.01 && (periods[1].1 - 6.19).abs() < 0.01);
+    for o in orbits {
+        assert_eq!(o["stable"], true);
+        assert_eq!(o["repeat"], 1);
+        assert!(o["max_modulus"].as_f64().unwrap() < 1.0);
+        assert_eq!(o["multipliers"].as_array().unwrap().len(), 2);
+        assert!(o["advance_across"].as_f64().is_some());
+        assert_eq!(o["advance_down_mm"], Value::Null, "no scale, no mm");
+    }
+    let total: f64 = orbits.iter().map(|o| o["fraction"].as_f64().unwrap()).sum();
+    assert!(
+        (total + p["halts"].as_f64().unwrap() + p["undecided"].as_f64().unwrap() - 1.0).abs()
+            < 1e-12
+    );
+    // The same in mm once the body has a scale, and a figure.
+    let text = std::fs::read_to_string(&body).unwrap();
+    let scaled = dir.join("scaled.json");
+    std::fs::write(
+        &scaled,
+        text.trim_end().trim_end_matches('}').to_string() + ", \"scale_mm\": 10.0}",
+    )
+    .unwrap();
+    let figure = dir.join("paths.png");
+    let p = predict(
+        &scaled,
+        &["--alpha", &alpha, "--figure", figure.to_str().unwrap()],
+    );
+    let o = &p["orbits"][0];
+    assert!(
+        (o["advance_down_mm"].as_f64().unwrap() - 10.0 * o["advance_down"].as_f64().unwrap()).abs()
+            < 1e-9
+    );
+    assert_eq!(&std::fs::read(&figure).unwrap()[1..4], b"PNG");
+    // The table for people names the unit.
+    let table = String::from_utf8(rollphase_ok([
+        "predict",
+        scaled.to_str().unwrap(),
+        "--alpha",
+        &alpha,
+    ]))
+    .unwrap();
+    assert!(
+        table.contains("down (mm)") && table.contains("stable"),
+        "{table}"
+    );
+}
+
+#[test]
+fn a_disk_advances_its_perimeter_per_period_of_the_period_command() {
+    let dir = scratch("disk");
+    let body = paper_body(&dir, "2", "84", "0.12", "5");
+    let p = predict(&body, &["--alpha", "0.1"]);
+    let o = &p["orbits"][0];
+    let period: Value = serde_json::from_slice(&rollphase_ok([
+        "period",
+        body.to_str().unwrap(),
+        "--alpha",
+        "0.1",
+        "--json",
+    ]))
+    .unwrap();
+    assert_eq!(o["period"], period["period"]);
+    assert_eq!(o["fraction"], 1.0);
+    // The perimeter of r(θ) is more than 2π⟨r⟩ for any non-circular body.
+    let advance = o["advance_down"].as_f64().unwrap();
+    assert!(advance > std::f64::consts::TAU && advance < 1.05 * std::f64::consts::TAU);
+    // Below α* it comes to rest from every start.
+    let p = predict(&body, &["--alpha", "0.01"]);
+    assert_eq!(p["orbits"].as_array().unwrap().len(), 0);
+    assert_eq!(p["halts"], 1.0);
+    let table = String::from_utf8(rollphase_ok([
+        "predict",
+        body.to_str().unwrap(),
+        "--alpha",
+        "0.01",
+    ]))
+    .unwrap();
+    assert!(table.contains("comes to rest"), "{table}");
+}
+
+#[test]
+fn heavy_bodies_double_their_period() {
+    let sphere = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/shapes/paper-sphere.json");
+    let p = predict(
+        &sphere,
+        &["--alpha", "0.15", "--mass", "6", "--starts", "8"],
+    );
+    let orbits = p["orbits"].as_array().unwrap();
+    assert!(!orbits.is_empty());
+    // Fig. 4e: at m/m0 = 6 the runs settle on doubled orbits; per repeat they advance about
+    // twice a viscous period's 6.2 ⟨r⟩.
+    for o in orbits {
+        assert_eq!(o["repeat"], 2, "{o}");
+        assert_eq!(o["max_modulus"], Value::Null);
+        let down = o["advance_down"].as_f64().unwrap();
+        assert!(down > 11.0 && down < 14.0, "{down}");
+    }
+}
+
+#[test]
+fn bad_input_is_refused_before_any_run() {
+    let dir = scratch("bad");
+    let sphere = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/shapes/paper-sphere.json");
+    let s = sphere.to_str().unwrap();
+    for (args, needle) in [
+        (vec!["--alpha", "nan"], "alpha"),
+        (vec!["--alpha", "2"], "alpha"),
+        (vec!["--alpha", "0.15", "--mass", "-1"], "mass"),
+        (vec!["--alpha", "0.15", "--starts", "0"], "--starts"),
+        (vec!["--alpha", "0.15", "--starts", "100001"], "--starts"),
+        (vec!["--alpha", "0.15", "--t-cap", "1"], "--t-cap"),
+        (vec!["--alpha", "0.15", "--t-cap", "inf"], "--t-cap"),
+        (vec!["--alpha", "0.15", "--figure", s], "input"),
+    ] {
+        let mut all = vec!["predict", s];
+        all.extend(args.iter());
+        let out = rollphase(&all);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} accepted");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+    // A dented cylinder rolls only in `simulate`.
+    let dented = dir.join("dented.json");
+    std::fs::write(
+        &dented,
+        r#"{"kind": "disk", "modes": [{"l": 3, "a": 3.0, "phase": 0.0}]}"#,
+    )
+    .unwrap();
+    let out = rollphase(["predict", dented.to_str().unwrap(), "--alpha", "0.3"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("convex"));
+}
