@@ -829,3 +829,77 @@ fn a_click_on_the_ball_inset_says_where_to_click() {
     let (text, error) = bench.ui.notice().cloned().expect("a message");
     assert!(!error && text.contains("Poincaré sphere"), "{text}");
 }
+
+/// Runs UI frames until the notice says something other than that a fit is running.
+fn frames_until_fitted(
+    bench: &mut Workbench,
+    gpu: &GpuContext,
+    target: &OffscreenTarget,
+) -> (String, bool) {
+    let start = Instant::now();
+    loop {
+        let frame = bench.run_ui(offscreen_input(SIZE, now(), vec![]), SIZE);
+        bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+        let notice = bench.ui.notice().cloned().expect("a notice");
+        if !notice.0.starts_with("fitting a body") {
+            return notice;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "the fit never ended"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn a_dropped_mesh_is_fitted_and_rolled_and_a_bad_one_is_named() {
+    let dir = std::env::temp_dir().join(format!("rollphase-drop-mesh-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.0);
+    let sphere = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/data/printed-sphere.stl"
+    );
+
+    // A truncated STL: the running scene stays, and the notice names the file and what is wrong.
+    let bytes = std::fs::read(sphere).unwrap();
+    let cut = dir.join("cut.stl");
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    drop_file(&mut bench, &gpu, &target, &cut);
+    let (text, is_error) = frames_until_fitted(&mut bench, &gpu, &target);
+    assert!(is_error && text.contains("cut.stl"), "{text}");
+    let before = bench.sim.status().snapshot.t;
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > before);
+    assert_eq!(s.scene_id, 0, "the running scene was kept");
+    assert!(bench.ui.recent_files().is_empty());
+
+    // The printed sphere (its extension in capitals, as some exporters write it): fitted as
+    // `shape --from-mesh` fits it, rolled, and the notice gives the residual and the scale.
+    let printed = dir.join("printed.STL");
+    std::fs::copy(sphere, &printed).unwrap();
+    drop_file(&mut bench, &gpu, &target, &printed);
+    let (text, is_error) = frames_until_fitted(&mut bench, &gpu, &target);
+    assert!(!is_error, "{text}");
+    for needle in [
+        "printed.STL",
+        "degree L = 4",
+        "rms residual 0.054 %",
+        "⟨r⟩ = 9.999 mm",
+    ] {
+        assert!(text.contains(needle), "{needle:?} not in {text:?}");
+    }
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| {
+        s.scene_id == 1 && s.snapshot.t > 0.0
+    });
+    let fitted = rollphase::geometry::mesh_fit::fit_mesh(
+        &rollphase::geometry::mesh_read::MeshSource::open(&printed).unwrap(),
+        &Default::default(),
+        &|_, _, _| {},
+    )
+    .unwrap();
+    assert_eq!(s.snapshot.alpha_star, fitted.report.alpha_star);
+    assert!(bench.ui.recent_files()[0].ends_with("printed.STL"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -298,13 +298,13 @@ fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
     )?;
     if let Some(m) = &summary.model {
         outln!(
-            "  model ({}, m/m0 {} — estimated {:.3} from the speed): {:.3} cm down, {:.3} cm \
+            "  model ({}, {}; m/m0 estimated {:.3} from the speed): {:.3} cm down, {:.3} cm \
              across per period ({:+.1} % measured against predicted); t0 = {:.4} s",
             m.body,
             if m.mass_ratio_used == 0.0 {
-                "0, viscous".to_string()
+                "viscous".to_string()
             } else {
-                format!("{:.3}", m.mass_ratio_used)
+                format!("m/m0 = {:.3}", m.mass_ratio_used)
             },
             m.mass_ratio_estimate,
             m.predicted_advance_down_cm,

@@ -30,7 +30,10 @@ impl DialogPurpose {
     fn filter(self) -> (&'static str, &'static [&'static str]) {
         match self {
             DialogPurpose::OpenScene | DialogPurpose::SaveScene => ("rollphase scene", &["toml"]),
-            DialogPurpose::OpenShape | DialogPurpose::SaveShape => ("rollphase shape", &["json"]),
+            DialogPurpose::OpenShape => {
+                ("rollphase shape or a mesh", &["json", "stl", "obj", "ply"])
+            }
+            DialogPurpose::SaveShape => ("rollphase shape", &["json"]),
         }
     }
 

@@ -1,9 +1,14 @@
-//! The files panel: load and save scenes and shapes, write the trajectory CSV and screenshots,
-//! switch presets.
+//! The files panel: load and save scenes and shapes, fit a body to a dropped mesh, write the
+//! trajectory CSV and screenshots, switch presets.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::mpsc::{Receiver, TryRecvError};
 
-use crate::geometry::Body;
+use crate::geometry::mesh_fit::{FitOptions, FitReport, MeshFit, fit_mesh};
+use crate::geometry::mesh_read::MeshSource;
+use crate::geometry::{Body, ShapeFile};
 use crate::scene::{BodySpec, Scene, load_scene_file};
 use crate::sim::{SimCommand, SimStatus};
 
@@ -20,11 +25,12 @@ impl AppUi {
     ) {
         let hint = match self.dialogs.availability() {
             Ok(()) => "Open… and Save as… show the desktop's file dialog; or type a path, or drop \
-                       a .toml scene or .json shape on the window."
+                       a .toml scene, a .json shape or an .stl/.obj/.ply mesh on the window."
                 .to_string(),
-            Err(why) => {
-                format!("{why}: type a path, or drop a .toml scene or .json shape on the window.")
-            }
+            Err(why) => format!(
+                "{why}: type a path, or drop a .toml scene, a .json shape or an .stl/.obj/.ply \
+                 mesh on the window."
+            ),
         };
         ui.label(egui::RichText::new(hint).small().weak());
         // Each path gets the panel's whole width on a row of its own, its buttons on the row
@@ -121,11 +127,15 @@ impl AppUi {
         }
     }
 
-    /// Opens a scene (.toml) or shape (.json) file, as a drop on the window or the recent list
-    /// does; a bad file leaves the running scene as it is and says why in the notice, with the
-    /// command line's message.
+    /// Opens a scene (.toml) or shape (.json) file, or fits a body to a mesh (.stl, .obj, .ply)
+    /// and rolls it, as a drop on the window or the recent list does; a bad file leaves the
+    /// running scene as it is and says why in the notice, with the command line's message.
     pub fn open_file(&mut self, path: &Path, status: &SimStatus, actions: &mut Vec<UiAction>) {
-        match path.extension().and_then(|e| e.to_str()) {
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match extension.as_deref() {
             Some("toml") => {
                 self.scene_path = path.display().to_string();
                 self.open_scene(path, actions);
@@ -134,15 +144,115 @@ impl AppUi {
                 self.shape_path = path.display().to_string();
                 self.load_shape(status, actions);
             }
+            Some(e) if MESH_EXTENSIONS.contains(&e) => self.start_mesh_fit(path),
             _ => {
                 self.notice = Some((
                     format!(
-                        "{}: rollphase opens scene files (.toml) and shape files (.json)",
+                        "{}: rollphase opens scene files (.toml), shape files (.json) and \
+                         meshes to fit a body to (.stl, .obj, .ply)",
                         path.display()
                     ),
                     true,
                 ));
             }
+        }
+    }
+
+    /// Starts fitting a body to the mesh at `path` on a thread of its own, as `rollphase shape
+    /// --from-mesh` fits it (a mesh of millions of triangles takes seconds, which would freeze
+    /// the window); [`Self::poll_mesh_fit`] rolls the body when the fit is done. A new drop
+    /// replaces a fit still running (its answer is dropped).
+    fn start_mesh_fit(&mut self, path: &Path) {
+        let (send, answer) = std::sync::mpsc::channel();
+        let done = Arc::new((AtomicUsize::new(0), AtomicUsize::new(0)));
+        let file = path.to_path_buf();
+        let progress = Arc::clone(&done);
+        let spawned = std::thread::Builder::new()
+            .name("mesh fit".into())
+            .spawn(move || {
+                let fit = MeshSource::open(&file).and_then(|source| {
+                    fit_mesh(&source, &FitOptions::default(), &|_, i, total| {
+                        progress.0.store(i, Ordering::Relaxed);
+                        progress.1.store(total, Ordering::Relaxed);
+                    })
+                });
+                // The receiver is gone only when another drop replaced this fit.
+                let _ = send.send(fit.map_err(|e| e.to_string()));
+            });
+        match spawned {
+            Ok(_) => {
+                self.notice = Some((format!("fitting a body to {}…", path.display()), false));
+                self.mesh_fit = Some(PendingFit {
+                    path: path.to_path_buf(),
+                    answer,
+                    done,
+                });
+            }
+            Err(e) => {
+                self.notice = Some((
+                    format!("{}: could not start the fit: {e}", path.display()),
+                    true,
+                ));
+            }
+        }
+    }
+
+    /// Collects a mesh fit that has finished: its body rolls from rest (as a loaded shape file
+    /// does) and the notice gives the fit's residual; a mesh that cannot be fitted leaves the
+    /// running scene and says why. While the fit runs the notice counts its triangles.
+    pub(super) fn poll_mesh_fit(
+        &mut self,
+        ctx: &egui::Context,
+        status: &SimStatus,
+        actions: &mut Vec<UiAction>,
+    ) {
+        let Some(pending) = &self.mesh_fit else {
+            return;
+        };
+        let answer = match pending.answer.try_recv() {
+            Err(TryRecvError::Empty) => {
+                let (i, total) = (
+                    pending.done.0.load(Ordering::Relaxed),
+                    pending.done.1.load(Ordering::Relaxed),
+                );
+                if total > 0 {
+                    self.notice = Some((
+                        format!(
+                            "fitting a body to {}: {i} of {total} triangles…",
+                            pending.path.display()
+                        ),
+                        false,
+                    ));
+                }
+                ctx.request_repaint_after(std::time::Duration::from_millis(100));
+                return;
+            }
+            Err(TryRecvError::Disconnected) => Err(format!(
+                "{}: the fit stopped without an answer",
+                pending.path.display()
+            )),
+            Ok(answer) => answer,
+        };
+        let Some(PendingFit { path, .. }) = self.mesh_fit.take() else {
+            return;
+        };
+        match answer {
+            Ok(MeshFit {
+                body,
+                shape,
+                report,
+            }) => {
+                self.remember(&path);
+                self.roll_shape(shape, matches!(body, Body::Disk(_)), &path, status, actions);
+                if !self.notice.as_ref().is_some_and(|(_, error)| *error) {
+                    let note = self.notice.take().map(|(n, _)| format!("; {n}"));
+                    self.notice = Some((
+                        format!("{}{}", fit_summary(&report), note.unwrap_or_default()),
+                        false,
+                    ));
+                }
+            }
+            Err(e) => self.notice = Some((e, true)),
         }
     }
 
@@ -396,28 +506,50 @@ impl AppUi {
 
     pub(super) fn load_shape(&mut self, status: &SimStatus, actions: &mut Vec<UiAction>) {
         let path = PathBuf::from(&self.shape_path);
-        match crate::geometry::ShapeFile::load(&path) {
+        match ShapeFile::load(&path) {
             Ok(body) => {
                 self.remember(&path);
-                let mut scene = self.current_scene(status);
-                scene.body = BodySpec {
-                    inline: Some(body.to_shape()),
-                    ..BodySpec::default()
-                };
-                // A contact point or angle names a place on the old body; start the new one afresh.
-                scene.initial = crate::scene::InitialSpec::default();
-                scene.name = path
-                    .file_stem()
-                    .map(|s| s.to_string_lossy().into_owned())
-                    .unwrap_or_else(|| "shape".into());
-                if matches!(body, Body::Disk(_)) {
-                    scene.views.ball = false;
-                    scene.views.poincare = false;
-                }
-                self.load_scene(scene, None, actions);
+                let disk = matches!(body, Body::Disk(_));
+                self.roll_shape(body.to_shape(), disk, &path, status, actions);
             }
             Err(e) => self.notice = Some((format!("{e:#}"), true)),
         }
+    }
+
+    /// Runs `shape` (from the file `path`) in the current scene's ramp, α, m/m0 and integrator,
+    /// from rest.
+    fn roll_shape(
+        &mut self,
+        shape: ShapeFile,
+        disk: bool,
+        path: &Path,
+        status: &SimStatus,
+        actions: &mut Vec<UiAction>,
+    ) {
+        let mut scene = self.current_scene(status);
+        scene.body = BodySpec {
+            inline: Some(shape),
+            ..BodySpec::default()
+        };
+        // A contact point or angle names a place on the old body; start the new one afresh.
+        scene.initial = crate::scene::InitialSpec::default();
+        scene.name = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "shape".into());
+        // The old description names the old body.
+        scene.description = format!(
+            "The body of {}, rolled from rest on the ramp that was running (α, m/m0 and the \
+             integrator kept).",
+            path.file_name()
+                .unwrap_or(path.as_os_str())
+                .to_string_lossy()
+        );
+        if disk {
+            scene.views.ball = false;
+            scene.views.poincare = false;
+        }
+        self.load_scene(scene, None, actions);
     }
 
     /// The scene as it runs now: the loaded one with the live α, m/m0, integrator, speed and
@@ -624,4 +756,41 @@ mod tests {
             "field {field:?} past {panel:?}"
         );
     }
+}
+
+/// The meshes a dropped or opened file may be (any case), as `shape --from-mesh` reads them.
+const MESH_EXTENSIONS: [&str; 3] = ["stl", "obj", "ply"];
+
+/// A mesh fit running on its own thread.
+pub(super) struct PendingFit {
+    path: PathBuf,
+    answer: Receiver<Result<MeshFit, String>>,
+    /// Triangles done and in all, as the fit reports them.
+    done: Arc<(AtomicUsize, AtomicUsize)>,
+}
+
+/// The notice after a mesh fit: what was fitted and how well, in mm where the mesh was.
+fn fit_summary(r: &FitReport) -> String {
+    let degree = if r.dimension == 3 {
+        format!("3D, degree L = {}", r.modes)
+    } else {
+        format!("2D (cylinder), modes up to M = {}", r.modes)
+    };
+    let warnings = match r.warnings.as_slice() {
+        [] => String::new(),
+        [one] => format!("; warning: {one}"),
+        [first, rest @ ..] => format!("; warning: {first} (and {} more)", rest.len()),
+    };
+    format!(
+        "fitted {} ({degree}, uniform density): rms residual {:.3} % of ⟨r⟩ ({:.4} mm), max \
+         {:.3} %; ⟨r⟩ = {:.3} mm, α* = {:.4}{warnings}",
+        Path::new(&r.file)
+            .file_name()
+            .map_or(r.file.clone(), |n| n.to_string_lossy().into_owned()),
+        100.0 * r.rms_residual,
+        r.rms_residual_mm,
+        100.0 * r.max_residual,
+        r.scale_mm,
+        r.alpha_star
+    )
 }

@@ -145,6 +145,8 @@ pub struct AppUi {
     seen_step: Option<usize>,
     /// Native Open / Save dialogs.
     pub dialogs: dialog::FileDialogs,
+    /// A dropped mesh being fitted.
+    mesh_fit: Option<files::PendingFit>,
 }
 
 /// Files kept in the recent list.
@@ -209,6 +211,7 @@ impl AppUi {
             turn: 0.0,
             seen_step: None,
             dialogs: dialog::FileDialogs::detect(),
+            mesh_fit: None,
         }
     }
 
@@ -401,6 +404,8 @@ impl AppUi {
         if let Some((purpose, chosen)) = self.dialogs.poll() {
             self.dialog_answered(purpose, chosen, status, &mut actions);
         }
+        let ctx = ui.ctx().clone();
+        self.poll_mesh_fit(&ctx, status, &mut actions);
         if std::mem::take(&mut self.present_on_start) {
             let ctx = ui.ctx().clone();
             self.set_presentation(&ctx, true, &mut actions);
