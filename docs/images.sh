@@ -7,6 +7,7 @@
 #   docs/accuracy/, docs/stiff/   the benchmark plots and tables
 #   docs/plot-data/lesson-*/   the CSVs of the lessons' α and m/m0 sweeps (--plot-data)
 #   docs/python/fig3d.png, fig4e.png   the Python module's figures (docs/python/paper_figures.py)
+#   docs/experiments/*.png   the printed sphere's predicted paths and the tracked run, folded
 # Run from anywhere: bash docs/images.sh. Takes a few minutes on 2 cores without a GPU.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -43,6 +44,14 @@ for lesson in critical-angle period-doubling; do
     "$bin" --headless --preset "lesson-$lesson" --frames all --size 160x90 --msaa 1 \
         --out "$tmp/plot-frames" --plot-data "docs/plot-data/lesson-$lesson" > /dev/null
 done
+
+# From experiment to model (docs/guide/experiments.md): the printed sphere fitted, its orbits'
+# paths at sin α = 0.2, and the authors' tracked run against them.
+"$bin" shape --from-mesh assets/data/printed-sphere.stl -o "$tmp/printed-sphere.json" 2> /dev/null
+"$bin" predict "$tmp/printed-sphere.json" --alpha 0.2014 --figure docs/experiments/predicted-paths.png > /dev/null
+"$bin" track assets/data/sphere-track-viscous.csv --markers assets/data/sphere-markers-viscous.csv \
+    --body "$tmp/printed-sphere.json" --alpha 0.2014 --out "$tmp/run" > /dev/null 2>&1
+cp "$tmp/run/figure.png" docs/experiments/tracked-run.png
 
 "$bin" bench accuracy --out docs/accuracy
 "$bin" bench stiff --out docs/stiff

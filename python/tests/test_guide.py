@@ -1,4 +1,4 @@
-"""Every Python block of the README and of docs/guide/python.md runs, top to bottom, one
+"""Every Python block of the README, docs/guide/python.md and docs/guide/experiments.md runs, top to bottom, one
 namespace per page (as tests/guide_commands.rs runs the sh blocks), and a print whose comment
 names an exact value (α* = 0.1394, a shape and a model) prints it."""
 
@@ -8,7 +8,7 @@ import re
 
 import pytest
 
-PAGES = ["README.md", "docs/guide/python.md"]
+PAGES = ["README.md", "docs/guide/python.md", "docs/guide/experiments.md"]
 
 
 def python_blocks(text):
@@ -16,7 +16,9 @@ def python_blocks(text):
 
 
 @pytest.mark.parametrize("page", PAGES)
-def test_every_python_block_runs(page, repo):
+def test_every_python_block_runs(page, repo, monkeypatch):
+    # The pages name files relative to the repository's root (assets/data/…).
+    monkeypatch.chdir(repo)
     blocks = python_blocks((repo / page).read_text())
     assert blocks, f"{page} shows Python code"
     namespace = {}

@@ -29,7 +29,7 @@ use crate::geometry::{Body, paper_disk, paper_sphere, random_disk, random_sphere
 /// smallest whose rms residual is within 10 % of the best fit's (L = 8 in 3D, M = 24 in 2D) or under
 /// 5e-5 of ⟨r⟩.
 /// The fit's report (residuals in mm and relative to ⟨r⟩, the l = 1 part left out, ⟨r⟩ in mm,
-/// convexity, α*) goes to standard error, or as JSON to --report; the shape file keeps ⟨r⟩ as
+/// convexity, α*) goes to standard error, and as JSON to --report; the shape file keeps ⟨r⟩ as
 /// "scale_mm", so `predict` can answer in mm. For example:
 ///   rollphase shape --from-mesh printed-sphere.stl -o printed-sphere.json
 #[derive(Debug, Args)]
@@ -170,9 +170,7 @@ fn from_mesh(a: &ShapeArgs, mesh: &Path) -> Result<()> {
     for w in &r.warnings {
         eprintln!("warning: {w}");
     }
-    if a.report.is_none() {
-        eprintln!("{}", report_text(r));
-    }
+    eprintln!("{}", report_text(r));
     let mut outputs = output::OutputSet::new();
     outputs.write(
         &shape_out,
