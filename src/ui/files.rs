@@ -720,6 +720,43 @@ pub(super) fn write_file(path: &str, text: &str) -> (String, bool) {
     }
 }
 
+/// The meshes a dropped or opened file may be (any case), as `shape --from-mesh` reads them.
+const MESH_EXTENSIONS: [&str; 3] = ["stl", "obj", "ply"];
+
+/// A mesh fit running on its own thread.
+pub(super) struct PendingFit {
+    path: PathBuf,
+    answer: Receiver<Result<MeshFit, String>>,
+    /// Triangles done and in all, as the fit reports them.
+    done: Arc<(AtomicUsize, AtomicUsize)>,
+}
+
+/// The notice after a mesh fit: what was fitted and how well, in mm where the mesh was.
+fn fit_summary(r: &FitReport) -> String {
+    let degree = if r.dimension == 3 {
+        format!("3D, degree L = {}", r.modes)
+    } else {
+        format!("2D (cylinder), modes up to M = {}", r.modes)
+    };
+    let warnings = match r.warnings.as_slice() {
+        [] => String::new(),
+        [one] => format!("; warning: {one}"),
+        [first, rest @ ..] => format!("; warning: {first} (and {} more)", rest.len()),
+    };
+    format!(
+        "fitted {} ({degree}, uniform density): rms residual {:.3} % of ⟨r⟩ ({:.4} mm), max \
+         {:.3} %; ⟨r⟩ = {:.3} mm, α* = {:.4}{warnings}",
+        Path::new(&r.file)
+            .file_name()
+            .map_or(r.file.clone(), |n| n.to_string_lossy().into_owned()),
+        100.0 * r.rms_residual,
+        r.rms_residual_mm,
+        100.0 * r.max_residual,
+        r.scale_mm,
+        r.alpha_star
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::{PATH_LABEL_WIDTH, path_field};
@@ -756,41 +793,4 @@ mod tests {
             "field {field:?} past {panel:?}"
         );
     }
-}
-
-/// The meshes a dropped or opened file may be (any case), as `shape --from-mesh` reads them.
-const MESH_EXTENSIONS: [&str; 3] = ["stl", "obj", "ply"];
-
-/// A mesh fit running on its own thread.
-pub(super) struct PendingFit {
-    path: PathBuf,
-    answer: Receiver<Result<MeshFit, String>>,
-    /// Triangles done and in all, as the fit reports them.
-    done: Arc<(AtomicUsize, AtomicUsize)>,
-}
-
-/// The notice after a mesh fit: what was fitted and how well, in mm where the mesh was.
-fn fit_summary(r: &FitReport) -> String {
-    let degree = if r.dimension == 3 {
-        format!("3D, degree L = {}", r.modes)
-    } else {
-        format!("2D (cylinder), modes up to M = {}", r.modes)
-    };
-    let warnings = match r.warnings.as_slice() {
-        [] => String::new(),
-        [one] => format!("; warning: {one}"),
-        [first, rest @ ..] => format!("; warning: {first} (and {} more)", rest.len()),
-    };
-    format!(
-        "fitted {} ({degree}, uniform density): rms residual {:.3} % of ⟨r⟩ ({:.4} mm), max \
-         {:.3} %; ⟨r⟩ = {:.3} mm, α* = {:.4}{warnings}",
-        Path::new(&r.file)
-            .file_name()
-            .map_or(r.file.clone(), |n| n.to_string_lossy().into_owned()),
-        100.0 * r.rms_residual,
-        r.rms_residual_mm,
-        100.0 * r.max_residual,
-        r.scale_mm,
-        r.alpha_star
-    )
 }
