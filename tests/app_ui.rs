@@ -205,6 +205,30 @@ fn loading_a_preset_from_the_ui_replaces_the_scene() {
     assert_eq!(bench.ui.alpha(), s.snapshot.alpha_rad);
 }
 
+/// Each scene load uploads the new scene's meshes (the body alone is ~0.6 MB of vertex data):
+/// the old scene's must be freed, or a teaching session that switches presets grows without end.
+#[test]
+fn a_hundred_scene_loads_leave_one_scenes_meshes_on_the_gpu() {
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    frames_until(&mut bench, &gpu, &target, vec![], |s| s.scene_id == 0);
+    let one_scene = bench.mesh_count();
+    assert_eq!(one_scene, 4, "body, ramp, marker and ball");
+    let presets = [
+        "cylinder-hysteresis",
+        "sphere-two-orbits",
+        "sphere-cruising",
+    ];
+    for i in 1..=100u64 {
+        let setup = Scene::preset(presets[i as usize % presets.len()])
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        bench.sim.send(SimCommand::Load(Box::new(setup)));
+        frames_until(&mut bench, &gpu, &target, vec![], |s| s.scene_id == i);
+        assert_eq!(bench.mesh_count(), one_scene, "after load {i}");
+    }
+}
+
 #[test]
 fn recording_writes_the_asked_number_of_frames_of_the_3d_view() {
     let (gpu, target, mut bench) = app("cylinder-hysteresis");

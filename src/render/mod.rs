@@ -56,7 +56,8 @@ pub struct Renderer {
     draw_group: wgpu::BindGroup,
     segments: Scratch,
     quads: Scratch,
-    meshes: Vec<GpuMesh>,
+    /// Uploaded meshes by handle; a freed one leaves its slot empty for the next upload.
+    meshes: Vec<Option<GpuMesh>>,
     targets: Option<Targets>,
     font: overlay::Font,
     /// Panels rasterised and uploaded in recent frames, with their size and texture, reused

@@ -20,6 +20,19 @@ impl Renderer {
         self.upload(mesh)
     }
 
+    /// Frees an uploaded mesh's GPU buffers; its handle then draws nothing, and a later upload
+    /// may take its slot. A scene's meshes are freed when another scene replaces it.
+    pub fn free_mesh(&mut self, mesh: MeshHandle) {
+        if let Some(slot) = self.meshes.get_mut(mesh.0) {
+            *slot = None;
+        }
+    }
+
+    /// How many meshes are uploaded and not freed.
+    pub fn mesh_count(&self) -> usize {
+        self.meshes.iter().flatten().count()
+    }
+
     fn upload(&mut self, mesh: &MeshData) -> MeshHandle {
         let vertices: Vec<Vertex> = (0..mesh.positions.len())
             .map(|i| Vertex {
@@ -42,12 +55,21 @@ impl Renderer {
                 contents: bytemuck::cast_slice(&mesh.indices),
                 usage: wgpu::BufferUsages::INDEX,
             });
-        self.meshes.push(GpuMesh {
+        let uploaded = Some(GpuMesh {
             vertices,
             indices,
             index_count: mesh.indices.len() as u32 * 3,
         });
-        MeshHandle(self.meshes.len() - 1)
+        match self.meshes.iter().position(Option::is_none) {
+            Some(free) => {
+                self.meshes[free] = uploaded;
+                MeshHandle(free)
+            }
+            None => {
+                self.meshes.push(uploaded);
+                MeshHandle(self.meshes.len() - 1)
+            }
+        }
     }
 
     pub(super) fn ensure_targets(&mut self, size: (u32, u32)) {
@@ -143,7 +165,7 @@ impl Renderer {
             let mut opaque = Vec::new();
             let mut blended = Vec::new();
             for inst in &view.meshes {
-                if inst.mesh.0 >= self.meshes.len() {
+                if self.meshes.get(inst.mesh.0).is_none_or(Option::is_none) {
                     continue;
                 }
                 let m = &inst.material;
@@ -346,7 +368,9 @@ impl Renderer {
     }
 
     pub(super) fn draw_mesh(&self, pass: &mut wgpu::RenderPass<'_>, mesh: usize, offset: u32) {
-        let m = &self.meshes[mesh];
+        let Some(m) = self.meshes.get(mesh).and_then(Option::as_ref) else {
+            return;
+        };
         pass.set_bind_group(1, &self.draw_group, &[offset]);
         pass.set_vertex_buffer(0, m.vertices.slice(..));
         pass.set_index_buffer(m.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -403,5 +427,9 @@ pub(super) fn quad(
 impl super::types::MeshStore for Renderer {
     fn upload_mesh(&mut self, mesh: &MeshData) -> MeshHandle {
         self.upload(mesh)
+    }
+
+    fn free_mesh(&mut self, mesh: MeshHandle) {
+        Renderer::free_mesh(self, mesh);
     }
 }

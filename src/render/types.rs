@@ -209,4 +209,6 @@ pub struct Panel {
 pub trait MeshStore {
     /// Uploads a mesh; frames refer to it by the handle.
     fn upload_mesh(&mut self, mesh: &MeshData) -> MeshHandle;
+    /// Frees a mesh no frame will refer to again.
+    fn free_mesh(&mut self, mesh: MeshHandle);
 }

@@ -246,6 +246,11 @@ impl Workbench {
         self.painter.finish(&mut self.textures);
     }
 
+    /// How many meshes the 3D renderer holds: the running scene's, however many were loaded.
+    pub fn mesh_count(&self) -> usize {
+        self.painter.mesh_count()
+    }
+
     /// Whether a recording is in progress.
     pub fn is_recording(&self) -> bool {
         self.recording.is_some()

@@ -144,6 +144,20 @@ const BODY_ICOSPHERE_LEVEL: u32 = 5;
 const DISK_SEGMENTS: usize = 360;
 
 impl SceneView {
+    /// Frees the meshes [`Self::new`] uploaded, when another scene replaces this one.
+    pub fn release(self, store: &mut impl MeshStore) {
+        // The boundary sphere may be the ball's mesh; freeing a freed mesh again does nothing.
+        for handle in [
+            self.body_mesh,
+            self.ramp_mesh,
+            self.marker_mesh,
+            self.ball_mesh,
+            self.boundary_mesh,
+        ] {
+            store.free_mesh(handle);
+        }
+    }
+
     /// Builds and uploads the meshes the scene's views need.
     pub fn new(renderer: &mut impl MeshStore, setup: &SceneSetup) -> Self {
         let mesh = match &setup.body {
