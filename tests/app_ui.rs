@@ -927,3 +927,98 @@ fn a_dropped_mesh_is_fitted_and_rolled_and_a_bad_one_is_named() {
     assert!(bench.ui.recent_files()[0].ends_with("printed.STL"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Focuses the field with egui id `field`, as a click on it would.
+fn focus(bench: &Workbench, field: &str) {
+    bench
+        .ctx
+        .memory_mut(|m| m.request_focus(egui::Id::unique(field)));
+}
+
+fn typed(text: &str) -> Vec<egui::Event> {
+    vec![egui::Event::Text(text.into())]
+}
+
+/// Backspaces enough to empty any field.
+fn cleared() -> Vec<egui::Event> {
+    (0..40).flat_map(|_| key(egui::Key::Backspace)).collect()
+}
+
+/// Runs `n` frames with `events` in the first.
+fn frames(
+    bench: &mut Workbench,
+    gpu: &GpuContext,
+    target: &OffscreenTarget,
+    events: Vec<egui::Event>,
+    n: usize,
+) -> SimStatus {
+    let mut events = events;
+    for _ in 0..n {
+        let frame = bench.run_ui(
+            offscreen_input(SIZE, now(), std::mem::take(&mut events)),
+            SIZE,
+        );
+        bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    (*bench.sim.status()).clone()
+}
+
+#[test]
+fn the_alpha_field_applies_on_enter_only_and_never_writes_back_what_it_shows() {
+    use rollphase::ui::ALPHA_FIELD;
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    let start = frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.0);
+    let alpha0 = start.snapshot.alpha_rad;
+    assert_eq!(alpha0, 0.3);
+
+    // Typing "0.09" over 0.3: while typing, the run keeps α = 0.3 (after "0.0" it used to run
+    // at the clamped 0.001 and halt); Enter applies exactly 0.09.
+    focus(&bench, ALPHA_FIELD);
+    frames(&mut bench, &gpu, &target, vec![], 2);
+    frames(&mut bench, &gpu, &target, cleared(), 2);
+    for part in ["0", ".", "0"] {
+        let s = frames(&mut bench, &gpu, &target, typed(part), 3);
+        assert_eq!(
+            s.snapshot.alpha_rad, alpha0,
+            "changed while typing {part:?}"
+        );
+    }
+    frames(&mut bench, &gpu, &target, typed("9"), 2);
+    let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::Enter), |s| {
+        s.snapshot.alpha_rad != alpha0
+    });
+    assert_eq!(s.snapshot.alpha_rad, 0.09);
+
+    // A value with more digits than a 6-decimal display: focusing the field and pressing Esc,
+    // or focusing it and clicking away, leaves it bit for bit.
+    focus(&bench, ALPHA_FIELD);
+    frames(&mut bench, &gpu, &target, cleared(), 2);
+    frames(&mut bench, &gpu, &target, typed("0.17662345"), 2);
+    let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::Enter), |s| {
+        s.snapshot.alpha_rad != 0.09
+    });
+    assert_eq!(s.snapshot.alpha_rad, 0.17662345);
+    focus(&bench, ALPHA_FIELD);
+    frames(&mut bench, &gpu, &target, vec![], 2);
+    let s = frames(&mut bench, &gpu, &target, key(egui::Key::Escape), 4);
+    assert_eq!(s.snapshot.alpha_rad, 0.17662345);
+    focus(&bench, ALPHA_FIELD);
+    frames(&mut bench, &gpu, &target, vec![], 2);
+    bench
+        .ctx
+        .memory_mut(|m| m.surrender_focus(egui::Id::unique(ALPHA_FIELD)));
+    let s = frames(&mut bench, &gpu, &target, vec![], 4);
+    assert_eq!(s.snapshot.alpha_rad, 0.17662345);
+
+    // Text that is not an allowed α is refused with a message, and the run keeps its α.
+    for (bad, needle) in [("abc", "not a number"), ("5", "1.5")] {
+        focus(&bench, ALPHA_FIELD);
+        frames(&mut bench, &gpu, &target, cleared(), 2);
+        frames(&mut bench, &gpu, &target, typed(bad), 2);
+        let s = frames(&mut bench, &gpu, &target, key(egui::Key::Enter), 4);
+        assert_eq!(s.snapshot.alpha_rad, 0.17662345, "{bad}");
+        let (text, is_error) = bench.ui.notice().cloned().expect("a notice");
+        assert!(is_error && text.contains(needle), "{bad}: {text}");
+    }
+}

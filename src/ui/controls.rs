@@ -11,6 +11,87 @@ use crate::sim::{SimCommand, SimStatus};
 use super::sweep::SweepTarget;
 use super::{ALPHA_MAX, ALPHA_MIN, AppUi, MASS_RANGE, SPEED_RANGE, UiAction};
 
+/// The α field's id (tests focus it through egui's memory).
+pub const ALPHA_FIELD: &str = "alpha-field";
+/// The m/m0 field's id.
+pub const MASS_FIELD: &str = "mass-field";
+
+/// What a typed number may be, for the field's messages.
+struct NumberLimits {
+    name: &'static str,
+    unit: &'static str,
+    range: (f64, f64),
+}
+
+/// What a number field did this frame.
+#[derive(Debug, PartialEq)]
+enum FieldOutcome {
+    /// Nothing to apply: not edited, still being typed, or Esc.
+    Unchanged,
+    /// A valid new value, on Enter or when the field lost focus.
+    Committed(f64),
+    /// Text that is not an allowed value; the field shows the running value again.
+    Refused(String),
+}
+
+/// A number field that applies what is typed only on Enter or when focus leaves it, never on
+/// each keystroke (typing "0.09" over 0.3 would otherwise run at 0.0, then 0.09 after a halt),
+/// and never writes back the value it shows: focusing and leaving it, or Esc, changes nothing.
+/// `edit` holds the text while the field has focus.
+fn number_field(
+    ui: &mut egui::Ui,
+    id: &str,
+    value: f64,
+    edit: &mut Option<String>,
+    limits: &NumberLimits,
+) -> FieldOutcome {
+    let shown = shown_number(value);
+    let mut text = edit.take().unwrap_or_else(|| shown.clone());
+    let response = ui
+        .add(
+            egui::TextEdit::singleline(&mut text)
+                .id(egui::Id::unique(id))
+                .desired_width(96.0),
+        )
+        .on_hover_text(format!(
+            "type a value{} and press Enter (Esc: keep the running value)",
+            limits.unit
+        ));
+    if response.has_focus() {
+        *edit = Some(text);
+        return FieldOutcome::Unchanged;
+    }
+    if !response.lost_focus() || ui.input(|i| i.key_pressed(egui::Key::Escape)) {
+        return FieldOutcome::Unchanged;
+    }
+    parse_number(&text, &shown, limits)
+}
+
+/// The value as the field shows it: the shortest text that reads back as exactly this value.
+fn shown_number(value: f64) -> String {
+    format!("{value}")
+}
+
+/// The typed `text` as a value within `limits`; the same text as `shown` is no change.
+fn parse_number(text: &str, shown: &str, limits: &NumberLimits) -> FieldOutcome {
+    let text = text.trim();
+    if text == shown.trim() {
+        return FieldOutcome::Unchanged;
+    }
+    let (lo, hi) = limits.range;
+    match text.parse::<f64>() {
+        Ok(v) if v.is_finite() && (lo..=hi).contains(&v) => FieldOutcome::Committed(v),
+        Ok(v) if v.is_finite() => FieldOutcome::Refused(format!(
+            "{} = {text}{} is outside what the app allows ({lo} … {hi}{}); kept {shown}",
+            limits.name, limits.unit, limits.unit
+        )),
+        _ => FieldOutcome::Refused(format!(
+            "{} {text:?} is not a number (type e.g. {shown}); kept {shown}",
+            limits.name
+        )),
+    }
+}
+
 /// The α and m/m0 rails' width in points.
 const SLIDER_WIDTH: f32 = 260.0;
 const ERROR: Color32 = Color32::from_rgb(230, 90, 80);
@@ -180,20 +261,21 @@ impl AppUi {
         ui.spacing_mut().slider_width = SLIDER_WIDTH;
         ui.horizontal(|ui| {
             ui.label("α");
-            let typed = ui
-                .add(
-                    egui::DragValue::new(&mut self.alpha)
-                        .range(ALPHA_MIN..=ALPHA_MAX)
-                        .speed(1e-4)
-                        .max_decimals(6)
-                        .suffix(" rad"),
-                )
-                .on_hover_text("type a value, or drag");
-            if typed.changed() {
-                actions.push(UiAction::Sim(SimCommand::SetAlpha(self.alpha)));
+            let limits = NumberLimits {
+                name: "α",
+                unit: " rad",
+                range: (ALPHA_MIN, ALPHA_MAX),
+            };
+            match number_field(ui, ALPHA_FIELD, self.alpha, &mut self.alpha_edit, &limits) {
+                FieldOutcome::Committed(alpha) => {
+                    self.alpha = alpha;
+                    actions.push(UiAction::Sim(SimCommand::SetAlpha(alpha)));
+                }
+                FieldOutcome::Refused(why) => self.notice = Some((why, true)),
+                FieldOutcome::Unchanged => {}
             }
             ui.label(format!(
-                "= {:.2}°   α* = {:.4} rad = {:.2}°",
+                "rad = {:.2}°   α* = {:.4} rad = {:.2}°",
                 self.alpha.to_degrees(),
                 snap.alpha_star,
                 snap.alpha_star.to_degrees()
@@ -234,15 +316,25 @@ impl AppUi {
         ui.add_enabled_ui(self.inertial, |ui| {
             ui.horizontal(|ui| {
                 ui.label("m/m0");
-                mass_changed |= ui
-                    .add(
-                        egui::DragValue::new(&mut self.mass_ratio)
-                            .range(MASS_RANGE.0..=MASS_RANGE.1)
-                            .speed(0.01)
-                            .max_decimals(4),
-                    )
-                    .on_hover_text("type a value, or drag")
-                    .changed();
+                let limits = NumberLimits {
+                    name: "m/m0",
+                    unit: "",
+                    range: MASS_RANGE,
+                };
+                match number_field(
+                    ui,
+                    MASS_FIELD,
+                    self.mass_ratio,
+                    &mut self.mass_edit,
+                    &limits,
+                ) {
+                    FieldOutcome::Committed(mass) => {
+                        self.mass_ratio = mass;
+                        mass_changed = true;
+                    }
+                    FieldOutcome::Refused(why) => self.notice = Some((why, true)),
+                    FieldOutcome::Unchanged => {}
+                }
             });
             mass_changed |= ui
                 .add(
@@ -689,6 +781,51 @@ mod fine_alpha_tests {
         // Bad values do not panic.
         assert_eq!(FineAlpha::new(f64::NAN).position(f64::NAN), 0.0);
         assert!(s.alpha(f64::NAN).is_finite());
+    }
+}
+
+#[cfg(test)]
+mod number_field_tests {
+    use super::{FieldOutcome, NumberLimits, parse_number, shown_number};
+
+    const ALPHA: NumberLimits = NumberLimits {
+        name: "α",
+        unit: " rad",
+        range: (0.001, 1.5),
+    };
+
+    #[test]
+    fn the_shown_text_reads_back_exactly_and_is_no_change() {
+        for v in [0.17662345, 0.1 + 0.2, 1.5, 0.001, 0.3] {
+            let shown = shown_number(v);
+            assert_eq!(shown.parse::<f64>().unwrap(), v);
+            assert_eq!(
+                parse_number(&shown, &shown, &ALPHA),
+                FieldOutcome::Unchanged
+            );
+            assert_eq!(
+                parse_number(&format!(" {shown} "), &shown, &ALPHA),
+                FieldOutcome::Unchanged
+            );
+        }
+    }
+
+    #[test]
+    fn typed_values_commit_whole_and_bad_ones_are_refused_with_the_limits() {
+        assert_eq!(
+            parse_number("0.09", "0.3", &ALPHA),
+            FieldOutcome::Committed(0.09)
+        );
+        let FieldOutcome::Refused(why) = parse_number("5", "0.3", &ALPHA) else {
+            panic!("5 rad accepted");
+        };
+        assert!(why.contains("0.001") && why.contains("1.5") && why.contains("kept 0.3"));
+        for bad in ["abc", "", "nan", "inf", "0.0.1"] {
+            let FieldOutcome::Refused(why) = parse_number(bad, "0.3", &ALPHA) else {
+                panic!("{bad:?} accepted");
+            };
+            assert!(why.contains("α"), "{why}");
+        }
     }
 }
 

@@ -35,6 +35,8 @@ mod controls;
 mod files;
 mod keys;
 
+pub use controls::{ALPHA_FIELD, MASS_FIELD};
+
 use std::path::PathBuf;
 
 use crate::geometry::Body;
@@ -147,6 +149,10 @@ pub struct AppUi {
     pub dialogs: dialog::FileDialogs,
     /// A dropped mesh being fitted.
     mesh_fit: Option<files::PendingFit>,
+    /// The α field's text while it has focus (applied on Enter or focus loss).
+    alpha_edit: Option<String>,
+    /// The m/m0 field's text while it has focus.
+    mass_edit: Option<String>,
 }
 
 /// Files kept in the recent list.
@@ -212,6 +218,8 @@ impl AppUi {
             seen_step: None,
             dialogs: dialog::FileDialogs::detect(),
             mesh_fit: None,
+            alpha_edit: None,
+            mass_edit: None,
         }
     }
 
