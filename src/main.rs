@@ -15,16 +15,23 @@ fn main() {
     // the conventional status 130. The destinations are untouched until a command succeeds.
     // A commit under way when the signal comes is let finish (see `output::remove_partial_outputs`),
     // and the message says which of the two happened.
+    // The window app is asked to close from its own event loop instead (rollphase::app).
     let _ = ctrlc::set_handler(|| {
-        let when = rollphase::output::remove_partial_outputs();
-        eprintln!("{}", when.message());
-        std::process::exit(130);
+        #[cfg(feature = "app")]
+        if rollphase::app::request_close() {
+            return;
+        }
+        interrupted();
     });
     let result = rollphase::cli::run(cli).and_then(|()| {
         std::io::stdout()
             .flush()
             .map_err(|e| anyhow::Error::new(e).context("cannot write to standard output"))
     });
+    #[cfg(feature = "app")]
+    if rollphase::app::closed_by_signal() {
+        interrupted();
+    }
     // The command finished while the handler ran: its exit (130, with its message) is the one.
     if rollphase::output::interrupt_pending() {
         loop {
@@ -44,4 +51,12 @@ fn main() {
         eprintln!("error: {e:#}");
         std::process::exit(1);
     }
+}
+
+/// Ends the process on Ctrl-C or a termination signal: the outputs still being written are
+/// removed (a commit under way is let finish) and the status is 130.
+fn interrupted() -> ! {
+    let when = rollphase::output::remove_partial_outputs();
+    eprintln!("{}", when.message());
+    std::process::exit(130);
 }
