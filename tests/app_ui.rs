@@ -759,25 +759,94 @@ fn export_csv_writes_the_plotted_data_and_says_where() {
 
 /// "Sweep slowly" moves m/m0 up while the simulation plays, as the crossing plot's live
 /// bifurcation diagram needs, and the controls stay at the same height paused or playing.
+/// Runs frames until `done` holds for the UI (at most `seconds` of wall time).
+fn frames_until_ui(
+    bench: &mut Workbench,
+    gpu: &GpuContext,
+    target: &OffscreenTarget,
+    seconds: u64,
+    done: impl Fn(&Workbench) -> bool,
+) {
+    let start = Instant::now();
+    while !done(bench) {
+        let frame = bench.run_ui(offscreen_input(SIZE, now(), vec![]), SIZE);
+        bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+        assert!(start.elapsed() < Duration::from_secs(seconds), "timed out");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// The measuring sweep draws the diagram while it runs: α swept down across α* on the viscous
+/// cylinder holds each value until its period settles (or the body halts), so the 1/T plot gains
+/// a point per step, 1/T falling towards α* and 0 below it, all on the "down" branch.
 #[test]
-fn an_automatic_sweep_raises_the_mass_while_playing() {
+fn a_sweep_down_across_alpha_star_draws_one_over_t_as_it_goes() {
+    use rollphase::ui::sweep::{AutoSweep, SweepTarget};
+    let mut scene = Scene::preset("cylinder-near-critical").unwrap();
+    scene.model.alpha_over_critical = Some(1.3);
+    let setup = scene.setup(None).unwrap();
+    let alpha_star = setup.alpha_star;
+    let gpu = GpuContext::headless().unwrap();
+    let target = OffscreenTarget::new(&gpu.device, SIZE);
+    let mut bench =
+        Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
+    bench.sim.send(SimCommand::SetSpeed(2000.0));
+    bench.ui.set_auto_sweep(Some(AutoSweep {
+        target: SweepTarget::Alpha,
+        step: -0.1 * alpha_star,
+    }));
+    // Points appear while the sweep is still on; the first below α* is a halt (1/T = 0).
+    frames_until_ui(&mut bench, &gpu, &target, 90, |b| {
+        b.ui.history()
+            .sweep(Sweep::Down)
+            .iter()
+            .any(|p| p[1] == 0.0)
+    });
+    let down = bench.ui.history().sweep(Sweep::Down);
+    let rolling: Vec<[f64; 2]> = down.iter().copied().filter(|p| p[1] > 0.0).collect();
+    assert!(rolling.len() >= 2, "{down:?}");
+    for p in &rolling {
+        assert!(p[0] > alpha_star, "rolling below α*: {p:?}");
+    }
+    // 1/T grows with α (the √(α − α*) law's direction).
+    for w in rolling.windows(2) {
+        assert!(w[0][0] < w[1][0] && w[0][1] < w[1][1], "{rolling:?}");
+    }
+    // The first halt is at α* (three steps down from 1.3 α*, to rounding) or below.
+    let halted = down.iter().find(|p| p[1] == 0.0).unwrap();
+    assert!(halted[0] < alpha_star * (1.0 + 1e-9), "{down:?}");
+    // The measured start value is on the up branch (it was not reached by a step down).
+    assert_eq!(bench.ui.history().sweep(Sweep::Up).len(), 1);
+    bench.ui.set_auto_sweep(None);
+}
+
+/// A mass sweep holds each m/m0 until the crossings of ∂Ω form a cycle, so the crossing plot
+/// gets the settled crossings of every value during the sweep.
+#[test]
+fn a_mass_sweep_collects_settled_crossings_at_each_value() {
     use rollphase::ui::sweep::{AutoSweep, SweepTarget};
     let (gpu, target, mut bench) = app("sphere-doubling");
-    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 1.0);
-    let m0 = s.snapshot.mass_ratio;
+    bench.sim.send(SimCommand::SetSpeed(1000.0));
     bench.ui.set_auto_sweep(Some(AutoSweep {
         target: SweepTarget::MassRatio,
-        rate: 0.5,
+        step: 0.1,
     }));
-    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| {
-        s.snapshot.mass_ratio > m0 * 1.01
-    });
-    // m/m0 follows ×e^{0.5} per 100 t of simulated time.
-    let grown = (s.snapshot.mass_ratio / m0).ln() / 0.5 * 100.0;
+    let masses = |b: &Workbench| {
+        let mut m: Vec<f64> =
+            b.ui.history()
+                .crossings_by_mass()
+                .iter()
+                .map(|c| c[0])
+                .collect();
+        m.dedup();
+        m
+    };
+    frames_until_ui(&mut bench, &gpu, &target, 120, |b| masses(b).len() >= 3);
+    let m = masses(&bench);
+    assert_eq!(m[0], 6.0, "the running value is measured first: {m:?}");
     assert!(
-        grown > 0.0 && grown <= s.snapshot.t,
-        "{grown} of t = {}",
-        s.snapshot.t
+        (m[1] / 6.0).ln() - 0.1 < 1e-12 && (m[2] / m[1]).ln() - 0.1 < 1e-12,
+        "{m:?}"
     );
     bench.ui.set_auto_sweep(None);
 }

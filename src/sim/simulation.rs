@@ -133,6 +133,9 @@ pub struct Snapshot {
     pub period_multiplicity: Option<usize>,
     /// 3D: the latest crossing of ∂Ω (time, boundary point; sign arbitrary).
     pub last_crossing: Option<(f64, DVec3)>,
+    /// When the run last crossed its section (a full turn in 2D, ∂Ω in 3D) since α, m/m0 or
+    /// the integrator last changed: a measuring sweep counts crossings by it.
+    pub last_crossing_t: Option<f64>,
     /// The body has stopped (angular speed below 1e-6).
     pub halted: bool,
     /// Angular speed |ω| (3D) or |θ̇| (2D).
@@ -661,6 +664,7 @@ impl Simulation {
             period,
             period_multiplicity,
             last_crossing,
+            last_crossing_t: self.crossings.back().map(|c| c.0),
             halted: o.angular_speed < 1e-6,
             angular_speed: o.angular_speed,
             theta_dot: o.theta_dot,

@@ -381,8 +381,14 @@ impl AppUi {
                 ui.label(format!("recording frame {} of {}", r.done, r.total));
                 ui.separator();
             }
-            if let Some(sweep) = self.auto_sweep.filter(|_| !status.paused) {
-                ui.label(RichText::new(sweep.describe()).color(GOOD));
+            if let Some(sweep) = self.auto_sweep {
+                let line = sweep.describe(&self.sweep_hold);
+                let line = if status.paused {
+                    format!("{line} (paused)")
+                } else {
+                    line
+                };
+                ui.label(RichText::new(line).color(GOOD));
                 ui.separator();
             }
             if status.lagging {
@@ -405,19 +411,22 @@ impl AppUi {
         });
     }
 
-    /// The slow automatic sweep of α or m/m0 (a live bifurcation diagram): which, and how fast.
+    /// The measuring sweep of α or m/m0 (a live bifurcation diagram): which, and the step.
     fn auto_sweep_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             let mut on = self.auto_sweep.is_some();
             if ui
-                .checkbox(&mut on, "sweep slowly")
-                .on_hover_text(
-                    "moves α or m/m0 a little every time unit while playing, so the 1/T and \
-                     crossing plots draw the bifurcation diagram live",
-                )
+                .checkbox(&mut on, "sweep")
+                .on_hover_text(format!(
+                    "holds α or m/m0 until the run there is measured (its period settled to \
+                     1e-3, the body halted, or its cycle of ∂Ω crossings found; at most {} t), \
+                     so the 1/T or crossing plot gets its point, then steps: the bifurcation \
+                     diagram grows as the sweep runs",
+                    super::sweep::HOLD_CAP
+                ))
                 .changed()
             {
-                self.auto_sweep = on.then_some(self.sweep_choice);
+                self.set_auto_sweep(on.then_some(self.sweep_choice));
             }
             let mut choice = self.sweep_choice;
             egui::ComboBox::from_id_salt("sweep_what")
@@ -428,22 +437,27 @@ impl AppUi {
                             .selectable_value(&mut choice.target, t, t.name())
                             .changed()
                         {
-                            choice.rate = t.default_rate();
+                            choice.step = t.default_step();
                         }
                     }
                 });
             ui.add(
-                egui::DragValue::new(&mut choice.rate)
+                egui::DragValue::new(&mut choice.step)
                     .range(-1.0..=1.0)
                     .speed(1e-4)
                     .max_decimals(5),
             )
-            .on_hover_text(choice.target.rate_hint());
-            ui.label("per 100 t");
+            .on_hover_text(choice.target.step_hint());
+            ui.label("per point");
             if choice != self.sweep_choice {
+                let other_target = choice.target != self.sweep_choice.target;
                 self.sweep_choice = choice;
                 if self.auto_sweep.is_some() {
-                    self.auto_sweep = Some(choice);
+                    if other_target {
+                        self.set_auto_sweep(Some(choice));
+                    } else {
+                        self.auto_sweep = Some(choice);
+                    }
                 }
             }
         });

@@ -124,8 +124,8 @@ pub struct AppUi {
     auto_sweep: Option<sweep::AutoSweep>,
     /// The sweep the controls offer (kept while it is off).
     sweep_choice: sweep::AutoSweep,
-    /// The simulation time the sweep last moved its parameter at.
-    sweep_last_t: Option<f64>,
+    /// The value the sweep holds until it is measured.
+    sweep_hold: sweep::SweepHold,
     /// The notice shown as a toast over the 3D view, and when it appeared (egui's clock).
     toast: Option<((String, bool), f64)>,
     notice: Option<(String, bool)>,
@@ -202,7 +202,7 @@ impl AppUi {
             plot_data_dir: "plot-data".into(),
             auto_sweep: None,
             sweep_choice: sweep::AutoSweep::default(),
-            sweep_last_t: None,
+            sweep_hold: sweep::SweepHold::default(),
             toast: None,
             notice: None,
             history: PlotHistory::default(),
@@ -291,29 +291,55 @@ impl AppUi {
 
     /// Moves the swept parameter by the time simulated since the last frame (a new run, or a
     /// pause, starts the count afresh).
+    /// The measuring sweep: holds the value until the run there is measured (the plots then
+    /// have its point), then steps ([`sweep`]).
     fn advance_sweep(&mut self, status: &SimStatus, actions: &mut Vec<UiAction>) {
-        let t = status.snapshot.t;
-        let Some(sweep) = self.auto_sweep.filter(|_| !status.paused) else {
-            self.sweep_last_t = None;
+        let Some(sweep) = self.auto_sweep else {
+            self.sweep_hold = sweep::SweepHold::default();
             return;
         };
-        let dt = match self.sweep_last_t {
-            Some(last) if t >= last => t - last,
-            _ => 0.0,
-        };
-        self.sweep_last_t = Some(t);
-        if dt == 0.0 {
+        let snap = &status.snapshot;
+        if status.paused || status.message.is_some() {
             return;
         }
-        let snap = &status.snapshot;
-        match sweep.step(snap.alpha_rad, snap.mass_ratio, self.mass_ratio, dt) {
+        let observed = sweep::HoldObservation {
+            t: snap.t,
+            value: sweep.value(snap.alpha_rad, snap.mass_ratio),
+            last_crossing_t: snap.last_crossing_t,
+            period: snap.period,
+            multiplicity: snap.period_multiplicity,
+            reports_cycles: snap.theta.is_none(),
+            halted: snap.halted,
+        };
+        let starting_mass = sweep.target == sweep::SweepTarget::MassRatio && snap.mass_ratio <= 0.0;
+        if !starting_mass {
+            match self.sweep_hold.observe(&observed) {
+                sweep::HoldVerdict::Waiting => return,
+                sweep::HoldVerdict::Measured(_) => {}
+                sweep::HoldVerdict::GaveUp => {
+                    self.notice = Some((
+                        format!(
+                            "sweep: no settled period at {} = {:.5} within {} t; stepped on \
+                             without a point",
+                            sweep.target.name(),
+                            observed.value,
+                            sweep::HOLD_CAP
+                        ),
+                        false,
+                    ));
+                }
+            }
+        }
+        match sweep.next(snap.alpha_rad, snap.mass_ratio, self.mass_ratio) {
             sweep::SweepStep::Alpha(alpha) => {
                 self.alpha = alpha;
+                self.sweep_hold = sweep::SweepHold::at(alpha);
                 actions.push(UiAction::Sim(SimCommand::SetAlpha(alpha)));
             }
             sweep::SweepStep::MassRatio(m) => {
                 self.mass_ratio = m;
                 self.inertial = true;
+                self.sweep_hold = sweep::SweepHold::at(m);
                 actions.push(UiAction::Sim(SimCommand::SetMassRatio(m)));
             }
             sweep::SweepStep::Done => {
@@ -386,12 +412,13 @@ impl AppUi {
         }
     }
 
-    /// Starts (or with `None` stops) an automatic sweep.
+    /// Starts (or with `None` stops) a measuring sweep; it first measures the running value.
     pub fn set_auto_sweep(&mut self, sweep: Option<sweep::AutoSweep>) {
         if let Some(s) = sweep {
             self.sweep_choice = s;
         }
         self.auto_sweep = sweep;
+        self.sweep_hold = sweep::SweepHold::default();
     }
 
     /// Draws the whole UI for one frame into the root `ui` and returns what it asks for.

@@ -1,15 +1,18 @@
-//! The slow automatic sweep of α or m/m0: while the simulation plays, the UI moves the parameter
-//! a little for every unit of simulated time, so the 1/T plot (α) or the crossing plot (m/m0)
-//! draws its bifurcation diagram live. Plain data: [`AutoSweep::step`] is the whole rule.
+//! The measuring sweep of α or m/m0, as an orbit diagram is drawn: hold each value until the
+//! run there is measured (its period settled, the body halted, or its cycle of ∂Ω crossings
+//! found), so the 1/T plot (α) or the crossing plot (m/m0) gets its point, then step. A sweep
+//! that moved the parameter a little every frame restarted the period's detection every frame
+//! and never drew a point. Plain data: [`SweepHold::observe`] and [`AutoSweep::next`] are the
+//! whole rule.
 
 use super::{ALPHA_MAX, ALPHA_MIN, MASS_RANGE};
 
 /// What a sweep moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SweepTarget {
-    /// α, by a fixed amount (rad) per 100 time units.
+    /// α, by a fixed amount (rad) per point.
     Alpha,
-    /// m/m0, by a fixed ratio per 100 time units (the rate is ln of it).
+    /// m/m0, by a fixed ratio per point (the step is ln of it).
     MassRatio,
 }
 
@@ -25,40 +28,40 @@ impl SweepTarget {
         }
     }
 
-    /// What the rate means.
-    pub fn rate_hint(self) -> &'static str {
+    /// What the step means.
+    pub fn step_hint(self) -> &'static str {
         match self {
-            SweepTarget::Alpha => "radians added to α per 100 time units (negative: down)",
+            SweepTarget::Alpha => "radians added to α after each point (negative: down)",
             SweepTarget::MassRatio => {
-                "ln of the factor m/m0 is multiplied by per 100 time units (0.05: 5 % more; \
+                "ln of the factor m/m0 is multiplied by after each point (0.05: 5 % more; \
                  negative: down)"
             }
         }
     }
 
-    /// A rate slow enough for the orbit to settle between changes.
-    pub fn default_rate(self) -> f64 {
+    /// A step fine enough to follow a branch: about 1 % of the paper's α*, 5 % in m/m0.
+    pub fn default_step(self) -> f64 {
         match self {
-            SweepTarget::Alpha => 0.001,
+            SweepTarget::Alpha => 0.002,
             SweepTarget::MassRatio => 0.05,
         }
     }
 }
 
-/// A sweep: which parameter, and how fast.
+/// A sweep: which parameter, and by how much per point.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AutoSweep {
     /// What moves.
     pub target: SweepTarget,
-    /// How fast, per 100 time units ([`SweepTarget::rate_hint`]).
-    pub rate: f64,
+    /// The step after each point ([`SweepTarget::step_hint`]).
+    pub step: f64,
 }
 
 impl Default for AutoSweep {
     fn default() -> Self {
         Self {
             target: SweepTarget::MassRatio,
-            rate: SweepTarget::MassRatio.default_rate(),
+            step: SweepTarget::MassRatio.default_step(),
         }
     }
 }
@@ -75,31 +78,26 @@ pub enum SweepStep {
 }
 
 impl AutoSweep {
-    /// The step after `dt` time units from α = `alpha`, m/m0 = `mass_ratio` (a viscous run's 0
-    /// starts a mass sweep from `mass_start`, the slider's value).
-    pub fn step(&self, alpha: f64, mass_ratio: f64, mass_start: f64, dt: f64) -> SweepStep {
-        let dt = if dt.is_finite() { dt.max(0.0) } else { 0.0 };
-        let rate = if self.rate.is_finite() {
-            self.rate
+    /// The step after a point measured at α = `alpha`, m/m0 = `mass_ratio` (a viscous run's 0
+    /// starts a mass sweep at `mass_start`, the slider's value, to be measured first).
+    pub fn next(&self, alpha: f64, mass_ratio: f64, mass_start: f64) -> SweepStep {
+        let step = if self.step.is_finite() {
+            self.step
         } else {
             0.0
         };
         match self.target {
             SweepTarget::Alpha => {
-                let next = alpha + rate * dt / 100.0;
+                let next = alpha + step;
                 if !(ALPHA_MIN..=ALPHA_MAX).contains(&next) {
                     SweepStep::Done
                 } else {
                     SweepStep::Alpha(next)
                 }
             }
+            SweepTarget::MassRatio if mass_ratio <= 0.0 => SweepStep::MassRatio(mass_start),
             SweepTarget::MassRatio => {
-                let from = if mass_ratio > 0.0 {
-                    mass_ratio
-                } else {
-                    mass_start
-                };
-                let next = from * (rate * dt / 100.0).exp();
+                let next = mass_ratio * step.exp();
                 if !(MASS_RANGE.0..=MASS_RANGE.1).contains(&next) {
                     SweepStep::Done
                 } else {
@@ -109,12 +107,170 @@ impl AutoSweep {
         }
     }
 
-    /// One line for the status bar.
-    pub fn describe(&self) -> String {
+    /// The swept parameter's value.
+    pub fn value(&self, alpha: f64, mass_ratio: f64) -> f64 {
         match self.target {
-            SweepTarget::Alpha => format!("sweeping α by {:+} rad per 100 t", self.rate),
-            SweepTarget::MassRatio => format!("sweeping m/m0 by ×{:.3} per 100 t", self.rate.exp()),
+            SweepTarget::Alpha => alpha,
+            SweepTarget::MassRatio => mass_ratio,
         }
+    }
+
+    /// One line for the status bar: what moves, and where the hold is.
+    pub fn describe(&self, hold: &SweepHold) -> String {
+        let step = match self.target {
+            SweepTarget::Alpha => format!("{:+.5} rad", self.step),
+            SweepTarget::MassRatio => format!("×{:.3}", self.step.exp()),
+        };
+        let at = hold.value.map_or(String::new(), |v| {
+            format!(" at {} = {v:.5}", self.target.name())
+        });
+        format!(
+            "sweeping {} by {step} per point: measuring{at} ({} crossing(s) so far)",
+            self.target.name(),
+            hold.crossings
+        )
+    }
+}
+
+/// Longest a sweep holds one value (simulation time) when its run neither settles nor halts;
+/// it then steps on without a point and says so.
+pub const HOLD_CAP: f64 = 3000.0;
+
+/// Crossings of the section at one value before its period counts: the first starts the
+/// clock, one period is the transient, and the last two periods must agree.
+pub const CROSSINGS_TO_MEASURE: usize = 4;
+
+/// How closely the last two periods must agree for the run to count as settled.
+pub const SETTLED_PERIODS: f64 = 1e-3;
+
+/// How long a body must stay at rest for a halt to count: a run started from rest is at rest
+/// for its first instant.
+pub const HALT_CONFIRM: f64 = 5.0;
+
+/// Observations at another value than the one sent before the hold takes the run's value
+/// instead: the simulation applies a command within a frame or two, so a longer mismatch means
+/// the parameter was moved by hand (the slider, a typed value) during the sweep.
+const MOVED_BY_HAND: usize = 10;
+
+/// What the run showed at the value a sweep holds, as the snapshot reports it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HoldObservation {
+    /// Simulation time.
+    pub t: f64,
+    /// The swept parameter's value in the run.
+    pub value: f64,
+    /// When the run last crossed its section (a full turn in 2D, ∂Ω in 3D).
+    pub last_crossing_t: Option<f64>,
+    /// The time between the last two crossings.
+    pub period: Option<f64>,
+    /// The cycle of ∂Ω crossings found (3D), k = 1, 2, …
+    pub multiplicity: Option<usize>,
+    /// Whether the model reports cycles (3D): its run counts as settled only once a cycle is
+    /// found, since a doubled orbit's return times can agree while its crossing points alternate.
+    pub reports_cycles: bool,
+    /// Whether the body has stopped.
+    pub halted: bool,
+}
+
+/// The verdict on the value held.
+#[derive(Debug, Clone, PartialEq)]
+pub enum HoldVerdict {
+    /// Keep holding: the run is not measured yet.
+    Waiting,
+    /// Measured (the plots have their point): step on. Says what was found.
+    Measured(String),
+    /// [`HOLD_CAP`] passed without a settled period or a halt: step on without a point.
+    GaveUp,
+}
+
+/// One value of a sweep, held until it is measured.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SweepHold {
+    /// The value held; `None`: whatever the run has when the sweep starts.
+    value: Option<f64>,
+    since: Option<f64>,
+    last_crossing_t: Option<f64>,
+    crossings: usize,
+    periods: [Option<f64>; 2],
+    mismatched: usize,
+    halted_since: Option<f64>,
+    /// Crossings counted when the cycle was first found, and its period k.
+    cycle_found: Option<(usize, usize)>,
+}
+
+impl SweepHold {
+    /// A hold of `value`, just sent to the simulation: observations at another value (the
+    /// simulation has not applied it yet) are not counted.
+    pub fn at(value: f64) -> Self {
+        Self {
+            value: Some(value),
+            ..Self::default()
+        }
+    }
+
+    /// Takes in one observation and says whether the value is measured.
+    pub fn observe(&mut self, o: &HoldObservation) -> HoldVerdict {
+        match self.value {
+            Some(v) if v != o.value => {
+                self.mismatched += 1;
+                if self.mismatched <= MOVED_BY_HAND {
+                    return HoldVerdict::Waiting;
+                }
+                // Moved by hand: measure where it is now.
+                *self = Self::default();
+                self.value = Some(o.value);
+            }
+            Some(_) => self.mismatched = 0,
+            None => self.value = Some(o.value),
+        }
+        if o.halted {
+            let since = *self.halted_since.get_or_insert(o.t);
+            if o.t - since >= HALT_CONFIRM {
+                return HoldVerdict::Measured("halted".into());
+            }
+        } else {
+            self.halted_since = None;
+        }
+        let Some(since) = self.since else {
+            // The first look: crossings from before it belong to the last value.
+            self.since = Some(o.t);
+            self.last_crossing_t = o.last_crossing_t;
+            return HoldVerdict::Waiting;
+        };
+        if o.last_crossing_t.is_some() && o.last_crossing_t != self.last_crossing_t {
+            self.last_crossing_t = o.last_crossing_t;
+            self.crossings += 1;
+            self.periods = [self.periods[1], o.period];
+        }
+        // A cycle found is measured over two more turns of it, so that the crossing plot gets
+        // every point of the cycle twice (both branches of a doubled orbit).
+        match (o.multiplicity, self.cycle_found) {
+            (Some(k), Some((_, seen))) if k == seen => {}
+            (Some(k), _) => self.cycle_found = Some((self.crossings, k)),
+            (None, _) => self.cycle_found = None,
+        }
+        if self.crossings >= CROSSINGS_TO_MEASURE {
+            if let Some((found, k)) = self.cycle_found
+                && self.crossings >= found + 2 * k
+            {
+                return HoldVerdict::Measured(format!("a cycle of period {k}"));
+            }
+            if let [Some(a), Some(b)] = self.periods
+                && !o.reports_cycles
+                && (a - b).abs() <= SETTLED_PERIODS * b.abs()
+            {
+                return HoldVerdict::Measured(format!("T = {b:.4}"));
+            }
+        }
+        if o.t - since > HOLD_CAP {
+            return HoldVerdict::GaveUp;
+        }
+        HoldVerdict::Waiting
+    }
+
+    /// Crossings counted at this value.
+    pub fn crossings(&self) -> usize {
+        self.crossings
     }
 }
 
@@ -123,31 +279,148 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_sweep_moves_its_parameter_at_its_rate_and_stops_at_the_end() {
+    fn a_sweep_steps_by_its_step_and_stops_at_the_end() {
         let up = AutoSweep {
             target: SweepTarget::Alpha,
-            rate: 0.002,
+            step: 0.002,
         };
-        assert_eq!(up.step(0.1, 0.0, 1.0, 50.0), SweepStep::Alpha(0.1 + 0.001));
-        assert_eq!(up.step(ALPHA_MAX - 1e-6, 0.0, 1.0, 100.0), SweepStep::Done);
+        assert_eq!(up.next(0.1, 0.0, 1.0), SweepStep::Alpha(0.1 + 0.002));
+        assert_eq!(up.next(ALPHA_MAX - 1e-6, 0.0, 1.0), SweepStep::Done);
         let heavier = AutoSweep::default();
-        let SweepStep::MassRatio(m) = heavier.step(0.15, 2.0, 1.0, 100.0) else {
+        let SweepStep::MassRatio(m) = heavier.next(0.15, 2.0, 1.0) else {
             panic!("a mass step")
         };
         assert!((m - 2.0 * 0.05f64.exp()).abs() < 1e-12);
         // From the viscous model a mass sweep starts at the slider's m/m0.
-        assert_eq!(heavier.step(0.15, 0.0, 3.0, 0.0), SweepStep::MassRatio(3.0));
+        assert_eq!(heavier.next(0.15, 0.0, 3.0), SweepStep::MassRatio(3.0));
         let lighter = AutoSweep {
             target: SweepTarget::MassRatio,
-            rate: -1.0,
+            step: -1.0,
         };
-        assert_eq!(lighter.step(0.15, 1.1e-3, 1.0, 100.0), SweepStep::Done);
-        // Bad times or rates move nothing.
-        assert_eq!(up.step(0.1, 0.0, 1.0, f64::NAN), SweepStep::Alpha(0.1));
+        assert_eq!(lighter.next(0.15, 1.1e-3, 1.0), SweepStep::Done);
+        // A broken step moves nothing (and the hold then measures the same value again).
         let broken = AutoSweep {
             target: SweepTarget::Alpha,
-            rate: f64::INFINITY,
+            step: f64::INFINITY,
         };
-        assert_eq!(broken.step(0.1, 0.0, 1.0, 1.0), SweepStep::Alpha(0.1));
+        assert_eq!(broken.next(0.1, 0.0, 1.0), SweepStep::Alpha(0.1));
+    }
+
+    fn seen(t: f64, value: f64, crossing: Option<f64>, period: Option<f64>) -> HoldObservation {
+        HoldObservation {
+            t,
+            value,
+            last_crossing_t: crossing,
+            period,
+            multiplicity: None,
+            reports_cycles: false,
+            halted: false,
+        }
+    }
+
+    #[test]
+    fn a_value_is_held_until_its_period_settles() {
+        let mut hold = SweepHold::at(0.2);
+        // The simulation has not applied the new value yet: nothing counts.
+        assert_eq!(
+            hold.observe(&seen(0.0, 0.19, Some(0.0), Some(9.0))),
+            HoldVerdict::Waiting
+        );
+        // The first look takes the crossing it sees as the old value's.
+        assert_eq!(
+            hold.observe(&seen(1.0, 0.2, Some(0.0), None)),
+            HoldVerdict::Waiting
+        );
+        // Periods 12, 10.5, 10.01, 10.005: settled at the fourth crossing, when the last two
+        // agree to 1e-3.
+        let periods = [12.0, 10.5, 10.01, 10.005];
+        let mut t = 0.0;
+        let mut verdicts = Vec::new();
+        for p in periods {
+            t += p;
+            // A few frames between crossings repeat the same crossing: counted once.
+            for frame in 0..3 {
+                verdicts.push(hold.observe(&seen(t + frame as f64, 0.2, Some(t), Some(p))));
+            }
+        }
+        assert!(
+            verdicts[..9].iter().all(|v| *v == HoldVerdict::Waiting),
+            "{verdicts:?}"
+        );
+        assert_eq!(verdicts[9], HoldVerdict::Measured("T = 10.0050".into()));
+        assert_eq!(hold.crossings(), 4);
+    }
+
+    #[test]
+    fn a_halt_a_cycle_or_the_cap_ends_the_hold() {
+        // At rest for a moment (a start from rest) is not a halt; at rest for HALT_CONFIRM is.
+        let mut hold = SweepHold::at(0.1);
+        let at_rest = |t: f64| HoldObservation {
+            halted: true,
+            ..seen(t, 0.1, None, None)
+        };
+        assert_eq!(hold.observe(&at_rest(0.0)), HoldVerdict::Waiting);
+        assert_eq!(
+            hold.observe(&seen(1.0, 0.1, None, None)),
+            HoldVerdict::Waiting
+        );
+        assert_eq!(hold.observe(&at_rest(2.0)), HoldVerdict::Waiting);
+        assert_eq!(
+            hold.observe(&at_rest(2.0 + HALT_CONFIRM / 2.0)),
+            HoldVerdict::Waiting
+        );
+        assert_eq!(
+            hold.observe(&at_rest(2.0 + HALT_CONFIRM)),
+            HoldVerdict::Measured("halted".into())
+        );
+
+        // A period-2 cycle: the periods alternate and never agree, the cycle is found.
+        let mut hold = SweepHold::default();
+        hold.observe(&seen(0.0, 6.0, None, None));
+        let mut t = 0.0;
+        let mut verdict = HoldVerdict::Waiting;
+        let mut first_measured = None;
+        for i in 0..9 {
+            let p = if i % 2 == 0 { 40.0 } else { 49.0 };
+            t += p;
+            // Return times that agree do not settle a 3D run: its crossing points may alternate.
+            let p = if i < 3 { p } else { 44.0 };
+            let mut o = seen(t, 6.0, Some(t), Some(p));
+            o.reports_cycles = true;
+            o.multiplicity = (i >= 3).then_some(2);
+            verdict = hold.observe(&o);
+            if verdict != HoldVerdict::Waiting && first_measured.is_none() {
+                first_measured = Some(i);
+            }
+        }
+        assert_eq!(verdict, HoldVerdict::Measured("a cycle of period 2".into()));
+        // Found at the fourth crossing (i = 3), then held for two turns of the cycle.
+        assert_eq!(first_measured, Some(3 + 4));
+
+        // Moved by hand during the sweep: after a few looks the hold measures the new value.
+        let mut hold = SweepHold::at(0.2);
+        for i in 0..=MOVED_BY_HAND {
+            assert_eq!(
+                hold.observe(&seen(i as f64, 0.25, None, None)),
+                HoldVerdict::Waiting
+            );
+        }
+        hold.observe(&seen(20.0, 0.25, None, None));
+        assert_eq!(hold.value, Some(0.25));
+
+        // No crossing for longer than the cap: give up.
+        let mut hold = SweepHold::at(0.3);
+        assert_eq!(
+            hold.observe(&seen(10.0, 0.3, None, None)),
+            HoldVerdict::Waiting
+        );
+        assert_eq!(
+            hold.observe(&seen(10.0 + HOLD_CAP, 0.3, None, None)),
+            HoldVerdict::Waiting
+        );
+        assert_eq!(
+            hold.observe(&seen(11.0 + HOLD_CAP, 0.3, None, None)),
+            HoldVerdict::GaveUp
+        );
     }
 }
