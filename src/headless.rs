@@ -126,6 +126,12 @@ impl HeadlessRenderer {
         &self.sim
     }
 
+    /// The plots' samples the simulation took since the last call (every
+    /// [`PLOT_SAMPLE_DT`](crate::sim::PLOT_SAMPLE_DT) of its time, whatever the frame rate).
+    pub fn take_plot_samples(&mut self) -> Vec<crate::sim::history::Sample> {
+        self.sim.take_plot_samples()
+    }
+
     /// Advances the simulation to frame `k`'s time and returns what that frame draws (the
     /// views with their cameras and viewports, and the panels), without drawing it.
     pub fn frame_data(&mut self, k: u64) -> Result<Frame> {
@@ -294,6 +300,7 @@ pub fn render_to(
         let image = hr.frame(k)?;
         if extras.plot_data.is_some() {
             history.push(&hr.simulation().snapshot());
+            history.push_samples(hr.take_plot_samples());
         }
         match &mut writer {
             Frames::Clip(clip) => clip.push(image)?,

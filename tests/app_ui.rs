@@ -123,6 +123,7 @@ fn the_sweep_plot_collects_one_over_t_by_direction_and_counts_halting_as_zero() 
             t += 0.5;
             sim.advance_to(t).unwrap();
             history.push(&sim.snapshot());
+            history.push_samples(sim.take_plot_samples());
         }
     };
     // Above α*: it rolls, and a period is measured.
@@ -161,6 +162,7 @@ fn the_crossing_plot_splits_when_the_mass_is_swept_across_the_flip() {
             t += 2.0;
             sim.advance_to(t).unwrap();
             history.push(&sim.snapshot());
+            history.push_samples(sim.take_plot_samples());
         }
     };
     run(&mut sim, &mut history, 1200.0);
@@ -1090,4 +1092,75 @@ fn the_alpha_field_applies_on_enter_only_and_never_writes_back_what_it_shows() {
         let (text, is_error) = bench.ui.notice().cloned().expect("a notice");
         assert!(is_error && text.contains(needle), "{bad}: {text}");
     }
+}
+
+/// The plots' time series are sampled by the simulation every PLOT_SAMPLE_DT of its time, not
+/// once per drawn frame: the periodic cylinder's phase curve θ̇(θ) drawn at 60 frames per
+/// second and at 8 (a slow renderer) has the same samples and the same peak, and the peak is
+/// that of the run sampled finely (`simulate` would give it).
+#[test]
+fn the_plots_are_the_same_at_two_frame_rates() {
+    use rollphase::sim::PLOT_SAMPLE_DT;
+    let run = |frame_pause_ms: u64| {
+        let (gpu, target, mut bench) = app("cylinder-hysteresis");
+        bench.sim.send(SimCommand::SetSpeed(200.0));
+        let start = Instant::now();
+        while bench
+            .ui
+            .history()
+            .samples()
+            .last()
+            .is_none_or(|s| s.t < 400.0)
+        {
+            let frame = bench.run_ui(offscreen_input(SIZE, now(), vec![]), SIZE);
+            bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+            assert!(start.elapsed() < Duration::from_secs(60), "timed out");
+            std::thread::sleep(Duration::from_millis(frame_pause_ms));
+        }
+        bench
+            .ui
+            .history()
+            .samples()
+            .filter(|s| s.t <= 400.0)
+            .map(|s| (s.t, s.rate))
+            .collect::<Vec<_>>()
+    };
+    let fast = run(16);
+    let slow = run(125);
+    // Every sample on the grid k · dt, none missing, at both frame rates.
+    assert_eq!(fast.len(), slow.len());
+    assert_eq!(fast.len(), (400.0 / PLOT_SAMPLE_DT) as usize + 1);
+    for (k, (a, b)) in fast.iter().zip(&slow).enumerate() {
+        assert_eq!(a.0, k as f64 * PLOT_SAMPLE_DT);
+        assert_eq!(a.0, b.0);
+        // The integrator's steps end where each tick ends, and ticks follow the wall clock:
+        // the values agree to the integrator's tolerance, not to the bit.
+        assert!((a.1 - b.1).abs() < 1e-6, "t = {}: {} vs {}", a.0, a.1, b.1);
+    }
+    // The phase curve's peak over the last periods, against a fine run of the same scene.
+    let peak = |v: &[(f64, f64)]| {
+        v.iter()
+            .filter(|s| s.0 > 200.0)
+            .map(|s| s.1)
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    let setup = Scene::preset("cylinder-hysteresis")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    let mut sim = Simulation::new(setup);
+    let mut fine: f64 = f64::NEG_INFINITY;
+    let mut t = 200.0;
+    sim.advance_to(t).unwrap();
+    while t < 400.0 {
+        t += 0.01;
+        sim.advance_to(t).unwrap();
+        fine = fine.max(sim.snapshot().theta_dot.unwrap());
+    }
+    assert!((peak(&fast) - peak(&slow)).abs() < 1e-6);
+    assert!(
+        (peak(&fast) - fine).abs() < 1e-3 * fine,
+        "{} against {fine}",
+        peak(&fast)
+    );
 }

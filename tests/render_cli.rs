@@ -475,13 +475,24 @@ fn plot_data_writes_the_plots_csv_of_a_headless_run() {
         health.starts_with("t,quat_norm_error,contact_normal_error\n"),
         "a viscous sphere: no energy column\n{health}"
     );
-    assert_eq!(health.lines().count(), 3, "one row per frame\n{health}");
+    // One row every PLOT_SAMPLE_DT of simulation time from t = 0, however many frames.
+    let times = |csv: &str| -> Vec<f64> {
+        csv.lines()
+            .skip(1)
+            .map(|l| l.split(',').next().unwrap().parse().unwrap())
+            .collect()
+    };
+    let t = times(&health);
+    assert!(t.len() >= 3, "{health}");
+    for (k, t) in t.iter().enumerate() {
+        assert_eq!(*t, k as f64 * rollphase::sim::PLOT_SAMPLE_DT, "{health}");
+    }
     let forces = read("contact-force.csv");
     assert!(
         forces.starts_with("t,normal_force,friction_needed\n"),
         "{forces}"
     );
-    assert_eq!(forces.lines().count(), 3, "one row per frame\n{forces}");
+    assert_eq!(times(&forces), t, "{forces}");
     // Refusals: the destination is a file; no --headless.
     let file = dir.join("a-file");
     std::fs::write(&file, "keep").unwrap();

@@ -76,6 +76,11 @@ impl Controller {
         &self.sim
     }
 
+    /// The plots' samples the simulation took since the last call.
+    pub fn take_plot_samples(&mut self) -> Vec<super::history::Sample> {
+        self.sim.take_plot_samples()
+    }
+
     /// Paused or not.
     pub fn is_paused(&self) -> bool {
         self.paused

@@ -1,5 +1,7 @@
 //! The plots' history: what the app's plots (and `--headless --plot-data`) show, accumulated
-//! from the snapshots of a run: θ(t) and θ̇(θ) or the contact's angles, 1/T against α collected
+//! from a run: the time series θ(t) and θ̇(θ) or the contact's angles, the health and the
+//! contact force, sampled every [`PLOT_SAMPLE_DT`](super::PLOT_SAMPLE_DT) by the simulation
+//! itself ([`PlotHistory::push_samples`]); and from its snapshots 1/T against α collected
 //! while α is swept (a halted body counts as 1/T = 0, separately for sweeps up and down, so
 //! hysteresis shows as two branches), the settled crossings of ∂Ω against m/m0 collected while
 //! the mass is swept, and the numerical health against time. Plain data, tested without a
@@ -10,13 +12,12 @@ use std::collections::{BTreeMap, VecDeque};
 
 use std::path::Path;
 
-use crate::geometry::sphere::angles;
 use crate::output::{self, Inputs, OutputSet};
 
 use super::{Measured, Snapshot};
 
-/// Samples kept per time series (older ones are dropped).
-const MAX_SAMPLES: usize = 20_000;
+/// Samples kept per time series (older ones are dropped): the last 5000 time units.
+pub const MAX_SAMPLES: usize = 50_000;
 
 /// Points per plotted time series (see [`PlotHistory::plotted`]).
 pub const PLOT_POINTS: usize = 1000;
@@ -88,31 +89,23 @@ impl PlotHistory {
         *self = Self::default();
     }
 
-    /// Takes in one snapshot: a new sample if time moved on, and a sweep point when a new
-    /// period was measured or the body halted.
-    pub fn push(&mut self, snap: &Snapshot) {
-        if self.samples.back().is_some_and(|s| snap.t <= s.t) {
-            return;
+    /// Takes in the simulation's samples ([`Simulation::take_plot_samples`](super::Simulation::take_plot_samples)),
+    /// oldest first; one not after the last taken is left out.
+    pub fn push_samples(&mut self, samples: impl IntoIterator<Item = Sample>) {
+        for s in samples {
+            if self.samples.back().is_some_and(|last| s.t <= last.t) {
+                continue;
+            }
+            self.samples.push_back(s);
         }
-        let (theta, phi) = match snap.theta {
-            Some(theta) => (theta, 0.0),
-            None => angles(snap.contact_in_body),
-        };
-        self.samples.push_back(Sample {
-            t: snap.t,
-            theta,
-            rate: snap.theta_dot.unwrap_or(snap.angular_speed),
-            phi,
-            quat_norm_error: snap.health.quat_norm_error,
-            contact_normal_error: snap.health.contact_normal_error,
-            energy_drift: snap.health.energy_drift,
-            normal_force: snap.contact_force.normal,
-            friction_needed: snap.contact_force.friction_needed(),
-        });
         while self.samples.len() > MAX_SAMPLES {
             self.samples.pop_front();
         }
+    }
 
+    /// Takes in one snapshot: a sweep point when a new period was measured or the body halted,
+    /// and a settled crossing of ∂Ω.
+    pub fn push(&mut self, snap: &Snapshot) {
         let alpha = snap.alpha_rad;
         if let Some(prev) = self.last_alpha
             && alpha != prev
@@ -173,6 +166,14 @@ impl PlotHistory {
         // Count from the newest sample so it is always drawn.
         let offset = (n + stride - 1) % stride;
         self.samples.iter().skip(offset).step_by(stride)
+    }
+
+    /// The newest `n` samples at full resolution, oldest first: the phase curve, whose peaks a
+    /// thinned series would cut.
+    pub fn recent(&self, n: usize) -> impl Iterator<Item = &Sample> {
+        self.samples
+            .iter()
+            .skip(self.samples.len().saturating_sub(n))
     }
 
     /// The sweep points (α, 1/T) of one direction, by α.
@@ -375,6 +376,7 @@ mod tests {
                 t += 1.0;
                 sim.advance_to(t).unwrap();
                 history.push(&sim.snapshot());
+                history.push_samples(sim.take_plot_samples());
             }
         }
         let measured = sim.snapshot().health.measured;

@@ -8,10 +8,13 @@ use crate::dynamics::{
     ContactForce, ModelKind, ModelVisitor, ModelVisitorMut, Observation, Ramp, RollingModel,
 };
 use crate::geometry::Body;
+use crate::geometry::sphere::angles;
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::{self, IntegrateError, Method, Stepper};
 use crate::scene::{SceneSetup, Step, ViewsSpec};
 use crate::simulate::{ModelState, choose_model, locate_switch};
+
+use super::history::Sample;
 use glam::{DQuat, DVec3};
 use std::collections::VecDeque;
 use thiserror::Error;
@@ -231,7 +234,18 @@ pub struct Simulation {
     contact: ContactWatch,
     /// Tips across a dented cylinder's flats and the energy they took (`None`: convex body).
     hull_tips: Option<(u64, f64)>,
+    /// The plots' samples not yet taken ([`Self::take_plot_samples`]), one every
+    /// [`PLOT_SAMPLE_DT`] from the run's start.
+    plot_samples: VecDeque<Sample>,
+    /// The index k of the next sample, at t = k · [`PLOT_SAMPLE_DT`].
+    next_plot_k: u64,
 }
+
+/// Simulation time between two samples of the plots' time series (θ(t), θ̇(θ), the health and
+/// the contact force): taken here from the integrator's dense output, so the curves are the
+/// same at any frame rate (sampled per drawn frame, a slow renderer cut the phase curve's
+/// peaks by a fifth).
+pub const PLOT_SAMPLE_DT: f64 = 0.1;
 
 /// What a model gives the simulation at a state.
 struct Observed {
@@ -273,6 +287,8 @@ impl Simulation {
             trail_dt,
             next_trail_t: 0.0,
             crossings: VecDeque::new(),
+            plot_samples: VecDeque::new(),
+            next_plot_k: 0,
             health: Health::default(),
             stopped: None,
             last_failure: None,
@@ -571,6 +587,18 @@ impl Simulation {
                 self.record(ts, &o);
                 self.next_trail_t += self.trail_dt;
             }
+            loop {
+                // k · dt, not a running sum: the grid is the same however the run is cut up.
+                let ts = self.next_plot_k as f64 * PLOT_SAMPLE_DT;
+                if ts > t_now {
+                    break;
+                }
+                if ts >= st.t_prev() {
+                    let o = observe(&st.dense(ts));
+                    self.push_plot_sample(ts, &o);
+                }
+                self.next_plot_k += 1;
+            }
             self.contact
                 .step_along(st, (t_now, y_now), |y| model.contact_force(y));
             let o = observe(&y_now);
@@ -607,6 +635,33 @@ impl Simulation {
             in_body: o.in_body,
             ball: if self.track_ball { o.ball } else { None },
         });
+    }
+
+    /// The plots' samples taken since the last call, oldest first (at most
+    /// [`history::MAX_SAMPLES`](super::history::MAX_SAMPLES) are kept waiting).
+    pub fn take_plot_samples(&mut self) -> Vec<Sample> {
+        self.plot_samples.drain(..).collect()
+    }
+
+    fn push_plot_sample(&mut self, t: f64, o: &Observed) {
+        let (theta, phi) = match o.theta {
+            Some(theta) => (theta, 0.0),
+            None => angles(o.in_body),
+        };
+        self.plot_samples.push_back(Sample {
+            t,
+            theta,
+            rate: o.theta_dot.unwrap_or(o.angular_speed),
+            phi,
+            quat_norm_error: self.health.quat_norm_error.max(o.quat_err),
+            contact_normal_error: self.health.contact_normal_error.max(o.normal_err),
+            energy_drift: self.health.energy_drift,
+            normal_force: o.force.normal,
+            friction_needed: o.force.friction_needed(),
+        });
+        while self.plot_samples.len() > super::history::MAX_SAMPLES {
+            self.plot_samples.pop_front();
+        }
     }
 
     /// What the current state looks like.

@@ -9,6 +9,7 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+use super::history::{MAX_SAMPLES, Sample};
 use super::{Controller, SimCommand, Snapshot};
 
 /// What the simulation thread publishes after each tick: the latest snapshot and the state of
@@ -55,7 +56,16 @@ const MAX_TICK_WALL: f64 = 0.1;
 pub struct SimThread {
     commands: Sender<SimCommand>,
     status: Arc<Mutex<Arc<SimStatus>>>,
+    samples: Arc<Mutex<PlotSamples>>,
     handle: Option<JoinHandle<()>>,
+}
+
+/// The plots' samples the simulation took and the UI has not yet collected, of one run
+/// ((scene_id, run_id)); at most [`MAX_SAMPLES`] wait (the history keeps no more).
+#[derive(Debug, Default)]
+struct PlotSamples {
+    run: (u64, u64),
+    samples: VecDeque<Sample>,
 }
 
 impl SimThread {
@@ -65,15 +75,29 @@ impl SimThread {
         let (commands, inbox) = mpsc::channel();
         let mut worker = SimWorker::new(setup);
         let status = Arc::new(Mutex::new(Arc::new(worker.status())));
+        let samples = Arc::new(Mutex::new(PlotSamples::default()));
         let published = status.clone();
+        let taken = samples.clone();
         let handle = std::thread::Builder::new()
             .name("rollphase-sim".into())
-            .spawn(move || worker.run(&inbox, &published))?;
+            .spawn(move || worker.run(&inbox, &published, &taken))?;
         Ok(Self {
             commands,
             status,
+            samples,
             handle: Some(handle),
         })
+    }
+
+    /// The plots' samples taken since the last call, oldest first, with the run they belong to
+    /// ((scene_id, run_id) of [`SimStatus`]): sampled by the simulation every
+    /// [`PLOT_SAMPLE_DT`](super::PLOT_SAMPLE_DT) of its time, however often this is called.
+    pub fn take_plot_samples(&self) -> ((u64, u64), Vec<Sample>) {
+        let mut queue = match self.samples.lock() {
+            Ok(q) => q,
+            Err(poisoned) => poisoned.into_inner(),
+        };
+        (queue.run, queue.samples.drain(..).collect())
     }
 
     /// Queues a command; it takes effect at the thread's next tick.
@@ -164,7 +188,30 @@ impl SimWorker {
         }
     }
 
-    fn run(&mut self, inbox: &Receiver<SimCommand>, published: &Mutex<Arc<SimStatus>>) {
+    /// Hands the samples the simulation took to the UI's queue, emptied when the run changed.
+    fn hand_over_samples(&mut self, queue: &Mutex<PlotSamples>) {
+        let taken = self.controller.take_plot_samples();
+        let mut queue = match queue.lock() {
+            Ok(q) => q,
+            Err(poisoned) => poisoned.into_inner(),
+        };
+        let run = (self.scene_id, self.run_id);
+        if queue.run != run {
+            queue.run = run;
+            queue.samples.clear();
+        }
+        queue.samples.extend(taken);
+        while queue.samples.len() > MAX_SAMPLES {
+            queue.samples.pop_front();
+        }
+    }
+
+    fn run(
+        &mut self,
+        inbox: &Receiver<SimCommand>,
+        published: &Mutex<Arc<SimStatus>>,
+        samples: &Mutex<PlotSamples>,
+    ) {
         let start = Instant::now();
         let mut last = start;
         loop {
@@ -217,6 +264,7 @@ impl SimWorker {
                 self.window
                     .push(elapsed, self.controller.simulation().time());
             }
+            self.hand_over_samples(samples);
             let status = Arc::new(self.status());
             match published.lock() {
                 Ok(mut s) => *s = status,

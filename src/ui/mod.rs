@@ -238,8 +238,14 @@ impl AppUi {
         self.alpha
     }
 
-    /// Takes in the latest status: follows a new scene or run, and collects plot samples.
-    pub fn follow_status(&mut self, status: &SimStatus, scale: Option<CurvatureScale>) {
+    /// Takes in the latest status and the plots' samples taken since the last frame (with the
+    /// run they belong to): follows a new scene or run, and collects them.
+    pub fn follow_status(
+        &mut self,
+        status: &SimStatus,
+        scale: Option<CurvatureScale>,
+        samples: ((u64, u64), Vec<crate::sim::history::Sample>),
+    ) {
         let run = (status.scene_id, status.run_id);
         if self.seen_run != Some(run) {
             if self.seen_run.map(|r| r.0) != Some(status.scene_id) {
@@ -275,6 +281,11 @@ impl AppUi {
         }
         self.seen_message = status.message.clone();
         self.history.push(&status.snapshot);
+        // Samples of an earlier run (taken before a reset this status already shows) are not
+        // this run's.
+        if samples.0 == run {
+            self.history.push_samples(samples.1);
+        }
     }
 
     /// Shows the simulation's α, m/m0, speed and views in the controls.

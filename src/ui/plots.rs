@@ -1,4 +1,5 @@
-//! The app's plots (egui_plot) and the history they draw, accumulated from the snapshots the
+//! The app's plots (egui_plot) and the history they draw, accumulated from the samples the
+//! simulation takes every [`PLOT_SAMPLE_DT`](crate::sim::PLOT_SAMPLE_DT) and the snapshots the
 //! UI receives: θ(t) and θ̇(θ) for a cylinder, the contact path on the (φ, θ) curvature map for
 //! a sphere, the order parameter 1/T against α collected while the user sweeps α (a halted body
 //! counts as 1/T = 0, separately for sweeps up and down, so hysteresis shows as two branches),
@@ -22,6 +23,10 @@ use crate::geometry::sphere::{angles, direction};
 use crate::sim::Snapshot;
 pub use crate::sim::history::{PLOT_POINTS, PlotHistory, Sample, Sweep};
 use crate::view::CurvatureScale;
+
+/// Samples in the phase curve: the last 300 time units at every
+/// [`PLOT_SAMPLE_DT`](crate::sim::PLOT_SAMPLE_DT).
+const PHASE_POINTS: usize = 3000;
 
 /// The Gaussian curvature K on a (φ, θ) grid, for the contact-path plot of a sphere, drawn as
 /// one texture: as 2592 heatmap cells it was re-tessellated and filled cell by cell every frame,
@@ -223,10 +228,11 @@ pub fn plots_ui(
                 .x_axis_label("t")
                 .y_axis_label("θ")
                 .show(ui, |p| p.line(Line::new("θ(t)", theta_t)));
-            // The phase curve as a line, broken where θ wraps at 2π.
+            // The phase curve as a line, broken where θ wraps at 2π: the newest samples at full
+            // resolution (a periodic orbit retraces itself, and thinning cuts its peaks).
             let mut pieces: Vec<Vec<[f64; 2]>> = vec![Vec::new()];
             let mut prev: Option<f64> = None;
-            for s in history.plotted() {
+            for s in history.recent(PHASE_POINTS) {
                 let theta = s.theta.rem_euclid(std::f64::consts::TAU);
                 if prev.is_some_and(|q| (theta - q).abs() > std::f64::consts::PI) {
                     pieces.push(Vec::new());

@@ -136,7 +136,8 @@ impl Workbench {
         let status = self.sim.status();
         let (scale, note) = self.painter.sync(&status, &self.ui.views);
         self.ui.field_note = note;
-        self.ui.follow_status(&status, scale);
+        let samples = self.sim.take_plot_samples();
+        self.ui.follow_status(&status, scale, samples);
         self.ui.recording = self.recording.as_ref().map(|r| RecordProgress {
             done: r.done,
             total: r.total,
