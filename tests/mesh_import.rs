@@ -7,26 +7,13 @@
 mod cli;
 
 use std::f64::consts::TAU;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use cli::{rollphase, rollphase_ok};
+use cli::{data, rollphase, rollphase_ok, scratch};
 use rollphase::geometry::mesh::{TriMesh, disk_mesh, sphere_mesh};
 use rollphase::geometry::sphere::fibonacci_sphere;
 use rollphase::geometry::{Body, Disk, ShapeFile, Sphere};
 use serde_json::Value;
-
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("assets/data")
-        .join(name)
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rp-mesh-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// Fits `mesh` with extra flags; returns the body, its scale and the report.
 fn fit(mesh: &Path, extra: &[&str], dir: &Path) -> (Body, Option<f64>, Value) {

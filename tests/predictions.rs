@@ -8,15 +8,8 @@ mod cli;
 
 use std::path::{Path, PathBuf};
 
-use cli::{rollphase, rollphase_ok};
+use cli::{rollphase, rollphase_ok, scratch};
 use serde_json::Value;
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rp-predict-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn predict(body: &Path, extra: &[&str]) -> Value {
     let mut args = vec![

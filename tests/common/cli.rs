@@ -37,3 +37,18 @@ where
     );
     out.stdout
 }
+
+/// A file of `assets/data/` (the authors' printed bodies and tracked run).
+pub fn data(name: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/data")
+        .join(name)
+}
+
+/// A fresh, empty scratch folder for this test process.
+pub fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("rp-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
