@@ -30,9 +30,9 @@ frame() {
 frame sphere-two-orbits 60 docs/render/sphere-two-orbits.png
 frame cylinder-near-critical 60 docs/render/cylinder-near-critical.png
 
-# The app's window; under Xvfb where there is no display.
+# The app's window (1600×900 on a screen larger than that); under Xvfb where there is no display.
 window() {
-    if [ -n "${DISPLAY:-}" ]; then "$@"; else xvfb-run -a -s "-screen 0 1600x900x24" "$@"; fi
+    if [ -n "${DISPLAY:-}" ]; then "$@"; else xvfb-run -a -s "-screen 0 1920x1080x24" "$@"; fi
 }
 window "$bin" app --preset sphere-two-orbits --screenshot-after 6 docs/render/app.png --exit-after 7
 window "$bin" app --preset lesson-critical-angle --screenshot-after 40 docs/lessons/critical-angle.png --exit-after 41

@@ -102,6 +102,22 @@ pub fn run(options: AppOptions) -> Result<()> {
     Ok(())
 }
 
+/// The window's first size: 1600×900, or 16:9 within 90 % of a smaller screen (on a 1280×720
+/// projector the window opened larger than the screen).
+fn initial_size(monitor: Option<PhysicalSize<u32>>) -> PhysicalSize<u32> {
+    const PREFERRED: (f64, f64) = (1600.0, 900.0);
+    let scale = match monitor {
+        Some(m) if m.width > 0 && m.height > 0 => (0.9 * f64::from(m.width) / PREFERRED.0)
+            .min(0.9 * f64::from(m.height) / PREFERRED.1)
+            .min(1.0),
+        _ => 1.0,
+    };
+    PhysicalSize::new(
+        (PREFERRED.0 * scale).round() as u32,
+        (PREFERRED.1 * scale).round() as u32,
+    )
+}
+
 fn no_display(why: &str) -> String {
     format!(
         "cannot open a window: no display ({why}); render PNG frames instead with \
@@ -139,7 +155,7 @@ impl App {
             .ok_or_else(|| anyhow!("the window was already opened"))?;
         let attributes = Window::default_attributes()
             .with_title(format!("rollphase: {}", options.setup.scene.name))
-            .with_inner_size(PhysicalSize::new(1600, 900));
+            .with_inner_size(initial_size(event_loop.primary_monitor().map(|m| m.size())));
         let window = Arc::new(
             event_loop
                 .create_window(attributes)
@@ -395,5 +411,23 @@ impl ApplicationHandler for App {
         event_loop.set_control_flow(ControlFlow::WaitUntil(
             Instant::now() + Duration::from_millis(nap),
         ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::initial_size;
+    use winit::dpi::PhysicalSize;
+
+    #[test]
+    fn the_window_fits_the_screen_it_opens_on() {
+        let size = |w, h| initial_size(Some(PhysicalSize::new(w, h)));
+        assert_eq!(size(1920, 1080), PhysicalSize::new(1600, 900));
+        assert_eq!(size(3840, 2160), PhysicalSize::new(1600, 900));
+        assert_eq!(size(1280, 720), PhysicalSize::new(1152, 648));
+        // A tall or narrow screen: the smaller ratio decides, 16:9 kept.
+        assert_eq!(size(1024, 1280), PhysicalSize::new(922, 518));
+        assert_eq!(initial_size(None), PhysicalSize::new(1600, 900));
+        assert_eq!(size(0, 0), PhysicalSize::new(1600, 900));
     }
 }

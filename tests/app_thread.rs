@@ -114,3 +114,22 @@ fn a_refused_command_is_a_message_and_changes_nothing() {
     assert_eq!(s.snapshot.alpha_rad, 0.3);
     assert!(!s.paused, "a refused command does not pause");
 }
+
+/// After a speed change the delivered speed is measured afresh: the first statuses at the new
+/// speed say "not measured yet" rather than mixing in the old speed ("92.76 of 70.00 t per s").
+#[test]
+fn a_speed_change_measures_the_delivered_speed_afresh() {
+    let sim = thread("sphere-cruising");
+    sim.send(SimCommand::SetSpeed(2.0));
+    wait_for(&sim, "a measurement at 2 t/s", |s| {
+        s.speed == 2.0 && s.delivered_speed.is_some()
+    });
+    sim.send(SimCommand::SetSpeed(8.0));
+    let s = wait_for(&sim, "the new speed", |s| s.speed == 8.0);
+    assert_eq!(s.delivered_speed, None, "a measurement mixing 2 and 8 t/s");
+    let s = wait_for(&sim, "a measurement at 8 t/s", |s| {
+        s.delivered_speed.is_some()
+    });
+    let d = s.delivered_speed.unwrap();
+    assert!((d - 8.0).abs() < 1.2, "delivered {d} of 8.0 t/s");
+}

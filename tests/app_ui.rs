@@ -1164,3 +1164,39 @@ fn the_plots_are_the_same_at_two_frame_rates() {
         peak(&fast)
     );
 }
+
+/// Two presses within one frame count twice (+ + quadruples the speed), Esc closes the list of
+/// keys before it leaves a mode, and leaving presentation mode takes its hint off the status
+/// bar.
+#[test]
+fn every_key_press_counts_and_esc_closes_the_key_list_first() {
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.0);
+    let speed = s.speed;
+    let mut twice = key(egui::Key::Plus);
+    twice.extend(key(egui::Key::Plus));
+    let s = frames_until(&mut bench, &gpu, &target, twice, |s| s.speed != speed);
+    assert_eq!(s.speed, 4.0 * speed);
+
+    // ? shows the keys; F5 presents; Esc closes the list and stays presenting; Esc leaves.
+    frames(&mut bench, &gpu, &target, key(egui::Key::Questionmark), 2);
+    frames(&mut bench, &gpu, &target, key(egui::Key::F5), 2);
+    assert!(bench.ui.presenting);
+    let hint = bench.ui.notice().cloned().expect("the presentation hint");
+    assert!(hint.0.starts_with("presentation: "), "{hint:?}");
+    frames(&mut bench, &gpu, &target, key(egui::Key::Escape), 2);
+    assert!(
+        bench.ui.presenting,
+        "the first Esc closes the key list only"
+    );
+    frames(&mut bench, &gpu, &target, key(egui::Key::Escape), 2);
+    assert!(!bench.ui.presenting);
+    assert!(
+        bench
+            .ui
+            .notice()
+            .is_none_or(|(n, _)| !n.starts_with("presentation: ")),
+        "{:?}",
+        bench.ui.notice()
+    );
+}

@@ -77,6 +77,11 @@ fn window_under_xvfb_shows_the_body_and_the_controls() {
     let img = image::open(&shot).unwrap().to_rgba8();
     let (w, h) = img.dimensions();
     assert!(w >= 640 && h >= 400, "screenshot is {w}x{h}");
+    // The window fits the 1280×800 screen (it opened at 1600×900 whatever the screen).
+    assert!(
+        w <= 1280 && h <= 800,
+        "a {w}x{h} window on a 1280x800 screen"
+    );
     // The controls panel on the left: egui's dark panel with light text on it.
     let panel_w = 200;
     let (dark, light) = common::frames::panel_pixels(&img, panel_w, 40..h - 40);

@@ -19,6 +19,9 @@ impl AppUi {
             return;
         }
         let pressed = |k: Key| ctx.input(|i| i.key_pressed(k));
+        // Keys that act once per press: two presses within one frame (a slow renderer, a
+        // clicker) are two steps, not one.
+        let presses = |k: Key| ctx.input(|i| i.num_presses(k));
         if pressed(Key::Space) {
             actions.push(UiAction::Sim(if status.paused {
                 SimCommand::Play
@@ -26,7 +29,7 @@ impl AppUi {
                 SimCommand::Pause
             }));
         }
-        if pressed(Key::ArrowRight) {
+        for _ in 0..presses(Key::ArrowRight) {
             actions.push(UiAction::Sim(SimCommand::Step));
         }
         if pressed(Key::R) {
@@ -34,18 +37,17 @@ impl AppUi {
         }
         // A presenter's clicker sends Page Down / Page Up.
         if status.snapshot.lesson.is_some() {
-            if pressed(Key::N) || pressed(Key::PageDown) {
+            for _ in 0..presses(Key::N) + presses(Key::PageDown) {
                 actions.push(UiAction::Sim(SimCommand::NextStep));
             }
-            if pressed(Key::B) || pressed(Key::PageUp) {
+            for _ in 0..presses(Key::B) + presses(Key::PageUp) {
                 actions.push(UiAction::Sim(SimCommand::PreviousStep));
             }
         }
-        let faster = pressed(Key::Plus) || pressed(Key::Equals);
-        let slower = pressed(Key::Minus);
-        if faster || slower {
-            let factor = if faster { 2.0 } else { 0.5 };
-            self.speed = (status.speed * factor).clamp(SPEED_RANGE.0, SPEED_RANGE.1);
+        let doublings =
+            (presses(Key::Plus) + presses(Key::Equals)) as i32 - presses(Key::Minus) as i32;
+        if presses(Key::Plus) + presses(Key::Equals) + presses(Key::Minus) > 0 {
+            self.speed = (status.speed * 2f64.powi(doublings)).clamp(SPEED_RANGE.0, SPEED_RANGE.1);
             actions.push(UiAction::Sim(SimCommand::SetSpeed(self.speed)));
         }
         if pressed(Key::F) {
@@ -63,7 +65,9 @@ impl AppUi {
             self.set_class_mode(ctx, !self.class_mode, actions);
         }
         if pressed(Key::Escape) {
-            if self.presenting {
+            if self.show_keys {
+                self.show_keys = false;
+            } else if self.presenting {
                 self.set_presentation(ctx, false, actions);
             } else if self.class_mode {
                 self.set_class_mode(ctx, false, actions);
@@ -107,6 +111,14 @@ impl AppUi {
             ));
         } else {
             (self.show_controls, self.show_plots) = self.panels_before;
+            // Its hint is about a mode that has ended.
+            if self
+                .notice
+                .as_ref()
+                .is_some_and(|(n, _)| n.starts_with("presentation: "))
+            {
+                self.notice = None;
+            }
         }
         self.presenting = on;
         self.set_class_mode(ctx, on, actions);
@@ -125,7 +137,7 @@ impl AppUi {
         ("C", "class mode (large text, full screen)"),
         ("H", "hide / show the controls"),
         ("P", "hide / show the plots"),
-        ("Esc", "leave presentation or class mode"),
+        ("Esc", "close this list; leave presentation or class mode"),
         ("?", "this list"),
     ];
 
