@@ -25,7 +25,7 @@ use crate::render::types::Frame;
 use crate::render::{GpuContext, Renderer};
 use crate::scene::SceneSetup;
 use crate::sim::Simulation;
-use crate::sim::history::{PlotData, PlotHistory};
+use crate::sim::history::{PlotHistory, PlotMeta};
 use crate::sim::{FieldCache, FieldWanted};
 use crate::view::{SceneView, ViewOptions};
 
@@ -255,7 +255,7 @@ pub fn render_to(
     }
     let progress = extras.progress;
     if let Some(dir) = extras.plot_data {
-        let names: Vec<&str> = PlotData::ALL.iter().map(|d| d.file_name()).collect();
+        let names = PlotHistory::file_names();
         crate::output::check_folder(dir, &names, inputs).context("--plot-data")?;
     }
     let mut history = PlotHistory::default();
@@ -316,9 +316,10 @@ pub fn render_to(
         Frames::Pngs(pngs, _) => pngs.close()?,
     }
     if let Some(dir) = extras.plot_data {
-        let measured = hr.simulation().snapshot().health.measured;
+        let snapshot = hr.simulation().snapshot();
+        let meta = PlotMeta::of(&snapshot, hr.simulation().setup(), hr.simulation().method());
         history
-            .write_csv_files(dir, measured, inputs)
+            .write_csv_files(dir, snapshot.health.measured, &meta, inputs)
             .context("--plot-data")?;
     }
     bar.finish_and_clear();

@@ -735,7 +735,40 @@ fn export_csv_writes_the_plotted_data_and_says_where() {
     bench.ui.set_plot_data_dir(&dir);
     bench.ui.export_plot_data(&s);
     let (text, error) = bench.ui.notice().cloned().unwrap();
-    assert!(!error && text.contains("exported 4 CSV files"), "{text}");
+    // The confirmation names where the files are, from anywhere.
+    let dir = std::fs::canonicalize(&dir).unwrap();
+    assert!(
+        !error
+            && text.contains("exported 5 CSV files and plot-data.json")
+            && text.contains(&dir.display().to_string()),
+        "{text}"
+    );
+    // What they were taken from, beside them.
+    let meta: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("plot-data.json")).unwrap())
+            .unwrap();
+    assert_eq!(meta["scene"], "sphere-cruising");
+    assert_eq!(meta["model"], "sphere-viscous");
+    assert_eq!(meta["alpha_rad"].as_f64(), Some(s.snapshot.alpha_rad));
+    assert_eq!(
+        meta["sample_dt"].as_f64(),
+        Some(rollphase::sim::PLOT_SAMPLE_DT)
+    );
+    assert!(
+        meta["integrator"].as_str().unwrap().starts_with("DOP853"),
+        "{meta}"
+    );
+    assert!(meta["files"]["series.csv"].is_string(), "{meta}");
+    // The motion the plots draw: the contact's path on the body and |ω|.
+    let series = std::fs::read_to_string(dir.join("series.csv")).unwrap();
+    assert!(
+        series.starts_with("t,contact_theta,contact_phi,angular_speed\n"),
+        "{series}"
+    );
+    assert_eq!(
+        series.lines().count(),
+        bench.ui.history().samples().count() + 1
+    );
     // The contact force the plot shows: a viscous sphere is pressed with cos α and needs tan α.
     let forces = std::fs::read_to_string(dir.join("contact-force.csv")).unwrap();
     assert!(

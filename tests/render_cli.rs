@@ -451,7 +451,7 @@ fn a_clip_in_a_missing_folder_says_so_once() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// `--plot-data DIR` writes the app's plot data of a headless run as three CSV files (a lesson
+/// `--plot-data DIR` writes the app's plot data of a headless run as CSV files and their metadata (a lesson
 /// that sweeps m/m0 gives the mass sweep); a file, a non-folder or a missing --headless is
 /// refused before any frame is rendered, and nothing is left behind.
 #[test]
@@ -468,7 +468,9 @@ fn plot_data_writes_the_plots_csv_of_a_headless_run() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let read = |name: &str| std::fs::read_to_string(data.join(name)).unwrap();
-    assert!(read("sweep-alpha.csv").starts_with("direction,alpha,inverse_period\n"));
+    assert!(read("sweep-alpha.csv").starts_with("direction,alpha,inverse_period,mass_ratio\n"));
+    assert!(read("series.csv").starts_with("t,contact_theta,contact_phi,angular_speed\n"));
+    assert!(read("plot-data.json").contains("\"scene\": \"sphere-cruising\""));
     assert!(read("sweep-mass.csv").starts_with("mass_ratio,polar_angle\n"));
     let health = read("health.csv");
     assert!(

@@ -230,8 +230,8 @@ fn write_headless(a: &RenderArgs, setup: SceneSetup, frames: u64) -> Result<()> 
         Some((kind, flag, p)) => {
             crate::output::check_file(p, &inputs).with_context(|| flag.to_string())?;
             if let Some(dir) = &a.plot_data {
-                for data in crate::sim::history::PlotData::ALL {
-                    let file = dir.join(data.file_name());
+                for name in crate::sim::history::PlotHistory::file_names() {
+                    let file = dir.join(name);
                     crate::output::check_distinct(&[(flag, p), ("--plot-data", &file)])?;
                 }
             }

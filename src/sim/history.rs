@@ -64,8 +64,8 @@ pub enum Sweep {
 #[derive(Debug, Clone, Default)]
 pub struct PlotHistory {
     samples: VecDeque<Sample>,
-    /// (direction, α bin) → (α, 1/T).
-    sweep: BTreeMap<(Sweep, i64), (f64, f64)>,
+    /// (direction, α bin) → (α, 1/T, m/m0).
+    sweep: BTreeMap<(Sweep, i64), (f64, f64, f64)>,
     last_alpha: Option<f64>,
     direction: Option<Sweep>,
     last_period: Option<f64>,
@@ -118,12 +118,14 @@ impl PlotHistory {
         let direction = self.direction.unwrap_or(Sweep::Up);
         let bin = (alpha.ln() / SWEEP_BIN).round() as i64;
         if snap.halted {
-            self.sweep.insert((direction, bin), (alpha, 0.0));
+            self.sweep
+                .insert((direction, bin), (alpha, 0.0, snap.mass_ratio));
         } else if let Some(period) = snap.period
             && self.last_period != Some(period)
             && period > 0.0
         {
-            self.sweep.insert((direction, bin), (alpha, 1.0 / period));
+            self.sweep
+                .insert((direction, bin), (alpha, 1.0 / period, snap.mass_ratio));
         }
         self.last_period = snap.period;
 
@@ -181,7 +183,17 @@ impl PlotHistory {
         self.sweep
             .iter()
             .filter(|((d, _), _)| *d == direction)
-            .map(|(_, &(a, f))| [a, f])
+            .map(|(_, &(a, f, _))| [a, f])
+            .collect()
+    }
+
+    /// The sweep points (α, 1/T, m/m0) of one direction, by α: the m/m0 each was measured at
+    /// (a lesson may sweep α at several masses).
+    pub fn sweep_with_mass(&self, direction: Sweep) -> Vec<[f64; 3]> {
+        self.sweep
+            .iter()
+            .filter(|((d, _), _)| *d == direction)
+            .map(|(_, &(a, f, m))| [a, f, m])
             .collect()
     }
 }
@@ -234,7 +246,8 @@ pub fn health_quantities(measured: Measured) -> Vec<HealthQuantity> {
 /// One of the plotted data sets, as CSV.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PlotData {
-    /// 1/T against α: `direction,alpha,inverse_period` (direction "up" or "down").
+    /// 1/T against α: `direction,alpha,inverse_period,mass_ratio` (direction "up" or "down";
+    /// the m/m0 the point was measured at).
     Sweep,
     /// Settled ∂Ω crossings against m/m0: `mass_ratio,polar_angle`.
     Crossings,
@@ -243,16 +256,98 @@ pub enum PlotData {
     /// The contact force against time: `t,normal_force,friction_needed` (units of the weight
     /// F; friction_needed is `inf` where N ≤ 0).
     Forces,
+    /// The motion against time, as θ(t) and θ̇(θ) or the contact path plot it: a cylinder's
+    /// `t,theta,theta_dot` (θ unwrapped), a sphere's `t,contact_theta,contact_phi,angular_speed`
+    /// (the contact point's polar angle and azimuth on the body, |ω|).
+    Series,
+}
+
+/// The file written beside the CSVs: what they were taken from.
+pub const PLOT_META_FILE: &str = "plot-data.json";
+
+/// What a plot-data folder was taken from ([`PLOT_META_FILE`]), so the CSVs can be read
+/// without the app that wrote them.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct PlotMeta {
+    /// The program and its version.
+    pub written_by: String,
+    /// The scene's name and description.
+    pub scene: String,
+    /// As the scene describes it.
+    pub description: String,
+    /// The body as the scene gives it (a shape file, inline coefficients, a generator).
+    pub body: serde_json::Value,
+    /// The model (disk-viscous, …).
+    pub model: String,
+    /// The ramp angle now, rad.
+    pub alpha_rad: f64,
+    /// The body's critical angle, rad.
+    pub alpha_star: f64,
+    /// m/m0 now (0: the viscous model).
+    pub mass_ratio: f64,
+    /// The integrator setting.
+    pub integrator: String,
+    /// The simulation time when the data were written.
+    pub t: f64,
+    /// Simulation time between two samples of the time series.
+    pub sample_dt: f64,
+    /// Each file and its columns.
+    pub files: BTreeMap<&'static str, &'static str>,
+}
+
+impl PlotMeta {
+    /// The metadata of the run `snapshot` shows, of the scene `setup`, integrated by `method`.
+    pub fn of(
+        snapshot: &Snapshot,
+        setup: &crate::scene::SceneSetup,
+        method: crate::integrate::Method,
+    ) -> Self {
+        Self {
+            written_by: format!("rollphase {}", env!("CARGO_PKG_VERSION")),
+            scene: setup.scene.name.clone(),
+            description: setup.scene.description.clone(),
+            body: serde_json::to_value(&setup.scene.body).unwrap_or(serde_json::Value::Null),
+            model: snapshot.model.to_string(),
+            alpha_rad: snapshot.alpha_rad,
+            alpha_star: snapshot.alpha_star,
+            mass_ratio: snapshot.mass_ratio,
+            integrator: method.to_string(),
+            t: snapshot.t,
+            sample_dt: super::PLOT_SAMPLE_DT,
+            files: PlotData::ALL
+                .iter()
+                .map(|d| (d.file_name(), d.columns()))
+                .collect(),
+        }
+    }
 }
 
 impl PlotData {
-    /// All four, in file order.
-    pub const ALL: [PlotData; 4] = [
+    /// All five, in file order.
+    pub const ALL: [PlotData; 5] = [
         PlotData::Sweep,
         PlotData::Crossings,
         PlotData::Health,
         PlotData::Forces,
+        PlotData::Series,
     ];
+
+    /// What its columns are, for [`PlotMeta`].
+    pub fn columns(self) -> &'static str {
+        match self {
+            PlotData::Sweep => {
+                "direction (up/down), alpha (rad), inverse_period (1/T; 0 where the body halted), \
+                 mass_ratio (m/m0 when measured)"
+            }
+            PlotData::Crossings => "mass_ratio, polar_angle of a settled crossing of ∂Ω (rad)",
+            PlotData::Health => "t and the worst health quantities so far of the model",
+            PlotData::Forces => "t, normal_force (N/F), friction_needed (|f_t|/N)",
+            PlotData::Series => {
+                "cylinder: t, theta (unwrapped), theta_dot; sphere: t, contact_theta, \
+                 contact_phi, angular_speed"
+            }
+        }
+    }
 
     /// The file name each is written to.
     pub fn file_name(self) -> &'static str {
@@ -261,6 +356,7 @@ impl PlotData {
             PlotData::Crossings => "sweep-mass.csv",
             PlotData::Health => "health.csv",
             PlotData::Forces => "contact-force.csv",
+            PlotData::Series => "series.csv",
         }
     }
 }
@@ -283,10 +379,11 @@ impl PlotHistory {
                     "direction".into(),
                     "alpha".into(),
                     "inverse_period".into(),
+                    "mass_ratio".into(),
                 ]);
                 for (direction, name) in [(Sweep::Up, "up"), (Sweep::Down, "down")] {
-                    for [a, f] in self.sweep(direction) {
-                        row(vec![name.into(), number(a), number(f)]);
+                    for [a, f, m] in self.sweep_with_mass(direction) {
+                        row(vec![name.into(), number(a), number(f), number(m)]);
                     }
                 }
             }
@@ -305,6 +402,25 @@ impl PlotHistory {
                     let mut fields = vec![number(s.t)];
                     fields.extend(columns.iter().map(|c| number((c.value)(s))));
                     row(fields);
+                }
+            }
+            PlotData::Series if measured.quat_norm => {
+                row(["t", "contact_theta", "contact_phi", "angular_speed"]
+                    .map(String::from)
+                    .to_vec());
+                for s in self.samples() {
+                    row(vec![
+                        number(s.t),
+                        number(s.theta),
+                        number(s.phi),
+                        number(s.rate),
+                    ]);
+                }
+            }
+            PlotData::Series => {
+                row(["t", "theta", "theta_dot"].map(String::from).to_vec());
+                for s in self.samples() {
+                    row(vec![number(s.t), number(s.theta), number(s.rate)]);
                 }
             }
             PlotData::Forces => {
@@ -327,17 +443,24 @@ impl PlotHistory {
 }
 
 impl PlotHistory {
+    /// The files [`Self::write_csv_files`] writes into its folder.
+    pub fn file_names() -> Vec<&'static str> {
+        let mut names: Vec<&str> = PlotData::ALL.iter().map(|d| d.file_name()).collect();
+        names.push(PLOT_META_FILE);
+        names
+    }
+
     /// Writes the data sets into the folder `dir` (created if missing) as
-    /// [`PlotData::file_name`]s, through the output layer: all three or none, none of them one
-    /// of `inputs`. Returns the files written.
+    /// [`PlotData::file_name`]s with `meta` as [`PLOT_META_FILE`], through the output layer: all
+    /// or none, none of them one of `inputs`. Returns the files written.
     pub fn write_csv_files(
         &self,
         dir: &Path,
         measured: Measured,
+        meta: &PlotMeta,
         inputs: &Inputs,
     ) -> output::Result<Vec<std::path::PathBuf>> {
-        let names: Vec<&str> = PlotData::ALL.iter().map(|d| d.file_name()).collect();
-        output::check_folder(dir, &names, inputs)?;
+        output::check_folder(dir, &Self::file_names(), inputs)?;
         output::create_folder(dir)?;
         let mut set = OutputSet::new();
         let mut written = Vec::new();
@@ -346,6 +469,11 @@ impl PlotHistory {
             set.write(&path, self.csv(data, measured).as_bytes(), inputs)?;
             written.push(path);
         }
+        let path = dir.join(PLOT_META_FILE);
+        // Serialising plain numbers and strings cannot fail.
+        let json = serde_json::to_string_pretty(meta).expect("plot metadata as JSON") + "\n";
+        set.write(&path, json.as_bytes(), inputs)?;
+        written.push(path);
         set.commit()?;
         Ok(written)
     }
@@ -387,7 +515,20 @@ mod tests {
         );
         let sweep = history.csv(PlotData::Sweep, measured);
         let rows: Vec<Vec<&str>> = sweep.lines().map(|l| l.split(',').collect()).collect();
-        assert_eq!(rows[0], ["direction", "alpha", "inverse_period"]);
+        assert_eq!(
+            rows[0],
+            ["direction", "alpha", "inverse_period", "mass_ratio"]
+        );
+        assert!(
+            rows[1..].iter().all(|r| r[3] == "0.0"),
+            "the viscous model: m/m0 = 0"
+        );
+        let series = history.csv(PlotData::Series, measured);
+        assert!(
+            series.starts_with("t,theta,theta_dot\n"),
+            "a cylinder's columns"
+        );
+        assert_eq!(series.lines().count(), 1 + history.samples().count());
         assert!(rows.iter().any(|r| r[0] == "up") && rows.iter().any(|r| r[0] == "down"));
         let halted = rows.iter().find(|r| r[0] == "down" && r[2] == "0.0");
         assert!(

@@ -279,14 +279,23 @@ impl AppUi {
     /// data folder; the notice says where, or why not.
     pub fn export_plot_data(&mut self, status: &SimStatus) {
         let dir = PathBuf::from(&self.plot_data_dir);
+        let meta =
+            crate::sim::history::PlotMeta::of(&status.snapshot, &status.setup, status.method);
         self.notice = Some(
             match self.history.write_csv_files(
                 &dir,
                 status.snapshot.health.measured,
+                &meta,
                 &crate::output::Inputs::none(),
             ) {
                 Ok(files) => (
-                    format!("exported {} CSV files to {}", files.len(), dir.display()),
+                    format!(
+                        "exported {} CSV files and {} to {}",
+                        files.len() - 1,
+                        crate::sim::history::PLOT_META_FILE,
+                        // Where it is, not where a relative path would be from somewhere.
+                        std::fs::canonicalize(&dir).unwrap_or(dir).display()
+                    ),
                     false,
                 ),
                 Err(e) => (e.to_string(), true),
