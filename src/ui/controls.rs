@@ -259,28 +259,7 @@ impl AppUi {
         // a finer one. A fixed width: one taken from the available width would widen the
         // resizable panel frame after frame.
         ui.spacing_mut().slider_width = SLIDER_WIDTH;
-        ui.horizontal(|ui| {
-            ui.label("α");
-            let limits = NumberLimits {
-                name: "α",
-                unit: " rad",
-                range: (ALPHA_MIN, ALPHA_MAX),
-            };
-            match number_field(ui, ALPHA_FIELD, self.alpha, &mut self.alpha_edit, &limits) {
-                FieldOutcome::Committed(alpha) => {
-                    self.alpha = alpha;
-                    actions.push(UiAction::Sim(SimCommand::SetAlpha(alpha)));
-                }
-                FieldOutcome::Refused(why) => self.notice = Some((why, true)),
-                FieldOutcome::Unchanged => {}
-            }
-            ui.label(format!(
-                "rad = {:.2}°   α* = {:.4} rad = {:.2}°",
-                self.alpha.to_degrees(),
-                snap.alpha_star,
-                snap.alpha_star.to_degrees()
-            ));
-        });
+        self.alpha_field_ui(ui, snap.alpha_star, actions);
         // The rail is finest at α*, where the transition is: equal steps of the handle are
         // equal ratios of |α − α*| (FineAlpha), from 10⁻⁴ rad up to the ends.
         let scale = FineAlpha::new(snap.alpha_star);
@@ -408,6 +387,32 @@ impl AppUi {
             } else {
                 ui.label(RichText::new("ready").weak());
             }
+        });
+    }
+
+    /// The α field (applied on Enter or focus loss) with α in degrees and α* beside it.
+    fn alpha_field_ui(&mut self, ui: &mut egui::Ui, alpha_star: f64, actions: &mut Vec<UiAction>) {
+        ui.horizontal(|ui| {
+            ui.label("α");
+            let limits = NumberLimits {
+                name: "α",
+                unit: " rad",
+                range: (ALPHA_MIN, ALPHA_MAX),
+            };
+            match number_field(ui, ALPHA_FIELD, self.alpha, &mut self.alpha_edit, &limits) {
+                FieldOutcome::Committed(alpha) => {
+                    self.alpha = alpha;
+                    actions.push(UiAction::Sim(SimCommand::SetAlpha(alpha)));
+                }
+                FieldOutcome::Refused(why) => self.notice = Some((why, true)),
+                FieldOutcome::Unchanged => {}
+            }
+            ui.label(format!(
+                "rad = {:.2}°   α* = {:.4} rad = {:.2}°",
+                self.alpha.to_degrees(),
+                alpha_star,
+                alpha_star.to_degrees()
+            ));
         });
     }
 
