@@ -9,6 +9,14 @@ use std::process::{Command, Output};
 
 mod common;
 
+/// One virtual X server at a time: `xvfb-run -a` picks its display number racily, and two of
+/// these tests started together could share one server, which the first to finish takes down
+/// under the other's windows ("Failed to open connection to X server").
+fn one_x_server() -> std::sync::MutexGuard<'static, ()> {
+    static XVFB: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    XVFB.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
 fn rollphase_without_display(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_rollphase"))
         .args(args)
@@ -48,6 +56,7 @@ fn bad_window_flags_name_the_value() {
 
 #[test]
 fn window_under_xvfb_shows_the_body_and_the_controls() {
+    let _x = one_x_server();
     let has_xvfb = Command::new("xvfb-run")
         .arg("--help")
         .output()
@@ -103,6 +112,7 @@ fn window_under_xvfb_shows_the_body_and_the_controls() {
 /// when restored.
 #[test]
 fn a_minimised_window_sleeps_and_wakes_when_restored() {
+    let _x = one_x_server();
     let missing: Vec<&str> = ["xvfb-run", "xwininfo", "python3"]
         .into_iter()
         .filter(|tool| Command::new(tool).arg("--help").output().is_err())
@@ -172,6 +182,7 @@ kill $pid
 /// the GL driver ended 3 of ~70 when the handler called `exit` from its own thread).
 #[test]
 fn a_hundred_kills_of_the_window_all_end_cleanly() {
+    let _x = one_x_server();
     let has_xvfb = Command::new("xvfb-run").arg("--help").output().is_ok();
     if !has_xvfb {
         assert!(
