@@ -39,6 +39,22 @@ window "$bin" app --preset lesson-critical-angle --screenshot-after 40 docs/less
 window "$bin" app --preset lesson-inertia-hysteresis --screenshot-after 40 docs/lessons/inertia-hysteresis.png --exit-after 41
 window "$bin" app --preset lesson-period-doubling --screenshot-after 60 docs/lessons/period-doubling.png --exit-after 61
 
+# Each lesson on a projector (presentation mode, docs/guide/lessons.md) at 1280×720 and
+# 3840×2160, and class mode at 1280×720: a virtual screen of that size, the window full screen.
+screen() {
+    local size="$1"
+    shift
+    xvfb-run -a -s "-screen 0 ${size}x24" "$@"
+}
+for lesson in critical-angle inertia-hysteresis period-doubling; do
+    for size in 1280x720 3840x2160; do
+        screen "$size" "$bin" app --preset "lesson-$lesson" --present --screenshot-after 12 \
+            "docs/presentation/lesson-$lesson-$size.png" --exit-after 13
+    done
+done
+screen 1280x720 "$bin" app --preset lesson-period-doubling --class --screenshot-after 12 \
+    docs/presentation/class-mode-1280x720.png --exit-after 13
+
 # The plots' data of one α sweep and one m/m0 sweep (the two lessons that sweep them).
 # Only the sweeps are kept: the time series run to 40,000 rows (a sample every 0.1 t).
 for lesson in critical-angle period-doubling; do

@@ -44,6 +44,8 @@ pub struct AppOptions {
     pub exit_after: Option<f64>,
     /// Open in presentation mode.
     pub present: bool,
+    /// Open in class mode.
+    pub class: bool,
 }
 
 /// A window's event loop is running (it will see [`CLOSE_REQUESTED`]).
@@ -227,6 +229,9 @@ impl App {
         .context("cannot start the simulation thread")?;
         if options.present {
             bench.ui.present_on_start();
+        }
+        if options.class {
+            bench.ui.class_on_start();
         }
         let egui_winit = egui_winit::State::new(
             bench.ctx.clone(),

@@ -1241,3 +1241,90 @@ fn every_key_press_counts_and_esc_closes_the_key_list_first() {
         bench.ui.notice()
     );
 }
+
+/// B and R in a lesson bring back the sweep plot as it was when the step returned to began:
+/// no stale points of later steps (which, drawn in the other direction's colour, changed the
+/// lesson's final fit).
+#[test]
+fn going_back_a_lesson_step_restores_that_steps_plots() {
+    let text = Scene::preset("cylinder-near-critical")
+        .unwrap()
+        .to_toml()
+        .unwrap()
+        + r#"
+[[timeline]]
+at = 0.0
+alpha_over_critical = 1.5
+[[timeline]]
+at = 600.0
+alpha_over_critical = 2.0
+[[timeline]]
+at = 1200.0
+alpha_over_critical = 3.0
+"#;
+    let mut scene = Scene::from_toml(&text).unwrap();
+    scene.playback.speed = 500.0;
+    let setup = scene.setup(None).unwrap();
+    let alpha_star = setup.alpha_star;
+    let gpu = GpuContext::headless().unwrap();
+    let target = OffscreenTarget::new(&gpu.device, SIZE);
+    let mut bench =
+        Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
+    let points = |bench: &Workbench| -> Vec<[f64; 2]> {
+        let h = bench.ui.history();
+        let mut all = h.sweep(Sweep::Up);
+        all.extend(h.sweep(Sweep::Down));
+        all
+    };
+    let measured_at = |bench: &Workbench, factor: f64| {
+        points(bench)
+            .iter()
+            .any(|p| (p[0] - factor * alpha_star).abs() < 1e-9 && p[1] > 0.0)
+    };
+    // Played through all three steps, with a point at each α.
+    let mut at_first_step = None;
+    let start = Instant::now();
+    while !(measured_at(&bench, 3.0) && measured_at(&bench, 2.0)) {
+        frames(&mut bench, &gpu, &target, vec![], 1);
+        let s = bench.sim.status();
+        if s.snapshot.lesson.unwrap().done == 1 && measured_at(&bench, 1.5) {
+            at_first_step = Some(points(&bench));
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no points: {:?}",
+            points(&bench)
+        );
+    }
+    let at_first_step = at_first_step.expect("a point during the first step");
+    assert!(points(&bench).len() >= 3);
+    // Paused at step 3, B goes back to the start of step 2: the plot holds what step 1
+    // measured, and nothing of steps 2 and 3.
+    let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::Space), |s| {
+        s.paused
+    });
+    let run = s.run_id;
+    frames_until(&mut bench, &gpu, &target, key(egui::Key::B), |s| {
+        s.run_id == run + 1
+    });
+    frames(&mut bench, &gpu, &target, vec![], 2);
+    let after_b = points(&bench);
+    assert!(
+        !measured_at(&bench, 2.0) && !measured_at(&bench, 3.0),
+        "{after_b:?}"
+    );
+    assert!(
+        at_first_step.iter().all(|p| after_b.contains(p)),
+        "step 1's points are kept: {after_b:?} vs {at_first_step:?}"
+    );
+    assert!(
+        bench.ui.history().sweep(Sweep::Down).is_empty(),
+        "{after_b:?}"
+    );
+    // R restarts the lesson: an empty plot, as at its start.
+    frames_until(&mut bench, &gpu, &target, key(egui::Key::R), |s| {
+        s.run_id == run + 2
+    });
+    frames(&mut bench, &gpu, &target, vec![], 2);
+    assert!(points(&bench).is_empty(), "{:?}", points(&bench));
+}

@@ -21,6 +21,10 @@ pub struct WindowFlags {
     /// captions and no panels, for a projector; F5 or Esc leaves it.
     #[arg(long)]
     pub present: bool,
+    /// Open in class mode (C in the window): full screen, large fonts for the overlay, the
+    /// caption and the panels, with the controls and plots shown; C or Esc leaves it.
+    #[arg(long, conflicts_with = "present")]
+    pub class: bool,
 }
 
 /// `rollphase app`.
@@ -69,6 +73,7 @@ pub fn run_window(scene: Option<&Path>, preset: Option<&str>, flags: &WindowFlag
             screenshot_after,
             exit_after,
             present: flags.present,
+            class: flags.class,
         })
     }
     #[cfg(not(feature = "app"))]

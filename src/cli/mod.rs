@@ -108,11 +108,11 @@ pub fn run(cli: Cli) -> Result<()> {
                      as a PNG already (see --frames and --out)"
                 );
             }
-            if w.present {
+            if w.present || w.class {
                 bail!(
-                    "--present opens the window in presentation mode; a --headless run draws \
-                     lessons' captions in their own band already (use --size for the projector's \
-                     resolution)"
+                    "--present and --class open the window in presentation or class mode; a \
+                     --headless run draws lessons' captions in their own band already (use --size \
+                     for the projector's resolution)"
                 );
             }
             return render::run_headless(&cli.render);

@@ -74,6 +74,19 @@ pub struct PlotHistory {
     last_crossing_t: Option<f64>,
 }
 
+/// What a [`PlotHistory`] has collected besides its time series: the α sweep's points and the
+/// settled crossings, with what they are judged against (the last α, the sweep's direction).
+/// The app keeps one as each lesson step begins, so that going back a step shows the plots
+/// of the step returned to.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PlotCheckpoint {
+    sweep: BTreeMap<(Sweep, i64), (f64, f64, f64)>,
+    last_alpha: Option<f64>,
+    direction: Option<Sweep>,
+    crossings_by_mass: VecDeque<[f64; 2]>,
+    last_crossing_t: Option<f64>,
+}
+
 /// Crossing points kept for the mass sweep.
 const MAX_CROSSING_POINTS: usize = 5000;
 
@@ -87,6 +100,29 @@ impl PlotHistory {
     /// Clears everything (a new body).
     pub fn clear_all(&mut self) {
         *self = Self::default();
+    }
+
+    /// What the sweep and crossing plots hold now.
+    pub fn checkpoint(&self) -> PlotCheckpoint {
+        PlotCheckpoint {
+            sweep: self.sweep.clone(),
+            last_alpha: self.last_alpha,
+            direction: self.direction,
+            crossings_by_mass: self.crossings_by_mass.clone(),
+            last_crossing_t: self.last_crossing_t,
+        }
+    }
+
+    /// Puts the sweep and crossing plots back as they were at `checkpoint` (the time series
+    /// belong to the run and are left alone).
+    pub fn restore(&mut self, checkpoint: &PlotCheckpoint) {
+        let c = checkpoint.clone();
+        self.sweep = c.sweep;
+        self.last_alpha = c.last_alpha;
+        self.direction = c.direction;
+        self.crossings_by_mass = c.crossings_by_mass;
+        self.last_crossing_t = c.last_crossing_t;
+        self.last_period = None;
     }
 
     /// Takes in the simulation's samples ([`Simulation::take_plot_samples`](super::Simulation::take_plot_samples)),

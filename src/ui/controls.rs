@@ -408,7 +408,7 @@ impl AppUi {
                 FieldOutcome::Unchanged => {}
             }
             ui.label(format!(
-                "rad = {:.2}°   α* = {:.4} rad = {:.2}°",
+                "rad = {:.3}°   α* = {:.5} rad = {:.3}°",
                 self.alpha.to_degrees(),
                 alpha_star,
                 alpha_star.to_degrees()
@@ -593,7 +593,7 @@ impl AppUi {
     ) {
         let body = &status.setup.body;
         ui.label(format!(
-            "{}, α* = {:.4} rad ({:.2}°)",
+            "{}, α* = {:.5} rad ({:.3}°)",
             match body {
                 Body::Disk(_) => "cylinder (2D)",
                 Body::Sphere(_) => "sphere (3D)",

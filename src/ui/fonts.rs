@@ -38,7 +38,7 @@ mod tests {
     fn bundled_text() -> String {
         let mut text = String::from(
             "α* = rad ° α/α* m/m0 model t = 1/T: measuring… halted ∂Ω to ∂Ω one full turn period \
-             ||q|−1| ≤ — contact error ≤ NOT TRUSTWORTHY STOPPED: step of θ θ̇ ψ ω φ π ∞ ± × · ≈",
+             ||q|−1| ≤ — contact error ≤ NOT TRUSTWORTHY STOPPED: step of θ θ̇ ψ ω φ π ∞ ± × · ≈ ❚❚ paused (Space plays)",
         );
         for (name, _) in PRESETS {
             let scene = Scene::preset(name).unwrap();

@@ -88,7 +88,11 @@ impl AppUi {
         actions: &mut Vec<UiAction>,
     ) {
         self.class_mode = on;
-        ctx.set_zoom_factor(if on { 1.6 } else { 1.0 });
+        ctx.set_zoom_factor(if on {
+            class_zoom(ctx.content_rect().size() * ctx.zoom_factor())
+        } else {
+            1.0
+        });
         self.view_options.text_scale = if on { 1.8 } else { 1.0 };
         actions.push(UiAction::Fullscreen(on));
     }
@@ -164,6 +168,18 @@ impl AppUi {
             });
     }
 
+    /// In class mode, follows the window's size with the zoom (it goes full screen after the
+    /// mode is set, and a window can be resized).
+    pub(super) fn keep_class_zoom(&self, ctx: &egui::Context) {
+        if !self.class_mode {
+            return;
+        }
+        let zoom = class_zoom(ctx.content_rect().size() * ctx.zoom_factor());
+        if (ctx.zoom_factor() - zoom).abs() > 0.01 {
+            ctx.set_zoom_factor(zoom);
+        }
+    }
+
     pub(super) fn reset_camera(&mut self) {
         self.view_options = ViewOptions {
             text_scale: self.view_options.text_scale,
@@ -172,4 +188,11 @@ impl AppUi {
             ..ViewOptions::default()
         };
     }
+}
+
+/// Class mode's egui zoom for a window of `size` points at zoom 1: 1.6 at 1600×900 and above,
+/// less on a smaller window so that the controls and the plots leave the 3D view most of it
+/// (at 1280×720 the zoom 1.6 left it 660×215 px and pushed the last plot off the window).
+pub(super) fn class_zoom(size: egui::Vec2) -> f32 {
+    (1.6 * (size.x / 1600.0).min(size.y / 900.0)).clamp(1.1, 1.6)
 }

@@ -101,6 +101,8 @@ pub struct AppUi {
     pub show_keys: bool,
     /// Presentation mode asked for before the first frame (`--present`).
     present_on_start: bool,
+    /// Class mode asked for before the first frame (`--class`).
+    class_on_start: bool,
     /// Where the 3D view is, in points (set by [`Self::show`]).
     pub scene_rect: Option<egui::Rect>,
     /// A recording in progress (set by the app).
@@ -145,6 +147,10 @@ pub struct AppUi {
     turn: f32,
     /// The lesson steps done as of the last status (the controls follow a step's changes).
     seen_step: Option<usize>,
+    /// The sweep and crossing plots as each lesson step began (steps done → plots): B and R
+    /// go back to a step, and its plots come back with it (stale points of later steps, in
+    /// the other direction's colour, changed the lesson's final fit).
+    step_plots: std::collections::BTreeMap<usize, crate::sim::history::PlotCheckpoint>,
     /// Native Open / Save dialogs.
     pub dialogs: dialog::FileDialogs,
     /// A dropped mesh being fitted.
@@ -172,6 +178,7 @@ impl AppUi {
             panels_before: (true, true),
             show_keys: false,
             present_on_start: false,
+            class_on_start: false,
             scene_rect: None,
             recording: None,
             field_note: None,
@@ -216,6 +223,7 @@ impl AppUi {
             pixels_per_point: 1.0,
             turn: 0.0,
             seen_step: None,
+            step_plots: std::collections::BTreeMap::new(),
             dialogs: dialog::FileDialogs::detect(),
             mesh_fit: None,
             alpha_edit: None,
@@ -247,20 +255,34 @@ impl AppUi {
         samples: ((u64, u64), Vec<crate::sim::history::Sample>),
     ) {
         let run = (status.scene_id, status.run_id);
+        let step = status.snapshot.lesson.map(|l| l.done);
         if self.seen_run != Some(run) {
             if self.seen_run.map(|r| r.0) != Some(status.scene_id) {
                 self.history.clear_all();
+                self.step_plots.clear();
                 self.scene = status.setup.scene.clone();
                 self.views = status.setup.scene.views.clone();
             } else {
                 self.history.clear_run();
+                // A lesson run again from its start (R) or from an earlier step (B): the plots
+                // as that step began.
+                if let Some(done) = step
+                    && let Some(checkpoint) = self.step_plots.get(&done)
+                {
+                    self.history.restore(checkpoint);
+                    self.step_plots.retain(|&k, _| k <= done);
+                }
             }
             self.follow_values(status);
             self.seen_run = Some(run);
         }
+        if let Some(done) = step {
+            self.step_plots
+                .entry(done)
+                .or_insert_with(|| self.history.checkpoint());
+        }
         // A lesson step changed α, m/m0, the speed or the views: the controls show it. (Only
         // then: following every status would pull a slider back while it is being dragged.)
-        let step = status.snapshot.lesson.map(|l| l.done);
         if step != self.seen_step {
             self.follow_values(status);
             self.seen_step = step;
@@ -402,9 +424,39 @@ impl AppUi {
             });
     }
 
+    /// A paused run says so over the 3D view, where the room looks (in presentation mode the
+    /// status bar and the Play button are hidden), in the overlay's size.
+    fn paused_badge_ui(&self, ctx: &egui::Context, status: &SimStatus) {
+        if !status.paused || status.message.is_some() {
+            return;
+        }
+        let Some(rect) = self.scene_rect else {
+            return;
+        };
+        let size = if self.class_mode { 26.0 } else { 18.0 };
+        egui::Area::new(egui::Id::unique("rollphase-paused"))
+            .fixed_pos(egui::pos2(rect.right() - 12.0, rect.bottom() - 12.0))
+            .pivot(egui::Align2::RIGHT_BOTTOM)
+            .interactable(false)
+            .show(ctx, |ui| {
+                egui::Frame::popup(ui.style()).show(ui, |ui| {
+                    ui.label(
+                        egui::RichText::new("❚❚ paused (Space plays)")
+                            .size(size)
+                            .color(egui::Color32::from_rgb(255, 214, 10)),
+                    );
+                });
+            });
+    }
+
     /// Opens in presentation mode (`--present`): applied on the first frame.
     pub fn present_on_start(&mut self) {
         self.present_on_start = true;
+    }
+
+    /// Opens in class mode (`--class`): applied on the first frame.
+    pub fn class_on_start(&mut self) {
+        self.class_on_start = true;
     }
 
     /// With the camera held (F), moves where it looks to the body when the body has rolled
@@ -456,7 +508,12 @@ impl AppUi {
             let ctx = ui.ctx().clone();
             self.set_presentation(&ctx, true, &mut actions);
         }
+        if std::mem::take(&mut self.class_on_start) {
+            let ctx = ui.ctx().clone();
+            self.set_class_mode(&ctx, true, &mut actions);
+        }
         self.keyboard(ui.ctx(), status, &mut actions);
+        self.keep_class_zoom(ui.ctx());
         self.advance_sweep(status, &mut actions);
         self.keep_body_in_view(status);
         if !self.presenting {
@@ -478,7 +535,13 @@ impl AppUi {
                 });
         }
         if self.show_plots {
-            let height = if self.class_mode { 260.0 } else { 180.0 };
+            // Class mode's plots are taller, but never more than a third of the window: the
+            // 3D view is what the room looks at.
+            let height = if self.class_mode {
+                (ui.ctx().content_rect().height() / 3.0).clamp(180.0, 260.0)
+            } else {
+                180.0
+            };
             egui::Panel::bottom("plots")
                 .resizable(false)
                 .show(ui, |ui| {
@@ -499,6 +562,7 @@ impl AppUi {
         }
         egui::CentralPanel::no_frame().show(ui, |ui| self.scene_ui(ui, status, &mut actions));
         self.toast_ui(ui.ctx());
+        self.paused_badge_ui(ui.ctx(), status);
         self.keys_legend_ui(ui.ctx());
         actions
     }

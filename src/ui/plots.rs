@@ -14,7 +14,7 @@
 
 use egui::Color32;
 use egui_plot::{
-    GridInput, GridMark, HoverPosition, Legend, Line, Plot, PlotPoint, PlotPoints, Points, VLine,
+    GridInput, GridMark, HoverPosition, Line, Plot, PlotPoint, PlotPoints, Points, VLine,
 };
 
 use crate::colormap::{DIVERGING, sample};
@@ -98,28 +98,53 @@ impl CurvatureMap {
     }
 }
 
-/// The closest x tick numbers may be, in points.
-const X_LABEL_SPACING: f32 = 45.0;
+/// How far apart the numbers of an x axis are at least, in points: a number such as
+/// "0.04425" is about 45 points wide; with the gap neighbours never read as one, and a plot
+/// 130 points wide still gets two.
+const X_LABEL_POINTS: f64 = 55.0;
+/// How far apart the numbers of a y axis are at least, in points (a line of text is 14).
+const Y_LABEL_POINTS: f64 = 32.0;
+/// egui_plot's default finest grid spacing, in points: `GridInput::base_step_size` is this
+/// many points' worth of data.
+const GRID_MIN_POINTS: f64 = 8.0;
 
 /// The step of rung `k` of the 1-2-5 ladder: …, 0.1, 0.2, 0.5, 1, 2, 5, 10, … (k = 0 is 1).
 fn rung(k: i32) -> f64 {
     [1.0, 2.0, 5.0][k.rem_euclid(3) as usize] * 10f64.powi(k.div_euclid(3))
 }
 
-/// Grid marks on the 1-2-5 ladder (egui_plot's default has steps of 10× only, so a narrow range
-/// such as α from 0.0489 to 0.0499 got one labelled tick, or none): marks at the finest rung
-/// at least `base_step_size`, each with the coarsest of the next six rungs that divides it, so
-/// that some rung falls 2–2.5× under the label spacing and every axis shows several numbers.
-pub fn nice_marks(input: GridInput) -> Vec<GridMark> {
+/// Grid marks with exactly one labelled level: numbers every `label` (the finest 1-2-5 step
+/// at least `label_points` apart), grid lines every fifth (a quarter of a 2) of it between
+/// them. egui_plot labels every mark whose step is further apart than the axis's label
+/// spacing, so marks of two coarser steps were both labelled ("0.0440.0450.046", or t at 0,
+/// 200, 400, 500, 600): here a mark has the label step or the fine one, and the axes' label
+/// spacing ([`label_spacing`]) lies between the two. A number within `edge_points` of the
+/// upper end, where the widget's edge would cut it, or `low_edge_points` of the lower end,
+/// where it would meet the other axis's numbers, is left off.
+fn axis_marks(
+    input: GridInput,
+    label_points: f64,
+    (low_edge_points, edge_points): (f64, f64),
+) -> Vec<GridMark> {
     let (lo, hi) = input.bounds;
     if !(lo.is_finite() && hi.is_finite() && hi > lo && input.base_step_size > 0.0) {
         return Vec::new();
     }
-    let mut k = input.base_step_size.log10().floor() as i32 * 3 - 3;
-    while rung(k) < input.base_step_size {
+    let points_per_unit = GRID_MIN_POINTS / input.base_step_size;
+    let wanted = label_points / points_per_unit;
+    let mut k = wanted.log10().floor() as i32 * 3 - 3;
+    while rung(k) < wanted {
         k += 1;
     }
-    let fine = rung(k);
+    // A 2× or 2.5× step of the ladder can leave one number on a narrow plot: then the step
+    // under it, if its numbers are still 3/4 of the spacing apart.
+    let labels_in = |step: f64| ((hi / step).floor() - (lo / step).ceil() + 1.0).max(0.0);
+    if labels_in(rung(k)) < 2.0 && rung(k - 1) >= 0.75 * wanted {
+        k -= 1;
+    }
+    let label = rung(k);
+    let per_label: i64 = if k.rem_euclid(3) == 1 { 4 } else { 5 };
+    let fine = label / per_label as f64;
     let first = (lo / fine).ceil() as i64;
     let last = (hi / fine).floor() as i64;
     if last - first > 10_000 {
@@ -128,50 +153,60 @@ pub fn nice_marks(input: GridInput) -> Vec<GridMark> {
     (first..=last)
         .map(|i| {
             let value = i as f64 * fine;
-            let step_size = (0..7)
-                .rev()
-                .map(|j| rung(k + j))
-                .find(|&s| {
-                    let q = value / s;
-                    (q - q.round()).abs() < 1e-6
-                })
-                .unwrap_or(fine);
+            let near_edge = (value - lo) * points_per_unit < low_edge_points
+                || (hi - value) * points_per_unit < edge_points;
+            let step_size = if i.rem_euclid(per_label) == 0 && !near_edge {
+                label
+            } else {
+                fine
+            };
             GridMark { value, step_size }
         })
         .collect()
 }
 
+/// The x axis's marks ([`axis_marks`]).
+pub fn x_marks(input: GridInput) -> Vec<GridMark> {
+    axis_marks(input, X_LABEL_POINTS, (0.0, 0.4 * X_LABEL_POINTS))
+}
+
+/// The y axis's marks ([`axis_marks`]).
+pub fn y_marks(input: GridInput) -> Vec<GridMark> {
+    // A y number at an end overhangs the frame by half a line, which the axis has room for.
+    axis_marks(input, Y_LABEL_POINTS, (0.0, 0.0))
+}
+
+/// The label spacing to give egui_plot for an axis whose numbers are `label_points` apart:
+/// above the fine marks' spacing (at most 2.5/5 of it) and below the labelled ones' (at least
+/// 3/4 of it).
+fn label_spacing(label_points: f64) -> std::ops::RangeInclusive<f32> {
+    let min = (0.7 * label_points) as f32;
+    min..=min + 1.0
+}
+
 /// A tick's number with as many decimals as its step needs (a step of 0.0005 shows 0.0495, not
-/// egui_plot's rounded 0.050), and as the finest ticks of the visible `range` need, so that
-/// all of an axis's numbers have the same decimals (0.0490 beside 0.0492, not 0.049).
-pub fn tick_label(mark: GridMark, range: &std::ops::RangeInclusive<f64>) -> String {
-    let decimals = |step: f64| (-step.log10() - 1e-9).ceil().max(0.0) as usize;
-    let width = range.end() - range.start();
-    let finest = if width.is_finite() && width > 0.0 {
-        decimals(width / 5.0)
-    } else {
-        0
-    };
-    format!(
-        "{:.*}",
-        decimals(mark.step_size).max(finest).min(12),
-        mark.value
-    )
+/// egui_plot's rounded 0.050); an axis's numbers share one step ([`axis_marks`]), so they all
+/// have the same decimals (0.0490 beside 0.0495, not 0.049).
+pub fn tick_label(mark: GridMark, _range: &std::ops::RangeInclusive<f64>) -> String {
+    let decimals = (-mark.step_size.log10() - 1e-9).ceil().max(0.0) as usize;
+    format!("{:.*}", decimals.min(12), mark.value)
 }
 
 /// A plot that reads as an instrument: numbered ticks on both axes at any size, and the
 /// values under the pointer named by the axes (`x` and `y`), with the series' name near a point.
 fn instrument<'a>(plot: Plot<'a>, x: &'static str, y: &'static str) -> Plot<'a> {
-    plot.x_grid_spacer(nice_marks)
-        .y_grid_spacer(nice_marks)
-        // Numbers from 45 points apart (egui_plot's x axis wants 60, which a 180-point plot
-        // over a 1-2-5 step may not have twice).
+    plot.x_grid_spacer(x_marks)
+        .y_grid_spacer(y_marks)
         .custom_x_axes(vec![
             egui_plot::AxisHints::new_x()
                 .formatter(tick_label)
-                .label_spacing(X_LABEL_SPACING..=65.0),
+                .label_spacing(label_spacing(X_LABEL_POINTS)),
         ])
-        .y_axis_formatter(tick_label)
+        .custom_y_axes(vec![
+            egui_plot::AxisHints::new_y()
+                .formatter(tick_label)
+                .label_spacing(label_spacing(Y_LABEL_POINTS)),
+        ])
         .label_formatter(move |pos| {
             Some(match pos {
                 HoverPosition::NearDataPoint {
@@ -205,6 +240,78 @@ fn hover_number(v: f64) -> String {
     }
 }
 
+/// The narrowest a plot is drawn, in points: where the plots panel cannot give each this
+/// much, the force and then the health plot are left off (class mode at 1280×720 pushed them
+/// off the window).
+const MIN_PLOT_WIDTH: f32 = 190.0;
+
+/// How a series shows in a plot's key.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Swatch {
+    /// A curve or a vertical line.
+    Line,
+    /// Points.
+    Dot,
+}
+
+/// One series in a plot's key.
+type Key<'a> = (&'a str, Color32, Swatch);
+
+/// Blue, orange, green, purple: the series of one plot, told apart (egui_plot's automatic
+/// colours gave the pieces of one curve different colours that nothing explained).
+const SERIES_COLORS: [Color32; 4] = [
+    Color32::from_rgb(70, 140, 230),
+    Color32::from_rgb(255, 150, 30),
+    Color32::from_rgb(120, 200, 120),
+    Color32::from_rgb(190, 120, 230),
+];
+
+/// A plot under its key. The key is a row over the plot, outside what it plots: a legend in
+/// a corner covered the fit curve or points when every corner had some, and jumped between
+/// corners as the data grew. Swatches sit on grey, so a black curve's shows too. The key
+/// takes the rows it needs of `height`; `plot` gets the rest.
+fn keyed<R>(
+    ui: &mut egui::Ui,
+    width: f32,
+    height: f32,
+    keys: &[Key<'_>],
+    plot: impl FnOnce(&mut egui::Ui, f32) -> R,
+) -> R {
+    ui.vertical(|ui| {
+        let key = ui.allocate_ui_with_layout(
+            egui::vec2(width, 0.0),
+            egui::Layout::left_to_right(egui::Align::Center).with_main_wrap(true),
+            |ui| {
+                ui.set_width(width);
+                ui.spacing_mut().item_spacing = egui::vec2(3.0, 1.0);
+                for &(name, color, swatch) in keys {
+                    let (rect, _) =
+                        ui.allocate_exact_size(egui::vec2(14.0, 10.0), egui::Sense::hover());
+                    let painter = ui.painter();
+                    painter.rect_filled(rect, 2.0, Color32::from_gray(150));
+                    match swatch {
+                        Swatch::Line => {
+                            painter.hline(
+                                rect.x_range().shrink(2.0),
+                                rect.center().y,
+                                egui::Stroke::new(2.0, color),
+                            );
+                        }
+                        Swatch::Dot => {
+                            painter.circle_filled(rect.center(), 3.0, color);
+                        }
+                    }
+                    ui.label(egui::RichText::new(name).small());
+                    ui.add_space(5.0);
+                }
+            },
+        );
+        let key_height = key.response.rect.height() + ui.spacing().item_spacing.y;
+        plot(ui, (height - key_height).max(60.0))
+    })
+    .inner
+}
+
 /// Draws the plots that fit the body: 2D θ(t) and θ̇(θ); 3D the contact path on the curvature
 /// map; both the 1/T sweep and the health. `alpha_star` marks the sweep plot; `height` is each
 /// plot's height in points.
@@ -218,16 +325,28 @@ pub fn plots_ui(
 ) -> MapInput {
     let mut input = MapInput::default();
     let is_disk = snap.theta.is_some();
-    let width = ((ui.available_width() - 4.0 * ui.spacing().item_spacing.x) / 5.0).max(120.0);
+    let gap = ui.spacing().item_spacing.x;
+    let fit = ((ui.available_width() + gap) / (MIN_PLOT_WIDTH + gap)).floor();
+    let shown = fit.clamp(3.0, 5.0);
+    let width = ((ui.available_width() - (shown - 1.0) * gap) / shown).max(120.0);
     ui.horizontal(|ui| {
         if is_disk {
             let theta_t: PlotPoints = history.plotted().map(|s| [s.t, s.theta]).collect();
-            instrument(Plot::new("theta_t"), "t", "θ")
-                .width(width)
-                .height(height)
-                .x_axis_label("t")
-                .y_axis_label("θ")
-                .show(ui, |p| p.line(Line::new("θ(t)", theta_t)));
+            let blue = SERIES_COLORS[0];
+            keyed(
+                ui,
+                width,
+                height,
+                &[("θ(t), turned angle", blue, Swatch::Line)],
+                |ui, plot_height| {
+                    instrument(Plot::new("theta_t"), "t", "θ")
+                        .width(width)
+                        .height(plot_height)
+                        .x_axis_label("t")
+                        .y_axis_label("θ")
+                        .show(ui, |p| p.line(Line::new("θ(t)", theta_t).color(blue)));
+                },
+            );
             // The phase curve as a line, broken where θ wraps at 2π: the newest samples at full
             // resolution (a periodic orbit retraces itself, and thinning cuts its peaks).
             let mut pieces: Vec<Vec<[f64; 2]>> = vec![Vec::new()];
@@ -242,17 +361,25 @@ pub fn plots_ui(
                 }
                 prev = Some(theta);
             }
-            // "dθ/dt": the combining dot of θ̇ is lost on egui's rotated axis label.
-            instrument(Plot::new("phase"), "θ", "dθ/dt")
-                .width(width)
-                .height(height)
-                .x_axis_label("θ mod 2π")
-                .y_axis_label("dθ/dt")
-                .show(ui, |p| {
-                    for piece in pieces.into_iter().filter(|piece| piece.len() > 1) {
-                        p.line(Line::new("dθ/dt (θ)", PlotPoints::from(piece)).width(1.5));
-                    }
-                });
+            // "dθ/dt": the combining dot of θ̇ is lost on egui's rotated axis label. One colour
+            // for every piece: they are one curve.
+            let key = [("dθ/dt against θ, last 300 t", blue, Swatch::Line)];
+            keyed(ui, width, height, &key, |ui, plot_height| {
+                instrument(Plot::new("phase"), "θ", "dθ/dt")
+                    .width(width)
+                    .height(plot_height)
+                    .x_axis_label("θ mod 2π")
+                    .y_axis_label("dθ/dt")
+                    .show(ui, |p| {
+                        for piece in pieces.into_iter().filter(|piece| piece.len() > 1) {
+                            p.line(
+                                Line::new("dθ/dt (θ)", PlotPoints::from(piece))
+                                    .color(blue)
+                                    .width(1.5),
+                            );
+                        }
+                    });
+            });
         } else if !history.has_crossings() {
             input = contact_map_ui(
                 ui,
@@ -266,8 +393,12 @@ pub fn plots_ui(
             crossings_ui(ui, history, snap, width, height);
         }
         sweep_ui(ui, history, snap, alpha_star, width, height);
-        health_ui(ui, history, snap.health.measured, width, height);
-        force_ui(ui, history, snap, width, height);
+        if shown >= 4.0 {
+            health_ui(ui, history, snap.health.measured, width, height);
+        }
+        if shown >= 5.0 {
+            force_ui(ui, history, snap, width, height);
+        }
     });
     input
 }
@@ -284,35 +415,32 @@ fn force_ui(ui: &mut egui::Ui, history: &PlotHistory, snap: &Snapshot, width: f3
         .collect();
     let friction = snap.contact.friction;
     let red = Color32::from_rgb(230, 60, 50);
-    let labels = ["N/F", "μ needed", "surface μ"];
-    let corner = legend_corner(
-        &[normal.clone(), needed.clone()].concat(),
-        &[[f64::NAN, 0.0]],
-        &labels,
-        [width, height],
-    );
-    instrument(Plot::new("contact_force"), "t", "force / F")
-        .width(width)
-        .height(height)
-        .legend(Legend::default().position(corner))
-        .x_axis_label("t")
-        .y_axis_label("N/F, μ needed")
-        .include_y(0.0)
-        .show(ui, |p| {
-            // Colours apart from the surface's red line: N orange, μ needed blue.
-            p.line(
-                Line::new(labels[0], PlotPoints::from(normal))
-                    .color(Color32::from_rgb(255, 150, 30)),
-            );
-            p.line(
-                Line::new(labels[1], PlotPoints::from(needed))
-                    .color(Color32::from_rgb(70, 140, 230)),
-            );
-            p.hline(egui_plot::HLine::new("N = 0", 0.0).color(Color32::GRAY));
-            if let Some(mu) = friction {
-                p.hline(egui_plot::HLine::new(labels[2], mu).color(red));
-            }
-        });
+    // Colours apart from the surface's red line: N orange, μ needed blue.
+    let (orange, blue) = (SERIES_COLORS[1], SERIES_COLORS[0]);
+    let mut keys = vec![
+        ("N/F", orange, Swatch::Line),
+        ("μ needed", blue, Swatch::Line),
+        ("N = 0", Color32::GRAY, Swatch::Line),
+    ];
+    if friction.is_some() {
+        keys.push(("surface μ", red, Swatch::Line));
+    }
+    keyed(ui, width, height, &keys, |ui, plot_height| {
+        instrument(Plot::new("contact_force"), "t", "force / F")
+            .width(width)
+            .height(plot_height)
+            .x_axis_label("t")
+            .y_axis_label("N/F, μ")
+            .include_y(0.0)
+            .show(ui, |p| {
+                p.line(Line::new("N/F", PlotPoints::from(normal)).color(orange));
+                p.line(Line::new("μ needed", PlotPoints::from(needed)).color(blue));
+                p.hline(egui_plot::HLine::new("N = 0", 0.0).color(Color32::GRAY));
+                if let Some(mu) = friction {
+                    p.hline(egui_plot::HLine::new("surface μ", mu).color(red));
+                }
+            });
+    });
 }
 
 /// What the contact map reports back to the app: a click, and where the map is on screen.
@@ -355,41 +483,53 @@ fn contact_map_ui(
     let ctx = ui.ctx().clone();
     // The map is the whole body, always: fixed bounds, and no pan or zoom, so a click names a
     // body point (it restarts the run from there).
-    let shown = instrument(Plot::new("contact_map"), "φ", "θ")
-        .width(width)
-        .height(height)
-        .x_axis_label("φ (click: start here)")
-        .y_axis_label("θ")
-        .default_x_bounds(-std::f64::consts::PI, std::f64::consts::PI)
-        .default_y_bounds(0.0, std::f64::consts::PI)
-        .auto_bounds(false)
-        .allow_drag(false)
-        .allow_zoom(false)
-        .allow_scroll(false)
-        .allow_boxed_zoom(false)
-        .allow_double_click_reset(false)
-        .show(ui, |p| {
-            if let Some(m) = map {
-                p.image(egui_plot::PlotImage::new(
-                    "Gaussian curvature K",
-                    m.texture(&ctx).id(),
-                    PlotPoint::new(0.0, std::f64::consts::FRAC_PI_2),
-                    egui::vec2(std::f32::consts::TAU, std::f32::consts::PI),
-                ));
-            }
-            for piece in pieces.into_iter().filter(|piece| piece.len() > 1) {
-                p.line(
-                    Line::new("contact path", PlotPoints::from(piece))
-                        .color(Color32::BLACK)
-                        .width(1.5),
+    let yellow = Color32::from_rgb(255, 200, 0);
+    let keys = [
+        ("contact path", Color32::BLACK, Swatch::Line),
+        ("contact now", yellow, Swatch::Dot),
+        (
+            "colour: curvature K",
+            Color32::from_rgb(200, 70, 60),
+            Swatch::Dot,
+        ),
+    ];
+    let shown = keyed(ui, width, height, &keys, |ui, plot_height| {
+        instrument(Plot::new("contact_map"), "φ", "θ")
+            .width(width)
+            .height(plot_height)
+            .x_axis_label("φ (click: start here)")
+            .y_axis_label("θ")
+            .default_x_bounds(-std::f64::consts::PI, std::f64::consts::PI)
+            .default_y_bounds(0.0, std::f64::consts::PI)
+            .auto_bounds(false)
+            .allow_drag(false)
+            .allow_zoom(false)
+            .allow_scroll(false)
+            .allow_boxed_zoom(false)
+            .allow_double_click_reset(false)
+            .show(ui, |p| {
+                if let Some(m) = map {
+                    p.image(egui_plot::PlotImage::new(
+                        "Gaussian curvature K",
+                        m.texture(&ctx).id(),
+                        PlotPoint::new(0.0, std::f64::consts::FRAC_PI_2),
+                        egui::vec2(std::f32::consts::TAU, std::f32::consts::PI),
+                    ));
+                }
+                for piece in pieces.into_iter().filter(|piece| piece.len() > 1) {
+                    p.line(
+                        Line::new("contact path", PlotPoints::from(piece))
+                            .color(Color32::BLACK)
+                            .width(1.5),
+                    );
+                }
+                p.points(
+                    Points::new("contact now", PlotPoints::from(vec![[phi_now, theta_now]]))
+                        .color(yellow)
+                        .radius(4.0),
                 );
-            }
-            p.points(
-                Points::new("contact now", PlotPoints::from(vec![[phi_now, theta_now]]))
-                    .color(Color32::from_rgb(255, 200, 0))
-                    .radius(4.0),
-            );
-        });
+            })
+    });
     let clicked = shown
         .response
         .clicked()
@@ -431,115 +571,71 @@ fn sweep_ui(
             .collect();
         (format!("T = {a:.3}/√(α−α*) + {b:.1}"), curve)
     });
-    let mut marks: Vec<[f64; 2]> = up.iter().chain(&down).copied().collect();
-    let mut labels = vec!["α*", "α now"];
-    // egui_plot lists only the series that have points.
-    if !up.is_empty() {
-        labels.push("α increasing");
+    let (red, blue, orange, green) = (
+        Color32::from_rgb(220, 60, 60),
+        SERIES_COLORS[0],
+        SERIES_COLORS[1],
+        SERIES_COLORS[2],
+    );
+    // Every key always, so none moves when a series gains its first point.
+    let mut keys = vec![
+        ("α*", red, Swatch::Line),
+        ("α now", Color32::GRAY, Swatch::Line),
+        ("α up", blue, Swatch::Dot),
+        ("α down", orange, Swatch::Dot),
+    ];
+    if let Some((name, _)) = &fit_curve {
+        keys.push((name, green, Swatch::Line));
     }
-    if !down.is_empty() {
-        labels.push("α decreasing");
-    }
-    if let Some((name, curve)) = &fit_curve {
-        marks.extend(curve.iter().step_by(10));
-        labels.push(name);
-    }
-    let spans = [[alpha_star, 0.0], [snap.alpha_rad, 0.0]];
-    let corner = legend_corner(&marks, &spans, &labels, [width, height]);
-    instrument(Plot::new("sweep"), "α", "1/T")
-        .width(width)
-        .height(height)
-        .legend(Legend::default().position(corner))
-        .x_axis_label("α (rad)")
-        .y_axis_label("1/T")
-        .include_y(0.0)
-        .show(ui, |p| {
-            p.vline(VLine::new("α*", alpha_star).color(Color32::from_rgb(220, 60, 60)));
-            p.vline(VLine::new("α now", snap.alpha_rad).color(Color32::GRAY));
-            if let Some((name, curve)) = fit_curve {
-                p.line(
-                    Line::new(name, PlotPoints::from(curve))
-                        .color(Color32::from_rgb(120, 200, 120)),
+    keyed(ui, width, height, &keys, |ui, plot_height| {
+        instrument(Plot::new("sweep"), "α", "1/T")
+            .width(width)
+            .height(plot_height)
+            .x_axis_label("α (rad)")
+            .y_axis_label("1/T")
+            .include_y(0.0)
+            .show(ui, |p| {
+                p.vline(VLine::new("α*", alpha_star).color(red));
+                p.vline(VLine::new("α now", snap.alpha_rad).color(Color32::GRAY));
+                if let Some((name, curve)) = &fit_curve {
+                    p.line(Line::new(name, PlotPoints::from(curve.clone())).color(green));
+                }
+                p.points(
+                    Points::new("α up", PlotPoints::from(up))
+                        .color(blue)
+                        .radius(3.0),
                 );
-            }
-            p.points(
-                Points::new("α increasing", PlotPoints::from(up))
-                    .color(Color32::from_rgb(60, 130, 230))
-                    .radius(3.0),
-            );
-            p.points(
-                Points::new("α decreasing", PlotPoints::from(down))
-                    .color(Color32::from_rgb(240, 150, 30))
-                    .radius(3.0),
-            );
-        });
+                p.points(
+                    Points::new("α down", PlotPoints::from(down))
+                        .color(orange)
+                        .radius(3.0),
+                );
+            });
+    });
 }
 
-/// Where a plot's legend hides the least of what it plots: the corner whose legend-sized box
-/// covers the fewest of `marks`. The plot frames the marks and the points of `spans` (lines and
-/// included values it also shows; a NaN coordinate leaves that axis alone) with egui_plot's 5 %
-/// margin; the legend of `labels` is sized as egui draws it (16 points a row, about 6.5 per
-/// character) in a widget of `size` points, of which the axes take about 60 by 30. Ties go to
-/// the top right (egui_plot's default), then the bottom right, the top left, the bottom left.
-fn legend_corner(
-    marks: &[[f64; 2]],
-    spans: &[[f64; 2]],
-    labels: &[&str],
-    size: [f32; 2],
-) -> egui_plot::Corner {
-    use egui_plot::Corner;
-    let widest = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0);
-    let legend = [
-        25.0 + 6.5 * widest as f64,
-        12.0 + 16.0 * labels.len() as f64,
-    ];
-    let area = [f64::from(size[0]) - 60.0, f64::from(size[1]) - 30.0];
-    let share = [0, 1].map(|k| (legend[k] / area[k].max(1.0)).min(1.0));
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in marks.iter().chain(spans) {
-        for k in 0..2 {
-            if p[k].is_finite() {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
+/// The least span the crossing plot shows, in radians of polar angle. A settled orbit's
+/// crossings repeat to the settling test's 1e-3 (and to 1e-6 once converged): autoscaled to
+/// that jitter, one branch looked like two while the period-doubling lesson said "still period
+/// 1". Doubled branches lie 0.1–0.2 rad apart, far outside it.
+pub const CROSSING_MIN_SPAN: f64 = 0.05;
+
+/// The y range the crossing plot includes: the crossings' own, widened about its middle to
+/// [`CROSSING_MIN_SPAN`] (nothing to include when there are no crossings).
+pub fn crossing_span(points: &[[f64; 2]]) -> (f64, f64) {
+    let (lo, hi) = points
+        .iter()
+        .map(|p| p[1])
+        .filter(|y| y.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
+            (a.min(y), b.max(y))
+        });
+    if lo > hi {
+        return (f64::NAN, f64::NAN);
     }
-    // Where a mark sits, 0 to 1 across each axis (a flat axis puts it in the middle).
-    let unit = |v: f64, k: usize| {
-        if hi[k] > lo[k] {
-            0.05 + 0.9 * (v - lo[k]) / (hi[k] - lo[k])
-        } else {
-            0.5
-        }
-    };
-    let covered = |right: bool, top: bool| {
-        marks
-            .iter()
-            .filter(|p| {
-                let (x, y) = (unit(p[0], 0), unit(p[1], 1));
-                let in_x = if right {
-                    x >= 1.0 - share[0]
-                } else {
-                    x <= share[0]
-                };
-                let in_y = if top {
-                    y >= 1.0 - share[1]
-                } else {
-                    y <= share[1]
-                };
-                in_x && in_y
-            })
-            .count()
-    };
-    [
-        (Corner::RightTop, true, true),
-        (Corner::RightBottom, true, false),
-        (Corner::LeftTop, false, true),
-        (Corner::LeftBottom, false, false),
-    ]
-    .into_iter()
-    .min_by_key(|&(_, right, top)| covered(right, top))
-    .map_or(Corner::RightTop, |(corner, _, _)| corner)
+    let half = 0.5 * CROSSING_MIN_SPAN.max(hi - lo);
+    let mid = 0.5 * (lo + hi);
+    (mid - half, mid + half)
 }
 
 fn crossings_ui(
@@ -550,23 +646,29 @@ fn crossings_ui(
     height: f32,
 ) {
     let points = history.crossings_by_mass();
-    let labels = ["m/m0 now", "settled crossings"];
-    let spans = [[snap.mass_ratio, f64::NAN]];
-    let corner = legend_corner(&points, &spans, &labels, [width, height]);
-    instrument(Plot::new("crossings_by_mass"), "m/m0", "polar angle")
-        .width(width)
-        .height(height)
-        .legend(Legend::default().position(corner))
-        .x_axis_label("m/m0")
-        .y_axis_label("∂Ω crossing, polar angle")
-        .show(ui, |p| {
-            p.vline(VLine::new("m/m0 now", snap.mass_ratio).color(Color32::GRAY));
-            p.points(
-                Points::new("settled crossings", PlotPoints::from(points))
-                    .color(Color32::from_rgb(60, 130, 230))
-                    .radius(2.0),
-            );
-        });
+    let blue = SERIES_COLORS[0];
+    let keys = [
+        ("∂Ω crossings, settled", blue, Swatch::Dot),
+        ("m/m0 now", Color32::GRAY, Swatch::Line),
+    ];
+    let (lo, hi) = crossing_span(&points);
+    keyed(ui, width, height, &keys, |ui, plot_height| {
+        instrument(Plot::new("crossings_by_mass"), "m/m0", "polar angle")
+            .width(width)
+            .height(plot_height)
+            .x_axis_label("m/m0")
+            .y_axis_label("polar angle")
+            .include_y(lo)
+            .include_y(hi)
+            .show(ui, |p| {
+                p.vline(VLine::new("m/m0 now", snap.mass_ratio).color(Color32::GRAY));
+                p.points(
+                    Points::new("∂Ω crossings, settled", PlotPoints::from(points))
+                        .color(blue)
+                        .radius(2.0),
+                );
+            });
+    });
 }
 
 fn health_ui(
@@ -589,80 +691,106 @@ fn health_ui(
         });
         return;
     }
-    let marks: Vec<[f64; 2]> = history
-        .plotted()
-        .flat_map(|s| {
-            quantities
-                .iter()
-                .map(|q| [s.t, log((q.value)(s))])
-                .collect::<Vec<_>>()
-        })
+    let keys: Vec<Key<'_>> = quantities
+        .iter()
+        .zip(SERIES_COLORS.iter().cycle())
+        .map(|(q, &c)| (q.label, c, Swatch::Line))
         .collect();
-    let labels: Vec<&str> = quantities.iter().map(|q| q.label).collect();
-    let corner = legend_corner(&marks, &[[f64::NAN, -16.0]], &labels, [width, height]);
-    instrument(Plot::new("health"), "t", "log₁₀ error")
-        .width(width)
-        .height(height)
-        .legend(Legend::default().position(corner))
-        .x_axis_label("t")
-        .y_axis_label("log₁₀ error")
-        .include_y(-16.0)
-        .show(ui, |p| {
-            for q in &quantities {
-                let points: PlotPoints = history
-                    .plotted()
-                    .map(|s| [s.t, log((q.value)(s))])
-                    .collect();
-                p.line(Line::new(q.label, points));
-            }
-        });
+    keyed(ui, width, height, &keys, |ui, plot_height| {
+        instrument(Plot::new("health"), "t", "log₁₀ error")
+            .width(width)
+            .height(plot_height)
+            .x_axis_label("t")
+            .y_axis_label("log₁₀ error")
+            .include_y(-16.0)
+            .show(ui, |p| {
+                for &(label, color, _) in &keys {
+                    let Some(q) = quantities.iter().find(|q| q.label == label) else {
+                        continue;
+                    };
+                    let points: PlotPoints = history
+                        .plotted()
+                        .map(|s| [s.t, log((q.value)(s))])
+                        .collect();
+                    p.line(Line::new(label, points).color(color));
+                }
+            });
+    });
 }
 
 #[cfg(test)]
 mod axis_tests {
-    use super::{nice_marks, tick_label};
-    use egui_plot::GridInput;
+    use super::{X_LABEL_POINTS, label_spacing, tick_label, x_marks, y_marks};
+    use egui_plot::{GridInput, GridMark};
 
     /// The labelled ticks of an axis `pixels` long over `bounds`, as egui_plot labels them: a
-    /// mark whose step spans more than the x-axis label spacing.
-    fn labelled(bounds: (f64, f64), pixels: f64) -> Vec<String> {
+    /// mark whose step spans more than the axis's label spacing.
+    fn labelled(
+        marks: fn(GridInput) -> Vec<GridMark>,
+        spacing: f64,
+        bounds: (f64, f64),
+        pixels: f64,
+    ) -> Vec<(f64, String)> {
         let per_point = (bounds.1 - bounds.0) / pixels;
         // egui_plot asks for steps of at least 8 points.
-        let marks = nice_marks(GridInput {
+        marks(GridInput {
             bounds,
             base_step_size: 8.0 * per_point,
-        });
-        marks
-            .iter()
-            .filter(|m| m.step_size / per_point > f64::from(super::X_LABEL_SPACING))
-            .map(|m| tick_label(*m, &(bounds.0..=bounds.1)))
-            .collect()
+        })
+        .iter()
+        .filter(|m| m.step_size / per_point > f64::from(*label_spacing(spacing).start()))
+        .map(|m| (m.value, tick_label(*m, &(bounds.0..=bounds.1))))
+        .collect()
     }
 
     #[test]
-    fn every_axis_gets_several_numbers_at_any_range_and_size() {
+    fn every_axis_gets_evenly_spaced_numbers_at_one_level_at_any_range_and_size() {
         for bounds in [
             (0.0489, 0.0499),
             (0.0, 1.0),
             (-16.0, -15.2),
             (0.0, 2000.0),
+            (0.0, 830.0),
             (0.1, 6.3),
+            (0.0440, 0.0462),
         ] {
             for pixels in [180.0, 320.0, 900.0] {
-                let ticks = labelled(bounds, pixels);
-                assert!(ticks.len() >= 2, "{bounds:?} over {pixels} px: {ticks:?}");
-                // Distinct numbers: enough decimals for the step.
-                let mut unique = ticks.clone();
-                unique.dedup();
-                assert_eq!(unique, ticks, "{bounds:?}");
+                for (marks, spacing) in [(x_marks as fn(_) -> _, X_LABEL_POINTS), (y_marks, 32.0)] {
+                    let ticks = labelled(marks, spacing, bounds, pixels);
+                    let what = format!("{bounds:?} over {pixels} px: {ticks:?}");
+                    assert!(ticks.len() >= 2, "{what}");
+                    // Distinct numbers with the same decimals, evenly spaced, far enough
+                    // apart to read (t: 0, 200, 400, 500, 600 had two steps).
+                    let steps: Vec<f64> = ticks.windows(2).map(|w| w[1].0 - w[0].0).collect();
+                    let step = steps[0];
+                    assert!(
+                        steps.iter().all(|s| (s - step).abs() < 1e-9 * step),
+                        "{what}"
+                    );
+                    assert!(
+                        step / (bounds.1 - bounds.0) * pixels >= 0.75 * spacing - 1e-9,
+                        "{what}"
+                    );
+                    let decimals: Vec<usize> = ticks
+                        .iter()
+                        .map(|(_, t)| t.split('.').nth(1).map_or(0, str::len))
+                        .collect();
+                    assert!(decimals.iter().all(|&d| d == decimals[0]), "{what}");
+                    let mut unique: Vec<&String> = ticks.iter().map(|(_, t)| t).collect();
+                    unique.dedup();
+                    assert_eq!(unique.len(), ticks.len(), "{what}");
+                }
             }
         }
-        // The case of the issue: α from α* = 0.0489 to 0.0499 on a 300 px plot.
-        let ticks = labelled((0.0489, 0.0499), 300.0);
-        assert!(ticks.contains(&"0.0490".to_string()), "{ticks:?}");
+        // The case of issue 25: α from α* = 0.0489 to 0.0499 on a 300 px plot.
+        let ticks = labelled(x_marks, X_LABEL_POINTS, (0.0489, 0.0499), 300.0);
+        assert!(ticks.iter().any(|(_, t)| t == "0.0490"), "{ticks:?}");
+        // No number at the very end of an axis, where the frame cuts it.
+        let ticks = labelled(x_marks, X_LABEL_POINTS, (0.0, 1000.0), 320.0);
+        assert!(ticks.iter().all(|(v, _)| *v != 1000.0), "{ticks:?}");
         // Nothing for a broken range.
         assert!(
-            nice_marks(GridInput {
+            x_marks(GridInput {
                 bounds: (1.0, f64::NAN),
                 base_step_size: 0.1
             })
@@ -673,82 +801,21 @@ mod axis_tests {
 
 #[cfg(test)]
 mod tests {
-    use super::legend_corner;
-    use egui_plot::Corner;
-
-    /// A plot's size in the app at 1600×900 with the controls shown.
-    const SIZE: [f32; 2] = [320.0, 170.0];
+    use super::{CROSSING_MIN_SPAN, crossing_span};
 
     #[test]
-    fn the_critical_angle_lessons_legend_leaves_the_fit_and_its_points_visible() {
-        // α* = 0.0489; the periods the lesson measures, and its √-law fit. The top right holds
-        // the 1.3 α* point and the top left the fit's steep rise (which the legend hid when it
-        // was fixed there); the bottom right is empty.
-        let a_star: f64 = 0.0489;
-        let mut marks: Vec<[f64; 2]> = [
-            (0.9, 0.0),
-            (1.003, 613.09),
-            (1.01, 385.92),
-            (1.03, 265.97),
-            (1.1, 182.95),
-            (1.3, 125.07),
-        ]
-        .iter()
-        .map(|&(r, t)| [r * a_star, if t > 0.0 { 1.0 / t } else { 0.0 }])
-        .collect();
-        marks.extend((1..=120).step_by(10).map(|i| {
-            let alpha = a_star * (1.0 + 0.5 * (i as f64 / 120.0).powi(2));
-            [alpha, 1.0 / (6.26 / (alpha - a_star).sqrt() + 98.8)]
-        }));
-        let labels = ["α*", "α now", "α increasing", "T = 6.260/√(α−α*) + 98.8"];
-        let spans = [[a_star, 0.0], [1.3 * a_star, 0.0]];
-        assert_eq!(
-            legend_corner(&marks, &spans, &labels, SIZE),
-            Corner::RightBottom
-        );
-    }
-
-    #[test]
-    fn the_doubled_branch_is_not_hidden_under_the_legend() {
-        // The period-doubling lesson's crossings: one branch at m/m0 = 2, two at 4.5 and 6. The
-        // upper branch sat under egui_plot's default top-right legend.
-        let marks = [
-            [2.0, 1.22],
-            [4.5, 1.17],
-            [4.5, 1.38],
-            [6.0, 1.17],
-            [6.0, 1.38],
-        ];
-        let labels = ["m/m0 now", "settled crossings"];
-        let corner = legend_corner(&marks, &[[6.0, f64::NAN]], &labels, SIZE);
-        assert_eq!(corner, Corner::LeftTop);
-    }
-
-    #[test]
-    fn the_legend_goes_to_the_one_empty_corner() {
-        let labels = ["a", "b", "c"];
-        let filled = |skip: usize| -> Vec<[f64; 2]> {
-            let corners = [[1.0, 1.0], [1.0, 0.0], [0.0, 1.0], [0.0, 0.0]];
-            let mut marks = vec![[0.5, 0.5]];
-            marks.extend(
-                corners
-                    .iter()
-                    .enumerate()
-                    .filter(|&(i, _)| i != skip)
-                    .map(|(_, &c)| c),
-            );
-            marks
-        };
-        let expected = [
-            Corner::RightTop,
-            Corner::RightBottom,
-            Corner::LeftTop,
-            Corner::LeftBottom,
-        ];
-        for (skip, want) in expected.into_iter().enumerate() {
-            assert_eq!(legend_corner(&filled(skip), &[], &labels, SIZE), want);
-        }
-        // Nothing plotted: egui_plot's own default.
-        assert_eq!(legend_corner(&[], &[], &labels, SIZE), Corner::RightTop);
+    fn the_crossing_plot_never_magnifies_a_settled_orbits_jitter_into_branches() {
+        // Period 1 at three masses, jittering by 1e-6: shown over at least the minimum span,
+        // centred on them.
+        let settled = [[2.0, 1.220_000], [3.0, 1.220_001], [4.0, 1.219_999]];
+        let (lo, hi) = crossing_span(&settled);
+        assert!((hi - lo - CROSSING_MIN_SPAN).abs() < 1e-12);
+        assert!((0.5 * (lo + hi) - 1.22).abs() < 1e-6);
+        // Doubled branches 0.21 apart keep their own span.
+        let doubled = [[4.5, 1.17], [4.5, 1.38], [6.0, 1.17], [6.0, 1.38]];
+        let (lo, hi) = crossing_span(&doubled);
+        assert!((lo - 1.17).abs() < 1e-12 && (hi - 1.38).abs() < 1e-12);
+        // Nothing yet: nothing included.
+        assert!(crossing_span(&[]).0.is_nan());
     }
 }

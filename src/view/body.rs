@@ -17,13 +17,15 @@ use super::{CYLINDER_LENGTH, SceneView, ViewOptions};
 /// ones, then the same behind the body, whose every point projects inside the frame with a 6%
 /// margin and outside the body's silhouette (the body, a sphere of `body.1` around `body.0` in
 /// world coordinates, would hide it or show a stick poking out); the smallest if none does (an
-/// extreme aspect ratio or zoom).
+/// extreme aspect ratio or zoom). `covered` are boxes of the view, in clip space (x0, y0, x1,
+/// y1), drawn over by something else (the ball and Poincaré insets): no point may fall in one.
 fn downhill_arrow(
     camera: &Camera,
     aspect: f32,
     (centre_x, centre_y): (f64, f64),
     to_world: impl Fn(DVec3) -> Vec3,
     body: (Vec3, f32),
+    covered: &[[f32; 4]],
 ) -> [(DVec3, DVec3); 3] {
     // Centred `ahead` downhill of the body and `y` across the ramp from it (a sphere drifts
     // across the ramp as it rolls), `half` its half length.
@@ -56,7 +58,11 @@ fn downhill_arrow(
         let Some((x, y)) = ndc(p) else {
             return false;
         };
-        let in_frame = x.abs() <= 0.94 && y.abs() <= 0.94;
+        let in_frame = x.abs() <= 0.94
+            && y.abs() <= 0.94
+            && covered
+                .iter()
+                .all(|c| x < c[0] || x > c[2] || y < c[1] || y > c[3]);
         let clear = !need_clear
             || silhouette.is_none_or(|(cx, cy, rx, ry)| {
                 ((x - cx) / rx.max(1e-6)).powi(2) + ((y - cy) / ry.max(1e-6)).powi(2) > 1.0
@@ -99,7 +105,19 @@ fn downhill_arrow(
 const CONTACT_RING_RADIUS: f64 = 0.12;
 
 impl SceneView {
-    pub(super) fn body_view(&self, snap: &Snapshot, rect: [u32; 4], options: &ViewOptions) -> View {
+    /// The body on the ramp drawn in `rect`, centred in its top `1 − lift / 2` (a lesson's
+    /// caption band takes the bottom: the picture is lifted, [`Camera::lens_shift_y`], not made
+    /// smaller, so the body keeps the size it has without a caption). `covered` are the
+    /// frame's rectangles drawn over this view (the insets, the caption band), which the
+    /// downhill arrow keeps out of.
+    pub(super) fn body_view(
+        &self,
+        snap: &Snapshot,
+        rect: [u32; 4],
+        lift: f32,
+        covered: &[[u32; 4]],
+        options: &ViewOptions,
+    ) -> View {
         let alpha = snap.alpha_rad as f32;
         let world_from_ramp = Mat4::from_rotation_y(alpha);
         let to_world = |p: DVec3| world_from_ramp.transform_point3(p.as_vec3());
@@ -136,6 +154,7 @@ impl SceneView {
             fov_y_rad: 40f32.to_radians(),
             near: 0.05,
             far: 200.0,
+            lens_shift_y: lift,
         };
         let snap_to = |v: f32| (v / 5.0).round() * 5.0;
         let meshes = vec![
@@ -205,7 +224,17 @@ impl SceneView {
         let orange = linear([255, 140, 0], 1.0);
         let body = (world_from_ramp.transform_point3(centre), self.body_radius);
         let at = (f64::from(centre.x), f64::from(centre.y));
-        for (a, b) in downhill_arrow(&camera, aspect, at, to_world, body) {
+        let [rx, ry, rw, rh] = rect.map(|v| v as f32);
+        let covered: Vec<[f32; 4]> = covered
+            .iter()
+            .map(|c| {
+                let [cx, cy, cw, ch] = c.map(|v| v as f32);
+                let ndc_x = |x: f32| 2.0 * (x - rx) / rw.max(1.0) - 1.0;
+                let ndc_y = |y: f32| 1.0 - 2.0 * (y - ry) / rh.max(1.0);
+                [ndc_x(cx), ndc_y(cy + ch), ndc_x(cx + cw), ndc_y(cy)]
+            })
+            .collect();
+        for (a, b) in downhill_arrow(&camera, aspect, at, to_world, body, &covered) {
             segments.push(Segment {
                 a: to_world(a),
                 b: to_world(b),
@@ -483,6 +512,7 @@ mod tests {
             fov_y_rad: 40f32.to_radians(),
             near: 0.05,
             far: 200.0,
+            lens_shift_y: 0.0,
         }
     }
 
@@ -500,8 +530,14 @@ mod tests {
             (320, 180),
         ] {
             let aspect = w as f32 / h as f32;
-            let strokes =
-                downhill_arrow(&camera, aspect, (0.0, 0.0), to_world, (camera.target, 1.2));
+            let strokes = downhill_arrow(
+                &camera,
+                aspect,
+                (0.0, 0.0),
+                to_world,
+                (camera.target, 1.2),
+                &[],
+            );
             let view_proj = camera.view_proj(aspect);
             for (a, b) in strokes {
                 for p in [a, b] {
@@ -526,7 +562,14 @@ mod tests {
                 eye: target + dir * 7.0,
                 ..camera
             };
-            let strokes = downhill_arrow(&turned, 16.0 / 9.0, (0.0, 0.0), to_world, (target, 1.2));
+            let strokes = downhill_arrow(
+                &turned,
+                16.0 / 9.0,
+                (0.0, 0.0),
+                to_world,
+                (target, 1.2),
+                &[],
+            );
             let vp = turned.view_proj(16.0 / 9.0);
             let c = vp.project_point3(target);
             let right = (target - turned.eye).normalize().cross(Vec3::Z).normalize();

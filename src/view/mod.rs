@@ -247,7 +247,7 @@ impl SceneView {
         size: (u32, u32),
         options: &ViewOptions,
     ) -> Frame {
-        let [mut body_rect, ball_rect, poincare_rect] = self.layout(size);
+        let [body_rect, ball_rect, poincare_rect] = self.layout(size);
         let inset_bg = Some(linear([24, 26, 34], 1.0));
         let mut views = Vec::new();
         let mut panels = Vec::new();
@@ -257,21 +257,37 @@ impl SceneView {
         let text = options.text_scale * fit.clamp(0.3, 3.0);
         // A lesson's caption is part of what it shows, so it stays when the overlay is off.
         // It sits above the colour legend (about 70 px tall at text scale 1), in a band of its
-        // own: the body's view ends above the band, so the caption never covers the body (the
-        // camera centres the body in what is left; tests/presentation.rs measures it on every
-        // lesson step).
+        // own: the camera lifts the body into the part of its view above the band, at the size
+        // it has without a caption, so the caption never covers the body and the ramp shows
+        // behind the caption (tests/presentation.rs measures it on every lesson step).
+        // Under a caption the colour legend keeps the plain size: the caption is what the room
+        // reads, and a large legend would lift it into the body's view.
+        let legend_text = if snap.caption.is_some() {
+            text.min(fit.clamp(0.3, 3.0))
+        } else {
+            text
+        };
         let lift = if self.show_overlay && body_rect.is_some() {
-            10 + (72.0 * text) as u32
+            10 + (72.0 * legend_text) as u32
         } else {
             10
         };
         let caption = panels::caption_panel(snap, text, 0.86 * size.0 as f32, lift);
-        if let (Some(rect), Some(c)) = (body_rect.as_mut(), &caption) {
-            let band = lift + panels::estimated_height(c) + (6.0 * text) as u32;
-            rect[3] = rect[3].saturating_sub(band).max(rect[3] / 2);
-        }
+        // The caption's band, over the bottom of the body's view (at most half of it).
+        let band = match (&body_rect, &caption) {
+            (Some(rect), Some(c)) => {
+                (lift + panels::estimated_height(c) + (6.0 * text) as u32).min(rect[3] / 2)
+            }
+            _ => 0,
+        };
         if let Some(rect) = body_rect {
-            views.push(self.body_view(snap, rect, options));
+            let mut covered: Vec<[u32; 4]> =
+                [ball_rect, poincare_rect].into_iter().flatten().collect();
+            if band > 0 {
+                covered.push([rect[0], rect[1] + rect[3] - band, rect[2], band]);
+            }
+            let lift = band as f32 / rect[3].max(1) as f32;
+            views.push(self.body_view(snap, rect, lift, &covered, options));
         }
         if let Some(rect) = ball_rect {
             views.push(self.ball_view(
@@ -322,10 +338,11 @@ impl SceneView {
             }
         }
         if self.show_overlay {
-            // Under a caption the body's view is shorter: class mode's large numbers would cover
-            // the body, so they keep the plain size (the caption is what the room reads).
+            // Under a caption the body's view is shorter, and class mode's largest numbers would
+            // reach the body: they are a little smaller than elsewhere, still large enough for
+            // the back of the room (α and α/α* are what a lesson talks about).
             let status_text = if caption.is_some() {
-                text.min(fit.clamp(0.3, 3.0))
+                text.min(1.4 * fit.clamp(0.3, 3.0))
             } else {
                 text
             };
@@ -336,7 +353,7 @@ impl SceneView {
             }
             panels.push(status);
             if body_rect.is_some() {
-                panels.push(self.legend_panel(text));
+                panels.push(self.legend_panel(legend_text));
             }
         }
         if let Some(caption) = caption {

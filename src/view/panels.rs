@@ -11,7 +11,7 @@ impl SceneView {
     pub(super) fn status_panel(&self, snap: &Snapshot, text: f32) -> Panel {
         let deg = snap.alpha_rad.to_degrees();
         let ratio = if snap.alpha_star > 0.0 {
-            format!("α/α* = {:.3}", snap.alpha_rad / snap.alpha_star)
+            format!("α/α* = {:.4}", snap.alpha_rad / snap.alpha_star)
         } else {
             "perfect body".into()
         };
@@ -49,13 +49,9 @@ impl SceneView {
                 size_px: 19.0 * text,
                 color: [255, 214, 10],
             },
-            line(
-                format!(
-                    "α = {:.4} rad ({deg:.2}°)   α* = {:.4} rad   {ratio}",
-                    snap.alpha_rad, snap.alpha_star
-                ),
-                16.0,
-            ),
+            // Five decimals: the slider moves α by 1e-5 rad, and a lesson sets α = 0.99 α*.
+            line(format!("α = {:.5} rad ({deg:.3}°)", snap.alpha_rad), 16.0),
+            line(format!("α* = {:.5} rad   {ratio}", snap.alpha_star), 16.0),
             line(mass, 16.0),
             line(format!("t = {:.2}", snap.t), 16.0),
         ];
@@ -205,7 +201,7 @@ pub(super) fn caption_panel(
     Some(Panel {
         anchor: Anchor::BottomCentre(lift),
         items,
-        background: [10, 12, 18, 225],
+        background: [10, 12, 18, 240],
         padding: (10.0 * text) as u32,
     })
 }
@@ -254,16 +250,25 @@ pub(super) fn trim(x: f64) -> String {
 }
 
 pub(super) fn title_panel(rect: [u32; 4], title: &str, text: f32) -> Panel {
-    // The title fits its inset: at class mode's large text a long title was cut at the frame's
-    // edge ("vector part of q (c"). CHARS_EM overestimates DejaVu's advance, so it fits.
-    let fits = (rect[2].saturating_sub(16) as f32) / (CHARS_EM * title.chars().count() as f32);
+    // The title keeps the text size of the other panels (a projector's room reads it too) and
+    // wraps to its inset's width; only a word longer than the inset shrinks it. (Shrunk to one
+    // line it was 11 px at 720p in class text.) CHARS_EM overestimates DejaVu's advance, so
+    // the lines fit.
+    let size_px = 14.0 * text;
+    let width = rect[2].saturating_sub(16) as f32;
+    let lines = wrap(title, ((width / (CHARS_EM * size_px)) as usize).max(1));
+    let longest = lines.iter().map(|l| l.chars().count()).max().unwrap_or(1);
+    let size_px = size_px.min(width / (CHARS_EM * longest as f32));
     Panel {
         anchor: Anchor::TopLeft(rect[0] + 6, rect[1] + 6),
-        items: vec![PanelItem::Text {
-            text: title.into(),
-            size_px: (14.0 * text).min(fits),
-            color: [225; 3],
-        }],
+        items: lines
+            .into_iter()
+            .map(|line| PanelItem::Text {
+                text: line,
+                size_px,
+                color: [225; 3],
+            })
+            .collect(),
         background: [0, 0, 0, 0],
         padding: 2,
     }
