@@ -258,7 +258,10 @@ pub fn render_to(
         let names = PlotHistory::file_names();
         crate::output::check_folder(dir, &names, inputs).context("--plot-data")?;
     }
-    let mut history = PlotHistory::default();
+    let mut history = match &setup.scene.resume {
+        Some(resume) => PlotHistory::resumed(resume, setup.ramp.alpha_rad),
+        None => PlotHistory::default(),
+    };
     let fps = setup.scene.playback.fps;
     // PNG files in a folder (written by a pool of threads), or one clip.
     let mut writer = match sink {

@@ -1328,3 +1328,51 @@ alpha_over_critical = 3.0
     frames(&mut bench, &gpu, &target, vec![], 2);
     assert!(points(&bench).is_empty(), "{:?}", points(&bench));
 }
+
+/// Save state writes the run as it is (time, pose and velocity, the sweep plot's points), and
+/// opening the file goes on from there; Save scene beside it still starts from the beginning.
+#[test]
+fn save_state_resumes_the_run_where_it_was_with_its_plots() {
+    let (gpu, target, mut bench) = app("cylinder-hysteresis");
+    bench.sim.send(SimCommand::SetSpeed(200.0));
+    frames_until(&mut bench, &gpu, &target, vec![], |s| {
+        s.snapshot.period.is_some()
+    });
+    frames(&mut bench, &gpu, &target, vec![], 3);
+    let points = bench.ui.history().sweep(Sweep::Up);
+    assert!(!points.is_empty(), "a measured period gives a point");
+    let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::Space), |s| {
+        s.paused
+    });
+    let path = std::env::temp_dir().join(format!("rollphase-state-{}.toml", std::process::id()));
+    bench.ui.set_scene_path(&path);
+    bench.ui.save_state(&s);
+    let (notice, error) = bench.ui.notice().cloned().unwrap();
+    assert!(!error, "{notice}");
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::remove_file(&path).ok();
+    let saved = Scene::from_toml(&text).unwrap();
+    let resume = saved.resume.clone().expect("a [resume] table");
+    assert_eq!(resume.t, s.snapshot.t);
+    assert_eq!(resume.state, s.snapshot.state);
+    // The saved state is the run's exactly.
+    let setup = saved.setup(None).unwrap();
+    let resumed = Simulation::new(setup.clone());
+    assert_eq!(resumed.time(), s.snapshot.t);
+    assert_eq!(resumed.state().vector(), s.snapshot.state.as_slice());
+    // Opened in a fresh app (which starts playing at once): it goes on from there, with the
+    // plot's points.
+    let gpu2 = GpuContext::headless().unwrap();
+    let mut fresh =
+        Workbench::new(&gpu2.device, &gpu2.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
+    fresh.sim.send(SimCommand::Pause);
+    let target2 = OffscreenTarget::new(&gpu2.device, SIZE);
+    let r = frames_until(&mut fresh, &gpu2, &target2, vec![], |r| r.paused);
+    let ahead = r.snapshot.t - s.snapshot.t;
+    assert!(
+        (0.0..5.0).contains(&ahead),
+        "resumed {ahead} t after the saved state"
+    );
+    frames(&mut fresh, &gpu2, &target2, vec![], 2);
+    assert_eq!(fresh.ui.history().sweep(Sweep::Up), points);
+}

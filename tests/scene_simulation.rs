@@ -334,3 +334,88 @@ fn a_dented_cylinder_tips_across_its_flats_in_the_app_as_in_simulate() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A saved state (`[resume]`) goes on where the run was: the same time and state vector, and
+/// from there the same motion as the run that was never stopped (to the integrator's
+/// tolerance: the resumed run starts its step-size control afresh).
+#[test]
+fn a_saved_state_goes_on_where_the_run_was() {
+    for name in [
+        "sphere-cruising",
+        "sphere-doubling",
+        "cylinder-near-critical",
+        "cylinder-hysteresis",
+    ] {
+        let mut run = preset(name);
+        run.advance_to(37.5).unwrap();
+        let snap = run.snapshot();
+        let mut scene = Scene::preset(name).unwrap();
+        scene.resume = Some(rollphase::scene::ResumeSpec {
+            t: snap.t,
+            state: snap.state.clone(),
+            ..Default::default()
+        });
+        let text = scene.to_toml().unwrap();
+        let mut resumed = sim(&text);
+        assert_eq!(resumed.time(), 37.5, "{name}");
+        assert_eq!(resumed.state().vector(), run.state().vector(), "{name}");
+        // A headless render of it starts there too (or at the scene's start_time, if later).
+        let start_time = resumed.setup().scene.playback.start_time;
+        assert_eq!(
+            resumed.setup().frame_time(0),
+            start_time.max(37.5),
+            "{name}"
+        );
+        run.advance_to(60.0).unwrap();
+        resumed.advance_to(60.0).unwrap();
+        let (a, b) = (run.state().vector(), resumed.state().vector());
+        let gap = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        assert!(gap < 1e-5, "{name}: {a:?} vs {b:?}");
+        // Reset goes back to the saved state, not to the scene's own start.
+        let again = resumed.restarted();
+        assert_eq!(again.time(), 37.5, "{name}");
+    }
+}
+
+/// A `[resume]` that does not fit the scene is refused with the key and the reason.
+#[test]
+fn a_bad_saved_state_is_refused_with_what_is_wrong() {
+    let base = Scene::preset("sphere-cruising").unwrap().to_toml().unwrap();
+    let unit = "[1.0, 0.0, 0.0, 0.0, 0.0, 0.0]";
+    for (resume, expected) in [
+        ("t = 5.0\nstate = [1.0, 0.0]".to_string(), "resume.state"),
+        (
+            "t = 5.0\nstate = [1.0, 0.0, 0.0, 0.0, nan, 0.0]".to_string(),
+            "not a finite number",
+        ),
+        (
+            "t = 5.0\nstate = [2.0, 0.0, 0.0, 0.0, 0.0, 0.0]".to_string(),
+            "has length 2",
+        ),
+        (format!("t = -1.0\nstate = {unit}"), "resume.t = -1"),
+        (format!("t = inf\nstate = {unit}"), "resume.t = inf"),
+        (
+            format!("t = 1.0\nstate = {unit}\nalpha_sweep = [[0.2, 0.01, 0.0, 0.5]]"),
+            "resume.alpha_sweep[0]",
+        ),
+        (
+            format!("t = 1.0\nstate = {unit}\ncrossings = [[1.0, nan]]"),
+            "resume.crossings[0]",
+        ),
+        (
+            format!("t = 1.0\nstate = {unit}\nspeed = 3.0"),
+            "unknown field",
+        ),
+    ] {
+        let text = format!("{base}\n[resume]\n{resume}\n");
+        let err = match Scene::from_toml(&text) {
+            Err(e) => e.to_string(),
+            Ok(scene) => scene.setup(None).unwrap_err().to_string(),
+        };
+        assert!(err.contains(expected), "{resume}: {err}");
+    }
+}

@@ -40,7 +40,7 @@ pub use crate::assets::{BUNDLED_SHAPES, PRESETS};
 
 mod setup;
 mod timeline;
-pub use setup::{SceneError, SceneSetup, bundled_shape, load_scene_file};
+pub use setup::{Resume, SceneError, SceneSetup, bundled_shape, load_scene_file};
 pub use timeline::{MAX_CAPTION_CHARS, MAX_STEPS, Step, TimelineSpec, ViewsChange};
 
 /// The preset shown when none is asked for.
@@ -77,6 +77,28 @@ pub struct Scene {
     /// A lesson's steps (`[[timeline]]`), in increasing simulation time; see [`timeline`].
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub timeline: Vec<TimelineSpec>,
+    /// A saved state to go on from (the app's "Save state"), instead of `[initial]` at t = 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resume: Option<ResumeSpec>,
+}
+
+/// Where a saved run goes on from (`[resume]`, written by the app's Save state): the time, the
+/// model's whole state vector at that time (pose, velocity, position on the ramp, drag work),
+/// and the points of the sweep plots collected so far. The model (α, m/m0) is the scene's.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ResumeSpec {
+    /// Simulation time of the saved state.
+    pub t: f64,
+    /// The state vector: 2D viscous [θ, x_c]; 2D inertial [θ, θ̇, x_c, W]; 3D viscous
+    /// [q_w, q_x, q_y, q_z, x, y]; 3D inertial [q, ω_x, ω_y, ω_z, x, y, W].
+    pub state: Vec<f64>,
+    /// The 1/T plot's points: [α, 1/T, m/m0, +1 when α was increasing or −1 decreasing].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub alpha_sweep: Vec<[f64; 4]>,
+    /// The crossing plot's points: [m/m0, polar angle of the ∂Ω crossing].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub crossings: Vec<[f64; 2]>,
 }
 
 /// Where the body comes from: exactly one of the four fields.

@@ -9,7 +9,7 @@ use crate::geometry::{Body, Disk, ShapeError, ShapeFile, Sphere, random_disk, ra
 use crate::integrate::{IntegrateError, Method, Preset};
 use crate::simulate::start::{Spelling, StartField, StartRequest, check_start};
 use crate::simulate::{ContactLimits, OnViolation};
-use crate::simulate::{InitialState, Start, choose_model};
+use crate::simulate::{InitialState, ModelState, Start, choose_model};
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 
@@ -85,6 +85,17 @@ pub struct SceneSetup {
     /// The surface the run is checked against (lift-off always, slip with `model.friction`);
     /// the app and headless frames report a violation and go on.
     pub limits: ContactLimits,
+    /// The saved state the run goes on from (`[resume]`), checked; `None`: from `start` at 0.
+    pub resume: Option<Resume>,
+}
+
+/// A checked `[resume]`: the run goes on at `t` from `state`.
+#[derive(Debug, Clone)]
+pub struct Resume {
+    /// Simulation time.
+    pub t: f64,
+    /// The model at that time.
+    pub state: ModelState,
 }
 
 impl Scene {
@@ -175,6 +186,10 @@ impl Scene {
         self.views.validate(&body, &choice.ramp)?;
         self.poincare.validate()?;
         let timeline = super::timeline::resolve(self, &body, alpha_star, choice.ramp, method)?;
+        let resume = match &self.resume {
+            Some(r) => Some(r.check(&start, &choice.ramp)?),
+            None => None,
+        };
         Ok(SceneSetup {
             scene: self.clone(),
             body,
@@ -185,7 +200,61 @@ impl Scene {
             start,
             timeline,
             limits,
+            resume,
         })
+    }
+}
+
+/// The most points `[resume]` may carry in each plot (the app keeps 5000 crossings).
+const MAX_RESUME_POINTS: usize = 100_000;
+
+impl super::ResumeSpec {
+    /// Checks the saved state against the scene's model, and the plots' points.
+    fn check(&self, start: &Start, ramp: &Ramp) -> Result<Resume, SceneError> {
+        if !(self.t.is_finite() && self.t >= 0.0) {
+            return Err(invalid(format!(
+                "resume.t = {} is not allowed (needs a finite time ≥ 0)",
+                self.t
+            )));
+        }
+        let state = ModelState::new(start, ramp)
+            .with_vector(&self.state)
+            .map_err(|e| invalid(format!("resume.state: {e}")))?;
+        if self.alpha_sweep.len() > MAX_RESUME_POINTS || self.crossings.len() > MAX_RESUME_POINTS {
+            return Err(invalid(format!(
+                "resume: at most {MAX_RESUME_POINTS} points a plot (alpha_sweep has {}, \
+                 crossings {})",
+                self.alpha_sweep.len(),
+                self.crossings.len()
+            )));
+        }
+        for (i, p) in self.alpha_sweep.iter().enumerate() {
+            let [alpha, rate, mass, dir] = *p;
+            let ok = alpha.is_finite()
+                && alpha > 0.0
+                && rate.is_finite()
+                && rate >= 0.0
+                && mass.is_finite()
+                && mass >= 0.0
+                && (dir == 1.0 || dir == -1.0);
+            if !ok {
+                return Err(invalid(format!(
+                    "resume.alpha_sweep[{i}] = {p:?} is not a point (needs [α > 0, 1/T ≥ 0, \
+                     m/m0 ≥ 0, +1 or −1])"
+                )));
+            }
+        }
+        if let Some(i) = self
+            .crossings
+            .iter()
+            .position(|p| !p.iter().all(|x| x.is_finite()))
+        {
+            return Err(invalid(format!(
+                "resume.crossings[{i}] = {:?} is not a point (needs two finite numbers)",
+                self.crossings[i]
+            )));
+        }
+        Ok(Resume { t: self.t, state })
     }
 }
 

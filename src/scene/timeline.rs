@@ -244,7 +244,8 @@ pub(super) fn resolve(
 }
 
 impl SceneSetup {
-    /// Simulation time of video frame `k`: frame 0 at `playback.start_time`, then `1/fps`
+    /// Simulation time of video frame `k`: frame 0 at `playback.start_time` (or a saved
+    /// state's time, `[resume]`, if later), then `1/fps`
     /// seconds of video per frame at the playback speed in force, which timeline steps may
     /// change. Between speed steps this is `start_time + k · speed / fps`.
     pub fn frame_time(&self, k: u64) -> f64 {
@@ -265,7 +266,9 @@ impl SceneSetup {
     /// The pieces of the video clock from `start_time` on: (simulation time where a piece
     /// starts, its playback speed). A new piece starts at each speed step.
     fn clock_pieces(&self) -> Vec<(f64, f64)> {
-        let start = self.scene.playback.start_time;
+        // A saved state's video starts where it was saved (or later, at start_time).
+        let resumed_at = self.resume.as_ref().map_or(0.0, |r| r.t);
+        let start = self.scene.playback.start_time.max(resumed_at);
         let mut pieces = vec![(start, self.speed_at(start))];
         pieces.extend(
             self.timeline

@@ -180,6 +180,34 @@ impl PlotHistory {
         }
     }
 
+    /// The plots of a saved state (`[resume]`): its 1/T and crossing points, taken in as if
+    /// collected, and its last α as the one the next change is judged from.
+    pub fn resumed(resume: &crate::scene::ResumeSpec, alpha_now: f64) -> Self {
+        let mut history = Self::default();
+        for &[alpha, rate, mass, dir] in &resume.alpha_sweep {
+            let direction = if dir < 0.0 { Sweep::Down } else { Sweep::Up };
+            let bin = (alpha.ln() / SWEEP_BIN).round() as i64;
+            history.sweep.insert((direction, bin), (alpha, rate, mass));
+        }
+        history.crossings_by_mass = resume.crossings.iter().copied().collect();
+        while history.crossings_by_mass.len() > MAX_CROSSING_POINTS {
+            history.crossings_by_mass.pop_front();
+        }
+        history.last_alpha = Some(alpha_now);
+        history
+    }
+
+    /// The 1/T points as `[resume]` keeps them: [α, 1/T, m/m0, +1 up or −1 down].
+    pub fn alpha_sweep_points(&self) -> Vec<[f64; 4]> {
+        self.sweep
+            .iter()
+            .map(|(&(direction, _), &(alpha, rate, mass))| {
+                let dir = if direction == Sweep::Down { -1.0 } else { 1.0 };
+                [alpha, rate, mass, dir]
+            })
+            .collect()
+    }
+
     /// Whether any settled crossing of ∂Ω was collected (the mass sweep plot is shown then).
     pub fn has_crossings(&self) -> bool {
         !self.crossings_by_mass.is_empty()

@@ -104,6 +104,8 @@ pub struct BodyPose {
 pub struct Snapshot {
     /// Simulation time.
     pub t: f64,
+    /// The model's whole state vector at `t` ([`ModelState::vector`]): what Save state writes.
+    pub state: Vec<f64>,
     /// Which model runs.
     pub model: ModelKind,
     /// The integrator's name.
@@ -264,9 +266,15 @@ struct Observed {
 }
 
 impl Simulation {
-    /// A simulation at the scene's start (t = 0; call [`Self::advance_to`] to skip ahead).
+    /// A simulation at the scene's start (t = 0; call [`Self::advance_to`] to skip ahead), or
+    /// at its saved state (`[resume]`): there the lesson's steps up to the saved time count as
+    /// done, with their captions and views, but not their α or m/m0 (the saved scene's model is
+    /// the one the run had).
     pub fn new(setup: SceneSetup) -> Self {
-        let state = ModelState::new(&setup.start, &setup.ramp);
+        let (t0, state) = match &setup.resume {
+            Some(r) => (r.t, r.state.clone()),
+            None => (0.0, ModelState::new(&setup.start, &setup.ramp)),
+        };
         let playback = &setup.scene.playback;
         let trail_dt = (playback.trail_time / 3000.0).clamp(0.01, 1.0);
         let start_views = setup.scene.views.clone();
@@ -275,20 +283,20 @@ impl Simulation {
             Body::Disk(d) => !d.hull().bridges().is_empty(),
             Body::Sphere(_) => false,
         };
-        let contact = ContactWatch::new(setup.limits, 0.0, first.force);
+        let contact = ContactWatch::new(setup.limits, t0, first.force);
         let mut sim = Self {
             ramp: setup.ramp,
             method: setup.method,
             track_ball: setup.scene.views.ball && matches!(setup.body, Body::Sphere(_)),
             setup,
-            t: 0.0,
+            t: t0,
             state,
             trail: VecDeque::new(),
             trail_dt,
-            next_trail_t: 0.0,
+            next_trail_t: t0,
             crossings: VecDeque::new(),
             plot_samples: VecDeque::new(),
-            next_plot_k: 0,
+            next_plot_k: (t0 / PLOT_SAMPLE_DT).ceil() as u64,
             health: Health::default(),
             stopped: None,
             last_failure: None,
@@ -302,13 +310,41 @@ impl Simulation {
         };
         let o = observe(&sim.state, &sim.ramp);
         sim.energy0 = o.energy;
-        sim.record(0.0, &o);
+        sim.record(t0, &o);
+        if t0 > 0.0 {
+            sim.catch_up_steps(t0);
+            return sim;
+        }
         // Steps at t = 0 hold from the first frame; they were validated with the scene, so
         // applying them cannot fail.
         if let Err(e) = sim.advance_to(0.0) {
             sim.caption = Some(e.to_string());
         }
         sim
+    }
+
+    /// A resumed lesson: the steps at or before `t` are done, the last caption and the views
+    /// they set hold, and their model changes are left out (the saved model is the current one).
+    fn catch_up_steps(&mut self, t: f64) {
+        while let Some(step) = self
+            .setup
+            .timeline
+            .get(self.steps_done)
+            .filter(|s| s.at <= t)
+            .cloned()
+        {
+            self.steps_done += 1;
+            if let Some(change) = &step.views {
+                let views = change.applied_to(&self.setup.scene.views);
+                self.set_views(&views);
+            }
+            if let Some(caption) = &step.caption {
+                self.caption = (!caption.is_empty()).then(|| caption.clone());
+            }
+            if step.speed.is_some() {
+                self.speed_change = step.speed;
+            }
+        }
     }
 
     /// The same scene from its start again: a lesson with the views it started with, any other
@@ -699,6 +735,7 @@ impl Simulation {
             late_cycle(&section, MAX_MULTIPLICITY, MULTIPLICITY_TOL).map(|c| c.0);
         let last_crossing = section.last().map(|c| (c.t, DVec3::from_array(c.point)));
         Snapshot {
+            state: self.state.vector().to_vec(),
             t: self.t,
             model: self.state.kind(),
             integrator: self.method.name(),

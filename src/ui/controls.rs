@@ -164,8 +164,14 @@ impl FineAlpha {
 }
 
 impl AppUi {
-    pub(super) fn menu_ui(&mut self, ui: &mut egui::Ui, actions: &mut Vec<UiAction>) {
+    pub(super) fn menu_ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        status: &SimStatus,
+        actions: &mut Vec<UiAction>,
+    ) {
         egui::MenuBar::new().ui(ui, |ui| {
+            self.file_menu_ui(ui, status, actions);
             ui.menu_button("Presets", |ui| {
                 // Scenes first, then the lessons (scenes with a [[timeline]]) under a heading.
                 let scenes: Vec<(&str, Scene)> = PRESETS

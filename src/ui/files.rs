@@ -13,6 +13,11 @@ use crate::scene::{BodySpec, Scene, load_scene_file};
 use crate::sim::{SimCommand, SimStatus};
 
 use super::controls::method_spec;
+
+/// What Save state does, for its button and menu entry.
+pub(super) const SAVE_STATE_HINT: &str = "the scene as it runs now, at its time, pose and \
+    velocity, with the sweep plots' points, to the scene path: opening it goes on from there \
+    (Save writes the scene from its start)";
 use super::dialog::{DialogPurpose, FileDialogs};
 use super::{AppUi, UiAction};
 
@@ -43,6 +48,13 @@ impl AppUi {
             }
             if ui.button("Save").clicked() {
                 self.save_scene(status);
+            }
+            if ui
+                .button("Save state")
+                .on_hover_text(SAVE_STATE_HINT)
+                .clicked()
+            {
+                self.save_state(status);
             }
             let current = Path::new(&self.scene_path);
             dialog_buttons(
@@ -268,6 +280,118 @@ impl AppUi {
             Ok(text) => write_file(&self.scene_path, &text),
             Err(e) => (e.to_string(), true),
         });
+    }
+
+    /// The File menu: what the files panel does, reachable without scrolling the controls
+    /// (Export sat at the bottom of a scrolling panel). The paths are the panel's fields.
+    pub(super) fn file_menu_ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        status: &SimStatus,
+        actions: &mut Vec<UiAction>,
+    ) {
+        ui.menu_button("File", |ui| {
+            let dialogs = self.dialogs.availability().is_ok() && !self.dialogs.is_open();
+            if ui
+                .add_enabled(dialogs, egui::Button::new("Open scene…"))
+                .clicked()
+            {
+                let current = PathBuf::from(&self.scene_path);
+                self.dialogs.open(DialogPurpose::OpenScene, &current);
+                ui.close();
+            }
+            if ui
+                .add_enabled(dialogs, egui::Button::new("Open shape or mesh…"))
+                .clicked()
+            {
+                let current = PathBuf::from(&self.shape_path);
+                self.dialogs.open(DialogPurpose::OpenShape, &current);
+                ui.close();
+            }
+            ui.separator();
+            let scene_path = self.scene_path.clone();
+            if ui
+                .button(format!("Save scene to {scene_path}"))
+                .on_hover_text("the scene with the current α, m/m0 and views, from its start")
+                .clicked()
+            {
+                self.save_scene(status);
+                ui.close();
+            }
+            if ui
+                .button(format!("Save state to {scene_path}"))
+                .on_hover_text(SAVE_STATE_HINT)
+                .clicked()
+            {
+                self.save_state(status);
+                ui.close();
+            }
+            if ui
+                .add_enabled(dialogs, egui::Button::new("Save scene as…"))
+                .clicked()
+            {
+                let current = PathBuf::from(&self.scene_path);
+                self.dialogs.open(DialogPurpose::SaveScene, &current);
+                ui.close();
+            }
+            ui.separator();
+            let plot_dir = self.plot_data_dir.clone();
+            if ui
+                .button(format!("Export plot data to {plot_dir}/"))
+                .on_hover_text(
+                    "every plotted series as CSV with plot-data.json (scene, body, model, α, \
+                     α*, m/m0, integrator, t)",
+                )
+                .clicked()
+            {
+                self.export_plot_data(status);
+                ui.close();
+            }
+            let shot = self.screenshot_path.clone();
+            if ui.button(format!("Screenshot to {shot}")).clicked() {
+                actions.push(UiAction::Screenshot(PathBuf::from(shot)));
+                ui.close();
+            }
+            ui.label(
+                egui::RichText::new("paths: the Files panel's fields")
+                    .small()
+                    .weak(),
+            );
+        });
+    }
+
+    /// Writes the run as it is now to the scene path: the scene ([`Self::save_scene`]) with a
+    /// `[resume]` of the time, the model's whole state and the sweep plots' points, so that
+    /// opening it goes on where the run was.
+    pub fn save_state(&mut self, status: &SimStatus) {
+        let mut scene = self.current_scene(status);
+        scene.body = BodySpec {
+            inline: Some(status.setup.body.to_shape()),
+            ..BodySpec::default()
+        };
+        let snap = &status.snapshot;
+        scene.description = format!(
+            "Saved state at t = {} (α = {:.5} rad, m/m0 = {}); opening it goes on from there. {}",
+            snap.t,
+            snap.alpha_rad,
+            snap.mass_ratio,
+            scene.description.trim()
+        );
+        scene.resume = Some(crate::scene::ResumeSpec {
+            t: snap.t,
+            state: snap.state.clone(),
+            alpha_sweep: self.history.alpha_sweep_points(),
+            crossings: self.history.crossings_by_mass(),
+        });
+        self.notice = Some(match scene.to_toml() {
+            Ok(text) => write_file(&self.scene_path, &text),
+            Err(e) => (e.to_string(), true),
+        });
+    }
+
+    /// Sets the scene path (as typed into its field).
+    pub fn set_scene_path(&mut self, path: &Path) {
+        self.scene_path = path.display().to_string();
     }
 
     /// Sets the plot data folder (as typed into its field).

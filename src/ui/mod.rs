@@ -258,7 +258,10 @@ impl AppUi {
         let step = status.snapshot.lesson.map(|l| l.done);
         if self.seen_run != Some(run) {
             if self.seen_run.map(|r| r.0) != Some(status.scene_id) {
-                self.history.clear_all();
+                self.history = match &status.setup.scene.resume {
+                    Some(resume) => PlotHistory::resumed(resume, status.setup.ramp.alpha_rad),
+                    None => PlotHistory::default(),
+                };
                 self.step_plots.clear();
                 self.scene = status.setup.scene.clone();
                 self.views = status.setup.scene.views.clone();
@@ -517,7 +520,7 @@ impl AppUi {
         self.advance_sweep(status, &mut actions);
         self.keep_body_in_view(status);
         if !self.presenting {
-            egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, &mut actions));
+            egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, status, &mut actions));
             // Outermost at the bottom, so no panel or plot hides it.
             egui::Panel::bottom("status").show(ui, |ui| self.status_bar_ui(ui, status));
         }

@@ -308,6 +308,78 @@ impl ModelState {
         }
     }
 
+    /// The integrated state vector (what [`Self::kind`]'s model integrates: the layouts above).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::Ramp;
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{InitialState, ModelState, Start};
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// let state = ModelState::new(&Start::new(&body, InitialState::at_rest(&body))?, &Ramp::new(0.15, 6.0)?);
+    /// assert_eq!(state.vector().len(), 10); // q, ω, x, y, W
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn vector(&self) -> &[f64] {
+        match self {
+            ModelState::DiskViscous { y, .. } => y,
+            ModelState::DiskInertial { y, .. } => y,
+            ModelState::SphereViscous { y, .. } => y,
+            ModelState::SphereInertial { y, .. } => y,
+        }
+    }
+
+    /// The same model at the state vector `v` (a saved state resumed): refused, with the reason,
+    /// when `v` has another length than this model's state or a value that is not finite, or
+    /// (3D) when its quaternion is not of unit length to 1e-6 (it is renormalised within that).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::Ramp;
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{InitialState, ModelState, Start};
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// let state = ModelState::new(&Start::new(&body, InitialState::at_rest(&body))?, &Ramp::new(0.15, 0.0)?);
+    /// let moved = state.clone().with_vector(&[0.0, 1.0, 0.0, 0.0, 3.5, -0.2])?;
+    /// assert_eq!(moved.vector()[4], 3.5);
+    /// assert!(state.with_vector(&[1.0, 0.0]).is_err()); // a cylinder's length
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn with_vector(mut self, v: &[f64]) -> Result<Self, String> {
+        let len = self.vector().len();
+        if v.len() != len {
+            return Err(format!(
+                "the {:?} model's state has {len} numbers, not {}",
+                self.kind(),
+                v.len()
+            ));
+        }
+        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+            return Err(format!("state number {i} is {}, not a finite number", v[i]));
+        }
+        let sphere = matches!(
+            self,
+            ModelState::SphereViscous { .. } | ModelState::SphereInertial { .. }
+        );
+        let mut v = v.to_vec();
+        if sphere {
+            let norm = v[..4].iter().map(|x| x * x).sum::<f64>().sqrt();
+            if (norm - 1.0).abs() > 1e-6 {
+                return Err(format!(
+                    "the orientation quaternion (the first 4 numbers) has length {norm}, not 1"
+                ));
+            }
+            v[..4].iter_mut().for_each(|x| *x /= norm);
+        }
+        match &mut self {
+            ModelState::DiskViscous { y, .. } => y.copy_from_slice(&v),
+            ModelState::DiskInertial { y, .. } => y.copy_from_slice(&v),
+            ModelState::SphereViscous { y, .. } => y.copy_from_slice(&v),
+            ModelState::SphereInertial { y, .. } => y.copy_from_slice(&v),
+        }
+        Ok(self)
+    }
+
     /// The body, as a [`Body`].
     ///
     /// # Example
