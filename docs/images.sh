@@ -6,6 +6,8 @@
 #   docs/lessons/*.png      each lesson's window at a key moment
 #   docs/accuracy/, docs/stiff/   the benchmark plots and tables
 #   docs/plot-data/lesson-*/   the CSVs of the lessons' α and m/m0 sweeps (--plot-data)
+#   docs/app-sweeps/        the app's measuring sweeps: screenshots and their plot data
+#   docs/presentation/      each lesson on a projector, and class mode
 #   docs/python/fig3d.png, fig4e.png   the Python module's figures (docs/python/paper_figures.py)
 #   docs/experiments/*.png   the printed sphere's predicted paths and the tracked run, folded
 # Run from anywhere: bash docs/images.sh. Takes a few minutes on 2 cores without a GPU.
@@ -54,6 +56,30 @@ for lesson in critical-angle inertia-hysteresis period-doubling; do
 done
 screen 1280x720 "$bin" app --preset lesson-period-doubling --class --screenshot-after 12 \
     docs/presentation/class-mode-1280x720.png --exit-after 13
+
+# The app's measuring sweeps (docs/guide/app.md): α up across α* on a cylinder from 0.96 α*,
+# α down across α* on a sphere, m/m0 up across the flip; each window's screenshot as it ends
+# and its plot data (--plot-data writes them as the window closes).
+cat > "$tmp/cylinder-below.toml" <<TOML
+name = "cylinder-below-critical"
+description = "The cylinder of cylinder-near-critical at 0.96 α*, for a sweep up across α*"
+[body]
+shape = "$PWD/assets/shapes/disk.json"
+[model]
+alpha_over_critical = 0.96
+mass_ratio = 0.0
+TOML
+app_sweep() {
+    local name="$1" seconds="$2"
+    shift 2
+    window "$bin" app "$@" --speed 1000 --screenshot-after "$seconds" "docs/app-sweeps/$name.png" \
+        --exit-after "$((seconds + 1))" --plot-data "$tmp/app-sweep-$name"
+    cp "$tmp/app-sweep-$name"/sweep-*.csv "$tmp/app-sweep-$name/plot-data.json" \
+        "docs/app-sweeps/$name/"
+}
+app_sweep cylinder-alpha 60 --scene "$tmp/cylinder-below.toml" --sweep alpha:0.0005:0.065
+app_sweep sphere-alpha 80 --preset sphere-cruising --sweep alpha:-0.01:0.1
+app_sweep sphere-mass 80 --preset sphere-flip --sweep mass:0.05:10
 
 # The plots' data of one α sweep and one m/m0 sweep (the two lessons that sweep them).
 # Only the sweeps are kept: the time series run to 40,000 rows (a sample every 0.1 t).

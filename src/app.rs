@@ -46,6 +46,12 @@ pub struct AppOptions {
     pub present: bool,
     /// Open in class mode.
     pub class: bool,
+    /// Start the measuring sweep.
+    pub sweep: Option<crate::ui::sweep::AutoSweep>,
+    /// Start at this playback speed (t per s).
+    pub speed: Option<f64>,
+    /// Write the plots' data into this folder when the window closes (checked before).
+    pub plot_data: Option<PathBuf>,
 }
 
 /// A window's event loop is running (it will see [`CLOSE_REQUESTED`]).
@@ -95,6 +101,21 @@ pub fn run(options: AppOptions) -> Result<()> {
         screenshot_done: false,
     };
     let ran = event_loop.run_app(&mut app);
+    // --plot-data: the plots as the window closed.
+    let plot_data = app.options.as_ref().and_then(|o| o.plot_data.clone());
+    if let (Some(dir), Some(w)) = (plot_data, app.window.as_mut()) {
+        let status = w.bench.sim.status();
+        w.bench.ui.set_plot_data_dir(&dir);
+        w.bench.ui.export_plot_data(&status);
+        match w.bench.ui.notice() {
+            Some((text, false)) => eprintln!("rollphase: {text}"),
+            Some((text, true)) => {
+                app.error
+                    .get_or_insert_with(|| anyhow!("--plot-data: {text}"));
+            }
+            None => {}
+        }
+    }
     // The window, its surface and the GPU go before anything else can end the process.
     drop(app.window.take());
     ran.map_err(|e| anyhow!("the window's event loop failed: {e}"))?;
@@ -232,6 +253,13 @@ impl App {
         }
         if options.class {
             bench.ui.class_on_start();
+        }
+        if let Some(speed) = options.speed {
+            let command = bench.ui.set_speed(speed);
+            bench.sim.send(command);
+        }
+        if let Some(sweep) = options.sweep {
+            bench.ui.set_auto_sweep(Some(sweep));
         }
         let egui_winit = egui_winit::State::new(
             bench.ctx.clone(),

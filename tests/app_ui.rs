@@ -829,6 +829,7 @@ fn a_sweep_down_across_alpha_star_draws_one_over_t_as_it_goes() {
     bench.ui.set_auto_sweep(Some(AutoSweep {
         target: SweepTarget::Alpha,
         step: -0.1 * alpha_star,
+        end: None,
     }));
     // Points appear while the sweep is still on; the first below α* is a halt (1/T = 0).
     frames_until_ui(&mut bench, &gpu, &target, 90, |b| {
@@ -865,6 +866,7 @@ fn a_mass_sweep_collects_settled_crossings_at_each_value() {
     bench.ui.set_auto_sweep(Some(AutoSweep {
         target: SweepTarget::MassRatio,
         step: 0.1,
+        end: None,
     }));
     let masses = |b: &Workbench| {
         let mut m: Vec<f64> =
@@ -1375,4 +1377,16 @@ fn save_state_resumes_the_run_where_it_was_with_its_plots() {
     );
     frames(&mut fresh, &gpu2, &target2, vec![], 2);
     assert_eq!(fresh.ui.history().sweep(Sweep::Up), points);
+}
+
+/// `--speed`: the speed asked for at the start shows in the speed control, not the scene's
+/// speed that the first statuses still carry.
+#[test]
+fn a_speed_asked_at_the_start_shows_in_the_speed_control() {
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    let command = bench.ui.set_speed(500.0);
+    bench.sim.send(command);
+    frames_until(&mut bench, &gpu, &target, vec![], |s| s.speed == 500.0);
+    frames(&mut bench, &gpu, &target, vec![], 3);
+    assert_eq!(bench.ui.speed(), 500.0);
 }

@@ -25,6 +25,66 @@ pub struct WindowFlags {
     /// caption and the panels, with the controls and plots shown; C or Esc leaves it.
     #[arg(long, conflicts_with = "present")]
     pub class: bool,
+    /// Start the measuring sweep (the controls' "sweep"): `alpha:STEP` adds STEP radians to α
+    /// after each point, `mass:STEP` multiplies m/m0 by e^STEP; a negative STEP sweeps down;
+    /// `:END` stops at END (`alpha:0.0005:0.07`). Each value is held until its run is
+    /// measured, so the 1/T or crossing plot grows as it goes.
+    #[arg(long, value_name = "alpha|mass:STEP[:END]", value_parser = parse_sweep)]
+    pub sweep: Option<SweepFlag>,
+    /// Start at this playback speed, in simulated time per second (0.05 to 1000).
+    #[arg(long, value_name = "T_PER_S")]
+    pub speed: Option<f64>,
+}
+
+/// A `--sweep`: what moves, by how much per point, and where it stops.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SweepFlag {
+    /// α (else m/m0).
+    pub alpha: bool,
+    /// Radians (α) or ln of the factor (m/m0) per point.
+    pub step: f64,
+    /// The last value, if any.
+    pub end: Option<f64>,
+}
+
+/// `--sweep alpha:STEP[:END]` or `mass:STEP[:END]`: a finite STEP with 0 < |STEP| ≤ 1, a finite
+/// END > 0.
+fn parse_sweep(text: &str) -> Result<SweepFlag, String> {
+    let (what, rest) = text.split_once(':').ok_or_else(|| {
+        format!("{text:?}: give alpha:STEP or mass:STEP (for example alpha:-0.002)")
+    })?;
+    let (step, end) = match rest.split_once(':') {
+        Some((step, end)) => (step, Some(end)),
+        None => (rest, None),
+    };
+    let end = end
+        .map(|e| match e.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+            _ => Err(format!(
+                "the end {e:?} is not allowed (needs a number > 0: the last α in radians or m/m0)"
+            )),
+        })
+        .transpose()?;
+    let alpha = match what {
+        "alpha" => true,
+        "mass" => false,
+        _ => {
+            return Err(format!(
+                "{what:?} cannot be swept: alpha (radians per point) or mass (ln of the factor \
+                 per point)"
+            ));
+        }
+    };
+    let step: f64 = step
+        .trim()
+        .parse()
+        .map_err(|_| format!("the step {step:?} is not a number"))?;
+    if !(step.is_finite() && step != 0.0 && step.abs() <= 1.0) {
+        return Err(format!(
+            "the step {step} is not allowed (needs a number with 0 < |step| ≤ 1)"
+        ));
+    }
+    Ok(SweepFlag { alpha, step, end })
 }
 
 /// `rollphase app`.
@@ -36,6 +96,10 @@ pub struct AppArgs {
     /// A bundled scene (`rollphase scenes` lists them) [default: sphere-cruising].
     #[arg(long)]
     pub preset: Option<String>,
+    /// Write the plots' data (the CSVs and plot-data.json of File → Export plot data) into DIR
+    /// when the window closes; the folder is checked before the window opens.
+    #[arg(long, value_name = "DIR")]
+    pub plot_data: Option<PathBuf>,
     /// Unattended-run flags.
     #[command(flatten)]
     pub window: WindowFlags,
@@ -43,11 +107,21 @@ pub struct AppArgs {
 
 /// Runs `rollphase app`.
 pub fn run(a: AppArgs) -> Result<()> {
-    run_window(a.scene.as_deref(), a.preset.as_deref(), &a.window)
+    run_window(
+        a.scene.as_deref(),
+        a.preset.as_deref(),
+        &a.window,
+        a.plot_data.as_deref(),
+    )
 }
 
 /// Opens the window on the scene picked by --scene / --preset.
-pub fn run_window(scene: Option<&Path>, preset: Option<&str>, flags: &WindowFlags) -> Result<()> {
+pub fn run_window(
+    scene: Option<&Path>,
+    preset: Option<&str>,
+    flags: &WindowFlags,
+    plot_data: Option<&Path>,
+) -> Result<()> {
     let screenshot_after = match &flags.screenshot_after {
         Some(v) => {
             let [seconds, file] = v.as_slice() else {
@@ -64,7 +138,25 @@ pub fn run_window(scene: Option<&Path>, preset: Option<&str>, flags: &WindowFlag
         .exit_after
         .map(|s| check_seconds("--exit-after", s))
         .transpose()?;
+    let speed = flags
+        .speed
+        .map(|s| {
+            if s.is_finite() && (0.05..=1000.0).contains(&s) {
+                Ok(s)
+            } else {
+                Err(anyhow::anyhow!(
+                    "--speed {s} is not allowed (needs 0.05 to 1000 simulated time per second)"
+                ))
+            }
+        })
+        .transpose()?;
     let setup = pick_scene(scene, preset)?;
+    if let Some(dir) = plot_data {
+        let names = crate::sim::history::PlotHistory::file_names();
+        let inputs = crate::output::Inputs::of(scene);
+        crate::output::check_folder(dir, &names, &inputs)
+            .map_err(|e| anyhow::anyhow!("--plot-data: {e}"))?;
+    }
     #[cfg(feature = "app")]
     {
         crate::app::run(crate::app::AppOptions {
@@ -74,6 +166,17 @@ pub fn run_window(scene: Option<&Path>, preset: Option<&str>, flags: &WindowFlag
             exit_after,
             present: flags.present,
             class: flags.class,
+            sweep: flags.sweep.map(|f| crate::ui::sweep::AutoSweep {
+                target: if f.alpha {
+                    crate::ui::sweep::SweepTarget::Alpha
+                } else {
+                    crate::ui::sweep::SweepTarget::MassRatio
+                },
+                step: f.step,
+                end: f.end,
+            }),
+            speed,
+            plot_data: plot_data.map(Path::to_path_buf),
         })
     }
     #[cfg(not(feature = "app"))]

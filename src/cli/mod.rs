@@ -108,6 +108,13 @@ pub fn run(cli: Cli) -> Result<()> {
                      as a PNG already (see --frames and --out)"
                 );
             }
+            if w.sweep.is_some() || w.speed.is_some() {
+                bail!(
+                    "--sweep and --speed are for the window; a --headless run takes its speed \
+                     from the scene ([playback] speed), and a lesson's [[timeline]] steps \
+                     sweep α or m/m0 in a clip"
+                );
+            }
             if w.present || w.class {
                 bail!(
                     "--present and --class open the window in presentation or class mode; a \
@@ -123,16 +130,11 @@ pub fn run(cli: Cli) -> Result<()> {
                  window's Record writes PNG frames)"
             );
         }
-        if cli.render.plot_data.is_some() {
-            bail!(
-                "--plot-data writes the plots' data of a --headless run; add --headless (in the \
-                 window, Files → plot data → Export CSV writes the same files)"
-            );
-        }
         return app::run_window(
             cli.render.scene.as_deref(),
             cli.render.preset.as_deref(),
             &cli.render.window,
+            cli.render.plot_data.as_deref(),
         );
     };
     match command {

@@ -48,7 +48,8 @@ pub struct RenderArgs {
     /// Also write the plotted data the app shows (1/T against α as sweep-alpha.csv, ∂Ω crossings
     /// against m/m0 as sweep-mass.csv, the numerical health as health.csv, the contact force
     /// N/F and the friction needed as contact-force.csv), collected frame by frame, into this
-    /// folder (--headless). A lesson that sweeps α or m/m0 gives its sweep.
+    /// folder: a --headless run's, collected frame by frame (a lesson that sweeps α or m/m0
+    /// gives its sweep), or the window's as it closes.
     #[arg(long, value_name = "DIR")]
     pub plot_data: Option<PathBuf>,
     /// Window only: the smoke-test flags.

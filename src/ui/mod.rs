@@ -147,6 +147,9 @@ pub struct AppUi {
     turn: f32,
     /// The lesson steps done as of the last status (the controls follow a step's changes).
     seen_step: Option<usize>,
+    /// A speed asked for before the simulation has it (`--speed`): the control shows it, not
+    /// the first statuses' older speed.
+    asked_speed: Option<f64>,
     /// The sweep and crossing plots as each lesson step began (steps done → plots): B and R
     /// go back to a step, and its plots come back with it (stale points of later steps, in
     /// the other direction's colour, changed the lesson's final fit).
@@ -224,6 +227,7 @@ impl AppUi {
             turn: 0.0,
             seen_step: None,
             step_plots: std::collections::BTreeMap::new(),
+            asked_speed: None,
             dialogs: dialog::FileDialogs::detect(),
             mesh_fit: None,
             alpha_edit: None,
@@ -239,6 +243,11 @@ impl AppUi {
     /// The plots' history.
     pub fn history(&self) -> &PlotHistory {
         &self.history
+    }
+
+    /// The playback speed as the speed control shows it.
+    pub fn speed(&self) -> f64 {
+        self.speed
     }
 
     /// α as the slider shows it.
@@ -297,6 +306,12 @@ impl AppUi {
                 status.scene_id,
                 CurvatureMap::new(&status.setup.body, scale, 72, 36),
             ));
+        }
+        if let Some(asked) = self.asked_speed {
+            self.speed = asked;
+            if status.speed == asked {
+                self.asked_speed = None;
+            }
         }
         // A refused change: show the simulation's values again.
         if status.message.is_some() && status.message != self.seen_message {
@@ -455,6 +470,14 @@ impl AppUi {
     /// Opens in presentation mode (`--present`): applied on the first frame.
     pub fn present_on_start(&mut self) {
         self.present_on_start = true;
+    }
+
+    /// Plays at `speed` (`--speed`): the command to the simulation, and the speed control
+    /// showing it (the control follows the simulation only on a new run or lesson step).
+    pub fn set_speed(&mut self, speed: f64) -> SimCommand {
+        self.speed = speed;
+        self.asked_speed = Some(speed);
+        SimCommand::SetSpeed(speed)
     }
 
     /// Opens in class mode (`--class`): applied on the first frame.

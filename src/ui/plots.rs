@@ -332,6 +332,7 @@ pub fn plots_ui(
     ui.horizontal(|ui| {
         if is_disk {
             let theta_t: PlotPoints = history.plotted().map(|s| [s.t, s.theta]).collect();
+            let theta_span = min_span(history.plotted().map(|s| s.theta), THETA_MIN_SPAN);
             let blue = SERIES_COLORS[0];
             keyed(
                 ui,
@@ -344,6 +345,8 @@ pub fn plots_ui(
                         .height(plot_height)
                         .x_axis_label("t")
                         .y_axis_label("θ")
+                        .include_y(theta_span.0)
+                        .include_y(theta_span.1)
                         .show(ui, |p| p.line(Line::new("θ(t)", theta_t).color(blue)));
                 },
             );
@@ -361,6 +364,7 @@ pub fn plots_ui(
                 }
                 prev = Some(theta);
             }
+            let rate_span = min_span(pieces.iter().flatten().map(|p| p[1]), RATE_MIN_SPAN);
             // "dθ/dt": the combining dot of θ̇ is lost on egui's rotated axis label. One colour
             // for every piece: they are one curve.
             let key = [("dθ/dt against θ, last 300 t", blue, Swatch::Line)];
@@ -370,6 +374,8 @@ pub fn plots_ui(
                     .height(plot_height)
                     .x_axis_label("θ mod 2π")
                     .y_axis_label("dθ/dt")
+                    .include_y(rate_span.0)
+                    .include_y(rate_span.1)
                     .show(ui, |p| {
                         for piece in pieces.into_iter().filter(|piece| piece.len() > 1) {
                             p.line(
@@ -620,12 +626,22 @@ fn sweep_ui(
 /// 1". Doubled branches lie 0.1–0.2 rad apart, far outside it.
 pub const CROSSING_MIN_SPAN: f64 = 0.05;
 
+/// The least span of θ in the θ(t) plot: a halted cylinder's θ moves by 1e-11, which
+/// autoscaled showed as noise labelled with eleven decimals.
+pub const THETA_MIN_SPAN: f64 = 0.5;
+/// The least span of dθ/dt in the phase plot ([`THETA_MIN_SPAN`]).
+pub const RATE_MIN_SPAN: f64 = 0.01;
+
 /// The y range the crossing plot includes: the crossings' own, widened about its middle to
 /// [`CROSSING_MIN_SPAN`] (nothing to include when there are no crossings).
 pub fn crossing_span(points: &[[f64; 2]]) -> (f64, f64) {
-    let (lo, hi) = points
-        .iter()
-        .map(|p| p[1])
+    min_span(points.iter().map(|p| p[1]), CROSSING_MIN_SPAN)
+}
+
+/// The range of `values` widened about its middle to at least `least`, so that a plot does not
+/// magnify rounding into structure; `(NaN, NaN)` (nothing to include) for no finite value.
+pub fn min_span(values: impl Iterator<Item = f64>, least: f64) -> (f64, f64) {
+    let (lo, hi) = values
         .filter(|y| y.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| {
             (a.min(y), b.max(y))
@@ -633,7 +649,7 @@ pub fn crossing_span(points: &[[f64; 2]]) -> (f64, f64) {
     if lo > hi {
         return (f64::NAN, f64::NAN);
     }
-    let half = 0.5 * CROSSING_MIN_SPAN.max(hi - lo);
+    let half = 0.5 * least.max(hi - lo);
     let mid = 0.5 * (lo + hi);
     (mid - half, mid + half)
 }

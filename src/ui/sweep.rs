@@ -55,6 +55,9 @@ pub struct AutoSweep {
     pub target: SweepTarget,
     /// The step after each point ([`SweepTarget::step_hint`]).
     pub step: f64,
+    /// Where the sweep ends: no value beyond this one (in the step's direction) is taken;
+    /// `None` sweeps to the end of the slider's range.
+    pub end: Option<f64>,
 }
 
 impl Default for AutoSweep {
@@ -62,6 +65,7 @@ impl Default for AutoSweep {
         Self {
             target: SweepTarget::MassRatio,
             step: SweepTarget::MassRatio.default_step(),
+            end: None,
         }
     }
 }
@@ -89,7 +93,7 @@ impl AutoSweep {
         match self.target {
             SweepTarget::Alpha => {
                 let next = alpha + step;
-                if !(ALPHA_MIN..=ALPHA_MAX).contains(&next) {
+                if !(ALPHA_MIN..=ALPHA_MAX).contains(&next) || self.past_end(next) {
                     SweepStep::Done
                 } else {
                     SweepStep::Alpha(next)
@@ -98,13 +102,26 @@ impl AutoSweep {
             SweepTarget::MassRatio if mass_ratio <= 0.0 => SweepStep::MassRatio(mass_start),
             SweepTarget::MassRatio => {
                 let next = mass_ratio * step.exp();
-                if !(MASS_RANGE.0..=MASS_RANGE.1).contains(&next) {
+                if !(MASS_RANGE.0..=MASS_RANGE.1).contains(&next) || self.past_end(next) {
                     SweepStep::Done
                 } else {
                     SweepStep::MassRatio(next)
                 }
             }
         }
+    }
+
+    /// Whether `value` lies beyond [`Self::end`] in the step's direction (a value within
+    /// rounding of the end is taken).
+    fn past_end(&self, value: f64) -> bool {
+        self.end.is_some_and(|end| {
+            let slack = 1e-9 * end.abs().max(1e-12);
+            if self.step > 0.0 {
+                value > end + slack
+            } else {
+                value < end - slack
+            }
+        })
     }
 
     /// The swept parameter's value.
@@ -283,8 +300,22 @@ mod tests {
         let up = AutoSweep {
             target: SweepTarget::Alpha,
             step: 0.002,
+            end: None,
         };
         assert_eq!(up.next(0.1, 0.0, 1.0), SweepStep::Alpha(0.1 + 0.002));
+        // An end stops it there: 0.104 is taken, 0.106 is past 0.105.
+        let to = AutoSweep {
+            end: Some(0.105),
+            ..up
+        };
+        assert_eq!(to.next(0.102, 0.0, 1.0), SweepStep::Alpha(0.102 + 0.002));
+        assert_eq!(to.next(0.104, 0.0, 1.0), SweepStep::Done);
+        let down_to = AutoSweep {
+            step: -0.002,
+            end: Some(0.1),
+            ..up
+        };
+        assert_eq!(down_to.next(0.101, 0.0, 1.0), SweepStep::Done);
         assert_eq!(up.next(ALPHA_MAX - 1e-6, 0.0, 1.0), SweepStep::Done);
         let heavier = AutoSweep::default();
         let SweepStep::MassRatio(m) = heavier.next(0.15, 2.0, 1.0) else {
@@ -296,12 +327,14 @@ mod tests {
         let lighter = AutoSweep {
             target: SweepTarget::MassRatio,
             step: -1.0,
+            end: None,
         };
         assert_eq!(lighter.next(0.15, 1.1e-3, 1.0), SweepStep::Done);
         // A broken step moves nothing (and the hold then measures the same value again).
         let broken = AutoSweep {
             target: SweepTarget::Alpha,
             step: f64::INFINITY,
+            end: None,
         };
         assert_eq!(broken.next(0.1, 0.0, 1.0), SweepStep::Alpha(0.1));
     }
