@@ -46,16 +46,37 @@ fn bad_window_flags_name_the_value() {
         (&["app", "--preset", "nope"], "no preset named \"nope\""),
         (&["--headless", "--exit-after", "2"], "are for the window"),
         (&["app", "--sweep", "alpha"], "give alpha:STEP or mass:STEP"),
-        (&["app", "--sweep", "theta:0.1"], "\"theta\" cannot be swept"),
-        (&["app", "--sweep", "alpha:NaN"], "the step NaN is not allowed"),
+        (
+            &["app", "--sweep", "theta:0.1"],
+            "\"theta\" cannot be swept",
+        ),
+        (
+            &["app", "--sweep", "alpha:NaN"],
+            "the step NaN is not allowed",
+        ),
         (&["app", "--sweep", "mass:0"], "the step 0 is not allowed"),
-        (&["app", "--sweep", "alpha:fast"], "the step \"fast\" is not a number"),
-        (&["app", "--sweep", "alpha:0.1:-2"], "the end \"-2\" is not allowed"),
-        (&["app", "--sweep", "mass:0.1:inf"], "the end \"inf\" is not allowed"),
+        (
+            &["app", "--sweep", "alpha:fast"],
+            "the step \"fast\" is not a number",
+        ),
+        (
+            &["app", "--sweep", "alpha:0.1:-2"],
+            "the end \"-2\" is not allowed",
+        ),
+        (
+            &["app", "--sweep", "mass:0.1:inf"],
+            "the end \"inf\" is not allowed",
+        ),
         (&["app", "--speed", "NaN"], "--speed NaN is not allowed"),
-        (&["app", "--speed", "1e9"], "--speed 1000000000 is not allowed"),
+        (
+            &["app", "--speed", "1e9"],
+            "--speed 1000000000 is not allowed",
+        ),
         (&["app", "--plot-data", "/dev/null/plots"], "--plot-data"),
-        (&["--headless", "--sweep", "alpha:0.1"], "are for the window"),
+        (
+            &["--headless", "--sweep", "alpha:0.1"],
+            "are for the window",
+        ),
         (&["--headless", "--speed", "10"], "are for the window"),
     ];
     for (args, needle) in cases {

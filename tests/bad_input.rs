@@ -376,14 +376,14 @@ fn figure_list_shows_every_figure() {
             .find(|l| l.split_whitespace().next() == Some(f.name))
             .unwrap_or_else(|| panic!("{} missing from --list", f.name));
         // The shardable ones are marked, from the one registry `--shard` and `merge` read.
-        assert_eq!(line.ends_with("[--shard]"), f.sharded, "{line}");
+        assert_eq!(line.ends_with("[--shard]"), f.sharded(), "{line}");
     }
     assert_eq!(text.lines().count(), FIGURES_LISTED, "{text}");
     assert_eq!(
         text.matches("[--shard]").count(),
         rollphase::figures::FIGURES
             .iter()
-            .filter(|f| f.sharded)
+            .filter(|f| f.sharded())
             .count(),
         "{text}"
     );
@@ -1411,4 +1411,58 @@ fn a_zero_spin_is_still_a_spin() {
         "1,0,0,0",
     ]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+}
+
+/// An integrator's name is read by one parser, with one message, wherever it is given: the
+/// command line's --integrator, a scene's integrator.method and a sweep spec's integrators.
+#[test]
+fn a_bad_integrator_name_gets_the_same_message_everywhere() {
+    let expected = "\"euler\" is not an integrator: one of dop853 (adaptive, rtol), rk4 or cf4";
+    let dir = temp_dir("integrator-name");
+    let shape = write(&dir, "disk.json", DISK);
+    let cli = rollphase(&[
+        "simulate",
+        &shape,
+        "--alpha",
+        "0.1",
+        "--integrator",
+        "euler",
+    ]);
+    fails_with(&cli, 2, &[expected]);
+    let scene = write(
+        &dir,
+        "scene.toml",
+        &format!(
+            "name = \"s\"\n[body]\nshape = \"{shape}\"\n[model]\nalpha_rad = 0.1\n\
+             [integrator]\nmethod = \"euler\"\n"
+        ),
+    );
+    let out = rollphase(&[
+        "--headless",
+        "--scene",
+        &scene,
+        "--out",
+        dir.join("f").to_str().unwrap(),
+    ]);
+    fails_with(&out, 1, &[expected]);
+    let spec = write(
+        &dir,
+        "spec.toml",
+        "alpha = [0.1]\nintegrators = [\"euler:0.1\"]\n[bodies]\nseeds = [1]\n",
+    );
+    let out = rollphase(&["sweep", &spec, "--out", dir.join("s").to_str().unwrap()]);
+    fails_with(&out, 1, &[expected]);
+    // A spec string that is no kind with a setting lists the spec strings.
+    let spec = write(
+        &dir,
+        "spec2.toml",
+        "alpha = [0.1]\nintegrators = [\"euler\"]\n[bodies]\nseeds = [1]\n",
+    );
+    let out = rollphase(&["sweep", &spec, "--out", dir.join("s").to_str().unwrap()]);
+    fails_with(
+        &out,
+        1,
+        &["\"euler\" is not an integrator: one of fast, balanced, precise, dop853:RTOL"],
+    );
+    std::fs::remove_dir_all(&dir).ok();
 }

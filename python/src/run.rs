@@ -19,7 +19,7 @@ use rayon::prelude::*;
 use rollphase_core::dynamics::ContactForce;
 use rollphase_core::geometry::Body as CoreBody;
 use rollphase_core::glam::{DQuat, DVec3};
-use rollphase_core::integrate::Method;
+use rollphase_core::integrate::{Method, MethodKind, MethodParseError};
 use rollphase_core::simulate::start::{Spelling, StartField, StartRequest, check_start};
 use rollphase_core::simulate::{
     ContactLimits, InitialState, Model, OnViolation, RunError, Simulation, Summary, SummaryReport,
@@ -173,24 +173,13 @@ impl Trajectory {
     }
 }
 
-/// The integrator named `name` with its settings, checked as the command line checks them.
+/// The integrator named `name` with its settings, read and checked by the core's one parser
+/// (the command line's, scenes' and sweep specs' names and messages).
 fn method(name: &str, rtol: f64, atol: Option<f64>, dt: f64) -> PyResult<Method> {
-    let m = match name {
-        "dop853" => Method::Dop853 {
-            rtol,
-            atol: atol.unwrap_or(rtol),
-        },
-        "rk4" => Method::Rk4 { dt },
-        "cf4" => Method::Cf4 { dt },
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "integrator={other:?} is not one of \"dop853\" (adaptive, rtol/atol), \"rk4\" or \
-                 \"cf4\" (fixed step dt; cf4 keeps |q| = 1 exactly)"
-            )));
-        }
-    };
-    m.validate().map_err(value_error)?;
-    Ok(m)
+    let kind: MethodKind = name
+        .parse()
+        .map_err(|e: MethodParseError| PyValueError::new_err(format!("integrator={e}")))?;
+    kind.with(rtol, atol, dt).map_err(value_error)
 }
 
 fn finite_list(name: &str, v: &[f64], n: usize, names: &str) -> PyResult<Vec<f64>> {

@@ -168,7 +168,7 @@ def test_bad_starts_name_the_argument():
         (sphere, dict(q0=[1, 0, 0, 0], spin=0.5), "q0 is already the whole orientation"),
         # Issue 37: a spin of 0 is a spin given.
         (sphere, dict(q0=[1, 0, 0, 0], spin=0.0), "q0 is already the whole orientation"),
-        (sphere, dict(integrator="euler"), "not one of"),
+        (sphere, dict(integrator="euler"), "is not an integrator: one of dop853"),
         (sphere, dict(samples=-5), "samples = -5"),
     ]
     for body, kwargs, text in cases:

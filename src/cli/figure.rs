@@ -60,7 +60,7 @@ pub struct FigureArgs {
 pub fn run(a: FigureArgs) -> Result<()> {
     if a.list {
         for f in FIGURES {
-            let mark = if f.sharded { " [--shard]" } else { "" };
+            let mark = if f.sharded() { " [--shard]" } else { "" };
             outln!("{:<20} {}{mark}", f.name, f.about)?;
         }
         return Ok(());
@@ -92,7 +92,7 @@ pub fn run(a: FigureArgs) -> Result<()> {
         },
     };
     let pool = thread_pool(a.threads)?;
-    if a.shard.is_some() && !entry.sharded {
+    if a.shard.is_some() && !entry.sharded() {
         bail!(
             "{name} has no ensemble to split; --shard applies to {}",
             crate::figures::sharded_figures().join(", ")

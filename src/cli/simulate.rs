@@ -8,24 +8,13 @@ use clap::{Args, ValueEnum};
 
 use crate::dynamics::Ramp;
 use crate::geometry::Body;
-use crate::integrate::Method;
+use crate::integrate::{Method, MethodKind, MethodParseError};
 use crate::output::{self, Inputs};
 use crate::simulate::start::{Spelling, StartField, StartRequest, check_start};
 use crate::simulate::{
     ContactLimits, DISK_HEADER, FORCE_HEADER, InitialState, OnViolation, RunError, RunSpec,
     SPHERE_HEADER, SummaryReport,
 };
-
-/// Which integrator.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum IntegratorName {
-    /// Adaptive 8th-order Dormand–Prince with dense output (--rtol, --atol).
-    Dop853,
-    /// Classical fixed-step RK4 (--dt).
-    Rk4,
-    /// Fixed-step Lie-group RK4: keeps |q| = 1 exactly (--dt).
-    Cf4,
-}
 
 /// Simulate one run and write the trajectory as CSV.
 ///
@@ -94,9 +83,11 @@ pub struct SimulateArgs {
     /// 2D inertial: initial θ̇₀.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub thetadot0: f64,
-    /// Integrator.
-    #[arg(long, value_enum, default_value_t = IntegratorName::Dop853)]
-    pub integrator: IntegratorName,
+    /// Integrator: dop853 (adaptive 8th-order Dormand–Prince with dense output; --rtol,
+    /// --atol), rk4 (classical fixed step; --dt) or cf4 (fixed-step Lie-group RK4, keeps
+    /// |q| = 1 exactly; --dt).
+    #[arg(long, default_value = "dop853", value_parser = parse_kind)]
+    pub integrator: MethodKind,
     /// DOP853 relative tolerance.
     #[arg(long, default_value = "1e-10", allow_negative_numbers = true)]
     pub rtol: f64,
@@ -216,15 +207,7 @@ pub(super) fn checked_start(
 pub fn run(a: SimulateArgs) -> Result<()> {
     let body = super::load_body(&a.file)?;
     let ramp = Ramp::with_drag(a.alpha, a.mass, a.drag)?;
-    let method = match a.integrator {
-        IntegratorName::Dop853 => Method::Dop853 {
-            rtol: a.rtol,
-            atol: a.atol.unwrap_or(a.rtol),
-        },
-        IntegratorName::Rk4 => Method::Rk4 { dt: a.dt },
-        IntegratorName::Cf4 => Method::Cf4 { dt: a.dt },
-    };
-    method.validate()?;
+    let method = a.integrator.with(a.rtol, a.atol, a.dt)?;
     let limits = ContactLimits {
         friction: a.friction,
         on_violation: a.on_invalid.policy(),
@@ -359,6 +342,12 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     }
     outputs.commit()?;
     Ok(())
+}
+
+/// `--integrator`, read by the core's one parser (the same names and message as scenes, sweep
+/// specs and Python).
+fn parse_kind(s: &str) -> Result<MethodKind, String> {
+    s.parse().map_err(|e: MethodParseError| e.to_string())
 }
 
 /// The integrator's flags as the user gave them, for a failed run's message.

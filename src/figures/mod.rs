@@ -190,66 +190,44 @@ impl FigureOptions {
     }
 }
 
-/// Decodes every record of merged shards as the record type of `name` (a sharded figure or
-/// "sweep"), exactly as its merge does before its reduction, and returns how many there were:
-/// the checks a forged or damaged shard meets (the shard-file fuzz target and tests use it).
+/// Decodes merged shards as the records of `name` (a sharded figure of [`FIGURES`], or
+/// `sweep`, the scan): each record range-checked as it is decoded ([`shard::Record`]); the
+/// count: exactly what a merge does before its reduction, so the checks a forged or damaged
+/// shard meets (the shard-file fuzz target and tests use it). The type comes from the figure's
+/// entry, so the list of figures is written once.
 pub fn decode_merged(name: &str, merged: shard::Merged) -> Result<usize> {
+    let decode = if name == SCAN_NAME {
+        decode_as::<sweep::RunResult>
+    } else {
+        match figure(name) {
+            Some(FigureEntry {
+                records: Some(decode),
+                ..
+            }) => *decode,
+            _ => bail!("{name} has no shard records"),
+        }
+    };
+    decode(name, merged)
+}
+
+/// How a figure's merged shards decode ([`decode_as`] at its record type).
+pub type DecodeRecords = fn(&str, shard::Merged) -> Result<usize>;
+
+/// The shard name of `rollphase sweep` (the scan), whose records [`decode_merged`] also reads.
+pub const SCAN_NAME: &str = "sweep";
+
+/// Decodes merged shards as records of type `R`: the count.
+fn decode_as<R: shard::Record + Send>(name: &str, merged: shard::Merged) -> Result<usize> {
     use shard::{Ensemble, run_ensemble};
     let n = merged.records.len();
     let ensemble = Ensemble::Merge(std::sync::Arc::new(merged));
     let place = || -> Result<(PathBuf, shard::JobId, Inputs)> {
         bail!("internal error: a merge writes no shard")
     };
-    fn never<T>(_: usize) -> Result<T> {
-        bail!("internal error: a merge runs nothing")
-    }
-    let decoded = match name {
-        "disk-transition" => run_ensemble::<
-            (
-                disk_transition::DiskTransition,
-                Vec<Vec<f64>>,
-                Vec<Vec<f64>>,
-            ),
-            _,
-        >(&ensemble, name, n, "", place, never)?
+    let never = |_: usize| -> Result<R> { bail!("internal error: a merge runs nothing") };
+    Ok(run_ensemble::<R, _>(&ensemble, name, n, "", place, never)?
         .all()?
-        .len(),
-        "sphere-cruising" => {
-            run_ensemble::<sphere_cruising::Run, _>(&ensemble, name, n, "", place, never)?
-                .all()?
-                .len()
-        }
-        "sphere-poincare" => {
-            run_ensemble::<Option<(glam::DVec3, f64)>, _>(&ensemble, name, n, "", place, never)?
-                .all()?
-                .len()
-        }
-        "sphere-orbits" => run_ensemble::<crate::analysis::sphere_orbits::Fate, _>(
-            &ensemble, name, n, "", place, never,
-        )?
-        .all()?
-        .len(),
-        "sphere-doubling" => {
-            run_ensemble::<sphere_doubling::Run, _>(&ensemble, name, n, "", place, never)?
-                .all()?
-                .len()
-        }
-        "sphere-bifurcation" => {
-            run_ensemble::<sphere_bifurcation::LateRun, _>(&ensemble, name, n, "", place, never)?
-                .all()?
-                .len()
-        }
-        "model-validity" => run_ensemble::<crate::dynamics::validity::ContactReport, _>(
-            &ensemble, name, n, "", place, never,
-        )?
-        .all()?
-        .len(),
-        "sweep" => run_ensemble::<sweep::RunResult, _>(&ensemble, name, n, "", place, never)?
-            .all()?
-            .len(),
-        other => bail!("{other} has no shard records"),
-    };
-    Ok(decoded)
+        .len())
 }
 
 /// Below this α* a body is a perfect sphere (or a disk) to double precision.
@@ -287,16 +265,24 @@ pub struct FigureEntry {
     pub about: &'static str,
     /// Computes and writes the figure (its summary), or writes one shard of its ensemble.
     pub run: fn(&FigureOptions) -> Result<Ran>,
-    /// Whether its runs go through [`FigureOptions::ensemble`], so that `--shard` splits them
-    /// and `merge` puts them back (its record type is then in [`decode_merged`]).
-    pub sharded: bool,
+    /// For a figure whose runs go through [`FigureOptions::ensemble`] (so that `--shard`
+    /// splits them and `merge` puts them back): how its merged records decode, at the type
+    /// its runs return. `None`: not sharded.
+    pub records: Option<DecodeRecords>,
+}
+
+impl FigureEntry {
+    /// Whether `--shard` splits its runs.
+    pub fn sharded(&self) -> bool {
+        self.records.is_some()
+    }
 }
 
 /// The names of the figures whose runs `--shard` splits, in [`FIGURES`] order.
 pub fn sharded_figures() -> Vec<&'static str> {
     FIGURES
         .iter()
-        .filter(|f| f.sharded)
+        .filter(|f| f.sharded())
         .map(|f| f.name)
         .collect()
 }
@@ -366,13 +352,19 @@ pub(crate) use all_runs;
 pub const FIGURES: &[FigureEntry] = &[
     FigureEntry {
         name: "disk-transition",
-        sharded: true,
+        records: Some(
+            decode_as::<(
+                disk_transition::DiskTransition,
+                Vec<Vec<f64>>,
+                Vec<Vec<f64>>,
+            )>,
+        ),
         about: "Fig. 2d: 2π/T versus α for random disks; the √(α − α*) law and its prefactor",
         run: |o| ran(o, "disk-transition", disk_transition::compute),
     },
     FigureEntry {
         name: "disk-hysteresis",
-        sharded: false,
+        records: None,
         about: "Fig. 2e: inertial disk (m/m0 = 10), α swept up and down: α*, α** and hysteresis",
         run: |o| {
             ran(o, "disk-hysteresis", |o| {
@@ -382,7 +374,7 @@ pub const FIGURES: &[FigureEntry] = &[
     },
     FigureEntry {
         name: "disk-lag-time",
-        sharded: false,
+        records: None,
         about: "Fig. 2f: lag time versus α − α* for m/m0 = 0.5, 2, 10; exponent −1/2",
         run: |o| {
             ran(o, "disk-lag-time", |o| {
@@ -392,7 +384,7 @@ pub const FIGURES: &[FigureEntry] = &[
     },
     FigureEntry {
         name: "disk-flow",
-        sharded: false,
+        records: None,
         about: "SI Fig. S2: the (θ, θ̇) flow at six α around α*, fixed points and a trajectory",
         run: |o| {
             ran(o, "disk-flow", |o| {
@@ -402,43 +394,43 @@ pub const FIGURES: &[FigureEntry] = &[
     },
     FigureEntry {
         name: "sphere-cruising",
-        sharded: true,
+        records: Some(decode_as::<sphere_cruising::Run>),
         about: "Fig. 3b: fraction of orientations that cruise versus α/α*, 3D against 2D",
         run: |o| ran(o, "sphere-cruising", sphere_cruising::compute),
     },
     FigureEntry {
         name: "sphere-orbits",
-        sharded: true,
+        records: Some(decode_as::<crate::analysis::sphere_orbits::Fate>),
         about: "Fig. 3c: 1/T versus α for 6 orientations; all collapse onto two closed orbits",
         run: |o| ran(o, "sphere-orbits", sphere_orbits::compute),
     },
     FigureEntry {
         name: "sphere-poincare",
-        sharded: true,
+        records: Some(decode_as::<Option<(glam::DVec3, f64)>>),
         about: "Fig. 3d: the Poincaré map on ∂Ω of the SO(3) ball at α = 0.15; two attractor pairs",
         run: |o| ran(o, "sphere-poincare", sphere_poincare::compute),
     },
     FigureEntry {
         name: "sphere-doubling",
-        sharded: true,
+        records: Some(decode_as::<sphere_doubling::Run>),
         about: "Fig. 4e: contact paths at m/m0 = 0, 6, 10 (α = 0.15); period 1, 2, 1; other bodies",
         run: |o| ran(o, "sphere-doubling", sphere_doubling::compute),
     },
     FigureEntry {
         name: "sphere-bifurcation",
-        sharded: true,
+        records: Some(decode_as::<sphere_bifurcation::LateRun>),
         about: "beyond Fig. 4e: orbit diagram in m/m0, Floquet multipliers, the flip masses",
         run: |o| ran(o, "sphere-bifurcation", sphere_bifurcation::compute),
     },
     FigureEntry {
         name: "model-validity",
-        sharded: true,
+        records: Some(decode_as::<crate::dynamics::validity::ContactReport>),
         about: "where the model holds: lift-off and slip (μ = 0.5, 1) over α × m/m0, experiments marked",
         run: |o| ran(o, "model-validity", model_validity::compute),
     },
     FigureEntry {
         name: "sphere-halting",
-        sharded: false,
+        records: None,
         about: "SI §2D–E: the halting loops Q = tan α and their stability, checked by simulation",
         run: |o| {
             ran(o, "sphere-halting", |o| {
@@ -448,7 +440,7 @@ pub const FIGURES: &[FigureEntry] = &[
     },
     FigureEntry {
         name: "sphere-tube",
-        sharded: false,
+        records: None,
         about: "SI Fig. S3: perfect-sphere orbits through one contact point (closed form)",
         run: |o| {
             ran(o, "sphere-tube", |o| {

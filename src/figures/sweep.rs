@@ -52,7 +52,7 @@ use crate::dynamics::Ramp;
 use crate::dynamics::validity::ContactReport;
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
 use crate::geometry::{Body, ShapeFile, Sphere, paper_sphere, random_sphere};
-use crate::integrate::{Method, Preset, readable};
+use crate::integrate::{Method, readable};
 use crate::output::{self, Inputs, OutputFile, OutputSet};
 use rayon::prelude::*;
 
@@ -255,31 +255,8 @@ pub struct SweepSpec {
 
 /// An integrator named in a spec.
 fn parse_integrator(s: &str) -> Result<Method> {
-    let m = match s {
-        "fast" => Preset::Fast.method(),
-        "balanced" => Preset::Balanced.method(),
-        "precise" => Preset::Precise.method(),
-        _ => {
-            let (kind, value) = s.split_once(':').ok_or_else(|| {
-                anyhow::anyhow!(
-                    "integrators: {s:?} is not an integrator (fast, balanced, precise, \
-                     dop853:RTOL, rk4:DT or cf4:DT)"
-                )
-            })?;
-            let v: f64 = value
-                .parse()
-                .with_context(|| format!("integrators: {value:?} in {s:?} is not a number"))?;
-            match kind {
-                "dop853" => Method::dop853(v),
-                "rk4" => Method::Rk4 { dt: v },
-                "cf4" => Method::Cf4 { dt: v },
-                _ => bail!("integrators: {kind:?} in {s:?} is not dop853, rk4 or cf4"),
-            }
-        }
-    };
-    m.validate()
-        .map_err(|e| anyhow::anyhow!("integrators: {s:?}: {e}"))?;
-    Ok(m)
+    s.parse::<Method>()
+        .map_err(|e| anyhow::anyhow!("integrators: {e}"))
 }
 
 /// A sweep ready to run: its bodies built and checked, its axes expanded into the core's
@@ -551,7 +528,7 @@ impl Sweep {
         let place = || Ok((out.to_path_buf(), self.job_id(), inputs.clone()));
         let done = run_ensemble(
             &Ensemble::Shard(spec),
-            "sweep",
+            super::SCAN_NAME,
             self.runs(),
             "sweep runs",
             place,
@@ -865,7 +842,7 @@ pub fn merge(dir: &Path, shards: &ShardSet) -> Result<SweepSummary> {
     }
     let mut rows = sweep.rows(dir, &inputs)?;
     shards.for_each_record(|k, record| {
-        let r: RunResult = shards.decode("sweep", k, record)?;
+        let r: RunResult = shards.decode(super::SCAN_NAME, k, record)?;
         rows.push(k, &r)
     })?;
     rows.finish()

@@ -216,17 +216,8 @@ pub struct IntegratorSpec {
     pub dt: Option<f64>,
 }
 
-/// Integrator names as written in scenes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum MethodName {
-    /// Adaptive DOP853.
-    Dop853,
-    /// Fixed-step RK4.
-    Rk4,
-    /// Fixed-step Lie-group RK4.
-    Cf4,
-}
+/// Integrator names as written in scenes: the core's one list ([`crate::integrate::MethodKind`]).
+pub use crate::integrate::MethodKind as MethodName;
 
 /// Playback: how simulation time maps to video time, and how much history the trails keep.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -15,8 +15,8 @@ use thiserror::Error;
 
 use super::timeline::Step;
 use super::{
-    BodySpec, InitialSpec, IntegratorSpec, MethodName, PerfectBody, PlaybackSpec, PoincareSpec,
-    Scene, ViewsSpec,
+    BodySpec, InitialSpec, IntegratorSpec, PerfectBody, PlaybackSpec, PoincareSpec, Scene,
+    ViewsSpec,
 };
 use crate::assets::{BUNDLED_SHAPES, PRESETS};
 
@@ -421,15 +421,10 @@ impl IntegratorSpec {
                 p.method()
             }
             (None, None) => Preset::Balanced.method(),
-            (None, Some(MethodName::Dop853)) => Method::dop853(self.rtol.unwrap_or(1e-8)),
-            (None, Some(MethodName::Rk4)) => Method::Rk4 {
-                dt: self.dt.unwrap_or(0.01),
-            },
-            (None, Some(MethodName::Cf4)) => Method::Cf4 {
-                dt: self.dt.unwrap_or(0.01),
-            },
+            (None, Some(kind)) => {
+                kind.with(self.rtol.unwrap_or(1e-8), None, self.dt.unwrap_or(0.01))?
+            }
         };
-        method.validate()?;
         Ok(method)
     }
 }

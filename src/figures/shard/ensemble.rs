@@ -142,7 +142,7 @@ pub fn merge_figure(dir: &Path, merged: Merged) -> Result<MergeOutcome> {
     };
     let entry = crate::figures::figure(&name)
         .ok_or_else(|| anyhow!("the shards name figure {name:?}, which this rollphase lacks"))?;
-    if !entry.sharded {
+    if !entry.sharded() {
         bail!(
             "the shards name figure {name}, which has no ensemble to merge (a figure with one: {}); \
              they were not written by this rollphase",

@@ -20,6 +20,9 @@ pub mod events;
 pub mod lie;
 pub mod record;
 pub mod rk4;
+pub mod spec;
+
+pub use spec::{MethodKind, MethodParseError};
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
