@@ -47,7 +47,7 @@ pub struct AppOptions {
     /// Open in class mode.
     pub class: bool,
     /// Start the measuring sweep.
-    pub sweep: Option<crate::ui::sweep::AutoSweep>,
+    pub sweep: Option<crate::ui::measuring_sweep::MeasuringSweep>,
     /// Start at this playback speed (t per s).
     pub speed: Option<f64>,
     /// Write the plots' data into this folder when the window closes (checked before).
@@ -259,7 +259,7 @@ impl App {
             bench.sim.send(command);
         }
         if let Some(sweep) = options.sweep {
-            bench.ui.set_auto_sweep(Some(sweep));
+            bench.ui.set_measuring_sweep(Some(sweep));
         }
         let egui_winit = egui_winit::State::new(
             bench.ctx.clone(),

@@ -18,15 +18,15 @@ use image::RgbaImage;
 use crate::analysis::sphere_orbits::FieldArrow;
 use crate::clip::{ClipKind, ClipWriter};
 use crate::dynamics::Ramp;
+use crate::live::LiveRun;
+use crate::live::history::{PlotHistory, PlotMeta};
+use crate::live::{FieldCache, FieldWanted};
 use crate::output::Inputs;
 use crate::png::{PngWriter, frame_name};
 use crate::render::gpu::OffscreenTarget;
 use crate::render::types::Frame;
 use crate::render::{GpuContext, Renderer};
 use crate::scene::SceneSetup;
-use crate::sim::Simulation;
-use crate::sim::history::{PlotHistory, PlotMeta};
-use crate::sim::{FieldCache, FieldWanted};
 use crate::view::{SceneView, ViewOptions};
 
 /// Largest frame side accepted (wgpu's default 2D texture limit is 8192).
@@ -41,7 +41,7 @@ pub struct HeadlessRenderer {
     renderer: Renderer,
     target: OffscreenTarget,
     view: SceneView,
-    sim: Simulation,
+    sim: LiveRun,
     fields: FieldCache,
     /// The field drawn, and the ramp it belongs to.
     field: Option<(Ramp, Arc<Vec<FieldArrow>>)>,
@@ -76,7 +76,7 @@ impl HeadlessRenderer {
         );
         let target = OffscreenTarget::new(&gpu.device, size);
         let view = SceneView::new(&mut renderer, &setup);
-        let sim = Simulation::new(setup);
+        let sim = LiveRun::new(setup);
         let mut renderer = Self {
             gpu,
             renderer,
@@ -122,13 +122,13 @@ impl HeadlessRenderer {
     }
 
     /// The simulation (to inspect its snapshot).
-    pub fn simulation(&self) -> &Simulation {
+    pub fn simulation(&self) -> &LiveRun {
         &self.sim
     }
 
     /// The plots' samples the simulation took since the last call (every
-    /// [`PLOT_SAMPLE_DT`](crate::sim::PLOT_SAMPLE_DT) of its time, whatever the frame rate).
-    pub fn take_plot_samples(&mut self) -> Vec<crate::sim::history::Sample> {
+    /// [`PLOT_SAMPLE_DT`](crate::live::PLOT_SAMPLE_DT) of its time, whatever the frame rate).
+    pub fn take_plot_samples(&mut self) -> Vec<crate::live::history::Sample> {
         self.sim.take_plot_samples()
     }
 

@@ -14,15 +14,15 @@
 //! | [`analysis`] | critical angle α*, 2D periods, accuracy tables, orbits through ∂Ω, return maps and their Floquet multipliers |
 //! | [`simulate`] | one run from a body, a ramp and an initial state to sampled rows + a summary |
 //! | [`scene`] | scenes (TOML) and the bundled presets |
-//! | [`sim`] | one scene's simulation advanced frame by frame, observed as plain snapshots |
-//! | [`view`] | snapshots to draw data: layout, cameras, colours, overlay; the Poincaré-field cache |
+//! | [`live`] | one scene's live run advanced frame by frame, observed as plain snapshots; the app's controller and thread; the plots' history; the Poincaré-field cache |
+//! | [`view`] | snapshots to draw data: layout, cameras, colours, overlay |
 //! | [`render`] | the wgpu renderer (plain draw data in, pixels out) and headless GPU set-up |
 //! | [`headless`] | offscreen frames to PNG through the same renderer |
 //! | [`ui`] | the app's egui panels, plots and painter, and the windowless app core |
 //! | [`app`] | the winit window around the app core (the only module that knows winit) |
 //! | [`output`] | the one output layer: every file rollphase writes is staged and moved into place, devices written through, inputs refused |
 //! | [`png`] | PNG frames out on writer threads (headless frames, the app's recording) |
-//! | [`plot`] | PNG charts for the command line (not used by the core) |
+//! | [`chart`] | PNG charts for the command line (not used by the core) |
 //! | [`figures`] | the paper's figures (and `sphere-bifurcation`) as data.csv, figure.png, summary.json |
 //! | [`cli`] | the command line (one file per subcommand) |
 //!
@@ -44,12 +44,12 @@ pub mod figures;
 #[cfg(feature = "render")]
 pub mod headless;
 pub use rollphase_output::output;
-pub mod plot;
+pub mod chart;
+pub mod live;
 pub mod png;
 #[cfg(feature = "render")]
 pub mod render;
 pub mod scene;
-pub mod sim;
 #[cfg(feature = "app")]
 pub mod ui;
 #[cfg(feature = "render")]

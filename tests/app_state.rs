@@ -5,8 +5,8 @@
 
 use rollphase::dynamics::ModelKind;
 use rollphase::integrate::Method;
+use rollphase::live::{Controller, SimCommand};
 use rollphase::scene::Scene;
-use rollphase::sim::{Controller, SimCommand};
 
 fn controller(preset: &str) -> Controller {
     Controller::new(Scene::preset(preset).unwrap().setup(None).unwrap())

@@ -6,8 +6,8 @@
 
 use std::time::{Duration, Instant};
 
+use rollphase::live::{SimCommand, SimStatus, SimThread};
 use rollphase::scene::Scene;
-use rollphase::sim::{SimCommand, SimStatus, SimThread};
 
 fn thread(preset: &str) -> SimThread {
     SimThread::spawn(Scene::preset(preset).unwrap().setup(None).unwrap()).unwrap()

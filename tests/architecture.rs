@@ -79,8 +79,8 @@ const NO_GPU: &[&str] = &[
     "analysis",
     "simulate",
     "scene",
-    "sim",
-    "plot",
+    "live",
+    "chart",
     "figures",
 ];
 
@@ -389,20 +389,20 @@ fn the_import_checker_sees_grouped_and_nested_paths() {
         set(&["sim::Snapshot", "sim::SimStatus", "ui::Workbench"])
     );
     let inner = crate_paths_in(
-        &code_only("use crate::sim::{self, Snapshot};"),
+        &code_only("use crate::live::{self, Snapshot};"),
         &path(&["x"]),
     );
-    assert_eq!(inner, set(&["sim", "sim::Snapshot"]));
+    assert_eq!(inner, set(&["live", "live::Snapshot"]));
 }
 
 #[test]
 fn the_import_checker_is_not_fooled_by_super_chains_strings_or_comments() {
-    // `super::super` from view/body.rs climbs to the crate root: that is `crate::sim`.
+    // `super::super` from view/body.rs climbs to the crate root: that is `crate::live`.
     let up = crate_paths_in(
-        &code_only("use super::super::sim::Snapshot;"),
+        &code_only("use super::super::live::Snapshot;"),
         &path(&["view", "body"]),
     );
-    assert_eq!(up, set(&["sim::Snapshot"]));
+    assert_eq!(up, set(&["live::Snapshot"]));
     // One `super` from view/body.rs stays in view: not an import of another module.
     let sibling = crate_paths_in(
         &code_only("use super::layout::Layout;"),
@@ -601,4 +601,72 @@ fn the_example_check_reads_docs_and_attributes_and_skips_tests() {
         public_functions_without_example(text),
         vec![("g".to_string(), 13)]
     );
+}
+
+/// ARCHITECTURE.md's module table names every source file of each module whose row lists its
+/// files, and no file that is gone (`sim::history`, `ui::sweep` and `ui::fonts` went missing
+/// from it once). A row that says "one file per …" gives a rule instead of a list.
+#[test]
+fn the_module_table_names_every_source_file_of_each_module() {
+    let md = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md"))
+        .expect("ARCHITECTURE.md");
+    let start = md
+        .find("## Modules and what they own")
+        .expect("the module table");
+    let end = md[start..]
+        .find("\n## ")
+        .map_or(md.len(), |i| start + 1 + i);
+    let backticked = |cell: &str| -> Vec<String> {
+        cell.split('`')
+            .skip(1)
+            .step_by(2)
+            .map(str::to_string)
+            .collect()
+    };
+    let mut checked = 0;
+    for line in md[start..end].lines().filter(|l| l.starts_with("| `")) {
+        let cells: Vec<&str> = line.trim_matches('|').split('|').map(str::trim).collect();
+        let module = backticked(cells[0]).remove(0);
+        let files_cell = cells[cells.len() - 1];
+        if files_cell.contains("one file per") {
+            continue;
+        }
+        let listed: BTreeSet<String> = backticked(files_cell)
+            .into_iter()
+            // File names only: lower-case words (a cell also names types, `SceneError`).
+            .filter(|n| {
+                n.chars()
+                    .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+            })
+            .collect();
+        for root in source_roots() {
+            let dir = root.join(&module);
+            let Ok(entries) = std::fs::read_dir(&dir) else {
+                continue;
+            };
+            let stems: BTreeSet<String> = entries
+                .filter_map(|e| {
+                    let name = e.ok()?.file_name().to_string_lossy().into_owned();
+                    name.strip_suffix(".rs").map(str::to_string)
+                })
+                .filter(|s| s != "mod")
+                .collect();
+            let missing: Vec<&String> = stems.difference(&listed).collect();
+            assert!(
+                missing.is_empty(),
+                "ARCHITECTURE.md's row for `{module}` does not name {missing:?}"
+            );
+            let gone: Vec<&String> = listed
+                .iter()
+                .filter(|n| *n != "mod" && !stems.contains(*n))
+                .collect();
+            assert!(
+                gone.is_empty(),
+                "ARCHITECTURE.md's row for `{module}` names {gone:?}, which {} has not",
+                dir.display()
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 10, "{checked} modules checked");
 }

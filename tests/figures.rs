@@ -374,7 +374,7 @@ fn sphere_halting_loops_shrink_towards_alpha_star_with_stable_and_unstable_arcs(
             l.segments > 0 && l.stable_fraction > 0.0 && l.stable_fraction < 1.0,
             "{l:?}"
         );
-        // Simulation confirms the linear classification: every sampled unstable point is left;
+        // LiveRun confirms the linear classification: every sampled unstable point is left;
         // most sampled stable points are returned to (measured 9 of 12 at full size; the misses
         // lie where the classification changes along a loop).
         assert_eq!(l.unstable_confirmed[0], l.unstable_confirmed[1], "{l:?}");

@@ -8,15 +8,15 @@ use rollphase::analysis::fit::sqrt_law;
 use rollphase::analysis::period::viscous_disk_period;
 use rollphase::dynamics::Ramp;
 use rollphase::geometry::Body;
+use rollphase::live::{Controller, LiveRun, SimCommand, Snapshot};
 use rollphase::scene::{Scene, SceneSetup};
-use rollphase::sim::{Controller, SimCommand, Simulation, Snapshot};
 
 fn lesson(name: &str) -> SceneSetup {
     Scene::preset(name).unwrap().setup(None).unwrap()
 }
 
 /// The α, m/m0, caption and step count a run shows at time `t`.
-fn state_at(sim: &mut Simulation, t: f64) -> (f64, f64, Option<String>, usize) {
+fn state_at(sim: &mut LiveRun, t: f64) -> (f64, f64, Option<String>, usize) {
     sim.advance_to(t).unwrap();
     let s = sim.snapshot();
     (s.alpha_rad, s.mass_ratio, s.caption, s.lesson.unwrap().done)
@@ -28,7 +28,7 @@ fn state_at(sim: &mut Simulation, t: f64) -> (f64, f64, Option<String>, usize) {
 /// up to 1e-5 of the period, which the quadrature comparison would see.
 fn at_end_of_each_step(setup: &SceneSetup) -> Vec<Snapshot> {
     let end = setup.scene.playback.end_time.unwrap();
-    let mut sim = Simulation::new(setup.clone());
+    let mut sim = LiveRun::new(setup.clone());
     (0..setup.timeline.len())
         .map(|i| {
             let until = setup.timeline.get(i + 1).map_or(end, |s| s.at) - 1e-6;
@@ -51,7 +51,7 @@ fn a_lessons_steps_apply_at_their_times_and_nowhere_else() {
         let setup = lesson(name);
         let steps = setup.timeline.clone();
         assert!(steps.len() >= 4, "{name}");
-        let mut sim = Simulation::new(setup.clone());
+        let mut sim = LiveRun::new(setup.clone());
         // A step at t = 0 holds from the first frame.
         assert_eq!(steps[0].at, 0.0);
         assert_eq!(sim.snapshot().caption, steps[0].caption, "{name}");
@@ -160,7 +160,7 @@ fn a_timeline_step_can_turn_views_on_and_change_the_integrator() {
         + "\n[[timeline]]\nat = 5.0\nviews = { ball = true }\nintegrator = \"precise\"\n";
     let mut scene = Scene::from_toml(&text).unwrap();
     scene.views.ball = false;
-    let mut sim = Simulation::new(scene.setup(None).unwrap());
+    let mut sim = LiveRun::new(scene.setup(None).unwrap());
     sim.advance_to(4.0).unwrap();
     assert!(!sim.snapshot().views.ball);
     assert!(sim.snapshot().ball_trail.is_empty());
@@ -283,7 +283,7 @@ fn the_period_doubling_lesson_goes_from_period_1_to_period_2() {
 fn a_target_within_rounding_of_now_is_now() {
     // A tick can end a hair after a step time; integrating a few ulps must not fail.
     for name in ["lesson-critical-angle", "lesson-period-doubling"] {
-        let mut sim = Simulation::new(lesson(name));
+        let mut sim = LiveRun::new(lesson(name));
         sim.advance_to(2449.999999).unwrap();
         let t = sim.time();
         for tiny in [1e-15, 1e-13, 4.6e-13, 1e-12] {

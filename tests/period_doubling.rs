@@ -6,8 +6,8 @@
 use glam::DVec3;
 use rollphase::analysis::sphere_orbits::{late_cycle, late_run};
 use rollphase::analysis::sphere_return_map::{OrbitSolve, inertial_crossings, periodic_orbit};
+use rollphase::analysis::studies::random_orientation;
 use rollphase::dynamics::Ramp;
-use rollphase::figures::sphere_orbits::random_orientation;
 use rollphase::figures::{self, FigureOptions};
 use rollphase::geometry::{Sphere, paper_sphere};
 

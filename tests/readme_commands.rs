@@ -81,11 +81,11 @@ fn readme_simulate_example_runs_on_the_bundled_sphere() {
 #[cfg(feature = "render")]
 #[test]
 fn the_default_sixty_frames_show_a_whole_orbit() {
+    use rollphase::live::LiveRun;
     use rollphase::scene::{DEFAULT_PRESET, Scene};
-    use rollphase::sim::Simulation;
     let setup = Scene::preset(DEFAULT_PRESET).unwrap().setup(None).unwrap();
     let t_last = setup.frame_time(59);
-    let mut sim = Simulation::new(setup);
+    let mut sim = LiveRun::new(setup);
     sim.advance_to(t_last).unwrap();
     let snap = sim.snapshot();
     let period = snap

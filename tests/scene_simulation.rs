@@ -5,19 +5,19 @@
 use std::f64::consts::TAU;
 
 use glam::DVec3;
+use rollphase::live::LiveRun;
 use rollphase::scene::Scene;
-use rollphase::sim::Simulation;
 
-fn sim(toml: &str) -> Simulation {
-    Simulation::new(Scene::from_toml(toml).unwrap().setup(None).unwrap())
+fn sim(toml: &str) -> LiveRun {
+    LiveRun::new(Scene::from_toml(toml).unwrap().setup(None).unwrap())
 }
 
-fn preset(name: &str) -> Simulation {
-    Simulation::new(Scene::preset(name).unwrap().setup(None).unwrap())
+fn preset(name: &str) -> LiveRun {
+    LiveRun::new(Scene::preset(name).unwrap().setup(None).unwrap())
 }
 
 /// Contact = centre + R · (contact in the body frame), on the plane z = 0.
-fn check_contact(s: &Simulation, tol: f64) {
+fn check_contact(s: &LiveRun, tol: f64) {
     let snap = s.snapshot();
     let drawn = snap.pose.centre + snap.pose.rotation * snap.contact_in_body;
     assert!(
@@ -208,7 +208,7 @@ fn a_fixed_step_too_coarse_stops_the_run_with_a_red_overlay_line() {
 #[test]
 fn the_simulation_says_which_poincare_field_is_wanted() {
     use rollphase::dynamics::Ramp;
-    use rollphase::sim::FieldWanted;
+    use rollphase::live::FieldWanted;
     let mut s = preset("poincare-field");
     let ramp = s.ramp();
     assert_eq!(s.snapshot().poincare_field, FieldWanted::Ramp(ramp));
@@ -239,7 +239,7 @@ fn a_scene_says_when_its_motion_stops_being_rollable() {
                 [model]\nalpha_rad = 1.0\nmass_ratio = 10.0\nfriction = 1.0\n";
     let scene = Scene::from_toml(toml).unwrap();
     let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
-    let mut s = Simulation::new(scene.setup(Some(&base)).unwrap());
+    let mut s = LiveRun::new(scene.setup(Some(&base)).unwrap());
     s.advance_to(2.0).unwrap();
     assert_eq!(s.snapshot().validity, None, "rolls at first");
     s.advance_to(25.0).unwrap();
@@ -280,7 +280,7 @@ fn a_dented_cylinder_tips_across_its_flats_in_the_app_as_in_simulate() {
     std::fs::write(dir.join("printed.json"), body.to_shape().to_json().unwrap()).unwrap();
     let toml = "name = \"dented\"\n[body]\nshape = \"printed.json\"\n[model]\nalpha_rad = 0.3\n\
                 mass_ratio = 2.0\n[initial]\ntheta0 = 5.7\n[integrator]\npreset = \"precise\"\n";
-    let mut s = Simulation::new(Scene::from_toml(toml).unwrap().setup(Some(&dir)).unwrap());
+    let mut s = LiveRun::new(Scene::from_toml(toml).unwrap().setup(Some(&dir)).unwrap());
     assert_eq!(s.snapshot().hull_tips, Some((0, 0.0)));
     for t in [1.0, 3.4, 3.55, 3.7, 6.0] {
         s.advance_to(t).unwrap();

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Result, bail};
 use clap::Args;
 
-use crate::cli::render::pick_scene;
+use crate::cli::pick_scene;
 
 /// Flags for running the window unattended (tests, benchmarks).
 #[derive(Debug, Args, Default, Clone)]
@@ -152,7 +152,7 @@ pub fn run_window(
         .transpose()?;
     let setup = pick_scene(scene, preset)?;
     if let Some(dir) = plot_data {
-        let names = crate::sim::history::PlotHistory::file_names();
+        let names = crate::live::history::PlotHistory::file_names();
         let inputs = crate::output::Inputs::of(scene);
         crate::output::check_folder(dir, &names, &inputs)
             .map_err(|e| anyhow::anyhow!("--plot-data: {e}"))?;
@@ -166,22 +166,24 @@ pub fn run_window(
             exit_after,
             present: flags.present,
             class: flags.class,
-            sweep: flags.sweep.map(|f| crate::ui::sweep::AutoSweep {
-                target: if f.alpha {
-                    crate::ui::sweep::SweepTarget::Alpha
-                } else {
-                    crate::ui::sweep::SweepTarget::MassRatio
-                },
-                step: f.step,
-                end: f.end,
-            }),
+            sweep: flags
+                .sweep
+                .map(|f| crate::ui::measuring_sweep::MeasuringSweep {
+                    target: if f.alpha {
+                        crate::ui::measuring_sweep::SweepTarget::Alpha
+                    } else {
+                        crate::ui::measuring_sweep::SweepTarget::MassRatio
+                    },
+                    step: f.step,
+                    end: f.end,
+                }),
             speed,
             plot_data: plot_data.map(Path::to_path_buf),
         })
     }
     #[cfg(not(feature = "app"))]
     {
-        let _ = (setup, screenshot_after, exit_after);
+        let _ = (setup, screenshot_after, exit_after, speed);
         Err(super::missing_feature("app", "the interactive window"))
     }
 }

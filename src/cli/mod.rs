@@ -20,10 +20,10 @@ pub mod merge;
 pub mod period;
 pub mod predict;
 pub mod render;
+pub mod scan;
 pub mod scenes;
 pub mod shape;
 pub mod simulate;
-pub mod sweep;
 pub mod track;
 
 use std::path::{Path, PathBuf};
@@ -32,6 +32,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 
 use crate::geometry::{Body, ShapeFile};
+use crate::scene::{DEFAULT_PRESET, Scene, SceneSetup, load_scene_file};
 
 /// Irregular cylinders and spheres rolling down a ramp: the models, integrators and analyses of
 /// Qian, Jung & Mahadevan, "Phase transitions in rolling of irregular cylinders and spheres".
@@ -84,7 +85,7 @@ pub enum Command {
     /// Regenerate one of the paper's figures as CSV + PNG + summary.json.
     Figure(figure::FigureArgs),
     /// Scan bodies × α × m/m0 × orientations × integrators in 3D: one CSV row per run (shardable).
-    Sweep(sweep::SweepArgs),
+    Sweep(scan::SweepArgs),
     /// Combine the shards of a figure or sweep (--shard I/N) into the files one run writes.
     Merge(merge::MergeArgs),
     /// Fit measured lag times t_lag ∝ (α − α*)^β (per-run α*, shared β, bootstrap errors).
@@ -95,6 +96,25 @@ pub enum Command {
     Scenes(scenes::ScenesArgs),
     /// Write a body as a watertight STL mesh in millimetres, for 3D printing.
     ExportStl(export_stl::ExportStlArgs),
+}
+
+/// The scene named by --scene or --preset (default preset otherwise), validated.
+pub fn pick_scene(scene: Option<&Path>, preset: Option<&str>) -> Result<SceneSetup> {
+    match (scene, preset) {
+        (Some(path), _) => match load_scene_file(path) {
+            Ok(s) => Ok(s),
+            // The message already names the scene file.
+            Err(e @ crate::scene::SceneError::SceneIo { .. }) => Err(e.into()),
+            Err(e) => Err(e).with_context(|| format!("bad scene file {}", path.display())),
+        },
+        (None, name) => {
+            let name = name.unwrap_or(DEFAULT_PRESET);
+            let scene = Scene::preset(name)?;
+            scene
+                .setup(None)
+                .with_context(|| format!("preset {name} does not validate"))
+        }
+    }
 }
 
 /// Runs the parsed command.
@@ -147,7 +167,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Bench(a) => bench::run(a),
         Command::Figure(a) => figure::run(a),
         Command::FitLag(a) => figure::run_fit_lag(a),
-        Command::Sweep(a) => sweep::run(a),
+        Command::Sweep(a) => scan::run(a),
         Command::Merge(a) => merge::run(a),
         Command::Scenes(a) => scenes::run(a),
         Command::Track(a) => track::run(a),

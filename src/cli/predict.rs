@@ -10,9 +10,9 @@ use crate::analysis::prediction::{
     MAX_PREDICT_STARTS, PredictOptions, PredictedOrbit, Prediction, predict,
 };
 use crate::analysis::sphere_orbits::Decide;
+use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::geometry::{Body, ShapeFile};
 use crate::output::{self, Inputs};
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// What a body does on a ramp: the periodic motions it settles into from many starts.
 ///
@@ -157,7 +157,7 @@ pub fn run(a: PredictArgs) -> Result<()> {
         let mut magnified = true_scale.clone();
         magnified.equal_aspect = false;
         magnified.title = "the same paths, the vertical axis magnified".into();
-        let png = crate::plot::png_bytes(&[true_scale, magnified], 1, (1100, 1100))?;
+        let png = crate::chart::png_bytes(&[true_scale, magnified], 1, (1100, 1100))?;
         outputs.write(f, &png, &inputs)?;
     }
     let report = report_of(&a, p, scale);

@@ -1,12 +1,14 @@
 //! The top-level render flags: `rollphase --headless --frames N [--out DIR] [--scene FILE |
 //! --preset NAME] [--size WxH]`, and the scene they pick (shared with the app).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
 
-use crate::scene::{DEFAULT_PRESET, Scene, SceneSetup, load_scene_file};
+use crate::cli::pick_scene;
+#[cfg(feature = "render")]
+use crate::scene::SceneSetup;
 
 /// Most frames one headless run writes.
 pub const MAX_FRAMES: u64 = 1_000_000;
@@ -104,25 +106,6 @@ pub fn parse_msaa(s: &str) -> Result<u32, String> {
         _ => Err(format!(
             "--msaa {s} is not allowed (needs 1 or 4 samples per pixel)"
         )),
-    }
-}
-
-/// The scene named by --scene or --preset (default preset otherwise), validated.
-pub fn pick_scene(scene: Option<&Path>, preset: Option<&str>) -> Result<SceneSetup> {
-    match (scene, preset) {
-        (Some(path), _) => match load_scene_file(path) {
-            Ok(s) => Ok(s),
-            // The message already names the scene file.
-            Err(e @ crate::scene::SceneError::SceneIo { .. }) => Err(e.into()),
-            Err(e) => Err(e).with_context(|| format!("bad scene file {}", path.display())),
-        },
-        (None, name) => {
-            let name = name.unwrap_or(DEFAULT_PRESET);
-            let scene = Scene::preset(name)?;
-            scene
-                .setup(None)
-                .with_context(|| format!("preset {name} does not validate"))
-        }
     }
 }
 
@@ -231,7 +214,7 @@ fn write_headless(a: &RenderArgs, setup: SceneSetup, frames: u64) -> Result<()> 
         Some((kind, flag, p)) => {
             crate::output::check_file(p, &inputs).with_context(|| flag.to_string())?;
             if let Some(dir) = &a.plot_data {
-                for name in crate::sim::history::PlotHistory::file_names() {
+                for name in crate::live::history::PlotHistory::file_names() {
                     let file = dir.join(name);
                     crate::output::check_distinct(&[(flag, p), ("--plot-data", &file)])?;
                 }

@@ -9,9 +9,9 @@ use serde::Serialize;
 
 use crate::analysis::prediction::{PredictOptions, PredictedOrbit, predict};
 use crate::analysis::tracking::{CleanTrack, Folded, PeriodFit, fold, measure};
+use crate::chart::{Panel, Series, SeriesLabelPosition, Style};
 use crate::geometry::ShapeFile;
 use crate::output::{self, Inputs, OutputSet};
-use crate::plot::{Panel, Series, SeriesLabelPosition, Style};
 
 /// Read a tracked run: its period, advance per period and folded track, and the model's.
 ///
@@ -264,7 +264,7 @@ pub fn run(a: TrackArgs) -> Result<()> {
         &a,
         predicted_path.as_ref(),
     );
-    let png = crate::plot::png_bytes(&figure, 2, (1400, 1000))?;
+    let png = crate::chart::png_bytes(&figure, 2, (1400, 1000))?;
     let csv = data_csv(&folded_centre, &track, &folded_markers, &in_range, a.fps)?;
     output::create_folder(&a.out)?;
     let mut set = OutputSet::new();

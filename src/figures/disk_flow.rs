@@ -12,9 +12,9 @@ use serde::Serialize;
 use super::{FigureData, FigureOptions};
 use crate::analysis::critical_angle;
 use crate::analysis::disk_dynamics::{FixedPoint, fixed_points, phase_path};
+use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::{DiskInertial, Ramp};
 use crate::geometry::Body;
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// One panel's numbers.
 #[derive(Debug, Serialize)]

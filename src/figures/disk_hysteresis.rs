@@ -22,9 +22,9 @@ use crate::analysis::disk_dynamics::{
 };
 use crate::analysis::fit::{line, logspace};
 use crate::analysis::inertial_disk_period;
+use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::Ramp;
 use crate::geometry::Body;
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 const MASS: f64 = 10.0;
 const RTOL: f64 = 1e-10;

@@ -17,8 +17,8 @@ use super::{FigureData, FigureOptions, progress};
 use crate::analysis::critical_angle;
 use crate::analysis::disk_dynamics::lag_time_law;
 use crate::analysis::fit::logspace;
+use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::geometry::Body;
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Per-mass fit.
 #[derive(Debug, Clone, Serialize)]

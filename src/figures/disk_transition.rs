@@ -22,10 +22,10 @@ use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::disk_dynamics::saddle_node_law;
 use crate::analysis::fit::logspace;
 use crate::analysis::viscous_disk_period;
+use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::colormap::viridis;
 use crate::dynamics::Ramp;
 use crate::geometry::Disk;
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Per-disk results.
 #[derive(Debug, Clone, Serialize)]

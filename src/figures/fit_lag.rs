@@ -12,8 +12,8 @@ use crate::analysis::lag_fit::{
     ALPHA_STAR_RANGE, LagAnalysis, LagRun, SHARED_EXPONENT_RANGE, analyse_with_progress,
     parse_lag_csv,
 };
+use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::output::{self, Inputs};
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// What `fit-lag` writes to summary.json.
 #[derive(Debug, Serialize)]

@@ -12,6 +12,7 @@ pub mod disk_lag_time;
 pub mod disk_transition;
 pub mod fit_lag;
 pub mod model_validity;
+pub mod scan;
 pub mod shard;
 pub mod sphere_bifurcation;
 pub mod sphere_cruising;
@@ -20,7 +21,6 @@ pub mod sphere_halting;
 pub mod sphere_orbits;
 pub mod sphere_poincare;
 pub mod sphere_tube;
-pub mod sweep;
 
 use std::path::{Path, PathBuf};
 
@@ -29,9 +29,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::analysis::critical_angle;
+use crate::chart::{Panel, png_bytes};
 use crate::geometry::{Body, Disk, ShapeFile, Sphere, paper_sphere};
 use crate::output::{self, Inputs, OutputSet};
-use crate::plot::{Panel, png_bytes};
 use shard::ShardWritten;
 
 /// The files every figure writes into OUT/NAME, committed together.
@@ -197,7 +197,7 @@ impl FigureOptions {
 /// entry, so the list of figures is written once.
 pub fn decode_merged(name: &str, merged: shard::Merged) -> Result<usize> {
     let decode = if name == SCAN_NAME {
-        decode_as::<sweep::RunResult>
+        decode_as::<crate::analysis::scan::ScanRun>
     } else {
         match figure(name) {
             Some(FigureEntry {
@@ -418,7 +418,7 @@ pub const FIGURES: &[FigureEntry] = &[
     },
     FigureEntry {
         name: "sphere-bifurcation",
-        records: Some(decode_as::<sphere_bifurcation::LateRun>),
+        records: Some(decode_as::<crate::analysis::orbit_diagram::LateRun>),
         about: "beyond Fig. 4e: orbit diagram in m/m0, Floquet multipliers, the flip masses",
         run: |o| ran(o, "sphere-bifurcation", sphere_bifurcation::compute),
     },

@@ -20,9 +20,9 @@ use serde::Serialize;
 
 use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::studies::random_orientation;
+use crate::chart::{Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::validity::ContactReport;
 use crate::integrate::Method;
-use crate::plot::{Panel, Series, SeriesLabelPosition, Style};
 use crate::simulate::{InitialState, Model, Simulation, simulate};
 
 /// The surfaces the map checks against: rubber on wood is about 0.5 to 1.

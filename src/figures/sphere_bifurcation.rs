@@ -30,7 +30,6 @@ use anyhow::{Result, anyhow};
 use serde::Serialize;
 
 use super::shard::{Fields, Record};
-use super::sphere_orbits::random_orientation;
 use super::{
     Computed, FigureData, FigureOptions, PAPER_ALPHA, par_map, progress, sphere_alpha_star,
 };
@@ -38,11 +37,10 @@ use crate::analysis::orbit_diagram::{
     DirectRuns, OrbitDiagramError, RunWindow, continue_orbit, direct_run, doubling_windows,
     flip_brackets, locate_flip_in, orbit_diagram, period_one_seeds,
 };
-pub use crate::analysis::orbit_diagram::{
-    DoublingWindow, Flip, LateRun, MAX_K, MassRow, OrbitBranch, PERIOD_TOL,
-};
+use crate::analysis::orbit_diagram::{DoublingWindow, Flip, LateRun, MAX_K, MassRow, OrbitBranch};
+use crate::analysis::studies::random_orientation;
+use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::Ramp;
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Headline numbers.
 #[derive(Debug, Serialize)]

@@ -25,17 +25,17 @@ use anyhow::{Result, anyhow};
 use serde::Serialize;
 
 use super::shard::{Fields, Record};
-use super::sphere_orbits::random_orientation;
 use super::{Computed, FigureData, FigureOptions, PAPER_ALPHA, sphere_alpha_star};
 use crate::analysis::critical_angle::paper_spheres_with_alpha_star;
 use crate::analysis::sphere_orbits::{Decide, RunEnd, decided_run};
+use crate::analysis::studies::random_orientation;
 use crate::analysis::studies::{
     DoublingAcrossBodies, PeriodCounts, RunOutcome, decided_from_rest, median_cycle_duration,
 };
+use crate::chart::{Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::Ramp;
 use crate::geometry::Sphere;
 use crate::geometry::sphere::angles;
-use crate::plot::{Panel, Series, SeriesLabelPosition, Style};
 use glam::DVec3;
 
 const MASSES: [f64; 3] = [0.0, 6.0, 10.0];

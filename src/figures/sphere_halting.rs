@@ -12,9 +12,9 @@ use serde::Serialize;
 use super::{FigureData, FigureOptions, progress};
 use crate::analysis::critical_angle;
 use crate::analysis::halting::{QualityGrid, halting_loops};
+use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::geometry::Body;
 use crate::geometry::sphere::angles;
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Per-α result.
 #[derive(Debug, Clone, Serialize)]

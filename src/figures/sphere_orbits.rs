@@ -12,9 +12,9 @@ use serde::Serialize;
 use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{Fate, Settle, boundary_distance, cluster_antipodal, settle};
+use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::Ramp;
 use crate::geometry::Body;
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Headline numbers.
 #[derive(Debug, Serialize)]
@@ -33,7 +33,7 @@ pub struct Summary {
     pub labels: Vec<Vec<i64>>,
 }
 
-pub use crate::analysis::studies::random_orientation;
+use crate::analysis::studies::random_orientation;
 
 /// Runs the figure: computes it, then writes OUT/sphere-orbits/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {

@@ -21,11 +21,11 @@ use crate::analysis::critical_angle;
 use crate::analysis::sphere_orbits::{
     boundary_distance, cluster_antipodal, field_from_images, field_lattice, poincare_step,
 };
+use crate::chart::{Panel, Series, SeriesLabelPosition, Style};
 use crate::colormap::viridis;
 use crate::dynamics::Ramp;
 use crate::geometry::Body;
 use crate::geometry::sphere::{angles, fibonacci_sphere};
-use crate::plot::{Panel, Series, SeriesLabelPosition, Style};
 
 /// An attractor of the map.
 #[derive(Debug, Clone, Serialize)]

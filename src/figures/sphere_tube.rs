@@ -13,8 +13,8 @@ use serde::Serialize;
 
 use super::{FigureData, FigureOptions};
 use crate::analysis::contact_tube::{contact_tube, split_at_jumps};
+use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::colormap::viridis;
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 
 /// Headline numbers.
 #[derive(Debug, Serialize)]

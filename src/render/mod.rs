@@ -63,5 +63,5 @@ pub struct Renderer {
     /// Panels rasterised and uploaded in recent frames, with their size and texture, reused
     /// while a frame shows the same panel: the legends and titles are the same frame after
     /// frame, and rasterising and uploading each anew was a steady cost on a CPU renderer.
-    panel_cache: Vec<(Panel, (u32, u32), wgpu::BindGroup)>,
+    panel_cache: Vec<(OverlayPanel, (u32, u32), wgpu::BindGroup)>,
 }

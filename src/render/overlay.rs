@@ -4,7 +4,7 @@
 
 use ab_glyph::{Font as _, FontRef, PxScale, ScaleFont};
 
-use super::types::{Panel, PanelItem};
+use super::types::{OverlayPanel, PanelItem};
 
 /// A rasterised panel (sRGB RGBA, premultiplied by nothing: straight alpha).
 #[derive(Debug, Clone, Default)]
@@ -138,7 +138,7 @@ fn item_size(item: &PanelItem, font: &Font) -> (u32, u32) {
 }
 
 /// Rasterises a panel.
-pub fn rasterise(panel: &Panel, font: &Font) -> PanelImage {
+pub fn rasterise(panel: &OverlayPanel, font: &Font) -> PanelImage {
     let sizes: Vec<(u32, u32)> = panel.items.iter().map(|i| item_size(i, font)).collect();
     let inner_w = sizes.iter().map(|s| s.0).max().unwrap_or(0);
     let inner_h: u32 = sizes.iter().map(|s| s.1 + 2).sum();

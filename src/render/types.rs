@@ -87,30 +87,13 @@ pub struct Camera {
     pub near: f32,
     /// Far plane.
     pub far: f32,
-    /// Lens shift: the picture moves up by this fraction of the viewport's half height (0:
-    /// the target in the middle). A lesson's view keeps the whole frame, the ramp showing
-    /// behind the caption, and lifts the body into the part above the caption.
-    pub lens_shift_y: f32,
 }
 
 impl Camera {
     /// Projection × view for a viewport of the given aspect ratio (wgpu's 0..1 depth).
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
-        // The shift adds lens_shift_y · w to clip y, after the projection.
-        let shift = Mat4::from_cols(
-            glam::Vec4::X,
-            glam::Vec4::Y,
-            glam::Vec4::Z,
-            glam::Vec4::new(0.0, self.lens_shift_y, 0.0, 1.0),
-        );
         // wgpu's clip space is DirectX's: depth 0..1, y up.
-        shift
-            * glam::camera::rh::proj::directx::perspective(
-                self.fov_y_rad,
-                aspect,
-                self.near,
-                self.far,
-            )
+        glam::camera::rh::proj::directx::perspective(self.fov_y_rad, aspect, self.near, self.far)
             * glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up)
     }
 }
@@ -143,7 +126,7 @@ pub struct Frame {
     /// 3D views, drawn in order (insets after the main view).
     pub views: Vec<View>,
     /// 2D panels drawn on top.
-    pub panels: Vec<Panel>,
+    pub panels: Vec<OverlayPanel>,
 }
 
 /// Where a panel sits.
@@ -210,7 +193,7 @@ pub enum PanelItem {
 
 /// A panel: items on a translucent rounded background.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Panel {
+pub struct OverlayPanel {
     /// Position.
     pub anchor: Anchor,
     /// Content, top to bottom.

@@ -38,9 +38,12 @@ use crate::integrate::Preset;
 
 pub use crate::assets::{BUNDLED_SHAPES, PRESETS};
 
+mod clock;
+mod error;
 mod setup;
 mod timeline;
-pub use setup::{Resume, SceneError, SceneSetup, bundled_shape, load_scene_file};
+pub use error::SceneError;
+pub use setup::{Resume, SceneSetup, bundled_shape, load_scene_file};
 pub use timeline::{MAX_CAPTION_CHARS, MAX_STEPS, Step, TimelineSpec, ViewsChange};
 
 /// The preset shown when none is asked for.

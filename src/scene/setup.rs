@@ -3,65 +3,22 @@
 //! the value and what is allowed.
 
 use crate::analysis::critical_angle::critical_angle;
-use crate::dynamics::{ModelError, Ramp};
+use crate::dynamics::Ramp;
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
-use crate::geometry::{Body, Disk, ShapeError, ShapeFile, Sphere, random_disk, random_sphere};
-use crate::integrate::{IntegrateError, Method, Preset};
+use crate::geometry::{Body, Disk, ShapeFile, Sphere, random_disk, random_sphere};
+use crate::integrate::{Method, Preset};
 use crate::simulate::start::{Spelling, StartField, StartRequest, check_start};
 use crate::simulate::{ContactLimits, OnViolation};
 use crate::simulate::{InitialState, ModelState, Start, choose_model};
-use std::path::{Path, PathBuf};
-use thiserror::Error;
+use std::path::Path;
 
+use super::error::{SceneError, check_speed, invalid};
 use super::timeline::Step;
 use super::{
     BodySpec, InitialSpec, IntegratorSpec, PerfectBody, PlaybackSpec, PoincareSpec, Scene,
     ViewsSpec,
 };
 use crate::assets::{BUNDLED_SHAPES, PRESETS};
-
-/// What is wrong with a scene.
-#[derive(Debug, Error)]
-pub enum SceneError {
-    /// TOML syntax or an unknown/mistyped field (transparent, so the message is printed once).
-    #[error(transparent)]
-    Parse(#[from] toml::de::Error),
-    /// A value out of range or fields that do not fit together.
-    #[error("{0}")]
-    Invalid(String),
-    /// The body is bad.
-    #[error(transparent)]
-    Shape(#[from] ShapeError),
-    /// α, m/m0 or drag out of range.
-    #[error(transparent)]
-    Model(#[from] ModelError),
-    /// Bad integrator settings.
-    #[error(transparent)]
-    Integrate(#[from] IntegrateError),
-    /// The shape file could not be read.
-    #[error("cannot read shape file {}: {reason}", path.display())]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        reason: std::io::Error,
-    },
-    /// The scene file could not be read.
-    #[error("cannot read scene file {}: {reason}", path.display())]
-    SceneIo {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        reason: std::io::Error,
-    },
-    /// No preset of that name.
-    #[error("no preset named {0:?}; `rollphase scenes` lists them: {1}")]
-    UnknownPreset(String, String),
-}
-
-pub(super) fn invalid(msg: impl Into<String>) -> SceneError {
-    SceneError::Invalid(msg.into())
-}
 
 /// A validated scene with its body, ramp, integrator and start built.
 #[derive(Debug, Clone)]
@@ -426,17 +383,6 @@ impl IntegratorSpec {
             }
         };
         Ok(method)
-    }
-}
-
-/// Checks a playback speed given as `field` (the scene's, or a timeline step's).
-pub(super) fn check_speed(field: &str, speed: f64) -> Result<(), SceneError> {
-    if speed.is_finite() && speed > 0.0 && speed <= 1e4 {
-        Ok(())
-    } else {
-        Err(invalid(format!(
-            "{field} = {speed} is not allowed (needs 0 < speed ≤ 10000 time units per second)"
-        )))
     }
 }
 

@@ -5,10 +5,10 @@ use egui::{Color32, RichText};
 
 use crate::geometry::Body;
 use crate::integrate::{Method, Preset};
+use crate::live::{SimCommand, SimStatus};
 use crate::scene::{BodySpec, PRESETS, Scene};
-use crate::sim::{SimCommand, SimStatus};
 
-use super::sweep::SweepTarget;
+use super::measuring_sweep::SweepTarget;
 use super::{ALPHA_MAX, ALPHA_MIN, AppUi, MASS_RANGE, SPEED_RANGE, UiAction};
 
 /// The α field's id (tests focus it through egui's memory).
@@ -334,7 +334,7 @@ impl AppUi {
             actions.push(UiAction::Sim(SimCommand::SetMassRatio(m)));
         }
         ui.label(format!("model: {}", snap.model));
-        self.auto_sweep_ui(ui);
+        self.measuring_sweep_ui(ui);
 
         ui.separator();
         ui.heading("Integrator");
@@ -366,7 +366,7 @@ impl AppUi {
                 ui.label(format!("recording frame {} of {}", r.done, r.total));
                 ui.separator();
             }
-            if let Some(sweep) = self.auto_sweep {
+            if let Some(sweep) = self.measuring_sweep {
                 let line = sweep.describe(&self.sweep_hold);
                 let line = if status.paused {
                     format!("{line} (paused)")
@@ -423,9 +423,9 @@ impl AppUi {
     }
 
     /// The measuring sweep of α or m/m0 (a live bifurcation diagram): which, and the step.
-    fn auto_sweep_ui(&mut self, ui: &mut egui::Ui) {
+    fn measuring_sweep_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
-            let mut on = self.auto_sweep.is_some();
+            let mut on = self.measuring_sweep.is_some();
             if ui
                 .checkbox(&mut on, "sweep")
                 .on_hover_text(format!(
@@ -433,11 +433,11 @@ impl AppUi {
                      1e-3, the body halted, or its cycle of ∂Ω crossings found; at most {} t), \
                      so the 1/T or crossing plot gets its point, then steps: the bifurcation \
                      diagram grows as the sweep runs",
-                    super::sweep::HOLD_CAP
+                    super::measuring_sweep::HOLD_CAP
                 ))
                 .changed()
             {
-                self.set_auto_sweep(on.then_some(self.sweep_choice));
+                self.set_measuring_sweep(on.then_some(self.sweep_choice));
             }
             let mut choice = self.sweep_choice;
             egui::ComboBox::from_id_salt("sweep_what")
@@ -463,11 +463,11 @@ impl AppUi {
             if choice != self.sweep_choice {
                 let other_target = choice.target != self.sweep_choice.target;
                 self.sweep_choice = choice;
-                if self.auto_sweep.is_some() {
+                if self.measuring_sweep.is_some() {
                     if other_target {
-                        self.set_auto_sweep(Some(choice));
+                        self.set_measuring_sweep(Some(choice));
                     } else {
-                        self.auto_sweep = Some(choice);
+                        self.measuring_sweep = Some(choice);
                     }
                 }
             }

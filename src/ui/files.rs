@@ -9,8 +9,8 @@ use std::sync::mpsc::{Receiver, TryRecvError};
 use crate::geometry::mesh_fit::{FitOptions, FitReport, MeshFit, fit_mesh};
 use crate::geometry::mesh_read::MeshSource;
 use crate::geometry::{Body, ShapeFile};
+use crate::live::{SimCommand, SimStatus};
 use crate::scene::{BodySpec, Scene, load_scene_file};
-use crate::sim::{SimCommand, SimStatus};
 
 use super::controls::method_spec;
 
@@ -404,7 +404,7 @@ impl AppUi {
     pub fn export_plot_data(&mut self, status: &SimStatus) {
         let dir = PathBuf::from(&self.plot_data_dir);
         let meta =
-            crate::sim::history::PlotMeta::of(&status.snapshot, &status.setup, status.method);
+            crate::live::history::PlotMeta::of(&status.snapshot, &status.setup, status.method);
         self.notice = Some(
             match self.history.write_csv_files(
                 &dir,
@@ -416,7 +416,7 @@ impl AppUi {
                     format!(
                         "exported {} CSV files and {} to {}",
                         files.len() - 1,
-                        crate::sim::history::PLOT_META_FILE,
+                        crate::live::history::PLOT_META_FILE,
                         // Where it is, not where a relative path would be from somewhere.
                         std::fs::canonicalize(&dir).unwrap_or(dir).display()
                     ),

@@ -3,7 +3,7 @@
 
 use egui::Key;
 
-use crate::sim::{SimCommand, SimStatus};
+use crate::live::{SimCommand, SimStatus};
 use crate::view::ViewOptions;
 
 use super::{AppUi, SPEED_RANGE, UiAction};

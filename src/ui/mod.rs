@@ -22,13 +22,15 @@
 //! | `keys` | the keyboard bindings and class mode |
 //! | `plots`, `painter`, `workbench` | the plots, the wgpu painter, the windowless app core |
 //! | `egui_renderer` | egui's meshes and textures drawn with wgpu (our own, for CPU renderers) |
+//! | `measuring_sweep` | the measuring sweep of α or m/m0 (hold each value until measured, then step) |
+//! | `fonts` | egui's fonts with the bundled DejaVu Sans as the fallback |
 
 pub mod dialog;
 pub mod egui_renderer;
 pub mod fonts;
+pub mod measuring_sweep;
 pub mod painter;
 pub mod plots;
-pub mod sweep;
 pub mod workbench;
 
 mod controls;
@@ -40,10 +42,11 @@ pub use controls::{ALPHA_FIELD, MASS_FIELD};
 use std::path::PathBuf;
 
 use crate::geometry::Body;
+use crate::live::history::PlotHistory;
+use crate::live::{SimCommand, SimStatus};
 use crate::scene::{RandomBody, Scene, SceneSetup, ViewsSpec};
-use crate::sim::{SimCommand, SimStatus};
 use crate::view::{CurvatureScale, ViewOptions};
-use plots::{CurvatureMap, PlotHistory, plots_ui};
+use plots::{CurvatureMap, plots_ui};
 
 /// Largest α the slider offers (the models need α < π/2).
 const ALPHA_MAX: f64 = 1.5;
@@ -123,11 +126,11 @@ pub struct AppUi {
     record_frames: u32,
     plot_data_dir: String,
     /// The automatic sweep running, if any.
-    auto_sweep: Option<sweep::AutoSweep>,
+    measuring_sweep: Option<measuring_sweep::MeasuringSweep>,
     /// The sweep the controls offer (kept while it is off).
-    sweep_choice: sweep::AutoSweep,
+    sweep_choice: measuring_sweep::MeasuringSweep,
     /// The value the sweep holds until it is measured.
-    sweep_hold: sweep::SweepHold,
+    sweep_hold: measuring_sweep::SweepHold,
     /// The notice shown as a toast over the 3D view, and when it appeared (egui's clock).
     toast: Option<((String, bool), f64)>,
     notice: Option<(String, bool)>,
@@ -153,7 +156,7 @@ pub struct AppUi {
     /// The sweep and crossing plots as each lesson step began (steps done → plots): B and R
     /// go back to a step, and its plots come back with it (stale points of later steps, in
     /// the other direction's colour, changed the lesson's final fit).
-    step_plots: std::collections::BTreeMap<usize, crate::sim::history::PlotCheckpoint>,
+    step_plots: std::collections::BTreeMap<usize, crate::live::history::PlotCheckpoint>,
     /// Native Open / Save dialogs.
     pub dialogs: dialog::FileDialogs,
     /// A dropped mesh being fitted.
@@ -210,9 +213,9 @@ impl AppUi {
             record_dir: "recording".into(),
             record_frames: 120,
             plot_data_dir: "plot-data".into(),
-            auto_sweep: None,
-            sweep_choice: sweep::AutoSweep::default(),
-            sweep_hold: sweep::SweepHold::default(),
+            measuring_sweep: None,
+            sweep_choice: measuring_sweep::MeasuringSweep::default(),
+            sweep_hold: measuring_sweep::SweepHold::default(),
             toast: None,
             notice: None,
             history: PlotHistory::default(),
@@ -261,7 +264,7 @@ impl AppUi {
         &mut self,
         status: &SimStatus,
         scale: Option<CurvatureScale>,
-        samples: ((u64, u64), Vec<crate::sim::history::Sample>),
+        samples: ((u64, u64), Vec<crate::live::history::Sample>),
     ) {
         let run = (status.scene_id, status.run_id);
         let step = status.snapshot.lesson.map(|l| l.done);
@@ -343,17 +346,17 @@ impl AppUi {
     /// Moves the swept parameter by the time simulated since the last frame (a new run, or a
     /// pause, starts the count afresh).
     /// The measuring sweep: holds the value until the run there is measured (the plots then
-    /// have its point), then steps ([`sweep`]).
+    /// have its point), then steps ([`measuring_sweep`]).
     fn advance_sweep(&mut self, status: &SimStatus, actions: &mut Vec<UiAction>) {
-        let Some(sweep) = self.auto_sweep else {
-            self.sweep_hold = sweep::SweepHold::default();
+        let Some(sweep) = self.measuring_sweep else {
+            self.sweep_hold = measuring_sweep::SweepHold::default();
             return;
         };
         let snap = &status.snapshot;
         if status.paused || status.message.is_some() {
             return;
         }
-        let observed = sweep::HoldObservation {
+        let observed = measuring_sweep::HoldObservation {
             t: snap.t,
             value: sweep.value(snap.alpha_rad, snap.mass_ratio),
             last_crossing_t: snap.last_crossing_t,
@@ -362,19 +365,20 @@ impl AppUi {
             reports_cycles: snap.theta.is_none(),
             halted: snap.halted,
         };
-        let starting_mass = sweep.target == sweep::SweepTarget::MassRatio && snap.mass_ratio <= 0.0;
+        let starting_mass =
+            sweep.target == measuring_sweep::SweepTarget::MassRatio && snap.mass_ratio <= 0.0;
         if !starting_mass {
             match self.sweep_hold.observe(&observed) {
-                sweep::HoldVerdict::Waiting => return,
-                sweep::HoldVerdict::Measured(_) => {}
-                sweep::HoldVerdict::GaveUp => {
+                measuring_sweep::HoldVerdict::Waiting => return,
+                measuring_sweep::HoldVerdict::Measured(_) => {}
+                measuring_sweep::HoldVerdict::GaveUp => {
                     self.notice = Some((
                         format!(
                             "sweep: no settled period at {} = {:.5} within {} t; stepped on \
                              without a point",
                             sweep.target.name(),
                             observed.value,
-                            sweep::HOLD_CAP
+                            measuring_sweep::HOLD_CAP
                         ),
                         false,
                     ));
@@ -382,19 +386,19 @@ impl AppUi {
             }
         }
         match sweep.next(snap.alpha_rad, snap.mass_ratio, self.mass_ratio) {
-            sweep::SweepStep::Alpha(alpha) => {
+            measuring_sweep::SweepStep::Alpha(alpha) => {
                 self.alpha = alpha;
-                self.sweep_hold = sweep::SweepHold::at(alpha);
+                self.sweep_hold = measuring_sweep::SweepHold::at(alpha);
                 actions.push(UiAction::Sim(SimCommand::SetAlpha(alpha)));
             }
-            sweep::SweepStep::MassRatio(m) => {
+            measuring_sweep::SweepStep::MassRatio(m) => {
                 self.mass_ratio = m;
                 self.inertial = true;
-                self.sweep_hold = sweep::SweepHold::at(m);
+                self.sweep_hold = measuring_sweep::SweepHold::at(m);
                 actions.push(UiAction::Sim(SimCommand::SetMassRatio(m)));
             }
-            sweep::SweepStep::Done => {
-                self.auto_sweep = None;
+            measuring_sweep::SweepStep::Done => {
+                self.measuring_sweep = None;
                 self.notice = Some((
                     format!(
                         "the {} sweep reached the end of its range",
@@ -502,12 +506,12 @@ impl AppUi {
     }
 
     /// Starts (or with `None` stops) a measuring sweep; it first measures the running value.
-    pub fn set_auto_sweep(&mut self, sweep: Option<sweep::AutoSweep>) {
+    pub fn set_measuring_sweep(&mut self, sweep: Option<measuring_sweep::MeasuringSweep>) {
         if let Some(s) = sweep {
             self.sweep_choice = s;
         }
-        self.auto_sweep = sweep;
-        self.sweep_hold = sweep::SweepHold::default();
+        self.measuring_sweep = sweep;
+        self.sweep_hold = measuring_sweep::SweepHold::default();
     }
 
     /// Draws the whole UI for one frame into the root `ui` and returns what it asks for.

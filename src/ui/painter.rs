@@ -12,10 +12,10 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crate::analysis::sphere_orbits::FieldArrow;
+use crate::live::SimStatus;
+use crate::live::{FieldCache, FieldWanted};
 use crate::render::Renderer;
 use crate::scene::ViewsSpec;
-use crate::sim::SimStatus;
-use crate::sim::{FieldCache, FieldWanted};
 use crate::ui::egui_renderer::EguiRenderer;
 use crate::view::{CurvatureScale, SceneView, ViewOptions};
 

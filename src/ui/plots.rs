@@ -1,5 +1,5 @@
 //! The app's plots (egui_plot) and the history they draw, accumulated from the samples the
-//! simulation takes every [`PLOT_SAMPLE_DT`](crate::sim::PLOT_SAMPLE_DT) and the snapshots the
+//! simulation takes every [`PLOT_SAMPLE_DT`](crate::live::PLOT_SAMPLE_DT) and the snapshots the
 //! UI receives: θ(t) and θ̇(θ) for a cylinder, the contact path on the (φ, θ) curvature map for
 //! a sphere, the order parameter 1/T against α collected while the user sweeps α (a halted body
 //! counts as 1/T = 0, separately for sweeps up and down, so hysteresis shows as two branches),
@@ -7,7 +7,7 @@
 //! crossings repeat: one branch per period-1 orbit, two where it has doubled), and the numerical
 //! health against time.
 //!
-//! [`PlotHistory`] (in `sim::history`, so the headless renderer collects the same data) is plain
+//! [`PlotHistory`] (in `live::history`, so the headless renderer collects the same data) is plain
 //! data, tested without a window; [`plots_ui`] draws it as instruments: numbered ticks on every
 //! axis at any size ([`nice_marks`], [`tick_label`]), values under the pointer, and only the
 //! health quantities the model has.
@@ -20,12 +20,12 @@ use egui_plot::{
 use crate::colormap::{DIVERGING, sample};
 use crate::geometry::Body;
 use crate::geometry::sphere::{angles, direction};
-use crate::sim::Snapshot;
-pub use crate::sim::history::{PLOT_POINTS, PlotHistory, Sample, Sweep};
+use crate::live::Snapshot;
+use crate::live::history::{Branch, PlotHistory};
 use crate::view::CurvatureScale;
 
 /// Samples in the phase curve: the last 300 time units at every
-/// [`PLOT_SAMPLE_DT`](crate::sim::PLOT_SAMPLE_DT).
+/// [`PLOT_SAMPLE_DT`](crate::live::PLOT_SAMPLE_DT).
 const PHASE_POINTS: usize = 3000;
 
 /// The Gaussian curvature K on a (φ, θ) grid, for the contact-path plot of a sphere, drawn as
@@ -559,8 +559,8 @@ fn sweep_ui(
     width: f32,
     height: f32,
 ) {
-    let up = history.sweep(Sweep::Up);
-    let down = history.sweep(Sweep::Down);
+    let up = history.sweep(Branch::Up);
+    let down = history.sweep(Branch::Down);
     // The √ law is the viscous cylinder's; with inertia the branches follow other laws.
     let fit = (snap.theta.is_some() && snap.mass_ratio == 0.0 && alpha_star > 0.0)
         .then(|| {
@@ -690,13 +690,13 @@ fn crossings_ui(
 fn health_ui(
     ui: &mut egui::Ui,
     history: &PlotHistory,
-    measured: crate::sim::Measured,
+    measured: crate::live::Measured,
     width: f32,
     height: f32,
 ) {
     let log = |v: f64| v.max(1e-17).log10();
     // Only what the running model has (flat lines at the floor said nothing).
-    let quantities = crate::sim::history::health_quantities(measured);
+    let quantities = crate::live::history::health_quantities(measured);
     if quantities.is_empty() {
         ui.allocate_ui(egui::vec2(width, height), |ui| {
             ui.vertical_centered(|ui| {

@@ -12,11 +12,11 @@ use image::RgbaImage;
 use super::painter::{EguiFrame, Painter, rect_to_pixels};
 use super::{AppUi, RecordProgress, UiAction};
 use crate::clip::{ClipKind, ClipWriter};
+use crate::live::{SimStatus, SimThread};
 use crate::output::{self, Inputs};
 use crate::png::{PngWriter, frame_name, write_png};
 use crate::render::gpu::OffscreenTarget;
 use crate::scene::SceneSetup;
-use crate::sim::{SimStatus, SimThread};
 
 /// One frame's UI result, ready to paint.
 pub struct UiFrame {

@@ -7,8 +7,8 @@ use glam::{DVec3, Mat4, Quat, Vec3};
 
 use crate::analysis::sphere_orbits::FieldArrow;
 use crate::colormap::{VIRIDIS, linear, sample};
+use crate::live::Snapshot;
 use crate::render::types::{Camera, Material, MeshInstance, Segment, View};
-use crate::sim::Snapshot;
 
 use super::{CYLINDER_LENGTH, SceneView, ViewOptions};
 
@@ -101,20 +101,35 @@ fn downhill_arrow(
     last
 }
 
+/// Pixel rectangles (x, y, w, h) of the frame as boxes (x0, y0, x1, y1) in the clip space of
+/// a view drawn in `rect`.
+fn clip_boxes(rect: [u32; 4], pixels: &[[u32; 4]]) -> Vec<[f32; 4]> {
+    let [rx, ry, rw, rh] = rect.map(|v| v as f32);
+    let ndc_x = |x: f32| 2.0 * (x - rx) / rw.max(1.0) - 1.0;
+    let ndc_y = |y: f32| 1.0 - 2.0 * (y - ry) / rh.max(1.0);
+    pixels
+        .iter()
+        .map(|c| {
+            let [cx, cy, cw, ch] = c.map(|v| v as f32);
+            [ndc_x(cx), ndc_y(cy + ch), ndc_x(cx + cw), ndc_y(cy)]
+        })
+        .collect()
+}
+
 /// Radius of the ring that marks a sphere's contact point through the body (ramp units, ⟨r⟩ = 1).
 const CONTACT_RING_RADIUS: f64 = 0.12;
 
 impl SceneView {
-    /// The body on the ramp drawn in `rect`, centred in its top `1 − lift / 2` (a lesson's
-    /// caption band takes the bottom: the picture is lifted, [`Camera::lens_shift_y`], not made
-    /// smaller, so the body keeps the size it has without a caption). `covered` are the
-    /// frame's rectangles drawn over this view (the insets, the caption band), which the
-    /// downhill arrow keeps out of.
+    /// The body on the ramp drawn in `rect`, at the pixel scale of a view `scale_height` pixels
+    /// tall: a view shortened by a lesson's caption band shows the body as large as a full
+    /// one (a narrower field of view, not a smaller body; drawing the ramp on behind the caption
+    /// instead cost llvmpipe 5 % of the frame). `covered` are the frame's rectangles drawn over
+    /// this view (the insets), which the downhill arrow keeps out of.
     pub(super) fn body_view(
         &self,
         snap: &Snapshot,
         rect: [u32; 4],
-        lift: f32,
+        scale_height: u32,
         covered: &[[u32; 4]],
         options: &ViewOptions,
     ) -> View {
@@ -134,28 +149,8 @@ impl SceneView {
             (false, Some(fixed)) => world_from_ramp.transform_point3(fixed.as_vec3()),
             _ => world_from_ramp.transform_point3(centre),
         };
-        let base_dir = if self.is_disk {
-            Vec3::new(-0.12, -1.0, 0.3)
-        } else {
-            Vec3::new(-0.3, -1.0, 0.5)
-        }
-        .normalize();
-        let dir = Quat::from_rotation_z(options.yaw)
-            * Quat::from_axis_angle(
-                Vec3::Y.cross(base_dir).normalize_or(Vec3::X),
-                -options.pitch,
-            )
-            * base_dir;
-        let distance = 7.0 * options.zoom.clamp(0.1, 20.0);
-        let camera = Camera {
-            eye: target + dir * distance,
-            target,
-            up: Vec3::Z,
-            fov_y_rad: 40f32.to_radians(),
-            near: 0.05,
-            far: 200.0,
-            lens_shift_y: lift,
-        };
+        let shortened = rect[3].max(1) as f32 / scale_height.max(rect[3]).max(1) as f32;
+        let camera = self.body_camera(target, options, shortened);
         let snap_to = |v: f32| (v / 5.0).round() * 5.0;
         let meshes = vec![
             MeshInstance {
@@ -224,16 +219,7 @@ impl SceneView {
         let orange = linear([255, 140, 0], 1.0);
         let body = (world_from_ramp.transform_point3(centre), self.body_radius);
         let at = (f64::from(centre.x), f64::from(centre.y));
-        let [rx, ry, rw, rh] = rect.map(|v| v as f32);
-        let covered: Vec<[f32; 4]> = covered
-            .iter()
-            .map(|c| {
-                let [cx, cy, cw, ch] = c.map(|v| v as f32);
-                let ndc_x = |x: f32| 2.0 * (x - rx) / rw.max(1.0) - 1.0;
-                let ndc_y = |y: f32| 1.0 - 2.0 * (y - ry) / rh.max(1.0);
-                [ndc_x(cx), ndc_y(cy + ch), ndc_x(cx + cw), ndc_y(cy)]
-            })
-            .collect();
+        let covered = clip_boxes(rect, covered);
         for (a, b) in downhill_arrow(&camera, aspect, at, to_world, body, &covered) {
             segments.push(Segment {
                 a: to_world(a),
@@ -270,6 +256,33 @@ impl SceneView {
             meshes,
             segments,
             segments_on_top,
+        }
+    }
+
+    /// The camera of the body's view looking at `target`, turned and zoomed by `options`; its
+    /// field of view narrowed by `shortened` (the view's height over the height it is scaled
+    /// for), so the body keeps its size in a view cut short by a caption.
+    fn body_camera(&self, target: Vec3, options: &ViewOptions, shortened: f32) -> Camera {
+        let base_dir = if self.is_disk {
+            Vec3::new(-0.12, -1.0, 0.3)
+        } else {
+            Vec3::new(-0.3, -1.0, 0.5)
+        }
+        .normalize();
+        let dir = Quat::from_rotation_z(options.yaw)
+            * Quat::from_axis_angle(
+                Vec3::Y.cross(base_dir).normalize_or(Vec3::X),
+                -options.pitch,
+            )
+            * base_dir;
+        let distance = 7.0 * options.zoom.clamp(0.1, 20.0);
+        Camera {
+            eye: target + dir * distance,
+            target,
+            up: Vec3::Z,
+            fov_y_rad: 2.0 * (20f32.to_radians().tan() * shortened).atan(),
+            near: 0.05,
+            far: 200.0,
         }
     }
 
@@ -512,7 +525,6 @@ mod tests {
             fov_y_rad: 40f32.to_radians(),
             near: 0.05,
             far: 200.0,
-            lens_shift_y: 0.0,
         }
     }
 

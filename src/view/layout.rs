@@ -105,6 +105,5 @@ pub fn ball_camera() -> Camera {
         fov_y_rad: 40f32.to_radians(),
         near: 0.1,
         far: 20.0,
-        lens_shift_y: 0.0,
     }
 }

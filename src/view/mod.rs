@@ -16,15 +16,17 @@
 //! | `body` | the body on the ramp, the SO(3) ball and the Poincaré field as draw data |
 //! | `panels` | the status text, the legends and the titles |
 //!
-//! Colours come from [`crate::colormap`]; the Poincaré field from [`crate::sim::FieldCache`].
+//! Colours come from [`crate::colormap`]; the Poincaré field from [`crate::live::FieldCache`].
 
 use crate::analysis::sphere_orbits::FieldArrow;
 use crate::colormap::{DIVERGING, VIRIDIS, linear, sample};
 use crate::geometry::Body;
 use crate::geometry::mesh::{TriMesh, disk_mesh, icosphere, sphere_mesh};
-use crate::render::types::{Anchor, Frame, MeshData, MeshHandle, MeshStore, Panel, PanelItem};
+use crate::live::Snapshot;
+use crate::render::types::{
+    Anchor, Frame, MeshData, MeshHandle, MeshStore, OverlayPanel, PanelItem,
+};
 use crate::scene::SceneSetup;
-use crate::sim::Snapshot;
 use glam::DVec3;
 
 mod body;
@@ -257,9 +259,9 @@ impl SceneView {
         let text = options.text_scale * fit.clamp(0.3, 3.0);
         // A lesson's caption is part of what it shows, so it stays when the overlay is off.
         // It sits above the colour legend (about 70 px tall at text scale 1), in a band of its
-        // own: the camera lifts the body into the part of its view above the band, at the size
-        // it has without a caption, so the caption never covers the body and the ramp shows
-        // behind the caption (tests/presentation.rs measures it on every lesson step).
+        // own: the body's view ends above the band and keeps the scale it has without a caption,
+        // so the caption never covers the body and the body stays as large as elsewhere
+        // (tests/presentation.rs measures it on every lesson step).
         // Under a caption the colour legend keeps the plain size: the caption is what the room
         // reads, and a large legend would lift it into the body's view.
         let legend_text = if snap.caption.is_some() {
@@ -273,21 +275,18 @@ impl SceneView {
             10
         };
         let caption = panels::caption_panel(snap, text, 0.86 * size.0 as f32, lift);
-        // The caption's band, over the bottom of the body's view (at most half of it).
+        // The caption's band, under the body's view (at most half of the frame).
         let band = match (&body_rect, &caption) {
             (Some(rect), Some(c)) => {
                 (lift + panels::estimated_height(c) + (6.0 * text) as u32).min(rect[3] / 2)
             }
             _ => 0,
         };
-        if let Some(rect) = body_rect {
-            let mut covered: Vec<[u32; 4]> =
-                [ball_rect, poincare_rect].into_iter().flatten().collect();
-            if band > 0 {
-                covered.push([rect[0], rect[1] + rect[3] - band, rect[2], band]);
-            }
-            let lift = band as f32 / rect[3].max(1) as f32;
-            views.push(self.body_view(snap, rect, lift, &covered, options));
+        if let Some(mut rect) = body_rect {
+            let covered: Vec<[u32; 4]> = [ball_rect, poincare_rect].into_iter().flatten().collect();
+            let full_height = rect[3];
+            rect[3] -= band;
+            views.push(self.body_view(snap, rect, full_height, &covered, options));
         }
         if let Some(rect) = ball_rect {
             views.push(self.ball_view(
@@ -316,7 +315,7 @@ impl SceneView {
                 && let Some(f) = field
             {
                 let vmax = field_max(f);
-                panels.push(Panel {
+                panels.push(OverlayPanel {
                     anchor: Anchor::TopLeft(rect[0] + 8, rect[1] + rect[3] - (70.0 * text) as u32),
                     items: vec![
                         PanelItem::Text {

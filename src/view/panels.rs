@@ -2,13 +2,13 @@
 //! legends and the view titles.
 
 use crate::colormap::DIVERGING;
-use crate::render::types::{Anchor, Panel, PanelItem};
-use crate::sim::Snapshot;
+use crate::live::Snapshot;
+use crate::render::types::{Anchor, OverlayPanel, PanelItem};
 
 use super::SceneView;
 
 impl SceneView {
-    pub(super) fn status_panel(&self, snap: &Snapshot, text: f32) -> Panel {
+    pub(super) fn status_panel(&self, snap: &Snapshot, text: f32) -> OverlayPanel {
         let deg = snap.alpha_rad.to_degrees();
         let ratio = if snap.alpha_star > 0.0 {
             format!("α/α* = {:.4}", snap.alpha_rad / snap.alpha_star)
@@ -124,7 +124,7 @@ impl SceneView {
                 color: [190; 3],
             });
         }
-        Panel {
+        OverlayPanel {
             anchor: Anchor::TopLeft(10, 10),
             items,
             background: [16, 18, 24, 200],
@@ -132,7 +132,7 @@ impl SceneView {
         }
     }
 
-    pub(super) fn legend_panel(&self, text: f32) -> Panel {
+    pub(super) fn legend_panel(&self, text: f32) -> OverlayPanel {
         let s = &self.scale;
         let what = if self.is_disk {
             "curvature κ of the section (1 = circle)"
@@ -144,7 +144,7 @@ impl SceneView {
             labels.push((s.position(s.min), format!("{:.2}", s.min)));
             labels.push((s.position(s.max), format!("{:.2}", s.max)));
         }
-        Panel {
+        OverlayPanel {
             anchor: Anchor::BottomLeft(10, 10),
             items: vec![
                 PanelItem::Text {
@@ -177,7 +177,7 @@ pub(super) fn caption_panel(
     text: f32,
     max_width: f32,
     lift: u32,
-) -> Option<Panel> {
+) -> Option<OverlayPanel> {
     let caption = snap.caption.as_deref()?;
     let size_px = 22.0 * text;
     let per_line = ((max_width / (CHARS_EM * size_px)) as usize).max(12);
@@ -198,7 +198,7 @@ pub(super) fn caption_panel(
                 color: [250; 3],
             }),
     );
-    Some(Panel {
+    Some(OverlayPanel {
         anchor: Anchor::BottomCentre(lift),
         items,
         background: [10, 12, 18, 240],
@@ -210,7 +210,7 @@ pub(super) fn caption_panel(
 /// 1.164 of its size (ascent 0.928 + descent 0.236), taken as 1.2, plus the 2 px the overlay
 /// puts under each item and the padding (the view layer has no font metrics; `render::overlay`
 /// measures exactly, and tests/presentation.rs checks the band it sets against it).
-pub(super) fn estimated_height(panel: &Panel) -> u32 {
+pub(super) fn estimated_height(panel: &OverlayPanel) -> u32 {
     let items: f32 = panel
         .items
         .iter()
@@ -249,7 +249,7 @@ pub(super) fn trim(x: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-pub(super) fn title_panel(rect: [u32; 4], title: &str, text: f32) -> Panel {
+pub(super) fn title_panel(rect: [u32; 4], title: &str, text: f32) -> OverlayPanel {
     // The title keeps the text size of the other panels (a projector's room reads it too) and
     // wraps to its inset's width; only a word longer than the inset shrinks it. (Shrunk to one
     // line it was 11 px at 720p in class text.) CHARS_EM overestimates DejaVu's advance, so
@@ -259,7 +259,7 @@ pub(super) fn title_panel(rect: [u32; 4], title: &str, text: f32) -> Panel {
     let lines = wrap(title, ((width / (CHARS_EM * size_px)) as usize).max(1));
     let longest = lines.iter().map(|l| l.chars().count()).max().unwrap_or(1);
     let size_px = size_px.min(width / (CHARS_EM * longest as f32));
-    Panel {
+    OverlayPanel {
         anchor: Anchor::TopLeft(rect[0] + 6, rect[1] + 6),
         items: lines
             .into_iter()
@@ -305,7 +305,7 @@ mod tests {
         assert_eq!(wrap("α α α α", 3), ["α α", "α α"]);
     }
 
-    fn texts(panel: &Panel) -> Vec<(String, f32)> {
+    fn texts(panel: &OverlayPanel) -> Vec<(String, f32)> {
         panel
             .items
             .iter()
@@ -323,7 +323,7 @@ mod tests {
             .setup(None)
             .unwrap();
         let caption = setup.timeline[0].caption.clone().unwrap();
-        let snap = crate::sim::Simulation::new(setup).snapshot();
+        let snap = crate::live::LiveRun::new(setup).snapshot();
         let normal = caption_panel(&snap, 1.0, 700.0, 10).unwrap();
         assert_eq!(normal.anchor, Anchor::BottomCentre(10));
         let lines = texts(&normal);
@@ -345,7 +345,7 @@ mod tests {
             .unwrap()
             .setup(None)
             .unwrap();
-        let snap = crate::sim::Simulation::new(plain).snapshot();
+        let snap = crate::live::LiveRun::new(plain).snapshot();
         assert!(caption_panel(&snap, 1.0, 700.0, 10).is_none());
     }
 }

@@ -14,11 +14,11 @@ use crate::analysis::accuracy::{self, AccuracyRow, Case, REFERENCE};
 use crate::assets::{
     DISK as BUNDLED_DISK, DISK_INERTIAL as BUNDLED_DISK_INERTIAL, SPHERE as BUNDLED_SPHERE,
 };
+use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
 use crate::dynamics::ModelKind;
 use crate::figures::csv_text;
 use crate::geometry::Body;
 use crate::integrate::Method;
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
 
 /// Options of `bench accuracy`.
 ///

@@ -10,8 +10,8 @@ use super::AppBenchArgs;
 /// Runs `bench app`.
 pub fn run(a: AppBenchArgs) -> Result<()> {
     use crate::integrate::Preset;
+    use crate::live::SimCommand;
     use crate::render::gpu::{OFFSCREEN_FORMAT, OffscreenTarget};
-    use crate::sim::SimCommand;
     use crate::ui::workbench::{Workbench, offscreen_input};
 
     if !(a.seconds.is_finite() && a.seconds > 0.0) {
@@ -30,7 +30,7 @@ pub fn run(a: AppBenchArgs) -> Result<()> {
             crate::cli::short(speed)
         );
     }
-    let setup = crate::cli::render::pick_scene(None, Some(&a.preset))?;
+    let setup = crate::cli::pick_scene(None, Some(&a.preset))?;
     let gpu = crate::render::GpuContext::headless()?;
     let target = OffscreenTarget::new(&gpu.device, a.size);
     let mut bench = Workbench::new(

@@ -22,7 +22,7 @@ pub fn run(a: RenderBenchArgs) -> Result<()> {
             a.frames
         );
     }
-    let setup = crate::cli::render::pick_scene(None, Some(&a.preset))?;
+    let setup = crate::cli::pick_scene(None, Some(&a.preset))?;
     // The PNGs of the last row go to a scratch folder, removed at the end or on Ctrl-C.
     let scratch = crate::output::ScratchFolder::create("bench-render")?;
     let out = scratch.path().to_path_buf();

@@ -10,9 +10,9 @@ use serde::Serialize;
 use super::{bundled, fmt_num, write};
 use crate::analysis::accuracy::{self, Case, REFERENCE};
 use crate::assets::{DISK as BUNDLED_DISK, SPHERE as BUNDLED_SPHERE};
+use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
 use crate::dynamics::Ramp;
 use crate::integrate::Method;
-use crate::plot::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
 
 /// Options of `bench stiff`.
 ///

@@ -18,7 +18,7 @@
 
 use glam::{DQuat, DVec3};
 
-use super::{OdeSystem, rk4::rk4_step};
+use super::{OdeSystem, classical::rk4_step};
 
 /// Reads q (w, x, y, z) from a state slot.
 ///

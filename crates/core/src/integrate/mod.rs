@@ -15,6 +15,7 @@
 //! States are plain `[f64; N]` arrays: no allocation per step, and the compiler unrolls the
 //! stage loops, which is what makes a 3D run of 100 time units take milliseconds.
 
+mod classical;
 pub mod dop853;
 pub mod events;
 pub mod lie;

@@ -13,6 +13,7 @@
 //! with [`IntegrateError::StepTooCoarse`], naming dt, the estimate and a step that would pass.
 //! It costs 7 evaluations every 8 steps (+22 %) and never changes the trajectory.
 
+use super::classical::rk4_step;
 use super::lie::{cf4_step, quat_at, set_quat};
 use super::{IntegrateError, OdeSystem, Stats, Stepper, all_finite, hermite};
 
@@ -114,23 +115,6 @@ fn suggested_step(h: f64, estimate: f64) -> f64 {
     let raw = raw.clamp(0.01 * h, 0.5 * h);
     let p = 10f64.powf(raw.log10().floor());
     (raw / p).floor() * p
-}
-
-/// One classical RK4 step from (t, y) with y' = f already known at the start.
-pub(crate) fn rk4_step<S: OdeSystem<N>, const N: usize>(
-    system: &S,
-    t: f64,
-    y: &[f64; N],
-    k1: &[f64; N],
-    h: f64,
-) -> [f64; N] {
-    let y2: [f64; N] = std::array::from_fn(|i| y[i] + 0.5 * h * k1[i]);
-    let k2 = system.rhs(t + 0.5 * h, &y2);
-    let y3: [f64; N] = std::array::from_fn(|i| y[i] + 0.5 * h * k2[i]);
-    let k3 = system.rhs(t + 0.5 * h, &y3);
-    let y4: [f64; N] = std::array::from_fn(|i| y[i] + h * k3[i]);
-    let k4 = system.rhs(t + h, &y4);
-    std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
 }
 
 impl<S: OdeSystem<N>, const N: usize> Stepper<N> for FixedStep<'_, S, N> {

@@ -5,7 +5,7 @@ use crate::dynamics::Ramp;
 use crate::integrate::Method;
 use crate::scene::{SceneSetup, ViewsSpec};
 
-use super::Simulation;
+use super::LiveRun;
 
 /// What the UI asks of the simulation (the app's controls; see [`Controller`]).
 #[derive(Debug, Clone)]
@@ -47,7 +47,7 @@ pub enum SimCommand {
 /// state; it never ends the program.
 #[derive(Debug, Clone)]
 pub struct Controller {
-    sim: Simulation,
+    sim: LiveRun,
     paused: bool,
     speed: f64,
     message: Option<String>,
@@ -57,7 +57,7 @@ pub struct Controller {
 impl Controller {
     /// A controller running `setup` from its start, playing at the scene's speed.
     pub fn new(setup: SceneSetup) -> Self {
-        let mut sim = Simulation::new(setup);
+        let mut sim = LiveRun::new(setup);
         // A lesson's step at t = 0 may set the first speed.
         let speed = sim
             .take_speed_change()
@@ -72,7 +72,7 @@ impl Controller {
     }
 
     /// The simulation.
-    pub fn simulation(&self) -> &Simulation {
+    pub fn simulation(&self) -> &LiveRun {
         &self.sim
     }
 
@@ -163,12 +163,12 @@ impl Controller {
             }
             SimCommand::Load(setup) => {
                 self.speed = setup.scene.playback.speed;
-                self.sim = Simulation::new(*setup);
+                self.sim = LiveRun::new(*setup);
                 self.follow_lesson_speed();
                 Ok(())
             }
             SimCommand::Restart(setup) => {
-                self.sim = Simulation::new(*setup);
+                self.sim = LiveRun::new(*setup);
                 self.follow_lesson_speed();
                 Ok(())
             }

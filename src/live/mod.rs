@@ -3,7 +3,7 @@
 //! trail on the body, the orientation's path in the SO(3) ball), the measured period and the
 //! numerical health. Headless frames and the app's simulation thread both drive it.
 //!
-//! Time is an argument ([`Simulation::advance_to`]): the same scene and the same sequence of
+//! Time is an argument ([`LiveRun::advance_to`]): the same scene and the same sequence of
 //! target times give the same numbers on every run. Each call restarts the integrator from the
 //! stored state, so a run's values depend (within the tolerance) on the frame times it was
 //! advanced through, never on wall-clock time.
@@ -18,7 +18,7 @@
 //!
 //! | file | owns |
 //! |---|---|
-//! | `simulation` | [`Simulation`], [`Snapshot`], health (the running model is [`crate::simulate::ModelState`]) |
+//! | `simulation` | [`LiveRun`], [`Snapshot`], health (the running model is [`crate::simulate::ModelState`]) |
 //! | `controller` | [`Controller`], [`SimCommand`] |
 //! | `thread` | [`SimThread`], [`SimStatus`] |
 //! | `field` | [`FieldCache`]: Poincaré fields computed off the render thread |
@@ -27,10 +27,10 @@
 mod controller;
 mod field;
 pub mod history;
-mod simulation;
+mod live_run;
 mod thread;
 
 pub use controller::{Controller, SimCommand};
 pub use field::FieldCache;
-pub use simulation::*;
+pub use live_run::*;
 pub use thread::{SimStatus, SimThread, TICK_INTERVAL};

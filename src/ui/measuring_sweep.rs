@@ -2,7 +2,7 @@
 //! run there is measured (its period settled, the body halted, or its cycle of ∂Ω crossings
 //! found), so the 1/T plot (α) or the crossing plot (m/m0) gets its point, then step. A sweep
 //! that moved the parameter a little every frame restarted the period's detection every frame
-//! and never drew a point. Plain data: [`SweepHold::observe`] and [`AutoSweep::next`] are the
+//! and never drew a point. Plain data: [`SweepHold::observe`] and [`MeasuringSweep::next`] are the
 //! whole rule.
 
 use super::{ALPHA_MAX, ALPHA_MIN, MASS_RANGE};
@@ -50,7 +50,7 @@ impl SweepTarget {
 
 /// A sweep: which parameter, and by how much per point.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AutoSweep {
+pub struct MeasuringSweep {
     /// What moves.
     pub target: SweepTarget,
     /// The step after each point ([`SweepTarget::step_hint`]).
@@ -60,7 +60,7 @@ pub struct AutoSweep {
     pub end: Option<f64>,
 }
 
-impl Default for AutoSweep {
+impl Default for MeasuringSweep {
     fn default() -> Self {
         Self {
             target: SweepTarget::MassRatio,
@@ -81,7 +81,7 @@ pub enum SweepStep {
     Done,
 }
 
-impl AutoSweep {
+impl MeasuringSweep {
     /// The step after a point measured at α = `alpha`, m/m0 = `mass_ratio` (a viscous run's 0
     /// starts a mass sweep at `mass_start`, the slider's value, to be measured first).
     pub fn next(&self, alpha: f64, mass_ratio: f64, mass_start: f64) -> SweepStep {
@@ -297,41 +297,41 @@ mod tests {
 
     #[test]
     fn a_sweep_steps_by_its_step_and_stops_at_the_end() {
-        let up = AutoSweep {
+        let up = MeasuringSweep {
             target: SweepTarget::Alpha,
             step: 0.002,
             end: None,
         };
         assert_eq!(up.next(0.1, 0.0, 1.0), SweepStep::Alpha(0.1 + 0.002));
         // An end stops it there: 0.104 is taken, 0.106 is past 0.105.
-        let to = AutoSweep {
+        let to = MeasuringSweep {
             end: Some(0.105),
             ..up
         };
         assert_eq!(to.next(0.102, 0.0, 1.0), SweepStep::Alpha(0.102 + 0.002));
         assert_eq!(to.next(0.104, 0.0, 1.0), SweepStep::Done);
-        let down_to = AutoSweep {
+        let down_to = MeasuringSweep {
             step: -0.002,
             end: Some(0.1),
             ..up
         };
         assert_eq!(down_to.next(0.101, 0.0, 1.0), SweepStep::Done);
         assert_eq!(up.next(ALPHA_MAX - 1e-6, 0.0, 1.0), SweepStep::Done);
-        let heavier = AutoSweep::default();
+        let heavier = MeasuringSweep::default();
         let SweepStep::MassRatio(m) = heavier.next(0.15, 2.0, 1.0) else {
             panic!("a mass step")
         };
         assert!((m - 2.0 * 0.05f64.exp()).abs() < 1e-12);
         // From the viscous model a mass sweep starts at the slider's m/m0.
         assert_eq!(heavier.next(0.15, 0.0, 3.0), SweepStep::MassRatio(3.0));
-        let lighter = AutoSweep {
+        let lighter = MeasuringSweep {
             target: SweepTarget::MassRatio,
             step: -1.0,
             end: None,
         };
         assert_eq!(lighter.next(0.15, 1.1e-3, 1.0), SweepStep::Done);
         // A broken step moves nothing (and the hold then measures the same value again).
-        let broken = AutoSweep {
+        let broken = MeasuringSweep {
             target: SweepTarget::Alpha,
             step: f64::INFINITY,
             end: None,

@@ -46,7 +46,7 @@ use super::shard::{
     Ensemble, Ensembled, Fields, JobId, Record, ShardSet, ShardSpec, ShardWritten, run_ensemble,
 };
 use super::{number_field, par_map};
-use crate::analysis::scan::{Scan, ScanTally};
+use crate::analysis::scan::{Scan, ScanRun, ScanTally};
 use crate::analysis::sphere_orbits::{AnswerCheck, Fate, Settle};
 use crate::dynamics::Ramp;
 use crate::dynamics::validity::ContactReport;
@@ -509,7 +509,7 @@ impl Sweep {
     }
 
     /// Run k, with the run named in its error (body label, α, m/m0, orientation, integrator).
-    fn run_one(&self, k: usize) -> Result<RunResult> {
+    fn run_one(&self, k: usize) -> Result<ScanRun> {
         self.scan.run(k).with_context(|| {
             let p = self.scan.point(k);
             format!(
@@ -551,7 +551,7 @@ impl Sweep {
             let end = (start + BLOCK).min(n);
             // One task per run (their costs differ by orders of magnitude); results come back
             // in index order, so the bytes do not depend on the thread count.
-            let results: Vec<Result<RunResult>> = (start..end)
+            let results: Vec<Result<ScanRun>> = (start..end)
                 .into_par_iter()
                 .with_max_len(1)
                 .map(|k| {
@@ -594,7 +594,7 @@ impl Sweep {
     }
 
     /// Run k's CSV row.
-    fn row(&self, k: usize, r: &RunResult) -> [String; 21] {
+    fn row(&self, k: usize, r: &ScanRun) -> [String; 21] {
         let p = self.scan.point(k);
         let (fate, period, mult, halt, omega_end) = fate_fields(&r.fate);
         let (fast_fate, fast_period, fast_mult) = match &r.check {
@@ -688,7 +688,7 @@ struct SweepRows<'a> {
 
 impl SweepRows<'_> {
     /// Adds run k (runs arrive in index order).
-    fn push(&mut self, k: usize, r: &RunResult) -> Result<()> {
+    fn push(&mut self, k: usize, r: &ScanRun) -> Result<()> {
         if k != self.next {
             bail!(
                 "internal error: sweep run {k} arrived before run {}",
@@ -761,10 +761,7 @@ pub struct SweepSummary {
     pub rhs_evals: u64,
 }
 
-/// One run's outcome.
-pub use crate::analysis::scan::ScanRun as RunResult;
-
-impl Record for RunResult {
+impl Record for ScanRun {
     fn encode(&self, out: &mut Vec<f64>) {
         self.fate.encode(out);
         self.rhs_evals.encode(out);
@@ -790,7 +787,7 @@ impl Record for RunResult {
             },
             v => bail!("{v} is not an answer check (0 reference, 1 confirmed, 2 corrected)"),
         };
-        Ok(RunResult {
+        Ok(ScanRun {
             fate,
             check,
             rhs_evals,
@@ -842,7 +839,7 @@ pub fn merge(dir: &Path, shards: &ShardSet) -> Result<SweepSummary> {
     }
     let mut rows = sweep.rows(dir, &inputs)?;
     shards.for_each_record(|k, record| {
-        let r: RunResult = shards.decode(super::SCAN_NAME, k, record)?;
+        let r: ScanRun = shards.decode(super::SCAN_NAME, k, record)?;
         rows.push(k, &r)
     })?;
     rows.finish()

@@ -51,9 +51,10 @@ pub struct Sample {
     pub friction_needed: f64,
 }
 
-/// Which way α was last moved.
+/// The branch of the 1/T plot a point belongs to: the way α was last moved (hysteresis shows
+/// as two branches).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Sweep {
+pub enum Branch {
     /// α increased (or not moved yet).
     Up,
     /// α decreased.
@@ -65,9 +66,9 @@ pub enum Sweep {
 pub struct PlotHistory {
     samples: VecDeque<Sample>,
     /// (direction, α bin) → (α, 1/T, m/m0).
-    sweep: BTreeMap<(Sweep, i64), (f64, f64, f64)>,
+    sweep: BTreeMap<(Branch, i64), (f64, f64, f64)>,
     last_alpha: Option<f64>,
-    direction: Option<Sweep>,
+    direction: Option<Branch>,
     last_period: Option<f64>,
     /// (m/m0, polar angle of the crossing point with p_z ≥ 0) of settled ∂Ω crossings.
     crossings_by_mass: VecDeque<[f64; 2]>,
@@ -80,9 +81,9 @@ pub struct PlotHistory {
 /// of the step returned to.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct PlotCheckpoint {
-    sweep: BTreeMap<(Sweep, i64), (f64, f64, f64)>,
+    sweep: BTreeMap<(Branch, i64), (f64, f64, f64)>,
     last_alpha: Option<f64>,
-    direction: Option<Sweep>,
+    direction: Option<Branch>,
     crossings_by_mass: VecDeque<[f64; 2]>,
     last_crossing_t: Option<f64>,
 }
@@ -125,7 +126,7 @@ impl PlotHistory {
         self.last_period = None;
     }
 
-    /// Takes in the simulation's samples ([`Simulation::take_plot_samples`](super::Simulation::take_plot_samples)),
+    /// Takes in the simulation's samples ([`LiveRun::take_plot_samples`](super::LiveRun::take_plot_samples)),
     /// oldest first; one not after the last taken is left out.
     pub fn push_samples(&mut self, samples: impl IntoIterator<Item = Sample>) {
         for s in samples {
@@ -146,12 +147,16 @@ impl PlotHistory {
         if let Some(prev) = self.last_alpha
             && alpha != prev
         {
-            self.direction = Some(if alpha > prev { Sweep::Up } else { Sweep::Down });
+            self.direction = Some(if alpha > prev {
+                Branch::Up
+            } else {
+                Branch::Down
+            });
             // Periods measured before the change belong to the old α.
             self.last_period = snap.period;
         }
         self.last_alpha = Some(alpha);
-        let direction = self.direction.unwrap_or(Sweep::Up);
+        let direction = self.direction.unwrap_or(Branch::Up);
         let bin = (alpha.ln() / SWEEP_BIN).round() as i64;
         if snap.halted {
             self.sweep
@@ -185,7 +190,7 @@ impl PlotHistory {
     pub fn resumed(resume: &crate::scene::ResumeSpec, alpha_now: f64) -> Self {
         let mut history = Self::default();
         for &[alpha, rate, mass, dir] in &resume.alpha_sweep {
-            let direction = if dir < 0.0 { Sweep::Down } else { Sweep::Up };
+            let direction = if dir < 0.0 { Branch::Down } else { Branch::Up };
             let bin = (alpha.ln() / SWEEP_BIN).round() as i64;
             history.sweep.insert((direction, bin), (alpha, rate, mass));
         }
@@ -202,7 +207,7 @@ impl PlotHistory {
         self.sweep
             .iter()
             .map(|(&(direction, _), &(alpha, rate, mass))| {
-                let dir = if direction == Sweep::Down { -1.0 } else { 1.0 };
+                let dir = if direction == Branch::Down { -1.0 } else { 1.0 };
                 [alpha, rate, mass, dir]
             })
             .collect()
@@ -243,7 +248,7 @@ impl PlotHistory {
     }
 
     /// The sweep points (α, 1/T) of one direction, by α.
-    pub fn sweep(&self, direction: Sweep) -> Vec<[f64; 2]> {
+    pub fn sweep(&self, direction: Branch) -> Vec<[f64; 2]> {
         self.sweep
             .iter()
             .filter(|((d, _), _)| *d == direction)
@@ -253,7 +258,7 @@ impl PlotHistory {
 
     /// The sweep points (α, 1/T, m/m0) of one direction, by α: the m/m0 each was measured at
     /// (a lesson may sweep α at several masses).
-    pub fn sweep_with_mass(&self, direction: Sweep) -> Vec<[f64; 3]> {
+    pub fn sweep_with_mass(&self, direction: Branch) -> Vec<[f64; 3]> {
         self.sweep
             .iter()
             .filter(|((d, _), _)| *d == direction)
@@ -312,7 +317,7 @@ pub fn health_quantities(measured: Measured) -> Vec<HealthQuantity> {
 pub enum PlotData {
     /// 1/T against α: `direction,alpha,inverse_period,mass_ratio` (direction "up" or "down";
     /// the m/m0 the point was measured at).
-    Sweep,
+    AlphaSweep,
     /// Settled ∂Ω crossings against m/m0: `mass_ratio,polar_angle`.
     Crossings,
     /// The numerical health against time: `t` and the quantities the model measures.
@@ -389,7 +394,7 @@ impl PlotMeta {
 impl PlotData {
     /// All five, in file order.
     pub const ALL: [PlotData; 5] = [
-        PlotData::Sweep,
+        PlotData::AlphaSweep,
         PlotData::Crossings,
         PlotData::Health,
         PlotData::Forces,
@@ -399,7 +404,7 @@ impl PlotData {
     /// What its columns are, for [`PlotMeta`].
     pub fn columns(self) -> &'static str {
         match self {
-            PlotData::Sweep => {
+            PlotData::AlphaSweep => {
                 "direction (up/down), alpha (rad), inverse_period (1/T; 0 where the body halted), \
                  mass_ratio (m/m0 when measured)"
             }
@@ -416,7 +421,7 @@ impl PlotData {
     /// The file name each is written to.
     pub fn file_name(self) -> &'static str {
         match self {
-            PlotData::Sweep => "sweep-alpha.csv",
+            PlotData::AlphaSweep => "sweep-alpha.csv",
             PlotData::Crossings => "sweep-mass.csv",
             PlotData::Health => "health.csv",
             PlotData::Forces => "contact-force.csv",
@@ -438,14 +443,14 @@ impl PlotHistory {
             out.write_record(&fields).expect("CSV to memory");
         };
         match data {
-            PlotData::Sweep => {
+            PlotData::AlphaSweep => {
                 row(vec![
                     "direction".into(),
                     "alpha".into(),
                     "inverse_period".into(),
                     "mass_ratio".into(),
                 ]);
-                for (direction, name) in [(Sweep::Up, "up"), (Sweep::Down, "down")] {
+                for (direction, name) in [(Branch::Up, "up"), (Branch::Down, "down")] {
                     for [a, f, m] in self.sweep_with_mass(direction) {
                         row(vec![name.into(), number(a), number(f), number(m)]);
                     }
@@ -546,8 +551,8 @@ impl PlotHistory {
 #[cfg(test)]
 mod tests {
     use super::{PlotData, PlotHistory};
+    use crate::live::{LiveRun, Measured};
     use crate::scene::Scene;
-    use crate::sim::{Measured, Simulation};
 
     /// An α sweep up and down on the near-critical cylinder: both directions in sweep-alpha.csv,
     /// a halted body as 1/T = 0, and the health columns of the model only.
@@ -558,7 +563,7 @@ mod tests {
             .setup(None)
             .unwrap();
         let alpha_star = setup.alpha_star;
-        let mut sim = Simulation::new(setup);
+        let mut sim = LiveRun::new(setup);
         let mut history = PlotHistory::default();
         let mut t = 0.0;
         for alpha in [1.5, 2.0, 1.5, 0.9].map(|f| f * alpha_star) {
@@ -577,7 +582,7 @@ mod tests {
             Measured::default(),
             "the viscous disk measures none"
         );
-        let sweep = history.csv(PlotData::Sweep, measured);
+        let sweep = history.csv(PlotData::AlphaSweep, measured);
         let rows: Vec<Vec<&str>> = sweep.lines().map(|l| l.split(',').collect()).collect();
         assert_eq!(
             rows[0],

@@ -1,4 +1,4 @@
-//! [`Simulation`]: one scene advanced to a requested time and observed as a [`Snapshot`]; its
+//! [`LiveRun`]: one scene advanced to a requested time and observed as a [`Snapshot`]; its
 //! model state, health figures and period bookkeeping, and the scene's lesson timeline, whose
 //! steps it applies when its time reaches them (so the app and headless mode play a lesson alike).
 
@@ -208,7 +208,7 @@ struct TrailSample {
 
 /// One scene's simulation.
 #[derive(Debug, Clone)]
-pub struct Simulation {
+pub struct LiveRun {
     setup: SceneSetup,
     ramp: Ramp,
     method: Method,
@@ -265,7 +265,7 @@ struct Observed {
     force: ContactForce,
 }
 
-impl Simulation {
+impl LiveRun {
     /// A simulation at the scene's start (t = 0; call [`Self::advance_to`] to skip ahead), or
     /// at its saved state (`[resume]`): there the lesson's steps up to the saved time count as
     /// done, with their captions and views, but not their α or m/m0 (the saved scene's model is
@@ -828,7 +828,7 @@ fn observe(state: &ModelState, ramp: &Ramp) -> Observed {
 
 /// Steps the run's model ([`ModelState::visit_mut`]) to a time.
 struct Integrate<'a> {
-    sim: &'a mut Simulation,
+    sim: &'a mut LiveRun,
     t_target: f64,
 }
 
