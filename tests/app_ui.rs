@@ -27,6 +27,18 @@ fn app(preset: &str) -> (GpuContext, OffscreenTarget, Workbench) {
     (gpu, target, bench)
 }
 
+/// The app core on a scene written as TOML (a lesson), played at `speed`; with its body's α*.
+fn lesson_app(text: &str, speed: f64) -> (GpuContext, OffscreenTarget, Workbench, f64) {
+    let mut scene = Scene::from_toml(text).unwrap();
+    scene.playback.speed = speed;
+    let setup = scene.setup(None).unwrap();
+    let alpha_star = setup.alpha_star;
+    let gpu = GpuContext::headless().unwrap();
+    let target = OffscreenTarget::new(&gpu.device, SIZE);
+    let bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
+    (gpu, target, bench, alpha_star)
+}
+
 fn key(k: egui::Key) -> Vec<egui::Event> {
     vec![egui::Event::Key {
         key: k,
@@ -611,14 +623,7 @@ at = 9.0
 alpha_over_critical = 3.0
 caption = ""
 "#;
-    let mut scene = Scene::from_toml(&text).unwrap();
-    scene.playback.speed = 5.0;
-    let setup = scene.setup(None).unwrap();
-    let alpha_star = setup.alpha_star;
-    let gpu = GpuContext::headless().unwrap();
-    let target = OffscreenTarget::new(&gpu.device, SIZE);
-    let mut bench =
-        Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
+    let (gpu, target, mut bench, alpha_star) = lesson_app(&text, 5.0);
     let steps = [
         (0.0, 1.02, Some("first")),
         (3.0, 1.5, Some("second")),
@@ -1264,14 +1269,7 @@ alpha_over_critical = 2.0
 at = 1200.0
 alpha_over_critical = 3.0
 "#;
-    let mut scene = Scene::from_toml(&text).unwrap();
-    scene.playback.speed = 500.0;
-    let setup = scene.setup(None).unwrap();
-    let alpha_star = setup.alpha_star;
-    let gpu = GpuContext::headless().unwrap();
-    let target = OffscreenTarget::new(&gpu.device, SIZE);
-    let mut bench =
-        Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
+    let (gpu, target, mut bench, alpha_star) = lesson_app(&text, 500.0);
     let points = |bench: &Workbench| -> Vec<[f64; 2]> {
         let h = bench.ui.history();
         let mut all = h.sweep(Branch::Up);

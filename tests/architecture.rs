@@ -23,13 +23,6 @@ fn allowed_table(md: &str) -> BTreeMap<String, Vec<String>> {
         .split("## Allowed imports")
         .nth(1)
         .expect("ARCHITECTURE.md has an \"Allowed imports\" section");
-    let backticked = |cell: &str| -> Vec<String> {
-        cell.split('`')
-            .skip(1)
-            .step_by(2)
-            .map(str::to_string)
-            .collect()
-    };
     let mut table = BTreeMap::new();
     for line in section.lines().skip_while(|l| !l.starts_with('|')) {
         if !line.starts_with('|') {
@@ -57,6 +50,15 @@ fn allowed_table(md: &str) -> BTreeMap<String, Vec<String>> {
         }
     }
     table
+}
+
+/// The `backticked` words of a table cell.
+fn backticked(cell: &str) -> Vec<String> {
+    cell.split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_string)
+        .collect()
 }
 
 fn architecture_table() -> BTreeMap<String, Vec<String>> {
@@ -616,13 +618,6 @@ fn the_module_table_names_every_source_file_of_each_module() {
     let end = md[start..]
         .find("\n## ")
         .map_or(md.len(), |i| start + 1 + i);
-    let backticked = |cell: &str| -> Vec<String> {
-        cell.split('`')
-            .skip(1)
-            .step_by(2)
-            .map(str::to_string)
-            .collect()
-    };
     let mut checked = 0;
     for line in md[start..end].lines().filter(|l| l.starts_with("| `")) {
         let cells: Vec<&str> = line.trim_matches('|').split('|').map(str::trim).collect();

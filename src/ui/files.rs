@@ -271,11 +271,23 @@ impl AppUi {
     /// Writes the scene to the path field's file. A saved scene carries its body inline, so it
     /// loads from anywhere.
     fn save_scene(&mut self, status: &SimStatus) {
+        let scene = self.scene_to_save(status);
+        self.write_scene(&scene);
+    }
+
+    /// The scene as it runs now ([`Self::current_scene`]) with its body inline, so the file
+    /// loads from anywhere.
+    fn scene_to_save(&self, status: &SimStatus) -> Scene {
         let mut scene = self.current_scene(status);
         scene.body = BodySpec {
             inline: Some(status.setup.body.to_shape()),
             ..BodySpec::default()
         };
+        scene
+    }
+
+    /// Writes `scene` to the scene path; the notice says where, or why not.
+    fn write_scene(&mut self, scene: &Scene) {
         self.notice = Some(match scene.to_toml() {
             Ok(text) => write_file(&self.scene_path, &text),
             Err(e) => (e.to_string(), true),
@@ -364,11 +376,7 @@ impl AppUi {
     /// `[resume]` of the time, the model's whole state and the sweep plots' points, so that
     /// opening it goes on where the run was.
     pub fn save_state(&mut self, status: &SimStatus) {
-        let mut scene = self.current_scene(status);
-        scene.body = BodySpec {
-            inline: Some(status.setup.body.to_shape()),
-            ..BodySpec::default()
-        };
+        let mut scene = self.scene_to_save(status);
         let snap = &status.snapshot;
         scene.description = format!(
             "Saved state at t = {} (α = {:.5} rad, m/m0 = {}); opening it goes on from there. {}",
@@ -383,10 +391,7 @@ impl AppUi {
             alpha_sweep: self.history.alpha_sweep_points(),
             crossings: self.history.crossings_by_mass(),
         });
-        self.notice = Some(match scene.to_toml() {
-            Ok(text) => write_file(&self.scene_path, &text),
-            Err(e) => (e.to_string(), true),
-        });
+        self.write_scene(&scene);
     }
 
     /// Sets the scene path (as typed into its field).
