@@ -27,9 +27,15 @@ fn app(preset: &str) -> (GpuContext, OffscreenTarget, Workbench) {
     (gpu, target, bench)
 }
 
-/// The app core on a scene written as TOML (a lesson), played at `speed`; with its body's α*.
-fn lesson_app(text: &str, speed: f64) -> (GpuContext, OffscreenTarget, Workbench, f64) {
-    let mut scene = Scene::from_toml(text).unwrap();
+/// The app core on the near-critical cylinder with a lesson's `[[timeline]]` steps (TOML),
+/// played at `speed`; with its body's α*.
+fn lesson_app(timeline: &str, speed: f64) -> (GpuContext, OffscreenTarget, Workbench, f64) {
+    let text = Scene::preset("cylinder-near-critical")
+        .unwrap()
+        .to_toml()
+        .unwrap()
+        + timeline;
+    let mut scene = Scene::from_toml(&text).unwrap();
     scene.playback.speed = speed;
     let setup = scene.setup(None).unwrap();
     let alpha_star = setup.alpha_star;
@@ -603,11 +609,7 @@ fn a_shift_drag_turns_the_body_about_the_ramp_normal_and_restarts_there() {
 fn a_lessons_steps_apply_at_their_times_and_the_keys_move_between_them() {
     // A short lesson on the near-critical cylinder: α steps at t = 3, 6 and 9, with captions,
     // played at 5 time units per second.
-    let text = Scene::preset("cylinder-near-critical")
-        .unwrap()
-        .to_toml()
-        .unwrap()
-        + r#"
+    let text = r#"
 [[timeline]]
 at = 0.0
 caption = "first"
@@ -623,7 +625,7 @@ at = 9.0
 alpha_over_critical = 3.0
 caption = ""
 "#;
-    let (gpu, target, mut bench, alpha_star) = lesson_app(&text, 5.0);
+    let (gpu, target, mut bench, alpha_star) = lesson_app(text, 5.0);
     let steps = [
         (0.0, 1.02, Some("first")),
         (3.0, 1.5, Some("second")),
@@ -1254,11 +1256,7 @@ fn every_key_press_counts_and_esc_closes_the_key_list_first() {
 /// lesson's final fit).
 #[test]
 fn going_back_a_lesson_step_restores_that_steps_plots() {
-    let text = Scene::preset("cylinder-near-critical")
-        .unwrap()
-        .to_toml()
-        .unwrap()
-        + r#"
+    let text = r#"
 [[timeline]]
 at = 0.0
 alpha_over_critical = 1.5
@@ -1269,7 +1267,7 @@ alpha_over_critical = 2.0
 at = 1200.0
 alpha_over_critical = 3.0
 "#;
-    let (gpu, target, mut bench, alpha_star) = lesson_app(&text, 500.0);
+    let (gpu, target, mut bench, alpha_star) = lesson_app(text, 500.0);
     let points = |bench: &Workbench| -> Vec<[f64; 2]> {
         let h = bench.ui.history();
         let mut all = h.sweep(Branch::Up);
