@@ -2,40 +2,199 @@
 
 Units: the force F, the drag γ and the mean radius ⟨r⟩ are 1; angles are in radians; mass is
 m/m0 (0: the viscous model). Orientations are body-to-lab unit quaternions (w, x, y, z); the
-ramp frame has x downhill and z along the ramp's normal. Bad input raises ValueError with the
-command line's message; Ctrl-C stops a long call with KeyboardInterrupt.
+ramp frame has x downhill and z along the ramp's normal.
+
+Arguments: the body and the ramp angle (and simulate's t_end) by position, every setting by
+name. Errors: bad input raises InputError (a ValueError) with the command line's message, a run
+that fails RunError (a RuntimeError), all of them RollphaseError; Ctrl-C stops a long call with
+KeyboardInterrupt. The dicts the studies return are typed below (TypedDicts, for type checkers
+only: import them under typing.TYPE_CHECKING).
 """
 
 from os import PathLike
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import List, Literal, Optional, Sequence, Tuple, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
+from typing_extensions import NotRequired
 
 __version__: str
 
 _Path = Union[str, PathLike]
 _Floats = npt.ArrayLike
+_Array = npt.NDArray[np.float64]
+_Complex = npt.NDArray[np.complex128]
+
+class RollphaseError(Exception):
+    """Base of every error rollphase raises."""
+
+class InputError(RollphaseError, ValueError):
+    """Bad input, refused before any work; also a ValueError."""
+
+class RunError(RollphaseError, RuntimeError):
+    """A run that started and could not finish (step budget spent, step too small, state no
+    longer finite, fixed step too coarse); also a RuntimeError."""
+
+class LeftModelError(RunError):
+    """A run stopped where the rolling model stops holding (on_invalid="stop")."""
+
+class InternalError(RollphaseError, RuntimeError):
+    """A bug in rollphase (a worker panicked). Please report it."""
+
+class RunSummary(TypedDict):
+    """A run's summary: the command line's --summary keys."""
+
+    model: str
+    integrator: str
+    rhs_evals: int
+    steps: int
+    rejected: int
+    max_quat_norm_error: Optional[float]
+    max_contact_normal_error: Optional[float]
+    energy_drift: Optional[float]
+    t_end: float
+    model_note: Optional[str]
+    min_normal_force: float
+    max_normal_force: float
+    max_friction_needed: Optional[float]
+    lift_off_t: Optional[float]
+    slip_t: Optional[float]
+    friction: Optional[float]
+    wall_seconds: float
+    rhs_evals_per_second: float
+    alpha: float
+    mass_ratio: float
+    tips: NotRequired[int]
+    tip_energy_lost: NotRequired[float]
+    rested_t: NotRequired[Optional[float]]
+
+class DegreeResidual(TypedDict):
+    modes: int
+    rms: float
+
+class MeshFitReport(TypedDict):
+    """Body.mesh_fit: the fit of a body to a mesh, as `rollphase shape --from-mesh --report`."""
+
+    file: str
+    format: str
+    triangles: int
+    dimension: int
+    modes: int
+    modes_rule: str
+    scale_mm: float
+    size_mm: float
+    centroid: List[float]
+    axis: Optional[List[float]]
+    section_axes: Optional[List[List[float]]]
+    rms_residual: float
+    rms_residual_mm: float
+    max_residual: float
+    max_residual_mm: float
+    max_residual_at: str
+    l1_part: float
+    l1_offset_mm: float
+    degree_residuals: List[DegreeResidual]
+    convex: bool
+    alpha_star: float
+    warnings: List[str]
+
+class CruisingFraction(TypedDict):
+    cruising: int
+    halted: int
+    undecided: int
+    fraction: float
+
+class PeriodicOrbit(TypedDict):
+    point: _Array
+    omega: _Array
+    period: float
+    multipliers: _Complex
+    max_modulus: float
+    stable: bool
+    starts: int
+    newton_steps: int
+
+class PredictedOrbit(TypedDict):
+    period: float
+    repeat: int
+    advance_down: float
+    advance_across: float
+    advance_down_mm: Optional[float]
+    advance_across_mm: Optional[float]
+    speed: float
+    stable: bool
+    multipliers: _Complex
+    max_modulus: float
+    fraction: float
+    starts: int
+    crossing: _Array
+    omega: _Array
+    path: _Array
+
+class Prediction(TypedDict):
+    dimension: int
+    alpha: float
+    mass_ratio: float
+    alpha_star: float
+    starts: int
+    halts: float
+    undecided: float
+    scale_mm: Optional[float]
+    orbits: List[PredictedOrbit]
+
+class PeriodCounts(TypedDict):
+    cycle_counts: npt.NDArray[np.uint64]
+    at_rest: int
+    undecided: int
+    longest_run: float
+
+class ContinuedOrbit(TypedDict):
+    orbit: int
+    mass_ratio: _Array
+    period: _Array
+    most_negative_real: _Array
+    multipliers: _Complex
+
+class Flip(TypedDict):
+    orbit: int
+    mass_ratio: float
+    loses_stability: bool
+
+class PeriodTwoWindow(TypedDict):
+    orbit: int
+    onset_mass: float
+    end_mass: Optional[float]
+    flip_onset_mass: Optional[float]
+    flip_end_mass: Optional[float]
+
+class MassBifurcation(TypedDict):
+    masses: _Array
+    period_counts: npt.NDArray[np.uint64]
+    orbits: List[ContinuedOrbit]
+    flips: List[Flip]
+    windows: List[PeriodTwoWindow]
+    undecided_runs: int
+    longest_run: float
 
 class Body:
     """A rolling body: a disk (2D, r(θ) = 1 + Σ a_l/l² sin(l(θ − θ_l))) or a sphere (3D,
     r(u) = 1 + Re Σ A_lm/(l(l+1)) Y_lm(u)), with mean radius 1."""
 
     @staticmethod
-    def paper_sphere(seed: int, sigma: float = 0.25, modes: int = 5) -> Body:
+    def paper_sphere(seed: int, *, sigma: float = 0.25, modes: int = 5) -> Body:
         """The paper's 3D body for a numpy seed (the authors' generator, bit for bit); seed 219
         is the body of the paper's Figs. 3 and 4. modes is the highest degree l, as the
         authors' L."""
     @staticmethod
-    def paper_disk(seed: int, sigma: float = 0.08, modes: int = 10) -> Body:
+    def paper_disk(seed: int, *, sigma: float = 0.08, modes: int = 10) -> Body:
         """The paper's 2D body for a numpy seed (the authors' generator, bit for bit). modes is the
         highest degree l; the authors' get_r(seed, num_modes, std) covers l = 2 … num_modes + 1,
         so their num_modes = 8 is modes=9 here."""
     @staticmethod
-    def random_sphere(seed: int, sigma: float = 0.25, modes: int = 5) -> Body:
+    def random_sphere(seed: int, *, sigma: float = 0.25, modes: int = 5) -> Body:
         """A random sphere from rollphase's own seeded generator."""
     @staticmethod
-    def random_disk(seed: int, sigma: float = 0.08, modes: int = 10) -> Body:
+    def random_disk(seed: int, *, sigma: float = 0.08, modes: int = 10) -> Body:
         """A random disk from rollphase's own seeded generator."""
     @staticmethod
     def from_file(path: _Path) -> Body:
@@ -43,6 +202,7 @@ class Body:
     @staticmethod
     def from_mesh(
         path: _Path,
+        *,
         modes: Optional[int] = None,
         dim: Optional[int] = None,
         axis: Optional[Tuple[float, float, float]] = None,
@@ -53,7 +213,7 @@ class Body:
         about the volume centroid, 2D (an extruded cylinder, found or dim=2) by a Fourier
         series of its section. The report is body.mesh_fit; warnings are UserWarnings; a mesh
         that is open, not star-shaped about its centroid, or fits no convex body raises
-        ValueError naming the place."""
+        InputError naming the place."""
     def to_file(self, path: _Path) -> None:
         """Writes the body as a shape file, whole or not at all (a link stays a link)."""
     def to_json(self) -> str:
@@ -69,7 +229,7 @@ class Body:
         """Millimetres per mean radius of the real object (a fitted body, or a shape file with
         scale_mm); None otherwise."""
     @property
-    def mesh_fit(self) -> Optional[Dict[str, Any]]:
+    def mesh_fit(self) -> Optional[MeshFitReport]:
         """The mesh fit's report for a body from Body.from_mesh: rms_residual(_mm),
         max_residual(_mm), max_residual_at, l1_part, l1_offset_mm, scale_mm, modes, modes_rule,
         degree_residuals, convex, alpha_star, warnings, …; None otherwise."""
@@ -81,57 +241,81 @@ class Body:
         direction of an (N, 3) array (normalised; N radii back) or of one (3,) direction."""
 
 class Trajectory:
-    """A run's samples as numpy arrays. Sphere: t (N,), q (N, 4) w, x, y, z, contact (N, 3)
-    body-frame contact point, omega (N, 3) lab angular velocity, com (N, 3) centre of mass.
-    Disk: t, theta, theta_dot, psi, x, y, each (N,). Both: the ramp's force on the body in
-    units of the weight F: normal_force (N,), friction (N, 2) (x downhill, y across) and
-    friction_needed (N,) = |friction|/normal_force (inf where normal_force ≤ 0). From
-    simulate_many every array but t has a leading axis of one row per start, and summary is a
-    list."""
+    """What every run's samples have: t (S,) and the ramp's force on the body in units of the
+    weight F, normal_force (S,), friction (S, 2) (x downhill, y across) and friction_needed
+    (S,) = |friction|/normal_force (inf where normal_force ≤ 0); from simulate_many each but t
+    with a leading axis of one row per start. The base of DiskTrajectory, SphereTrajectory and
+    SphereRuns."""
 
     @property
-    def t(self) -> npt.NDArray[np.float64]: ...
+    def t(self) -> _Array: ...
     @property
-    def q(self) -> npt.NDArray[np.float64]: ...
+    def normal_force(self) -> _Array: ...
     @property
-    def contact(self) -> npt.NDArray[np.float64]: ...
+    def friction(self) -> _Array: ...
     @property
-    def omega(self) -> npt.NDArray[np.float64]: ...
+    def friction_needed(self) -> _Array: ...
     @property
-    def com(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def theta(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def theta_dot(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def psi(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def x(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def y(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def normal_force(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def friction(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def friction_needed(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def summary(self) -> Union[Dict[str, Any], List[Dict[str, Any]]]:
-        """The command line's --summary keys: model, integrator, rhs_evals, steps, rejected,
-        max_quat_norm_error, max_contact_normal_error, energy_drift, t_end, model_note,
-        min_normal_force, max_normal_force, max_friction_needed, lift_off_t, slip_t, friction,
-        wall_seconds, rhs_evals_per_second, alpha, mass_ratio; for a 2D body that is not convex
-        (it rolls on its hull) also tips, tip_energy_lost, rested_t."""
-    @property
-    def dimension(self) -> int: ...
+    def dimension(self) -> Literal[2, 3]: ...
     @property
     def columns(self) -> List[str]: ...
     def __len__(self) -> int: ...
+
+class DiskTrajectory(Trajectory):
+    """One disk's run: theta (contact angle in the body), theta_dot, psi (the body's rotation),
+    x (downhill), y (height), each (S,)."""
+
+    @property
+    def theta(self) -> _Array: ...
+    @property
+    def theta_dot(self) -> _Array: ...
+    @property
+    def psi(self) -> _Array: ...
+    @property
+    def x(self) -> _Array: ...
+    @property
+    def y(self) -> _Array: ...
+    @property
+    def summary(self) -> RunSummary: ...
+
+class SphereTrajectory(Trajectory):
+    """One sphere's run: q (S, 4) w, x, y, z, contact (S, 3) body-frame contact point, omega
+    (S, 3) lab angular velocity, com (S, 3) centre of mass."""
+
+    @property
+    def q(self) -> _Array: ...
+    @property
+    def contact(self) -> _Array: ...
+    @property
+    def omega(self) -> _Array: ...
+    @property
+    def com(self) -> _Array: ...
+    @property
+    def summary(self) -> RunSummary: ...
+
+class SphereRuns(Trajectory):
+    """simulate_many's runs, one row per start: q (N, S, 4), contact, omega, com (N, S, 3),
+    and one summary per start."""
+
+    @property
+    def q(self) -> _Array: ...
+    @property
+    def contact(self) -> _Array: ...
+    @property
+    def omega(self) -> _Array: ...
+    @property
+    def com(self) -> _Array: ...
+    @property
+    def summaries(self) -> List[RunSummary]: ...
+
+_Integrator = Literal["dop853", "rk4", "cf4"]
+_OnInvalid = Literal["warn", "stop"]
 
 def simulate(
     body: Body,
     alpha: float,
     t_end: float,
+    *,
     mass_ratio: float = 0.0,
     q0: Optional[Sequence[float]] = None,
     contact: Optional[Sequence[float]] = None,
@@ -139,7 +323,7 @@ def simulate(
     omega0: Optional[Sequence[float]] = None,
     theta0: Optional[float] = None,
     theta_dot0: Optional[float] = None,
-    integrator: str = "dop853",
+    integrator: _Integrator = "dop853",
     rtol: float = 1e-10,
     atol: Optional[float] = None,
     dt: float = 0.01,
@@ -147,23 +331,25 @@ def simulate(
     drag: float = 1.0,
     max_steps: int = 100_000_000,
     friction: Optional[float] = None,
-    on_invalid: str = "warn",
-) -> Trajectory:
+    on_invalid: _OnInvalid = "warn",
+) -> Union[DiskTrajectory, SphereTrajectory]:
     """One run on a ramp at angle alpha (rad) from t = 0 to t_end, as `rollphase simulate`
     (the same numbers to the last digit). mass_ratio 0 is viscous, > 0 inertial. Sphere start:
     q0 (w, x, y, z) or contact (θ, φ) turned by spin; omega0 for inertial runs. Disk start:
     theta0, theta_dot0. integrator: "dop853" (rtol, atol), "rk4" or "cf4" (dt).
     friction: the surface's μ (slip is checked against it); on_invalid: "warn" (a
-    RuntimeWarning when the body leaves the ramp or slips) or "stop" (RuntimeError there)."""
+    RuntimeWarning when the body leaves the ramp or slips) or "stop" (LeftModelError there).
+    A disk's run is a DiskTrajectory, a sphere's a SphereTrajectory."""
 
 def simulate_many(
     body: Body,
     alpha: float,
-    q0s: _Floats,
     t_end: float,
+    *,
+    q0s: _Floats,
     mass_ratio: float = 0.0,
     omega0: Optional[Sequence[float]] = None,
-    integrator: str = "dop853",
+    integrator: _Integrator = "dop853",
     rtol: float = 1e-10,
     atol: Optional[float] = None,
     dt: float = 0.01,
@@ -171,8 +357,8 @@ def simulate_many(
     drag: float = 1.0,
     max_steps: int = 100_000_000,
     friction: Optional[float] = None,
-    on_invalid: str = "warn",
-) -> Trajectory:
+    on_invalid: _OnInvalid = "warn",
+) -> SphereRuns:
     """A sphere from each quaternion of the (N, 4) array q0s, in parallel with the GIL
     released; arrays stacked: q (N, S, 4), contact, omega, com (N, S, 3), t (S,)."""
 
@@ -182,6 +368,7 @@ def critical_angle(body: Body) -> float:
 def period(
     body: Body,
     alpha: float,
+    *,
     mass_ratio: float = 0.0,
     theta0: float = 0.0,
     theta_dot0: float = 0.0,
@@ -194,6 +381,7 @@ def period(
 def poincare_map(
     body: Body,
     alpha: float,
+    *,
     starts: _Floats,
     t_max: float = 2000.0,
     rtol: float = 1e-10,
@@ -202,21 +390,22 @@ def poincare_map(
     next crossings (N, 4) and return times (N,); nan where the body halts or t_max passes."""
 
 def cruising_fraction(
-    body: Body, alpha: float, orientations: int = 1000, seed: int = 1
-) -> Dict[str, Any]:
+    body: Body, alpha: float, *, orientations: int = 1000, seed: int = 1
+) -> CruisingFraction:
     """Fig. 3b: of random orientations released from rest (viscous), how many cruise. Keys:
     cruising, halted, undecided, fraction."""
 
 def periodic_orbits(
     body: Body,
     alpha: float,
+    *,
     mass_ratio: float = 0.0,
     orientations: int = 64,
     seed: int = 1,
     t_min: float = 2000.0,
     t_cap: float = 20000.0,
     tol: float = 1e-5,
-) -> List[Dict[str, Any]]:
+) -> List[PeriodicOrbit]:
     """The period-1 orbits random starts settle on, each a fixed point of the return map on ∂Ω
     with its Floquet multipliers. Keys: point, omega, period, multipliers (complex),
     max_modulus, stable, starts, newton_steps."""
@@ -224,11 +413,12 @@ def periodic_orbits(
 def predict(
     body: Body,
     alpha: float,
+    *,
     mass_ratio: float = 0.0,
     starts: int = 32,
     seed: int = 1,
     t_cap: float = 20000.0,
-) -> Dict[str, Any]:
+) -> Prediction:
     """The stable periodic motions runs from rest settle into, as `rollphase predict` gives them.
     Keys: alpha, mass_ratio, alpha_star, starts, halts, undecided, scale_mm, and orbits (most
     visited first), each with period, repeat (1 or 2), advance_down, advance_across (per
@@ -239,6 +429,7 @@ def predict(
 def period_counts(
     body: Body,
     alpha: float,
+    *,
     mass_ratio: float,
     orientations: int = 100,
     seed: int = 1,
@@ -246,19 +437,20 @@ def period_counts(
     t_cap: float = 20000.0,
     max_k: int = 4,
     tol: float = 1e-5,
-) -> Dict[str, Any]:
+) -> PeriodCounts:
     """Fig. 4e: the period multiplicities of runs from random orientations at one m/m0. Keys:
     cycle_counts (k = 1..4, then none), at_rest, undecided, longest_run."""
 
 def mass_bifurcation(
     body: Body,
     alpha: float,
+    *,
     masses: Sequence[float],
     starts: int = 4,
     seed: int = 1,
     t_min: float = 1500.0,
     t_cap: Optional[float] = None,
-) -> Dict[str, Any]:
+) -> MassBifurcation:
     """The orbit diagram in m/m0 (beyond Fig. 4e): the period-1 orbits continued in m with their
     Floquet multipliers, the flips where a multiplier passes −1, and the period-2 windows the
     runs show. masses ascend from 0. Keys: masses, period_counts (n, 5), orbits (mass_ratio,

@@ -31,7 +31,7 @@ n = 1200
 z = 1 - (np.arange(n) + 0.5) / n  # a Fibonacci lattice on the upper hemisphere
 phi = np.arange(n) * np.pi * (3 - np.sqrt(5)) % (2 * np.pi)
 p = np.column_stack([np.sqrt(1 - z**2) * np.cos(phi), np.sqrt(1 - z**2) * np.sin(phi), z])
-ends, times = rollphase.poincare_map(body, alpha, np.column_stack([np.zeros(n), p]))
+ends, times = rollphase.poincare_map(body, alpha, starts=np.column_stack([np.zeros(n), p]))
 orbits = rollphase.periodic_orbits(body, alpha, orientations=32)
 
 
@@ -66,7 +66,7 @@ for ax, mass in zip(axes, [0.0, 6.0, 10.0]):
                              samples=24001, rtol=1e-9)
     late = run.t >= 2000.0
     u = run.contact[late]
-    counts = rollphase.period_counts(body, alpha, mass, orientations=8)["cycle_counts"]
+    counts = rollphase.period_counts(body, alpha, mass_ratio=mass, orientations=8)["cycle_counts"]
     k = 1 + int(np.argmax(counts[:4]))
     phi = np.arctan2(u[:, 1], u[:, 0])
     phi[1:][np.abs(np.diff(phi)) > np.pi] = np.nan  # no line across the seam at φ = ±π

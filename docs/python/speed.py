@@ -135,7 +135,7 @@ dx = abs((run.com[-1, 0] - run.com[0, 0]) - ref.y[4, -1])
 rng = np.random.default_rng(1)
 q0s = rng.normal(size=(args.starts, 4))
 clock = time.perf_counter()
-many = rollphase.simulate_many(body, ALPHA, q0s, T_END, rtol=RTOL, samples=101)
+many = rollphase.simulate_many(body, ALPHA, T_END, q0s=q0s, rtol=RTOL, samples=101)
 many_seconds = time.perf_counter() - clock
 clock = time.perf_counter()
 for q in q0s:

@@ -7,13 +7,14 @@ use std::path::PathBuf;
 
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::{AllowTypeChange, IntoPyArray, PyArrayDyn, PyArrayLikeDyn};
-use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::exceptions::PyOSError;
 use pyo3::prelude::*;
 use rollphase_core::geometry::{Body as CoreBody, ShapeFile};
 use rollphase_core::glam::DVec3;
 use rollphase_output::output::{self, OutputError};
 
-use crate::{value_error, whole};
+use crate::errors::input_error;
+use crate::{bad_input, internal_error, whole};
 
 /// A rolling body: a disk (2D, r(θ) = 1 + Σ a_l/l² sin(l(θ − θ_l))) or a sphere (3D,
 /// r(u) = 1 + Re Σ A_lm/(l(l+1)) Y_lm(u)), with mean radius 1.
@@ -34,7 +35,7 @@ pub struct Body {
 impl Body {
     fn made(body: Result<CoreBody, impl std::fmt::Display>, origin: String) -> PyResult<Self> {
         Ok(Body {
-            body: body.map_err(value_error)?,
+            body: body.map_err(bad_input)?,
             origin,
             scale_mm: None,
             fit: None,
@@ -43,7 +44,7 @@ impl Body {
 
     /// The core body, refusing a non-convex one the way a run does.
     pub(crate) fn convex(&self) -> PyResult<&CoreBody> {
-        self.body.check_convex().map_err(value_error)?;
+        self.body.check_convex().map_err(bad_input)?;
         Ok(&self.body)
     }
 }
@@ -54,7 +55,7 @@ impl Body {
     /// sigma 0.25, modes 5 is the body of the paper's Figs. 3 and 4. modes is the highest degree
     /// l, as the authors' L.
     #[staticmethod]
-    #[pyo3(signature = (seed, sigma = 0.25, modes = 5))]
+    #[pyo3(signature = (seed, *, sigma = 0.25, modes = 5))]
     fn paper_sphere(seed: i128, sigma: f64, modes: i128) -> PyResult<Self> {
         let (seed, modes): (u64, u32) = (whole("seed", seed)?, whole("modes", modes)?);
         Body::made(
@@ -67,7 +68,7 @@ impl Body {
     /// highest degree l; the authors' get_r(seed, num_modes, std) covers l = 2 … num_modes + 1,
     /// so their num_modes = 8 is modes=9 here.
     #[staticmethod]
-    #[pyo3(signature = (seed, sigma = 0.08, modes = 10))]
+    #[pyo3(signature = (seed, *, sigma = 0.08, modes = 10))]
     fn paper_disk(seed: i128, sigma: f64, modes: i128) -> PyResult<Self> {
         let (seed, modes): (u64, u32) = (whole("seed", seed)?, whole("modes", modes)?);
         Body::made(
@@ -78,7 +79,7 @@ impl Body {
 
     /// A random sphere from rollphase's own generator (seeded, the same on every machine).
     #[staticmethod]
-    #[pyo3(signature = (seed, sigma = 0.25, modes = 5))]
+    #[pyo3(signature = (seed, *, sigma = 0.25, modes = 5))]
     fn random_sphere(seed: i128, sigma: f64, modes: i128) -> PyResult<Self> {
         let (seed, modes): (u64, u32) = (whole("seed", seed)?, whole("modes", modes)?);
         Body::made(
@@ -89,7 +90,7 @@ impl Body {
 
     /// A random disk from rollphase's own generator (seeded, the same on every machine).
     #[staticmethod]
-    #[pyo3(signature = (seed, sigma = 0.08, modes = 10))]
+    #[pyo3(signature = (seed, *, sigma = 0.08, modes = 10))]
     fn random_disk(seed: i128, sigma: f64, modes: i128) -> PyResult<Self> {
         let (seed, modes): (u64, u32) = (whole("seed", seed)?, whole("modes", modes)?);
         Body::made(
@@ -102,7 +103,7 @@ impl Body {
     #[staticmethod]
     fn from_file(path: PathBuf) -> PyResult<Self> {
         let origin = format!("shape file {}", path.display());
-        let (body, scale_mm) = ShapeFile::load_scaled(&path).map_err(value_error)?;
+        let (body, scale_mm) = ShapeFile::load_scaled(&path).map_err(bad_input)?;
         Ok(Body {
             scale_mm,
             ..Body::made(Ok::<_, String>(body), origin)?
@@ -119,7 +120,7 @@ impl Body {
     /// body.mesh_fit; a mesh that is open, not star-shaped about its centroid, or fits no
     /// convex body raises ValueError naming the place.
     #[staticmethod]
-    #[pyo3(signature = (path, modes = None, dim = None, axis = None, mm_per_unit = 1.0))]
+    #[pyo3(signature = (path, *, modes = None, dim = None, axis = None, mm_per_unit = 1.0))]
     fn from_mesh(
         py: Python<'_>,
         path: PathBuf,
@@ -143,7 +144,7 @@ impl Body {
                 let source = MeshSource::open(&path)?;
                 fit_mesh(&source, &options, &|_, _, _| {})
             })
-            .map_err(value_error)?;
+            .map_err(bad_input)?;
         for w in &fit.report.warnings {
             pyo3::PyErr::warn(
                 py,
@@ -152,7 +153,7 @@ impl Body {
                 1,
             )?;
         }
-        let report = serde_json::to_string(&fit.report).map_err(value_error)?;
+        let report = serde_json::to_string(&fit.report).map_err(internal_error)?;
         Ok(Body {
             body: fit.body,
             origin: format!(
@@ -188,7 +189,7 @@ impl Body {
     /// The file is written whole or not at all; a link stays a link.
     fn to_file(&self, path: PathBuf) -> PyResult<()> {
         if path.as_os_str() == "-" {
-            return Err(PyValueError::new_err(
+            return Err(input_error(
                 "to_file needs a file path; \"-\" (standard output) is for the command line",
             ));
         }
@@ -199,7 +200,7 @@ impl Body {
             if let Ok(m) = std::fs::metadata(&path)
                 && (m.file_type().is_fifo() || m.file_type().is_socket())
             {
-                return Err(PyValueError::new_err(format!(
+                return Err(input_error(format!(
                     "{} is a pipe or socket, not a file; to_file writes files (write \
                      body.to_json() to a stream yourself)",
                     path.display()
@@ -211,11 +212,11 @@ impl Body {
             .to_shape()
             .with_scale_mm(self.scale_mm)
             .to_json()
-            .map_err(value_error)?
+            .map_err(internal_error)?
             + "\n";
         output::write_bytes(&path, text.as_bytes(), &output::Inputs::none()).map_err(|e| match e {
             OutputError::Io { .. } | OutputError::Stdout(_) => PyOSError::new_err(e.to_string()),
-            _ => PyValueError::new_err(e.to_string()),
+            _ => input_error(e.to_string()),
         })
     }
 
@@ -247,9 +248,7 @@ impl Body {
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let points = points.as_array();
         if let Some(bad) = points.iter().find(|v| !v.is_finite()) {
-            return Err(PyValueError::new_err(format!(
-                "radius: {bad} is not a finite number"
-            )));
+            return Err(input_error(format!("radius: {bad} is not a finite number")));
         }
         match &self.body {
             CoreBody::Disk(disk) => Ok(points.mapv(|theta| disk.jet(theta).r).into_pyarray(py)),
@@ -259,7 +258,7 @@ impl Body {
                     [3] => (1, vec![]),
                     [n, 3] => (*n, vec![*n]),
                     _ => {
-                        return Err(PyValueError::new_err(format!(
+                        return Err(input_error(format!(
                             "radius of a sphere takes directions as an (N, 3) array (or one (3,) \
                              direction), not shape {shape:?}"
                         )));
@@ -270,14 +269,14 @@ impl Body {
                 for (i, u) in flat.chunks_exact(3).enumerate() {
                     let u = DVec3::from_slice(u);
                     if u.length() < 1e-300 {
-                        return Err(PyValueError::new_err(format!(
+                        return Err(input_error(format!(
                             "radius: direction {i} is the zero vector, which has no direction"
                         )));
                     }
                     radii.push(sphere.radius(u.normalize()));
                 }
                 let out = ArrayD::from_shape_vec(IxDyn(&out_shape), radii)
-                    .map_err(|e| PyValueError::new_err(e.to_string()))?;
+                    .map_err(|e| input_error(e.to_string()))?;
                 Ok(out.into_pyarray(py))
             }
         }
@@ -289,7 +288,7 @@ impl Body {
             .to_shape()
             .with_scale_mm(self.scale_mm)
             .to_json()
-            .map_err(value_error)
+            .map_err(internal_error)
     }
 
     fn __repr__(&self) -> String {

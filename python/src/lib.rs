@@ -1,31 +1,34 @@
 //! The Python module `rollphase`: the physics core (`rollphase-core`) with numpy arrays in and
 //! out, built by maturin (`pip install ./python`).
 //!
-//! Every call checks its arguments before any work and raises `ValueError` with the message the
-//! command line gives for the same mistake (the core's own messages; only the names of the
+//! Every call checks its arguments before any work and raises `InputError` (a `ValueError`) with
+//! the message the command line gives for the same mistake (the core's own messages; only the names of the
 //! arguments differ: `mass_ratio=` for `--mass`). Long calls run with the GIL released on a
 //! worker thread while the calling thread watches for Ctrl-C ([`interruptible`]), so
-//! KeyboardInterrupt stops them; a panic in the worker becomes `RuntimeError`, never a crash of
-//! the interpreter. Files are written through the one output layer (`rollphase-output`).
+//! KeyboardInterrupt stops them; a panic in the worker becomes `InternalError`, never a crash of
+//! the interpreter. The exception tree is [`errors`]'s. Files are written through the one output layer (`rollphase-output`).
 //!
 //! | module | owns |
 //! |---|---|
 //! | [`body`] | `Body`: the paper's and random bodies, shape files, r(θ) and r(u) over arrays |
-//! | [`run`] | `simulate`, `simulate_many` and the `Trajectory` they return |
+//! | [`errors`] | the exception tree: `RollphaseError`, `InputError`, `RunError`, `LeftModelError`, `InternalError` |
+//! | [`run`] | `simulate` and its `DiskTrajectory` / `SphereTrajectory`, `simulate_many` and its `SphereRuns` |
 //! | [`studies`] | `critical_angle`, `period`, `poincare_map`, `cruising_fraction`, `periodic_orbits`, `period_counts` |
 
-// Python functions take their settings as keyword arguments with defaults (as SciPy's do); each
-// is one Rust parameter.
+// Python functions take their settings as keyword-only arguments with defaults (as SciPy's and
+// rapier's bindings do); each is one Rust parameter.
 #![allow(clippy::too_many_arguments)]
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
+use crate::errors::{ErrorClass, input_error};
+
 mod body;
+mod errors;
 mod run;
 mod studies;
 
@@ -40,7 +43,7 @@ pub(crate) fn two_dimensional<'a>(
     array
         .into_dimensionality::<numpy::ndarray::Ix2>()
         .map_err(|_| {
-            PyValueError::new_err(format!(
+            input_error(format!(
                 "{name} must be an {what}, not an array of shape {}",
                 match shape.as_slice() {
                     [n] => format!("({n},)"),
@@ -83,9 +86,9 @@ pub(crate) fn interruptible<T: Send>(
                 Err(e) => {
                     return (
                         None,
-                        Some(PyRuntimeError::new_err(format!(
-                            "cannot start a worker thread: {e}"
-                        ))),
+                        Some(
+                            ErrorClass::Internal.err(format!("cannot start a worker thread: {e}")),
+                        ),
                     );
                 }
             };
@@ -118,11 +121,11 @@ pub(crate) fn interruptible<T: Send>(
                 .map(|s| s.to_string())
                 .or_else(|| panic.downcast_ref::<String>().cloned())
                 .unwrap_or_else(|| "unknown panic".into());
-            Err(PyRuntimeError::new_err(format!(
+            Err(ErrorClass::Internal.err(format!(
                 "internal error in rollphase (please report it): {what}"
             )))
         }
-        None => Err(PyRuntimeError::new_err("the worker thread did not start")),
+        None => Err(ErrorClass::Internal.err("the worker thread did not start")),
     }
 }
 
@@ -131,7 +134,7 @@ pub(crate) fn interruptible<T: Send>(
 /// `OverflowError`; the core then checks the range that matters.
 pub(crate) fn whole<T: TryFrom<i128>>(name: &str, v: i128) -> PyResult<T> {
     T::try_from(v).map_err(|_| {
-        PyValueError::new_err(format!(
+        input_error(format!(
             "{name} = {v} is not allowed (needs a whole number from 0 to {})",
             match std::mem::size_of::<T>() {
                 4 => u32::MAX.to_string(),
@@ -149,16 +152,25 @@ pub(crate) fn sample_count(samples: i128) -> PyResult<usize> {
         .ok()
         .filter(|n| (2..=max).contains(n))
         .ok_or_else(|| {
-            PyValueError::new_err(format!(
+            input_error(format!(
                 "samples = {samples} is not allowed (needs 2 ≤ samples ≤ {max}: t = 0, t_end and \
                  rows between)"
             ))
         })
 }
 
-/// `ValueError` with an error's message (the command line's text for the same mistake).
-pub(crate) fn value_error(e: impl std::fmt::Display) -> PyErr {
-    PyValueError::new_err(e.to_string())
+/// `InputError` (a `ValueError`) with an error's message (the command line's text for the same
+/// mistake).
+pub(crate) fn bad_input(e: impl std::fmt::Display) -> PyErr {
+    input_error(e.to_string())
+}
+
+/// `InternalError` for what cannot happen short of a bug (an array whose shape the code built
+/// itself does not fit, a report that does not serialise).
+pub(crate) fn internal_error(e: impl std::fmt::Display) -> PyErr {
+    ErrorClass::Internal.err(format!(
+        "internal error in rollphase (please report it): {e}"
+    ))
 }
 
 /// Irregular cylinders and spheres rolling down a ramp (Qian, Jung & Mahadevan, PNAS 2025):
@@ -172,6 +184,10 @@ fn rollphase(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<body::Body>()?;
     m.add_class::<run::Trajectory>()?;
+    m.add_class::<run::DiskTrajectory>()?;
+    m.add_class::<run::SphereTrajectory>()?;
+    m.add_class::<run::SphereRuns>()?;
+    errors::register(m)?;
     m.add_function(wrap_pyfunction!(run::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(run::simulate_many, m)?)?;
     m.add_function(wrap_pyfunction!(studies::critical_angle, m)?)?;

@@ -12,8 +12,8 @@ use std::time::Instant;
 use numpy::IntoPyArray;
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{AllowTypeChange, PyArrayLikeDyn};
-use pyo3::exceptions::{PyAttributeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::pyclass::boolean_struct::True;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
 use rollphase_core::dynamics::ContactForce;
@@ -22,153 +22,257 @@ use rollphase_core::glam::{DQuat, DVec3};
 use rollphase_core::integrate::{Method, MethodKind, MethodParseError};
 use rollphase_core::simulate::start::{Spelling, StartField, StartRequest, check_start};
 use rollphase_core::simulate::{
-    ContactLimits, InitialState, Model, OnViolation, RunError, Simulation, Summary, SummaryReport,
+    ContactLimits, InitialState, Model, OnViolation, Simulation, Summary, SummaryReport,
     Trajectory as CoreTrajectory, simulate_until,
 };
 
 use crate::body::Body;
-use crate::{interruptible, value_error, whole};
+use crate::errors::{Classified, input_error, raise};
+use crate::{internal_error, interruptible, whole};
 
 /// Beyond this many numbers in all a `simulate_many` result would not fit in memory on most
 /// machines (8 bytes each, held twice while it is handed to numpy).
 const MAX_VALUES: usize = 500_000_000;
 
-/// A run's samples as numpy arrays.
-///
-/// A sphere's: t (N,), q (N, 4) as w, x, y, z (body-to-lab, Hamilton), contact (N, 3) (the
-/// contact point as a body-frame unit vector), omega (N, 3) (lab angular velocity), com (N, 3)
-/// (centre of mass: x downhill, z above the ramp). A disk's: t, theta (contact angle in the
-/// body), theta_dot, psi (the body's rotation), x (downhill), y (height), each (N,).
-/// Both: the ramp's force on the body in units of the weight F, normal_force (N,), friction
-/// (N, 2) (along x downhill, y across; negative x points uphill) and friction_needed (N,),
-/// |friction|/normal_force, inf where the normal force is ≤ 0.
-/// From simulate_many every array but t gains a leading axis, one row per start.
-/// summary: the command line's --summary keys (a list of them from simulate_many).
-#[pyclass(frozen, module = "rollphase", name = "Trajectory")]
+/// What every run's samples have, as numpy arrays: t (sample times), and the ramp's force on
+/// the body in units of the weight F: normal_force, friction (x downhill, y across; negative x
+/// points uphill) and friction_needed, |friction|/normal_force (inf where the normal force is
+/// ≤ 0). The base of `DiskTrajectory` and `SphereTrajectory` (simulate) and `SphereRuns`
+/// (simulate_many); never made on its own.
+#[pyclass(frozen, subclass, module = "rollphase", name = "Trajectory")]
 pub struct Trajectory {
     columns: BTreeMap<&'static str, Py<PyAny>>,
     summary: Py<PyAny>,
     dimension: u32,
+    order: &'static [&'static str],
 }
 
+/// The columns of each kind of trajectory, in the order `columns` lists them.
+const DISK_COLUMNS: &[&str] = &[
+    "t",
+    "theta",
+    "theta_dot",
+    "psi",
+    "x",
+    "y",
+    "normal_force",
+    "friction",
+    "friction_needed",
+];
+const SPHERE_COLUMNS: &[&str] = &[
+    "t",
+    "q",
+    "contact",
+    "omega",
+    "com",
+    "normal_force",
+    "friction",
+    "friction_needed",
+];
+
 impl Trajectory {
+    /// A column this trajectory was made with: every getter of each subclass names one of its
+    /// own columns, so a missing one is a bug.
     fn column(&self, py: Python<'_>, name: &str) -> PyResult<Py<PyAny>> {
         self.columns
             .get(name)
             .map(|c| c.clone_ref(py))
-            .ok_or_else(|| {
-                let what = if self.dimension == 3 {
-                    "a sphere's"
-                } else {
-                    "a disk's"
-                };
-                PyAttributeError::new_err(format!(
-                    "{what} trajectory has no {name}; its columns are {}",
-                    self.columns().join(", ")
-                ))
-            })
+            .ok_or_else(|| crate::internal_error(format!("the trajectory has no column {name}")))
     }
+
+    /// The Python object: a `DiskTrajectory` or `SphereTrajectory` for one run, `SphereRuns`
+    /// for many.
+    fn into_python(self, py: Python<'_>, many: bool) -> PyResult<Py<PyAny>> {
+        let dimension = self.dimension;
+        let base = PyClassInitializer::from(self);
+        Ok(match (many, dimension) {
+            (true, _) => Py::new(py, base.add_subclass(SphereRuns))?.into_any(),
+            (false, 3) => Py::new(py, base.add_subclass(SphereTrajectory))?.into_any(),
+            (false, _) => Py::new(py, base.add_subclass(DiskTrajectory))?.into_any(),
+        })
+    }
+}
+
+/// A column of the `Trajectory` under a subclass's object.
+fn column_of<T>(slf: &Bound<'_, T>, name: &str) -> PyResult<Py<PyAny>>
+where
+    T: pyo3::PyClass<BaseType = Trajectory, Frozen = True> + Sync,
+{
+    slf.as_super().get().column(slf.py(), name)
+}
+
+/// The `<rollphase.Kind: …>` text of a subclass's object.
+fn repr_of<T>(slf: &Bound<'_, T>, kind: &str) -> PyResult<String>
+where
+    T: pyo3::PyClass<BaseType = Trajectory, Frozen = True> + Sync,
+{
+    let base = slf.as_super().get();
+    let len = base.column(slf.py(), "t")?.bind(slf.py()).len()?;
+    Ok(format!(
+        "<rollphase.{kind}: {len} samples, columns {}>",
+        base.order.join(", ")
+    ))
 }
 
 #[pymethods]
 impl Trajectory {
-    /// Sample times (N,).
+    /// Sample times (S,).
     #[getter]
     fn t(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         self.column(py, "t")
     }
-    /// Sphere: orientations (N, 4), w, x, y, z.
-    #[getter]
-    fn q(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        self.column(py, "q")
-    }
-    /// Sphere: contact points in the body frame (N, 3).
-    #[getter]
-    fn contact(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        self.column(py, "contact")
-    }
-    /// Sphere: lab angular velocities (N, 3).
-    #[getter]
-    fn omega(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        self.column(py, "omega")
-    }
-    /// Sphere: centres of mass (N, 3), x downhill, z above the ramp.
-    #[getter]
-    fn com(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        self.column(py, "com")
-    }
-    /// Disk: contact angles θ (N,).
-    #[getter]
-    fn theta(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        self.column(py, "theta")
-    }
-    /// Disk: θ̇ (N,).
-    #[getter]
-    fn theta_dot(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        self.column(py, "theta_dot")
-    }
-    /// Disk: body rotation ψ (N,).
-    #[getter]
-    fn psi(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        self.column(py, "psi")
-    }
-    /// Disk: centre of mass downhill (N,).
-    #[getter]
-    fn x(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        self.column(py, "x")
-    }
-    /// Disk: centre of mass height above the ramp (N,).
-    #[getter]
-    fn y(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        self.column(py, "y")
-    }
-    /// The ramp's normal force on the body, in units of the weight F (N,).
+    /// The ramp's normal force on the body, in units of the weight F: (S,), or (N, S) from
+    /// simulate_many.
     #[getter]
     fn normal_force(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         self.column(py, "normal_force")
     }
-    /// The ramp's tangential (friction) force, x downhill and y across (N, 2).
+    /// The ramp's tangential (friction) force, x downhill and y across: (S, 2), or (N, S, 2).
     #[getter]
     fn friction(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         self.column(py, "friction")
     }
     /// The coefficient of friction rolling needs, |friction|/normal_force; inf where the
-    /// normal force is ≤ 0 (N,).
+    /// normal force is ≤ 0: (S,), or (N, S).
     #[getter]
     fn friction_needed(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         self.column(py, "friction_needed")
-    }
-    /// The run's summary (a dict with the command line's --summary keys), or a list of them.
-    #[getter]
-    fn summary(&self, py: Python<'_>) -> Py<PyAny> {
-        self.summary.clone_ref(py)
     }
     /// 2 for a disk, 3 for a sphere.
     #[getter]
     fn dimension(&self) -> u32 {
         self.dimension
     }
-    /// The names of the columns this trajectory has.
+    /// The names of the columns this trajectory has, each an attribute.
     #[getter]
     fn columns(&self) -> Vec<&'static str> {
-        let order: &[&str] = if self.dimension == 3 {
-            &["t", "q", "contact", "omega", "com"]
-        } else {
-            &["t", "theta", "theta_dot", "psi", "x", "y"]
-        };
-        let mut all = order.to_vec();
-        all.extend(["normal_force", "friction", "friction_needed"]);
-        all
+        self.order.to_vec()
     }
+    /// The number of samples S.
     fn __len__(&self, py: Python<'_>) -> PyResult<usize> {
-        self.columns["t"].bind(py).len()
+        self.column(py, "t")?.bind(py).len()
     }
-    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+}
+
+/// One disk's run (simulate on a 2D body): each column (S,). theta is the contact angle in the
+/// body, theta_dot its rate, psi the body's rotation, x the centre of mass downhill and y its
+/// height above the ramp.
+#[pyclass(frozen, extends = Trajectory, module = "rollphase", name = "DiskTrajectory")]
+pub struct DiskTrajectory;
+
+#[pymethods]
+impl DiskTrajectory {
+    /// Contact angles θ in the body (S,).
+    #[getter]
+    fn theta(slf: &Bound<'_, Self>) -> PyResult<Py<PyAny>> {
+        column_of(slf, "theta")
+    }
+    /// θ̇ (S,).
+    #[getter]
+    fn theta_dot(slf: &Bound<'_, Self>) -> PyResult<Py<PyAny>> {
+        column_of(slf, "theta_dot")
+    }
+    /// The body's rotation ψ (S,).
+    #[getter]
+    fn psi(slf: &Bound<'_, Self>) -> PyResult<Py<PyAny>> {
+        column_of(slf, "psi")
+    }
+    /// Centre of mass downhill (S,).
+    #[getter]
+    fn x(slf: &Bound<'_, Self>) -> PyResult<Py<PyAny>> {
+        column_of(slf, "x")
+    }
+    /// Centre of mass height above the ramp (S,).
+    #[getter]
+    fn y(slf: &Bound<'_, Self>) -> PyResult<Py<PyAny>> {
+        column_of(slf, "y")
+    }
+    /// The run's summary: the command line's --summary keys (RunSummary in the stubs).
+    #[getter]
+    fn summary(slf: &Bound<'_, Self>) -> Py<PyAny> {
+        slf.as_super().get().summary.clone_ref(slf.py())
+    }
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        repr_of(slf, "DiskTrajectory")
+    }
+}
+
+/// One sphere's run (simulate on a 3D body): q (S, 4) orientations w, x, y, z (body-to-lab,
+/// Hamilton), contact (S, 3) the contact point as a body-frame unit vector, omega (S, 3) the
+/// lab angular velocity, com (S, 3) the centre of mass (x downhill, z above the ramp).
+#[pyclass(frozen, extends = Trajectory, module = "rollphase", name = "SphereTrajectory")]
+pub struct SphereTrajectory;
+
+#[pymethods]
+impl SphereTrajectory {
+    /// Orientations (S, 4), w, x, y, z.
+    #[getter]
+    fn q(slf: &Bound<'_, Self>) -> PyResult<Py<PyAny>> {
+        column_of(slf, "q")
+    }
+    /// Contact points in the body frame (S, 3).
+    #[getter]
+    fn contact(slf: &Bound<'_, Self>) -> PyResult<Py<PyAny>> {
+        column_of(slf, "contact")
+    }
+    /// Lab angular velocities (S, 3).
+    #[getter]
+    fn omega(slf: &Bound<'_, Self>) -> PyResult<Py<PyAny>> {
+        column_of(slf, "omega")
+    }
+    /// Centres of mass (S, 3), x downhill, z above the ramp.
+    #[getter]
+    fn com(slf: &Bound<'_, Self>) -> PyResult<Py<PyAny>> {
+        column_of(slf, "com")
+    }
+    /// The run's summary: the command line's --summary keys (RunSummary in the stubs).
+    #[getter]
+    fn summary(slf: &Bound<'_, Self>) -> Py<PyAny> {
+        slf.as_super().get().summary.clone_ref(slf.py())
+    }
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        repr_of(slf, "SphereTrajectory")
+    }
+}
+
+/// Many runs of one sphere (simulate_many), one row per start: t (S,) shared; q (N, S, 4),
+/// contact, omega and com (N, S, 3), normal_force and friction_needed (N, S), friction
+/// (N, S, 2); summaries, one per start.
+#[pyclass(frozen, extends = Trajectory, module = "rollphase", name = "SphereRuns")]
+pub struct SphereRuns;
+
+#[pymethods]
+impl SphereRuns {
+    /// Orientations (N, S, 4), w, x, y, z.
+    #[getter]
+    fn q(slf: &Bound<'_, Self>) -> PyResult<Py<PyAny>> {
+        column_of(slf, "q")
+    }
+    /// Contact points in the body frame (N, S, 3).
+    #[getter]
+    fn contact(slf: &Bound<'_, Self>) -> PyResult<Py<PyAny>> {
+        column_of(slf, "contact")
+    }
+    /// Lab angular velocities (N, S, 3).
+    #[getter]
+    fn omega(slf: &Bound<'_, Self>) -> PyResult<Py<PyAny>> {
+        column_of(slf, "omega")
+    }
+    /// Centres of mass (N, S, 3), x downhill, z above the ramp.
+    #[getter]
+    fn com(slf: &Bound<'_, Self>) -> PyResult<Py<PyAny>> {
+        column_of(slf, "com")
+    }
+    /// Each run's summary, in the order of the starts (a list of RunSummary).
+    #[getter]
+    fn summaries(slf: &Bound<'_, Self>) -> Py<PyAny> {
+        slf.as_super().get().summary.clone_ref(slf.py())
+    }
+    fn __repr__(slf: &Bound<'_, Self>) -> PyResult<String> {
+        let runs = column_of(slf, "q")?.bind(slf.py()).len()?;
         Ok(format!(
-            "<rollphase.Trajectory: {}D, {} samples, columns {}>",
-            self.dimension,
-            self.__len__(py)?,
-            self.columns().join(", ")
+            "{} from {runs} starts>",
+            repr_of(slf, "SphereRuns")?.trim_end_matches('>')
         ))
     }
 }
@@ -178,19 +282,19 @@ impl Trajectory {
 fn method(name: &str, rtol: f64, atol: Option<f64>, dt: f64) -> PyResult<Method> {
     let kind: MethodKind = name
         .parse()
-        .map_err(|e: MethodParseError| PyValueError::new_err(format!("integrator={e}")))?;
-    kind.with(rtol, atol, dt).map_err(value_error)
+        .map_err(|e: MethodParseError| input_error(format!("integrator={e}")))?;
+    kind.with(rtol, atol, dt).map_err(raise)
 }
 
 fn finite_list(name: &str, v: &[f64], n: usize, names: &str) -> PyResult<Vec<f64>> {
     if v.len() != n {
-        return Err(PyValueError::new_err(format!(
+        return Err(input_error(format!(
             "{name} expects {n} numbers {names}, got {}",
             v.len()
         )));
     }
     if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
-        return Err(PyValueError::new_err(format!(
+        return Err(input_error(format!(
             "{name}: {bad} is not a finite number (expected {names})"
         )));
     }
@@ -248,8 +352,8 @@ pub(crate) fn checked_start(
         viscous: "mass_ratio=0",
         body: "this body",
     };
-    let start = check_start(body, mass_ratio, request)
-        .map_err(|e| PyValueError::new_err(e.explain(&spelling)))?;
+    let start =
+        check_start(body, mass_ratio, request).map_err(|e| input_error(e.explain(&spelling)))?;
     if let Some((given, reduced)) = start.reduced_theta0 {
         let message = std::ffi::CString::new(format!(
             "theta0 {given:e} reduced modulo 2π to {reduced} (beyond ±1e6 rad an angle has too \
@@ -271,7 +375,7 @@ fn summary_dict<'py>(
     mass_ratio: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let report = SummaryReport::new(summary.clone(), wall, alpha, mass_ratio);
-    let value = serde_json::to_value(&report).map_err(value_error)?;
+    let value = serde_json::to_value(&report).map_err(internal_error)?;
     let d = PyDict::new(py);
     if let serde_json::Value::Object(map) = value {
         for (k, v) in map {
@@ -322,25 +426,15 @@ fn flat4(v: &[DQuat]) -> Vec<f64> {
     v.iter().flat_map(|q| [q.w, q.x, q.y, q.z]).collect()
 }
 
-/// A run's error as ValueError, or RuntimeError for a run stopped where the rolling model
-/// stops holding (on_invalid="stop"). (A run stopped by Ctrl-C never gets here:
-/// [`interruptible`] raises the interrupt first.)
-fn run_error(e: RunError) -> PyErr {
-    match e {
-        RunError::LeftModel { .. } => pyo3::exceptions::PyRuntimeError::new_err(e.to_string()),
-        e => value_error(e),
-    }
-}
-
 /// The surface from simulate's friction and on_invalid arguments.
 fn contact_limits(friction: Option<f64>, on_invalid: &str) -> PyResult<ContactLimits> {
     let on_violation = match on_invalid {
         "warn" => OnViolation::Warn,
         "stop" => OnViolation::Stop,
         other => {
-            return Err(PyValueError::new_err(format!(
+            return Err(input_error(format!(
                 "on_invalid={other:?} is not one of \"warn\" (go on, with a RuntimeWarning and \
-                 the summary's lift_off_t / slip_t) or \"stop\" (raise RuntimeError at the first \
+                 the summary's lift_off_t / slip_t) or \"stop\" (raise LeftModelError at the first \
                  lift-off or slip)"
             )));
         }
@@ -349,7 +443,7 @@ fn contact_limits(friction: Option<f64>, on_invalid: &str) -> PyResult<ContactLi
         friction,
         on_violation,
     };
-    limits.validate().map_err(PyValueError::new_err)?;
+    limits.validate().map_err(input_error)?;
     Ok(limits)
 }
 
@@ -378,7 +472,7 @@ fn arr1(py: Python<'_>, v: Vec<f64>) -> Py<PyAny> {
 
 fn arr2(py: Python<'_>, v: Vec<f64>, n: usize, k: usize) -> PyResult<Py<PyAny>> {
     Ok(Array2::from_shape_vec((n, k), v)
-        .map_err(value_error)?
+        .map_err(internal_error)?
         .into_pyarray(py)
         .into_any()
         .unbind())
@@ -386,7 +480,7 @@ fn arr2(py: Python<'_>, v: Vec<f64>, n: usize, k: usize) -> PyResult<Py<PyAny>> 
 
 fn arr3(py: Python<'_>, v: Vec<f64>, shape: (usize, usize, usize)) -> PyResult<Py<PyAny>> {
     Ok(Array3::from_shape_vec(shape, v)
-        .map_err(value_error)?
+        .map_err(internal_error)?
         .into_pyarray(py)
         .into_any()
         .unbind())
@@ -404,7 +498,7 @@ fn arr3(py: Python<'_>, v: Vec<f64>, shape: (usize, usize, usize)) -> PyResult<P
 /// Returns a Trajectory (numpy arrays) with .summary, the command line's --summary keys; the
 /// numbers equal `rollphase simulate`'s to the last digit. Ctrl-C stops it (KeyboardInterrupt).
 #[pyfunction]
-#[pyo3(signature = (body, alpha, t_end, mass_ratio = 0.0, q0 = None, contact = None, spin = None,
+#[pyo3(signature = (body, alpha, t_end, *, mass_ratio = 0.0, q0 = None, contact = None, spin = None,
     omega0 = None, theta0 = None, theta_dot0 = None, integrator = "dop853", rtol = 1e-10,
     atol = None, dt = 0.01, samples = 1001, drag = 1.0, max_steps = 100_000_000, friction = None,
     on_invalid = "warn"))]
@@ -429,7 +523,7 @@ pub fn simulate(
     max_steps: i128,
     friction: Option<f64>,
     on_invalid: &str,
-) -> PyResult<Trajectory> {
+) -> PyResult<Py<PyAny>> {
     let (samples, max_steps): (usize, u64) = (
         crate::sample_count(samples)?,
         whole("max_steps", max_steps)?,
@@ -456,10 +550,10 @@ pub fn simulate(
         .limits(limits);
     sim.max_steps = max_steps;
     // Every argument is checked (the ramp, the sampling, the step) before the worker starts.
-    sim.spec(core).map_err(run_error)?;
+    sim.spec(core).map_err(raise)?;
     let clock = Instant::now();
     let (trajectory, summary) =
-        interruptible(py, |stop| simulate_until(core, &sim, stop))?.map_err(run_error)?;
+        interruptible(py, |stop| simulate_until(core, &sim, stop))?.map_err(raise)?;
     let wall = clock.elapsed().as_secs_f64();
     warn_validity(py, &summary, "")?;
     let summary = summary_dict(py, &summary, wall, alpha, mass_ratio)?;
@@ -487,11 +581,18 @@ pub fn simulate(
             columns.insert("y", arr1(py, d.y));
         }
     }
-    Ok(Trajectory {
+    let order = if core.dimension() == 3 {
+        SPHERE_COLUMNS
+    } else {
+        DISK_COLUMNS
+    };
+    Trajectory {
         columns,
         summary: summary.into_any().unbind(),
         dimension: core.dimension(),
-    })
+        order,
+    }
+    .into_python(py, false)
 }
 
 /// Simulates a sphere from each orientation of `q0s`, an (N, 4) array of quaternions w, x, y,
@@ -500,15 +601,15 @@ pub fn simulate(
 /// q (N, S, 4), contact, omega and com (N, S, 3), and .summary a list of N dicts. Each run
 /// equals simulate(body, alpha, t_end, q0=q0s[i], …). Ctrl-C stops it (KeyboardInterrupt).
 #[pyfunction]
-#[pyo3(signature = (body, alpha, q0s, t_end, mass_ratio = 0.0, omega0 = None,
+#[pyo3(signature = (body, alpha, t_end, *, q0s, mass_ratio = 0.0, omega0 = None,
     integrator = "dop853", rtol = 1e-10, atol = None, dt = 0.01, samples = 1001, drag = 1.0,
     max_steps = 100_000_000, friction = None, on_invalid = "warn"))]
 pub fn simulate_many(
     py: Python<'_>,
     body: &Body,
     alpha: f64,
-    q0s: PyArrayLikeDyn<'_, f64, AllowTypeChange>,
     t_end: f64,
+    q0s: PyArrayLikeDyn<'_, f64, AllowTypeChange>,
     mass_ratio: f64,
     omega0: Option<Vec<f64>>,
     integrator: &str,
@@ -520,7 +621,7 @@ pub fn simulate_many(
     max_steps: i128,
     friction: Option<f64>,
     on_invalid: &str,
-) -> PyResult<Trajectory> {
+) -> PyResult<Py<PyAny>> {
     let (samples, max_steps): (usize, u64) = (
         crate::sample_count(samples)?,
         whole("max_steps", max_steps)?,
@@ -528,7 +629,7 @@ pub fn simulate_many(
     let limits = contact_limits(friction, on_invalid)?;
     let core = &body.body;
     if !matches!(core, CoreBody::Sphere(_)) {
-        return Err(PyValueError::new_err(
+        return Err(input_error(
             "simulate_many runs a sphere from many orientations; this body is a 2D disk (call \
              simulate for each theta0)",
         ));
@@ -540,18 +641,16 @@ pub fn simulate_many(
     )?;
     let (n, width) = q0s.dim();
     if width != 4 {
-        return Err(PyValueError::new_err(format!(
+        return Err(input_error(format!(
             "q0s must be an (N, 4) array of quaternions w, x, y, z, not shape ({n}, {width})"
         )));
     }
     if n == 0 {
-        return Err(PyValueError::new_err(
-            "q0s is empty: give at least one start",
-        ));
+        return Err(input_error("q0s is empty: give at least one start"));
     }
     let values = n.saturating_mul(samples).saturating_mul(18);
     if values > MAX_VALUES {
-        return Err(PyValueError::new_err(format!(
+        return Err(input_error(format!(
             "{n} runs × {samples} samples would return {values:.3e} numbers ({:.1} GB), more \
              than the {MAX_VALUES:.0e} allowed; use fewer samples or split the starts",
             values as f64 * 8e-9
@@ -570,7 +669,7 @@ pub fn simulate_many(
             theta_dot0: None,
         };
         let initial = initial_state(py, &start, core)
-            .map_err(|e| PyValueError::new_err(format!("q0s[{i}]: {}", e.value(py))))?;
+            .map_err(|e| input_error(format!("q0s[{i}]: {}", e.value(py))))?;
         let mut sim = Simulation::new(alpha, t_end)
             .model(Model::from_mass_ratio(mass_ratio))
             .drag(drag)
@@ -581,7 +680,7 @@ pub fn simulate_many(
         sim.max_steps = max_steps;
         sims.push(sim);
     }
-    sims[0].spec(core).map_err(run_error)?;
+    sims[0].spec(core).map_err(raise)?;
     let results = interruptible(py, |stop: &AtomicBool| {
         sims.par_iter()
             .enumerate()
@@ -593,13 +692,8 @@ pub fn simulate_many(
             })
             .collect::<Result<Vec<_>, _>>()
     })?;
-    let runs = results.map_err(|(i, e)| {
-        let message = format!("the run from q0s[{i}] failed: {e}");
-        match e {
-            RunError::LeftModel { .. } => pyo3::exceptions::PyRuntimeError::new_err(message),
-            _ => PyValueError::new_err(message),
-        }
-    })?;
+    let runs =
+        results.map_err(|(i, e)| e.class().err(format!("the run from q0s[{i}] failed: {e}")))?;
     let s = samples;
     let mut t = Vec::new();
     let (mut q, mut contact, mut omega, mut com) = (
@@ -641,9 +735,11 @@ pub fn simulate_many(
     columns.insert("normal_force", arr2(py, normal, n, s)?);
     columns.insert("friction", arr3(py, friction, (n, s, 2))?);
     columns.insert("friction_needed", arr2(py, needed, n, s)?);
-    Ok(Trajectory {
+    Trajectory {
         columns,
         summary: summaries.into_any().unbind(),
         dimension: 3,
-    })
+        order: SPHERE_COLUMNS,
+    }
+    .into_python(py, true)
 }

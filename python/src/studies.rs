@@ -6,7 +6,7 @@
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{AllowTypeChange, Complex64, IntoPyArray, PyArray1, PyArray2, PyArrayLikeDyn};
-use pyo3::exceptions::{PyRuntimeWarning, PyValueError};
+use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use rollphase_core::analysis::orbit_diagram::{DirectRuns, RunWindow, mass_bifurcation_until};
@@ -24,8 +24,9 @@ use rollphase_core::simulate::InitialState;
 use rollphase_core::simulate::start::StartRequest;
 
 use crate::body::Body;
+use crate::errors::{ErrorClass, input_error, raise};
 use crate::run::checked_start;
-use crate::{interruptible, value_error, whole};
+use crate::{internal_error, interruptible, whole};
 
 /// The critical angle α* = atan max |∇ ln r| of `body` (rad): a viscous body released at
 /// α ≤ α* comes to rest; above it a disk rolls for ever. The same as body.alpha_star.
@@ -42,7 +43,7 @@ pub fn critical_angle(body: &Body) -> f64 {
 /// to α*, or no steady period by t_max) it returns nan with a RuntimeWarning saying why. The
 /// same numbers as `rollphase period`.
 #[pyfunction]
-#[pyo3(signature = (body, alpha, mass_ratio = 0.0, theta0 = 0.0, theta_dot0 = 0.0,
+#[pyo3(signature = (body, alpha, *, mass_ratio = 0.0, theta0 = 0.0, theta_dot0 = 0.0,
     t_max = 5000.0, rtol = 1e-10))]
 pub fn period(
     py: Python<'_>,
@@ -55,14 +56,14 @@ pub fn period(
     rtol: f64,
 ) -> PyResult<Option<f64>> {
     let CoreBody::Disk(disk) = body.convex()? else {
-        return Err(PyValueError::new_err(
+        return Err(input_error(
             "this body is a 3D sphere; period is for disks. A sphere's orbits are found by \
              simulation: use simulate, or periodic_orbits",
         ));
     };
-    let ramp = Ramp::new(alpha, mass_ratio).map_err(value_error)?;
+    let ramp = Ramp::new(alpha, mass_ratio).map_err(raise)?;
     if !(t_max.is_finite() && t_max > 0.0 && t_max <= MAX_SPAN) {
-        return Err(PyValueError::new_err(format!(
+        return Err(input_error(format!(
             "t_max = {t_max} is not allowed (needs 0 < t_max ≤ {MAX_SPAN:e}: past that the \
              integrator's smallest step, 16 ε × t_max, exceeds the steps an orbit needs)"
         )));
@@ -77,7 +78,7 @@ pub fn period(
     let InitialState::Disk { theta0, theta_dot0 } =
         checked_start(py, &body.body, mass_ratio, &request)?
     else {
-        return Err(PyValueError::new_err("period is for a 2D disk"));
+        return Err(input_error("period is for a 2D disk"));
     };
     // The stiff corner as the command line handles it: at m/m0 ≤ rtol the viscous limit.
     let ramp = rollphase_core::simulate::choose_model(
@@ -85,7 +86,7 @@ pub fn period(
         ramp,
         rollphase_core::integrate::Method::dop853(rtol),
     )
-    .map_err(value_error)?
+    .map_err(raise)?
     .ramp;
     let p = if ramp.is_viscous() {
         viscous_disk_period(disk, &ramp)
@@ -96,8 +97,8 @@ pub fn period(
         let run = interruptible(py, move |stop| {
             inertial_disk_period_until(&disk, &ramp, theta0, theta_dot0, rtol, t_max, stop)
         })?
-        .map_err(value_error)?;
-        run.ok_or_else(|| PyValueError::new_err("the period run was stopped"))?
+        .map_err(raise)?;
+        run.ok_or_else(|| ErrorClass::Run.err("the period run was stopped"))?
     };
     match (p.period, p.halts) {
         (Some(t), _) => Ok(Some(t)),
@@ -134,7 +135,7 @@ type MapImages<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
 /// or does not return by t_max. DOP853 at rtol, in parallel; the numbers of `rollphase figure
 /// sphere-poincare`'s field.
 #[pyfunction]
-#[pyo3(signature = (body, alpha, starts, t_max = 2000.0, rtol = 1e-10))]
+#[pyo3(signature = (body, alpha, *, starts, t_max = 2000.0, rtol = 1e-10))]
 pub fn poincare_map<'py>(
     py: Python<'py>,
     body: &Body,
@@ -151,13 +152,13 @@ pub fn poincare_map<'py>(
     )?;
     let (n, width) = starts.dim();
     if width != 4 {
-        return Err(PyValueError::new_err(format!(
+        return Err(input_error(format!(
             "starts must be an (N, 4) array of quaternions w, x, y, z on ∂Ω (w = 0), not shape \
              ({n}, {width})"
         )));
     }
     if !(rtol.is_finite() && rtol > 0.0 && rtol < 1.0) {
-        return Err(PyValueError::new_err(format!(
+        return Err(input_error(format!(
             "rtol = {rtol} is not allowed (needs 0 < rtol < 1)"
         )));
     }
@@ -165,7 +166,7 @@ pub fn poincare_map<'py>(
     for (i, q) in starts.outer_iter().enumerate() {
         let p = DVec3::new(q[1], q[2], q[3]);
         if !(q[0].is_finite() && q[0].abs() <= 1e-9 * p.length()) {
-            return Err(PyValueError::new_err(format!(
+            return Err(input_error(format!(
                 "starts[{i}] = {:?} is not on ∂Ω: points of ∂Ω are rotations by π, w = 0",
                 q.to_vec()
             )));
@@ -175,7 +176,7 @@ pub fn poincare_map<'py>(
     let images = interruptible(py, |stop| {
         poincare_map_until(core, alpha, &points, t_max, rtol, stop)
     })?
-    .map_err(value_error)?;
+    .map_err(raise)?;
     let mut ends = Vec::with_capacity(4 * n);
     let mut times = Vec::with_capacity(n);
     for image in images {
@@ -190,7 +191,7 @@ pub fn poincare_map<'py>(
             }
         }
     }
-    let ends = Array2::from_shape_vec((n, 4), ends).map_err(value_error)?;
+    let ends = Array2::from_shape_vec((n, 4), ends).map_err(internal_error)?;
     Ok((
         ends.into_pyarray(py),
         Array1::from_vec(times).into_pyarray(py),
@@ -202,7 +203,7 @@ pub fn poincare_map<'py>(
 /// orbit, or still roll at t = 2000) rather than halt: the paper's Fig. 3b, and `rollphase
 /// figure sphere-cruising`'s numbers. Returns a dict: cruising, halted, undecided, fraction.
 #[pyfunction]
-#[pyo3(signature = (body, alpha, orientations = 1000, seed = 1))]
+#[pyo3(signature = (body, alpha, *, orientations = 1000, seed = 1))]
 pub fn cruising_fraction<'py>(
     py: Python<'py>,
     body: &Body,
@@ -216,7 +217,7 @@ pub fn cruising_fraction<'py>(
     let c = interruptible(py, |stop| {
         cruising_fraction_until(core, alpha, orientations, seed, stop)
     })?
-    .map_err(value_error)?;
+    .map_err(raise)?;
     let d = PyDict::new(py);
     d.set_item("cruising", c.cruising)?;
     d.set_item("halted", c.halted)?;
@@ -244,7 +245,7 @@ fn decide(t_min: f64, t_cap: f64, max_k: usize, tol: f64) -> Decide {
 /// starts (how many starts settled on it), newton_steps. On the paper's body at α = 0.15 the
 /// viscous model gives the paper's two stable orbits (Fig. 3d).
 #[pyfunction]
-#[pyo3(signature = (body, alpha, mass_ratio = 0.0, orientations = 64, seed = 1, t_min = 2000.0,
+#[pyo3(signature = (body, alpha, *, mass_ratio = 0.0, orientations = 64, seed = 1, t_min = 2000.0,
     t_cap = 20000.0, tol = 1e-5))]
 pub fn periodic_orbits<'py>(
     py: Python<'py>,
@@ -264,7 +265,7 @@ pub fn periodic_orbits<'py>(
     let found = interruptible(py, |stop| {
         periodic_orbits_until(core, alpha, mass_ratio, orientations, seed, &rule, stop)
     })?
-    .map_err(value_error)?;
+    .map_err(raise)?;
     let list = PyList::empty(py);
     for f in found {
         let o = &f.orbit;
@@ -297,7 +298,7 @@ pub fn periodic_orbits<'py>(
 /// dict: cycle_counts (array of max 5: runs with period k = 1, 2, 3, 4, then runs with none),
 /// at_rest and undecided (of those with none), longest_run (the longest a run went on).
 #[pyfunction]
-#[pyo3(signature = (body, alpha, mass_ratio, orientations = 100, seed = 1, t_min = 2000.0,
+#[pyo3(signature = (body, alpha, *, mass_ratio, orientations = 100, seed = 1, t_min = 2000.0,
     t_cap = 20000.0, max_k = 4, tol = 1e-5))]
 pub fn period_counts<'py>(
     py: Python<'py>,
@@ -321,7 +322,7 @@ pub fn period_counts<'py>(
     let c = interruptible(py, |stop| {
         period_counts_until(core, alpha, mass_ratio, orientations, seed, &rule, stop)
     })?
-    .map_err(value_error)?;
+    .map_err(raise)?;
     let d = PyDict::new(py);
     let counts: Vec<u64> = c.cycle_counts.iter().map(|&k| k as u64).collect();
     d.set_item("cycle_counts", Array1::from_vec(counts).into_pyarray(py))?;
@@ -344,7 +345,7 @@ pub fn period_counts<'py>(
 /// loses_stability), windows (the period-2 windows the runs show: orbit, onset_mass, end_mass,
 /// flip_onset_mass, flip_end_mass; None where absent), undecided_runs, longest_run.
 #[pyfunction]
-#[pyo3(signature = (body, alpha, masses, starts = 4, seed = 1, t_min = 1500.0, t_cap = None))]
+#[pyo3(signature = (body, alpha, *, masses, starts = 4, seed = 1, t_min = 1500.0, t_cap = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn mass_bifurcation<'py>(
     py: Python<'py>,
@@ -358,7 +359,7 @@ pub fn mass_bifurcation<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let (starts, seed): (usize, u64) = (whole("starts", starts)?, whole("seed", seed)?);
     let CoreBody::Sphere(sphere) = body.convex()? else {
-        return Err(PyValueError::new_err(
+        return Err(input_error(
             "mass_bifurcation needs a 3D body (a sphere); this one is a 2D disk",
         ));
     };
@@ -369,7 +370,7 @@ pub fn mass_bifurcation<'py>(
     let b = interruptible(py, |stop| {
         mass_bifurcation_until(sphere, alpha, &masses, starts, seed, window, stop)
     })?
-    .map_err(value_error)?;
+    .map_err(raise)?;
     let d = PyDict::new(py);
     d.set_item("masses", Array1::from_vec(masses.clone()).into_pyarray(py))?;
     let counts: Vec<u64> = b
@@ -378,7 +379,7 @@ pub fn mass_bifurcation<'py>(
         .iter()
         .flat_map(|m| m.period_counts.iter().map(|&k| k as u64))
         .collect();
-    let counts = Array2::from_shape_vec((masses.len(), 5), counts).map_err(value_error)?;
+    let counts = Array2::from_shape_vec((masses.len(), 5), counts).map_err(internal_error)?;
     d.set_item("period_counts", counts.into_pyarray(py))?;
     let orbits = PyList::empty(py);
     for o in &b.orbits {
@@ -404,7 +405,7 @@ pub fn mass_bifurcation<'py>(
             .flat_map(|s| s.multipliers.iter().map(|&[re, im]| Complex64::new(re, im)))
             .collect();
         let width = o.solutions.first().map_or(0, |s| s.multipliers.len());
-        let mu = Array2::from_shape_vec((o.solutions.len(), width), mu).map_err(value_error)?;
+        let mu = Array2::from_shape_vec((o.solutions.len(), width), mu).map_err(internal_error)?;
         od.set_item("multipliers", mu.into_pyarray(py))?;
         orbits.append(od)?;
     }
@@ -429,7 +430,7 @@ pub fn mass_bifurcation<'py>(
         windows.append(wd)?;
     }
     d.set_item("windows", windows)?;
-    let grid = DirectRuns::new(&masses, starts, &b.runs).map_err(value_error)?;
+    let grid = DirectRuns::new(&masses, starts, &b.runs).map_err(raise)?;
     d.set_item("undecided_runs", grid.undecided(window.t_cap))?;
     d.set_item("longest_run", grid.longest())?;
     Ok(d)
@@ -447,7 +448,7 @@ pub fn mass_bifurcation<'py>(
 /// omega (3D: where the orbit crosses ∂Ω), and path, an (N, 2) array of the centre's
 /// (down, across) for a sphere or (down, height) for a disk over three repeats.
 #[pyfunction]
-#[pyo3(signature = (body, alpha, mass_ratio = 0.0, starts = 32, seed = 1, t_cap = 20000.0))]
+#[pyo3(signature = (body, alpha, *, mass_ratio = 0.0, starts = 32, seed = 1, t_cap = 20000.0))]
 pub fn predict<'py>(
     py: Python<'py>,
     body: &Body,
@@ -461,7 +462,7 @@ pub fn predict<'py>(
     let (starts, seed): (usize, u64) = (whole("starts", starts)?, whole("seed", seed)?);
     let core = body.convex()?;
     if !(t_cap.is_finite() && (10.0..=MAX_SPAN).contains(&t_cap)) {
-        return Err(PyValueError::new_err(format!(
+        return Err(input_error(format!(
             "t_cap = {t_cap} is not allowed (needs 10 ≤ t_cap ≤ {MAX_SPAN:e})"
         )));
     }
@@ -474,7 +475,7 @@ pub fn predict<'py>(
     let p = interruptible(py, |stop| {
         predict_until(core, alpha, mass_ratio, &options, stop)
     })?
-    .map_err(value_error)?;
+    .map_err(raise)?;
     let d = PyDict::new(py);
     d.set_item("dimension", p.dimension)?;
     d.set_item("alpha", p.alpha)?;
@@ -521,7 +522,7 @@ pub fn predict<'py>(
                 .map(|c| Array1::from_vec(c.to_vec()).into_pyarray(py)),
         )?;
         let flat: Vec<f64> = o.path.iter().flatten().copied().collect();
-        let path = Array2::from_shape_vec((o.path.len(), 2), flat).map_err(value_error)?;
+        let path = Array2::from_shape_vec((o.path.len(), 2), flat).map_err(internal_error)?;
         e.set_item("path", path.into_pyarray(py))?;
         list.append(e)?;
     }

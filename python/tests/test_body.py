@@ -37,7 +37,7 @@ def test_the_constructors_give_what_they_say():
 
 
 def test_the_shape_file_round_trips(tmp_path, cli):
-    body = Body.paper_disk(84, 0.12, 5)
+    body = Body.paper_disk(84, sigma=0.12, modes=5)
     path = tmp_path / "disk.json"
     body.to_file(path)
     again = Body.from_file(str(path))
@@ -99,7 +99,7 @@ def test_bad_files_and_parameters_are_value_errors(tmp_path, repo):
 
 
 def test_the_disk_radius_is_the_papers_formula():
-    body = Body.paper_disk(84, 0.12, 5)
+    body = Body.paper_disk(84, sigma=0.12, modes=5)
     modes = json.loads(body.to_json())["modes"]
     theta = np.linspace(-7.0, 7.0, 301).reshape(7, 43)
     expected = 1.0 + sum(

@@ -1,5 +1,5 @@
 """Every Python block of the README, docs/guide/python.md and docs/guide/experiments.md runs, top to bottom, one
-namespace per page (as tests/guide_commands.rs runs the sh blocks), and a print whose comment
+namespace per page (as tests/command_line/guide_commands.rs runs the sh blocks), and a print whose comment
 names an exact value (α* = 0.1394, a shape and a model) prints it."""
 
 import contextlib

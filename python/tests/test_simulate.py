@@ -1,6 +1,7 @@
 """simulate and simulate_many: the command line's numbers to the last digit, its summary keys,
 its error messages, and Ctrl-C."""
 
+import inspect
 import json
 import signal
 import subprocess
@@ -69,7 +70,7 @@ CASES = [
 @pytest.fixture(scope="module")
 def shapes(tmp_path_factory):
     folder = tmp_path_factory.mktemp("shapes")
-    bodies = {"sphere": Body.paper_sphere(219), "disk": Body.paper_disk(84, 0.12, 5)}
+    bodies = {"sphere": Body.paper_sphere(219), "disk": Body.paper_disk(84, sigma=0.12, modes=5)}
     for name, body in bodies.items():
         body.to_file(folder / f"{name}.json")
     return folder, bodies
@@ -96,14 +97,14 @@ def test_simulate_many_is_simulate_for_each_start():
     body = Body.paper_sphere(219)
     rng = np.random.default_rng(7)
     q0s = rng.normal(size=(12, 4))
-    many = rollphase.simulate_many(body, 0.15, q0s, 40.0, samples=41, mass_ratio=3.0)
+    many = rollphase.simulate_many(body, 0.15, 40.0, q0s=q0s, samples=41, mass_ratio=3.0)
     assert many.q.shape == (12, 41, 4) and many.com.shape == (12, 41, 3)
-    assert many.t.shape == (41,) and len(many.summary) == 12
+    assert many.t.shape == (41,) and len(many.summaries) == 12
     for i in (0, 5, 11):
         one = rollphase.simulate(body, 0.15, 40.0, q0=q0s[i], samples=41, mass_ratio=3.0)
         np.testing.assert_array_equal(many.q[i], one.q)
         np.testing.assert_array_equal(many.omega[i], one.omega)
-        assert many.summary[i]["steps"] == one.summary["steps"]
+        assert many.summaries[i]["steps"] == one.summary["steps"]
 
 
 def test_perfect_bodies_roll_as_the_exact_solution(tmp_path):
@@ -153,7 +154,7 @@ def test_bad_input_raises_the_command_lines_message(kwargs, flags, shapes, cli):
 
 
 def test_bad_starts_name_the_argument():
-    sphere, disk = Body.paper_sphere(219), Body.paper_disk(84, 0.12, 5)
+    sphere, disk = Body.paper_sphere(219), Body.paper_disk(84, sigma=0.12, modes=5)
     cases = [
         (sphere, dict(q0=[0, 0, 0, 0]), "zero length"),
         (sphere, dict(q0=[1, 0, float("nan"), 0]), "q0: NaN is not a finite"),
@@ -179,17 +180,17 @@ def test_bad_starts_name_the_argument():
 def test_simulate_many_refuses_bad_arrays_before_running():
     body = Body.paper_sphere(219)
     with pytest.raises(ValueError, match=r"\(N, 4\)"):
-        rollphase.simulate_many(body, 0.15, np.zeros((3, 3)), 10.0)
+        rollphase.simulate_many(body, 0.15, 10.0, q0s=np.zeros((3, 3)))
     with pytest.raises(ValueError, match="empty"):
-        rollphase.simulate_many(body, 0.15, np.zeros((0, 4)), 10.0)
+        rollphase.simulate_many(body, 0.15, 10.0, q0s=np.zeros((0, 4)))
     with pytest.raises(ValueError, match=r"q0s\[1\]"):
-        rollphase.simulate_many(body, 0.15, [[1, 0, 0, 0], [0, 0, 0, 0]], 10.0)
+        rollphase.simulate_many(body, 0.15, 10.0, q0s=[[1, 0, 0, 0], [0, 0, 0, 0]])
     started = time.perf_counter()
     with pytest.raises(ValueError, match="GB"):
-        rollphase.simulate_many(body, 0.15, np.tile([1.0, 0, 0, 0], (10**6, 1)), 10.0)
+        rollphase.simulate_many(body, 0.15, 10.0, q0s=np.tile([1.0, 0, 0, 0], (10**6, 1)))
     assert time.perf_counter() - started < 5, "refused before any run"
     with pytest.raises(ValueError, match="disk"):
-        rollphase.simulate_many(Body.paper_disk(84, 0.12, 5), 0.1, [[1, 0, 0, 0]], 10.0)
+        rollphase.simulate_many(Body.paper_disk(84, sigma=0.12, modes=5), 0.1, 10.0, q0s=[[1, 0, 0, 0]])
 
 
 def test_ctrl_c_stops_simulate_many():
@@ -200,7 +201,7 @@ def test_ctrl_c_stops_simulate_many():
     timer.start()
     started = time.perf_counter()
     with pytest.raises(KeyboardInterrupt):
-        rollphase.simulate_many(body, 0.15, q0s, 2000.0, samples=11)
+        rollphase.simulate_many(body, 0.15, 2000.0, q0s=q0s, samples=11)
     assert time.perf_counter() - started < 5, "stopped soon after Ctrl-C"
     # The module still works afterwards.
     assert len(rollphase.simulate(body, 0.15, 10.0, samples=3)) == 3
@@ -263,15 +264,15 @@ def test_contact_forces_are_the_command_lines_and_lift_off_warns(shapes, cli, tm
 
 
 def test_a_viscous_run_needs_tan_alpha_and_stop_raises():
-    body = Body.paper_disk(84, 0.12, 5)
+    body = Body.paper_disk(84, sigma=0.12, modes=5)
     run = rollphase.simulate(body, 0.3, 10.0, samples=11)
     np.testing.assert_array_equal(run.normal_force, np.cos(0.3))
     np.testing.assert_array_equal(run.friction_needed, np.tan(0.3))
     assert run.summary["max_friction_needed"] == np.tan(0.3) and run.summary["slip_t"] is None
-    with pytest.raises(RuntimeError, match="slips at t = 0"):
+    with pytest.raises(rollphase.LeftModelError, match="slips at t = 0"):
         rollphase.simulate(body, 0.3, 10.0, friction=0.2, on_invalid="stop")
     many = rollphase.simulate_many(
-        Body.paper_sphere(219), 0.15, np.eye(4)[:2], 5.0, samples=6, mass_ratio=2.0
+        Body.paper_sphere(219), 0.15, 5.0, q0s=np.eye(4)[:2], samples=6, mass_ratio=2.0
     )
     assert many.normal_force.shape == (2, 6) and many.friction.shape == (2, 6, 2)
     for bad, match in [
@@ -285,7 +286,7 @@ def test_a_viscous_run_needs_tan_alpha_and_stop_raises():
 
 def test_a_dented_cylinder_rolls_on_its_hull_as_on_the_command_line(cli, tmp_path):
     # The authors' printed σ = 0.5 cylinder (their num_modes = 8) has two dents.
-    body = Body.paper_disk(219, 0.5, 9)
+    body = Body.paper_disk(219, sigma=0.5, modes=9)
     assert not body.is_convex
     path = tmp_path / "printed.json"
     body.to_file(path)
@@ -300,3 +301,71 @@ def test_a_dented_cylinder_rolls_on_its_hull_as_on_the_command_line(cli, tmp_pat
     theirs = json.loads(summary.read_text())
     assert run.summary["tips"] == theirs["tips"] > 0
     assert run.summary["tip_energy_lost"] == theirs["tip_energy_lost"] > 0.0
+
+
+def test_settings_are_keyword_only_in_one_order_everywhere():
+    # Issue 37: all 19 of simulate's parameters could be passed by position, and simulate_many
+    # took (body, alpha, q0s, t_end) against simulate's (body, alpha, t_end).
+    body = Body.paper_sphere(219)
+    with pytest.raises(TypeError):
+        rollphase.simulate(body, 0.15, 10.0, 2.0)
+    with pytest.raises(TypeError):
+        rollphase.simulate_many(body, 0.15, np.eye(4)[:1], 10.0)
+    with pytest.raises(TypeError):
+        rollphase.period_counts(body, 0.15, 6.0)
+    with pytest.raises(TypeError):
+        Body.paper_disk(84, 0.12, 5)
+    # Every function: the body (or seed or path) and the ramp by position, the rest by name.
+    positional = {
+        "simulate": ["body", "alpha", "t_end"],
+        "simulate_many": ["body", "alpha", "t_end"],
+        "critical_angle": ["body"],
+    }
+    for name in ("simulate", "simulate_many", "critical_angle", "period", "poincare_map",
+                 "cruising_fraction", "periodic_orbits", "predict", "period_counts",
+                 "mass_bifurcation"):
+        params = inspect.signature(getattr(rollphase, name)).parameters.values()
+        by_position = [p.name for p in params if p.kind is p.POSITIONAL_OR_KEYWORD]
+        assert by_position == positional.get(name, ["body", "alpha"]), name
+        assert all(p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY) for p in params), name
+
+
+def test_each_kind_of_run_has_its_own_class():
+    sphere = rollphase.simulate(Body.paper_sphere(219), 0.15, 5.0, samples=6)
+    disk = rollphase.simulate(Body.paper_disk(84, sigma=0.12, modes=5), 0.3, 5.0, samples=6)
+    many = rollphase.simulate_many(Body.paper_sphere(219), 0.15, 5.0, q0s=np.eye(4)[:2], samples=6)
+    assert type(sphere) is rollphase.SphereTrajectory and type(disk) is rollphase.DiskTrajectory
+    assert type(many) is rollphase.SphereRuns
+    for run in (sphere, disk, many):
+        assert isinstance(run, rollphase.Trajectory)
+        assert all(hasattr(run, c) for c in run.columns), run
+    # A getter of the other dimension is simply absent (it used to exist and raise).
+    assert not hasattr(disk, "q") and not hasattr(sphere, "theta") and not hasattr(many, "summary")
+    assert sphere.summary["model"] and isinstance(many.summaries, list)
+    assert repr(many).startswith("<rollphase.SphereRuns: 6 samples") and "2 starts" in repr(many)
+
+
+def test_every_failure_has_its_class_in_the_tree():
+    assert issubclass(rollphase.InputError, rollphase.RollphaseError)
+    assert issubclass(rollphase.InputError, ValueError)
+    assert issubclass(rollphase.RunError, rollphase.RollphaseError)
+    assert issubclass(rollphase.RunError, RuntimeError)
+    assert not issubclass(rollphase.RunError, ValueError)
+    assert issubclass(rollphase.LeftModelError, rollphase.RunError)
+    assert issubclass(rollphase.InternalError, rollphase.RollphaseError)
+    for cls in (rollphase.RollphaseError, rollphase.InputError, rollphase.RunError,
+                rollphase.LeftModelError, rollphase.InternalError):
+        assert cls.__module__ == "rollphase" and cls.__doc__, cls
+    body = Body.paper_sphere(219)
+    # Bad input: refused before any work.
+    with pytest.raises(rollphase.InputError, match="alpha"):
+        rollphase.simulate(body, 2.0, 10.0)
+    # A run that blew its step budget is a failed run, not bad input (it was a ValueError).
+    with pytest.raises(rollphase.RunError, match="steps") as caught:
+        rollphase.simulate(body, 0.15, 100.0, max_steps=5)
+    assert not isinstance(caught.value, ValueError)
+    with pytest.raises(rollphase.RunError, match=r"q0s\[0\]"):
+        rollphase.simulate_many(body, 0.15, 100.0, q0s=np.eye(4)[:1], max_steps=5)
+    # An orbit study whose runs fail is a RunError too.
+    with pytest.raises(rollphase.RollphaseError):
+        rollphase.period(Body.paper_disk(84, sigma=0.12, modes=5), 0.3, mass_ratio=1.0, rtol=0.5)
