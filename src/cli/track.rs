@@ -477,8 +477,11 @@ fn align(folded: &[Folded], orbit: &PredictedOrbit, cm: f64, frames_per_t0: f64)
     (phase, mirrored)
 }
 
-/// Long on purpose: four panels (the track and its cycles, the two folded coordinates with the
-/// markers and the prediction, the period's evidence), each a handful of series.
+#[expect(
+    clippy::too_many_lines,
+    reason = "four panels (the track and its cycles, the two folded coordinates with the markers \
+              and the prediction, the period's evidence), each a handful of series"
+)]
 fn figure(
     fit: &PeriodFit,
     centre: &[Folded],

@@ -300,9 +300,13 @@ impl Sweep {
         Self::from_text(&text, &base).with_context(|| format!("sweep spec {}", path.display()))
     }
 
-    /// Prepares a sweep from a spec's text; files are relative to `base`. Long on purpose: it
-    /// validates every key in the spec's order, each with its own message (which key, which
-    /// value, what is allowed), before any run; split up, the checks would only be scattered.
+    /// Prepares a sweep from a spec's text; files are relative to `base`.
+    #[expect(
+        clippy::too_many_lines,
+        reason = "it validates every key in the spec's order, each with its own message (which \
+                  key, which value, what is allowed), before any run; split up, the checks would \
+                  only be scattered"
+    )]
     pub fn from_text(text: &str, base: &Path) -> Result<Self> {
         let spec: SweepSpec = toml::from_str(text)
             .map_err(|e| anyhow::anyhow!("{}", clip_long_lines(&e.to_string())))?;

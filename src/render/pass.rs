@@ -108,11 +108,15 @@ impl Renderer {
         self.render_in(target, size, [0, 0, size.0, size.1], frame);
     }
 
-    /// Draws `frame`, laid out for a `rect[2]`×`rect[3]` picture, into the pixel rectangle
-    /// `rect` (x, y, w, h) of `target` (`size` pixels): the app's 3D area beside its controls.
-    /// The whole target is cleared to `frame.clear` first. Long on purpose: one frame's wgpu
-    /// work in the order the GPU needs it (upload the frame's buffers, then one render pass
-    /// over every view and panel); the steps share the buffers and the pass, and read in order.
+    /// Draws `frame`, laid out for a `rect[2]`×`rect[3]` picture, into the pixel rectangle `rect`
+    /// (x, y, w, h) of `target` (`size` pixels): the app's 3D area beside its controls. The whole
+    /// target is cleared to `frame.clear` first.
+    #[expect(
+        clippy::too_many_lines,
+        reason = "one frame's wgpu work in the order the GPU needs it (upload the frame's buffers, \
+                  then one render pass over every view and panel); the steps share the buffers and \
+                  the pass, and read in order"
+    )]
     pub fn render_in(
         &mut self,
         target: &wgpu::TextureView,

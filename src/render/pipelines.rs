@@ -106,7 +106,7 @@ pub(super) struct Targets {
     pub(super) depth: wgpu::TextureView,
 }
 
-/// The WGSL sources, by file name: compiled here and validated by `tests/shaders.rs`.
+/// The WGSL sources, by file name: compiled here and validated by `tests/app/shaders.rs`.
 pub const SHADERS: &[(&str, &str)] = &[
     ("mesh.wgsl", include_str!("../../shaders/mesh.wgsl")),
     ("lines.wgsl", include_str!("../../shaders/lines.wgsl")),
@@ -180,9 +180,12 @@ pub(super) struct PipelineSpec<'a> {
 }
 
 impl Renderer {
-    /// Builds the pipelines for targets of `format`, with `sample_count` (1 or 4) MSAA. Long on
-    /// purpose: a flat list of wgpu descriptors (shaders, layouts, one pipeline each), read top
-    /// to bottom; each is used once.
+    /// Builds the pipelines for targets of `format`, with `sample_count` (1 or 4) MSAA.
+    #[expect(
+        clippy::too_many_lines,
+        reason = "a flat list of wgpu descriptors (shaders, layouts, one pipeline each), read top \
+                  to bottom; each is used once"
+    )]
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,

@@ -12,6 +12,14 @@
 //! (full and partial updates, its sampler options), one pipeline with egui's blending
 //! (premultiplied alpha), and each mesh under its clip rectangle. No paint callbacks: the 3D
 //! view is drawn by [`crate::render::Renderer`] before the panels.
+//!
+//! Kept honest three ways. What it cannot draw (a paint callback, a mesh whose texture egui never
+//! sent, a patch of a texture it does not have) is skipped with a warning on stderr, once per
+//! kind, and listed by [`EguiRenderer::skipped`]. Each mesh's indices are rebased on the CPU, so
+//! it never needs `base_vertex` (which WebGL2 and GLES 3.0 lack). And `tests/app/egui_renderer.rs`
+//! draws the same egui frames through egui-wgpu (a dev-dependency) and compares the pixels, so
+//! an egui release that changes what it sends shows there; the upgrade checklist is next to
+//! `egui` in `Cargo.toml`.
 
 use std::collections::HashMap;
 
@@ -19,7 +27,7 @@ use egui::epaint::{self, ClippedPrimitive, ImageData, Primitive, TextureId};
 
 use crate::render::{Scratch, texture_group, texture_sampler_layout};
 
-/// The shader (`shaders/egui.wgsl`), validated by `tests/shaders.rs` with the renderer's own.
+/// The shader (`shaders/egui.wgsl`), validated by `tests/app/shaders.rs` with the renderer's own.
 pub const SHADER: (&str, &str) = ("egui.wgsl", include_str!("../../shaders/egui.wgsl"));
 
 /// One egui vertex as the shader reads it. Built field by field rather than cast from
@@ -32,12 +40,37 @@ struct GpuVertex {
     color: u32,
 }
 
-/// One mesh to draw: its pixel clip rectangle, texture and ranges in the frame's buffers.
+/// One mesh to draw: its pixel clip rectangle, texture and range in the frame's index buffer
+/// (whose indices already point at the frame's vertex buffer).
 struct Draw {
     scissor: [u32; 4],
     texture: TextureId,
     indices: std::ops::Range<u32>,
-    base_vertex: i32,
+}
+
+/// What egui asked for that this renderer skipped (each reported on stderr once).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Skipped {
+    /// A paint callback (custom wgpu drawing inside the UI): this app's UI makes none.
+    PaintCallback,
+    /// A mesh whose texture egui never sent (drawn by egui-wgpu as nothing, too).
+    MissingTexture,
+    /// A partial update of a texture this renderer does not have.
+    PatchOfUnknownTexture,
+}
+
+impl Skipped {
+    fn describe(self) -> &'static str {
+        match self {
+            Skipped::PaintCallback => {
+                "a paint callback (custom drawing inside the UI) is not drawn"
+            }
+            Skipped::MissingTexture => "a mesh whose texture egui never sent is not drawn",
+            Skipped::PatchOfUnknownTexture => {
+                "a partial update of a texture egui never sent whole is ignored"
+            }
+        }
+    }
 }
 
 /// egui's renderer for targets of one format.
@@ -46,11 +79,19 @@ pub struct EguiRenderer {
     screen: wgpu::Buffer,
     screen_group: wgpu::BindGroup,
     texture_layout: wgpu::BindGroupLayout,
-    textures: HashMap<TextureId, (wgpu::Texture, wgpu::BindGroup)>,
+    textures: HashMap<TextureId, EguiTexture>,
     samplers: HashMap<epaint::textures::TextureOptions, wgpu::Sampler>,
     vertices: Scratch,
     indices: Scratch,
     draws: Vec<Draw>,
+    skipped: std::collections::BTreeSet<Skipped>,
+}
+
+/// A texture egui sent, with the sampler options its bind group was made with.
+struct EguiTexture {
+    texture: wgpu::Texture,
+    group: wgpu::BindGroup,
+    options: epaint::textures::TextureOptions,
 }
 
 impl EguiRenderer {
@@ -153,7 +194,36 @@ impl EguiRenderer {
             vertices: Scratch::new(device, "egui vertices", wgpu::BufferUsages::VERTEX),
             indices: Scratch::new(device, "egui indices", wgpu::BufferUsages::INDEX),
             draws: Vec::new(),
+            skipped: std::collections::BTreeSet::new(),
         }
+    }
+
+    /// The kinds of egui output skipped so far, each reported once on stderr.
+    pub fn skipped(&self) -> Vec<Skipped> {
+        self.skipped.iter().copied().collect()
+    }
+
+    fn skip(&mut self, what: Skipped) {
+        if self.skipped.insert(what) {
+            eprintln!(
+                "warning: the egui renderer skips what it cannot draw: {} (shown once)",
+                what.describe()
+            );
+        }
+    }
+
+    /// The bind group of texture `texture` with a sampler for `options`.
+    fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        texture: &wgpu::Texture,
+        options: epaint::textures::TextureOptions,
+    ) -> wgpu::BindGroup {
+        let sampler = self
+            .samplers
+            .entry(options)
+            .or_insert_with(|| sampler(device, options));
+        texture_group(device, &self.texture_layout, texture, sampler)
     }
 
     /// Creates or updates (a sub-rectangle of) texture `id` from egui's `delta`.
@@ -171,10 +241,20 @@ impl EguiRenderer {
         }
         let origin = match delta.pos {
             Some([x, y]) => {
-                if !self.textures.contains_key(&id) {
+                let Some(known) = self.textures.get(&id) else {
                     // egui only patches textures it created; nothing to patch means a bug
                     // upstream, and a missing glyph is better than a crash in a lesson.
+                    self.skip(Skipped::PatchOfUnknownTexture);
                     return;
+                };
+                if known.options != delta.options {
+                    // A patch may change how the whole texture is sampled (egui-wgpu rebinds
+                    // then too).
+                    let texture = known.texture.clone();
+                    let group = self.bind(device, &texture, delta.options);
+                    let known = self.textures.get_mut(&id).expect("looked up above");
+                    known.group = group;
+                    known.options = delta.options;
                 }
                 wgpu::Origin3d {
                     x: x as u32,
@@ -198,18 +278,19 @@ impl EguiRenderer {
                     usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
                     view_formats: &[],
                 });
-                let sampler = self
-                    .samplers
-                    .entry(delta.options)
-                    .or_insert_with(|| sampler(device, delta.options));
-                let group = texture_group(device, &self.texture_layout, &texture, sampler);
-                if let Some((old, _)) = self.textures.insert(id, (texture, group)) {
-                    old.destroy();
+                let group = self.bind(device, &texture, delta.options);
+                let made = EguiTexture {
+                    texture,
+                    group,
+                    options: delta.options,
+                };
+                if let Some(old) = self.textures.insert(id, made) {
+                    old.texture.destroy();
                 }
                 wgpu::Origin3d::ZERO
             }
         };
-        let texture = &self.textures[&id].0;
+        let texture = &self.textures[&id].texture;
         queue.write_texture(
             wgpu::TexelCopyTextureInfo {
                 texture,
@@ -233,8 +314,8 @@ impl EguiRenderer {
 
     /// Frees texture `id` (egui is done with it).
     pub fn free_texture(&mut self, id: &TextureId) {
-        if let Some((texture, _)) = self.textures.remove(id) {
-            texture.destroy();
+        if let Some(old) = self.textures.remove(id) {
+            old.texture.destroy();
         }
     }
 
@@ -264,12 +345,16 @@ impl EguiRenderer {
             primitive,
         } in primitives
         {
-            // Paint callbacks are never made by this app's UI.
             let Primitive::Mesh(mesh) = primitive else {
+                self.skip(Skipped::PaintCallback);
                 continue;
             };
             let scissor = scissor(clip_rect, pixels_per_point, size);
             if scissor[2] == 0 || scissor[3] == 0 || mesh.indices.is_empty() {
+                continue;
+            }
+            if !self.textures.contains_key(&mesh.texture_id) {
+                self.skip(Skipped::MissingTexture);
                 continue;
             }
             let start = indices.len() as u32;
@@ -277,9 +362,11 @@ impl EguiRenderer {
                 scissor,
                 texture: mesh.texture_id,
                 indices: start..start + mesh.indices.len() as u32,
-                base_vertex: vertices.len() as i32,
             });
-            indices.extend_from_slice(&mesh.indices);
+            // Rebased here rather than by draw_indexed's base_vertex, which WebGL2 and
+            // GLES 3.0 lack (wgpu's DownlevelFlags::BASE_VERTEX).
+            let base = vertices.len() as u32;
+            indices.extend(mesh.indices.iter().map(|i| i + base));
             vertices.extend(mesh.vertices.iter().map(|v| GpuVertex {
                 position: [v.pos.x, v.pos.y],
                 uv: [v.uv.x, v.uv.y],
@@ -304,13 +391,15 @@ impl EguiRenderer {
         pass.set_vertex_buffer(0, self.vertices.buffer.slice(..));
         pass.set_index_buffer(self.indices.buffer.slice(..), wgpu::IndexFormat::Uint32);
         for draw in &self.draws {
-            let Some((_, group)) = self.textures.get(&draw.texture) else {
+            // Every draw's texture was checked in update_buffers, and egui frees textures only
+            // after the frame that uses them.
+            let Some(texture) = self.textures.get(&draw.texture) else {
                 continue;
             };
             let [x, y, w, h] = draw.scissor;
             pass.set_scissor_rect(x, y, w, h);
-            pass.set_bind_group(1, group, &[]);
-            pass.draw_indexed(draw.indices.clone(), draw.base_vertex, 0..1);
+            pass.set_bind_group(1, &texture.group, &[]);
+            pass.draw_indexed(draw.indices.clone(), 0, 0..1);
         }
     }
 }

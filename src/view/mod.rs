@@ -261,7 +261,7 @@ impl SceneView {
         // It sits above the colour legend (about 70 px tall at text scale 1), in a band of its
         // own: the body's view ends above the band and keeps the scale it has without a caption,
         // so the caption never covers the body and the body stays as large as elsewhere
-        // (tests/presentation.rs measures it on every lesson step).
+        // (tests/app/presentation.rs measures it on every lesson step).
         // Under a caption the colour legend keeps the plain size: the caption is what the room
         // reads, and a large legend would lift it into the body's view.
         let legend_text = if snap.caption.is_some() {

@@ -209,7 +209,7 @@ pub(super) fn caption_panel(
 /// A panel's height in pixels as the overlay will draw it, from above: DejaVu Sans's line is
 /// 1.164 of its size (ascent 0.928 + descent 0.236), taken as 1.2, plus the 2 px the overlay
 /// puts under each item and the padding (the view layer has no font metrics; `render::overlay`
-/// measures exactly, and tests/presentation.rs checks the band it sets against it).
+/// measures exactly, and tests/app/presentation.rs checks the band it sets against it).
 pub(super) fn estimated_height(panel: &OverlayPanel) -> u32 {
     let items: f32 = panel
         .items

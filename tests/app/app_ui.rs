@@ -14,7 +14,7 @@ use rollphase::render::gpu::{OFFSCREEN_FORMAT, OffscreenTarget};
 use rollphase::scene::Scene;
 use rollphase::ui::workbench::{Workbench, offscreen_input};
 
-mod common;
+use crate::common;
 
 const SIZE: (u32, u32) = (1280, 720);
 
@@ -254,7 +254,7 @@ fn recording_writes_the_asked_number_of_frames_of_the_3d_view() {
     let (gpu, target, mut bench) = app("cylinder-hysteresis");
     let frame = bench.run_ui(offscreen_input(SIZE, 0.0, vec![]), SIZE);
     bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
-    let dir = std::env::temp_dir().join(format!("rollphase-record-{}", std::process::id()));
+    let dir = crate::cli::scratch("record");
     let _ = std::fs::remove_dir_all(&dir);
     bench.start_recording(dir.clone(), 5, SIZE);
     let mut frames = 0;
@@ -280,7 +280,7 @@ fn recording_to_a_gif_path_writes_one_clip_of_the_asked_frames() {
     let (gpu, target, mut bench) = app("cylinder-hysteresis");
     let frame = bench.run_ui(offscreen_input(SIZE, now(), vec![]), SIZE);
     bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
-    let dir = std::env::temp_dir().join(format!("rollphase-record-gif-{}", std::process::id()));
+    let dir = crate::cli::scratch("record-gif");
     std::fs::create_dir_all(&dir).unwrap();
     let gif = dir.join("clip.gif");
     bench.start_recording(gif.clone(), 4, SIZE);
@@ -333,7 +333,7 @@ fn drop_file(
 
 #[test]
 fn a_dropped_file_loads_and_a_bad_one_leaves_the_scene_running_with_a_message() {
-    let dir = std::env::temp_dir().join(format!("rollphase-drop-{}", std::process::id()));
+    let dir = crate::cli::scratch("drop");
     std::fs::create_dir_all(&dir).unwrap();
     let (gpu, target, mut bench) = app("sphere-cruising");
     frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.0);
@@ -483,7 +483,7 @@ fn save_writes_the_running_state_with_a_description_that_matches() {
     frames_until(&mut bench, &gpu, &target, vec![], |s| {
         s.snapshot.alpha_rad == 0.22 && s.speed == 7.0
     });
-    let path = std::env::temp_dir().join(format!("rollphase-save-{}.toml", std::process::id()));
+    let path = crate::cli::scratch("save").join("save.toml");
     bench
         .ui
         .dialogs
@@ -689,7 +689,7 @@ caption = ""
 #[test]
 fn a_file_dialogs_answer_opens_or_saves_that_file() {
     use rollphase::ui::dialog::DialogPurpose;
-    let dir = std::env::temp_dir().join(format!("rollphase-dialog-{}", std::process::id()));
+    let dir = crate::cli::scratch("dialog");
     std::fs::create_dir_all(&dir).unwrap();
     let (gpu, target, mut bench) = app("sphere-cruising");
     frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.0);
@@ -737,7 +737,7 @@ fn export_csv_writes_the_plotted_data_and_says_where() {
         }
         s = frames_until(&mut bench, &gpu, &target, vec![], |_| true);
     }
-    let dir = std::env::temp_dir().join(format!("rollphase-export-{}", std::process::id()));
+    let dir = crate::cli::scratch("export");
     let _ = std::fs::remove_dir_all(&dir);
     bench.ui.set_plot_data_dir(&dir);
     bench.ui.export_plot_data(&s);
@@ -991,7 +991,7 @@ fn frames_until_fitted(
 
 #[test]
 fn a_dropped_mesh_is_fitted_and_rolled_and_a_bad_one_is_named() {
-    let dir = std::env::temp_dir().join(format!("rollphase-drop-mesh-{}", std::process::id()));
+    let dir = crate::cli::scratch("drop-mesh");
     std::fs::create_dir_all(&dir).unwrap();
     let (gpu, target, mut bench) = app("sphere-cruising");
     frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 0.0);
@@ -1346,7 +1346,7 @@ fn save_state_resumes_the_run_where_it_was_with_its_plots() {
     let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::Space), |s| {
         s.paused
     });
-    let path = std::env::temp_dir().join(format!("rollphase-state-{}.toml", std::process::id()));
+    let path = crate::cli::scratch("state").join("state.toml");
     bench.ui.set_scene_path(&path);
     bench.ui.save_state(&s);
     let (notice, error) = bench.ui.notice().cloned().unwrap();

@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-mod common;
+use crate::common;
 
 /// One virtual X server at a time: `xvfb-run -a` picks its display number racily, and two of
 /// these tests started together could share one server, which the first to finish takes down
@@ -88,6 +88,7 @@ fn bad_window_flags_name_the_value() {
 }
 
 #[test]
+#[ignore = "slow: a real window under Xvfb (20 s)"]
 fn window_under_xvfb_shows_the_body_and_the_controls() {
     let _x = one_x_server();
     let has_xvfb = Command::new("xvfb-run")
@@ -102,8 +103,7 @@ fn window_under_xvfb_shows_the_body_and_the_controls() {
         eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb xauth)");
         return;
     }
-    let shot: PathBuf =
-        std::env::temp_dir().join(format!("rollphase-window-{}.png", std::process::id()));
+    let shot: PathBuf = crate::cli::scratch("window").join("window.png");
     let _ = std::fs::remove_file(&shot);
     let o = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1280x800x24"])
@@ -144,6 +144,7 @@ fn window_under_xvfb_shows_the_body_and_the_controls() {
 /// time over three seconds falls to a small fraction of what it uses while shown, and comes back
 /// when restored.
 #[test]
+#[ignore = "slow: a real window under Xvfb, minimised and restored (2 min)"]
 fn a_minimised_window_sleeps_and_wakes_when_restored() {
     let _x = one_x_server();
     let missing: Vec<&str> = ["xvfb-run", "xwininfo", "python3"]
@@ -214,6 +215,7 @@ kill $pid
 /// ending with status 130 and no crash (a segfault, an abort from the allocator or a panic in
 /// the GL driver ended 3 of ~70 when the handler called `exit` from its own thread).
 #[test]
+#[ignore = "slow: a hundred real windows under Xvfb (2 min)"]
 fn a_hundred_kills_of_the_window_all_end_cleanly() {
     let _x = one_x_server();
     let has_xvfb = Command::new("xvfb-run").arg("--help").output().is_ok();
@@ -225,7 +227,7 @@ fn a_hundred_kills_of_the_window_all_end_cleanly() {
         eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb xauth)");
         return;
     }
-    let dir = std::env::temp_dir().join(format!("rollphase-kills-{}", std::process::id()));
+    let dir = crate::cli::scratch("kills");
     std::fs::create_dir_all(&dir).unwrap();
     // One X server for all of them; the delay runs over 0.2 … 1.8 s in a fixed scramble.
     let script = r#"set -u

@@ -2,7 +2,10 @@
 //! CPU renderers) draws what egui asks: a flat colour comes out as the same sRGB bytes on gamma
 //! and sRGB targets, translucent colours blend as premultiplied alpha, nothing is drawn outside
 //! a clip rectangle, and text shows, including glyphs that reach the font atlas in a later frame
-//! (egui patches its texture then, rather than sending it whole).
+//! (egui patches its texture then, rather than sending it whole). And it draws what egui-wgpu
+//! draws: the same frames (text, clipping and translucency, a translucent plot, a patched atlas,
+//! a patch that changes the sampler) through both, pixel for pixel within dithering's noise; what
+//! it cannot draw is reported, once per kind.
 #![cfg(feature = "app")]
 
 use rollphase::render::GpuContext;
@@ -201,5 +204,278 @@ fn text_shows_and_glyphs_added_in_a_later_frame_are_drawn_too() {
         "new glyphs: {} bright pixels, \"abc\" alone {}",
         bright(&later),
         bright(&first)
+    );
+}
+
+/// The same egui frames through egui-wgpu (a dev-dependency: the renderer this one replaced)
+/// and through ours: each frame's texture deltas go to both, its primitives are drawn by each
+/// into a fresh target of `format`, and both come back as RGBA rows.
+struct Differential {
+    ours: EguiRenderer,
+    theirs: egui_wgpu::Renderer,
+    format: wgpu::TextureFormat,
+}
+
+impl Differential {
+    fn new(gpu: &GpuContext, format: wgpu::TextureFormat) -> Self {
+        let options = egui_wgpu::RendererOptions {
+            msaa_samples: 1,
+            depth_stencil_format: None,
+            // Both dither with the same noise (interleaved gradient noise, as ours copies).
+            dithering: true,
+            predictable_texture_filtering: false,
+        };
+        Self {
+            ours: EguiRenderer::new(&gpu.device, format),
+            theirs: egui_wgpu::Renderer::new(&gpu.device, format, options),
+            format,
+        }
+    }
+
+    fn frame(
+        &mut self,
+        gpu: &GpuContext,
+        ctx: &egui::Context,
+        draw: impl FnMut(&mut egui::Ui),
+    ) -> (image::RgbaImage, image::RgbaImage, bool) {
+        let mut draw = draw;
+        let mut patched = false;
+        let mut output = ctx.run_ui(offscreen_input(SIZE, 0.0, Vec::new()), |ui| draw(ui));
+        for (id, deltas) in std::mem::take(&mut output.textures_delta.set) {
+            for delta in deltas {
+                patched |= delta.pos.is_some();
+                self.ours
+                    .update_texture(&gpu.device, &gpu.queue, id, &delta);
+                self.theirs
+                    .update_texture(&gpu.device, &gpu.queue, id, &delta);
+            }
+        }
+        let primitives = ctx.tessellate(output.shapes, output.pixels_per_point);
+        let target =
+            |gpu: &GpuContext| OffscreenTarget::with_format(&gpu.device, SIZE, self.format);
+        // Ours.
+        let ours_target = target(gpu);
+        self.ours.update_buffers(
+            &gpu.device,
+            &gpu.queue,
+            &primitives,
+            SIZE,
+            output.pixels_per_point,
+        );
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut p = cleared_pass(&mut encoder, &ours_target.view);
+            self.ours.render(&mut p);
+        }
+        gpu.queue.submit([encoder.finish()]);
+        // egui-wgpu's.
+        let theirs_target = target(gpu);
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [SIZE.0, SIZE.1],
+            pixels_per_point: output.pixels_per_point,
+        };
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let extra =
+            self.theirs
+                .update_buffers(&gpu.device, &gpu.queue, &mut encoder, &primitives, &screen);
+        {
+            let mut p = cleared_pass(&mut encoder, &theirs_target.view).forget_lifetime();
+            self.theirs.render(&mut p, &primitives, &screen);
+        }
+        gpu.queue
+            .submit(extra.into_iter().chain([encoder.finish()]));
+        for id in std::mem::take(&mut output.textures_delta.free) {
+            self.ours.free_texture(&id);
+            self.theirs.free_texture(&id);
+        }
+        let read = |t: &OffscreenTarget| {
+            image::RgbaImage::from_raw(SIZE.0, SIZE.1, t.read(&gpu.device, &gpu.queue).unwrap())
+                .unwrap()
+        };
+        (read(&ours_target), read(&theirs_target), patched)
+    }
+}
+
+/// One frame's UI, drawn by both renderers.
+type UiFrame = dyn FnMut(&mut egui::Ui);
+
+/// A render pass into `view`, cleared to black.
+fn cleared_pass<'a>(
+    encoder: &'a mut wgpu::CommandEncoder,
+    view: &wgpu::TextureView,
+) -> wgpu::RenderPass<'a> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: None,
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// How two frames differ: the largest difference of any channel, and the share of pixels
+/// where some channel differs by more than 2 levels (of 255).
+fn difference(a: &image::RgbaImage, b: &image::RgbaImage) -> (u8, f64) {
+    let mut worst = 0u8;
+    let mut off = 0usize;
+    for (p, q) in a.pixels().zip(b.pixels()) {
+        let d = (0..3).map(|i| p.0[i].abs_diff(q.0[i])).max().unwrap();
+        worst = worst.max(d);
+        off += usize::from(d > 2);
+    }
+    (worst, off as f64 / f64::from(SIZE.0 * SIZE.1))
+}
+
+/// Whether a frame shows anything but the black it was cleared to.
+fn drawn(img: &image::RgbaImage) -> usize {
+    img.pixels().filter(|p| p.0[..3] != [0, 0, 0]).count()
+}
+
+#[test]
+fn egui_wgpu_and_ours_draw_the_same_frames() {
+    let gpu = GpuContext::headless().expect("a wgpu adapter (llvmpipe on CI)");
+    for format in [
+        wgpu::TextureFormat::Rgba8Unorm,
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+    ] {
+        let ctx = egui::Context::default();
+        let mut both = Differential::new(&gpu, format);
+        let mut texture: Option<egui::TextureHandle> = None;
+        let frames: Vec<(&str, Box<UiFrame>)> = vec![
+            (
+                "text",
+                Box::new(|ui: &mut egui::Ui| {
+                    ui.label("Rolling down a ramp: α = 0.15000");
+                    ui.heading("T = 82.31");
+                }),
+            ),
+            (
+                "clipping and translucency",
+                Box::new(|ui: &mut egui::Ui| rectangles(ui.ctx())),
+            ),
+            (
+                "a translucent plot",
+                Box::new(|ui: &mut egui::Ui| {
+                    let wave: Vec<[f64; 2]> = (0..60)
+                        .map(|i| [f64::from(i) * 0.1, (f64::from(i) * 0.3).sin()])
+                        .collect();
+                    egui_plot::Plot::new("plot").show(ui, |p| {
+                        p.polygon(
+                            egui_plot::Polygon::new(
+                                "band",
+                                egui_plot::PlotPoints::from(vec![
+                                    [0.0, -0.5],
+                                    [6.0, -0.5],
+                                    [6.0, 0.5],
+                                    [0.0, 0.5],
+                                ]),
+                            )
+                            .fill_color(egui::Color32::from_rgba_unmultiplied(80, 160, 255, 90)),
+                        );
+                        p.line(egui_plot::Line::new(
+                            "wave",
+                            egui_plot::PlotPoints::from(wave),
+                        ));
+                    });
+                }),
+            ),
+            (
+                "a patched atlas",
+                // Glyphs the atlas lacks: egui sends them as a patch of its font texture.
+                Box::new(|ui: &mut egui::Ui| {
+                    ui.label(egui::RichText::new("ΩΦΨ ∂Ω 0123456789").size(22.0));
+                }),
+            ),
+            (
+                "a patch that changes the sampler",
+                Box::new(move |ui: &mut egui::Ui| {
+                    let checker = egui::ColorImage::new(
+                        [4, 4],
+                        (0..16)
+                            .map(|i| {
+                                if (i + i / 4) % 2 == 0 {
+                                    egui::Color32::WHITE
+                                } else {
+                                    egui::Color32::from_rgb(200, 30, 30)
+                                }
+                            })
+                            .collect(),
+                    );
+                    let handle = texture.get_or_insert_with(|| {
+                        ui.ctx().load_texture(
+                            "checker",
+                            checker.clone(),
+                            egui::TextureOptions::LINEAR,
+                        )
+                    });
+                    handle.set_partial([0, 0], checker, egui::TextureOptions::NEAREST);
+                    ui.image((handle.id(), egui::vec2(120.0, 100.0)));
+                }),
+            ),
+        ];
+        for (name, mut draw) in frames {
+            let (ours, theirs, patched) = both.frame(&gpu, &ctx, &mut draw);
+            if name.starts_with("a patch") {
+                assert!(patched, "{name}: egui sent a patch");
+            }
+            assert!(drawn(&theirs) > 100, "{name}: egui-wgpu drew nothing");
+            let (worst, share) = difference(&ours, &theirs);
+            // On llvmpipe the two agree to the byte (the same dither noise included); a few
+            // pixels' rounding is left for other drivers.
+            assert!(
+                share < 0.001 && worst <= 4,
+                "{name} ({format:?}): {:.2} % of pixels differ by more than 2 levels, the worst \
+                 by {worst}",
+                share * 100.0
+            );
+        }
+        assert_eq!(
+            both.ours.skipped(),
+            vec![],
+            "nothing of these frames is skipped"
+        );
+    }
+}
+
+#[test]
+fn what_the_renderer_cannot_draw_is_reported_once_per_kind() {
+    use rollphase::ui::egui_renderer::Skipped;
+    let gpu = GpuContext::headless().expect("a wgpu adapter (llvmpipe on CI)");
+    let mut renderer = EguiRenderer::new(&gpu.device, wgpu::TextureFormat::Rgba8Unorm);
+    let clip = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(100.0, 100.0));
+    // A mesh on a texture egui never sent.
+    let mut mesh = egui::epaint::Mesh::default();
+    mesh.add_colored_rect(clip, egui::Color32::RED);
+    mesh.texture_id = egui::TextureId::User(77);
+    let primitives = [
+        egui::epaint::ClippedPrimitive {
+            clip_rect: clip,
+            primitive: egui::epaint::Primitive::Mesh(mesh.clone()),
+        },
+        egui::epaint::ClippedPrimitive {
+            clip_rect: clip,
+            primitive: egui::epaint::Primitive::Mesh(mesh),
+        },
+    ];
+    renderer.update_buffers(&gpu.device, &gpu.queue, &primitives, SIZE, 1.0);
+    assert_eq!(renderer.skipped(), vec![Skipped::MissingTexture]);
+    let patch = egui::epaint::ImageDelta::partial(
+        [0, 0],
+        egui::ColorImage::new([1, 1], vec![egui::Color32::WHITE]),
+        egui::TextureOptions::LINEAR,
+    );
+    renderer.update_texture(&gpu.device, &gpu.queue, egui::TextureId::User(78), &patch);
+    assert_eq!(
+        renderer.skipped(),
+        vec![Skipped::MissingTexture, Skipped::PatchOfUnknownTexture]
     );
 }

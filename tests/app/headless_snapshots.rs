@@ -6,7 +6,7 @@
 //! rounding shifts between Mesa/LLVM versions and GPUs, while a moved body, a missing view or a
 //! wrong colour map changes far more. On a mismatch the test writes `NAME.new.png` and
 //! `NAME.diff.png` (differing pixels in red) next to the snapshot; `UPDATE_SNAPSHOTS=1 cargo test
-//! --test headless_snapshots` accepts the new images.
+//! --test app headless_snapshots` accepts the new images.
 //!
 //! Also: the body is coloured by curvature (not uniformly), consecutive frames differ while the
 //! body rolls, the SO(3) trajectory is drawn, and the same frame renders to the same bytes.

@@ -15,7 +15,7 @@ fn rollphase(args: &[&str]) -> Output {
 }
 
 fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rollphase-{name}-{}", std::process::id()));
+    let dir = crate::cli::scratch(name);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir

@@ -8,9 +8,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-#[path = "common/source.rs"]
-mod source;
-use source::{code_only, rust_files};
+use crate::source::{code_only, rust_files};
 
 /// The physics core's modules, which "the core" stands for in the table.
 const CORE: [&str; 5] = ["geometry", "integrate", "dynamics", "analysis", "numeric"];
@@ -446,103 +444,87 @@ fn the_import_checker_is_not_fooled_by_super_chains_strings_or_comments() {
     assert!(violations_in(&table, &path(&["nowhere"]), "").is_err());
 }
 
-/// The most lines a function may span without saying why ("Long on purpose: …" in its doc).
-const LONG_FUNCTION: usize = 150;
-
-/// Functions (name, first line, lines spanned) in `text` longer than [`LONG_FUNCTION`] whose
-/// doc comment does not say "Long on purpose". A function ends at the first `}` at its own
-/// indentation, which rustfmt guarantees.
-fn unexplained_long_functions(text: &str) -> Vec<(String, usize, usize)> {
-    let lines: Vec<&str> = text.lines().collect();
-    let mut out = Vec::new();
-    for (i, line) in lines.iter().enumerate() {
-        let trimmed = line.trim_start();
-        let indent = line.len() - trimmed.len();
-        let after_vis = trimmed
-            .strip_prefix("pub ")
-            .or_else(|| {
-                trimmed
-                    .strip_prefix("pub(")
-                    .and_then(|r| r.split_once(") ").map(|(_, rest)| rest))
-            })
-            .unwrap_or(trimmed);
-        let after_const = after_vis.strip_prefix("const ").unwrap_or(after_vis);
-        let Some(signature) = after_const.strip_prefix("fn ") else {
-            continue;
-        };
-        if line.trim_end().ends_with(';') {
-            continue;
-        }
-        let close = " ".repeat(indent) + "}";
-        let Some(end) = lines[i + 1..]
-            .iter()
-            .position(|l| l.starts_with(&close) && l.len() - l.trim_start().len() == indent)
-        else {
-            continue;
-        };
-        let span = end + 2;
-        if span <= LONG_FUNCTION {
-            continue;
-        }
-        let mut doc: Vec<&str> = lines[..i]
-            .iter()
-            .rev()
-            .take_while(|l| {
-                let t = l.trim_start();
-                t.starts_with("///") || t.starts_with("#[")
-            })
-            .map(|l| l.trim_start().trim_start_matches('/'))
-            .collect();
-        doc.reverse();
-        let doc = doc.join(" ");
-        let doc = doc.split_whitespace().collect::<Vec<_>>().join(" ");
-        if !doc.contains("Long on purpose") {
-            out.push((ident(signature), i + 1, span));
-        }
-    }
-    out
-}
-
+/// The rules clippy enforces for the whole workspace (clippy.toml, `[workspace.lints]`), kept
+/// from being weakened unnoticed: every way of writing a file is a disallowed method, only the
+/// output layer (and the tests' fixtures) allow them, and a function over 150 lines needs
+/// `#[expect(clippy::too_many_lines, reason = "…")]`. `.ci/run` runs clippy with `-D warnings`.
 #[test]
-fn no_function_is_over_150_lines_without_a_reason_in_its_doc() {
-    let mut offenders = Vec::new();
-    let python = Path::new(env!("CARGO_MANIFEST_DIR")).join("python/src");
-    let mut files: Vec<PathBuf> = workspace_files().into_iter().map(|(_, f)| f).collect();
-    rust_files(&python, &mut files);
-    for file in files {
-        let text = std::fs::read_to_string(&file).unwrap();
-        for (name, line, span) in unexplained_long_functions(&text) {
-            offenders.push(format!("{}:{line} fn {name}: {span} lines", file.display()));
-        }
+fn clippy_refuses_file_writes_outside_the_output_layer_and_unexplained_long_functions() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let config: toml::Table =
+        toml::from_str(&std::fs::read_to_string(root.join("clippy.toml")).unwrap()).unwrap();
+    let disallowed: BTreeSet<&str> = config["disallowed-methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["path"].as_str().unwrap())
+        .collect();
+    for write in [
+        "std::fs::write",
+        "std::fs::File::create",
+        "std::fs::File::create_new",
+        "std::fs::File::options",
+        "std::fs::File::set_len",
+        "std::fs::OpenOptions::open",
+        "std::fs::rename",
+        "std::fs::copy",
+        "std::fs::hard_link",
+        "std::fs::create_dir",
+        "std::fs::create_dir_all",
+        "std::fs::set_permissions",
+        "std::os::unix::fs::symlink",
+        "image::ImageBuffer::save",
+        "image::DynamicImage::save",
+        "image::save_buffer",
+    ] {
+        assert!(
+            disallowed.contains(write),
+            "clippy.toml no longer refuses {write}"
+        );
     }
-    assert!(
-        offenders.is_empty(),
-        "split these, or say in the doc why not (\"Long on purpose: …\"):\n{}",
-        offenders.join("\n")
-    );
-}
-
-#[test]
-fn the_length_check_sees_long_functions_in_impls_and_reads_their_reasons() {
-    let body = "        let x = 1;\n".repeat(LONG_FUNCTION);
-    let long = |doc: &str, head: &str| {
-        format!("impl A {{\n    {doc}\n    {head} {{\n{body}    }}\n\n    fn short() {{}}\n}}\n")
-    };
-    let found = unexplained_long_functions(&long("/// Builds it.", "pub(crate) fn build(&self)"));
-    assert_eq!(found, vec![("build".to_string(), 3, LONG_FUNCTION + 2)]);
-    let found = unexplained_long_functions(&long("/// Builds it.", "pub const fn k()"));
-    assert_eq!(found.len(), 1, "{found:?}");
-    // The reason may wrap across doc lines.
-    let explained = long(
-        "/// Builds it. Long on\n    /// purpose: one flat list.",
-        "pub fn build()",
-    );
-    assert_eq!(unexplained_long_functions(&explained), vec![]);
-    // Short functions and declarations pass.
+    assert_eq!(config["too-many-lines-threshold"].as_integer(), Some(150));
+    let manifest: toml::Table =
+        toml::from_str(&std::fs::read_to_string(root.join("Cargo.toml")).unwrap()).unwrap();
     assert_eq!(
-        unexplained_long_functions("trait T {\n    fn f(&self);\n}\nfn g() {\n}\n"),
-        vec![]
+        manifest["workspace"]["lints"]["clippy"]["too_many_lines"].as_str(),
+        Some("warn")
     );
+    for member in workspace_manifests() {
+        let m: toml::Table = toml::from_str(&std::fs::read_to_string(&member).unwrap()).unwrap();
+        assert_eq!(
+            m.get("lints")
+                .and_then(|l| l.get("workspace"))
+                .and_then(|w| w.as_bool()),
+            Some(true),
+            "{} takes the workspace's lints",
+            member.display()
+        );
+    }
+    // Only the output layer's crate root lifts the rule in the source (the tests' binaries lift
+    // it for their fixtures).
+    let mut files: Vec<PathBuf> = workspace_files().into_iter().map(|(_, f)| f).collect();
+    rust_files(&root.join("python/src"), &mut files);
+    let lifted: Vec<String> = files
+        .iter()
+        .filter(|f| {
+            code_only(&std::fs::read_to_string(f).unwrap()).contains("clippy::disallowed_methods")
+        })
+        .map(|f| f.strip_prefix(root).unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(lifted, ["crates/output/src/lib.rs"]);
+}
+
+/// The Cargo.toml of every member of the workspace.
+fn workspace_manifests() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let manifest: toml::Table =
+        toml::from_str(&std::fs::read_to_string(root.join("Cargo.toml")).unwrap()).unwrap();
+    manifest["workspace"]["members"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| root.join(m.as_str().unwrap()).join("Cargo.toml"))
+        .collect()
 }
 
 /// The public functions (`pub fn`, at any indentation) of a source text whose doc holds no

@@ -20,7 +20,7 @@ fn bench(out: &Path) {
 
 #[test]
 fn quick_accuracy_table_is_physical_and_reproducible() {
-    let base = std::env::temp_dir().join(format!("rollphase-bench-{}", std::process::id()));
+    let base = crate::cli::scratch("bench");
     let (a, b) = (base.join("a"), base.join("b"));
     bench(&a);
     bench(&b);

@@ -6,17 +6,15 @@
 //! at m/m0 = 6 on the paper's body. Outputs are
 //! byte-identical for any thread count.
 
+use crate::cli;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use rollphase::figures::{self, FIGURE_FILES, FigureOptions};
 
-#[path = "common/cli.rs"]
-mod cli;
-
 fn opts(name: &str) -> FigureOptions {
     FigureOptions {
-        out: std::env::temp_dir().join(format!("rollphase-fig-{name}-{}", std::process::id())),
+        out: crate::cli::unmade_folder(&format!("fig-{name}")),
         seed: 1,
         quick: true,
         ..FigureOptions::default()
@@ -205,7 +203,7 @@ fn measured_lag_times_give_an_exponent_near_minus_one_half() {
 
 #[test]
 fn figures_are_identical_for_any_thread_count() {
-    let base = std::env::temp_dir().join(format!("rollphase-threads-{}", std::process::id()));
+    let base = crate::cli::scratch("threads");
     for threads in ["1", "2"] {
         let status = Command::new(env!("CARGO_BIN_EXE_rollphase"))
             .args([
@@ -384,7 +382,7 @@ fn sphere_halting_loops_shrink_towards_alpha_star_with_stable_and_unstable_arcs(
 
 #[test]
 fn a_figure_folder_holds_the_old_set_or_the_new_one_never_a_mix() {
-    let base = std::env::temp_dir().join(format!("rollphase-figure-set-{}", std::process::id()));
+    let base = crate::cli::scratch("figure-set");
     let _ = std::fs::remove_dir_all(&base);
     let run = || {
         Command::new(env!("CARGO_BIN_EXE_rollphase"))
@@ -428,7 +426,7 @@ fn a_figure_folder_holds_the_old_set_or_the_new_one_never_a_mix() {
 fn three_d_figures_run_below_alpha_star_and_report_the_halting_runs() {
     // In 3D α* is where every orientation rolls; below it rolling orbits remain (the paper's
     // body at α = 0.13 < α* = 0.1394), so the figures run and count the starts that halt.
-    let base = std::env::temp_dir().join(format!("rollphase-below-star-{}", std::process::id()));
+    let base = crate::cli::scratch("below-star");
     for figure in ["sphere-poincare", "sphere-doubling"] {
         let o = Command::new(env!("CARGO_BIN_EXE_rollphase"))
             .args(["figure", figure, "--quick", "--alpha", "0.13", "--out"])
@@ -459,7 +457,7 @@ struct TinyDisk(std::path::PathBuf);
 
 impl TinyDisk {
     fn mount(name: &str, kib: u32) -> Option<Self> {
-        let dir = std::env::temp_dir().join(format!("rollphase-{name}-{}", std::process::id()));
+        let dir = crate::cli::scratch(name);
         std::fs::create_dir_all(&dir).ok()?;
         let ok = Command::new("mount")
             .args(["-t", "tmpfs", "-o", &format!("size={kib}k"), "tmpfs"])

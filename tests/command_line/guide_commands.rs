@@ -32,6 +32,10 @@ const REPO: &str = env!("CARGO_MANIFEST_DIR");
 const NOT_RUN: &[(&str, &str)] = &[
     ("cargo test", "the test suite this test is part of"),
     (
+        "cargo test -- --include-ignored",
+        "the whole test suite, this test included",
+    ),
+    (
         "cargo install --path .",
         "a release build of the binary that `cargo test` built and this test runs",
     ),
@@ -149,7 +153,7 @@ fn as_run(command: &str) -> Option<String> {
 
 /// A fresh folder for one page, with the files its commands name.
 fn workdir(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rollphase-guide-{}-{tag}", std::process::id()));
+    let dir = crate::cli::scratch(&format!("guide-{tag}"));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(dir.join("docs")).unwrap();
     let copy = |from: &str, to: &Path| {
@@ -253,8 +257,9 @@ fn run_page(page: &Path, log: &Path) -> usize {
 }
 
 #[test]
+#[ignore = "slow: every command of the README and the guide (1 min)"]
 fn every_command_in_the_readme_and_the_guide_runs() {
-    let log = std::env::temp_dir().join(format!("rollphase-guide-{}.log", std::process::id()));
+    let log = crate::cli::scratch("guide").join("guide.log");
     let _ = std::fs::remove_file(&log);
     let pages = pages();
     assert!(pages.len() >= 10, "the guide has {} pages", pages.len());
@@ -325,6 +330,7 @@ fn slurm_available() -> bool {
 }
 
 #[test]
+#[ignore = "slow: a Slurm array job on a one-node Slurm"]
 fn the_cluster_pages_slurm_array_job_merges_byte_identically() {
     if !slurm_available() {
         assert!(

@@ -7,13 +7,13 @@ use std::process::Command;
 #[cfg(feature = "render")]
 #[test]
 fn readme_quick_start_renders_sixty_frames() {
-    let readme = include_str!("../README.md");
+    let readme = include_str!("../../README.md");
     let command = "cargo run -- --headless --frames 60 --out frames";
     assert!(
         readme.contains(command),
         "the README's quick start changed; update this test"
     );
-    let dir = std::env::temp_dir().join(format!("rollphase-quick-{}", std::process::id()));
+    let dir = crate::cli::scratch("quick");
     let out = Command::new(env!("CARGO_BIN_EXE_rollphase"))
         .args(["--headless", "--frames", "60", "--out"])
         .arg(&dir)
@@ -34,7 +34,7 @@ fn readme_quick_start_renders_sixty_frames() {
 
 #[test]
 fn readme_simulate_example_runs_on_the_bundled_sphere() {
-    let dir = std::env::temp_dir().join(format!("rollphase-readme-{}", std::process::id()));
+    let dir = crate::cli::scratch("readme");
     std::fs::create_dir_all(&dir).unwrap();
     let csv = dir.join("traj.csv");
     let summary = dir.join("summary.json");

@@ -274,7 +274,7 @@ fn a_scene_says_when_its_motion_stops_being_rollable() {
 fn a_dented_cylinder_tips_across_its_flats_in_the_app_as_in_simulate() {
     use rollphase::geometry::Body;
     use rollphase::simulate::{InitialState, Model, Simulation as Run, Trajectory, simulate};
-    let dir = std::env::temp_dir().join(format!("rollphase-dented-scene-{}", std::process::id()));
+    let dir = crate::cli::scratch("dented-scene");
     std::fs::create_dir_all(&dir).unwrap();
     let body = Body::paper_disk(219, 0.5, 9).unwrap();
     std::fs::write(dir.join("printed.json"), body.to_shape().to_json().unwrap()).unwrap();

@@ -1,10 +1,8 @@
 //! Scenes: the preset list is exactly the files in `assets/scenes`, every preset validates, and
 //! a bad scene is refused with a message naming the field, the value and what is allowed.
 
+use crate::cli;
 use rollphase::scene::{PRESETS, Scene, load_scene_file};
-
-#[path = "common/cli.rs"]
-mod cli;
 
 #[test]
 fn presets_are_exactly_the_scene_files() {
@@ -39,7 +37,7 @@ fn preset_files_load_from_disk_like_the_bundled_copies() {
 /// file stands alone (a bundled shape comes inline) and sets up the same body, start and model.
 #[test]
 fn a_printed_preset_works_as_a_scene_file_anywhere() {
-    let dir = std::env::temp_dir().join(format!("rollphase-printed-{}", std::process::id()));
+    let dir = crate::cli::scratch("printed");
     std::fs::create_dir_all(&dir).unwrap();
     for (name, _) in PRESETS {
         let toml = cli::rollphase_ok(["scenes", "--toml", name]);
@@ -151,7 +149,7 @@ fn bad_scenes_are_refused_with_the_reason() {
 
 #[test]
 fn a_scene_file_finds_its_shape_relative_to_itself() {
-    let dir = std::env::temp_dir().join(format!("rollphase-scene-{}", std::process::id()));
+    let dir = crate::cli::scratch("scene");
     std::fs::create_dir_all(dir.join("shapes")).unwrap();
     std::fs::copy(
         concat!(env!("CARGO_MANIFEST_DIR"), "/assets/shapes/disk.json"),

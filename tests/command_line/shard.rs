@@ -29,7 +29,7 @@ fn fails(args: &[&str]) -> String {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("rollphase-shard-{name}-{}", std::process::id()));
+    let d = crate::cli::scratch(&format!("shard-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
@@ -84,6 +84,7 @@ fn figure_shards_merge_to_the_whole(name: &str, n: usize) {
 }
 
 #[test]
+#[ignore = "slow: shard byte-identity, a figure run whole and in shards"]
 fn sphere_cruising_shards_merge_to_the_unsharded_bytes() {
     figure_shards_merge_to_the_whole("sphere-cruising", 3);
 }
@@ -99,21 +100,25 @@ fn sphere_orbits_shards_merge_to_the_unsharded_bytes() {
 }
 
 #[test]
+#[ignore = "slow: shard byte-identity, a figure run whole and in shards"]
 fn sphere_doubling_shards_merge_to_the_unsharded_bytes() {
     figure_shards_merge_to_the_whole("sphere-doubling", 3);
 }
 
 #[test]
+#[ignore = "slow: shard byte-identity, a figure run whole and in shards"]
 fn sphere_bifurcation_shards_merge_to_the_unsharded_bytes() {
     figure_shards_merge_to_the_whole("sphere-bifurcation", 2);
 }
 
 #[test]
+#[ignore = "slow: shard byte-identity, a figure run whole and in shards"]
 fn model_validity_shards_merge_to_the_unsharded_bytes() {
     figure_shards_merge_to_the_whole("model-validity", 4);
 }
 
 #[test]
+#[ignore = "slow: shard byte-identity, a figure run whole and in shards"]
 fn disk_transition_shards_merge_to_the_unsharded_bytes() {
     // More shards than disks would leave some empty: 7 shards of 6 disks covers that case.
     figure_shards_merge_to_the_whole("disk-transition", 7);
@@ -408,7 +413,7 @@ fn small_sweep(root: &Path, name: &str) -> PathBuf {
     std::fs::write(&spec, SMALL_SWEEP).unwrap();
     std::fs::write(
         root.join("body.json"),
-        include_str!("../assets/shapes/paper-sphere.json"),
+        include_str!("../../assets/shapes/paper-sphere.json"),
     )
     .unwrap();
     spec
@@ -441,7 +446,8 @@ fn merge_reads_regular_shards_only_and_never_writes_over_one() {
     );
     std::fs::remove_file(parts.join("sweep.csv")).unwrap();
 
-    // A FIFO named like a shard is refused at once, not waited on.
+    // A FIFO named like a shard is refused at once, not waited on (opened, it would block this
+    // test for ever: there is no writer).
     let fifo = parts.join("shard-9-of-9.json");
     assert!(
         Command::new("mkfifo")
@@ -450,10 +456,8 @@ fn merge_reads_regular_shards_only_and_never_writes_over_one() {
             .unwrap()
             .success()
     );
-    let start = std::time::Instant::now();
     let e = fails(&["merge", p]);
     assert!(e.contains("not a regular file"), "{e}");
-    assert!(start.elapsed().as_secs() < 30);
     std::fs::remove_file(&fifo).unwrap();
 
     // The shards carry absolute paths: merged from another folder, the body file is found.
@@ -486,7 +490,7 @@ fn sweep_and_fit_lag_refuse_their_own_inputs_and_bad_folders_before_running() {
     let afile = root.join("afile");
     std::fs::write(&afile, "x").unwrap();
     let spec = small_sweep(&root, "spec.toml");
-    let start = std::time::Instant::now();
+    let before = listing(&root);
     let e = fails(&[
         "sweep",
         spec.to_str().unwrap(),
@@ -494,7 +498,11 @@ fn sweep_and_fit_lag_refuse_their_own_inputs_and_bad_folders_before_running() {
         afile.join("sub").to_str().unwrap(),
     ]);
     assert!(e.contains("not a folder"), "{e}");
-    assert!(start.elapsed().as_secs() < 20);
+    assert_eq!(
+        listing(&root),
+        before,
+        "nothing staged or written before the refusal"
+    );
 
     // fit-lag's data as its own output: lab/fit-lag/data.csv with --out lab.
     let lab = root.join("lab");
@@ -592,8 +600,8 @@ fn shards_are_bound_to_the_bodies_they_ran_on() {
     let root = scratch("bodies");
     let out = root.join("o");
     let cur = root.join("cur.json");
-    let body_a = include_str!("../assets/shapes/paper-sphere.json");
-    let body_b = include_str!("../assets/shapes/sphere.json");
+    let body_a = include_str!("../../assets/shapes/paper-sphere.json");
+    let body_b = include_str!("../../assets/shapes/sphere.json");
     assert_ne!(body_a, body_b);
     let shard = |i: usize| {
         rollphase(&[
@@ -781,7 +789,7 @@ fn merge_refuses_to_replace_the_sweep_spec_it_ran() {
     std::fs::create_dir_all(&out).unwrap();
     std::fs::write(
         out.join("body.json"),
-        include_str!("../assets/shapes/paper-sphere.json"),
+        include_str!("../../assets/shapes/paper-sphere.json"),
     )
     .unwrap();
     let spec = out.join("summary.json");
@@ -826,4 +834,14 @@ fn a_full_disk_under_a_sweep_names_the_file() {
         "{e}"
     );
     let _ = std::fs::remove_dir_all(&root);
+}
+
+/// The names in `dir`, sorted.
+fn listing(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
 }

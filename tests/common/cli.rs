@@ -45,10 +45,22 @@ pub fn data(name: &str) -> std::path::PathBuf {
         .join(name)
 }
 
-/// A fresh, empty scratch folder for this test process.
+/// A fresh, empty scratch folder of its own for each call (`tempfile`'s unique name under the
+/// system's temporary folder, `rollphase-NAME-…`): the tests of one binary run in one process,
+/// so a name made of the process id alone would be shared. It is kept after the test (a
+/// failure's files can be read); the system's cleaner removes it.
 pub fn scratch(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("rp-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    tempfile::Builder::new()
+        .prefix(&format!("rollphase-{name}-"))
+        .tempdir()
+        .expect("a scratch folder under the temporary folder")
+        .keep()
+}
+
+/// A folder path that does not exist yet, for a command to make: `NAME` under one scratch
+/// folder of this test process (made with `tempfile` on first use). The same name gives the same
+/// path, so a test can name a figure's output folder twice.
+pub fn unmade_folder(name: &str) -> std::path::PathBuf {
+    static ROOT: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+    ROOT.get_or_init(|| scratch("outputs")).join(name)
 }

@@ -1,6 +1,7 @@
-//! Rust source as code: comments and string literals blanked, for the tests that scan the
-//! source (`tests/architecture.rs`, `tests/output_layer.rs`), so a path named in a doc or a
-//! message is not code, and a `//` inside a string does not hide the code after it.
+//! Rust source as code: comments and string literals blanked, for the module-layer checks of
+//! `tests/command_line/architecture.rs` (the rules inside the root crate, which Cargo cannot
+//! see), so a path named in a doc or a message is not code, and a `//` inside a string does not
+//! hide the code after it.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};

@@ -2,7 +2,7 @@
 //! (the bound), with no periodic re-projection: q is projected after every step
 //! (DOP853) or moved by exponentials (CF4), and the contact is recovered from q each time.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use rollphase::analysis::critical_angle;

@@ -4,9 +4,7 @@
 
 use std::path::PathBuf;
 
-#[path = "common/cli.rs"]
-mod cli;
-use cli::rollphase;
+use crate::cli::rollphase;
 
 use rollphase::dynamics::ContactForce;
 use rollphase::geometry::{Body, Disk, Sphere};
@@ -224,7 +222,7 @@ fn stop_and_warn_policies() {
 }
 
 fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("rollphase-forces-{name}-{}", std::process::id()));
+    let d = crate::cli::scratch(&format!("forces-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d

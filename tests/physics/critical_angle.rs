@@ -1,7 +1,7 @@
 //! The critical angle α* = atan max |∇ ln r| (SI §1B, §2D): exact for single modes, never below a
 //! much denser grid's maximum, and the 2D disk halts just below it and cruises just above.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use rollphase::analysis::{critical_angle, viscous_disk_period};

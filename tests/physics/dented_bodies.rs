@@ -4,9 +4,7 @@
 //! statics say; the inertial body's impacts keep the angular momentum about the new contact and
 //! its energy balance, impacts included, closes; a convex body's runs are unchanged.
 
-#[path = "common/cli.rs"]
-mod cli;
-use cli::rollphase;
+use crate::cli::rollphase;
 
 use rollphase::analysis::critical_angle;
 use rollphase::dynamics::{DiskInertial, Ramp, RollingModel, Switched};
@@ -194,7 +192,7 @@ fn a_convex_body_runs_exactly_as_before() {
 
 #[test]
 fn the_command_line_accepts_a_dented_cylinder_and_explains_its_hull() {
-    let dir = std::env::temp_dir().join(format!("rollphase-dented-{}", std::process::id()));
+    let dir = crate::cli::scratch("dented");
     std::fs::create_dir_all(&dir).unwrap();
     let shape = dir.join("printed.json");
     let summary = dir.join("s.json");

@@ -3,7 +3,7 @@
 //! W = ∫γ|ω|²dt is the dissipated work. Over 1000 time units at rtol 1e-10 the issue requires
 //! |ΔE| ≤ 1e-8. Also: as m/m0 → 0 the inertial disk approaches the viscous one.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use rollphase::analysis::{critical_angle, inertial_disk_period, viscous_disk_period};

@@ -2,7 +2,7 @@
 //! 1e3, and bodies at the edge of convexity. Every run must finish with finite output and the
 //! constraints intact; where a limit is known the result must approach it.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use rollphase::analysis::{critical_angle, viscous_disk_period};

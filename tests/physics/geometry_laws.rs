@@ -5,7 +5,7 @@
 //! The convexity check's default grid (100 L² points, refined by Newton) gives the verdicts of
 //! a 20 000-point grid at the very edge of convexity.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use proptest::prelude::*;

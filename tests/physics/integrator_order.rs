@@ -2,7 +2,7 @@
 //! its tolerance; the 7th-order dense output and the event locator are accurate to the same
 //! level. References are analytic where one exists, else DOP853 at rtol 1e-13.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use rollphase::dynamics::sphere3d::orientation_touching;

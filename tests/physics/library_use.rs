@@ -2,9 +2,7 @@
 //! from there, and the same code is run here. The typed API gives the command line's numbers to
 //! the last digit, for every model and for the command line's ways to start a sphere. Needs no feature: `cargo test --no-default-features` runs it.
 
-#[path = "common/cli.rs"]
-mod cli;
-
+use crate::cli;
 use rollphase::geometry::Body;
 use rollphase::glam::{DQuat, DVec3};
 use rollphase::integrate::Method;
@@ -28,10 +26,10 @@ println!("{} ran {} steps, |q| − 1 ≤ {:?}", summary.model, summary.steps, su
 
 #[test]
 fn the_guide_shows_this_example() {
-    let page = include_str!("../docs/guide/library.md");
+    let page = include_str!("../../docs/guide/library.md");
     assert!(
         page.contains(EXAMPLE),
-        "the guide's library example (docs/guide/library.md) differs from tests/library_use.rs; keep them the same"
+        "the guide's library example (docs/guide/library.md) differs from tests/physics/library_use.rs; keep them the same"
     );
 }
 

@@ -3,13 +3,10 @@
 //! every format reads back as itself, and every way a mesh can be wrong gets an error naming the
 //! file and the place, never a body.
 
-#[path = "common/cli.rs"]
-mod cli;
-
 use std::f64::consts::TAU;
 use std::path::Path;
 
-use cli::{data, rollphase, rollphase_ok, scratch};
+use crate::cli::{data, rollphase, rollphase_ok, scratch};
 use rollphase::geometry::mesh::{TriMesh, disk_mesh, sphere_mesh};
 use rollphase::geometry::sphere::fibonacci_sphere;
 use rollphase::geometry::{Body, Disk, ShapeFile, Sphere};

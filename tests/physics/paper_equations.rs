@@ -3,7 +3,7 @@
 //! exactly, and the θ̇² ("centrifugal") coefficients agree to 1.3e-9 relative, the accuracy of the
 //! finite-difference κ' used to evaluate the paper's form.
 
-mod common;
+use crate::common;
 
 use rollphase::dynamics::{DiskInertial, Ramp};
 use rollphase::geometry::Body;

@@ -3,7 +3,7 @@
 //! τ = (I + m)/γ (= 1.5 m for the disk, 1.4 m for the sphere). Tolerances follow from the
 //! integrator tolerance (rtol 1e-10 → errors ≲ 1e-8 over these spans).
 
-mod common;
+use crate::common;
 
 use glam::{DQuat, DVec3};
 use rollphase::analysis::viscous_disk_period;

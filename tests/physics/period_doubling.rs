@@ -109,7 +109,7 @@ fn floquet_multipliers_say_the_same() {
 #[test]
 fn bifurcation_windows_start_and_end_where_a_multiplier_crosses_minus_one() {
     let opts = FigureOptions {
-        out: std::env::temp_dir().join(format!("rollphase-bif-{}", std::process::id())),
+        out: crate::cli::unmade_folder("bif"),
         seed: 1,
         quick: true,
         ..FigureOptions::default()

@@ -3,12 +3,9 @@
 //! rolling cycle against `period` and its exact perimeter, the doubled orbits at m/m0 = 6, a body
 //! below α* that comes to rest, and bad input refused before any run.
 
-#[path = "common/cli.rs"]
-mod cli;
-
 use std::path::{Path, PathBuf};
 
-use cli::{rollphase, rollphase_ok, scratch};
+use crate::cli::{rollphase, rollphase_ok, scratch};
 use serde_json::Value;
 
 fn predict(body: &Path, extra: &[&str]) -> Value {

@@ -2,7 +2,7 @@
 //! 1e-8 of the converged answer (so agreement to ~1e-6 is limited by the other side, not ours),
 //! and the same inputs give byte-identical CSV output on every run.
 
-mod common;
+use crate::common;
 
 use std::process::Command;
 
@@ -51,7 +51,7 @@ fn q_at_t100_is_converged_at_rtol_1e10() {
 
 #[test]
 fn same_inputs_give_byte_identical_csv() {
-    let dir = std::env::temp_dir().join(format!("rollphase-repro-{}", std::process::id()));
+    let dir = crate::cli::scratch("repro");
     std::fs::create_dir_all(&dir).unwrap();
     let run = |shape: &str, extra: &[&str], out: &str| {
         let path = dir.join(out);

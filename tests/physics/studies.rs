@@ -15,7 +15,7 @@ use rollphase::glam::DVec3;
 #[test]
 fn the_cruising_fraction_is_the_figures() {
     let opts = FigureOptions {
-        out: std::env::temp_dir().join(format!("rollphase-studies-{}", std::process::id())),
+        out: crate::cli::unmade_folder("studies"),
         seed: 1,
         quick: true,
         ..FigureOptions::default()
@@ -40,7 +40,7 @@ fn the_cruising_fraction_is_the_figures() {
 #[test]
 fn the_period_counts_are_sphere_doublings() {
     let opts = FigureOptions {
-        out: std::env::temp_dir().join(format!("rollphase-studies-d-{}", std::process::id())),
+        out: crate::cli::unmade_folder("studies-d"),
         seed: 1,
         quick: true,
         ..FigureOptions::default()

@@ -3,12 +3,9 @@
 //! with a known period come back with it through noise, gaps, jumps and missing values; and a
 //! track with no period, too few frames or the wrong columns is an error that writes nothing.
 
-#[path = "common/cli.rs"]
-mod cli;
-
 use std::path::Path;
 
-use cli::{data, rollphase, rollphase_ok, scratch};
+use crate::cli::{data, rollphase, rollphase_ok, scratch};
 use serde_json::Value;
 
 fn summary(dir: &Path) -> Value {

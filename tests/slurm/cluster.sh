@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A single-node Slurm cluster on loopback, for tests/guide_commands.rs's run of the guide's Slurm
+# A single-node Slurm cluster on loopback, for tests/command_line/guide_commands.rs's run of the guide's Slurm
 # array job: `cluster.sh start DIR` writes DIR/slurm.conf, starts munged, slurmctld and slurmd
 # with everything (state, spool, logs, pid files, munge socket) under DIR, and waits until the
 # node takes jobs; `cluster.sh stop DIR` cancels what is left and stops the three daemons.

@@ -1,6 +1,6 @@
 //! The one output layer: every byte rollphase writes to a file goes through here, so the promise
 //! "output files are never damaged" is kept by structure rather than writer by writer
-//! (`tests/output_layer.rs` fails if any other module creates, writes, renames or saves a file).
+//! (`tests/command_line/output_layer.rs` fails if any other module creates, writes, renames or saves a file).
 //!
 //! - `-` is standard output. A path that names one of this process's open descriptors
 //!   (`/dev/stdout`, `/dev/stderr`, `/dev/fd/N`, `/proc/self/fd/N`, through any links) is written
@@ -1371,7 +1371,11 @@ mod tests {
     #[test]
     #[ignore = "a child process of concurrent_processes_writing_one_folder_leave_one_writers_set"]
     fn concurrent_writer_process() {
-        let d = PathBuf::from(std::env::var_os("ROLLPHASE_OUTPUT_WRITER_DIR").unwrap());
+        // `cargo test -- --include-ignored` runs it outside its parent test, with no folder to
+        // write: nothing to do there (the parent test checks what the writers did).
+        let Some(d) = std::env::var_os("ROLLPHASE_OUTPUT_WRITER_DIR").map(PathBuf::from) else {
+            return;
+        };
         let me = std::process::id();
         for round in 0..30 {
             let text = format!("writer {me} round {round}");

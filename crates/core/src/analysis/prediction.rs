@@ -248,9 +248,12 @@ enum StartEnd {
     },
 }
 
-/// Long on purpose: the runs from every start, the grouping of their cycles into orbits (period 1
-/// refined by Newton, period 2 as seen) and each orbit's advance are one computation that shares
-/// the ramp, the model and the options.
+#[expect(
+    clippy::too_many_lines,
+    reason = "the runs from every start, the grouping of their cycles into orbits (period 1 \
+              refined by Newton, period 2 as seen) and each orbit's advance are one computation \
+              that shares the ramp, the model and the options"
+)]
 fn predict_sphere(
     sphere: &Sphere,
     ramp: &Ramp,
@@ -498,7 +501,8 @@ fn sample<const N: usize>(
     Ok(out)
 }
 
-/// Long on purpose: the starts' fates, then the one rolling cycle's period, perimeter and path.
+/// A disk's prediction: the starts' fates, then the one rolling cycle's period, perimeter and
+/// path.
 fn predict_disk(
     disk: &Disk,
     ramp: &Ramp,

@@ -13,7 +13,7 @@
 //!   θ̈ = [F κ r (r sin α − r' cos α) − γ s² θ̇] / J − (m r r'/(I + m r²) + s'/s) θ̇².
 //! The first term equals the paper's (SI eq. for θ̈: F r (r sin α − r' cos α)/(κ (r² + r'²)) over
 //! I + m r²) exactly. The θ̇² coefficient is ½J'/J, which makes E = ½Jθ̇² + V + W constant along
-//! solutions. `tests/paper_equations.rs` evaluates the paper's bracket as printed and finds it
+//! solutions. `tests/physics/paper_equations.rs` evaluates the paper's bracket as printed and finds it
 //! equal to ½J'/J (to 1e-9, the accuracy of its finite-difference κ'): the paper's 2D equation is
 //! right; we keep the shorter Lagrangian form because it needs no κ'. Dimensionless: F = γ = ⟨r⟩ = 1, I = m/2 (m = m/m0).
 //!

@@ -17,7 +17,7 @@
 //!   ṙ = ω × r + q (S⁻¹ ḋ) q̄,  ḋ = −ω_body × d,
 //! where ṙ is the full derivative of the contact vector, the contact's motion over the body
 //! included. This equation conserves E = ½Iω² + ½m|v|² − F·x_cm up to the drag work
-//! W = ∫γ|ω|² dt (checked in `tests/energy_balance.rs`); we found no error in it.
+//! W = ∫γ|ω|² dt (checked in `tests/physics/energy_balance.rs`); we found no error in it.
 //! The height z of the centre is −r_z (the support function), so only x, y are integrated.
 
 use std::cell::Cell;

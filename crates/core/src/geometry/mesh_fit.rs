@@ -419,8 +419,11 @@ fn cross2(a: [f64; 2], b: [f64; 2]) -> f64 {
     a[0] * b[1] - a[1] * b[0]
 }
 
-/// Long on purpose: one pass that slices the mesh, then the section's checks, samples, Fourier
-/// fit, degree rule and report, which share a dozen local quantities.
+#[expect(
+    clippy::too_many_lines,
+    reason = "one pass that slices the mesh, then the section's checks, samples, Fourier fit, \
+              degree rule and report, which share a dozen local quantities"
+)]
 fn fit_section(
     source: &MeshSource,
     totals: &Totals,
@@ -757,9 +760,12 @@ fn angles_text(u: DVec3) -> String {
     format!("θ = {theta:.4}, φ = {phi:.4}")
 }
 
-/// Long on purpose: the coverage pass, its three failure modes, the least-squares fit over all
-/// degrees and the residual pass share the cells and the centroid; split, they would pass a
-/// dozen values between them.
+#[expect(
+    clippy::too_many_lines,
+    reason = "the coverage pass, its three failure modes, the least-squares fit over all degrees \
+              and the residual pass share the cells and the centroid; split, they would pass a \
+              dozen values between them"
+)]
 fn fit_sphere(
     source: &MeshSource,
     totals: &Totals,

@@ -12,7 +12,7 @@
 //! 53-bit `genrand_res53`, and `normal` as numpy's legacy polar Box–Muller, which returns the
 //! second value of each pair and keeps the first for the next call. These two numpy-specific
 //! draws are written here because no crate reproduces numpy's legacy streams; they are checked
-//! against numbers numpy itself produced (`tests/paper_bodies.rs`, fixture and script in
+//! against numbers numpy itself produced (`tests/physics/paper_bodies.rs`, fixture and script in
 //! `tests/fixtures/`).
 
 use std::f64::consts::TAU;

@@ -11,7 +11,7 @@
 //! ```
 //! (the right factor acts first). With q̇ = ½ ω q the algebra acts on the left, and this is the
 //! order of the two final exponentials that makes the step fourth order; the other order leaves
-//! the commutator ½[X, Y] = O(h³) per step, i.e. a second-order method. `tests/integrator_order.rs`
+//! the commutator ½[X, Y] = O(h³) per step, i.e. a second-order method. `tests/physics/integrator_order.rs`
 //! measures the order on the 3D model, so a regression here fails CI.
 //! The angular velocity of a stage is read back from the system's own q̇ as ω = 2 q̇ q̄ / |q|², so
 //! any [`OdeSystem`] with a [`OdeSystem::quaternion_slot`] can use this step unchanged.

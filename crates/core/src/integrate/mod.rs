@@ -10,7 +10,7 @@
 //! correct event location for small fixed-size states (see `STACK.md`: ode_solvers has no dense
 //! output, differential-equations located events wrongly, diffsol has no DOP853). The method is
 //! Hairer's, with his coefficients and step-size controller (Hairer, Nørsett & Wanner, *Solving
-//! ODEs I*, §II.10), checked against analytic solutions in `tests/integrator_order.rs`.
+//! ODEs I*, §II.10), checked against analytic solutions in `tests/physics/integrator_order.rs`.
 //!
 //! States are plain `[f64; N]` arrays: no allocation per step, and the compiler unrolls the
 //! stage loops, which is what makes a 3D run of 100 time units take milliseconds.
@@ -507,7 +507,7 @@ impl Preset {
     }
 
     /// Expected state error at t = 100: the largest measured over the four models on the bundled
-    /// bodies (orientation in rad, position in ⟨r⟩), rounded up. `tests/presets.rs` re-measures it.
+    /// bodies (orientation in rad, position in ⟨r⟩), rounded up. `tests/command_line/presets.rs` re-measures it.
     ///
     /// # Example
     /// ```

@@ -30,7 +30,7 @@ pub enum Scheme {
 pub const CHECK_EVERY: u64 = 8;
 
 /// The largest local error a fixed step may make, relative to 1 + |y| per component, as step
-/// doubling estimates it. Measured (`tests/fixed_step_check.rs`): every step of the accuracy
+/// doubling estimates it. Measured (`tests/physics/fixed_step_check.rs`): every step of the accuracy
 /// table (dt 0.01 … 0.4, period error < 1e-3 on all four models) estimates at most 3.7e-5 (RK4
 /// dt 0.4 on the inertial disk), while the silently wrong steps estimate 9.4e-3 (CF4 dt = 5 on
 /// the viscous sphere at α = 0.3, the mildest) up to 3.5e65: the tolerance sits between them,
@@ -96,7 +96,7 @@ impl<'a, S: OdeSystem<N>, const N: usize> FixedStep<'a, S, N> {
 
 /// The step-doubling estimate a *suggested* step aims at: far below [`FIXED_STEP_TOLERANCE`],
 /// because passing the check is not keeping the answers. On the paper's sphere at α = 0.2
-/// (`bench accuracy`'s answer table, `tests/fixed_step_check.rs`), RK4 and CF4 at dt 0.5
+/// (`bench accuracy`'s answer table, `tests/physics/fixed_step_check.rs`), RK4 and CF4 at dt 0.5
 /// estimate 3.5e-6 to 8.7e-6 and dt 0.4 about 1e-6: both pass the check, yet report false
 /// period doublings at m/m0 = 6; dt 0.2 estimates at most 1.7e-7 and keeps every fate,
 /// multiplicity and orbit count.

@@ -652,9 +652,12 @@ pub fn locate_switch<const N: usize, M: RollingModel<N>>(
 impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
     type Output = Result<Summary, RunError>;
 
-    /// Long on purpose: one loop over the steps of a run and over the restarts a hybrid model's
-    /// switches make, with the rows, the health, the contact force and the switches kept in
-    /// step; split, each piece would need all of that state handed to it.
+    #[expect(
+        clippy::too_many_lines,
+        reason = "one loop over the steps of a run and over the restarts a hybrid model's switches \
+                  make, with the rows, the health, the contact force and the switches kept in \
+                  step; split, each piece would need all of that state handed to it"
+    )]
     fn visit<const N: usize, M: RollingModel<N>>(self, model: &M, y0: &[f64; N]) -> Self::Output {
         let Drive {
             spec,
