@@ -1,5 +1,5 @@
 // egui's panels: its tessellated meshes (positions in points, sRGB-gamma colours with
-// premultiplied alpha, one texture per mesh), drawn by src/ui/egui_renderer.rs.
+// premultiplied alpha, one texture per mesh), drawn by crates/viewer/src/ui/egui_renderer.rs.
 //
 // Straight-line code on purpose: egui-wgpu's shader chooses between hardware sampling and four
 // manual texel loads with a branch on a uniform, and a CPU renderer (llvmpipe) runs both sides

@@ -30,27 +30,20 @@
 //! (crates/core), re-exported: they never touch a GPU, a window or the wall clock, and the
 //! compiler keeps it so. The same inputs give the same numbers on every run.
 
-#[cfg(feature = "app")]
-pub mod app;
 // The physics core lives in crates/core (package rollphase-core); its modules are re-exported
 // here so `rollphase::geometry::…` and `crate::geometry::…` keep working.
 pub use rollphase_core::{analysis, dynamics, geometry, glam, integrate, numeric, simulate};
 
-pub mod assets;
 pub mod cli;
-pub mod clip;
-pub mod colormap;
-pub mod figures;
-#[cfg(feature = "render")]
-pub mod headless;
 pub use rollphase_output::output;
-pub mod chart;
-pub mod live;
-pub mod png;
-#[cfg(feature = "render")]
-pub mod render;
-pub mod scene;
+// The layers below the command line are crates of their own (crates/assets, crates/scene,
+// crates/figures, crates/viewer), so Cargo keeps each from naming what sits above it;
+// re-exported here so `crate::scene::…` and `rollphase::render::…` read as before.
+pub use rollphase_assets::{assets, colormap};
+pub use rollphase_figures::{chart, figures};
+pub use rollphase_scene::{live, scene};
 #[cfg(feature = "app")]
-pub mod ui;
+pub use rollphase_viewer::{app, ui};
+pub use rollphase_viewer::{clip, png};
 #[cfg(feature = "render")]
-pub mod view;
+pub use rollphase_viewer::{headless, render, view};

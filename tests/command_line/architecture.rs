@@ -93,6 +93,10 @@ fn source_roots() -> Vec<PathBuf> {
         root.join("src"),
         root.join("crates/core/src"),
         root.join("crates/output/src"),
+        root.join("crates/assets/src"),
+        root.join("crates/scene/src"),
+        root.join("crates/figures/src"),
+        root.join("crates/viewer/src"),
     ]
 }
 
@@ -590,6 +594,178 @@ fn the_example_check_reads_docs_and_attributes_and_skips_tests() {
 /// ARCHITECTURE.md's module table names every source file of each module whose row lists its
 /// files, and no file that is gone (`sim::history`, `ui::sweep` and `ui::fonts` went missing
 /// from it once). A row that says "one file per …" gives a rule instead of a list.
+/// The module paths (`["scene", "setup", "SceneSetup"]`) that `code` names through `crate::`
+/// and through `super::` chains from `module` (the file's module path). Test modules are left
+/// out: they follow `#[cfg(test)]` at the end of a file and reach their parent by `super::*`.
+fn named_paths(code: &str, module: &[String]) -> Vec<Vec<String>> {
+    let code = code.split("#[cfg(test)]").next().unwrap_or(code);
+    let mut out = Vec::new();
+    let mut at = 0;
+    while at < code.len() {
+        let rest = &code[at..];
+        let boundary =
+            at == 0 || !code[..at].ends_with(|p: char| p.is_alphanumeric() || p == '_' || p == ':');
+        let start = if boundary && rest.starts_with("crate::") {
+            Some((Vec::new(), &rest["crate::".len()..]))
+        } else if boundary && rest.starts_with("super::") {
+            let mut climbs = 0;
+            let mut r = rest;
+            while let Some(next) = r.strip_prefix("super::") {
+                climbs += 1;
+                r = next.trim_start();
+            }
+            // A mod.rs is its module: `super` from view/mod.rs is the crate root.
+            Some((module[..module.len().saturating_sub(climbs)].to_vec(), r))
+        } else {
+            None
+        };
+        if let Some((base, path)) = start {
+            expand_path(base, path, &mut out);
+        }
+        at += rest.chars().next().map_or(1, char::len_utf8);
+    }
+    out
+}
+
+/// `base` followed by each path `text` names (`a::b`, `a::{b, c::D}`), into `out`.
+fn expand_path(base: Vec<String>, text: &str, out: &mut Vec<Vec<String>>) {
+    let mut path = base;
+    let mut rest = text.trim_start();
+    loop {
+        if let Some(group) = rest.strip_prefix('{') {
+            for item in group_items(group).0 {
+                expand_path(path.clone(), item, out);
+            }
+            return;
+        }
+        let name = ident(rest);
+        if name.is_empty() {
+            break;
+        }
+        path.push(name.clone());
+        rest = rest[name.len()..].trim_start();
+        match rest.strip_prefix("::") {
+            Some(r) => rest = r.trim_start(),
+            None => break,
+        }
+    }
+    out.push(path);
+}
+
+/// Pairs of source files of one crate that each name the other, as "a.rs ↔ b.rs".
+fn two_file_circles(files: &[(Vec<String>, String)], name: &str) -> Vec<String> {
+    let known: BTreeSet<&Vec<String>> = files.iter().map(|(m, _)| m).collect();
+    let mut edges = BTreeSet::new();
+    for (module, code) in files {
+        for path in named_paths(code, module) {
+            // The longest prefix that is a file of the crate.
+            let target = (1..=path.len())
+                .rev()
+                .map(|n| path[..n].to_vec())
+                .find(|p| known.contains(p));
+            if let Some(target) = target
+                && &target != module
+            {
+                edges.insert((module.clone(), target));
+            }
+        }
+    }
+    edges
+        .iter()
+        .filter(|(a, b)| a < b && edges.contains(&(b.clone(), a.clone())))
+        .map(|(a, b)| format!("{name}: {} ↔ {}", a.join("::"), b.join("::")))
+        .collect()
+}
+
+/// The two-file circles left, each with its reason. Anything else fails
+/// [`no_two_files_import_each_other`].
+const KNOWN_CIRCLES: &[(&str, &str)] = &[
+    (
+        "geometry::disk ↔ geometry::hull",
+        "a disk caches its convex hull (computed once, on the first run of a dented body), and \
+         the hull is computed from the disk's r(θ)",
+    ),
+    (
+        "figures ↔ figures::shard",
+        "the shard runner (shard::ensemble) runs a figure's ensemble by the figure registry and \
+         FigureOptions, and each figure runs its ensemble through the shard runner",
+    ),
+];
+
+/// No two files import each other beyond [`KNOWN_CIRCLES`] (three such circles were broken on
+/// 2026-11-25: `cli::app` ↔ `cli::render`, `scene::setup` ↔ `scene::timeline`,
+/// `integrate::lie` ↔ `integrate::rk4`); a shared piece goes to a third file both import.
+#[test]
+fn no_two_files_import_each_other() {
+    let mut circles = Vec::new();
+    let mut files_seen = 0;
+    for src in source_roots() {
+        let mut files = Vec::new();
+        rust_files(&src, &mut files);
+        let parsed: Vec<(Vec<String>, String)> = files
+            .iter()
+            .map(|f| {
+                (
+                    module_path(&src, f),
+                    code_only(&std::fs::read_to_string(f).unwrap()),
+                )
+            })
+            .collect();
+        files_seen += parsed.len();
+        circles.extend(two_file_circles(&parsed, &src.display().to_string()));
+    }
+    assert!(
+        files_seen > 100,
+        "the scan found the source ({files_seen} files)"
+    );
+    let unexplained: Vec<&String> = circles
+        .iter()
+        .filter(|c| {
+            !KNOWN_CIRCLES
+                .iter()
+                .any(|(k, _)| c.ends_with(&format!(": {k}")))
+        })
+        .collect();
+    assert!(
+        unexplained.is_empty(),
+        "files that import each other (break the circle, or add it to KNOWN_CIRCLES with \
+         its reason):\n{unexplained:?}"
+    );
+    // A circle that was broken leaves the list.
+    for (known, _) in KNOWN_CIRCLES {
+        assert!(
+            circles.iter().any(|c| c.ends_with(&format!(": {known}"))),
+            "{known} is no longer a circle: remove it from KNOWN_CIRCLES"
+        );
+    }
+}
+
+#[test]
+fn the_circle_check_sees_crate_and_super_paths_both_ways() {
+    let file = |m: &[&str], code: &str| (path(m), code_only(code));
+    let circle = [
+        file(&["scene", "setup"], "use super::timeline::Step;"),
+        file(
+            &["scene", "timeline"],
+            "fn f() { crate::scene::setup::check(); }",
+        ),
+        file(&["scene"], "pub mod setup; pub mod timeline;"),
+    ];
+    assert_eq!(
+        two_file_circles(&circle, "x"),
+        ["x: scene::setup ↔ scene::timeline"]
+    );
+    // One way only, a grouped import, a test module's super::*, a comment: no circle.
+    let fine = [
+        file(&["a"], "use crate::{b::{X, Y}, c};"),
+        file(
+            &["b"],
+            "// crate::a::z\n#[cfg(test)]\nmod tests { use super::*; use crate::a::Q; }",
+        ),
+    ];
+    assert!(two_file_circles(&fine, "x").is_empty());
+}
+
 #[test]
 fn the_module_table_names_every_source_file_of_each_module() {
     let md = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md"))

@@ -3,13 +3,13 @@
 //! the headless overlay share. Imports nothing.
 
 /// The bundled 3D body most presets and the benchmarks use.
-pub const SPHERE: &str = include_str!("../assets/shapes/sphere.json");
+pub const SPHERE: &str = include_str!("../../../assets/shapes/sphere.json");
 /// The bundled 2D body for viscous runs (σ = 0.08, M = 10).
-pub const DISK: &str = include_str!("../assets/shapes/disk.json");
+pub const DISK: &str = include_str!("../../../assets/shapes/disk.json");
 /// The bundled 2D body for inertial runs (σ = 0.12, M = 5).
-pub const DISK_INERTIAL: &str = include_str!("../assets/shapes/disk-inertial.json");
+pub const DISK_INERTIAL: &str = include_str!("../../../assets/shapes/disk-inertial.json");
 /// The paper's 3D body (numpy seed 219, σ = 0.25, l ≤ 5).
-pub const PAPER_SPHERE: &str = include_str!("../assets/shapes/paper-sphere.json");
+pub const PAPER_SPHERE: &str = include_str!("../../../assets/shapes/paper-sphere.json");
 
 /// The bundled shape files, by file name (scenes refer to them as `../shapes/NAME`).
 pub const BUNDLED_SHAPES: &[(&str, &str)] = &[
@@ -23,49 +23,49 @@ pub const BUNDLED_SHAPES: &[(&str, &str)] = &[
 pub const PRESETS: &[(&str, &str)] = &[
     (
         "sphere-cruising",
-        include_str!("../assets/scenes/sphere-cruising.toml"),
+        include_str!("../../../assets/scenes/sphere-cruising.toml"),
     ),
     (
         "sphere-two-orbits",
-        include_str!("../assets/scenes/sphere-two-orbits.toml"),
+        include_str!("../../../assets/scenes/sphere-two-orbits.toml"),
     ),
     (
         "sphere-doubling",
-        include_str!("../assets/scenes/sphere-doubling.toml"),
+        include_str!("../../../assets/scenes/sphere-doubling.toml"),
     ),
     (
         "sphere-flip",
-        include_str!("../assets/scenes/sphere-flip.toml"),
+        include_str!("../../../assets/scenes/sphere-flip.toml"),
     ),
     (
         "perfect-sphere",
-        include_str!("../assets/scenes/perfect-sphere.toml"),
+        include_str!("../../../assets/scenes/perfect-sphere.toml"),
     ),
     (
         "cylinder-near-critical",
-        include_str!("../assets/scenes/cylinder-near-critical.toml"),
+        include_str!("../../../assets/scenes/cylinder-near-critical.toml"),
     ),
     (
         "cylinder-hysteresis",
-        include_str!("../assets/scenes/cylinder-hysteresis.toml"),
+        include_str!("../../../assets/scenes/cylinder-hysteresis.toml"),
     ),
     (
         "poincare-field",
-        include_str!("../assets/scenes/poincare-field.toml"),
+        include_str!("../../../assets/scenes/poincare-field.toml"),
     ),
     (
         "lesson-critical-angle",
-        include_str!("../assets/scenes/lesson-critical-angle.toml"),
+        include_str!("../../../assets/scenes/lesson-critical-angle.toml"),
     ),
     (
         "lesson-inertia-hysteresis",
-        include_str!("../assets/scenes/lesson-inertia-hysteresis.toml"),
+        include_str!("../../../assets/scenes/lesson-inertia-hysteresis.toml"),
     ),
     (
         "lesson-period-doubling",
-        include_str!("../assets/scenes/lesson-period-doubling.toml"),
+        include_str!("../../../assets/scenes/lesson-period-doubling.toml"),
     ),
 ];
 
 /// DejaVu Sans, for chart labels (`plot`) and the headless text overlay (`render::overlay`).
-pub const FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
+pub const FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");

@@ -28,7 +28,7 @@ use egui::epaint::{self, ClippedPrimitive, ImageData, Primitive, TextureId};
 use crate::render::{Scratch, texture_group, texture_sampler_layout};
 
 /// The shader (`shaders/egui.wgsl`), validated by `tests/app/shaders.rs` with the renderer's own.
-pub const SHADER: (&str, &str) = ("egui.wgsl", include_str!("../../shaders/egui.wgsl"));
+pub const SHADER: (&str, &str) = ("egui.wgsl", include_str!("../../../../shaders/egui.wgsl"));
 
 /// One egui vertex as the shader reads it. Built field by field rather than cast from
 /// [`epaint::Vertex`], whose field order depends on egui's `unity` feature.

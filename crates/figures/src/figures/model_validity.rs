@@ -53,9 +53,9 @@ impl Verdict {
     ///
     /// # Example
     /// ```
-    /// use rollphase::dynamics::ContactForce;
-    /// use rollphase::dynamics::validity::{ContactLimits, ContactWatch};
-    /// use rollphase::figures::model_validity::Verdict;
+    /// use rollphase_figures::dynamics::ContactForce;
+    /// use rollphase_figures::dynamics::validity::{ContactLimits, ContactWatch};
+    /// use rollphase_figures::figures::model_validity::Verdict;
     /// // A viscous body needs tan α: at α = 0.6, tan α = 0.68.
     /// let report = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.6)).report();
     /// assert_eq!(Verdict::of(&report), Verdict::RollsAtOne);

@@ -108,9 +108,12 @@ pub(super) struct Targets {
 
 /// The WGSL sources, by file name: compiled here and validated by `tests/app/shaders.rs`.
 pub const SHADERS: &[(&str, &str)] = &[
-    ("mesh.wgsl", include_str!("../../shaders/mesh.wgsl")),
-    ("lines.wgsl", include_str!("../../shaders/lines.wgsl")),
-    ("overlay.wgsl", include_str!("../../shaders/overlay.wgsl")),
+    ("mesh.wgsl", include_str!("../../../../shaders/mesh.wgsl")),
+    ("lines.wgsl", include_str!("../../../../shaders/lines.wgsl")),
+    (
+        "overlay.wgsl",
+        include_str!("../../../../shaders/overlay.wgsl"),
+    ),
 ];
 
 pub(super) fn shader(device: &wgpu::Device, name: &str) -> wgpu::ShaderModule {
