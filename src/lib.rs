@@ -40,7 +40,7 @@ pub use rollphase_output::output;
 // crates/figures, crates/viewer), so Cargo keeps each from naming what sits above it;
 // re-exported here so `crate::scene::…` and `rollphase::render::…` read as before.
 pub use rollphase_assets::{assets, colormap};
-pub use rollphase_figures::{chart, figures};
+pub use rollphase_figures::{chart, figures, fit_lag};
 pub use rollphase_scene::{live, scene};
 #[cfg(feature = "app")]
 pub use rollphase_viewer::{app, ui};

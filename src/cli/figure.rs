@@ -171,7 +171,7 @@ pub fn run_fit_lag(a: FitLagArgs) -> Result<()> {
             BOOTSTRAP_RANGE.end()
         );
     }
-    let s = figures::fit_lag::run(&a.csv, &a.out, a.bootstrap, a.seed)?;
+    let s = crate::fit_lag::run(&a.csv, &a.out, a.bootstrap, a.seed)?;
     for w in &s.warnings {
         eprintln!("warning: {w}");
     }

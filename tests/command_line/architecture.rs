@@ -82,11 +82,11 @@ const NO_GPU: &[&str] = &[
     "live",
     "chart",
     "figures",
+    "fit_lag",
 ];
 
-/// The source folders of the workspace's crates: the root package, the physics core and the
-/// output layer, whose modules share one table (in the core, `crate::` is the core itself; in the root, `crate::x`
-/// of a core module is its re-export).
+/// The source folders of the workspace's Rust crates (all but `python/`), whose modules share
+/// one table: in each crate `crate::x` is its own module or its re-export of another crate's.
 fn source_roots() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     vec![

@@ -180,7 +180,7 @@ fn experiments() -> PathBuf {
 #[test]
 fn measured_lag_times_give_an_exponent_near_minus_one_half() {
     let out = opts("fitlag").out;
-    let s = figures::fit_lag::run(&experiments(), &out, 40, 1).unwrap();
+    let s = rollphase::fit_lag::run(&experiments(), &out, 40, 1).unwrap();
     assert_eq!(s.runs, 5);
     // The fitted α* agree with the authors' to a few 1e-4 rad.
     for (k, f) in s.analysis.runs.iter().enumerate() {

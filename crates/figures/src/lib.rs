@@ -1,5 +1,6 @@
 //! rollphase-figures: the paper's figures ([`figures`]: each computed, then written as CSV, PNG
-//! and JSON; their ensembles sharded and merged; the general scan behind `rollphase sweep`) and
+//! and JSON; their ensembles sharded and merged; the general scan behind `rollphase sweep`),
+//! `rollphase fit-lag` ([`fit_lag`]: measured lag times fitted, not a figure of the model) and
 //! the PNG charts they draw with ([`chart`]). It sits over the physics core, the output layer
 //! and the assets, and Cargo keeps it there: it cannot name scenes, the live run, the renderer,
 //! the UI or the command line. `rollphase::figures` and `rollphase::chart` re-export it.
@@ -13,3 +14,4 @@ pub use rollphase_output::output;
 
 pub mod chart;
 pub mod figures;
+pub mod fit_lag;

@@ -10,7 +10,6 @@ pub mod disk_flow;
 pub mod disk_hysteresis;
 pub mod disk_lag_time;
 pub mod disk_transition;
-pub mod fit_lag;
 pub mod model_validity;
 pub mod scan;
 pub mod shard;

@@ -1,18 +1,20 @@
-//! `rollphase fit-lag CSV` — paper Fig. 3b–c: measured lag times of rolling cylinders, fitted
-//! with t_lag = A (α − α*)^β per run (α* a fit parameter) and with one exponent shared by all
-//! runs ([`crate::analysis::lag_fit`]); the paper reports β = −½.
+//! `rollphase fit-lag CSV` — paper Fig. 3b–c from measured data, not from the model: the lag
+//! times of rolling cylinders, fitted with t_lag = A (α − α*)^β per run (α* a fit parameter) and
+//! with one exponent shared by all runs ([`crate::analysis::lag_fit`]); the paper reports β = −½.
+//! Its own module, beside the figures whose output layout (data.csv, figure.png, summary.json)
+//! it shares.
 
 use std::path::Path;
 
 use anyhow::{Context, Result, anyhow};
 use serde::Serialize;
 
-use super::FigureData;
 use crate::analysis::lag_fit::{
     ALPHA_STAR_RANGE, LagAnalysis, LagRun, SHARED_EXPONENT_RANGE, analyse_with_progress,
     parse_lag_csv,
 };
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
+use crate::figures::FigureData;
 use crate::output::{self, Inputs};
 
 /// What `fit-lag` writes to summary.json.
@@ -95,7 +97,7 @@ fn bound_warnings(runs: &[LagRun], a: &LagAnalysis) -> Vec<String> {
 pub fn run(csv: &Path, out: &Path, bootstrap: usize, seed: u64) -> Result<Summary> {
     let inputs = Inputs::of([csv]);
     let dir = out.join("fit-lag");
-    output::check_folder(&dir, &super::FIGURE_FILES, &inputs)?;
+    output::check_folder(&dir, &crate::figures::FIGURE_FILES, &inputs)?;
     let text = crate::geometry::shape_file::read_text_capped(csv, 64 << 20)
         .with_context(|| format!("cannot read {}", csv.display()))?;
     let data = compute(&text, &csv.display().to_string(), bootstrap, seed)
@@ -119,7 +121,7 @@ pub fn compute(
     refuse_degenerate(&runs)?;
     // A bar on a terminal: the bootstrap is the slow part (each resample refits every run and
     // the shared exponent).
-    let bar = super::progress(bootstrap, "bootstrap");
+    let bar = crate::figures::progress(bootstrap, "bootstrap");
     let analysis = analyse_with_progress(&runs, bootstrap, seed, &|| bar.inc(1))
         .ok_or_else(|| anyhow!("the fit failed (too few angles in a run?)"))?;
     bar.finish_and_clear();
