@@ -23,7 +23,7 @@ mod app_state;
 mod app_thread;
 mod app_ui;
 mod app_window;
-mod egui_renderer;
+mod egui_panels;
 mod headless_snapshots;
 mod lessons;
 mod presentation;

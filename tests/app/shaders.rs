@@ -6,13 +6,27 @@
 use naga::valid::{Capabilities, ValidationFlags, Validator};
 use rollphase::render::SHADERS;
 
-/// The renderer's shaders, and egui's panels' when the app is built.
+/// The renderer's shaders.
 fn all_shaders() -> Vec<(&'static str, &'static str)> {
-    #[allow(unused_mut)]
-    let mut all = SHADERS.to_vec();
-    #[cfg(feature = "app")]
-    all.push(rollphase::ui::egui_renderer::SHADER);
-    all
+    SHADERS.to_vec()
+}
+
+/// The patched egui-wgpu shader the app's panels use (vendor/egui-wgpu) parses and validates
+/// too, with its two override constants.
+#[test]
+fn the_patched_egui_shader_validates() {
+    let source = include_str!("../../vendor/egui-wgpu/src/egui.wgsl");
+    let module = naga::front::wgsl::parse_str(source)
+        .unwrap_or_else(|e| panic!("egui.wgsl: {}", e.emit_to_string(source)));
+    Validator::new(ValidationFlags::all(), Capabilities::empty())
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("egui.wgsl: {}", e.emit_to_string(source)));
+    let overrides: Vec<_> = module
+        .overrides
+        .iter()
+        .filter_map(|(_, o)| o.name.clone())
+        .collect();
+    assert_eq!(overrides, ["DITHERING", "PREDICTABLE_TEXTURE_FILTERING"]);
 }
 
 #[test]
@@ -40,8 +54,6 @@ fn the_renderer_loads_every_file_in_the_shaders_folder() {
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .filter(|n| n.ends_with(".wgsl"))
-        // egui's shader is loaded by the app alone.
-        .filter(|n| cfg!(feature = "app") || n != "egui.wgsl")
         .collect();
     on_disk.sort();
     let mut loaded: Vec<String> = all_shaders().iter().map(|(n, _)| n.to_string()).collect();

@@ -21,12 +21,10 @@
 //! | `dialog` | native Open / Save dialogs (rfd) on their own thread, or why there are none |
 //! | `keys` | the keyboard bindings and class mode |
 //! | `plots`, `painter`, `workbench` | the plots, the wgpu painter, the windowless app core |
-//! | `egui_renderer` | egui's meshes and textures drawn with wgpu (our own, for CPU renderers) |
 //! | `measuring_sweep` | the measuring sweep of α or m/m0 (hold each value until measured, then step) |
 //! | `fonts` | egui's fonts with the bundled DejaVu Sans as the fallback |
 
 pub mod dialog;
-pub mod egui_renderer;
 pub mod fonts;
 pub mod measuring_sweep;
 pub mod painter;

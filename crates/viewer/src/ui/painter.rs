@@ -1,7 +1,9 @@
 //! Draws one app frame into any wgpu target: the 3D scene through the same [`Renderer`] as
 //! headless frames, into the rectangle the UI leaves for it, then the egui panels on top
-//! ([`EguiRenderer`]). The window, the screenshot and `rollphase bench app` all paint through here;
-//! only the target differs. Knows wgpu and egui, not winit.
+//! (egui-wgpu's renderer, patched so that its shader's options are pipeline constants: on
+//! llvmpipe that halves a frame, `vendor/egui-wgpu/PATCH.md`). The window, the screenshot and
+//! `rollphase bench app` all paint through here; only the target differs. Knows wgpu and egui,
+//! not winit.
 //!
 //! The Poincaré field is computed off the UI thread ([`FieldCache::request`]) and only once α
 //! has rested for [`FIELD_DEBOUNCE`]: every slider position would otherwise start a full field
@@ -16,7 +18,6 @@ use crate::live::SimStatus;
 use crate::live::{FieldCache, FieldWanted};
 use crate::render::Renderer;
 use crate::scene::ViewsSpec;
-use crate::ui::egui_renderer::EguiRenderer;
 use crate::view::{CurvatureScale, SceneView, ViewOptions};
 
 /// How long α must rest before the Poincaré field is recomputed for it.
@@ -28,6 +29,74 @@ pub struct EguiFrame {
     pub primitives: Vec<egui::ClippedPrimitive>,
     /// Physical pixels per point.
     pub pixels_per_point: f32,
+}
+
+/// egui-wgpu's renderer (patched: vendor/egui-wgpu) with what its `render` needs again.
+struct EguiRenderer {
+    renderer: egui_wgpu::Renderer,
+    primitives: Vec<egui::ClippedPrimitive>,
+    screen: egui_wgpu::ScreenDescriptor,
+}
+
+impl EguiRenderer {
+    fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
+        let options = egui_wgpu::RendererOptions {
+            msaa_samples: 1,
+            depth_stencil_format: None,
+            dithering: true,
+            predictable_texture_filtering: false,
+        };
+        Self {
+            renderer: egui_wgpu::Renderer::new(device, format, options),
+            primitives: Vec::new(),
+            screen: egui_wgpu::ScreenDescriptor {
+                size_in_pixels: [1, 1],
+                pixels_per_point: 1.0,
+            },
+        }
+    }
+
+    fn update_texture(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        id: egui::TextureId,
+        delta: &egui::epaint::ImageDelta,
+    ) {
+        self.renderer.update_texture(device, queue, id, delta);
+    }
+
+    fn free_texture(&mut self, id: &egui::TextureId) {
+        self.renderer.free_texture(id);
+    }
+
+    fn update_buffers(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        primitives: &[egui::ClippedPrimitive],
+        size: (u32, u32),
+        pixels_per_point: f32,
+    ) {
+        self.primitives = primitives.to_vec();
+        self.screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [size.0, size.1],
+            pixels_per_point,
+        };
+        let mut encoder = device.create_command_encoder(&Default::default());
+        let extra = self.renderer.update_buffers(
+            device,
+            queue,
+            &mut encoder,
+            &self.primitives,
+            &self.screen,
+        );
+        queue.submit(extra.into_iter().chain([encoder.finish()]));
+    }
+
+    fn render(&self, pass: &mut wgpu::RenderPass<'static>) {
+        self.renderer.render(pass, &self.primitives, &self.screen);
+    }
 }
 
 /// The 3D renderer and egui's renderer for one target format.
@@ -228,7 +297,7 @@ impl Painter {
             } else {
                 wgpu::LoadOp::Clear(wgpu::Color::BLACK)
             };
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("egui"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                     view: target,
@@ -244,6 +313,8 @@ impl Painter {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
+            // egui-wgpu's render takes a pass without the encoder's lifetime.
+            let mut pass = pass.forget_lifetime();
             self.egui.render(&mut pass);
         }
         queue.submit([encoder.finish()]);
