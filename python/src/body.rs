@@ -13,8 +13,8 @@ use rollphase_core::geometry::{Body as CoreBody, ShapeFile};
 use rollphase_core::glam::DVec3;
 use rollphase_output::output::{self, OutputError};
 
-use crate::errors::input_error;
-use crate::{bad_input, internal_error, whole};
+use crate::errors::{bad_input, input_error, internal_error};
+use crate::whole;
 
 /// A rolling body: a disk (2D, r(θ) = 1 + Σ a_l/l² sin(l(θ − θ_l))) or a sphere (3D,
 /// r(u) = 1 + Re Σ A_lm/(l(l+1)) Y_lm(u)), with mean radius 1.

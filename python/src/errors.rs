@@ -139,6 +139,20 @@ pub(crate) fn input_error(message: impl Into<String>) -> PyErr {
     ErrorClass::Input.err(message)
 }
 
+/// `InputError` (a `ValueError`) with an error's message (the command line's text for the same
+/// mistake).
+pub(crate) fn bad_input(e: impl std::fmt::Display) -> PyErr {
+    input_error(e.to_string())
+}
+
+/// `InternalError` for what cannot happen short of a bug (an array whose shape the code built
+/// itself does not fit, a report that does not serialise).
+pub(crate) fn internal_error(e: impl std::fmt::Display) -> PyErr {
+    ErrorClass::Internal.err(format!(
+        "internal error in rollphase (please report it): {e}"
+    ))
+}
+
 /// Adds every class of the tree to the module.
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     for class in ErrorClass::ALL {

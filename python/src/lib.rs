@@ -159,20 +159,6 @@ pub(crate) fn sample_count(samples: i128) -> PyResult<usize> {
         })
 }
 
-/// `InputError` (a `ValueError`) with an error's message (the command line's text for the same
-/// mistake).
-pub(crate) fn bad_input(e: impl std::fmt::Display) -> PyErr {
-    input_error(e.to_string())
-}
-
-/// `InternalError` for what cannot happen short of a bug (an array whose shape the code built
-/// itself does not fit, a report that does not serialise).
-pub(crate) fn internal_error(e: impl std::fmt::Display) -> PyErr {
-    ErrorClass::Internal.err(format!(
-        "internal error in rollphase (please report it): {e}"
-    ))
-}
-
 /// Irregular cylinders and spheres rolling down a ramp (Qian, Jung & Mahadevan, PNAS 2025):
 /// bodies, the four rolling models and the paper's analyses, on numpy arrays.
 ///

@@ -27,8 +27,8 @@ use rollphase_core::simulate::{
 };
 
 use crate::body::Body;
-use crate::errors::{Classified, input_error, raise};
-use crate::{internal_error, interruptible, whole};
+use crate::errors::{Classified, input_error, internal_error, raise};
+use crate::{interruptible, whole};
 
 /// Beyond this many numbers in all a `simulate_many` result would not fit in memory on most
 /// machines (8 bytes each, held twice while it is handed to numpy).
@@ -77,7 +77,7 @@ impl Trajectory {
         self.columns
             .get(name)
             .map(|c| c.clone_ref(py))
-            .ok_or_else(|| crate::internal_error(format!("the trajectory has no column {name}")))
+            .ok_or_else(|| internal_error(format!("the trajectory has no column {name}")))
     }
 
     /// The Python object: a `DiskTrajectory` or `SphereTrajectory` for one run, `SphereRuns`

@@ -24,9 +24,9 @@ use rollphase_core::simulate::InitialState;
 use rollphase_core::simulate::start::StartRequest;
 
 use crate::body::Body;
-use crate::errors::{ErrorClass, input_error, raise};
+use crate::errors::{ErrorClass, input_error, internal_error, raise};
 use crate::run::checked_start;
-use crate::{internal_error, interruptible, whole};
+use crate::{interruptible, whole};
 
 /// The critical angle α* = atan max |∇ ln r| of `body` (rad): a viscous body released at
 /// α ≤ α* comes to rest; above it a disk rolls for ever. The same as body.alpha_star.

@@ -550,7 +550,7 @@ fn counts_and_input_sizes_have_stated_limits() {
     // staged in the output folder (and a run of 1e301 steps that started would never return).
     let r = rollphase(&[&base[..], &["--integrator", "rk4", "--dt", "1e-300"]].concat());
     fails_with(&r, 1, &["dt = 1e-300", "max_steps = 100000000"]);
-    assert_eq!(listing(&dir), ["body.json"], "nothing staged");
+    assert_eq!(crate::cli::listing(&dir), ["body.json"], "nothing staged");
     let r = rollphase(&[&base[..], &["--samples", "1000000000"]].concat());
     fails_with(&r, 1, &["samples = 1000000000", "samples ≤ 10000000"]);
     assert!(!std::path::Path::new(&csv).exists());
@@ -1471,14 +1471,4 @@ fn a_bad_integrator_name_gets_the_same_message_everywhere() {
         &["\"euler\" is not an integrator: one of fast, balanced, precise, dop853:RTOL"],
     );
     std::fs::remove_dir_all(&dir).ok();
-}
-
-/// The names in `dir`, sorted.
-fn listing(dir: &std::path::Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }

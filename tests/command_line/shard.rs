@@ -490,7 +490,7 @@ fn sweep_and_fit_lag_refuse_their_own_inputs_and_bad_folders_before_running() {
     let afile = root.join("afile");
     std::fs::write(&afile, "x").unwrap();
     let spec = small_sweep(&root, "spec.toml");
-    let before = listing(&root);
+    let before = crate::cli::listing(&root);
     let e = fails(&[
         "sweep",
         spec.to_str().unwrap(),
@@ -499,7 +499,7 @@ fn sweep_and_fit_lag_refuse_their_own_inputs_and_bad_folders_before_running() {
     ]);
     assert!(e.contains("not a folder"), "{e}");
     assert_eq!(
-        listing(&root),
+        crate::cli::listing(&root),
         before,
         "nothing staged or written before the refusal"
     );
@@ -834,14 +834,4 @@ fn a_full_disk_under_a_sweep_names_the_file() {
         "{e}"
     );
     let _ = std::fs::remove_dir_all(&root);
-}
-
-/// The names in `dir`, sorted.
-fn listing(dir: &std::path::Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
