@@ -7,8 +7,11 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use serde::Serialize;
 
-use crate::analysis::prediction::{PredictOptions, PredictedOrbit, predict};
-use crate::analysis::tracking::{CleanTrack, Folded, PeriodFit, fold, measure};
+use crate::analysis::prediction::{PredictOptions, PredictedOrbit};
+use crate::analysis::tracking::model::{Measured, ModelComparison, compare_with_model};
+use crate::analysis::tracking::{
+    CleanTrack, ErrorSource, Folded, PeriodFit, Significance, fold, measure,
+};
 use crate::chart::{Panel, Series, SeriesLabelPosition, Style};
 use crate::geometry::ShapeFile;
 use crate::output::{self, Inputs, OutputSet};
@@ -28,9 +31,13 @@ use crate::output::{self, Inputs, OutputSet};
 /// Writes to --out: data.csv (every centre and marker point with its period and local
 /// coordinates), figure.png (the track folded into local coordinates, as the paper's Fig. 5c,
 /// markers coloured by period in two alternating colours as Fig. 5e), summary.json (period_s,
-/// advance_down_cm, advance_across_cm, speed, …). With --body and --alpha: the time unit t0
-/// fitted from the period, m/m0 estimated from the speed (SI §2H: v²/(g⟨r⟩ sin α)), and the
-/// predicted orbit's advance and path against the measured ones. For example:
+/// advance_down_cm, advance_across_cm, speed, the evidence, …). The period is stated only
+/// when every cycle repeats on its own and the track repeats beyond chance (19 surrogate tracks
+/// with its smoothed spectrum and random phases); otherwise the command says why and exits 1.
+/// With --body and --alpha: m/m0 and the time unit t0 solved together so that the model's
+/// period in seconds is the measured one (the weight drives the body: m/m0 = ⟨r⟩/(g t0²)),
+/// the SI's speed estimate v²/(g⟨r⟩ sin²α) (§2H) beside it as a check, and the predicted
+/// orbit's period, advance, speed and path against the measured ones. For example:
 ///   rollphase track sphere-track-viscous.csv --markers sphere-markers-viscous.csv \
 ///       --fps 30 --scale 0.0404,0.0361 --body printed-sphere.json --alpha 0.2014 --out run
 #[derive(Debug, Args)]
@@ -41,8 +48,9 @@ pub struct TrackArgs {
     /// Frames per second of the video.
     #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
     pub fps: f64,
-    /// cm per unit of the across and of the down column, as SX,SY.
-    #[arg(long, default_value = "0.0404,0.0361", allow_negative_numbers = true)]
+    /// cm per unit of the across and of the down column, as SX,SY (a negative factor flips that
+    /// axis: the model's down is the direction the body rolls).
+    #[arg(long, default_value = "0.0404,0.0361", allow_hyphen_values = true)]
     pub scale: String,
     /// Column of the frame number.
     #[arg(long, default_value = "frame")]
@@ -66,7 +74,8 @@ pub struct TrackArgs {
     /// The ramp's angle α (rad), with --body.
     #[arg(long, requires = "body", allow_negative_numbers = true)]
     pub alpha: Option<f64>,
-    /// m/m0 for the prediction [default: estimated from the speed; below 0.1 the viscous model].
+    /// m/m0 for the prediction [default: solved with t0 so that the model's period in seconds
+    /// is the measured one; below 0.1 the viscous model]. 0 runs the viscous model.
     #[arg(long, requires = "body", allow_negative_numbers = true)]
     pub mass: Option<f64>,
 }
@@ -74,39 +83,18 @@ pub struct TrackArgs {
 const FILES: [&str; 3] = ["data.csv", "figure.png", "summary.json"];
 /// Most rows read from a track file (a video of a day at 1000 frames/s is 8.6e7).
 const MAX_ROWS: usize = 10_000_000;
-/// Standard gravity (m/s²), for m/m0 from the speed.
-const G: f64 = 9.81;
 
-/// The model's side of the comparison.
+/// The model's side of the comparison: the core's, with the shape file named.
 #[derive(Debug, Serialize)]
 pub struct Comparison {
     /// The shape file.
     pub body: String,
-    /// α (rad).
-    pub alpha: f64,
-    /// ⟨r⟩ of the body (mm).
-    pub scale_mm: f64,
-    /// m/m0 from the measured speed, v²/(g⟨r⟩ sin α) (SI §2H).
-    pub mass_ratio_estimate: f64,
-    /// m/m0 the prediction used (0: viscous).
-    pub mass_ratio_used: f64,
-    /// The predicted orbit closest in advance down the ramp: its period (t0).
-    pub predicted_period_t0: f64,
-    /// The time unit t0 = γ/(F⟨r⟩) that makes the predicted period the measured one (s).
-    pub t0_s: f64,
-    /// Its advance down the ramp per period (cm), to compare with `advance_down_cm`.
-    pub predicted_advance_down_cm: f64,
-    /// Its advance across the ramp per period (cm), to compare with `advance_across_cm`.
-    pub predicted_advance_across_cm: f64,
-    /// (measured − predicted)/predicted advance down the ramp.
-    pub advance_down_difference: f64,
-    /// Fraction of starts that settle on this orbit, of the orbits found.
-    pub orbit_fraction: f64,
-    /// All the predicted orbits' advances down the ramp (cm) and periods (t0).
-    pub orbits: Vec<[f64; 2]>,
     /// Whether the predicted path is drawn mirrored across the ramp (a body placed the other
     /// way round).
     pub mirrored_across: bool,
+    /// The comparison.
+    #[serde(flatten)]
+    pub comparison: ModelComparison,
 }
 
 /// What `track` writes as summary.json.
@@ -122,10 +110,17 @@ pub struct TrackSummary {
     pub frames_used: [f64; 2],
     /// The period (s).
     pub period_s: f64,
-    /// Its standard error (s).
+    /// Its standard error (s), always finite.
     pub period_error_s: f64,
-    /// The spread of the cycles' own periods (s).
-    pub period_spread_s: f64,
+    /// Where the standard error comes from: the cycles' spread, or the mismatch dip's width
+    /// (fewer than three cycles).
+    pub period_error_from: ErrorSource,
+    /// The spread of the cycles' own periods (s); null with fewer than three cycles.
+    pub period_spread_s: Option<f64>,
+    /// Cycles that do not repeat on their own (at most a quarter are allowed).
+    pub unrepeated_cycles: usize,
+    /// The check against chance: surrogate tracks and the lowest dip they reached.
+    pub significance: Option<Significance>,
     /// The period in frames.
     pub period_frames: f64,
     /// Whole periods seen.
@@ -194,8 +189,24 @@ pub fn run(a: TrackArgs) -> Result<()> {
     let frames: Vec<f64> = rows.iter().map(|r| r[0]).collect();
     let down: Vec<f64> = rows.iter().map(|r| r[2] * sy).collect();
     let across: Vec<f64> = rows.iter().map(|r| r[1] * sx).collect();
-    let (track, fit) = measure(&frames, &down, &across, (0.5 * a.fps).max(4.0))
-        .with_context(|| format!("track {}", a.file.display()))?;
+    let bar = if frames.len() > 100_000 && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        indicatif::ProgressBar::new(crate::analysis::tracking::period::SURROGATES as u64)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    bar.set_message("surrogate tracks (the chance level)");
+    let (mut track, fit) = measure(&frames, &down, &across, &|done, _| {
+        bar.set_position(done as u64);
+    })
+    .with_context(|| format!("track {}", a.file.display()))?;
+    bar.finish_and_clear();
+    if fit.advance_down < 0.0 {
+        track.warnings.push(format!(
+            "the body moves up the ramp ({:.4} cm a period down it): if it rolled down, flip the \
+             sign of --scale's down factor SY ({sy})",
+            fit.advance_down
+        ));
+    }
     for w in &track.warnings {
         eprintln!("warning: {w}");
     }
@@ -230,7 +241,10 @@ pub fn run(a: TrackArgs) -> Result<()> {
         frames_used: [start, end],
         period_s,
         period_error_s: fit.period_error_frames / a.fps,
-        period_spread_s: fit.period_spread_frames / a.fps,
+        period_error_from: fit.period_error_from,
+        period_spread_s: fit.period_spread_frames.map(|s| s / a.fps),
+        unrepeated_cycles: fit.unrepeated_cycles,
+        significance: fit.significance.clone(),
         period_frames: fit.period_frames,
         periods_seen: fit.periods_seen,
         mismatch: fit.mismatch,
@@ -247,8 +261,7 @@ pub fn run(a: TrackArgs) -> Result<()> {
         let (comparison, drawn) = compare(
             path,
             body,
-            *scale_mm,
-            *alpha,
+            (*scale_mm, *alpha),
             a.mass,
             &fit,
             &folded_centre,
@@ -281,15 +294,31 @@ pub fn run(a: TrackArgs) -> Result<()> {
 
 /// The measurement (and the model's) for people.
 fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
+    let error_from = match summary.period_error_from {
+        ErrorSource::Cycles => "from the cycles' spread",
+        ErrorSource::DipWidth => "from the dip's width: too few cycles for a spread",
+    };
+    // Two significant digits of the error, and the period to the same place.
+    let digits = (1 - summary.period_error_s.log10().floor() as i32).clamp(3, 9) as usize;
     outln!(
-        "{}: period {:.3} ± {:.3} s ({:.2} frames; {} whole periods seen, cycles spread {:.3} s)",
+        "{}: period {:.digits$} ± {:.digits$} s ({:.2} frames; {} whole periods seen; error \
+         {error_from})",
         a.file.display(),
         summary.period_s,
         summary.period_error_s,
         summary.period_frames,
         summary.periods_seen,
-        summary.period_spread_s
     )?;
+    if let Some(s) = &summary.significance {
+        outln!(
+            "  evidence: repeats with normalised mismatch {:.3}; {} surrogate tracks (same \
+             smoothed spectrum, random phases) reach {:.3} at best (p < {:.2})",
+            s.normalised_dip,
+            s.surrogates,
+            s.surrogate_floor,
+            s.p_bound
+        )?;
+    }
     outln!(
         "  per period: {:.3} cm down the ramp, {:.3} cm across; speed {:.3} cm/s",
         summary.advance_down_cm,
@@ -297,20 +326,37 @@ fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
         summary.speed_cm_s
     )?;
     if let Some(m) = &summary.model {
+        let c = &m.comparison;
+        let model = if c.mass_ratio_model == 0.0 {
+            "viscous model".to_string()
+        } else {
+            format!("inertial model at m/m0 = {:.3}", c.mass_ratio_model)
+        };
         outln!(
-            "  model ({}, {}; m/m0 estimated {:.3} from the speed): {:.3} cm down, {:.3} cm \
-             across per period ({:+.1} % measured against predicted); t0 = {:.4} s",
+            "  model ({}, {model}): m/m0 = {:.3} and t0 = {:.4} s found together from the period \
+             ({}); the SI's speed estimate v²/(g⟨r⟩ sin²α) gives m/m0 = {:.3}, t0 = {:.4} s, a \
+             period of {:.3} s",
             m.body,
-            if m.mass_ratio_used == 0.0 {
-                "viscous".to_string()
-            } else {
-                format!("m/m0 = {:.3}", m.mass_ratio_used)
+            c.mass_ratio,
+            c.t0_s,
+            match c.mass_ratio_from {
+                crate::analysis::tracking::model::MassSource::Period => "solved",
+                crate::analysis::tracking::model::MassSource::Given => "m/m0 given",
             },
-            m.mass_ratio_estimate,
-            m.predicted_advance_down_cm,
-            m.predicted_advance_across_cm,
-            100.0 * m.advance_down_difference,
-            m.t0_s
+            c.mass_ratio_from_speed,
+            c.t0_from_speed_s,
+            c.period_from_speed_s
+        )?;
+        outln!(
+            "  predicted per period: {:.3} cm down, {:.3} cm across, {:.3} s, {:.3} cm/s \
+             (measured against predicted: advance {:+.1} %, period {:+.1} %, speed {:+.1} %)",
+            c.predicted_advance_down_cm,
+            c.predicted_advance_across_cm,
+            c.predicted_period_s,
+            c.predicted_speed_cm_s,
+            100.0 * c.advance_down_difference,
+            100.0 * c.period_difference,
+            100.0 * c.speed_difference
         )?;
     }
     outln!(
@@ -324,60 +370,42 @@ fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
 /// phase (path sample) it starts at, and whether it is mirrored across the ramp.
 type Drawn = (PredictedOrbit, f64, f64, usize, bool);
 
-/// The model's prediction for `body` against the measured `fit`: m/m0 from the speed, the
-/// predicted orbit nearest in advance down the ramp, t0 from the period, and the path aligned
-/// with the folded track.
-#[allow(clippy::too_many_arguments)]
+/// The model's prediction for `body` against the measured `fit` (the core's
+/// [`compare_with_model`]), and the path aligned with the folded track.
 fn compare(
     path: &Path,
     body: &crate::geometry::Body,
-    scale_mm: f64,
-    alpha: f64,
+    (scale_mm, alpha): (f64, f64),
     mass: Option<f64>,
     fit: &PeriodFit,
     folded: &[Folded],
     fps: f64,
 ) -> Result<(Comparison, Drawn)> {
-    let period_s = fit.period_frames / fps;
-    let speed = fit.advance_down / period_s;
-    let estimate = (speed / 100.0).powi(2) / (G * scale_mm / 1000.0 * alpha.sin());
-    let used = mass.unwrap_or(if estimate < 0.1 { 0.0 } else { estimate });
-    let p = predict(body, alpha, used, &PredictOptions::default())?;
-    let cm = scale_mm / 10.0;
-    let Some(orbit) = p.orbits.iter().min_by(|x, y| {
-        (x.advance_down * cm - fit.advance_down)
-            .abs()
-            .total_cmp(&(y.advance_down * cm - fit.advance_down).abs())
-    }) else {
-        bail!(
-            "the model predicts no periodic motion for {} at α = {alpha} (m/m0 = {used}): it \
-             comes to rest, while the track rolls",
-            path.display()
-        );
+    let measured = Measured {
+        period_s: fit.period_frames / fps,
+        advance_down_cm: fit.advance_down,
+        advance_across_cm: fit.advance_across,
     };
-    let t0 = period_s / orbit.period;
-    let (phase, mirrored) = align(folded, orbit, cm, t0 * fps);
-    let comparison = Comparison {
-        body: path.display().to_string(),
-        alpha,
+    let c = compare_with_model(
+        body,
         scale_mm,
-        mass_ratio_estimate: estimate,
-        mass_ratio_used: used,
-        predicted_period_t0: orbit.period,
-        t0_s: t0,
-        predicted_advance_down_cm: orbit.advance_down * cm,
-        predicted_advance_across_cm: orbit.advance_across * cm,
-        advance_down_difference: (fit.advance_down - orbit.advance_down * cm)
-            / (orbit.advance_down * cm),
-        orbit_fraction: orbit.fraction,
-        orbits: p
-            .orbits
-            .iter()
-            .map(|o| [o.advance_down * cm, o.period])
-            .collect(),
-        mirrored_across: mirrored,
-    };
-    Ok((comparison, (orbit.clone(), cm, t0 * fps, phase, mirrored)))
+        alpha,
+        &measured,
+        mass,
+        &PredictOptions::default(),
+    )
+    .with_context(|| format!("the model for {}", path.display()))?;
+    let cm = scale_mm / 10.0;
+    let (phase, mirrored) = align(folded, &c.orbit, cm, c.t0_s * fps);
+    let drawn = (c.orbit.clone(), cm, c.t0_s * fps, phase, mirrored);
+    Ok((
+        Comparison {
+            body: path.display().to_string(),
+            mirrored_across: mirrored,
+            comparison: c,
+        },
+        drawn,
+    ))
 }
 
 /// The rows of `path`'s named columns as numbers; an empty cell or "nan" is NaN (the cleaning

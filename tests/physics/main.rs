@@ -37,4 +37,5 @@ mod period_doubling;
 mod predictions;
 mod reproducibility;
 mod studies;
+mod track_periods;
 mod tracked_runs;

@@ -3,15 +3,18 @@
 //! period found automatically with an uncertainty, the advance per period, and the track folded
 //! into local coordinates (the paper's Fig. 5c) so that every period lies on the first.
 //!
-//! The period is the shift τ at which the track repeats up to a translation: the mismatch
-//! E(τ) = ⟨|p(t + τ) − p(t) − D(τ)|²⟩ (D the mean displacement over τ), normalised by twice
-//! the variance of the detrended track, is ≈ 1 for unrelated points and falls towards the noise
-//! floor where the motion repeats. The smallest shift whose mismatch is within a factor of
-//! [`MULTIPLE_TOLERANCE`] of the best is the period (its multiples repeat too); shifts are tried
-//! every quarter frame, and a parabola through the three nearest refines it. Each whole cycle then
-//! gets its own best shift against the next, and their spread is the uncertainty: nothing is
-//! hand-picked. A track whose best mismatch is above [`MAX_MISMATCH`], or that holds fewer than
-//! two periods, has no period that can be stated with confidence, and says so.
+//! The period search lives in [`period`]: every shift at once by FFT, the dip read against the
+//! shifts before it, each cycle checked on its own and the whole against surrogate tracks, so
+//! that no period is stated that the track does not show. [`model`] sets the measurement
+//! beside the model's prediction for the same body (m/m0 and t0 found together).
+
+pub mod model;
+pub mod period;
+
+pub use period::{
+    ErrorSource, MAX_MISMATCH, MIN_PERIOD_FRAMES, PeriodFit, PeriodSearch, Significance,
+    find_period,
+};
 
 use serde::Serialize;
 use thiserror::Error;
@@ -45,34 +48,46 @@ pub enum TrackError {
     /// Too much of the track is missing or broken.
     #[error("{0}")]
     Damaged(String),
-    /// No shift makes the track repeat well enough.
-    #[error(
-        "no period can be found with confidence: the best repeat (shift {best_frames:.1} frames) \
-         leaves {mismatch:.2} of the track's variation unexplained (at most {limit} is accepted)"
-    )]
+    /// No shift makes the track repeat well enough, or not beyond chance.
+    #[error("no period can be found with confidence: {why}")]
     NoPeriod {
-        /// The best shift.
+        /// The best shift (frames).
         best_frames: f64,
-        /// Its normalised mismatch.
-        mismatch: f64,
-        /// The limit.
-        limit: f64,
+        /// What the evidence lacks.
+        why: String,
+    },
+    /// The track repeats faster than the frame rate can resolve.
+    #[error(
+        "the track repeats every {period_frames:.1} frames: fewer than {min_frames} frames a \
+         period cannot be told from its multiples and the noise (film at a higher frame rate)"
+    )]
+    TooFast {
+        /// The shift it repeats at (frames).
+        period_frames: f64,
+        /// The fewest frames a period needs.
+        min_frames: f64,
+    },
+    /// The period holds over too little of the track.
+    #[error(
+        "the track repeats only over frames {from}–{to}, {percent:.0} % of its {frames} usable \
+         frames (at least half is needed): the rest is not steady periodic rolling, so no period \
+         is stated for the run"
+    )]
+    MostlyUnsteady {
+        /// First frame that repeats.
+        from: f64,
+        /// Last frame that repeats.
+        to: f64,
+        /// Its share of the usable frames (%).
+        percent: f64,
+        /// Usable frames.
+        frames: usize,
     },
     /// A setting out of range.
     #[error("{0}")]
     BadArgument(String),
 }
 
-/// The normalised mismatch above which a period is not stated.
-pub const MAX_MISMATCH: f64 = 0.5;
-/// Local minima within this factor of the best mismatch count as repeats (the smallest is the
-/// period, the others its multiples).
-pub const MULTIPLE_TOLERANCE: f64 = 1.5;
-/// … plus this much (a noiseless track's multiples can beat its period by round-off alone).
-pub const MULTIPLE_SLACK: f64 = 0.02;
-/// A dip must lie this far below the mismatch at some smaller shift (the track having moved on
-/// since): small shifts match only because the body has not gone anywhere yet.
-pub const RISE: f64 = 0.25;
 /// Gaps of at most this many frames are bridged by straight lines; a longer one splits the track.
 pub const MAX_BRIDGED_GAP: usize = 10;
 /// A window of one period whose speed down the ramp differs from the median by more than this
@@ -228,11 +243,15 @@ pub fn clean(frames: &[f64], down: &[f64], across: &[f64]) -> Result<CleanTrack,
             fr.len()
         )));
     }
+    let mut jumped = vec![false; fr.len()];
+    for &i in &jumps {
+        jumped[i] = true;
+    }
     for &i in &jumps {
         // Between the nearest good points on either side.
-        let before = (0..i).rev().find(|j| !jumps.contains(j)).unwrap_or(0);
+        let before = (0..i).rev().find(|&j| !jumped[j]).unwrap_or(0);
         let after = (i + 1..fr.len())
-            .find(|j| !jumps.contains(j))
+            .find(|&j| !jumped[j])
             .unwrap_or(fr.len() - 1);
         let s = (i - before) as f64 / (after - before) as f64;
         dn[i] = dn[before] + s * (dn[after] - dn[before]);
@@ -297,12 +316,18 @@ pub fn steady_stretch(
     // s + w.
     let w = w.min(n / 3).max(2);
     let half = w;
+    // Frames are consecutive, so the window's mean speed is a difference of two sums over w
+    // points: prefix sums make it O(n) for any window.
+    let mut prefix = vec![0.0; n + 1];
+    for i in 0..n {
+        prefix[i + 1] = prefix[i] + dn[i];
+    }
+    let per_frame = (fr[n - 1] - fr[0]) / (n - 1) as f64;
     let speeds: Vec<f64> = (0..=n - 2 * w)
         .map(|s| {
-            (s..s + w)
-                .map(|i| (dn[i + w] - dn[i]) / (fr[i + w] - fr[i]))
-                .sum::<f64>()
-                / w as f64
+            let later = prefix[s + 2 * w] - prefix[s + w];
+            let earlier = prefix[s + w] - prefix[s];
+            (later - earlier) / (w as f64 * w as f64 * per_frame)
         })
         .collect();
     let mut sorted = speeds.clone();
@@ -364,10 +389,12 @@ pub fn steady_stretch(
     })
 }
 
-/// A raw track measured: [`clean`]ed, a first period found ([`find_period`], at least
-/// `min_frames`) on its middle 80 %, the track cut to its steady stretch over windows of that
+/// A raw track measured: [`clean`]ed, a first period found ([`find_period`] without the check
+/// against chance) on its middle 80 %, the track cut to its steady stretch over windows of that
 /// period (where steady rolling has a constant mean speed: within 15 %) and its ends cut where
-/// they do not repeat one period apart, and the period found again on what is left.
+/// they do not repeat one period apart, and the period found again on what is left, with every
+/// check. A period that holds over less than half of the usable frames is refused
+/// ([`TrackError::MostlyUnsteady`]). `progress` hears of the surrogates searched.
 ///
 /// # Example
 /// ```
@@ -380,7 +407,7 @@ pub fn steady_stretch(
 ///     0.5 * f + 3.0 * (w * f).sin()
 /// }).collect();
 /// let across: Vec<f64> = frames.iter().map(|&f| (w * f.min(540.0)).cos()).collect();
-/// let (track, fit) = measure(&frames, &down, &across, 10.0)?;
+/// let (track, fit) = measure(&frames, &down, &across, &|_, _| {})?;
 /// assert!((fit.period_frames - 40.0).abs() < 0.05, "{}", fit.period_frames);
 /// assert!(*track.frames.last().unwrap() <= 545.0);
 /// # Ok::<(), rollphase_core::analysis::tracking::TrackError>(())
@@ -389,7 +416,7 @@ pub fn measure(
     frames: &[f64],
     down: &[f64],
     across: &[f64],
-    min_frames: f64,
+    progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<(CleanTrack, PeriodFit), TrackError> {
     let track = clean(frames, down, across)?;
     // A first period from the middle 80 %, away from the release and the end of the ramp.
@@ -401,11 +428,24 @@ pub fn measure(
         across: track.across[a..b].to_vec(),
         warnings: Vec::new(),
     };
-    let first = find_period(&middle, min_frames)?;
+    let first_look = PeriodSearch {
+        surrogates: 0,
+        ..PeriodSearch::default()
+    };
+    let first = find_period(&middle, &first_look, &|_, _| {})?;
     let window = first.period_frames.round() as usize;
     let steady = steady_stretch(&track, window, PERIOD_STEADY_TOLERANCE)?;
     let fine = trim_unrepeated_ends(&steady, &first);
-    let fit = find_period(&fine, min_frames)?;
+    let used = fine.frames.len();
+    if 2 * used < n {
+        return Err(TrackError::MostlyUnsteady {
+            from: fine.frames[0],
+            to: fine.frames[used - 1],
+            percent: 100.0 * used as f64 / n as f64,
+            frames: n,
+        });
+    }
+    let fit = find_period(&fine, &PeriodSearch::default(), progress)?;
     Ok((fine, fit))
 }
 
@@ -440,10 +480,16 @@ fn trim_unrepeated_ends(track: &CleanTrack, fit: &PeriodFit) -> CleanTrack {
     sorted.sort_by(f64::total_cmp);
     let typical = sorted[sorted.len() / 2].max(1e-12);
     let half = ((tau / 8.0).round() as usize).max(1);
+    // Means over a quarter period by prefix sums (of the finite values and their count).
+    let (mut sum, mut count) = (vec![0.0; n + 1], vec![0usize; n + 1]);
+    for i in 0..n {
+        let ok = r[i].is_finite();
+        sum[i + 1] = sum[i] + if ok { r[i] } else { 0.0 };
+        count[i + 1] = count[i] + usize::from(ok);
+    }
     let smooth = |i: usize| {
         let (a, b) = (i.saturating_sub(half), (i + half + 1).min(n));
-        let v: Vec<f64> = r[a..b].iter().copied().filter(|v| v.is_finite()).collect();
-        v.iter().sum::<f64>() / v.len().max(1) as f64
+        (sum[b] - sum[a]) / (count[b] - count[a]).max(1) as f64
     };
     let bad = |i: usize| smooth(i) > 4.0 * typical;
     let from = (0..n / 3).find(|&i| !bad(i)).unwrap_or(0);
@@ -469,261 +515,11 @@ fn trim_unrepeated_ends(track: &CleanTrack, fit: &PeriodFit) -> CleanTrack {
     out
 }
 
-/// Least-squares slope of y against x.
-fn slope(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len() as f64;
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let (mut sxy, mut sxx) = (0.0, 0.0);
-    for (a, b) in x.iter().zip(y) {
-        sxy += (a - mx) * (b - my);
-        sxx += (a - mx) * (a - mx);
-    }
-    sxy / sxx
-}
-
-/// A track's period, found and measured.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct PeriodFit {
-    /// The period in frames (to a fraction of a frame).
-    pub period_frames: f64,
-    /// Standard error of the period (frames): the spread of the cycles' own periods over √n.
-    pub period_error_frames: f64,
-    /// Spread (standard deviation) of the cycles' own periods (frames).
-    pub period_spread_frames: f64,
-    /// Each whole cycle's own period (frames), against the next cycle.
-    pub cycle_periods: Vec<f64>,
-    /// Whole periods in the track.
-    pub periods_seen: usize,
-    /// The normalised mismatch at the period (0: a perfect repeat, 1: none).
-    pub mismatch: f64,
-    /// Advance per period down the ramp (cm).
-    pub advance_down: f64,
-    /// Advance per period across the ramp (cm).
-    pub advance_across: f64,
-    /// The normalised mismatch at every shift tried (shift in frames, mismatch).
-    pub mismatch_curve: Vec<[f64; 2]>,
-}
-
 /// The track at the fractional index `x` (linear between frames).
 fn at(v: &[f64], x: f64) -> f64 {
     let i = (x.floor() as usize).min(v.len() - 2);
     let s = x - i as f64;
     v[i] + s * (v[i + 1] - v[i])
-}
-
-/// E(τ) over the index range `[from, to)` of starting points, normalised by `scale`.
-fn mismatch(track: &CleanTrack, tau: f64, from: usize, to: usize, scale: f64) -> (f64, f64, f64) {
-    let n = track.down.len();
-    let last = ((n - 1) as f64 - tau).floor() as usize;
-    let to = to.min(last + 1);
-    if to <= from + 1 {
-        return (f64::INFINITY, 0.0, 0.0);
-    }
-    let count = (to - from) as f64;
-    let (mut sd, mut sa) = (0.0, 0.0);
-    let diffs: Vec<(f64, f64)> = (from..to)
-        .map(|i| {
-            let x = i as f64 + tau;
-            let d = at(&track.down, x) - track.down[i];
-            let a = at(&track.across, x) - track.across[i];
-            sd += d;
-            sa += a;
-            (d, a)
-        })
-        .collect();
-    let (md, ma) = (sd / count, sa / count);
-    let e = diffs
-        .iter()
-        .map(|(d, a)| (d - md).powi(2) + (a - ma).powi(2))
-        .sum::<f64>()
-        / count;
-    (e / scale, md, ma)
-}
-
-/// Finds the track's period (see the module doc) between `min_frames` and half the track.
-///
-/// # Example
-/// ```
-/// use rollphase_core::analysis::tracking::{CleanTrack, find_period};
-/// // A body rolling 0.5 cm a frame whose speed and sideways wobble repeat every 37.5 frames.
-/// let frames: Vec<f64> = (0..400).map(f64::from).collect();
-/// let w = std::f64::consts::TAU / 37.5;
-/// let down = frames.iter().map(|f| 0.5 * f + 2.0 * (w * f).sin()).collect();
-/// let across = frames.iter().map(|f| 0.01 * f + (w * f).cos()).collect();
-/// let track = CleanTrack { frames: frames.clone(), down, across, warnings: vec![] };
-/// let fit = find_period(&track, 5.0)?;
-/// assert!((fit.period_frames - 37.5).abs() < 0.05, "{}", fit.period_frames);
-/// assert!((fit.advance_down - 18.75).abs() < 0.05);
-/// assert_eq!(fit.periods_seen, 10);
-/// # Ok::<(), rollphase_core::analysis::tracking::TrackError>(())
-/// ```
-pub fn find_period(track: &CleanTrack, min_frames: f64) -> Result<PeriodFit, TrackError> {
-    let n = track.down.len();
-    let max_tau = (n - 1) / 2;
-    let min_tau = min_frames.max(2.0).ceil() as usize;
-    if n < 8 || max_tau < min_tau + 2 {
-        return Err(TrackError::TooShort {
-            usable: n,
-            what: "in the steady stretch".into(),
-            needed: 2 * (min_tau + 2) + 1,
-        });
-    }
-    // The detrended variance: the scale of "unrelated points".
-    let idx: Vec<f64> = (0..n).map(|i| i as f64).collect();
-    let detrended_var = |v: &[f64]| {
-        let b = slope(&idx, v);
-        let mean = v.iter().sum::<f64>() / n as f64;
-        let mid = (n - 1) as f64 / 2.0;
-        v.iter()
-            .enumerate()
-            .map(|(i, y)| (y - mean - b * (i as f64 - mid)).powi(2))
-            .sum::<f64>()
-            / n as f64
-    };
-    let scale = 2.0 * (detrended_var(&track.down) + detrended_var(&track.across));
-    let extent = track
-        .down
-        .iter()
-        .chain(&track.across)
-        .fold(0.0f64, |m, v| m.max(v.abs()));
-    // Round-off alone (1e-16 of the positions) can look periodic: below 1e-9 nothing varies.
-    if scale <= (1e-9 * extent).powi(2) {
-        return Err(TrackError::Damaged(
-            "the track is a straight line at constant speed: nothing repeats that could give a \
-             period"
-                .into(),
-        ));
-    }
-    // Quarter-frame shifts (linear interpolation between frames): a period need not be a whole
-    // number of frames, and a half-frame offset alone would hide a true period behind its double.
-    let curve: Vec<[f64; 2]> = (4 * min_tau..=4 * max_tau)
-        .map(|q| {
-            let t = q as f64 / 4.0;
-            [t, mismatch(track, t, 0, n, scale).0]
-        })
-        .collect();
-    // Small shifts match because the track has not moved on yet: only dips after the mismatch
-    // has first risen out of that region count.
-    let rise = curve
-        .iter()
-        .position(|c| c[1] >= curve[0][1] + RISE)
-        .unwrap_or(curve.len());
-    let best = curve[rise.min(curve.len())..]
-        .iter()
-        .map(|c| c[1])
-        .fold(f64::INFINITY, f64::min);
-    // Each dip's lowest point: the dips are the runs of shifts below best + RISE/2 (so the
-    // noise's wiggles on a dip's flank are not dips of their own).
-    let level = best + RISE / 2.0;
-    let mut minima: Vec<usize> = Vec::new();
-    let mut k = rise;
-    while k < curve.len() {
-        if curve[k][1] < level {
-            let run_end = (k..curve.len())
-                .find(|&j| curve[j][1] >= level)
-                .unwrap_or(curve.len());
-            let low = (k..run_end)
-                .min_by(|&a, &b| curve[a][1].total_cmp(&curve[b][1]))
-                .unwrap_or(k);
-            // A dip that runs into the end of the range may be cut off: its lowest point must
-            // be inside it.
-            if low > 0 && low + 1 < curve.len() {
-                minima.push(low);
-            }
-            k = run_end;
-        } else {
-            k += 1;
-        }
-    }
-    let Some(&k) = minima
-        .iter()
-        .find(|&&k| curve[k][1] <= MULTIPLE_TOLERANCE * best + MULTIPLE_SLACK)
-    else {
-        let k = curve
-            .iter()
-            .position(|c| c[1] == best)
-            .unwrap_or(curve.len() - 1);
-        return Err(TrackError::NoPeriod {
-            best_frames: curve[k][0],
-            mismatch: best,
-            limit: MAX_MISMATCH,
-        });
-    };
-    let (e0, e1, e2) = (curve[k - 1][1], curve[k][1], curve[k + 1][1]);
-    let denominator = e0 - 2.0 * e1 + e2;
-    let shift = if denominator > 0.0 {
-        (0.5 * (e0 - e2) / denominator).clamp(-0.5, 0.5)
-    } else {
-        0.0
-    };
-    let tau = curve[k][0] + 0.25 * shift;
-    let (m, advance_down, advance_across) = mismatch(track, tau, 0, n, scale);
-    if m > MAX_MISMATCH {
-        return Err(TrackError::NoPeriod {
-            best_frames: tau,
-            mismatch: m,
-            limit: MAX_MISMATCH,
-        });
-    }
-    let periods_seen = ((n - 1) as f64 / tau).floor() as usize;
-    if periods_seen < 2 {
-        return Err(TrackError::TooShort {
-            usable: n,
-            what: format!("a period of {tau:.1} frames"),
-            needed: (2.0 * tau).ceil() as usize + 1,
-        });
-    }
-    let cycle_periods = cycle_periods(track, tau, periods_seen, scale);
-    let (spread, error) = if cycle_periods.len() >= 2 {
-        let k = cycle_periods.len() as f64;
-        let mean = cycle_periods.iter().sum::<f64>() / k;
-        let var = cycle_periods
-            .iter()
-            .map(|p| (p - mean).powi(2))
-            .sum::<f64>()
-            / (k - 1.0);
-        (var.sqrt(), var.sqrt() / k.sqrt())
-    } else {
-        (f64::NAN, f64::NAN)
-    };
-    Ok(PeriodFit {
-        period_frames: tau,
-        period_error_frames: error,
-        period_spread_frames: spread,
-        cycle_periods,
-        periods_seen,
-        mismatch: m,
-        advance_down,
-        advance_across,
-        mismatch_curve: curve,
-    })
-}
-
-/// Each whole cycle's own period (frames): the best shift within 20 % of `tau` of its window
-/// against the next, refined by a parabola.
-fn cycle_periods(track: &CleanTrack, tau: f64, periods_seen: usize, scale: f64) -> Vec<f64> {
-    let window = tau.round() as usize;
-    (0..periods_seen.saturating_sub(1))
-        .filter_map(|c| {
-            let from = (c as f64 * tau).round() as usize;
-            let to = from + window;
-            let lo = (tau * 0.8).floor() as usize;
-            let hi = (tau * 1.2).ceil() as usize;
-            let e: Vec<(f64, f64)> = (lo..=hi)
-                .map(|t| (t as f64, mismatch(track, t as f64, from, to, scale).0))
-                .filter(|p| p.1.is_finite())
-                .collect();
-            let j = (1..e.len().saturating_sub(1)).min_by(|&a, &b| e[a].1.total_cmp(&e[b].1))?;
-            let (a, b, d) = (e[j - 1].1, e[j].1, e[j + 1].1);
-            let den = a - 2.0 * b + d;
-            let s = if den > 0.0 {
-                (0.5 * (a - d) / den).clamp(-0.5, 0.5)
-            } else {
-                0.0
-            };
-            Some(e[j].0 + s)
-        })
-        .collect()
 }
 
 /// A point in local coordinates: which period it falls in and where in it.

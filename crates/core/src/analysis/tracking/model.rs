@@ -1,0 +1,326 @@
+//! A measured track beside the model's prediction for the same body: the mass ratio m/m0 and the
+//! time unit t0 found together, so that the model's period in seconds is the measured one, and
+//! the SI's speed estimate beside them as a check.
+//!
+//! With the driving force the weight (F = mg), the paper's units give m/m0 = m F⟨r⟩³/γ² and
+//! t0 = γ/(F⟨r⟩), so m/m0 = ⟨r⟩/(g t0²): one number fixes the other. The model's period
+//! T(m/m0) (in t0) times t0 must be the measured period T_s, so
+//! m/m0 = ⟨r⟩ T(m/m0)² / (g T_s²), solved by iteration from the viscous model's T (T depends
+//! weakly on m/m0, so it converges in a few steps, each a [`predict`]). Below
+//! [`VISCOUS_BELOW`] the viscous model is used: the inertial correction to the period there is
+//! ≈ 0.03 m/m0 (`simulate`'s module doc), under 0.3 %.
+//!
+//! The SI's estimate (§2H) balances the drag's dissipation γω² with gravity's work: with
+//! ω ≈ v/⟨r⟩, m/m0 ≈ v²/(g⟨r⟩ sin²α). The main text's v²/(g⟨r⟩ sin α) is a typo: only the SI's
+//! form gives the paper's own 0.025 (v = 1 cm/s) and 2.5 (v = 10 cm/s) at ⟨r⟩ = 1 cm,
+//! sin α = 0.2, g = 10 m/s². It ignores the body's shape and is reported as a check, with the
+//! period in seconds it implies.
+
+use serde::Serialize;
+use thiserror::Error;
+
+use crate::analysis::prediction::{PredictOptions, PredictedOrbit, Prediction, predict};
+use crate::analysis::studies::StudyError;
+use crate::geometry::Body;
+
+/// Standard gravity (m/s²).
+pub const G: f64 = 9.81;
+/// Below this m/m0 the viscous model stands for the inertial one.
+pub const VISCOUS_BELOW: f64 = 0.1;
+/// Iterations of the joint solve before it gives up.
+const MAX_ITERATIONS: usize = 12;
+/// The joint solve stops when m/m0 changes by less than this fraction.
+const SOLVE_TOLERANCE: f64 = 1e-4;
+
+/// What a track measured, in seconds and centimetres.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Measured {
+    /// The period (s).
+    pub period_s: f64,
+    /// Advance per period down the ramp (cm).
+    pub advance_down_cm: f64,
+    /// Advance per period across the ramp (cm).
+    pub advance_across_cm: f64,
+}
+
+impl Measured {
+    /// Mean speed down the ramp (cm/s).
+    pub fn speed_cm_s(&self) -> f64 {
+        self.advance_down_cm / self.period_s
+    }
+}
+
+/// Where the m/m0 the model ran at came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MassSource {
+    /// Solved with t0 so that the model's period in seconds is the measured one.
+    Period,
+    /// Given by the user (t0 then follows from it, or from the period in the viscous model).
+    Given,
+}
+
+/// The measurement against the model's prediction for the same body.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ModelComparison {
+    /// α (rad).
+    pub alpha: f64,
+    /// ⟨r⟩ of the body (mm).
+    pub scale_mm: f64,
+    /// m/m0 the model ran at (0: the viscous model).
+    pub mass_ratio_model: f64,
+    /// m/m0 solved with t0 (or given): ⟨r⟩/(g t0²).
+    pub mass_ratio: f64,
+    /// Where `mass_ratio` came from.
+    pub mass_ratio_from: MassSource,
+    /// The time unit t0 = γ/(F⟨r⟩) (s).
+    pub t0_s: f64,
+    /// The SI's speed estimate v²/(g⟨r⟩ sin²α) (§2H).
+    pub mass_ratio_from_speed: f64,
+    /// The t0 the speed estimate implies, √(⟨r⟩/(g·m/m0)) (s).
+    pub t0_from_speed_s: f64,
+    /// The period (s) the model gives at the speed estimate's m/m0 and t0.
+    pub period_from_speed_s: f64,
+    /// The predicted orbit nearest in advance down the ramp: its period (t0).
+    pub predicted_period_t0: f64,
+    /// … in seconds (t0 × period; the measured period when m/m0 was solved for).
+    pub predicted_period_s: f64,
+    /// Its advance down the ramp per period (cm).
+    pub predicted_advance_down_cm: f64,
+    /// Its advance across the ramp per period (cm).
+    pub predicted_advance_across_cm: f64,
+    /// Its mean speed down the ramp (cm/s).
+    pub predicted_speed_cm_s: f64,
+    /// (measured − predicted)/predicted: advance down the ramp.
+    pub advance_down_difference: f64,
+    /// (measured − predicted)/predicted: period (s).
+    pub period_difference: f64,
+    /// (measured − predicted)/predicted: speed down the ramp.
+    pub speed_difference: f64,
+    /// 1, or 2 for a doubled orbit (its period and advance are per repeat).
+    pub repeat: usize,
+    /// Fraction of the model's starts that settle on this orbit.
+    pub orbit_fraction: f64,
+    /// All the predicted orbits: advance down the ramp (cm) and period (t0).
+    pub orbits: Vec<[f64; 2]>,
+    /// Joint-solve iterations (each a prediction; 0 when m/m0 was given).
+    pub iterations: usize,
+    /// The orbit compared, with its path (⟨r⟩) for drawing.
+    #[serde(skip)]
+    pub orbit: PredictedOrbit,
+}
+
+/// Why the comparison could not be made.
+#[derive(Debug, Error)]
+pub enum CompareError {
+    /// A bad setting.
+    #[error("{0}")]
+    BadArgument(String),
+    /// The prediction failed.
+    #[error(transparent)]
+    Study(#[from] StudyError),
+    /// The model has the body come to rest.
+    #[error(
+        "the model predicts no periodic motion for this body at α = {alpha} (m/m0 = \
+         {mass_ratio}): it comes to rest, while the track rolls"
+    )]
+    NoOrbit {
+        /// α (rad).
+        alpha: f64,
+        /// m/m0.
+        mass_ratio: f64,
+    },
+    /// The joint solve for m/m0 and t0 did not settle.
+    #[error(
+        "m/m0 and t0 could not be found together: after {iterations} predictions m/m0 still \
+         moves ({last:?}); give --mass to compare at a chosen m/m0"
+    )]
+    NotSettled {
+        /// Predictions made.
+        iterations: usize,
+        /// The last values of m/m0.
+        last: Vec<f64>,
+    },
+}
+
+/// The SI's estimate (§2H): m/m0 ≈ v²/(g⟨r⟩ sin²α), v in m/s, ⟨r⟩ in m.
+///
+/// ```
+/// use rollphase_core::analysis::tracking::model::mass_ratio_from_speed;
+/// // The paper's own numbers: ⟨r⟩ = 1 cm, g = 10, sin α = 0.2.
+/// let alpha = 0.2f64.asin();
+/// let viscous = mass_ratio_from_speed(0.01, 0.01, alpha, 10.0);
+/// let inertial = mass_ratio_from_speed(0.1, 0.01, alpha, 10.0);
+/// assert!((viscous - 0.025).abs() < 1e-12 && (inertial - 2.5).abs() < 1e-12);
+/// ```
+pub fn mass_ratio_from_speed(speed_m_s: f64, radius_m: f64, alpha: f64, g: f64) -> f64 {
+    speed_m_s.powi(2) / (g * radius_m * alpha.sin().powi(2))
+}
+
+/// The time unit for m/m0 when the driving force is the weight: t0 = √(⟨r⟩/(g·m/m0)) (s).
+pub fn t0_for_mass_ratio(mass_ratio: f64, radius_m: f64, g: f64) -> f64 {
+    (radius_m / (g * mass_ratio)).sqrt()
+}
+
+/// The orbit of `p` nearest the measured advance down the ramp (`cm` per ⟨r⟩).
+fn nearest(p: &Prediction, measured: &Measured, cm: f64) -> Option<PredictedOrbit> {
+    p.orbits
+        .iter()
+        .min_by(|x, y| {
+            (x.advance_down * cm - measured.advance_down_cm)
+                .abs()
+                .total_cmp(&(y.advance_down * cm - measured.advance_down_cm).abs())
+        })
+        .cloned()
+}
+
+/// The model's period (t0) and orbit at `mass_ratio` (viscous below [`VISCOUS_BELOW`]).
+fn model_at(
+    body: &Body,
+    alpha: f64,
+    mass_ratio: f64,
+    measured: &Measured,
+    cm: f64,
+    options: &PredictOptions,
+) -> Result<(Prediction, PredictedOrbit, f64), CompareError> {
+    let run_at = if mass_ratio < VISCOUS_BELOW {
+        0.0
+    } else {
+        mass_ratio
+    };
+    let p = predict(body, alpha, run_at, options)?;
+    let orbit = nearest(&p, measured, cm).ok_or(CompareError::NoOrbit {
+        alpha,
+        mass_ratio: run_at,
+    })?;
+    Ok((p, orbit, run_at))
+}
+
+/// Compares `measured` with the model for `body` (⟨r⟩ = `scale_mm`) at α: m/m0 and t0 solved
+/// together (or m/m0 given), the orbit nearest in advance, and the SI's estimate beside them.
+///
+/// # Errors
+/// Non-finite or non-positive measurements, an α or m/m0 the model refuses, a body that comes
+/// to rest, or a joint solve that does not settle.
+pub fn compare_with_model(
+    body: &Body,
+    scale_mm: f64,
+    alpha: f64,
+    measured: &Measured,
+    mass_ratio: Option<f64>,
+    options: &PredictOptions,
+) -> Result<ModelComparison, CompareError> {
+    if !(measured.period_s.is_finite() && measured.period_s > 0.0) {
+        return Err(CompareError::BadArgument(format!(
+            "the measured period {} s is not a positive number",
+            measured.period_s
+        )));
+    }
+    if !(measured.advance_down_cm.is_finite() && measured.advance_down_cm > 0.0) {
+        return Err(CompareError::BadArgument(format!(
+            "the track advances {:.4} cm down the ramp per period: the model rolls downhill, so \
+             a comparison needs a track that does (check the sign of --scale's down factor, SY, \
+             and the --down-column)",
+            measured.advance_down_cm
+        )));
+    }
+    if !(scale_mm.is_finite() && scale_mm > 0.0) {
+        return Err(CompareError::BadArgument(format!(
+            "the body's scale_mm {scale_mm} is not a positive length"
+        )));
+    }
+    let radius_m = scale_mm / 1000.0;
+    let cm = scale_mm / 10.0;
+    let from_speed = mass_ratio_from_speed(measured.speed_cm_s() / 100.0, radius_m, alpha, G);
+    let mut iterations = 0;
+    let (prediction, orbit, model_mass, mass, t0, source) = match mass_ratio {
+        Some(m) if m > 0.0 => {
+            let (p, orbit, run_at) = model_at(body, alpha, m, measured, cm, options)?;
+            (
+                p,
+                orbit,
+                run_at,
+                m,
+                t0_for_mass_ratio(m, radius_m, G),
+                MassSource::Given,
+            )
+        }
+        Some(_) => {
+            let (p, orbit, _) = model_at(body, alpha, 0.0, measured, cm, options)?;
+            let t0 = measured.period_s / orbit.period;
+            let implied = radius_m / (G * t0 * t0);
+            (p, orbit, 0.0, implied, t0, MassSource::Given)
+        }
+        None => {
+            let (mut p, mut orbit, _) = model_at(body, alpha, 0.0, measured, cm, options)?;
+            let implied = |period_t0: f64| radius_m * (period_t0 / measured.period_s).powi(2) / G;
+            let mut mass = implied(orbit.period);
+            let mut run_at = 0.0;
+            let mut history = vec![mass];
+            while mass >= VISCOUS_BELOW {
+                if iterations == MAX_ITERATIONS {
+                    return Err(CompareError::NotSettled {
+                        iterations,
+                        last: history[history.len().saturating_sub(4)..].to_vec(),
+                    });
+                }
+                iterations += 1;
+                (p, orbit, run_at) = model_at(body, alpha, mass, measured, cm, options)?;
+                let next = implied(orbit.period);
+                history.push(next);
+                let settled = ((next - mass) / mass).abs() < SOLVE_TOLERANCE;
+                mass = next;
+                if settled {
+                    break;
+                }
+            }
+            if mass < VISCOUS_BELOW && run_at > 0.0 {
+                // The inertial model's answer fell into the viscous range: the viscous one stands.
+                (p, orbit, run_at) = model_at(body, alpha, 0.0, measured, cm, options)?;
+                mass = implied(orbit.period);
+            }
+            let t0 = measured.period_s / orbit.period;
+            (p, orbit, run_at, mass, t0, MassSource::Period)
+        }
+    };
+    // The speed estimate's own implication: its t0 and the model's period there.
+    let t0_speed = t0_for_mass_ratio(from_speed, radius_m, G);
+    let speed_orbit_period = if from_speed < VISCOUS_BELOW && model_mass == 0.0 {
+        orbit.period
+    } else {
+        model_at(body, alpha, from_speed, measured, cm, options)?
+            .1
+            .period
+    };
+    let predicted_period_s = orbit.period * t0;
+    let predicted_down = orbit.advance_down * cm;
+    let predicted_speed = predicted_down / predicted_period_s;
+    Ok(ModelComparison {
+        alpha,
+        scale_mm,
+        mass_ratio_model: model_mass,
+        mass_ratio: mass,
+        mass_ratio_from: source,
+        t0_s: t0,
+        mass_ratio_from_speed: from_speed,
+        t0_from_speed_s: t0_speed,
+        period_from_speed_s: speed_orbit_period * t0_speed,
+        predicted_period_t0: orbit.period,
+        predicted_period_s,
+        predicted_advance_down_cm: predicted_down,
+        predicted_advance_across_cm: orbit.advance_across * cm,
+        predicted_speed_cm_s: predicted_speed,
+        advance_down_difference: (measured.advance_down_cm - predicted_down) / predicted_down,
+        period_difference: (measured.period_s - predicted_period_s) / predicted_period_s,
+        speed_difference: (measured.speed_cm_s() - predicted_speed) / predicted_speed,
+        repeat: orbit.repeat,
+        orbit_fraction: orbit.fraction,
+        orbits: prediction
+            .orbits
+            .iter()
+            .map(|o| [o.advance_down * cm, o.period])
+            .collect(),
+        iterations,
+        orbit,
+    })
+}

@@ -1,0 +1,792 @@
+//! A track's period: the shift at which it repeats, found at every shift at once, refined to a
+//! fraction of a frame, checked cycle by cycle and against chance, with a finite uncertainty.
+//!
+//! The track is read as one complex signal z = down + i·across, less its least-squares line
+//! (the drift, which a shift only translates). The mismatch at a shift τ,
+//! E(τ) = ⟨|z(t + τ) − z(t) − D(τ)|²⟩ (D the mean displacement over τ), normalised by twice
+//! the track's variance, is ≈ 1 for unrelated points and falls to the noise floor where the
+//! motion repeats. For every whole shift it is Σ|z|² sums (prefix sums) less twice the
+//! autocorrelation, which one FFT gives (rustfft): O(n log n), where trying each shift would be
+//! O(n²) (20,000 frames took 7.7 s that way, 10⁶ would take weeks).
+//!
+//! **Which dip is the period.** Small shifts match because the body has not moved on yet. The
+//! mismatch is therefore read against its own mean over all smaller shifts (the cumulative-mean
+//! normalisation of de Cheveigné and Kawahara's YIN pitch estimator): d′(τ) = E(τ)·τ / Σ_{s≤τ} E(s)
+//! is ≥ 1 while E only grows, and falls below [`MAX_NORMALISED_DIP`] only where the track
+//! repeats better than at the shifts before. That needs no frame rate and no smallest period,
+//! so a 20-frame period is not skipped for its double (the old search started at half a
+//! second and waited for a fixed rise). Each dip is refined by the parabola through its lowest
+//! whole shift and the two beside it, which gives the floor between whole shifts too (never by
+//! interpolated points, whose smaller noise pulls a period towards half frames); the smallest
+//! dip within [`MULTIPLE_TOLERANCE`] of the best is the period, its multiples repeating too. Periods below [`MIN_PERIOD_FRAMES`] are refused.
+//!
+//! **Evidence that it is there.** A period is stated only when
+//! - every whole cycle repeats on its own: its best shift against the next cycle lies inside
+//!   ±[`CYCLE_WINDOW`] of the period, not on the window's edge, with a mismatch below
+//!   [`MAX_MISMATCH`] (at most a quarter of the cycles may fail, the first and last aside);
+//! - the track repeats beyond chance: [`SURROGATES`] surrogate tracks with the same power
+//!   spectrum smoothed over ±[`SMOOTHING_RATIO`] in frequency (so a drifting random walk keeps
+//!   its spectrum, while a periodic track's lines are spread into bands that decorrelate within a
+//!   few cycles), random phases and a fixed seed, are searched the same way, and the track's
+//!   dip must be below [`SURROGATE_MARGIN`] times the lowest any of them reached.
+//!
+//! The uncertainty is the spread of the cycles' own periods over √(cycles) where three or more
+//! cycles give one, else the dip's width: δτ = √(E_min / (a·(n − τ))) for E ≈ E_min + a(τ − T)²,
+//! the least-squares shift's standard error under white noise.
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use rustfft::FftPlanner;
+use rustfft::num_complex::Complex64;
+use serde::Serialize;
+
+use super::{CleanTrack, TrackError};
+
+/// The normalised mismatch above which a period is not stated.
+pub const MAX_MISMATCH: f64 = 0.5;
+/// A dip counts only where the mismatch is below this fraction of its mean over all smaller
+/// shifts (the cumulative-mean-normalised d′).
+pub const MAX_NORMALISED_DIP: f64 = 0.5;
+/// Dips within this factor of the best count as repeats (the smallest is the period, the
+/// others its multiples).
+pub const MULTIPLE_TOLERANCE: f64 = 1.5;
+/// … plus this much (a noiseless track's multiples can beat its period by round-off alone).
+pub const MULTIPLE_SLACK: f64 = 0.02;
+/// Fewer frames a period cannot be told from its multiples and the noise.
+pub const MIN_PERIOD_FRAMES: f64 = 6.0;
+/// Each cycle's own period is searched within this fraction of the period.
+pub const CYCLE_WINDOW: f64 = 0.2;
+/// Surrogate tracks searched for the chance level (p < 1/(SURROGATES + 1) = 0.05, with the
+/// margin below on top).
+pub const SURROGATES: usize = 19;
+/// A surrogate's spectrum is the track's averaged over frequencies f/ρ … f·ρ.
+pub const SMOOTHING_RATIO: f64 = 1.5;
+/// The track's dip must be below this fraction of the lowest a surrogate reached.
+pub const SURROGATE_MARGIN: f64 = 0.5;
+/// The surrogates' seed: the same track gives the same answer on every run.
+const SURROGATE_SEED: u64 = 0x5EED_7AC4;
+
+/// How the period search runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PeriodSearch {
+    /// The smallest period reported (frames).
+    pub min_frames: f64,
+    /// Surrogate tracks for the chance level (0: no check against chance, for a first look).
+    pub surrogates: usize,
+}
+
+impl Default for PeriodSearch {
+    fn default() -> Self {
+        PeriodSearch {
+            min_frames: MIN_PERIOD_FRAMES,
+            surrogates: SURROGATES,
+        }
+    }
+}
+
+/// Where the period's uncertainty comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ErrorSource {
+    /// The spread of the whole cycles' own periods over √(cycles).
+    Cycles,
+    /// Too few cycles for a spread: the mismatch dip's width against its floor.
+    DipWidth,
+}
+
+/// The check against chance.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Significance {
+    /// Surrogate tracks searched.
+    pub surrogates: usize,
+    /// The lowest normalised dip d′ any surrogate reached, anywhere in the search range.
+    pub surrogate_floor: f64,
+    /// The track's normalised dip d′ at the period.
+    pub normalised_dip: f64,
+    /// The chance of a surrogate beating the track by the margin, bounded: 1/(surrogates + 1).
+    pub p_bound: f64,
+}
+
+/// A track's period, found and measured.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PeriodFit {
+    /// The period in frames (to a fraction of a frame).
+    pub period_frames: f64,
+    /// Standard error of the period (frames); always finite.
+    pub period_error_frames: f64,
+    /// Where the standard error comes from.
+    pub period_error_from: ErrorSource,
+    /// Spread (standard deviation) of the cycles' own periods (frames); `None` with fewer than
+    /// three cycles.
+    pub period_spread_frames: Option<f64>,
+    /// Each whole cycle's own period (frames), against the next cycle (cycles that repeat).
+    pub cycle_periods: Vec<f64>,
+    /// Cycles whose best repeat lies on the edge of their window or above [`MAX_MISMATCH`].
+    pub unrepeated_cycles: usize,
+    /// Whole periods in the track.
+    pub periods_seen: usize,
+    /// The normalised mismatch at the period (0: a perfect repeat, 1: none).
+    pub mismatch: f64,
+    /// Advance per period down the ramp (cm).
+    pub advance_down: f64,
+    /// Advance per period across the ramp (cm).
+    pub advance_across: f64,
+    /// The check against chance (`None` when the search ran without surrogates).
+    pub significance: Option<Significance>,
+    /// The normalised mismatch at every whole shift (shift in frames, mismatch).
+    pub mismatch_curve: Vec<[f64; 2]>,
+}
+
+/// The track as z = down + i·across less its least-squares line.
+struct Detrended {
+    z: Vec<Complex64>,
+    /// The line's slope (per frame), added back to the mean displacement.
+    slope: Complex64,
+}
+
+impl Detrended {
+    fn of(track: &CleanTrack) -> Self {
+        let z: Vec<Complex64> = track
+            .down
+            .iter()
+            .zip(&track.across)
+            .map(|(&d, &a)| Complex64::new(d, a))
+            .collect();
+        Self::of_signal(z)
+    }
+
+    fn of_signal(mut z: Vec<Complex64>) -> Self {
+        let n = z.len() as f64;
+        let mid = (n - 1.0) / 2.0;
+        let mean = z.iter().sum::<Complex64>() / n;
+        let (mut sxy, mut sxx) = (Complex64::new(0.0, 0.0), 0.0);
+        for (i, v) in z.iter().enumerate() {
+            let x = i as f64 - mid;
+            sxy += (v - mean) * x;
+            sxx += x * x;
+        }
+        let slope = if sxx > 0.0 { sxy / sxx } else { sxy * 0.0 };
+        for (i, v) in z.iter_mut().enumerate() {
+            *v -= mean + slope * (i as f64 - mid);
+        }
+        Detrended { z, slope }
+    }
+
+    /// Twice the variance: the mismatch of unrelated points.
+    fn scale(&self) -> f64 {
+        2.0 * self.z.iter().map(Complex64::norm_sqr).sum::<f64>() / self.z.len() as f64
+    }
+
+    /// E(τ) (unnormalised) and the mean displacement over τ for a whole shift, directly: the
+    /// FFT curve's check.
+    #[cfg(test)]
+    fn mismatch_at(&self, tau: usize) -> (f64, Complex64) {
+        let n = self.z.len();
+        let count = n - tau;
+        let (mut sum, mut sq) = (Complex64::new(0.0, 0.0), 0.0);
+        for i in 0..count {
+            let d = self.z[i + tau] - self.z[i];
+            sum += d;
+            sq += d.norm_sqr();
+        }
+        let c = count as f64;
+        let mean = sum / c;
+        ((sq / c - mean.norm_sqr()).max(0.0), mean)
+    }
+}
+
+fn next_pow2(n: usize) -> usize {
+    n.max(2).next_power_of_two()
+}
+
+/// The mismatch at every whole shift, and what evaluates it between whole shifts.
+struct Curve {
+    /// E(τ) (unnormalised) at τ = 0 … max_tau.
+    e: Vec<f64>,
+    /// The mean displacement D(τ).
+    displacement: Vec<Complex64>,
+    /// Σ|z(t + τ)|² + Σ|z(t)|² over the n − τ pairs.
+    squares: Vec<f64>,
+    /// The power spectrum folded onto |frequency| (P_j + P_{m−j}), for the autocorrelation
+    /// between whole shifts.
+    folded_power: Vec<f64>,
+    /// The FFT length.
+    m: usize,
+    /// The track's length.
+    len: usize,
+}
+
+impl Curve {
+    /// E(τ) for every whole shift τ = 0 … `max_tau` (unnormalised): Σ|z|² sums by prefix sums,
+    /// the autocorrelation by one FFT pair of length ≥ 2n (no wrap-around).
+    fn of(z: &[Complex64], max_tau: usize, planner: &mut FftPlanner<f64>) -> Curve {
+        let n = z.len();
+        let m = next_pow2(2 * n);
+        let mut buf = vec![Complex64::new(0.0, 0.0); m];
+        buf[..n].copy_from_slice(z);
+        planner.plan_fft_forward(m).process(&mut buf);
+        let power: Vec<f64> = buf.iter().map(Complex64::norm_sqr).collect();
+        let mut folded_power = Vec::with_capacity(m / 2 + 1);
+        folded_power.push(power[0]);
+        for j in 1..m / 2 {
+            folded_power.push(power[j] + power[m - j]);
+        }
+        folded_power.push(power[m / 2]);
+        for (b, p) in buf.iter_mut().zip(&power) {
+            *b = Complex64::new(*p, 0.0);
+        }
+        planner.plan_fft_inverse(m).process(&mut buf);
+        let mut s1 = vec![Complex64::new(0.0, 0.0); n + 1];
+        let mut s2 = vec![0.0; n + 1];
+        for (i, v) in z.iter().enumerate() {
+            s1[i + 1] = s1[i] + v;
+            s2[i + 1] = s2[i] + v.norm_sqr();
+        }
+        let top = max_tau.min(n - 1);
+        let mut e = Vec::with_capacity(top + 1);
+        let mut displacement = Vec::with_capacity(top + 1);
+        let mut squares = Vec::with_capacity(top + 1);
+        for tau in 0..=top {
+            let count = n - tau;
+            let c = count as f64;
+            // Σ_{t<count} |z(t+τ) − z(t)|² = Σ|z(t+τ)|² + Σ|z(t)|² − 2 Re Σ conj(z(t)) z(t+τ).
+            let auto = buf[tau].re / m as f64;
+            let sq = (s2[n] - s2[tau]) + s2[count];
+            let mean = ((s1[n] - s1[tau]) - s1[count]) / c;
+            e.push(((sq - 2.0 * auto) / c - mean.norm_sqr()).max(0.0));
+            displacement.push(mean);
+            squares.push(sq);
+        }
+        Curve {
+            e,
+            displacement,
+            squares,
+            folded_power,
+            m,
+            len: n,
+        }
+    }
+
+    /// E and D at a shift between whole frames: the autocorrelation by its band-limited
+    /// (trigonometric) interpolation, exact at whole shifts, which shifts the noise without
+    /// averaging it away; the sums of squares and D, which change by one end point a frame,
+    /// linearly.
+    fn at(&self, tau: f64) -> (f64, Complex64) {
+        let k = (tau.floor() as usize).min(self.e.len() - 2);
+        let s = tau - k as f64;
+        let lerp = |a: f64, b: f64| a + (b - a) * s;
+        let sq = lerp(self.squares[k], self.squares[k + 1]);
+        let mean = self.displacement[k] + (self.displacement[k + 1] - self.displacement[k]) * s;
+        let theta = std::f64::consts::TAU * tau / self.m as f64;
+        let mut auto = self.folded_power[0];
+        let mut phase = Complex64::new(1.0, 0.0);
+        let step = Complex64::from_polar(1.0, theta);
+        for (j, p) in self.folded_power.iter().enumerate().skip(1) {
+            // Re-anchored every 1024 steps so that round-off in the recurrence cannot grow.
+            phase = if j % 1024 == 0 {
+                Complex64::from_polar(1.0, theta * j as f64)
+            } else {
+                phase * step
+            };
+            auto += p * phase.re;
+        }
+        let auto = auto / self.m as f64;
+        let pairs = self.len as f64 - tau;
+        (((sq - 2.0 * auto) / pairs - mean.norm_sqr()).max(0.0), mean)
+    }
+}
+
+/// The cumulative-mean-normalised mismatch d′(τ) = e(τ)·τ / Σ_{1≤s≤τ} e(s) (d′(0) = 1).
+fn normalised(e: &[f64]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(e.len());
+    let mut sum = 0.0;
+    for (tau, &v) in e.iter().enumerate() {
+        if tau == 0 {
+            out.push(1.0);
+            continue;
+        }
+        sum += v;
+        out.push(if sum > 0.0 { v * tau as f64 / sum } else { 1.0 });
+    }
+    out
+}
+
+/// The dips of d′ below [`MAX_NORMALISED_DIP`] from shift 2 on, each as its lowest whole
+/// shift by `e`; a dip that runs into the end of the range may be cut off and is left out.
+fn dips(e: &[f64], dn: &[f64]) -> Vec<usize> {
+    let last = e.len() - 1;
+    let mut out = Vec::new();
+    let mut k = 2;
+    while k < last {
+        if dn[k] < MAX_NORMALISED_DIP {
+            let end = (k..=last)
+                .find(|&j| dn[j] >= MAX_NORMALISED_DIP)
+                .unwrap_or(last + 1);
+            let low = (k..end).min_by(|&a, &b| e[a].total_cmp(&e[b])).unwrap_or(k);
+            if low < last {
+                out.push(low);
+            }
+            k = end;
+        } else {
+            k += 1;
+        }
+    }
+    out
+}
+
+/// The lowest d′ anywhere from shift 2 to the end of the range (the chance statistic).
+fn lowest_dip(dn: &[f64]) -> f64 {
+    dn.iter().skip(2).copied().fold(f64::INFINITY, f64::min)
+}
+
+/// A dip at whole shift `k` refined: [`Curve::at`] at quarter frames over k ± 1, then the
+/// parabola through the lowest and its neighbours. Returns the vertex's shift, its value (the
+/// dip's floor), the mean displacement there and the curvature a of E ≈ E_min + a(τ − T)², all
+/// normalised by `scale`.
+///
+/// Not linear interpolation between frames: its averaging halves the noise at half frames and
+/// pulled periods there (a 230.10-frame model period came back as 229.51). Not a parabola
+/// through whole shifts alone: a dip a few frames wide is not parabolic over ±1 frame (a
+/// 6.7-frame period lost to its triple by its misjudged floor).
+fn refine(curve: &Curve, k: usize, scale: f64) -> (f64, f64, Complex64, f64) {
+    let top = (curve.e.len() - 1) as f64;
+    let grid: Vec<(f64, f64)> = (0..=8)
+        .map(|j| k as f64 - 1.0 + 0.25 * f64::from(j))
+        .filter(|&t| t >= 1.0 && t <= top)
+        .map(|t| (t, curve.at(t).0 / scale))
+        .collect();
+    let j = (0..grid.len())
+        .min_by(|&a, &b| grid[a].1.total_cmp(&grid[b].1))
+        .unwrap_or(0);
+    let (mut tau, mut floor, mut curvature) = (grid[j].0, grid[j].1, 0.0);
+    if j > 0 && j + 1 < grid.len() {
+        let (e0, e1, e2) = (grid[j - 1].1, grid[j].1, grid[j + 1].1);
+        let denominator = e0 - 2.0 * e1 + e2;
+        if denominator > 0.0 {
+            let shift = (0.5 * (e0 - e2) / denominator).clamp(-0.5, 0.5);
+            tau += 0.25 * shift;
+            floor = (e1 - 0.25 * (e0 - e2) * shift).max(0.0);
+            curvature = denominator / (2.0 * 0.25 * 0.25);
+        }
+    }
+    (tau, floor, curve.at(tau).1, curvature)
+}
+
+/// Each whole cycle against the next: the best whole shift within ±[`CYCLE_WINDOW`] of `tau`,
+/// refined by a parabola, or `None` where the best lies on the window's edge or does not
+/// repeat (above [`MAX_MISMATCH`]). One FFT cross-correlation per cycle: O(n log τ) in all.
+fn cycles(
+    det: &Detrended,
+    tau: f64,
+    scale: f64,
+    planner: &mut FftPlanner<f64>,
+) -> Vec<Option<f64>> {
+    let n = det.z.len();
+    let len = tau.round() as usize;
+    let lo = ((tau * (1.0 - CYCLE_WINDOW)).floor() as usize).max(1);
+    let periods = ((n - 1) as f64 / tau).floor() as usize;
+    let mut out = Vec::new();
+    for c in 0..periods.saturating_sub(1) {
+        let from = (c as f64 * tau).round() as usize;
+        let hi = ((tau * (1.0 + CYCLE_WINDOW)).ceil() as usize).min(n.saturating_sub(from + len));
+        if hi < len + 1 || hi <= lo + 1 {
+            continue;
+        }
+        let w = &det.z[from..from + len];
+        let s = &det.z[from + lo..from + hi + len];
+        let m = next_pow2(s.len());
+        let mut sb = vec![Complex64::new(0.0, 0.0); m];
+        sb[..s.len()].copy_from_slice(s);
+        let mut wb = vec![Complex64::new(0.0, 0.0); m];
+        wb[..len].copy_from_slice(w);
+        planner.plan_fft_forward(m).process(&mut sb);
+        planner.plan_fft_forward(m).process(&mut wb);
+        for (a, b) in sb.iter_mut().zip(&wb) {
+            *a *= b.conj();
+        }
+        planner.plan_fft_inverse(m).process(&mut sb);
+        let (mut p1, mut p2) = (
+            vec![Complex64::new(0.0, 0.0); s.len() + 1],
+            vec![0.0; s.len() + 1],
+        );
+        for (i, v) in s.iter().enumerate() {
+            p1[i + 1] = p1[i] + v;
+            p2[i + 1] = p2[i] + v.norm_sqr();
+        }
+        let wsum = w.iter().sum::<Complex64>();
+        let wsq = w.iter().map(Complex64::norm_sqr).sum::<f64>();
+        let l = len as f64;
+        let e: Vec<f64> = (0..=hi - lo)
+            .map(|j| {
+                let cross = sb[j].re / m as f64;
+                let sq = (p2[j + len] - p2[j]) + wsq - 2.0 * cross;
+                let mean = (p1[j + len] - p1[j] - wsum) / l;
+                (sq / l - mean.norm_sqr()).max(0.0) / scale
+            })
+            .collect();
+        let j = (0..e.len())
+            .min_by(|&a, &b| e[a].total_cmp(&e[b]))
+            .unwrap_or(0);
+        if j == 0 || j + 1 == e.len() || e[j] > MAX_MISMATCH {
+            out.push(None);
+            continue;
+        }
+        let (a, b, d) = (e[j - 1], e[j], e[j + 1]);
+        let den = a - 2.0 * b + d;
+        let shift = if den > 0.0 {
+            (0.5 * (a - d) / den).clamp(-0.5, 0.5)
+        } else {
+            0.0
+        };
+        out.push(Some((lo + j) as f64 + shift));
+    }
+    out
+}
+
+/// The lowest d′ that [`SURROGATES`] surrogate tracks reach: the track's spectrum (of z, so
+/// the sense of any rotation is kept) averaged over f/ρ … f·ρ on each side, random phases, a
+/// fixed seed per surrogate (the same on every run, whatever the thread count).
+fn surrogate_floor(
+    det: &Detrended,
+    count: usize,
+    max_tau: usize,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> f64 {
+    let n = det.z.len();
+    let mut planner = FftPlanner::new();
+    let mut spectrum = det.z.clone();
+    planner.plan_fft_forward(n).process(&mut spectrum);
+    // Signed frequency index of bin k: k for k ≤ n/2, k − n above.
+    let power: Vec<f64> = spectrum.iter().map(Complex64::norm_sqr).collect();
+    let half = n / 2;
+    let mut smoothed = vec![0.0; n];
+    for sign in [1i64, -1] {
+        // |f| = 1 … half on this side, prefix sums over |f|.
+        let bin = |f: usize| -> usize { if sign > 0 { f } else { (n - f) % n } };
+        let mut prefix = vec![0.0; half + 2];
+        for f in 1..=half {
+            prefix[f + 1] = prefix[f] + power[bin(f)];
+        }
+        for f in 1..=half {
+            let a = ((f as f64 / SMOOTHING_RATIO).ceil() as usize).max(1);
+            let b = ((f as f64 * SMOOTHING_RATIO).floor() as usize).clamp(a, half);
+            smoothed[bin(f)] = (prefix[b + 1] - prefix[a]) / (b + 1 - a) as f64;
+        }
+    }
+    let amplitude: Vec<f64> = smoothed.iter().map(|p| p.sqrt()).collect();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    (0..count)
+        .into_par_iter()
+        .map(|s| {
+            let mut rng = ChaCha8Rng::seed_from_u64(SURROGATE_SEED.wrapping_add(s as u64));
+            let mut z: Vec<Complex64> = amplitude
+                .iter()
+                .map(|&a| Complex64::from_polar(a, rng.random::<f64>() * std::f64::consts::TAU))
+                .collect();
+            z[0] = Complex64::new(0.0, 0.0);
+            let mut planner = FftPlanner::new();
+            planner.plan_fft_inverse(n).process(&mut z);
+            let det = Detrended::of_signal(z);
+            let scale = det.scale();
+            let e: Vec<f64> = Curve::of(&det.z, max_tau, &mut planner)
+                .e
+                .into_iter()
+                .map(|v| v / scale)
+                .collect();
+            let floor = lowest_dip(&normalised(&e));
+            progress(
+                done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
+                count,
+            );
+            floor
+        })
+        .collect::<Vec<f64>>()
+        .into_iter()
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The check against chance (see the module doc) of the period `tau` with normalised
+/// mismatch `m`, or `None` without surrogates.
+fn against_chance(
+    det: &Detrended,
+    e: &[f64],
+    (tau, m): (f64, f64),
+    search: &PeriodSearch,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Option<Significance>, TrackError> {
+    if search.surrogates == 0 {
+        return Ok(None);
+    }
+    let floor = surrogate_floor(det, search.surrogates, e.len() - 1, progress);
+    let k = (tau.round() as usize).clamp(1, e.len() - 1);
+    let mean_before = e[1..=k].iter().sum::<f64>() / k as f64;
+    let dip = if mean_before > 0.0 {
+        m / mean_before
+    } else {
+        0.0
+    };
+    if dip >= SURROGATE_MARGIN * floor {
+        return Err(TrackError::NoPeriod {
+            best_frames: tau,
+            why: format!(
+                "the track repeats after {tau:.1} frames no better than chance: its normalised \
+                 mismatch there is {dip:.3}, while {} surrogate tracks with the same smoothed \
+                 spectrum and random phases reach {floor:.3} (a period needs below \
+                 {SURROGATE_MARGIN} × that)",
+                search.surrogates
+            ),
+        });
+    }
+    Ok(Some(Significance {
+        surrogates: search.surrogates,
+        surrogate_floor: floor,
+        normalised_dip: dip,
+        p_bound: 1.0 / (search.surrogates + 1) as f64,
+    }))
+}
+
+/// The period's spread and standard error (frames) and where the error comes from: the
+/// cycles' spread over √(cycles) with three cycles or more, else the dip's width
+/// √(E_min / (a·(n − τ))).
+fn uncertainty(
+    cycle_periods: &[f64],
+    m: f64,
+    curvature: f64,
+    n: usize,
+    tau: f64,
+) -> (Option<f64>, f64, ErrorSource) {
+    if cycle_periods.len() >= 3 {
+        let k = cycle_periods.len() as f64;
+        let mean = cycle_periods.iter().sum::<f64>() / k;
+        let var = cycle_periods
+            .iter()
+            .map(|p| (p - mean).powi(2))
+            .sum::<f64>()
+            / (k - 1.0);
+        (Some(var.sqrt()), var.sqrt() / k.sqrt(), ErrorSource::Cycles)
+    } else {
+        // a ≤ 0 only on a flat dip, which the quarter-frame grid cannot resolve: a quarter frame.
+        let width = if curvature > 0.0 {
+            (m / (curvature * (n as f64 - tau))).sqrt()
+        } else {
+            0.25
+        };
+        (None, width, ErrorSource::DipWidth)
+    }
+}
+
+/// Finds the track's period (see the module doc), between `search.min_frames` and half the
+/// track; `progress` hears of each surrogate searched (done, of).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::tracking::{CleanTrack, PeriodSearch, find_period};
+/// // A body rolling 0.5 cm a frame whose speed and sideways wobble repeat every 37.5 frames.
+/// let frames: Vec<f64> = (0..400).map(f64::from).collect();
+/// let w = std::f64::consts::TAU / 37.5;
+/// let down = frames.iter().map(|f| 0.5 * f + 2.0 * (w * f).sin()).collect();
+/// let across = frames.iter().map(|f| 0.01 * f + (w * f).cos()).collect();
+/// let track = CleanTrack { frames: frames.clone(), down, across, warnings: vec![] };
+/// let fit = find_period(&track, &PeriodSearch::default(), &|_, _| {})?;
+/// assert!((fit.period_frames - 37.5).abs() < 0.05, "{}", fit.period_frames);
+/// assert!((fit.advance_down - 18.75).abs() < 0.05);
+/// assert_eq!(fit.periods_seen, 10);
+/// assert!(fit.period_error_frames.is_finite());
+/// # Ok::<(), rollphase_core::analysis::tracking::TrackError>(())
+/// ```
+pub fn find_period(
+    track: &CleanTrack,
+    search: &PeriodSearch,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<PeriodFit, TrackError> {
+    let n = track.down.len();
+    let min_tau = search.min_frames.max(2.0);
+    let needed = (2.0 * min_tau).ceil() as usize + 3;
+    if n < needed {
+        return Err(TrackError::TooShort {
+            usable: n,
+            what: "in the steady stretch".into(),
+            needed,
+        });
+    }
+    let max_tau = (n - 1) / 2;
+    let det = Detrended::of(track);
+    let scale = det.scale();
+    let extent = track
+        .down
+        .iter()
+        .chain(&track.across)
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    // Round-off alone (1e-16 of the positions) can look periodic: below 1e-9 nothing varies.
+    if scale <= (1e-9 * extent).powi(2) {
+        return Err(TrackError::Damaged(
+            "the track is a straight line at constant speed: nothing repeats that could give a \
+             period"
+                .into(),
+        ));
+    }
+    let mut planner = FftPlanner::new();
+    let whole = Curve::of(&det.z, max_tau, &mut planner);
+    let e: Vec<f64> = whole.e.iter().map(|v| v / scale).collect();
+    let dn = normalised(&e);
+    let curve: Vec<[f64; 2]> = e
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(t, &v)| [t as f64, v])
+        .collect();
+    let found = dips(&e, &dn);
+    let Some(&best_whole) = found.iter().min_by(|&&a, &&b| e[a].total_cmp(&e[b])) else {
+        let k = (2..e.len())
+            .min_by(|&a, &b| dn[a].total_cmp(&dn[b]))
+            .unwrap_or(2.min(e.len() - 1));
+        return Err(TrackError::NoPeriod {
+            best_frames: k as f64,
+            why: format!(
+                "no shift from 2 to {max_tau} frames makes the track repeat better than the \
+                 shifts before it: the best (shift {k} frames) leaves {:.2} of the variation \
+                 unexplained, {:.2} of its mean over smaller shifts (a repeat needs below \
+                 {MAX_NORMALISED_DIP})",
+                e[k], dn[k]
+            ),
+        });
+    };
+    let best = refine(&whole, best_whole, scale);
+    // The smallest dip within the tolerance of the best, refined (a period that is not a whole
+    // number of frames can lose to its double at whole shifts); the first few are enough, as
+    // the period is the first.
+    let chosen = found
+        .iter()
+        .take(8)
+        .map(|&k| {
+            if k == best_whole {
+                best
+            } else {
+                refine(&whole, k, scale)
+            }
+        })
+        .find(|r| r.1 <= MULTIPLE_TOLERANCE * best.1 + MULTIPLE_SLACK)
+        .unwrap_or(best);
+    // A dip at a fraction of the chosen shift that is as low is the period, even where the
+    // noise kept its d′ just above the level: the period, never a multiple of it.
+    let tolerance = MULTIPLE_TOLERANCE * best.1 + MULTIPLE_SLACK;
+    let chosen = (2..=8usize)
+        .rev()
+        .map(|q| chosen.0 / q as f64)
+        .filter(|&t| t >= 2.0 && t + 1.0 < max_tau as f64)
+        .map(|t| (t, refine(&whole, t.round() as usize, scale)))
+        .find(|(t, r)| (r.0 - t).abs() < 0.5 && r.1 <= tolerance)
+        .map(|(_, r)| r)
+        .unwrap_or(chosen);
+    let (tau, m, mean, curvature) = chosen;
+    if m > MAX_MISMATCH {
+        return Err(TrackError::NoPeriod {
+            best_frames: tau,
+            why: format!(
+                "the best repeat (shift {tau:.1} frames) leaves {m:.2} of the track's variation \
+                 unexplained (at most {MAX_MISMATCH} is accepted)"
+            ),
+        });
+    }
+    if tau < search.min_frames {
+        return Err(TrackError::TooFast {
+            period_frames: tau,
+            min_frames: search.min_frames,
+        });
+    }
+    let periods_seen = ((n - 1) as f64 / tau).floor() as usize;
+    let cycle_fits = cycles(&det, tau, scale, &mut planner);
+    let tested = cycle_fits.len();
+    let cycle_periods: Vec<f64> = cycle_fits.iter().flatten().copied().collect();
+    let unrepeated = tested - cycle_periods.len();
+    // The first and last cycle may hold the release or the end of the ramp.
+    if tested == 0 || unrepeated * 4 > tested.max(4) || cycle_periods.is_empty() {
+        return Err(TrackError::NoPeriod {
+            best_frames: tau,
+            why: format!(
+                "the whole track repeats best after {tau:.1} frames, but {unrepeated} of its \
+                 {tested} cycle(s) do not repeat on their own (their best shift against the next \
+                 cycle lies on the edge of ±{:.0} % or leaves more than {MAX_MISMATCH} \
+                 unexplained)",
+                100.0 * CYCLE_WINDOW
+            ),
+        });
+    }
+    let significance = against_chance(&det, &e, (tau, m), search, progress)?;
+    let (spread, error, from) = uncertainty(&cycle_periods, m, curvature, n, tau);
+    let advance = mean + det.slope * tau;
+    Ok(PeriodFit {
+        period_frames: tau,
+        period_error_frames: error,
+        period_error_from: from,
+        period_spread_frames: spread,
+        cycle_periods,
+        unrepeated_cycles: unrepeated,
+        periods_seen,
+        mismatch: m,
+        advance_down: advance.re,
+        advance_across: advance.im,
+        significance,
+        mismatch_curve: curve,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn track_of(down: Vec<f64>, across: Vec<f64>) -> CleanTrack {
+        CleanTrack {
+            frames: (0..down.len()).map(|i| i as f64).collect(),
+            down,
+            across,
+            warnings: vec![],
+        }
+    }
+
+    #[test]
+    fn the_fft_curve_is_the_direct_mismatch_at_every_whole_shift() {
+        let n = 257;
+        let down: Vec<f64> = (0..n)
+            .map(|i| 0.3 * i as f64 + (0.21 * i as f64).sin() + 0.01 * ((i * i) % 7) as f64)
+            .collect();
+        let across: Vec<f64> = (0..n)
+            .map(|i| (0.13 * i as f64).cos() - 0.002 * i as f64)
+            .collect();
+        let det = Detrended::of(&track_of(down, across));
+        let curve = Curve::of(&det.z, 128, &mut FftPlanner::new());
+        for tau in [0usize, 1, 5, 37, 100, 127] {
+            let direct = det.mismatch_at(tau).0;
+            assert!(
+                (curve.e[tau] - direct).abs() < 1e-10 * (1.0 + direct),
+                "τ = {tau}: {} against {direct}",
+                curve.e[tau]
+            );
+            // The evaluation between whole shifts is exact at them.
+            let between = curve.at(tau as f64).0;
+            assert!(
+                (between - direct).abs() < 1e-9 * (1.0 + direct),
+                "τ = {tau}: {between} against {direct}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_cycles_fft_agrees_with_the_direct_shift() {
+        let n = 600;
+        let w = std::f64::consts::TAU / 41.3;
+        let down: Vec<f64> = (0..n)
+            .map(|i| 0.5 * i as f64 + 3.0 * (w * i as f64).sin())
+            .collect();
+        let across: Vec<f64> = (0..n).map(|i| (w * i as f64 + 0.4).cos()).collect();
+        let det = Detrended::of(&track_of(down, across));
+        let scale = det.scale();
+        let fits = cycles(&det, 41.3, scale, &mut FftPlanner::new());
+        assert_eq!(fits.len(), 13);
+        for p in fits {
+            let p = p.expect("every cycle repeats");
+            assert!((p - 41.3).abs() < 0.2, "{p}");
+        }
+    }
+}
