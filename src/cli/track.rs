@@ -505,6 +505,33 @@ fn align(folded: &[Folded], orbit: &PredictedOrbit, cm: f64, frames_per_t0: f64)
     (phase, mirrored)
 }
 
+/// Most periods drawn over each other in the folded panels.
+const MAX_DRAWN_PERIODS: usize = 200;
+/// Most points a line of the figure is drawn with (the picture is 1400 pixels wide).
+const MAX_DRAWN_POINTS: usize = 20_000;
+
+/// Every k-th point, so that at most [`MAX_DRAWN_POINTS`] are drawn.
+fn thinned<T>(points: &[T]) -> impl Iterator<Item = &T> {
+    points
+        .iter()
+        .step_by(points.len().div_ceil(MAX_DRAWN_POINTS).max(1))
+}
+
+/// The curve in at most [`MAX_DRAWN_POINTS`] points: each run of points by its lowest and its
+/// highest, in order, so that no dip (the evidence) is thinned away.
+fn lowest_and_highest(curve: &[[f64; 2]]) -> impl Iterator<Item = &[f64; 2]> {
+    let run = curve.len().div_ceil(MAX_DRAWN_POINTS / 2).max(1);
+    curve.chunks(run).flat_map(|c| {
+        let low = c.iter().min_by(|a, b| a[1].total_cmp(&b[1]));
+        let high = c.iter().max_by(|a, b| a[1].total_cmp(&b[1]));
+        match (low, high) {
+            (Some(l), Some(h)) if l[0] <= h[0] => vec![l, h],
+            (Some(l), Some(h)) => vec![h, l],
+            _ => vec![],
+        }
+    })
+}
+
 #[expect(
     clippy::too_many_lines,
     reason = "four panels (the track and its cycles, the two folded coordinates with the markers \
@@ -521,15 +548,32 @@ fn figure(
     let grey = (150, 150, 150);
     let (blue, red) = ((31, 119, 180), (214, 39, 40));
     let periods = centre.iter().map(|f| f.period).max().unwrap_or(0) + 1;
+    // Each period's points in one pass (a long track has tens of thousands of periods), and at
+    // most MAX_DRAWN_PERIODS of them drawn, evenly chosen: more only darken the same band.
+    let mut by_period: Vec<Vec<&Folded>> = vec![Vec::new(); periods];
+    for f in centre {
+        by_period[f.period].push(f);
+    }
+    let drawn: Vec<usize> = if periods <= MAX_DRAWN_PERIODS {
+        (0..periods).collect()
+    } else {
+        (0..MAX_DRAWN_PERIODS)
+            .map(|i| i * periods / MAX_DRAWN_PERIODS)
+            .collect()
+    };
+    let centre_label = if drawn.len() == periods {
+        "centre, each period".to_string()
+    } else {
+        format!("centre, {} of {periods} periods", drawn.len())
+    };
     let per_period = |k: usize, coord: fn(&Folded) -> f64| Series {
-        label: if k == 0 {
-            "centre, each period".into()
+        label: if k == drawn[0] {
+            centre_label.clone()
         } else {
             String::new()
         },
-        points: centre
+        points: by_period[k]
             .iter()
-            .filter(|f| f.period == k)
             .map(|f| (f.t_local / fps, coord(f)))
             .collect(),
         color: grey,
@@ -571,7 +615,7 @@ fn figure(
         })
     };
     let folded_panel = |title: &str, y: &str, coord: fn(&Folded) -> f64, k: usize| {
-        let mut series: Vec<Series> = (0..periods).map(|p| per_period(p, coord)).collect();
+        let mut series: Vec<Series> = drawn.iter().map(|&p| per_period(p, coord)).collect();
         if !markers.is_empty() {
             series.push(marker_series(true, coord));
             series.push(marker_series(false, coord));
@@ -598,6 +642,12 @@ fn figure(
             )
         })
         .collect();
+    // A marker a period, at most a thousand of them.
+    let starts: Vec<(f64, f64)> = starts
+        .iter()
+        .step_by(starts.len().div_ceil(1000).max(1))
+        .copied()
+        .collect();
     let global = Panel {
         title: format!(
             "the track: {} periods of {:.3} s",
@@ -611,8 +661,7 @@ fn figure(
         series: vec![
             Series {
                 label: "centre".into(),
-                points: centre
-                    .iter()
+                points: thinned(centre)
                     .map(|f| {
                         (
                             (f.t_local + f.period as f64 * fit.period_frames) / fps,
@@ -642,9 +691,7 @@ fn figure(
         series: vec![
             Series {
                 label: "mismatch".into(),
-                points: fit
-                    .mismatch_curve
-                    .iter()
+                points: lowest_and_highest(&fit.mismatch_curve)
                     .map(|c| (c[0] / fps, c[1]))
                     .collect(),
                 color: blue,

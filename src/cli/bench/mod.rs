@@ -2,6 +2,7 @@
 //! and PNG, one file per benchmark: [`accuracy`] (every model × integrator setting against a
 //! converged reference), [`stiff`] (the inertial model as m/m0 → 0), [`figures`] (wall time of
 //! the ensemble figures), [`mesh`] (fitting bodies to meshes of 10⁴ to 5·10⁶ triangles),
+//! [`track`] (a tracked run of 10⁴ to 10⁷ rows, beside the old O(n²) search),
 //! [`render`] (headless frames per second, feature `render`) and [`app`] (the app's frame time
 //! painted offscreen, feature `app`).
 
@@ -14,6 +15,7 @@ mod mesh;
 mod render;
 mod speed;
 mod stiff;
+mod track;
 
 use std::path::{Path, PathBuf};
 
@@ -50,6 +52,9 @@ pub enum BenchKind {
     /// Time to fit a body to a mesh (`shape --from-mesh`): the printed sphere's STL and the
     /// paper's sphere written as STL from 20,480 to 5,242,880 triangles.
     Mesh(MeshBenchArgs),
+    /// Time `track` takes on tracks of 10⁴ to 10^k rows (reading, the period search with its
+    /// checks, the whole process), beside the search it used before on the smaller ones.
+    Track(TrackBenchArgs),
     /// Frames per second of the headless renderer (rendering alone, with readback, with PNG
     /// writing on worker threads) at 1280×720 on whatever adapter is found (a GPU, or llvmpipe
     /// without one).
@@ -104,6 +109,17 @@ pub struct MeshBenchArgs {
     pub largest: u32,
 }
 
+/// Options of `bench track`.
+#[derive(Debug, Args)]
+pub struct TrackBenchArgs {
+    /// The longest track: 10^k rows, 4 ≤ k ≤ 7.
+    #[arg(long, default_value_t = 6)]
+    pub largest: u32,
+    /// Time the old O(n²) search on tracks of at most this many rows.
+    #[arg(long, default_value_t = 20_000)]
+    pub old_up_to: usize,
+}
+
 /// Options of `bench speed`.
 #[derive(Debug, Args)]
 pub struct SpeedBenchArgs {
@@ -131,6 +147,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
         BenchKind::Figures(a) => figures::run(a),
         BenchKind::Speed(a) => speed::run(a),
         BenchKind::Mesh(a) => mesh::run(a),
+        BenchKind::Track(a) => track::run(a),
         #[cfg(feature = "render")]
         BenchKind::Render(a) => render::run(a),
         #[cfg(not(feature = "render"))]

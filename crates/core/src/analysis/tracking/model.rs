@@ -45,6 +45,12 @@ pub struct Measured {
 
 impl Measured {
     /// Mean speed down the ramp (cm/s).
+    ///
+    /// ```
+    /// use rollphase_core::analysis::tracking::model::Measured;
+    /// let m = Measured { period_s: 5.0, advance_down_cm: 6.0, advance_across_cm: -0.4 };
+    /// assert_eq!(m.speed_cm_s(), 1.2);
+    /// ```
     pub fn speed_cm_s(&self) -> f64 {
         self.advance_down_cm / self.period_s
     }
@@ -158,6 +164,13 @@ pub fn mass_ratio_from_speed(speed_m_s: f64, radius_m: f64, alpha: f64, g: f64) 
 }
 
 /// The time unit for m/m0 when the driving force is the weight: t0 = √(⟨r⟩/(g·m/m0)) (s).
+///
+/// ```
+/// use rollphase_core::analysis::tracking::model::t0_for_mass_ratio;
+/// // The uncoated print: m/m0 = 2.5 at ⟨r⟩ = 1 cm gives t0 ≈ 20 ms.
+/// let t0 = t0_for_mass_ratio(2.5, 0.01, 9.81);
+/// assert!((t0 - 0.020_19).abs() < 1e-5);
+/// ```
 pub fn t0_for_mass_ratio(mass_ratio: f64, radius_m: f64, g: f64) -> f64 {
     (radius_m / (g * mass_ratio)).sqrt()
 }
@@ -198,6 +211,27 @@ fn model_at(
 
 /// Compares `measured` with the model for `body` (⟨r⟩ = `scale_mm`) at α: m/m0 and t0 solved
 /// together (or m/m0 given), the orbit nearest in advance, and the SI's estimate beside them.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::prediction::{PredictOptions, predict};
+/// use rollphase_core::analysis::tracking::model::{Measured, compare_with_model};
+/// use rollphase_core::geometry::Body;
+/// // The paper's sphere at ⟨r⟩ = 1 cm, filmed on its own viscous orbit with t0 = 0.2 s.
+/// let body = Body::paper_sphere(219, 0.25, 5)?;
+/// let options = PredictOptions { starts: 4, ..PredictOptions::default() };
+/// let orbit = predict(&body, 0.15, 0.0, &options)?.orbits[0].clone();
+/// let measured = Measured {
+///     period_s: orbit.period * 0.2,
+///     advance_down_cm: orbit.advance_down,
+///     advance_across_cm: orbit.advance_across,
+/// };
+/// let c = compare_with_model(&body, 10.0, 0.15, &measured, None, &options)?;
+/// assert!((c.t0_s - 0.2).abs() < 1e-9);
+/// assert!((c.mass_ratio - 0.01 / (9.81 * 0.04)).abs() < 1e-9); // m/m0 = ⟨r⟩/(g t0²)
+/// assert_eq!(c.mass_ratio_model, 0.0); // viscous
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 ///
 /// # Errors
 /// Non-finite or non-positive measurements, an α or m/m0 the model refuses, a body that comes

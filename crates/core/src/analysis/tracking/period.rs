@@ -28,7 +28,8 @@
 //!   spectrum smoothed over ±[`SMOOTHING_RATIO`] in frequency (so a drifting random walk keeps
 //!   its spectrum, while a periodic track's lines are spread into bands that decorrelate within a
 //!   few cycles), random phases and a fixed seed, are searched the same way, and the track's
-//!   dip must be below [`SURROGATE_MARGIN`] times the lowest any of them reached.
+//!   dip must be below [`SURROGATE_MARGIN`] times the lowest any of them reached (past
+//!   [`SURROGATE_FRAMES`] frames, surrogates of the track's beginning: stricter, and fast).
 //!
 //! The uncertainty is the spread of the cycles' own periods over √(cycles) where three or more
 //! cycles give one, else the dip's width: δτ = √(E_min / (a·(n − τ))) for E ≈ E_min + a(τ − T)²,
@@ -62,6 +63,8 @@ pub const CYCLE_WINDOW: f64 = 0.2;
 pub const SURROGATES: usize = 19;
 /// A surrogate's spectrum is the track's averaged over frequencies f/ρ … f·ρ.
 pub const SMOOTHING_RATIO: f64 = 1.5;
+/// Surrogates of longer tracks are of their first this many frames (2¹⁸).
+pub const SURROGATE_FRAMES: usize = 1 << 18;
 /// The track's dip must be below this fraction of the lowest a surrogate reached.
 pub const SURROGATE_MARGIN: f64 = 0.5;
 /// The surrogates' seed: the same track gives the same answer on every run.
@@ -453,9 +456,14 @@ fn surrogate_floor(
     max_tau: usize,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> f64 {
-    let n = det.z.len();
+    // The spectrum and the surrogates at a power-of-two length (the track zero-padded, each
+    // surrogate cut to the track's length): a track of awkward length would otherwise take
+    // Bluestein's three FFTs per transform, and the spectrum is smoothed over ±50 % anyway.
+    let len = det.z.len();
+    let n = next_pow2(len);
     let mut planner = FftPlanner::new();
     let mut spectrum = det.z.clone();
+    spectrum.resize(n, Complex64::new(0.0, 0.0));
     planner.plan_fft_forward(n).process(&mut spectrum);
     // Signed frequency index of bin k: k for k ≤ n/2, k − n above.
     let power: Vec<f64> = spectrum.iter().map(Complex64::norm_sqr).collect();
@@ -487,6 +495,7 @@ fn surrogate_floor(
             z[0] = Complex64::new(0.0, 0.0);
             let mut planner = FftPlanner::new();
             planner.plan_fft_inverse(n).process(&mut z);
+            z.truncate(len);
             let det = Detrended::of_signal(z);
             let scale = det.scale();
             let e: Vec<f64> = Curve::of(&det.z, max_tau, &mut planner)
@@ -518,7 +527,20 @@ fn against_chance(
     if search.surrogates == 0 {
         return Ok(None);
     }
-    let floor = surrogate_floor(det, search.surrogates, e.len() - 1, progress);
+    // Past SURROGATE_FRAMES the surrogates are of the track's first SURROGATE_FRAMES frames:
+    // shorter tracks reach lower dips by chance, so the test only gets stricter, and a million
+    // frames take seconds instead of tens.
+    let floor = if det.z.len() > SURROGATE_FRAMES {
+        let head = Detrended::of_signal(det.z[..SURROGATE_FRAMES].to_vec());
+        surrogate_floor(
+            &head,
+            search.surrogates,
+            (e.len() - 1).min((SURROGATE_FRAMES - 1) / 2),
+            progress,
+        )
+    } else {
+        surrogate_floor(det, search.surrogates, e.len() - 1, progress)
+    };
     let k = (tau.round() as usize).clamp(1, e.len() - 1);
     let mean_before = e[1..=k].iter().sum::<f64>() / k as f64;
     let dip = if mean_before > 0.0 {
