@@ -142,6 +142,53 @@ class Prediction(TypedDict):
     scale_mm: Optional[float]
     orbits: List[PredictedOrbit]
 
+class Significance(TypedDict):
+    """The check against chance: surrogate tracks with the track's smoothed spectrum."""
+    surrogates: int
+    surrogate_floor: float
+    normalised_dip: float
+    p_bound: float
+
+class TrackMeasurement(TypedDict):
+    period_frames: float
+    period_error_frames: float
+    period_error_from: Literal["cycles", "dip_width"]
+    period_spread_frames: Optional[float]
+    cycle_periods: _Array
+    unrepeated_cycles: int
+    periods_seen: int
+    mismatch: float
+    advance_down: float
+    advance_across: float
+    significance: Optional[Significance]
+    mismatch_curve: _Array
+    frames_used: List[float]
+    warnings: List[str]
+
+class ModelComparison(TypedDict):
+    alpha: float
+    scale_mm: float
+    mass_ratio_model: float
+    mass_ratio: float
+    mass_ratio_from: Literal["period", "given"]
+    t0_s: float
+    mass_ratio_from_speed: float
+    t0_from_speed_s: float
+    period_from_speed_s: float
+    predicted_period_t0: float
+    predicted_period_s: float
+    predicted_advance_down_cm: float
+    predicted_advance_across_cm: float
+    predicted_speed_cm_s: float
+    advance_down_difference: float
+    period_difference: float
+    speed_difference: float
+    repeat: int
+    orbit_fraction: float
+    orbits: List[List[float]]
+    iterations: int
+    path: _Array
+
 class PeriodCounts(TypedDict):
     cycle_counts: npt.NDArray[np.uint64]
     at_rest: int
@@ -425,6 +472,30 @@ def predict(
     repeat, in mean radii), advance_down_mm, advance_across_mm (None without a scale), speed,
     stable, multipliers (complex), max_modulus, fraction, starts, crossing, omega, and path
     (an (N, 2) array of the centre over three repeats)."""
+
+def measure_track(frames: _Floats, down: _Floats, across: _Floats) -> TrackMeasurement:
+    """`rollphase track`'s measurement of a centre track (frame numbers; down and across the
+    ramp in cm, NaN where missing): cleaned, and its period found by FFT at every shift, stated
+    only with its evidence (each cycle repeats on its own, surrogates set the chance level, most
+    of the track repeats), else InputError saying why. Periods and shifts are in frames."""
+
+def compare_with_model(
+    body: Body,
+    alpha: float,
+    *,
+    period_s: float,
+    advance_down_cm: float,
+    advance_across_cm: float,
+    mass_ratio: Optional[float] = None,
+    scale_mm: Optional[float] = None,
+    starts: int = 32,
+    seed: int = 1,
+) -> ModelComparison:
+    """A measured motion beside the model's prediction, as `rollphase track --body` gives it:
+    m/m0 and t0 solved together so that the model's period in seconds is the measured one
+    (m/m0 = ⟨r⟩/(g t0²)), or at a given mass_ratio; the SI's speed estimate v²/(g⟨r⟩ sin²α)
+    beside them; the nearest predicted orbit's period, advance and speed against the measured
+    ones, and its path in cm."""
 
 def period_counts(
     body: Body,

@@ -14,6 +14,7 @@
 //! | [`errors`] | the exception tree: `RollphaseError`, `InputError`, `RunError`, `LeftModelError`, `InternalError` |
 //! | [`run`] | `simulate` and its `DiskTrajectory` / `SphereTrajectory`, `simulate_many` and its `SphereRuns` |
 //! | [`studies`] | `critical_angle`, `period`, `poincare_map`, `cruising_fraction`, `periodic_orbits`, `period_counts` |
+//! | [`experiment`] | `measure_track` (a filmed run's period with its evidence), `compare_with_model` (m/m0 and t0 from it) |
 
 // Python functions take their settings as keyword-only arguments with defaults (as SciPy's and
 // rapier's bindings do); each is one Rust parameter.
@@ -29,6 +30,7 @@ use crate::errors::{ErrorClass, input_error};
 
 mod body;
 mod errors;
+mod experiment;
 mod run;
 mod studies;
 
@@ -184,5 +186,7 @@ fn rollphase(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(studies::predict, m)?)?;
     m.add_function(wrap_pyfunction!(studies::period_counts, m)?)?;
     m.add_function(wrap_pyfunction!(studies::mass_bifurcation, m)?)?;
+    m.add_function(wrap_pyfunction!(experiment::measure_track, m)?)?;
+    m.add_function(wrap_pyfunction!(experiment::compare_with_model, m)?)?;
     Ok(())
 }

@@ -104,3 +104,81 @@ def test_predict_refuses_bad_input(printed):
         rollphase.predict(printed, 0.2, t_cap=float("inf"))
     with pytest.raises(ValueError):
         rollphase.predict(printed, float("nan"))
+
+
+TRACK = "assets/data/sphere-track-viscous.csv"
+
+
+def authors_track(repo):
+    import csv
+
+    with open(repo / TRACK) as f:
+        rows = list(csv.DictReader(f))
+    frames = np.array([float(r["frame"]) for r in rows])
+    cell = lambda r, k: float(r[k]) if r[k] not in ("", "nan") else np.nan
+    down = np.array([cell(r, "yn") for r in rows]) * 0.0361
+    across = np.array([cell(r, "xn") for r in rows]) * 0.0404
+    return frames, down, across
+
+
+def test_measure_track_is_the_command_lines(repo, cli, tmp_path):
+    fit = rollphase.measure_track(*authors_track(repo))
+    out = tmp_path / "run"
+    cli("track", repo / TRACK, "--out", out)
+    summary = json.loads((out / "summary.json").read_text())
+    # The same numbers to the last digit (the command line's are in seconds at 30 frames/s).
+    assert fit["period_frames"] == summary["period_frames"]
+    assert fit["period_error_frames"] / 30.0 == summary["period_error_s"]
+    assert fit["advance_down"] == summary["advance_down_cm"]
+    assert fit["significance"] == summary["significance"]
+    assert fit["frames_used"] == summary["frames_used"]
+    assert fit["warnings"] == summary["warnings"]
+    assert fit["period_error_from"] == "cycles" and np.isfinite(fit["period_error_frames"])
+    assert fit["mismatch_curve"].shape[1] == 2 and len(fit["cycle_periods"]) >= 8
+
+
+def test_a_track_without_a_period_says_why():
+    rng = np.random.default_rng(3)
+    walk = np.cumsum(1.0 + 3.0 * rng.normal(size=(1500, 2)), axis=0)
+    with pytest.raises(rollphase.InputError, match="no period can be found with confidence"):
+        rollphase.measure_track(np.arange(1500.0), walk[:, 0], walk[:, 1])
+    with pytest.raises(rollphase.InputError, match="frames must increase"):
+        rollphase.measure_track([1.0, 1.0, 2.0], [0.0, 1.0, 2.0], [0.0, 0.0, 0.0])
+
+
+def test_compare_with_model_solves_m_and_t0_together(printed, repo, cli, tmp_path):
+    fit = rollphase.measure_track(*authors_track(repo))
+    period_s = fit["period_frames"] / 30.0
+    c = rollphase.compare_with_model(
+        printed,
+        0.2014,
+        period_s=period_s,
+        advance_down_cm=fit["advance_down"],
+        advance_across_cm=fit["advance_across"],
+    )
+    # m/m0 = ⟨r⟩/(g t0²) with the model's period in seconds the measured one; viscous here.
+    radius = printed.scale_mm / 1000.0
+    assert c["mass_ratio_from"] == "period" and c["mass_ratio_model"] == 0.0
+    assert abs(c["mass_ratio"] - radius / (9.81 * c["t0_s"] ** 2)) < 1e-12
+    assert abs(c["predicted_period_s"] - period_s) < 1e-9
+    # The SI's estimate: v²/(g⟨r⟩ sin²α).
+    v = fit["advance_down"] / period_s / 100.0
+    assert abs(c["mass_ratio_from_speed"] - v**2 / (9.81 * radius * np.sin(0.2014) ** 2)) < 1e-12
+    assert c["path"].shape[1] == 2
+    # The command line's comparison, to the digit.
+    body = tmp_path / "printed.json"
+    printed.to_file(body)
+    out = tmp_path / "run"
+    cli("track", repo / TRACK, "--body", body, "--alpha", "0.2014", "--out", out)
+    model = json.loads((out / "summary.json").read_text())["model"]
+    for key in ("mass_ratio", "t0_s", "mass_ratio_from_speed", "predicted_advance_down_cm"):
+        assert c[key] == model[key], key
+    # Bad input before any work.
+    with pytest.raises(rollphase.InputError, match="up the ramp|downhill"):
+        rollphase.compare_with_model(
+            printed, 0.2014, period_s=5.0, advance_down_cm=-6.0, advance_across_cm=0.0
+        )
+    with pytest.raises(rollphase.InputError, match="scale_mm"):
+        rollphase.compare_with_model(
+            Body.paper_sphere(219), 0.2, period_s=5.0, advance_down_cm=6.0, advance_across_cm=0.0
+        )

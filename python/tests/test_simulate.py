@@ -320,10 +320,12 @@ def test_settings_are_keyword_only_in_one_order_everywhere():
         "simulate": ["body", "alpha", "t_end"],
         "simulate_many": ["body", "alpha", "t_end"],
         "critical_angle": ["body"],
+        # The measured track's three columns, as numpy takes its data.
+        "measure_track": ["frames", "down", "across"],
     }
     for name in ("simulate", "simulate_many", "critical_angle", "period", "poincare_map",
                  "cruising_fraction", "periodic_orbits", "predict", "period_counts",
-                 "mass_bifurcation"):
+                 "mass_bifurcation", "measure_track", "compare_with_model"):
         params = inspect.signature(getattr(rollphase, name)).parameters.values()
         by_position = [p.name for p in params if p.kind is p.POSITIONAL_OR_KEYWORD]
         assert by_position == positional.get(name, ["body", "alpha"]), name

@@ -5,6 +5,7 @@ import ast
 import inspect
 from pathlib import Path
 
+import numpy as np
 import pytest
 import rollphase
 
@@ -149,6 +150,16 @@ def test_every_returned_dict_has_its_typed_dicts_keys(repo):
     with pytest.warns(UserWarning, match="triangle"):
         fitted = rollphase.Body.from_mesh(repo / "assets/data/printed-sphere.stl").mesh_fit
     assert_keys("MeshFitReport", fitted, keys)
+    t = np.arange(600.0)
+    w = 2 * np.pi / 37.5
+    track = rollphase.measure_track(t, 0.5 * t + np.sin(w * t), np.cos(w * t))
+    assert_keys("TrackMeasurement", track, keys)
+    assert_keys("Significance", track["significance"], keys)
+    compared = rollphase.compare_with_model(
+        sphere, 0.15, period_s=8.0, advance_down_cm=6.0, advance_across_cm=0.0, scale_mm=10.0,
+        starts=2,
+    )
+    assert_keys("ModelComparison", compared, keys)
     assert_keys("DegreeResidual", fitted["degree_residuals"][0], keys)
 
 

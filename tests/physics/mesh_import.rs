@@ -509,3 +509,126 @@ fn the_fit_is_the_same_bits_on_any_thread_count() {
         assert_eq!(a["max_residual"], b["max_residual"]);
     }
 }
+
+/// STL files as exporters really write them, each read as the triangles it holds: a first line
+/// of just `solid` (LF and CRLF), keywords in capitals, a binary STL whose 80-byte header starts
+/// with "solid", two solids in one file, and unused NaN normals (ASCII and binary). Each gives
+/// the same triangles as the plain binary file.
+#[test]
+fn stl_files_are_read_as_exporters_write_them() {
+    use rollphase::geometry::mesh_read::MeshSource;
+    let dir = scratch("stl-variants");
+    let Body::Sphere(s) = Body::paper_sphere(6, 0.25, 4).unwrap() else {
+        unreachable!()
+    };
+    let mesh = sphere_mesh(&s, 3);
+    let plain = dir.join("plain.stl");
+    write_binary_stl(&mesh, &plain, 10.0);
+    let triangles = |p: &Path| {
+        let source = MeshSource::open(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        let mut out = Vec::new();
+        source
+            .for_each(|_, t| {
+                out.push(t);
+                Ok(())
+            })
+            .unwrap();
+        out
+    };
+    let reference = triangles(&plain);
+    assert_eq!(reference.len(), mesh.indices.len());
+    // ASCII with the same f32 values, written several ways.
+    let facets = |upper: bool, normal: &str| {
+        let mut text = String::new();
+        for t in &reference {
+            let kw = |w: &str| {
+                if upper {
+                    w.to_uppercase()
+                } else {
+                    w.to_string()
+                }
+            };
+            text += &format!(
+                "{} {} {normal}\n  {}\n",
+                kw("facet"),
+                kw("normal"),
+                kw("outer loop")
+            );
+            for v in t {
+                text += &format!("    {} {:e} {:e} {:e}\n", kw("vertex"), v.x, v.y, v.z);
+            }
+            text += &format!("  {}\n{}\n", kw("endloop"), kw("endfacet"));
+        }
+        text
+    };
+    let half = reference.len() / 2;
+    let split = facets(false, "0 0 0");
+    let cut = split
+        .match_indices("endfacet\n")
+        .nth(half - 1)
+        .map(|(i, _)| i + "endfacet\n".len())
+        .unwrap();
+    let cases: Vec<(&str, Vec<u8>)> = vec![
+        (
+            "bare-solid.stl",
+            format!("solid\n{}endsolid\n", facets(false, "0 0 0")).into_bytes(),
+        ),
+        (
+            "crlf.stl",
+            format!("solid\r\n{}endsolid\r\n", facets(false, "0 0 0"))
+                .replace('\n', "\r\n")
+                .replace("\r\r\n", "\r\n")
+                .into_bytes(),
+        ),
+        (
+            "capitals.stl",
+            format!("SOLID PART\n{}ENDSOLID PART\n", facets(true, "0 0 0")).into_bytes(),
+        ),
+        (
+            "two-solids.stl",
+            format!(
+                "solid a\n{}endsolid a\nsolid b\n{}endsolid b\n",
+                &split[..cut],
+                &split[cut..]
+            )
+            .into_bytes(),
+        ),
+        (
+            "nan-normals.stl",
+            format!("solid n\n{}endsolid n\n", facets(false, "nan nan nan")).into_bytes(),
+        ),
+    ];
+    for (name, bytes) in cases {
+        let p = dir.join(name);
+        std::fs::write(&p, bytes).unwrap();
+        assert_eq!(triangles(&p), reference, "{name}");
+    }
+    // Binary with a header that starts with "solid", and with NaN normals.
+    let mut bytes = std::fs::read(&plain).unwrap();
+    bytes[..12].copy_from_slice(b"solid binary");
+    for k in 0..reference.len() {
+        bytes[84 + 50 * k..96 + 50 * k].copy_from_slice(&[0x00, 0x00, 0xc0, 0x7f].repeat(3));
+    }
+    let p = dir.join("solid-header.stl");
+    std::fs::write(&p, &bytes).unwrap();
+    assert_eq!(triangles(&p), reference, "binary with a 'solid' header");
+    // The whole fit through the command line, on the capitals file.
+    let (body, _, _) = fit(&dir.join("capitals.stl"), &[], &dir);
+    assert!(matches!(body, Body::Sphere(_)));
+    // A truncated binary file is still named as one; a text file that is not STL says so.
+    let p = dir.join("truncated.stl");
+    std::fs::write(&p, &bytes[..bytes.len() - 7]).unwrap();
+    let e = MeshSource::open(&p).unwrap_err().to_string();
+    assert!(e.contains("damaged binary STL"), "{e}");
+    let p = dir.join("text.stl");
+    std::fs::write(
+        &p,
+        "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 zero\n",
+    )
+    .unwrap();
+    let e = MeshSource::open(&p).unwrap_err().to_string();
+    assert!(
+        e.contains("line 4") && e.contains("\"zero\" is not a number"),
+        "{e}"
+    );
+}

@@ -1,16 +1,27 @@
 //! Reading triangle meshes from STL (binary and ASCII), OBJ and PLY files, as a stream of
 //! triangles that can be walked several times (the fit in [`super::mesh_fit`] makes three passes).
 //!
-//! Parsing is the maintained crates' (`stl_io`, `tobj`, `ply-rs-bw`); this module adds what a
-//! fit needs of them: a binary STL is streamed from disk on every pass, never held (so a 10⁷-
-//! triangle file costs the same memory as a small one), its length checked against its triangle
-//! count before the first pass (a truncated file is named as such, not as a parse error deep
-//! inside), and every triangle's coordinates checked finite, naming the triangle. OBJ and PLY
+//! OBJ and PLY parsing is the maintained crates' (`tobj`, `ply-rs-bw`). STL is read here, in a
+//! few dozen lines, because `stl_io` decided binary or ASCII by its own rule, which disagreed
+//! with the files people write and with our length check: a first line of just `solid` (or with
+//! CRLF) was read as binary ("failed to fill whole buffer"), a binary STL whose header starts
+//! with "solid" as ASCII ("EOF while expecting facet"), `SOLID` in capitals as a damaged binary,
+//! a file of two solids only to its first `endsolid`, and an unused `facet normal nan nan nan`
+//! failed the triangle. One rule now decides, in [`MeshSource::open`]: a file whose length is
+//! exactly a binary STL's for the count in its header is binary, whatever its header says;
+//! otherwise one whose first word is `solid` (any case) and whose first kilobyte is text is
+//! ASCII, read as a stream of words in any case with any line ends, every solid in the file,
+//! normals skipped unread; anything else is a damaged binary STL, named as such.
+//!
+//! A binary STL is streamed from disk on every pass, never held (so a 10⁷-triangle file costs
+//! the same memory as a small one), its length checked against its triangle count before the
+//! first pass (a truncated file is named as such, not as a parse error deep inside), and every
+//! triangle's coordinates checked finite, naming the triangle. OBJ and PLY
 //! files are held in memory as the crates load them. The input must be a regular file: a FIFO
 //! cannot be read twice and a device such as /dev/zero never ends.
 
 use std::fs::File;
-use std::io::{BufReader, Read, Seek};
+use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 
 use glam::DVec3;
@@ -137,6 +148,8 @@ pub struct MeshSource {
     triangles: usize,
     /// OBJ and PLY, as loaded; empty for STL (streamed on each pass).
     held: Vec<[DVec3; 3]>,
+    /// An ASCII STL (decided once, by [`MeshSource::check_stl`]).
+    ascii: bool,
 }
 
 /// Most triangles accepted (a binary STL of this many is 5 GB).
@@ -185,6 +198,7 @@ impl MeshSource {
             format,
             triangles: 0,
             held: Vec::new(),
+            ascii: false,
         };
         match format {
             MeshFormat::Stl => source.triangles = source.check_stl(meta.len())?,
@@ -294,14 +308,95 @@ impl MeshSource {
         }
         let file = File::open(&self.path).map_err(|e| self.read_error(e.to_string()))?;
         let mut reader = BufReader::with_capacity(1 << 20, file);
-        let triangles =
-            stl_io::create_stl_reader(&mut reader).map_err(|e| self.read_error(e.to_string()))?;
-        for (i, t) in triangles.enumerate() {
-            let t = t.map_err(|e| self.read_error(format!("triangle {i}: {e}")))?;
-            let v = t
-                .vertices
-                .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64));
-            visit(i, v)?;
+        if self.ascii {
+            return self.each_ascii(reader, &mut visit);
+        }
+        let mut record = [0u8; 84];
+        reader
+            .read_exact(&mut record)
+            .map_err(|e| self.read_error(format!("the 84-byte header: {e}")))?;
+        let mut record = [0u8; 50];
+        let float = |b: &[u8]| f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64;
+        for i in 0..self.triangles {
+            reader
+                .read_exact(&mut record)
+                .map_err(|e| self.read_error(format!("triangle {i}: {e}")))?;
+            // The normal (bytes 0–12) is not read: the winding gives the outside, and exporters
+            // write zeros or NaN there.
+            let corner = |k: usize| {
+                let b = &record[12 + 12 * k..24 + 12 * k];
+                DVec3::new(float(&b[0..4]), float(&b[4..8]), float(&b[8..12]))
+            };
+            visit(i, [corner(0), corner(1), corner(2)])?;
+        }
+        Ok(())
+    }
+
+    /// An ASCII STL's triangles: the file as a stream of words (any case, any line ends), every
+    /// solid in it; `facet normal` and its three values skipped unread.
+    fn each_ascii(
+        &self,
+        reader: impl BufRead,
+        visit: &mut impl FnMut(usize, [DVec3; 3]) -> Result<(), MeshError>,
+    ) -> Result<(), MeshError> {
+        let mut corners: Vec<DVec3> = Vec::with_capacity(3);
+        let mut index = 0usize;
+        let mut solids = 0usize;
+        for (number, line) in reader.split(b'\n').enumerate() {
+            let line = line.map_err(|e| self.read_error(e.to_string()))?;
+            let line = String::from_utf8_lossy(&line);
+            let at = |what: String| self.read_error(format!("line {}: {what}", number + 1));
+            let mut words = line.split_whitespace();
+            while let Some(word) = words.next() {
+                match word.to_ascii_lowercase().as_str() {
+                    // The rest of the line is the solid's name.
+                    "solid" => {
+                        solids += 1;
+                        break;
+                    }
+                    "endsolid" => break,
+                    "facet" => {
+                        corners.clear();
+                        // "normal" and its three values, which may be anything (nan).
+                        for _ in 0..4 {
+                            words.next();
+                        }
+                    }
+                    "outer" | "loop" | "endloop" => {}
+                    "vertex" => {
+                        let mut v = [0.0; 3];
+                        for x in &mut v {
+                            let text = words.next().unwrap_or("");
+                            *x = text.parse().map_err(|_| {
+                                at(format!("vertex coordinate {text:?} is not a number"))
+                            })?;
+                        }
+                        corners.push(DVec3::from_array(v));
+                    }
+                    "endfacet" => {
+                        let Ok(t) = <[DVec3; 3]>::try_from(corners.as_slice()) else {
+                            return Err(at(format!(
+                                "a facet with {} vertices (an STL facet is a triangle: 3)",
+                                corners.len()
+                            )));
+                        };
+                        visit(index, t)?;
+                        index += 1;
+                        corners.clear();
+                    }
+                    other if solids == 0 => {
+                        return Err(at(format!(
+                            "{other:?} before any `solid`: not an ASCII STL file"
+                        )));
+                    }
+                    other => {
+                        return Err(at(format!(
+                            "unexpected word {other:?} (an ASCII STL holds solid, facet normal, \
+                             outer loop, vertex, endloop, endfacet and endsolid)"
+                        )));
+                    }
+                }
+            }
         }
         Ok(())
     }
@@ -314,19 +409,30 @@ impl MeshSource {
     }
 
     /// The triangle count of an STL: a binary one's from its header, checked against the file's
-    /// length; an ASCII one's by a first pass.
-    fn check_stl(&self, len: u64) -> Result<usize, MeshError> {
+    /// length; an ASCII one's by a first pass. Binary when the length is exactly a binary STL's
+    /// for its header's count (some binary headers start with "solid"); otherwise ASCII when
+    /// its first word is `solid` in any case; otherwise a damaged binary STL, named as such.
+    fn check_stl(&mut self, len: u64) -> Result<usize, MeshError> {
         let mut file = File::open(&self.path).map_err(|e| self.read_error(e.to_string()))?;
-        let mut head = vec![0u8; 84.min(len as usize)];
+        let mut head = vec![0u8; 1024.min(len as usize)];
         file.read_exact(&mut head)
             .map_err(|e| self.read_error(e.to_string()))?;
-        file.rewind().map_err(|e| self.read_error(e.to_string()))?;
-        let ascii = head.starts_with(b"solid") && !binary_length_matches(&head, len);
-        if !ascii {
+        let first_word = head
+            .split(|b| b.is_ascii_whitespace())
+            .find(|w| !w.is_empty())
+            .unwrap_or(&[]);
+        // Text has no NUL or other control bytes; a binary STL's count and floats do.
+        let text = head
+            .iter()
+            .all(|&b| b >= 0x20 || b == b'\n' || b == b'\r' || b == b'\t');
+        let head = &head[..84.min(head.len())];
+        self.ascii =
+            !binary_length_matches(head, len) && first_word.eq_ignore_ascii_case(b"solid") && text;
+        if !self.ascii {
             if len < 84 {
                 return Err(self.read_error(format!(
                     "{len} bytes is shorter than a binary STL's 84-byte header, and the file is \
-                     not ASCII STL"
+                     not ASCII STL (which starts with `solid`)"
                 )));
             }
             let count = u32::from_le_bytes([head[80], head[81], head[82], head[83]]) as u64;
@@ -339,6 +445,7 @@ impl MeshSource {
                     actual: len,
                 });
             }
+            self.triangles = count as usize;
             return Ok(count as usize);
         }
         let mut count = 0usize;

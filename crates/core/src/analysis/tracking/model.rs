@@ -19,7 +19,9 @@
 use serde::Serialize;
 use thiserror::Error;
 
-use crate::analysis::prediction::{PredictOptions, PredictedOrbit, Prediction, predict};
+use std::sync::atomic::AtomicBool;
+
+use crate::analysis::prediction::{PredictOptions, PredictedOrbit, Prediction, predict_until};
 use crate::analysis::studies::StudyError;
 use crate::geometry::Body;
 
@@ -192,16 +194,16 @@ fn model_at(
     body: &Body,
     alpha: f64,
     mass_ratio: f64,
-    measured: &Measured,
-    cm: f64,
+    (measured, cm): (&Measured, f64),
     options: &PredictOptions,
+    stop: &AtomicBool,
 ) -> Result<(Prediction, PredictedOrbit, f64), CompareError> {
     let run_at = if mass_ratio < VISCOUS_BELOW {
         0.0
     } else {
         mass_ratio
     };
-    let p = predict(body, alpha, run_at, options)?;
+    let p = predict_until(body, alpha, run_at, options, stop)?;
     let orbit = nearest(&p, measured, cm).ok_or(CompareError::NoOrbit {
         alpha,
         mass_ratio: run_at,
@@ -244,6 +246,41 @@ pub fn compare_with_model(
     mass_ratio: Option<f64>,
     options: &PredictOptions,
 ) -> Result<ModelComparison, CompareError> {
+    compare_with_model_until(
+        body,
+        scale_mm,
+        alpha,
+        measured,
+        mass_ratio,
+        options,
+        &AtomicBool::new(false),
+    )
+}
+
+/// [`compare_with_model`] that stops with the predictions' [`StudyError::Stopped`] once `stop`
+/// is set.
+///
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use rollphase_core::analysis::prediction::PredictOptions;
+/// use rollphase_core::analysis::tracking::model::{Measured, compare_with_model_until};
+/// use rollphase_core::geometry::Body;
+/// let body = Body::paper_sphere(219, 0.25, 5)?;
+/// let measured = Measured { period_s: 8.0, advance_down_cm: 6.0, advance_across_cm: 0.0 };
+/// let stopped = AtomicBool::new(true);
+/// let options = PredictOptions::default();
+/// assert!(compare_with_model_until(&body, 10.0, 0.15, &measured, None, &options, &stopped).is_err());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn compare_with_model_until(
+    body: &Body,
+    scale_mm: f64,
+    alpha: f64,
+    measured: &Measured,
+    mass_ratio: Option<f64>,
+    options: &PredictOptions,
+    stop: &AtomicBool,
+) -> Result<ModelComparison, CompareError> {
     if !(measured.period_s.is_finite() && measured.period_s > 0.0) {
         return Err(CompareError::BadArgument(format!(
             "the measured period {} s is not a positive number",
@@ -269,7 +306,7 @@ pub fn compare_with_model(
     let mut iterations = 0;
     let (prediction, orbit, model_mass, mass, t0, source) = match mass_ratio {
         Some(m) if m > 0.0 => {
-            let (p, orbit, run_at) = model_at(body, alpha, m, measured, cm, options)?;
+            let (p, orbit, run_at) = model_at(body, alpha, m, (measured, cm), options, stop)?;
             (
                 p,
                 orbit,
@@ -280,13 +317,13 @@ pub fn compare_with_model(
             )
         }
         Some(_) => {
-            let (p, orbit, _) = model_at(body, alpha, 0.0, measured, cm, options)?;
+            let (p, orbit, _) = model_at(body, alpha, 0.0, (measured, cm), options, stop)?;
             let t0 = measured.period_s / orbit.period;
             let implied = radius_m / (G * t0 * t0);
             (p, orbit, 0.0, implied, t0, MassSource::Given)
         }
         None => {
-            let (mut p, mut orbit, _) = model_at(body, alpha, 0.0, measured, cm, options)?;
+            let (mut p, mut orbit, _) = model_at(body, alpha, 0.0, (measured, cm), options, stop)?;
             let implied = |period_t0: f64| radius_m * (period_t0 / measured.period_s).powi(2) / G;
             let mut mass = implied(orbit.period);
             let mut run_at = 0.0;
@@ -299,7 +336,7 @@ pub fn compare_with_model(
                     });
                 }
                 iterations += 1;
-                (p, orbit, run_at) = model_at(body, alpha, mass, measured, cm, options)?;
+                (p, orbit, run_at) = model_at(body, alpha, mass, (measured, cm), options, stop)?;
                 let next = implied(orbit.period);
                 history.push(next);
                 let settled = ((next - mass) / mass).abs() < SOLVE_TOLERANCE;
@@ -310,7 +347,7 @@ pub fn compare_with_model(
             }
             if mass < VISCOUS_BELOW && run_at > 0.0 {
                 // The inertial model's answer fell into the viscous range: the viscous one stands.
-                (p, orbit, run_at) = model_at(body, alpha, 0.0, measured, cm, options)?;
+                (p, orbit, run_at) = model_at(body, alpha, 0.0, (measured, cm), options, stop)?;
                 mass = implied(orbit.period);
             }
             let t0 = measured.period_s / orbit.period;
@@ -322,7 +359,7 @@ pub fn compare_with_model(
     let speed_orbit_period = if from_speed < VISCOUS_BELOW && model_mass == 0.0 {
         orbit.period
     } else {
-        model_at(body, alpha, from_speed, measured, cm, options)?
+        model_at(body, alpha, from_speed, (measured, cm), options, stop)?
             .1
             .period
     };

@@ -1,0 +1,168 @@
+//! A filmed run from Python: `measure_track` (the period search of `rollphase track`, with its
+//! evidence) and `compare_with_model` (the measurement beside the model's prediction, m/m0 and
+//! t0 solved together). Each is the core's function of the same name
+//! (`rollphase_core::analysis::tracking`), run with the GIL released.
+
+use numpy::ndarray::{Array1, Array2};
+use numpy::{AllowTypeChange, IntoPyArray, PyArrayLike1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rollphase_core::analysis::prediction::PredictOptions;
+use rollphase_core::analysis::tracking::model::{CompareError, Measured, compare_with_model_until};
+use rollphase_core::analysis::tracking::{TrackError, measure};
+
+use crate::body::Body;
+use crate::errors::{Classified, ErrorClass, input_error, internal_error, raise};
+use crate::run::json_to_py;
+use crate::{interruptible, whole};
+
+impl Classified for TrackError {
+    fn class(&self) -> ErrorClass {
+        match self {
+            // The data given show no period (or not one that can be stated): the input's.
+            TrackError::TooShort { .. }
+            | TrackError::Order { .. }
+            | TrackError::Damaged(_)
+            | TrackError::NoPeriod { .. }
+            | TrackError::TooFast { .. }
+            | TrackError::MostlyUnsteady { .. }
+            | TrackError::BadArgument(_) => ErrorClass::Input,
+        }
+    }
+}
+
+impl Classified for CompareError {
+    fn class(&self) -> ErrorClass {
+        match self {
+            CompareError::BadArgument(_) => ErrorClass::Input,
+            CompareError::Study(e) => e.class(),
+            CompareError::NoOrbit { .. } | CompareError::NotSettled { .. } => ErrorClass::Run,
+        }
+    }
+}
+
+/// A serialisable value's fields into `d`, as `json.loads` would give them.
+fn fields_into(
+    d: &Bound<'_, PyDict>,
+    value: &impl serde::Serialize,
+    skip: &[&str],
+) -> PyResult<()> {
+    let value = serde_json::to_value(value).map_err(internal_error)?;
+    if let serde_json::Value::Object(map) = value {
+        for (k, v) in map {
+            if !skip.contains(&k.as_str()) {
+                d.set_item(k, json_to_py(d.py(), &v)?)?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `rollphase track`'s measurement of a centre track: `frames` (increasing frame numbers),
+/// `down` and `across` (cm, one value a frame; NaN for a missing one) cleaned (gaps of up to 10
+/// frames bridged, tracker jumps replaced, the release and the end of the ramp cut off, each in
+/// `warnings`), and its period found at every shift by FFT. Returns a dict (TrackMeasurement):
+/// period_frames with period_error_frames (always finite) and period_error_from ("cycles" or
+/// "dip_width"), period_spread_frames (None under three cycles), cycle_periods (array),
+/// unrepeated_cycles, periods_seen, mismatch, advance_down and advance_across (cm per period),
+/// significance (the surrogates' check against chance), mismatch_curve ((N, 2) array of shift
+/// and normalised mismatch), frames_used ([first, last]) and warnings. A track that does not
+/// show a period with that evidence raises InputError saying why. Multiply by 1/fps for
+/// seconds; the same numbers as the command line's summary.json.
+#[pyfunction]
+pub fn measure_track<'py>(
+    py: Python<'py>,
+    frames: PyArrayLike1<'py, f64, AllowTypeChange>,
+    down: PyArrayLike1<'py, f64, AllowTypeChange>,
+    across: PyArrayLike1<'py, f64, AllowTypeChange>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (frames, down, across) = (
+        frames.as_array().to_vec(),
+        down.as_array().to_vec(),
+        across.as_array().to_vec(),
+    );
+    let (track, fit) =
+        interruptible(py, |_| measure(&frames, &down, &across, &|_, _| {}))?.map_err(raise)?;
+    let d = PyDict::new(py);
+    fields_into(&d, &fit, &["mismatch_curve", "cycle_periods"])?;
+    d.set_item(
+        "cycle_periods",
+        Array1::from_vec(fit.cycle_periods.clone()).into_pyarray(py),
+    )?;
+    let flat: Vec<f64> = fit.mismatch_curve.iter().flatten().copied().collect();
+    let curve =
+        Array2::from_shape_vec((fit.mismatch_curve.len(), 2), flat).map_err(internal_error)?;
+    d.set_item("mismatch_curve", curve.into_pyarray(py))?;
+    d.set_item(
+        "frames_used",
+        vec![track.frames[0], track.frames[track.frames.len() - 1]],
+    )?;
+    d.set_item("warnings", track.warnings)?;
+    Ok(d)
+}
+
+/// The measured motion of `body` on a ramp at `alpha` (rad) beside the model's prediction, as
+/// `rollphase track --body` gives it: `period_s` (s) and the advance per period
+/// (`advance_down_cm`, `advance_across_cm`) from `measure_track` and the frame rate. The body's
+/// size is its scale_mm (from Body.from_mesh or a shape file), or `scale_mm=`. m/m0 and the
+/// time unit t0 are solved together so that the model's period in seconds is the measured one
+/// (m/m0 = ⟨r⟩/(g t0²), g = 9.81), unless `mass_ratio` is given (0: the viscous model, t0 from
+/// the period). Returns a dict (ModelComparison): mass_ratio, mass_ratio_from ("period" or
+/// "given"), mass_ratio_model (what the model ran at: 0 is viscous, used below 0.1), t0_s, the
+/// SI's speed estimate mass_ratio_from_speed = v²/(g⟨r⟩ sin²α) with the t0_from_speed_s and
+/// period_from_speed_s it implies, the predicted orbit nearest in advance (predicted_period_t0,
+/// predicted_period_s, predicted_advance_down_cm, predicted_advance_across_cm,
+/// predicted_speed_cm_s, repeat, orbit_fraction), the differences measured against predicted
+/// (advance_down_difference, period_difference, speed_difference), all orbits
+/// ([advance_down_cm, period_t0] pairs), iterations, and path ((N, 2) array: the orbit's centre,
+/// down and across in cm, over three repeats).
+#[pyfunction]
+#[pyo3(signature = (
+    body, alpha, *, period_s, advance_down_cm, advance_across_cm, mass_ratio = None,
+    scale_mm = None, starts = 32, seed = 1
+))]
+pub fn compare_with_model<'py>(
+    py: Python<'py>,
+    body: &Body,
+    alpha: f64,
+    period_s: f64,
+    advance_down_cm: f64,
+    advance_across_cm: f64,
+    mass_ratio: Option<f64>,
+    scale_mm: Option<f64>,
+    starts: i128,
+    seed: i128,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (starts, seed): (usize, u64) = (whole("starts", starts)?, whole("seed", seed)?);
+    let core = body.convex()?;
+    let Some(scale_mm) = scale_mm.or(body.scale_mm) else {
+        return Err(input_error(
+            "the body has no scale_mm: a comparison in cm needs its size (fit it with \
+             Body.from_mesh, load a shape file with scale_mm, or pass scale_mm=)",
+        ));
+    };
+    if let Some(m) = mass_ratio {
+        rollphase_core::dynamics::Ramp::new(alpha, m).map_err(raise)?;
+    }
+    let measured = Measured {
+        period_s,
+        advance_down_cm,
+        advance_across_cm,
+    };
+    let options = PredictOptions {
+        starts,
+        seed,
+        ..PredictOptions::default()
+    };
+    let c = interruptible(py, |stop| {
+        compare_with_model_until(core, scale_mm, alpha, &measured, mass_ratio, &options, stop)
+    })?
+    .map_err(raise)?;
+    let d = PyDict::new(py);
+    fields_into(&d, &c, &[])?;
+    let cm = scale_mm / 10.0;
+    let flat: Vec<f64> = c.orbit.path.iter().flatten().map(|v| v * cm).collect();
+    let path = Array2::from_shape_vec((c.orbit.path.len(), 2), flat).map_err(internal_error)?;
+    d.set_item("path", path.into_pyarray(py))?;
+    Ok(d)
+}
