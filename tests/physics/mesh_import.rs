@@ -632,3 +632,58 @@ fn stl_files_are_read_as_exporters_write_them() {
         "{e}"
     );
 }
+
+/// OpenSCAD's `cylinder(r = 10, h = 20, $fn = K)` for every K from 3 to 512, as written (the
+/// first vertex at angle 0, where sample rays of the section fall exactly on vertices) and
+/// turned by 0.1 rad, along +z and −z: every one fits as a 2D body with the polygon's own mean
+/// radius.
+#[test]
+fn regular_prisms_of_every_fn_fit_at_any_turn_and_axis_sign() {
+    use rollphase::geometry::mesh_fit::{FitOptions, fit_mesh};
+    use rollphase::geometry::mesh_read::MeshSource;
+    let dir = scratch("prisms");
+    let mut refused = Vec::new();
+    let mut fitted = 0;
+    for k in 3..=512usize {
+        for turn in [0.0, 0.1] {
+            let polygon: Vec<[f64; 2]> = (0..k)
+                .map(|j| {
+                    let a = TAU * j as f64 / k as f64 + turn;
+                    [10.0 * a.cos(), 10.0 * a.sin()]
+                })
+                .collect();
+            let path = dir.join(format!("fn{k}-{turn}.stl"));
+            write_binary_stl(&extrude(&polygon, 20.0), &path, 1.0);
+            let source = MeshSource::open(&path).unwrap();
+            for axis in [1.0, -1.0] {
+                let options = FitOptions {
+                    dim: Some(2),
+                    axis: Some(rollphase::glam::DVec3::new(0.0, 0.0, axis)),
+                    ..FitOptions::default()
+                };
+                match fit_mesh(&source, &options, &|_, _, _| {}) {
+                    Ok(fit) => {
+                        // The mean of r(θ) = a/cos θ over a regular K-gon of circumradius 10 (apothem a).
+                        let half = std::f64::consts::PI / k as f64;
+                        let exact = 10.0 * half.cos() * half.sin().atanh() / half;
+                        let scale = fit.report.scale_mm;
+                        assert!(
+                            (scale - exact).abs() < 1e-3 * exact,
+                            "$fn = {k}, turn {turn}, axis {axis}: ⟨r⟩ {scale} against {exact}"
+                        );
+                        fitted += 1;
+                    }
+                    Err(e) => refused.push(format!("$fn = {k}, turn {turn}, axis {axis}: {e}")),
+                }
+            }
+        }
+        std::fs::remove_file(dir.join(format!("fn{k}-0.stl"))).ok();
+    }
+    assert!(
+        refused.is_empty(),
+        "{} refused:\n{}",
+        refused.len(),
+        refused[..refused.len().min(20)].join("\n")
+    );
+    assert_eq!(fitted, 510 * 4);
+}

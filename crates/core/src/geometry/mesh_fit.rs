@@ -448,6 +448,15 @@ fn fit_section(
         let mut points = Vec::with_capacity(2);
         for (i, j) in [(0, 1), (1, 2), (2, 0)] {
             if above[i] != above[j] {
+                // From the edge's lexicographically smaller end, so that the two triangles
+                // sharing the edge (which list it in opposite orders) get the same bits: a point
+                // that differs in its last bit between its two segments can fall on either side
+                // of a sample ray, counted twice or not at all.
+                let (i, j) = if t[i].to_array() < t[j].to_array() {
+                    (i, j)
+                } else {
+                    (j, i)
+                };
                 let p = t[i] + (t[j] - t[i]) * (d[i] / (d[i] - d[j]));
                 let q = p - c3;
                 points.push([q.dot(e1), q.dot(e2)]);
@@ -514,13 +523,23 @@ fn fit_section(
     let mut folds = vec![0u32; n];
     for (p, q) in &rel {
         let swept = cross2(*p, *q).atan2(p[0] * q[0] + p[1] * q[1]);
-        let (from, sweep) = if swept >= 0.0 {
-            (p[1].atan2(p[0]), swept)
-        } else {
-            (q[1].atan2(q[0]), -swept)
-        };
+        // Each segment takes the sample rays in [start, end) counter-clockwise, with both ends'
+        // angles from the points themselves: a vertex shared by two segments has one angle, so
+        // a ray through it goes to exactly one of them (start + sweep, rounded differently, put
+        // rays through the vertices of OpenSCAD's cylinders in both or neither).
+        let (start, end) = if swept >= 0.0 { (p, q) } else { (q, p) };
+        let (from, to) = (start[1].atan2(start[0]), end[1].atan2(end[0]));
         let first = (from / step).ceil() as i64;
-        let last = ((from + sweep) / step).ceil() as i64;
+        let mut last = (to / step).ceil() as i64;
+        if last < first {
+            if from - to > std::f64::consts::PI {
+                // Across the cut at ±π.
+                last += n as i64;
+            } else {
+                // A sliver whose end angle rounded below its start: it meets no ray.
+                last = first;
+            }
+        }
         let dq = [q[0] - p[0], q[1] - p[1]];
         for k in first..last {
             let th = k as f64 * step;
