@@ -687,3 +687,64 @@ fn regular_prisms_of_every_fn_fit_at_any_turn_and_axis_sign() {
     );
     assert_eq!(fitted, 510 * 4);
 }
+
+/// A given --axis is checked against the mesh: a sphere (its equator alone runs along any axis)
+/// and a cylinder given an axis 11° off its own (an oblique, elliptical section) are refused,
+/// naming the misfit and the axis the mesh has; the cylinder along its own axis, either sign,
+/// and one with rough (tilted) ends still fit.
+#[test]
+fn a_given_axis_is_checked_against_the_mesh() {
+    use rollphase::geometry::mesh_fit::{FitOptions, fit_mesh};
+    use rollphase::geometry::mesh_read::MeshSource;
+    use rollphase::glam::DVec3;
+    let dir = scratch("axis-check");
+    let fit = |path: &Path, axis: DVec3| {
+        let source = MeshSource::open(path).unwrap();
+        let options = FitOptions {
+            dim: Some(2),
+            axis: Some(axis),
+            ..FitOptions::default()
+        };
+        fit_mesh(&source, &options, &|_, _, _| {}).map_err(|e| e.to_string())
+    };
+    let Body::Sphere(s) = Body::paper_sphere(6, 0.25, 4).unwrap() else {
+        unreachable!()
+    };
+    let ball = dir.join("ball.stl");
+    write_binary_stl(&sphere_mesh(&s, 4), &ball, 10.0);
+    let e = fit(&ball, DVec3::Z).unwrap_err();
+    assert!(
+        e.contains("not a cylinder along the given axis") && e.contains("--dim 3"),
+        "{e}"
+    );
+    let polygon: Vec<[f64; 2]> = (0..64)
+        .map(|j| {
+            let a = TAU * j as f64 / 64.0;
+            [10.0 * a.cos(), 10.0 * a.sin()]
+        })
+        .collect();
+    let rod = dir.join("rod.stl");
+    write_binary_stl(&extrude(&polygon, 60.0), &rod, 1.0);
+    let tilt = 11f64.to_radians();
+    let e = fit(&rod, DVec3::new(tilt.sin(), 0.0, tilt.cos())).unwrap_err();
+    assert!(
+        e.contains("tilted to it") && e.contains("[0.0, 0.0, 1.0]"),
+        "{e}"
+    );
+    for sign in [1.0, -1.0] {
+        let f = fit(&rod, DVec3::new(0.0, 0.0, sign)).unwrap();
+        assert!(
+            (f.report.scale_mm - 9.99).abs() < 0.05,
+            "{}",
+            f.report.scale_mm
+        );
+    }
+    // Rough ends: the far cap's vertices pushed along the axis by up to 2 mm.
+    let mut rough = extrude(&polygon, 60.0);
+    for (k, p) in rough.positions.iter_mut().enumerate().skip(64) {
+        p[2] += 2.0 * ((k * 37 % 11) as f32 / 10.0);
+    }
+    let path = dir.join("rough.stl");
+    write_binary_stl(&rough, &path, 1.0);
+    assert!(fit(&path, DVec3::Z).is_ok());
+}

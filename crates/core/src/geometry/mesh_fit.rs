@@ -262,6 +262,9 @@ pub fn fit_mesh(
                     .to_string(),
             ));
         };
+        if options.axis.is_some() {
+            check_given_axis(source, &totals, axis, progress)?;
+        }
         fit_section(source, &totals, axis, orientation, options, progress)?
     } else {
         fit_sphere(source, &totals, orientation, options, progress)?
@@ -386,6 +389,56 @@ fn find_extrusion_axis(
     Ok(Some(canonical_axis(candidates[best])))
 }
 
+/// A given axis checked against the mesh: more of the surface must run along it (a side) than
+/// be tilted to it (neither a side nor a cap), so that a cylinder with rough ends passes and a
+/// sphere (whose equator alone is along any axis) or a cylinder given an axis 11° off its own
+/// (whose oblique section is an ellipse) is refused, naming how much of the surface misfits
+/// and the axis the mesh has, if any.
+fn check_given_axis(
+    source: &MeshSource,
+    totals: &Totals,
+    axis: DVec3,
+    progress: Progress,
+) -> Result<(), MeshError> {
+    let (mut side, mut tilted) = (0.0, 0.0);
+    let total = source.triangles();
+    source.for_each(|i, [a, b, c]| {
+        tick(progress, "checking the axis", i, total);
+        let n = (b - a).cross(c - a);
+        let len = n.length();
+        if len > 0.0 {
+            let along = (n.dot(axis) / len).abs();
+            if along <= EXTRUSION_TOL {
+                side += 0.5 * len;
+            } else if along < 1.0 - EXTRUSION_TOL {
+                tilted += 0.5 * len;
+            }
+        }
+        Ok(())
+    })?;
+    if tilted <= side {
+        return Ok(());
+    }
+    let own = find_extrusion_axis(source, totals, progress)?;
+    Err(shape_error(
+        source,
+        format!(
+            "is not a cylinder along the given axis {:?}: {:.1} % of its surface is tilted to it \
+             (neither a side along it nor an end across it) against {:.1} % along it; {}",
+            axis.to_array(),
+            100.0 * tilted / totals.area,
+            100.0 * side / totals.area,
+            match own {
+                Some(a) => format!(
+                    "the mesh is an extrusion along {:?} (give that axis, or leave --axis out)",
+                    a.to_array()
+                ),
+                None => "it is no extrusion along any axis: fit it in 3D (--dim 3)".to_string(),
+            }
+        ),
+    ))
+}
+
 /// The sign convention of an axis: its largest component positive, so the same mesh always gives
 /// the same section (not its mirror image).
 fn canonical_axis(axis: DVec3) -> DVec3 {
@@ -400,7 +453,9 @@ fn canonical_axis(axis: DVec3) -> DVec3 {
     let k = (0..3)
         .max_by(|&i, &j| a[i].abs().total_cmp(&a[j].abs()))
         .unwrap_or(2);
-    if a[k] < 0.0 { -a } else { a }
+    // + 0.0 turns the −0.0 that negating a snapped zero gives into 0.0 (printed "-0.0" else).
+    let a = if a[k] < 0.0 { -a } else { a };
+    DVec3::from_array(a.to_array().map(|c| c + 0.0))
 }
 
 /// In-plane axes (e1, e2) with e1 × e2 = axis: e1 the world axis most across `axis`, made
