@@ -230,6 +230,8 @@ fn cylinders_read_back_in_2d_with_the_axis_found_or_given() {
     // and the refusal says so, with each degree's residual.
     let e = refused(&stl, &["--dim", "3", "--modes", "4"]);
     assert!(e.contains("not convex") && e.contains("L = 8:"), "{e}");
+    // In a mesh user's words: no generator's advice about σ.
+    assert!(!e.contains("σ") && e.contains("lower --modes"), "{e}");
 }
 
 /// An extruded polygon (counter-clockwise in x, y) from z = 0 to `length`, caps as fans.
@@ -747,4 +749,99 @@ fn a_given_axis_is_checked_against_the_mesh() {
     let path = dir.join("rough.stl");
     write_binary_stl(&rough, &path, 1.0);
     assert!(fit(&path, DVec3::Z).is_ok());
+}
+
+/// Meshes that do not cover the sphere once from their centroid are told apart by how their
+/// triangles join: open (a hole's rim), part flipped, two shells (two balls, a hollow ball),
+/// and a hole through the body (a torus), each in a mesh user's words.
+#[test]
+fn open_flipped_two_shells_and_a_hole_through_are_told_apart() {
+    let dir = scratch("topology");
+    let ball = |centre: [f32; 3], radius: f32, inward: bool| {
+        let mut m = sphere_mesh(&Sphere::perfect(), 3);
+        for p in &mut m.positions {
+            *p = [
+                centre[0] + radius * p[0],
+                centre[1] + radius * p[1],
+                centre[2] + radius * p[2],
+            ];
+        }
+        if inward {
+            for t in &mut m.indices {
+                t.swap(1, 2);
+            }
+        }
+        m
+    };
+    let join = |a: TriMesh, b: TriMesh| {
+        let mut m = a;
+        let offset = m.positions.len() as u32;
+        m.positions.extend(b.positions);
+        m.indices
+            .extend(b.indices.iter().map(|t| t.map(|i| i + offset)));
+        m.normals = vec![[0.0; 3]; m.positions.len()];
+        m.values = vec![0.0; m.positions.len()];
+        m
+    };
+    // A torus: radii 10 and 4 about z.
+    let mut torus = TriMesh::default();
+    let (nu, nv) = (48u32, 24u32);
+    for i in 0..nu {
+        for j in 0..nv {
+            let (u, v) = (TAU * i as f64 / nu as f64, TAU * j as f64 / nv as f64);
+            let r = 10.0 + 4.0 * v.cos();
+            torus.positions.push([
+                (r * u.cos()) as f32,
+                (r * u.sin()) as f32,
+                (4.0 * v.sin()) as f32,
+            ]);
+        }
+    }
+    for i in 0..nu {
+        for j in 0..nv {
+            let (a, b) = (i * nv + j, ((i + 1) % nu) * nv + j);
+            let (c, d) = (((i + 1) % nu) * nv + (j + 1) % nv, i * nv + (j + 1) % nv);
+            torus.indices.push([a, b, c]);
+            torus.indices.push([a, c, d]);
+        }
+    }
+    torus.normals = vec![[0.0; 3]; torus.positions.len()];
+    torus.values = vec![0.0; torus.positions.len()];
+    let mut open = ball([0.0; 3], 10.0, false);
+    open.indices.truncate(open.indices.len() - 20);
+    let mut flipped = ball([0.0; 3], 10.0, false);
+    let positions = flipped.positions.clone();
+    for t in &mut flipped.indices {
+        if t.iter().map(|&i| positions[i as usize][2]).sum::<f32>() > 0.0 {
+            t.swap(1, 2);
+        }
+    }
+    let cases = [
+        ("open.stl", open, "the rim of a hole"),
+        ("flipped.stl", flipped, "part of the mesh is flipped"),
+        (
+            "two-balls.stl",
+            join(
+                ball([-15.0, 0.0, 0.0], 10.0, false),
+                ball([15.0, 0.0, 0.0], 10.0, false),
+            ),
+            "2 separate shells",
+        ),
+        (
+            "hollow.stl",
+            join(ball([0.0; 3], 10.0, false), ball([0.0; 3], 6.0, true)),
+            "2 separate shells",
+        ),
+        ("torus.stl", torus, "a hole through it"),
+    ];
+    for (name, mesh, said) in cases {
+        let p = dir.join(name);
+        write_binary_stl(&mesh, &p, 1.0);
+        let e = refused(&p, &["--dim", "3"]);
+        assert!(e.contains(said), "{name}: {e}");
+        assert!(
+            !e.contains("open (a hole)") || name == "open.stl",
+            "{name}: {e}"
+        );
+    }
 }

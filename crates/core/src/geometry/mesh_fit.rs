@@ -226,11 +226,14 @@ pub fn fit_mesh(
     let scale_check = totals.bbox_max - totals.bbox_min;
     let extent = scale_check.max_element();
     if totals.volume.is_nan() || totals.volume.abs() <= 1e-9 * extent.powi(3) {
+        let why = Topology::of(source)?.trouble().unwrap_or_else(|| {
+            "the mesh is open, flat, or its triangles are wound inconsistently".to_string()
+        });
         return Err(shape_error(
             source,
             format!(
                 "the triangles enclose no volume ({:.3e} cubic units in a box {:.4} units \
-                 across): the mesh is open, flat, or its triangles are wound inconsistently",
+                 across): {why}",
                 totals.volume, extent
             ),
         ));
@@ -437,6 +440,126 @@ fn check_given_axis(
             }
         ),
     ))
+}
+
+/// How a mesh's triangles join, for saying why a surface does not cover the sphere once: its
+/// vertices welded where their coordinates are equal (as a mesh's own vertices are in STL),
+/// each edge's uses counted with their direction, the triangles joined into shells across the
+/// edges they share. Built only on that error path: it holds the whole mesh.
+struct Topology {
+    /// Edges used by one triangle only: the rims of holes.
+    boundary: usize,
+    /// Edges two triangles use in the same direction: one of them is flipped.
+    flipped: usize,
+    /// Edges used by more than two triangles.
+    nonmanifold: usize,
+    /// Separate pieces of surface.
+    shells: usize,
+    /// Holes through a closed, consistently wound single shell (2 − χ)/2: a torus has one.
+    genus: i64,
+}
+
+impl Topology {
+    fn of(source: &MeshSource) -> Result<Topology, MeshError> {
+        use std::collections::HashMap;
+        let mut vertices: HashMap<[u64; 3], u32> = HashMap::new();
+        let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(source.triangles());
+        source.for_each(|_, t| {
+            let ids = t.map(|p| {
+                let next = vertices.len() as u32;
+                *vertices
+                    .entry(p.to_array().map(|c| (c + 0.0).to_bits()))
+                    .or_insert(next)
+            });
+            if ids[0] != ids[1] && ids[1] != ids[2] && ids[2] != ids[0] {
+                triangles.push(ids);
+            }
+            Ok(())
+        })?;
+        // Each undirected edge: (uses a → b, uses b → a, the first triangle using it).
+        let mut edges: HashMap<(u32, u32), (u32, u32, usize)> = HashMap::new();
+        let mut parent: Vec<usize> = (0..triangles.len()).collect();
+        fn root(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
+        }
+        for (k, t) in triangles.iter().enumerate() {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                let key = (a.min(b), a.max(b));
+                let e = edges.entry(key).or_insert((0, 0, k));
+                if a < b {
+                    e.0 += 1;
+                } else {
+                    e.1 += 1;
+                }
+                let (x, y) = (root(&mut parent, k), root(&mut parent, e.2));
+                parent[x] = y;
+            }
+        }
+        let (mut boundary, mut flipped, mut nonmanifold) = (0, 0, 0);
+        for &(forward, backward, _) in edges.values() {
+            match forward + backward {
+                1 => boundary += 1,
+                2 if forward != 1 => flipped += 1,
+                2 => {}
+                _ => nonmanifold += 1,
+            }
+        }
+        let shells = (0..triangles.len())
+            .filter(|&i| root(&mut parent, i) == i)
+            .count();
+        let euler = vertices.len() as i64 - edges.len() as i64 + triangles.len() as i64;
+        Ok(Topology {
+            boundary,
+            flipped,
+            nonmanifold,
+            shells,
+            genus: (2 - euler) / 2,
+        })
+    }
+
+    /// What is wrong, in a mesh user's words, if the topology shows it.
+    fn trouble(&self) -> Option<String> {
+        if self.boundary > 0 {
+            return Some(format!(
+                "the mesh is open: {} edge(s) belong to one triangle only, the rim of a hole \
+                 (close it in the modelling program, or export the solid as one closed body)",
+                self.boundary
+            ));
+        }
+        if self.flipped > 0 {
+            return Some(format!(
+                "part of the mesh is flipped: {} edge(s) are used twice in the same direction \
+                 (recompute or unify the normals in the modelling program)",
+                self.flipped
+            ));
+        }
+        if self.shells > 1 {
+            return Some(format!(
+                "the mesh has {} separate shells: two bodies, or a hollow one (an inner \
+                 surface); a rolling body is one closed surface",
+                self.shells
+            ));
+        }
+        if self.nonmanifold > 0 {
+            return Some(format!(
+                "triangles overlap: {} edge(s) are shared by more than two triangles \
+                 (duplicated faces, or bodies touching along an edge)",
+                self.nonmanifold
+            ));
+        }
+        if self.genus > 0 {
+            return Some(format!(
+                "the body has a hole through it ({} handle(s), like a ring or a torus): a ray \
+                 from its centre cannot meet its surface once in every direction",
+                self.genus
+            ));
+        }
+        None
+    }
 }
 
 /// The sign convention of an axis: its largest component positive, so the same mesh always gives
@@ -899,10 +1022,10 @@ fn fit_sphere(
             .map(|(k, cell)| (k, (cell.weight / cell_area - 1.0).abs()))
             .max_by(|x, y| x.1.total_cmp(&y.1))
             .unwrap_or((0, 0.0));
-        let what = if covered < sphere_area {
-            "the mesh is open (a hole)"
-        } else {
-            "triangles overlap (duplicated faces, or a second shell)"
+        let what = match Topology::of(source)?.trouble() {
+            Some(trouble) => trouble,
+            None if covered < sphere_area => "the mesh is open (a hole)".to_string(),
+            None => "triangles overlap (duplicated faces, or a second shell)".to_string(),
         };
         return Err(shape_error(
             source,
@@ -1091,11 +1214,24 @@ fn fit_sphere(
     let rms = (sum2 / sum_w).sqrt();
     let convex = body.check_convex();
     if let Err(e) = &convex {
+        // In a mesh user's words: the generator's advice (lower σ, fewer modes) is not theirs.
+        let what = match e {
+            crate::geometry::ShapeError::NotConvex {
+                measure,
+                value,
+                place,
+            } => format!(
+                "it is not convex ({measure} {value:.6} at {place}; the contact model needs a \
+                 strictly convex body, and a dent in the printed body itself cannot roll as the \
+                 model assumes)"
+            ),
+            other => other.to_string(),
+        };
         return Err(shape_error(
             source,
             format!(
-                "the degree-{modes} fit cannot be rolled: {e}. A lower --modes smooths it (the rms residual of \
-                 each degree: {})",
+                "the degree-{modes} fit cannot be rolled: {what}. A lower --modes smooths it (the \
+                 rms residual of each degree: {})",
                 degree_residuals
                     .iter()
                     .map(|d| format!("L = {}: {:.2e}", d.modes, d.rms))
