@@ -64,7 +64,7 @@ pub struct ShapeArgs {
     )]
     pub mm_per_unit: f64,
     /// With --from-mesh --dim 2: the cylinder's axis as X,Y,Z (found from the mesh if not given).
-    #[arg(long, requires = "from_mesh", allow_negative_numbers = true)]
+    #[arg(long, requires = "from_mesh", allow_hyphen_values = true)]
     pub axis: Option<String>,
     /// With --from-mesh: write the fit's report as JSON here (residuals, ⟨r⟩ in mm, α*, …).
     #[arg(long, requires = "from_mesh", value_name = "FILE")]

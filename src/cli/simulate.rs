@@ -66,16 +66,16 @@ pub struct SimulateArgs {
     #[arg(short, long, default_value = "-")]
     pub output: PathBuf,
     /// 3D: initial orientation quaternion w,x,y,z (normalised).
-    #[arg(long, conflicts_with = "contact", allow_negative_numbers = true)]
+    #[arg(long, conflicts_with = "contact", allow_hyphen_values = true)]
     pub q0: Option<String>,
     /// 3D: initial contact point θ,φ in the body frame (polar, azimuth).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub contact: Option<String>,
     /// 3D: spin about the ramp normal after --contact, radians [default: 0].
     #[arg(long, allow_negative_numbers = true)]
     pub spin: Option<f64>,
     /// 3D inertial: initial lab angular velocity x,y,z.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub omega0: Option<String>,
     /// 2D: initial contact angle θ₀.
     #[arg(long, allow_negative_numbers = true)]

@@ -219,6 +219,10 @@ fn cylinders_read_back_in_2d_with_the_axis_found_or_given() {
     // Given as −y, θ runs as the export wrote it: the same modes, no turn or mirror needed.
     let (body, _, _) = fit(&stl, &["--modes", "5", "--axis", "0,-1,0"], &dir);
     let Body::Disk(given) = &body else { panic!() };
+    // A negative first number is a value, not a flag: the same fit.
+    let (again, _, _) = fit(&stl, &["--modes", "5", "--axis", "-0,-1,0"], &dir);
+    let Body::Disk(again) = &again else { panic!() };
+    assert!(disk_difference(again, given) == 0.0);
     let max = (0..360)
         .map(|i| {
             let th = i as f64 * TAU / 360.0;
