@@ -72,6 +72,15 @@ class DegreeResidual(TypedDict):
     modes: int
     rms: float
 
+class CoatReport(TypedDict):
+    """MeshFitReport["coat"]: what a coat of uniform thickness did (Body.from_mesh(coat_mm=))."""
+
+    coat_mm: float
+    scale_mm_before: float
+    scale_mm_after: float
+    alpha_star_before: float
+    alpha_star_after: float
+
 class MeshFitReport(TypedDict):
     """Body.mesh_fit: the fit of a body to a mesh, as `rollphase shape --from-mesh --report`."""
 
@@ -97,6 +106,7 @@ class MeshFitReport(TypedDict):
     convex: bool
     alpha_star: float
     warnings: List[str]
+    coat: NotRequired[CoatReport]
 
 class CruisingFraction(TypedDict):
     cruising: int
@@ -254,13 +264,15 @@ class Body:
         dim: Optional[int] = None,
         axis: Optional[Tuple[float, float, float]] = None,
         mm_per_unit: float = 1.0,
+        coat_mm: Optional[float] = None,
     ) -> Body:
         """A body fitted to a printed or scanned mesh (.stl, .obj, .ply; mm unless mm_per_unit
         says otherwise), as `rollphase shape --from-mesh` fits it: 3D by real spherical harmonics
         about the volume centroid, 2D (an extruded cylinder, found or dim=2) by a Fourier
         series of its section. The report is body.mesh_fit; warnings are UserWarnings; a mesh
         that is open, not star-shaped about its centroid, or fits no convex body raises
-        InputError naming the place."""
+        InputError naming the place. coat_mm coats the fitted body with that many mm of uniform
+        thickness and fits it again (mesh_fit["coat"]: ⟨r⟩ and α* before and after)."""
     def to_file(self, path: _Path) -> None:
         """Writes the body as a shape file, whole or not at all (a link stays a link)."""
     def to_json(self) -> str:

@@ -118,9 +118,11 @@ impl Body {
     /// 10 % of the best fit's, or under 5e-5 of the mean radius). The fit's report (residuals in
     /// mm and relative, scale_mm, the l = 1 part left out, alpha_star, warnings) is
     /// body.mesh_fit; a mesh that is open, not star-shaped about its centroid, or fits no
-    /// convex body raises ValueError naming the place.
+    /// convex body raises ValueError naming the place. coat_mm coats the fitted body with that
+    /// many mm of uniform thickness (the rubber of the viscous experiments) and fits the coated
+    /// surface again; mesh_fit["coat"] then gives ⟨r⟩ and α* before and after.
     #[staticmethod]
-    #[pyo3(signature = (path, *, modes = None, dim = None, axis = None, mm_per_unit = 1.0))]
+    #[pyo3(signature = (path, *, modes = None, dim = None, axis = None, mm_per_unit = 1.0, coat_mm = None))]
     fn from_mesh(
         py: Python<'_>,
         path: PathBuf,
@@ -128,8 +130,17 @@ impl Body {
         dim: Option<i128>,
         axis: Option<[f64; 3]>,
         mm_per_unit: f64,
+        coat_mm: Option<f64>,
     ) -> PyResult<Self> {
-        use rollphase_core::geometry::mesh_fit::{FitOptions, fit_mesh};
+        use rollphase_core::geometry::mesh_fit::{FitOptions, coat, fit_mesh};
+        if let Some(c) = coat_mm
+            && !(c.is_finite() && c > 0.0)
+        {
+            return Err(crate::errors::input_error(format!(
+                "coat_mm = {c} is not allowed (needs a positive thickness in mm, at most half the \
+                 body's mean radius)"
+            )));
+        }
         use rollphase_core::geometry::mesh_read::MeshSource;
         let modes: Option<u32> = modes.map(|m| whole("modes", m)).transpose()?;
         let dim: Option<u32> = dim.map(|d| whole("dim", d)).transpose()?;
@@ -142,7 +153,11 @@ impl Body {
         let fit = py
             .detach(|| {
                 let source = MeshSource::open(&path)?;
-                fit_mesh(&source, &options, &|_, _, _| {})
+                let fit = fit_mesh(&source, &options, &|_, _, _| {})?;
+                match coat_mm {
+                    Some(c) => coat(&fit, c, &|_, _, _| {}).map(|(coated, _)| coated),
+                    None => Ok(fit),
+                }
             })
             .map_err(bad_input)?;
         for w in &fit.report.warnings {

@@ -182,3 +182,17 @@ def test_compare_with_model_solves_m_and_t0_together(printed, repo, cli, tmp_pat
         rollphase.compare_with_model(
             Body.paper_sphere(219), 0.2, period_s=5.0, advance_down_cm=6.0, advance_across_cm=0.0
         )
+
+
+def test_a_rubber_coat_is_the_command_lines(repo, cli, tmp_path):
+    coated = Body.from_mesh(repo / SPHERE, coat_mm=0.28)
+    coat = coated.mesh_fit["coat"]
+    # A coat of uniform thickness adds its thickness to the mean radius and rounds the body.
+    assert abs(coat["scale_mm_after"] - coat["scale_mm_before"] - 0.28) < 2e-3
+    assert coat["alpha_star_after"] < coat["alpha_star_before"]
+    assert coated.scale_mm == coat["scale_mm_after"]
+    out = tmp_path / "coated.json"
+    cli("shape", "--from-mesh", repo / SPHERE, "--coat-mm", "0.28", "-o", out)
+    assert json.loads(coated.to_json()) == json.loads(out.read_text())
+    with pytest.raises(rollphase.InputError, match="coat"):
+        Body.from_mesh(repo / SPHERE, coat_mm=-1.0)

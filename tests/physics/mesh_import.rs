@@ -849,3 +849,36 @@ fn open_flipped_two_shells_and_a_hole_through_are_told_apart() {
         );
     }
 }
+
+/// `--coat-mm`: a coat of uniform thickness H adds between H and H / cos α* to ⟨r⟩ (a ray
+/// crosses it obliquely) and rounds the body (α* falls), on the printed sphere and cylinder;
+/// the shape file is the coated body's; a bad thickness is refused.
+#[test]
+fn a_rubber_coat_adds_its_thickness_and_rounds_the_body() {
+    let dir = scratch("coat");
+    for (mesh, coat) in [("printed-sphere.stl", 0.28), ("printed-cylinder.stl", 0.5)] {
+        let (plain, plain_scale, _) = fit(&data(mesh), &[], &dir);
+        let (coated, scale, report) = fit(&data(mesh), &["--coat-mm", &coat.to_string()], &dir);
+        let c = &report["coat"];
+        let (before, after) = (
+            c["scale_mm_before"].as_f64().unwrap(),
+            c["scale_mm_after"].as_f64().unwrap(),
+        );
+        assert_eq!(Some(before), plain_scale);
+        assert_eq!(Some(after), scale);
+        // Along a ray the coat is H / cos ψ thick, ψ the normal's tilt from the ray, which
+        // tan ψ = |∇ ln r| ≤ tan α* bounds: H ≤ Δ⟨r⟩ ≤ H / cos α* (to first order in H).
+        let bound = coat / plain.alpha_star().cos();
+        let grew = after - before;
+        assert!(
+            grew > coat * (1.0 - 1e-3) && grew < bound * (1.0 + 1e-3),
+            "{mesh}: {before} → {after}, not within {coat} … {bound}"
+        );
+        assert!(coated.alpha_star() < plain.alpha_star(), "{mesh}");
+        assert_eq!(c["alpha_star_after"].as_f64().unwrap(), coated.alpha_star());
+    }
+    for bad in ["0", "-0.3", "nan", "6"] {
+        let e = refused(&data("printed-sphere.stl"), &["--coat-mm", bad]);
+        assert!(e.contains("coat"), "{bad}: {e}");
+    }
+}

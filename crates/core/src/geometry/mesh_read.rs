@@ -36,6 +36,8 @@ pub enum MeshFormat {
     Obj,
     /// PLY, ASCII or binary, with `vertex` x, y, z and `face` vertex_indices (or vertex_index).
     Ply,
+    /// A surface rollphase made itself (a fitted body offset by a coat), held in memory.
+    Made,
 }
 
 impl std::fmt::Display for MeshFormat {
@@ -44,6 +46,7 @@ impl std::fmt::Display for MeshFormat {
             MeshFormat::Stl => "STL",
             MeshFormat::Obj => "OBJ",
             MeshFormat::Ply => "PLY",
+            MeshFormat::Made => "made",
         })
     }
 }
@@ -204,6 +207,8 @@ impl MeshSource {
             MeshFormat::Stl => source.triangles = source.check_stl(meta.len())?,
             MeshFormat::Obj => source.held = source.load_obj()?,
             MeshFormat::Ply => source.held = source.load_ply()?,
+            // Not from a file: only [`MeshSource::made`] builds one.
+            MeshFormat::Made => {}
         }
         if format != MeshFormat::Stl {
             source.triangles = source.held.len();
@@ -215,6 +220,33 @@ impl MeshSource {
             });
         }
         Ok(source)
+    }
+
+    /// A surface rollphase made, held in memory (`label` names it in reports and errors).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::mesh_read::{MeshFormat, MeshSource};
+    /// use rollphase_core::glam::DVec3;
+    /// let [o, x, y, z] = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+    /// let tet = MeshSource::made("a tetrahedron", vec![[o, y, x], [o, x, z], [o, z, y], [x, y, z]])?;
+    /// assert_eq!((tet.format(), tet.triangles()), (MeshFormat::Made, 4));
+    /// # Ok::<(), rollphase_core::geometry::mesh_read::MeshError>(())
+    /// ```
+    pub fn made(label: &str, triangles: Vec<[DVec3; 3]>) -> Result<Self, MeshError> {
+        if triangles.len() < 4 {
+            return Err(MeshError::TooFew {
+                path: PathBuf::from(label),
+                count: triangles.len(),
+            });
+        }
+        Ok(MeshSource {
+            path: PathBuf::from(label),
+            format: MeshFormat::Made,
+            triangles: triangles.len(),
+            held: triangles,
+            ascii: false,
+        })
     }
 
     /// The file.
