@@ -6,7 +6,8 @@
 //! t0 = γ/(F⟨r⟩), so m/m0 = ⟨r⟩/(g t0²): one number fixes the other. The model's period
 //! T(m/m0) (in t0) times t0 must be the measured period T_s, so
 //! m/m0 = ⟨r⟩ T(m/m0)² / (g T_s²), solved by iteration from the viscous model's T (T depends
-//! weakly on m/m0, so it converges in a few steps, each a [`predict`]). Below
+//! weakly on m/m0, so it converges in a few steps, each a
+//! [`predict`](crate::analysis::prediction::predict)). Below
 //! [`VISCOUS_BELOW`] the viscous model is used: the inertial correction to the period there is
 //! ≈ 0.03 m/m0 (`simulate`'s module doc), under 0.3 %.
 //!
