@@ -214,6 +214,24 @@ fn a_known_period_comes_back_through_noise_gaps_jumps_and_missing_values() {
     );
 }
 
+/// The printed sphere as the authors' generator makes it (seed 6, σ 0.25, l ≤ 4), without a
+/// scale, written to `path`.
+fn printed_sphere_shape(path: &Path) {
+    rollphase_ok([
+        "shape",
+        "--dim",
+        "3",
+        "--paper-seed",
+        "6",
+        "--sigma",
+        "0.25",
+        "--modes",
+        "4",
+        "-o",
+        path.to_str().unwrap(),
+    ]);
+}
+
 fn refused(file: &Path, out: &Path, extra: &[&str], needle: &str) {
     let o = track(file, out, extra);
     let err = String::from_utf8_lossy(&o.stderr).to_string();
@@ -300,19 +318,7 @@ fn tracks_without_a_period_or_with_bad_input_are_refused() {
     assert_eq!(std::fs::read(&good).unwrap(), before);
     // A body without a scale cannot be compared in cm.
     let body = dir.join("body.json");
-    rollphase_ok([
-        "shape",
-        "--dim",
-        "3",
-        "--paper-seed",
-        "6",
-        "--sigma",
-        "0.25",
-        "--modes",
-        "4",
-        "-o",
-        body.to_str().unwrap(),
-    ]);
+    printed_sphere_shape(&body);
     refused(
         &good,
         &out,
@@ -373,19 +379,7 @@ fn an_inertial_model_run_gives_back_its_mass_ratio_and_time_unit() {
     let file = dir.join("inertial.csv");
     std::fs::write(&file, text).unwrap();
     let shape = dir.join("printed.json");
-    rollphase_ok([
-        "shape",
-        "--dim",
-        "3",
-        "--paper-seed",
-        "6",
-        "--sigma",
-        "0.25",
-        "--modes",
-        "4",
-        "-o",
-        shape.to_str().unwrap(),
-    ]);
+    printed_sphere_shape(&shape);
     let mut json: Value = serde_json::from_slice(&std::fs::read(&shape).unwrap()).unwrap();
     json["scale_mm"] = 10.0.into();
     std::fs::write(&shape, json.to_string()).unwrap();
