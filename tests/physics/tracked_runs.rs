@@ -335,46 +335,15 @@ fn tracks_without_a_period_or_with_bad_input_are_refused() {
 /// (the main text's sin α form would be 5 times smaller).
 #[test]
 fn an_inertial_model_run_gives_back_its_mass_ratio_and_time_unit() {
-    use rollphase::analysis::prediction::{PredictOptions, predict};
-    use rollphase::geometry::Body;
     let dir = scratch("inertial");
-    let body = Body::paper_sphere(6, 0.25, 4).unwrap();
     let alpha = 0.2f64.asin();
     let mass = 2.5;
-    let options = PredictOptions {
-        periods_drawn: 60,
-        samples_per_period: 400,
-        ..PredictOptions::default()
-    };
-    let p = predict(&body, alpha, mass, &options).unwrap();
-    let orbit = p
-        .orbits
-        .iter()
-        .max_by(|a, b| a.fraction.total_cmp(&b.fraction))
-        .unwrap();
     let t0 = (0.01f64 / (9.81 * mass)).sqrt();
-    let frames_per_t0 = 30.0 * t0;
-    let dt = orbit.period / 400.0;
-    let frames = ((orbit.path.len() - 1) as f64 * dt * frames_per_t0).floor() as usize;
-    let mut state = 5u64;
-    let mut noise = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        0.01 * (((state >> 11) as f64 / (1u64 << 53) as f64) - 0.5) * 12f64.sqrt()
-    };
+    let film = crate::track_periods::filmed_orbit(mass, 60, 0.01, 5, 0..0);
     // Columns in the authors' units: xn across (0.0404 cm), yn down (0.0361 cm).
     let mut text = String::from("frame,xn,yn\n");
-    for i in 0..frames {
-        let x = i as f64 / frames_per_t0 / dt;
-        let j = (x.floor() as usize).min(orbit.path.len() - 2);
-        let s = x - j as f64;
-        let at = |c: usize| orbit.path[j][c] + s * (orbit.path[j + 1][c] - orbit.path[j][c]);
-        text += &format!(
-            "{i},{},{}\n",
-            (at(1) + noise()) / 0.0404,
-            (at(0) + noise()) / 0.0361
-        );
+    for (i, down, across) in &film.rows {
+        text += &format!("{i},{},{}\n", across / 0.0404, down / 0.0361);
     }
     let file = dir.join("inertial.csv");
     std::fs::write(&file, text).unwrap();
@@ -397,7 +366,7 @@ fn an_inertial_model_run_gives_back_its_mass_ratio_and_time_unit() {
     ]);
     eprintln!("{}", String::from_utf8_lossy(&printed));
     let s = summary(&out);
-    let true_frames = orbit.period * frames_per_t0;
+    let true_frames = film.true_frames;
     let period = s["period_frames"].as_f64().unwrap();
     assert!(
         (period - true_frames).abs() < 0.003 * true_frames,
