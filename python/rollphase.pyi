@@ -133,6 +133,10 @@ class PredictedOrbit(TypedDict):
     advance_across_mm: Optional[float]
     speed: float
     stable: bool
+    stability: str
+    members: int
+    min_normal_force: Optional[float]
+    lift_off_t: Optional[float]
     multipliers: _Complex
     max_modulus: float
     fraction: float
@@ -140,6 +144,25 @@ class PredictedOrbit(TypedDict):
     crossing: _Array
     omega: _Array
     path: _Array
+
+class UndecidedShare(TypedDict):
+    reason: str
+    fraction: float
+    what_would_decide: str
+
+class Violation(TypedDict):
+    kind: str
+    t: float
+
+class Fates(TypedDict):
+    """How the starts ended, as fractions of all starts: the one verdict's words."""
+    periodic: float
+    neutral: float
+    halted: float
+    left_model: float
+    undecided: float
+    undecided_reasons: List[UndecidedShare]
+    first_violation: Optional[Violation]
 
 class Prediction(TypedDict):
     dimension: int
@@ -149,6 +172,7 @@ class Prediction(TypedDict):
     starts: int
     halts: float
     undecided: float
+    fates: Fates
     scale_mm: Optional[float]
     orbits: List[PredictedOrbit]
 
@@ -479,10 +503,12 @@ def predict(
     t_cap: float = 20000.0,
 ) -> Prediction:
     """The stable periodic motions runs from rest settle into, as `rollphase predict` gives them.
-    Keys: alpha, mass_ratio, alpha_star, starts, halts, undecided, scale_mm, and orbits (most
-    visited first), each with period, repeat (1 or 2), advance_down, advance_across (per
+    Keys: alpha, mass_ratio, alpha_star, starts, halts, undecided, fates (every start's fate:
+    periodic, neutral, halted, left_model, undecided, with the reasons), scale_mm, and orbits
+    (most visited first), each with period, repeat (1 or 2), advance_down, advance_across (per
     repeat, in mean radii), advance_down_mm, advance_across_mm (None without a scale), speed,
-    stable, multipliers (complex), max_modulus, fraction, starts, crossing, omega, and path
+    stable, stability ("stable", "neutral", "unstable"), members, min_normal_force and
+    lift_off_t (inertial), multipliers (complex), max_modulus, fraction, starts, crossing, omega, and path
     (an (N, 2) array of the centre over three repeats)."""
 
 def measure_track(frames: _Floats, down: _Floats, across: _Floats) -> TrackMeasurement:

@@ -440,7 +440,11 @@ pub fn mass_bifurcation<'py>(
 /// `rollphase predict` answers: runs from rest at `starts` random orientations (3D) or equally
 /// spaced contact angles (2D) until each settles on a periodic motion or comes to rest (at most
 /// t_cap). Returns a dict: alpha, mass_ratio, alpha_star, starts, halts and undecided (fractions),
-/// scale_mm (the body's, or None), and orbits, most visited first, each a dict: period (t0),
+/// fates (every start's fate: periodic, neutral, halted, left_model, undecided, with
+/// undecided_reasons and first_violation), scale_mm (the body's, or None), and orbits, most
+/// visited first, each a dict: stability ("stable", "neutral" or "unstable"), members (orbits
+/// a neutral family stands for), min_normal_force and lift_off_t (inertial: the contact force
+/// along it; None in the viscous model), period (t0),
 /// repeat (1, or 2 for a doubled orbit: period and advances are then per repeat), advance_down
 /// and advance_across (mean radii per repeat), advance_down_mm and advance_across_mm (None
 /// without a scale), speed, stable, multipliers (complex array: 2 for 3D viscous, 5 for 3D
@@ -484,6 +488,7 @@ pub fn predict<'py>(
     d.set_item("starts", p.starts)?;
     d.set_item("halts", p.halts)?;
     d.set_item("undecided", p.undecided)?;
+    d.set_item("fates", fates_dict(py, &p.fates)?)?;
     d.set_item("scale_mm", body.scale_mm)?;
     let list = PyList::empty(py);
     for o in &p.orbits {
@@ -499,6 +504,10 @@ pub fn predict<'py>(
         )?;
         e.set_item("speed", o.speed)?;
         e.set_item("stable", o.stable)?;
+        e.set_item("stability", o.stability.name())?;
+        e.set_item("members", o.members)?;
+        e.set_item("min_normal_force", o.contact.map(|c| c.min_normal_force))?;
+        e.set_item("lift_off_t", o.contact.and_then(|c| c.lift_off_t))?;
         let multipliers: Vec<Complex64> = o
             .multipliers
             .iter()
@@ -527,5 +536,46 @@ pub fn predict<'py>(
         list.append(e)?;
     }
     d.set_item("orbits", list)?;
+    Ok(d)
+}
+
+/// `predict`'s fates as a dict: the fractions periodic, neutral, halted, left_model and
+/// undecided, undecided_reasons (a list of dicts: reason, fraction, what_would_decide) and
+/// first_violation (None, or a dict: kind, t).
+fn fates_dict<'py>(
+    py: Python<'py>,
+    f: &rollphase_core::analysis::verdict::FateCounts,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("periodic", f.periodic)?;
+    d.set_item("neutral", f.neutral)?;
+    d.set_item("halted", f.halted)?;
+    d.set_item("left_model", f.left_model)?;
+    d.set_item("undecided", f.undecided)?;
+    let reasons = PyList::empty(py);
+    for u in &f.undecided_reasons {
+        let r = PyDict::new(py);
+        r.set_item("reason", u.reason)?;
+        r.set_item("fraction", u.fraction)?;
+        r.set_item("what_would_decide", &u.what_would_decide)?;
+        reasons.append(r)?;
+    }
+    d.set_item("undecided_reasons", reasons)?;
+    let violation = match f.first_violation {
+        Some(v) => {
+            let r = PyDict::new(py);
+            r.set_item(
+                "kind",
+                match v {
+                    rollphase_core::dynamics::validity::Violation::LiftOff { .. } => "lift_off",
+                    rollphase_core::dynamics::validity::Violation::Slip { .. } => "slip",
+                },
+            )?;
+            r.set_item("t", v.t())?;
+            Some(r)
+        }
+        None => None,
+    };
+    d.set_item("first_violation", violation)?;
     Ok(d)
 }

@@ -10,6 +10,7 @@ use crate::analysis::prediction::{
     MAX_PREDICT_STARTS, PredictOptions, PredictedOrbit, Prediction, predict,
 };
 use crate::analysis::sphere_orbits::Decide;
+use crate::analysis::verdict::{FateCounts, Stability};
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::geometry::{Body, ShapeFile};
 use crate::output::{self, Inputs};
@@ -103,6 +104,9 @@ pub struct PredictionHead {
     pub halts: f64,
     /// Fraction undecided at --t-cap.
     pub undecided: f64,
+    /// Every start's fate: fractions periodic, neutral, halted, left_model, undecided, with
+    /// `undecided_reasons` and `first_violation`.
+    pub fates: FateCounts,
 }
 
 /// Runs `predict`.
@@ -192,6 +196,7 @@ fn report_of(a: &PredictArgs, p: Prediction, scale: Option<f64>) -> PredictRepor
             starts: p.starts,
             halts: p.halts,
             undecided: p.undecided,
+            fates: p.fates,
         },
         orbits,
     }
@@ -213,15 +218,8 @@ fn print_table(r: &PredictReport) -> Result<()> {
             String::new()
         }
     )?;
-    outln!(
-        "  {} starts from rest: {:.1} % settle on the motions below, {:.1} % halt, {:.1} % undecided",
-        h.starts,
-        100.0 * r.orbits.iter().map(|o| o.orbit.fraction).sum::<f64>(),
-        100.0 * h.halts,
-        100.0 * h.undecided
-    )?;
+    print_fates(h)?;
     if r.orbits.is_empty() {
-        outln!("  no periodic motion: the body comes to rest")?;
         return Ok(());
     }
     let unit = if r.scale_mm.is_some() {
@@ -259,14 +257,108 @@ fn print_table(r: &PredictReport) -> Result<()> {
                 .map_or_else(|| "–".to_string(), |m| format!("{m:.4}"))
         )?;
     }
+    let all_stable = r.orbits.iter().all(|o| o.orbit.stable);
     outln!(
-        "  per repeat; speed in ⟨r⟩/t0; {}",
-        if r.orbits.iter().all(|o| o.orbit.stable) {
-            "every motion listed is stable"
+        "  per repeat; speed in ⟨r⟩/t0{}",
+        if all_stable {
+            "; every motion listed is stable"
         } else {
-            "a motion with |μ| max ≥ 1 is not stable"
+            ""
         }
     )?;
+    for (i, o) in r.orbits.iter().enumerate() {
+        let k = &o.orbit;
+        if let Some(t) = k.contact.and_then(|c| c.lift_off_t) {
+            outln!(
+                "  orbit {}: leaves the ramp {t:.2} t0 after its ∂Ω crossing (the normal force \
+                 falls to 0, min N/F = {:.3}): not a motion the body can make; the rolling model \
+                 does not hold on it",
+                i + 1,
+                k.contact.map_or(f64::NAN, |c| c.min_normal_force)
+            )?;
+        }
+        match k.stability {
+            Stability::Neutral => outln!(
+                "  orbit {}: neutral (|μ| max {}): {}; none attracts, each start rolls on its \
+                 own",
+                i + 1,
+                k.max_modulus
+                    .map_or_else(|| "–".to_string(), |m| format!("{m:.6}")),
+                if k.members > 1 {
+                    format!(
+                        "a family of {} orbits with the same period and speed",
+                        k.members
+                    )
+                } else {
+                    "one of a family of motions".to_string()
+                }
+            )?,
+            Stability::Unstable => outln!("  orbit {}: unstable (|μ| max ≥ 1)", i + 1)?,
+            Stability::Stable => {}
+        }
+    }
+    if let Some(c) = r.orbits.iter().find_map(|o| o.orbit.contact) {
+        let worst = r
+            .orbits
+            .iter()
+            .filter_map(|o| o.orbit.contact)
+            .fold(c, |a, b| {
+                if b.min_normal_force < a.min_normal_force {
+                    b
+                } else {
+                    a
+                }
+            });
+        outln!(
+            "  contact along the orbits: N/F ≥ {:.3}, friction needed μ ≤ {:.3}",
+            worst.min_normal_force,
+            r.orbits
+                .iter()
+                .filter_map(|o| o.orbit.contact)
+                .map(|c| c.max_friction_needed)
+                .fold(0.0, f64::max)
+        )?;
+    }
+    Ok(())
+}
+
+/// How the starts ended, one line per kind that happened.
+fn print_fates(h: &PredictionHead) -> Result<()> {
+    let f = &h.fates;
+    let pct = |x: f64| format!("{:.1} %", 100.0 * x);
+    let mut parts = Vec::new();
+    for (share, words) in [
+        (f.periodic, "settle on a periodic motion below"),
+        (
+            f.neutral,
+            "roll on a neutral motion (|μ| max within the band around 1: no single orbit \
+             attracts within --t-cap)",
+        ),
+        (f.halted, "come to rest"),
+        (f.left_model, "leave the rolling model"),
+        (f.undecided, "undecided"),
+    ] {
+        if share > 0.0 {
+            parts.push(format!("{} {words}", pct(share)));
+        }
+    }
+    outln!("  {} starts from rest: {}", h.starts, parts.join(", "))?;
+    if let Some(v) = f.first_violation {
+        outln!("  left the model: the first {}", v.headline())?;
+    }
+    for u in &f.undecided_reasons {
+        outln!("  undecided ({}): {}", pct(u.fraction), u.what_would_decide)?;
+    }
+    if f.periodic == 0.0 && f.neutral == 0.0 {
+        outln!(
+            "  no periodic motion found{}",
+            if f.halted == 1.0 {
+                ": every start comes to rest"
+            } else {
+                ""
+            }
+        )?;
+    }
     Ok(())
 }
 

@@ -20,6 +20,7 @@ pub mod sphere_orbits;
 pub mod sphere_return_map;
 pub mod studies;
 pub mod tracking;
+pub mod verdict;
 
 pub use critical_angle::{CriticalAngle, critical_angle};
 pub use period::{

@@ -20,15 +20,18 @@ use serde::Serialize;
 
 use super::critical_angle::critical_angle;
 use super::period::{inertial_disk_period_until, viscous_disk_period};
+use super::return_map::ReturnMapError;
 use super::sphere_orbits::{
     Decide, RunEnd, boundary_distance, cluster_antipodal, decided_run, settled_cycle,
 };
 use super::sphere_return_map::{
-    OrbitSolve, SectionState, inertial_crossings_until, periodic_orbit, viscous_periodic_orbit,
+    InertialEnd, OrbitSolve, SectionState, inertial_run, periodic_orbit, viscous_periodic_orbit,
 };
 use super::studies::{StudyError, random_orientation};
+use super::verdict::{Fate, FateCounts, Stability, Undecided, steady_drift};
 use crate::dynamics::sphere3d::{SphereInertial, SphereViscous};
-use crate::dynamics::{Ramp, disk2d};
+use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch, Violation};
+use crate::dynamics::{Ramp, RollingModel, disk2d};
 use crate::geometry::{Body, Disk, Sphere};
 use crate::integrate::{self, Method};
 
@@ -78,9 +81,16 @@ pub struct PredictedOrbit {
     pub advance_across: f64,
     /// Mean speed down the ramp (⟨r⟩/t0).
     pub speed: f64,
-    /// Whether it attracts: every Floquet multiplier inside the unit circle (period 1), or seen
-    /// to attract runs (a doubled orbit, whose multipliers are not computed).
+    /// Whether it attracts and the body stays on the ramp along it: [`Self::stability`] is
+    /// stable and the normal force stays positive ([`Self::contact`]).
     pub stable: bool,
+    /// Stable, neutral or unstable ([`Stability::of`] over the runs' `t_cap`): every Floquet
+    /// multiplier inside the unit circle (period 1), or seen to attract runs (a doubled orbit,
+    /// whose multipliers are not computed: stable).
+    pub stability: Stability,
+    /// Distinct orbits this entry stands for: 1, or more for a neutral family (a round body
+    /// rolls on a different great circle from each start, all one motion).
+    pub members: usize,
     /// The Floquet multipliers (re, im), largest modulus first: two (3D viscous), five (3D
     /// inertial); empty for a disk (its rolling cycle has none in the viscous model) or a
     /// doubled orbit.
@@ -95,10 +105,35 @@ pub struct PredictedOrbit {
     pub crossing: Option<[f64; 3]>,
     /// 3D: ω at that crossing (zero in the viscous model).
     pub omega: Option<[f64; 3]>,
+    /// With inertia, the contact force along the drawn periods of the orbit; `None` in the
+    /// viscous model (N = cos α, friction needed tan α throughout).
+    pub contact: Option<OrbitContact>,
     /// The centre's path from a point of the orbit over [`PredictOptions::periods_drawn`]
     /// repeats: (down, across) in ⟨r⟩ for a sphere, (down, height) for a disk.
     #[serde(skip)]
     pub path: Vec<[f64; 2]>,
+}
+
+/// The ramp's force along an orbit (units of the weight F), from the model's own motion.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct OrbitContact {
+    /// The smallest normal force N/F.
+    pub min_normal_force: f64,
+    /// The largest friction coefficient rolling needs, |f_t|/N (infinite once N ≤ 0).
+    pub max_friction_needed: f64,
+    /// Time from the orbit's crossing at which N first reaches 0: the body leaves the ramp
+    /// there, and the rolling model no longer holds.
+    pub lift_off_t: Option<f64>,
+}
+
+impl From<ContactReport> for OrbitContact {
+    fn from(c: ContactReport) -> Self {
+        OrbitContact {
+            min_normal_force: c.min_normal_force,
+            max_friction_needed: c.max_friction_needed,
+            lift_off_t: c.lift_off_t,
+        }
+    }
 }
 
 /// What a body does at one α and m/m0.
@@ -118,7 +153,11 @@ pub struct Prediction {
     pub halts: f64,
     /// Fraction still undecided at the time cap (neither periodic nor at rest).
     pub undecided: f64,
-    /// The stable periodic motions, most visited first.
+    /// How the starts ended ([`FateCounts`]): periodic, neutral, halted, left the model,
+    /// undecided (with why).
+    pub fates: FateCounts,
+    /// The periodic motions the starts reach, most visited first: stable ones, neutral
+    /// families, and any that leave the ramp (not stable, with where).
     pub orbits: Vec<PredictedOrbit>,
 }
 
@@ -199,19 +238,20 @@ pub fn predict_until(
         )));
     }
     let alpha_star = critical_angle(body).alpha_star;
-    let (orbits, halts, undecided) = match body {
+    let (orbits, fates) = match body {
         Body::Disk(disk) => predict_disk(disk, &ramp, options, stop)?,
         Body::Sphere(sphere) => predict_sphere(sphere, &ramp, options, stop)?,
     };
-    let n = options.starts as f64;
+    let fates = FateCounts::of(&fates);
     Ok(Prediction {
         dimension: body.dimension(),
         alpha,
         mass_ratio,
         alpha_star,
         starts: options.starts,
-        halts: halts as f64 / n,
-        undecided: undecided as f64 / n,
+        halts: fates.halted,
+        undecided: fates.undecided,
+        fates,
         orbits,
     })
 }
@@ -233,13 +273,19 @@ struct Seen {
     repeat: usize,
     multipliers: Vec<[f64; 2]>,
     max_modulus: f64,
+    stability: Stability,
+    members: usize,
 }
 
-/// How one start ended.
+/// How one start ended, with what the orbit search needs.
 #[derive(Debug, Clone)]
 enum StartEnd {
-    Rest,
-    Undecided,
+    Rest(f64),
+    LeftModel(Violation),
+    /// No cycle; the last crossing (point, ω) if it made three or more (a neutral orbit may be
+    /// near), and, if its crossings drift steadily ([`steady_drift`]), the last interval
+    /// between them.
+    Undecided(Undecided, Option<(DVec3, DVec3)>, Option<f64>),
     /// A cycle of `k` crossings lasting `duration`; the last crossings (point, ω), newest last.
     Cycle {
         k: usize,
@@ -248,18 +294,174 @@ enum StartEnd {
     },
 }
 
+/// One start from rest at orientation `q0`, followed until its fate is decided: the viscous
+/// model by [`decided_run`], the inertial one by [`inertial_run`] with the contact force
+/// watched (a start that would leave the ramp ends there).
+fn sphere_start(
+    sphere: &Sphere,
+    ramp: &Ramp,
+    q0: DQuat,
+    decide: &Decide,
+    rtol: f64,
+) -> Result<StartEnd, StudyError> {
+    let last_of = |points: &[(DVec3, DVec3)]| (points.len() >= 3).then(|| points[points.len() - 1]);
+    // A steady slow drift, with the last interval between crossings (its period).
+    let drifts = |points: &[(DVec3, DVec3)], times: &[f64]| {
+        let n = times.len();
+        steady_drift(&points.iter().map(|p| p.0).collect::<Vec<_>>())
+            .and_then(|_| (n >= 2).then(|| times[n - 1] - times[n - 2]))
+    };
+    let no_cycle = |crossings: usize, angular_speed: f64| {
+        if crossings == 0 {
+            Undecided::NoTurn {
+                t_cap: decide.t_cap,
+                angular_speed,
+            }
+        } else {
+            Undecided::NoRepeat {
+                t_cap: decide.t_cap,
+                crossings,
+                max_k: decide.max_k,
+            }
+        }
+    };
+    if ramp.is_viscous() {
+        let r = decided_run(sphere, ramp, q0, decide, (0.0, 0.0, 0), rtol)?;
+        let points: Vec<(DVec3, DVec3)> = r
+            .crossings
+            .iter()
+            .map(|c| (DVec3::from_array(c.point), DVec3::ZERO))
+            .collect();
+        return Ok(match (r.end, r.cycle) {
+            (RunEnd::Periodic, Some((k, duration))) => StartEnd::Cycle {
+                k,
+                duration,
+                last: points[points.len() - k..].to_vec(),
+            },
+            (RunEnd::Rest, _) => StartEnd::Rest(r.t_end),
+            _ => StartEnd::Undecided(
+                no_cycle(points.len(), r.angular_speed),
+                last_of(&points),
+                drifts(
+                    &points,
+                    &r.crossings.iter().map(|c| c.t).collect::<Vec<_>>(),
+                ),
+            ),
+        });
+    }
+    let to_crossing = |c: &SectionState| super::sphere_orbits::Crossing {
+        t: c.t,
+        point: c.point,
+    };
+    let run = inertial_run(
+        sphere,
+        ramp,
+        q0,
+        DVec3::ZERO,
+        (decide.t_min, decide.t_cap),
+        rtol,
+        true,
+        |s| {
+            let c: Vec<_> = s.iter().map(to_crossing).collect();
+            settled_cycle(&c, decide.max_k, decide.tol).is_some()
+        },
+    )?;
+    let points: Vec<(DVec3, DVec3)> = run
+        .crossings
+        .iter()
+        .map(|c| (DVec3::from_array(c.point), DVec3::from_array(c.omega)))
+        .collect();
+    Ok(match run.end {
+        InertialEnd::LiftOff => StartEnd::LeftModel(Violation::LiftOff { t: run.t_end }),
+        InertialEnd::Rest => StartEnd::Rest(run.t_end),
+        InertialEnd::Decided | InertialEnd::Cap => {
+            let c: Vec<_> = run.crossings.iter().map(to_crossing).collect();
+            match settled_cycle(&c, decide.max_k, decide.tol) {
+                Some((k, duration)) => StartEnd::Cycle {
+                    k,
+                    duration,
+                    last: points[points.len() - k..].to_vec(),
+                },
+                None => StartEnd::Undecided(
+                    no_cycle(points.len(), run.angular_speed),
+                    last_of(&points),
+                    drifts(
+                        &points,
+                        &run.crossings.iter().map(|c| c.t).collect::<Vec<_>>(),
+                    ),
+                ),
+            }
+        }
+    })
+}
+
+/// The period-1 orbit through the section state (p, ω), by Newton on the return map.
+fn refine(
+    sphere: &Sphere,
+    ramp: &Ramp,
+    (p, omega): (DVec3, DVec3),
+) -> Result<super::sphere_return_map::PeriodicOrbit, ReturnMapError> {
+    let solve = OrbitSolve::default();
+    if ramp.is_viscous() {
+        viscous_periodic_orbit(sphere, ramp, p, &solve)
+    } else {
+        periodic_orbit(sphere, ramp, p, omega, &solve)
+    }
+}
+
+/// Adds a period-1 orbit that `count` starts settled on (or roll near, for a neutral one) to
+/// `found`: the same orbit (its crossing within 1e-6) counts them once more; a neutral orbit
+/// joins a neutral family of the same period and speed (within 1 %): a round body has one
+/// motion, rolling straight, whatever great circle it rolls on.
+fn add_orbit(
+    found: &mut Vec<Seen>,
+    orbit: &super::sphere_return_map::PeriodicOrbit,
+    count: usize,
+    stability: Stability,
+) {
+    let p = DVec3::from_array(orbit.point);
+    let same = found.iter_mut().find(|f| {
+        f.repeat == 1
+            && (boundary_distance(f.point, p) < 1e-6
+                || (stability == Stability::Neutral
+                    && f.stability == Stability::Neutral
+                    && (f.period - orbit.period).abs() < 0.01 * orbit.period))
+    });
+    match same {
+        Some(f) => {
+            if boundary_distance(f.point, p) >= 1e-6 {
+                f.members += 1;
+                f.max_modulus = f.max_modulus.max(orbit.max_modulus);
+            }
+            f.starts += count;
+        }
+        None => found.push(Seen {
+            point: p,
+            omega: DVec3::from_array(orbit.omega),
+            period: orbit.period,
+            starts: count,
+            repeat: 1,
+            multipliers: orbit.multipliers.clone(),
+            max_modulus: orbit.max_modulus,
+            stability,
+            members: 1,
+        }),
+    }
+}
+
 #[expect(
     clippy::too_many_lines,
     reason = "the runs from every start, the grouping of their cycles into orbits (period 1 \
-              refined by Newton, period 2 as seen) and each orbit's advance are one computation \
-              that shares the ramp, the model and the options"
+              refined by Newton and judged stable, neutral or unstable, period 2 as seen) and \
+              each orbit's advance and contact force are one computation that shares the ramp, \
+              the model and the options"
 )]
 fn predict_sphere(
     sphere: &Sphere,
     ramp: &Ramp,
     options: &PredictOptions,
     stop: &AtomicBool,
-) -> Result<(Vec<PredictedOrbit>, usize, usize), StudyError> {
+) -> Result<(Vec<PredictedOrbit>, Vec<Fate>), StudyError> {
     const RTOL: f64 = 1e-9;
     let decide = Decide {
         max_k: 2,
@@ -269,59 +471,15 @@ fn predict_sphere(
         .into_par_iter()
         .map(|o| {
             stopped(stop)?;
-            let q0 = random_orientation(sphere, options.seed, o);
-            if ramp.is_viscous() {
-                let r = decided_run(sphere, ramp, q0, &decide, (0.0, 0.0, 0), RTOL)?;
-                Ok(match (r.end, r.cycle) {
-                    (RunEnd::Periodic, Some((k, duration))) => StartEnd::Cycle {
-                        k,
-                        duration,
-                        last: r.crossings[r.crossings.len() - k..]
-                            .iter()
-                            .map(|c| (DVec3::from_array(c.point), DVec3::ZERO))
-                            .collect(),
-                    },
-                    (RunEnd::Rest, _) => StartEnd::Rest,
-                    _ => StartEnd::Undecided,
-                })
-            } else {
-                let to_crossing = |c: &SectionState| super::sphere_orbits::Crossing {
-                    t: c.t,
-                    point: c.point,
-                };
-                let (s, t_end) = inertial_crossings_until(
-                    sphere,
-                    ramp,
-                    q0,
-                    DVec3::ZERO,
-                    (decide.t_min, decide.t_cap),
-                    RTOL,
-                    |s| {
-                        let c: Vec<_> = s.iter().map(to_crossing).collect();
-                        settled_cycle(&c, decide.max_k, decide.tol).is_some()
-                    },
-                )?;
-                let c: Vec<_> = s.iter().map(to_crossing).collect();
-                Ok(match settled_cycle(&c, decide.max_k, decide.tol) {
-                    Some((k, duration)) => StartEnd::Cycle {
-                        k,
-                        duration,
-                        last: s[s.len() - k..]
-                            .iter()
-                            .map(|c| (DVec3::from_array(c.point), DVec3::from_array(c.omega)))
-                            .collect(),
-                    },
-                    None if t_end < decide.t_cap => StartEnd::Rest,
-                    None => StartEnd::Undecided,
-                })
-            }
+            sphere_start(
+                sphere,
+                ramp,
+                random_orientation(sphere, options.seed, o),
+                &decide,
+                RTOL,
+            )
         })
         .collect::<Result<_, StudyError>>()?;
-    let halts = ends.iter().filter(|e| matches!(e, StartEnd::Rest)).count();
-    let undecided = ends
-        .iter()
-        .filter(|e| matches!(e, StartEnd::Undecided))
-        .count();
     // Period 1: clusters of last crossings, each refined by Newton.
     let singles: Vec<(DVec3, DVec3)> = ends
         .iter()
@@ -332,7 +490,6 @@ fn predict_sphere(
         .collect();
     let points: Vec<DVec3> = singles.iter().map(|s| s.0).collect();
     let clusters = cluster_antipodal(&points, 1e-3);
-    let solve = OrbitSolve::default();
     let refined: Vec<(super::sphere_return_map::PeriodicOrbit, usize)> = clusters
         .par_iter()
         .map(|&(centre, count)| {
@@ -341,12 +498,7 @@ fn predict_sphere(
                 .iter()
                 .find(|s| boundary_distance(s.0, centre) < 1e-3)
                 .unwrap_or(&(centre, DVec3::ZERO));
-            let orbit = if ramp.is_viscous() {
-                viscous_periodic_orbit(sphere, ramp, p, &solve)
-            } else {
-                periodic_orbit(sphere, ramp, p, omega, &solve)
-            };
-            orbit
+            refine(sphere, ramp, (p, omega))
                 .map(|o| (o, count))
                 .map_err(|source| StudyError::NoFixedPoint {
                     near: p.to_array(),
@@ -354,23 +506,38 @@ fn predict_sphere(
                 })
         })
         .collect::<Result<_, StudyError>>()?;
+    // An undecided start that rolls near a neutral orbit, or whose crossings drift steadily
+    // and slowly, is on a neutral motion: it attracts too slowly (or not at all) for its
+    // crossings to repeat within the tolerance.
+    let near_neutral: Vec<(bool, Option<super::sphere_return_map::PeriodicOrbit>)> = ends
+        .par_iter()
+        .map(|e| match e {
+            StartEnd::Undecided(Undecided::NoRepeat { .. }, Some(last), drifting) => {
+                stopped(stop)?;
+                let orbit = refine(sphere, ramp, *last).ok().filter(|o| {
+                    Stability::of(o.max_modulus, o.period, decide.t_cap) == Stability::Neutral
+                });
+                Ok((orbit.is_some() || drifting.is_some(), orbit))
+            }
+            _ => Ok((false, None)),
+        })
+        .collect::<Result<_, StudyError>>()?;
     let mut found: Vec<Seen> = Vec::new();
-    for (orbit, count) in refined {
-        let p = DVec3::from_array(orbit.point);
-        match found
-            .iter_mut()
-            .find(|f| f.repeat == 1 && boundary_distance(f.point, p) < 1e-6)
+    for (orbit, count) in &refined {
+        let stability = Stability::of(orbit.max_modulus, orbit.period, decide.t_cap);
+        add_orbit(&mut found, orbit, *count, stability);
+    }
+    for orbit in near_neutral.iter().filter_map(|n| n.1.as_ref()) {
+        add_orbit(&mut found, orbit, 1, Stability::Neutral);
+    }
+    // A drifting start without an orbit of its own joins the neutral family of its period.
+    for (e, n) in ends.iter().zip(&near_neutral) {
+        if let (StartEnd::Undecided(_, _, Some(period)), (true, None)) = (e, n)
+            && let Some(f) = found.iter_mut().find(|f| {
+                f.stability == Stability::Neutral && (f.period - period).abs() < 0.01 * period
+            })
         {
-            Some(same) => same.starts += count,
-            None => found.push(Seen {
-                point: p,
-                omega: DVec3::from_array(orbit.omega),
-                period: orbit.period,
-                starts: count,
-                repeat: 1,
-                multipliers: orbit.multipliers.clone(),
-                max_modulus: orbit.max_modulus,
-            }),
+            f.starts += 1;
         }
     }
     // Period 2: runs on the same 2-cycle share one of its two crossing points.
@@ -399,50 +566,79 @@ fn predict_sphere(
                 repeat: 2,
                 multipliers: Vec::new(),
                 max_modulus: f64::NAN,
+                stability: Stability::Stable,
+                members: 1,
             }),
         }
     }
+    // Each start's fate; a period-1 start takes its orbit's stability.
+    let fates: Vec<Fate> = ends
+        .iter()
+        .zip(&near_neutral)
+        .map(|(e, neutral)| match e {
+            StartEnd::Rest(t) => Fate::Halted { t: Some(*t) },
+            StartEnd::LeftModel(violation) => Fate::LeftModel {
+                violation: *violation,
+            },
+            StartEnd::Undecided(why, ..) => {
+                if neutral.0 {
+                    Fate::Neutral
+                } else {
+                    Fate::Undecided { why: *why }
+                }
+            }
+            StartEnd::Cycle { k: 1, last, .. } => {
+                // Its cluster's refined orbit (the same test that grouped it).
+                let orbit = clusters
+                    .iter()
+                    .zip(&refined)
+                    .find(|((centre, _), _)| boundary_distance(*centre, last[0].0) < 1e-3);
+                match orbit.map(|(_, (o, _))| Stability::of(o.max_modulus, o.period, decide.t_cap))
+                {
+                    Some(Stability::Neutral) => Fate::Neutral,
+                    _ => Fate::Periodic { multiplicity: 1 },
+                }
+            }
+            StartEnd::Cycle { k, .. } => Fate::Periodic { multiplicity: *k },
+        })
+        .collect();
     let mut orbits: Vec<PredictedOrbit> = found
         .into_par_iter()
-        .map(
-            |Seen {
-                 point: p,
-                 omega,
-                 period,
-                 starts: count,
-                 repeat,
-                 multipliers,
-                 max_modulus,
-             }| {
-                stopped(stop)?;
-                let path = sphere_path(sphere, ramp, p, omega, period, options)?;
-                let per = options.samples_per_period;
-                let (down, across) = (path[per][0] - path[0][0], path[per][1] - path[0][1]);
-                let modulus = (repeat == 1).then_some(max_modulus);
-                Ok(PredictedOrbit {
-                    period,
-                    repeat,
-                    advance_down: down,
-                    advance_across: across,
-                    speed: down / period,
-                    stable: modulus.is_none_or(|m| m < 1.0),
-                    multipliers,
-                    max_modulus: modulus,
-                    fraction: count as f64 / options.starts as f64,
-                    starts: count,
-                    crossing: Some(p.to_array()),
-                    omega: Some(omega.to_array()),
-                    path,
-                })
-            },
-        )
+        .map(|seen| {
+            stopped(stop)?;
+            let (path, contact) =
+                sphere_path(sphere, ramp, seen.point, seen.omega, seen.period, options)?;
+            let per = options.samples_per_period;
+            let (down, across) = (path[per][0] - path[0][0], path[per][1] - path[0][1]);
+            let modulus = (seen.repeat == 1).then_some(seen.max_modulus);
+            let leaves = contact.as_ref().and_then(|c| c.lift_off_t);
+            Ok(PredictedOrbit {
+                period: seen.period,
+                repeat: seen.repeat,
+                advance_down: down,
+                advance_across: across,
+                speed: down / seen.period,
+                stable: seen.stability == Stability::Stable && leaves.is_none(),
+                stability: seen.stability,
+                members: seen.members,
+                multipliers: seen.multipliers,
+                max_modulus: modulus,
+                fraction: seen.starts as f64 / options.starts as f64,
+                starts: seen.starts,
+                crossing: Some(seen.point.to_array()),
+                omega: Some(seen.omega.to_array()),
+                contact: contact.map(OrbitContact::from),
+                path,
+            })
+        })
         .collect::<Result<_, StudyError>>()?;
     orbits.sort_by(|a, b| b.starts.cmp(&a.starts).then(a.period.total_cmp(&b.period)));
-    Ok((orbits, halts, undecided))
+    Ok((orbits, fates))
 }
 
 /// The centre's (down, across) from the crossing (p, ω) over `periods_drawn` repeats of
-/// `period`, relative to its start.
+/// `period`, relative to its start; with inertia, the contact force along it (watched on each
+/// step's dense output).
 fn sphere_path(
     sphere: &Sphere,
     ramp: &Ramp,
@@ -450,7 +646,7 @@ fn sphere_path(
     omega: DVec3,
     period: f64,
     options: &PredictOptions,
-) -> Result<Vec<[f64; 2]>, StudyError> {
+) -> Result<(Vec<[f64; 2]>, Option<ContactReport>), StudyError> {
     // On ∂Ω the rotation is by π about p: q = (0, p).
     let q0 = DQuat::from_xyzw(p.x, p.y, p.z, 0.0).normalize();
     let n = options.periods_drawn * options.samples_per_period;
@@ -458,28 +654,42 @@ fn sphere_path(
         .map(|i| period * i as f64 / options.samples_per_period as f64)
         .collect();
     let method = Method::dop853(1e-10);
-    let path = if ramp.is_viscous() {
+    let (path, contact) = if ramp.is_viscous() {
         let m = SphereViscous::new(sphere, ramp);
         let mut st = integrate::stepper(&m, 0.0, SphereViscous::initial_state(q0), method)?;
-        sample(st.as_mut(), &times, |y| [y[4], y[5]])?
+        (sample(st.as_mut(), &times, |y| [y[4], y[5]], |_| {})?, None)
     } else {
         let m = SphereInertial::new(sphere, ramp);
-        let mut st = integrate::stepper(&m, 0.0, SphereInertial::initial_state(q0, omega), method)?;
-        sample(st.as_mut(), &times, |y| [y[7], y[8]])?
+        let y0 = SphereInertial::initial_state(q0, omega);
+        let mut watch = ContactWatch::new(ContactLimits::default(), 0.0, m.contact_force(&y0));
+        let mut st = integrate::stepper(&m, 0.0, y0, method)?;
+        let path = sample(
+            st.as_mut(),
+            &times,
+            |y| [y[7], y[8]],
+            |st| {
+                let at = (st.t(), *st.y());
+                watch.step_along(st, at, |y| m.contact_force(y));
+            },
+        )?;
+        (path, Some(watch.report()))
     };
     let start = path[0];
-    Ok(path
-        .into_iter()
-        .map(|c| [c[0] - start[0], c[1] - start[1]])
-        .collect())
+    Ok((
+        path.into_iter()
+            .map(|c| [c[0] - start[0], c[1] - start[1]])
+            .collect(),
+        contact,
+    ))
 }
 
 /// `pick` of the state at each of `times` (increasing, from the stepper's start), from the
-/// dense output.
+/// dense output; `on_step` sees each step (an observer: it must not move the stepper).
 fn sample<const N: usize>(
     st: &mut dyn integrate::Stepper<N>,
     times: &[f64],
     pick: impl Fn(&[f64; N]) -> [f64; 2],
+    mut on_step: impl FnMut(&mut dyn integrate::Stepper<N>),
 ) -> Result<Vec<[f64; 2]>, StudyError> {
     let mut out = Vec::with_capacity(times.len());
     let end = times.last().copied().unwrap_or(0.0);
@@ -496,6 +706,7 @@ fn sample<const N: usize>(
         }
         if next < times.len() {
             st.step(end)?;
+            on_step(st);
         }
     }
     Ok(out)
@@ -508,50 +719,65 @@ fn predict_disk(
     ramp: &Ramp,
     options: &PredictOptions,
     stop: &AtomicBool,
-) -> Result<(Vec<PredictedOrbit>, usize, usize), StudyError> {
+) -> Result<(Vec<PredictedOrbit>, Vec<Fate>), StudyError> {
     const RTOL: f64 = 1e-10;
-    // Each start's period (None: it halts; Err: undecided at the cap).
-    let periods: Vec<Option<Option<f64>>> = if ramp.is_viscous() {
+    let t_cap = options.decide.t_cap;
+    // Each start's fate, with its period when it rolls.
+    let ends: Vec<(Fate, Option<f64>)> = if ramp.is_viscous() {
         // The viscous disk's fate does not depend on where it starts.
         let p = viscous_disk_period(disk, ramp);
-        vec![
-            if p.halts {
-                Some(None)
-            } else {
-                p.period.map(Some)
-            };
-            options.starts
-        ]
+        let end = match p.period {
+            _ if p.halts => (Fate::Halted { t: None }, None),
+            Some(t) => (Fate::Periodic { multiplicity: 1 }, Some(t)),
+            None => (
+                Fate::Undecided {
+                    why: Undecided::NoRepeat {
+                        t_cap: f64::INFINITY,
+                        crossings: 0,
+                        max_k: 1,
+                    },
+                },
+                None,
+            ),
+        };
+        vec![end; options.starts]
     } else {
         (0..options.starts)
             .into_par_iter()
             .map(|i| {
                 let theta0 = std::f64::consts::TAU * i as f64 / options.starts as f64;
-                let p = inertial_disk_period_until(
-                    disk,
-                    ramp,
-                    theta0,
-                    0.0,
-                    RTOL,
-                    options.decide.t_cap,
-                    stop,
-                )?
-                .ok_or(StudyError::Stopped)?;
-                Ok(if p.halts {
-                    Some(None)
-                } else if p.converged {
-                    p.period.map(Some)
-                } else {
-                    None
+                let p = inertial_disk_period_until(disk, ramp, theta0, 0.0, RTOL, t_cap, stop)?
+                    .ok_or(StudyError::Stopped)?;
+                Ok(match p.period {
+                    _ if p.halts => (Fate::Halted { t: None }, None),
+                    Some(t) if p.converged => (Fate::Periodic { multiplicity: 1 }, Some(t)),
+                    Some(t) => (
+                        Fate::Undecided {
+                            why: Undecided::NoRepeat {
+                                t_cap,
+                                crossings: (p.t_simulated / t) as usize,
+                                max_k: 1,
+                            },
+                        },
+                        None,
+                    ),
+                    None => (
+                        Fate::Undecided {
+                            why: Undecided::NoTurn {
+                                t_cap,
+                                angular_speed: f64::NAN,
+                            },
+                        },
+                        None,
+                    ),
                 })
             })
             .collect::<Result<_, StudyError>>()?
     };
-    let halts = periods.iter().filter(|p| matches!(p, Some(None))).count();
-    let undecided = periods.iter().filter(|p| p.is_none()).count();
-    let rolling: Vec<f64> = periods.iter().filter_map(|p| p.flatten()).collect();
+    let fates: Vec<Fate> = ends.iter().map(|e| e.0).collect();
+    let rolling: Vec<f64> = ends.iter().filter_map(|e| e.1).collect();
     if rolling.is_empty() {
-        return Ok((Vec::new(), halts, undecided));
+        return Ok((Vec::new(), fates));
     }
     // Every rolling start is on the same cycle (the disk's phase space is a cylinder with one
     // rolling orbit at most at this α; shown by the periods agreeing).
@@ -588,15 +814,18 @@ fn predict_disk(
         advance_across: 0.0,
         speed: perimeter / period,
         stable: true,
+        stability: Stability::Stable,
+        members: 1,
         multipliers: Vec::new(),
         max_modulus: None,
         fraction: rolling.len() as f64 / options.starts as f64,
         starts: rolling.len(),
         crossing: None,
         omega: None,
+        contact: None,
         path,
     };
-    Ok((vec![orbit], halts, undecided))
+    Ok((vec![orbit], fates))
 }
 
 /// The arc of the body's boundary between contact angles `a` and `b` (Simpson's rule on 16

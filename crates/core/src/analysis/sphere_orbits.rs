@@ -45,7 +45,13 @@ macro_rules! on_model {
             let model = SphereInertial::new($body, $ramp);
             let $sys = &model;
             let $y0 = SphereInertial::initial_state($q0, DVec3::ZERO);
-            let $omega = |y: &[f64; 10]| DVec3::new(y[4], y[5], y[6]).length();
+            // At rest only where the weight's torque vanishes too (`verdict::at_rest`): a
+            // heavy body is still at first and speeds up over m/m0 t0.
+            let $omega = |y: &[f64; 10]| {
+                DVec3::new(y[4], y[5], y[6])
+                    .length()
+                    .max(model.ramp_torque(y))
+            };
             $run
         }
     };
@@ -128,7 +134,8 @@ pub enum Fate {
     },
     /// Neither within the time limit; |ω| at the end tells a slow approach to rest from wandering.
     Undecided {
-        /// |ω| at t_max.
+        /// |ω| at t_max (with inertia, or the weight's torque about the contact if larger: what
+        /// still keeps it from rest).
         omega_end: f64,
     },
 }
@@ -788,6 +795,8 @@ pub struct DecidedRun {
     pub end: RunEnd,
     /// When it ended.
     pub t_end: f64,
+    /// |ω| at its end.
+    pub angular_speed: f64,
 }
 
 impl DecidedRun {
@@ -850,6 +859,7 @@ pub fn decided_run(
             sampling,
             rtol,
             |y| m.observe(y),
+            |y| m.observe(y).omega.length() < 1e-10,
         )
     } else {
         let m = SphereInertial::new(body, ramp);
@@ -860,6 +870,7 @@ pub fn decided_run(
             sampling,
             rtol,
             |y| m.observe(y),
+            |y| super::verdict::at_rest(m.observe(y).omega.length(), m.ramp_torque(y)),
         )
     }
 }
@@ -871,6 +882,7 @@ fn record<const N: usize, S: OdeSystem<N>>(
     (t_from, t_to, samples): (f64, f64, usize),
     rtol: f64,
     observe: impl Fn(&[f64; N]) -> SphereObservation,
+    at_rest: impl Fn(&[f64; N]) -> bool,
 ) -> Result<DecidedRun, IntegrateError> {
     let times = integrate::uniform_times(t_from, t_to.min(decide.t_cap), samples);
     let mut st = integrate::stepper(sys, 0.0, y0, Method::dop853(rtol))?;
@@ -916,7 +928,7 @@ fn record<const N: usize, S: OdeSystem<N>>(
             let quiet = crossings
                 .last()
                 .is_none_or(|c| st.t() - c.t >= decide.t_min);
-            if decide.max_k > 0 && quiet && observe(st.y()).omega.length() < 1e-10 {
+            if decide.max_k > 0 && quiet && at_rest(st.y()) {
                 end = RunEnd::Rest;
                 break;
             }
@@ -928,6 +940,7 @@ fn record<const N: usize, S: OdeSystem<N>>(
         cycle,
         end,
         t_end: st.t(),
+        angular_speed: observe(st.y()).omega.length(),
     })
 }
 

@@ -17,13 +17,12 @@ use serde::Serialize;
 
 use super::return_map::{self, ReturnMapError};
 use super::sphere_orbits::{first_crossing, nearest_sign, poincare_step};
-use crate::dynamics::{Ramp, SphereInertial, SphereViscous};
+use super::verdict::at_rest;
+use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch};
+use crate::dynamics::{Ramp, RollingModel, SphereInertial, SphereViscous};
 use crate::geometry::Sphere;
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::{self, IntegrateError, Method};
-
-/// |ω| below which a run counts as halted.
-const OMEGA_REST: f64 = 1e-9;
 
 /// A point of the section: where the orientation crosses ∂Ω, with the angular velocity there.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -63,8 +62,9 @@ pub fn inertial_crossings(
 }
 
 /// [`inertial_crossings`] that goes on until its fate is decided: at least `t_min`, then until
-/// `decided` says so (asked at every new crossing) or the body comes to rest, and at most
-/// `t_cap` (`span` = (t_min, t_cap)). Returns the crossings and the time the run ended.
+/// `decided` says so (asked at every new crossing) or the body comes to rest
+/// ([`super::verdict::at_rest`]: still, and the weight's torque zero), and at most `t_cap`
+/// (`span` = (t_min, t_cap)). Returns the crossings and the time the run ended.
 ///
 /// # Example
 /// ```
@@ -83,21 +83,87 @@ pub fn inertial_crossings_until(
     ramp: &Ramp,
     q0: DQuat,
     omega0: DVec3,
+    span: (f64, f64),
+    rtol: f64,
+    decided: impl FnMut(&[SectionState]) -> bool,
+) -> Result<(Vec<SectionState>, f64), IntegrateError> {
+    inertial_run(body, ramp, q0, omega0, span, rtol, false, decided).map(|r| (r.crossings, r.t_end))
+}
+
+/// How an [`inertial_run`] ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum InertialEnd {
+    /// `decided` said so.
+    Decided,
+    /// The body came to rest ([`super::verdict::at_rest`]).
+    Rest,
+    /// The normal force fell to zero: the body leaves the ramp (only when watched).
+    LiftOff,
+    /// It reached `t_cap`.
+    Cap,
+}
+
+/// A run of [`inertial_run`].
+#[derive(Debug, Clone)]
+pub struct InertialRun {
+    /// Every crossing of ∂Ω.
+    pub crossings: Vec<SectionState>,
+    /// When it ended.
+    pub t_end: f64,
+    /// Why.
+    pub end: InertialEnd,
+    /// |ω| at the end.
+    pub angular_speed: f64,
+    /// The contact force along the run, when watched.
+    pub contact: Option<ContactReport>,
+}
+
+/// [`inertial_crossings_until`] with its end told apart, and, if `watch_contact`, the contact
+/// force followed along the run ([`ContactWatch`], an observer: the trajectory is the same
+/// with or without it) and the run stopped where the body would leave the ramp.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_return_map::{InertialEnd, inertial_run};
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::Body;
+/// use rollphase_core::glam::{DQuat, DVec3};
+/// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+/// // A very heavy body above α* is still at first, but it is speeding up, not at rest.
+/// let run = inertial_run(&s, &Ramp::new(0.3, 1e10)?, DQuat::IDENTITY, DVec3::ZERO, (10.0, 100.0), 1e-9, true, |_| false)?;
+/// assert_eq!(run.end, InertialEnd::Cap);
+/// assert!(run.contact.is_some_and(|c| c.min_normal_force > 0.0));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn inertial_run(
+    body: &Sphere,
+    ramp: &Ramp,
+    q0: DQuat,
+    omega0: DVec3,
     (t_min, t_cap): (f64, f64),
     rtol: f64,
+    watch_contact: bool,
     mut decided: impl FnMut(&[SectionState]) -> bool,
-) -> Result<(Vec<SectionState>, f64), IntegrateError> {
+) -> Result<InertialRun, IntegrateError> {
     let model = SphereInertial::new(body, ramp);
-    let mut st = integrate::stepper(
-        &model,
-        0.0,
-        SphereInertial::initial_state(q0, omega0),
-        Method::dop853(rtol),
-    )?;
+    let y0 = SphereInertial::initial_state(q0, omega0);
+    let mut st = integrate::stepper(&model, 0.0, y0, Method::dop853(rtol))?;
+    let mut watch = watch_contact
+        .then(|| ContactWatch::new(ContactLimits::default(), 0.0, model.contact_force(&y0)));
     let mut times = Vec::new();
     let mut out = Vec::new();
+    let mut end = InertialEnd::Cap;
     while st.t() < t_cap {
         st.step(t_cap)?;
+        if let Some(w) = watch.as_mut() {
+            let at = (st.t(), *st.y());
+            w.step_along(st.as_mut(), at, |y| model.contact_force(y));
+            if w.report().lift_off_t.is_some() {
+                end = InertialEnd::LiftOff;
+                break;
+            }
+        }
         times.clear();
         crossings_in_last_step(
             st.as_mut(),
@@ -114,14 +180,24 @@ pub fn inertial_crossings_until(
             });
         }
         let y = st.y();
-        if DVec3::new(y[4], y[5], y[6]).length() < OMEGA_REST && st.t() > 1.0 {
+        let speed = DVec3::new(y[4], y[5], y[6]).length();
+        if st.t() > 1.0 && at_rest(speed, model.ramp_torque(y)) {
+            end = InertialEnd::Rest;
             break;
         }
         if st.t() >= t_min && !times.is_empty() && decided(&out) {
+            end = InertialEnd::Decided;
             break;
         }
     }
-    Ok((out, st.t()))
+    let y = st.y();
+    Ok(InertialRun {
+        crossings: out,
+        t_end: st.t(),
+        end,
+        angular_speed: DVec3::new(y[4], y[5], y[6]).length(),
+        contact: watch.map(|w| w.report()),
+    })
 }
 
 /// One application of P: from boundary point `p` with angular velocity `omega` to the next

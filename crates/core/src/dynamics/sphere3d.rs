@@ -360,6 +360,28 @@ impl<'a> SphereInertial<'a> {
         }
     }
 
+    /// |r × F|, the torque of the body's weight about the contact (units of F⟨r⟩): zero only
+    /// where the body can rest; NaN where the contact is not found.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{Ramp, SphereInertial};
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::glam::{DQuat, DVec3};
+    /// // The unit ball: the weight's torque about the contact is sin α, wherever it is turned.
+    /// let ball = Sphere::perfect();
+    /// let model = SphereInertial::new(&ball, &Ramp::new(0.3, 2.0)?);
+    /// let y = SphereInertial::initial_state(DQuat::IDENTITY, DVec3::ZERO);
+    /// assert!((model.ramp_torque(&y) - 0.3f64.sin()).abs() < 1e-12);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
+    pub fn ramp_torque(&self, y: &[f64; 10]) -> f64 {
+        let q = quat_at(y, 0);
+        self.tracker.peek(q).map_or(f64::NAN, |sp| {
+            (q.normalize() * sp.p).cross(self.force).length()
+        })
+    }
+
     /// ω̇, the lab contact vector r and its full derivative ṙ for contact `sp`, orientation q
     /// (unit) and ω (SI eq. 34).
     fn omega_dot(&self, q: DQuat, sp: &SurfacePoint, omega: DVec3) -> (DVec3, DVec3, DVec3) {

@@ -65,7 +65,8 @@ impl ContactLimits {
 }
 
 /// The first time a run stopped being rollable.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Violation {
     /// N fell to 0: the body leaves the ramp.
     LiftOff {
