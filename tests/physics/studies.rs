@@ -254,6 +254,8 @@ fn a_stopped_study_says_so() {
 /// multiplicity 2 for rk4:0.5, cf4:0.5 and dop853:1e-4 where the reference gives 32.419 with
 /// multiplicity 1; viscous at α = 0.2, rk4:0.8 and cf4:0.8 gave period 3. Every run now reports
 /// the reference's answer, and the ones the reference corrected say what the fast setting said.
+/// Since issue 44 a cycle of k ≥ 2 must be steady to be an answer: the fast settings' period-2
+/// answers at m/m0 = 6 were transients of the period-1 orbit, and none is given any more.
 #[test]
 fn a_scans_answers_do_not_depend_on_the_integrator_picked_for_speed() {
     use rollphase::analysis::scan::Scan;
@@ -313,8 +315,14 @@ fn a_scans_answers_do_not_depend_on_the_integrator_picked_for_speed() {
                 }
             }
         }
-        // The defect is still there in the fast settings' own answers: the check caught it.
-        assert!(fast_doublings >= 2, "m/m0 = {mass}: {fast_doublings}");
-        assert!(tally.corrected >= fast_doublings);
+        // At m/m0 = 6 no setting's own answer is a doubling now (dop853:1e-4 is still wrong on
+        // its own, by its period); viscous, dt 0.8 makes a steady cycle of 3 crossings of its
+        // own, a defect of the coarse step that the check corrects.
+        if mass > 0.0 {
+            assert_eq!(fast_doublings, 0, "m/m0 = {mass}");
+        } else {
+            assert!(fast_doublings >= 2, "m/m0 = {mass}: {fast_doublings}");
+        }
+        assert!(tally.corrected >= fast_doublings.max(1), "m/m0 = {mass}");
     }
 }

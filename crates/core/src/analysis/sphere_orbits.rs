@@ -9,7 +9,7 @@
 //! k = 2).
 //!
 //! A fate found with a fast integrator is an answer of that integrator, not of the model: a step
-//! of 0.5 turns the paper body's period-1 orbit at α = 0.2, m/m0 = 6 into a period-2 one. So
+//! of 0.8 (or DOP853 at rtol 1e-4) gets the paper body's fates at α = 0.2, m/m0 = 6 wrong. So
 //! [`settle_checked`] re-decides every fate that a setting coarser than the reference (DOP853 at
 //! [`Settle::rtol`]) reports before it is given out: a period-1 cycle is followed on from its
 //! last crossing with the reference until the reference closes its own cycle (cheap: a few
@@ -18,6 +18,13 @@
 //! rest point it ended at, and near a flip the k the settle criterion finds depends on where
 //! the transient stands). The reported fate is the reference's, with [`AnswerCheck`] saying
 //! whether the fast one agreed.
+//!
+//! A cycle of k ≥ 2 is an answer only once it is steady ([`steady_cycle`]): a run spiralling
+//! onto a period-1 orbit looks like a cycle of 2 or 3 crossings long before its crossings
+//! repeat one by one. Until 2026-11-26 [`settle`] called such transients answers: the "false
+//! period doublings" of RK4 at dt 0.4–0.5 and DOP853 at rtol 1e-6 on the m/m0 = 6 case, and a
+//! "period 3" (96.57 = 3 × 32.19) that DOP853 at rtol 1e-12 itself gave the paper body at
+//! α = 0.2014, m/m0 = 6, were all transients of period-1 orbits.
 
 use glam::{DQuat, DVec3};
 use serde::Serialize;
@@ -490,7 +497,8 @@ fn follow_checked<const N: usize, S: RollingModel<N>>(
     })
 }
 
-/// A cycle of length k ≤ max_k closing twice in a row (points and durations).
+/// A cycle of length k ≤ max_k closing twice in a row (points and durations), and steady for
+/// k ≥ 2 ([`steady_cycle`]).
 fn periodic(c: &[Crossing], s: &Settle) -> Option<Fate> {
     let n = c.len();
     for k in 1..=s.max_k {
@@ -504,6 +512,7 @@ fn periodic(c: &[Crossing], s: &Settle) -> Option<Fate> {
         if boundary_distance(p(a), p(b)) < s.point_tol
             && boundary_distance(p(b), p(d)) < s.point_tol
             && (t1 - t0).abs() < s.period_rtol * t1
+            && steady_cycle(c, k, s.point_tol)
         {
             return Some(Fate::Periodic {
                 period: t1,
@@ -964,16 +973,42 @@ fn record<const N: usize, S: OdeSystem<N>>(
 /// ```
 pub fn settled_cycle(c: &[Crossing], max_k: usize, tol: f64) -> Option<(usize, f64)> {
     let (k, d) = late_cycle(c, max_k, tol)?;
+    steady_cycle(c, k, tol).then_some((k, d))
+}
+
+/// Whether a cycle of `k` crossings closing at the end of `c` is steady, not the transient of a
+/// shorter one: always for k = 1; for k ≥ 2 the step |p_n − p_{n−1}| must equal, to 2·`tol`, the
+/// same step 10k crossings earlier. A run spiralling onto a period-1 orbit whose multipliers turn
+/// by ~2π/k a crossing has p_n ≈ p_{n−k} long before p_n ≈ p_{n−1}, while its steps still shrink;
+/// a true k-cycle's do not. The one test [`settled_cycle`] and [`settle`] share.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::sphere_orbits::{Crossing, steady_cycle};
+/// // Points turning by 2π/3 a crossing about a centre while closing in by 0.999 a crossing:
+/// // every third point nearly repeats, but the steps shrink.
+/// let c: Vec<Crossing> = (0..80)
+///     .map(|i| {
+///         let (a, r) = (2.0 * std::f64::consts::PI / 3.0 * i as f64, 0.01 * 0.999f64.powi(i));
+///         Crossing { t: 30.0 * i as f64, point: [r * a.cos(), r * a.sin(), 1.0] }
+///     })
+///     .collect();
+/// assert!(!steady_cycle(&c, 3, 1e-5));
+/// assert!(steady_cycle(&c, 1, 1e-5));
+/// ```
+pub fn steady_cycle(c: &[Crossing], k: usize, tol: f64) -> bool {
     if k == 1 {
-        return Some((k, d));
+        return true;
     }
     let n = c.len();
     let back = 10 * k;
-    (n > back + 1).then_some(())?;
+    if n <= back + 1 {
+        return false;
+    }
     let p = |i: usize| DVec3::from_array(c[i].point);
     let now = boundary_distance(p(n - 1), p(n - 2));
     let then = boundary_distance(p(n - 1 - back), p(n - 2 - back));
-    ((now - then).abs() < 2.0 * tol).then_some((k, d))
+    (now - then).abs() < 2.0 * tol
 }
 
 /// The shortest cycle of the crossing sequence at its end: the smallest k ≤ `max_k` with
