@@ -183,6 +183,21 @@ class Significance(TypedDict):
     normalised_dip: float
     p_bound: float
 
+class MarkerReading(TypedDict):
+    """Whether the markers repeat after one period or only after two, with the evidence."""
+    verdict: Literal["every_period", "every_other_period", "no_repeat", "too_sparse"]
+    detections: int
+    cycles: int
+    pairs_one: int
+    pairs_two: int
+    mismatch_one_cm: float
+    mismatch_two_cm: float
+    chance_floor_cm: float
+    score: float
+    shuffled_score_max: float
+    shuffles: int
+    reason: str
+
 class TrackMeasurement(TypedDict):
     period_frames: float
     period_error_frames: float
@@ -198,6 +213,7 @@ class TrackMeasurement(TypedDict):
     mismatch_curve: _Array
     frames_used: List[float]
     warnings: List[str]
+    marker_reading: NotRequired[MarkerReading]
 
 class ModelComparison(TypedDict):
     alpha: float
@@ -511,11 +527,15 @@ def predict(
     lift_off_t (inertial), multipliers (complex), max_modulus, fraction, starts, crossing, omega, and path
     (an (N, 2) array of the centre over three repeats)."""
 
-def measure_track(frames: _Floats, down: _Floats, across: _Floats) -> TrackMeasurement:
+def measure_track(
+    frames: _Floats, down: _Floats, across: _Floats, *, markers: Optional[_Floats] = None
+) -> TrackMeasurement:
     """`rollphase track`'s measurement of a centre track (frame numbers; down and across the
     ramp in cm, NaN where missing): cleaned, and its period found by FFT at every shift, stated
     only with its evidence (each cycle repeats on its own, surrogates set the chance level, most
-    of the track repeats), else InputError saying why. Periods and shifts are in frames."""
+    of the track repeats), else InputError saying why. Periods and shifts are in frames. With
+    markers ((N, 3): frame, down, across in cm), marker_reading says whether their pattern
+    repeats after one period or only after two, as `track --markers`."""
 
 def compare_with_model(
     body: Body,

@@ -4,7 +4,7 @@
 //! (`rollphase_core::analysis::tracking`), run with the GIL released.
 
 use numpy::ndarray::{Array1, Array2};
-use numpy::{AllowTypeChange, IntoPyArray, PyArrayLike1};
+use numpy::{AllowTypeChange, IntoPyArray, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rollphase_core::analysis::prediction::PredictOptions;
@@ -68,14 +68,33 @@ fn fields_into(
 /// significance (the surrogates' check against chance), mismatch_curve ((N, 2) array of shift
 /// and normalised mismatch), frames_used ([first, last]) and warnings. A track that does not
 /// show a period with that evidence raises InputError saying why. Multiply by 1/fps for
-/// seconds; the same numbers as the command line's summary.json.
+/// seconds; the same numbers as the command line's summary.json. With `markers` (an (N, 3)
+/// array of frame, down, across in cm: the markers drawn on the body), also marker_reading:
+/// whether their pattern repeats after one period or only after two (MarkerReading: verdict
+/// "every_period", "every_other_period", "no_repeat" or "too_sparse", the score D1/D2, its
+/// shuffles and a reason), as `track --markers`.
 #[pyfunction]
+#[pyo3(signature = (frames, down, across, *, markers = None))]
 pub fn measure_track<'py>(
     py: Python<'py>,
     frames: PyArrayLike1<'py, f64, AllowTypeChange>,
     down: PyArrayLike1<'py, f64, AllowTypeChange>,
     across: PyArrayLike1<'py, f64, AllowTypeChange>,
+    markers: Option<PyArrayLike2<'py, f64, AllowTypeChange>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let markers: Option<Vec<(f64, f64, f64)>> = match markers {
+        Some(m) => {
+            let m = m.as_array();
+            if m.ncols() != 3 {
+                return Err(input_error(format!(
+                    "markers has {} columns (needs 3: frame, down, across in cm)",
+                    m.ncols()
+                )));
+            }
+            Some(m.rows().into_iter().map(|r| (r[0], r[1], r[2])).collect())
+        }
+        None => None,
+    };
     let (frames, down, across) = (
         frames.as_array().to_vec(),
         down.as_array().to_vec(),
@@ -97,6 +116,17 @@ pub fn measure_track<'py>(
         "frames_used",
         vec![track.frames[0], track.frames[track.frames.len() - 1]],
     )?;
+    if let Some(m) = markers {
+        let reading = rollphase_core::analysis::tracking::markers::read_markers(
+            &track,
+            &m,
+            track.frames[0],
+            fit.period_frames,
+        );
+        let r = PyDict::new(py);
+        fields_into(&r, &reading, &[])?;
+        d.set_item("marker_reading", r)?;
+    }
     d.set_item("warnings", track.warnings)?;
     Ok(d)
 }

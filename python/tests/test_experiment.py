@@ -137,6 +137,27 @@ def test_measure_track_is_the_command_lines(repo, cli, tmp_path):
     assert fit["mismatch_curve"].shape[1] == 2 and len(fit["cycle_periods"]) >= 8
 
 
+def test_the_markers_read_as_the_command_line_reads_them(repo, cli, tmp_path):
+    import csv
+
+    with open(repo / "assets/data/sphere-markers-viscous.csv") as f:
+        rows = list(csv.DictReader(f))
+    markers = np.array(
+        [[float(r["frame"]), float(r["yn"]) * 0.0361, float(r["xn"]) * 0.0404] for r in rows]
+    )
+    fit = rollphase.measure_track(*authors_track(repo), markers=markers)
+    reading = fit["marker_reading"]
+    # The viscous run's markers repeat after one period (Fig. 5e's reading: no doubling).
+    assert reading["verdict"] == "every_period"
+    assert reading["mismatch_one_cm"] < 0.5 * reading["chance_floor_cm"]
+    out = tmp_path / "run"
+    cli("track", repo / TRACK, "--markers", repo / "assets/data/sphere-markers-viscous.csv", "--out", out)
+    assert json.loads((out / "summary.json").read_text())["marker_reading"] == reading
+    assert "marker_reading" not in rollphase.measure_track(*authors_track(repo))
+    with pytest.raises(rollphase.InputError, match="3: frame, down, across"):
+        rollphase.measure_track(*authors_track(repo), markers=markers[:, :2])
+
+
 def test_a_track_without_a_period_says_why():
     rng = np.random.default_rng(3)
     walk = np.cumsum(1.0 + 3.0 * rng.normal(size=(1500, 2)), axis=0)

@@ -8,6 +8,7 @@ use clap::Args;
 use serde::Serialize;
 
 use crate::analysis::prediction::{PredictOptions, PredictedOrbit};
+use crate::analysis::tracking::markers::{MarkerReading, read_markers};
 use crate::analysis::tracking::model::{Measured, ModelComparison, compare_with_model};
 use crate::analysis::tracking::{
     CleanTrack, ErrorSource, Folded, PeriodFit, Significance, fold, measure,
@@ -31,7 +32,11 @@ use crate::output::{self, Inputs, OutputSet};
 /// Writes to --out: data.csv (every centre and marker point with its period and local
 /// coordinates), figure.png (the track folded into local coordinates, as the paper's Fig. 5c,
 /// markers coloured by period in two alternating colours as Fig. 5e), summary.json (period_s,
-/// advance_down_cm, advance_across_cm, speed, the evidence, …). The period is stated only
+/// advance_down_cm, advance_across_cm, speed, the evidence, …). With --markers it also says
+/// whether the markers' pattern (each detection's offset from the centre) repeats after one
+/// period or only after two (period doubling), with a score D1/D2 and its confidence against
+/// 19 shuffles of the cycles and 19 unrelated phases, or that they are too sparse to tell
+/// (summary.json: marker_reading). The period is stated only
 /// when every cycle repeats on its own and the track repeats beyond chance (19 surrogate tracks
 /// with its smoothed spectrum and random phases); otherwise the command says why and exits 1.
 /// With --body and --alpha: m/m0 and the time unit t0 solved together so that the model's
@@ -137,6 +142,9 @@ pub struct TrackSummary {
     pub cycle_periods_s: Vec<f64>,
     /// Markers read (0 without --markers).
     pub markers: usize,
+    /// With --markers: whether their pattern repeats after one period or only after two
+    /// (Fig. 5e), with the evidence, or that they are too sparse to tell.
+    pub marker_reading: Option<MarkerReading>,
     /// What was cleaned or left out.
     pub warnings: Vec<String>,
     /// The model's prediction for the body, with --body.
@@ -253,6 +261,10 @@ pub fn run(a: TrackArgs) -> Result<()> {
         speed_cm_s: speed,
         cycle_periods_s: fit.cycle_periods.iter().map(|p| p / a.fps).collect(),
         markers: in_range.len(),
+        marker_reading: a
+            .markers
+            .is_some()
+            .then(|| read_markers(&track, &markers, start, fit.period_frames)),
         warnings: track.warnings.clone(),
         model: None,
     };
@@ -325,6 +337,9 @@ fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
         summary.advance_across_cm,
         summary.speed_cm_s
     )?;
+    if let Some(m) = &summary.marker_reading {
+        outln!("  markers: {}", m.reason)?;
+    }
     if let Some(m) = &summary.model {
         let c = &m.comparison;
         let model = if c.mass_ratio_model == 0.0 {

@@ -66,6 +66,19 @@ fn the_authors_run_gives_their_period_and_advance_without_hand_picking() {
     assert!(used[0].as_f64().unwrap() > 170.0 && used[1].as_f64().unwrap() < 1919.0);
     assert!(s["warnings"].to_string().contains("end of the ramp"));
     assert!(s["markers"].as_u64().unwrap() > 500);
+    // The markers (Fig. 5e's reading): a viscous run repeats after one period. Measured
+    // 2026-11-26: 0.101 cm one period on, 0.135 cm two on, 0.575 cm at unrelated phases.
+    let m = &s["marker_reading"];
+    assert_eq!(m["verdict"], "every_period", "{m}");
+    let (d1, floor) = (
+        m["mismatch_one_cm"].as_f64().unwrap(),
+        m["chance_floor_cm"].as_f64().unwrap(),
+    );
+    assert!(d1 < 0.3 * floor, "{m}");
+    assert!(m["score"].as_f64().unwrap() < m["shuffled_score_max"].as_f64().unwrap());
+    assert!(
+        String::from_utf8_lossy(&printed).contains("markers: the markers repeat after one period")
+    );
     // The model, parameter-free: the printed body's two viscous orbits advance 6.18 and 6.19
     // cm per period; measured 2.6 % more. m/m0 and t0 solved together from the period
     // (m/m0 = ⟨r⟩/(g t0²)) are deep in the viscous regime, and so is the SI's speed estimate
@@ -102,6 +115,35 @@ fn the_authors_run_gives_their_period_and_advance_without_hand_picking() {
     assert!(csv.lines().filter(|l| l.starts_with("marker,")).count() > 500);
     let png = std::fs::read(out.join("figure.png")).unwrap();
     assert_eq!(&png[1..4], b"PNG");
+    // One marker row in 40 is too sparse to tell: said so, not guessed.
+    let all = std::fs::read_to_string(data("sphere-markers-viscous.csv")).unwrap();
+    let mut lines = all.lines();
+    let mut sparse: String = lines.next().unwrap().to_string() + "\n";
+    for l in lines.step_by(40) {
+        sparse += l;
+        sparse += "\n";
+    }
+    let sparse_file = dir.join("sparse-markers.csv");
+    std::fs::write(&sparse_file, sparse).unwrap();
+    let out = dir.join("sparse");
+    rollphase_ok([
+        "track",
+        data("sphere-track-viscous.csv").to_str().unwrap(),
+        "--markers",
+        sparse_file.to_str().unwrap(),
+        "--fps",
+        "30",
+        "--scale",
+        "0.0404,0.0361",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let s = summary(&out);
+    assert_eq!(
+        s["marker_reading"]["verdict"], "too_sparse",
+        "{}",
+        s["marker_reading"]
+    );
 }
 
 /// A synthetic track: period `period` frames, advancing `advance` units a period, with a wobble
