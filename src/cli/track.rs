@@ -13,7 +13,7 @@ use crate::analysis::tracking::model::{Measured, ModelComparison, compare_with_m
 use crate::analysis::tracking::{
     CleanTrack, ErrorSource, Folded, PeriodFit, Significance, fold, measure,
 };
-use crate::chart::{Panel, Series, SeriesLabelPosition, Style};
+use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::geometry::ShapeFile;
 use crate::output::{self, Inputs, OutputSet};
 
@@ -38,7 +38,8 @@ use crate::output::{self, Inputs, OutputSet};
 /// 19 shuffles of the cycles and 19 unrelated phases, or that they are too sparse to tell
 /// (summary.json: marker_reading). The period is stated only
 /// when every cycle repeats on its own and the track repeats beyond chance (19 surrogate tracks
-/// with its smoothed spectrum and random phases); otherwise the command says why and exits 1.
+/// with its smoothed spectrum and random phases); otherwise the command says why, writes
+/// refused.png (the track and its mismatch at every shift) and exits 1.
 /// With --body and --alpha: m/m0 and the time unit t0 solved together so that the model's
 /// period in seconds is the measured one (the weight drives the body: m/m0 = ⟨r⟩/(g t0²)),
 /// the SI's speed estimate v²/(g⟨r⟩ sin²α) (§2H) beside it as a check, and the predicted
@@ -85,7 +86,9 @@ pub struct TrackArgs {
     pub mass: Option<f64>,
 }
 
-const FILES: [&str; 3] = ["data.csv", "figure.png", "summary.json"];
+const FILES: [&str; 4] = ["data.csv", "figure.png", "summary.json", REFUSAL_FIGURE];
+/// What a refused track writes instead ([`refusal_figure`]).
+const REFUSAL_FIGURE: &str = "refused.png";
 /// Most rows read from a track file (a video of a day at 1000 frames/s is 8.6e7).
 const MAX_ROWS: usize = 10_000_000;
 
@@ -197,17 +200,7 @@ pub fn run(a: TrackArgs) -> Result<()> {
     let frames: Vec<f64> = rows.iter().map(|r| r[0]).collect();
     let down: Vec<f64> = rows.iter().map(|r| r[2] * sy).collect();
     let across: Vec<f64> = rows.iter().map(|r| r[1] * sx).collect();
-    let bar = if frames.len() > 100_000 && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-        indicatif::ProgressBar::new(crate::analysis::tracking::period::SURROGATES as u64)
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
-    bar.set_message("surrogate tracks (the chance level)");
-    let (mut track, fit) = measure(&frames, &down, &across, &|done, _| {
-        bar.set_position(done as u64);
-    })
-    .with_context(|| format!("track {}", a.file.display()))?;
-    bar.finish_and_clear();
+    let (mut track, fit) = measure_or_show_why(&a, (&frames, &down, &across), &inputs)?;
     if fit.advance_down < 0.0 {
         track.warnings.push(format!(
             "the body moves up the ramp ({:.4} cm a period down it): if it rolled down, flip the \
@@ -302,6 +295,156 @@ pub fn run(a: TrackArgs) -> Result<()> {
     )?;
     set.commit()?;
     print_summary(&a, &summary)
+}
+
+/// [`measure`] with a progress bar on long tracks; a track refused for want of a period
+/// leaves [`refusal_figure`] behind.
+fn measure_or_show_why(
+    a: &TrackArgs,
+    (frames, down, across): (&[f64], &[f64], &[f64]),
+    inputs: &Inputs,
+) -> Result<(CleanTrack, PeriodFit)> {
+    let bar = if frames.len() > 100_000 && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        indicatif::ProgressBar::new(crate::analysis::tracking::period::SURROGATES as u64)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    bar.set_message("surrogate tracks (the chance level)");
+    let measured = measure(frames, down, across, &|done, _| {
+        bar.set_position(done as u64);
+    });
+    bar.finish_and_clear();
+    match measured {
+        Ok(m) => Ok(m),
+        Err(e) => {
+            if let Some(shown) = refusal_figure(a, (frames, down, across), &e, inputs)? {
+                eprintln!("note: {shown}");
+            }
+            Err(anyhow::Error::new(e).context(format!("track {}", a.file.display())))
+        }
+    }
+}
+
+/// Where a track is refused for want of a period (none with confidence, too fast, mostly
+/// unsteady), the evidence the user needs to see why: OUT/refused.png with the track less its
+/// mean drift and the normalised mismatch d′ at every shift against the level a repeat needs.
+/// A file of its own name, so that it never sits beside a different run's summary.json as if
+/// it were that run's. Returns the sentence that names it; `None` for other errors.
+fn refusal_figure(
+    a: &TrackArgs,
+    (frames, down, across): (&[f64], &[f64], &[f64]),
+    error: &crate::analysis::tracking::TrackError,
+    inputs: &Inputs,
+) -> Result<Option<String>> {
+    use crate::analysis::tracking::TrackError;
+    if !matches!(
+        error,
+        TrackError::NoPeriod { .. }
+            | TrackError::TooFast { .. }
+            | TrackError::MostlyUnsteady { .. }
+    ) {
+        return Ok(None);
+    }
+    let Ok(track) = crate::analysis::tracking::clean(frames, down, across) else {
+        return Ok(None);
+    };
+    // The middle 80 %, as the search first reads it (away from the release and the end).
+    let len = track.frames.len();
+    let middle = CleanTrack {
+        frames: track.frames[len / 10..len - len / 10].to_vec(),
+        down: track.down[len / 10..len - len / 10].to_vec(),
+        across: track.across[len / 10..len - len / 10].to_vec(),
+        warnings: Vec::new(),
+    };
+    let curve = crate::analysis::tracking::period::mismatch_curve(&middle);
+    if curve.is_empty() {
+        return Ok(None);
+    }
+    let n = track.frames.len();
+    let (f0, f1) = (track.frames[0], track.frames[n - 1]);
+    let drift = |v: &[f64]| (v[n - 1] - v[0]) / (f1 - f0).max(1.0);
+    let (dd, da) = (drift(&track.down), drift(&track.across));
+    let step = n.div_ceil(20_000).max(1);
+    let less_drift = |v: &[f64], rate: f64| -> Vec<(f64, f64)> {
+        (0..n)
+            .step_by(step)
+            .map(|i| (track.frames[i], v[i] - v[0] - rate * (track.frames[i] - f0)))
+            .collect()
+    };
+    let series = |label: &str, points, color, style| Series {
+        label: label.into(),
+        points,
+        color,
+        style,
+    };
+    let track_panel = Panel {
+        title: "the track, less its mean drift".into(),
+        x_label: "frame".into(),
+        y_label: "cm".into(),
+        log_x: false,
+        log_y: false,
+        series: vec![
+            series("down", less_drift(&track.down, dd), PALETTE[0], Style::Line),
+            series(
+                "across",
+                less_drift(&track.across, da),
+                PALETTE[1],
+                Style::Line,
+            ),
+        ],
+        legend: SeriesLabelPosition::UpperRight,
+        equal_aspect: false,
+    };
+    let last = curve[curve.len() - 1][0];
+    let level = crate::analysis::tracking::period::MAX_NORMALISED_DIP;
+    let mismatch_panel = Panel {
+        title: format!("refused: {}", first_words(&error.to_string(), 12)),
+        x_label: "shift (frames), over the middle 80 % of the track, as the search first reads it"
+            .into(),
+        y_label: "normalised mismatch d′".into(),
+        log_x: false,
+        log_y: false,
+        series: vec![
+            series(
+                "d′ at every shift",
+                curve
+                    .iter()
+                    .step_by(curve.len().div_ceil(20_000).max(1))
+                    .map(|c| (c[0], c[1]))
+                    .collect(),
+                PALETTE[0],
+                Style::Line,
+            ),
+            series(
+                "a repeat needs d′ below this",
+                vec![(1.0, level), (last, level)],
+                (0, 0, 0),
+                Style::Line,
+            ),
+        ],
+        legend: SeriesLabelPosition::UpperRight,
+        equal_aspect: false,
+    };
+    let png = crate::chart::png_bytes(&[track_panel, mismatch_panel], 1, (1200, 1000))?;
+    let path = a.out.join(REFUSAL_FIGURE);
+    output::create_folder(&a.out)?;
+    let mut set = OutputSet::new();
+    set.write(&path, &png, inputs)?;
+    set.commit()?;
+    Ok(Some(format!(
+        "wrote {} (the track and its mismatch at every shift) to show why no period is stated",
+        path.display()
+    )))
+}
+
+/// The first `n` words of `text`, with "…" if it had more.
+fn first_words(text: &str, n: usize) -> String {
+    let words: Vec<&str> = text.split_whitespace().collect();
+    if words.len() <= n {
+        text.to_string()
+    } else {
+        words[..n].join(" ") + " …"
+    }
 }
 
 /// The measurement (and the model's) for people.

@@ -305,6 +305,14 @@ fn tracks_without_a_period_or_with_bad_input_are_refused() {
     let p = dir.join("walk.csv");
     write_track(&p, &rows, &[]);
     refused(&p, &out, &[], "no period can be found with confidence");
+    // It shows why: refused.png (the track and its mismatch at every shift), and nothing that
+    // could pass for a run's results.
+    let png = std::fs::read(out.join("refused.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    assert!(!out.join("figure.png").exists() && !out.join("data.csv").exists());
+    let o = track(&p, &out, &[]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("refused.png"));
+    std::fs::remove_file(out.join("refused.png")).unwrap();
     // A straight line at constant speed.
     let line: Vec<(f64, f64, f64)> = (0..600).map(|i| (i as f64, 0.0, i as f64)).collect();
     let p = dir.join("line.csv");

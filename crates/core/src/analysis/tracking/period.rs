@@ -598,6 +598,43 @@ fn uncertainty(
     }
 }
 
+/// The normalised mismatch d′ at every whole shift from 1 frame to half the track, as
+/// [`find_period`] reads it, without deciding anything: for showing why a track was refused.
+/// Empty for a track under 8 frames or one that does not vary.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::tracking::CleanTrack;
+/// use rollphase_core::analysis::tracking::period::mismatch_curve;
+/// let frames: Vec<f64> = (0..400).map(f64::from).collect();
+/// let w = std::f64::consts::TAU / 40.0;
+/// let down = frames.iter().map(|f| 0.5 * f + 2.0 * (w * f).sin()).collect();
+/// let across = frames.iter().map(|f| (w * f).cos()).collect();
+/// let track = CleanTrack { frames, down, across, warnings: vec![] };
+/// let curve = mismatch_curve(&track);
+/// // It dips to the noise floor at the period, 40 frames.
+/// assert!(curve[39][0] == 40.0 && curve[39][1] < 1e-6);
+/// ```
+pub fn mismatch_curve(track: &CleanTrack) -> Vec<[f64; 2]> {
+    let n = track.down.len();
+    if n < 8 {
+        return Vec::new();
+    }
+    let det = Detrended::of(track);
+    let scale = det.scale();
+    if !(scale > 0.0 && scale.is_finite()) {
+        return Vec::new();
+    }
+    let whole = Curve::of(&det.z, (n - 1) / 2, &mut FftPlanner::new());
+    let e: Vec<f64> = whole.e.iter().map(|v| v / scale).collect();
+    normalised(&e)
+        .into_iter()
+        .enumerate()
+        .skip(1)
+        .map(|(t, d)| [t as f64, d])
+        .collect()
+}
+
 /// Finds the track's period (see the module doc), between `search.min_frames` and half the
 /// track; `progress` hears of each surrogate searched (done, of).
 ///
