@@ -152,6 +152,83 @@ fn write_ply(mesh: &TriMesh, path: &Path) {
     std::fs::write(path, text).unwrap();
 }
 
+/// A binary PLY as scanners write it: a comment, normals and colours beside x, y, z (doubles,
+/// big-endian, when `big`), an `edge` element before the faces, and the triangles paired into
+/// quads where two in a row share an edge (the rest as triangles, uint indices).
+fn write_binary_ply(mesh: &TriMesh, path: &Path, big: bool) {
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    let mut i = 0;
+    while i < mesh.indices.len() {
+        let t = mesh.indices[i];
+        if let Some(u) = mesh.indices.get(i + 1) {
+            // t = (a, b, c), u = (a, c, d): the quad (a, b, c, d), cut back as a fan from a.
+            if u[0] == t[0] && u[1] == t[2] {
+                faces.push(vec![t[0], t[1], t[2], u[2]]);
+                i += 2;
+                continue;
+            }
+        }
+        faces.push(t.to_vec());
+        i += 1;
+    }
+    let (name, coord) = if big {
+        ("binary_big_endian", "double")
+    } else {
+        ("binary_little_endian", "float")
+    };
+    let mut bytes = format!(
+        "ply\nformat {name} 1.0\ncomment made by a scanner\nelement vertex {}\n\
+         property {coord} x\nproperty {coord} y\nproperty {coord} z\nproperty float nx\n\
+         property float ny\nproperty float nz\nproperty uchar red\nproperty uchar green\n\
+         property uchar blue\nelement edge 1\nproperty list uchar int vertex_indices\n\
+         element face {}\nproperty list uchar uint vertex_indices\nproperty uchar flags\n\
+         end_header\n",
+        mesh.positions.len(),
+        faces.len()
+    )
+    .into_bytes();
+    let f32b = |v: f32| {
+        if big {
+            v.to_be_bytes()
+        } else {
+            v.to_le_bytes()
+        }
+    };
+    for p in &mesh.positions {
+        for &x in p {
+            if big {
+                bytes.extend((x as f64).to_be_bytes());
+            } else {
+                bytes.extend(f32b(x));
+            }
+        }
+        for x in [0.0f32, 0.0, 1.0] {
+            bytes.extend(f32b(x));
+        }
+        bytes.extend([200u8, 100, 50]);
+    }
+    bytes.push(2);
+    for v in [0i32, 1] {
+        bytes.extend(if big {
+            v.to_be_bytes()
+        } else {
+            v.to_le_bytes()
+        });
+    }
+    for f in &faces {
+        bytes.push(f.len() as u8);
+        for &v in f {
+            bytes.extend(if big {
+                v.to_be_bytes()
+            } else {
+                v.to_le_bytes()
+            });
+        }
+        bytes.push(7);
+    }
+    std::fs::write(path, bytes).unwrap();
+}
+
 fn write_binary_stl(mesh: &TriMesh, path: &Path, scale: f64) {
     let mut bytes = Vec::new();
     mesh.write_stl(&mut bytes, scale, "test").unwrap();
@@ -183,15 +260,43 @@ fn every_format_reads_back_the_body_it_was_written_from() {
         ("body-ascii.stl", write_ascii_stl as fn(&TriMesh, &Path)),
         ("body.obj", write_obj),
         ("body.ply", write_ply),
+        ("body-le.ply", |m: &TriMesh, p: &Path| {
+            write_binary_ply(m, p, false)
+        }),
+        ("body-be.ply", |m: &TriMesh, p: &Path| {
+            write_binary_ply(m, p, true)
+        }),
     ] {
         let path = dir.join(name);
         write(&mesh, &path);
         let (body, _, _) = fit(&path, &["--modes", "3"], &dir);
         let Body::Sphere(again) = &body else { panic!() };
         let (rms, _) = sphere_difference(again, first);
-        // ASCII formats carry the shortest decimal of each f32: the same numbers.
+        // ASCII formats carry the shortest decimal of each f32, binary ones the f32 (or its
+        // f64): the same numbers. Quads are cut back into the same two triangles.
         assert!(rms < 1e-9, "{name}: rms {rms} from the binary STL's fit");
     }
+    // A binary PLY cut short, and one whose face names a vertex that is not there.
+    let good = std::fs::read(dir.join("body-le.ply")).unwrap();
+    let cut = dir.join("cut.ply");
+    std::fs::write(&cut, &good[..good.len() - 10]).unwrap();
+    let out = rollphase(["shape", "--from-mesh", cut.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("ends inside it"),
+        "{err}"
+    );
+    let bad = dir.join("bad-index.ply");
+    std::fs::write(
+        &bad,
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+         property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n\
+         0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 9\n",
+    )
+    .unwrap();
+    let out = rollphase(["shape", "--from-mesh", bad.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains('9'), "{err}");
     // Units: the same file in cm, said as such, is the same body at the same size.
     let cm = dir.join("body-cm.stl");
     write_binary_stl(&mesh, &cm, 0.1);

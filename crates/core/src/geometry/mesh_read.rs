@@ -1,7 +1,8 @@
 //! Reading triangle meshes from STL (binary and ASCII), OBJ and PLY files, as a stream of
 //! triangles that can be walked several times (the fit in [`super::mesh_fit`] makes three passes).
 //!
-//! OBJ and PLY parsing is the maintained crates' (`tobj`, `ply-rs-bw`). STL is read here, in a
+//! OBJ parsing is the maintained crate's (`tobj`); PLY is streamed by [`super::mesh_ply`]
+//! (vertices held, faces read on each pass: `ply-rs-bw` held 37 times the file). STL is read here, in a
 //! few dozen lines, because `stl_io` decided binary or ASCII by its own rule, which disagreed
 //! with the files people write and with our length check: a first line of just `solid` (or with
 //! CRLF) was read as binary ("failed to fill whole buffer"), a binary STL whose header starts
@@ -16,8 +17,8 @@
 //! A binary STL is streamed from disk on every pass, never held (so a 10⁷-triangle file costs
 //! the same memory as a small one), its length checked against its triangle count before the
 //! first pass (a truncated file is named as such, not as a parse error deep inside), and every
-//! triangle's coordinates checked finite, naming the triangle. OBJ and PLY
-//! files are held in memory as the crates load them. The input must be a regular file: a FIFO
+//! triangle's coordinates checked finite, naming the triangle. OBJ files are held in memory as
+//! the crate loads them; a PLY file's vertices are held and its faces streamed. The input must be a regular file: a FIFO
 //! cannot be read twice and a device such as /dev/zero never ends.
 
 use std::fs::File;
@@ -26,6 +27,8 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use thiserror::Error;
+
+use super::mesh_ply::{PlyError, PlyStream};
 
 /// A mesh file's format, from its extension (or its first bytes for STL).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -153,6 +156,8 @@ pub struct MeshSource {
     held: Vec<[DVec3; 3]>,
     /// An ASCII STL (decided once, by [`MeshSource::check_stl`]).
     ascii: bool,
+    /// A PLY file: its vertices held, its faces streamed.
+    ply: Option<PlyStream>,
 }
 
 /// Most triangles accepted (a binary STL of this many is 5 GB).
@@ -202,16 +207,21 @@ impl MeshSource {
             triangles: 0,
             held: Vec::new(),
             ascii: false,
+            ply: None,
         };
         match format {
             MeshFormat::Stl => source.triangles = source.check_stl(meta.len())?,
-            MeshFormat::Obj => source.held = source.load_obj()?,
-            MeshFormat::Ply => source.held = source.load_ply()?,
+            MeshFormat::Obj => {
+                source.held = source.load_obj()?;
+                source.triangles = source.held.len();
+            }
+            MeshFormat::Ply => {
+                let stream = PlyStream::open(path).map_err(|e| source.ply_error(e))?;
+                source.triangles = stream.triangles;
+                source.ply = Some(stream);
+            }
             // Not from a file: only [`MeshSource::made`] builds one.
             MeshFormat::Made => {}
-        }
-        if format != MeshFormat::Stl {
-            source.triangles = source.held.len();
         }
         if source.triangles < 4 {
             return Err(MeshError::TooFew {
@@ -246,6 +256,7 @@ impl MeshSource {
             triangles: triangles.len(),
             held: triangles,
             ascii: false,
+            ply: None,
         })
     }
 
@@ -332,6 +343,19 @@ impl MeshSource {
             }
             f(index, t)
         };
+        if let Some(stream) = &self.ply {
+            let mut failed = None;
+            let streamed = stream.each(&self.path, |i, t| {
+                visit(i, t).map_err(|e| {
+                    failed = Some(e);
+                    PlyError::Format(String::new())
+                })
+            });
+            if let Some(e) = failed {
+                return Err(e);
+            }
+            return streamed.map_err(|e| self.ply_error(e));
+        }
         if self.format != MeshFormat::Stl {
             for (i, t) in self.held.iter().enumerate() {
                 visit(i, *t)?;
@@ -534,82 +558,21 @@ impl MeshSource {
         Ok(out)
     }
 
-    fn load_ply(&self) -> Result<Vec<[DVec3; 3]>, MeshError> {
-        use ply_rs_bw::parser::Parser;
-        use ply_rs_bw::ply::{DefaultElement, Property};
-        let file = File::open(&self.path).map_err(|e| self.read_error(e.to_string()))?;
-        let mut reader = BufReader::new(file);
-        let ply = Parser::<DefaultElement>::new()
-            .read_ply(&mut reader)
-            .map_err(|e| self.read_error(format!("not a readable PLY file: {e}")))?;
-        let scalar = |p: Option<&Property>| -> Option<f64> {
-            Some(match p? {
-                Property::Float(v) => *v as f64,
-                Property::Double(v) => *v,
-                Property::Int(v) => *v as f64,
-                Property::UInt(v) => *v as f64,
-                Property::Short(v) => *v as f64,
-                Property::UShort(v) => *v as f64,
-                Property::Char(v) => *v as f64,
-                Property::UChar(v) => *v as f64,
-                _ => return None,
-            })
-        };
-        let missing = |what: &str| {
-            self.read_error(format!(
-                "a PLY mesh needs a `vertex` element with x, y, z and a `face` element with \
-                 vertex_indices; {what} is missing"
-            ))
-        };
-        let vertices = ply
-            .payload
-            .get("vertex")
-            .ok_or_else(|| missing("`vertex`"))?;
-        let points: Vec<DVec3> = vertices
-            .iter()
-            .map(|v| {
-                Some(DVec3::new(
-                    scalar(v.get("x"))?,
-                    scalar(v.get("y"))?,
-                    scalar(v.get("z"))?,
-                ))
-            })
-            .collect::<Option<_>>()
-            .ok_or_else(|| missing("a vertex's x, y or z"))?;
-        let faces = ply.payload.get("face").ok_or_else(|| missing("`face`"))?;
-        let mut out = Vec::new();
-        for (face, f) in faces.iter().enumerate() {
-            let list = f
-                .get("vertex_indices")
-                .or_else(|| f.get("vertex_index"))
-                .ok_or_else(|| missing("a face's vertex_indices"))?;
-            let idx: Vec<i64> = match list {
-                Property::ListInt(v) => v.iter().map(|&i| i as i64).collect(),
-                Property::ListUInt(v) => v.iter().map(|&i| i as i64).collect(),
-                Property::ListShort(v) => v.iter().map(|&i| i as i64).collect(),
-                Property::ListUShort(v) => v.iter().map(|&i| i as i64).collect(),
-                Property::ListChar(v) => v.iter().map(|&i| i as i64).collect(),
-                Property::ListUChar(v) => v.iter().map(|&i| i as i64).collect(),
-                _ => return Err(missing("an integer list of a face's vertex_indices")),
-            };
-            let mut corner = Vec::with_capacity(idx.len());
-            for &i in &idx {
-                if i < 0 || i as usize >= points.len() {
-                    return Err(MeshError::BadIndex {
-                        path: self.path.clone(),
-                        face,
-                        vertex: i.max(0) as usize,
-                        count: points.len(),
-                    });
-                }
-                corner.push(points[i as usize]);
-            }
-            // A polygon is cut as a fan from its first corner.
-            for k in 1..corner.len().saturating_sub(1) {
-                out.push([corner[0], corner[k], corner[k + 1]]);
-            }
+    /// A PLY stream's error as a [`MeshError`] naming the file.
+    fn ply_error(&self, e: PlyError) -> MeshError {
+        match e {
+            PlyError::Format(reason) => self.read_error(reason),
+            PlyError::Index {
+                face,
+                vertex,
+                count,
+            } => MeshError::BadIndex {
+                path: self.path.clone(),
+                face,
+                vertex,
+                count,
+            },
         }
-        Ok(out)
     }
 }
 
