@@ -987,3 +987,62 @@ fn a_rubber_coat_adds_its_thickness_and_rounds_the_body() {
         assert!(e.contains("coat"), "{bad}: {e}");
     }
 }
+
+/// A tetrahedron as a binary little-endian PLY with a normal per vertex.
+fn tetrahedron_ply() -> Vec<u8> {
+    let mut b = b"ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n\
+property float y\nproperty float z\nproperty float nx\nelement face 4\n\
+property list uchar int vertex_indices\nend_header\n"
+        .to_vec();
+    for p in [
+        [0.0f32, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ] {
+        for x in p {
+            b.extend(x.to_le_bytes());
+        }
+        b.extend(0.5f32.to_le_bytes());
+    }
+    for f in [[0i32, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] {
+        b.push(3);
+        for i in f {
+            b.extend(i.to_le_bytes());
+        }
+    }
+    b
+}
+
+/// The streamed PLY reader on a tetrahedron, every truncation of it and every byte of it flipped
+/// in turn: the volume to round-off, then an error or an answer, never a panic.
+#[test]
+fn a_ply_cut_or_flipped_anywhere_is_an_error_never_a_panic() {
+    use rollphase::geometry::mesh_read::MeshSource;
+    let dir = scratch("ply-bytes");
+    let path = dir.join("tet.ply");
+    let good = tetrahedron_ply();
+    std::fs::write(&path, &good).unwrap();
+    let source = MeshSource::open(&path).unwrap();
+    assert_eq!(source.triangles(), 4);
+    let mut volume = 0.0;
+    source
+        .for_each(|_, [a, b, c]| {
+            volume += a.dot(b.cross(c)) / 6.0;
+            Ok(())
+        })
+        .unwrap();
+    assert!((volume - 1.0 / 6.0).abs() < 1e-15);
+    for n in 0..good.len() {
+        std::fs::write(&path, &good[..n]).unwrap();
+        assert!(MeshSource::open(&path).is_err(), "cut at {n} was read");
+    }
+    for i in 0..good.len() {
+        let mut bad = good.clone();
+        bad[i] ^= 0xA5;
+        std::fs::write(&path, &bad).unwrap();
+        if let Ok(s) = MeshSource::open(&path) {
+            let _ = s.for_each(|_, _| Ok(()));
+        }
+    }
+}

@@ -44,8 +44,8 @@ fn the_authors_run_gives_their_period_and_advance_without_hand_picking() {
     let s = summary(&out);
     eprintln!("{}", String::from_utf8_lossy(&printed));
     // The authors' one hand-picked period: 152.24 frames (5.07 s), 6.33 cm down, −0.42 cm
-    // across. Measured here over every steady period (2026-11-26): 154.11 ± 1.5 frames,
-    // 6.35 cm, −0.46 cm; the authors' period lies within the cycles' spread (4.5 frames).
+    // across. Measured here over every steady period (2026-11-26): 155.34 ± 1.5 frames,
+    // 6.40 cm, −0.47 cm; the authors' period lies within the cycles' spread (4.6 frames).
     let period = s["period_frames"].as_f64().unwrap();
     let error = s["period_error_s"].as_f64().unwrap() * 30.0;
     let spread = s["period_spread_s"].as_f64().unwrap() * 30.0;
@@ -67,7 +67,7 @@ fn the_authors_run_gives_their_period_and_advance_without_hand_picking() {
     assert!(s["warnings"].to_string().contains("end of the ramp"));
     assert!(s["markers"].as_u64().unwrap() > 500);
     // The markers (Fig. 5e's reading): a viscous run repeats after one period. Measured
-    // 2026-11-26: 0.101 cm one period on, 0.135 cm two on, 0.575 cm at unrelated phases.
+    // 2026-11-26: 0.121 cm one period on, 0.177 cm two on, 0.584 cm at unrelated phases.
     let m = &s["marker_reading"];
     assert_eq!(m["verdict"], "every_period", "{m}");
     let (d1, floor) = (
@@ -80,7 +80,7 @@ fn the_authors_run_gives_their_period_and_advance_without_hand_picking() {
         String::from_utf8_lossy(&printed).contains("markers: the markers repeat after one period")
     );
     // The model, parameter-free: the printed body's two viscous orbits advance 6.18 and 6.19
-    // cm per period; measured 2.6 % more. m/m0 and t0 solved together from the period
+    // cm per period; measured 3.4 % more. m/m0 and t0 solved together from the period
     // (m/m0 = ⟨r⟩/(g t0²)) are deep in the viscous regime, and so is the SI's speed estimate
     // v²/(g⟨r⟩ sin²α) (the paper's ≈ 0.025 for v ≈ 1 cm/s).
     let m = &s["model"];

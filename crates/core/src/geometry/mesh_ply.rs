@@ -105,7 +105,7 @@ struct Element {
 /// A PLY file opened for streaming: its vertices held, where its faces start, and how many
 /// triangles they make.
 #[derive(Debug, Clone)]
-pub struct PlyStream {
+pub(crate) struct PlyStream {
     encoding: Encoding,
     vertices: Vertices,
     face: Element,
@@ -114,7 +114,7 @@ pub struct PlyStream {
     /// Where the face records start (bytes from the file's start).
     face_start: u64,
     /// Triangles the faces make (a polygon of k corners makes k − 2).
-    pub triangles: usize,
+    pub(crate) triangles: usize,
 }
 
 /// The vertices held, as compactly as their declared type allows without changing a bit.
@@ -160,7 +160,7 @@ const MAX_HEADER_LINE: usize = 4096;
 /// What can go wrong, as one sentence for [`super::mesh_read::MeshError::Read`] (or, for a face
 /// index out of range, its face, index and the vertex count).
 #[derive(Debug, Clone, PartialEq)]
-pub enum PlyError {
+pub(crate) enum PlyError {
     /// Anything else.
     Format(String),
     /// Face `face` names vertex `vertex` of `count`.
@@ -181,7 +181,7 @@ fn format(s: impl Into<String>) -> PlyError {
 impl PlyStream {
     /// Opens `path`: reads the header, holds the vertices, and walks the faces once to count
     /// the triangles and check every index.
-    pub fn open(path: &Path) -> Result<PlyStream, PlyError> {
+    pub(crate) fn open(path: &Path) -> Result<PlyStream, PlyError> {
         let file = File::open(path).map_err(|e| format(e.to_string()))?;
         let mut reader = BufReader::with_capacity(1 << 20, file);
         let (encoding, elements, header_len) = header(&mut reader)?;
@@ -269,7 +269,7 @@ impl PlyStream {
     }
 
     /// Calls `f(index, triangle)` for each triangle, in file order, reading the faces from disk.
-    pub fn each(
+    pub(crate) fn each(
         &self,
         path: &Path,
         mut f: impl FnMut(usize, [DVec3; 3]) -> Result<(), PlyError>,
@@ -302,11 +302,6 @@ impl PlyStream {
             }
         }
         Ok(())
-    }
-
-    /// Vertices held.
-    pub fn vertex_count(&self) -> usize {
-        self.vertices.len()
     }
 }
 
@@ -493,68 +488,5 @@ impl<R: BufRead> Records<R> {
             }
         }
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A tetrahedron as a binary little-endian PLY with a normal per vertex.
-    fn tetrahedron() -> Vec<u8> {
-        let mut b = b"ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n\
-property float y\nproperty float z\nproperty float nx\nelement face 4\n\
-property list uchar int vertex_indices\nend_header\n"
-            .to_vec();
-        for p in [
-            [0.0f32, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-        ] {
-            for x in p {
-                b.extend(x.to_le_bytes());
-            }
-            b.extend(0.5f32.to_le_bytes());
-        }
-        for f in [[0i32, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]] {
-            b.push(3);
-            for i in f {
-                b.extend(i.to_le_bytes());
-            }
-        }
-        b
-    }
-
-    #[test]
-    fn a_tetrahedron_reads_back_and_damaged_copies_are_errors_never_panics() {
-        let dir = std::env::temp_dir().join(format!("rp-ply-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("tet.ply");
-        let good = tetrahedron();
-        std::fs::write(&path, &good).unwrap();
-        let s = PlyStream::open(&path).unwrap();
-        assert_eq!((s.triangles, s.vertex_count()), (4, 4));
-        let mut volume = 0.0;
-        s.each(&path, |_, [a, b, c]| {
-            volume += a.dot(b.cross(c)) / 6.0;
-            Ok(())
-        })
-        .unwrap();
-        assert!((volume - 1.0 / 6.0).abs() < 1e-15);
-        // Every truncation, and every byte flipped in turn: an answer or an error.
-        for n in 0..good.len() {
-            std::fs::write(&path, &good[..n]).unwrap();
-            assert!(PlyStream::open(&path).is_err(), "cut at {n} was read");
-        }
-        for i in 0..good.len() {
-            let mut bad = good.clone();
-            bad[i] ^= 0xA5;
-            std::fs::write(&path, &bad).unwrap();
-            if let Ok(s) = PlyStream::open(&path) {
-                let _ = s.each(&path, |_, _| Ok(()));
-            }
-        }
-        std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -1,7 +1,7 @@
 //! Reading triangle meshes from STL (binary and ASCII), OBJ and PLY files, as a stream of
 //! triangles that can be walked several times (the fit in [`super::mesh_fit`] makes three passes).
 //!
-//! OBJ parsing is the maintained crate's (`tobj`); PLY is streamed by [`super::mesh_ply`]
+//! OBJ parsing is the maintained crate's (`tobj`); PLY is streamed by `mesh_ply`
 //! (vertices held, faces read on each pass: `ply-rs-bw` held 37 times the file). STL is read here, in a
 //! few dozen lines, because `stl_io` decided binary or ASCII by its own rule, which disagreed
 //! with the files people write and with our length check: a first line of just `solid` (or with

@@ -8,7 +8,7 @@ pub mod harmonics;
 pub mod hull;
 pub mod mesh;
 pub mod mesh_fit;
-pub mod mesh_ply;
+pub(crate) mod mesh_ply;
 pub mod mesh_read;
 pub mod paper_bodies;
 pub mod shape_file;

@@ -21,7 +21,8 @@
 //!
 //! The reading: `TooSparse` below [`MIN_PAIRS`] matched pairs at either lag or fewer than
 //! [`MIN_CYCLES`] cycles with markers; `EveryOtherPeriod` when D2 repeats beyond chance (below
-//! [`REPEAT_MARGIN`] of the chance null's lowest) and D1/D2 beats every label shuffle;
+//! [`REPEAT_MARGIN`] of the chance null's lowest), D1 does not, and D1/D2 beats every label
+//! shuffle (a pattern that repeats after one period also repeats after two: never doubled);
 //! `EveryPeriod` when D1 repeats beyond chance and the labels do not single out every second
 //! cycle; otherwise `NoRepeat`.
 
@@ -184,7 +185,10 @@ pub fn read_markers(
                 detections.len()
             ),
         )
-    } else if d2 < REPEAT_MARGIN * chance_floor && score > shuffled_score_max {
+    } else if d2 < REPEAT_MARGIN * chance_floor
+        && d1 >= REPEAT_MARGIN * chance_floor
+        && score > shuffled_score_max
+    {
         (
             MarkerVerdict::EveryOtherPeriod,
             format!(

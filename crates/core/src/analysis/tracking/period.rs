@@ -31,9 +31,11 @@
 //!   dip must be below [`SURROGATE_MARGIN`] times the lowest any of them reached (past
 //!   [`SURROGATE_FRAMES`] frames, surrogates of the track's beginning: stricter, and fast).
 //!
-//! The uncertainty is the spread of the cycles' own periods over √(cycles) where three or more
-//! cycles give one, else the dip's width: δτ = √(E_min / (a·(n − τ))) for E ≈ E_min + a(τ − T)²,
-//! the least-squares shift's standard error under white noise.
+//! Where three or more cycles repeat on their own, the period is the mean of the cycles' own
+//! periods and its uncertainty their spread over √(cycles); else the period is the dip's and
+//! the uncertainty its width: δτ = √(E_min / (a·(n − τ))) for E ≈ E_min + a(τ − T)², the
+//! least-squares shift's standard error under white noise. (The whole track's dip with the
+//! cycles' error lay 1.5–2.0 errors from a known truth, rms; the cycles' mean lies 0.6–1.0.)
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -774,6 +776,17 @@ pub fn find_period(
     }
     let significance = against_chance(&det, &e, (tau, m), search, progress)?;
     let (spread, error, from) = uncertainty(&cycle_periods, m, curvature, n, tau);
+    // With three cycles or more the period is their mean, the estimate whose error the
+    // cycles' spread gives: on synthetic tracks of known period (30–200 frames, noise 20 % of
+    // the wobble, 30 seeds each) the whole track's dip lay 1.5–2.0 of that error from the truth
+    // (rms), the cycles' mean 0.6–1.0.
+    let (tau, m, mean) = if from == ErrorSource::Cycles {
+        let t = cycle_periods.iter().sum::<f64>() / cycle_periods.len() as f64;
+        let (e_at, d_at) = whole.at(t);
+        (t, e_at / scale, d_at)
+    } else {
+        (tau, m, mean)
+    };
     let advance = mean + det.slope * tau;
     Ok(PeriodFit {
         period_frames: tau,
