@@ -70,31 +70,51 @@ pub struct Cli {
 pub enum Command {
     /// Open the interactive window (the same as no subcommand): live α and m/m0, plots, views.
     App(app::AppArgs),
-    /// Generate a random body (seeded) and write its shape file (JSON).
+    // The struct's doc is the long help: a doc comment here would replace it.
+    #[command(about = "Generate a random body (seeded) and write its shape file (JSON)")]
     Shape(shape::ShapeArgs),
-    /// Report a body's convexity, curvature range and critical angle α*.
+    // The struct's doc is the long help: a doc comment here would replace it.
+    #[command(about = "Report a body's convexity, curvature range and critical angle α*")]
     Inspect(inspect::InspectArgs),
-    /// Period T and mean angular speed 2π/T of a rolling disk (2D), or that it halts.
+    // The struct's doc is the long help: a doc comment here would replace it.
+    #[command(
+        about = "Period T and mean angular speed 2π/T of a rolling disk (2D), or that it halts"
+    )]
     Period(period::PeriodArgs),
-    /// The periodic motions a body settles into: period, advance per period (⟨r⟩ or mm), stability.
+    // The struct's doc is the long help: a doc comment here would replace it.
+    #[command(
+        about = "The periodic motions a body settles into: period, advance per period (⟨r⟩ or mm), stability"
+    )]
     Predict(predict::PredictArgs),
-    /// Simulate one run and write the trajectory as CSV.
+    // The struct's doc is the long help: a doc comment here would replace it.
+    #[command(about = "Simulate one run and write the trajectory as CSV")]
     Simulate(simulate::SimulateArgs),
     /// Measure the speed/accuracy trade of the integrators (tables, CSV, plots).
     Bench(bench::BenchArgs),
-    /// Regenerate one of the paper's figures as CSV + PNG + summary.json.
+    // The struct's doc is the long help: a doc comment here would replace it.
+    #[command(about = "Regenerate one of the paper's figures as CSV + PNG + summary.json")]
     Figure(figure::FigureArgs),
-    /// Scan bodies × α × m/m0 × orientations × integrators in 3D: one CSV row per run (shardable).
+    // The struct's doc is the long help: a doc comment here would replace it.
+    #[command(
+        about = "Scan bodies × α × m/m0 × orientations × integrators in 3D: one CSV row per run (shardable)"
+    )]
     Sweep(scan::SweepArgs),
-    /// Combine the shards of a figure or sweep (--shard I/N) into the files one run writes.
+    // The struct's doc is the long help: a doc comment here would replace it.
+    #[command(
+        about = "Combine the shards of a figure or sweep (--shard I/N) into the files one run writes"
+    )]
     Merge(merge::MergeArgs),
     /// Fit measured lag times t_lag ∝ (α − α*)^β (per-run α*, shared β, bootstrap errors).
     FitLag(figure::FitLagArgs),
-    /// Read a tracked video of a rolling body: period, advance per period, folded track, model.
+    // The struct's doc is the long help: a doc comment here would replace it.
+    #[command(
+        about = "Read a tracked video of a rolling body: period, advance per period, folded track, model"
+    )]
     Track(track::TrackArgs),
     /// List the preset scenes for --preset (or print one as TOML).
     Scenes(scenes::ScenesArgs),
-    /// Write a body as a watertight STL mesh in millimetres, for 3D printing.
+    // The struct's doc is the long help: a doc comment here would replace it.
+    #[command(about = "Write a body as a watertight STL mesh in millimetres, for 3D printing")]
     ExportStl(export_stl::ExportStlArgs),
 }
 

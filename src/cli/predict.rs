@@ -25,6 +25,13 @@ use crate::output::{self, Inputs};
 /// period-1 orbits; stable when every |μ| < 1). With inertia (--mass > 0) a 3D orbit may be
 /// doubled (period 2): its period and advances are then per repeat, two crossings of ∂Ω.
 ///
+/// Every start gets one fate, printed with its share: periodic (settled on an orbit that
+/// attracts), neutral (|μ| = 1 within the multipliers' accuracy or too close to act within
+/// --t-cap: a round ball rolls straight on whatever great circle it starts on, listed as one
+/// family), halted (still, and the weight's torque zero), left the model (with inertia the
+/// contact force is followed: a body that would leave the ramp stops there, and an orbit that
+/// does is never stable), or undecided, saying why and what would decide it.
+///
 /// Seconds need the time unit t0, which depends on the surface's drag: `rollphase track` fits
 /// it from a filmed run. For example, the paper authors' printed sphere at sin α = 0.2:
 ///   rollphase shape --from-mesh printed-sphere.stl -o printed-sphere.json
