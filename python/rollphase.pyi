@@ -42,7 +42,8 @@ class InternalError(RollphaseError, RuntimeError):
     """A bug in rollphase (a worker panicked). Please report it."""
 
 class RunSummary(TypedDict):
-    """A run's summary: the command line's --summary keys."""
+    """A run's summary: the command line's --summary keys, plus one float per drag-law
+    parameter (the keys of drag_parameters())."""
 
     model: str
     integrator: str
@@ -165,6 +166,9 @@ class Fates(TypedDict):
     first_violation: Optional[Violation]
 
 class Prediction(TypedDict):
+    """predict's answer; it also holds one float per drag-law parameter (the keys of
+    drag_parameters())."""
+
     dimension: int
     alpha: float
     mass_ratio: float
@@ -431,6 +435,7 @@ def simulate(
     max_steps: int = 100_000_000,
     friction: Optional[float] = None,
     on_invalid: _OnInvalid = "warn",
+    **drag_law: float,
 ) -> Union[DiskTrajectory, SphereTrajectory]:
     """One run on a ramp at angle alpha (rad) from t = 0 to t_end, as `rollphase simulate`
     (the same numbers to the last digit). mass_ratio 0 is viscous, > 0 inertial. Sphere start:
@@ -438,7 +443,8 @@ def simulate(
     theta0, theta_dot0. integrator: "dop853" (rtol, atol), "rk4" or "cf4" (dt).
     friction: the surface's μ (slip is checked against it); on_invalid: "warn" (a
     RuntimeWarning when the body leaves the ramp or slips) or "stop" (LeftModelError there).
-    A disk's run is a DiskTrajectory, a sphere's a SphereTrajectory."""
+    A disk's run is a DiskTrajectory, a sphere's a SphereTrajectory. Further keywords are
+    the drag law's parameters by their keys (drag_parameters() lists them)."""
 
 def simulate_many(
     body: Body,
@@ -457,6 +463,7 @@ def simulate_many(
     max_steps: int = 100_000_000,
     friction: Optional[float] = None,
     on_invalid: _OnInvalid = "warn",
+    **drag_law: float,
 ) -> SphereRuns:
     """A sphere from each quaternion of the (N, 4) array q0s, in parallel with the GIL
     released; arrays stacked: q (N, S, 4), contact, omega, com (N, S, 3), t (S,)."""
@@ -473,9 +480,11 @@ def period(
     theta_dot0: float = 0.0,
     t_max: float = 5000.0,
     rtol: float = 1e-10,
+    **drag_law: float,
 ) -> Optional[float]:
     """A disk's period T (time for θ to advance 2π), None when it halts, nan (with a
-    RuntimeWarning) when not measurable; as `rollphase period`."""
+    RuntimeWarning) when not measurable; as `rollphase period`. Further keywords are drag-law
+    parameters (drag_parameters())."""
 
 def poincare_map(
     body: Body,
@@ -517,6 +526,7 @@ def predict(
     starts: int = 32,
     seed: int = 1,
     t_cap: float = 20000.0,
+    **drag_law: float,
 ) -> Prediction:
     """The stable periodic motions runs from rest settle into, as `rollphase predict` gives them.
     Keys: alpha, mass_ratio, alpha_star, starts, halts, undecided, fates (every start's fate:
@@ -526,6 +536,19 @@ def predict(
     stable, stability ("stable", "neutral", "unstable"), members, min_normal_force and
     lift_off_t (inertial), multipliers (complex), max_modulus, fraction, starts, crossing, omega, and path
     (an (N, 2) array of the centre over three repeats)."""
+
+class DragParameter(TypedDict):
+    """One registered drag-law parameter."""
+
+    key: str
+    help: str
+    default: float
+    min: float
+    max: float
+
+def drag_parameters() -> List[DragParameter]:
+    """The drag-law parameters simulate, simulate_many, period and predict take as keywords,
+    each with its key, what it means, its default (the paper's linear drag) and its range."""
 
 def measure_track(
     frames: _Floats, down: _Floats, across: _Floats, *, markers: Optional[_Floats] = None

@@ -29,6 +29,7 @@ use pyo3::prelude::*;
 use crate::errors::{ErrorClass, input_error};
 
 mod body;
+mod drag_law;
 mod errors;
 mod experiment;
 mod run;
@@ -188,5 +189,6 @@ fn rollphase(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(studies::mass_bifurcation, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::measure_track, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::compare_with_model, m)?)?;
+    m.add_function(wrap_pyfunction!(drag_law::drag_parameters, m)?)?;
     Ok(())
 }

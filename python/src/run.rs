@@ -16,7 +16,7 @@ use pyo3::prelude::*;
 use pyo3::pyclass::boolean_struct::True;
 use pyo3::types::{PyDict, PyList};
 use rayon::prelude::*;
-use rollphase_core::dynamics::ContactForce;
+use rollphase_core::dynamics::{ContactForce, DragLaw};
 use rollphase_core::geometry::Body as CoreBody;
 use rollphase_core::glam::{DQuat, DVec3};
 use rollphase_core::integrate::{Method, MethodKind, MethodParseError};
@@ -373,8 +373,9 @@ fn summary_dict<'py>(
     wall: f64,
     alpha: f64,
     mass_ratio: f64,
+    law: DragLaw,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let report = SummaryReport::new(summary.clone(), wall, alpha, mass_ratio);
+    let report = SummaryReport::new(summary.clone(), wall, alpha, mass_ratio, law);
     let value = serde_json::to_value(&report).map_err(internal_error)?;
     let d = PyDict::new(py);
     if let serde_json::Value::Object(map) = value {
@@ -497,11 +498,13 @@ fn arr3(py: Python<'_>, v: Vec<f64>, shape: (usize, usize, usize)) -> PyResult<P
 /// samples: equally spaced samples from 0 to t_end inclusive.
 /// Returns a Trajectory (numpy arrays) with .summary, the command line's --summary keys; the
 /// numbers equal `rollphase simulate`'s to the last digit. Ctrl-C stops it (KeyboardInterrupt).
+/// Further keywords are the drag law's parameters by their keys (`drag_parameters()` lists
+/// them, with their ranges and what they mean).
 #[pyfunction]
 #[pyo3(signature = (body, alpha, t_end, *, mass_ratio = 0.0, q0 = None, contact = None, spin = None,
     omega0 = None, theta0 = None, theta_dot0 = None, integrator = "dop853", rtol = 1e-10,
     atol = None, dt = 0.01, samples = 1001, drag = 1.0, max_steps = 100_000_000, friction = None,
-    on_invalid = "warn"))]
+    on_invalid = "warn", **drag_law))]
 pub fn simulate(
     py: Python<'_>,
     body: &Body,
@@ -523,6 +526,7 @@ pub fn simulate(
     max_steps: i128,
     friction: Option<f64>,
     on_invalid: &str,
+    drag_law: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     let (samples, max_steps): (usize, u64) = (
         crate::sample_count(samples)?,
@@ -531,6 +535,7 @@ pub fn simulate(
     let core = &body.body;
     let method = method(integrator, rtol, atol, dt)?;
     let limits = contact_limits(friction, on_invalid)?;
+    let law = crate::drag_law::from_keywords("simulate", drag_law)?;
     let start = StartArgs {
         mass_ratio,
         q0,
@@ -544,6 +549,7 @@ pub fn simulate(
     let mut sim = Simulation::new(alpha, t_end)
         .model(Model::from_mass_ratio(mass_ratio))
         .drag(drag)
+        .drag_law(law)
         .method(method)
         .samples(samples)
         .initial(initial)
@@ -556,7 +562,7 @@ pub fn simulate(
         interruptible(py, |stop| simulate_until(core, &sim, stop))?.map_err(raise)?;
     let wall = clock.elapsed().as_secs_f64();
     warn_validity(py, &summary, "")?;
-    let summary = summary_dict(py, &summary, wall, alpha, mass_ratio)?;
+    let summary = summary_dict(py, &summary, wall, alpha, mass_ratio, law)?;
     let mut columns = BTreeMap::new();
     let n = trajectory.len();
     let (normal, friction, needed) = force_columns(trajectory.forces());
@@ -600,10 +606,12 @@ pub fn simulate(
 /// simulate's, the same for every run. Returns one Trajectory whose arrays are stacked: t (S,),
 /// q (N, S, 4), contact, omega and com (N, S, 3), and .summary a list of N dicts. Each run
 /// equals simulate(body, alpha, t_end, q0=q0s[i], …). Ctrl-C stops it (KeyboardInterrupt).
+/// Further keywords are the drag law's parameters by their keys (`drag_parameters()` lists
+/// them, with their ranges and what they mean).
 #[pyfunction]
 #[pyo3(signature = (body, alpha, t_end, *, q0s, mass_ratio = 0.0, omega0 = None,
     integrator = "dop853", rtol = 1e-10, atol = None, dt = 0.01, samples = 1001, drag = 1.0,
-    max_steps = 100_000_000, friction = None, on_invalid = "warn"))]
+    max_steps = 100_000_000, friction = None, on_invalid = "warn", **drag_law))]
 pub fn simulate_many(
     py: Python<'_>,
     body: &Body,
@@ -621,12 +629,14 @@ pub fn simulate_many(
     max_steps: i128,
     friction: Option<f64>,
     on_invalid: &str,
+    drag_law: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyAny>> {
     let (samples, max_steps): (usize, u64) = (
         crate::sample_count(samples)?,
         whole("max_steps", max_steps)?,
     );
     let limits = contact_limits(friction, on_invalid)?;
+    let law = crate::drag_law::from_keywords("simulate_many", drag_law)?;
     let core = &body.body;
     if !matches!(core, CoreBody::Sphere(_)) {
         return Err(input_error(
@@ -673,6 +683,7 @@ pub fn simulate_many(
         let mut sim = Simulation::new(alpha, t_end)
             .model(Model::from_mass_ratio(mass_ratio))
             .drag(drag)
+            .drag_law(law)
             .method(method)
             .samples(samples)
             .initial(initial)
@@ -724,7 +735,7 @@ pub fn simulate_many(
         contact.extend(flat3(&path.contact));
         omega.extend(flat3(&path.omega));
         com.extend(flat3(&path.com));
-        summaries.append(summary_dict(py, &summary, wall, alpha, mass_ratio)?)?;
+        summaries.append(summary_dict(py, &summary, wall, alpha, mass_ratio, law)?)?;
     }
     let mut columns = BTreeMap::new();
     columns.insert("t", arr1(py, t));

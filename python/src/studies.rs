@@ -42,9 +42,11 @@ pub fn critical_angle(body: &Body) -> f64 {
 /// inertia a disk can keep rolling below α* (hysteresis). Where T is not measurable (too close
 /// to α*, or no steady period by t_max) it returns nan with a RuntimeWarning saying why. The
 /// same numbers as `rollphase period`.
+/// Further keywords are the drag law's parameters by their keys (`drag_parameters()` lists
+/// them, with their ranges and what they mean).
 #[pyfunction]
 #[pyo3(signature = (body, alpha, *, mass_ratio = 0.0, theta0 = 0.0, theta_dot0 = 0.0,
-    t_max = 5000.0, rtol = 1e-10))]
+    t_max = 5000.0, rtol = 1e-10, **drag_law))]
 pub fn period(
     py: Python<'_>,
     body: &Body,
@@ -54,6 +56,7 @@ pub fn period(
     theta_dot0: f64,
     t_max: f64,
     rtol: f64,
+    drag_law: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Option<f64>> {
     let CoreBody::Disk(disk) = body.convex()? else {
         return Err(input_error(
@@ -61,7 +64,9 @@ pub fn period(
              simulation: use simulate, or periodic_orbits",
         ));
     };
-    let ramp = Ramp::new(alpha, mass_ratio).map_err(raise)?;
+    let ramp = Ramp::new(alpha, mass_ratio)
+        .map_err(raise)?
+        .with_drag_law(crate::drag_law::from_keywords("period", drag_law)?);
     if !(t_max.is_finite() && t_max > 0.0 && t_max <= MAX_SPAN) {
         return Err(input_error(format!(
             "t_max = {t_max} is not allowed (needs 0 < t_max ≤ {MAX_SPAN:e}: past that the \
@@ -451,8 +456,11 @@ pub fn mass_bifurcation<'py>(
 /// inertial, none for a disk or a doubled orbit), max_modulus, fraction, starts, crossing and
 /// omega (3D: where the orbit crosses ∂Ω), and path, an (N, 2) array of the centre's
 /// (down, across) for a sphere or (down, height) for a disk over three repeats.
+/// Further keywords are the drag law's parameters by their keys (`drag_parameters()` lists
+/// them, with their ranges and what they mean).
 #[pyfunction]
-#[pyo3(signature = (body, alpha, *, mass_ratio = 0.0, starts = 32, seed = 1, t_cap = 20000.0))]
+#[pyo3(signature = (body, alpha, *, mass_ratio = 0.0, starts = 32, seed = 1, t_cap = 20000.0,
+    **drag_law))]
 pub fn predict<'py>(
     py: Python<'py>,
     body: &Body,
@@ -461,8 +469,10 @@ pub fn predict<'py>(
     starts: i128,
     seed: i128,
     t_cap: f64,
+    drag_law: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     use rollphase_core::analysis::prediction::{PredictOptions, predict_until};
+    let law = crate::drag_law::from_keywords("predict", drag_law)?;
     let (starts, seed): (usize, u64) = (whole("starts", starts)?, whole("seed", seed)?);
     let core = body.convex()?;
     if !(t_cap.is_finite() && (10.0..=MAX_SPAN).contains(&t_cap)) {
@@ -474,6 +484,7 @@ pub fn predict<'py>(
         starts,
         seed,
         decide: decide(600f64.min(t_cap), t_cap, 2, 1e-5),
+        drag_law: law,
         ..PredictOptions::default()
     };
     let p = interruptible(py, |stop| {
@@ -484,6 +495,9 @@ pub fn predict<'py>(
     d.set_item("dimension", p.dimension)?;
     d.set_item("alpha", p.alpha)?;
     d.set_item("mass_ratio", p.mass_ratio)?;
+    for (parameter, value) in p.drag_law.parameters() {
+        d.set_item(parameter.key, value)?;
+    }
     d.set_item("alpha_star", p.alpha_star)?;
     d.set_item("starts", p.starts)?;
     d.set_item("halts", p.halts)?;

@@ -13,6 +13,7 @@ macro_rules! outln {
 
 pub mod app;
 pub mod bench;
+pub mod drag_law;
 pub mod export_stl;
 pub mod figure;
 pub mod inspect;

@@ -29,6 +29,9 @@ pub struct PeriodArgs {
     /// Mass ratio m/m0 ≥ 0 (0: viscous model).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub mass: f64,
+    /// The drag law's parameters (one flag per registered law).
+    #[command(flatten)]
+    pub drag_law: super::drag_law::DragLawArgs,
     /// Inertial: initial contact angle θ₀.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub theta0: f64,
@@ -67,6 +70,9 @@ pub struct PeriodReport {
     pub alpha_star: f64,
     /// m/m0.
     pub mass_ratio: f64,
+    /// The drag law: one field per registered parameter, named by its key.
+    #[serde(flatten)]
+    pub drag_law: crate::dynamics::DragLaw,
 }
 
 /// Runs `period`.
@@ -80,7 +86,7 @@ pub fn run(a: PeriodArgs) -> Result<()> {
         );
     };
     body.check_convex()?;
-    let ramp = Ramp::new(a.alpha, a.mass)?;
+    let ramp = Ramp::new(a.alpha, a.mass)?.with_drag_law(a.drag_law.law()?);
     if !(a.t_max.is_finite() && a.t_max > 0.0 && a.t_max <= crate::integrate::MAX_SPAN) {
         bail!(
             "--t-max {} is not allowed (needs 0 < t_max ≤ {}: past that the integrator's \
@@ -143,11 +149,17 @@ pub fn run(a: PeriodArgs) -> Result<()> {
         alpha: a.alpha,
         alpha_star,
         mass_ratio: a.mass,
+        drag_law: ramp.drag_law,
     };
     if a.json {
         outln!("{}", serde_json::to_string_pretty(&report)?)?;
     } else {
-        outln!("{model}, α = {} rad (α* = {:.10})", a.alpha, alpha_star)?;
+        outln!(
+            "{model}, α = {} rad (α* = {:.10}){}",
+            a.alpha,
+            alpha_star,
+            super::drag_law::describe(&ramp.drag_law)
+        )?;
         match p.period {
             Some(t) => outln!(
                 "  rolls: T = {t:.12}, 2π/T = {:.12}{}",

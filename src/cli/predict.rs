@@ -47,6 +47,9 @@ pub struct PredictArgs {
     /// Mass ratio m/m0 ≥ 0 (0: the viscous model).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub mass: f64,
+    /// The drag law's parameters (one flag per registered law).
+    #[command(flatten)]
+    pub drag_law: super::drag_law::DragLawArgs,
     /// Starts from rest: random orientations (3D) or contact angles (2D), 1 to 100000.
     #[arg(long, default_value_t = 32)]
     pub starts: usize,
@@ -103,6 +106,9 @@ pub struct PredictionHead {
     pub alpha: f64,
     /// m/m0.
     pub mass_ratio: f64,
+    /// The drag law: one field per registered parameter, named by its key.
+    #[serde(flatten)]
+    pub drag_law: crate::dynamics::DragLaw,
     /// α* (rad).
     pub alpha_star: f64,
     /// Starts tried.
@@ -121,6 +127,7 @@ pub fn run(a: PredictArgs) -> Result<()> {
     let (body, scale) = ShapeFile::load_scaled(&a.file)?;
     body.check_convex()?;
     crate::dynamics::Ramp::new(a.alpha, a.mass)?;
+    let drag_law = a.drag_law.law()?;
     if !(1..=MAX_PREDICT_STARTS).contains(&a.starts) {
         bail!(
             "--starts {} is not allowed (needs 1 ≤ starts ≤ {MAX_PREDICT_STARTS})",
@@ -139,7 +146,7 @@ pub fn run(a: PredictArgs) -> Result<()> {
         output::check_file(f, &inputs)?;
     }
     if a.mass > 0.0 {
-        let ramp = crate::dynamics::Ramp::new(a.alpha, a.mass)?;
+        let ramp = crate::dynamics::Ramp::new(a.alpha, a.mass)?.with_drag_law(drag_law);
         super::warn_if_stiff(&body, &ramp, a.t_cap, "--t-cap");
     }
     let options = PredictOptions {
@@ -151,6 +158,7 @@ pub fn run(a: PredictArgs) -> Result<()> {
             max_k: 2,
             tol: 1e-5,
         },
+        drag_law,
         ..PredictOptions::default()
     };
     let spinner = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
@@ -199,6 +207,7 @@ fn report_of(a: &PredictArgs, p: Prediction, scale: Option<f64>) -> PredictRepor
             dimension: p.dimension,
             alpha: p.alpha,
             mass_ratio: p.mass_ratio,
+            drag_law: p.drag_law,
             alpha_star: p.alpha_star,
             starts: p.starts,
             halts: p.halts,
@@ -212,7 +221,7 @@ fn report_of(a: &PredictArgs, p: Prediction, scale: Option<f64>) -> PredictRepor
 fn print_table(r: &PredictReport) -> Result<()> {
     let h = &r.prediction;
     outln!(
-        "{}: {}D, {} model, α = {} rad (sin α = {:.4}; α* = {:.4}){}",
+        "{}: {}D, {} model, α = {} rad (sin α = {:.4}; α* = {:.4}){}{}",
         r.body,
         h.dimension,
         r.model,
@@ -223,7 +232,8 @@ fn print_table(r: &PredictReport) -> Result<()> {
             format!(", m/m0 = {}", h.mass_ratio)
         } else {
             String::new()
-        }
+        },
+        super::drag_law::describe(&h.drag_law)
     )?;
     print_fates(h)?;
     if r.orbits.is_empty() {

@@ -59,6 +59,9 @@ pub struct SimulateArgs {
     /// Rotational drag γ in units of γ0 (0 allowed for inertial runs: energy is then conserved).
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub drag: f64,
+    /// The drag law's parameters (one flag per registered law).
+    #[command(flatten)]
+    pub drag_law: super::drag_law::DragLawArgs,
     /// End time.
     #[arg(long)]
     pub t_end: f64,
@@ -206,7 +209,7 @@ pub(super) fn checked_start(
 /// Runs `simulate`.
 pub fn run(a: SimulateArgs) -> Result<()> {
     let body = super::load_body(&a.file)?;
-    let ramp = Ramp::with_drag(a.alpha, a.mass, a.drag)?;
+    let ramp = Ramp::with_drag(a.alpha, a.mass, a.drag)?.with_drag_law(a.drag_law.law()?);
     let method = a.integrator.with(a.rtol, a.atol, a.dt)?;
     let limits = ContactLimits {
         friction: a.friction,
@@ -336,7 +339,7 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         eprintln!("warning: the body {warning}");
     }
     if let Some(path) = &a.summary {
-        let file = SummaryReport::new(summary, wall, a.alpha, a.mass);
+        let file = SummaryReport::new(summary, wall, a.alpha, a.mass, ramp.drag_law);
         let text = serde_json::to_string_pretty(&file)? + "\n";
         outputs.write(path, text.as_bytes(), &inputs)?;
     }

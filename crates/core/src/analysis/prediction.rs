@@ -31,7 +31,7 @@ use super::studies::{StudyError, random_orientation};
 use super::verdict::{Fate, FateCounts, Stability, Undecided, steady_drift};
 use crate::dynamics::sphere3d::{SphereInertial, SphereViscous};
 use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch, Violation};
-use crate::dynamics::{Ramp, RollingModel, disk2d};
+use crate::dynamics::{DragLaw, Ramp, RollingModel, disk2d};
 use crate::geometry::{Body, Disk, Sphere};
 use crate::integrate::{self, Method};
 
@@ -48,6 +48,8 @@ pub struct PredictOptions {
     pub periods_drawn: usize,
     /// Samples of the path per period.
     pub samples_per_period: usize,
+    /// The drag law every run uses (linear by default).
+    pub drag_law: DragLaw,
 }
 
 impl Default for PredictOptions {
@@ -63,6 +65,7 @@ impl Default for PredictOptions {
             },
             periods_drawn: 3,
             samples_per_period: 200,
+            drag_law: DragLaw::LINEAR,
         }
     }
 }
@@ -141,6 +144,9 @@ impl From<ContactReport> for OrbitContact {
 pub struct Prediction {
     /// 2 or 3.
     pub dimension: u32,
+    /// The drag law: one field per registered parameter, named by its key.
+    #[serde(flatten)]
+    pub drag_law: DragLaw,
     /// α (rad).
     pub alpha: f64,
     /// m/m0 (0: viscous).
@@ -208,7 +214,7 @@ pub fn predict_until(
     options: &PredictOptions,
     stop: &AtomicBool,
 ) -> Result<Prediction, StudyError> {
-    let ramp = Ramp::new(alpha, mass_ratio)?;
+    let ramp = Ramp::new(alpha, mass_ratio)?.with_drag_law(options.drag_law);
     if !(1..=MAX_PREDICT_STARTS).contains(&options.starts) {
         return Err(StudyError::BadArgument(format!(
             "starts = {} is not allowed (needs 1 ≤ starts ≤ {MAX_PREDICT_STARTS})",
@@ -245,6 +251,7 @@ pub fn predict_until(
     let fates = FateCounts::of(&fates);
     Ok(Prediction {
         dimension: body.dimension(),
+        drag_law: ramp.drag_law,
         alpha,
         mass_ratio,
         alpha_star,

@@ -44,7 +44,8 @@ use std::f64::consts::{PI, TAU};
 use glam::{DQuat, DVec3};
 
 use super::{
-    ContactForce, ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel, Switched,
+    ContactForce, DragLaw, ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel,
+    Switched,
 };
 use crate::geometry::hull::Bridge;
 use crate::geometry::{Disk, RadiusJet};
@@ -166,6 +167,8 @@ pub struct DiskViscous<'a> {
     sin_a: f64,
     cos_a: f64,
     drag: f64,
+    /// The drag law when it is not linear (the linear equations run untouched otherwise).
+    law: Option<DragLaw>,
 }
 
 impl<'a> DiskViscous<'a> {
@@ -186,10 +189,25 @@ impl<'a> DiskViscous<'a> {
             sin_a: ramp.alpha_rad.sin(),
             cos_a: ramp.alpha_rad.cos(),
             drag: if ramp.drag > 0.0 { ramp.drag } else { 1.0 },
+            law: nonlinear(ramp),
         }
     }
 
-    /// θ̇(θ) = r (r sin α − r' cos α) / ((r² + r'²) κ) / γ.
+    /// The viscous rate with the drag law: the linear rate θ̇₁ turns the body at s θ̇₁, which
+    /// is the torque over γ the weight balances, so the body turns at g⁻¹(s |θ̇₁|) instead
+    /// ([`crate::dynamics::drag`]).
+    fn with_law(&self, j: &RadiusJet, linear: f64) -> f64 {
+        match self.law {
+            None => linear,
+            Some(law) => {
+                let s = j.turn_rate();
+                law.viscous_rate(s * linear) / s
+            }
+        }
+    }
+
+    /// θ̇(θ) = r (r sin α − r' cos α) / ((r² + r'²) κ) / γ (linear drag; with a drag law the
+    /// body turns at g⁻¹ of the linear rate's turning speed).
     ///
     /// # Example
     /// ```
@@ -210,10 +228,18 @@ impl<'a> DiskViscous<'a> {
             OnHull::Resting(_) => 0.0,
             on => {
                 let j = self.disk.jet(on.geometry());
-                theta_dot_viscous(&j, self.sin_a, self.cos_a) / self.drag
+                self.with_law(
+                    &j,
+                    theta_dot_viscous(&j, self.sin_a, self.cos_a) / self.drag,
+                )
             }
         }
     }
+}
+
+/// The ramp's drag law if it is not linear.
+pub(crate) fn nonlinear(ramp: &Ramp) -> Option<DragLaw> {
+    (!ramp.drag_law.is_linear()).then_some(ramp.drag_law)
 }
 
 pub(crate) fn theta_dot_viscous(j: &RadiusJet, sin_a: f64, cos_a: f64) -> f64 {
@@ -228,7 +254,10 @@ impl OdeSystem<2> for DiskViscous<'_> {
             return [0.0, 0.0];
         }
         let j = self.disk.jet(on.geometry());
-        let td = theta_dot_viscous(&j, self.sin_a, self.cos_a) / self.drag;
+        let td = self.with_law(
+            &j,
+            theta_dot_viscous(&j, self.sin_a, self.cos_a) / self.drag,
+        );
         [td, j.arc_rate() * td]
     }
 }
@@ -246,6 +275,8 @@ pub struct DiskInertial<'a> {
     cos_a: f64,
     mass: f64,
     drag: f64,
+    /// The drag law when it is not linear.
+    law: Option<DragLaw>,
 }
 
 impl<'a> DiskInertial<'a> {
@@ -269,6 +300,16 @@ impl<'a> DiskInertial<'a> {
             cos_a: ramp.alpha_rad.cos(),
             mass: ramp.mass_ratio,
             drag: ramp.drag,
+            law: nonlinear(ramp),
+        }
+    }
+
+    /// The drag's generalised force over θ̇, γ s² (linear), or γ s² g(s|θ̇|)/(s|θ̇|) with a drag
+    /// law: the torque γ g(|ψ̇|) against ψ̇ = −s θ̇, times dψ/dθ = −s.
+    fn drag_per_rate(&self, s: f64, td: f64) -> f64 {
+        match self.law {
+            None => self.drag * s * s,
+            Some(law) => self.drag * s * s * law.torque_per_speed(s * td.abs()),
         }
     }
 
@@ -293,7 +334,7 @@ impl<'a> DiskInertial<'a> {
         let s = j.turn_rate();
         let inertia = self.mass * (0.5 + j.r * j.r); // I + m r², I = m/2
         let drive = j.curvature() * j.r * (j.r * self.sin_a - j.r1 * self.cos_a);
-        let accel = (drive - self.drag * s * s * td) / (inertia * s * s);
+        let accel = (drive - self.drag_per_rate(s, td) * td) / (inertia * s * s);
         accel - (self.mass * j.r * j.r1 / inertia + j.turn_rate_d1() / s) * td * td
     }
 
@@ -396,7 +437,7 @@ impl OdeSystem<4> for DiskInertial<'_> {
             td,
             self.theta_ddot_jet(&j, td),
             j.arc_rate() * td,
-            self.drag * s * s * td * td,
+            self.drag_per_rate(s, td) * td * td,
         ]
     }
 }

@@ -6,6 +6,7 @@
 //! m0 = γ²/(F⟨r⟩³). The drag γ can be set to 0 (conservative tests) for inertial models only.
 
 pub mod disk2d;
+pub mod drag;
 pub mod model;
 pub mod sphere3d;
 pub mod validity;
@@ -15,6 +16,7 @@ use thiserror::Error;
 use crate::integrate::OdeSystem;
 
 pub use disk2d::{DiskInertial, DiskViscous};
+pub use drag::{DragLaw, DragLawError};
 pub use model::{
     ContactForce, FORCE_COLUMNS, ModelHealth, ModelVisitor, ModelVisitorMut, Observation,
     RollingModel, Switched,
@@ -99,6 +101,9 @@ pub struct Ramp {
     pub mass_ratio: f64,
     /// Rotational drag γ in units of γ0 (1 by default; 0 only for inertial models).
     pub drag: f64,
+    /// How the drag torque grows with the speed ([`drag`]): linear unless a registered law's
+    /// parameter says otherwise.
+    pub drag_law: DragLaw,
 }
 
 /// A bad model parameter.
@@ -119,6 +124,9 @@ pub enum ModelError {
         crate::integrate::readable(*.0)
     )]
     BadDrag(f64),
+    /// A drag-law parameter out of its range, or no such parameter.
+    #[error(transparent)]
+    BadDragLaw(#[from] DragLawError),
 }
 
 /// [`ModelError::BadAlpha`]'s message: why a tiny angle is refused only where it is tiny.
@@ -185,7 +193,24 @@ impl Ramp {
             alpha_rad,
             mass_ratio,
             drag,
+            drag_law: DragLaw::LINEAR,
         })
+    }
+
+    /// This ramp with drag law `law` (already checked when it was built).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{DragLaw, Ramp};
+    /// let ramp = Ramp::new(0.2, 0.0)?.with_drag_law(DragLaw::LINEAR);
+    /// assert!(ramp.drag_law.is_linear());
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
+    pub fn with_drag_law(self, law: DragLaw) -> Self {
+        Self {
+            drag_law: law,
+            ..self
+        }
     }
 
     /// Whether the viscous (massless) model applies.

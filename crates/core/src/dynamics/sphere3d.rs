@@ -24,7 +24,9 @@ use std::cell::Cell;
 
 use glam::{DQuat, DVec3};
 
-use super::{ContactForce, ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel};
+use super::{
+    ContactForce, DragLaw, ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel,
+};
 use crate::geometry::{Sphere, SurfacePoint};
 use crate::integrate::OdeSystem;
 use crate::integrate::lie::quat_at;
@@ -158,6 +160,8 @@ pub struct SphereViscous<'a> {
     tracker: ContactTracker<'a>,
     force: DVec3,
     drag: f64,
+    /// The drag law when it is not linear.
+    law: Option<DragLaw>,
 }
 
 impl<'a> SphereViscous<'a> {
@@ -180,6 +184,7 @@ impl<'a> SphereViscous<'a> {
             tracker: ContactTracker::new(body),
             force: force(ramp.alpha_rad),
             drag: if ramp.drag > 0.0 { ramp.drag } else { 1.0 },
+            law: super::disk2d::nonlinear(ramp),
         }
     }
 
@@ -196,7 +201,8 @@ impl<'a> SphereViscous<'a> {
         [q.w, q.x, q.y, q.z, 0.0, 0.0]
     }
 
-    /// ω = −r × F / γ for lab contact vector r.
+    /// ω = −r × F / γ for lab contact vector r (linear drag); with a drag law the same
+    /// direction at speed g⁻¹(|r × F|/γ).
     ///
     /// # Example
     /// ```
@@ -212,7 +218,18 @@ impl<'a> SphereViscous<'a> {
     /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
     /// ```
     pub fn omega(&self, r: DVec3) -> DVec3 {
-        -r.cross(self.force) / self.drag
+        let linear = -r.cross(self.force) / self.drag;
+        match self.law {
+            None => linear,
+            Some(law) => {
+                let speed = linear.length();
+                if speed == 0.0 {
+                    linear
+                } else {
+                    linear * (law.speed_for(speed) / speed)
+                }
+            }
+        }
     }
 
     /// What the state shows.
@@ -264,6 +281,8 @@ pub struct SphereInertial<'a> {
     mass: f64,
     inertia: f64,
     drag: f64,
+    /// The drag law when it is not linear.
+    law: Option<DragLaw>,
 }
 
 impl<'a> SphereInertial<'a> {
@@ -288,6 +307,7 @@ impl<'a> SphereInertial<'a> {
             mass: ramp.mass_ratio,
             inertia: 0.4 * ramp.mass_ratio,
             drag: ramp.drag,
+            law: super::disk2d::nonlinear(ramp),
         }
     }
 
@@ -382,6 +402,15 @@ impl<'a> SphereInertial<'a> {
         })
     }
 
+    /// The drag torque's magnitude-and-direction γ g(|ω|) ω̂ (γ ω for linear drag); the
+    /// torque on the body is its negative.
+    fn drag_torque(&self, omega: DVec3) -> DVec3 {
+        match self.law {
+            None => self.drag * omega,
+            Some(law) => self.drag * law.torque_per_speed(omega.length()) * omega,
+        }
+    }
+
     /// ω̇, the lab contact vector r and its full derivative ṙ for contact `sp`, orientation q
     /// (unit) and ω (SI eq. 34).
     fn omega_dot(&self, q: DQuat, sp: &SurfacePoint, omega: DVec3) -> (DVec3, DVec3, DVec3) {
@@ -391,10 +420,19 @@ impl<'a> SphereInertial<'a> {
         let p_dot_body = sp.solve_shape(-omega_body.cross(d));
         let r_dot = omega.cross(r) + q * p_dot_body;
         let m = self.mass;
-        let rhs = -r.cross(self.force)
-            - self.drag * omega
-            - (m * self.drag / self.inertia) * r.dot(omega) * r
-            - m * r.cross(omega.cross(r_dot));
+        // The linear drag's terms as written before the drag laws, so linear runs keep their
+        // numbers bit for bit.
+        let (drag, drag_along_r) = match self.law {
+            None => (
+                self.drag * omega,
+                (m * self.drag / self.inertia) * r.dot(omega) * r,
+            ),
+            Some(_) => {
+                let drag = self.drag_torque(omega);
+                (drag, (m / self.inertia) * r.dot(drag) * r)
+            }
+        };
+        let rhs = -r.cross(self.force) - drag - drag_along_r - m * r.cross(omega.cross(r_dot));
         (rhs / (self.inertia + m * r.length_squared()), r, r_dot)
     }
 }
@@ -419,7 +457,10 @@ impl OdeSystem<10> for SphereInertial<'_> {
             omega_dot.z,
             v.x,
             v.y,
-            self.drag * omega.length_squared(),
+            match self.law {
+                None => self.drag * omega.length_squared(),
+                Some(_) => self.drag_torque(omega).dot(omega),
+            },
         ]
     }
     fn quaternion_slot(&self) -> Option<usize> {

@@ -40,7 +40,7 @@ pub use typed::{
 };
 
 use crate::dynamics::{
-    FORCE_COLUMNS, ModelError, ModelKind, ModelVisitor, Ramp, RollingModel, Switched,
+    DragLaw, FORCE_COLUMNS, ModelError, ModelKind, ModelVisitor, Ramp, RollingModel, Switched,
 };
 use crate::geometry::{Body, ShapeError};
 use crate::integrate::{self, IntegrateError, Method, Stats};
@@ -172,26 +172,37 @@ pub struct SummaryReport {
     pub alpha: f64,
     /// m/m0.
     pub mass_ratio: f64,
+    /// The drag law: one field per registered parameter, named by its key.
+    #[serde(flatten)]
+    pub drag_law: DragLaw,
 }
 
 impl SummaryReport {
-    /// The report of a run that took `wall_seconds` at `alpha` and `mass_ratio`.
+    /// The report of a run that took `wall_seconds` at `alpha` and `mass_ratio` with
+    /// `drag_law`.
     ///
     /// ```
-    /// use rollphase_core::dynamics::ModelKind;
+    /// use rollphase_core::dynamics::{DragLaw, ModelKind};
     /// use rollphase_core::simulate::{Summary, SummaryReport};
     /// let mut summary = Summary::new(ModelKind::SphereViscous);
     /// summary.rhs_evals = 1000;
-    /// let report = SummaryReport::new(summary, 0.5, 0.15, 0.0);
+    /// let report = SummaryReport::new(summary, 0.5, 0.15, 0.0, DragLaw::LINEAR);
     /// assert_eq!(report.rhs_evals_per_second, 2000.0);
     /// ```
-    pub fn new(summary: Summary, wall_seconds: f64, alpha: f64, mass_ratio: f64) -> Self {
+    pub fn new(
+        summary: Summary,
+        wall_seconds: f64,
+        alpha: f64,
+        mass_ratio: f64,
+        drag_law: DragLaw,
+    ) -> Self {
         Self {
             rhs_evals_per_second: summary.rhs_evals as f64 / wall_seconds.max(1e-12),
             summary,
             wall_seconds,
             alpha,
             mass_ratio,
+            drag_law,
         }
     }
 }
@@ -345,7 +356,8 @@ pub fn choose_model(body: &Body, ramp: Ramp, method: Method) -> Result<ModelChoi
     }
     match method {
         Method::Dop853 { rtol, .. } if m <= rtol => {
-            let viscous = Ramp::with_drag(ramp.alpha_rad, 0.0, ramp.drag)?;
+            let viscous =
+                Ramp::with_drag(ramp.alpha_rad, 0.0, ramp.drag)?.with_drag_law(ramp.drag_law);
             Ok(ModelChoice {
                 ramp: viscous,
                 note: Some(format!(
@@ -373,7 +385,7 @@ pub fn choose_model(body: &Body, ramp: Ramp, method: Method) -> Result<ModelChoi
 }
 
 /// The shortest time on which the inertial model relaxes to the viscous one, τ = m (I/m + r²)/γ
-/// at the smallest contact radius (I = m/2 in 2D, 2m/5 in 3D): what an explicit integrator must
+/// (over γ g' with a drag law, [`crate::dynamics::drag`]) at the smallest contact radius (I = m/2 in 2D, 2m/5 in 3D): what an explicit integrator must
 /// resolve (module doc). Infinite for the viscous model (nothing to resolve).
 ///
 /// # Example
@@ -408,7 +420,11 @@ pub fn relaxation_time(body: &Body, ramp: &Ramp) -> f64 {
                 .fold(f64::INFINITY, f64::min),
         ),
     };
-    m * (inertia_factor + r_min * r_min) / ramp.drag
+    // A drag law stiffens the relaxation by its slope g' at the speed the body cruises at
+    // (the unit ball's, g⁻¹(sin α/γ)); 1 for the linear drag.
+    let law = ramp.drag_law;
+    let slope = law.slope(law.speed_for(ramp.alpha_rad.sin() / ramp.drag));
+    m * (inertia_factor + r_min * r_min) / (ramp.drag * slope)
 }
 
 /// Right-hand-side evaluations an explicit integrator needs at the least to follow the inertial

@@ -13,7 +13,7 @@ use std::sync::atomic::AtomicBool;
 
 use super::{ContactLimits, InitialState, RunError, RunSpec, Summary, run, run_until};
 use crate::dynamics::sphere3d::orientation_touching;
-use crate::dynamics::{ContactForce, Ramp};
+use crate::dynamics::{ContactForce, DragLaw, Ramp};
 use crate::geometry::Body;
 use crate::geometry::sphere::direction;
 use crate::integrate::Method;
@@ -123,6 +123,8 @@ pub struct Simulation {
     pub model: Model,
     /// Rotational drag γ in units of γ0 (1 by default; 0 only for inertial runs).
     pub drag: f64,
+    /// How the drag grows with the speed (linear by default; [`crate::dynamics::drag`]).
+    pub drag_law: DragLaw,
     /// Where it starts; `None`: [`InitialState::at_rest`], the command line's default.
     pub initial: Option<InitialState>,
     /// The integrator (DOP853 at rtol 1e-10 by default).
@@ -156,6 +158,7 @@ impl Simulation {
             alpha,
             model: Model::Viscous,
             drag: 1.0,
+            drag_law: DragLaw::LINEAR,
             initial: None,
             method: Method::dop853(1e-10),
             t_end,
@@ -245,6 +248,22 @@ impl Simulation {
         Simulation { drag, ..self }
     }
 
+    /// With this drag law.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::DragLaw;
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::Simulation;
+    /// let body = Body::paper_disk(84, 0.12, 5)?;
+    /// let spec = Simulation::new(0.1, 10.0).drag_law(DragLaw::LINEAR).spec(&body)?;
+    /// assert!(spec.ramp.drag_law.is_linear());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn drag_law(self, drag_law: DragLaw) -> Self {
+        Simulation { drag_law, ..self }
+    }
+
     /// With this surface: its μ, and whether a lift-off or slip stops the run.
     ///
     /// # Example
@@ -278,7 +297,8 @@ impl Simulation {
     /// ```
     pub fn spec(&self, body: &Body) -> Result<RunSpec, RunError> {
         // The ramp first, so a bad m/m0 gets the command line's message for `--mass`.
-        let ramp = Ramp::with_drag(self.alpha, self.model.mass_ratio(), self.drag)?;
+        let ramp = Ramp::with_drag(self.alpha, self.model.mass_ratio(), self.drag)?
+            .with_drag_law(self.drag_law);
         if let Model::Inertial { mass_ratio } = self.model
             && !(mass_ratio.is_finite() && mass_ratio > 0.0)
         {

@@ -14,6 +14,9 @@ pub enum SimCommand {
     SetAlpha(f64),
     /// New m/m0 (0: viscous), applied to the running state.
     SetMassRatio(f64),
+    /// New value of a registered drag-law parameter (its key in
+    /// [`crate::dynamics::drag::REGISTERED`]), applied to the running state.
+    SetDragParameter(&'static str, f64),
     /// New integrator.
     SetMethod(Method),
     /// Simulation time per second of wall time.
@@ -106,6 +109,17 @@ impl Controller {
         let result = match command {
             SimCommand::SetAlpha(alpha) => self.set_ramp(alpha, self.sim.ramp().mass_ratio),
             SimCommand::SetMassRatio(m) => self.set_ramp(self.sim.ramp().alpha_rad, m),
+            SimCommand::SetDragParameter(key, value) => {
+                let now = self.sim.ramp();
+                now.drag_law
+                    .with(key, value)
+                    .map_err(|e| e.to_string())
+                    .and_then(|law| {
+                        self.sim
+                            .set_parameters(now.with_drag_law(law), self.sim.method())
+                            .map_err(|e| e.to_string())
+                    })
+            }
             SimCommand::SetMethod(method) => self
                 .sim
                 .set_parameters(self.sim.ramp(), method)
@@ -214,8 +228,10 @@ impl Controller {
     }
 
     fn set_ramp(&mut self, alpha_rad: f64, mass_ratio: f64) -> Result<(), String> {
-        let ramp = Ramp::with_drag(alpha_rad, mass_ratio, self.sim.ramp().drag)
-            .map_err(|e| e.to_string())?;
+        let now = self.sim.ramp();
+        let ramp = Ramp::with_drag(alpha_rad, mass_ratio, now.drag)
+            .map_err(|e| e.to_string())?
+            .with_drag_law(now.drag_law);
         self.sim
             .set_parameters(ramp, self.sim.method())
             .map_err(|e| e.to_string())

@@ -116,6 +116,8 @@ pub struct Snapshot {
     pub alpha_star: f64,
     /// m/m0 (0: viscous).
     pub mass_ratio: f64,
+    /// The drag law running.
+    pub drag_law: crate::dynamics::DragLaw,
     /// Pose.
     pub pose: BodyPose,
     /// Contact point on the ramp (z = 0).
@@ -389,7 +391,8 @@ impl LiveRun {
                 step.mass_ratio.unwrap_or(self.ramp.mass_ratio),
                 self.ramp.drag,
             )
-            .map_err(|e| SimError::Refused(format!("timeline step at t = {}: {e}", step.at)))?;
+            .map_err(|e| SimError::Refused(format!("timeline step at t = {}: {e}", step.at)))?
+            .with_drag_law(self.ramp.drag_law);
             self.set_parameters(ramp, step.method.unwrap_or(self.method))?;
         }
         if let Some(change) = &step.views {
@@ -742,6 +745,7 @@ impl LiveRun {
             alpha_rad: self.ramp.alpha_rad,
             alpha_star: self.setup.alpha_star,
             mass_ratio: self.ramp.mass_ratio,
+            drag_law: self.ramp.drag_law,
             pose: o.pose,
             contact_on_ramp: o.on_ramp,
             contact_in_body: o.in_body,

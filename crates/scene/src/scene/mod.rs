@@ -16,6 +16,7 @@
 //! alpha_rad = 0.3                    # or alpha_over_critical = 1.05 (α = 1.05 α*)
 //! mass_ratio = 0.0                   # 0 = viscous model
 //! friction = 0.5                     # optional: the surface's μ, checked against slip
+//! # KEY = VALUE                      # optional: drag-law parameters (dynamics::drag::REGISTERED)
 //! [initial]
 //! contact = [1.0, 2.0]               # 3D: body point (θ, φ) on the ramp, then `spin` about +z
 //! [integrator]
@@ -39,9 +40,11 @@ use crate::integrate::Preset;
 pub use crate::assets::{BUNDLED_SHAPES, PRESETS};
 
 mod clock;
+mod drag_law;
 mod error;
 mod setup;
 mod timeline;
+pub use drag_law::DragLawFields;
 pub use error::SceneError;
 pub use setup::{Resume, SceneSetup, bundled_shape, load_scene_file};
 pub use timeline::{MAX_CAPTION_CHARS, MAX_STEPS, Step, TimelineSpec, ViewsChange};
@@ -151,9 +154,10 @@ pub enum PerfectBody {
     Sphere,
 }
 
-/// Ramp angle (one of `alpha_rad`, `alpha_over_critical`), mass ratio and drag.
+/// Ramp angle (one of `alpha_rad`, `alpha_over_critical`), mass ratio and drag, with the drag
+/// law's parameters by their registered keys. Unknown fields are
+/// refused by [`DragLawFields`], which takes the keys this struct does not name.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct ModelSpec {
     /// α in radians.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -171,6 +175,9 @@ pub struct ModelSpec {
     /// more (the body would slip). Without it only lift-off (N ≤ 0) is flagged.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<f64>,
+    /// The drag law's parameters (none: the paper's linear drag).
+    #[serde(flatten)]
+    pub drag_law: DragLawFields,
 }
 
 fn one() -> f64 {

@@ -126,7 +126,11 @@ impl Scene {
                 ));
             }
         };
-        let ramp = Ramp::with_drag(alpha, m.mass_ratio, m.drag)?;
+        let law = m
+            .drag_law
+            .law()
+            .map_err(|e| invalid(format!("model.{e}")))?;
+        let ramp = Ramp::with_drag(alpha, m.mass_ratio, m.drag)?.with_drag_law(law);
         let limits = ContactLimits {
             friction: m.friction,
             on_violation: OnViolation::Warn,

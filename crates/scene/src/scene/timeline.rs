@@ -187,8 +187,9 @@ pub(super) fn resolve(
         };
         alpha = alpha_rad.unwrap_or(alpha);
         mass = spec.mass_ratio.unwrap_or(mass);
-        let step_ramp =
-            Ramp::with_drag(alpha, mass, ramp.drag).map_err(|e| invalid(format!("{name}: {e}")))?;
+        let step_ramp = Ramp::with_drag(alpha, mass, ramp.drag)
+            .map_err(|e| invalid(format!("{name}: {e}")))?
+            .with_drag_law(ramp.drag_law);
         let step_method = spec.integrator.map(Preset::method);
         method_now = step_method.unwrap_or(method_now);
         let choice = choose_model(body, step_ramp, method_now)

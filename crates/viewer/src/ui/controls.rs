@@ -333,6 +333,7 @@ impl AppUi {
             let m = if self.inertial { self.mass_ratio } else { 0.0 };
             actions.push(UiAction::Sim(SimCommand::SetMassRatio(m)));
         }
+        drag_law_ui(ui, &snap.drag_law, actions);
         ui.label(format!("model: {}", snap.model));
         self.measuring_sweep_ui(ui);
 
@@ -881,5 +882,23 @@ mod body_tests {
             describe_body(&random.body),
             "body: random 3D, seed 7, σ 0.25, l ≤ 5"
         );
+    }
+}
+
+/// One slider per parameter of the core's drag-law registry, showing the running value: a new
+/// law appears here without code for it.
+fn drag_law_ui(ui: &mut egui::Ui, law: &crate::dynamics::DragLaw, actions: &mut Vec<UiAction>) {
+    for (parameter, value) in law.parameters() {
+        let mut value = value;
+        let label = parameter.key.replace('_', " ");
+        let slider = egui::Slider::new(&mut value, parameter.min..=parameter.max)
+            .logarithmic(true)
+            .text(label);
+        if ui.add(slider).on_hover_text(parameter.help).changed() {
+            actions.push(UiAction::Sim(SimCommand::SetDragParameter(
+                parameter.key,
+                value,
+            )));
+        }
     }
 }

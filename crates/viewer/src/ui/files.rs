@@ -717,6 +717,7 @@ impl AppUi {
         scene.model.alpha_rad = Some(snap.alpha_rad);
         scene.model.alpha_over_critical = None;
         scene.model.mass_ratio = snap.mass_ratio;
+        scene.model.drag_law = crate::scene::DragLawFields::from(&snap.drag_law);
         scene.integrator = method_spec(&status.method);
         scene.playback.speed = status.speed;
         scene.views = self.views.clone();

@@ -1,0 +1,76 @@
+//! A scene's drag-law keys: `[model]` takes every parameter of the core's registry
+//! ([`crate::dynamics::drag::REGISTERED`]) by its key (`KEY = VALUE`), with no code
+//! here for any one law. serde cannot deny unknown fields and flatten at once, so this map
+//! takes the `[model]` keys `ModelSpec` does not name and refuses any that is no registered
+//! parameter, with serde's "unknown field" wording.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+use crate::dynamics::drag::{DragLaw, DragLawError, REGISTERED};
+
+/// The drag-law parameters a scene gives, by key (absent: the parameter's default).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[serde(transparent)]
+pub struct DragLawFields(BTreeMap<String, f64>);
+
+impl DragLawFields {
+    /// The law these values make, each checked against its range.
+    ///
+    /// # Errors
+    /// A value outside its parameter's range.
+    pub fn law(&self) -> Result<DragLaw, DragLawError> {
+        self.0
+            .iter()
+            .try_fold(DragLaw::LINEAR, |law, (key, value)| law.with(key, *value))
+    }
+}
+
+impl From<&DragLaw> for DragLawFields {
+    /// The parameters of `law` that differ from their defaults (a linear law writes none).
+    fn from(law: &DragLaw) -> Self {
+        DragLawFields(
+            law.parameters()
+                .filter(|(p, v)| *v != p.default)
+                .map(|(p, v)| (p.key.to_string(), v))
+                .collect(),
+        )
+    }
+}
+
+impl<'de> Deserialize<'de> for DragLawFields {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_map(FieldsVisitor)
+    }
+}
+
+/// The `[model]` fields `ModelSpec` names itself, for the unknown-field message.
+const MODEL_FIELDS: &str = "`alpha_rad`, `alpha_over_critical`, `mass_ratio`, `drag`, `friction`";
+
+struct FieldsVisitor;
+
+impl<'de> serde::de::Visitor<'de> for FieldsVisitor {
+    type Value = DragLawFields;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("drag-law parameters")
+    }
+
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+        let mut values = BTreeMap::new();
+        while let Some(key) = map.next_key::<String>()? {
+            if !REGISTERED.iter().any(|p| p.key == key) {
+                let laws: Vec<_> = REGISTERED.iter().map(|p| format!("`{}`", p.key)).collect();
+                return Err(serde::de::Error::custom(format!(
+                    "unknown field `{key}`, expected one of {MODEL_FIELDS} or a drag-law \
+                     parameter ({})",
+                    laws.join(", ")
+                )));
+            }
+            let value: f64 = map.next_value()?;
+            values.insert(key, value);
+        }
+        Ok(DragLawFields(values))
+    }
+}
