@@ -126,3 +126,32 @@ fn reset_restores_the_scenes_speed_too() {
     assert_eq!(c.speed(), scene_speed);
     assert_eq!(c.simulation().time(), 0.0);
 }
+
+#[test]
+fn every_registered_drag_parameter_changes_live_and_a_bad_value_is_refused() {
+    use rollphase::dynamics::drag::REGISTERED;
+    for p in REGISTERED {
+        let mut c = controller("perfect-sphere");
+        c.tick(0.2, u64::MAX);
+        c.apply(SimCommand::SetDragParameter(p.key, p.max));
+        assert!(c.message().is_none(), "{:?}", c.message());
+        assert_eq!(c.simulation().ramp().drag_law.get(p.key), Some(p.max));
+        assert_eq!(c.simulation().snapshot().drag_law.get(p.key), Some(p.max));
+        let before = c.simulation().snapshot();
+        c.apply(SimCommand::SetDragParameter(p.key, p.max * 2.0));
+        assert!(c.message().unwrap().contains(p.key), "{:?}", c.message());
+        assert_eq!(c.simulation().snapshot(), before);
+    }
+    // The perfect (viscous) ball rolls at the power law's speed, (sin α)^(1/n) with n = 2:
+    // its state is [q, x, y], x the distance rolled from the start.
+    let mut c = controller("perfect-sphere");
+    c.apply(SimCommand::SetDragParameter("drag_exponent", 2.0));
+    c.tick(1.0, u64::MAX);
+    let alpha = c.simulation().ramp().alpha_rad;
+    let t = c.simulation().time();
+    let x = c.simulation().snapshot().state[4];
+    assert!(
+        t > 0.0 && (x / t / alpha.sin().sqrt() - 1.0).abs() < 1e-9,
+        "x = {x} at t = {t}"
+    );
+}

@@ -19,6 +19,8 @@
 //!
 //! Pure math, imports nothing but serde.
 
+pub mod power_law;
+
 use serde::ser::SerializeMap;
 
 /// One registered drag law: its parameter and its speed map.
@@ -45,7 +47,7 @@ pub struct DragParameter {
 }
 
 /// The registry: every drag law there is. A new law is its own file and one entry here.
-pub const REGISTERED: &[&DragParameter] = &[];
+pub const REGISTERED: &[&DragParameter] = &[&power_law::EXPONENT];
 
 /// A bad drag-law parameter.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
