@@ -199,6 +199,12 @@ fn measured_lag_times_give_an_exponent_near_minus_one_half() {
         s.shared_exponent_stderr
     );
     assert!(s.shared_exponent_stderr < 0.06);
+    // The power-law drag exponent the ramp supports, n = 1/(½ − β): measured 0.948 ± 0.025
+    // (2026-11-27), so the linear drag n = 1 is about 2σ away, not excluded at 3σ.
+    let n = s.drag_exponent.expect("β < ½");
+    assert!((n.n - 1.0 / (0.5 - s.shared_exponent)).abs() < 1e-12);
+    assert!(n.low < n.n && n.n < n.high && n.stderr > 0.0);
+    assert!(n.linear_sigmas < 3.0 && n.low < 1.0, "{n:?}");
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! `rollphase fit-lag CSV` — paper Fig. 3b–c from measured data, not from the model: the lag
 //! times of rolling cylinders, fitted with t_lag = A (α − α*)^β per run (α* a fit parameter) and
 //! with one exponent shared by all runs ([`crate::analysis::lag_fit`]); the paper reports β = −½.
+//! The shared β also says which power-law drag exponent n = 1/(½ − β) the ramp supports.
 //! Its own module, beside the figures whose output layout (data.csv, figure.png, summary.json)
 //! it shares.
 
@@ -10,8 +11,8 @@ use anyhow::{Context, Result, anyhow};
 use serde::Serialize;
 
 use crate::analysis::lag_fit::{
-    ALPHA_STAR_RANGE, LagAnalysis, LagRun, SHARED_EXPONENT_RANGE, analyse_with_progress,
-    parse_lag_csv,
+    ALPHA_STAR_RANGE, DragExponentEstimate, LagAnalysis, LagRun, SHARED_EXPONENT_RANGE,
+    analyse_with_progress, drag_exponent_from_lag, parse_lag_csv,
 };
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::figures::FigureData;
@@ -28,6 +29,9 @@ pub struct Summary {
     pub shared_exponent: f64,
     /// Its bootstrap standard deviation.
     pub shared_exponent_stderr: f64,
+    /// The power-law drag exponent n = 1/(1/2 − β) the shared β implies, with its error and
+    /// range (null when β ≥ 1/2).
+    pub drag_exponent: Option<DragExponentEstimate>,
     /// α* reported in the file per run (null if absent).
     pub alpha_star_reported: Vec<Option<f64>>,
     /// Fitted values that sit at the edge of their search range, where the fit is not a
@@ -177,6 +181,10 @@ pub fn compute(
         runs: runs.len(),
         shared_exponent: analysis.shared_exponent,
         shared_exponent_stderr: analysis.shared_exponent_stderr,
+        drag_exponent: drag_exponent_from_lag(
+            analysis.shared_exponent,
+            analysis.shared_exponent_stderr,
+        ),
         alpha_star_reported: runs.iter().map(|r| r.alpha_star_reported).collect(),
         warnings,
         analysis,

@@ -299,6 +299,65 @@ pub fn analyse_with_progress(
     })
 }
 
+/// The drag-law exponent a lag-time exponent implies. Under the power-law drag
+/// ([`crate::dynamics::drag::power_law`]) the time through the bottleneck near α* scales as
+/// (α − α*)^(1/2 − 1/n), and the lag time scales as that time does (paper Fig. 2f), so
+/// n = 1/(1/2 − β); its error follows β's (σ_n = σ_β/(1/2 − β)²), and the range maps β ± 2σ_β.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DragExponentEstimate {
+    /// n = 1/(1/2 − β).
+    pub n: f64,
+    /// Its standard error from β's.
+    pub stderr: f64,
+    /// n at β − 2σ_β.
+    pub low: f64,
+    /// n at β + 2σ_β (infinite when β + 2σ_β ≥ 1/2: no upper bound).
+    pub high: f64,
+    /// How many standard errors the paper's linear drag, n = 1, is from n.
+    pub linear_sigmas: f64,
+}
+
+/// [`DragExponentEstimate`] from the shared β and its standard error; `None` when β ≥ 1/2 (no
+/// power-law drag gives a lag time that does not grow at α*) or either is not finite.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::lag_fit::drag_exponent_from_lag;
+/// // β = −½ is the linear drag.
+/// let e = drag_exponent_from_lag(-0.5, 0.02).unwrap();
+/// assert!((e.n - 1.0).abs() < 1e-15 && e.linear_sigmas == 0.0);
+/// // β = −3/2 is n = ½.
+/// assert!((drag_exponent_from_lag(-1.5, 0.1).unwrap().n - 0.5).abs() < 1e-15);
+/// assert!(drag_exponent_from_lag(0.6, 0.1).is_none());
+/// ```
+pub fn drag_exponent_from_lag(beta: f64, beta_stderr: f64) -> Option<DragExponentEstimate> {
+    if !(beta.is_finite() && beta_stderr.is_finite() && beta < 0.5) {
+        return None;
+    }
+    let n_of = |b: f64| {
+        if b < 0.5 {
+            1.0 / (0.5 - b)
+        } else {
+            f64::INFINITY
+        }
+    };
+    let n = n_of(beta);
+    let stderr = beta_stderr / (0.5 - beta).powi(2);
+    Some(DragExponentEstimate {
+        n,
+        stderr,
+        low: n_of(beta - 2.0 * beta_stderr),
+        high: n_of(beta + 2.0 * beta_stderr),
+        linear_sigmas: if stderr > 0.0 {
+            (n - 1.0).abs() / stderr
+        } else if n == 1.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        },
+    })
+}
+
 /// Fewest distinct angles per run: one more than the per-run fit's three unknowns, so the fit
 /// is not interpolation.
 pub const MIN_ANGLES_PER_RUN: usize = 4;
