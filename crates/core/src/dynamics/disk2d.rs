@@ -189,7 +189,7 @@ impl<'a> DiskViscous<'a> {
             sin_a: ramp.alpha_rad.sin(),
             cos_a: ramp.alpha_rad.cos(),
             drag: if ramp.drag > 0.0 { ramp.drag } else { 1.0 },
-            law: nonlinear(ramp),
+            law: ramp.drag_law.if_nonlinear(),
         }
     }
 
@@ -235,11 +235,6 @@ impl<'a> DiskViscous<'a> {
             }
         }
     }
-}
-
-/// The ramp's drag law if it is not linear.
-pub(crate) fn nonlinear(ramp: &Ramp) -> Option<DragLaw> {
-    (!ramp.drag_law.is_linear()).then_some(ramp.drag_law)
 }
 
 pub(crate) fn theta_dot_viscous(j: &RadiusJet, sin_a: f64, cos_a: f64) -> f64 {
@@ -300,7 +295,7 @@ impl<'a> DiskInertial<'a> {
             cos_a: ramp.alpha_rad.cos(),
             mass: ramp.mass_ratio,
             drag: ramp.drag,
-            law: nonlinear(ramp),
+            law: ramp.drag_law.if_nonlinear(),
         }
     }
 

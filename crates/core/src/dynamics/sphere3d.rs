@@ -184,7 +184,7 @@ impl<'a> SphereViscous<'a> {
             tracker: ContactTracker::new(body),
             force: force(ramp.alpha_rad),
             drag: if ramp.drag > 0.0 { ramp.drag } else { 1.0 },
-            law: super::disk2d::nonlinear(ramp),
+            law: ramp.drag_law.if_nonlinear(),
         }
     }
 
@@ -307,7 +307,7 @@ impl<'a> SphereInertial<'a> {
             mass: ramp.mass_ratio,
             inertia: 0.4 * ramp.mass_ratio,
             drag: ramp.drag,
-            law: super::disk2d::nonlinear(ramp),
+            law: ramp.drag_law.if_nonlinear(),
         }
     }
 

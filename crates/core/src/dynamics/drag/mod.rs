@@ -206,12 +206,14 @@ impl DragLaw {
     /// # Ok::<(), rollphase_core::dynamics::drag::DragLawError>(())
     /// ```
     pub fn speed_for(&self, torque: f64) -> f64 {
-        self.parameters()
-            .filter(|(p, v)| *v != p.default)
-            .collect::<Vec<_>>()
-            .into_iter()
+        // The maps undone in reverse order; no allocation, as the viscous models call this
+        // on every right-hand-side evaluation.
+        REGISTERED
+            .iter()
+            .zip(self.values.iter())
             .rev()
-            .fold(torque, |t, (p, v)| (p.inverse)(v, t))
+            .filter(|(p, v)| **v != p.default)
+            .fold(torque, |t, (p, v)| (p.inverse)(*v, t))
     }
 
     /// g'(speed), by the chain rule through the composed laws.
@@ -235,6 +237,11 @@ impl DragLaw {
             s = (p.map)(v, s);
         }
         slope
+    }
+
+    /// This law if it is not the linear one (the models then run their linear equations).
+    pub(crate) fn if_nonlinear(self) -> Option<DragLaw> {
+        (!self.is_linear()).then_some(self)
     }
 
     /// The viscous angular velocity for the linear one, `linear` = τ/γ: the same direction,
