@@ -1,6 +1,7 @@
 //! `rollphase bench accuracy --quick` measures what it claims: RK4's error falls as dt⁴ (the
 //! least-squares slope over dt = 0.2 … 0.01), DOP853's
-//! falls with its tolerance; and the same inputs give byte-identical CSV and PNG files.
+//! falls with its tolerance; and the same inputs give byte-identical CSV and PNG files. `bench
+//! mesh` fits STL and PLY alike and reports each one's peak memory.
 
 use std::path::Path;
 use std::process::Command;
@@ -83,4 +84,40 @@ fn quick_accuracy_table_is_physical_and_reproducible() {
     }
     // No NaN or infinity is ever written: unmeasurable values are empty fields.
     assert!(!csv.contains("NaN") && !csv.contains("inf"));
+}
+
+/// `bench mesh` fits the same triangles written as binary STL and as binary PLY, each in a
+/// process of its own: both give the same fit, and each row reports its peak memory, which for
+/// the streamed PLY stays within 2× of the streamed STL's.
+#[test]
+fn mesh_bench_fits_stl_and_ply_alike_and_reports_their_memory() {
+    let out = String::from_utf8(crate::cli::rollphase_ok([
+        "bench",
+        "mesh",
+        "--largest",
+        "6",
+    ]))
+    .unwrap();
+    let rows: Vec<Vec<String>> = out
+        .lines()
+        .filter(|l| l.starts_with("paper sphere"))
+        .map(|l| {
+            let (_, numbers) = l.split_at(32);
+            numbers.split_whitespace().map(str::to_string).collect()
+        })
+        .collect();
+    assert_eq!(rows.len(), 4, "{out}");
+    for pair in rows.chunks(2) {
+        let (stl, ply) = (&pair[0], &pair[1]);
+        // triangles, L and the residual agree.
+        assert_eq!(
+            (&stl[0], &stl[5], &stl[6]),
+            (&ply[0], &ply[5], &ply[6]),
+            "{out}"
+        );
+        if cfg!(target_os = "linux") {
+            let peak = |r: &Vec<String>| r[4].parse::<f64>().unwrap();
+            assert!(peak(stl) > 1.0 && peak(ply) < 2.0 * peak(stl), "{out}");
+        }
+    }
 }

@@ -1046,3 +1046,72 @@ fn a_ply_cut_or_flipped_anywhere_is_an_error_never_a_panic() {
         }
     }
 }
+
+/// A PLY too large for one block of the streamed reader (327,680 triangles, about 7.5 blocks of
+/// corners), whose faces jump across the vertex records as an icosphere's do: every triangle
+/// comes back bit for bit the binary STL's, in order, whether the vertices come first (as
+/// [`TriMesh::write_ply`] writes them) or after the faces as big-endian doubles between other
+/// properties; and a file cut inside its vertex records is refused at once.
+#[test]
+fn a_ply_read_in_blocks_gives_the_stl_triangles_bit_for_bit() {
+    use rollphase::geometry::mesh_read::MeshSource;
+    let dir = scratch("ply-blocks");
+    let Body::Sphere(s) = Body::random_sphere(5, 0.2, 3).unwrap() else {
+        unreachable!()
+    };
+    let mesh = sphere_mesh(&s, 7);
+    let stl = dir.join("body.stl");
+    write_binary_stl(&mesh, &stl, 12.5);
+    let first = dir.join("vertices-first.ply");
+    let mut bytes = Vec::new();
+    mesh.write_ply(&mut bytes, 12.5).unwrap();
+    std::fs::write(&first, &bytes).unwrap();
+    let last = dir.join("vertices-last.ply");
+    let mut bytes = format!(
+        "ply\nformat binary_big_endian 1.0\nelement face {}\n\
+         property list uchar int vertex_indices\nelement vertex {}\nproperty uchar flags\n\
+         property double x\nproperty double y\nproperty double z\nproperty float nx\nend_header\n",
+        mesh.indices.len(),
+        mesh.positions.len()
+    )
+    .into_bytes();
+    for t in &mesh.indices {
+        bytes.push(3);
+        for &i in t {
+            bytes.extend((i as i32).to_be_bytes());
+        }
+    }
+    for p in &mesh.positions {
+        bytes.push(9);
+        for x in p {
+            // The f32 the STL holds, as a double.
+            bytes.extend(f64::from((f64::from(*x) * 12.5) as f32).to_be_bytes());
+        }
+        bytes.extend(1.0f32.to_be_bytes());
+    }
+    std::fs::write(&last, &bytes).unwrap();
+    let triangles = |path: &Path| {
+        let source = MeshSource::open(path).unwrap();
+        let mut all = Vec::with_capacity(source.triangles());
+        source
+            .for_each(|i, t| {
+                assert_eq!(i, all.len());
+                all.push(t);
+                Ok(())
+            })
+            .unwrap();
+        all
+    };
+    let reference = triangles(&stl);
+    assert_eq!(reference.len(), mesh.indices.len());
+    for ply in [&first, &last] {
+        let got = triangles(ply);
+        assert_eq!(got.len(), reference.len(), "{}", ply.display());
+        let differ = got.iter().zip(&reference).filter(|(a, b)| a != b).count();
+        assert_eq!(differ, 0, "{}: {differ} triangles differ", ply.display());
+    }
+    let cut = dir.join("cut.ply");
+    std::fs::write(&cut, &bytes[..bytes.len() - 100]).unwrap();
+    let err = MeshSource::open(&cut).err().unwrap().to_string();
+    assert!(err.contains("vertex records"), "{err}");
+}

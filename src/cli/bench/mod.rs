@@ -107,6 +107,10 @@ pub struct MeshBenchArgs {
     /// The finest mesh: icosphere level 5 to 9 (20·4^level triangles; 9 is a 262 MB STL).
     #[arg(long, default_value_t = 8)]
     pub largest: u32,
+    /// Fits this one mesh and prints its time and this process's peak memory as a JSON line:
+    /// how `bench mesh` measures each row in a process of its own.
+    #[arg(long, hide = true)]
+    pub fit_one: Option<std::path::PathBuf>,
 }
 
 /// Options of `bench track`.

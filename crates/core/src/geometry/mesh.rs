@@ -140,6 +140,45 @@ impl TriMesh {
         }
         Ok(())
     }
+
+    /// Writes binary little-endian PLY, the indexed form scanners write: each vertex once
+    /// (x, y, z as f32, multiplied by `scale` exactly as [`Self::write_stl`] does, so the two
+    /// files hold the same triangles to the bit), then each triangle as three vertex indices.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::geometry::mesh::sphere_mesh;
+    /// let mesh = sphere_mesh(&Sphere::perfect(), 1);
+    /// let mut ply = Vec::new();
+    /// mesh.write_ply(&mut ply, 10.0)?;
+    /// let header_end = ply.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+    /// // 12 bytes a vertex, then a count byte and three 4-byte indices a triangle.
+    /// assert_eq!(ply.len() - header_end, 12 * mesh.positions.len() + 13 * mesh.indices.len());
+    /// # Ok::<(), std::io::Error>(())
+    /// ```
+    pub fn write_ply(&self, out: &mut impl Write, scale: f64) -> io::Result<()> {
+        write!(
+            out,
+            "ply\nformat binary_little_endian 1.0\ncomment rollphase\nelement vertex {}\n\
+             property float x\nproperty float y\nproperty float z\nelement face {}\n\
+             property list uchar uint vertex_indices\nend_header\n",
+            self.positions.len(),
+            self.indices.len()
+        )?;
+        for &p in &self.positions {
+            for x in as_f32(as_dvec(p) * scale) {
+                out.write_all(&x.to_le_bytes())?;
+            }
+        }
+        for t in &self.indices {
+            out.write_all(&[3])?;
+            for i in t {
+                out.write_all(&i.to_le_bytes())?;
+            }
+        }
+        Ok(())
+    }
 }
 
 fn as_dvec(p: [f32; 3]) -> DVec3 {

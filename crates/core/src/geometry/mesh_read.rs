@@ -2,7 +2,8 @@
 //! triangles that can be walked several times (the fit in [`super::mesh_fit`] makes three passes).
 //!
 //! OBJ parsing is the maintained crate's (`tobj`); PLY is streamed by `mesh_ply`
-//! (vertices held, faces read on each pass: `ply-rs-bw` held 37 times the file). STL is read here, in a
+//! (faces read a block at a time on each pass, a binary file's vertices read from disk as
+//! a block names them: `ply-rs-bw` held 37 times the file). STL is read here, in a
 //! few dozen lines, because `stl_io` decided binary or ASCII by its own rule, which disagreed
 //! with the files people write and with our length check: a first line of just `solid` (or with
 //! CRLF) was read as binary ("failed to fill whole buffer"), a binary STL whose header starts
