@@ -17,11 +17,14 @@ use glam::{DQuat, DVec3};
 use serde::Serialize;
 
 use crate::dynamics::sphere3d::orientation_touching;
-use crate::dynamics::{DiskInertial, DiskViscous, ModelKind, Ramp, SphereInertial, SphereViscous};
+use crate::dynamics::{
+    DiskInertial, DiskViscous, ModelKind, Ramp, RollingModel, SphereInertial, SphereViscous,
+};
 use crate::geometry::{Body, sphere::direction};
 use crate::integrate::events::{self, Direction};
 use crate::integrate::lie::quat_at;
-use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stats};
+use crate::integrate::run::{Flow, Run};
+use crate::integrate::{IntegrateError, Method, Stats};
 
 /// One model on one body with one start: what a row of the accuracy table measures.
 #[derive(Debug, Clone)]
@@ -172,49 +175,42 @@ pub const REFERENCE: Method = Method::Dop853 {
 enum Section {
     /// State component `slot` passing θ₀ + 2πk (2D).
     Turns { slot: usize, theta0: f64 },
-    /// q_w = 0, the boundary of the SO(3) ball (3D).
+    /// The model's own section (q_w = 0, the boundary of the SO(3) ball, in 3D).
     BallBoundary,
 }
 
-fn drive<const N: usize, S: OdeSystem<N>>(
+fn drive<const N: usize, S: RollingModel<N>>(
     sys: &S,
     y0: [f64; N],
     method: Method,
     t_end: f64,
     section: Section,
 ) -> Result<([f64; N], Vec<f64>, Stats), IntegrateError> {
-    let mut st = integrate::stepper(sys, 0.0, y0, method)?;
+    let mut run = Run::new(sys, 0.0, y0, method)?;
     let mut crossings = Vec::new();
     let mut target = match section {
         Section::Turns { theta0, .. } => theta0 + std::f64::consts::TAU,
         Section::BallBoundary => 0.0,
     };
-    let max_steps = 50_000_000;
-    while st.t() < t_end {
-        if st.stats().steps >= max_steps {
-            return Err(IntegrateError::TooManySteps {
-                t: st.t(),
-                max_steps,
-            });
-        }
-        st.step(t_end)?;
+    run.until::<IntegrateError>(t_end, 50_000_000, |st| {
         match section {
             Section::Turns { slot, .. } => events::turns_in_last_step(
-                st.as_mut(),
+                st,
                 slot,
                 &mut target,
                 std::f64::consts::TAU,
                 &mut crossings,
             ),
             Section::BallBoundary => events::crossings_in_last_step(
-                st.as_mut(),
-                &|_t, y: &[f64; N]| y[0],
+                st,
+                &|_t, y: &[f64; N]| sys.section(y),
                 Direction::Both,
                 &mut crossings,
             ),
         }
-    }
-    Ok((*st.y(), crossings, st.stats()))
+        Ok(Flow::Continue)
+    })?;
+    Ok((*run.y(), crossings, run.stats()))
 }
 
 /// Runs `case` with `method`.

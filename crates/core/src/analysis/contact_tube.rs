@@ -15,7 +15,8 @@ use crate::dynamics::sphere3d::orientation_touching;
 use crate::dynamics::{Ramp, SphereViscous};
 use crate::geometry::Sphere;
 use crate::geometry::sphere::direction;
-use crate::integrate::{self, Method};
+use crate::integrate::run::{Flow, Run};
+use crate::integrate::{IntegrateError, Method};
 
 /// Points on the ring of orientations touching u₀ (its resolution in the figure).
 pub const RING_POINTS: usize = 720;
@@ -113,20 +114,20 @@ pub fn contact_tube(
         .collect();
     let q0 = orientation_touching(&body, u0, 1.0);
     let model = SphereViscous::new(&body, &ramp);
-    let mut stepper = integrate::stepper(
+    let mut run = Run::new(
         &model,
         0.0,
         SphereViscous::initial_state(q0),
         Method::dop853(1e-12),
     )?;
     let mut integration_error: f64 = 0.0;
-    while stepper.t() < period {
-        stepper.step(period)?;
-        let y = stepper.y();
+    run.until::<IntegrateError>(period, u64::MAX, |st| {
+        let y = st.y();
         let q = DQuat::from_xyzw(y[1], y[2], y[3], y[0]);
-        let exact = q_at(q0, stepper.t());
+        let exact = q_at(q0, st.t());
         integration_error = integration_error.max((q - exact).length().min((q + exact).length()));
-    }
+        Ok(Flow::Continue)
+    })?;
     Ok(ContactTube {
         alpha,
         contact,

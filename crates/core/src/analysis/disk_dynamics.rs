@@ -21,7 +21,8 @@ use super::period::{inertial_disk_period, viscous_disk_period_with};
 use crate::dynamics::{DiskInertial, DiskViscous, ModelError, Ramp};
 use crate::geometry::{Body, Disk};
 use crate::integrate::events::{self, Direction};
-use crate::integrate::{self, IntegrateError, Method};
+use crate::integrate::run::{Flow, Run, Samples};
+use crate::integrate::{IntegrateError, Method};
 
 /// Time for the disk, released from rest at `theta0`, to reach θ = θ0 + `distance`; `None` if it
 /// has not got there by `t_max` (it halted).
@@ -48,9 +49,9 @@ pub fn lag_time(
     let g = move |_t: f64, y: &[f64]| y[0] - target;
     if ramp.is_viscous() {
         let m = DiskViscous::new(disk, ramp);
-        let mut st = integrate::stepper(&m, 0.0, [theta0, 0.0], Method::dop853(rtol))?;
+        let mut run = Run::new(&m, 0.0, [theta0, 0.0], Method::dop853(rtol))?;
         let ev = events::integrate_collecting(
-            st.as_mut(),
+            run.stepper(),
             t_max,
             50_000_000,
             &|t, y: &[f64; 2]| g(t, y),
@@ -60,9 +61,9 @@ pub fn lag_time(
         Ok(ev.first().copied())
     } else {
         let m = DiskInertial::new(disk, ramp);
-        let mut st = integrate::stepper(&m, 0.0, [theta0, 0.0, 0.0, 0.0], Method::dop853(rtol))?;
+        let mut run = Run::new(&m, 0.0, [theta0, 0.0, 0.0, 0.0], Method::dop853(rtol))?;
         let ev = events::integrate_collecting(
-            st.as_mut(),
+            run.stepper(),
             t_max,
             50_000_000,
             &|t, y: &[f64; 4]| g(t, y),
@@ -183,20 +184,20 @@ pub fn dwell(
     rtol: f64,
 ) -> Result<(f64, [f64; 2]), IntegrateError> {
     let model = DiskInertial::new(disk, ramp);
-    let mut st = integrate::stepper(
+    let mut run = Run::new(
         &model,
         0.0,
         [state[0], state[1], 0.0, 0.0],
         Method::dop853(rtol),
     )?;
     let mut theta_half = state[0];
-    while st.t() < duration {
-        st.step(duration)?;
+    run.until::<IntegrateError>(duration, u64::MAX, |st| {
         if st.t_prev() < 0.5 * duration && st.t() >= 0.5 * duration {
             theta_half = st.dense(0.5 * duration)[0];
         }
-    }
-    let y = *st.y();
+        Ok(Flow::Continue)
+    })?;
+    let y = *run.y();
     Ok((y[0] - theta_half, [y[0], y[1]]))
 }
 
@@ -268,17 +269,17 @@ pub fn fixed_points(disk: &Disk, alpha: f64) -> Vec<FixedPoint> {
 /// ```
 pub fn disk_cruises(disk: &Disk, ramp: &Ramp, theta0: f64) -> Result<bool, IntegrateError> {
     let m = DiskViscous::new(disk, ramp);
-    let mut st = integrate::stepper(&m, 0.0, [theta0, 0.0], Method::dop853(1e-10))?;
-    while st.t() < 1e6 {
-        st.step(1e6)?;
-        if st.y()[0] - theta0 > std::f64::consts::TAU {
-            return Ok(true);
-        }
-        if m.theta_dot(st.y()[0]).abs() < 1e-12 {
-            return Ok(false);
-        }
-    }
-    Ok(false)
+    let mut run = Run::new(&m, 0.0, [theta0, 0.0], Method::dop853(1e-10))?;
+    let mut cruises = false;
+    run.until::<IntegrateError>(1e6, u64::MAX, |st| {
+        cruises = st.y()[0] - theta0 > std::f64::consts::TAU;
+        Ok(if cruises || m.theta_dot(st.y()[0]).abs() < 1e-12 {
+            Flow::Stop
+        } else {
+            Flow::Continue
+        })
+    })?;
+    Ok(cruises)
 }
 
 /// The inertial disk's path in the (θ, θ̇) plane from `start` = (θ, θ̇) to `t_end`: `samples` + 1
@@ -307,22 +308,26 @@ pub fn phase_path(
     t_end: f64,
     samples: usize,
 ) -> Result<(Vec<[f64; 2]>, bool), IntegrateError> {
-    let mut st = integrate::stepper(
+    let mut run = Run::new(
         model,
         0.0,
         [start[0], start[1], 0.0, 0.0],
         Method::dop853(1e-10),
     )?;
+    let times: Vec<f64> = (0..=samples)
+        .map(|k| t_end * k as f64 / samples as f64)
+        .collect();
     let mut points = Vec::with_capacity(samples + 1);
-    for k in 0..=samples {
-        let t = t_end * k as f64 / samples as f64;
-        while st.t() < t {
-            st.step(t_end)?;
-        }
-        let y = if t == st.t() { *st.y() } else { st.dense(t) };
+    let mut sampled = Samples::new(&times);
+    let mut point = |_: f64, y: &[f64; 4]| {
         points.push([y[0].rem_euclid(std::f64::consts::TAU), y[1]]);
-    }
-    let rolls = st.y()[1].abs() > 1e-6;
+    };
+    sampled.take(run.stepper(), &mut point);
+    run.until::<IntegrateError>(t_end, u64::MAX, |st| {
+        sampled.take(st, &mut point);
+        Ok(Flow::Continue)
+    })?;
+    let rolls = run.y()[1].abs() > 1e-6;
     Ok((points, rolls))
 }
 

@@ -24,7 +24,8 @@ use crate::dynamics::sphere3d::DOWN;
 use crate::dynamics::{Ramp, SphereViscous};
 use crate::geometry::Sphere;
 use crate::geometry::sphere::direction;
-use crate::integrate::{self, IntegrateError, Method};
+use crate::integrate::run::{Flow, Run};
+use crate::integrate::{IntegrateError, Method};
 use crate::numeric::contour::level_set;
 
 /// The rest quality Q(u) = |∇_s ln r| sampled on a (θ, φ) grid: θ ∈ [0, π], φ ∈ [−π, π].
@@ -322,24 +323,23 @@ pub fn returns_to_rest(
     rest: DQuat,
     t_max: f64,
 ) -> Result<bool, IntegrateError> {
-    let mut st = integrate::stepper(
+    let mut run = Run::new(
         model,
         0.0,
         SphereViscous::initial_state(q),
         Method::dop853(1e-10),
     )?;
-    while st.t() < t_max {
-        st.step(t_max)?;
+    let mut returned = false;
+    run.until::<IntegrateError>(t_max, u64::MAX, |st| {
         let y = st.y();
         let now = DQuat::from_xyzw(y[1], y[2], y[3], y[0]).normalize();
         if 2.0 * now.dot(rest).abs().min(1.0).acos() > 0.05 {
-            return Ok(false);
+            return Ok(Flow::Stop);
         }
-        if model.observe(y).omega.length() < 1e-8 {
-            return Ok(true);
-        }
-    }
-    Ok(false)
+        returned = model.observe(y).omega.length() < 1e-8;
+        Ok(if returned { Flow::Stop } else { Flow::Continue })
+    })?;
+    Ok(returned)
 }
 
 #[cfg(test)]

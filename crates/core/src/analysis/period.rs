@@ -14,7 +14,8 @@ use serde::Serialize;
 use super::critical_angle;
 use crate::dynamics::{DiskInertial, DiskViscous, Ramp};
 use crate::geometry::{Body, Disk};
-use crate::integrate::{self, IntegrateError, Method, events};
+use crate::integrate::run::{Flow, Run};
+use crate::integrate::{IntegrateError, Method, events};
 use crate::numeric::quadrature::integrate_adaptive;
 
 /// The period of a rolling disk, or that it halts.
@@ -163,7 +164,7 @@ pub fn inertial_disk_period_until(
     stop: &std::sync::atomic::AtomicBool,
 ) -> Result<Option<PeriodResult>, IntegrateError> {
     let model = DiskInertial::new(disk, ramp);
-    let mut st = integrate::stepper(
+    let mut run = Run::new(
         &model,
         0.0,
         [theta0, theta_dot0, 0.0, 0.0],
@@ -172,44 +173,41 @@ pub fn inertial_disk_period_until(
     let mut crossings: Vec<f64> = Vec::new();
     let mut target = theta0 + std::f64::consts::TAU;
     let mut periods: Vec<f64> = Vec::new();
-    let max_steps = 50_000_000;
-    while st.t() < t_max {
-        if stop.load(std::sync::atomic::Ordering::Relaxed) {
-            return Ok(None);
-        }
-        if st.stats().steps >= max_steps {
-            return Err(IntegrateError::TooManySteps {
-                t: st.t(),
-                max_steps,
-            });
-        }
-        st.step(t_max)?;
-        let before = crossings.len();
-        events::turns_in_last_step(
-            st.as_mut(),
-            0,
-            &mut target,
-            std::f64::consts::TAU,
-            &mut crossings,
-        );
-        for i in before.max(1)..crossings.len() {
-            periods.push(crossings[i] - crossings[i - 1]);
-        }
-        if periods.len() >= 3 {
-            let n = periods.len();
-            let (a, b, c) = (periods[n - 3], periods[n - 2], periods[n - 1]);
-            if (a - b).abs() <= 1e-8 * c && (b - c).abs() <= 1e-8 * c {
-                return Ok(Some(PeriodResult {
-                    period: Some(c),
-                    mean_angular_speed: std::f64::consts::TAU / c,
-                    halts: false,
-                    converged: true,
-                    relative_error: 1e-8,
-                    t_simulated: st.t(),
-                }));
+    let mut converged = None;
+    let mut stopped = stop.load(std::sync::atomic::Ordering::Relaxed);
+    if !stopped {
+        run.until::<IntegrateError>(t_max, 50_000_000, |st| {
+            let before = crossings.len();
+            events::turns_in_last_step(st, 0, &mut target, std::f64::consts::TAU, &mut crossings);
+            for i in before.max(1)..crossings.len() {
+                periods.push(crossings[i] - crossings[i - 1]);
             }
-        }
+            if periods.len() >= 3 {
+                let n = periods.len();
+                let (a, b, c) = (periods[n - 3], periods[n - 2], periods[n - 1]);
+                if (a - b).abs() <= 1e-8 * c && (b - c).abs() <= 1e-8 * c {
+                    converged = Some(PeriodResult {
+                        period: Some(c),
+                        mean_angular_speed: std::f64::consts::TAU / c,
+                        halts: false,
+                        converged: true,
+                        relative_error: 1e-8,
+                        t_simulated: st.t(),
+                    });
+                    return Ok(Flow::Stop);
+                }
+            }
+            stopped = stop.load(std::sync::atomic::Ordering::Relaxed);
+            Ok(if stopped { Flow::Stop } else { Flow::Continue })
+        })?;
     }
+    if converged.is_some() {
+        return Ok(converged);
+    }
+    if stopped {
+        return Ok(None);
+    }
+    let st = run.stepper();
     // At rest only where a rest point exists (α ≤ α*): a very heavy disk above α* also has
     // θ̇ ≈ 0 for a long time, but it is accelerating, not halted.
     let can_rest =

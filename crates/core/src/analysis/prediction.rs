@@ -33,6 +33,7 @@ use crate::dynamics::sphere3d::{SphereInertial, SphereViscous};
 use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch, Violation};
 use crate::dynamics::{DragLaw, Ramp, RollingModel, disk2d};
 use crate::geometry::{Body, Disk, Sphere};
+use crate::integrate::run::{Flow, Run, Samples};
 use crate::integrate::{self, Method};
 
 /// How a prediction is made.
@@ -663,15 +664,15 @@ fn sphere_path(
     let method = Method::dop853(1e-10);
     let (path, contact) = if ramp.is_viscous() {
         let m = SphereViscous::new(sphere, ramp);
-        let mut st = integrate::stepper(&m, 0.0, SphereViscous::initial_state(q0), method)?;
-        (sample(st.as_mut(), &times, |y| [y[4], y[5]], |_| {})?, None)
+        let run = Run::new(&m, 0.0, SphereViscous::initial_state(q0), method)?;
+        (sample(run, &times, |y| [y[4], y[5]], |_| {})?, None)
     } else {
         let m = SphereInertial::new(sphere, ramp);
         let y0 = SphereInertial::initial_state(q0, omega);
         let mut watch = ContactWatch::new(ContactLimits::default(), 0.0, m.contact_force(&y0));
-        let mut st = integrate::stepper(&m, 0.0, y0, method)?;
+        let run = Run::new(&m, 0.0, y0, method)?;
         let path = sample(
-            st.as_mut(),
+            run,
             &times,
             |y| [y[7], y[8]],
             |st| {
@@ -690,31 +691,28 @@ fn sphere_path(
     ))
 }
 
-/// `pick` of the state at each of `times` (increasing, from the stepper's start), from the
-/// dense output; `on_step` sees each step (an observer: it must not move the stepper).
+/// `pick` of the state at each of `times` (increasing, from the run's start), from the dense
+/// output; `on_step` sees each step (an observer: it must not move the stepper).
 fn sample<const N: usize>(
-    st: &mut dyn integrate::Stepper<N>,
+    mut run: Run<'_, N>,
     times: &[f64],
     pick: impl Fn(&[f64; N]) -> [f64; 2],
     mut on_step: impl FnMut(&mut dyn integrate::Stepper<N>),
 ) -> Result<Vec<[f64; 2]>, StudyError> {
     let mut out = Vec::with_capacity(times.len());
-    let end = times.last().copied().unwrap_or(0.0);
-    let mut next = 0;
-    while next < times.len() {
-        while next < times.len() && times[next] <= st.t() {
-            let y = if times[next] == st.t() {
-                *st.y()
-            } else {
-                st.dense(times[next])
-            };
-            out.push(pick(&y));
-            next += 1;
-        }
-        if next < times.len() {
-            st.step(end)?;
+    let mut samples = Samples::new(times);
+    samples.take(run.stepper(), |_, y| out.push(pick(y)));
+    if !samples.done() {
+        let end = times.last().copied().unwrap_or(0.0);
+        run.until::<StudyError>(end, u64::MAX, |st| {
             on_step(st);
-        }
+            samples.take(st, |_, y| out.push(pick(y)));
+            Ok(if samples.done() {
+                Flow::Stop
+            } else {
+                Flow::Continue
+            })
+        })?;
     }
     Ok(out)
 }

@@ -35,7 +35,8 @@ use crate::dynamics::{Ramp, RollingModel, SphereInertial, SphereViscous};
 use crate::geometry::Sphere;
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::lie::quat_at;
-use crate::integrate::{self, IntegrateError, Method, OdeSystem, Stats};
+use crate::integrate::run::{Flow, Run, Samples};
+use crate::integrate::{self, IntegrateError, Method, Stats};
 
 /// Expands `$run` for the body's 3D model (viscous if m/m0 = 0, else inertial from rest),
 /// with `$sys` the model, `$y0` its initial state and `$omega` its |ω| (a macro rather than a
@@ -376,63 +377,60 @@ fn follow<const N: usize, S: RollingModel<N>>(
     omega: impl Fn(&[f64; N]) -> f64,
     watch: Watch,
 ) -> Result<Followed<N>, IntegrateError> {
-    let mut st = integrate::stepper(sys, t0, y0, method)?;
+    let mut run = Run::new(sys, t0, y0, method)?;
     let mut times = Vec::new();
     let mut crossings: Vec<Crossing> = Vec::new();
     let mut last_crossing = None;
     let mut contact = (watch == Watch::Contact)
         .then(|| ContactWatch::new(ContactLimits::default(), t0, sys.contact_force(&y0)));
-    while st.t() < t_end {
-        st.step(t_end)?;
+    let mut fate = None;
+    run.until::<IntegrateError>(t_end, u64::MAX, |st| {
         if let Some(w) = contact.as_mut() {
             let end = (st.t(), *st.y());
-            w.step_along(st.as_mut(), end, |y| sys.contact_force(y));
+            w.step_along(st, end, |y| sys.contact_force(y));
         }
         times.clear();
         crossings_in_last_step(
-            st.as_mut(),
-            &|_t, y: &[f64; N]| y[0],
+            st,
+            &|_t, y: &[f64; N]| sys.section(y),
             Direction::Both,
             &mut times,
         );
         for &t in &times {
             let y = st.dense(t);
-            let p = DVec3::new(y[1], y[2], y[3]).normalize();
             crossings.push(Crossing {
                 t,
-                point: p.to_array(),
+                point: section_point(sys, &y),
             });
             last_crossing = Some((t, y));
-            if let Some(fate) = periodic(&crossings, s) {
-                let stats = st.stats();
-                return Ok(Followed {
-                    fate,
-                    crossings,
-                    stats,
-                    last_crossing,
-                    contact: contact.map(|w| w.report()),
-                });
+            if let Some(cycle) = periodic(&crossings, s) {
+                fate = Some(cycle);
+                return Ok(Flow::Stop);
             }
         }
         // At rest: the viscous ω vanishes at a rest point; the inertial one decays to it.
         if omega(st.y()) < s.omega_rest && st.t() > t0 + 1.0 {
-            return Ok(Followed {
-                fate: Fate::Halts { t: st.t() },
-                crossings,
-                stats: st.stats(),
-                last_crossing,
-                contact: contact.map(|w| w.report()),
-            });
+            fate = Some(Fate::Halts { t: st.t() });
+            return Ok(Flow::Stop);
         }
-    }
-    let omega_end = omega(st.y());
+        Ok(Flow::Continue)
+    })?;
+    let fate = fate.unwrap_or_else(|| Fate::Undecided {
+        omega_end: omega(run.y()),
+    });
     Ok(Followed {
-        fate: Fate::Undecided { omega_end },
+        fate,
         crossings,
-        stats: st.stats(),
+        stats: run.stats(),
         last_crossing,
         contact: contact.map(|w| w.report()),
     })
+}
+
+/// Where a crossing of `sys`'s section is, as a unit vector of ∂Ω (the model's own
+/// [`RollingModel::section_point`]; the origin for a model without one, which no 3D model is).
+fn section_point<const N: usize, S: RollingModel<N>>(sys: &S, y: &[f64; N]) -> [f64; 3] {
+    sys.section_point(y).unwrap_or(DVec3::ZERO).to_array()
 }
 
 /// [`settle_checked`] on one model.
@@ -575,31 +573,34 @@ pub fn poincare_step(
 /// assert!((t - std::f64::consts::PI / 0.3f64.sin()).abs() < 1e-9);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn first_crossing<const N: usize, S: OdeSystem<N>>(
+pub fn first_crossing<const N: usize, S: RollingModel<N>>(
     sys: &S,
     y0: [f64; N],
     t_max: f64,
     rtol: f64,
     omega: impl Fn(&[f64; N]) -> f64,
 ) -> Result<Option<(f64, [f64; N])>, IntegrateError> {
-    let mut st = integrate::stepper(sys, 0.0, y0, Method::dop853(rtol))?;
+    let mut run = Run::new(sys, 0.0, y0, Method::dop853(rtol))?;
     let mut times = Vec::new();
-    while st.t() < t_max {
-        st.step(t_max)?;
+    let mut found = None;
+    run.until::<IntegrateError>(t_max, u64::MAX, |st| {
         crossings_in_last_step(
-            st.as_mut(),
-            &|_t, y: &[f64; N]| y[0],
+            st,
+            &|_t, y: &[f64; N]| sys.section(y),
             Direction::Both,
             &mut times,
         );
         if let Some(&t) = times.first() {
-            return Ok(Some((t, st.dense(t))));
+            found = Some((t, st.dense(t)));
+            return Ok(Flow::Stop);
         }
-        if omega(st.y()) < 1e-9 {
-            return Ok(None);
-        }
-    }
-    Ok(None)
+        Ok(if omega(st.y()) < 1e-9 {
+            Flow::Stop
+        } else {
+            Flow::Continue
+        })
+    })?;
+    Ok(found)
 }
 
 /// One arrow of the Poincaré field on ∂Ω: from a boundary point to the next crossing.
@@ -884,7 +885,7 @@ pub fn decided_run(
     }
 }
 
-fn record<const N: usize, S: OdeSystem<N>>(
+fn record<const N: usize, S: RollingModel<N>>(
     sys: &S,
     y0: [f64; N],
     decide: &Decide,
@@ -894,19 +895,18 @@ fn record<const N: usize, S: OdeSystem<N>>(
     at_rest: impl Fn(&[f64; N]) -> bool,
 ) -> Result<DecidedRun, IntegrateError> {
     let times = integrate::uniform_times(t_from, t_to.min(decide.t_cap), samples);
-    let mut st = integrate::stepper(sys, 0.0, y0, Method::dop853(rtol))?;
+    let mut run = Run::new(sys, 0.0, y0, Method::dop853(rtol))?;
     let mut found = Vec::new();
     let mut crossings = Vec::new();
     let mut path = Vec::with_capacity(times.len());
-    let mut next = 0;
+    let mut sampled = Samples::new(&times);
     let mut cycle = None;
     let mut end = RunEnd::Undecided;
-    while st.t() < decide.t_cap {
-        st.step(decide.t_cap)?;
+    run.until::<IntegrateError>(decide.t_cap, u64::MAX, |st| {
         found.clear();
         crossings_in_last_step(
-            st.as_mut(),
-            &|_t, y: &[f64; N]| y[0],
+            st,
+            &|_t, y: &[f64; N]| sys.section(y),
             Direction::Both,
             &mut found,
         );
@@ -914,24 +914,16 @@ fn record<const N: usize, S: OdeSystem<N>>(
             let y = st.dense(t);
             crossings.push(Crossing {
                 t,
-                point: DVec3::new(y[1], y[2], y[3]).normalize().to_array(),
+                point: section_point(sys, &y),
             });
         }
-        while next < times.len() && times[next] <= st.t() {
-            let y = if times[next] == st.t() {
-                *st.y()
-            } else {
-                st.dense(times[next])
-            };
-            path.push(observe(&y).contact_dir);
-            next += 1;
-        }
-        if st.t() >= decide.t_min && next == times.len() {
+        sampled.take(st, |_, y| path.push(observe(y).contact_dir));
+        if st.t() >= decide.t_min && sampled.done() {
             if decide.max_k > 0 && (!found.is_empty() || cycle.is_none()) {
                 cycle = settled_cycle(&crossings, decide.max_k, decide.tol);
                 if cycle.is_some() {
                     end = RunEnd::Periodic;
-                    break;
+                    return Ok(Flow::Stop);
                 }
             }
             let quiet = crossings
@@ -939,17 +931,18 @@ fn record<const N: usize, S: OdeSystem<N>>(
                 .is_none_or(|c| st.t() - c.t >= decide.t_min);
             if decide.max_k > 0 && quiet && at_rest(st.y()) {
                 end = RunEnd::Rest;
-                break;
+                return Ok(Flow::Stop);
             }
         }
-    }
+        Ok(Flow::Continue)
+    })?;
     Ok(DecidedRun {
         crossings,
         path,
         cycle,
         end,
-        t_end: st.t(),
-        angular_speed: observe(st.y()).omega.length(),
+        t_end: run.t(),
+        angular_speed: observe(run.y()).omega.length(),
     })
 }
 

@@ -22,7 +22,8 @@ use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch};
 use crate::dynamics::{Ramp, RollingModel, SphereInertial, SphereViscous};
 use crate::geometry::Sphere;
 use crate::integrate::events::{Direction, crossings_in_last_step};
-use crate::integrate::{self, IntegrateError, Method};
+use crate::integrate::run::{Flow, Run};
+use crate::integrate::{IntegrateError, Method};
 
 /// A point of the section: where the orientation crosses ∂Ω, with the angular velocity there.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -148,26 +149,25 @@ pub fn inertial_run(
 ) -> Result<InertialRun, IntegrateError> {
     let model = SphereInertial::new(body, ramp);
     let y0 = SphereInertial::initial_state(q0, omega0);
-    let mut st = integrate::stepper(&model, 0.0, y0, Method::dop853(rtol))?;
+    let mut run = Run::new(&model, 0.0, y0, Method::dop853(rtol))?;
     let mut watch = watch_contact
         .then(|| ContactWatch::new(ContactLimits::default(), 0.0, model.contact_force(&y0)));
     let mut times = Vec::new();
     let mut out = Vec::new();
     let mut end = InertialEnd::Cap;
-    while st.t() < t_cap {
-        st.step(t_cap)?;
+    run.until::<IntegrateError>(t_cap, u64::MAX, |st| {
         if let Some(w) = watch.as_mut() {
             let at = (st.t(), *st.y());
-            w.step_along(st.as_mut(), at, |y| model.contact_force(y));
+            w.step_along(st, at, |y| model.contact_force(y));
             if w.report().lift_off_t.is_some() {
                 end = InertialEnd::LiftOff;
-                break;
+                return Ok(Flow::Stop);
             }
         }
         times.clear();
         crossings_in_last_step(
-            st.as_mut(),
-            &|_t, y: &[f64; 10]| y[0],
+            st,
+            &|_t, y: &[f64; 10]| model.section(y),
             Direction::Both,
             &mut times,
         );
@@ -183,13 +183,15 @@ pub fn inertial_run(
         let speed = DVec3::new(y[4], y[5], y[6]).length();
         if st.t() > 1.0 && at_rest(speed, model.ramp_torque(y)) {
             end = InertialEnd::Rest;
-            break;
+            return Ok(Flow::Stop);
         }
         if st.t() >= t_min && !times.is_empty() && decided(&out) {
             end = InertialEnd::Decided;
-            break;
+            return Ok(Flow::Stop);
         }
-    }
+        Ok(Flow::Continue)
+    })?;
+    let st = run.stepper();
     let y = st.y();
     Ok(InertialRun {
         crossings: out,

@@ -175,20 +175,15 @@ pub fn integrate_collecting<const N: usize>(
     mut stop: impl FnMut(&[f64]) -> bool,
 ) -> Result<Vec<f64>, IntegrateError> {
     let mut events = Vec::new();
-    while stepper.t() < t_end {
-        if stepper.stats().steps >= max_steps {
-            return Err(IntegrateError::TooManySteps {
-                t: stepper.t(),
-                max_steps,
-            });
-        }
-        stepper.step(t_end)?;
+    super::run::drive(stepper, t_end, max_steps, |st| {
         let before = events.len();
-        crossings_in_last_step(stepper, g, direction, &mut events);
-        if events.len() > before && stop(&events) {
-            break;
-        }
-    }
+        crossings_in_last_step(st, g, direction, &mut events);
+        Ok::<_, IntegrateError>(if events.len() > before && stop(&events) {
+            super::run::Flow::Stop
+        } else {
+            super::run::Flow::Continue
+        })
+    })?;
     Ok(events)
 }
 

@@ -1,6 +1,7 @@
 //! Time steppers for the rolling models, and the error control they need.
 //!
-//! Owns: the [`OdeSystem`] contract, fixed-step RK4 ([`rk4`]), adaptive DOP853 with 7th-order
+//! Owns: the [`OdeSystem`] contract, the one stepping loop every run goes through ([`run`]),
+//! fixed-step RK4 ([`rk4`]), adaptive DOP853 with 7th-order
 //! dense output ([`dop853`]), the commutator-free Lie-group RK4 step that keeps a unit
 //! quaternion on the unit sphere to round-off ([`lie`]), event location on dense output
 //! ([`events`]), uniform sampling of a trajectory, and recording the states a run evaluates
@@ -21,6 +22,7 @@ pub mod events;
 pub mod lie;
 pub mod record;
 pub mod rk4;
+pub mod run;
 pub mod spec;
 
 pub use spec::{MethodKind, MethodParseError};
@@ -278,8 +280,8 @@ pub trait Stepper<const N: usize> {
 }
 
 /// Steps `stepper` until it reaches `t_end`, within `max_steps` accepted steps, calling
-/// `after_step` after each one: the one stepping loop of `simulate::run` (samples, health) and
-/// the app's `sim::Simulation` (trails, crossings, health).
+/// `after_step` after each one: [`run::Run::until`] for a stepper held elsewhere (the app's live
+/// run keeps its own across frames), with an observer that never ends the run early.
 ///
 /// # Example
 /// ```
@@ -305,19 +307,10 @@ pub fn step_until<const N: usize, E: From<IntegrateError>>(
     max_steps: u64,
     mut after_step: impl FnMut(&mut dyn Stepper<N>) -> Result<(), E>,
 ) -> Result<(), E> {
-    let first = stepper.stats().steps;
-    while stepper.t() < t_end {
-        if stepper.stats().steps - first >= max_steps {
-            return Err(IntegrateError::TooManySteps {
-                t: stepper.t(),
-                max_steps,
-            }
-            .into());
-        }
-        stepper.step(t_end)?;
-        after_step(stepper)?;
-    }
-    Ok(())
+    run::drive(stepper, t_end, max_steps, |st| {
+        after_step(st).map(|()| run::Flow::Continue)
+    })
+    .map(|_| ())
 }
 
 /// Builds the stepper for `method` starting at (t0, y0).
@@ -387,34 +380,16 @@ pub fn sample<const N: usize>(
     max_steps: u64,
     mut visit: impl FnMut(f64, &[f64; N]),
 ) -> Result<(), IntegrateError> {
-    let mut next = 0;
-    while next < times.len() && times[next] <= stepper.t() {
-        let y = *stepper.y();
-        visit(times[next], &y);
-        next += 1;
-    }
+    let mut samples = run::Samples::new(times);
+    samples.take(stepper, &mut visit);
     let Some(&t_end) = times.last() else {
         return Ok(());
     };
-    while stepper.t() < t_end {
-        if stepper.stats().steps >= max_steps {
-            return Err(IntegrateError::TooManySteps {
-                t: stepper.t(),
-                max_steps,
-            });
-        }
-        stepper.step(t_end)?;
-        while next < times.len() && times[next] <= stepper.t() {
-            let y = if times[next] == stepper.t() {
-                *stepper.y()
-            } else {
-                stepper.dense(times[next])
-            };
-            visit(times[next], &y);
-            next += 1;
-        }
-    }
-    Ok(())
+    run::drive(stepper, t_end, max_steps, |st| {
+        samples.take(st, &mut visit);
+        Ok::<_, IntegrateError>(run::Flow::Continue)
+    })
+    .map(|_| ())
 }
 
 /// `n` equally spaced times from `t0` to `t_end` inclusive (n ≥ 2), or just `[t_end]` for n = 1.

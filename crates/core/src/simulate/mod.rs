@@ -43,6 +43,7 @@ use crate::dynamics::{
     DragLaw, FORCE_COLUMNS, ModelError, ModelKind, ModelVisitor, Ramp, RollingModel, Switched,
 };
 use crate::geometry::{Body, ShapeError};
+use crate::integrate::run::{Flow, Run};
 use crate::integrate::{self, IntegrateError, Method, Stats};
 
 /// CSV header of a 2D trajectory.
@@ -739,9 +740,9 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
         let (mut t_start, mut y_start) = (0.0, *y0);
         let mut stats = Stats::default();
         loop {
-            let mut stepper = integrate::stepper(model, t_start, y_start, method)?;
+            let mut run = Run::new(model, t_start, y_start, method)?;
             let budget = spec.max_steps.saturating_sub(stats.steps).max(1);
-            let ran = integrate::step_until(stepper.as_mut(), t_end, budget, |st| {
+            let ran = run.until(t_end, budget, |st| {
                 if stop.load(Ordering::Relaxed) {
                     return Err(Halt::Run(RunError::Stopped { t: st.t() }));
                 }
@@ -786,16 +787,16 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
                 }
                 match switch {
                     Some((t, y)) => Err(Halt::Switch(t, y)),
-                    None => Ok(()),
+                    None => Ok(Flow::Continue),
                 }
             });
-            let done = stepper.stats();
+            let done = run.stats();
             stats.rhs_evals += done.rhs_evals;
             stats.steps += done.steps;
             stats.rejected += done.rejected;
             match ran {
-                Ok(()) => {
-                    summary.t_end = stepper.t();
+                Ok(_) => {
+                    summary.t_end = run.t();
                     break;
                 }
                 Err(Halt::Run(e)) => return Err(e),

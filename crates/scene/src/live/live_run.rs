@@ -10,7 +10,8 @@ use crate::dynamics::{
 use crate::geometry::Body;
 use crate::geometry::sphere::angles;
 use crate::integrate::events::{Direction, crossings_in_last_step};
-use crate::integrate::{self, IntegrateError, Method, Stepper};
+use crate::integrate::run::{Flow, Run};
+use crate::integrate::{self, IntegrateError, Method};
 use crate::scene::{SceneSetup, Step, ViewsSpec};
 use crate::simulate::{ModelState, choose_model, locate_switch};
 
@@ -27,17 +28,6 @@ const MAX_STEPS_PER_ADVANCE: u64 = 5_000_000;
 const MAX_SWITCHES_PER_ADVANCE: usize = 100_000;
 
 /// Why one stepper's share of an advance ended early.
-enum Interrupt {
-    Failed(IntegrateError),
-    /// A hybrid model reached a switch (its time and state are kept by the caller).
-    Switch,
-}
-
-impl From<IntegrateError> for Interrupt {
-    fn from(e: IntegrateError) -> Self {
-        Interrupt::Failed(e)
-    }
-}
 /// A target closer than this (relative to the time) to the current time counts as reached.
 const NOW_RELATIVE: f64 = 1e-12;
 /// Longest cycle of ∂Ω crossings the live display looks for.
@@ -590,19 +580,18 @@ impl LiveRun {
             t,
             message: e.to_string(),
         };
-        let mut st: Box<dyn Stepper<N> + '_> =
-            match integrate::stepper(model, self.t, y0, self.method) {
-                Ok(st) => st,
-                Err(e) => {
-                    self.last_failure = Some(overlay_line(&e));
-                    return Err(fail(self.t, &e));
-                }
-            };
+        let mut run = match Run::new(model, self.t, y0, self.method) {
+            Ok(run) => run,
+            Err(e) => {
+                self.last_failure = Some(overlay_line(&e));
+                return Err(fail(self.t, &e));
+            }
+        };
         let mut crossing_times = Vec::new();
         let mut switch = None;
-        let stepped = integrate::step_until(st.as_mut(), t_target, MAX_STEPS_PER_ADVANCE, |st| {
+        let stepped = run.until(t_target, MAX_STEPS_PER_ADVANCE, |st| {
             if st.y().iter().any(|v| !v.is_finite()) {
-                return Err(Interrupt::Failed(IntegrateError::NonFinite { t: st.t() }));
+                return Err(IntegrateError::NonFinite { t: st.t() });
             }
             let found = locate_switch(st, model);
             let (t_now, y_now) = found.unwrap_or((st.t(), *st.y()));
@@ -650,21 +639,21 @@ impl LiveRun {
             if found.is_some() {
                 switch = found;
                 // Ends this stepper: `drive` switches and starts the next.
-                return Err(Interrupt::Switch);
+                return Ok(Flow::Stop);
             }
-            Ok(())
+            Ok(Flow::Continue)
         });
-        self.health.rhs_evals += st.stats().rhs_evals;
+        self.health.rhs_evals += run.stats().rhs_evals;
         match (stepped, switch) {
-            (Err(Interrupt::Switch), Some((t, y))) => return Ok((y, Some((t, y)))),
-            (Err(Interrupt::Failed(e)), _) => {
+            (Ok(Flow::Stop), Some((t, y))) => return Ok((y, Some((t, y)))),
+            (Err(e), _) => {
                 self.last_failure = Some(overlay_line(&e));
-                return Err(fail(st.t(), &e));
+                return Err(fail(run.t(), &e));
             }
             _ => {}
         }
-        self.t = st.t();
-        Ok((*st.y(), None))
+        self.t = run.t();
+        Ok((*run.y(), None))
     }
 
     fn record(&mut self, t: f64, o: &Observed) {

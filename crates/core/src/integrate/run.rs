@@ -1,0 +1,339 @@
+//! The one stepping loop: a [`Run`] owns the stepper of one trajectory, and [`Run::until`] steps
+//! it towards a time, handing each accepted step to an observer. Every analysis, `simulate`, the
+//! app's live run and Python step a model here and nowhere else (DynamicalSystems.jl builds its
+//! analyses on one trajectory integrator in the same way).
+//!
+//! Observers see the stepper after each step, its interpolant covering the last step, and may
+//! end the run ([`Flow::Stop`]) or fail it; they never move it: what they read (dense output,
+//! the state) does not change the steps taken, so a run that records, watches the contact force
+//! or looks for section crossings is bit-identical to one that does not. The parts observers are
+//! made of are here ([`Samples`]: states at given times from the dense output) and beside it:
+//! section crossings in [`super::events`], the contact-force watch in
+//! [`crate::dynamics::validity`], the rest test in [`crate::analysis::verdict`].
+
+use super::{IntegrateError, Method, OdeSystem, Stats, Stepper, stepper};
+
+/// What an observer tells the run after a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Flow {
+    /// Take the next step.
+    Continue,
+    /// End the run here (the observer has what it needs).
+    Stop,
+}
+
+/// One trajectory being stepped: the stepper for its method, from its start.
+pub struct Run<'a, const N: usize> {
+    stepper: Box<dyn Stepper<N> + 'a>,
+}
+
+impl<'a, const N: usize> Run<'a, N> {
+    /// A run of `system` from (t0, y0) with `method` (checked: a bad tolerance or step, or a
+    /// non-finite start, is an error before any step).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+    /// struct Decay;
+    /// impl OdeSystem<1> for Decay {
+    ///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+    ///         [-y[0]]
+    ///     }
+    /// }
+    /// let mut run = Run::new(&Decay, 0.0, [1.0], Method::dop853(1e-12))?;
+    /// run.until::<IntegrateError>(1.0, u64::MAX, |_| Ok(Flow::Continue))?;
+    /// assert!((run.y()[0] - (-1.0f64).exp()).abs() < 1e-11);
+    /// assert!(Run::new(&Decay, 0.0, [f64::NAN], Method::dop853(1e-12)).is_err());
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn new<S: OdeSystem<N>>(
+        system: &'a S,
+        t0: f64,
+        y0: [f64; N],
+        method: Method,
+    ) -> Result<Self, IntegrateError> {
+        Ok(Run {
+            stepper: stepper(system, t0, y0, method)?,
+        })
+    }
+
+    /// A run of a stepper built elsewhere (by [`super::stepper`]).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::Run;
+    /// use rollphase_core::integrate::{Method, OdeSystem, stepper};
+    /// struct Still;
+    /// impl OdeSystem<1> for Still {
+    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+    ///         [0.0]
+    ///     }
+    /// }
+    /// let run = Run::from_stepper(stepper(&Still, 2.0, [3.0], Method::Rk4 { dt: 0.1 })?);
+    /// assert_eq!((run.t(), run.y()[0]), (2.0, 3.0));
+    /// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
+    /// ```
+    pub fn from_stepper(stepper: Box<dyn Stepper<N> + 'a>) -> Self {
+        Run { stepper }
+    }
+
+    /// Steps towards `t_end` (never past it) within `max_steps` more accepted steps (`u64::MAX`:
+    /// no bound beyond the method's own), calling `observe` after each step. Returns
+    /// [`Flow::Stop`] if the observer ended the run, [`Flow::Continue`] if it reached `t_end`.
+    /// More steps than allowed is [`IntegrateError::TooManySteps`], never a silent stop.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+    /// struct Decay;
+    /// impl OdeSystem<1> for Decay {
+    ///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+    ///         [-y[0]]
+    ///     }
+    /// }
+    /// // Stop once y has halved: near t = ln 2, at the end of the step that got there.
+    /// let mut run = Run::new(&Decay, 0.0, [1.0], Method::Rk4 { dt: 0.01 })?;
+    /// let flow = run.until::<IntegrateError>(10.0, u64::MAX, |st| {
+    ///     Ok(if st.y()[0] <= 0.5 { Flow::Stop } else { Flow::Continue })
+    /// })?;
+    /// assert_eq!(flow, Flow::Stop);
+    /// assert!((run.t() - 2f64.ln()).abs() < 0.01);
+    /// // A budget of 3 steps to t = 1 is an error.
+    /// let mut short = Run::new(&Decay, 0.0, [1.0], Method::Rk4 { dt: 0.1 })?;
+    /// let e = short.until::<IntegrateError>(1.0, 3, |_| Ok(Flow::Continue));
+    /// assert!(matches!(e, Err(IntegrateError::TooManySteps { .. })));
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn until<E: From<IntegrateError>>(
+        &mut self,
+        t_end: f64,
+        max_steps: u64,
+        observe: impl FnMut(&mut dyn Stepper<N>) -> Result<Flow, E>,
+    ) -> Result<Flow, E> {
+        drive(self.stepper.as_mut(), t_end, max_steps, observe)
+    }
+
+    /// The current time.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+    /// struct Line;
+    /// impl OdeSystem<1> for Line {
+    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+    ///         [1.0]
+    ///     }
+    /// }
+    /// let mut run = Run::new(&Line, 1.0, [0.0], Method::Rk4 { dt: 0.5 })?;
+    /// run.until::<IntegrateError>(3.0, u64::MAX, |_| Ok(Flow::Continue))?;
+    /// assert_eq!((run.t(), run.y()[0]), (3.0, 2.0));
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn t(&self) -> f64 {
+        self.stepper.t()
+    }
+
+    /// The current state.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+    /// struct Line;
+    /// impl OdeSystem<1> for Line {
+    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+    ///         [1.0]
+    ///     }
+    /// }
+    /// let mut run = Run::new(&Line, 1.0, [0.0], Method::Rk4 { dt: 0.5 })?;
+    /// run.until::<IntegrateError>(3.0, u64::MAX, |_| Ok(Flow::Continue))?;
+    /// assert_eq!((run.t(), run.y()[0]), (3.0, 2.0));
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn y(&self) -> &[f64; N] {
+        self.stepper.y()
+    }
+
+    /// The work done so far.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+    /// struct Still;
+    /// impl OdeSystem<1> for Still {
+    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+    ///         [0.0]
+    ///     }
+    /// }
+    /// let mut run = Run::new(&Still, 0.0, [1.0], Method::Rk4 { dt: 0.25 })?;
+    /// run.until::<IntegrateError>(1.0, u64::MAX, |_| Ok(Flow::Continue))?;
+    /// assert_eq!(run.stats().steps, 4);
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn stats(&self) -> Stats {
+        self.stepper.stats()
+    }
+
+    /// The stepper, for reading its last step (its dense output) after the run.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+    /// struct Line;
+    /// impl OdeSystem<1> for Line {
+    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+    ///         [2.0]
+    ///     }
+    /// }
+    /// let mut run = Run::new(&Line, 0.0, [0.0], Method::Rk4 { dt: 0.5 })?;
+    /// run.until::<IntegrateError>(1.0, u64::MAX, |_| Ok(Flow::Continue))?;
+    /// assert!((run.stepper().dense(0.75)[0] - 1.5).abs() < 1e-12);
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn stepper(&mut self) -> &mut dyn Stepper<N> {
+        self.stepper.as_mut()
+    }
+}
+
+/// The loop itself: every accepted step of every run in the program is taken here.
+pub(super) fn drive<const N: usize, E: From<IntegrateError>>(
+    stepper: &mut dyn Stepper<N>,
+    t_end: f64,
+    max_steps: u64,
+    mut observe: impl FnMut(&mut dyn Stepper<N>) -> Result<Flow, E>,
+) -> Result<Flow, E> {
+    let first = stepper.stats().steps;
+    while stepper.t() < t_end {
+        if stepper.stats().steps - first >= max_steps {
+            return Err(IntegrateError::TooManySteps {
+                t: stepper.t(),
+                max_steps,
+            }
+            .into());
+        }
+        stepper.step(t_end)?;
+        if observe(stepper)? == Flow::Stop {
+            return Ok(Flow::Stop);
+        }
+    }
+    Ok(Flow::Continue)
+}
+
+/// An observer part: the state at each of a list of times (ascending), read from the dense
+/// output as the steps pass them, so samples never depend on where the steps fall.
+#[derive(Debug, Clone)]
+pub struct Samples<'t> {
+    times: &'t [f64],
+    next: usize,
+}
+
+impl<'t> Samples<'t> {
+    /// Samples at `times` (ascending).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run, Samples};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem, uniform_times};
+    /// struct Decay;
+    /// impl OdeSystem<1> for Decay {
+    ///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+    ///         [-y[0]]
+    ///     }
+    /// }
+    /// let times = uniform_times(0.0, 2.0, 5);
+    /// let mut samples = Samples::new(&times);
+    /// let mut seen = Vec::new();
+    /// let mut run = Run::new(&Decay, 0.0, [1.0], Method::dop853(1e-12))?;
+    /// samples.take(run.stepper(), |t, y| seen.push((t, y[0])));
+    /// run.until::<IntegrateError>(2.0, u64::MAX, |st| {
+    ///     samples.take(st, |t, y| seen.push((t, y[0])));
+    ///     Ok(if samples.done() { Flow::Stop } else { Flow::Continue })
+    /// })?;
+    /// assert_eq!(seen.len(), 5);
+    /// assert!(seen.iter().all(|(t, y)| (y - (-t).exp()).abs() < 1e-11));
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn new(times: &'t [f64]) -> Self {
+        Samples { times, next: 0 }
+    }
+
+    /// Calls `visit(t, y)` for each time not yet taken up to the stepper's current time: the
+    /// current state at exactly that time, the dense output before it.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run, Samples};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+    /// struct Line;
+    /// impl OdeSystem<1> for Line {
+    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+    ///         [1.0]
+    ///     }
+    /// }
+    /// let times = [0.25, 0.5, 2.0];
+    /// let mut samples = Samples::new(&times);
+    /// let mut run = Run::new(&Line, 0.0, [0.0], Method::Rk4 { dt: 0.5 })?;
+    /// run.until::<IntegrateError>(1.0, u64::MAX, |st| {
+    ///     samples.take(st, |t, y| assert!((y[0] - t).abs() < 1e-12));
+    ///     Ok(Flow::Continue)
+    /// })?;
+    /// // 2.0 lies beyond the run's end: not taken yet.
+    /// assert!(!samples.done() && samples.taken() == 2);
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn take<const N: usize>(
+        &mut self,
+        st: &mut dyn Stepper<N>,
+        mut visit: impl FnMut(f64, &[f64; N]),
+    ) {
+        while self.next < self.times.len() && self.times[self.next] <= st.t() {
+            let t = self.times[self.next];
+            let y = if t == st.t() { *st.y() } else { st.dense(t) };
+            visit(t, &y);
+            self.next += 1;
+        }
+    }
+
+    /// Whether every time has been taken.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run, Samples};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+    /// struct Line;
+    /// impl OdeSystem<1> for Line {
+    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+    ///         [1.0]
+    ///     }
+    /// }
+    /// let times = [0.25, 0.5, 2.0];
+    /// let mut samples = Samples::new(&times);
+    /// let mut run = Run::new(&Line, 0.0, [0.0], Method::Rk4 { dt: 0.5 })?;
+    /// run.until::<IntegrateError>(1.0, u64::MAX, |st| {
+    ///     samples.take(st, |t, y| assert!((y[0] - t).abs() < 1e-12));
+    ///     Ok(Flow::Continue)
+    /// })?;
+    /// // 2.0 lies beyond the run's end: not taken yet.
+    /// assert!(!samples.done() && samples.taken() == 2);
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn done(&self) -> bool {
+        self.next == self.times.len()
+    }
+
+    /// How many times have been taken.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::Samples;
+    /// assert_eq!(Samples::new(&[0.0, 1.0]).taken(), 0);
+    /// ```
+    pub fn taken(&self) -> usize {
+        self.next
+    }
+}
