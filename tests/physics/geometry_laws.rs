@@ -60,6 +60,15 @@ fn the_default_convexity_grid_agrees_with_a_dense_one_at_the_edge() {
             );
             assert_eq!(default.convexity_place, dense.convexity_place);
             assert_eq!(body.check_convex().is_ok(), dense.convex);
+            // The check searches the convexity measure alone: the same minimum, to the bit.
+            if let Err(rollphase::geometry::ShapeError::NotConvex { value, place, .. }) =
+                body.check_convex()
+            {
+                assert_eq!(
+                    (value, place),
+                    (default.convexity_min, default.convexity_place)
+                );
+            }
         }
     }
 }

@@ -496,7 +496,9 @@ impl Body {
     /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
     /// ```
     pub fn check_convex(&self) -> Result<(), ShapeError> {
-        let rep = self.curvature();
+        // The convexity measure alone: the same search and verdict as `curvature()`'s, without
+        // the curvature extremes a check does not need (half a run's set-up time).
+        let rep = curvature_search(self, default_grid(self), Search::Convexity);
         if rep.convex {
             Ok(())
         } else {
@@ -547,18 +549,42 @@ pub fn sphere_grid_size(max_degree: u32) -> usize {
 }
 
 fn curvature_report(body: &Body) -> CurvatureReport {
+    curvature_report_on(body, default_grid(body))
+}
+
+/// The grid [`Body::curvature`] searches.
+fn default_grid(body: &Body) -> usize {
     match body {
-        Body::Disk(_) => curvature_report_on(body, DISK_GRID),
-        Body::Sphere(s) => curvature_report_on(body, sphere_grid_size(s.max_degree())),
+        Body::Disk(_) => DISK_GRID,
+        Body::Sphere(s) => sphere_grid_size(s.max_degree()),
     }
 }
 
+/// What a curvature search finds: the convexity measure's minimum alone (all a convexity check
+/// needs, and what a run's set-up pays for), or the curvature's extremes too.
+#[derive(Clone, Copy, PartialEq)]
+enum Search {
+    Convexity,
+    Full,
+}
+
 fn curvature_report_on(body: &Body, grid_size: usize) -> CurvatureReport {
+    curvature_search(body, grid_size, Search::Full)
+}
+
+/// The search behind [`CurvatureReport`]; with [`Search::Convexity`] its curvature extremes are
+/// NaN (not searched).
+fn curvature_search(body: &Body, grid_size: usize, search: Search) -> CurvatureReport {
+    let full = search == Search::Full;
     match body {
         Body::Disk(d) => {
             let kappa = |t: f64| d.jet(t).curvature();
             let (tmin, kmin) = refine_1d(|t| -kappa(t), grid_size);
-            let (_, kmax) = refine_1d(kappa, grid_size);
+            let kmax = if full {
+                refine_1d(kappa, grid_size).1
+            } else {
+                f64::NAN
+            };
             let kmin = -kmin;
             CurvatureReport {
                 convex: kmin > 0.0,
@@ -582,18 +608,25 @@ fn curvature_report_on(body: &Body, grid_size: usize) -> CurvatureReport {
             );
             for &u in &pts {
                 let sp = s.surface(u);
-                let g = sp.gaussian_curvature();
                 neg_kmin.push(-sp.principal_curvatures().0);
-                neg_gauss.push(-g);
-                gauss_values.push(g);
+                if full {
+                    let g = sp.gaussian_curvature();
+                    neg_gauss.push(-g);
+                    gauss_values.push(g);
+                }
             }
             let (u_min, k1) = refine_sphere_from(|u| -kmin_of(u), &pts, &neg_kmin);
-            let (_, gmin) = refine_sphere_from(|u| -gauss(u), &pts, &neg_gauss);
-            let (_, gmax) = refine_sphere_from(gauss, &pts, &gauss_values);
+            let (gmin, gmax) = if full {
+                let (_, gmin) = refine_sphere_from(|u| -gauss(u), &pts, &neg_gauss);
+                let (_, gmax) = refine_sphere_from(gauss, &pts, &gauss_values);
+                (-gmin, gmax)
+            } else {
+                (f64::NAN, f64::NAN)
+            };
             let (theta, phi) = sphere::angles(u_min);
             CurvatureReport {
                 convex: -k1 > 0.0,
-                curvature_min: -gmin,
+                curvature_min: gmin,
                 curvature_max: gmax,
                 convexity_measure: "smallest principal curvature",
                 convexity_min: -k1,
