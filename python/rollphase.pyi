@@ -483,8 +483,9 @@ def period(
     **drag_law: float,
 ) -> Optional[float]:
     """A disk's period T (time for θ to advance 2π), None when it halts, nan (with a
-    RuntimeWarning) when not measurable; as `rollphase period`. Further keywords are drag-law
-    parameters (drag_parameters())."""
+    RuntimeWarning saying what would decide it) when undecided: not measurable, or still
+    changing at t_max (a transient is never returned as T); as `rollphase period`. Further
+    keywords are drag-law parameters (drag_parameters())."""
 
 def poincare_map(
     body: Body,

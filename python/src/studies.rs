@@ -15,6 +15,7 @@ use rollphase_core::analysis::sphere_return_map::PeriodicOrbit;
 use rollphase_core::analysis::studies::{
     cruising_fraction_until, period_counts_until, periodic_orbits_until, poincare_map_until,
 };
+use rollphase_core::analysis::verdict::Fate;
 use rollphase_core::analysis::{inertial_disk_period_until, viscous_disk_period};
 use rollphase_core::dynamics::Ramp;
 use rollphase_core::geometry::Body as CoreBody;
@@ -105,23 +106,19 @@ pub fn period(
         .map_err(raise)?;
         run.ok_or_else(|| ErrorClass::Run.err("the period run was stopped"))?
     };
-    match (p.period, p.halts) {
-        (Some(t), _) => Ok(Some(t)),
-        (None, true) => Ok(None),
-        (None, false) => {
-            let why = if ramp.is_viscous() {
-                format!(
-                    "T is not measurable: α − α* = {:.3e} is too close to α* for the period \
-                     integral to converge (T grows as (α − α*)^−½)",
-                    alpha - body.body.alpha_star()
-                )
-            } else {
-                format!(
-                    "T is not measurable within t_max = {t_max}: no steady period was reached \
-                     (a heavy disk accelerates on a time scale ≈ m/m0 = {mass_ratio}); raise t_max"
-                )
+    // The fate decides, as `rollphase period` decides it: a period still changing when the run
+    // ends is a transient, undecided, never returned as T.
+    let fate = p.fate(alpha - body.body.alpha_star(), t_max);
+    match (fate, p.period) {
+        (Fate::Periodic { .. }, Some(t)) => Ok(Some(t)),
+        (Fate::Halted { .. }, _) => Ok(None),
+        (fate, _) => {
+            let why = match fate {
+                Fate::Undecided { why } => why.what_would_decide(),
+                _ => "no period was found".to_string(),
             };
-            let message = std::ffi::CString::new(why).unwrap_or_default();
+            let message =
+                std::ffi::CString::new(format!("T is undecided: {why}")).unwrap_or_default();
             let category = py.get_type::<PyRuntimeWarning>();
             PyErr::warn(py, category.as_any(), &message, 1)?;
             Ok(Some(f64::NAN))

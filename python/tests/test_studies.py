@@ -61,7 +61,15 @@ def test_period_halts_below_the_critical_angle_and_obeys_the_square_root_law():
         warnings.simplefilter("always")
         t = rollphase.period(body, float(np.nextafter(a, 1.0)))
     assert np.isnan(t)
-    assert "not measurable" in str(caught[0].message) and caught[0].category is RuntimeWarning
+    message = str(caught[0].message)
+    assert "undecided" in message and "too close to α*" in message
+    assert caught[0].category is RuntimeWarning
+    # A heavy disk whose turns still lengthen at t_max is a transient: nan, never the mean of
+    # its last turns.
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        t = rollphase.period(body, 0.3, mass_ratio=50.0, t_max=150.0)
+    assert np.isnan(t) and "still rolling" in str(caught[0].message)
     with pytest.raises(ValueError, match="sphere"):
         rollphase.period(Body.paper_sphere(219), 0.2)
     with pytest.raises(ValueError, match="t_max"):

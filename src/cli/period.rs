@@ -6,6 +6,7 @@ use anyhow::{Result, bail};
 use clap::Args;
 use serde::Serialize;
 
+use crate::analysis::verdict::{Fate, Undecided};
 use crate::analysis::{critical_angle, inertial_disk_period, viscous_disk_period};
 use crate::dynamics::{ModelKind, Ramp};
 use crate::geometry::Body;
@@ -62,8 +63,13 @@ pub struct PeriodReport {
     pub converged: bool,
     /// disk-viscous or disk-inertial.
     pub model: ModelKind,
-    /// Why no period is given when the disk neither rolls periodically nor halts; null otherwise.
+    /// Why no period is given when the disk neither rolls periodically nor halts (what would
+    /// decide it); otherwise a note on the model chosen, or null.
     pub note: Option<String>,
+    /// The run's fate in the words every command uses: `fate` ("periodic", with
+    /// `multiplicity`; "halted"; "undecided", with `why`).
+    #[serde(flatten)]
+    pub fate: crate::analysis::verdict::Fate,
     /// α (rad).
     pub alpha: f64,
     /// α* of the disk (rad).
@@ -125,24 +131,29 @@ pub fn run(a: PeriodArgs) -> Result<()> {
             ModelKind::DiskInertial,
         )
     };
-    let note = match (p.period, p.halts) {
-        (None, false) if ramp.is_viscous() => Some(format!(
-            "T is not measurable: α − α* = {:.3e} is too close to α* for the period integral to \
-             converge (T grows as (α − α*)^−½)",
-            a.alpha - alpha_star
-        )),
-        (None, false) => Some(format!(
-            "T is not measurable within --t-max {}: no steady period was reached (a heavy disk \
-             accelerates on a time scale ≈ m/m0 = {}); raise --t-max",
-            super::short(a.t_max),
-            super::short(a.mass)
-        )),
+    let fate = p.fate(a.alpha - alpha_star, a.t_max);
+    // A transient is not an answer: a period still changing at --t-max is not reported.
+    let period = p.period.filter(|_| matches!(fate, Fate::Periodic { .. }));
+    let note = match fate {
+        Fate::Undecided { why } => Some(match why {
+            Undecided::AtThreshold { .. } => why.what_would_decide(),
+            _ => format!(
+                "T is not measurable within --t-max {}: {}",
+                super::short(a.t_max),
+                why.what_would_decide()
+            ),
+        }),
         _ => choice.note.clone(),
     };
     let report = PeriodReport {
         note: note.clone(),
-        period: p.period,
-        mean_angular_speed: p.mean_angular_speed,
+        fate,
+        period,
+        mean_angular_speed: if period.is_some() {
+            p.mean_angular_speed
+        } else {
+            0.0
+        },
         halts: p.halts,
         converged: p.converged,
         model,
@@ -160,25 +171,25 @@ pub fn run(a: PeriodArgs) -> Result<()> {
             alpha_star,
             super::drag_law::describe(&ramp.drag_law)
         )?;
-        match p.period {
-            Some(t) => outln!(
-                "  rolls: T = {t:.12}, 2π/T = {:.12}{}",
+        match (fate, period) {
+            (Fate::Periodic { .. }, Some(t)) => outln!(
+                "  periodic: T = {t:.12}, 2π/T = {:.12}{}",
                 p.mean_angular_speed,
-                match (p.converged, ramp.is_viscous()) {
-                    (true, _) => String::new(),
-                    (false, true) => format!(
+                if p.converged {
+                    String::new()
+                } else {
+                    format!(
                         "  (quadrature error estimate {:.1e} of T: this close to α* rounding in \
                          1/θ̇ limits the accuracy)",
                         p.relative_error
-                    ),
-                    (false, false) => "  (not converged: periods still changing at t-max)".into(),
+                    )
                 }
             )?,
-            None if p.halts => outln!("  halts: 2π/T = 0")?,
-            None => outln!("  {}", note.clone().unwrap_or_default())?,
+            (Fate::Halted { .. }, _) => outln!("  halted: 2π/T = 0")?,
+            _ => outln!("  undecided: {}", note.clone().unwrap_or_default())?,
         }
-        if let (Some(n), Some(_) | None) = (&choice.note, p.period)
-            && (p.period.is_some() || p.halts)
+        if let Some(n) = &choice.note
+            && !matches!(fate, Fate::Undecided { .. })
         {
             outln!("  note: {n}")?;
         }

@@ -658,6 +658,28 @@ fn period_never_prints_a_wrong_number_with_exit_zero() {
     let v = json(&["--alpha", &format!("{a_star:e}")]);
     assert_eq!(v["halts"], true, "{v}");
     assert_eq!(v["note"], serde_json::Value::Null, "{v}");
+    assert_eq!(v["fate"], "halted", "{v}");
+    // Every answer carries the verdict's words: a converged period is periodic; a heavy disk
+    // whose turns still lengthen at --t-max is a transient, undecided, with no period (the old
+    // output printed the second half's mean as "rolls: T = …").
+    let v = json(&["--alpha", "0.3", "--mass", "2"]);
+    assert_eq!(
+        (&v["fate"], &v["multiplicity"]),
+        (&"periodic".into(), &1.into()),
+        "{v}"
+    );
+    assert!(v["period"].as_f64().unwrap() > 0.0, "{v}");
+    let v = json(&["--alpha", "0.3", "--mass", "50", "--t-max", "150"]);
+    assert_eq!(v["fate"], "undecided", "{v}");
+    assert_eq!(v["why"]["reason"], "no_repeat", "{v}");
+    assert_eq!(v["period"], serde_json::Value::Null, "{v}");
+    let v = json(&["--alpha", &format!("{next:e}")]);
+    assert_eq!(v["why"]["reason"], "at_threshold", "{v}");
+    let text = rollphase(&[
+        "period", disk, "--alpha", "0.3", "--mass", "50", "--t-max", "150",
+    ]);
+    let out = String::from_utf8_lossy(&text.stdout);
+    assert!(out.contains("undecided:") && !out.contains("T = "), "{out}");
 }
 
 #[test]

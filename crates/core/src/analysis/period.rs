@@ -12,6 +12,7 @@
 use serde::Serialize;
 
 use super::critical_angle;
+use super::verdict::{Fate, Undecided};
 use crate::dynamics::{DiskInertial, DiskViscous, Ramp};
 use crate::geometry::{Body, Disk};
 use crate::integrate::run::{Flow, Run};
@@ -33,6 +34,54 @@ pub struct PeriodResult {
     pub relative_error: f64,
     /// Simulated time used (0 for the quadrature).
     pub t_simulated: f64,
+    /// Found by the viscous quadrature (its error is estimated), not by a run.
+    pub by_quadrature: bool,
+}
+
+impl PeriodResult {
+    /// Its fate in the verdict's words: periodic (a converged period: the quadrature's, with
+    /// its error estimate, or three successive turns agreeing to 1e-8), halted, or undecided
+    /// with what would decide it. A period still changing when the run ended (the mean of the
+    /// second half) is a transient: undecided, never an answer. `alpha_above` is α − α*;
+    /// `t_max` the run's length (inertial).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::period::{inertial_disk_period, viscous_disk_period};
+    /// use rollphase_core::analysis::verdict::{Fate, Undecided};
+    /// use rollphase_core::dynamics::Ramp;
+    /// use rollphase_core::geometry::Disk;
+    /// let rolling = viscous_disk_period(&Disk::perfect(), &Ramp::new(0.3, 0.0)?);
+    /// assert_eq!(rolling.fate(0.3, 0.0), Fate::Periodic { multiplicity: 1 });
+    /// // A heavy disk still speeding up when the run ends: undecided, with the reason.
+    /// let heavy = inertial_disk_period(&Disk::perfect(), &Ramp::new(0.3, 50.0)?, 0.0, 0.0, 1e-10, 30.0)?;
+    /// assert!(matches!(heavy.fate(0.3, 30.0), Fate::Undecided { why: Undecided::NoRepeat { .. } | Undecided::NoTurn { .. } }));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn fate(&self, alpha_above: f64, t_max: f64) -> Fate {
+        let viscous = self.by_quadrature;
+        match self.period {
+            _ if self.halts => Fate::Halted { t: None },
+            Some(_) if self.converged || viscous => Fate::Periodic { multiplicity: 1 },
+            Some(t) => Fate::Undecided {
+                why: Undecided::NoRepeat {
+                    t_cap: t_max,
+                    crossings: (self.t_simulated / t) as usize,
+                    max_k: 1,
+                },
+            },
+            None if viscous => Fate::Undecided {
+                why: Undecided::AtThreshold { alpha_above },
+            },
+            None => Fate::Undecided {
+                why: Undecided::NoTurn {
+                    t_cap: t_max,
+                    // Not kept by the period run.
+                    angular_speed: f64::NAN,
+                },
+            },
+        }
+    }
 }
 
 /// Viscous period by quadrature (SI eq. for T). Halts iff tan α ≤ Q* = tan α*.
@@ -83,6 +132,7 @@ pub fn viscous_disk_period_with(
             converged: true,
             relative_error: 0.0,
             t_simulated: 0.0,
+            by_quadrature: true,
         };
     }
     let model = DiskViscous::new(disk, ramp);
@@ -101,6 +151,7 @@ pub fn viscous_disk_period_with(
             converged: false,
             relative_error: f64::NAN,
             t_simulated: 0.0,
+            by_quadrature: true,
         };
     }
     PeriodResult {
@@ -110,6 +161,7 @@ pub fn viscous_disk_period_with(
         converged: q.error <= 1e-9 * t,
         relative_error: q.error / t,
         t_simulated: 0.0,
+        by_quadrature: true,
     }
 }
 
@@ -193,6 +245,7 @@ pub fn inertial_disk_period_until(
                         converged: true,
                         relative_error: 1e-8,
                         t_simulated: st.t(),
+                        by_quadrature: false,
                     });
                     return Ok(Flow::Stop);
                 }
@@ -221,6 +274,7 @@ pub fn inertial_disk_period_until(
         converged: resting,
         relative_error: f64::NAN,
         t_simulated: st.t(),
+        by_quadrature: false,
     };
     if resting || periods.is_empty() || (st.t() - last_crossing) > 0.5 * t_max {
         return Ok(Some(not_measured));
@@ -238,5 +292,6 @@ pub fn inertial_disk_period_until(
         converged: false,
         relative_error: f64::NAN,
         t_simulated: st.t(),
+        by_quadrature: false,
     }))
 }

@@ -727,25 +727,14 @@ fn predict_disk(
 ) -> Result<(Vec<PredictedOrbit>, Vec<Fate>), StudyError> {
     const RTOL: f64 = 1e-10;
     let t_cap = options.decide.t_cap;
+    let alpha_star = critical_angle(&Body::Disk(disk.clone())).alpha_star;
+    let is_periodic = |f: &Fate| matches!(f, Fate::Periodic { .. });
     // Each start's fate, with its period when it rolls.
     let ends: Vec<(Fate, Option<f64>)> = if ramp.is_viscous() {
         // The viscous disk's fate does not depend on where it starts.
         let p = viscous_disk_period(disk, ramp);
-        let end = match p.period {
-            _ if p.halts => (Fate::Halted { t: None }, None),
-            Some(t) => (Fate::Periodic { multiplicity: 1 }, Some(t)),
-            None => (
-                Fate::Undecided {
-                    why: Undecided::NoRepeat {
-                        t_cap: f64::INFINITY,
-                        crossings: 0,
-                        max_k: 1,
-                    },
-                },
-                None,
-            ),
-        };
-        vec![end; options.starts]
+        let fate = p.fate(ramp.alpha_rad - alpha_star, t_cap);
+        vec![(fate, p.period.filter(|_| is_periodic(&fate))); options.starts]
     } else {
         (0..options.starts)
             .into_par_iter()
@@ -753,29 +742,8 @@ fn predict_disk(
                 let theta0 = std::f64::consts::TAU * i as f64 / options.starts as f64;
                 let p = inertial_disk_period_until(disk, ramp, theta0, 0.0, RTOL, t_cap, stop)?
                     .ok_or(StudyError::Stopped)?;
-                Ok(match p.period {
-                    _ if p.halts => (Fate::Halted { t: None }, None),
-                    Some(t) if p.converged => (Fate::Periodic { multiplicity: 1 }, Some(t)),
-                    Some(t) => (
-                        Fate::Undecided {
-                            why: Undecided::NoRepeat {
-                                t_cap,
-                                crossings: (p.t_simulated / t) as usize,
-                                max_k: 1,
-                            },
-                        },
-                        None,
-                    ),
-                    None => (
-                        Fate::Undecided {
-                            why: Undecided::NoTurn {
-                                t_cap,
-                                angular_speed: f64::NAN,
-                            },
-                        },
-                        None,
-                    ),
-                })
+                let fate = p.fate(ramp.alpha_rad - alpha_star, t_cap);
+                Ok((fate, p.period.filter(|_| is_periodic(&fate))))
             })
             .collect::<Result<_, StudyError>>()?
     };

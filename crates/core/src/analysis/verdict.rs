@@ -163,6 +163,12 @@ pub enum Undecided {
         /// The longest cycle looked for, in crossings.
         max_k: usize,
     },
+    /// A viscous cylinder so close above its critical angle that its period integral, T grows
+    /// as (α − α*)^−½, cannot be computed: 1/θ̇ overflows at the contact angle of α*.
+    AtThreshold {
+        /// α − α* (rad).
+        alpha_above: f64,
+    },
 }
 
 impl Undecided {
@@ -193,8 +199,13 @@ impl Undecided {
                 crossings,
                 max_k,
             } => format!(
-                "still rolling at t = {t_cap} after {crossings} crossings of ∂Ω, with no cycle of \
-                 ≤ {max_k} crossings: a longer run may settle it; the motion may also never repeat"
+                "still rolling at t = {t_cap} after {crossings} crossings of the section (∂Ω in \
+                 3D, a whole turn in 2D), with no cycle of ≤ {max_k} crossings: a longer run may \
+                 settle it; the motion may also never repeat"
+            ),
+            Undecided::AtThreshold { alpha_above } => format!(
+                "α − α* = {alpha_above:.3e} is too close to α* for the period integral to \
+                 converge (T grows as (α − α*)^−½): a larger α would decide it"
             ),
         }
     }
@@ -211,6 +222,7 @@ impl Undecided {
         match self {
             Undecided::NoTurn { .. } => "no_turn",
             Undecided::NoRepeat { .. } => "no_repeat",
+            Undecided::AtThreshold { .. } => "at_threshold",
         }
     }
 }
@@ -266,7 +278,7 @@ pub struct FateCounts {
 /// One reason for undecided starts.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct UndecidedShare {
-    /// "no_turn" or "no_repeat".
+    /// "no_turn", "no_repeat" or "at_threshold".
     pub reason: &'static str,
     /// Fraction of all starts.
     pub fraction: f64,
