@@ -1346,13 +1346,24 @@ fn save_state_resumes_the_run_where_it_was_with_its_plots() {
     let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::Space), |s| {
         s.paused
     });
-    let path = crate::cli::scratch("state").join("state.toml");
-    bench.ui.set_scene_path(&path);
+    let dir = crate::cli::scratch("state");
+    let path = dir.join("state.toml");
+    let scene_path = dir.join("scene.toml");
+    bench.ui.set_state_path(&path);
+    bench.ui.set_scene_path(&scene_path);
     bench.ui.save_state(&s);
     let (notice, error) = bench.ui.notice().cloned().unwrap();
-    assert!(!error, "{notice}");
+    assert!(!error && notice.contains("state"), "{notice}");
+    // Save (the scene from its start) after Save state writes its own file: the saved run is
+    // still there (both once wrote scene.toml, and the second silently replaced the first).
+    bench.ui.save_scene(&s);
+    let (notice, error) = bench.ui.notice().cloned().unwrap();
+    assert!(!error && notice.contains("scene.toml"), "{notice}");
+    let scene = Scene::from_toml(&std::fs::read_to_string(&scene_path).unwrap()).unwrap();
+    assert!(scene.resume.is_none());
     let text = std::fs::read_to_string(&path).unwrap();
     std::fs::remove_file(&path).ok();
+    std::fs::remove_file(&scene_path).ok();
     let saved = Scene::from_toml(&text).unwrap();
     let resume = saved.resume.clone().expect("a [resume] table");
     assert_eq!(resume.t, s.snapshot.t);

@@ -16,8 +16,9 @@ use super::controls::method_spec;
 
 /// What Save state does, for its button and menu entry.
 pub(super) const SAVE_STATE_HINT: &str = "the scene as it runs now, at its time, pose and \
-    velocity, with the sweep plots' points, to the scene path: opening it goes on from there \
-    (Save writes the scene from its start)";
+    velocity, with the sweep plots' points, to the state path (a file of its own, so saving the \
+    scene never replaces it): opening it goes on from there (Save scene writes the scene from \
+    its start)";
 use super::dialog::{DialogPurpose, FileDialogs};
 use super::{AppUi, UiAction};
 
@@ -49,13 +50,6 @@ impl AppUi {
             if ui.button("Save").clicked() {
                 self.save_scene(status);
             }
-            if ui
-                .button("Save state")
-                .on_hover_text(SAVE_STATE_HINT)
-                .clicked()
-            {
-                self.save_state(status);
-            }
             let current = Path::new(&self.scene_path);
             dialog_buttons(
                 &mut self.dialogs,
@@ -63,6 +57,24 @@ impl AppUi {
                 [DialogPurpose::OpenScene, DialogPurpose::SaveScene],
                 current,
             );
+        });
+        path_field(ui, "state", &mut self.state_path);
+        buttons_row(ui, |ui| {
+            if ui
+                .button("Save state")
+                .on_hover_text(SAVE_STATE_HINT)
+                .clicked()
+            {
+                self.save_state(status);
+            }
+            if ui
+                .button("Resume")
+                .on_hover_text("open the saved state: the run goes on from where it was saved")
+                .clicked()
+            {
+                let path = PathBuf::from(&self.state_path);
+                self.open_scene(&path, actions);
+            }
         });
         path_field(ui, "shape", &mut self.shape_path);
         buttons_row(ui, |ui| {
@@ -270,7 +282,7 @@ impl AppUi {
 
     /// Writes the scene to the path field's file. A saved scene carries its body inline, so it
     /// loads from anywhere.
-    fn save_scene(&mut self, status: &SimStatus) {
+    pub fn save_scene(&mut self, status: &SimStatus) {
         let scene = self.scene_to_save(status);
         self.write_scene(&scene);
     }
@@ -288,8 +300,17 @@ impl AppUi {
 
     /// Writes `scene` to the scene path; the notice says where, or why not.
     fn write_scene(&mut self, scene: &Scene) {
+        let path = self.scene_path.clone();
+        self.write_toml(scene, &path, "the scene");
+    }
+
+    /// Writes `scene` to `path`; the notice says what was saved where, or why not.
+    fn write_toml(&mut self, scene: &Scene, path: &str, what: &str) {
         self.notice = Some(match scene.to_toml() {
-            Ok(text) => write_file(&self.scene_path, &text),
+            Ok(text) => match write_file(path, &text) {
+                (_, false) => (format!("saved {what} to {path}"), false),
+                failed => failed,
+            },
             Err(e) => (e.to_string(), true),
         });
     }
@@ -330,8 +351,9 @@ impl AppUi {
                 self.save_scene(status);
                 ui.close();
             }
+            let state_path = self.state_path.clone();
             if ui
-                .button(format!("Save state to {scene_path}"))
+                .button(format!("Save state to {state_path}"))
                 .on_hover_text(SAVE_STATE_HINT)
                 .clicked()
             {
@@ -372,7 +394,7 @@ impl AppUi {
         });
     }
 
-    /// Writes the run as it is now to the scene path: the scene ([`Self::save_scene`]) with a
+    /// Writes the run as it is now to the state path: the scene ([`Self::save_scene`]) with a
     /// `[resume]` of the time, the model's whole state and the sweep plots' points, so that
     /// opening it goes on where the run was.
     pub fn save_state(&mut self, status: &SimStatus) {
@@ -391,12 +413,18 @@ impl AppUi {
             alpha_sweep: self.history.alpha_sweep_points(),
             crossings: self.history.crossings_by_mass(),
         });
-        self.write_scene(&scene);
+        let path = self.state_path.clone();
+        self.write_toml(&scene, &path, "the run's state");
     }
 
     /// Sets the scene path (as typed into its field).
     pub fn set_scene_path(&mut self, path: &Path) {
         self.scene_path = path.display().to_string();
+    }
+
+    /// Sets the state path (as typed into its field).
+    pub fn set_state_path(&mut self, path: &Path) {
+        self.state_path = path.display().to_string();
     }
 
     /// Sets the plot data folder (as typed into its field).

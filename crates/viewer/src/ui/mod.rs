@@ -118,6 +118,9 @@ pub struct AppUi {
     speed: f64,
     random: RandomBody,
     scene_path: String,
+    /// Where Save state writes: a file of its own, so a later Save of the scene never replaces
+    /// a saved run.
+    state_path: String,
     shape_path: String,
     screenshot_path: String,
     record_dir: String,
@@ -206,6 +209,7 @@ impl AppUi {
                 modes: 5,
             },
             scene_path: "scene.toml".into(),
+            state_path: "state.toml".into(),
             shape_path: "body.json".into(),
             screenshot_path: "screenshot.png".into(),
             record_dir: "recording".into(),
