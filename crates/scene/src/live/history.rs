@@ -374,7 +374,10 @@ impl PlotMeta {
         Self {
             written_by: format!("rollphase {}", env!("CARGO_PKG_VERSION")),
             scene: setup.scene.name.clone(),
-            description: setup.scene.description.clone(),
+            // The scene's own words: a saved scene's "Saved from the app at α = …" names the α
+            // it was saved at, which `alpha_rad` here may no longer be.
+            description: crate::scene::description::original_description(&setup.scene.description)
+                .to_string(),
             body: serde_json::to_value(&setup.scene.body).unwrap_or(serde_json::Value::Null),
             model: snapshot.model.to_string(),
             alpha_rad: snapshot.alpha_rad,

@@ -40,6 +40,7 @@ use crate::integrate::Preset;
 pub use crate::assets::{BUNDLED_SHAPES, PRESETS};
 
 mod clock;
+pub mod description;
 mod drag_law;
 mod error;
 mod setup;

@@ -21,6 +21,9 @@ pub(super) const SAVE_STATE_HINT: &str = "the scene as it runs now, at its time,
     its start)";
 use super::dialog::{DialogPurpose, FileDialogs};
 use super::{AppUi, UiAction};
+use crate::scene::description::{
+    SAVED_PREFIX, STARTED_AS, STATE_END, STATE_PREFIX, original_description,
+};
 
 impl AppUi {
     pub(super) fn files_ui(
@@ -401,11 +404,11 @@ impl AppUi {
         let mut scene = self.scene_to_save(status);
         let snap = &status.snapshot;
         scene.description = format!(
-            "Saved state at t = {} (α = {:.5} rad, m/m0 = {}); opening it goes on from there. {}",
+            "{STATE_PREFIX}{} (α = {:.5} rad, m/m0 = {}); {STATE_END}{}",
             snap.t,
             snap.alpha_rad,
             snap.mass_ratio,
-            scene.description.trim()
+            original_description(&scene.description)
         );
         scene.resume = Some(crate::scene::ResumeSpec {
             t: snap.t,
@@ -729,16 +732,16 @@ impl AppUi {
         let snap = &status.snapshot;
         let ramp = &status.setup.ramp;
         if snap.alpha_rad != ramp.alpha_rad || snap.mass_ratio != ramp.mass_ratio {
-            let first = scene.description.trim();
+            let first = original_description(&scene.description);
             scene.description = format!(
-                "Saved from the app at α = {:.4} rad ({:.3} α*), m/m0 = {}{}",
+                "{SAVED_PREFIX}{:.4} rad ({:.3} α*), m/m0 = {}{}",
                 snap.alpha_rad,
                 snap.alpha_rad / status.setup.alpha_star,
                 snap.mass_ratio,
                 if first.is_empty() {
                     String::new()
                 } else {
-                    format!("; it started as: {first}")
+                    format!("{STARTED_AS}{first}")
                 }
             );
         }
