@@ -1241,6 +1241,35 @@ fn every_key_press_counts_and_esc_closes_the_key_list_first() {
     );
     frames(&mut bench, &gpu, &target, key(egui::Key::Escape), 2);
     assert!(!bench.ui.presenting);
+
+    // In class mode, Esc with the File menu open closes the menu and stays in class mode; the
+    // next Esc leaves it.
+    frames(&mut bench, &gpu, &target, key(egui::Key::C), 2);
+    assert!(bench.ui.class_mode);
+    let file = egui::pos2(12.0, 8.0);
+    let click = |pressed| egui::Event::PointerButton {
+        pos: file,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: egui::Modifiers::NONE,
+    };
+    frames(
+        &mut bench,
+        &gpu,
+        &target,
+        vec![egui::Event::PointerMoved(file), click(true)],
+        1,
+    );
+    frames(&mut bench, &gpu, &target, vec![click(false)], 2);
+    assert!(
+        egui::Popup::is_any_open(&bench.ctx),
+        "the File menu is open"
+    );
+    frames(&mut bench, &gpu, &target, key(egui::Key::Escape), 2);
+    assert!(!egui::Popup::is_any_open(&bench.ctx), "Esc closed the menu");
+    assert!(bench.ui.class_mode, "and left class mode alone");
+    frames(&mut bench, &gpu, &target, key(egui::Key::Escape), 2);
+    assert!(!bench.ui.class_mode);
     assert!(
         bench
             .ui

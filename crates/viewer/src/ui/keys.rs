@@ -64,7 +64,9 @@ impl AppUi {
         if pressed(Key::C) {
             self.set_class_mode(ctx, !self.class_mode, actions);
         }
-        if pressed(Key::Escape) {
+        // Esc closes an open menu first (egui closes it when it draws it, after this): it must
+        // not also leave class or presentation mode.
+        if pressed(Key::Escape) && !egui::Popup::is_any_open(ctx) {
             if self.show_keys {
                 self.show_keys = false;
             } else if self.presenting {
