@@ -1038,6 +1038,17 @@ fn a_dropped_mesh_is_fitted_and_rolled_and_a_bad_one_is_named() {
     .unwrap();
     assert_eq!(s.snapshot.alpha_star, fitted.report.alpha_star);
     assert!(bench.ui.recent_files()[0].ends_with("printed.STL"));
+
+    // Where no file dialog exists, a mesh typed into the shape field and loaded is fitted as a
+    // dropped one (Load read JSON only: "stream did not contain valid UTF-8").
+    bench.ui.set_shape_path(std::path::Path::new(sphere));
+    bench.ui.load_shape(&s, &mut Vec::new());
+    let (text, is_error) = frames_until_fitted(&mut bench, &gpu, &target);
+    assert!(!is_error && text.contains("printed-sphere.stl"), "{text}");
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| {
+        s.scene_id == 2 && s.snapshot.t > 0.0
+    });
+    assert_eq!(s.snapshot.alpha_star, fitted.report.alpha_star);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

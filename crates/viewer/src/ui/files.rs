@@ -328,8 +328,17 @@ impl AppUi {
     ) {
         ui.menu_button("File", |ui| {
             let dialogs = self.dialogs.availability().is_ok() && !self.dialogs.is_open();
+            // Why the dialog entries are greyed out, and what to do instead.
+            let no_dialog = match self.dialogs.availability() {
+                Err(why) => format!(
+                    "{why}: type the path into the Files panel's fields (a mesh into the shape \
+                     field), or drop the file on the window"
+                ),
+                Ok(()) => "a file dialog is already open".to_string(),
+            };
             if ui
                 .add_enabled(dialogs, egui::Button::new("Open scene…"))
+                .on_disabled_hover_text(&no_dialog)
                 .clicked()
             {
                 let current = PathBuf::from(&self.scene_path);
@@ -338,6 +347,7 @@ impl AppUi {
             }
             if ui
                 .add_enabled(dialogs, egui::Button::new("Open shape or mesh…"))
+                .on_disabled_hover_text(&no_dialog)
                 .clicked()
             {
                 let current = PathBuf::from(&self.shape_path);
@@ -365,6 +375,7 @@ impl AppUi {
             }
             if ui
                 .add_enabled(dialogs, egui::Button::new("Save scene as…"))
+                .on_disabled_hover_text(&no_dialog)
                 .clicked()
             {
                 let current = PathBuf::from(&self.scene_path);
@@ -423,6 +434,11 @@ impl AppUi {
     /// Sets the scene path (as typed into its field).
     pub fn set_scene_path(&mut self, path: &Path) {
         self.scene_path = path.display().to_string();
+    }
+
+    /// Sets the shape path (as typed into its field).
+    pub fn set_shape_path(&mut self, path: &Path) {
+        self.shape_path = path.display().to_string();
     }
 
     /// Sets the state path (as typed into its field).
@@ -673,8 +689,21 @@ impl AppUi {
         self.notice.as_ref()
     }
 
-    pub(super) fn load_shape(&mut self, status: &SimStatus, actions: &mut Vec<UiAction>) {
+    /// Loads the shape field's file: a shape file (JSON), rolled at once, or a mesh, fitted on
+    /// a thread of its own and rolled when done (as a dropped one is).
+    pub fn load_shape(&mut self, status: &SimStatus, actions: &mut Vec<UiAction>) {
         let path = PathBuf::from(&self.shape_path);
+        // A mesh typed into the field is fitted as a dropped one is: where no file dialog
+        // exists, this is the way to load one (Load read JSON only: "stream did not contain
+        // valid UTF-8").
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        if extension.is_some_and(|e| MESH_EXTENSIONS.contains(&e.as_str())) {
+            self.start_mesh_fit(&path);
+            return;
+        }
         match ShapeFile::load(&path) {
             Ok(body) => {
                 self.remember(&path);
