@@ -306,9 +306,14 @@ impl SceneView {
                 rect,
                 if body_rect.is_some() { inset_bg } else { None },
             ));
-            let title = match field {
-                Some(_) => "Poincaré map on ∂Ω (next crossing)",
-                None => "Poincaré map on ∂Ω: computing…",
+            // With inertia there is no field to wait for: say so where the eye is, not only in
+            // small text under Views (it read "computing…" for ever).
+            let title = match (field, &snap.poincare_field) {
+                (Some(_), _) => "Poincaré map on ∂Ω (next crossing)",
+                (None, crate::live::FieldWanted::NeedsViscous) => {
+                    "Poincaré map on ∂Ω: needs the viscous model (inertia off)"
+                }
+                (None, _) => "Poincaré map on ∂Ω: computing…",
             };
             panels.push(title_panel(rect, title, text));
             if self.show_overlay
