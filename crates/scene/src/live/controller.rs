@@ -54,6 +54,8 @@ pub struct Controller {
     paused: bool,
     speed: f64,
     message: Option<String>,
+    /// Information, not a failure: a lesson with no further step to go to.
+    info: Option<String>,
     lagging: bool,
 }
 
@@ -70,6 +72,7 @@ impl Controller {
             paused: false,
             speed,
             message: None,
+            info: None,
             lagging: false,
         }
     }
@@ -99,6 +102,22 @@ impl Controller {
         self.message.as_deref()
     }
 
+    /// What the last command had to say that is not a failure (shown as information, not in
+    /// the error colour): the lesson has no next or previous step.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_scene::live::{Controller, SimCommand};
+    /// use rollphase_scene::scene::Scene;
+    /// let setup = Scene::preset("sphere-cruising").unwrap().setup(None).unwrap();
+    /// let mut c = Controller::new(setup);
+    /// c.apply(SimCommand::NextStep);
+    /// assert!(c.message().is_none() && c.info().unwrap().contains("no lesson timeline"));
+    /// ```
+    pub fn info(&self) -> Option<&str> {
+        self.info.as_deref()
+    }
+
     /// Whether the last tick could not keep up with the requested speed.
     pub fn is_lagging(&self) -> bool {
         self.lagging
@@ -106,6 +125,7 @@ impl Controller {
 
     /// Applies one command. A refused command leaves the state as it was and sets the message.
     pub fn apply(&mut self, command: SimCommand) {
+        self.info = None;
         let result = match command {
             SimCommand::SetAlpha(alpha) => self.set_ramp(alpha, self.sim.ramp().mass_ratio),
             SimCommand::SetMassRatio(m) => self.set_ramp(self.sim.ramp().alpha_rad, m),
@@ -157,12 +177,16 @@ impl Controller {
             }
             SimCommand::NextStep => match self.sim.next_step_time() {
                 Some(at) => self.advance(at),
-                None => Err(self.no_step_message("next")),
+                None => {
+                    self.info = Some(self.no_step_message("next"));
+                    Ok(())
+                }
             },
             SimCommand::PreviousStep => {
                 let done = self.sim.steps_done();
                 if self.sim.setup().timeline.is_empty() {
-                    Err(self.no_step_message("previous"))
+                    self.info = Some(self.no_step_message("previous"));
+                    Ok(())
                 } else {
                     // The start of the step before the current one, or the lesson's start.
                     let target = match done {

@@ -36,6 +36,8 @@ pub struct SimStatus {
     pub lagging: bool,
     /// The last failure, refusal or caught panic.
     pub message: Option<String>,
+    /// Information from the last command that is not a failure (a lesson's last step reached).
+    pub info: Option<String>,
     /// The integrator setting, as the UI shows it.
     pub method: Method,
     /// Wall-clock time of the last tick's integration, seconds.
@@ -167,6 +169,7 @@ impl SimWorker {
             delivered_speed: delivered,
             lagging: !self.controller.is_paused() && delivered.is_some_and(|d| d < 0.9 * speed),
             message: self.controller.message().map(str::to_string),
+            info: self.controller.info().map(str::to_string),
             method: self.controller.simulation().method(),
             tick_seconds: self.tick_seconds,
         }

@@ -247,15 +247,23 @@ impl AppUi {
                 actions.push(UiAction::Sim(SimCommand::Reset));
             }
         });
+        // Typed values are not clamped: one outside the range is refused with a word, as α and
+        // m/m0 are (1e9 became 1000 and −5 became 0.05 without one).
         let speed = egui::Slider::new(&mut self.speed, SPEED_RANGE.0..=SPEED_RANGE.1)
             .logarithmic(true)
+            .clamping(egui::SliderClamping::Never)
             .text("speed (t per s)");
         if ui
             .add(speed)
             .on_hover_text("+ / − double or halve")
             .changed()
         {
-            actions.push(UiAction::Sim(SimCommand::SetSpeed(self.speed)));
+            if let Some(refused) = speed_refusal(self.speed) {
+                self.notice = Some((refused, true));
+                self.speed = status.speed;
+            } else {
+                actions.push(UiAction::Sim(SimCommand::SetSpeed(self.speed)));
+            }
         }
         self.status_ui(ui, status);
 
@@ -389,6 +397,8 @@ impl AppUi {
             }
             if let Some(m) = &status.message {
                 ui.label(RichText::new(m).color(ERROR));
+            } else if let Some(i) = &status.info {
+                ui.label(RichText::new(i).color(GOOD));
             } else if let Some((text, error)) = &self.notice {
                 ui.label(RichText::new(text).color(if *error { ERROR } else { GOOD }));
             } else {
@@ -769,6 +779,31 @@ pub(super) fn describe_body(spec: &BodySpec) -> String {
         return format!("body: perfect {p:?}").to_lowercase();
     }
     "body: none given".into()
+}
+
+/// Why a typed playback speed is refused, or `None` when it is allowed.
+fn speed_refusal(speed: f64) -> Option<String> {
+    let (lo, hi) = SPEED_RANGE;
+    (!(lo..=hi).contains(&speed)).then(|| {
+        format!(
+            "speed {speed} t per s is not allowed: {lo} ≤ speed ≤ {hi} (the slider's range; \
+             + and − double and halve it)"
+        )
+    })
+}
+
+#[cfg(test)]
+mod speed_tests {
+    use super::*;
+
+    #[test]
+    fn a_speed_outside_the_range_is_refused_with_the_range_named() {
+        assert!(speed_refusal(1.0).is_none() && speed_refusal(SPEED_RANGE.1).is_none());
+        for bad in [1e9, -5.0, 0.0, f64::NAN, f64::INFINITY] {
+            let why = speed_refusal(bad).expect("refused");
+            assert!(why.contains("0.05 ≤ speed ≤ 1000"), "{why}");
+        }
+    }
 }
 
 #[cfg(test)]
