@@ -185,7 +185,9 @@ fn the_crossing_plot_splits_when_the_mass_is_swept_across_the_flip() {
     };
     run(&mut sim, &mut history, 1200.0);
     let low = history.crossings_by_mass();
-    assert!(low.len() >= 5, "{low:?}");
+    // Held at one value for 1200 t0 (about 50 cycles), the settled orbit adds its point once,
+    // and the few of its approach: no pile of duplicates.
+    assert!(!low.is_empty() && low.len() <= 10, "{low:?}");
     assert!(low.iter().all(|p| p[0] == 2.5));
     let spread = |ps: &[[f64; 2]]| {
         let ys: Vec<f64> = ps.iter().map(|p| p[1]).collect();
@@ -200,7 +202,8 @@ fn the_crossing_plot_splits_when_the_mass_is_swept_across_the_flip() {
         .into_iter()
         .filter(|p| p[0] == 6.0)
         .collect();
-    assert!(high.len() >= 4, "{high:?}");
+    // The doubled orbit's two points, each once.
+    assert!((2..=10).contains(&high.len()), "{high:?}");
     assert!(
         spread(&high) > 0.05,
         "two branches above the flip: {high:?}"

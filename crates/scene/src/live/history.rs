@@ -91,6 +91,16 @@ pub struct PlotCheckpoint {
 /// Crossing points kept for the mass sweep.
 const MAX_CROSSING_POINTS: usize = 5000;
 
+/// A settled crossing this close (rad of the plotted angle, far below a pixel at any plot size)
+/// to one already kept at the same m/m0 adds nothing: a run held at one value repeats its
+/// cycle's points for ever (a sweep that ended at m/m0 = 50 piled ~1,400 near-duplicates
+/// there, 67 KB in a saved state).
+const SAME_CROSSING: f64 = 1e-3;
+
+/// How many of the latest points a new one is compared with: more than the points of any
+/// cycle the app tells apart.
+const CROSSINGS_COMPARED: usize = 256;
+
 impl PlotHistory {
     /// Clears the time series (a new run); the α sweep is kept, since it describes the body.
     pub fn clear_run(&mut self) {
@@ -176,10 +186,18 @@ impl PlotHistory {
             && snap.mass_ratio > 0.0
         {
             let p = if p.z < 0.0 { -p } else { p };
-            self.crossings_by_mass
-                .push_back([snap.mass_ratio, p.z.clamp(-1.0, 1.0).acos()]);
-            while self.crossings_by_mass.len() > MAX_CROSSING_POINTS {
-                self.crossings_by_mass.pop_front();
+            let point = [snap.mass_ratio, p.z.clamp(-1.0, 1.0).acos()];
+            let seen = self
+                .crossings_by_mass
+                .iter()
+                .rev()
+                .take(CROSSINGS_COMPARED)
+                .any(|q| q[0] == point[0] && (q[1] - point[1]).abs() < SAME_CROSSING);
+            if !seen {
+                self.crossings_by_mass.push_back(point);
+                while self.crossings_by_mass.len() > MAX_CROSSING_POINTS {
+                    self.crossings_by_mass.pop_front();
+                }
             }
             self.last_crossing_t = Some(t);
         }

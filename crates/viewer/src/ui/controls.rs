@@ -460,6 +460,7 @@ impl AppUi {
                             .changed()
                         {
                             choice.step = t.default_step();
+                            choice.end = None;
                         }
                     }
                 });
@@ -471,6 +472,27 @@ impl AppUi {
             )
             .on_hover_text(choice.target.step_hint());
             ui.label("per point");
+            // Where it stops: without an end a sweep ran on to the end of the slider's range
+            // (m/m0 = 50) and then sat there.
+            let (lo, hi) = choice.target.range();
+            let mut bounded = choice.end.is_some();
+            ui.checkbox(&mut bounded, "until").on_hover_text(
+                "the last value the sweep takes; off: the end of the slider's range",
+            );
+            if bounded {
+                let mut end = choice
+                    .end
+                    .unwrap_or(if choice.step < 0.0 { lo } else { hi });
+                ui.add(
+                    egui::DragValue::new(&mut end)
+                        .range(lo..=hi)
+                        .speed(1e-3)
+                        .max_decimals(5),
+                );
+                choice.end = Some(end);
+            } else {
+                choice.end = None;
+            }
             if choice != self.sweep_choice {
                 let other_target = choice.target != self.sweep_choice.target;
                 self.sweep_choice = choice;

@@ -39,6 +39,14 @@ impl SweepTarget {
         }
     }
 
+    /// The values it may take (the slider's range).
+    pub fn range(self) -> (f64, f64) {
+        match self {
+            SweepTarget::Alpha => (ALPHA_MIN, ALPHA_MAX),
+            SweepTarget::MassRatio => MASS_RANGE,
+        }
+    }
+
     /// A step fine enough to follow a branch: about 1 % of the paper's α*, 5 % in m/m0.
     pub fn default_step(self) -> f64 {
         match self {

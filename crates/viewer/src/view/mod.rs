@@ -296,7 +296,9 @@ impl SceneView {
             ));
             panels.push(title_panel(
                 rect,
-                "SO(3) ball: vector part of q (q_w ≥ 0)",
+                // Short enough not to wrap in the inset, in words rather than q_w: a point is
+                // the rotation's axis scaled by sin(angle/2) (the app guide says more).
+                "Orientation (SO(3) ball)",
                 text,
             ));
         }
