@@ -95,7 +95,7 @@ fn the_caption_never_covers_the_body_on_any_lesson_step() {
         let setup = Scene::preset(name).unwrap().setup(None).unwrap();
         let radius = bounding_radius(&setup.body);
         let steps: Vec<f64> = setup.timeline.iter().map(|s| s.at).collect();
-        for size in [(1280, 720), (1600, 900), (3840, 2160)] {
+        for size in [(1280, 720), (1600, 900), (1920, 1080), (3840, 2160)] {
             for text_scale in [1.0, 1.8] {
                 let mut r = HeadlessRenderer::new(setup.clone(), size, 1).unwrap();
                 r.set_view_options(ViewOptions {
@@ -103,12 +103,20 @@ fn the_caption_never_covers_the_body_on_any_lesson_step() {
                     ..ViewOptions::default()
                 });
                 let mut k = 0;
-                for &at in &steps {
-                    // The first frame of the step (its caption showing), and one 2 s later.
+                for (i, &at) in steps.iter().enumerate() {
+                    // The first frame of the step (its caption showing), one 2 s later, and
+                    // the last before the next step: the key moment, when the overlay has
+                    // its longest lines ("period 2: doubled" once the orbit has settled).
                     while setup.frame_time(k) <= at {
                         k += 1;
                     }
-                    for frame_k in [k, k + 60] {
+                    let mut last = k + 60;
+                    if let Some(&next) = steps.get(i + 1) {
+                        while setup.frame_time(last + 1) < next {
+                            last += 1;
+                        }
+                    }
+                    for frame_k in [k, k + 60, last] {
                         let frame = r.frame_data(frame_k).unwrap();
                         let body = body_box(&frame, radius);
                         let boxes = panel_boxes(&frame, size, &font);

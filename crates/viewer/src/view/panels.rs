@@ -25,7 +25,7 @@ impl SceneView {
         } else {
             match snap.period {
                 Some(t) => format!(
-                    "1/T = {:.5}   (T = {:.3}, {}){}",
+                    "1/T = {:.5}   (T = {:.3}, {})",
                     1.0 / t,
                     t,
                     if self.is_disk {
@@ -33,7 +33,6 @@ impl SceneView {
                     } else {
                         "∂Ω to ∂Ω"
                     },
-                    multiplicity_text(snap.period_multiplicity)
                 ),
                 None => "1/T: measuring…".to_string(),
             }
@@ -81,6 +80,18 @@ impl SceneView {
             });
         } else {
             items.push(line(rate, 16.0));
+            // On a line of its own: appended to the 1/T line it widened the box over the body
+            // at the period-doubling lesson's key moment.
+            if let Some(k) = snap.period_multiplicity.filter(|_| snap.period.is_some()) {
+                items.push(line(
+                    if k == 2 {
+                        "period 2: doubled".to_string()
+                    } else {
+                        format!("period {k}")
+                    },
+                    16.0,
+                ));
+            }
         }
         if let Some((tips, lost)) = snap.hull_tips {
             // A dented cylinder rolls on its hull: say what the flats did.
