@@ -151,7 +151,8 @@ struct VertexRecords {
 /// their vertex records are read in file order, and its triangles are handed on. It bounds
 /// what a pass holds (8 bytes of sort key and 24 of position a corner, 4 MB) whatever the
 /// mesh's size. 5.2 M triangles then take 120 forward sweeps over the vertex records a pass:
-/// 28.8 MB and 9.1 s where holding the vertices took 52.8 MB (and 2¹⁸ corners 34.7 MB, 8.6 s).
+/// through `shape --from-mesh` 28.5 MB and 12.5 s, where holding the vertices took 53.0 MB and
+/// 15.7 s (and 2¹⁸ corners 34.7 MB, 11.3 s).
 const CORNERS_PER_BLOCK: usize = 1 << 17;
 
 impl Vertices {
