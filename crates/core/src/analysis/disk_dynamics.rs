@@ -20,9 +20,9 @@ use super::fit::{logspace, power_law};
 use super::period::{inertial_disk_period, viscous_disk_period_with};
 use crate::dynamics::{DiskInertial, DiskViscous, ModelError, Ramp};
 use crate::geometry::{Body, Disk};
-use crate::integrate::events::{self, Direction};
+use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::run::{Flow, Run, Samples};
-use crate::integrate::{IntegrateError, Method};
+use crate::integrate::{IntegrateError, Method, OdeSystem};
 
 /// Time for the disk, released from rest at `theta0`, to reach θ = θ0 + `distance`; `None` if it
 /// has not got there by `t_max` (it halted).
@@ -46,32 +46,40 @@ pub fn lag_time(
     t_max: f64,
 ) -> Result<Option<f64>, IntegrateError> {
     let target = theta0 + distance;
-    let g = move |_t: f64, y: &[f64]| y[0] - target;
     if ramp.is_viscous() {
         let m = DiskViscous::new(disk, ramp);
-        let mut run = Run::new(&m, 0.0, [theta0, 0.0], Method::dop853(rtol))?;
-        let ev = events::integrate_collecting(
-            run.stepper(),
-            t_max,
-            50_000_000,
-            &|t, y: &[f64; 2]| g(t, y),
-            Direction::Rising,
-            |_| true,
-        )?;
-        Ok(ev.first().copied())
+        first_reach(&m, [theta0, 0.0], target, rtol, t_max)
     } else {
         let m = DiskInertial::new(disk, ramp);
-        let mut run = Run::new(&m, 0.0, [theta0, 0.0, 0.0, 0.0], Method::dop853(rtol))?;
-        let ev = events::integrate_collecting(
-            run.stepper(),
-            t_max,
-            50_000_000,
-            &|t, y: &[f64; 4]| g(t, y),
-            Direction::Rising,
-            |_| true,
-        )?;
-        Ok(ev.first().copied())
+        first_reach(&m, [theta0, 0.0, 0.0, 0.0], target, rtol, t_max)
     }
+}
+
+/// The first time θ (the state's first slot) rises through `target`, run from `y0` until then
+/// or `t_max`: a crossing observer on the one run loop.
+fn first_reach<const N: usize, S: OdeSystem<N>>(
+    model: &S,
+    y0: [f64; N],
+    target: f64,
+    rtol: f64,
+    t_max: f64,
+) -> Result<Option<f64>, IntegrateError> {
+    let mut run = Run::new(model, 0.0, y0, Method::dop853(rtol))?;
+    let mut reached = Vec::new();
+    run.until::<IntegrateError>(t_max, 50_000_000, |st| {
+        crossings_in_last_step(
+            st,
+            &|_t, y: &[f64; N]| y[0] - target,
+            Direction::Rising,
+            &mut reached,
+        );
+        Ok(if reached.is_empty() {
+            Flow::Continue
+        } else {
+            Flow::Stop
+        })
+    })?;
+    Ok(reached.first().copied())
 }
 
 /// One point of a hysteresis sweep.
@@ -322,7 +330,7 @@ pub fn phase_path(
     let mut point = |_: f64, y: &[f64; 4]| {
         points.push([y[0].rem_euclid(std::f64::consts::TAU), y[1]]);
     };
-    sampled.take(run.stepper(), &mut point);
+    sampled.take_at_start(&run, &mut point);
     run.until::<IntegrateError>(t_end, u64::MAX, |st| {
         sampled.take(st, &mut point);
         Ok(Flow::Continue)

@@ -260,12 +260,11 @@ pub fn inertial_disk_period_until(
     if stopped {
         return Ok(None);
     }
-    let st = run.stepper();
     // At rest only where a rest point exists (α ≤ α*): a very heavy disk above α* also has
     // θ̇ ≈ 0 for a long time, but it is accelerating, not halted.
     let can_rest =
         ramp.alpha_rad <= critical_angle::critical_angle(&Body::Disk(disk.clone())).alpha_star;
-    let resting = st.y()[1].abs() < 1e-8 && can_rest;
+    let resting = run.y()[1].abs() < 1e-8 && can_rest;
     let last_crossing = crossings.last().copied().unwrap_or(0.0);
     let not_measured = PeriodResult {
         period: None,
@@ -273,10 +272,10 @@ pub fn inertial_disk_period_until(
         halts: resting,
         converged: resting,
         relative_error: f64::NAN,
-        t_simulated: st.t(),
+        t_simulated: run.t(),
         by_quadrature: false,
     };
-    if resting || periods.is_empty() || (st.t() - last_crossing) > 0.5 * t_max {
+    if resting || periods.is_empty() || (run.t() - last_crossing) > 0.5 * t_max {
         return Ok(Some(not_measured));
     }
     // Still rolling but not yet periodic to 1e-8: report the mean over the second half.
@@ -291,7 +290,7 @@ pub fn inertial_disk_period_until(
         halts: false,
         converged: false,
         relative_error: f64::NAN,
-        t_simulated: st.t(),
+        t_simulated: run.t(),
         by_quadrature: false,
     }))
 }

@@ -701,7 +701,7 @@ fn sample<const N: usize>(
 ) -> Result<Vec<[f64; 2]>, StudyError> {
     let mut out = Vec::with_capacity(times.len());
     let mut samples = Samples::new(times);
-    samples.take(run.stepper(), |_, y| out.push(pick(y)));
+    samples.take_at_start(&run, |_, y| out.push(pick(y)));
     if !samples.done() {
         let end = times.last().copied().unwrap_or(0.0);
         run.until::<StudyError>(end, u64::MAX, |st| {

@@ -191,11 +191,10 @@ pub fn inertial_run(
         }
         Ok(Flow::Continue)
     })?;
-    let st = run.stepper();
-    let y = st.y();
+    let y = run.y();
     Ok(InertialRun {
         crossings: out,
-        t_end: st.t(),
+        t_end: run.t(),
         end,
         angular_speed: DVec3::new(y[4], y[5], y[6]).length(),
         contact: watch.map(|w| w.report()),

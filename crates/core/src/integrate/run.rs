@@ -177,27 +177,6 @@ impl<'a, const N: usize> Run<'a, N> {
     pub fn stats(&self) -> Stats {
         self.stepper.stats()
     }
-
-    /// The stepper, for reading its last step (its dense output) after the run.
-    ///
-    /// # Example
-    /// ```
-    /// use rollphase_core::integrate::run::{Flow, Run};
-    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
-    /// struct Line;
-    /// impl OdeSystem<1> for Line {
-    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
-    ///         [2.0]
-    ///     }
-    /// }
-    /// let mut run = Run::new(&Line, 0.0, [0.0], Method::Rk4 { dt: 0.5 })?;
-    /// run.until::<IntegrateError>(1.0, u64::MAX, |_| Ok(Flow::Continue))?;
-    /// assert!((run.stepper().dense(0.75)[0] - 1.5).abs() < 1e-12);
-    /// # Ok::<(), IntegrateError>(())
-    /// ```
-    pub fn stepper(&mut self) -> &mut dyn Stepper<N> {
-        self.stepper.as_mut()
-    }
 }
 
 /// The loop itself: every accepted step of every run in the program is taken here.
@@ -249,7 +228,7 @@ impl<'t> Samples<'t> {
     /// let mut samples = Samples::new(&times);
     /// let mut seen = Vec::new();
     /// let mut run = Run::new(&Decay, 0.0, [1.0], Method::dop853(1e-12))?;
-    /// samples.take(run.stepper(), |t, y| seen.push((t, y[0])));
+    /// samples.take_at_start(&run, |t, y| seen.push((t, y[0])));
     /// run.until::<IntegrateError>(2.0, u64::MAX, |st| {
     ///     samples.take(st, |t, y| seen.push((t, y[0])));
     ///     Ok(if samples.done() { Flow::Stop } else { Flow::Continue })
@@ -295,6 +274,38 @@ impl<'t> Samples<'t> {
             let t = self.times[self.next];
             let y = if t == st.t() { *st.y() } else { st.dense(t) };
             visit(t, &y);
+            self.next += 1;
+        }
+    }
+
+    /// Takes the times at the run's start (before its first step) from its state there, so a
+    /// caller never reaches into the run's stepper.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Run, Samples};
+    /// use rollphase_core::integrate::{Method, OdeSystem};
+    /// struct Still;
+    /// impl OdeSystem<1> for Still {
+    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+    ///         [0.0]
+    ///     }
+    /// }
+    /// let run = Run::new(&Still, 0.0, [7.0], Method::Rk4 { dt: 0.1 })?;
+    /// let times = [0.0, 1.0];
+    /// let mut samples = Samples::new(&times);
+    /// let mut seen = Vec::new();
+    /// samples.take_at_start(&run, |t, y| seen.push((t, y[0])));
+    /// assert_eq!((seen, samples.taken()), (vec![(0.0, 7.0)], 1));
+    /// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
+    /// ```
+    pub fn take_at_start<const N: usize>(
+        &mut self,
+        run: &Run<'_, N>,
+        mut visit: impl FnMut(f64, &[f64; N]),
+    ) {
+        while self.next < self.times.len() && self.times[self.next] <= run.t() {
+            visit(self.times[self.next], run.y());
             self.next += 1;
         }
     }
