@@ -114,7 +114,11 @@ pub fn period(
         (Fate::Halted { .. }, _) => Ok(None),
         (fate, _) => {
             let why = match fate {
-                Fate::Undecided { why } => why.what_would_decide(),
+                Fate::Undecided { why } => format!(
+                    "{}{}",
+                    why.what_would_decide(),
+                    rollphase_core::analysis::period::coarse_rtol_hint(&why, rtol, "rtol =")
+                ),
                 _ => "no period was found".to_string(),
             };
             let message =

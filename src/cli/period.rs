@@ -138,9 +138,10 @@ pub fn run(a: PeriodArgs) -> Result<()> {
         Fate::Undecided { why } => Some(match why {
             Undecided::AtThreshold { .. } => why.what_would_decide(),
             _ => format!(
-                "T is not measurable within --t-max {}: {}",
+                "T is not measurable within --t-max {}: {}{}",
                 super::short(a.t_max),
-                why.what_would_decide()
+                why.what_would_decide(),
+                crate::analysis::period::coarse_rtol_hint(&why, a.rtol, "--rtol")
             ),
         }),
         _ => choice.note.clone(),

@@ -675,6 +675,11 @@ fn period_never_prints_a_wrong_number_with_exit_zero() {
     assert_eq!(v["period"], serde_json::Value::Null, "{v}");
     let v = json(&["--alpha", &format!("{next:e}")]);
     assert_eq!(v["why"]["reason"], "at_threshold", "{v}");
+    // At a coarse --rtol the turns cannot agree to 1e-8: undecided, and the note says which
+    // setting decides it (the default does: periodic).
+    let v = json(&["--alpha", "0.3", "--mass", "2", "--rtol", "1e-6"]);
+    assert_eq!(v["fate"], "undecided", "{v}");
+    assert!(v["note"].as_str().unwrap().contains("--rtol 1e-10"), "{v}");
     let text = rollphase(&[
         "period", disk, "--alpha", "0.3", "--mass", "50", "--t-max", "150",
     ]);

@@ -84,6 +84,30 @@ impl PeriodResult {
     }
 }
 
+/// Why a still-rolling inertial disk may be undecided at a coarse tolerance: its turns are
+/// called periodic when three agree to 1e-8, which a run at `rtol` above 1e-9 cannot show (at
+/// rtol 1e-6 every inertial case was undecided). Names the setting, as `flag`, that decides it;
+/// empty otherwise.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::period::coarse_rtol_hint;
+/// use rollphase_core::analysis::verdict::Undecided;
+/// let why = Undecided::NoRepeat { t_cap: 5000.0, crossings: 235, max_k: 1 };
+/// assert!(coarse_rtol_hint(&why, 1e-6, "--rtol").contains("--rtol 1e-10"));
+/// assert!(coarse_rtol_hint(&why, 1e-10, "--rtol").is_empty());
+/// ```
+pub fn coarse_rtol_hint(why: &Undecided, rtol: f64, flag: &str) -> String {
+    if matches!(why, Undecided::NoRepeat { .. }) && rtol > 1e-9 {
+        format!(
+            " (at {flag} {rtol:e} successive turns cannot agree to the 1e-8 a period needs: \
+             {flag} 1e-10, the default, would decide it)"
+        )
+    } else {
+        String::new()
+    }
+}
+
 /// Viscous period by quadrature (SI eq. for T). Halts iff tan α ≤ Q* = tan α*.
 ///
 /// ```
