@@ -1,15 +1,17 @@
 //! A filmed run from Python: `measure_track` (the period search of `rollphase track`, with its
 //! evidence) and `compare_with_model` (the measurement beside the model's prediction, m/m0 and
 //! t0 solved together). Each is the core's function of the same name
-//! (`rollphase_core::analysis::tracking`), run with the GIL released.
+//! (`rollphase_core::analysis::experiment::tracking`), run with the GIL released.
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{AllowTypeChange, IntoPyArray, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use rollphase_core::analysis::prediction::PredictOptions;
-use rollphase_core::analysis::tracking::model::{CompareError, Measured, compare_with_model_until};
-use rollphase_core::analysis::tracking::{TrackError, measure};
+use rollphase_core::analysis::experiment::prediction::PredictOptions;
+use rollphase_core::analysis::experiment::tracking::model::{
+    CompareError, Measured, compare_with_model_until,
+};
+use rollphase_core::analysis::experiment::tracking::{TrackError, measure};
 
 use crate::body::Body;
 use crate::errors::{Classified, ErrorClass, input_error, internal_error, raise};
@@ -117,7 +119,7 @@ pub fn measure_track<'py>(
         vec![track.frames[0], track.frames[track.frames.len() - 1]],
     )?;
     if let Some(m) = markers {
-        let reading = rollphase_core::analysis::tracking::markers::read_markers(
+        let reading = rollphase_core::analysis::experiment::tracking::markers::read_markers(
             &track,
             &m,
             track.frames[0],

@@ -9,10 +9,12 @@ use numpy::{AllowTypeChange, Complex64, IntoPyArray, PyArray1, PyArray2, PyArray
 use pyo3::exceptions::PyRuntimeWarning;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use rollphase_core::analysis::orbit_diagram::{DirectRuns, RunWindow, mass_bifurcation_until};
-use rollphase_core::analysis::sphere_orbits::Decide;
-use rollphase_core::analysis::sphere_return_map::PeriodicOrbit;
-use rollphase_core::analysis::studies::{
+use rollphase_core::analysis::orbits::orbit_diagram::{
+    DirectRuns, RunWindow, mass_bifurcation_until,
+};
+use rollphase_core::analysis::orbits::sphere_orbits::Decide;
+use rollphase_core::analysis::orbits::sphere_return_map::PeriodicOrbit;
+use rollphase_core::analysis::studies::sphere::{
     cruising_fraction_until, period_counts_until, periodic_orbits_until, poincare_map_until,
 };
 use rollphase_core::analysis::verdict::Fate;
@@ -117,7 +119,9 @@ pub fn period(
                 Fate::Undecided { why } => format!(
                     "{}{}",
                     why.what_would_decide(),
-                    rollphase_core::analysis::period::coarse_rtol_hint(&why, rtol, "rtol =")
+                    rollphase_core::analysis::orbits::disk_period::coarse_rtol_hint(
+                        &why, rtol, "rtol ="
+                    )
                 ),
                 _ => "no period was found".to_string(),
             };
@@ -472,7 +476,7 @@ pub fn predict<'py>(
     t_cap: f64,
     drag_law: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    use rollphase_core::analysis::prediction::{PredictOptions, predict_until};
+    use rollphase_core::analysis::experiment::prediction::{PredictOptions, predict_until};
     let law = crate::drag_law::from_keywords("predict", drag_law)?;
     let (starts, seed): (usize, u64) = (whole("starts", starts)?, whole("seed", seed)?);
     let core = body.convex()?;

@@ -57,7 +57,7 @@ pub struct Inspection {
     pub hull_flats: Vec<crate::geometry::hull::Bridge>,
     /// A 2D body that is not convex: the steepest ramp it can rest on a flat at, and α* of its
     /// curved parts alone (α* is the larger).
-    pub flat_rest: Option<crate::analysis::critical_angle::FlatRest>,
+    pub flat_rest: Option<crate::analysis::rest::critical_angle::FlatRest>,
 }
 
 /// Computes the inspection of a body.

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 
-use crate::figures::scan;
 use crate::figures::shard::{JobId, merge_figure, merged, scan_shards};
+use crate::figures::sweep;
 
 /// Combine the shards (shard-I-of-N.json) that `figure NAME --shard I/N` or `sweep --shard I/N`
 /// wrote into DIR, and write exactly the files an unsharded run writes: data.csv, summary.json
@@ -37,7 +37,7 @@ pub fn run(a: MergeArgs) -> Result<()> {
             )?;
         }
         JobId::Sweep { .. } => {
-            let s = scan::merge(&a.dir, &shards)?;
+            let s = sweep::merge(&a.dir, &shards)?;
             let shards = shards.shards;
             outln!(
                 "sweep: merged {} runs from {shards} shards ({} halt, {} periodic, {} undecided); wrote {}",

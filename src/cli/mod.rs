@@ -21,10 +21,10 @@ pub mod merge;
 pub mod period;
 pub mod predict;
 pub mod render;
-pub mod scan;
 pub mod scenes;
 pub mod shape;
 pub mod simulate;
+pub mod sweep;
 pub mod track;
 
 use std::path::{Path, PathBuf};
@@ -68,53 +68,47 @@ pub struct Cli {
 
 /// The subcommands.
 #[derive(Debug, Subcommand)]
+#[expect(
+    missing_docs,
+    reason = "a variant's doc comment would replace its struct's long help: `about` says it"
+)]
 pub enum Command {
     /// Open the interactive window (the same as no subcommand): live α and m/m0, plots, views.
     App(app::AppArgs),
-    // The struct's doc is the long help: a doc comment here would replace it.
     #[command(about = "Generate a random body (seeded) and write its shape file (JSON)")]
     Shape(shape::ShapeArgs),
-    // The struct's doc is the long help: a doc comment here would replace it.
     #[command(about = "Report a body's convexity, curvature range and critical angle α*")]
     Inspect(inspect::InspectArgs),
-    // The struct's doc is the long help: a doc comment here would replace it.
     #[command(
         about = "Period T and mean angular speed 2π/T of a rolling disk (2D), or that it halts"
     )]
     Period(period::PeriodArgs),
-    // The struct's doc is the long help: a doc comment here would replace it.
     #[command(
         about = "The periodic motions a body settles into: period, advance per period (⟨r⟩ or mm), stability"
     )]
     Predict(predict::PredictArgs),
-    // The struct's doc is the long help: a doc comment here would replace it.
     #[command(about = "Simulate one run and write the trajectory as CSV")]
     Simulate(simulate::SimulateArgs),
     /// Measure the speed/accuracy trade of the integrators (tables, CSV, plots).
     Bench(bench::BenchArgs),
-    // The struct's doc is the long help: a doc comment here would replace it.
     #[command(about = "Regenerate one of the paper's figures as CSV + PNG + summary.json")]
     Figure(figure::FigureArgs),
-    // The struct's doc is the long help: a doc comment here would replace it.
     #[command(
         about = "Scan bodies × α × m/m0 × orientations × integrators in 3D: one CSV row per run (shardable)"
     )]
-    Sweep(scan::SweepArgs),
-    // The struct's doc is the long help: a doc comment here would replace it.
+    Sweep(sweep::SweepArgs),
     #[command(
         about = "Combine the shards of a figure or sweep (--shard I/N) into the files one run writes"
     )]
     Merge(merge::MergeArgs),
     /// Fit measured lag times t_lag ∝ (α − α*)^β (per-run α*, shared β, bootstrap errors).
     FitLag(figure::FitLagArgs),
-    // The struct's doc is the long help: a doc comment here would replace it.
     #[command(
         about = "Read a tracked video of a rolling body: period, advance per period, folded track, model"
     )]
     Track(track::TrackArgs),
     /// List the preset scenes for --preset (or print one as TOML).
     Scenes(scenes::ScenesArgs),
-    // The struct's doc is the long help: a doc comment here would replace it.
     #[command(about = "Write a body as a watertight STL mesh in millimetres, for 3D printing")]
     ExportStl(export_stl::ExportStlArgs),
 }
@@ -188,7 +182,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Bench(a) => bench::run(a),
         Command::Figure(a) => figure::run(a),
         Command::FitLag(a) => figure::run_fit_lag(a),
-        Command::Sweep(a) => scan::run(a),
+        Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => merge::run(a),
         Command::Scenes(a) => scenes::run(a),
         Command::Track(a) => track::run(a),

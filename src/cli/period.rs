@@ -141,7 +141,7 @@ pub fn run(a: PeriodArgs) -> Result<()> {
                 "T is not measurable within --t-max {}: {}{}",
                 super::short(a.t_max),
                 why.what_would_decide(),
-                crate::analysis::period::coarse_rtol_hint(&why, a.rtol, "--rtol")
+                crate::analysis::orbits::disk_period::coarse_rtol_hint(&why, a.rtol, "--rtol")
             ),
         }),
         _ => choice.note.clone(),

@@ -6,10 +6,10 @@ use anyhow::{Result, bail};
 use clap::Args;
 use serde::Serialize;
 
-use crate::analysis::prediction::{
+use crate::analysis::experiment::prediction::{
     MAX_PREDICT_STARTS, PredictOptions, PredictedOrbit, Prediction, predict,
 };
-use crate::analysis::sphere_orbits::Decide;
+use crate::analysis::orbits::sphere_orbits::Decide;
 use crate::analysis::verdict::{FateCounts, Stability};
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::geometry::{Body, ShapeFile};

@@ -7,10 +7,12 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use serde::Serialize;
 
-use crate::analysis::prediction::{PredictOptions, PredictedOrbit};
-use crate::analysis::tracking::markers::{MarkerReading, read_markers};
-use crate::analysis::tracking::model::{Measured, ModelComparison, compare_with_model};
-use crate::analysis::tracking::{
+use crate::analysis::experiment::prediction::{PredictOptions, PredictedOrbit};
+use crate::analysis::experiment::tracking::markers::{MarkerReading, read_markers};
+use crate::analysis::experiment::tracking::model::{
+    Measured, ModelComparison, TrackAlignment, align_with_track, compare_with_model,
+};
+use crate::analysis::experiment::tracking::{
     CleanTrack, ErrorSource, Folded, PeriodFit, Significance, fold, measure,
 };
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
@@ -305,7 +307,9 @@ fn measure_or_show_why(
     inputs: &Inputs,
 ) -> Result<(CleanTrack, PeriodFit)> {
     let bar = if frames.len() > 100_000 && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-        indicatif::ProgressBar::new(crate::analysis::tracking::period::SURROGATES as u64)
+        indicatif::ProgressBar::new(
+            crate::analysis::experiment::tracking::period::SURROGATES as u64,
+        )
     } else {
         indicatif::ProgressBar::hidden()
     };
@@ -333,10 +337,10 @@ fn measure_or_show_why(
 fn refusal_figure(
     a: &TrackArgs,
     (frames, down, across): (&[f64], &[f64], &[f64]),
-    error: &crate::analysis::tracking::TrackError,
+    error: &crate::analysis::experiment::tracking::TrackError,
     inputs: &Inputs,
 ) -> Result<Option<String>> {
-    use crate::analysis::tracking::TrackError;
+    use crate::analysis::experiment::tracking::TrackError;
     if !matches!(
         error,
         TrackError::NoPeriod { .. }
@@ -345,7 +349,7 @@ fn refusal_figure(
     ) {
         return Ok(None);
     }
-    let Ok(track) = crate::analysis::tracking::clean(frames, down, across) else {
+    let Ok(track) = crate::analysis::experiment::tracking::clean(frames, down, across) else {
         return Ok(None);
     };
     // The middle 80 %, as the search first reads it (away from the release and the end).
@@ -356,7 +360,7 @@ fn refusal_figure(
         across: track.across[len / 10..len - len / 10].to_vec(),
         warnings: Vec::new(),
     };
-    let curve = crate::analysis::tracking::period::mismatch_curve(&middle);
+    let curve = crate::analysis::experiment::tracking::period::mismatch_curve(&middle);
     if curve.is_empty() {
         return Ok(None);
     }
@@ -396,7 +400,7 @@ fn refusal_figure(
         equal_aspect: false,
     };
     let last = curve[curve.len() - 1][0];
-    let level = crate::analysis::tracking::period::MAX_NORMALISED_DIP;
+    let level = crate::analysis::experiment::tracking::period::MAX_NORMALISED_DIP;
     let mismatch_panel = Panel {
         title: format!("refused: {}", first_words(&error.to_string(), 12)),
         x_label: "shift (frames), over the middle 80 % of the track, as the search first reads it"
@@ -498,8 +502,8 @@ fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
             c.mass_ratio,
             c.t0_s,
             match c.mass_ratio_from {
-                crate::analysis::tracking::model::MassSource::Period => "solved",
-                crate::analysis::tracking::model::MassSource::Given => "m/m0 given",
+                crate::analysis::experiment::tracking::model::MassSource::Period => "solved",
+                crate::analysis::experiment::tracking::model::MassSource::Given => "m/m0 given",
             },
             c.mass_ratio_from_speed,
             c.t0_from_speed_s,
@@ -554,7 +558,10 @@ fn compare(
     )
     .with_context(|| format!("the model for {}", path.display()))?;
     let cm = scale_mm / 10.0;
-    let (phase, mirrored) = align(folded, &c.orbit, cm, c.t0_s * fps);
+    let TrackAlignment {
+        phase,
+        mirrored_across: mirrored,
+    } = align_with_track(folded, &c.orbit, cm, c.t0_s * fps);
     let drawn = (c.orbit.clone(), cm, c.t0_s * fps, phase, mirrored);
     Ok((
         Comparison {
@@ -630,37 +637,6 @@ fn read_columns(path: &Path, names: &[&String; 3]) -> Result<Vec<[f64; 3]>> {
         rows.push(row);
     }
     Ok(rows)
-}
-
-/// The phase (in predicted-path samples) at which the predicted orbit's down-ramp path best
-/// matches the folded centre track, and whether across the ramp it matches better mirrored.
-fn align(folded: &[Folded], orbit: &PredictedOrbit, cm: f64, frames_per_t0: f64) -> (usize, bool) {
-    let per = (orbit.path.len() - 1) / 3;
-    let frames_per_sample = orbit.period * frames_per_t0 / per as f64;
-    let predicted = |phase: usize, t_local: f64, k: usize| {
-        let x = phase as f64 + t_local / frames_per_sample;
-        let i = (x.floor() as usize).min(orbit.path.len() - 2);
-        let s = x - i as f64;
-        let p = |j: usize| orbit.path[j][k] - orbit.path[phase][k];
-        cm * (p(i) + s * (p(i + 1) - p(i)))
-    };
-    let cost = |phase: usize, k: usize, sign: f64| {
-        // Least squares with a free offset.
-        let r: Vec<f64> = folded
-            .iter()
-            .map(|f| {
-                let m = if k == 0 { f.down_local } else { f.across_local };
-                m - sign * predicted(phase, f.t_local, k)
-            })
-            .collect();
-        let mean = r.iter().sum::<f64>() / r.len() as f64;
-        r.iter().map(|v| (v - mean).powi(2)).sum::<f64>()
-    };
-    let phase = (0..per)
-        .min_by(|&a, &b| cost(a, 0, 1.0).total_cmp(&cost(b, 0, 1.0)))
-        .unwrap_or(0);
-    let mirrored = cost(phase, 1, -1.0) < cost(phase, 1, 1.0);
-    (phase, mirrored)
 }
 
 /// Most periods drawn over each other in the folded panels.

@@ -5,7 +5,7 @@
 //! √ law, the two hysteresis branches, and period 1 → period 2 across the flip.
 
 use rollphase::analysis::fit::sqrt_law;
-use rollphase::analysis::period::viscous_disk_period;
+use rollphase::analysis::orbits::disk_period::viscous_disk_period;
 use rollphase::dynamics::Ramp;
 use rollphase::geometry::Body;
 use rollphase::live::{Controller, LiveRun, SimCommand, Snapshot};

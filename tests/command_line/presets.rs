@@ -2,7 +2,7 @@
 //! four models and bundled bodies against the converged reference, each preset's worst error is
 //! within its documented bound, and the bound is not vacuous (within 20× of what is measured).
 
-use rollphase::analysis::accuracy::{self, REFERENCE};
+use rollphase::analysis::accuracy::trajectories::{self, REFERENCE};
 use rollphase::assets::{
     DISK as BUNDLED_DISK, DISK_INERTIAL as BUNDLED_DISK_INERTIAL, SPHERE as BUNDLED_SPHERE,
 };
@@ -15,20 +15,20 @@ fn body(text: &str) -> Body {
 
 #[test]
 fn presets_meet_their_documented_errors() {
-    let cases = accuracy::default_cases(
+    let cases = trajectories::default_cases(
         &body(BUNDLED_DISK),
         &body(BUNDLED_DISK_INERTIAL),
         &body(BUNDLED_SPHERE),
     );
     let refs: Vec<_> = cases
         .iter()
-        .map(|c| accuracy::run_case(c, REFERENCE).unwrap())
+        .map(|c| trajectories::run_case(c, REFERENCE).unwrap())
         .collect();
     for preset in Preset::ALL {
         let (mut worst_state, mut worst_period) = (0.0f64, 0.0f64);
         for (case, reference) in cases.iter().zip(&refs) {
-            let run = accuracy::run_case(case, preset.method());
-            let row = accuracy::row(case, preset.method(), &run, reference);
+            let run = trajectories::run_case(case, preset.method());
+            let row = trajectories::row(case, preset.method(), &run, reference);
             assert!(
                 row.failure.is_none(),
                 "{} {}: {:?}",

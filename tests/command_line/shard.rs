@@ -232,7 +232,7 @@ fn a_sweep_writes_one_row_per_run_and_its_shards_merge_to_the_same_bytes() {
     same_bytes(&whole.join("summary.json"), &parts.join("summary.json"));
 
     // The library's scan of the same grid gives the command line's counts, run by run.
-    let sweep = rollphase::figures::scan::Sweep::load(&spec).unwrap();
+    let sweep = rollphase::figures::sweep::Sweep::load(&spec).unwrap();
     let (runs, tally) = sweep.scan.run_all().unwrap();
     assert_eq!(runs.len(), rows.len());
     for (r, row) in runs.iter().zip(&rows) {

@@ -328,8 +328,8 @@ fn simulate_reports_and_writes_the_forces() {
 /// alone; when they moved it, two of 216 fast sweep answers changed in their last bits.)
 #[test]
 fn watching_the_force_leaves_the_trajectory_bit_for_bit() {
-    use rollphase::analysis::sphere_orbits::{Settle, settle_checked, settle_with};
-    use rollphase::analysis::studies::random_orientation;
+    use rollphase::analysis::orbits::sphere_orbits::{Settle, settle_checked, settle_with};
+    use rollphase::analysis::studies::sphere::random_orientation;
     use rollphase::dynamics::Ramp;
     use rollphase::integrate::Method;
     let Body::Sphere(sphere) = Body::paper_sphere(219, 0.25, 5).unwrap() else {

@@ -10,7 +10,7 @@ use crate::common;
 
 use glam::{DQuat, DVec3};
 use rollphase::analysis::critical_angle;
-use rollphase::analysis::period::viscous_disk_period_with;
+use rollphase::analysis::orbits::disk_period::viscous_disk_period_with;
 use rollphase::dynamics::{DragLaw, Ramp};
 use rollphase::geometry::{Body, Disk, Sphere, first_convex_disk};
 use rollphase::integrate::Method;

@@ -8,7 +8,7 @@
 //!   sphere at α = 0.3 (orientation 1–2 rad off, position 1.6–5.5 off, health ~1e-16), and
 //!   dt = 100 on the bundled disk (θ = 33.02 against 29.34).
 
-use rollphase::analysis::accuracy::{Case, default_cases, default_settings};
+use rollphase::analysis::accuracy::trajectories::{Case, default_cases, default_settings};
 use rollphase::assets::{DISK, DISK_INERTIAL, SPHERE};
 use rollphase::dynamics::disk2d::{DiskInertial, DiskViscous};
 use rollphase::dynamics::sphere3d::{SphereInertial, SphereViscous, orientation_touching};
@@ -137,7 +137,7 @@ fn the_silently_wrong_steps_are_refused_with_dt_and_the_estimate() {
 /// it passes the check) estimates over ten times above it.
 #[test]
 fn the_suggested_step_aims_at_the_estimate_that_keeps_the_answers() {
-    use rollphase::analysis::studies::random_orientation;
+    use rollphase::analysis::studies::sphere::random_orientation;
     use rollphase::integrate::rk4::ANSWER_STEP_ESTIMATE;
     let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5).unwrap() else {
         unreachable!()

@@ -4,9 +4,11 @@
 //! period-2 window starts and ends within one mass step of where a multiplier passes −1.
 
 use glam::DVec3;
-use rollphase::analysis::sphere_orbits::{late_cycle, late_run};
-use rollphase::analysis::sphere_return_map::{OrbitSolve, inertial_crossings, periodic_orbit};
-use rollphase::analysis::studies::random_orientation;
+use rollphase::analysis::orbits::sphere_orbits::{late_cycle, late_run};
+use rollphase::analysis::orbits::sphere_return_map::{
+    OrbitSolve, inertial_crossings, periodic_orbit,
+};
+use rollphase::analysis::studies::sphere::random_orientation;
 use rollphase::dynamics::Ramp;
 use rollphase::figures::{self, FigureOptions};
 use rollphase::geometry::{Sphere, paper_sphere};

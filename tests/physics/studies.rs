@@ -1,10 +1,10 @@
-//! The 3D studies with plain parameters (`analysis::studies`) give the figures' numbers: the
+//! The 3D studies with plain parameters (`analysis::studies::sphere`) give the figures' numbers: the
 //! cruising fraction equals `sphere-cruising`'s at the same α, seed and orientations, and the
 //! Poincaré map equals the Poincaré field's arrows; bad input is an error naming it.
 
-use rollphase::analysis::sphere_orbits::Decide;
-use rollphase::analysis::sphere_orbits::{field_lattice, poincare_field};
-use rollphase::analysis::studies::{
+use rollphase::analysis::orbits::sphere_orbits::Decide;
+use rollphase::analysis::orbits::sphere_orbits::{field_lattice, poincare_field};
+use rollphase::analysis::studies::sphere::{
     StudyError, cruising_fraction, doubling_across_bodies, period_counts, poincare_map,
 };
 use rollphase::dynamics::Ramp;
@@ -149,7 +149,7 @@ fn bad_study_input_is_an_error_naming_it() {
 
 #[test]
 fn the_viscous_orbits_are_fixed_points_of_the_poincare_map() {
-    use rollphase::analysis::studies::periodic_orbits;
+    use rollphase::analysis::studies::sphere::periodic_orbits;
     let body = Body::paper_sphere(219, 0.25, 5).unwrap();
     let decide = Decide {
         t_min: 600.0,
@@ -187,8 +187,8 @@ fn the_viscous_orbits_are_fixed_points_of_the_poincare_map() {
 /// orbit, measured by iterating the return map itself.
 #[test]
 fn the_inertial_multipliers_are_the_measured_rate_of_approach() {
-    use rollphase::analysis::sphere_return_map::next_crossing;
-    use rollphase::analysis::studies::periodic_orbits;
+    use rollphase::analysis::orbits::sphere_return_map::next_crossing;
+    use rollphase::analysis::studies::sphere::periodic_orbits;
     let body = Body::paper_sphere(219, 0.25, 5).unwrap();
     let Body::Sphere(sphere) = &body else {
         unreachable!()
@@ -235,7 +235,7 @@ fn the_inertial_multipliers_are_the_measured_rate_of_approach() {
 
 #[test]
 fn a_stopped_study_says_so() {
-    use rollphase::analysis::studies::{cruising_fraction_until, poincare_map_until};
+    use rollphase::analysis::studies::sphere::{cruising_fraction_until, poincare_map_until};
     use std::sync::atomic::AtomicBool;
     let body = Body::paper_sphere(219, 0.25, 5).unwrap();
     let stop = AtomicBool::new(true);
@@ -258,14 +258,15 @@ fn a_stopped_study_says_so() {
 /// answers at m/m0 = 6 were transients of the period-1 orbit, and none is given any more.
 #[test]
 fn a_scans_answers_do_not_depend_on_the_integrator_picked_for_speed() {
-    use rollphase::analysis::scan::Scan;
-    use rollphase::analysis::sphere_orbits::{AnswerCheck, Fate, same_answer};
+    use rollphase::analysis::orbits::sphere_orbits::{AnswerCheck, Fate, same_answer};
+    use rollphase::analysis::studies::sweep::Scan;
     use rollphase::integrate::{Method, Preset};
     let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5).unwrap() else {
         unreachable!()
     };
     // Decided as the answer table decides (sweep's tolerances, t_max 1500, cycles up to 4).
-    let settle = rollphase::analysis::answers::paper_answer_cases(&body, 2).unwrap()[0].settle;
+    let settle =
+        rollphase::analysis::accuracy::answers::paper_answer_cases(&body, 2).unwrap()[0].settle;
     for (mass, fast) in [
         (
             6.0,

@@ -4,8 +4,8 @@
 //! 30 frames/s with noise and gaps, and smoothed random walks with drift, of which none may be
 //! given a period.
 
-use rollphase::analysis::prediction::{PredictOptions, predict};
-use rollphase::analysis::tracking::{
+use rollphase::analysis::experiment::prediction::{PredictOptions, predict};
+use rollphase::analysis::experiment::tracking::{
     CleanTrack, ErrorSource, PeriodSearch, TrackError, find_period, measure,
 };
 use rollphase::geometry::Body;

@@ -8,7 +8,7 @@
 //! | [`geometry`] | bodies r(θ), r(u): exact derivatives, curvature, support points, shape files, generators (ours, and the paper authors' numpy bodies bit for bit) |
 //! | [`integrate`] | RK4, DOP853 with dense output, the Lie-group CF4 step, event location; fixed steps check their own error |
 //! | [`dynamics`] | the four rolling models (2D/3D, viscous/inertial) as ODE systems |
-//! | [`analysis`] | critical angle α*, 2D periods, accuracy tables, orbits through ∂Ω, return maps and their Floquet multipliers, lag-time fits; the 3D studies with plain parameters ([`analysis::studies`]) |
+//! | [`analysis`] | critical angle α*, 2D periods, accuracy tables, orbits through ∂Ω, return maps and their Floquet multipliers, lag-time fits; the 3D studies with plain parameters ([`analysis::studies::sphere`]) |
 //! | [`simulate`] | one run: a body, a ramp, a start and an integrator in; sampled rows (or a typed [`simulate::Trajectory`]) and a [`simulate::Summary`] out |
 //!
 //! None of them reads the wall clock: the same inputs give the same numbers on every run and

@@ -1,6 +1,6 @@
 //! `rollphase fit-lag CSV` — paper Fig. 3b–c from measured data, not from the model: the lag
 //! times of rolling cylinders, fitted with t_lag = A (α − α*)^β per run (α* a fit parameter) and
-//! with one exponent shared by all runs ([`crate::analysis::lag_fit`]); the paper reports β = −½.
+//! with one exponent shared by all runs ([`crate::analysis::experiment::lag_times`]); the paper reports β = −½.
 //! The shared β also says which power-law drag exponent n = 1/(½ − β) the ramp supports.
 //! Its own module, beside the figures whose output layout (data.csv, figure.png, summary.json)
 //! it shares.
@@ -10,7 +10,7 @@ use std::path::Path;
 use anyhow::{Context, Result, anyhow};
 use serde::Serialize;
 
-use crate::analysis::lag_fit::{
+use crate::analysis::experiment::lag_times::{
     ALPHA_STAR_RANGE, DragExponentEstimate, LagAnalysis, LagRun, SHARED_EXPONENT_RANGE,
     analyse_with_progress, drag_exponent_from_lag, parse_lag_csv,
 };

@@ -10,7 +10,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 
 use super::{bundled, fmt_num, write};
-use crate::analysis::accuracy::{self, AccuracyRow, Case, REFERENCE};
+use crate::analysis::accuracy::trajectories::{self, AccuracyRow, Case, REFERENCE};
 use crate::assets::{
     DISK as BUNDLED_DISK, DISK_INERTIAL as BUNDLED_DISK_INERTIAL, SPHERE as BUNDLED_SPHERE,
 };
@@ -61,14 +61,14 @@ fn time_run(
     method: Method,
     repeats: u32,
 ) -> (
-    Result<accuracy::Outcome, crate::integrate::IntegrateError>,
+    Result<trajectories::Outcome, crate::integrate::IntegrateError>,
     f64,
 ) {
     let mut best = f64::INFINITY;
     let mut result = None;
     for _ in 0..repeats.max(1) {
         let start = Instant::now();
-        let r = accuracy::run_case(case, method);
+        let r = trajectories::run_case(case, method);
         best = best.min(start.elapsed().as_secs_f64());
         result = Some(r);
     }
@@ -112,7 +112,7 @@ pub fn run(a: AccuracyArgs) -> Result<()> {
         &crate::output::Inputs::none(),
     )?;
     crate::output::create_folder(&a.out)?;
-    let mut cases = accuracy::default_cases(
+    let mut cases = trajectories::default_cases(
         &bundled(BUNDLED_DISK)?,
         &bundled(BUNDLED_DISK_INERTIAL)?,
         &bundled(BUNDLED_SPHERE)?,
@@ -139,11 +139,11 @@ pub fn run(a: AccuracyArgs) -> Result<()> {
         "sim t/wall s"
     )?;
     for case in &cases {
-        let reference = accuracy::run_case(case, REFERENCE)
+        let reference = trajectories::run_case(case, REFERENCE)
             .with_context(|| format!("reference run of {}", case.model()))?;
         for method in settings(case, a.quick) {
             let (run, wall) = time_run(case, method, a.repeats);
-            let row = accuracy::row(case, method, &run, &reference);
+            let row = trajectories::row(case, method, &run, &reference);
             bar.inc(1);
             let sim_rate = if row.failure.is_none() {
                 case.t_end / wall
@@ -233,7 +233,7 @@ pub fn run(a: AccuracyArgs) -> Result<()> {
 
 /// The answer table: each setting's fates on the paper's questions, raw and checked.
 fn answers(out: &Path, starts: usize, quick: bool) -> Result<()> {
-    use crate::analysis::answers::{
+    use crate::analysis::accuracy::answers::{
         answer_row, answer_settings, paper_answer_cases, reference_fates,
     };
     let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5)? else {
@@ -333,7 +333,7 @@ fn answers(out: &Path, starts: usize, quick: bool) -> Result<()> {
 }
 
 fn settings(case: &Case, quick: bool) -> Vec<Method> {
-    let all = accuracy::default_settings(case);
+    let all = trajectories::default_settings(case);
     if !quick {
         return all;
     }

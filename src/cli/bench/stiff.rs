@@ -8,7 +8,7 @@ use clap::Args;
 use serde::Serialize;
 
 use super::{bundled, fmt_num, write};
-use crate::analysis::accuracy::{self, Case, REFERENCE};
+use crate::analysis::accuracy::trajectories::{self, Case, REFERENCE};
 use crate::assets::{DISK as BUNDLED_DISK, SPHERE as BUNDLED_SPHERE};
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style, render_png};
 use crate::dynamics::Ramp;
@@ -72,8 +72,8 @@ pub fn run(a: StiffArgs) -> Result<()> {
             start: *start,
             t_end,
         };
-        let v = accuracy::run_case(&viscous, REFERENCE)?;
-        let tv = accuracy::period_estimate(&v.crossings, t_end);
+        let v = trajectories::run_case(&viscous, REFERENCE)?;
+        let tv = trajectories::period_estimate(&v.crossings, t_end);
         for &m in &masses {
             let case = Case {
                 body: body.clone(),
@@ -81,9 +81,9 @@ pub fn run(a: StiffArgs) -> Result<()> {
                 start: *start,
                 t_end,
             };
-            let o = accuracy::run_case(&case, method)
+            let o = trajectories::run_case(&case, method)
                 .with_context(|| format!("{name} at m/m0 = {m}"))?;
-            let period_difference = match (accuracy::period_estimate(&o.crossings, t_end), tv) {
+            let period_difference = match (trajectories::period_estimate(&o.crossings, t_end), tv) {
                 (Some(p), Some(r)) => ((p - r) / r).abs(),
                 _ => f64::NAN,
             };
@@ -92,7 +92,7 @@ pub fn run(a: StiffArgs) -> Result<()> {
                 mass_ratio: m,
                 rhs_evals: o.stats.rhs_evals,
                 steps: o.stats.steps,
-                distance_from_viscous: accuracy::state_error(&o, &v),
+                distance_from_viscous: trajectories::state_error(&o, &v),
                 period_difference,
             };
             outln!(

@@ -10,7 +10,7 @@ use std::time::Instant;
 use anyhow::{Result, bail};
 
 use super::TrackBenchArgs;
-use crate::analysis::tracking::measure;
+use crate::analysis::experiment::tracking::measure;
 use crate::output::{self, ScratchFolder};
 
 /// A track of `rows` frames in the authors' units (xn across, yn down).

@@ -133,7 +133,7 @@ pub enum ShapeError {
         /// The generator's parameters, as " (σ = …, M = …)", or empty.
         parameters: String,
     },
-    /// Fewer bodies than asked in an α* band ([`crate::analysis::critical_angle::paper_spheres_with_alpha_star`]).
+    /// Fewer bodies than asked in an α* band ([`crate::analysis::rest::critical_angle::paper_spheres_with_alpha_star`]).
     #[error("fewer than {n} convex bodies with {from} ≤ α* < {below} among 100 000 seeds")]
     TooFewBodies {
         /// How many were asked for.

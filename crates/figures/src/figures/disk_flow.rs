@@ -11,7 +11,7 @@ use serde::Serialize;
 
 use super::{FigureData, FigureOptions};
 use crate::analysis::critical_angle;
-use crate::analysis::disk_dynamics::{FixedPoint, fixed_points, phase_path};
+use crate::analysis::studies::disk::{FixedPoint, fixed_points, phase_path};
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::{DiskInertial, Ramp};
 use crate::geometry::Body;

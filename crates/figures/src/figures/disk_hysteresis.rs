@@ -2,8 +2,8 @@
 //! (m/m0 = 10, σ = 0.12, M = 5).
 //!
 //! α is stepped up from rest and then down, the state carried over
-//! ([`crate::analysis::disk_dynamics::hysteresis_sweep`]; α** by
-//! [`crate::analysis::disk_dynamics::return_transition`]); each rolling speed is 2π/T with T the
+//! ([`crate::analysis::studies::disk::hysteresis_sweep`]; α** by
+//! [`crate::analysis::studies::disk::return_transition`]); each rolling speed is 2π/T with T the
 //! event-located period, so `rollphase period` from the CSV's (θ, θ̇) gives the same T. On the way up the disk stays put until
 //! α*, then jumps to a finite 2π/T; on the way down it keeps rolling below α* until the return
 //! transition α**. α** is then located by bisection, each trial continuing from the rolling
@@ -17,11 +17,11 @@ use serde::Serialize;
 
 use super::{FigureData, FigureOptions, progress};
 use crate::analysis::critical_angle;
-use crate::analysis::disk_dynamics::{
-    SweepPoint, fixed_points, hysteresis_sweep, return_transition,
-};
 use crate::analysis::fit::{line, logspace};
 use crate::analysis::inertial_disk_period;
+use crate::analysis::studies::disk::{
+    SweepPoint, fixed_points, hysteresis_sweep, return_transition,
+};
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::Ramp;
 use crate::geometry::Body;

@@ -2,8 +2,8 @@
 //! the viscous limit), on one inertial disk (σ = 0.12, M = 5).
 //!
 //! t_lag: released from rest at the bottleneck θ* at α = α* + δα, the time until θ − θ* = π
-//! ([`crate::analysis::disk_dynamics::lag_time`]; the law by
-//! [`crate::analysis::disk_dynamics::lag_time_law`]). As for the period, t_lag = A δα^(−β) + C, so
+//! ([`crate::analysis::studies::disk::lag_time`]; the law by
+//! [`crate::analysis::studies::disk::lag_time_law`]). As for the period, t_lag = A δα^(−β) + C, so
 //! β is fitted on differences t(δα) − t(2δα) over δα = 1e-7…1e-5 (expect β = 1/2 for every mass:
 //! the time is spent at the saddle-node ghost, where inertia does not matter). Inertia adds
 //! corrections of relative size ≈ (1.5 m)·√δα, so the heaviest disk needs δα ≲ 1e-5 to show it:
@@ -15,8 +15,8 @@ use serde::Serialize;
 
 use super::{FigureData, FigureOptions, progress};
 use crate::analysis::critical_angle;
-use crate::analysis::disk_dynamics::lag_time_law;
 use crate::analysis::fit::logspace;
+use crate::analysis::studies::disk::lag_time_law;
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::geometry::Body;
 

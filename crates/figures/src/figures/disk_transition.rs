@@ -19,8 +19,8 @@ use serde::Serialize;
 
 use super::shard::{Fields, Record};
 use super::{Computed, FigureData, FigureOptions};
-use crate::analysis::disk_dynamics::saddle_node_law;
 use crate::analysis::fit::logspace;
+use crate::analysis::studies::disk::saddle_node_law;
 use crate::analysis::viscous_disk_period;
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::colormap::viridis;

@@ -11,7 +11,6 @@ pub mod disk_hysteresis;
 pub mod disk_lag_time;
 pub mod disk_transition;
 pub mod model_validity;
-pub mod scan;
 pub mod shard;
 pub mod sphere_bifurcation;
 pub mod sphere_cruising;
@@ -20,6 +19,7 @@ pub mod sphere_halting;
 pub mod sphere_orbits;
 pub mod sphere_poincare;
 pub mod sphere_tube;
+pub mod sweep;
 
 use std::path::{Path, PathBuf};
 
@@ -196,7 +196,7 @@ impl FigureOptions {
 /// entry, so the list of figures is written once.
 pub fn decode_merged(name: &str, merged: shard::Merged) -> Result<usize> {
     let decode = if name == SCAN_NAME {
-        decode_as::<crate::analysis::scan::ScanRun>
+        decode_as::<crate::analysis::studies::sweep::ScanRun>
     } else {
         match figure(name) {
             Some(FigureEntry {
@@ -399,7 +399,7 @@ pub const FIGURES: &[FigureEntry] = &[
     },
     FigureEntry {
         name: "sphere-orbits",
-        records: Some(decode_as::<crate::analysis::sphere_orbits::Fate>),
+        records: Some(decode_as::<crate::analysis::orbits::sphere_orbits::Fate>),
         about: "Fig. 3c: 1/T versus α for 6 orientations; all collapse onto two closed orbits",
         run: |o| ran(o, "sphere-orbits", sphere_orbits::compute),
     },
@@ -417,7 +417,7 @@ pub const FIGURES: &[FigureEntry] = &[
     },
     FigureEntry {
         name: "sphere-bifurcation",
-        records: Some(decode_as::<crate::analysis::orbit_diagram::LateRun>),
+        records: Some(decode_as::<crate::analysis::orbits::orbit_diagram::LateRun>),
         about: "beyond Fig. 4e: orbit diagram in m/m0, Floquet multipliers, the flip masses",
         run: |o| ran(o, "sphere-bifurcation", sphere_bifurcation::compute),
     },

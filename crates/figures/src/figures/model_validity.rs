@@ -19,7 +19,7 @@ use anyhow::Result;
 use serde::Serialize;
 
 use super::{Computed, FigureData, FigureOptions};
-use crate::analysis::studies::random_orientation;
+use crate::analysis::studies::sphere::random_orientation;
 use crate::chart::{Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::validity::ContactReport;
 use crate::integrate::Method;

@@ -6,14 +6,14 @@
 //!    least to `t_min`, then on until its late crossings close a cycle (or it rests), at most to
 //!    `t_cap` = 10 `t_min`; the crossings of ∂Ω in the run's last `t_min`/2 are the attractor's
 //!    points. The attractor's period k is the smallest k with p_n ≈ p_{n−k} ≈ p_{n−2k}
-//!    ([`crate::analysis::sphere_orbits::settled_cycle`], antipodes identified; a cycle of k ≥ 2 must also be steady). The
+//!    ([`crate::analysis::orbits::sphere_orbits::settled_cycle`], antipodes identified; a cycle of k ≥ 2 must also be steady). The
 //!    diagram plots each late crossing against m: one branch per period-1 orbit, two where it
 //!    has doubled. Runs within ~0.01 of a flip can stay undecided to the cap (the summary's
 //!    `undecided_runs`): there the multiplier is so near −1 that the orbit attracts too slowly.
 //! 2. **Floquet multipliers.** Each period-1 orbit found at the lowest inertial mass is
 //!    continued in m as a fixed point of the return map on ∂Ω (5 dimensions: the boundary point
 //!    and ω), by Newton's method with a central-difference Jacobian
-//!    ([`crate::analysis::sphere_return_map`]); its multipliers are that Jacobian's eigenvalues
+//!    ([`crate::analysis::orbits::sphere_return_map`]); its multipliers are that Jacobian's eigenvalues
 //!    (nalgebra). Where the most negative real multiplier passes −1 the orbit flips; the flip
 //!    mass m_c is located by bisection.
 //! 3. **Cross-check.** Each doubling window seen in the simulations (`onset_mass`, the first grid
@@ -22,7 +22,7 @@
 //!    |p_n − p_{n−1}|² is fitted against m: it grows linearly from its own m_c at a
 //!    supercritical flip.
 //!
-//! Every step is computed in the core ([`crate::analysis::orbit_diagram`]); this figure shards
+//! Every step is computed in the core ([`crate::analysis::orbits::orbit_diagram`]); this figure shards
 //! step 1, shows progress, and writes and draws. `--shard I/N` splits the direct simulations
 //! (step 1, the bulk of the work); `merge` runs steps 2 and 3.
 
@@ -33,12 +33,14 @@ use super::shard::{Fields, Record};
 use super::{
     Computed, FigureData, FigureOptions, PAPER_ALPHA, par_map, progress, sphere_alpha_star,
 };
-use crate::analysis::orbit_diagram::{
+use crate::analysis::orbits::orbit_diagram::{
     DirectRuns, OrbitDiagramError, RunWindow, continue_orbit, direct_run, doubling_windows,
     flip_brackets, locate_flip_in, orbit_diagram, period_one_seeds,
 };
-use crate::analysis::orbit_diagram::{DoublingWindow, Flip, LateRun, MAX_K, MassRow, OrbitBranch};
-use crate::analysis::studies::random_orientation;
+use crate::analysis::orbits::orbit_diagram::{
+    DoublingWindow, Flip, LateRun, MAX_K, MassRow, OrbitBranch,
+};
+use crate::analysis::studies::sphere::random_orientation;
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::Ramp;
 

@@ -20,11 +20,11 @@ use serde::Serialize;
 use super::shard::{Fields, Record};
 use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::critical_angle;
-use crate::analysis::critical_angle::convex_disk_with_alpha_star;
-use crate::analysis::disk_dynamics::disk_cruises;
-use crate::analysis::sphere_orbits::{Fate, settle};
-use crate::analysis::studies::cruising_settle;
-use crate::analysis::studies::random_orientation;
+use crate::analysis::orbits::sphere_orbits::{Fate, settle};
+use crate::analysis::rest::critical_angle::convex_disk_with_alpha_star;
+use crate::analysis::studies::disk::disk_cruises;
+use crate::analysis::studies::sphere::cruising_settle;
+use crate::analysis::studies::sphere::random_orientation;
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::Ramp;
 use crate::geometry::Body;
@@ -79,7 +79,7 @@ impl Record for Run {
     }
 }
 
-use crate::analysis::studies::cruises;
+use crate::analysis::studies::sphere::cruises;
 
 /// Runs the figure: computes it, then writes OUT/sphere-cruising/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {

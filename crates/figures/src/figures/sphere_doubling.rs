@@ -26,10 +26,10 @@ use serde::Serialize;
 
 use super::shard::{Fields, Record};
 use super::{Computed, FigureData, FigureOptions, PAPER_ALPHA, sphere_alpha_star};
-use crate::analysis::critical_angle::paper_spheres_with_alpha_star;
-use crate::analysis::sphere_orbits::{Decide, RunEnd, decided_run};
-use crate::analysis::studies::random_orientation;
-use crate::analysis::studies::{
+use crate::analysis::orbits::sphere_orbits::{Decide, RunEnd, decided_run};
+use crate::analysis::rest::critical_angle::paper_spheres_with_alpha_star;
+use crate::analysis::studies::sphere::random_orientation;
+use crate::analysis::studies::sphere::{
     DoublingAcrossBodies, PeriodCounts, RunOutcome, decided_from_rest, median_cycle_duration,
 };
 use crate::chart::{Panel, Series, SeriesLabelPosition, Style};
@@ -109,7 +109,7 @@ const CYCLE_TOL: f64 = 1e-5;
 
 /// How a run from rest at orientation `o` ends ([`DecidedRun::multiplicity`]).
 ///
-/// [`DecidedRun::multiplicity`]: crate::analysis::sphere_orbits::DecidedRun::multiplicity
+/// [`DecidedRun::multiplicity`]: crate::analysis::orbits::sphere_orbits::DecidedRun::multiplicity
 fn run_period(
     body: &Sphere,
     alpha: f64,

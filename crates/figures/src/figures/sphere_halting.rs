@@ -2,7 +2,7 @@
 //! the default body at α = 0.5, 0.75 and 0.9 α*.
 //!
 //! The rest states Q = tan α, their linear stability and its check by simulation are computed
-//! in the core ([`crate::analysis::halting`], where the method is described); this file writes
+//! in the core ([`crate::analysis::rest::halting`], where the method is described); this file writes
 //! the segments and draws them on the body's (φ, θ) chart.
 
 use anyhow::Result;
@@ -11,7 +11,7 @@ use serde::Serialize;
 
 use super::{FigureData, FigureOptions, progress};
 use crate::analysis::critical_angle;
-use crate::analysis::halting::{QualityGrid, halting_loops};
+use crate::analysis::rest::halting::{QualityGrid, halting_loops};
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::geometry::Body;
 use crate::geometry::sphere::angles;

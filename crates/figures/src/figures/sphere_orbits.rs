@@ -1,7 +1,7 @@
 //! `sphere-orbits` — paper Fig. 3c: the order parameter 1/T versus α for 6 initial orientations
 //! of the paper's body by default (viscous). Each run starts afresh at each α and is followed until it
 //! halts or settles on a closed orbit, detected by event location on SO(3): successive crossings
-//! of ∂Ω repeat ([`crate::analysis::sphere_orbits::settle`]). Closed orbits are identified by
+//! of ∂Ω repeat ([`crate::analysis::orbits::sphere_orbits::settle`]). Closed orbits are identified by
 //! their point on ∂Ω (antipodes identified); the paper finds that all runs collapse onto two
 //! stable periodic orbits.
 
@@ -11,7 +11,9 @@ use serde::Serialize;
 
 use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::critical_angle;
-use crate::analysis::sphere_orbits::{Fate, Settle, boundary_distance, cluster_antipodal, settle};
+use crate::analysis::orbits::sphere_orbits::{
+    Fate, Settle, boundary_distance, cluster_antipodal, settle,
+};
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::Ramp;
 use crate::geometry::Body;
@@ -33,7 +35,7 @@ pub struct Summary {
     pub labels: Vec<Vec<i64>>,
 }
 
-use crate::analysis::studies::random_orientation;
+use crate::analysis::studies::sphere::random_orientation;
 
 /// Runs the figure: computes it, then writes OUT/sphere-orbits/{data.csv, summary.json, figure.png}.
 pub fn run(opts: &FigureOptions) -> Result<Summary> {

@@ -5,14 +5,14 @@
 //! ±q (q_w ≥ 0) in the unit ball, broken where it jumps to the antipode on ∂Ω; together the
 //! trajectories form a tube through the ball. One trajectory is also integrated with DOP853 and
 //! compared with the closed form. The numbers come from the core
-//! ([`crate::analysis::contact_tube`]); this file writes and draws them.
+//! ([`crate::analysis::studies::contact_tube`]); this file writes and draws them.
 
 use anyhow::Result;
 use glam::DVec3;
 use serde::Serialize;
 
 use super::{FigureData, FigureOptions};
-use crate::analysis::contact_tube::{contact_tube, split_at_jumps};
+use crate::analysis::studies::contact_tube::{contact_tube, split_at_jumps};
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::colormap::viridis;
 

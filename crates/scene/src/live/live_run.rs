@@ -2,7 +2,7 @@
 //! model state, health figures and period bookkeeping, and the scene's lesson timeline, whose
 //! steps it applies when its time reaches them (so the app and headless mode play a lesson alike).
 
-use crate::analysis::sphere_orbits::{Crossing, ball_point, late_cycle};
+use crate::analysis::orbits::sphere_orbits::{Crossing, ball_point, late_cycle};
 use crate::dynamics::validity::{ContactReport, ContactWatch};
 use crate::dynamics::{
     ContactForce, ModelKind, ModelVisitor, ModelVisitorMut, Observation, Ramp, RollingModel,

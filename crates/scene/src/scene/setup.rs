@@ -2,7 +2,7 @@
 //! `alpha_over_critical`), the integrator and the start checked. Every error names the field,
 //! the value and what is allowed.
 
-use crate::analysis::critical_angle::critical_angle;
+use crate::analysis::rest::critical_angle::critical_angle;
 use crate::dynamics::Ramp;
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
 use crate::geometry::{Body, Disk, ShapeFile, Sphere, random_disk, random_sphere};

@@ -259,7 +259,7 @@ pub enum JobId {
 mod tests {
     use super::file::{decode_line, encode_line};
     use super::*;
-    use crate::analysis::sphere_orbits::Fate;
+    use crate::analysis::orbits::sphere_orbits::Fate;
     use glam::DVec3;
 
     fn round_trip<T: Record + PartialEq + std::fmt::Debug>(x: T) {

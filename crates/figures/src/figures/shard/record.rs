@@ -5,7 +5,7 @@
 use anyhow::{Result, anyhow, bail};
 use glam::DVec3;
 
-use crate::analysis::sphere_orbits::{Crossing, Fate};
+use crate::analysis::orbits::sphere_orbits::{Crossing, Fate};
 use crate::dynamics::validity::ContactReport;
 
 /// The largest period multiplicity a shard's fate may hold (a sweep's `max_multiplicity` is

@@ -12,8 +12,8 @@
 use crate::dynamics::validity::ContactReport;
 use rayon::prelude::*;
 
-use super::sphere_orbits::{AnswerCheck, Fate, Settle, settle_checked};
-use super::studies::{cruises, random_orientation};
+use crate::analysis::orbits::sphere_orbits::{AnswerCheck, Fate, Settle, settle_checked};
+use crate::analysis::studies::sphere::{cruises, random_orientation};
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::Sphere;
 use crate::integrate::{IntegrateError, Method};
@@ -63,7 +63,7 @@ pub struct ScanRun {
     /// Right-hand-side evaluations it took.
     pub rhs_evals: u64,
     /// The contact force along it: whether the body stays on the ramp and the friction it
-    /// needs ([`Settled::contact`](super::sphere_orbits::Settled)).
+    /// needs ([`Settled::contact`](crate::analysis::orbits::sphere_orbits::Settled)).
     pub contact: ContactReport,
 }
 
@@ -72,8 +72,8 @@ impl ScanRun {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::scan::ScanRun;
-    /// use rollphase_core::analysis::sphere_orbits::{AnswerCheck, Fate};
+    /// use rollphase_core::analysis::studies::sweep::ScanRun;
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Fate};
     /// use rollphase_core::dynamics::{ContactForce, validity::{ContactLimits, ContactWatch}};
     /// let contact = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.1)).report();
     /// let run = ScanRun { fate: Fate::Halts { t: 3.0 }, check: AnswerCheck::Reference, rhs_evals: 10, contact };
@@ -108,8 +108,8 @@ impl ScanTally {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::scan::{ScanRun, ScanTally};
-    /// use rollphase_core::analysis::sphere_orbits::{AnswerCheck, Fate};
+    /// use rollphase_core::analysis::studies::sweep::{ScanRun, ScanTally};
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Fate};
     /// let mut tally = ScanTally::default();
     /// let check = AnswerCheck::Corrected { fast: Fate::Halts { t: 4.0 } };
     /// # use rollphase_core::dynamics::{ContactForce, validity::{ContactLimits, ContactWatch}};
@@ -153,8 +153,8 @@ impl Scan {
     ///
     /// # Example
     /// ```
-    /// # use rollphase_core::analysis::scan::Scan;
-    /// # use rollphase_core::analysis::sphere_orbits::Settle;
+    /// # use rollphase_core::analysis::studies::sweep::Scan;
+    /// # use rollphase_core::analysis::orbits::sphere_orbits::Settle;
     /// # use rollphase_core::integrate::Method;
     /// # let sphere = rollphase_core::geometry::random_sphere(1, 0.1, 3)?;
     /// let scan = Scan {
@@ -181,8 +181,8 @@ impl Scan {
     ///
     /// # Example
     /// ```
-    /// # use rollphase_core::analysis::scan::{Scan, ScanPoint};
-    /// # use rollphase_core::analysis::sphere_orbits::Settle;
+    /// # use rollphase_core::analysis::studies::sweep::{Scan, ScanPoint};
+    /// # use rollphase_core::analysis::orbits::sphere_orbits::Settle;
     /// # use rollphase_core::integrate::Method;
     /// # let sphere = rollphase_core::geometry::random_sphere(1, 0.1, 3)?;
     /// let scan = Scan {
@@ -226,8 +226,8 @@ impl Scan {
     ///
     /// # Example
     /// ```
-    /// # use rollphase_core::analysis::scan::Scan;
-    /// # use rollphase_core::analysis::sphere_orbits::{Fate, Settle};
+    /// # use rollphase_core::analysis::studies::sweep::Scan;
+    /// # use rollphase_core::analysis::orbits::sphere_orbits::{Fate, Settle};
     /// # use rollphase_core::integrate::Method;
     /// use rollphase_core::geometry::Body;
     /// let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
@@ -265,8 +265,8 @@ impl Scan {
     ///
     /// # Example
     /// ```
-    /// # use rollphase_core::analysis::scan::{Scan, ScanError};
-    /// # use rollphase_core::analysis::sphere_orbits::Settle;
+    /// # use rollphase_core::analysis::studies::sweep::{Scan, ScanError};
+    /// # use rollphase_core::analysis::orbits::sphere_orbits::Settle;
     /// # use rollphase_core::integrate::Method;
     /// # let sphere = rollphase_core::geometry::random_sphere(1, 0.1, 3)?;
     /// let scan = Scan {
@@ -299,8 +299,8 @@ impl Scan {
     ///
     /// # Example
     /// ```
-    /// # use rollphase_core::analysis::scan::Scan;
-    /// # use rollphase_core::analysis::sphere_orbits::Settle;
+    /// # use rollphase_core::analysis::studies::sweep::Scan;
+    /// # use rollphase_core::analysis::orbits::sphere_orbits::Settle;
     /// # use rollphase_core::integrate::Method;
     /// use rollphase_core::geometry::Body;
     /// let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };

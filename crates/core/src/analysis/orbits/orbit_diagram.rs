@@ -8,7 +8,7 @@
 //!    of its attractor off its late crossings of ∂Ω ([`settled_cycle`], antipodes identified).
 //! 2. [`period_one_seeds`] picks one run per period-1 orbit at the lowest inertial mass;
 //!    [`continue_orbit`] follows each up the mass grid by Newton's method on the return map
-//!    ([`crate::analysis::sphere_return_map::periodic_orbit`]).
+//!    ([`crate::analysis::orbits::sphere_return_map::periodic_orbit`]).
 //! 3. [`flip_brackets`] and [`locate_flip_in`]: where the most negative real multiplier passes
 //!    −1 between grid masses, refined by bisection.
 //! 4. [`orbit_diagram`] gathers the late crossings per mass and assigns each period-2 run to the
@@ -22,15 +22,15 @@ use glam::{DQuat, DVec3};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::fit;
-use super::return_map::locate_flip;
-use super::sphere_orbits::{
+use crate::analysis::fit;
+use crate::analysis::orbits::return_map::locate_flip;
+use crate::analysis::orbits::sphere_orbits::{
     Crossing, Decide, boundary_distance, cluster_antipodal, decided_run, settled_cycle,
 };
-use super::sphere_return_map::{
+use crate::analysis::orbits::sphere_return_map::{
     OrbitSolve, PeriodicOrbit, SectionState, inertial_crossings_until, periodic_orbit,
 };
-use super::studies::random_orientation;
+use crate::analysis::studies::sphere::random_orientation;
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::Sphere;
 use crate::integrate::{IntegrateError, MAX_SPAN};
@@ -137,8 +137,8 @@ pub enum OrbitDiagramError {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbit_diagram::{RunWindow, direct_run};
-/// use rollphase_core::analysis::studies::random_orientation;
+/// use rollphase_core::analysis::orbits::orbit_diagram::{RunWindow, direct_run};
+/// use rollphase_core::analysis::studies::sphere::random_orientation;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
@@ -225,7 +225,7 @@ impl<'a> DirectRuns<'a> {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::orbit_diagram::DirectRuns;
+    /// use rollphase_core::analysis::orbits::orbit_diagram::DirectRuns;
     /// assert!(DirectRuns::new(&[0.0, 1.0], 2, &[]).is_err());
     /// ```
     pub fn new(
@@ -257,12 +257,12 @@ impl<'a> DirectRuns<'a> {
     ///
     /// # Example
     /// ```
-    /// # use rollphase_core::analysis::orbit_diagram::{DirectRuns, LateRun};
+    /// # use rollphase_core::analysis::orbits::orbit_diagram::{DirectRuns, LateRun};
     /// let run = LateRun { crossings: vec![], omegas: vec![], period: None, t_end: 5.0 };
     /// let runs = vec![run.clone(), run];
     /// let grid = DirectRuns::new(&[0.0, 1.0], 1, &runs)?;
     /// assert_eq!(grid.run_at(1, 0).t_end, 5.0);
-    /// # Ok::<(), rollphase_core::analysis::orbit_diagram::OrbitDiagramError>(())
+    /// # Ok::<(), rollphase_core::analysis::orbits::orbit_diagram::OrbitDiagramError>(())
     /// ```
     pub fn run_at(&self, m: usize, o: usize) -> &LateRun {
         &self.runs[m * self.starts + o]
@@ -272,12 +272,12 @@ impl<'a> DirectRuns<'a> {
     ///
     /// # Example
     /// ```
-    /// # use rollphase_core::analysis::orbit_diagram::{DirectRuns, LateRun};
+    /// # use rollphase_core::analysis::orbits::orbit_diagram::{DirectRuns, LateRun};
     /// let capped = LateRun { crossings: vec![], omegas: vec![], period: None, t_end: 10.0 };
     /// let settled = LateRun { period: Some(1), ..capped.clone() };
     /// let runs = vec![capped, settled];
     /// assert_eq!(DirectRuns::new(&[0.0, 1.0], 1, &runs)?.undecided(10.0), 1);
-    /// # Ok::<(), rollphase_core::analysis::orbit_diagram::OrbitDiagramError>(())
+    /// # Ok::<(), rollphase_core::analysis::orbits::orbit_diagram::OrbitDiagramError>(())
     /// ```
     pub fn undecided(&self, t_cap: f64) -> usize {
         self.runs
@@ -290,12 +290,12 @@ impl<'a> DirectRuns<'a> {
     ///
     /// # Example
     /// ```
-    /// # use rollphase_core::analysis::orbit_diagram::{DirectRuns, LateRun};
+    /// # use rollphase_core::analysis::orbits::orbit_diagram::{DirectRuns, LateRun};
     /// let a = LateRun { crossings: vec![], omegas: vec![], period: None, t_end: 10.0 };
     /// let b = LateRun { t_end: 30.0, ..a.clone() };
     /// let runs = vec![a, b];
     /// assert_eq!(DirectRuns::new(&[0.0, 1.0], 1, &runs)?.longest(), 30.0);
-    /// # Ok::<(), rollphase_core::analysis::orbit_diagram::OrbitDiagramError>(())
+    /// # Ok::<(), rollphase_core::analysis::orbits::orbit_diagram::OrbitDiagramError>(())
     /// ```
     pub fn longest(&self) -> f64 {
         self.runs.iter().map(|r| r.t_end).fold(0.0, f64::max)
@@ -426,7 +426,7 @@ pub struct MassBifurcation {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbit_diagram::{DirectRuns, OrbitDiagramError, LateRun, period_one_seeds};
+/// use rollphase_core::analysis::orbits::orbit_diagram::{DirectRuns, OrbitDiagramError, LateRun, period_one_seeds};
 /// // Every run came to rest: no orbit to continue.
 /// let rested = LateRun { crossings: vec![], omegas: vec![], period: None, t_end: 50.0 };
 /// let runs = vec![rested.clone(), rested];
@@ -480,8 +480,8 @@ fn solve_at(body: &Sphere, alpha: f64, mass: f64, guess: (DVec3, DVec3)) -> Opti
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbit_diagram::{RunWindow, continue_orbit, direct_run};
-/// use rollphase_core::analysis::studies::random_orientation;
+/// use rollphase_core::analysis::orbits::orbit_diagram::{RunWindow, continue_orbit, direct_run};
+/// use rollphase_core::analysis::studies::sphere::random_orientation;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DVec3;
@@ -525,7 +525,7 @@ fn flip_value(o: &PeriodicOrbit) -> f64 {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbit_diagram::{OrbitBranch, flip_brackets};
+/// use rollphase_core::analysis::orbits::orbit_diagram::{OrbitBranch, flip_brackets};
 /// assert!(flip_brackets(&[OrbitBranch { orbit: 0, solutions: vec![] }]).is_empty());
 /// ```
 pub fn flip_brackets(orbits: &[OrbitBranch]) -> Vec<FlipBracket> {
@@ -551,8 +551,8 @@ pub fn flip_brackets(orbits: &[OrbitBranch]) -> Vec<FlipBracket> {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbit_diagram::*;
-/// use rollphase_core::analysis::studies::random_orientation;
+/// use rollphase_core::analysis::orbits::orbit_diagram::*;
+/// use rollphase_core::analysis::studies::sphere::random_orientation;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DVec3;
@@ -595,8 +595,8 @@ fn canonical(p: [f64; 3]) -> DVec3 {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbit_diagram::{DirectRuns, LateRun, orbit_diagram};
-/// use rollphase_core::analysis::sphere_orbits::Crossing;
+/// use rollphase_core::analysis::orbits::orbit_diagram::{DirectRuns, LateRun, orbit_diagram};
+/// use rollphase_core::analysis::orbits::sphere_orbits::Crossing;
 /// let run = LateRun {
 ///     crossings: (0..10).map(|i| Crossing { t: i as f64, point: [0.0, 0.0, -1.0] }).collect(),
 ///     omegas: vec![Default::default(); 10],
@@ -608,7 +608,7 @@ fn canonical(p: [f64; 3]) -> DVec3 {
 /// assert_eq!(d.points.len(), 16); // the last 8 crossings of each run
 /// assert_eq!(d.points[0].polar, 0.0); // antipode folded onto p_z ≥ 0
 /// assert_eq!(d.masses[1].period_counts, [1, 0, 0, 0, 0]);
-/// # Ok::<(), rollphase_core::analysis::orbit_diagram::OrbitDiagramError>(())
+/// # Ok::<(), rollphase_core::analysis::orbits::orbit_diagram::OrbitDiagramError>(())
 /// ```
 pub fn orbit_diagram(
     grid: &DirectRuns,
@@ -694,7 +694,7 @@ pub fn orbit_diagram(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbit_diagram::{OrbitBranch, OrbitDiagram, doubling_windows};
+/// use rollphase_core::analysis::orbits::orbit_diagram::{OrbitBranch, OrbitDiagram, doubling_windows};
 /// // Orbit 0 shows period 2 at the second and third of four masses.
 /// let diagram = OrbitDiagram {
 ///     points: vec![],
@@ -781,7 +781,7 @@ pub fn doubling_windows(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbit_diagram::{RunWindow, mass_bifurcation};
+/// use rollphase_core::analysis::orbits::orbit_diagram::{RunWindow, mass_bifurcation};
 /// use rollphase_core::geometry::Body;
 /// let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
 /// let window = RunWindow { t_min: 400.0, t_cap: 4000.0 };
@@ -862,7 +862,7 @@ fn check_grid(masses: &[f64], starts: usize, window: RunWindow) -> Result<(), Or
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbit_diagram::{OrbitDiagramError, RunWindow, mass_bifurcation_until};
+/// use rollphase_core::analysis::orbits::orbit_diagram::{OrbitDiagramError, RunWindow, mass_bifurcation_until};
 /// use rollphase_core::geometry::Body;
 /// use std::sync::atomic::AtomicBool;
 /// let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };

@@ -6,12 +6,12 @@
 //! the same ensemble as the figures, so `--shard I/N` and `rollphase merge DIR` work the same
 //! way (see [`super::shard`] and docs/guide/cluster.md).
 //!
-//! Each run is the core's [`Scan::run`] ([`crate::analysis::sphere_orbits::settle_checked`]):
+//! Each run is the core's [`Scan::run`] ([`crate::analysis::orbits::sphere_orbits::settle_checked`]):
 //! released from rest (viscous if m/m0 = 0), followed until it halts (|ω| < 1e-9), closes a
 //! cycle of k ≤ `max_multiplicity` crossings of ∂Ω twice in a row (points to `point_tol`,
 //! durations to `period_rtol`), or reaches `t_max`. An undecided run counts as
 //! cruising if its final |ω| ≥ 1e-3 (as in `sphere-cruising`). Orientation o of a body is
-//! [`crate::analysis::studies::random_orientation`]`(body, orientation_seed, o)`, the one the
+//! [`crate::analysis::studies::sphere::random_orientation`]`(body, orientation_seed, o)`, the one the
 //! figures use. A fate found with a setting coarser than DOP853 at rtol 1e-10 is re-decided with
 //! that reference before it is written (a cycle from its last crossing, a halt or an undecided
 //! run from the start), so a row's fate, period and multiplicity never depend on the integrator
@@ -46,8 +46,8 @@ use super::shard::{
     Ensemble, Ensembled, Fields, JobId, Record, ShardSet, ShardSpec, ShardWritten, run_ensemble,
 };
 use super::{number_field, par_map};
-use crate::analysis::scan::{Scan, ScanRun, ScanTally};
-use crate::analysis::sphere_orbits::{AnswerCheck, Fate, Settle};
+use crate::analysis::orbits::sphere_orbits::{AnswerCheck, Fate, Settle};
+use crate::analysis::studies::sweep::{Scan, ScanRun, ScanTally};
 use crate::dynamics::Ramp;
 use crate::dynamics::validity::ContactReport;
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};

@@ -606,8 +606,8 @@ fn uncertainty(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::tracking::CleanTrack;
-/// use rollphase_core::analysis::tracking::period::mismatch_curve;
+/// use rollphase_core::analysis::experiment::tracking::CleanTrack;
+/// use rollphase_core::analysis::experiment::tracking::period::mismatch_curve;
 /// let frames: Vec<f64> = (0..400).map(f64::from).collect();
 /// let w = std::f64::consts::TAU / 40.0;
 /// let down = frames.iter().map(|f| 0.5 * f + 2.0 * (w * f).sin()).collect();
@@ -642,7 +642,7 @@ pub fn mismatch_curve(track: &CleanTrack) -> Vec<[f64; 2]> {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::tracking::{CleanTrack, PeriodSearch, find_period};
+/// use rollphase_core::analysis::experiment::tracking::{CleanTrack, PeriodSearch, find_period};
 /// // A body rolling 0.5 cm a frame whose speed and sideways wobble repeat every 37.5 frames.
 /// let frames: Vec<f64> = (0..400).map(f64::from).collect();
 /// let w = std::f64::consts::TAU / 37.5;
@@ -654,7 +654,7 @@ pub fn mismatch_curve(track: &CleanTrack) -> Vec<[f64; 2]> {
 /// assert!((fit.advance_down - 18.75).abs() < 0.05);
 /// assert_eq!(fit.periods_seen, 10);
 /// assert!(fit.period_error_frames.is_finite());
-/// # Ok::<(), rollphase_core::analysis::tracking::TrackError>(())
+/// # Ok::<(), rollphase_core::analysis::experiment::tracking::TrackError>(())
 /// ```
 pub fn find_period(
     track: &CleanTrack,

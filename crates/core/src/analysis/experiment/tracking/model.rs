@@ -7,7 +7,7 @@
 //! T(m/m0) (in t0) times t0 must be the measured period T_s, so
 //! m/m0 = ⟨r⟩ T(m/m0)² / (g T_s²), solved by iteration from the viscous model's T (T depends
 //! weakly on m/m0, so it converges in a few steps, each a
-//! [`predict`](crate::analysis::prediction::predict)). Below
+//! [`predict`](crate::analysis::experiment::prediction::predict)). Below
 //! [`VISCOUS_BELOW`] the viscous model is used: the inertial correction to the period there is
 //! ≈ 0.03 m/m0 (`simulate`'s module doc), under 0.3 %.
 //!
@@ -22,9 +22,89 @@ use thiserror::Error;
 
 use std::sync::atomic::AtomicBool;
 
-use crate::analysis::prediction::{PredictOptions, PredictedOrbit, Prediction, predict_until};
-use crate::analysis::studies::StudyError;
+use super::Folded;
+use crate::analysis::experiment::prediction::{
+    PredictOptions, PredictedOrbit, Prediction, predict_until,
+};
+use crate::analysis::studies::sphere::StudyError;
 use crate::geometry::Body;
+
+/// Where the predicted orbit sits on a folded track ([`align_with_track`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct TrackAlignment {
+    /// The path sample of the predicted orbit at which the folded track's periods begin.
+    pub phase: usize,
+    /// Whether the track runs across the ramp as the orbit's mirror image (the body's
+    /// handedness, or the camera's, is not fixed by the period and advance alone).
+    pub mirrored_across: bool,
+}
+
+/// The phase of `orbit` (a [`PredictedOrbit`] whose path holds three repeats) at which its
+/// down-ramp path best matches the folded centre track `folded` (least squares with a free
+/// offset), and whether across the ramp it matches better mirrored. `cm_per_r` turns the
+/// model's lengths into the track's cm, `frames_per_t0` its time into frames.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::experiment::prediction::{PredictOptions, predict};
+/// use rollphase_core::analysis::experiment::tracking::Folded;
+/// use rollphase_core::analysis::experiment::tracking::model::align_with_track;
+/// use rollphase_core::geometry::Body;
+/// let body = Body::paper_sphere(219, 0.25, 5)?;
+/// let options = PredictOptions { starts: 4, ..PredictOptions::default() };
+/// let orbit = predict(&body, 0.2, 0.0, &options)?.orbits.remove(0);
+/// // A track that is the orbit itself, mirrored across the ramp, from sample 7 on.
+/// let per = (orbit.path.len() - 1) / 3;
+/// let folded: Vec<Folded> = (0..per)
+///     .map(|k| {
+///         let (p, p0) = (orbit.path[7 + k], orbit.path[7]);
+///         Folded {
+///             period: 0,
+///             t_local: k as f64 * orbit.period / per as f64,
+///             down_local: p[0] - p0[0],
+///             across_local: -(p[1] - p0[1]),
+///         }
+///     })
+///     .collect();
+/// let a = align_with_track(&folded, &orbit, 1.0, 1.0);
+/// assert_eq!((a.phase, a.mirrored_across), (7, true));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn align_with_track(
+    folded: &[Folded],
+    orbit: &PredictedOrbit,
+    cm_per_r: f64,
+    frames_per_t0: f64,
+) -> TrackAlignment {
+    let per = (orbit.path.len() - 1) / 3;
+    let frames_per_sample = orbit.period * frames_per_t0 / per as f64;
+    let predicted = |phase: usize, t_local: f64, k: usize| {
+        let x = phase as f64 + t_local / frames_per_sample;
+        let i = (x.floor() as usize).min(orbit.path.len() - 2);
+        let s = x - i as f64;
+        let p = |j: usize| orbit.path[j][k] - orbit.path[phase][k];
+        cm_per_r * (p(i) + s * (p(i + 1) - p(i)))
+    };
+    let cost = |phase: usize, k: usize, sign: f64| {
+        // Least squares with a free offset.
+        let r: Vec<f64> = folded
+            .iter()
+            .map(|f| {
+                let m = if k == 0 { f.down_local } else { f.across_local };
+                m - sign * predicted(phase, f.t_local, k)
+            })
+            .collect();
+        let mean = r.iter().sum::<f64>() / r.len() as f64;
+        r.iter().map(|v| (v - mean).powi(2)).sum::<f64>()
+    };
+    let phase = (0..per)
+        .min_by(|&a, &b| cost(a, 0, 1.0).total_cmp(&cost(b, 0, 1.0)))
+        .unwrap_or(0);
+    TrackAlignment {
+        phase,
+        mirrored_across: cost(phase, 1, -1.0) < cost(phase, 1, 1.0),
+    }
+}
 
 /// Standard gravity (m/s²).
 pub const G: f64 = 9.81;
@@ -50,7 +130,7 @@ impl Measured {
     /// Mean speed down the ramp (cm/s).
     ///
     /// ```
-    /// use rollphase_core::analysis::tracking::model::Measured;
+    /// use rollphase_core::analysis::experiment::tracking::model::Measured;
     /// let m = Measured { period_s: 5.0, advance_down_cm: 6.0, advance_across_cm: -0.4 };
     /// assert_eq!(m.speed_cm_s(), 1.2);
     /// ```
@@ -155,7 +235,7 @@ pub enum CompareError {
 /// The SI's estimate (§2H): m/m0 ≈ v²/(g⟨r⟩ sin²α), v in m/s, ⟨r⟩ in m.
 ///
 /// ```
-/// use rollphase_core::analysis::tracking::model::mass_ratio_from_speed;
+/// use rollphase_core::analysis::experiment::tracking::model::mass_ratio_from_speed;
 /// // The paper's own numbers: ⟨r⟩ = 1 cm, g = 10, sin α = 0.2.
 /// let alpha = 0.2f64.asin();
 /// let viscous = mass_ratio_from_speed(0.01, 0.01, alpha, 10.0);
@@ -169,7 +249,7 @@ pub fn mass_ratio_from_speed(speed_m_s: f64, radius_m: f64, alpha: f64, g: f64) 
 /// The time unit for m/m0 when the driving force is the weight: t0 = √(⟨r⟩/(g·m/m0)) (s).
 ///
 /// ```
-/// use rollphase_core::analysis::tracking::model::t0_for_mass_ratio;
+/// use rollphase_core::analysis::experiment::tracking::model::t0_for_mass_ratio;
 /// // The uncoated print: m/m0 = 2.5 at ⟨r⟩ = 1 cm gives t0 ≈ 20 ms.
 /// let t0 = t0_for_mass_ratio(2.5, 0.01, 9.81);
 /// assert!((t0 - 0.020_19).abs() < 1e-5);
@@ -217,8 +297,8 @@ fn model_at(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::prediction::{PredictOptions, predict};
-/// use rollphase_core::analysis::tracking::model::{Measured, compare_with_model};
+/// use rollphase_core::analysis::experiment::prediction::{PredictOptions, predict};
+/// use rollphase_core::analysis::experiment::tracking::model::{Measured, compare_with_model};
 /// use rollphase_core::geometry::Body;
 /// // The paper's sphere at ⟨r⟩ = 1 cm, filmed on its own viscous orbit with t0 = 0.2 s.
 /// let body = Body::paper_sphere(219, 0.25, 5)?;
@@ -263,8 +343,8 @@ pub fn compare_with_model(
 ///
 /// ```
 /// use std::sync::atomic::AtomicBool;
-/// use rollphase_core::analysis::prediction::PredictOptions;
-/// use rollphase_core::analysis::tracking::model::{Measured, compare_with_model_until};
+/// use rollphase_core::analysis::experiment::prediction::PredictOptions;
+/// use rollphase_core::analysis::experiment::tracking::model::{Measured, compare_with_model_until};
 /// use rollphase_core::geometry::Body;
 /// let body = Body::paper_sphere(219, 0.25, 5)?;
 /// let measured = Measured { period_s: 8.0, advance_down_cm: 6.0, advance_across_cm: 0.0 };

@@ -13,7 +13,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
 
-use super::fit::line;
+use crate::analysis::fit::line;
 
 /// One measured angle of one run: α and its repeated lag times.
 #[derive(Debug, Clone, PartialEq)]
@@ -107,7 +107,7 @@ pub const SHARED_EXPONENT_RANGE: (f64, f64) = (-1.5, -0.05);
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::lag_fit::fit_run;
+/// use rollphase_core::analysis::experiment::lag_times::fit_run;
 /// // t = 0.3 (α − 0.18)^(−1/2) at six angles above α* = 0.18.
 /// let points: Vec<(f64, f64)> = [0.19, 0.2, 0.21, 0.22, 0.24, 0.26].iter().map(|&a: &f64| (a, 0.3 * (a - 0.18).powf(-0.5))).collect();
 /// let fit = fit_run(&points, None).unwrap();
@@ -194,7 +194,7 @@ fn shared_fit(runs: &[Vec<(f64, f64)>]) -> Option<(f64, Vec<f64>)> {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::lag_fit::{analyse, parse_lag_csv};
+/// use rollphase_core::analysis::experiment::lag_times::{analyse, parse_lag_csv};
 /// // Two runs of the law t = A (α − α*)^(−1/2), five angles each.
 /// let mut text = String::from("run_idx,alpha*,alpha,t_lag\n");
 /// for (run, alpha_star) in [(0, 0.18), (1, 0.2)] {
@@ -217,7 +217,7 @@ pub fn analyse(runs: &[LagRun], bootstrap: usize, seed: u64) -> Option<LagAnalys
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::lag_fit::{analyse_with_progress, parse_lag_csv};
+/// use rollphase_core::analysis::experiment::lag_times::{analyse_with_progress, parse_lag_csv};
 /// use std::sync::atomic::{AtomicUsize, Ordering};
 /// let mut text = String::from("run_idx,alpha*,alpha,t_lag\n");
 /// for d in [0.01, 0.02, 0.03, 0.05, 0.08] {
@@ -322,7 +322,7 @@ pub struct DragExponentEstimate {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::lag_fit::drag_exponent_from_lag;
+/// use rollphase_core::analysis::experiment::lag_times::drag_exponent_from_lag;
 /// // β = −½ is the linear drag.
 /// let e = drag_exponent_from_lag(-0.5, 0.02).unwrap();
 /// assert!((e.n - 1.0).abs() < 1e-15 && e.linear_sigmas == 0.0);
@@ -367,7 +367,7 @@ pub const MIN_ANGLES_PER_RUN: usize = 4;
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::lag_fit::parse_lag_csv;
+/// use rollphase_core::analysis::experiment::lag_times::parse_lag_csv;
 /// let mut text = String::from("run_idx,alpha*,alpha,t_lag\n");
 /// for alpha in [0.19, 0.2, 0.21, 0.22] {
 ///     text += &format!("3,0.18,{alpha},\"[2.8, 2.7]\"\n");

@@ -9,8 +9,8 @@
 
 use glam::{DQuat, DVec3};
 
-use crate::analysis::sphere_orbits::ball_point;
-use crate::analysis::studies::StudyError;
+use crate::analysis::orbits::sphere_orbits::ball_point;
+use crate::analysis::studies::sphere::StudyError;
 use crate::dynamics::sphere3d::orientation_touching;
 use crate::dynamics::{Ramp, SphereViscous};
 use crate::geometry::Sphere;
@@ -58,7 +58,7 @@ pub struct ContactTube {
 /// # Example
 ///
 /// ```
-/// use rollphase_core::analysis::contact_tube::contact_tube;
+/// use rollphase_core::analysis::studies::contact_tube::contact_tube;
 ///
 /// let tube = contact_tube(0.3, [1.0, 0.5], 8, 100).unwrap();
 /// assert_eq!(tube.trajectories.len(), 8);
@@ -146,7 +146,7 @@ pub fn contact_tube(
 ///
 /// ```
 /// use glam::DVec3;
-/// use rollphase_core::analysis::contact_tube::split_at_jumps;
+/// use rollphase_core::analysis::studies::contact_tube::split_at_jumps;
 ///
 /// let path = [DVec3::new(0.9, 0.0, 0.0), DVec3::new(0.99, 0.0, 0.0), DVec3::new(-0.99, 0.0, 0.0)];
 /// assert_eq!(split_at_jumps(&path).len(), 2);

@@ -11,8 +11,8 @@
 
 use serde::Serialize;
 
-use super::critical_angle;
-use super::verdict::{Fate, Undecided};
+use crate::analysis::rest::critical_angle;
+use crate::analysis::verdict::{Fate, Undecided};
 use crate::dynamics::{DiskInertial, DiskViscous, Ramp};
 use crate::geometry::{Body, Disk};
 use crate::integrate::run::{Flow, Run};
@@ -47,7 +47,7 @@ impl PeriodResult {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::period::{inertial_disk_period, viscous_disk_period};
+    /// use rollphase_core::analysis::orbits::disk_period::{inertial_disk_period, viscous_disk_period};
     /// use rollphase_core::analysis::verdict::{Fate, Undecided};
     /// use rollphase_core::dynamics::Ramp;
     /// use rollphase_core::geometry::Disk;
@@ -91,7 +91,7 @@ impl PeriodResult {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::period::coarse_rtol_hint;
+/// use rollphase_core::analysis::orbits::disk_period::coarse_rtol_hint;
 /// use rollphase_core::analysis::verdict::Undecided;
 /// let why = Undecided::NoRepeat { t_cap: 5000.0, crossings: 235, max_k: 1 };
 /// assert!(coarse_rtol_hint(&why, 1e-6, "--rtol").contains("--rtol 1e-10"));
@@ -130,7 +130,7 @@ pub fn viscous_disk_period(disk: &Disk, ramp: &Ramp) -> PeriodResult {
 /// # Example
 /// ```
 /// use rollphase_core::analysis::critical_angle;
-/// use rollphase_core::analysis::period::{viscous_disk_period, viscous_disk_period_with};
+/// use rollphase_core::analysis::orbits::disk_period::{viscous_disk_period, viscous_disk_period_with};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// let body = Body::paper_disk(84, 0.12, 5)?;
@@ -221,7 +221,7 @@ pub fn inertial_disk_period(
 /// # Example
 /// ```
 /// use std::sync::atomic::AtomicBool;
-/// use rollphase_core::analysis::period::inertial_disk_period_until;
+/// use rollphase_core::analysis::orbits::disk_period::inertial_disk_period_until;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// let Body::Disk(disk) = Body::paper_disk(84, 0.12, 5)? else { unreachable!() };

@@ -15,9 +15,9 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::critical_angle::critical_angle;
-use super::fit::{logspace, power_law};
-use super::period::{inertial_disk_period, viscous_disk_period_with};
+use crate::analysis::fit::{logspace, power_law};
+use crate::analysis::orbits::disk_period::{inertial_disk_period, viscous_disk_period_with};
+use crate::analysis::rest::critical_angle::critical_angle;
 use crate::dynamics::{DiskInertial, DiskViscous, ModelError, Ramp};
 use crate::geometry::{Body, Disk};
 use crate::integrate::events::{Direction, crossings_in_last_step};
@@ -29,7 +29,7 @@ use crate::integrate::{IntegrateError, Method, OdeSystem};
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::disk_dynamics::lag_time;
+/// use rollphase_core::analysis::studies::disk::lag_time;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Disk;
 /// // The perfect disk rolls at θ̇ = sin α from the start: half a turn takes π / sin α.
@@ -111,7 +111,7 @@ pub struct SweepPoint {
 /// # Example
 /// ```
 /// use rollphase_core::analysis::critical_angle;
-/// use rollphase_core::analysis::disk_dynamics::{fixed_points, hysteresis_sweep};
+/// use rollphase_core::analysis::studies::disk::{fixed_points, hysteresis_sweep};
 /// use rollphase_core::geometry::{Body, first_convex_disk};
 /// // `figure disk-hysteresis --quick`'s disk and ladder: α*/2 to 1.3 α* in steps of α*/20.
 /// let (disk, _) = first_convex_disk(1, 0.12, 5)?;
@@ -176,7 +176,7 @@ pub fn hysteresis_sweep(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::disk_dynamics::dwell;
+/// use rollphase_core::analysis::studies::disk::dwell;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Disk;
 /// // The perfect disk at terminal speed: θ advances sin α · T/2 over the second half.
@@ -222,7 +222,7 @@ pub struct FixedPoint {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::disk_dynamics::fixed_points;
+/// use rollphase_core::analysis::studies::disk::fixed_points;
 /// use rollphase_core::geometry::Body;
 /// let body = Body::paper_disk(84, 0.12, 5)?;
 /// let alpha_star = body.alpha_star();
@@ -264,7 +264,7 @@ pub fn fixed_points(disk: &Disk, alpha: f64) -> Vec<FixedPoint> {
 /// # Example
 ///
 /// ```
-/// use rollphase_core::analysis::disk_dynamics::disk_cruises;
+/// use rollphase_core::analysis::studies::disk::disk_cruises;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// let disk = Body::paper_disk(1, 0.25, 5)?;
@@ -297,7 +297,7 @@ pub fn disk_cruises(disk: &Disk, ramp: &Ramp, theta0: f64) -> Result<bool, Integ
 /// # Example
 ///
 /// ```
-/// use rollphase_core::analysis::disk_dynamics::phase_path;
+/// use rollphase_core::analysis::studies::disk::phase_path;
 /// use rollphase_core::dynamics::{DiskInertial, Ramp};
 /// use rollphase_core::geometry::Body;
 /// let body = Body::paper_disk(1, 0.12, 5)?;
@@ -369,7 +369,7 @@ pub struct ReturnTransition {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::disk_dynamics::still_rolls;
+/// use rollphase_core::analysis::studies::disk::still_rolls;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Disk;
 /// let (rolls, _) = still_rolls(&Disk::perfect(), &Ramp::new(0.3, 2.0)?, [0.0, 0.0], 100.0, 1e-10)?;
@@ -395,7 +395,7 @@ pub fn still_rolls(
 /// # Example
 ///
 /// ```
-/// use rollphase_core::analysis::disk_dynamics::{fixed_points, hysteresis_sweep, return_transition};
+/// use rollphase_core::analysis::studies::disk::{fixed_points, hysteresis_sweep, return_transition};
 /// use rollphase_core::geometry::{Body, first_convex_disk};
 /// let (disk, _) = first_convex_disk(1, 0.12, 5)?;
 /// let alpha_star = Body::Disk(disk.clone()).alpha_star();
@@ -470,7 +470,7 @@ pub fn return_transition(
 ///
 /// ```
 /// use rollphase_core::analysis::critical_angle;
-/// use rollphase_core::analysis::disk_dynamics::saddle_node_prefactor;
+/// use rollphase_core::analysis::studies::disk::saddle_node_prefactor;
 /// use rollphase_core::geometry::{Body, first_convex_disk};
 /// let (disk, _) = first_convex_disk(1, 0.08, 10)?;
 /// let ca = critical_angle(&Body::Disk(disk.clone()));
@@ -523,7 +523,7 @@ pub enum SaddleNodeError {
 /// # Example
 ///
 /// ```
-/// use rollphase_core::analysis::disk_dynamics::saddle_node_law;
+/// use rollphase_core::analysis::studies::disk::saddle_node_law;
 /// use rollphase_core::geometry::first_convex_disk;
 /// let (disk, _) = first_convex_disk(1, 0.08, 10)?;
 /// let law = saddle_node_law(&disk, &[0.1, 0.3])?;
@@ -627,7 +627,7 @@ pub enum LagLawError {
 /// # Example
 ///
 /// ```
-/// use rollphase_core::analysis::disk_dynamics::lag_time_law;
+/// use rollphase_core::analysis::studies::disk::lag_time_law;
 /// use rollphase_core::geometry::first_convex_disk;
 /// let (disk, _) = first_convex_disk(1, 0.12, 5)?;
 /// let laws = lag_time_law(&disk, &[0.0, 2.0], &[1e-8, 1e-7, 1e-6, 1e-5], &|| {})?;

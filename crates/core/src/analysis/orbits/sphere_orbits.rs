@@ -69,7 +69,7 @@ macro_rules! on_model {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::boundary_distance;
+/// use rollphase_core::analysis::orbits::sphere_orbits::boundary_distance;
 /// use rollphase_core::glam::DVec3;
 /// // q and −q are one orientation: antipodes are the same point of ∂Ω.
 /// assert_eq!(boundary_distance(DVec3::X, -DVec3::X), 0.0);
@@ -83,7 +83,7 @@ pub fn boundary_distance(a: DVec3, b: DVec3) -> f64 {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::nearest_sign;
+/// use rollphase_core::analysis::orbits::sphere_orbits::nearest_sign;
 /// use rollphase_core::glam::DVec3;
 /// assert_eq!(nearest_sign(DVec3::Z, DVec3::new(0.1, 0.0, -1.0)), DVec3::new(-0.1, 0.0, 1.0));
 /// ```
@@ -99,7 +99,7 @@ pub fn nearest_sign(a: DVec3, b: DVec3) -> DVec3 {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::ball_point;
+/// use rollphase_core::analysis::orbits::sphere_orbits::ball_point;
 /// use rollphase_core::glam::{DQuat, DVec3};
 /// // A rotation by π about x lies on ∂Ω at x; the identity at the centre.
 /// let p = ball_point(DQuat::from_rotation_x(std::f64::consts::PI));
@@ -187,7 +187,7 @@ impl AnswerCheck {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::sphere_orbits::{AnswerCheck, Fate};
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Fate};
     /// let c = AnswerCheck::Corrected { fast: Fate::Halts { t: 1.0 } };
     /// assert_eq!(c.name(), "corrected");
     /// ```
@@ -226,7 +226,7 @@ pub const VERIFY_CYCLES: f64 = 40.0;
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::{Fate, same_answer};
+/// use rollphase_core::analysis::orbits::sphere_orbits::{Fate, same_answer};
 /// let cycle = |period, k| Fate::Periodic { period, k, point: [1.0, 0.0, 0.0], t: 100.0 };
 /// assert!(same_answer(&cycle(32.419, 1), &cycle(32.4190001, 1), 1e-5));
 /// assert!(!same_answer(&cycle(32.419, 1), &cycle(64.84, 2), 1e-5));
@@ -265,7 +265,7 @@ impl Default for Settle {
 /// fate and all ∂Ω crossings (for plots).
 ///
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::{Fate, Settle, settle};
+/// use rollphase_core::analysis::orbits::sphere_orbits::{Fate, Settle, settle};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DQuat;
@@ -289,7 +289,7 @@ pub fn settle(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::{Fate, Settle, settle_with};
+/// use rollphase_core::analysis::orbits::sphere_orbits::{Fate, Settle, settle_with};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DQuat;
@@ -320,7 +320,7 @@ pub fn settle_with(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::{AnswerCheck, Fate, Settle, settle_checked};
+/// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Fate, Settle, settle_checked};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DQuat;
@@ -527,7 +527,7 @@ fn periodic(c: &[Crossing], s: &Settle) -> Option<Fate> {
 /// crossing's point (sign nearest p) and the time taken, or `None` if the body halts first.
 ///
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::poincare_step;
+/// use rollphase_core::analysis::orbits::sphere_orbits::poincare_step;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DVec3;
@@ -561,7 +561,7 @@ pub fn poincare_step(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::first_crossing;
+/// use rollphase_core::analysis::orbits::sphere_orbits::first_crossing;
 /// use rollphase_core::dynamics::{Ramp, SphereViscous};
 /// use rollphase_core::geometry::Sphere;
 /// use rollphase_core::glam::DQuat;
@@ -621,7 +621,7 @@ pub struct FieldArrow {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::poincare_field;
+/// use rollphase_core::analysis::orbits::sphere_orbits::poincare_field;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
@@ -656,7 +656,7 @@ pub fn poincare_field(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::field_lattice;
+/// use rollphase_core::analysis::orbits::sphere_orbits::field_lattice;
 /// let upper = field_lattice(100);
 /// assert!(upper.iter().all(|p| p.z >= 0.0) && upper.len() <= 100);
 /// ```
@@ -672,7 +672,7 @@ pub fn field_lattice(n: usize) -> Vec<DVec3> {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::field_from_images;
+/// use rollphase_core::analysis::orbits::sphere_orbits::field_from_images;
 /// use rollphase_core::glam::DVec3;
 /// // One integrated start above the equator gives its arrow and the antipode's, reversed.
 /// let arrows = field_from_images(&[DVec3::Z], &[Some((DVec3::X, 2.0))]);
@@ -703,7 +703,7 @@ pub fn field_from_images(upper: &[DVec3], images: &[Option<(DVec3, f64)>]) -> Ve
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::cluster_antipodal;
+/// use rollphase_core::analysis::orbits::sphere_orbits::cluster_antipodal;
 /// use rollphase_core::glam::DVec3;
 /// let clusters = cluster_antipodal(&[DVec3::X, -DVec3::X, DVec3::Y], 1e-6);
 /// assert_eq!(clusters.iter().map(|c| c.1).collect::<Vec<_>>(), [2, 1]);
@@ -729,7 +729,7 @@ pub fn cluster_antipodal(points: &[DVec3], tol: f64) -> Vec<(DVec3, usize)> {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::late_run;
+/// use rollphase_core::analysis::orbits::sphere_orbits::late_run;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DQuat;
@@ -814,7 +814,7 @@ impl DecidedRun {
     /// undecided (the statistic of paper Fig. 4e).
     ///
     /// ```
-    /// use rollphase_core::analysis::sphere_orbits::{Decide, decided_run};
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{Decide, decided_run};
     /// use rollphase_core::dynamics::Ramp;
     /// use rollphase_core::geometry::Body;
     /// use rollphase_core::glam::DQuat;
@@ -841,7 +841,7 @@ impl DecidedRun {
 /// the run's end.
 ///
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::{Decide, RunEnd, decided_run};
+/// use rollphase_core::analysis::orbits::sphere_orbits::{Decide, RunEnd, decided_run};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DQuat;
@@ -880,7 +880,7 @@ pub fn decided_run(
             sampling,
             rtol,
             |y| m.observe(y),
-            |y| super::verdict::at_rest(m.observe(y).omega.length(), m.ramp_torque(y)),
+            |y| crate::analysis::verdict::at_rest(m.observe(y).omega.length(), m.ramp_torque(y)),
         )
     }
 }
@@ -956,7 +956,7 @@ fn record<const N: usize, S: RollingModel<N>>(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::{Crossing, settled_cycle};
+/// use rollphase_core::analysis::orbits::sphere_orbits::{Crossing, settled_cycle};
 /// // A steady 2-cycle: the points alternate between two places, 40 crossings long.
 /// let (a, b) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
 /// let c: Vec<Crossing> = (0..40).map(|i| Crossing { t: 10.0 * i as f64, point: if i % 2 == 0 { a } else { b } }).collect();
@@ -977,7 +977,7 @@ pub fn settled_cycle(c: &[Crossing], max_k: usize, tol: f64) -> Option<(usize, f
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::{Crossing, steady_cycle};
+/// use rollphase_core::analysis::orbits::sphere_orbits::{Crossing, steady_cycle};
 /// // Points turning by 2π/3 a crossing about a centre while closing in by 0.999 a crossing:
 /// // every third point nearly repeats, but the steps shrink.
 /// let c: Vec<Crossing> = (0..80)
@@ -1014,7 +1014,7 @@ pub fn steady_cycle(c: &[Crossing], k: usize, tol: f64) -> bool {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::{Crossing, late_cycle};
+/// use rollphase_core::analysis::orbits::sphere_orbits::{Crossing, late_cycle};
 /// let p = [0.0, 0.0, 1.0];
 /// let c: Vec<Crossing> = (0..3).map(|i| Crossing { t: 43.5 * i as f64, point: p }).collect();
 /// assert_eq!(late_cycle(&c, 4, 1e-6), Some((1, 43.5)));

@@ -14,12 +14,12 @@ use rayon::prelude::*;
 use serde::Serialize;
 use thiserror::Error;
 
-use super::return_map::ReturnMapError;
-use super::sphere_orbits::{
+use crate::analysis::orbits::return_map::ReturnMapError;
+use crate::analysis::orbits::sphere_orbits::{
     Crossing, Decide, DecidedRun, Fate, RunEnd, Settle, boundary_distance, cluster_antipodal,
     decided_run, poincare_step, settle, settled_cycle,
 };
-use super::sphere_return_map::{
+use crate::analysis::orbits::sphere_return_map::{
     OrbitSolve, PeriodicOrbit, SectionState, inertial_crossings_until, periodic_orbit,
     viscous_periodic_orbit,
 };
@@ -100,7 +100,7 @@ fn sphere_of<'a>(body: &'a Body, what: &'static str) -> Result<&'a Sphere, Study
 /// about the ramp's normal (the starts of `sphere-cruising`, `sphere-orbits` and the others).
 ///
 /// ```
-/// use rollphase_core::analysis::studies::random_orientation;
+/// use rollphase_core::analysis::studies::sphere::random_orientation;
 /// use rollphase_core::geometry::Body;
 /// let body = Body::paper_sphere(219, 0.25, 5)?;
 /// let rollphase_core::geometry::Body::Sphere(s) = &body else { unreachable!() };
@@ -123,7 +123,7 @@ pub fn random_orientation(body: &Sphere, seed: u64, i: usize) -> DQuat {
 /// it; `None` where the body comes to rest first or `t_max` passes. DOP853 at `rtol`.
 ///
 /// ```
-/// use rollphase_core::analysis::studies::poincare_map;
+/// use rollphase_core::analysis::studies::sphere::poincare_map;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DVec3;
 /// let body = Body::paper_sphere(219, 0.25, 5)?;
@@ -146,7 +146,7 @@ pub fn poincare_map(
 ///
 /// ```
 /// use std::sync::atomic::AtomicBool;
-/// use rollphase_core::analysis::studies::{StudyError, poincare_map_until};
+/// use rollphase_core::analysis::studies::sphere::{StudyError, poincare_map_until};
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DVec3;
 /// let body = Body::paper_sphere(219, 0.25, 5)?;
@@ -213,8 +213,8 @@ pub struct Cruising {
 /// (|ω| ≥ 1e-3 at the end).
 ///
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::Fate;
-/// use rollphase_core::analysis::studies::cruises;
+/// use rollphase_core::analysis::orbits::sphere_orbits::Fate;
+/// use rollphase_core::analysis::studies::sphere::cruises;
 /// assert!(!cruises(&Fate::Halts { t: 3.0 }));
 /// assert!(cruises(&Fate::Undecided { omega_end: 0.2 }));
 /// assert!(!cruises(&Fate::Undecided { omega_end: 1e-6 }));
@@ -232,7 +232,7 @@ pub fn cruises(f: &Fate) -> bool {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::studies::cruising_settle;
+/// use rollphase_core::analysis::studies::sphere::cruising_settle;
 /// let s = cruising_settle();
 /// assert_eq!((s.t_max, s.point_tol), (2000.0, 1e-5));
 /// ```
@@ -253,7 +253,7 @@ pub const MAX_STARTS: usize = 10_000_000;
 /// than halt (paper Fig. 3b; `sphere-cruising` gives the same numbers).
 ///
 /// ```
-/// use rollphase_core::analysis::studies::cruising_fraction;
+/// use rollphase_core::analysis::studies::sphere::cruising_fraction;
 /// use rollphase_core::geometry::Body;
 /// let body = Body::paper_sphere(219, 0.25, 5)?;
 /// let c = cruising_fraction(&body, 0.15, 8, 1)?; // above α* = 0.1394: all cruise
@@ -274,7 +274,7 @@ pub fn cruising_fraction(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::studies::{StudyError, cruising_fraction_until};
+/// use rollphase_core::analysis::studies::sphere::{StudyError, cruising_fraction_until};
 /// use rollphase_core::geometry::Body;
 /// use std::sync::atomic::AtomicBool;
 /// let body = Body::paper_sphere(219, 0.25, 5)?;
@@ -325,8 +325,8 @@ pub fn cruising_fraction_until(
 /// runs on other bodies are these.
 ///
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::{Decide, RunEnd};
-/// use rollphase_core::analysis::studies::decided_from_rest;
+/// use rollphase_core::analysis::orbits::sphere_orbits::{Decide, RunEnd};
+/// use rollphase_core::analysis::studies::sphere::decided_from_rest;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// let Body::Sphere(sphere) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
@@ -397,7 +397,7 @@ impl PeriodCounts {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::studies::{PeriodCounts, RunOutcome};
+    /// use rollphase_core::analysis::studies::sphere::{PeriodCounts, RunOutcome};
     /// let runs = [
     ///     RunOutcome { cycle: Some((2, 87.0)), at_rest: false, t_end: 2000.0 },
     ///     RunOutcome { cycle: None, at_rest: true, t_end: 150.0 },
@@ -409,7 +409,7 @@ impl PeriodCounts {
     /// // A cycle of 5 crossings is not one the statistics count.
     /// let five = [RunOutcome { cycle: Some((5, 1.0)), ..runs[0] }];
     /// assert!(PeriodCounts::of(&five).is_err());
-    /// # Ok::<(), rollphase_core::analysis::studies::StudyError>(())
+    /// # Ok::<(), rollphase_core::analysis::studies::sphere::StudyError>(())
     /// ```
     pub fn of(runs: &[RunOutcome]) -> Result<Self, StudyError> {
         let mut c = PeriodCounts {
@@ -446,7 +446,7 @@ impl PeriodCounts {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::studies::{RunOutcome, median_cycle_duration};
+/// use rollphase_core::analysis::studies::sphere::{RunOutcome, median_cycle_duration};
 /// let run = |cycle| RunOutcome { cycle, at_rest: false, t_end: 2000.0 };
 /// let runs = [run(Some((1, 43.0))), run(Some((2, 87.0))), run(Some((1, 44.0))), run(None)];
 /// assert_eq!(median_cycle_duration(&runs, None), Some(44.0));
@@ -495,7 +495,7 @@ impl DoublingAcrossBodies {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::studies::DoublingAcrossBodies;
+    /// use rollphase_core::analysis::studies::sphere::DoublingAcrossBodies;
     /// // Two bodies, two runs each: the first doubles once, the second rests and stays open.
     /// let periods = [Some(2), Some(1), Some(0), None];
     /// let d = DoublingAcrossBodies::from_periods((0.0, 0.13), vec![4, 9], 2, &periods);
@@ -528,20 +528,20 @@ impl DoublingAcrossBodies {
 }
 
 /// The cross-body statistic of period doubling: the first `bodies` convex paper-generator bodies
-/// with α* in `band` ([`crate::analysis::critical_angle::paper_spheres_with_alpha_star`]), each
+/// with α* in `band` ([`crate::analysis::rest::critical_angle::paper_spheres_with_alpha_star`]), each
 /// released from rest at `orientations` random orientations ([`random_orientation`] with
 /// `seed`) at ramp angle `alpha` and `mass_ratio`, every run going on as `decide` says; in
 /// parallel, one task per run.
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::Decide;
-/// use rollphase_core::analysis::studies::doubling_across_bodies;
+/// use rollphase_core::analysis::orbits::sphere_orbits::Decide;
+/// use rollphase_core::analysis::studies::sphere::doubling_across_bodies;
 /// let decide = Decide { t_min: 1200.0, t_cap: 6000.0, max_k: 4, tol: 1e-5 };
 /// let d = doubling_across_bodies(2, (0.13, 0.15), 1, 0.15, 6.0, 1, &decide)?;
 /// assert_eq!((d.bodies, d.seeds.len()), (2, 2));
 /// assert!(d.with_period_2 <= d.bodies);
-/// # Ok::<(), rollphase_core::analysis::studies::StudyError>(())
+/// # Ok::<(), rollphase_core::analysis::studies::sphere::StudyError>(())
 /// ```
 pub fn doubling_across_bodies(
     bodies: usize,
@@ -559,8 +559,9 @@ pub fn doubling_across_bodies(
         )));
     }
     let ramp = Ramp::new(alpha, mass_ratio)?;
-    let found =
-        crate::analysis::critical_angle::paper_spheres_with_alpha_star(bodies, band.0, band.1)?;
+    let found = crate::analysis::rest::critical_angle::paper_spheres_with_alpha_star(
+        bodies, band.0, band.1,
+    )?;
     let periods: Vec<Option<usize>> = (0..found.len() * orientations)
         .into_par_iter()
         .with_max_len(1)
@@ -584,8 +585,8 @@ pub fn doubling_across_bodies(
 /// counts the same). `decide.max_k` is at most 4.
 ///
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::Decide;
-/// use rollphase_core::analysis::studies::period_counts;
+/// use rollphase_core::analysis::orbits::sphere_orbits::Decide;
+/// use rollphase_core::analysis::studies::sphere::period_counts;
 /// use rollphase_core::geometry::Body;
 /// let body = Body::paper_sphere(219, 0.25, 5)?;
 /// let decide = Decide { t_min: 1200.0, t_cap: 6000.0, max_k: 4, tol: 1e-5 };
@@ -617,8 +618,8 @@ pub fn period_counts(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::Decide;
-/// use rollphase_core::analysis::studies::{StudyError, period_counts_until};
+/// use rollphase_core::analysis::orbits::sphere_orbits::Decide;
+/// use rollphase_core::analysis::studies::sphere::{StudyError, period_counts_until};
 /// use rollphase_core::geometry::Body;
 /// use std::sync::atomic::AtomicBool;
 /// let body = Body::paper_sphere(219, 0.25, 5)?;
@@ -669,14 +670,14 @@ const SAME_ORBIT: f64 = 1e-6;
 /// ([`random_orientation`] with `seed`) settle on at ramp angle `alpha` and `mass_ratio`
 /// (0: viscous), each refined as a fixed point of the return map on ∂Ω by Newton's method, with
 /// its Floquet multipliers (two for the viscous map, five for the inertial one: see
-/// [`crate::analysis::sphere_return_map`]). Each run goes on as `decide` says (DOP853 at rtol
+/// [`crate::analysis::orbits::sphere_return_map`]). Each run goes on as `decide` says (DOP853 at rtol
 /// 1e-9); a run that closes a period-1 cycle seeds an orbit, and seeds within 1e-3 of each
 /// other (antipodes identified) are solved once. Orbits are listed most-visited first. Runs
 /// that halt, double or stay undecided seed nothing.
 ///
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::Decide;
-/// use rollphase_core::analysis::studies::periodic_orbits;
+/// use rollphase_core::analysis::orbits::sphere_orbits::Decide;
+/// use rollphase_core::analysis::studies::sphere::periodic_orbits;
 /// use rollphase_core::geometry::Body;
 /// let body = Body::paper_sphere(219, 0.25, 5)?;
 /// let decide = Decide { t_min: 600.0, t_cap: 6000.0, max_k: 1, tol: 1e-5 };
@@ -709,8 +710,8 @@ pub fn periodic_orbits(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_orbits::Decide;
-/// use rollphase_core::analysis::studies::{StudyError, periodic_orbits_until};
+/// use rollphase_core::analysis::orbits::sphere_orbits::Decide;
+/// use rollphase_core::analysis::studies::sphere::{StudyError, periodic_orbits_until};
 /// use rollphase_core::geometry::Body;
 /// use std::sync::atomic::AtomicBool;
 /// let body = Body::paper_sphere(219, 0.25, 5)?;

@@ -11,8 +11,10 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::sphere_orbits::{Fate, Settle, same_answer, settle_checked, settle_with};
-use super::studies::random_orientation;
+use crate::analysis::orbits::sphere_orbits::{
+    Fate, Settle, same_answer, settle_checked, settle_with,
+};
+use crate::analysis::studies::sphere::random_orientation;
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::Sphere;
 use crate::integrate::{IntegrateError, Method};
@@ -46,7 +48,7 @@ pub const ANSWER_REFERENCE: Method = Method::Dop853 {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::answers::paper_answer_cases;
+/// use rollphase_core::analysis::accuracy::answers::paper_answer_cases;
 /// use rollphase_core::geometry::Body;
 /// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
 /// let cases = paper_answer_cases(&s, 4)?;
@@ -86,7 +88,7 @@ pub fn paper_answer_cases(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::answers::answer_settings;
+/// use rollphase_core::analysis::accuracy::answers::answer_settings;
 /// use rollphase_core::integrate::Method;
 /// assert!(answer_settings().contains(&Method::Rk4 { dt: 0.5 }));
 /// ```
@@ -138,7 +140,7 @@ impl AnswerRow {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::answers::AnswerRow;
+    /// use rollphase_core::analysis::accuracy::answers::AnswerRow;
     /// let row = AnswerRow {
     ///     case: "c".into(), setting: "rk4:0.5".into(), runs: 4, raw_fate: 4, raw_answer: 3,
     ///     raw_orbits: 2, raw_rhs_evals: 10, checked_answer: 4, checked_orbits: 1,
@@ -155,7 +157,7 @@ impl AnswerRow {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::answers::spec_name;
+/// use rollphase_core::analysis::accuracy::answers::spec_name;
 /// use rollphase_core::integrate::Method;
 /// assert_eq!(spec_name(Method::Rk4 { dt: 0.5 }), "rk4:0.5");
 /// assert_eq!(spec_name(Method::dop853(1e-8)), "dop853:1e-8");
@@ -173,8 +175,8 @@ pub fn spec_name(method: Method) -> String {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::answers::distinct_orbits;
-/// use rollphase_core::analysis::sphere_orbits::Fate;
+/// use rollphase_core::analysis::accuracy::answers::distinct_orbits;
+/// use rollphase_core::analysis::orbits::sphere_orbits::Fate;
 /// let cycle = |period, k| Fate::Periodic { period, k, point: [1.0, 0.0, 0.0], t: 0.0 };
 /// let fates = [cycle(37.98, 1), cycle(37.9800001, 1), cycle(37.11, 1), Fate::Halts { t: 1.0 }];
 /// assert_eq!(distinct_orbits(&fates, 1e-5), 2);
@@ -193,8 +195,8 @@ pub fn distinct_orbits(fates: &[Fate], rtol: f64) -> usize {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::answers::{paper_answer_cases, reference_fates};
-/// use rollphase_core::analysis::sphere_orbits::Fate;
+/// use rollphase_core::analysis::accuracy::answers::{paper_answer_cases, reference_fates};
+/// use rollphase_core::analysis::orbits::sphere_orbits::Fate;
 /// use rollphase_core::geometry::Body;
 /// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
 /// let case = &paper_answer_cases(&s, 1)?[1];
@@ -216,7 +218,7 @@ pub fn reference_fates(case: &AnswerCase) -> Result<Vec<Fate>, IntegrateError> {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::answers::{answer_row, paper_answer_cases, reference_fates};
+/// use rollphase_core::analysis::accuracy::answers::{answer_row, paper_answer_cases, reference_fates};
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::integrate::Method;
 /// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };

@@ -103,8 +103,8 @@ struct Detection {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::tracking::CleanTrack;
-/// use rollphase_core::analysis::tracking::markers::{MarkerVerdict, read_markers};
+/// use rollphase_core::analysis::experiment::tracking::CleanTrack;
+/// use rollphase_core::analysis::experiment::tracking::markers::{MarkerVerdict, read_markers};
 /// // A ball rolling 1 cm a frame with a marker turning once a period of 40 frames.
 /// let frames: Vec<f64> = (0..800).map(f64::from).collect();
 /// let track = CleanTrack { down: frames.clone(), across: vec![0.0; 800], frames: frames.clone(), warnings: vec![] };

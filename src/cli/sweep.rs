@@ -5,9 +5,9 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 
-use crate::figures::scan;
-use crate::figures::scan::SweepRan;
 use crate::figures::shard::ShardSpec;
+use crate::figures::sweep;
+use crate::figures::sweep::SweepRan;
 
 /// Scan bodies × α × m/m0 × initial orientations × integrators in 3D, one CSV row per run:
 /// its fate (halts, periodic, undecided), period T, 1/T, period multiplicity, when it halted,
@@ -54,7 +54,7 @@ pub struct SweepArgs {
 /// Runs `sweep`.
 pub fn run(a: SweepArgs) -> Result<()> {
     let pool = super::figure::thread_pool(a.threads)?;
-    match pool.install(|| scan::run(&a.spec, &a.out, a.shard))? {
+    match pool.install(|| sweep::run(&a.spec, &a.out, a.shard))? {
         SweepRan::Whole(s) => outln!(
             "sweep: {} runs ({} halt, {} periodic, {} undecided; {} cruise; {} corrected by the \
              reference){}; wrote {}",

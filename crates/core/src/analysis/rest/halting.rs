@@ -19,7 +19,7 @@
 use glam::{DMat3, DQuat, DVec3};
 use rayon::prelude::*;
 
-use crate::analysis::studies::StudyError;
+use crate::analysis::studies::sphere::StudyError;
 use crate::dynamics::sphere3d::DOWN;
 use crate::dynamics::{Ramp, SphereViscous};
 use crate::geometry::Sphere;
@@ -45,7 +45,7 @@ impl QualityGrid {
     /// # Example
     ///
     /// ```
-    /// use rollphase_core::analysis::halting::QualityGrid;
+    /// use rollphase_core::analysis::rest::halting::QualityGrid;
     /// use rollphase_core::geometry::Sphere;
     ///
     /// let grid = QualityGrid::new(&Sphere::perfect(), 5, 9);
@@ -88,7 +88,7 @@ impl RestSegment {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::halting::RestSegment;
+    /// use rollphase_core::analysis::rest::halting::RestSegment;
     /// let s = RestSegment { from: (0.0, 1.0), to: (0.2, 1.2), stable: true };
     /// let u = s.midpoint();
     /// assert!((u.z - 1.1f64.cos()).abs() < 1e-15);
@@ -117,7 +117,7 @@ impl HaltingLoops {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::halting::{HaltingLoops, RestSegment};
+    /// use rollphase_core::analysis::rest::halting::{HaltingLoops, RestSegment};
     /// let seg = |stable| RestSegment { from: (0.0, 1.0), to: (0.1, 1.0), stable };
     /// let loops = HaltingLoops { alpha: 0.1, segments: vec![seg(true), seg(false), seg(true), seg(true)], stable_confirmed: [0, 0], unstable_confirmed: [0, 0] };
     /// assert_eq!(loops.stable_fraction(), 0.75);
@@ -135,7 +135,7 @@ impl HaltingLoops {
 /// # Example
 ///
 /// ```
-/// use rollphase_core::analysis::halting::{QualityGrid, halting_loops};
+/// use rollphase_core::analysis::rest::halting::{QualityGrid, halting_loops};
 /// use rollphase_core::geometry::Body;
 ///
 /// let paper = Body::paper_sphere(219, 0.25, 5).unwrap();
@@ -212,7 +212,7 @@ pub fn halting_loops(
 ///
 /// ```
 /// use glam::DVec3;
-/// use rollphase_core::analysis::halting::rest_orientation;
+/// use rollphase_core::analysis::rest::halting::rest_orientation;
 /// use rollphase_core::geometry::Sphere;
 ///
 /// // The unit sphere on its south pole: already at rest, no turn needed.
@@ -231,7 +231,7 @@ pub fn rest_orientation(body: &Sphere, u: DVec3) -> DQuat {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::halting::{QualityGrid, halting_loops, is_stable_rest, rest_jacobian, rest_orientation};
+/// use rollphase_core::analysis::rest::halting::{QualityGrid, halting_loops, is_stable_rest, rest_jacobian, rest_orientation};
 /// use rollphase_core::dynamics::{Ramp, SphereViscous};
 /// use rollphase_core::geometry::Body;
 /// let paper = Body::paper_sphere(219, 0.25, 5)?;
@@ -266,7 +266,7 @@ pub fn rest_jacobian(model: &SphereViscous, q: DQuat) -> DMat3 {
 ///
 /// ```
 /// use glam::{DMat3, DVec3};
-/// use rollphase_core::analysis::halting::eigen_real_parts;
+/// use rollphase_core::analysis::rest::halting::eigen_real_parts;
 ///
 /// let mut e = eigen_real_parts(DMat3::from_diagonal(DVec3::new(-2.0, 0.0, 3.0)));
 /// e.sort_by(f64::total_cmp);
@@ -283,7 +283,7 @@ pub fn eigen_real_parts(m: DMat3) -> [f64; 3] {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::halting::is_stable_rest;
+/// use rollphase_core::analysis::rest::halting::is_stable_rest;
 /// use rollphase_core::glam::{DMat3, DVec3};
 /// // One eigenvalue near 0 (along the loop of rest states); the others decide.
 /// assert!(is_stable_rest(DMat3::from_diagonal(DVec3::new(-0.3, 1e-9, -0.1))));
@@ -302,7 +302,7 @@ pub fn is_stable_rest(j: DMat3) -> bool {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::halting::{QualityGrid, halting_loops, rest_orientation, returns_to_rest};
+/// use rollphase_core::analysis::rest::halting::{QualityGrid, halting_loops, rest_orientation, returns_to_rest};
 /// use rollphase_core::dynamics::{Ramp, SphereViscous};
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::{DQuat, DVec3};

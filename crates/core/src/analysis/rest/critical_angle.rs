@@ -182,7 +182,7 @@ fn disk_critical_angle(d: &Disk) -> CriticalAngle {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::critical_angle::disk_with_alpha_star;
+/// use rollphase_core::analysis::rest::critical_angle::disk_with_alpha_star;
 /// use rollphase_core::geometry::{Body, Disk, DiskMode};
 /// let base = Disk::new(vec![DiskMode { l: 3, a: 0.2, phase: 0.4 }]);
 /// let tuned = disk_with_alpha_star(&base, 0.1);
@@ -221,7 +221,7 @@ pub fn disk_with_alpha_star(base: &Disk, target: f64) -> Disk {
 /// # Example
 ///
 /// ```
-/// use rollphase_core::analysis::critical_angle::convex_disk_with_alpha_star;
+/// use rollphase_core::analysis::rest::critical_angle::convex_disk_with_alpha_star;
 /// use rollphase_core::geometry::Body;
 /// let disk = Body::Disk(convex_disk_with_alpha_star(1, 0.14)?);
 /// assert!((disk.alpha_star() - 0.14).abs() < 1e-9 && disk.is_convex());
@@ -251,7 +251,7 @@ pub fn convex_disk_with_alpha_star(seed: u64, target: f64) -> Result<Disk, Shape
 /// # Example
 ///
 /// ```
-/// use rollphase_core::analysis::critical_angle::paper_spheres_with_alpha_star;
+/// use rollphase_core::analysis::rest::critical_angle::paper_spheres_with_alpha_star;
 /// use rollphase_core::geometry::Body;
 /// let bodies = paper_spheres_with_alpha_star(2, 0.13, 0.15)?;
 /// assert_eq!(bodies.len(), 2);

@@ -59,7 +59,7 @@ impl Case {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::accuracy::Case;
+    /// use rollphase_core::analysis::accuracy::trajectories::Case;
     /// use rollphase_core::dynamics::{ModelKind, Ramp};
     /// use rollphase_core::geometry::Body;
     /// let case = Case { body: Body::paper_disk(84, 0.12, 5)?, ramp: Ramp::new(0.2, 2.0)?, start: [0.0; 3], t_end: 10.0 };
@@ -96,7 +96,7 @@ pub struct AccuracyRow {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::accuracy::default_cases;
+/// use rollphase_core::analysis::accuracy::trajectories::default_cases;
 /// use rollphase_core::dynamics::ModelKind;
 /// use rollphase_core::geometry::Body;
 /// let (disk, sphere) = (Body::paper_disk(84, 0.12, 5)?, Body::paper_sphere(219, 0.25, 5)?);
@@ -140,7 +140,7 @@ pub fn default_cases(disk: &Body, disk_inertial: &Body, sphere: &Body) -> Vec<Ca
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::accuracy::{default_cases, default_settings};
+/// use rollphase_core::analysis::accuracy::trajectories::{default_cases, default_settings};
 /// use rollphase_core::geometry::Body;
 /// let (disk, sphere) = (Body::paper_disk(84, 0.12, 5)?, Body::paper_sphere(219, 0.25, 5)?);
 /// let cases = default_cases(&disk, &disk, &sphere);
@@ -217,7 +217,7 @@ fn drive<const N: usize, S: RollingModel<N>>(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::accuracy::{Case, run_case, state_error};
+/// use rollphase_core::analysis::accuracy::trajectories::{Case, run_case, state_error};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::integrate::Method;
@@ -296,7 +296,7 @@ pub fn run_case(case: &Case, method: Method) -> Result<Outcome, IntegrateError> 
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::accuracy::period_estimate;
+/// use rollphase_core::analysis::accuracy::trajectories::period_estimate;
 /// // Crossings every 2.5 time units; only those after t_end/5 = 2 count.
 /// assert_eq!(period_estimate(&[0.5, 3.0, 5.5, 8.0, 10.5], 10.5), Some(2.5));
 /// assert_eq!(period_estimate(&[9.0], 10.0), None);
@@ -314,7 +314,7 @@ pub fn period_estimate(crossings: &[f64], t_end: f64) -> Option<f64> {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::accuracy::{Case, run_case, state_error};
+/// use rollphase_core::analysis::accuracy::trajectories::{Case, run_case, state_error};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::integrate::Method;
@@ -340,7 +340,7 @@ pub fn state_error(a: &Outcome, reference: &Outcome) -> f64 {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::accuracy::{Case, row, run_case};
+/// use rollphase_core::analysis::accuracy::trajectories::{Case, row, run_case};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::integrate::{IntegrateError, Method};
@@ -400,7 +400,7 @@ pub fn row(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::accuracy::{Case, outcome_quat, run_case};
+/// use rollphase_core::analysis::accuracy::trajectories::{Case, outcome_quat, run_case};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::integrate::Method;

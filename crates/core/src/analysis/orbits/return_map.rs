@@ -58,12 +58,12 @@ pub struct FixedPoint {
 /// # Example
 /// ```
 /// use nalgebra::{DMatrix, DVector};
-/// use rollphase_core::analysis::return_map::jacobian;
+/// use rollphase_core::analysis::orbits::return_map::jacobian;
 /// // A linear map P(x) = A x has DP = A.
 /// let a = DMatrix::from_row_slice(2, 2, &[0.5, 1.0, 0.0, -0.3]);
 /// let j = jacobian(&|x: &DVector<f64>| Some(&a * x), &DVector::from_vec(vec![1.0, 2.0]), 1e-6)?;
 /// assert!((j - a).norm() < 1e-9);
-/// # Ok::<(), rollphase_core::analysis::return_map::ReturnMapError>(())
+/// # Ok::<(), rollphase_core::analysis::orbits::return_map::ReturnMapError>(())
 /// ```
 pub fn jacobian(
     map: &impl Fn(&DVector<f64>) -> Option<DVector<f64>>,
@@ -92,7 +92,7 @@ pub fn jacobian(
 /// # Example
 /// ```
 /// use nalgebra::Complex;
-/// use rollphase_core::analysis::return_map::most_negative_real;
+/// use rollphase_core::analysis::orbits::return_map::most_negative_real;
 /// let mu = [Complex::new(0.3, 0.4), Complex::new(-1.2, 0.0), Complex::new(-0.5, 0.0)];
 /// assert_eq!(most_negative_real(&mu), Some(-1.2));
 /// assert_eq!(most_negative_real(&mu[..1]), None); // a complex pair is not real
@@ -112,13 +112,13 @@ pub fn most_negative_real(multipliers: &[Complex<f64>]) -> Option<f64> {
 /// # Example
 /// ```
 /// use nalgebra::DVector;
-/// use rollphase_core::analysis::return_map::find_fixed_point;
+/// use rollphase_core::analysis::orbits::return_map::find_fixed_point;
 /// // P(x) = cos x has its fixed point at x = 0.739085…, with multiplier −sin x* there.
 /// let map = |x: &DVector<f64>| Some(x.map(f64::cos));
 /// let fp = find_fixed_point(&map, DVector::from_vec(vec![1.0]), 1e-6, 1e-12, 1.0, 20)?;
 /// assert!((fp.point[0] - 0.739_085_133_215_160_6).abs() < 1e-11);
 /// assert!((fp.multipliers[0].re + fp.point[0].sin()).abs() < 1e-8);
-/// # Ok::<(), rollphase_core::analysis::return_map::ReturnMapError>(())
+/// # Ok::<(), rollphase_core::analysis::orbits::return_map::ReturnMapError>(())
 /// ```
 pub fn find_fixed_point(
     map: &impl Fn(&DVector<f64>) -> Option<DVector<f64>>,
@@ -171,7 +171,7 @@ pub fn find_fixed_point(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::return_map::locate_flip;
+/// use rollphase_core::analysis::orbits::return_map::locate_flip;
 /// // μ_min(p) = −p/2: it passes −1 at p = 2.
 /// let p = locate_flip(0.0, 5.0, 1e-9, |p| Some(1.0 - p / 2.0)).unwrap();
 /// assert!((p - 2.0).abs() < 1e-8);

@@ -5,7 +5,7 @@
 //! (a rotation by π), with q and −q identified: a point of the section is a boundary point p
 //! (a unit vector up to sign) and ω, five dimensions. P sends (p, ω) to the next crossing of
 //! q_w = 0. In a chart around a base point p₀ (gnomonic: p ∝ p₀ + s₁e₁ + s₂e₂, the sign of p
-//! taken nearest p₀) P is a map of ℝ⁵, and [`super::return_map`] finds its fixed points (the
+//! taken nearest p₀) P is a map of ℝ⁵, and [`crate::analysis::orbits::return_map`] finds its fixed points (the
 //! period-1 orbits), their five multipliers and the masses where one passes −1.
 //!
 //! The period of the crossing sequence is the orbit's multiplicity: k = 1 when every crossing
@@ -15,9 +15,9 @@ use glam::{DQuat, DVec3};
 use nalgebra::DVector;
 use serde::Serialize;
 
-use super::return_map::{self, ReturnMapError};
-use super::sphere_orbits::{first_crossing, nearest_sign, poincare_step};
-use super::verdict::at_rest;
+use crate::analysis::orbits::return_map::{self, ReturnMapError};
+use crate::analysis::orbits::sphere_orbits::{first_crossing, nearest_sign, poincare_step};
+use crate::analysis::verdict::at_rest;
 use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch};
 use crate::dynamics::{Ramp, RollingModel, SphereInertial, SphereViscous};
 use crate::geometry::Sphere;
@@ -41,7 +41,7 @@ pub struct SectionState {
 /// if the body comes to rest.
 ///
 /// ```
-/// use rollphase_core::analysis::sphere_return_map::inertial_crossings;
+/// use rollphase_core::analysis::orbits::sphere_return_map::inertial_crossings;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::{DQuat, DVec3};
@@ -64,12 +64,12 @@ pub fn inertial_crossings(
 
 /// [`inertial_crossings`] that goes on until its fate is decided: at least `t_min`, then until
 /// `decided` says so (asked at every new crossing) or the body comes to rest
-/// ([`super::verdict::at_rest`]: still, and the weight's torque zero), and at most `t_cap`
+/// ([`crate::analysis::verdict::at_rest`]: still, and the weight's torque zero), and at most `t_cap`
 /// (`span` = (t_min, t_cap)). Returns the crossings and the time the run ended.
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_return_map::inertial_crossings_until;
+/// use rollphase_core::analysis::orbits::sphere_return_map::inertial_crossings_until;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::{DQuat, DVec3};
@@ -96,7 +96,7 @@ pub fn inertial_crossings_until(
 pub enum InertialEnd {
     /// `decided` said so.
     Decided,
-    /// The body came to rest ([`super::verdict::at_rest`]).
+    /// The body came to rest ([`crate::analysis::verdict::at_rest`]).
     Rest,
     /// The normal force fell to zero: the body leaves the ramp (only when watched).
     LiftOff,
@@ -125,7 +125,7 @@ pub struct InertialRun {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::sphere_return_map::{InertialEnd, inertial_run};
+/// use rollphase_core::analysis::orbits::sphere_return_map::{InertialEnd, inertial_run};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::{DQuat, DVec3};
@@ -206,7 +206,7 @@ pub fn inertial_run(
 /// return by `t_max`.
 ///
 /// ```
-/// use rollphase_core::analysis::sphere_return_map::next_crossing;
+/// use rollphase_core::analysis::orbits::sphere_return_map::next_crossing;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DVec3;
@@ -256,7 +256,7 @@ impl SectionChart {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::sphere_return_map::SectionChart;
+    /// use rollphase_core::analysis::orbits::sphere_return_map::SectionChart;
     /// use rollphase_core::glam::DVec3;
     /// let chart = SectionChart::new(DVec3::new(0.0, 0.0, 2.0)); // normalised here
     /// let (p, _) = chart.unpack(&chart.pack(DVec3::Z, DVec3::ZERO));
@@ -273,7 +273,7 @@ impl SectionChart {
     /// # Example
     /// ```
     /// use nalgebra::DVector;
-    /// use rollphase_core::analysis::sphere_return_map::SectionChart;
+    /// use rollphase_core::analysis::orbits::sphere_return_map::SectionChart;
     /// use rollphase_core::glam::DVec3;
     /// let chart = SectionChart::new(DVec3::Z);
     /// // The chart's origin is its base point.
@@ -289,7 +289,7 @@ impl SectionChart {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::sphere_return_map::SectionChart;
+    /// use rollphase_core::analysis::orbits::sphere_return_map::SectionChart;
     /// use rollphase_core::glam::DVec3;
     /// let chart = SectionChart::new(DVec3::X);
     /// let p = DVec3::new(-0.9, 0.3, 0.1).normalize();
@@ -365,9 +365,9 @@ impl Default for OrbitSolve {
 /// multipliers.
 ///
 /// ```
-/// use rollphase_core::analysis::sphere_return_map::{OrbitSolve, periodic_orbit};
-/// use rollphase_core::analysis::studies::periodic_orbits;
-/// use rollphase_core::analysis::sphere_orbits::Decide;
+/// use rollphase_core::analysis::orbits::sphere_return_map::{OrbitSolve, periodic_orbit};
+/// use rollphase_core::analysis::studies::sphere::periodic_orbits;
+/// use rollphase_core::analysis::orbits::sphere_orbits::Decide;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DVec3;
@@ -433,7 +433,7 @@ pub fn periodic_orbit(
 /// map evaluation.
 ///
 /// ```
-/// use rollphase_core::analysis::sphere_return_map::{OrbitSolve, viscous_periodic_orbit};
+/// use rollphase_core::analysis::orbits::sphere_return_map::{OrbitSolve, viscous_periodic_orbit};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DVec3;

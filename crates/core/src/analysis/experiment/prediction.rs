@@ -3,7 +3,7 @@
 //! centre moves down and across the ramp per period (per repeat for a doubled orbit), its Floquet
 //! multipliers, and the centre's path over a few periods (drawn from above by `predict`).
 //!
-//! 3D: runs from rest at random orientations ([`super::studies::random_orientation`]) go on
+//! 3D: runs from rest at random orientations ([`crate::analysis::studies::sphere::random_orientation`]) go on
 //! until their ∂Ω crossings close a cycle of one or two crossings ([`settled_cycle`]) or they
 //! come to rest; period-1 cycles are refined as fixed points of the return map by Newton's method
 //! (period and multipliers to the solver's tolerance), doubled ones are measured on the run's
@@ -18,17 +18,17 @@ use glam::{DQuat, DVec3};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::critical_angle::critical_angle;
-use super::period::{inertial_disk_period_until, viscous_disk_period};
-use super::return_map::ReturnMapError;
-use super::sphere_orbits::{
+use crate::analysis::orbits::disk_period::{inertial_disk_period_until, viscous_disk_period};
+use crate::analysis::orbits::return_map::ReturnMapError;
+use crate::analysis::orbits::sphere_orbits::{
     Decide, RunEnd, boundary_distance, cluster_antipodal, decided_run, settled_cycle,
 };
-use super::sphere_return_map::{
+use crate::analysis::orbits::sphere_return_map::{
     InertialEnd, OrbitSolve, SectionState, inertial_run, periodic_orbit, viscous_periodic_orbit,
 };
-use super::studies::{StudyError, random_orientation};
-use super::verdict::{Fate, FateCounts, Stability, Undecided, steady_drift};
+use crate::analysis::rest::critical_angle::critical_angle;
+use crate::analysis::studies::sphere::{StudyError, random_orientation};
+use crate::analysis::verdict::{Fate, FateCounts, Stability, Undecided, steady_drift};
 use crate::dynamics::sphere3d::{SphereInertial, SphereViscous};
 use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch, Violation};
 use crate::dynamics::{DragLaw, Ramp, RollingModel, disk2d};
@@ -175,7 +175,7 @@ pub const MAX_PREDICT_STARTS: usize = 100_000;
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::prediction::{PredictOptions, predict};
+/// use rollphase_core::analysis::experiment::prediction::{PredictOptions, predict};
 /// use rollphase_core::geometry::Body;
 /// // The paper's sphere at α = 0.15: two stable orbits (Fig. 3d), each rolling downhill.
 /// let body = Body::paper_sphere(219, 0.25, 5)?;
@@ -198,8 +198,8 @@ pub fn predict(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::prediction::{PredictOptions, predict_until};
-/// use rollphase_core::analysis::studies::StudyError;
+/// use rollphase_core::analysis::experiment::prediction::{PredictOptions, predict_until};
+/// use rollphase_core::analysis::studies::sphere::StudyError;
 /// use rollphase_core::geometry::Body;
 /// use std::sync::atomic::AtomicBool;
 /// let body = Body::paper_sphere(219, 0.25, 5)?;
@@ -357,7 +357,7 @@ fn sphere_start(
             ),
         });
     }
-    let to_crossing = |c: &SectionState| super::sphere_orbits::Crossing {
+    let to_crossing = |c: &SectionState| crate::analysis::orbits::sphere_orbits::Crossing {
         t: c.t,
         point: c.point,
     };
@@ -408,7 +408,7 @@ fn refine(
     sphere: &Sphere,
     ramp: &Ramp,
     (p, omega): (DVec3, DVec3),
-) -> Result<super::sphere_return_map::PeriodicOrbit, ReturnMapError> {
+) -> Result<crate::analysis::orbits::sphere_return_map::PeriodicOrbit, ReturnMapError> {
     let solve = OrbitSolve::default();
     if ramp.is_viscous() {
         viscous_periodic_orbit(sphere, ramp, p, &solve)
@@ -423,7 +423,7 @@ fn refine(
 /// motion, rolling straight, whatever great circle it rolls on.
 fn add_orbit(
     found: &mut Vec<Seen>,
-    orbit: &super::sphere_return_map::PeriodicOrbit,
+    orbit: &crate::analysis::orbits::sphere_return_map::PeriodicOrbit,
     count: usize,
     stability: Stability,
 ) {
@@ -498,7 +498,10 @@ fn predict_sphere(
         .collect();
     let points: Vec<DVec3> = singles.iter().map(|s| s.0).collect();
     let clusters = cluster_antipodal(&points, 1e-3);
-    let refined: Vec<(super::sphere_return_map::PeriodicOrbit, usize)> = clusters
+    let refined: Vec<(
+        crate::analysis::orbits::sphere_return_map::PeriodicOrbit,
+        usize,
+    )> = clusters
         .par_iter()
         .map(|&(centre, count)| {
             stopped(stop)?;
@@ -517,7 +520,10 @@ fn predict_sphere(
     // An undecided start that rolls near a neutral orbit, or whose crossings drift steadily
     // and slowly, is on a neutral motion: it attracts too slowly (or not at all) for its
     // crossings to repeat within the tolerance.
-    let near_neutral: Vec<(bool, Option<super::sphere_return_map::PeriodicOrbit>)> = ends
+    let near_neutral: Vec<(
+        bool,
+        Option<crate::analysis::orbits::sphere_return_map::PeriodicOrbit>,
+    )> = ends
         .par_iter()
         .map(|e| match e {
             StartEnd::Undecided(Undecided::NoRepeat { .. }, Some(last), drifting) => {
@@ -820,7 +826,7 @@ fn simpson_arc(disk: &Disk, a: f64, b: f64) -> f64 {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::prediction::disk_perimeter;
+/// use rollphase_core::analysis::experiment::prediction::disk_perimeter;
 /// use rollphase_core::geometry::Disk;
 /// assert!((disk_perimeter(&Disk::perfect()) - std::f64::consts::TAU).abs() < 1e-14);
 /// ```

@@ -116,7 +116,7 @@ pub struct CleanTrack {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::tracking::clean;
+/// use rollphase_core::analysis::experiment::tracking::clean;
 /// // Rolling at 1 cm a frame with a wobble across, one frame missing and one glitch.
 /// let frames: Vec<f64> = (0..200).filter(|&i| i != 50).map(f64::from).collect();
 /// let down: Vec<f64> = frames.iter().map(|&f| if f == 120.0 { 500.0 } else { f }).collect();
@@ -125,7 +125,7 @@ pub struct CleanTrack {
 /// assert_eq!(track.frames.len(), 200);
 /// assert!((track.down[120] - 120.0).abs() < 1e-9, "the glitch is replaced");
 /// assert_eq!(track.warnings.len(), 2);
-/// # Ok::<(), rollphase_core::analysis::tracking::TrackError>(())
+/// # Ok::<(), rollphase_core::analysis::experiment::tracking::TrackError>(())
 /// ```
 pub fn clean(frames: &[f64], down: &[f64], across: &[f64]) -> Result<CleanTrack, TrackError> {
     if frames.len() != down.len() || frames.len() != across.len() {
@@ -283,7 +283,7 @@ pub fn clean(frames: &[f64], down: &[f64], across: &[f64]) -> Result<CleanTrack,
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::tracking::{CleanTrack, steady_stretch};
+/// use rollphase_core::analysis::experiment::tracking::{CleanTrack, steady_stretch};
 /// // Rolling at 1 cm a frame, then stuck at the end of the ramp from frame 150.
 /// let frames: Vec<f64> = (0..200).map(f64::from).collect();
 /// let down = frames.iter().map(|&f| f.min(150.0)).collect();
@@ -293,7 +293,7 @@ pub fn clean(frames: &[f64], down: &[f64], across: &[f64]) -> Result<CleanTrack,
 /// // Cut within a window of where it stuck.
 /// let last = *steady.frames.last().unwrap();
 /// assert!(last > 130.0 && last <= 150.0, "{last}");
-/// # Ok::<(), rollphase_core::analysis::tracking::TrackError>(())
+/// # Ok::<(), rollphase_core::analysis::experiment::tracking::TrackError>(())
 /// ```
 pub fn steady_stretch(
     track: &CleanTrack,
@@ -399,7 +399,7 @@ pub fn steady_stretch(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::tracking::measure;
+/// use rollphase_core::analysis::experiment::tracking::measure;
 /// // A steady roll with a 40-frame period, stuck for its last 60 frames.
 /// let frames: Vec<f64> = (0..600).map(f64::from).collect();
 /// let w = std::f64::consts::TAU / 40.0;
@@ -411,7 +411,7 @@ pub fn steady_stretch(
 /// let (track, fit) = measure(&frames, &down, &across, &|_, _| {})?;
 /// assert!((fit.period_frames - 40.0).abs() < 0.05, "{}", fit.period_frames);
 /// assert!(*track.frames.last().unwrap() <= 545.0);
-/// # Ok::<(), rollphase_core::analysis::tracking::TrackError>(())
+/// # Ok::<(), rollphase_core::analysis::experiment::tracking::TrackError>(())
 /// ```
 pub fn measure(
     frames: &[f64],
@@ -543,7 +543,7 @@ pub struct Folded {
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::tracking::fold;
+/// use rollphase_core::analysis::experiment::tracking::fold;
 /// // Two periods of 10 frames advancing 5 cm: the second lies on the first.
 /// let f = fold(&[(0.0, 0.0, 0.0), (3.0, 1.0, 0.2), (13.0, 6.0, 0.2)], 0.0, (0.0, 0.0), 10.0, (5.0, 0.0));
 /// assert_eq!((f[1].period, f[2].period), (0, 1));

@@ -1,0 +1,12 @@
+//! The bridge to the lab: what a body will do in the lab's terms, and measured data read as
+//! measurements.
+//!
+//! | file | what it owns |
+//! |---|---|
+//! | [`prediction`] | the periodic motions a body settles into from rest, in the lab's terms, with their contact forces and fractions of starts |
+//! | [`lag_times`] | fits of measured lag times t_lag = A (α − α*)^β, per run and with one shared exponent |
+//! | [`tracking`] | a filmed run's centre track cleaned, its period with evidence, the folded track, the markers' reading, and the comparison with the model |
+
+pub mod lag_times;
+pub mod prediction;
+pub mod tracking;
