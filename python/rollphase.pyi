@@ -169,6 +169,7 @@ class Prediction(TypedDict):
     """predict's answer; it also holds one float per drag-law parameter (the keys of
     drag_parameters())."""
 
+    model: str
     dimension: int
     alpha: float
     mass_ratio: float
@@ -550,6 +551,20 @@ class DragParameter(TypedDict):
 def drag_parameters() -> List[DragParameter]:
     """The drag-law parameters simulate, simulate_many, period and predict take as keywords,
     each with its key, what it means, its default (the paper's linear drag) and its range."""
+
+class ModelInfo(TypedDict):
+    """One registered rolling model."""
+
+    name: str
+    dimension: int
+    inertial: bool
+    about: str
+    state: List[str]
+
+def models() -> List[ModelInfo]:
+    """The rolling models there are (the core's registry): each with the name summaries, CSV
+    and the command line use, the body's dimension, whether it carries inertia, what it is and
+    its integrated state. A run's model follows from the body and mass_ratio (0: viscous)."""
 
 def measure_track(
     frames: _Floats, down: _Floats, across: _Floats, *, markers: Optional[_Floats] = None

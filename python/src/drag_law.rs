@@ -1,6 +1,6 @@
 //! The drag law as Python gives it: keyword arguments named after the core's registered
 //! parameters (`KEY=VALUE`), so a new law needs no code here; `drag_parameters()` lists
-//! them.
+//! them. `models()` lists the core's registered rolling models the same way.
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -49,6 +49,25 @@ pub fn drag_parameters(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
         d.set_item("default", p.default)?;
         d.set_item("min", p.min)?;
         d.set_item("max", p.max)?;
+        list.append(d)?;
+    }
+    Ok(list)
+}
+
+/// The rolling models there are, from the core's registry: a list of dicts with name (the name
+/// every summary, CSV and command uses), dimension (2: a cylinder, 3: a sphere), inertial
+/// (whether it carries m/m0 > 0), about and state (its integrated state, in order). A run's
+/// model follows from the body's dimension and its mass_ratio (0: viscous).
+#[pyfunction]
+pub fn models(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
+    let list = PyList::empty(py);
+    for m in rollphase_core::dynamics::models::REGISTERED {
+        let d = PyDict::new(py);
+        d.set_item("name", m.name)?;
+        d.set_item("dimension", m.dimension)?;
+        d.set_item("inertial", m.inertial)?;
+        d.set_item("about", m.about)?;
+        d.set_item("state", m.state.split(", ").collect::<Vec<_>>())?;
         list.append(d)?;
     }
     Ok(list)

@@ -190,5 +190,6 @@ fn rollphase(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(experiment::measure_track, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::compare_with_model, m)?)?;
     m.add_function(wrap_pyfunction!(drag_law::drag_parameters, m)?)?;
+    m.add_function(wrap_pyfunction!(drag_law::models, m)?)?;
     Ok(())
 }

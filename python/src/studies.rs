@@ -96,7 +96,8 @@ pub fn period(
     )
     .map_err(raise)?
     .ramp;
-    let p = if ramp.is_viscous() {
+    let model = rollphase_core::dynamics::ModelKind::of(&body.body, &ramp);
+    let p = if !model.is_inertial() {
         viscous_disk_period(disk, &ramp)
     } else {
         let disk = disk.clone();
@@ -449,7 +450,7 @@ pub fn mass_bifurcation<'py>(
 /// What `body` does on a ramp at angle `alpha` and `mass_ratio` (0: viscous), as
 /// `rollphase predict` answers: runs from rest at `starts` random orientations (3D) or equally
 /// spaced contact angles (2D) until each settles on a periodic motion or comes to rest (at most
-/// t_cap). Returns a dict: alpha, mass_ratio, alpha_star, starts, halts and undecided (fractions),
+/// t_cap). Returns a dict: model (its registry name, `models()`), alpha, mass_ratio, alpha_star, starts, halts and undecided (fractions),
 /// fates (every start's fate: periodic, neutral, halted, left_model, undecided, with
 /// undecided_reasons and first_violation), scale_mm (the body's, or None), and orbits, most
 /// visited first, each a dict: stability ("stable", "neutral" or "unstable"), members (orbits
@@ -497,6 +498,7 @@ pub fn predict<'py>(
     })?
     .map_err(raise)?;
     let d = PyDict::new(py);
+    d.set_item("model", p.model.name())?;
     d.set_item("dimension", p.dimension)?;
     d.set_item("alpha", p.alpha)?;
     d.set_item("mass_ratio", p.mass_ratio)?;

@@ -1,6 +1,8 @@
-//! The drag-law flags: one per parameter in the core's registry
-//! ([`crate::dynamics::drag::REGISTERED`]), so a new law gets its flag, its `--help` line and
-//! its range check without code here. `simulate`, `period` and `predict` flatten it in.
+//! The model's parts on the command line, from the core's registries: the drag-law flags, one
+//! per parameter in [`crate::dynamics::drag::REGISTERED`] (so a new law gets its flag, its
+//! `--help` line and its range check without code here), and the list of the models in
+//! [`crate::dynamics::models::REGISTERED`] at the end of `--help`. `simulate`, `period` and
+//! `predict` flatten it in.
 
 use anyhow::{Result, anyhow};
 use clap::{Arg, ArgMatches, Args, Command, FromArgMatches};
@@ -51,6 +53,15 @@ impl FromArgMatches for DragLawArgs {
 
 impl Args for DragLawArgs {
     fn augment_args(cmd: Command) -> Command {
+        let cmd = cmd.after_long_help(format!(
+            "Models (the body's dimension and --mass choose one; its name is the one every \
+             summary, CSV and JSON uses):\n{}",
+            crate::dynamics::models::listing()
+                .lines()
+                .map(|l| format!("  {l}"))
+                .collect::<Vec<_>>()
+                .join("\n")
+        ));
         REGISTERED.iter().fold(cmd, |cmd, p| {
             cmd.arg(
                 Arg::new(p.key)

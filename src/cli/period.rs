@@ -119,17 +119,15 @@ pub fn run(a: PeriodArgs) -> Result<()> {
     let choice =
         crate::simulate::choose_model(&body, ramp, crate::integrate::Method::dop853(a.rtol))?;
     let ramp = choice.ramp;
-    if !ramp.is_viscous() {
+    let model = ModelKind::of(&body, &ramp);
+    if model.is_inertial() {
         super::warn_if_stiff(&body, &ramp, a.t_max, "--t-max");
     }
     let alpha_star = critical_angle(&body).alpha_star;
-    let (p, model) = if ramp.is_viscous() {
-        (viscous_disk_period(disk, &ramp), ModelKind::DiskViscous)
+    let p = if model.is_inertial() {
+        inertial_disk_period(disk, &ramp, theta0, theta_dot0, a.rtol, a.t_max)?
     } else {
-        (
-            inertial_disk_period(disk, &ramp, theta0, theta_dot0, a.rtol, a.t_max)?,
-            ModelKind::DiskInertial,
-        )
+        viscous_disk_period(disk, &ramp)
     };
     let fate = p.fate(a.alpha - alpha_star, a.t_max);
     // A transient is not an answer: a period still changing at --t-max is not reported.

@@ -12,6 +12,7 @@ use crate::analysis::experiment::prediction::{
 use crate::analysis::orbits::sphere_orbits::Decide;
 use crate::analysis::verdict::{FateCounts, Stability};
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
+use crate::dynamics::ModelKind;
 use crate::geometry::{Body, ShapeFile};
 use crate::output::{self, Inputs};
 
@@ -86,8 +87,8 @@ pub struct OrbitReport {
 pub struct PredictReport {
     /// The shape file.
     pub body: String,
-    /// "viscous" or "inertial".
-    pub model: &'static str,
+    /// The model's registry name ("sphere-viscous", "disk-inertial", …).
+    pub model: ModelKind,
     /// Millimetres per ⟨r⟩ (from the shape file), `null` if it has none.
     pub scale_mm: Option<f64>,
     /// α, α*, the fractions and counts.
@@ -145,8 +146,8 @@ pub fn run(a: PredictArgs) -> Result<()> {
     if let Some(f) = &a.figure {
         output::check_file(f, &inputs)?;
     }
-    if a.mass > 0.0 {
-        let ramp = crate::dynamics::Ramp::new(a.alpha, a.mass)?.with_drag_law(drag_law);
+    let ramp = crate::dynamics::Ramp::new(a.alpha, a.mass)?.with_drag_law(drag_law);
+    if ModelKind::of(&body, &ramp).is_inertial() {
         super::warn_if_stiff(&body, &ramp, a.t_cap, "--t-cap");
     }
     let options = PredictOptions {
@@ -201,7 +202,7 @@ fn report_of(a: &PredictArgs, p: Prediction, scale: Option<f64>) -> PredictRepor
         .collect();
     PredictReport {
         body: a.file.display().to_string(),
-        model: if a.mass > 0.0 { "inertial" } else { "viscous" },
+        model: p.model,
         scale_mm: scale,
         prediction: PredictionHead {
             dimension: p.dimension,
@@ -228,7 +229,7 @@ fn print_table(r: &PredictReport) -> Result<()> {
         h.alpha,
         h.alpha.sin(),
         h.alpha_star,
-        if h.mass_ratio > 0.0 {
+        if r.model.is_inertial() {
             format!(", m/m0 = {}", h.mass_ratio)
         } else {
             String::new()
@@ -404,7 +405,7 @@ fn path_panel(p: &Prediction, body: &Body, scale: Option<f64>) -> Panel {
         title: format!(
             "centre path over three periods, to scale, α = {:.4} rad{}",
             p.alpha,
-            if p.mass_ratio > 0.0 {
+            if p.model.is_inertial() {
                 format!(", m/m0 = {}", p.mass_ratio)
             } else {
                 String::new()

@@ -856,3 +856,60 @@ fn no_code_outside_integrate_builds_or_steps_a_stepper() {
         violations.join("\n")
     );
 }
+
+/// One model choice: which model a run gets is decided by `dynamics::models`
+/// (`ModelKind::of`, `for_dimension`, `asks_for_inertia`), never by an m/m0 compared with 0
+/// elsewhere (issue 44 found it in 29 places). The comparisons left compare a value, not a
+/// model: each is listed with its reason.
+#[test]
+fn the_model_is_chosen_in_one_place() {
+    const VALUE_CHECKS: &[(&str, &str)] = &[
+        ("crates/core/src/dynamics/models.rs", "the one rule"),
+        (
+            "crates/core/src/dynamics/mod.rs",
+            "Ramp::with_drag refuses zero drag where no inertia bounds the speed",
+        ),
+        (
+            "crates/core/src/simulate/typed.rs",
+            "an input check: m/m0 finite and > 0 for Model::Inertial",
+        ),
+        (
+            "crates/viewer/src/ui/measuring_sweep.rs",
+            "a sweep in m/m0 starting from 0 takes its first value",
+        ),
+        (
+            "crates/viewer/src/ui/mod.rs",
+            "a sweep in m/m0 starting from 0 takes its first value",
+        ),
+    ];
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files: Vec<PathBuf> = workspace_files().into_iter().map(|(_, f)| f).collect();
+    rust_files(&root.join("python/src"), &mut files);
+    let compared = |text: &str| {
+        ["mass_ratio", "mass", "model_mass"].iter().any(|name| {
+            ["== 0.0", "> 0.0", "<= 0.0", "!= 0.0"]
+                .iter()
+                .any(|op| text.contains(&format!("{name} {op}")))
+        }) || text.contains(".is_viscous()")
+    };
+    let mut violations = Vec::new();
+    for file in &files {
+        let rel = file
+            .strip_prefix(root)
+            .unwrap()
+            .to_string_lossy()
+            .into_owned();
+        let text = code_only(&std::fs::read_to_string(file).unwrap());
+        let text = text.split("#[cfg(test)]").next().unwrap_or(&text);
+        if compared(text) && !VALUE_CHECKS.iter().any(|(f, _)| *f == rel) {
+            violations.push(rel);
+        }
+    }
+    assert!(
+        violations.is_empty(),
+        "choose the model through dynamics::models (ModelKind::of, asks_for_inertia), not by \
+         comparing m/m0 with 0:\n{}",
+        violations.join("\n")
+    );
+    assert!(compared("if a.mass > 0.0 {") && compared("ramp.is_viscous()"));
+}

@@ -10,6 +10,7 @@
 
 use rollphase::analysis::accuracy::trajectories::{Case, default_cases, default_settings};
 use rollphase::assets::{DISK, DISK_INERTIAL, SPHERE};
+use rollphase::dynamics::ModelKind;
 use rollphase::dynamics::disk2d::{DiskInertial, DiskViscous};
 use rollphase::dynamics::sphere3d::{SphereInertial, SphereViscous, orientation_touching};
 use rollphase::geometry::sphere::direction;
@@ -37,12 +38,14 @@ fn largest_estimate<S: OdeSystem<N>, const N: usize>(
 
 fn run_case(case: &Case, method: Method) -> Result<f64, IntegrateError> {
     match &case.body {
-        Body::Disk(d) if case.ramp.is_viscous() => largest_estimate(
-            &DiskViscous::new(d, &case.ramp),
-            [case.start[0], 0.0],
-            method,
-            case.t_end,
-        ),
+        Body::Disk(d) if ModelKind::of(&case.body, &case.ramp) == ModelKind::DiskViscous => {
+            largest_estimate(
+                &DiskViscous::new(d, &case.ramp),
+                [case.start[0], 0.0],
+                method,
+                case.t_end,
+            )
+        }
         Body::Disk(d) => largest_estimate(
             &DiskInertial::new(d, &case.ramp),
             [case.start[0], 0.0, 0.0, 0.0],
@@ -52,7 +55,7 @@ fn run_case(case: &Case, method: Method) -> Result<f64, IntegrateError> {
         Body::Sphere(s) => {
             let q0 =
                 orientation_touching(s, direction(case.start[0], case.start[1]), case.start[2]);
-            if case.ramp.is_viscous() {
+            if ModelKind::of(&case.body, &case.ramp) == ModelKind::SphereViscous {
                 largest_estimate(
                     &SphereViscous::new(s, &case.ramp),
                     SphereViscous::initial_state(q0),

@@ -8,6 +8,7 @@
 pub mod disk2d;
 pub mod drag;
 pub mod model;
+pub mod models;
 pub mod sphere3d;
 pub mod validity;
 
@@ -21,83 +22,15 @@ pub use model::{
     ContactForce, FORCE_COLUMNS, ModelHealth, ModelVisitor, ModelVisitorMut, Observation,
     RollingModel, Switched,
 };
+pub use models::ModelKind;
 pub use sphere3d::{SphereInertial, SphereViscous};
-
-/// Which of the four models runs: the body's dimension × viscous (m/m0 = 0) or inertial. Its
-/// [`Display`](std::fmt::Display) and serde name ("sphere-viscous", …) is the one name used
-/// everywhere: command line, CSV, JSON, overlay and UI.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ModelKind {
-    /// 2D, first order in θ (SI §1A).
-    DiskViscous,
-    /// 2D, second order in θ (SI §1B).
-    DiskInertial,
-    /// 3D, ω = −r×F/γ with the orientation quaternion (SI §2B).
-    SphereViscous,
-    /// 3D, the ω̇ equation (SI §2A).
-    SphereInertial,
-}
-
-impl ModelKind {
-    /// All four, 2D first.
-    pub const ALL: [ModelKind; 4] = [
-        ModelKind::DiskViscous,
-        ModelKind::DiskInertial,
-        ModelKind::SphereViscous,
-        ModelKind::SphereInertial,
-    ];
-
-    /// The model a body runs with on `ramp` (m/m0 = 0: viscous).
-    ///
-    /// # Example
-    /// ```
-    /// use rollphase_core::dynamics::{ModelKind, Ramp};
-    /// use rollphase_core::geometry::Body;
-    /// let body = Body::paper_sphere(219, 0.25, 5)?;
-    /// assert_eq!(ModelKind::of(&body, &Ramp::new(0.15, 0.0)?), ModelKind::SphereViscous);
-    /// assert_eq!(ModelKind::of(&body, &Ramp::new(0.15, 6.0)?), ModelKind::SphereInertial);
-    /// # Ok::<(), Box<dyn std::error::Error>>(())
-    /// ```
-    pub fn of(body: &crate::geometry::Body, ramp: &Ramp) -> Self {
-        match (body, ramp.is_viscous()) {
-            (crate::geometry::Body::Disk(_), true) => ModelKind::DiskViscous,
-            (crate::geometry::Body::Disk(_), false) => ModelKind::DiskInertial,
-            (crate::geometry::Body::Sphere(_), true) => ModelKind::SphereViscous,
-            (crate::geometry::Body::Sphere(_), false) => ModelKind::SphereInertial,
-        }
-    }
-
-    /// The name: "disk-viscous", "disk-inertial", "sphere-viscous" or "sphere-inertial".
-    ///
-    /// # Example
-    /// ```
-    /// use rollphase_core::dynamics::ModelKind;
-    /// assert_eq!(ModelKind::DiskInertial.name(), "disk-inertial");
-    /// assert_eq!(ModelKind::SphereViscous.to_string(), "sphere-viscous");
-    /// ```
-    pub fn name(self) -> &'static str {
-        match self {
-            ModelKind::DiskViscous => "disk-viscous",
-            ModelKind::DiskInertial => "disk-inertial",
-            ModelKind::SphereViscous => "sphere-viscous",
-            ModelKind::SphereInertial => "sphere-inertial",
-        }
-    }
-}
-
-impl std::fmt::Display for ModelKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
 
 /// The ramp and the body's dynamical constants.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ramp {
     /// Tilt α in radians, [`MIN_ALPHA`] ≤ α < π/2.
     pub alpha_rad: f64,
-    /// m/m0; 0 selects the viscous model.
+    /// m/m0; 0 asks for the viscous model ([`ModelKind::for_dimension`] decides).
     pub mass_ratio: f64,
     /// Rotational drag γ in units of γ0 (1 by default; 0 only for inertial models).
     pub drag: f64,
@@ -159,7 +92,7 @@ impl Ramp {
     /// ```
     /// use rollphase_core::dynamics::{ModelError, Ramp};
     /// let ramp = Ramp::new(0.15, 6.0)?;
-    /// assert_eq!((ramp.drag, ramp.is_viscous()), (1.0, false));
+    /// assert_eq!((ramp.drag, ramp.mass_ratio), (1.0, 6.0));
     /// assert_eq!(Ramp::new(2.0, 0.0), Err(ModelError::BadAlpha(2.0)));
     /// // Below 1e-9 rad the tilt is lost in round-off.
     /// assert_eq!(Ramp::new(1e-16, 0.0), Err(ModelError::BadAlpha(1e-16)));
@@ -211,19 +144,6 @@ impl Ramp {
             drag_law: law,
             ..self
         }
-    }
-
-    /// Whether the viscous (massless) model applies.
-    ///
-    /// # Example
-    /// ```
-    /// use rollphase_core::dynamics::Ramp;
-    /// assert!(Ramp::new(0.2, 0.0)?.is_viscous());
-    /// assert!(!Ramp::new(0.2, 1e-3)?.is_viscous());
-    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
-    /// ```
-    pub fn is_viscous(&self) -> bool {
-        self.mass_ratio == 0.0
     }
 }
 

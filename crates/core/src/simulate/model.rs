@@ -94,6 +94,25 @@ impl Start {
     }
 }
 
+impl Start {
+    /// The body's dimension: 2 for a cylinder, 3 for a sphere.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{InitialState, Start};
+    /// let disk = Body::paper_disk(84, 0.12, 5)?;
+    /// assert_eq!(Start::new(&disk, InitialState::at_rest(&disk))?.dimension(), 2);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn dimension(&self) -> u32 {
+        match self {
+            Start::Disk { .. } => 2,
+            Start::Sphere { .. } => 3,
+        }
+    }
+}
+
 /// The match behind [`ModelState::visit`] and [`ModelState::visit_mut`] (the same arms, over a
 /// shared or a mutable state).
 macro_rules! dispatch {
@@ -164,7 +183,8 @@ impl ModelState {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn new(start: &Start, ramp: &Ramp) -> Self {
-        match (start, ramp.is_viscous()) {
+        let inertial = ModelKind::for_dimension(start.dimension(), ramp).is_inertial();
+        match (start, !inertial) {
             (Start::Disk { disk, theta0, .. }, true) => ModelState::DiskViscous {
                 disk: disk.clone(),
                 y: [*theta0, 0.0],
@@ -287,7 +307,8 @@ impl ModelState {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn for_ramp(self, ramp: &Ramp) -> Self {
-        match (self, ramp.is_viscous()) {
+        let viscous = !ModelKind::for_dimension(self.kind().entry().dimension, ramp).is_inertial();
+        match (self, viscous) {
             (ModelState::DiskViscous { disk, y }, false) => ModelState::DiskInertial {
                 disk,
                 y: [y[0], 0.0, y[1], 0.0],
@@ -504,6 +525,10 @@ mod tests {
                 seen.push(kind);
             }
         }
-        assert_eq!(seen, ModelKind::ALL.to_vec());
+        let registered: Vec<ModelKind> = crate::dynamics::models::REGISTERED
+            .iter()
+            .map(|m| m.kind)
+            .collect();
+        assert_eq!(seen, registered);
     }
 }

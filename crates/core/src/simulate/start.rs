@@ -229,7 +229,7 @@ pub fn check_start(
     mass_ratio: f64,
     r: &StartRequest,
 ) -> Result<CheckedStart, StartError> {
-    if mass_ratio == 0.0 {
+    if !crate::dynamics::models::asks_for_inertia(mass_ratio) {
         if r.omega0.is_some() {
             return Err(StartError::NotViscous(StartField::Omega0));
         }

@@ -40,7 +40,7 @@ impl Model {
     /// assert_eq!(Model::from_mass_ratio(6.0), Model::Inertial { mass_ratio: 6.0 });
     /// ```
     pub fn from_mass_ratio(mass_ratio: f64) -> Self {
-        if mass_ratio == 0.0 {
+        if !crate::dynamics::models::asks_for_inertia(mass_ratio) {
             Model::Viscous
         } else {
             Model::Inertial { mass_ratio }

@@ -183,7 +183,7 @@ impl PlotHistory {
         if let Some((t, p)) = snap.last_crossing
             && self.last_crossing_t != Some(t)
             && snap.period_multiplicity.is_some()
-            && snap.mass_ratio > 0.0
+            && snap.model.is_inertial()
         {
             let p = if p.z < 0.0 { -p } else { p };
             let point = [snap.mass_ratio, p.z.clamp(-1.0, 1.0).acos()];

@@ -779,9 +779,9 @@ impl LiveRun {
     /// See [`Snapshot::poincare_field`].
     pub fn field_wanted(&self) -> FieldWanted {
         let shown = self.setup.scene.views.poincare;
-        match (&self.setup.body, shown, self.ramp.is_viscous()) {
-            (Body::Sphere(_), true, true) => FieldWanted::Ramp(self.ramp),
-            (Body::Sphere(_), true, false) => FieldWanted::NeedsViscous,
+        match (shown, ModelKind::of(&self.setup.body, &self.ramp)) {
+            (true, ModelKind::SphereViscous) => FieldWanted::Ramp(self.ramp),
+            (true, ModelKind::SphereInertial) => FieldWanted::NeedsViscous,
             _ => FieldWanted::Off,
         }
     }

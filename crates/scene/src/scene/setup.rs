@@ -3,7 +3,7 @@
 //! the value and what is allowed.
 
 use crate::analysis::rest::critical_angle::critical_angle;
-use crate::dynamics::Ramp;
+use crate::dynamics::{ModelKind, Ramp};
 use crate::geometry::shape_file::{MAX_INPUT_FILE_BYTES, read_text_capped};
 use crate::geometry::{Body, Disk, ShapeFile, Sphere, random_disk, random_sphere};
 use crate::integrate::{Method, Preset};
@@ -342,7 +342,10 @@ impl InitialSpec {
         let given = |v: f64| Some(v).filter(|v| *v != 0.0);
         // The velocity of the body's own kind is dropped when viscous; the other kind's is
         // still refused.
-        let (sphere, inertial) = (body.dimension() == 3, mass_ratio > 0.0);
+        let (sphere, inertial) = (
+            body.dimension() == 3,
+            crate::dynamics::models::asks_for_inertia(mass_ratio),
+        );
         let request = StartRequest {
             q0: self.q0,
             contact: self.contact,
@@ -444,7 +447,7 @@ impl ViewsSpec {
                  turn them off for a cylinder",
             ));
         }
-        if self.poincare && !ramp.is_viscous() {
+        if self.poincare && ModelKind::of(body, ramp) != ModelKind::SphereViscous {
             return Err(invalid(
                 "views.poincare needs the viscous model (model.mass_ratio = 0): the map on ∂Ω is \
                  of orientations alone, which determine the viscous motion but not the inertial one",

@@ -39,6 +39,7 @@ pub use controls::{ALPHA_FIELD, MASS_FIELD};
 
 use std::path::PathBuf;
 
+use crate::dynamics::ModelKind;
 use crate::geometry::Body;
 use crate::live::history::PlotHistory;
 use crate::live::{SimCommand, SimStatus};
@@ -191,11 +192,11 @@ impl AppUi {
             field_note: None,
             fps: None,
             alpha: setup.ramp.alpha_rad,
-            inertial: !setup.ramp.is_viscous(),
-            mass_ratio: if setup.ramp.is_viscous() {
-                1.0
-            } else {
+            inertial: ModelKind::of(&setup.body, &setup.ramp).is_inertial(),
+            mass_ratio: if ModelKind::of(&setup.body, &setup.ramp).is_inertial() {
                 setup.ramp.mass_ratio
+            } else {
+                1.0
             },
             speed: setup.scene.playback.speed,
             random: RandomBody {
@@ -321,7 +322,7 @@ impl AppUi {
         // A refused change: show the simulation's values again.
         if status.message.is_some() && status.message != self.seen_message {
             self.alpha = status.snapshot.alpha_rad;
-            self.inertial = status.snapshot.mass_ratio > 0.0;
+            self.inertial = status.snapshot.model.is_inertial();
             self.speed = status.speed;
         }
         self.seen_message = status.message.clone();
@@ -337,7 +338,7 @@ impl AppUi {
     fn follow_values(&mut self, status: &SimStatus) {
         let snap = &status.snapshot;
         self.alpha = snap.alpha_rad;
-        self.inertial = snap.mass_ratio > 0.0;
+        self.inertial = snap.model.is_inertial();
         if self.inertial {
             self.mass_ratio = snap.mass_ratio;
         }

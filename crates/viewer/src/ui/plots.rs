@@ -18,6 +18,7 @@ use egui_plot::{
 };
 
 use crate::colormap::{DIVERGING, sample};
+use crate::dynamics::ModelKind;
 use crate::geometry::Body;
 use crate::geometry::sphere::{angles, direction};
 use crate::live::Snapshot;
@@ -562,7 +563,7 @@ fn sweep_ui(
     let up = history.sweep(Branch::Up);
     let down = history.sweep(Branch::Down);
     // The √ law is the viscous cylinder's; with inertia the branches follow other laws.
-    let fit = (snap.theta.is_some() && snap.mass_ratio == 0.0 && alpha_star > 0.0)
+    let fit = (snap.model == ModelKind::DiskViscous && alpha_star > 0.0)
         .then(|| {
             let all: Vec<[f64; 2]> = up.iter().chain(&down).copied().collect();
             crate::analysis::fit::sqrt_law(&all, alpha_star)

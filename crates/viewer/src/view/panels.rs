@@ -15,7 +15,7 @@ impl SceneView {
         } else {
             "perfect body".into()
         };
-        let mass = if snap.mass_ratio == 0.0 {
+        let mass = if !snap.model.is_inertial() {
             format!("m/m0 = 0 ({} model)", snap.model)
         } else {
             format!("m/m0 = {} ({} model)", trim(snap.mass_ratio), snap.model)

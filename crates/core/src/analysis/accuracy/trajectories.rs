@@ -97,12 +97,13 @@ pub struct AccuracyRow {
 /// # Example
 /// ```
 /// use rollphase_core::analysis::accuracy::trajectories::default_cases;
-/// use rollphase_core::dynamics::ModelKind;
+/// use rollphase_core::dynamics::models::REGISTERED;
 /// use rollphase_core::geometry::Body;
 /// let (disk, sphere) = (Body::paper_disk(84, 0.12, 5)?, Body::paper_sphere(219, 0.25, 5)?);
 /// let cases = default_cases(&disk, &disk, &sphere);
-/// // One case per model, in ModelKind's order.
-/// assert_eq!(cases.iter().map(|c| c.model()).collect::<Vec<_>>(), ModelKind::ALL);
+/// // One case per registered model, in the registry's order.
+/// let models: Vec<_> = REGISTERED.iter().map(|m| m.kind).collect();
+/// assert_eq!(cases.iter().map(|c| c.model()).collect::<Vec<_>>(), models);
 /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
 /// ```
 pub fn default_cases(disk: &Body, disk_inertial: &Body, sphere: &Body) -> Vec<Case> {
@@ -234,7 +235,7 @@ pub fn run_case(case: &Case, method: Method) -> Result<Outcome, IntegrateError> 
         Body::Disk(d) => {
             let theta0 = case.start[0];
             let section = Section::Turns { slot: 0, theta0 };
-            if case.ramp.is_viscous() {
+            if ModelKind::for_dimension(2, &case.ramp) == ModelKind::DiskViscous {
                 let m = DiskViscous::new(d, &case.ramp);
                 let (y, c, s) = drive(&m, [theta0, 0.0], method, case.t_end, section)?;
                 Ok(Outcome {
@@ -260,7 +261,7 @@ pub fn run_case(case: &Case, method: Method) -> Result<Outcome, IntegrateError> 
             let q0 =
                 orientation_touching(s, direction(case.start[0], case.start[1]), case.start[2]);
             let section = Section::BallBoundary;
-            if case.ramp.is_viscous() {
+            if ModelKind::for_dimension(3, &case.ramp) == ModelKind::SphereViscous {
                 let m = SphereViscous::new(s, &case.ramp);
                 let (y, c, st) = drive(
                     &m,

@@ -29,6 +29,7 @@ use crate::analysis::orbits::sphere_return_map::{
 use crate::analysis::rest::critical_angle::critical_angle;
 use crate::analysis::studies::sphere::{StudyError, random_orientation};
 use crate::analysis::verdict::{Fate, FateCounts, Stability, Undecided, steady_drift};
+use crate::dynamics::ModelKind;
 use crate::dynamics::sphere3d::{SphereInertial, SphereViscous};
 use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch, Violation};
 use crate::dynamics::{DragLaw, Ramp, RollingModel, disk2d};
@@ -143,6 +144,8 @@ impl From<ContactReport> for OrbitContact {
 /// What a body does at one α and m/m0.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Prediction {
+    /// The model that ran (its registry name: "sphere-inertial", …).
+    pub model: ModelKind,
     /// 2 or 3.
     pub dimension: u32,
     /// The drag law: one field per registered parameter, named by its key.
@@ -251,6 +254,7 @@ pub fn predict_until(
     };
     let fates = FateCounts::of(&fates);
     Ok(Prediction {
+        model: ModelKind::of(body, &ramp),
         dimension: body.dimension(),
         drag_law: ramp.drag_law,
         alpha,
@@ -333,7 +337,7 @@ fn sphere_start(
             }
         }
     };
-    if ramp.is_viscous() {
+    if ModelKind::for_dimension(3, ramp) == ModelKind::SphereViscous {
         let r = decided_run(sphere, ramp, q0, decide, (0.0, 0.0, 0), rtol)?;
         let points: Vec<(DVec3, DVec3)> = r
             .crossings
@@ -410,7 +414,7 @@ fn refine(
     (p, omega): (DVec3, DVec3),
 ) -> Result<crate::analysis::orbits::sphere_return_map::PeriodicOrbit, ReturnMapError> {
     let solve = OrbitSolve::default();
-    if ramp.is_viscous() {
+    if ModelKind::for_dimension(3, ramp) == ModelKind::SphereViscous {
         viscous_periodic_orbit(sphere, ramp, p, &solve)
     } else {
         periodic_orbit(sphere, ramp, p, omega, &solve)
@@ -668,7 +672,7 @@ fn sphere_path(
         .map(|i| period * i as f64 / options.samples_per_period as f64)
         .collect();
     let method = Method::dop853(1e-10);
-    let (path, contact) = if ramp.is_viscous() {
+    let (path, contact) = if ModelKind::for_dimension(3, ramp) == ModelKind::SphereViscous {
         let m = SphereViscous::new(sphere, ramp);
         let run = Run::new(&m, 0.0, SphereViscous::initial_state(q0), method)?;
         (sample(run, &times, |y| [y[4], y[5]], |_| {})?, None)
@@ -736,23 +740,24 @@ fn predict_disk(
     let alpha_star = critical_angle(&Body::Disk(disk.clone())).alpha_star;
     let is_periodic = |f: &Fate| matches!(f, Fate::Periodic { .. });
     // Each start's fate, with its period when it rolls.
-    let ends: Vec<(Fate, Option<f64>)> = if ramp.is_viscous() {
-        // The viscous disk's fate does not depend on where it starts.
-        let p = viscous_disk_period(disk, ramp);
-        let fate = p.fate(ramp.alpha_rad - alpha_star, t_cap);
-        vec![(fate, p.period.filter(|_| is_periodic(&fate))); options.starts]
-    } else {
-        (0..options.starts)
-            .into_par_iter()
-            .map(|i| {
-                let theta0 = std::f64::consts::TAU * i as f64 / options.starts as f64;
-                let p = inertial_disk_period_until(disk, ramp, theta0, 0.0, RTOL, t_cap, stop)?
-                    .ok_or(StudyError::Stopped)?;
-                let fate = p.fate(ramp.alpha_rad - alpha_star, t_cap);
-                Ok((fate, p.period.filter(|_| is_periodic(&fate))))
-            })
-            .collect::<Result<_, StudyError>>()?
-    };
+    let ends: Vec<(Fate, Option<f64>)> =
+        if ModelKind::for_dimension(2, ramp) == ModelKind::DiskViscous {
+            // The viscous disk's fate does not depend on where it starts.
+            let p = viscous_disk_period(disk, ramp);
+            let fate = p.fate(ramp.alpha_rad - alpha_star, t_cap);
+            vec![(fate, p.period.filter(|_| is_periodic(&fate))); options.starts]
+        } else {
+            (0..options.starts)
+                .into_par_iter()
+                .map(|i| {
+                    let theta0 = std::f64::consts::TAU * i as f64 / options.starts as f64;
+                    let p = inertial_disk_period_until(disk, ramp, theta0, 0.0, RTOL, t_cap, stop)?
+                        .ok_or(StudyError::Stopped)?;
+                    let fate = p.fate(ramp.alpha_rad - alpha_star, t_cap);
+                    Ok((fate, p.period.filter(|_| is_periodic(&fate))))
+                })
+                .collect::<Result<_, StudyError>>()?
+        };
     let fates: Vec<Fate> = ends.iter().map(|e| e.0).collect();
     let rolling: Vec<f64> = ends.iter().filter_map(|e| e.1).collect();
     if rolling.is_empty() {
@@ -760,7 +765,7 @@ fn predict_disk(
     }
     // Every rolling start is on the same cycle (the disk's phase space is a cylinder with one
     // rolling orbit at most at this α; shown by the periods agreeing).
-    let period = if ramp.is_viscous() {
+    let period = if ModelKind::for_dimension(2, ramp) == ModelKind::DiskViscous {
         rolling[0]
     } else {
         rolling.iter().sum::<f64>() / rolling.len() as f64

@@ -31,6 +31,7 @@ use crate::analysis::orbits::sphere_return_map::{
     OrbitSolve, PeriodicOrbit, SectionState, inertial_crossings_until, periodic_orbit,
 };
 use crate::analysis::studies::sphere::random_orientation;
+use crate::dynamics::ModelKind;
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::Sphere;
 use crate::integrate::{IntegrateError, MAX_SPAN};
@@ -157,45 +158,46 @@ pub fn direct_run(
     window: RunWindow,
 ) -> Result<LateRun, IntegrateError> {
     let RunWindow { t_min, t_cap } = window;
-    let (crossings, omegas, t_end) = if ramp.is_viscous() {
-        let r = decided_run(
-            body,
-            ramp,
-            q0,
-            &Decide {
-                t_min,
-                t_cap,
-                max_k: MAX_K,
-                tol: PERIOD_TOL,
-            },
-            (0.0, 0.0, 0),
-            DIRECT_RTOL,
-        )?;
-        let n = r.crossings.len();
-        (r.crossings, vec![DVec3::ZERO; n], r.t_end)
-    } else {
-        let to_crossing = |c: &SectionState| Crossing {
-            t: c.t,
-            point: c.point,
+    let (crossings, omegas, t_end) =
+        if ModelKind::for_dimension(3, ramp) == ModelKind::SphereViscous {
+            let r = decided_run(
+                body,
+                ramp,
+                q0,
+                &Decide {
+                    t_min,
+                    t_cap,
+                    max_k: MAX_K,
+                    tol: PERIOD_TOL,
+                },
+                (0.0, 0.0, 0),
+                DIRECT_RTOL,
+            )?;
+            let n = r.crossings.len();
+            (r.crossings, vec![DVec3::ZERO; n], r.t_end)
+        } else {
+            let to_crossing = |c: &SectionState| Crossing {
+                t: c.t,
+                point: c.point,
+            };
+            let (s, t_end) = inertial_crossings_until(
+                body,
+                ramp,
+                q0,
+                DVec3::ZERO,
+                (t_min, t_cap),
+                DIRECT_RTOL,
+                |s| {
+                    let late: Vec<Crossing> = s.iter().map(to_crossing).collect();
+                    settled_cycle(&late, MAX_K, PERIOD_TOL).is_some()
+                },
+            )?;
+            (
+                s.iter().map(to_crossing).collect(),
+                s.iter().map(|c| DVec3::from_array(c.omega)).collect(),
+                t_end,
+            )
         };
-        let (s, t_end) = inertial_crossings_until(
-            body,
-            ramp,
-            q0,
-            DVec3::ZERO,
-            (t_min, t_cap),
-            DIRECT_RTOL,
-            |s| {
-                let late: Vec<Crossing> = s.iter().map(to_crossing).collect();
-                settled_cycle(&late, MAX_K, PERIOD_TOL).is_some()
-            },
-        )?;
-        (
-            s.iter().map(to_crossing).collect(),
-            s.iter().map(|c| DVec3::from_array(c.omega)).collect(),
-            t_end,
-        )
-    };
     // The cycle from the whole sequence (its steadiness looks 10k crossings back), the points
     // from the late window.
     let period = settled_cycle(&crossings, MAX_K, PERIOD_TOL).map(|c| c.0);

@@ -29,6 +29,7 @@
 use glam::{DQuat, DVec3};
 use serde::Serialize;
 
+use crate::dynamics::ModelKind;
 use crate::dynamics::sphere3d::SphereObservation;
 use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch};
 use crate::dynamics::{Ramp, RollingModel, SphereInertial, SphereViscous};
@@ -43,7 +44,7 @@ use crate::integrate::{self, IntegrateError, Method, Stats};
 /// closure: the two models' states differ in size, a const generic a closure cannot take).
 macro_rules! on_model {
     ($body:expr, $ramp:expr, $q0:expr, |$sys:ident, $y0:ident, $omega:ident| $run:expr) => {
-        if $ramp.is_viscous() {
+        if ModelKind::for_dimension(3, $ramp) == ModelKind::SphereViscous {
             let model = SphereViscous::new($body, $ramp);
             let $sys = &model;
             let $y0 = SphereViscous::initial_state($q0);
@@ -860,7 +861,7 @@ pub fn decided_run(
     sampling: (f64, f64, usize),
     rtol: f64,
 ) -> Result<DecidedRun, IntegrateError> {
-    if ramp.is_viscous() {
+    if ModelKind::for_dimension(3, ramp) == ModelKind::SphereViscous {
         let m = SphereViscous::new(body, ramp);
         record(
             &m,

@@ -18,6 +18,7 @@ use serde::Serialize;
 use crate::analysis::fit::{logspace, power_law};
 use crate::analysis::orbits::disk_period::{inertial_disk_period, viscous_disk_period_with};
 use crate::analysis::rest::critical_angle::critical_angle;
+use crate::dynamics::ModelKind;
 use crate::dynamics::{DiskInertial, DiskViscous, ModelError, Ramp};
 use crate::geometry::{Body, Disk};
 use crate::integrate::events::{Direction, crossings_in_last_step};
@@ -46,7 +47,7 @@ pub fn lag_time(
     t_max: f64,
 ) -> Result<Option<f64>, IntegrateError> {
     let target = theta0 + distance;
-    if ramp.is_viscous() {
+    if ModelKind::for_dimension(2, ramp) == ModelKind::DiskViscous {
         let m = DiskViscous::new(disk, ramp);
         first_reach(&m, [theta0, 0.0], target, rtol, t_max)
     } else {

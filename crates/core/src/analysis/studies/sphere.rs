@@ -23,6 +23,7 @@ use crate::analysis::orbits::sphere_return_map::{
     OrbitSolve, PeriodicOrbit, SectionState, inertial_crossings_until, periodic_orbit,
     viscous_periodic_orbit,
 };
+use crate::dynamics::ModelKind;
 use crate::dynamics::sphere3d::orientation_touching;
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::{Body, Sphere};
@@ -741,7 +742,7 @@ pub fn periodic_orbits_until(
             let q0 = random_orientation(sphere, seed, o);
             let span = (decide.t_min, decide.t_cap);
             let (max_k, tol) = (decide.max_k, decide.tol);
-            if ramp.is_viscous() {
+            if ModelKind::for_dimension(3, &ramp) == ModelKind::SphereViscous {
                 let r = decided_run(sphere, &ramp, q0, decide, (0.0, 0.0, 0), RTOL)?;
                 let last = r.crossings.last().map(|c| DVec3::from_array(c.point));
                 Ok(last
@@ -777,7 +778,7 @@ pub fn periodic_orbits_until(
                 .iter()
                 .find(|s| boundary_distance(s.0, centre) < 1e-3)
                 .unwrap_or(&(centre, DVec3::ZERO));
-            let orbit = if ramp.is_viscous() {
+            let orbit = if ModelKind::for_dimension(3, &ramp) == ModelKind::SphereViscous {
                 viscous_periodic_orbit(sphere, &ramp, p, &solve)
             } else {
                 periodic_orbit(sphere, &ramp, p, omega, &solve)

@@ -437,13 +437,14 @@ pub fn compare_with_model_until(
     };
     // The speed estimate's own implication: its t0 and the model's period there.
     let t0_speed = t0_for_mass_ratio(from_speed, radius_m, G);
-    let speed_orbit_period = if from_speed < VISCOUS_BELOW && model_mass == 0.0 {
-        orbit.period
-    } else {
-        model_at(body, alpha, from_speed, (measured, cm), options, stop)?
-            .1
-            .period
-    };
+    let speed_orbit_period =
+        if from_speed < VISCOUS_BELOW && !crate::dynamics::models::asks_for_inertia(model_mass) {
+            orbit.period
+        } else {
+            model_at(body, alpha, from_speed, (measured, cm), options, stop)?
+                .1
+                .period
+        };
     let predicted_period_s = orbit.period * t0;
     let predicted_down = orbit.advance_down * cm;
     let predicted_speed = predicted_down / predicted_period_s;

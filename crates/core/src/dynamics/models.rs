@@ -1,0 +1,267 @@
+//! The registry of rolling models: every model there is, what it is called, which bodies it
+//! rolls, whether it carries inertia, and the one rule that picks the model a run asks for.
+//!
+//! Everything that lists, names, parses or shows a model (the command line's help and JSON,
+//! the CSV and summaries, scenes, the app's overlay, Python's `models()`, tests that iterate
+//! over models) reads [`REGISTERED`]; everything that must pick one asks [`ModelKind::of`] or
+//! [`ModelKind::for_dimension`], never `m/m0 == 0` itself (an architecture test refuses that
+//! outside `dynamics`). A new model is its own file (its equations, implementing
+//! [`super::RollingModel`]) plus one entry here and its `ModelKind` variant; the compiler then
+//! points at the one dispatch in `simulate::ModelState`.
+
+use super::Ramp;
+
+/// Which model runs. Its [`Display`](std::fmt::Display) and serde name ("sphere-viscous", …)
+/// is its [`ModelEntry::name`], the one name used everywhere: command line, CSV, JSON,
+/// overlay, UI and Python.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModelKind {
+    /// 2D, first order in θ (SI §1A).
+    DiskViscous,
+    /// 2D, second order in θ (SI §1B).
+    DiskInertial,
+    /// 3D, ω = −r×F/γ with the orientation quaternion (SI §2B).
+    SphereViscous,
+    /// 3D, the ω̇ equation (SI §2A).
+    SphereInertial,
+}
+
+/// One registered model.
+#[derive(Debug)]
+pub struct ModelEntry {
+    /// Which it is.
+    pub kind: ModelKind,
+    /// Its one name (kebab-case; serde's for [`ModelKind`]).
+    pub name: &'static str,
+    /// The bodies it rolls: 2 (a cylinder's cross-section r(θ)) or 3 (a sphere-like r(u)).
+    pub dimension: u32,
+    /// Whether it carries the body's inertia (m/m0 > 0) or is the viscous limit (m/m0 = 0).
+    pub inertial: bool,
+    /// What it is, for `--help`, Python and the docs.
+    pub about: &'static str,
+    /// Its integrated state, in order.
+    pub state: &'static str,
+}
+
+/// Every model there is, 2D first, viscous before inertial.
+pub const REGISTERED: &[ModelEntry] = &[
+    ModelEntry {
+        kind: ModelKind::DiskViscous,
+        name: "disk-viscous",
+        dimension: 2,
+        inertial: false,
+        about: "a cylinder in the viscous limit (m/m0 = 0): θ̇ from the torque balance (SI §1A)",
+        state: "theta, x_c",
+    },
+    ModelEntry {
+        kind: ModelKind::DiskInertial,
+        name: "disk-inertial",
+        dimension: 2,
+        inertial: true,
+        about: "a cylinder with inertia (m/m0 > 0): θ̈ from the Lagrangian, drag a torque (SI §1B)",
+        state: "theta, theta_dot, x_c, drag_work",
+    },
+    ModelEntry {
+        kind: ModelKind::SphereViscous,
+        name: "sphere-viscous",
+        dimension: 3,
+        inertial: false,
+        about: "a sphere in the viscous limit (m/m0 = 0): ω = −r × F/γ (SI §2B)",
+        state: "qw, qx, qy, qz, x, y",
+    },
+    ModelEntry {
+        kind: ModelKind::SphereInertial,
+        name: "sphere-inertial",
+        dimension: 3,
+        inertial: true,
+        about: "a sphere with inertia (m/m0 > 0): the ω̇ equation about the contact (SI §2A)",
+        state: "qw, qx, qy, qz, wx, wy, wz, x, y, drag_work",
+    },
+];
+
+impl ModelKind {
+    /// The model a body runs with on `ramp`.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{ModelKind, Ramp};
+    /// use rollphase_core::geometry::Body;
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// assert_eq!(ModelKind::of(&body, &Ramp::new(0.15, 0.0)?), ModelKind::SphereViscous);
+    /// assert_eq!(ModelKind::of(&body, &Ramp::new(0.15, 6.0)?), ModelKind::SphereInertial);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn of(body: &crate::geometry::Body, ramp: &Ramp) -> Self {
+        Self::for_dimension(body.dimension(), ramp)
+    }
+
+    /// The model a body of `dimension` (2 or 3) runs with on `ramp`: the one rule, inertial
+    /// exactly when the ramp's m/m0 > 0 ([`asks_for_inertia`]). A dimension with no model gets the 3D one (bodies
+    /// are 2D or 3D by construction).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{ModelKind, Ramp};
+    /// assert_eq!(ModelKind::for_dimension(2, &Ramp::new(0.1, 2.0)?), ModelKind::DiskInertial);
+    /// assert_eq!(ModelKind::for_dimension(3, &Ramp::new(0.1, 0.0)?), ModelKind::SphereViscous);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
+    pub fn for_dimension(dimension: u32, ramp: &Ramp) -> Self {
+        let inertial = asks_for_inertia(ramp.mass_ratio);
+        REGISTERED
+            .iter()
+            .find(|m| m.dimension == dimension && m.inertial == inertial)
+            .map_or(
+                if inertial {
+                    ModelKind::SphereInertial
+                } else {
+                    ModelKind::SphereViscous
+                },
+                |m| m.kind,
+            )
+    }
+
+    /// Its registry entry.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::models::{ModelKind, REGISTERED};
+    /// for m in REGISTERED {
+    ///     assert_eq!(m.kind.entry().name, m.name);
+    /// }
+    /// ```
+    pub fn entry(self) -> &'static ModelEntry {
+        REGISTERED
+            .iter()
+            .find(|m| m.kind == self)
+            .expect("every ModelKind is registered (tested)")
+    }
+
+    /// The name: "disk-viscous", "disk-inertial", "sphere-viscous" or "sphere-inertial".
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::ModelKind;
+    /// assert_eq!(ModelKind::DiskInertial.name(), "disk-inertial");
+    /// assert_eq!(ModelKind::SphereViscous.to_string(), "sphere-viscous");
+    /// ```
+    pub fn name(self) -> &'static str {
+        self.entry().name
+    }
+
+    /// Whether it carries inertia (m/m0 > 0).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::ModelKind;
+    /// assert!(ModelKind::SphereInertial.is_inertial() && !ModelKind::DiskViscous.is_inertial());
+    /// ```
+    pub fn is_inertial(self) -> bool {
+        self.entry().inertial
+    }
+
+    /// The registered model called `name`.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::ModelKind;
+    /// assert_eq!(ModelKind::from_name("disk-viscous"), Some(ModelKind::DiskViscous));
+    /// assert_eq!(ModelKind::from_name("sphere"), None);
+    /// ```
+    pub fn from_name(name: &str) -> Option<Self> {
+        REGISTERED.iter().find(|m| m.name == name).map(|m| m.kind)
+    }
+}
+
+impl std::fmt::Display for ModelKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The one rule that says which kind of model a run asks for: viscous exactly at m/m0 = 0 (the
+/// paper's viscous limit), inertial otherwise. Everything that picks a model goes through here
+/// ([`ModelKind::for_dimension`], the typed API's `Model`, a start's checks, the scene). A
+/// negative or NaN m/m0 asks for inertia, so that the ramp's check refuses it by its value
+/// rather than a viscous model taking it.
+///
+/// # Example
+/// ```
+/// use rollphase_core::dynamics::models::asks_for_inertia;
+/// assert!(!asks_for_inertia(0.0) && asks_for_inertia(1e-12) && asks_for_inertia(6.0));
+/// assert!(asks_for_inertia(-1.0) && asks_for_inertia(f64::NAN));
+/// ```
+pub fn asks_for_inertia(mass_ratio: f64) -> bool {
+    mass_ratio != 0.0
+}
+
+/// The registered models, one line each ("disk-viscous: …"), for `--help` and the docs.
+///
+/// # Example
+/// ```
+/// use rollphase_core::dynamics::models::{REGISTERED, listing};
+/// assert_eq!(listing().lines().count(), REGISTERED.len());
+/// ```
+pub fn listing() -> String {
+    REGISTERED
+        .iter()
+        .map(|m| format!("{}: {} [state: {}]", m.name, m.about, m.state))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::RollingModel;
+
+    #[test]
+    fn every_model_is_registered_once_with_its_serde_name() {
+        for kind in [
+            ModelKind::DiskViscous,
+            ModelKind::DiskInertial,
+            ModelKind::SphereViscous,
+            ModelKind::SphereInertial,
+        ] {
+            assert_eq!(REGISTERED.iter().filter(|m| m.kind == kind).count(), 1);
+            let serde_name = serde_json::to_string(&kind).unwrap();
+            assert_eq!(serde_name, format!("\"{}\"", kind.name()));
+        }
+        // Each (dimension, inertia) pair picks exactly one model.
+        for d in [2, 3] {
+            for inertial in [false, true] {
+                let n = REGISTERED
+                    .iter()
+                    .filter(|m| m.dimension == d && m.inertial == inertial)
+                    .count();
+                assert_eq!(n, 1, "dimension {d}, inertial {inertial}");
+            }
+        }
+    }
+
+    #[test]
+    fn each_models_own_kind_is_its_registration() {
+        assert_eq!(
+            <crate::dynamics::DiskViscous<'_> as RollingModel<2>>::KIND
+                .entry()
+                .state
+                .split(", ")
+                .count(),
+            2
+        );
+        assert_eq!(
+            <crate::dynamics::SphereInertial<'_> as RollingModel<10>>::KIND
+                .entry()
+                .state
+                .split(", ")
+                .count(),
+            10
+        );
+        assert_eq!(ModelKind::DiskInertial.entry().state.split(", ").count(), 4);
+        assert_eq!(
+            ModelKind::SphereViscous.entry().state.split(", ").count(),
+            6
+        );
+    }
+}
