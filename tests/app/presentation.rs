@@ -244,3 +244,47 @@ fn the_poincare_inset_says_it_needs_the_viscous_model_when_inertia_is_on() {
         "{viscous:?}"
     );
 }
+
+/// The SO(3) ball says in words what a point is and which axis is which (its title was
+/// programmer notation, "q (q_w ≥ 0)", and its axes had no labels), in text the room can read.
+#[test]
+fn the_so3_ball_names_its_point_and_its_axes() {
+    use rollphase::render::types::PanelItem;
+    for size in [(1280, 720), (1920, 1080)] {
+        let setup = Scene::preset("sphere-cruising")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let mut r = HeadlessRenderer::new(setup, size, 1).unwrap();
+        let frame = r.frame_data(0).unwrap();
+        let texts: Vec<(String, f32)> = frame
+            .panels
+            .iter()
+            .flat_map(|p| p.items.iter())
+            .filter_map(|item| match item {
+                PanelItem::Text { text, size_px, .. } => Some((text.clone(), *size_px)),
+                _ => None,
+            })
+            .collect();
+        let all: String = texts
+            .iter()
+            .map(|t| t.0.as_str())
+            .collect::<Vec<_>>()
+            .join(" ");
+        for words in [
+            "Orientation (SO(3) ball)",
+            "rotation axis × sin(angle/2)",
+            "x downhill (red)",
+            "y across (green)",
+            "z the ramp's normal (blue)",
+        ] {
+            assert!(all.contains(words), "{size:?}: {words:?} not in {all:?}");
+        }
+        let key_size = texts
+            .iter()
+            .find(|t| t.0.contains("downhill (red)"))
+            .map(|t| t.1)
+            .unwrap();
+        assert!(key_size >= 10.0, "{size:?}: the key is {key_size} px");
+    }
+}

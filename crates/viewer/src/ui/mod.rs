@@ -459,8 +459,17 @@ impl AppUi {
             return;
         };
         let size = if self.class_mode { 26.0 } else { 18.0 };
+        let disk = status.snapshot.theta.is_some();
+        let ppp = self.pixels_per_point;
+        let insets = crate::view::layout::layout_for(
+            ((rect.width() * ppp) as u32, (rect.height() * ppp) as u32),
+            self.views.body,
+            self.views.ball && !disk,
+            self.views.poincare && !disk,
+        );
+        let corner = paused_badge_corner(rect, &insets[1..], ppp, 2.4 * size);
         egui::Area::new(egui::Id::unique("rollphase-paused"))
-            .fixed_pos(egui::pos2(rect.right() - 12.0, rect.bottom() - 12.0))
+            .fixed_pos(corner)
             .pivot(egui::Align2::RIGHT_BOTTOM)
             .interactable(false)
             .show(ctx, |ui| {
@@ -598,5 +607,61 @@ impl AppUi {
         self.paused_badge_ui(ui.ctx(), status);
         self.keys_legend_ui(ui.ctx());
         actions
+    }
+}
+
+/// Where the paused badge's bottom-right corner goes (points): the scene's bottom-right corner,
+/// moved left of any inset (`insets`: the SO(3) ball's and the Poincaré view's rectangles in
+/// pixels from the scene's corner) that reaches down into the badge's band of `badge_height`,
+/// so the badge never covers an inset (it covered the Poincaré view's bottom edge).
+pub(crate) fn paused_badge_corner(
+    scene: egui::Rect,
+    insets: &[Option<[u32; 4]>],
+    pixels_per_point: f32,
+    badge_height: f32,
+) -> egui::Pos2 {
+    const MARGIN: f32 = 12.0;
+    let band_top = scene.height() - MARGIN - badge_height;
+    let right = insets
+        .iter()
+        .flatten()
+        .filter(|r| (r[1] + r[3]) as f32 / pixels_per_point > band_top)
+        .map(|r| r[0] as f32 / pixels_per_point - MARGIN)
+        .fold(scene.width() - MARGIN, f32::min);
+    scene.min + egui::vec2(right, scene.height() - MARGIN)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::paused_badge_corner;
+    use crate::view::layout::layout_for;
+
+    #[test]
+    fn the_paused_badge_keeps_clear_of_the_insets() {
+        // The badge (about 300 × 45 points) at its corner, at two window sizes and both
+        // scales, with the ball and the Poincaré view stacked on the right.
+        for (w, h, ppp) in [
+            (1220.0, 880.0, 1.0),
+            (900.0, 650.0, 2.0),
+            (1540.0, 1040.0, 1.0),
+        ] {
+            let scene = egui::Rect::from_min_size(egui::pos2(380.0, 20.0), egui::vec2(w, h));
+            let size = ((w * ppp) as u32, (h * ppp) as u32);
+            let insets = layout_for(size, true, true, true);
+            let corner = paused_badge_corner(scene, &insets[1..], ppp, 45.0);
+            let badge = egui::Rect::from_min_max(corner - egui::vec2(300.0, 45.0), corner);
+            assert!(scene.contains_rect(badge), "{badge:?} in {scene:?}");
+            for r in insets[1..].iter().flatten() {
+                let inset = egui::Rect::from_min_size(
+                    scene.min + egui::vec2(r[0] as f32, r[1] as f32) / ppp,
+                    egui::vec2(r[2] as f32, r[3] as f32) / ppp,
+                );
+                assert!(!inset.intersects(badge), "{badge:?} covers {inset:?}");
+            }
+            // With one inset at the top the corner stays where it was.
+            let one = layout_for(size, true, true, false);
+            let c = paused_badge_corner(scene, &one[1..], ppp, 45.0);
+            assert_eq!(c, scene.max - egui::vec2(12.0, 12.0));
+        }
     }
 }

@@ -35,7 +35,11 @@ mod panels;
 
 use body::field_max;
 pub use panels::multiplicity_text;
-use panels::title_panel;
+use panels::{title_panel, titled_panel};
+
+/// The SO(3) ball's key: what a point is, and its axes by colour (x downhill, y across the
+/// ramp, z its normal: the lab frame the orientation turns the body into).
+pub const SO3_KEY: &str = "a point: rotation axis × sin(angle/2)\nx downhill (red), y across (green),\nz the ramp's normal (blue)";
 
 /// The curvature colour scale: symmetric about 1 (the perfect body's K or κ).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -294,11 +298,12 @@ impl SceneView {
                 rect,
                 if body_rect.is_some() { inset_bg } else { None },
             ));
-            panels.push(title_panel(
+            panels.push(titled_panel(
                 rect,
-                // Short enough not to wrap in the inset, in words rather than q_w: a point is
-                // the rotation's axis scaled by sin(angle/2) (the app guide says more).
+                // Short enough not to wrap in the inset, in words rather than q_w, with what a
+                // point means and which axis is which (the axes are drawn in these colours).
                 "Orientation (SO(3) ball)",
+                Some(SO3_KEY),
                 text,
             ));
         }

@@ -261,26 +261,56 @@ pub(super) fn trim(x: f64) -> String {
 }
 
 pub(super) fn title_panel(rect: [u32; 4], title: &str, text: f32) -> OverlayPanel {
+    titled_panel(rect, title, None, text)
+}
+
+/// [`title_panel`] with a key under the title in smaller grey lines (what a point means, which
+/// axis is which), each of its `\n`-separated lines wrapped to the inset's width.
+pub(super) fn titled_panel(
+    rect: [u32; 4],
+    title: &str,
+    key: Option<&str>,
+    text: f32,
+) -> OverlayPanel {
     // The title keeps the text size of the other panels (a projector's room reads it too) and
     // wraps to its inset's width; only a word longer than the inset shrinks it. (Shrunk to one
     // line it was 11 px at 720p in class text.) CHARS_EM overestimates DejaVu's advance, so
     // the lines fit.
-    let size_px = 14.0 * text;
     let width = rect[2].saturating_sub(16) as f32;
-    let lines = wrap(title, ((width / (CHARS_EM * size_px)) as usize).max(1));
-    let longest = lines.iter().map(|l| l.chars().count()).max().unwrap_or(1);
-    let size_px = size_px.min(width / (CHARS_EM * longest as f32));
+    let lines_at = |words: &str, size_px: f32| {
+        let lines = wrap(words, ((width / (CHARS_EM * size_px)) as usize).max(1));
+        let longest = lines.iter().map(|l| l.chars().count()).max().unwrap_or(1);
+        let size_px = size_px.min(width / (CHARS_EM * longest as f32));
+        (lines, size_px)
+    };
+    let (lines, size_px) = lines_at(title, 14.0 * text);
+    let mut items: Vec<PanelItem> = lines
+        .into_iter()
+        .map(|line| PanelItem::Text {
+            text: line,
+            size_px,
+            color: [225; 3],
+        })
+        .collect();
+    // Each of the key's lines wraps on its own.
+    for part in key.into_iter().flat_map(|k| k.split('\n')) {
+        let (lines, size_px) = lines_at(part, 12.0 * text);
+        items.extend(lines.into_iter().map(|line| PanelItem::Text {
+            text: line,
+            size_px,
+            color: [185; 3],
+        }));
+    }
+    // A key's small grey lines cross the trail: they get the other panels' backing.
+    let background = if key.is_some() {
+        [16, 18, 24, 190]
+    } else {
+        [0, 0, 0, 0]
+    };
     OverlayPanel {
         anchor: Anchor::TopLeft(rect[0] + 6, rect[1] + 6),
-        items: lines
-            .into_iter()
-            .map(|line| PanelItem::Text {
-                text: line,
-                size_px,
-                color: [225; 3],
-            })
-            .collect(),
-        background: [0, 0, 0, 0],
+        items,
+        background,
         padding: 2,
     }
 }
