@@ -302,6 +302,9 @@ impl LiveRun {
         };
         let o = observe(&sim.state, &sim.ramp);
         sim.energy0 = o.energy;
+        // What the model measures is known before the first step: a run reset while paused
+        // showed the health plot of a model with nothing to measure (a cylinder's text).
+        sim.health.measured = o.measured;
         sim.record(t0, &o);
         if t0 > 0.0 {
             sim.catch_up_steps(t0);
@@ -441,6 +444,7 @@ impl LiveRun {
         self.crossings.clear();
         let o = observe(&self.state, &ramp);
         self.energy0 = o.energy;
+        self.health.measured = o.measured;
         // A new regime: the force is followed afresh from here.
         self.contact = ContactWatch::new(self.setup.limits, self.t, o.force);
         Ok(())
@@ -884,5 +888,26 @@ impl From<Observation> for Observed {
                 friction: [f64::NAN; 2],
             },
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_health_a_model_measures_is_known_before_its_first_step() {
+        let setup = crate::scene::Scene::preset("sphere-cruising")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let h = LiveRun::new(setup).snapshot().health.measured;
+        assert!(h.quat_norm && h.contact_normal && !h.energy, "{h:?}");
+        let setup = crate::scene::Scene::preset("cylinder-hysteresis")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let h = LiveRun::new(setup).snapshot().health.measured;
+        assert!(!h.quat_norm && !h.contact_normal && h.energy, "{h:?}");
     }
 }

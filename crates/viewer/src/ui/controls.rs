@@ -51,10 +51,12 @@ fn number_field(
         .add(
             egui::TextEdit::singleline(&mut text)
                 .id(egui::Id::unique(id))
-                .desired_width(96.0),
+                .desired_width(96.0)
+                // A long value (α = 0.13924012345678) widens the field rather than being cut.
+                .clip_text(false),
         )
         .on_hover_text(format!(
-            "type a value{} and press Enter (Esc: keep the running value)",
+            "{shown}: type a value{} and press Enter (Esc: keep the running value)",
             limits.unit
         ));
     if response.has_focus() {
@@ -957,5 +959,49 @@ fn drag_law_ui(ui: &mut egui::Ui, law: &crate::dynamics::DragLaw, actions: &mut 
                 value,
             )));
         }
+    }
+}
+
+#[cfg(test)]
+mod number_field_width_tests {
+    use super::*;
+
+    /// The field's width beside the width of its text, for `value`.
+    fn widths(value: f64) -> (f32, f32) {
+        let ctx = egui::Context::default();
+        let mut out = (0.0, 0.0);
+        let mut output = ctx.run_ui(egui::RawInput::default(), |ui| {
+            let limits = NumberLimits {
+                name: "alpha",
+                unit: " rad",
+                range: (0.0, 1.5),
+            };
+            let before = ui.cursor().min.x;
+            let _ = number_field(ui, "test-field", value, &mut None, &limits);
+            let field = ui.min_rect().max.x - before;
+            let text = ui.fonts_mut(|f| {
+                f.layout_no_wrap(
+                    shown_number(value),
+                    egui::TextStyle::Body.resolve(ui.style()),
+                    Color32::WHITE,
+                )
+                .size()
+                .x
+            });
+            out = (field, text);
+        });
+        output.textures_delta.clear();
+        out
+    }
+
+    #[test]
+    fn a_long_value_widens_the_field_rather_than_being_cut() {
+        let (short_field, _) = widths(0.3);
+        let (long_field, long_text) = widths(0.139_240_123_456_789_01);
+        assert!(
+            long_field > long_text,
+            "field {long_field} < text {long_text}"
+        );
+        assert!(long_field > short_field, "{long_field} ≤ {short_field}");
     }
 }
