@@ -18,6 +18,9 @@ use crate::dynamics::{Ramp, SphereInertial, SphereViscous};
 use crate::geometry::{Body, Sphere};
 use crate::integrate::{Method, OdeSystem, record};
 
+/// The starts of the `predict` whose runs are counted.
+const PREDICT_STARTS: usize = 8;
+
 /// One table row: what, unit, before, now, target (NaN: none), and whether smaller is better.
 struct Row {
     name: &'static str,
@@ -111,6 +114,19 @@ fn paper_body() -> Result<Sphere> {
     }
 }
 
+/// How many trajectories one `predict` of `body` at α = 0.2014 integrates (the stepper each
+/// builds, all through `integrate::run`): its starts, then the orbits' refinement, multipliers
+/// and paths.
+fn runs_per_predict(body: &Body, mass: f64) -> Result<f64> {
+    let options = crate::analysis::experiment::prediction::PredictOptions {
+        starts: PREDICT_STARTS,
+        ..Default::default()
+    };
+    let before = crate::integrate::run::runs_started();
+    crate::analysis::experiment::prediction::predict(body, 0.2014, mass, &options)?;
+    Ok((crate::integrate::run::runs_started() - before) as f64)
+}
+
 /// Runs `bench speed`.
 pub fn run(a: SpeedBenchArgs) -> Result<()> {
     let s = paper_body()?;
@@ -135,6 +151,9 @@ pub fn run(a: SpeedBenchArgs) -> Result<()> {
     let inertial = SphereInertial::new(&s, &Ramp::new(0.15, 1.0)?);
     let inertial_rate =
         evals_per_second(&inertial, SphereInertial::initial_state(q0, DVec3::ZERO))?;
+
+    let predict_viscous = runs_per_predict(&body, 0.0)?;
+    let predict_inertial = runs_per_predict(&body, 6.0)?;
 
     let dir = std::env::temp_dir().join(format!("rollphase-bench-speed-{}", std::process::id()));
     crate::output::create_folder(&dir)?;
@@ -199,6 +218,23 @@ pub fn run(a: SpeedBenchArgs) -> Result<()> {
             before: 42.7,
             now: simulate * 1e3,
             target: 10.0,
+            lower_is_better: true,
+        },
+        Row {
+            name: "runs per predict, 8 starts, m/m0 0",
+            unit: "runs",
+            // Not counted before the one run loop (2026-11-27).
+            before: f64::NAN,
+            now: predict_viscous,
+            target: f64::NAN,
+            lower_is_better: true,
+        },
+        Row {
+            name: "runs per predict, 8 starts, m/m0 6",
+            unit: "runs",
+            before: f64::NAN,
+            now: predict_inertial,
+            target: f64::NAN,
             lower_is_better: true,
         },
         Row {

@@ -11,7 +11,34 @@
 //! section crossings in [`super::events`], the contact-force watch in
 //! [`crate::dynamics::validity`], the rest test in [`crate::analysis::verdict`].
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use super::{IntegrateError, Method, OdeSystem, Stats, Stepper, stepper};
+
+/// Runs started in this process (every [`Run`] counts once): how many trajectories a command
+/// integrates, for `bench speed` (a relaxed counter: it never orders or moves a run).
+static RUNS_STARTED: AtomicU64 = AtomicU64::new(0);
+
+/// How many [`Run`]s this process has started so far.
+///
+/// # Example
+/// ```
+/// use rollphase_core::integrate::run::{Run, runs_started};
+/// use rollphase_core::integrate::{Method, OdeSystem};
+/// struct Still;
+/// impl OdeSystem<1> for Still {
+///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+///         [0.0]
+///     }
+/// }
+/// let before = runs_started();
+/// let _run = Run::new(&Still, 0.0, [1.0], Method::dop853(1e-9))?;
+/// assert!(runs_started() > before);
+/// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
+/// ```
+pub fn runs_started() -> u64 {
+    RUNS_STARTED.load(Ordering::Relaxed)
+}
 
 /// What an observer tells the run after a step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -53,9 +80,9 @@ impl<'a, const N: usize> Run<'a, N> {
         y0: [f64; N],
         method: Method,
     ) -> Result<Self, IntegrateError> {
-        Ok(Run {
-            stepper: stepper(system, t0, y0, method)?,
-        })
+        let stepper = stepper(system, t0, y0, method)?;
+        RUNS_STARTED.fetch_add(1, Ordering::Relaxed);
+        Ok(Run { stepper })
     }
 
     /// A run of a stepper built elsewhere (by [`super::stepper`]).
@@ -75,6 +102,7 @@ impl<'a, const N: usize> Run<'a, N> {
     /// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
     /// ```
     pub fn from_stepper(stepper: Box<dyn Stepper<N> + 'a>) -> Self {
+        RUNS_STARTED.fetch_add(1, Ordering::Relaxed);
         Run { stepper }
     }
 
