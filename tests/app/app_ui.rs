@@ -898,8 +898,8 @@ fn a_mass_sweep_collects_settled_crossings_at_each_value() {
     bench.ui.set_measuring_sweep(None);
 }
 
-/// F5: presentation mode gives the whole window to the 3D view (no menu, controls, plots or
-/// status bar) with class mode's large text; F5 again brings the panels back as they were. `?`
+/// F5: presentation mode gives the window to the 3D view and the lesson's plot (no menu,
+/// controls, plot row or status bar) with class mode's large text; F5 again brings the panels back as they were. `?`
 /// toggles the legend of the keys. With the camera held (F), it looks where the body was, and
 /// re-frames the body once it has rolled away.
 #[test]
@@ -913,10 +913,20 @@ fn presentation_mode_gives_the_window_to_the_3d_view_and_back() {
     } else {
         bench.run_ui(offscreen_input(SIZE, now(), vec![]), SIZE)
     };
+    // The 3D view fills the window but for the lesson's plot at the right (the critical-angle
+    // lesson names the 1/T plot).
+    let [x, y, w, h] = frame.scene_rect;
     assert_eq!(
-        frame.scene_rect,
-        [0, 0, SIZE.0, SIZE.1],
-        "the 3D view fills the window"
+        [x, y, h],
+        [0, 0, SIZE.1],
+        "the 3D view fills the window's height"
+    );
+    let (plot, _) = bench.ui.lesson_plot_rect.expect("the lesson's plot");
+    let plot_left = plot.min.x * frame.egui.pixels_per_point;
+    assert!(
+        (w as f32 - plot_left).abs() < 16.0 && w as f32 > 0.55 * SIZE.0 as f32,
+        "the 3D view reaches the lesson's plot: {:?}, plot from {plot_left}",
+        frame.scene_rect
     );
     bench.run_ui(
         offscreen_input(SIZE, now(), key(egui::Key::Questionmark)),
@@ -1443,4 +1453,113 @@ fn a_speed_asked_at_the_start_shows_in_the_speed_control() {
     frames_until(&mut bench, &gpu, &target, vec![], |s| s.speed == 500.0);
     frames(&mut bench, &gpu, &target, vec![], 3);
     assert_eq!(bench.ui.speed(), 500.0);
+}
+
+/// Issue 46: in presentation (F5) and class (C) modes every lesson step shows the plot its
+/// captions talk about ("watch the 1/T plot", "the crossings of ∂Ω alternate"), large: on
+/// screen, beside the 3D view and clear of it, its text at least 24 pixels, at 1280×720 and
+/// 1920×1080; the 3D view keeps the larger part. (Presentation mode hid every plot.)
+#[test]
+fn every_lesson_step_shows_its_plot_large_in_presentation_and_class_modes() {
+    let gpu = GpuContext::headless().unwrap();
+    let mut checked = 0;
+    for preset in [
+        "lesson-critical-angle",
+        "lesson-inertia-hysteresis",
+        "lesson-period-doubling",
+    ] {
+        let expected = Scene::preset(preset).unwrap().views.plot;
+        assert!(!expected.is_none(), "{preset} names no plot");
+        for size in [(1280, 720), (1920, 1080)] {
+            for presenting in [true, false] {
+                let setup = Scene::preset(preset).unwrap().setup(None).unwrap();
+                let mut bench =
+                    Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None)
+                        .unwrap();
+                if presenting {
+                    bench.ui.present_on_start();
+                } else {
+                    bench.ui.class_on_start();
+                }
+                let steps = bench.sim.status().snapshot.lesson.unwrap().steps;
+                let mut events = Vec::new();
+                for step in 0..steps {
+                    // Frames until the step has applied (N moves on; the first is at t = 0).
+                    let start = Instant::now();
+                    loop {
+                        bench.run_ui(
+                            offscreen_input(size, now(), std::mem::take(&mut events)),
+                            size,
+                        );
+                        let s = bench.sim.status();
+                        if s.snapshot.lesson.is_some_and(|l| l.done > step) {
+                            break;
+                        }
+                        assert!(
+                            start.elapsed() < Duration::from_secs(20),
+                            "{preset}: step {step}"
+                        );
+                        std::thread::sleep(Duration::from_millis(5));
+                    }
+                    // A few more frames lay out what the step shows (a zoom set in one frame
+                    // applies in the next).
+                    for _ in 0..3 {
+                        bench.run_ui(zoomed_input(&bench, size, vec![]), size);
+                    }
+                    let ppp = bench.ctx.pixels_per_point();
+                    let s = bench.sim.status();
+                    assert_eq!(s.snapshot.views.plot, expected);
+                    let what = format!(
+                        "{preset} step {} at {size:?}, presenting {presenting}",
+                        step + 1
+                    );
+                    let (rect, text_px) = bench.ui.lesson_plot_rect.expect(&what);
+                    let window = egui::Rect::from_min_size(
+                        egui::Pos2::ZERO,
+                        egui::vec2(size.0 as f32, size.1 as f32) / ppp,
+                    );
+                    assert!(
+                        window.expand(0.5).contains_rect(rect),
+                        "{what}: {rect:?} off {window:?}"
+                    );
+                    let scene = bench.ui.scene_rect.expect("the 3D view");
+                    assert!(
+                        !scene.shrink(0.5).intersects(rect),
+                        "{what}: {rect:?} over {scene:?}"
+                    );
+                    assert!(
+                        scene.width() > rect.width(),
+                        "{what}: the 3D view is the smaller"
+                    );
+                    assert!(text_px >= 24.0 - 1e-3, "{what}: text {text_px} px");
+                    assert!(
+                        rect.height() > 0.6 * window.height(),
+                        "{what}: {rect:?} is small"
+                    );
+                    checked += 1;
+                    events = key(egui::Key::N);
+                }
+                // The plot goes with the mode: without it, no large plot.
+                if presenting {
+                    bench.run_ui(zoomed_input(&bench, size, key(egui::Key::F5)), size);
+                    bench.run_ui(zoomed_input(&bench, size, vec![]), size);
+                    assert!(bench.ui.lesson_plot_rect.is_none(), "{preset}: F5 left");
+                }
+            }
+        }
+    }
+    assert_eq!(checked, (7 + 8 + 4) * 2 * 2);
+}
+
+/// Input for a `size`-pixel target at the app's zoom, as a window gives it: the screen in
+/// points is the pixels over the pixels per point (class mode zooms). `offscreen_input` is at
+/// one pixel per point, which a zoom then shrinks a second time.
+fn zoomed_input(bench: &Workbench, size: (u32, u32), events: Vec<egui::Event>) -> egui::RawInput {
+    let mut input = offscreen_input(size, now(), events);
+    let ppp = bench.ctx.pixels_per_point();
+    input.screen_rect = Some(egui::Rect::from_min_size(
+        egui::Pos2::ZERO,
+        egui::vec2(size.0 as f32, size.1 as f32) / ppp,
+    ));
+    input
 }

@@ -252,6 +252,7 @@ fn a_lesson_step_that_changes_alpha_redraws_the_poincare_field_from_its_frame_on
         ball: false,
         poincare: true,
         overlay: false,
+        ..Default::default()
     };
     scene.poincare.arrows = 60;
     scene.playback.speed = 30.0;

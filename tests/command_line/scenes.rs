@@ -118,6 +118,15 @@ fn bad_scenes_are_refused_with_the_reason() {
             &["views.poincare needs the viscous model"],
         ),
         (
+            "name = \"x\"\n[body]\nperfect = \"disk\"\n[model]\nalpha_rad = 0.3\n[views]\nplot = \"crossings\"\n"
+                .to_string(),
+            &["views.plot = \"crossings\" needs a 3D body", "inverse-period"],
+        ),
+        (
+            format!("name = \"x\"\n{BODY}[model]\nalpha_rad = 0.3\n[views]\nplot = \"1/T\"\n"),
+            &["unknown variant", "inverse-period"],
+        ),
+        (
             "name = \"x\"\n[body]\nshape = \"../shapes/nope.json\"\n[model]\nalpha_rad = 0.3\n".to_string(),
             &["nope.json", "not a bundled shape"],
         ),

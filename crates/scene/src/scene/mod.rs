@@ -290,6 +290,39 @@ pub struct ViewsSpec {
     /// The text overlay and the colour legends.
     #[serde(default = "yes")]
     pub overlay: bool,
+    /// The plot a lesson talks about: presentation (F5) and class (C) modes show it large
+    /// beside the 3D view.
+    #[serde(default, skip_serializing_if = "LessonPlot::is_none")]
+    pub plot: LessonPlot,
+}
+
+/// The plot a lesson step talks about ([`ViewsSpec::plot`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LessonPlot {
+    /// None.
+    #[default]
+    None,
+    /// 1/T against α, the sweep's branches up and down (and the √ law on a viscous cylinder).
+    InversePeriod,
+    /// The settled crossings of ∂Ω against m/m0 (3D): the orbit diagram as the sweep draws it.
+    Crossings,
+}
+
+impl LessonPlot {
+    /// Whether no plot is named.
+    pub fn is_none(&self) -> bool {
+        *self == LessonPlot::None
+    }
+
+    /// Its title, as the large plot shows it.
+    pub fn title(&self) -> &'static str {
+        match self {
+            LessonPlot::None => "",
+            LessonPlot::InversePeriod => "1/T against α",
+            LessonPlot::Crossings => "Crossings of ∂Ω against m/m0",
+        }
+    }
 }
 
 fn yes() -> bool {
@@ -303,6 +336,7 @@ impl Default for ViewsSpec {
             ball: false,
             poincare: false,
             overlay: true,
+            plot: LessonPlot::None,
         }
     }
 }

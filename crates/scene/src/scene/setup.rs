@@ -447,6 +447,12 @@ impl ViewsSpec {
                  turn them off for a cylinder",
             ));
         }
+        if matches!(body, Body::Disk(_)) && self.plot == super::LessonPlot::Crossings {
+            return Err(invalid(
+                "views.plot = \"crossings\" needs a 3D body (the crossings of ∂Ω are a sphere's); \
+                 a cylinder's lesson can name \"inverse-period\"",
+            ));
+        }
         if self.poincare && ModelKind::of(body, ramp) != ModelKind::SphereViscous {
             return Err(invalid(
                 "views.poincare needs the viscous model (model.mass_ratio = 0): the map on ∂Ω is \

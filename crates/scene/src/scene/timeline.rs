@@ -83,6 +83,9 @@ pub struct ViewsChange {
     /// The text overlay.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub overlay: Option<bool>,
+    /// The plot the step talks about ("none" to name none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plot: Option<super::LessonPlot>,
 }
 
 impl ViewsChange {
@@ -93,6 +96,7 @@ impl ViewsChange {
             ball: self.ball.unwrap_or(views.ball),
             poincare: self.poincare.unwrap_or(views.poincare),
             overlay: self.overlay.unwrap_or(views.overlay),
+            plot: self.plot.unwrap_or(views.plot),
         }
     }
 }
@@ -377,6 +381,7 @@ speed = 3.0
             ball: false,
             poincare: true,
             overlay: true,
+            plot: super::super::LessonPlot::InversePeriod,
         };
         let changed = ViewsChange {
             ball: Some(true),
@@ -391,6 +396,7 @@ speed = 3.0
                 ball: true,
                 poincare: true,
                 overlay: false,
+                plot: super::super::LessonPlot::InversePeriod,
             }
         );
     }

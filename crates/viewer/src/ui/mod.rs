@@ -107,6 +107,9 @@ pub struct AppUi {
     class_on_start: bool,
     /// Where the 3D view is, in points (set by [`Self::show`]).
     pub scene_rect: Option<egui::Rect>,
+    /// Where the lesson's plot is drawn large (presentation and class modes), in points, and
+    /// its text size in pixels (set by [`Self::show`]; `None` when it is not shown).
+    pub lesson_plot_rect: Option<(egui::Rect, f32)>,
     /// A recording in progress (set by the app).
     pub recording: Option<RecordProgress>,
     /// The Poincaré field's state, when it is not simply shown (set by the painter).
@@ -188,6 +191,7 @@ impl AppUi {
             present_on_start: false,
             class_on_start: false,
             scene_rect: None,
+            lesson_plot_rect: None,
             recording: None,
             field_note: None,
             fps: None,
@@ -576,7 +580,32 @@ impl AppUi {
                     });
                 });
         }
-        if self.show_plots {
+        // The plot a lesson step talks about, large beside the 3D view, in presentation and
+        // class modes (in presentation mode every other plot is hidden, and the lessons' words
+        // "watch the 1/T plot" named a plot that was not on screen).
+        let lesson_plot = status.snapshot.views.plot;
+        let large_plot = (self.presenting || self.class_mode) && !lesson_plot.is_none();
+        self.lesson_plot_rect = None;
+        if large_plot {
+            // A share of what the controls leave (class mode keeps them), so the 3D view keeps
+            // the larger part.
+            let width = ui.available_width() * LESSON_PLOT_SHARE;
+            egui::Panel::right("lesson-plot")
+                .resizable(false)
+                .exact_size(width)
+                .show(ui, |ui| {
+                    self.lesson_plot_rect = Some(lesson_plot_ui(
+                        ui,
+                        lesson_plot,
+                        &self.history,
+                        &status.snapshot,
+                        width,
+                    ));
+                });
+        }
+        // In class mode the large plot stands for the row of plots, which would take the
+        // 3D view's height.
+        if self.show_plots && !(large_plot && self.class_mode) {
             // Class mode's plots are taller, but never more than a third of the window: the
             // 3D view is what the room looks at.
             let height = if self.class_mode {
@@ -608,6 +637,45 @@ impl AppUi {
         self.keys_legend_ui(ui.ctx());
         actions
     }
+}
+
+/// The share of the width beside the controls that the lesson's large plot takes.
+const LESSON_PLOT_SHARE: f32 = 0.4;
+
+/// The smallest text of the lesson's large plot, in pixels: read from the back of a room.
+pub const LESSON_PLOT_TEXT_PX: f32 = 24.0;
+
+/// The lesson's plot `plot`, as large as its panel allows, its text at least
+/// [`LESSON_PLOT_TEXT_PX`] pixels (titles, ticks, axis names and keys). Returns where it went
+/// and its text size in pixels.
+fn lesson_plot_ui(
+    ui: &mut egui::Ui,
+    plot: crate::scene::LessonPlot,
+    history: &PlotHistory,
+    snap: &crate::live::Snapshot,
+    width: f32,
+) -> (egui::Rect, f32) {
+    let ppp = ui.ctx().pixels_per_point();
+    let points = LESSON_PLOT_TEXT_PX / ppp;
+    let style = ui.style_mut();
+    for text_style in [
+        egui::TextStyle::Small,
+        egui::TextStyle::Body,
+        egui::TextStyle::Button,
+        egui::TextStyle::Heading,
+    ] {
+        if let Some(font) = style.text_styles.get_mut(&text_style) {
+            font.size = font.size.max(points);
+        }
+    }
+    let title = ui.label(egui::RichText::new(plot.title()).strong());
+    let height = (ui.available_height() - 8.0).max(120.0);
+    let inner_width = (width - 16.0).max(120.0);
+    let plot_rect = ui
+        .scope(|ui| plots::lesson_plot(ui, plot, history, snap, inner_width, height))
+        .response
+        .rect;
+    (title.rect.union(plot_rect), points * ppp)
 }
 
 /// Where the paused badge's bottom-right corner goes (points): the scene's bottom-right corner,

@@ -552,6 +552,24 @@ fn contact_map_ui(
     }
 }
 
+/// The lesson's plot alone (`presentation and class modes`), `width` × `height` points.
+pub(super) fn lesson_plot(
+    ui: &mut egui::Ui,
+    plot: crate::scene::LessonPlot,
+    history: &PlotHistory,
+    snap: &Snapshot,
+    width: f32,
+    height: f32,
+) {
+    match plot {
+        crate::scene::LessonPlot::InversePeriod => {
+            sweep_ui(ui, history, snap, snap.alpha_star, width, height);
+        }
+        crate::scene::LessonPlot::Crossings => crossings_ui(ui, history, snap, width, height),
+        crate::scene::LessonPlot::None => {}
+    }
+}
+
 fn sweep_ui(
     ui: &mut egui::Ui,
     history: &PlotHistory,

@@ -149,8 +149,13 @@ impl SceneView {
             (false, Some(fixed)) => world_from_ramp.transform_point3(fixed.as_vec3()),
             _ => world_from_ramp.transform_point3(centre),
         };
-        let shortened = rect[3].max(1) as f32 / scale_height.max(rect[3]).max(1) as f32;
-        let camera = self.body_camera(target, options, shortened);
+        let full_height = scale_height.max(rect[3]).max(1) as f32;
+        let shortened = rect[3].max(1) as f32 / full_height;
+        // A view narrower than 16:9 of its full height (beside a lesson's large plot) shows
+        // as much of the ramp across as a 16:9 one would: the body is drawn smaller rather
+        // than reaching the numbers and the insets at the sides.
+        let narrow = (16.0 / 9.0 * full_height / rect[2].max(1) as f32).max(1.0);
+        let camera = self.body_camera(target, options, shortened * narrow);
         let snap_to = |v: f32| (v / 5.0).round() * 5.0;
         let meshes = vec![
             MeshInstance {
