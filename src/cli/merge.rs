@@ -40,10 +40,12 @@ pub fn run(a: MergeArgs) -> Result<()> {
             let s = sweep::merge(&a.dir, &shards)?;
             let shards = shards.shards;
             outln!(
-                "sweep: merged {} runs from {shards} shards ({} halt, {} periodic, {} undecided); wrote {}",
+                "sweep: merged {} runs from {shards} shards ({} halted, {} periodic, {} left the \
+                 model, {} undecided); wrote {}",
                 s.runs,
                 s.halts,
                 s.periodic,
+                s.left_model,
                 s.undecided,
                 a.dir.join("sweep.csv").display()
             )?;

@@ -10,7 +10,7 @@ use crate::figures::sweep;
 use crate::figures::sweep::SweepRan;
 
 /// Scan bodies × α × m/m0 × initial orientations × integrators in 3D, one CSV row per run:
-/// its fate (halts, periodic, undecided), period T, 1/T, period multiplicity, when it halted,
+/// its fate (halted, periodic, left_model, undecided), period T, 1/T, period multiplicity, when it halted,
 /// and the RHS evaluations it took. Writes OUT/sweep.csv and OUT/summary.json.
 ///
 /// Answers do not depend on the integrator: a fate found with a setting coarser than DOP853 at
@@ -56,11 +56,12 @@ pub fn run(a: SweepArgs) -> Result<()> {
     let pool = super::figure::thread_pool(a.threads)?;
     match pool.install(|| sweep::run(&a.spec, &a.out, a.shard))? {
         SweepRan::Whole(s) => outln!(
-            "sweep: {} runs ({} halt, {} periodic, {} undecided; {} cruise; {} corrected by the \
-             reference){}; wrote {}",
+            "sweep: {} runs ({} halted, {} periodic, {} left the model, {} undecided; {} cruise; \
+             {} corrected by the reference){}; wrote {}",
             s.runs,
             s.halts,
             s.periodic,
+            s.left_model,
             s.undecided,
             s.cruising,
             s.corrected,

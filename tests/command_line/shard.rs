@@ -193,7 +193,7 @@ fn a_sweep_writes_one_row_per_run_and_its_shards_merge_to_the_same_bytes() {
                 assert!(r[col("multiplicity")].parse::<usize>().unwrap() >= 1);
                 assert_eq!(r[col("cruising")], "true");
             }
-            "halts" => {
+            "halted" => {
                 assert_eq!(r[col("cruising")], "false");
                 assert!(r[col("period")].is_empty());
             }
@@ -245,11 +245,59 @@ fn a_sweep_writes_one_row_per_run_and_its_shards_merge_to_the_same_bytes() {
     for (key, n) in [
         ("halts", tally.halts),
         ("periodic", tally.periodic),
+        ("left_model", tally.left_model),
         ("undecided", tally.undecided),
         ("cruising", tally.cruising),
     ] {
         assert_eq!(summary[key], n as u64, "{key}");
     }
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+/// Issue 44: a run whose body leaves the ramp is reported as such, in the words every surface
+/// uses: `left_model`, with when (lift_off_t), and no period, multiplicity or rest claimed for
+/// the model's motion past it (the rows said "periodic" or "undecided", and "cruising").
+#[test]
+fn a_sweep_run_that_leaves_the_ramp_says_so_and_claims_no_motion() {
+    let root = scratch("sweep-lift-off");
+    let spec = root.join("spec.toml");
+    std::fs::write(
+        &spec,
+        "alpha = [0.5]\nmass_ratio = [300.0]\norientations = 1\nintegrators = [\"balanced\"]\n\
+         t_max = 400.0\n\n[bodies]\npaper_seeds = [219]\n",
+    )
+    .unwrap();
+    let out = root.join("out");
+    let said = ok(&[
+        "sweep",
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(said.contains("1 left the model"), "{said}");
+    let text = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| row[header.iter().position(|h| *h == name).unwrap()];
+    assert_eq!(col("fate"), "left_model");
+    assert_eq!(col("cruising"), "false");
+    for empty in ["period", "inverse_period", "multiplicity", "halt_time"] {
+        assert!(col(empty).is_empty(), "{empty} = {:?}", col(empty));
+    }
+    let lift_off: f64 = col("lift_off_t").parse().unwrap();
+    assert!(lift_off > 0.0 && lift_off < 400.0, "{lift_off}");
+    assert!(col("min_normal_force").parse::<f64>().unwrap() < 0.0);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(
+        (
+            summary["left_model"].as_u64(),
+            summary["periodic"].as_u64(),
+            summary["cruising"].as_u64()
+        ),
+        (Some(1), Some(0), Some(0))
+    );
     let _ = std::fs::remove_dir_all(&root);
 }
 

@@ -1,6 +1,7 @@
 //! `rollphase sweep SPEC.toml`: a general parameter scan of 3D rolling, bodies × α × m/m0 ×
-//! initial orientations × integrators, one CSV row per run with its fate (halts, periodic, or
-//! undecided at `t_max`), period, 1/T, period multiplicity, RHS evaluations, and whether the
+//! initial orientations × integrators, one CSV row per run with its fate in the words every
+//! surface uses (halted, periodic, left_model where the body left the ramp, or undecided at
+//! `t_max`), period, 1/T, period multiplicity, RHS evaluations, and whether the
 //! run's own integrator gave that answer (`answer_check`; what it said instead in the `fast_…`
 //! columns when the reference corrected it). It runs through
 //! the same ensemble as the figures, so `--shard I/N` and `rollphase merge DIR` work the same
@@ -600,7 +601,16 @@ impl Sweep {
     /// Run k's CSV row.
     fn row(&self, k: usize, r: &ScanRun) -> [String; 21] {
         let p = self.scan.point(k);
-        let (fate, period, mult, halt, omega_end) = fate_fields(&r.fate);
+        // A run that left the ramp is reported as such: its period, multiplicity and rest are
+        // the model's past the lift-off (lift_off_t says when), not a motion the body makes.
+        let left = r.fate_word() == "left_model";
+        let (_, period, mult, halt, omega_end) = fate_fields(&r.fate);
+        let (period, mult, halt) = if left {
+            (f64::NAN, String::new(), f64::NAN)
+        } else {
+            (period, mult, halt)
+        };
+        let fate = r.fate_word();
         let (fast_fate, fast_period, fast_mult) = match &r.check {
             AnswerCheck::Corrected { fast } => {
                 let (f, period, mult, ..) = fate_fields(fast);
@@ -647,7 +657,7 @@ impl Sweep {
 /// A fate's CSV fields: its name, period, multiplicity, halt time and end |ω|.
 fn fate_fields(fate: &Fate) -> (&'static str, f64, String, f64, f64) {
     match *fate {
-        Fate::Halts { t } => ("halts", f64::NAN, String::new(), t, 0.0),
+        Fate::Halts { t } => ("halted", f64::NAN, String::new(), t, 0.0),
         Fate::Periodic { period, k, .. } => ("periodic", period, k.to_string(), f64::NAN, f64::NAN),
         Fate::Undecided { omega_end } => {
             ("undecided", f64::NAN, String::new(), f64::NAN, omega_end)
@@ -725,6 +735,7 @@ impl SweepRows<'_> {
             halts: t.halts,
             periodic: t.periodic,
             undecided: t.undecided,
+            left_model: t.left_model,
             cruising: t.cruising,
             corrected: t.corrected,
             rhs_evals: t.rhs_evals,
@@ -757,6 +768,8 @@ pub struct SweepSummary {
     pub periodic: usize,
     /// Runs neither at t_max.
     pub undecided: usize,
+    /// Runs whose body left the ramp (sweep.csv's `left_model`; in no other count of fates).
+    pub left_model: usize,
     /// Runs that cruise (periodic, or undecided with |ω| ≥ 1e-3).
     pub cruising: usize,
     /// Runs whose own integrator's fate the reference corrected (sweep.csv's `answer_check`).

@@ -80,7 +80,37 @@ impl ScanRun {
     /// assert!(!run.cruises());
     /// ```
     pub fn cruises(&self) -> bool {
-        cruises(&self.fate)
+        // A body that left the ramp does not roll on it.
+        self.contact.violations().is_empty() && cruises(&self.fate)
+    }
+
+    /// The run's fate in the words every surface uses (`verdict`, `predict`'s fates):
+    /// "left_model" when the body left the ramp (the model's motion past a lift-off is not one
+    /// the body can make, so no period or rest is claimed for it), else "periodic", "halted"
+    /// or "undecided".
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::studies::sweep::ScanRun;
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Fate};
+    /// use rollphase_core::dynamics::{ContactForce, validity::{ContactLimits, ContactWatch}};
+    /// let mut contact = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.1)).report();
+    /// let fate = Fate::Periodic { period: 40.0, k: 1, point: [1.0, 0.0, 0.0], t: 400.0 };
+    /// let run = ScanRun { fate: fate.clone(), check: AnswerCheck::Reference, rhs_evals: 10, contact };
+    /// assert_eq!(run.fate_word(), "periodic");
+    /// contact.lift_off_t = Some(4.5);
+    /// let lifted = ScanRun { fate, check: AnswerCheck::Reference, rhs_evals: 10, contact };
+    /// assert_eq!(lifted.fate_word(), "left_model");
+    /// ```
+    pub fn fate_word(&self) -> &'static str {
+        if !self.contact.violations().is_empty() {
+            return "left_model";
+        }
+        match self.fate {
+            Fate::Halts { .. } => "halted",
+            Fate::Periodic { .. } => "periodic",
+            Fate::Undecided { .. } => "undecided",
+        }
     }
 }
 
@@ -95,6 +125,8 @@ pub struct ScanTally {
     pub periodic: usize,
     /// Runs neither at t_max.
     pub undecided: usize,
+    /// Runs whose body left the ramp (counted here and in no other fate).
+    pub left_model: usize,
     /// Runs that cruise (periodic, or undecided with |ω| ≥ 1e-3).
     pub cruising: usize,
     /// Runs whose own integrator's fate the reference corrected.
@@ -121,10 +153,11 @@ impl ScanTally {
     /// ```
     pub fn add(&mut self, r: &ScanRun) {
         self.runs += 1;
-        match r.fate {
-            Fate::Halts { .. } => self.halts += 1,
-            Fate::Periodic { .. } => self.periodic += 1,
-            Fate::Undecided { .. } => self.undecided += 1,
+        match r.fate_word() {
+            "left_model" => self.left_model += 1,
+            "halted" => self.halts += 1,
+            "periodic" => self.periodic += 1,
+            _ => self.undecided += 1,
         }
         self.cruising += usize::from(r.cruises());
         self.corrected += usize::from(matches!(r.check, AnswerCheck::Corrected { .. }));
