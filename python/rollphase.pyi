@@ -248,6 +248,7 @@ class PeriodCounts(TypedDict):
     cycle_counts: npt.NDArray[np.uint64]
     at_rest: int
     undecided: int
+    left_model: int
     longest_run: float
 
 class ContinuedOrbit(TypedDict):
@@ -607,7 +608,8 @@ def period_counts(
     tol: float = 1e-5,
 ) -> PeriodCounts:
     """Fig. 4e: the period multiplicities of runs from random orientations at one m/m0. Keys:
-    cycle_counts (k = 1..4, then none), at_rest, undecided, longest_run."""
+    cycle_counts (k = 1..4, then none), at_rest, undecided, left_model (runs whose body left
+    the ramp, counted with none: no cycle is claimed for them), longest_run."""
 
 def mass_bifurcation(
     body: Body,

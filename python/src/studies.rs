@@ -306,8 +306,9 @@ pub fn periodic_orbits<'py>(
 /// the period-doubling statistics of the paper's Fig. 4e (`rollphase figure sphere-doubling`
 /// counts the same). Each run goes on for at least t_min, then until its crossings of ∂Ω close a
 /// steady cycle of k ≤ max_k crossings (to tol) or it comes to rest, at most t_cap. Returns a
-/// dict: cycle_counts (array of max 5: runs with period k = 1, 2, 3, 4, then runs with none),
-/// at_rest and undecided (of those with none), longest_run (the longest a run went on).
+/// dict: cycle_counts (array of 5: runs with period k = 1, 2, 3, 4, then runs with none),
+/// at_rest and undecided (of those with none), left_model (runs whose body left the ramp,
+/// counted with none: no cycle is claimed for them), longest_run (the longest a run went on).
 #[pyfunction]
 #[pyo3(signature = (body, alpha, *, mass_ratio, orientations = 100, seed = 1, t_min = 2000.0,
     t_cap = 20000.0, max_k = 4, tol = 1e-5))]
@@ -339,6 +340,7 @@ pub fn period_counts<'py>(
     d.set_item("cycle_counts", Array1::from_vec(counts).into_pyarray(py))?;
     d.set_item("at_rest", c.at_rest)?;
     d.set_item("undecided", c.undecided)?;
+    d.set_item("left_model", c.left_model)?;
     d.set_item("longest_run", c.longest_run)?;
     Ok(d)
 }

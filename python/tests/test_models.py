@@ -28,3 +28,19 @@ def test_each_run_names_its_registered_model():
     assert {viscous, inertial} <= names
     prediction = rollphase.predict(sphere, 0.2, mass_ratio=6.0, starts=2)
     assert prediction["model"] == "sphere-inertial"
+
+
+def test_period_counts_claims_no_cycle_for_a_body_that_leaves_the_ramp():
+    # Issue 44: a very heavy body on a steep ramp bounces off; its runs were counted by the
+    # cycle the model closed past the lift-off.
+    sphere = rollphase.Body.paper_sphere(219)
+    c = rollphase.period_counts(
+        sphere, 0.5, mass_ratio=300.0, orientations=2, t_min=100.0, t_cap=400.0
+    )
+    assert c["left_model"] == 2
+    assert list(c["cycle_counts"]) == [0, 0, 0, 0, 2]
+    assert c["at_rest"] == 0 and c["undecided"] == 0
+    light = rollphase.period_counts(
+        sphere, 0.15, mass_ratio=6.0, orientations=2, t_min=100.0, t_cap=400.0
+    )
+    assert light["left_model"] == 0

@@ -55,6 +55,8 @@ pub struct MassResult {
     pub at_rest: usize,
     /// Of the runs that did not close: those still undecided at the cap (`t_cap`).
     pub undecided: usize,
+    /// Runs whose body left the ramp (counted with those that did not close).
+    pub left_model: usize,
     /// The longest a run of this mass went on before its fate was decided (or the cap).
     pub longest_run: f64,
     /// Median cycle duration in units of the viscous orbit period (closed runs).
@@ -160,6 +162,8 @@ pub(crate) enum Run {
         rest: bool,
         /// When it was decided, or the cap.
         t_end: f64,
+        /// The body left the ramp (no cycle or rest is claimed for it).
+        left_model: bool,
     },
     /// k, 0 at rest, `None` undecided.
     Cross(Option<usize>),
@@ -173,12 +177,14 @@ impl Record for Run {
                 path,
                 rest,
                 t_end,
+                left_model,
             } => {
                 out.push(0.0);
                 cycle.encode(out);
                 path.encode(out);
                 rest.encode(out);
                 t_end.encode(out);
+                left_model.encode(out);
             }
             Run::Cross(k) => {
                 out.push(1.0);
@@ -193,6 +199,7 @@ impl Record for Run {
                 path: Record::decode(f)?,
                 rest: Record::decode(f)?,
                 t_end: Record::decode(f)?,
+                left_model: Record::decode(f)?,
             },
             1 => Run::Cross(Record::decode(f)?),
             v => return Err(anyhow!("{v} is not a run kind")),
@@ -295,6 +302,7 @@ fn mass_result(
         cycle_counts,
         at_rest: counts.at_rest,
         undecided: counts.undecided,
+        left_model: counts.left_model,
         longest_run: counts.longest_run,
         median_period_ratio: median,
         median_period_over_perfect: median * t1 / perfect,
@@ -370,6 +378,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
                 1e-9,
             )?;
             Ok(Run::Main {
+                left_model: r.left_model(),
                 cycle: r.cycle,
                 path: r.path,
                 rest: r.end == RunEnd::Rest,
@@ -386,6 +395,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
             path,
             rest,
             t_end,
+            left_model,
         } = r
         else {
             return Err(anyhow!(
@@ -396,6 +406,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
             cycle: *cycle,
             at_rest: *rest,
             t_end: *t_end,
+            left_model: *left_model,
         });
         paths.push(path);
     }

@@ -808,9 +808,34 @@ pub struct DecidedRun {
     pub t_end: f64,
     /// |ω| at its end.
     pub angular_speed: f64,
+    /// The contact force along it with inertia (whether the body stayed on the ramp); `None`
+    /// in the viscous model, which presses with N = cos α throughout.
+    pub contact: Option<ContactReport>,
 }
 
 impl DecidedRun {
+    /// Whether the body left the ramp (N ≤ 0) during the run: its cycle or rest is then the
+    /// model's past the lift-off, not a motion the body makes.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{Decide, decided_run};
+    /// use rollphase_core::dynamics::Ramp;
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::glam::DQuat;
+    /// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
+    /// let decide = Decide { t_min: 100.0, t_cap: 400.0, max_k: 4, tol: 1e-5 };
+    /// // Very heavy on a steep ramp: it bounces off.
+    /// let run = decided_run(&s, &Ramp::new(0.5, 300.0)?, DQuat::IDENTITY, &decide, (0.0, 0.0, 0), 1e-9)?;
+    /// assert!(run.left_model());
+    /// let light = decided_run(&s, &Ramp::new(0.15, 0.0)?, DQuat::IDENTITY, &decide, (0.0, 0.0, 0), 1e-9)?;
+    /// assert!(!light.left_model());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn left_model(&self) -> bool {
+        self.contact.is_some_and(|c| !c.violations().is_empty())
+    }
+
     /// The run's period multiplicity: k for a cycle of k crossings, 0 at rest, `None` when still
     /// undecided (the statistic of paper Fig. 4e).
     ///
@@ -896,6 +921,11 @@ fn record<const N: usize, S: RollingModel<N>>(
     at_rest: impl Fn(&[f64; N]) -> bool,
 ) -> Result<DecidedRun, IntegrateError> {
     let times = integrate::uniform_times(t_from, t_to.min(decide.t_cap), samples);
+    // The contact-force watch, with inertia (an observer: it reads the dense output, never
+    // moves the run); the viscous model presses with N = cos α throughout.
+    let mut watch = S::KIND
+        .is_inertial()
+        .then(|| ContactWatch::new(ContactLimits::default(), 0.0, sys.contact_force(&y0)));
     let mut run = Run::new(sys, 0.0, y0, Method::dop853(rtol))?;
     let mut found = Vec::new();
     let mut crossings = Vec::new();
@@ -919,6 +949,10 @@ fn record<const N: usize, S: RollingModel<N>>(
             });
         }
         sampled.take(st, |_, y| path.push(observe(y).contact_dir));
+        if let Some(w) = watch.as_mut() {
+            let now = (st.t(), *st.y());
+            w.step_along(st, now, |y| sys.contact_force(y));
+        }
         if st.t() >= decide.t_min && sampled.done() {
             if decide.max_k > 0 && (!found.is_empty() || cycle.is_none()) {
                 cycle = settled_cycle(&crossings, decide.max_k, decide.tol);
@@ -944,6 +978,7 @@ fn record<const N: usize, S: RollingModel<N>>(
         end,
         t_end: run.t(),
         angular_speed: observe(run.y()).omega.length(),
+        contact: watch.map(|w| w.report()),
     })
 }
 

@@ -368,6 +368,9 @@ pub struct PeriodCounts {
     pub at_rest: usize,
     /// Of the runs that closed no cycle: those still undecided at the cap.
     pub undecided: usize,
+    /// Runs whose body left the ramp: no cycle or rest is claimed for them (they count in the
+    /// last entry of `cycle_counts`, not in `at_rest` or `undecided`).
+    pub left_model: usize,
     /// The longest any run went on before its fate was decided (or the cap).
     pub longest_run: f64,
 }
@@ -381,6 +384,8 @@ pub struct RunOutcome {
     pub at_rest: bool,
     /// When its fate was decided, or the cap.
     pub t_end: f64,
+    /// The body left the ramp during the run ([`DecidedRun::left_model`]).
+    pub left_model: bool,
 }
 
 impl From<&DecidedRun> for RunOutcome {
@@ -389,6 +394,7 @@ impl From<&DecidedRun> for RunOutcome {
             cycle: r.cycle,
             at_rest: r.end == RunEnd::Rest,
             t_end: r.t_end,
+            left_model: r.left_model(),
         }
     }
 }
@@ -400,13 +406,15 @@ impl PeriodCounts {
     /// ```
     /// use rollphase_core::analysis::studies::sphere::{PeriodCounts, RunOutcome};
     /// let runs = [
-    ///     RunOutcome { cycle: Some((2, 87.0)), at_rest: false, t_end: 2000.0 },
-    ///     RunOutcome { cycle: None, at_rest: true, t_end: 150.0 },
-    ///     RunOutcome { cycle: None, at_rest: false, t_end: 20_000.0 },
+    ///     RunOutcome { cycle: Some((2, 87.0)), at_rest: false, t_end: 2000.0, left_model: false },
+    ///     RunOutcome { cycle: None, at_rest: true, t_end: 150.0, left_model: false },
+    ///     RunOutcome { cycle: None, at_rest: false, t_end: 20_000.0, left_model: false },
+    ///     // Left the ramp: its cycle is not counted as one.
+    ///     RunOutcome { cycle: Some((1, 40.0)), at_rest: false, t_end: 900.0, left_model: true },
     /// ];
     /// let c = PeriodCounts::of(&runs)?;
-    /// assert_eq!(c.cycle_counts, [0, 1, 0, 0, 2]);
-    /// assert_eq!((c.at_rest, c.undecided, c.longest_run), (1, 1, 20_000.0));
+    /// assert_eq!(c.cycle_counts, [0, 1, 0, 0, 3]);
+    /// assert_eq!((c.at_rest, c.undecided, c.left_model, c.longest_run), (1, 1, 1, 20_000.0));
     /// // A cycle of 5 crossings is not one the statistics count.
     /// let five = [RunOutcome { cycle: Some((5, 1.0)), ..runs[0] }];
     /// assert!(PeriodCounts::of(&five).is_err());
@@ -417,9 +425,16 @@ impl PeriodCounts {
             cycle_counts: [0; 5],
             at_rest: 0,
             undecided: 0,
+            left_model: 0,
             longest_run: 0.0,
         };
         for (run, r) in runs.iter().enumerate() {
+            c.longest_run = c.longest_run.max(r.t_end);
+            if r.left_model {
+                c.left_model += 1;
+                c.cycle_counts[4] += 1;
+                continue;
+            }
             match r.cycle {
                 Some((k, _)) => {
                     *c.cycle_counts
@@ -448,7 +463,7 @@ impl PeriodCounts {
 /// # Example
 /// ```
 /// use rollphase_core::analysis::studies::sphere::{RunOutcome, median_cycle_duration};
-/// let run = |cycle| RunOutcome { cycle, at_rest: false, t_end: 2000.0 };
+/// let run = |cycle| RunOutcome { cycle, at_rest: false, t_end: 2000.0, left_model: false };
 /// let runs = [run(Some((1, 43.0))), run(Some((2, 87.0))), run(Some((1, 44.0))), run(None)];
 /// assert_eq!(median_cycle_duration(&runs, None), Some(44.0));
 /// assert_eq!(median_cycle_duration(&runs, Some(1)), Some(44.0));
@@ -457,6 +472,7 @@ impl PeriodCounts {
 pub fn median_cycle_duration(runs: &[RunOutcome], k: Option<usize>) -> Option<f64> {
     let mut durations: Vec<f64> = runs
         .iter()
+        .filter(|r| !r.left_model)
         .filter_map(|r| r.cycle)
         .filter(|c| k.is_none_or(|k| c.0 == k))
         .map(|c| c.1)
