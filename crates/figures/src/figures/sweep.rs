@@ -603,7 +603,7 @@ impl Sweep {
         let p = self.scan.point(k);
         // A run that left the ramp is reported as such: its period, multiplicity and rest are
         // the model's past the lift-off (lift_off_t says when), not a motion the body makes.
-        let left = r.fate_word() == "left_model";
+        let left = r.left_model();
         let (_, period, mult, halt, omega_end) = fate_fields(&r.fate);
         let (period, mult, halt) = if left {
             (f64::NAN, String::new(), f64::NAN)

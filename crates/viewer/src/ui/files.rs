@@ -596,15 +596,8 @@ impl AppUi {
 
     /// Whether `pos` (points) falls on the SO(3) ball's inset of the scene area `rect`.
     fn in_ball_inset(&self, rect: egui::Rect, pos: egui::Pos2, status: &SimStatus) -> bool {
-        let disk = status.snapshot.theta.is_some();
         let ppp = self.pixels_per_point;
-        let size = ((rect.width() * ppp) as u32, (rect.height() * ppp) as u32);
-        let ball = crate::view::layout::layout_for(
-            size,
-            self.views.body,
-            self.views.ball && !disk,
-            self.views.poincare && !disk,
-        )[1];
+        let ball = self.view_rects(rect.size(), status)[1];
         let (x, y) = ((pos.x - rect.min.x) * ppp, (pos.y - rect.min.y) * ppp);
         ball.is_some_and(|[rx, ry, rw, rh]| {
             let [rx, ry, rw, rh] = [rx, ry, rw, rh].map(|v| v as f32);
@@ -614,15 +607,25 @@ impl AppUi {
 
     /// The Poincaré view's rectangle (pixels, relative to the scene area), if it is shown.
     fn poincare_rect(&self, scene: egui::Vec2, status: &SimStatus) -> Option<[u32; 4]> {
+        self.view_rects(scene, status)[2]
+    }
+
+    /// The rectangles (pixels, relative to the scene area of `scene` points) of the body view,
+    /// the SO(3) ball and the Poincaré view, as the frame lays them out (a cylinder has no
+    /// insets).
+    pub(super) fn view_rects(
+        &self,
+        scene: egui::Vec2,
+        status: &SimStatus,
+    ) -> [Option<[u32; 4]>; 3] {
         let disk = status.snapshot.theta.is_some();
         let ppp = self.pixels_per_point;
-        let size = ((scene.x * ppp) as u32, (scene.y * ppp) as u32);
         crate::view::layout::layout_for(
-            size,
+            ((scene.x * ppp) as u32, (scene.y * ppp) as u32),
             self.views.body,
             self.views.ball && !disk,
             self.views.poincare && !disk,
-        )[2]
+        )
     }
 
     /// Where boundary point `p` is drawn on the Poincaré sphere (screen points), if shown and

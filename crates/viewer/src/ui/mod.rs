@@ -179,6 +179,7 @@ impl AppUi {
     /// A UI for `setup` (the scene the simulation starts with); `base` is its file's folder.
     pub fn new(setup: &SceneSetup, base: Option<PathBuf>) -> Self {
         let views = setup.scene.views.clone();
+        let inertial = ModelKind::of(&setup.body, &setup.ramp).is_inertial();
         Self {
             view_options: ViewOptions::default(),
             views,
@@ -196,12 +197,8 @@ impl AppUi {
             field_note: None,
             fps: None,
             alpha: setup.ramp.alpha_rad,
-            inertial: ModelKind::of(&setup.body, &setup.ramp).is_inertial(),
-            mass_ratio: if ModelKind::of(&setup.body, &setup.ramp).is_inertial() {
-                setup.ramp.mass_ratio
-            } else {
-                1.0
-            },
+            inertial,
+            mass_ratio: if inertial { setup.ramp.mass_ratio } else { 1.0 },
             speed: setup.scene.playback.speed,
             random: RandomBody {
                 dimension: if matches!(setup.body, Body::Disk(_)) {
@@ -463,15 +460,8 @@ impl AppUi {
             return;
         };
         let size = if self.class_mode { 26.0 } else { 18.0 };
-        let disk = status.snapshot.theta.is_some();
-        let ppp = self.pixels_per_point;
-        let insets = crate::view::layout::layout_for(
-            ((rect.width() * ppp) as u32, (rect.height() * ppp) as u32),
-            self.views.body,
-            self.views.ball && !disk,
-            self.views.poincare && !disk,
-        );
-        let corner = paused_badge_corner(rect, &insets[1..], ppp, 2.4 * size);
+        let insets = self.view_rects(rect.size(), status);
+        let corner = paused_badge_corner(rect, &insets[1..], self.pixels_per_point, 2.4 * size);
         egui::Area::new(egui::Id::unique("rollphase-paused"))
             .fixed_pos(corner)
             .pivot(egui::Align2::RIGHT_BOTTOM)

@@ -81,7 +81,25 @@ impl ScanRun {
     /// ```
     pub fn cruises(&self) -> bool {
         // A body that left the ramp does not roll on it.
-        self.contact.violations().is_empty() && cruises(&self.fate)
+        !self.left_model() && cruises(&self.fate)
+    }
+
+    /// Whether the body left the ramp (or slipped) during the run: then no period, rest or
+    /// cruising is claimed for the model's motion past it.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::studies::sweep::ScanRun;
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Fate};
+    /// use rollphase_core::dynamics::{ContactForce, validity::{ContactLimits, ContactWatch}};
+    /// let mut contact = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.1)).report();
+    /// let run = |contact| ScanRun { fate: Fate::Halts { t: 3.0 }, check: AnswerCheck::Reference, rhs_evals: 10, contact };
+    /// assert!(!run(contact).left_model());
+    /// contact.lift_off_t = Some(2.0);
+    /// assert!(run(contact).left_model());
+    /// ```
+    pub fn left_model(&self) -> bool {
+        !self.contact.violations().is_empty()
     }
 
     /// The run's fate in the words every surface uses (`verdict`, `predict`'s fates):
@@ -103,7 +121,7 @@ impl ScanRun {
     /// assert_eq!(lifted.fate_word(), "left_model");
     /// ```
     pub fn fate_word(&self) -> &'static str {
-        if !self.contact.violations().is_empty() {
+        if self.left_model() {
             return "left_model";
         }
         match self.fate {
@@ -153,12 +171,13 @@ impl ScanTally {
     /// ```
     pub fn add(&mut self, r: &ScanRun) {
         self.runs += 1;
-        match r.fate_word() {
-            "left_model" => self.left_model += 1,
-            "halted" => self.halts += 1,
-            "periodic" => self.periodic += 1,
-            _ => self.undecided += 1,
-        }
+        let count = match r.fate {
+            _ if r.left_model() => &mut self.left_model,
+            Fate::Halts { .. } => &mut self.halts,
+            Fate::Periodic { .. } => &mut self.periodic,
+            Fate::Undecided { .. } => &mut self.undecided,
+        };
+        *count += 1;
         self.cruising += usize::from(r.cruises());
         self.corrected += usize::from(matches!(r.check, AnswerCheck::Corrected { .. }));
         self.rhs_evals += r.rhs_evals;
