@@ -15,12 +15,13 @@
 //! near one are counted as [`Fate::Neutral`], not as undecided, whether or not their crossings
 //! repeated within the runs' tolerance (a near-round printed ball attracts over ~1e5 periods).
 //!
-//! Imports only `dynamics::validity` (the contact force's violations); the runs decide with
+//! Imports only `dynamics` (a model's observation, the contact force's violations); the runs decide with
 //! these and report a [`Fate`] per start, tallied by [`FateCounts`].
 
 use glam::DVec3;
 use serde::Serialize;
 
+use crate::dynamics::RollingModel;
 use crate::dynamics::validity::Violation;
 
 /// |ω| and the ramp's torque (units of F⟨r⟩, and of F⟨r⟩/γ for ω) below which a body is at rest.
@@ -40,7 +41,70 @@ pub const REST_THRESHOLD: f64 = 1e-9;
 /// assert!(!at_rest(1e-12, 0.05));
 /// ```
 pub fn at_rest(angular_speed: f64, ramp_torque: f64) -> bool {
-    angular_speed < REST_THRESHOLD && ramp_torque < REST_THRESHOLD
+    at_rest_within(angular_speed, ramp_torque, REST_THRESHOLD)
+}
+
+/// The live run's resolution of a rest ([`at_rest_within`]): it shows a body as halted once
+/// still and unpushed to 1e-6 (a turn in ~6e6 t0, far below what the eye sees), where a run that
+/// decides a fate waits for [`REST_THRESHOLD`]. A body that rolls above α* never slows that much
+/// at the α a live control can set (its slowest |ω| grows like √(α − α*), and the finest step
+/// of α there is 1e-5 rad), so the coarser resolution shows no false halt; a slow settling rest
+/// shows as one hundreds of t0 earlier.
+pub const LIVE_REST_THRESHOLD: f64 = 1e-6;
+
+/// [`at_rest`] to the resolution `threshold`: both the angular speed and the weight's unbalanced
+/// torque below it. The one rest rule; the resolution is the caller's.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::verdict::{LIVE_REST_THRESHOLD, at_rest_within};
+/// assert!(at_rest_within(3e-7, 1e-7, LIVE_REST_THRESHOLD));
+/// assert!(!at_rest_within(0.0, 0.2, LIVE_REST_THRESHOLD)); // still, but pushed
+/// ```
+pub fn at_rest_within(angular_speed: f64, ramp_torque: f64, threshold: f64) -> bool {
+    angular_speed < threshold && ramp_torque < threshold
+}
+
+/// [`at_rest`] for `model` at state `y`: its angular speed and the weight's unbalanced torque
+/// ([`crate::dynamics::Observation::ramp_torque`]), for any model. Every run that decides a rest
+/// and the app's live run ask this.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::verdict::state_at_rest;
+/// use rollphase_core::dynamics::{Ramp, SphereInertial};
+/// use rollphase_core::geometry::Sphere;
+/// use rollphase_core::glam::{DQuat, DVec3};
+/// // A heavy ball released from rest: still, but the weight turns it: not at rest.
+/// let ball = Sphere::perfect();
+/// let model = SphereInertial::new(&ball, &Ramp::new(0.3, 1e6)?);
+/// assert!(!state_at_rest(&model, &SphereInertial::initial_state(DQuat::IDENTITY, DVec3::ZERO)));
+/// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+/// ```
+pub fn state_at_rest<const N: usize, M: RollingModel<N>>(model: &M, y: &[f64; N]) -> bool {
+    rest_measure(model, y) < REST_THRESHOLD
+}
+
+/// How far `model` at `y` is from rest: the larger of its angular speed and the weight's
+/// unbalanced torque ([`at_rest`] is this below [`REST_THRESHOLD`]). What an undecided run
+/// reports at its end, and what a run with its own rest threshold compares.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::verdict::rest_measure;
+/// use rollphase_core::dynamics::{Ramp, SphereViscous};
+/// use rollphase_core::geometry::Sphere;
+/// use rollphase_core::glam::DQuat;
+/// // The viscous unit ball rolls at |ω| = sin α, the weight's torque over γ.
+/// let ball = Sphere::perfect();
+/// let model = SphereViscous::new(&ball, &Ramp::new(0.3, 0.0)?);
+/// let m = rest_measure(&model, &SphereViscous::initial_state(DQuat::IDENTITY));
+/// assert!((m - 0.3f64.sin()).abs() < 1e-12);
+/// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+/// ```
+pub fn rest_measure<const N: usize, M: RollingModel<N>>(model: &M, y: &[f64; N]) -> f64 {
+    let o = model.observation(y);
+    o.angular_speed.max(o.ramp_torque)
 }
 
 /// The accuracy of a Floquet multiplier's modulus from the return map's finite differences

@@ -498,7 +498,14 @@ impl RollingModel<2> for DiskViscous<'_> {
     }
 
     fn observation(&self, y: &[f64; 2]) -> Observation {
-        disk_observation(self.disk, y[0], self.theta_dot(y[0]), y[1], None)
+        disk_observation(
+            self.disk,
+            (self.sin_a, self.cos_a),
+            y[0],
+            self.theta_dot(y[0]),
+            y[1],
+            None,
+        )
     }
 
     fn section(&self, y: &[f64; 2]) -> f64 {
@@ -564,7 +571,14 @@ impl RollingModel<4> for DiskInertial<'_> {
     }
 
     fn observation(&self, y: &[f64; 4]) -> Observation {
-        disk_observation(self.disk, y[0], y[1], y[2], self.energy_balance(y))
+        disk_observation(
+            self.disk,
+            (self.sin_a, self.cos_a),
+            y[0],
+            y[1],
+            y[2],
+            self.energy_balance(y),
+        )
     }
 
     fn section(&self, y: &[f64; 4]) -> f64 {
@@ -651,12 +665,20 @@ impl RollingModel<4> for DiskInertial<'_> {
 /// cylinder of some length is drawn is the view's business.
 fn disk_observation(
     d: &Disk,
+    (sin_a, cos_a): (f64, f64),
     theta: f64,
     theta_dot: f64,
     x_c: f64,
     energy: Option<f64>,
 ) -> Observation {
     let p = pose(d, theta, x_c);
+    // The weight (sin α, −cos α) about the contact (x_c, 0); none on a flat of the hull, where
+    // the body rests on both of its ends.
+    let ramp_torque = if d.hull().bridge_at(theta).is_some() {
+        0.0
+    } else {
+        ((p.x - x_c) * cos_a + p.y * sin_a).abs()
+    };
     let theta = OnHull::of(d, theta).geometry();
     let r = d.jet(theta).r;
     // Lab 2D (x downhill, y up) maps to ramp 3D (x, z); a counter-clockwise turn ψ in that plane
@@ -668,6 +690,7 @@ fn disk_observation(
         contact_in_body: DVec3::new(r * theta.cos(), 0.0, r * theta.sin()),
         orientation: None,
         angular_speed: theta_dot.abs(),
+        ramp_torque,
         theta: Some(theta),
         theta_dot: Some(theta_dot),
         health: ModelHealth {

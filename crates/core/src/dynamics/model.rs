@@ -41,6 +41,11 @@ pub struct Observation {
     pub orientation: Option<DQuat>,
     /// |ω| (3D) or |θ̇| (2D).
     pub angular_speed: f64,
+    /// |r × F|, the torque of the weight about the contact that nothing balances (units of
+    /// F⟨r⟩): zero at an equilibrium and for a dented cylinder resting on a flat of its hull.
+    /// With `angular_speed` it is what `analysis::verdict::at_rest` decides a rest by: a heavy
+    /// body released from rest above α* is still but pushed.
+    pub ramp_torque: f64,
     /// The contact angle θ (2D).
     pub theta: Option<f64>,
     /// θ̇ (2D).
@@ -188,4 +193,50 @@ pub trait ModelVisitorMut {
     /// Works with `model`, updating `y`.
     fn visit<const N: usize, M: RollingModel<N>>(self, model: &M, y: &mut [f64; N])
     -> Self::Output;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::{DiskViscous, Ramp, SphereInertial, SphereViscous};
+    use crate::geometry::Body;
+
+    /// In the viscous limit the drag balances the weight's torque, γ|ω| = |r × F|: the rest
+    /// measure a run is halted by is the model's own torque balance, in 2D and 3D.
+    #[test]
+    fn the_unbalanced_torque_is_the_viscous_drag_and_a_still_heavy_body_is_pushed() {
+        let ramp = Ramp::new(0.1, 0.0).unwrap();
+        let Body::Disk(disk) = Body::paper_disk(84, 0.12, 5).unwrap() else {
+            unreachable!()
+        };
+        let model = DiskViscous::new(&disk, &ramp);
+        for i in 0..50 {
+            let theta = i as f64 * 0.125;
+            let o = model.observation(&[theta, 0.0]);
+            let psi_dot = disk.jet(theta).turn_rate() * model.theta_dot(theta);
+            assert!(
+                (o.ramp_torque - psi_dot.abs()).abs() < 1e-12,
+                "θ = {theta}: torque {} against γ|ψ̇| {}",
+                o.ramp_torque,
+                psi_dot.abs()
+            );
+        }
+        let Body::Sphere(sphere) = Body::paper_sphere(219, 0.25, 5).unwrap() else {
+            unreachable!()
+        };
+        let model = SphereViscous::new(&sphere, &ramp);
+        for i in 0..20 {
+            let q = glam::DQuat::from_scaled_axis(glam::DVec3::new(0.3, -0.2, 0.5) * i as f64);
+            let o = model.observation(&SphereViscous::initial_state(q));
+            assert!((o.ramp_torque - o.angular_speed).abs() < 1e-12);
+        }
+        // A heavy sphere released from rest above α*: still, and pushed by sin α-ish.
+        let heavy = SphereInertial::new(&sphere, &Ramp::new(0.3, 1e10).unwrap());
+        let o = heavy.observation(&SphereInertial::initial_state(
+            glam::DQuat::IDENTITY,
+            glam::DVec3::ZERO,
+        ));
+        assert_eq!(o.angular_speed, 0.0);
+        assert!(o.ramp_torque > 0.1, "{}", o.ramp_torque);
+    }
 }

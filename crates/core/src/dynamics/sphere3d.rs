@@ -509,7 +509,7 @@ impl RollingModel<6> for SphereViscous<'_> {
     }
 
     fn observation(&self, y: &[f64; 6]) -> Observation {
-        sphere_observation(self.tracker.body, &self.observe(y), None)
+        sphere_observation(self.tracker.body, self.force, &self.observe(y), None)
     }
 
     fn section(&self, y: &[f64; 6]) -> f64 {
@@ -544,7 +544,7 @@ impl RollingModel<10> for SphereInertial<'_> {
 
     fn observation(&self, y: &[f64; 10]) -> Observation {
         let o = self.observe(y);
-        sphere_observation(self.tracker.body, &o, self.energy_balance(y))
+        sphere_observation(self.tracker.body, self.force, &o, self.energy_balance(y))
     }
 
     fn section(&self, y: &[f64; 10]) -> f64 {
@@ -577,7 +577,12 @@ fn sphere_row(t: f64, o: &SphereObservation, out: &mut Vec<f64>) {
     ]);
 }
 
-fn sphere_observation(s: &Sphere, o: &SphereObservation, energy: Option<f64>) -> Observation {
+fn sphere_observation(
+    s: &Sphere,
+    weight: DVec3,
+    o: &SphereObservation,
+    energy: Option<f64>,
+) -> Observation {
     let q = o.q.normalize();
     let in_body = o.contact_dir * s.radius(o.contact_dir);
     let on_ramp = o.centre + q * in_body;
@@ -588,6 +593,7 @@ fn sphere_observation(s: &Sphere, o: &SphereObservation, energy: Option<f64>) ->
         contact_in_body: in_body,
         orientation: Some(o.q),
         angular_speed: o.omega.length(),
+        ramp_torque: (q * in_body).cross(weight).length(),
         theta: None,
         theta_dot: None,
         health: ModelHealth {

@@ -3,6 +3,7 @@
 //! steps it applies when its time reaches them (so the app and headless mode play a lesson alike).
 
 use crate::analysis::orbits::sphere_orbits::{Crossing, ball_point, late_cycle};
+use crate::analysis::verdict::{LIVE_REST_THRESHOLD, at_rest_within};
 use crate::dynamics::validity::{ContactReport, ContactWatch};
 use crate::dynamics::{
     ContactForce, ModelKind, ModelVisitor, ModelVisitorMut, Observation, Ramp, RollingModel,
@@ -133,7 +134,10 @@ pub struct Snapshot {
     /// When the run last crossed its section (a full turn in 2D, ∂Ω in 3D) since α, m/m0 or
     /// the integrator last changed: a measuring sweep counts crossings by it.
     pub last_crossing_t: Option<f64>,
-    /// The body has stopped (angular speed below 1e-6).
+    /// The body is at rest: still, and the weight's torque about the contact zero, to
+    /// `verdict::LIVE_REST_THRESHOLD` (`verdict::at_rest_within`, the rest every command
+    /// decides by). A heavy body released from rest above α* is still at first, but pushed, and
+    /// not halted.
     pub halted: bool,
     /// Angular speed |ω| (3D) or |θ̇| (2D).
     pub angular_speed: f64,
@@ -248,6 +252,7 @@ struct Observed {
     pose: BodyPose,
     ball: Option<DQuat>,
     angular_speed: f64,
+    ramp_torque: f64,
     theta: Option<f64>,
     theta_dot: Option<f64>,
     quat_err: f64,
@@ -754,7 +759,7 @@ impl LiveRun {
             period_multiplicity,
             last_crossing,
             last_crossing_t: self.crossings.back().map(|c| c.0),
-            halted: o.angular_speed < 1e-6,
+            halted: at_rest_within(o.angular_speed, o.ramp_torque, LIVE_REST_THRESHOLD),
             angular_speed: o.angular_speed,
             theta_dot: o.theta_dot,
             theta: o.theta,
@@ -873,6 +878,7 @@ impl From<Observation> for Observed {
             },
             ball: o.orientation,
             angular_speed: o.angular_speed,
+            ramp_torque: o.ramp_torque,
             theta: o.theta,
             theta_dot: o.theta_dot,
             quat_err: o.health.quat_norm_error.unwrap_or(0.0),
@@ -909,5 +915,32 @@ mod tests {
             .unwrap();
         let h = LiveRun::new(setup).snapshot().health.measured;
         assert!(!h.quat_norm && !h.contact_normal && h.energy, "{h:?}");
+    }
+
+    #[test]
+    fn a_heavy_body_released_above_its_critical_angle_is_not_halted() {
+        let mut setup = crate::scene::Scene::preset("sphere-cruising")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let ramp = Ramp::new(0.3, 1e4).unwrap();
+        let mut run = LiveRun::new(setup.clone());
+        run.set_parameters(ramp, Method::dop853(1e-8)).unwrap();
+        let snap = run.snapshot();
+        assert_eq!(snap.angular_speed, 0.0);
+        assert!(
+            !snap.halted,
+            "still at t = 0 but pushed downhill: not a rest"
+        );
+        // Below α* it does come to rest, and is then halted.
+        setup.ramp = Ramp::new(0.05, 0.0).unwrap();
+        let mut run = LiveRun::new(setup);
+        run.advance_to(400.0).unwrap();
+        let snap = run.snapshot();
+        assert!(
+            snap.halted,
+            "t = {}: |ω| = {:e}, α = {}",
+            snap.t, snap.angular_speed, snap.alpha_rad
+        );
     }
 }

@@ -29,6 +29,7 @@
 use glam::{DQuat, DVec3};
 use serde::Serialize;
 
+use crate::analysis::verdict::{rest_measure, state_at_rest};
 use crate::dynamics::ModelKind;
 use crate::dynamics::sphere3d::SphereObservation;
 use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch};
@@ -40,7 +41,7 @@ use crate::integrate::run::{Flow, Run, Samples};
 use crate::integrate::{self, IntegrateError, Method, Stats};
 
 /// Expands `$run` for the body's 3D model (viscous if m/m0 = 0, else inertial from rest),
-/// with `$sys` the model, `$y0` its initial state and `$omega` its |ω| (a macro rather than a
+/// with `$sys` the model, `$y0` its initial state and `$omega` its distance from rest (`verdict::rest_measure`) (a macro rather than a
 /// closure: the two models' states differ in size, a const generic a closure cannot take).
 macro_rules! on_model {
     ($body:expr, $ramp:expr, $q0:expr, |$sys:ident, $y0:ident, $omega:ident| $run:expr) => {
@@ -48,7 +49,7 @@ macro_rules! on_model {
             let model = SphereViscous::new($body, $ramp);
             let $sys = &model;
             let $y0 = SphereViscous::initial_state($q0);
-            let $omega = |y: &[f64; 6]| model.observe(y).omega.length();
+            let $omega = |y: &[f64; 6]| rest_measure(&model, y);
             $run
         } else {
             let model = SphereInertial::new($body, $ramp);
@@ -56,11 +57,7 @@ macro_rules! on_model {
             let $y0 = SphereInertial::initial_state($q0, DVec3::ZERO);
             // At rest only where the weight's torque vanishes too (`verdict::at_rest`): a
             // heavy body is still at first and speeds up over m/m0 t0.
-            let $omega = |y: &[f64; 10]| {
-                DVec3::new(y[4], y[5], y[6])
-                    .length()
-                    .max(model.ramp_torque(y))
-            };
+            let $omega = |y: &[f64; 10]| rest_measure(&model, y);
             $run
         }
     };
@@ -787,7 +784,8 @@ pub struct Decide {
 pub enum RunEnd {
     /// Its ∂Ω crossings repeat with a steady cycle of k ≤ `max_k` ([`settled_cycle`]).
     Periodic,
-    /// It came to rest (|ω| < 1e-10, no crossing for the last `t_min`).
+    /// It came to rest (`verdict::state_at_rest`: still and unpushed; no crossing for the last
+    /// `t_min`).
     Rest,
     /// Neither by `t_cap`.
     Undecided,
@@ -895,7 +893,6 @@ pub fn decided_run(
             sampling,
             rtol,
             |y| m.observe(y),
-            |y| m.observe(y).omega.length() < 1e-10,
         )
     } else {
         let m = SphereInertial::new(body, ramp);
@@ -906,7 +903,6 @@ pub fn decided_run(
             sampling,
             rtol,
             |y| m.observe(y),
-            |y| crate::analysis::verdict::at_rest(m.observe(y).omega.length(), m.ramp_torque(y)),
         )
     }
 }
@@ -918,7 +914,6 @@ fn record<const N: usize, S: RollingModel<N>>(
     (t_from, t_to, samples): (f64, f64, usize),
     rtol: f64,
     observe: impl Fn(&[f64; N]) -> SphereObservation,
-    at_rest: impl Fn(&[f64; N]) -> bool,
 ) -> Result<DecidedRun, IntegrateError> {
     let times = integrate::uniform_times(t_from, t_to.min(decide.t_cap), samples);
     // The contact-force watch, with inertia (an observer: it reads the dense output, never
@@ -964,7 +959,7 @@ fn record<const N: usize, S: RollingModel<N>>(
             let quiet = crossings
                 .last()
                 .is_none_or(|c| st.t() - c.t >= decide.t_min);
-            if decide.max_k > 0 && quiet && at_rest(st.y()) {
+            if decide.max_k > 0 && quiet && state_at_rest(sys, st.y()) {
                 end = RunEnd::Rest;
                 return Ok(Flow::Stop);
             }

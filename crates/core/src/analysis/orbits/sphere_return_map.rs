@@ -17,7 +17,7 @@ use serde::Serialize;
 
 use crate::analysis::orbits::return_map::{self, ReturnMapError};
 use crate::analysis::orbits::sphere_orbits::{first_crossing, nearest_sign, poincare_step};
-use crate::analysis::verdict::at_rest;
+use crate::analysis::verdict::state_at_rest;
 use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch};
 use crate::dynamics::{Ramp, RollingModel, SphereInertial, SphereViscous};
 use crate::geometry::Sphere;
@@ -179,9 +179,7 @@ pub fn inertial_run(
                 omega: [y[4], y[5], y[6]],
             });
         }
-        let y = st.y();
-        let speed = DVec3::new(y[4], y[5], y[6]).length();
-        if st.t() > 1.0 && at_rest(speed, model.ramp_torque(y)) {
+        if st.t() > 1.0 && state_at_rest(&model, st.y()) {
             end = InertialEnd::Rest;
             return Ok(Flow::Stop);
         }
