@@ -44,7 +44,7 @@ use std::f64::consts::{PI, TAU};
 use glam::{DQuat, DVec3};
 
 use super::{
-    ContactForce, DragLaw, ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel,
+    ContactForce, DragLaw, ModelHealth, ModelKind, Observation, Observe, Pose, Ramp, RollingModel,
     Switched,
 };
 use crate::geometry::hull::Bridge;
@@ -547,6 +547,20 @@ impl RollingModel<2> for DiskViscous<'_> {
             ([theta - 0.5 * span, y[1] - b.length], rested)
         })
     }
+    fn state_at(pose: &Pose) -> Option<[f64; 2]> {
+        match *pose {
+            Pose::Disk { theta, x_c, .. } => Some([theta, x_c]),
+            Pose::Sphere { .. } => None,
+        }
+    }
+
+    fn pose(y: &[f64; 2]) -> Pose {
+        Pose::Disk {
+            theta: y[0],
+            theta_dot: 0.0,
+            x_c: y[1],
+        }
+    }
 }
 
 impl RollingModel<4> for DiskInertial<'_> {
@@ -656,6 +670,24 @@ impl RollingModel<4> for DiskInertial<'_> {
                 energy_lost: before - after,
             },
         ))
+    }
+    fn state_at(pose: &Pose) -> Option<[f64; 4]> {
+        match *pose {
+            Pose::Disk {
+                theta,
+                theta_dot,
+                x_c,
+            } => Some([theta, theta_dot, x_c, 0.0]),
+            Pose::Sphere { .. } => None,
+        }
+    }
+
+    fn pose(y: &[f64; 4]) -> Pose {
+        Pose::Disk {
+            theta: y[0],
+            theta_dot: y[1],
+            x_c: y[2],
+        }
     }
 }
 

@@ -19,7 +19,7 @@ use crate::integrate::OdeSystem;
 pub use disk2d::{DiskInertial, DiskViscous};
 pub use drag::{DragLaw, DragLawError};
 pub use model::{
-    ContactForce, FORCE_COLUMNS, ModelHealth, ModelVisitor, ModelVisitorMut, Observation,
+    ContactForce, FORCE_COLUMNS, ModelHealth, ModelVisitor, ModelVisitorMut, Observation, Pose,
     RollingModel, Switched,
 };
 pub use models::ModelKind;

@@ -1,13 +1,17 @@
 //! The one model abstraction: what every rolling model offers the code above it
 //! ([`RollingModel`]: its name, its trajectory's columns, a sample row, the health it can
 //! measure, its Poincaré section, and what its state looks like as an [`Observation`]), and the
-//! visitor through which that code reaches the model of a run without naming the four
+//! visitor through which that code reaches the model of a run without naming the models
 //! ([`ModelVisitor`], dispatched once, in `simulate::ModelState::visit`).
 //!
-//! A fifth model implements [`RollingModel`] in its own file, gets a `ModelKind` and a
-//! `ModelState` variant (the one registration: the compiler then points at the one `match` in
-//! `ModelState`), its scene fields, and its tests; `simulate::run`, `sim::Simulation`, the CSV
-//! columns, the overlay and the health plot ask the model and need no change.
+//! A fifth model implements [`RollingModel`] in its own file (with [`Pose`], how its state
+//! carries over from and to the other models of its dimension) and gets one entry in
+//! `dynamics::models::with_registered_models`, from which its `ModelKind`, its registry entry and
+//! its `ModelState` variant are made; `simulate::run`, the live run, the CSV columns, the
+//! overlay, the health plot, `--help` and Python's `models()` ask the model or the registry and
+//! need no change. What still names models: an analysis with its own algorithm per model (the
+//! viscous and inertial sphere's orbit solvers) picks by `ModelKind`, and a model with the
+//! (dimension, inertia) of a registered one would need a way to be asked for.
 
 use glam::{DQuat, DVec3};
 
@@ -108,7 +112,37 @@ impl ContactForce {
 /// (`friction_y` is 0 in 2D; `friction_needed` is `inf` where N ≤ 0).
 pub const FORCE_COLUMNS: &str = "normal_force,friction_x,friction_y,friction_needed";
 
+/// What the models of one body share: where it is and how it turns. A start is one; a change
+/// of model mid-run (m/m0 turned on or off) carries it from one model's state to the other's
+/// ([`RollingModel::pose`], [`RollingModel::state_at`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Pose {
+    /// A cylinder.
+    Disk {
+        /// The contact angle θ.
+        theta: f64,
+        /// θ̇; zero from a viscous state (an inertial model taking it over starts from rest).
+        theta_dot: f64,
+        /// The contact's distance down the ramp.
+        x_c: f64,
+    },
+    /// A sphere.
+    Sphere {
+        /// The orientation, body to lab (as integrated).
+        q: DQuat,
+        /// The lab angular velocity; zero from a viscous state.
+        omega: DVec3,
+        /// Where it is on the ramp (x downhill, y across), as its state holds it.
+        position: [f64; 2],
+    },
+}
+
 /// A rolling model, as everything above the physics sees it. `N` is the size of its state.
+///
+/// A model is its own file: its equations ([`crate::integrate::OdeSystem`], [`Observe`]), this
+/// trait, and an inherent `new(&body, &Ramp)`; plus its one entry in
+/// `dynamics::models::with_registered_models`, from which its [`ModelKind`], its registry
+/// entry and its `simulate::ModelState` variant (and every match over the models) are made.
 pub trait RollingModel<const N: usize>: Observe<N> {
     /// Its one name.
     const KIND: ModelKind;
@@ -144,6 +178,17 @@ pub trait RollingModel<const N: usize>: Observe<N> {
     fn switch(&self, _y: &[f64; N]) -> Option<([f64; N], Switched)> {
         None
     }
+    /// Its state at `pose`, with no work done by drag yet; `None` for a pose of the other
+    /// dimension. A viscous model drops the rate (its rate follows from where it is).
+    fn state_at(pose: &Pose) -> Option<[f64; N]>;
+    /// Where `y` puts the body, and how it turns (zero for a viscous state).
+    fn pose(y: &[f64; N]) -> Pose;
+    /// `v` as its state, checked beyond being finite (a resumed file's numbers): a sphere's
+    /// quaternion must be of unit length to 1e-6 and is renormalised within that. The identity
+    /// for a model with nothing more to check.
+    fn checked_state(v: [f64; N]) -> Result<[f64; N], String> {
+        Ok(v)
+    }
 }
 
 /// What happened at a switch of a hybrid model ([`RollingModel::switch`]).
@@ -178,7 +223,7 @@ impl Switched {
 }
 
 /// Code that works with any [`RollingModel`] and its state: `simulate::ModelState::visit`
-/// calls [`Self::visit`] with the run's model, so the caller never matches on the four.
+/// calls [`Self::visit`] with the run's model, so the caller never matches on the models.
 pub trait ModelVisitor {
     /// What the visit returns.
     type Output;

@@ -6,26 +6,106 @@
 //! over models) reads [`REGISTERED`]; everything that must pick one asks [`ModelKind::of`] or
 //! [`ModelKind::for_dimension`], never `m/m0 == 0` itself (an architecture test refuses that
 //! outside `dynamics`). A new model is its own file (its equations, implementing
-//! [`super::RollingModel`]) plus one entry here and its `ModelKind` variant; the compiler then
-//! points at the one dispatch in `simulate::ModelState`.
+//! [`super::RollingModel`]) plus one entry in `with_registered_models!` here: its
+//! [`ModelKind`], its [`REGISTERED`] entry and its `simulate::ModelState` variant, with every
+//! match over the models there, are made from that entry.
 
 use super::Ramp;
 
-/// Which model runs. Its [`Display`](std::fmt::Display) and serde name ("sphere-viscous", …)
-/// is its [`ModelEntry::name`], the one name used everywhere: command line, CSV, JSON,
-/// overlay, UI and Python.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ModelKind {
-    /// 2D, first order in θ (SI §1A).
-    DiskViscous,
-    /// 2D, second order in θ (SI §1B).
-    DiskInertial,
-    /// 3D, ω = −r×F/γ with the orientation quaternion (SI §2B).
-    SphereViscous,
-    /// 3D, the ω̇ equation (SI §2A).
-    SphereInertial,
+/// The one registration of every model, 2D first, viscous before inertial: each entry names
+/// its kind, its type (its own file: the equations, [`super::RollingModel`] and an inherent
+/// `new(&body, &Ramp)`), its state's length, the [`crate::geometry::Body`] variant it rolls,
+/// and what [`ModelEntry`] says of it. Calls `$then!` with the list: [`ModelKind`] and
+/// [`REGISTERED`] are made from it here, `simulate::ModelState` and its dispatch there, so that
+/// adding a model is its file plus one entry, and no `match` over the models is written by hand.
+macro_rules! with_registered_models {
+    ($then:ident) => {
+        $then! {
+            DiskViscous {
+                model: $crate::dynamics::disk2d::DiskViscous<'_>,
+                state_len: 2,
+                body: Disk,
+                name: "disk-viscous",
+                dimension: 2,
+                inertial: false,
+                about: "a cylinder in the viscous limit (m/m0 = 0): θ̇ from the torque balance (SI §1A)",
+                state: "theta, x_c",
+            },
+            DiskInertial {
+                model: $crate::dynamics::disk2d::DiskInertial<'_>,
+                state_len: 4,
+                body: Disk,
+                name: "disk-inertial",
+                dimension: 2,
+                inertial: true,
+                about: "a cylinder with inertia (m/m0 > 0): θ̈ from the Lagrangian, drag a torque (SI §1B)",
+                state: "theta, theta_dot, x_c, drag_work",
+            },
+            SphereViscous {
+                model: $crate::dynamics::sphere3d::SphereViscous<'_>,
+                state_len: 6,
+                body: Sphere,
+                name: "sphere-viscous",
+                dimension: 3,
+                inertial: false,
+                about: "a sphere in the viscous limit (m/m0 = 0): ω = −r × F/γ (SI §2B)",
+                state: "qw, qx, qy, qz, x, y",
+            },
+            SphereInertial {
+                model: $crate::dynamics::sphere3d::SphereInertial<'_>,
+                state_len: 10,
+                body: Sphere,
+                name: "sphere-inertial",
+                dimension: 3,
+                inertial: true,
+                about: "a sphere with inertia (m/m0 > 0): the ω̇ equation about the contact (SI §2A)",
+                state: "qw, qx, qy, qz, wx, wy, wz, x, y, drag_work",
+            },
+        }
+    };
 }
+pub(crate) use with_registered_models;
+
+/// [`ModelKind`] and [`REGISTERED`] from the registration.
+macro_rules! define_model_kinds {
+    ($($kind:ident {
+        model: $model:ty,
+        state_len: $n:literal,
+        body: $body:ident,
+        name: $name:literal,
+        dimension: $dimension:literal,
+        inertial: $inertial:literal,
+        about: $about:literal,
+        state: $state:literal,
+    },)*) => {
+        /// Which model runs. Its [`Display`](std::fmt::Display) and serde name
+        /// ("sphere-viscous", …) is its [`ModelEntry::name`], the one name used everywhere:
+        /// command line, CSV, JSON, overlay, UI and Python.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+        #[serde(rename_all = "kebab-case")]
+        pub enum ModelKind {
+            $(
+                #[doc = $about]
+                $kind,
+            )*
+        }
+
+        /// Every model there is, in the registration's order.
+        pub const REGISTERED: &[ModelEntry] = &[
+            $(
+                ModelEntry {
+                    kind: ModelKind::$kind,
+                    name: $name,
+                    dimension: $dimension,
+                    inertial: $inertial,
+                    about: $about,
+                    state: $state,
+                },
+            )*
+        ];
+    };
+}
+with_registered_models!(define_model_kinds);
 
 /// One registered model.
 #[derive(Debug)]
@@ -43,42 +123,6 @@ pub struct ModelEntry {
     /// Its integrated state, in order.
     pub state: &'static str,
 }
-
-/// Every model there is, 2D first, viscous before inertial.
-pub const REGISTERED: &[ModelEntry] = &[
-    ModelEntry {
-        kind: ModelKind::DiskViscous,
-        name: "disk-viscous",
-        dimension: 2,
-        inertial: false,
-        about: "a cylinder in the viscous limit (m/m0 = 0): θ̇ from the torque balance (SI §1A)",
-        state: "theta, x_c",
-    },
-    ModelEntry {
-        kind: ModelKind::DiskInertial,
-        name: "disk-inertial",
-        dimension: 2,
-        inertial: true,
-        about: "a cylinder with inertia (m/m0 > 0): θ̈ from the Lagrangian, drag a torque (SI §1B)",
-        state: "theta, theta_dot, x_c, drag_work",
-    },
-    ModelEntry {
-        kind: ModelKind::SphereViscous,
-        name: "sphere-viscous",
-        dimension: 3,
-        inertial: false,
-        about: "a sphere in the viscous limit (m/m0 = 0): ω = −r × F/γ (SI §2B)",
-        state: "qw, qx, qy, qz, x, y",
-    },
-    ModelEntry {
-        kind: ModelKind::SphereInertial,
-        name: "sphere-inertial",
-        dimension: 3,
-        inertial: true,
-        about: "a sphere with inertia (m/m0 > 0): the ω̇ equation about the contact (SI §2A)",
-        state: "qw, qx, qy, qz, wx, wy, wz, x, y, drag_work",
-    },
-];
 
 impl ModelKind {
     /// The model a body runs with on `ramp`.
@@ -218,12 +262,7 @@ mod tests {
 
     #[test]
     fn every_model_is_registered_once_with_its_serde_name() {
-        for kind in [
-            ModelKind::DiskViscous,
-            ModelKind::DiskInertial,
-            ModelKind::SphereViscous,
-            ModelKind::SphereInertial,
-        ] {
+        for kind in REGISTERED.iter().map(|m| m.kind) {
             assert_eq!(REGISTERED.iter().filter(|m| m.kind == kind).count(), 1);
             let serde_name = serde_json::to_string(&kind).unwrap();
             assert_eq!(serde_name, format!("\"{}\"", kind.name()));

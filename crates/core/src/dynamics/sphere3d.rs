@@ -25,7 +25,7 @@ use std::cell::Cell;
 use glam::{DQuat, DVec3};
 
 use super::{
-    ContactForce, DragLaw, ModelHealth, ModelKind, Observation, Observe, Ramp, RollingModel,
+    ContactForce, DragLaw, ModelHealth, ModelKind, Observation, Observe, Pose, Ramp, RollingModel,
 };
 use crate::geometry::{Sphere, SurfacePoint};
 use crate::integrate::OdeSystem;
@@ -519,6 +519,26 @@ impl RollingModel<6> for SphereViscous<'_> {
     fn section_point(&self, y: &[f64; 6]) -> Option<DVec3> {
         Some(DVec3::new(y[1], y[2], y[3]).normalize())
     }
+    fn state_at(pose: &Pose) -> Option<[f64; 6]> {
+        match *pose {
+            Pose::Sphere { q, position, .. } => {
+                Some([q.w, q.x, q.y, q.z, position[0], position[1]])
+            }
+            Pose::Disk { .. } => None,
+        }
+    }
+
+    fn pose(y: &[f64; 6]) -> Pose {
+        Pose::Sphere {
+            q: quat_at(y, 0),
+            omega: DVec3::ZERO,
+            position: [y[4], y[5]],
+        }
+    }
+
+    fn checked_state(v: [f64; 6]) -> Result<[f64; 6], String> {
+        unit_quaternion(v)
+    }
 }
 
 impl RollingModel<10> for SphereInertial<'_> {
@@ -554,6 +574,48 @@ impl RollingModel<10> for SphereInertial<'_> {
     fn section_point(&self, y: &[f64; 10]) -> Option<DVec3> {
         Some(DVec3::new(y[1], y[2], y[3]).normalize())
     }
+    fn state_at(pose: &Pose) -> Option<[f64; 10]> {
+        match *pose {
+            Pose::Sphere { q, omega, position } => Some([
+                q.w,
+                q.x,
+                q.y,
+                q.z,
+                omega.x,
+                omega.y,
+                omega.z,
+                position[0],
+                position[1],
+                0.0,
+            ]),
+            Pose::Disk { .. } => None,
+        }
+    }
+
+    fn pose(y: &[f64; 10]) -> Pose {
+        Pose::Sphere {
+            q: quat_at(y, 0),
+            omega: DVec3::new(y[4], y[5], y[6]),
+            position: [y[7], y[8]],
+        }
+    }
+
+    fn checked_state(v: [f64; 10]) -> Result<[f64; 10], String> {
+        unit_quaternion(v)
+    }
+}
+
+/// A sphere's state whose orientation (its first four numbers) is of unit length to 1e-6,
+/// renormalised; refused otherwise.
+fn unit_quaternion<const N: usize>(mut v: [f64; N]) -> Result<[f64; N], String> {
+    let norm = v[..4].iter().map(|x| x * x).sum::<f64>().sqrt();
+    if (norm - 1.0).abs() > 1e-6 {
+        return Err(format!(
+            "the orientation quaternion (the first 4 numbers) has length {norm}, not 1"
+        ));
+    }
+    v[..4].iter_mut().for_each(|x| *x /= norm);
+    Ok(v)
 }
 
 /// The sample row of a sphere: t, q, contact direction, ω, centre of mass.

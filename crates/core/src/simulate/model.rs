@@ -1,15 +1,13 @@
 //! The body paired with its start ([`Start`]), and the running model ([`ModelState`]): one of the
-//! four models with its body and its integrated state. A disk always carries an angle and a
+//! registered models with its body and its integrated state, made from the registration
+//! (`dynamics::models::with_registered_models`). A disk always carries an angle and a
 //! sphere an orientation, so the code that steps them ([`super::run`] and the app's
 //! `sim::Simulation`) matches one enum, with no impossible combinations to fall back from.
 
 use glam::{DQuat, DVec3};
 
 use super::{InitialState, RunError};
-use crate::dynamics::{
-    DiskInertial, DiskViscous, ModelKind, ModelVisitor, ModelVisitorMut, Ramp, SphereInertial,
-    SphereViscous,
-};
+use crate::dynamics::{ModelKind, ModelVisitor, ModelVisitorMut, Pose, Ramp, RollingModel};
 use crate::geometry::{Body, Disk, Sphere};
 
 /// A body with the start of its run. Built (and checked) once from a body and an
@@ -111,62 +109,153 @@ impl Start {
             Start::Sphere { .. } => 3,
         }
     }
+
+    /// The body.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{InitialState, Start};
+    /// let disk = Body::paper_disk(84, 0.12, 5)?;
+    /// assert_eq!(Start::new(&disk, InitialState::at_rest(&disk))?.body().dimension(), 2);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn body(&self) -> Body {
+        match self {
+            Start::Disk { disk, .. } => Body::Disk(disk.clone()),
+            Start::Sphere { sphere, .. } => Body::Sphere(sphere.clone()),
+        }
+    }
+
+    /// Where it starts, at the origin of the ramp: what every model of its dimension begins
+    /// from.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::Pose;
+    /// use rollphase_core::geometry::Body;
+    /// use rollphase_core::simulate::{InitialState, Start};
+    /// let disk = Body::paper_disk(84, 0.12, 5)?;
+    /// let start = Start::new(&disk, InitialState::Disk { theta0: 0.5, theta_dot0: 2.0 })?;
+    /// assert_eq!(start.pose(), Pose::Disk { theta: 0.5, theta_dot: 2.0, x_c: 0.0 });
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn pose(&self) -> Pose {
+        match *self {
+            Start::Disk {
+                theta0, theta_dot0, ..
+            } => Pose::Disk {
+                theta: theta0,
+                theta_dot: theta_dot0,
+                x_c: 0.0,
+            },
+            Start::Sphere { q0, omega0, .. } => Pose::Sphere {
+                q: q0,
+                omega: omega0,
+                position: [0.0, 0.0],
+            },
+        }
+    }
 }
 
-/// The match behind [`ModelState::visit`] and [`ModelState::visit_mut`] (the same arms, over a
-/// shared or a mutable state).
-macro_rules! dispatch {
-    ($state:expr, $ramp:expr, $visitor:expr) => {
-        match $state {
-            ModelState::DiskViscous { disk, y } => {
-                $visitor.visit(&DiskViscous::new(disk, $ramp), y)
+/// [`ModelState`] and the matches over it, from the registration
+/// (`dynamics::models::with_registered_models`): one variant per model, holding its body and
+/// its state.
+macro_rules! define_model_states {
+    ($($kind:ident {
+        model: $model:ty,
+        state_len: $n:literal,
+        body: $body:ident,
+        $($entry:ident: $value:literal,)*
+    },)*) => {
+        /// One of the registered models with its body and integrated state: the state vector
+        /// is the one the model's [`crate::integrate::OdeSystem`] integrates (its layout is the
+        /// registry's `state`).
+        #[derive(Debug, Clone)]
+        pub enum ModelState {
+            $(
+                #[doc = concat!("The ", stringify!($kind), " model.")]
+                $kind {
+                    /// The body.
+                    body: $body,
+                    /// The state.
+                    y: [f64; $n],
+                },
+            )*
+        }
+
+        impl ModelState {
+            /// `kind`'s state for `body` at `pose`; `None` when they do not fit it.
+            fn of_kind(kind: ModelKind, body: &Body, pose: &Pose) -> Option<Self> {
+                match kind {
+                    $(
+                        ModelKind::$kind => {
+                            let Body::$body(body) = body else {
+                                return None;
+                            };
+                            Some(ModelState::$kind {
+                                body: body.clone(),
+                                y: <$model as RollingModel<$n>>::state_at(pose)?,
+                            })
+                        }
+                    )*
+                }
             }
-            ModelState::DiskInertial { disk, y } => {
-                $visitor.visit(&DiskInertial::new(disk, $ramp), y)
+
+            fn dispatch<V: ModelVisitor>(&self, ramp: &Ramp, visitor: V) -> V::Output {
+                match self {
+                    $(ModelState::$kind { body, y } => visitor.visit(&<$model>::new(body, ramp), y),)*
+                }
             }
-            ModelState::SphereViscous { sphere, y } => {
-                $visitor.visit(&SphereViscous::new(sphere, $ramp), y)
+
+            fn dispatch_mut<V: ModelVisitorMut>(&mut self, ramp: &Ramp, visitor: V) -> V::Output {
+                match self {
+                    $(ModelState::$kind { body, y } => visitor.visit(&<$model>::new(body, ramp), y),)*
+                }
             }
-            ModelState::SphereInertial { sphere, y } => {
-                $visitor.visit(&SphereInertial::new(sphere, $ramp), y)
+
+            fn kind_of(&self) -> ModelKind {
+                match self {
+                    $(ModelState::$kind { .. } => ModelKind::$kind,)*
+                }
+            }
+
+            fn pose_of(&self) -> Pose {
+                match self {
+                    $(ModelState::$kind { y, .. } => <$model as RollingModel<$n>>::pose(y),)*
+                }
+            }
+
+            fn vector_of(&self) -> &[f64] {
+                match self {
+                    $(ModelState::$kind { y, .. } => y,)*
+                }
+            }
+
+            /// Sets the state to `v` (of the state's length, finite), checked by the model.
+            fn set_vector(&mut self, v: &[f64]) -> Result<(), String> {
+                match self {
+                    $(
+                        ModelState::$kind { y, .. } => {
+                            let v: [f64; $n] = v.try_into().map_err(|_| {
+                                format!("{} numbers, not {}", $n, v.len())
+                            })?;
+                            *y = <$model as RollingModel<$n>>::checked_state(v)?;
+                        }
+                    )*
+                }
+                Ok(())
+            }
+
+            fn body_of(&self) -> Body {
+                match self {
+                    $(ModelState::$kind { body, .. } => Body::$body(body.clone()),)*
+                }
             }
         }
     };
 }
-
-/// One of the four models with its body and integrated state: the state vector is the one the
-/// model's [`crate::integrate::OdeSystem`] integrates.
-#[derive(Debug, Clone)]
-pub enum ModelState {
-    /// 2D viscous: [θ, x_c].
-    DiskViscous {
-        /// The cross-section.
-        disk: Disk,
-        /// The state.
-        y: [f64; 2],
-    },
-    /// 2D inertial: [θ, θ̇, x_c, W] (W: work done by drag).
-    DiskInertial {
-        /// The cross-section.
-        disk: Disk,
-        /// The state.
-        y: [f64; 4],
-    },
-    /// 3D viscous: [q (w, x, y, z), x, y].
-    SphereViscous {
-        /// The body.
-        sphere: Sphere,
-        /// The state.
-        y: [f64; 6],
-    },
-    /// 3D inertial: [q, ω, x, y, W].
-    SphereInertial {
-        /// The body.
-        sphere: Sphere,
-        /// The state.
-        y: [f64; 10],
-    },
-}
+crate::dynamics::models::with_registered_models!(define_model_states);
 
 impl ModelState {
     /// The model `start` runs on `ramp` (viscous when m/m0 = 0), at its initial state.
@@ -183,35 +272,12 @@ impl ModelState {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn new(start: &Start, ramp: &Ramp) -> Self {
-        let inertial = ModelKind::for_dimension(start.dimension(), ramp).is_inertial();
-        match (start, !inertial) {
-            (Start::Disk { disk, theta0, .. }, true) => ModelState::DiskViscous {
-                disk: disk.clone(),
-                y: [*theta0, 0.0],
-            },
-            (
-                Start::Disk {
-                    disk,
-                    theta0,
-                    theta_dot0,
-                },
-                false,
-            ) => ModelState::DiskInertial {
-                disk: disk.clone(),
-                y: [*theta0, *theta_dot0, 0.0, 0.0],
-            },
-            (Start::Sphere { sphere, q0, .. }, true) => ModelState::SphereViscous {
-                sphere: sphere.clone(),
-                y: SphereViscous::initial_state(*q0),
-            },
-            (Start::Sphere { sphere, q0, omega0 }, false) => ModelState::SphereInertial {
-                sphere: sphere.clone(),
-                y: SphereInertial::initial_state(*q0, *omega0),
-            },
-        }
+        let kind = ModelKind::for_dimension(start.dimension(), ramp);
+        Self::of_kind(kind, &start.body(), &start.pose())
+            .expect("the model chosen for a start's dimension rolls its body")
     }
 
-    /// The one place that names the four models: runs `visitor` with this state's model on
+    /// The one place that reaches the run's model: runs `visitor` with this state's model on
     /// `ramp` and its state. Everything that steps or observes a run (`run`, the app's
     /// simulation) goes through here, and asks the model
     /// ([`crate::dynamics::RollingModel`]) for the rest.
@@ -221,7 +287,7 @@ impl ModelState {
     /// use rollphase_core::dynamics::{ModelVisitor, Ramp, RollingModel};
     /// use rollphase_core::geometry::Body;
     /// use rollphase_core::simulate::{InitialState, ModelState, Start};
-    /// // A visitor reads what any of the four models offers, here its CSV columns.
+    /// // A visitor reads what any registered model offers, here its CSV columns.
     /// struct Columns;
     /// impl ModelVisitor for Columns {
     ///     type Output = &'static str;
@@ -236,7 +302,7 @@ impl ModelState {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn visit<V: ModelVisitor>(&self, ramp: &Ramp, visitor: V) -> V::Output {
-        dispatch!(self, ramp, visitor)
+        self.dispatch(ramp, visitor)
     }
 
     /// [`Self::visit`] that may change the state (stepping it).
@@ -265,10 +331,10 @@ impl ModelState {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn visit_mut<V: ModelVisitorMut>(&mut self, ramp: &Ramp, visitor: V) -> V::Output {
-        dispatch!(self, ramp, visitor)
+        self.dispatch_mut(ramp, visitor)
     }
 
-    /// Which of the four this is.
+    /// Which registered model this is.
     ///
     /// # Example
     /// ```
@@ -282,12 +348,7 @@ impl ModelState {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn kind(&self) -> ModelKind {
-        match self {
-            ModelState::DiskViscous { .. } => ModelKind::DiskViscous,
-            ModelState::DiskInertial { .. } => ModelKind::DiskInertial,
-            ModelState::SphereViscous { .. } => ModelKind::SphereViscous,
-            ModelState::SphereInertial { .. } => ModelKind::SphereInertial,
-        }
+        self.kind_of()
     }
 
     /// The same body in the same pose under `ramp`: between inertial settings the angular
@@ -307,26 +368,12 @@ impl ModelState {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn for_ramp(self, ramp: &Ramp) -> Self {
-        let viscous = !ModelKind::for_dimension(self.kind().entry().dimension, ramp).is_inertial();
-        match (self, viscous) {
-            (ModelState::DiskViscous { disk, y }, false) => ModelState::DiskInertial {
-                disk,
-                y: [y[0], 0.0, y[1], 0.0],
-            },
-            (ModelState::DiskInertial { disk, y }, true) => ModelState::DiskViscous {
-                disk,
-                y: [y[0], y[2]],
-            },
-            (ModelState::SphereViscous { sphere, y }, false) => ModelState::SphereInertial {
-                sphere,
-                y: [y[0], y[1], y[2], y[3], 0.0, 0.0, 0.0, y[4], y[5], 0.0],
-            },
-            (ModelState::SphereInertial { sphere, y }, true) => ModelState::SphereViscous {
-                sphere,
-                y: [y[0], y[1], y[2], y[3], y[7], y[8]],
-            },
-            (same, _) => same,
+        let kind = ModelKind::for_dimension(self.kind().entry().dimension, ramp);
+        if kind == self.kind() {
+            return self;
         }
+        Self::of_kind(kind, &self.body(), &self.pose_of())
+            .expect("a model of the same dimension rolls the same body")
     }
 
     /// The integrated state vector (what [`Self::kind`]'s model integrates: the layouts above).
@@ -342,12 +389,7 @@ impl ModelState {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn vector(&self) -> &[f64] {
-        match self {
-            ModelState::DiskViscous { y, .. } => y,
-            ModelState::DiskInertial { y, .. } => y,
-            ModelState::SphereViscous { y, .. } => y,
-            ModelState::SphereInertial { y, .. } => y,
-        }
+        self.vector_of()
     }
 
     /// The same model at the state vector `v` (a saved state resumed): refused, with the reason,
@@ -370,7 +412,7 @@ impl ModelState {
         let len = self.vector().len();
         if v.len() != len {
             return Err(format!(
-                "the {:?} model's state has {len} numbers, not {}",
+                "the {} model's state has {len} numbers, not {}",
                 self.kind(),
                 v.len()
             ));
@@ -378,26 +420,7 @@ impl ModelState {
         if let Some(i) = v.iter().position(|x| !x.is_finite()) {
             return Err(format!("state number {i} is {}, not a finite number", v[i]));
         }
-        let sphere = matches!(
-            self,
-            ModelState::SphereViscous { .. } | ModelState::SphereInertial { .. }
-        );
-        let mut v = v.to_vec();
-        if sphere {
-            let norm = v[..4].iter().map(|x| x * x).sum::<f64>().sqrt();
-            if (norm - 1.0).abs() > 1e-6 {
-                return Err(format!(
-                    "the orientation quaternion (the first 4 numbers) has length {norm}, not 1"
-                ));
-            }
-            v[..4].iter_mut().for_each(|x| *x /= norm);
-        }
-        match &mut self {
-            ModelState::DiskViscous { y, .. } => y.copy_from_slice(&v),
-            ModelState::DiskInertial { y, .. } => y.copy_from_slice(&v),
-            ModelState::SphereViscous { y, .. } => y.copy_from_slice(&v),
-            ModelState::SphereInertial { y, .. } => y.copy_from_slice(&v),
-        }
+        self.set_vector(v)?;
         Ok(self)
     }
 
@@ -414,13 +437,7 @@ impl ModelState {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn body(&self) -> Body {
-        match self {
-            ModelState::DiskViscous { disk, .. } | ModelState::DiskInertial { disk, .. } => {
-                Body::Disk(disk.clone())
-            }
-            ModelState::SphereViscous { sphere, .. }
-            | ModelState::SphereInertial { sphere, .. } => Body::Sphere(sphere.clone()),
-        }
+        self.body_of()
     }
 }
 
@@ -461,6 +478,60 @@ mod tests {
             ModelState::new(&start, &viscous).kind(),
             ModelKind::DiskViscous
         );
+    }
+
+    /// Every registered model is made from its one entry: a start of its dimension runs it at
+    /// the mass that asks for it, with the state its entry describes, and a change of mass
+    /// carries the pose to the other model of its dimension and back.
+    #[test]
+    fn every_registered_model_runs_from_its_entry_and_hands_its_pose_on() {
+        use crate::dynamics::models::REGISTERED;
+        for entry in REGISTERED {
+            let (body, initial) = if entry.dimension == 2 {
+                let initial = InitialState::Disk {
+                    theta0: 0.7,
+                    theta_dot0: 0.3,
+                };
+                (Body::paper_disk(84, 0.12, 5).unwrap(), initial)
+            } else {
+                let initial = InitialState::Sphere {
+                    q0: DQuat::from_rotation_x(0.4),
+                    omega0: DVec3::new(0.1, 0.0, 0.2),
+                };
+                (Body::paper_sphere(219, 0.25, 5).unwrap(), initial)
+            };
+            let ramp = Ramp::new(0.2, if entry.inertial { 3.0 } else { 0.0 }).unwrap();
+            let other = Ramp::new(0.2, if entry.inertial { 0.0 } else { 3.0 }).unwrap();
+            let start = Start::new(&body, initial).unwrap();
+            let state = ModelState::new(&start, &ramp);
+            assert_eq!(state.kind(), entry.kind);
+            assert_eq!(
+                state.vector().len(),
+                entry.state.split(", ").count(),
+                "{}",
+                entry.name
+            );
+            assert_eq!(state.body().dimension(), entry.dimension);
+            let (kind, _, _, finite) = state.visit(&ramp, Describe);
+            assert!(kind == entry.kind && finite, "{}", entry.name);
+            // The pose survives a change of model and back; the rate only if it had one.
+            let there = state.clone().for_ramp(&other);
+            assert_ne!(there.kind(), entry.kind);
+            let back = there.for_ramp(&ramp);
+            assert_eq!(back.pose_of(), {
+                let mut p = state.pose_of();
+                if entry.inertial {
+                    match &mut p {
+                        Pose::Disk { theta_dot, .. } => *theta_dot = 0.0,
+                        Pose::Sphere { omega, .. } => *omega = DVec3::ZERO,
+                    }
+                }
+                p
+            });
+            // A resumed vector of its own length is taken; another length refused.
+            assert!(state.clone().with_vector(state.vector()).is_ok());
+            assert!(state.with_vector(&[0.0; 3]).is_err());
+        }
     }
 
     /// What `visit` hands over: the model's name, its columns and one sample row.
