@@ -258,7 +258,7 @@ fn a_stopped_study_says_so() {
 /// answers at m/m0 = 6 were transients of the period-1 orbit, and none is given any more.
 #[test]
 fn a_scans_answers_do_not_depend_on_the_integrator_picked_for_speed() {
-    use rollphase::analysis::orbits::sphere_orbits::{AnswerCheck, Fate, same_answer};
+    use rollphase::analysis::orbits::sphere_orbits::{AnswerCheck, Settlement, same_answer};
     use rollphase::analysis::studies::sweep::Scan;
     use rollphase::integrate::{Method, Preset};
     let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5).unwrap() else {
@@ -297,7 +297,7 @@ fn a_scans_answers_do_not_depend_on_the_integrator_picked_for_speed() {
             let reference = &start[0];
             assert_eq!(reference.check, AnswerCheck::Reference);
             assert!(
-                matches!(reference.fate, Fate::Periodic { k: 1, .. }),
+                matches!(reference.fate, Settlement::Periodic { k: 1, .. }),
                 "{:?}",
                 reference.fate
             );
@@ -309,7 +309,7 @@ fn a_scans_answers_do_not_depend_on_the_integrator_picked_for_speed() {
                     reference.fate
                 );
                 if let AnswerCheck::Corrected {
-                    fast: Fate::Periodic { k, .. },
+                    fast: Settlement::Periodic { k, .. },
                 } = run.check
                 {
                     fast_doublings += usize::from(k > 1);

@@ -399,7 +399,7 @@ pub const FIGURES: &[FigureEntry] = &[
     },
     FigureEntry {
         name: "sphere-orbits",
-        records: Some(decode_as::<crate::analysis::orbits::sphere_orbits::Fate>),
+        records: Some(decode_as::<crate::analysis::orbits::sphere_orbits::Settlement>),
         about: "Fig. 3c: 1/T versus α for 6 orientations; all collapse onto two closed orbits",
         run: |o| ran(o, "sphere-orbits", sphere_orbits::compute),
     },

@@ -20,7 +20,7 @@ use serde::Serialize;
 use super::shard::{Fields, Record};
 use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::critical_angle;
-use crate::analysis::orbits::sphere_orbits::{Fate, settle};
+use crate::analysis::orbits::sphere_orbits::{Settlement, settle};
 use crate::analysis::rest::critical_angle::convex_disk_with_alpha_star;
 use crate::analysis::studies::disk::disk_cruises;
 use crate::analysis::studies::sphere::cruising_settle;
@@ -53,7 +53,7 @@ pub struct Summary {
 /// One run of the ensemble: a sphere's fate, or whether a disk cruised.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) enum Run {
-    Sphere(Fate),
+    Sphere(Settlement),
     Disk(bool),
 }
 
@@ -72,7 +72,7 @@ impl Record for Run {
     }
     fn decode(f: &mut Fields) -> Result<Self> {
         Ok(match f.count()? {
-            0 => Run::Sphere(Fate::decode(f)?),
+            0 => Run::Sphere(Settlement::decode(f)?),
             1 => Run::Disk(bool::decode(f)?),
             v => anyhow::bail!("{v} is not a run kind"),
         })
@@ -125,7 +125,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
         },
     ));
     let (sphere_runs, disk_runs) = runs.split_at(jobs.len());
-    let fates: Vec<&Fate> = sphere_runs
+    let fates: Vec<&Settlement> = sphere_runs
         .iter()
         .filter_map(|r| match r {
             Run::Sphere(f) => Some(f),
@@ -144,7 +144,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
     }
     let undecided = fates
         .iter()
-        .filter(|f| matches!(f, Fate::Undecided { .. }))
+        .filter(|f| matches!(f, Settlement::Undecided { .. }))
         .count();
     let fraction_3d: Vec<f64> = (0..n_a)
         .map(|a| (0..n_or).filter(|&o| cruises(fates[a * n_or + o])).count() as f64 / n_or as f64)

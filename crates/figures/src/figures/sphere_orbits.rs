@@ -12,7 +12,7 @@ use serde::Serialize;
 use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::critical_angle;
 use crate::analysis::orbits::sphere_orbits::{
-    Fate, Settle, boundary_distance, cluster_antipodal, settle,
+    Settle, Settlement, boundary_distance, cluster_antipodal, settle,
 };
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::Ramp;
@@ -61,7 +61,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
         "sphere-orbits",
         jobs.len(),
         "orbits",
-        |k| -> Result<Fate> {
+        |k| -> Result<Settlement> {
             let (r, a) = jobs[k];
             let ramp = Ramp::new(alphas[a], 0.0)?;
             let q0 = random_orientation(&body, opts.seed, r);
@@ -86,7 +86,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
     for a in 0..na {
         let pts: Vec<(usize, DVec3)> = (0..runs)
             .filter_map(|r| match &fates[r * na + a] {
-                Fate::Periodic { point, .. } => Some((r, DVec3::from_array(*point))),
+                Settlement::Periodic { point, .. } => Some((r, DVec3::from_array(*point))),
                 _ => None,
             })
             .collect();
@@ -112,9 +112,9 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
         previous = reps;
         for r in 0..runs {
             let (inv_t, k) = match &fates[r * na + a] {
-                Fate::Periodic { period, .. } => (1.0 / period, labels[r][a] as f64),
-                Fate::Halts { .. } => (0.0, -1.0),
-                Fate::Undecided { .. } => (f64::NAN, -2.0),
+                Settlement::Periodic { period, .. } => (1.0 / period, labels[r][a] as f64),
+                Settlement::Halts { .. } => (0.0, -1.0),
+                Settlement::Undecided { .. } => (f64::NAN, -2.0),
             };
             rows.push(vec![r as f64, alphas[a], inv_t, k]);
         }
@@ -122,7 +122,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
     let csv_header = "run,alpha,inverse_period,orbit_label";
     let undecided = fates
         .iter()
-        .filter(|f| matches!(f, Fate::Undecided { .. }))
+        .filter(|f| matches!(f, Settlement::Undecided { .. }))
         .count();
     let summary = Summary {
         body: fig.label,

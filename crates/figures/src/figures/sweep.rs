@@ -47,7 +47,7 @@ use super::shard::{
     Ensemble, Ensembled, Fields, JobId, Record, ShardSet, ShardSpec, ShardWritten, run_ensemble,
 };
 use super::{number_field, par_map};
-use crate::analysis::orbits::sphere_orbits::{AnswerCheck, Fate, Settle};
+use crate::analysis::orbits::sphere_orbits::{AnswerCheck, Settle, Settlement};
 use crate::analysis::studies::sweep::{Scan, ScanRun, ScanTally};
 use crate::dynamics::Ramp;
 use crate::dynamics::validity::ContactReport;
@@ -655,11 +655,13 @@ impl Sweep {
 }
 
 /// A fate's CSV fields: its name, period, multiplicity, halt time and end |ω|.
-fn fate_fields(fate: &Fate) -> (&'static str, f64, String, f64, f64) {
+fn fate_fields(fate: &Settlement) -> (&'static str, f64, String, f64, f64) {
     match *fate {
-        Fate::Halts { t } => ("halted", f64::NAN, String::new(), t, 0.0),
-        Fate::Periodic { period, k, .. } => ("periodic", period, k.to_string(), f64::NAN, f64::NAN),
-        Fate::Undecided { omega_end } => {
+        Settlement::Halts { t } => ("halted", f64::NAN, String::new(), t, 0.0),
+        Settlement::Periodic { period, k, .. } => {
+            ("periodic", period, k.to_string(), f64::NAN, f64::NAN)
+        }
+        Settlement::Undecided { omega_end } => {
             ("undecided", f64::NAN, String::new(), f64::NAN, omega_end)
         }
     }
@@ -793,14 +795,14 @@ impl Record for ScanRun {
         }
     }
     fn decode(f: &mut Fields) -> Result<Self> {
-        let fate = Fate::decode(f)?;
+        let fate = Settlement::decode(f)?;
         let rhs_evals = u64::decode(f)?;
         let contact = ContactReport::decode(f)?;
         let check = match f.count()? {
             0 => AnswerCheck::Reference,
             1 => AnswerCheck::Confirmed,
             2 => AnswerCheck::Corrected {
-                fast: Fate::decode(f)?,
+                fast: Settlement::decode(f)?,
             },
             v => bail!("{v} is not an answer check (0 reference, 1 confirmed, 2 corrected)"),
         };

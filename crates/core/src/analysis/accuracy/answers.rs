@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::analysis::orbits::sphere_orbits::{
-    Fate, Settle, same_answer, settle_checked, settle_with,
+    Settle, Settlement, same_answer, settle_checked, settle_with,
 };
 use crate::analysis::studies::sphere::random_orientation;
 use crate::dynamics::{ModelError, Ramp};
@@ -176,15 +176,17 @@ pub fn spec_name(method: Method) -> String {
 /// # Example
 /// ```
 /// use rollphase_core::analysis::accuracy::answers::distinct_orbits;
-/// use rollphase_core::analysis::orbits::sphere_orbits::Fate;
-/// let cycle = |period, k| Fate::Periodic { period, k, point: [1.0, 0.0, 0.0], t: 0.0 };
-/// let fates = [cycle(37.98, 1), cycle(37.9800001, 1), cycle(37.11, 1), Fate::Halts { t: 1.0 }];
+/// use rollphase_core::analysis::orbits::sphere_orbits::Settlement;
+/// let cycle = |period, k| Settlement::Periodic { period, k, point: [1.0, 0.0, 0.0], t: 0.0 };
+/// let fates = [cycle(37.98, 1), cycle(37.9800001, 1), cycle(37.11, 1), Settlement::Halts { t: 1.0 }];
 /// assert_eq!(distinct_orbits(&fates, 1e-5), 2);
 /// ```
-pub fn distinct_orbits(fates: &[Fate], rtol: f64) -> usize {
-    let mut orbits: Vec<&Fate> = Vec::new();
+pub fn distinct_orbits(fates: &[Settlement], rtol: f64) -> usize {
+    let mut orbits: Vec<&Settlement> = Vec::new();
     for f in fates {
-        if matches!(f, Fate::Periodic { .. }) && !orbits.iter().any(|o| same_answer(o, f, rtol)) {
+        if matches!(f, Settlement::Periodic { .. })
+            && !orbits.iter().any(|o| same_answer(o, f, rtol))
+        {
             orbits.push(f);
         }
     }
@@ -196,15 +198,15 @@ pub fn distinct_orbits(fates: &[Fate], rtol: f64) -> usize {
 /// # Example
 /// ```
 /// use rollphase_core::analysis::accuracy::answers::{paper_answer_cases, reference_fates};
-/// use rollphase_core::analysis::orbits::sphere_orbits::Fate;
+/// use rollphase_core::analysis::orbits::sphere_orbits::Settlement;
 /// use rollphase_core::geometry::Body;
 /// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
 /// let case = &paper_answer_cases(&s, 1)?[1];
 /// let fates = reference_fates(case)?;
-/// assert!(matches!(fates[0], Fate::Periodic { k: 1, .. }));
+/// assert!(matches!(fates[0], Settlement::Periodic { k: 1, .. }));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn reference_fates(case: &AnswerCase) -> Result<Vec<Fate>, IntegrateError> {
+pub fn reference_fates(case: &AnswerCase) -> Result<Vec<Settlement>, IntegrateError> {
     (0..case.orientations)
         .into_par_iter()
         .map(|o| {
@@ -233,10 +235,10 @@ pub fn reference_fates(case: &AnswerCase) -> Result<Vec<Fate>, IntegrateError> {
 pub fn answer_row(
     case: &AnswerCase,
     method: Method,
-    reference: &[Fate],
+    reference: &[Settlement],
 ) -> Result<AnswerRow, IntegrateError> {
     let tol = case.settle.period_rtol;
-    let runs: Vec<(Fate, u64, Fate, u64)> = (0..case.orientations)
+    let runs: Vec<(Settlement, u64, Settlement, u64)> = (0..case.orientations)
         .into_par_iter()
         .map(|o| {
             let q0 = random_orientation(&case.body, 1, o);
@@ -251,10 +253,10 @@ pub fn answer_row(
             ))
         })
         .collect::<Result<_, IntegrateError>>()?;
-    let kind = |f: &Fate| std::mem::discriminant(f);
-    let raw: Vec<Fate> = runs.iter().map(|r| r.0.clone()).collect();
-    let checked: Vec<Fate> = runs.iter().map(|r| r.2.clone()).collect();
-    let agree = |fates: &[Fate]| {
+    let kind = |f: &Settlement| std::mem::discriminant(f);
+    let raw: Vec<Settlement> = runs.iter().map(|r| r.0.clone()).collect();
+    let checked: Vec<Settlement> = runs.iter().map(|r| r.2.clone()).collect();
+    let agree = |fates: &[Settlement]| {
         fates
             .iter()
             .zip(reference)

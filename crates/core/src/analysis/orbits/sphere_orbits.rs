@@ -119,10 +119,14 @@ pub struct Crossing {
     pub point: [f64; 3],
 }
 
-/// What becomes of a run.
+/// How a settle run ended, with its evidence: when it came to rest, the cycle it closed (its
+/// duration, length and a point of it), or how far from rest it still was at its cap. Not a
+/// second kind of fate: what a surface reports is the verdict's ([`crate::analysis::verdict::Fate`]
+/// and its words, which `ScanRun::fate_word` gives a sweep's row, with the contact force's
+/// lift-off before any of these).
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub enum Fate {
-    /// Came to rest (|ω| below the threshold) at time `t`.
+pub enum Settlement {
+    /// Came to rest (`verdict::rest_measure` below the threshold) at time `t`.
     Halts {
         /// When.
         t: f64,
@@ -176,7 +180,7 @@ pub enum AnswerCheck {
     /// integrator said.
     Corrected {
         /// The run's integrator's fate.
-        fast: Fate,
+        fast: Settlement,
     },
 }
 
@@ -185,8 +189,8 @@ impl AnswerCheck {
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Fate};
-    /// let c = AnswerCheck::Corrected { fast: Fate::Halts { t: 1.0 } };
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Settlement};
+    /// let c = AnswerCheck::Corrected { fast: Settlement::Halts { t: 1.0 } };
     /// assert_eq!(c.name(), "corrected");
     /// ```
     pub fn name(&self) -> &'static str {
@@ -202,7 +206,7 @@ impl AnswerCheck {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Settled {
     /// The fate: the reference integrator's.
-    pub fate: Fate,
+    pub fate: Settlement,
     /// Whether the run's own integrator agreed.
     pub check: AnswerCheck,
     /// The ∂Ω crossings of the run as its own integrator followed it.
@@ -224,21 +228,21 @@ pub const VERIFY_CYCLES: f64 = 40.0;
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbits::sphere_orbits::{Fate, same_answer};
-/// let cycle = |period, k| Fate::Periodic { period, k, point: [1.0, 0.0, 0.0], t: 100.0 };
+/// use rollphase_core::analysis::orbits::sphere_orbits::{Settlement, same_answer};
+/// let cycle = |period, k| Settlement::Periodic { period, k, point: [1.0, 0.0, 0.0], t: 100.0 };
 /// assert!(same_answer(&cycle(32.419, 1), &cycle(32.4190001, 1), 1e-5));
 /// assert!(!same_answer(&cycle(32.419, 1), &cycle(64.84, 2), 1e-5));
-/// assert!(same_answer(&Fate::Halts { t: 3.0 }, &Fate::Halts { t: 9.0 }, 1e-5));
+/// assert!(same_answer(&Settlement::Halts { t: 3.0 }, &Settlement::Halts { t: 9.0 }, 1e-5));
 /// ```
-pub fn same_answer(a: &Fate, b: &Fate, period_rtol: f64) -> bool {
+pub fn same_answer(a: &Settlement, b: &Settlement, period_rtol: f64) -> bool {
     match (a, b) {
-        (Fate::Halts { .. }, Fate::Halts { .. }) => true,
-        (Fate::Undecided { .. }, Fate::Undecided { .. }) => true,
+        (Settlement::Halts { .. }, Settlement::Halts { .. }) => true,
+        (Settlement::Undecided { .. }, Settlement::Undecided { .. }) => true,
         (
-            Fate::Periodic {
+            Settlement::Periodic {
                 period: pa, k: ka, ..
             },
-            Fate::Periodic {
+            Settlement::Periodic {
                 period: pb, k: kb, ..
             },
         ) => ka == kb && (pa - pb).abs() <= period_rtol.max(1e-12) * pa.abs().max(pb.abs()),
@@ -263,13 +267,13 @@ impl Default for Settle {
 /// fate and all ∂Ω crossings (for plots).
 ///
 /// ```
-/// use rollphase_core::analysis::orbits::sphere_orbits::{Fate, Settle, settle};
+/// use rollphase_core::analysis::orbits::sphere_orbits::{Settlement, Settle, settle};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DQuat;
 /// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
 /// let (fate, _crossings) = settle(&s, &Ramp::new(0.15, 0.0)?, DQuat::IDENTITY, &Settle::default())?;
-/// assert!(matches!(fate, Fate::Periodic { k: 1, .. })); // above α*, a closed orbit
+/// assert!(matches!(fate, Settlement::Periodic { k: 1, .. })); // above α*, a closed orbit
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn settle(
@@ -277,7 +281,7 @@ pub fn settle(
     ramp: &Ramp,
     q0: DQuat,
     s: &Settle,
-) -> Result<(Fate, Vec<Crossing>), IntegrateError> {
+) -> Result<(Settlement, Vec<Crossing>), IntegrateError> {
     settle_with(body, ramp, q0, s, Method::dop853(s.rtol)).map(|(f, c, _)| (f, c))
 }
 
@@ -287,14 +291,14 @@ pub fn settle(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbits::sphere_orbits::{Fate, Settle, settle_with};
+/// use rollphase_core::analysis::orbits::sphere_orbits::{Settlement, Settle, settle_with};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DQuat;
 /// use rollphase_core::integrate::Method;
 /// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
 /// let (fate, _, stats) = settle_with(&s, &Ramp::new(0.15, 0.0)?, DQuat::IDENTITY, &Settle::default(), Method::dop853(1e-8))?;
-/// assert!(matches!(fate, Fate::Periodic { k: 1, .. }));
+/// assert!(matches!(fate, Settlement::Periodic { k: 1, .. }));
 /// assert!(stats.rhs_evals > 0);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
@@ -304,7 +308,7 @@ pub fn settle_with(
     q0: DQuat,
     s: &Settle,
     method: Method,
-) -> Result<(Fate, Vec<Crossing>, Stats), IntegrateError> {
+) -> Result<(Settlement, Vec<Crossing>, Stats), IntegrateError> {
     on_model!(body, ramp, q0, |sys, y0, omega| {
         follow(sys, 0.0, y0, s.t_max, s, method, omega, Watch::Not)
             .map(|f| (f.fate, f.crossings, f.stats))
@@ -318,7 +322,7 @@ pub fn settle_with(
 ///
 /// # Example
 /// ```
-/// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Fate, Settle, settle_checked};
+/// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Settlement, Settle, settle_checked};
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DQuat;
@@ -326,7 +330,7 @@ pub fn settle_with(
 /// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
 /// let ramp = Ramp::new(0.15, 0.0)?;
 /// let run = settle_checked(&s, &ramp, DQuat::IDENTITY, &Settle::default(), Method::dop853(1e-8))?;
-/// assert!(matches!(run.fate, Fate::Periodic { k: 1, .. }));
+/// assert!(matches!(run.fate, Settlement::Periodic { k: 1, .. }));
 /// assert_eq!(run.check, AnswerCheck::Confirmed);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
@@ -349,7 +353,7 @@ fn is_reference(method: Method, s: &Settle) -> bool {
 
 /// One integrator's run to its fate, and the state at its last ∂Ω crossing.
 struct Followed<const N: usize> {
-    fate: Fate,
+    fate: Settlement,
     crossings: Vec<Crossing>,
     stats: Stats,
     last_crossing: Option<(f64, [f64; N])>,
@@ -408,12 +412,12 @@ fn follow<const N: usize, S: RollingModel<N>>(
         }
         // At rest: the viscous ω vanishes at a rest point; the inertial one decays to it.
         if omega(st.y()) < s.omega_rest && st.t() > t0 + 1.0 {
-            fate = Some(Fate::Halts { t: st.t() });
+            fate = Some(Settlement::Halts { t: st.t() });
             return Ok(Flow::Stop);
         }
         Ok(Flow::Continue)
     })?;
-    let fate = fate.unwrap_or_else(|| Fate::Undecided {
+    let fate = fate.unwrap_or_else(|| Settlement::Undecided {
         omega_end: omega(run.y()),
     });
     Ok(Followed {
@@ -454,7 +458,7 @@ fn follow_checked<const N: usize, S: RollingModel<N>>(
     let checked = match (&fast.fate, fast.last_crossing) {
         // A period-1 cycle can be wrong by its period, or by hiding a doubling: the reference
         // followed on from its last crossing shows both, in a few periods.
-        (Fate::Periodic { period, k: 1, .. }, Some((t_c, y_c))) => {
+        (Settlement::Periodic { period, k: 1, .. }, Some((t_c, y_c))) => {
             let t_end = s.t_max.max(t_c + VERIFY_CYCLES * period);
             follow(sys, t_c, y_c, t_end, s, reference, &omega, Watch::Contact)?
         }
@@ -466,7 +470,7 @@ fn follow_checked<const N: usize, S: RollingModel<N>>(
     };
     let checked_contact = checked.contact.unwrap_or_else(|| unreachable!("watched"));
     let contact = match &fast.fate {
-        Fate::Periodic { k: 1, .. } if fast.last_crossing.is_some() => {
+        Settlement::Periodic { k: 1, .. } if fast.last_crossing.is_some() => {
             fast_contact.merged(&checked_contact)
         }
         _ => checked_contact,
@@ -495,7 +499,7 @@ fn follow_checked<const N: usize, S: RollingModel<N>>(
 
 /// A cycle of length k ≤ max_k closing twice in a row (points and durations), and steady for
 /// k ≥ 2 ([`steady_cycle`]).
-fn periodic(c: &[Crossing], s: &Settle) -> Option<Fate> {
+fn periodic(c: &[Crossing], s: &Settle) -> Option<Settlement> {
     let n = c.len();
     for k in 1..=s.max_k {
         if n < 2 * k + 1 {
@@ -510,7 +514,7 @@ fn periodic(c: &[Crossing], s: &Settle) -> Option<Fate> {
             && (t1 - t0).abs() < s.period_rtol * t1
             && steady_cycle(c, k, s.point_tol)
         {
-            return Some(Fate::Periodic {
+            return Some(Settlement::Periodic {
                 period: t1,
                 k,
                 point: c[a].point,

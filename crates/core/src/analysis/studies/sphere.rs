@@ -16,7 +16,7 @@ use thiserror::Error;
 
 use crate::analysis::orbits::return_map::ReturnMapError;
 use crate::analysis::orbits::sphere_orbits::{
-    Crossing, Decide, DecidedRun, Fate, RunEnd, Settle, boundary_distance, cluster_antipodal,
+    Crossing, Decide, DecidedRun, RunEnd, Settle, Settlement, boundary_distance, cluster_antipodal,
     decided_run, poincare_step, settle, settled_cycle,
 };
 use crate::analysis::orbits::sphere_return_map::{
@@ -214,17 +214,17 @@ pub struct Cruising {
 /// (|ω| ≥ 1e-3 at the end).
 ///
 /// ```
-/// use rollphase_core::analysis::orbits::sphere_orbits::Fate;
+/// use rollphase_core::analysis::orbits::sphere_orbits::Settlement;
 /// use rollphase_core::analysis::studies::sphere::cruises;
-/// assert!(!cruises(&Fate::Halts { t: 3.0 }));
-/// assert!(cruises(&Fate::Undecided { omega_end: 0.2 }));
-/// assert!(!cruises(&Fate::Undecided { omega_end: 1e-6 }));
+/// assert!(!cruises(&Settlement::Halts { t: 3.0 }));
+/// assert!(cruises(&Settlement::Undecided { omega_end: 0.2 }));
+/// assert!(!cruises(&Settlement::Undecided { omega_end: 1e-6 }));
 /// ```
-pub fn cruises(f: &Fate) -> bool {
+pub fn cruises(f: &Settlement) -> bool {
     match f {
-        Fate::Halts { .. } => false,
-        Fate::Periodic { .. } => true,
-        Fate::Undecided { omega_end } => *omega_end >= 1e-3,
+        Settlement::Halts { .. } => false,
+        Settlement::Periodic { .. } => true,
+        Settlement::Undecided { omega_end } => *omega_end >= 1e-3,
     }
 }
 
@@ -299,7 +299,7 @@ pub fn cruising_fraction_until(
         )));
     }
     let opts = cruising_settle();
-    let fates: Vec<Fate> = (0..orientations)
+    let fates: Vec<Settlement> = (0..orientations)
         .into_par_iter()
         .map(|o| {
             stopped(stop)?;
@@ -311,11 +311,11 @@ pub fn cruising_fraction_until(
         cruising,
         halted: fates
             .iter()
-            .filter(|f| matches!(f, Fate::Halts { .. }))
+            .filter(|f| matches!(f, Settlement::Halts { .. }))
             .count(),
         undecided: fates
             .iter()
-            .filter(|f| matches!(f, Fate::Undecided { .. }))
+            .filter(|f| matches!(f, Settlement::Undecided { .. }))
             .count(),
         fraction: cruising as f64 / orientations as f64,
     })

@@ -12,7 +12,7 @@
 use crate::dynamics::validity::ContactReport;
 use rayon::prelude::*;
 
-use crate::analysis::orbits::sphere_orbits::{AnswerCheck, Fate, Settle, settle_checked};
+use crate::analysis::orbits::sphere_orbits::{AnswerCheck, Settle, Settlement, settle_checked};
 use crate::analysis::studies::sphere::{cruises, random_orientation};
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::Sphere;
@@ -57,7 +57,7 @@ pub struct ScanPoint {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScanRun {
     /// Its fate (the reference integrator's: see [`ScanRun::check`]).
-    pub fate: Fate,
+    pub fate: Settlement,
     /// Whether the run's own integrator gave the same fate.
     pub check: AnswerCheck,
     /// Right-hand-side evaluations it took.
@@ -73,10 +73,10 @@ impl ScanRun {
     /// # Example
     /// ```
     /// use rollphase_core::analysis::studies::sweep::ScanRun;
-    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Fate};
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Settlement};
     /// use rollphase_core::dynamics::{ContactForce, validity::{ContactLimits, ContactWatch}};
     /// let contact = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.1)).report();
-    /// let run = ScanRun { fate: Fate::Halts { t: 3.0 }, check: AnswerCheck::Reference, rhs_evals: 10, contact };
+    /// let run = ScanRun { fate: Settlement::Halts { t: 3.0 }, check: AnswerCheck::Reference, rhs_evals: 10, contact };
     /// assert!(!run.cruises());
     /// ```
     pub fn cruises(&self) -> bool {
@@ -90,10 +90,10 @@ impl ScanRun {
     /// # Example
     /// ```
     /// use rollphase_core::analysis::studies::sweep::ScanRun;
-    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Fate};
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Settlement};
     /// use rollphase_core::dynamics::{ContactForce, validity::{ContactLimits, ContactWatch}};
     /// let mut contact = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.1)).report();
-    /// let run = |contact| ScanRun { fate: Fate::Halts { t: 3.0 }, check: AnswerCheck::Reference, rhs_evals: 10, contact };
+    /// let run = |contact| ScanRun { fate: Settlement::Halts { t: 3.0 }, check: AnswerCheck::Reference, rhs_evals: 10, contact };
     /// assert!(!run(contact).left_model());
     /// contact.lift_off_t = Some(2.0);
     /// assert!(run(contact).left_model());
@@ -110,10 +110,10 @@ impl ScanRun {
     /// # Example
     /// ```
     /// use rollphase_core::analysis::studies::sweep::ScanRun;
-    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Fate};
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Settlement};
     /// use rollphase_core::dynamics::{ContactForce, validity::{ContactLimits, ContactWatch}};
     /// let mut contact = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.1)).report();
-    /// let fate = Fate::Periodic { period: 40.0, k: 1, point: [1.0, 0.0, 0.0], t: 400.0 };
+    /// let fate = Settlement::Periodic { period: 40.0, k: 1, point: [1.0, 0.0, 0.0], t: 400.0 };
     /// let run = ScanRun { fate: fate.clone(), check: AnswerCheck::Reference, rhs_evals: 10, contact };
     /// assert_eq!(run.fate_word(), "periodic");
     /// contact.lift_off_t = Some(4.5);
@@ -125,9 +125,9 @@ impl ScanRun {
             return "left_model";
         }
         match self.fate {
-            Fate::Halts { .. } => "halted",
-            Fate::Periodic { .. } => "periodic",
-            Fate::Undecided { .. } => "undecided",
+            Settlement::Halts { .. } => "halted",
+            Settlement::Periodic { .. } => "periodic",
+            Settlement::Undecided { .. } => "undecided",
         }
     }
 }
@@ -159,13 +159,13 @@ impl ScanTally {
     /// # Example
     /// ```
     /// use rollphase_core::analysis::studies::sweep::{ScanRun, ScanTally};
-    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Fate};
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Settlement};
     /// let mut tally = ScanTally::default();
-    /// let check = AnswerCheck::Corrected { fast: Fate::Halts { t: 4.0 } };
+    /// let check = AnswerCheck::Corrected { fast: Settlement::Halts { t: 4.0 } };
     /// # use rollphase_core::dynamics::{ContactForce, validity::{ContactLimits, ContactWatch}};
     /// # let contact = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.1)).report();
-    /// tally.add(&ScanRun { fate: Fate::Undecided { omega_end: 0.1 }, check, rhs_evals: 40, contact });
-    /// tally.add(&ScanRun { fate: Fate::Halts { t: 9.0 }, check: AnswerCheck::Confirmed, rhs_evals: 2, contact });
+    /// tally.add(&ScanRun { fate: Settlement::Undecided { omega_end: 0.1 }, check, rhs_evals: 40, contact });
+    /// tally.add(&ScanRun { fate: Settlement::Halts { t: 9.0 }, check: AnswerCheck::Confirmed, rhs_evals: 2, contact });
     /// assert_eq!((tally.runs, tally.undecided, tally.halts, tally.cruising), (2, 1, 1, 1));
     /// assert_eq!((tally.rhs_evals, tally.corrected), (42, 1));
     /// ```
@@ -173,9 +173,9 @@ impl ScanTally {
         self.runs += 1;
         let count = match r.fate {
             _ if r.left_model() => &mut self.left_model,
-            Fate::Halts { .. } => &mut self.halts,
-            Fate::Periodic { .. } => &mut self.periodic,
-            Fate::Undecided { .. } => &mut self.undecided,
+            Settlement::Halts { .. } => &mut self.halts,
+            Settlement::Periodic { .. } => &mut self.periodic,
+            Settlement::Undecided { .. } => &mut self.undecided,
         };
         *count += 1;
         self.cruising += usize::from(r.cruises());
@@ -279,7 +279,7 @@ impl Scan {
     /// # Example
     /// ```
     /// # use rollphase_core::analysis::studies::sweep::Scan;
-    /// # use rollphase_core::analysis::orbits::sphere_orbits::{Fate, Settle};
+    /// # use rollphase_core::analysis::orbits::sphere_orbits::{Settlement, Settle};
     /// # use rollphase_core::integrate::Method;
     /// use rollphase_core::geometry::Body;
     /// let Body::Sphere(body) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
@@ -293,7 +293,7 @@ impl Scan {
     ///     settle: Settle { t_max: 2000.0, ..Settle::default() },
     /// };
     /// // Far below α* = 0.139 the paper's body halts from any orientation.
-    /// assert!(matches!(scan.run(0)?.fate, Fate::Halts { .. }));
+    /// assert!(matches!(scan.run(0)?.fate, Settlement::Halts { .. }));
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn run(&self, k: usize) -> Result<ScanRun, ScanError> {

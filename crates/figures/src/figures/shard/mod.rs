@@ -259,7 +259,7 @@ pub enum JobId {
 mod tests {
     use super::file::{decode_line, encode_line};
     use super::*;
-    use crate::analysis::orbits::sphere_orbits::Fate;
+    use crate::analysis::orbits::sphere_orbits::Settlement;
     use glam::DVec3;
 
     fn round_trip<T: Record + PartialEq + std::fmt::Debug>(x: T) {
@@ -287,14 +287,14 @@ mod tests {
         round_trip(u64::MAX - 2);
         round_trip((true, 3usize, vec![vec![1.5f64], vec![]]));
         round_trip(vec![
-            Fate::Halts { t: 12.5 },
-            Fate::Periodic {
+            Settlement::Halts { t: 12.5 },
+            Settlement::Periodic {
                 period: 9.87654321,
                 k: 2,
                 point: [0.6, -0.8, 1e-17],
                 t: 1999.9,
             },
-            Fate::Undecided { omega_end: 3e-4 },
+            Settlement::Undecided { omega_end: 3e-4 },
         ]);
         // NaN compares unequal, so check its bits directly.
         let line = encode_line(&[f64::NAN, f64::NEG_INFINITY]);

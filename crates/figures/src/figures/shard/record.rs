@@ -5,7 +5,7 @@
 use anyhow::{Result, anyhow, bail};
 use glam::DVec3;
 
-use crate::analysis::orbits::sphere_orbits::{Crossing, Fate};
+use crate::analysis::orbits::sphere_orbits::{Crossing, Settlement};
 use crate::dynamics::validity::ContactReport;
 
 /// The largest period multiplicity a shard's fate may hold (a sweep's `max_multiplicity` is
@@ -225,11 +225,11 @@ impl Record for ContactReport {
     }
 }
 
-impl Record for Fate {
+impl Record for Settlement {
     fn encode(&self, out: &mut Vec<f64>) {
         match self {
-            Fate::Halts { t } => out.extend([0.0, *t]),
-            Fate::Periodic {
+            Settlement::Halts { t } => out.extend([0.0, *t]),
+            Settlement::Periodic {
                 period,
                 k,
                 point,
@@ -239,19 +239,19 @@ impl Record for Fate {
                 out.extend(point);
                 out.push(*t);
             }
-            Fate::Undecided { omega_end } => out.extend([2.0, *omega_end]),
+            Settlement::Undecided { omega_end } => out.extend([2.0, *omega_end]),
         }
     }
     fn decode(f: &mut Fields) -> Result<Self> {
         let fate = match f.count()? {
-            0 => Fate::Halts { t: f.number()? },
-            1 => Fate::Periodic {
+            0 => Settlement::Halts { t: f.number()? },
+            1 => Settlement::Periodic {
                 period: f.number()?,
                 k: f.count()?,
                 point: [f.number()?, f.number()?, f.number()?],
                 t: f.number()?,
             },
-            2 => Fate::Undecided {
+            2 => Settlement::Undecided {
                 omega_end: f.number()?,
             },
             v => bail!("{v} is not a fate (0 halts, 1 periodic, 2 undecided)"),
@@ -259,10 +259,10 @@ impl Record for Fate {
         // The ranges every reduction relies on: times ≥ 0, a period > 0 of 1 to
         // MAX_FATE_MULTIPLICITY crossings, finite points.
         match fate {
-            Fate::Halts { t } if !(t.is_finite() && t >= 0.0) => {
+            Settlement::Halts { t } if !(t.is_finite() && t >= 0.0) => {
                 bail!("halt time {t} is not a finite time ≥ 0")
             }
-            Fate::Periodic {
+            Settlement::Periodic {
                 period,
                 k,
                 point,
@@ -278,7 +278,7 @@ impl Record for Fate {
                     bail!("the orbit's point or time is not finite");
                 }
             }
-            Fate::Undecided { omega_end } if !(omega_end.is_finite() && omega_end >= 0.0) => {
+            Settlement::Undecided { omega_end } if !(omega_end.is_finite() && omega_end >= 0.0) => {
                 bail!("final |ω| {omega_end} is not a finite number ≥ 0")
             }
             _ => {}
