@@ -12,7 +12,7 @@ only: import them under typing.TYPE_CHECKING).
 """
 
 from os import PathLike
-from typing import List, Literal, Optional, Sequence, Tuple, TypedDict, Union
+from typing import Any, List, Literal, Optional, Sequence, Tuple, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -68,6 +68,15 @@ class RunSummary(TypedDict):
     tips: NotRequired[int]
     tip_energy_lost: NotRequired[float]
     rested_t: NotRequired[Optional[float]]
+    fate: str
+    """The verdict's word: "left_model", "halted" or "undecided" (a fixed-time run does not
+    look for a cycle)."""
+    t: NotRequired[Optional[float]]
+    """With "halted": at rest from this time on."""
+    violation: NotRequired[dict[str, Any]]
+    """With "left_model": the first violation (`kind` "lift_off" or "slip", `t`)."""
+    why: NotRequired[dict[str, Any]]
+    """With "undecided": `reason` and what it measured."""
 
 class DegreeResidual(TypedDict):
     modes: int

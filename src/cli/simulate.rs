@@ -109,7 +109,10 @@ pub struct SimulateArgs {
     pub max_steps: u64,
     /// Write a JSON summary: rhs_evals, steps, max_quat_norm_error, max_contact_normal_error,
     /// energy_drift, wall_seconds, min_normal_force, max_normal_force, max_friction_needed,
-    /// lift_off_t, slip_t, friction.
+    /// lift_off_t, slip_t, friction, and the run's fate in the words every command uses:
+    /// "left_model" (with the first `violation`), "halted" (at rest from `t` on), or
+    /// "undecided" (`why`: a fixed-time run does not look for a cycle; `period` and `predict`
+    /// do).
     #[arg(long)]
     pub summary: Option<PathBuf>,
     /// Add the contact force's columns to the CSV: normal_force, friction_x, friction_y (units

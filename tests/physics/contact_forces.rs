@@ -350,3 +350,47 @@ fn watching_the_force_leaves_the_trajectory_bit_for_bit() {
         assert!(watched.contact.min_normal_force > 0.0);
     }
 }
+
+/// `simulate`'s summary says what became of the body in the verdict's words, and claims only
+/// what the run shows: a lift-off first, a rest only where the body is still and unpushed, and
+/// otherwise undecided (a fixed-time run does not look for a cycle).
+#[test]
+fn a_simulated_run_states_its_fate_from_its_evidence_alone() {
+    use rollphase::analysis::verdict::{Fate, Undecided};
+    let sphere = Body::paper_sphere(219, 0.25, 5).unwrap();
+    // Below α* a viscous body creeps to rest, and is halted from a sampled time on.
+    let (_, s) = simulate(&sphere, &Simulation::new(0.05, 400.0).samples(401)).unwrap();
+    assert!(
+        matches!(s.fate, Fate::Halted { t: Some(t) } if t > 0.0 && t <= 400.0),
+        "{:?}",
+        s.fate
+    );
+    // Above it, rolling at the end: undecided, with how far from rest it is.
+    let (_, s) = simulate(&sphere, &Simulation::new(0.3, 100.0).samples(11)).unwrap();
+    assert!(
+        matches!(s.fate, Fate::Undecided { why: Undecided::NotSettled { t_end, from_rest } }
+            if t_end == 100.0 && from_rest > 0.01),
+        "{:?}",
+        s.fate
+    );
+    // A body too heavy to have sped up yet is still at t = 0 and pushed: never halted.
+    let heavy = Simulation::new(0.3, 5.0)
+        .samples(6)
+        .model(Model::Inertial { mass_ratio: 1e10 });
+    let (_, s) = simulate(&sphere, &heavy).unwrap();
+    assert_eq!(s.fate.name(), "undecided", "{:?}", s.fate);
+    // Heavy on a steep ramp it bounces off: left_model, with the lift-off's time, whatever the
+    // model does after it.
+    let steep = Simulation::new(1.0, 40.0).model(Model::Inertial { mass_ratio: 10.0 });
+    let (_, s) = simulate(&sphere, &steep).unwrap();
+    match s.fate {
+        Fate::LeftModel {
+            violation: Violation::LiftOff { t },
+        } => assert_eq!(Some(t), s.contact.unwrap().lift_off_t),
+        other => panic!("{other:?}"),
+    }
+    // A perfect disk rolls forever: undecided, never halted.
+    let disk = Body::Disk(Disk::perfect());
+    let (_, s) = simulate(&disk, &Simulation::new(0.2, 50.0).samples(6)).unwrap();
+    assert_eq!(s.fate.name(), "undecided");
+}

@@ -21,8 +21,8 @@
 use glam::DVec3;
 use serde::Serialize;
 
-use crate::dynamics::RollingModel;
 use crate::dynamics::validity::Violation;
+use crate::dynamics::{Observation, RollingModel};
 
 /// |ω| and the ramp's torque (units of F⟨r⟩, and of F⟨r⟩/γ for ω) below which a body is at rest.
 pub const REST_THRESHOLD: f64 = 1e-9;
@@ -103,7 +103,24 @@ pub fn state_at_rest<const N: usize, M: RollingModel<N>>(model: &M, y: &[f64; N]
 /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
 /// ```
 pub fn rest_measure<const N: usize, M: RollingModel<N>>(model: &M, y: &[f64; N]) -> f64 {
-    let o = model.observation(y);
+    observed_rest_measure(&model.observation(y))
+}
+
+/// [`rest_measure`] of an observation already made (a run that observes each step anyway).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::verdict::{observed_rest_measure, rest_measure};
+/// use rollphase_core::dynamics::{Ramp, RollingModel, SphereInertial};
+/// use rollphase_core::geometry::Sphere;
+/// use rollphase_core::glam::{DQuat, DVec3};
+/// let ball = Sphere::perfect();
+/// let model = SphereInertial::new(&ball, &Ramp::new(0.3, 2.0)?);
+/// let y = SphereInertial::initial_state(DQuat::IDENTITY, DVec3::new(0.0, 0.5, 0.0));
+/// assert_eq!(observed_rest_measure(&model.observation(&y)), rest_measure(&model, &y));
+/// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+/// ```
+pub fn observed_rest_measure(o: &Observation) -> f64 {
     o.angular_speed.max(o.ramp_torque)
 }
 
@@ -233,6 +250,14 @@ pub enum Undecided {
         /// α − α* (rad).
         alpha_above: f64,
     },
+    /// Followed for a fixed time and still moving there: a run that only follows the body
+    /// (`simulate`) decides a lift-off, a slip and a rest, and does not look for a cycle.
+    NotSettled {
+        /// The run's end (t0).
+        t_end: f64,
+        /// How far from rest it was there ([`rest_measure`]).
+        from_rest: f64,
+    },
 }
 
 impl Undecided {
@@ -271,6 +296,11 @@ impl Undecided {
                 "α − α* = {alpha_above:.3e} is too close to α* for the period integral to \
                  converge (T grows as (α − α*)^−½): a larger α would decide it"
             ),
+            Undecided::NotSettled { t_end, from_rest } => format!(
+                "still moving at t = {t_end} (|ω| or the weight's torque {from_rest:.3e}); a \
+                 fixed-time run does not look for a cycle: `rollphase period` (a cylinder) or \
+                 `rollphase predict` (a sphere) decides whether the motion repeats"
+            ),
         }
     }
 
@@ -287,6 +317,7 @@ impl Undecided {
             Undecided::NoTurn { .. } => "no_turn",
             Undecided::NoRepeat { .. } => "no_repeat",
             Undecided::AtThreshold { .. } => "at_threshold",
+            Undecided::NotSettled { .. } => "not_settled",
         }
     }
 }
@@ -319,6 +350,27 @@ pub enum Fate {
     },
 }
 
+impl Fate {
+    /// Its word, as JSON and CSV write it: "periodic", "neutral", "halted", "left_model" or
+    /// "undecided".
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::verdict::Fate;
+    /// assert_eq!(Fate::Halted { t: Some(3.0) }.name(), "halted");
+    /// assert_eq!(Fate::Periodic { multiplicity: 2 }.name(), "periodic");
+    /// ```
+    pub fn name(&self) -> &'static str {
+        match self {
+            Fate::Periodic { .. } => "periodic",
+            Fate::Neutral => "neutral",
+            Fate::Halted { .. } => "halted",
+            Fate::LeftModel { .. } => "left_model",
+            Fate::Undecided { .. } => "undecided",
+        }
+    }
+}
+
 /// How the starts of a study ended, as fractions of all starts.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FateCounts {
@@ -342,7 +394,7 @@ pub struct FateCounts {
 /// One reason for undecided starts.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct UndecidedShare {
-    /// "no_turn", "no_repeat" or "at_threshold".
+    /// "no_turn", "no_repeat", "at_threshold" or "not_settled".
     pub reason: &'static str,
     /// Fraction of all starts.
     pub fraction: f64,

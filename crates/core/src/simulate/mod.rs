@@ -39,6 +39,7 @@ pub use typed::{
     Trajectory, simulate, simulate_streaming, simulate_until,
 };
 
+use crate::analysis::verdict::{Fate, REST_THRESHOLD, Undecided, observed_rest_measure};
 use crate::dynamics::{
     DragLaw, FORCE_COLUMNS, ModelError, ModelKind, ModelVisitor, Ramp, RollingModel, Switched,
 };
@@ -125,6 +126,13 @@ pub struct Summary {
     /// cost, and when it came to rest on one (`None` for a convex body or a sphere).
     #[serde(flatten)]
     pub hull: Option<HullReport>,
+    /// What became of the body, in the verdict's words (`fate`, and `violation`, `t` or `why`):
+    /// `left_model` when it left the ramp or slipped (the first violation; nothing after it is
+    /// claimed), `halted` when it came to rest (`verdict::rest_measure` below the threshold at
+    /// every step's end from `t` on, or on a flat of its hull), else `undecided` with why: a
+    /// fixed-time run does not look for a cycle (`period`, `predict` do).
+    #[serde(flatten)]
+    pub fate: Fate,
 }
 
 /// What a dented 2D body did on its hull's bridges during a run.
@@ -232,6 +240,12 @@ impl Summary {
             model_note: None,
             contact: None,
             hull: None,
+            fate: Fate::Undecided {
+                why: Undecided::NotSettled {
+                    t_end: 0.0,
+                    from_rest: f64::NAN,
+                },
+            },
         }
     }
 }
@@ -710,8 +724,19 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
             });
         }
         let e0 = model.health(y0).energy;
-        let track = |y: &[f64; N], s: &mut Summary| {
-            let h = model.health(y);
+        // Since when the body has been at rest at every step's end, and how far from rest it
+        // was at the last: the evidence of the run's fate (the observation gives the health too).
+        let mut rest_since: Option<f64> = None;
+        let mut from_rest = f64::NAN;
+        let mut track = |t: f64, y: &[f64; N], s: &mut Summary| {
+            let o = model.observation(y);
+            from_rest = observed_rest_measure(&o);
+            if from_rest < REST_THRESHOLD {
+                rest_since.get_or_insert(t);
+            } else {
+                rest_since = None;
+            }
+            let h = o.health;
             let max_opt = |a: Option<f64>, b: Option<f64>| match (a, b) {
                 (Some(a), Some(b)) => Some(a.max(b)),
                 (a, None) => a,
@@ -724,7 +749,7 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
                 s.energy_drift = max_opt(s.energy_drift, Some((e - e0).abs()));
             }
         };
-        track(y0, &mut summary);
+        track(0.0, y0, &mut summary);
         let mut hull = model.switching(y0).map(|g| HullReport {
             // Started on a flat, where its weight falls between the ends: at rest from t = 0.
             rested_t: (g < 0.0).then_some(0.0),
@@ -748,7 +773,7 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
                 }
                 let switch = locate_switch(st, model);
                 let (t_now, y_now) = switch.unwrap_or((st.t(), *st.y()));
-                track(&y_now, &mut summary);
+                track(t_now, &y_now, &mut summary);
                 let stopped = watch.step_along(st, (t_now, y_now), |y| model.contact_force(y));
                 if let Some(violation) = stopped {
                     // The rows up to the violation, then the error.
@@ -824,7 +849,7 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
                         )));
                     }
                     watch.jump(t, model.contact_force(&after));
-                    track(&after, &mut summary);
+                    track(t, &after, &mut summary);
                     if t >= t_end {
                         summary.t_end = t;
                         break;
@@ -833,7 +858,23 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
                 }
             }
         }
-        summary.contact = Some(watch.report());
+        let report = watch.report();
+        summary.fate = match (report.violations().first(), hull.and_then(|h| h.rested_t)) {
+            (Some(violation), _) => Fate::LeftModel {
+                violation: *violation,
+            },
+            (None, Some(t)) => Fate::Halted { t: Some(t) },
+            (None, None) => match rest_since {
+                Some(t) => Fate::Halted { t: Some(t) },
+                None => Fate::Undecided {
+                    why: Undecided::NotSettled {
+                        t_end: summary.t_end,
+                        from_rest,
+                    },
+                },
+            },
+        };
+        summary.contact = Some(report);
         summary.hull = hull;
         Ok(finish(summary, stats, method))
     }
