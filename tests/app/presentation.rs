@@ -300,3 +300,41 @@ fn the_so3_ball_names_its_point_and_its_axes() {
         assert!(key_size >= 10.0, "{size:?}: the key is {key_size} px");
     }
 }
+
+/// The overlay speaks the verdict: once the body would leave the ramp, it says so in place of
+/// the rate, and claims no 1/T or period for the motion the model computes past it.
+#[test]
+fn the_overlay_claims_no_rate_for_a_body_that_left_the_ramp() {
+    use rollphase::render::types::PanelItem;
+    let mut setup = Scene::preset("sphere-cruising")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    setup.ramp = rollphase::dynamics::Ramp::new(1.0, 10.0).unwrap();
+    let mut r = HeadlessRenderer::new(setup, (1280, 720), 1).unwrap();
+    let mut lines = |frame: u64| -> Vec<String> {
+        r.frame_data(frame)
+            .unwrap()
+            .panels
+            .iter()
+            .flat_map(|p| p.items.iter())
+            .filter_map(|item| match item {
+                PanelItem::Text { text, .. } => Some(text.clone()),
+                _ => None,
+            })
+            .collect()
+    };
+    let start = lines(0);
+    assert!(
+        !start.iter().any(|t| t.contains("left the model")),
+        "{start:?}"
+    );
+    let later = lines(90);
+    assert!(
+        later
+            .iter()
+            .any(|t| t.starts_with("left the model: the body leaves the ramp at t = ")),
+        "{later:?}"
+    );
+    assert!(!later.iter().any(|t| t.starts_with("1/T")), "{later:?}");
+}

@@ -168,10 +168,14 @@ impl PlotHistory {
         self.last_alpha = Some(alpha);
         let direction = self.direction.unwrap_or(Branch::Up);
         let bin = (alpha.ln() / SWEEP_BIN).round() as i64;
-        if snap.halted {
+        // Past a lift-off or a slip the model's motion is not the body's: no point of it is
+        // recorded (the verdict's `left_model`).
+        let rollable = snap.validity.is_none();
+        if rollable && snap.halted {
             self.sweep
                 .insert((direction, bin), (alpha, 0.0, snap.mass_ratio));
         } else if let Some(period) = snap.period
+            && rollable
             && self.last_period != Some(period)
             && period > 0.0
         {
@@ -181,6 +185,7 @@ impl PlotHistory {
         self.last_period = snap.period;
 
         if let Some((t, p)) = snap.last_crossing
+            && rollable
             && self.last_crossing_t != Some(t)
             && snap.period_multiplicity.is_some()
             && snap.model.is_inertial()
@@ -634,5 +639,28 @@ mod tests {
         for r in &rows[1..] {
             assert!(r[1].parse::<f64>().unwrap() > 0.0);
         }
+    }
+
+    #[test]
+    fn no_rate_is_recorded_for_a_body_that_left_the_ramp() {
+        let setup = Scene::preset("cylinder-near-critical")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let mut snap = LiveRun::new(setup).snapshot();
+        snap.period = Some(12.0);
+        snap.validity = Some("leaves the ramp at t = 3".into());
+        let mut history = PlotHistory::default();
+        history.push(&snap);
+        assert!(history.sweep(super::Branch::Up).is_empty());
+        snap.halted = true;
+        history.push(&snap);
+        assert!(history.sweep(super::Branch::Up).is_empty());
+        // The same snapshot on the ramp is a point.
+        snap.validity = None;
+        snap.halted = false;
+        snap.period = Some(13.0);
+        history.push(&snap);
+        assert_eq!(history.sweep(super::Branch::Up).len(), 1);
     }
 }

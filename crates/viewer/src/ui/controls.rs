@@ -548,7 +548,11 @@ impl AppUi {
         let snap = &status.snapshot;
         let state = if status.paused { "paused" } else { "playing" };
         ui.label(format!("t = {:.2}   {state}", snap.t));
-        let order = if snap.halted {
+        let left_at = snap.contact.violations().first().map(|v| v.t());
+        let order = if let Some(t) = left_at {
+            // The verdict's `left_model`: no period is the body's past it.
+            format!("left the model at t = {t:.2}")
+        } else if snap.halted {
             "halted: 1/T = 0".to_string()
         } else {
             match snap.period {

@@ -78,6 +78,14 @@ impl SceneView {
                 size_px: 16.0 * text,
                 color: [255, 70, 60],
             });
+        } else if let Some(validity) = &snap.validity {
+            // The verdict's `left_model`: the motion computed past it is not a real body's, so
+            // no 1/T or period is claimed for it.
+            items.push(PanelItem::Text {
+                text: format!("left the model: the body {validity}"),
+                size_px: 16.0 * text,
+                color: [255, 70, 60],
+            });
         } else {
             items.push(line(rate, 16.0));
             // On a line of its own: appended to the 1/T line it widened the box over the body
@@ -99,15 +107,6 @@ impl SceneView {
                 format!("on its convex hull: {tips} tip(s) across its flats, impacts took ΔE = {lost:.4}"),
                 14.0,
             ));
-        }
-        if let Some(validity) = &snap.validity {
-            // The motion computed is no longer a real body's (it would leave the ramp or slip):
-            // the viewer must not take it for one.
-            items.push(PanelItem::Text {
-                text: validity.clone(),
-                size_px: 16.0 * text,
-                color: [255, 70, 60],
-            });
         }
         if !self.is_disk {
             // Before the first step nothing has been measured: "—", not a reassuring 0.0e0.
