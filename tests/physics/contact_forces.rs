@@ -394,3 +394,53 @@ fn a_simulated_run_states_its_fate_from_its_evidence_alone() {
     let (_, s) = simulate(&disk, &Simulation::new(0.2, 50.0).samples(6)).unwrap();
     assert_eq!(s.fate.name(), "undecided");
 }
+
+/// The studies' lift-off-only watch (`ContactWatch::lift_off_only`, behind `decided_run`) times
+/// a lift-off as the full watch of `simulate` does on the same steps, with fewer force
+/// evaluations.
+#[test]
+fn the_lift_off_only_watch_times_the_lift_off_as_the_full_watch_does() {
+    use rollphase::analysis::orbits::sphere_orbits::{Decide, decided_run};
+    use rollphase::dynamics::Ramp;
+    use rollphase::glam::DQuat;
+    use rollphase::integrate::Method;
+    let body = Body::paper_sphere(219, 0.25, 5).unwrap();
+    let Body::Sphere(sphere) = &body else {
+        unreachable!()
+    };
+    let mut lifted = 0;
+    for (alpha, mass) in [(1.0, 10.0), (0.5, 300.0), (0.2014, 300.0), (0.15, 1.0)] {
+        let rtol = 1e-10;
+        let sim = Simulation::new(alpha, 300.0)
+            .samples(2)
+            .model(Model::Inertial { mass_ratio: mass })
+            .initial(InitialState::Sphere {
+                q0: DQuat::IDENTITY,
+                omega0: DVec3::ZERO,
+            })
+            .method(Method::dop853(rtol));
+        let (_, summary) = simulate(&body, &sim).unwrap();
+        let full = summary.contact.unwrap().lift_off_t;
+        let decide = Decide {
+            t_min: 300.0,
+            t_cap: 300.0,
+            max_k: 0,
+            tol: 0.0,
+        };
+        let ramp = Ramp::new(alpha, mass).unwrap();
+        let run =
+            decided_run(sphere, &ramp, DQuat::IDENTITY, &decide, (0.0, 0.0, 0), rtol).unwrap();
+        let cheap = run.contact.unwrap().lift_off_t;
+        match (full, cheap) {
+            (Some(a), Some(b)) => assert!(
+                (a - b).abs() < 1e-9,
+                "α = {alpha}, m/m0 = {mass}: {a} vs {b}"
+            ),
+            (None, None) => {}
+            other => panic!("α = {alpha}, m/m0 = {mass}: {other:?}"),
+        }
+        assert_eq!(run.left_model(), full.is_some());
+        lifted += usize::from(full.is_some());
+    }
+    assert!(lifted >= 2, "{lifted} of the runs left the ramp");
+}

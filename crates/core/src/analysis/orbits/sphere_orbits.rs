@@ -924,7 +924,7 @@ fn record<const N: usize, S: RollingModel<N>>(
     // moves the run); the viscous model presses with N = cos α throughout.
     let mut watch = S::KIND
         .is_inertial()
-        .then(|| ContactWatch::new(ContactLimits::default(), 0.0, sys.contact_force(&y0)));
+        .then(|| ContactWatch::lift_off_only(0.0, sys.contact_force(&y0)));
     let mut run = Run::new(sys, 0.0, y0, Method::dop853(rtol))?;
     let mut found = Vec::new();
     let mut crossings = Vec::new();

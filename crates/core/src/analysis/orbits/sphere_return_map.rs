@@ -18,7 +18,7 @@ use serde::Serialize;
 use crate::analysis::orbits::return_map::{self, ReturnMapError};
 use crate::analysis::orbits::sphere_orbits::{first_crossing, nearest_sign, poincare_step};
 use crate::analysis::verdict::state_at_rest;
-use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch};
+use crate::dynamics::validity::{ContactReport, ContactWatch};
 use crate::dynamics::{Ramp, RollingModel, SphereInertial, SphereViscous};
 use crate::geometry::Sphere;
 use crate::integrate::events::{Direction, crossings_in_last_step};
@@ -150,8 +150,8 @@ pub fn inertial_run(
     let model = SphereInertial::new(body, ramp);
     let y0 = SphereInertial::initial_state(q0, omega0);
     let mut run = Run::new(&model, 0.0, y0, Method::dop853(rtol))?;
-    let mut watch = watch_contact
-        .then(|| ContactWatch::new(ContactLimits::default(), 0.0, model.contact_force(&y0)));
+    let mut watch =
+        watch_contact.then(|| ContactWatch::lift_off_only(0.0, model.contact_force(&y0)));
     let mut times = Vec::new();
     let mut out = Vec::new();
     let mut end = InertialEnd::Cap;
