@@ -81,11 +81,23 @@ fn a_perfect_sphere_rolls_at_sin_alpha_to_the_power_one_over_n() {
                 "n = {n}, m/m0 = {mass}: |ω| = {} against {expected} ({err:e})",
                 omega.length()
             );
-            // It rolls straight downhill: ω across the slope.
-            assert!(
-                omega.x.abs() < 1e-12 && omega.z.abs() < 1e-12,
-                "n = {n}: ω = {omega}"
-            );
+            // It rolls straight downhill: ω across the slope, at every sampled row (the last
+            // row alone was checked, and passed by luck). Released from rest with inertia and
+            // n < 1, the drag |ω|^(n−1) ω is singular at ω = 0: the step control resolves the
+            // start to ~1e-8 only, and the sideways spin it seeds rings at that level (measured
+            // 1.1e-8 at n = 0.75 before the dense output stopped moving the run, 7.5e-9 after);
+            // elsewhere round-off.
+            let tol = if n < 1.0 && mass > 0.0 { 2e-8 } else { 1e-12 };
+            for row in &rows {
+                assert!(
+                    row[8].abs() < tol && row[10].abs() < tol,
+                    "n = {n}, m/m0 = {mass}, t = {}: ω = ({}, {}, {})",
+                    row[0],
+                    row[8],
+                    row[9],
+                    row[10]
+                );
+            }
         }
     }
 }

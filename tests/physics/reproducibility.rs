@@ -90,3 +90,35 @@ fn same_inputs_give_byte_identical_csv() {
         run("disk-inertial.json", &args2, "d.csv")
     );
 }
+
+/// Observers never move a run: the rows a run records (their dense output, whose extra stages
+/// look up the contact aside the steps), its health and its rest test leave its steps bit for
+/// bit as they were, so a run sampled 3 times ends where the same run sampled 2001 times does.
+#[test]
+fn recording_more_rows_never_moves_the_run() {
+    use rollphase::simulate::{Model, Simulation, Trajectory, simulate};
+    let sphere = Body::paper_sphere(219, 0.25, 5).unwrap();
+    let disk = Body::paper_disk(84, 0.12, 5).unwrap();
+    for (body, mass) in [(&sphere, 0.0), (&sphere, 6.0), (&disk, 2.0)] {
+        let run = |samples: usize| {
+            let mut sim = Simulation::new(0.15, 200.0).samples(samples);
+            if mass > 0.0 {
+                sim = sim.model(Model::Inertial { mass_ratio: mass });
+            }
+            simulate(body, &sim).unwrap().0
+        };
+        let (few, many) = (run(3), run(2001));
+        match (few, many) {
+            (Trajectory::Sphere(a), Trajectory::Sphere(b)) => {
+                assert_eq!(a.q[1], b.q[1000], "m/m0 = {mass}, t = 100");
+                assert_eq!(a.q[2], b.q[2000], "m/m0 = {mass}, t = 200");
+                assert_eq!(a.com[2], b.com[2000]);
+            }
+            (Trajectory::Disk(a), Trajectory::Disk(b)) => {
+                assert_eq!(a.theta[2], b.theta[2000]);
+                assert_eq!(a.x[2], b.x[2000]);
+            }
+            _ => unreachable!(),
+        }
+    }
+}

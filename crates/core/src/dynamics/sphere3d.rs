@@ -58,9 +58,10 @@ impl<'a> ContactTracker<'a> {
         found
     }
 
-    /// [`Self::contact`] that leaves the warm start alone: for observers between the
-    /// integrator's evaluations (the contact-force watch), whose look-ups must not move where
-    /// the integrator's next Newton search starts, and so its last bits.
+    /// [`Self::contact`] that leaves the warm start alone: for observers (the contact-force
+    /// watch, the sampled rows, the health, a rest test), whose look-ups must not move where
+    /// the integrator's next Newton search starts, and so its last bits: a run that records
+    /// is bit for bit one that does not.
     fn peek(&self, q: DQuat) -> Option<SurfacePoint> {
         self.look_up(q)
     }
@@ -124,7 +125,9 @@ fn observe(
     y: f64,
 ) -> SphereObservation {
     let nan = DVec3::splat(f64::NAN);
-    let Some(sp) = tracker.contact(q) else {
+    // An observation is an observer's (rows, health, a rest test): its look-up must not move
+    // where the integrator's next Newton search starts, or recording would move the run.
+    let Some(sp) = tracker.peek(q) else {
         return SphereObservation {
             q,
             contact_dir: nan,
@@ -251,10 +254,12 @@ impl<'a> SphereViscous<'a> {
     }
 }
 
-impl OdeSystem<6> for SphereViscous<'_> {
-    fn rhs(&self, _t: f64, y: &[f64; 6]) -> [f64; 6] {
+impl SphereViscous<'_> {
+    /// The right-hand side with the contact from `look_up` (the tracker's, moving its warm
+    /// start or not).
+    fn rhs_with(&self, y: &[f64; 6], look_up: impl Fn(DQuat) -> Option<SurfacePoint>) -> [f64; 6] {
         let q = quat_at(y, 0);
-        let Some(sp) = self.tracker.contact(q) else {
+        let Some(sp) = look_up(q) else {
             return [f64::NAN; 6];
         };
         let r = q.normalize() * sp.p;
@@ -262,6 +267,15 @@ impl OdeSystem<6> for SphereViscous<'_> {
         let qdot = pure(omega) * q * 0.5;
         let v = -omega.cross(r);
         [qdot.w, qdot.x, qdot.y, qdot.z, v.x, v.y]
+    }
+}
+
+impl OdeSystem<6> for SphereViscous<'_> {
+    fn rhs(&self, _t: f64, y: &[f64; 6]) -> [f64; 6] {
+        self.rhs_with(y, |q| self.tracker.contact(q))
+    }
+    fn rhs_aside(&self, _t: f64, y: &[f64; 6]) -> [f64; 6] {
+        self.rhs_with(y, |q| self.tracker.peek(q))
     }
     fn quaternion_slot(&self) -> Option<usize> {
         Some(0)
@@ -437,10 +451,16 @@ impl<'a> SphereInertial<'a> {
     }
 }
 
-impl OdeSystem<10> for SphereInertial<'_> {
-    fn rhs(&self, _t: f64, y: &[f64; 10]) -> [f64; 10] {
+impl SphereInertial<'_> {
+    /// The right-hand side with the contact from `look_up` (the tracker's, moving its warm
+    /// start or not).
+    fn rhs_with(
+        &self,
+        y: &[f64; 10],
+        look_up: impl Fn(DQuat) -> Option<SurfacePoint>,
+    ) -> [f64; 10] {
         let q = quat_at(y, 0);
-        let Some(sp) = self.tracker.contact(q) else {
+        let Some(sp) = look_up(q) else {
             return [f64::NAN; 10];
         };
         let omega = DVec3::new(y[4], y[5], y[6]);
@@ -463,6 +483,15 @@ impl OdeSystem<10> for SphereInertial<'_> {
             },
         ]
     }
+}
+
+impl OdeSystem<10> for SphereInertial<'_> {
+    fn rhs(&self, _t: f64, y: &[f64; 10]) -> [f64; 10] {
+        self.rhs_with(y, |q| self.tracker.contact(q))
+    }
+    fn rhs_aside(&self, _t: f64, y: &[f64; 10]) -> [f64; 10] {
+        self.rhs_with(y, |q| self.tracker.peek(q))
+    }
     fn quaternion_slot(&self) -> Option<usize> {
         Some(0)
     }
@@ -471,7 +500,8 @@ impl OdeSystem<10> for SphereInertial<'_> {
 impl Observe<10> for SphereInertial<'_> {
     fn energy_balance(&self, y: &[f64; 10]) -> Option<f64> {
         let q = quat_at(y, 0);
-        let sp = self.tracker.contact(q)?;
+        // An observer's look-up: leaves the integrator's warm start where it was.
+        let sp = self.tracker.peek(q)?;
         let r = q.normalize() * sp.p;
         let omega = DVec3::new(y[4], y[5], y[6]);
         let v = -omega.cross(r);

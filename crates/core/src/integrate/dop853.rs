@@ -347,7 +347,8 @@ impl<'a, S: OdeSystem<N>, const N: usize> Dop853<'a, S, N> {
         for s in 13..16 {
             let dy = self.combine(&A[s], s);
             let ys: [f64; N] = std::array::from_fn(|i| self.y_prev[i] + h * dy[i]);
-            self.k[s] = self.system.rhs(self.t_prev + C[s] * h, &ys);
+            // Aside the steps: a sample asked for must not move the run.
+            self.k[s] = self.system.rhs_aside(self.t_prev + C[s] * h, &ys);
         }
         self.stats.rhs_evals += 3;
         // The interpolant ends at the projected end point: the projection moved it by less than

@@ -43,6 +43,15 @@ pub trait OdeSystem<const N: usize> {
     /// [`IntegrateError::NonFinite`].
     fn rhs(&self, t: f64, y: &[f64; N]) -> [f64; N];
 
+    /// f(t, y) for a look aside the steps (the dense output's extra stages, built only when a
+    /// sample or an observer asks): the same value, but a system that warm-starts an inner
+    /// solve from its last evaluation must leave that start as it was, so that asking for
+    /// dense output never moves the steps that follow. The default is [`Self::rhs`], for
+    /// systems with no such state.
+    fn rhs_aside(&self, t: f64, y: &[f64; N]) -> [f64; N] {
+        self.rhs(t, y)
+    }
+
     /// Index of the first of four slots holding an orientation quaternion (w, x, y, z) that
     /// evolves as q̇ = ½ ω q, if the state has one. Lie-group steps use it to advance q by an
     /// exponential map; adaptive steps use it to report and control |q| − 1.
