@@ -220,7 +220,6 @@ fn the_caption_never_covers_the_body_on_any_lesson_step() {
 /// (it read "computing…" for ever, the reason only in small text under Views).
 #[test]
 fn the_poincare_inset_says_it_needs_the_viscous_model_when_inertia_is_on() {
-    use rollphase::render::types::PanelItem;
     let titles = |mass_ratio: f64| -> Vec<String> {
         let mut setup = Scene::preset("poincare-field")
             .unwrap()
@@ -229,15 +228,8 @@ fn the_poincare_inset_says_it_needs_the_viscous_model_when_inertia_is_on() {
         // The scene file refuses this pairing; the app reaches it when inertia is switched on.
         setup.ramp = rollphase::dynamics::Ramp::new(setup.ramp.alpha_rad, mass_ratio).unwrap();
         let mut r = HeadlessRenderer::new(setup, (1280, 720), 1).unwrap();
-        let frame = r.frame_data(0).unwrap();
-        frame
-            .panels
-            .iter()
-            .flat_map(|p| p.items.iter())
-            .filter_map(|item| match item {
-                PanelItem::Text { text, .. } => Some(text.clone()),
-                _ => None,
-            })
+        panel_texts(&r.frame_data(0).unwrap())
+            .into_iter()
             .filter(|t| t.starts_with("Poincaré map"))
             .collect()
     };
@@ -301,29 +293,31 @@ fn the_so3_ball_names_its_point_and_its_axes() {
     }
 }
 
+/// Every text line of a frame's panels, in order.
+fn panel_texts(frame: &rollphase::render::types::Frame) -> Vec<String> {
+    use rollphase::render::types::PanelItem;
+    frame
+        .panels
+        .iter()
+        .flat_map(|p| p.items.iter())
+        .filter_map(|item| match item {
+            PanelItem::Text { text, .. } => Some(text.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
 /// The overlay speaks the verdict: once the body would leave the ramp, it says so in place of
 /// the rate, and claims no 1/T or period for the motion the model computes past it.
 #[test]
 fn the_overlay_claims_no_rate_for_a_body_that_left_the_ramp() {
-    use rollphase::render::types::PanelItem;
     let mut setup = Scene::preset("sphere-cruising")
         .unwrap()
         .setup(None)
         .unwrap();
     setup.ramp = rollphase::dynamics::Ramp::new(1.0, 10.0).unwrap();
     let mut r = HeadlessRenderer::new(setup, (1280, 720), 1).unwrap();
-    let mut lines = |frame: u64| -> Vec<String> {
-        r.frame_data(frame)
-            .unwrap()
-            .panels
-            .iter()
-            .flat_map(|p| p.items.iter())
-            .filter_map(|item| match item {
-                PanelItem::Text { text, .. } => Some(text.clone()),
-                _ => None,
-            })
-            .collect()
-    };
+    let mut lines = |frame: u64| panel_texts(&r.frame_data(frame).unwrap());
     let start = lines(0);
     assert!(
         !start.iter().any(|t| t.contains("left the model")),
