@@ -1563,3 +1563,32 @@ fn zoomed_input(bench: &Workbench, size: (u32, u32), events: Vec<egui::Event>) -
     ));
     input
 }
+
+/// A scene that names its model (`[model] kind`) is saved naming the model its saved m/m0
+/// asks for: turning inertia on in the app and saving never writes a file that refuses to load.
+#[test]
+fn a_scene_that_names_its_model_saves_the_model_it_runs() {
+    let text = Scene::preset("sphere-cruising")
+        .unwrap()
+        .to_toml()
+        .unwrap()
+        .replace("[model]\n", "[model]\nkind = \"sphere-viscous\"\n");
+    let setup = Scene::from_toml(&text).unwrap().setup(None).unwrap();
+    let gpu = GpuContext::headless().unwrap();
+    let target = OffscreenTarget::new(&gpu.device, SIZE);
+    let mut bench =
+        Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
+    bench.sim.send(SimCommand::SetMassRatio(2.0));
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| {
+        s.snapshot.mass_ratio == 2.0
+    });
+    let dir = crate::cli::scratch("named-model");
+    let path = dir.join("scene.toml");
+    bench.ui.set_scene_path(&path);
+    bench.ui.save_scene(&s);
+    let saved = Scene::from_toml(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    std::fs::remove_file(&path).ok();
+    assert_eq!(saved.model.kind.as_deref(), Some("sphere-inertial"));
+    assert_eq!(saved.model.mass_ratio, 2.0);
+    saved.setup(None).expect("the saved scene loads");
+}

@@ -218,6 +218,63 @@ impl ModelKind {
     }
 }
 
+impl ModelKind {
+    /// The registered model called `name`, checked against what a body of `dimension` on
+    /// `ramp` runs by the one rule ([`Self::for_dimension`]): a scene may name its model, and a
+    /// name that is not registered, rolls the other dimension, or disagrees with m/m0 is
+    /// refused with what would fit.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{ModelKind, Ramp};
+    /// let heavy = Ramp::new(0.15, 6.0)?;
+    /// assert_eq!(ModelKind::named_for("sphere-inertial", 3, &heavy), Ok(ModelKind::SphereInertial));
+    /// let e = ModelKind::named_for("sphere-viscous", 3, &heavy).unwrap_err();
+    /// assert!(e.contains("m/m0 = 6 asks for sphere-inertial"), "{e}");
+    /// assert!(ModelKind::named_for("disk-inertial", 3, &heavy).unwrap_err().contains("2D"));
+    /// assert!(ModelKind::named_for("sphere", 3, &heavy).unwrap_err().contains("sphere-viscous"));
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
+    pub fn named_for(name: &str, dimension: u32, ramp: &Ramp) -> Result<Self, String> {
+        let names = |keep: &dyn Fn(&ModelEntry) -> bool| {
+            REGISTERED
+                .iter()
+                .filter(|m| keep(m))
+                .map(|m| m.name)
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let Some(kind) = Self::from_name(name) else {
+            return Err(format!(
+                "no model is called \"{name}\"; the registered models are {}",
+                names(&|_| true)
+            ));
+        };
+        let entry = kind.entry();
+        if entry.dimension != dimension {
+            return Err(format!(
+                "{name} rolls {}D bodies and this body is {dimension}D (its models: {})",
+                entry.dimension,
+                names(&|m| m.dimension == dimension)
+            ));
+        }
+        let asked = Self::for_dimension(dimension, ramp);
+        if asked != kind {
+            return Err(format!(
+                "{name} {}, and m/m0 = {} asks for {asked}: name {asked}, or set m/m0 {}",
+                if entry.inertial {
+                    "carries the body's inertia"
+                } else {
+                    "is the viscous limit"
+                },
+                ramp.mass_ratio,
+                if entry.inertial { "> 0" } else { "= 0" }
+            ));
+        }
+        Ok(kind)
+    }
+}
+
 impl std::fmt::Display for ModelKind {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())

@@ -160,6 +160,11 @@ pub enum PerfectBody {
 /// refused by [`DragLawFields`], which takes the keys this struct does not name.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct ModelSpec {
+    /// The registered model the scene starts with ("sphere-inertial", …), when it names one:
+    /// checked against the body and `mass_ratio` by the one rule (`ModelKind::named_for`).
+    /// Without it the model follows from them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kind: Option<String>,
     /// α in radians.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alpha_rad: Option<f64>,

@@ -131,6 +131,10 @@ impl Scene {
             .law()
             .map_err(|e| invalid(format!("model.{e}")))?;
         let ramp = Ramp::with_drag(alpha, m.mass_ratio, m.drag)?.with_drag_law(law);
+        if let Some(name) = &m.kind {
+            ModelKind::named_for(name, body.dimension(), &ramp)
+                .map_err(|e| invalid(format!("model.kind = \"{name}\": {e}")))?;
+        }
         let limits = ContactLimits {
             friction: m.friction,
             on_violation: OnViolation::Warn,
@@ -519,6 +523,36 @@ mod tests {
         for (name, _) in PRESETS {
             let scene = Scene::preset(name).unwrap();
             assert_eq!(Scene::from_toml(&scene.to_toml().unwrap()).unwrap(), scene);
+        }
+    }
+
+    #[test]
+    fn a_scene_may_name_its_model_and_a_name_that_does_not_fit_is_refused() {
+        let base = Scene::preset(DEFAULT_PRESET).unwrap().to_toml().unwrap();
+        let with = |line: &str| base.replace("[model]\n", &format!("[model]\n{line}\n"));
+        // The default preset: a sphere, m/m0 = 0.
+        let named = Scene::from_toml(&with("kind = \"sphere-viscous\"")).unwrap();
+        assert_eq!(named.setup(None).unwrap().ramp.mass_ratio, 0.0);
+        for (line, says) in [
+            (
+                "kind = \"sphere-inertial\"",
+                "m/m0 = 0 asks for sphere-viscous",
+            ),
+            (
+                "kind = \"disk-viscous\"",
+                "rolls 2D bodies and this body is 3D",
+            ),
+            (
+                "kind = \"ball\"",
+                "the registered models are disk-viscous, disk-inertial",
+            ),
+        ] {
+            let e = Scene::from_toml(&with(line))
+                .unwrap()
+                .setup(None)
+                .unwrap_err();
+            assert!(e.to_string().contains(says), "{line}: {e}");
+            assert!(e.to_string().starts_with("model.kind = "), "{e}");
         }
     }
 }

@@ -780,6 +780,17 @@ impl AppUi {
         scene.model.alpha_rad = Some(snap.alpha_rad);
         scene.model.alpha_over_critical = None;
         scene.model.mass_ratio = snap.mass_ratio;
+        // A scene that named its model names the one the saved m/m0 asks for, so that the
+        // file loads again after inertia was turned on or off.
+        if scene.model.kind.is_some() {
+            let now = crate::dynamics::Ramp {
+                mass_ratio: snap.mass_ratio,
+                ..*ramp
+            };
+            let kind =
+                crate::dynamics::ModelKind::for_dimension(status.setup.body.dimension(), &now);
+            scene.model.kind = Some(kind.name().to_string());
+        }
         scene.model.drag_law = crate::scene::DragLawFields::from(&snap.drag_law);
         scene.integrator = method_spec(&status.method);
         scene.playback.speed = status.speed;
