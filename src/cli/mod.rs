@@ -13,6 +13,7 @@ macro_rules! outln {
 
 pub mod app;
 pub mod bench;
+pub mod design;
 pub mod drag_law;
 pub mod export_stl;
 pub mod figure;
@@ -111,6 +112,10 @@ pub enum Command {
     Scenes(scenes::ScenesArgs),
     #[command(about = "Write a body as a watertight STL mesh in millimetres, for 3D printing")]
     ExportStl(export_stl::ExportStlArgs),
+    #[command(
+        about = "Design a printable body with a chosen α* or hysteresis window, checked over a bench's band"
+    )]
+    Design(design::DesignArgs),
 }
 
 /// The scene named by --scene or --preset (default preset otherwise), validated.
@@ -187,6 +192,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Scenes(a) => scenes::run(a),
         Command::Track(a) => track::run(a),
         Command::ExportStl(a) => export_stl::run(a),
+        Command::Design(a) => design::run(a),
     }
 }
 

@@ -23,6 +23,7 @@ mod constraint_drift;
 mod contact_forces;
 mod critical_angle;
 mod dented_bodies;
+mod design;
 mod drag_laws;
 mod energy_balance;
 mod extremes;

@@ -9,10 +9,12 @@
 //! | [`orbits`] | periodic motion: a disk's period, return maps with their fixed points and Floquet multipliers, orbits through ∂Ω (viscous) and the inertial return map, the orbit diagram in m/m0 |
 //! | [`studies`] | questions asked over many starts or parameters: the 3D studies (Poincaré map over starts, cruising fraction, period counts), the 2D lag / hysteresis / flow analyses, the tube through one contact point, the general sweep |
 //! | [`experiment`] | the bridge to the lab: predictions in the lab's terms, fits of measured lag times, filmed tracks read as measurements and compared with the model |
+//! | [`design`] | bodies designed for a property (a critical angle, a window of hysteresis) under a printer's constraints, checked over the band a bench brings |
 //! | [`accuracy`] | the price of accuracy: trajectory errors per integrator setting, and the answers (fates, multiplicities, orbit counts) each setting gets |
 //! | [`fit`] | least-squares lines and power laws shared by the figures and the studies |
 
 pub mod accuracy;
+pub mod design;
 pub mod experiment;
 pub mod fit;
 pub mod orbits;

@@ -1,0 +1,662 @@
+//! Bodies designed for a property: the harmonic coefficients up to degree L searched for a body
+//! that meets chosen targets (a critical angle, a window of hysteresis) under the constraints of a
+//! printer (convex, a smallest radius of curvature in mm, an amplitude bound), then checked at
+//! the precise setting over the band a bench brings before anything is reported.
+//!
+//! | file | what it owns |
+//! |---|---|
+//! | [`space`] | the vector of coefficients ↔ the body, and what makes a body printable |
+//! | [`targets`] | each target, measured on a body by the analysis that answers it, and how far it is |
+//! | [`check`] | the independent check over α ± δα, m/m0 ± 20 % and print errors of ± ε mm, with margins |
+//!
+//! The optimiser is CMA-ES from the `cmaes` crate rather than one of our own: the objective is
+//! non-smooth (α* is a maximum over the surface, a cylinder rolls or stops), has 8 to 77
+//! variables, and needs no gradient; CMA-ES is the standard tool for that, and the crate is
+//! seeded and evaluates a generation in parallel with the results kept in order, so a design is
+//! the same for a seed whatever the thread count. The objective ranks bodies in tiers: not star-
+//! shaped, then not convex, then too sharp for the printer, then how far the targets are
+//! (ln(1 + Σ violation²), below every tier); it is met when every target is within half its
+//! tolerance. A wall-clock budget is the caller's: a stop flag ends the search between
+//! generations with the best body so far, which is then checked like any other.
+
+pub mod check;
+pub mod space;
+pub mod targets;
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use cmaes::{CMAESOptions, DVector, TerminationReason};
+use serde::Serialize;
+
+pub use check::{Band, Check, TargetCheck, check};
+pub use space::{DesignSpace, MAX_DESIGN_MODES, Printability};
+pub use targets::{Setting, Target, TargetError};
+
+use crate::analysis::rest::critical_angle::critical_angle;
+use crate::dynamics::models::asks_for_inertia;
+use crate::geometry::{Body, first_convex_disk, first_convex_sphere};
+
+/// The objective at which every target is within half its tolerance (ln(1 + 0.5²)).
+const MET_OBJECTIVE: f64 = 0.223_143_551_314_209_7;
+/// Most generations a design may ask for.
+pub const MAX_GENERATIONS: usize = 100_000;
+/// Most print errors a check may draw.
+pub const MAX_DRAWS: usize = 10_000;
+
+/// What to design.
+#[derive(Debug, Clone)]
+pub struct DesignOptions {
+    /// Which bodies are searched.
+    pub space: DesignSpace,
+    /// What the body must do (at least one).
+    pub targets: Vec<Target>,
+    /// Millimetres per ⟨r⟩ of the printed body.
+    pub scale_mm: f64,
+    /// The smallest radius of curvature the printer can make (mm).
+    pub min_radius_mm: f64,
+    /// The largest |a_l| (2D) or |A_lm| (3D) allowed.
+    pub max_amplitude: f64,
+    /// Where to start: a given body (`--from`), or `None` for the first convex random body from
+    /// `seed` (σ = 0.08 in 2D, 0.1 in 3D).
+    pub start: Option<Body>,
+    /// The seed of the start and of the optimiser.
+    pub seed: u64,
+    /// Most generations of the optimiser.
+    pub max_generations: usize,
+    /// The band of the final check.
+    pub band: Band,
+}
+
+/// Why there is no design.
+#[derive(Debug, thiserror::Error)]
+pub enum DesignError {
+    /// A value outside what `design` accepts.
+    #[error("{name} = {value} is not allowed (needs {allowed})")]
+    BadInput {
+        /// Which value.
+        name: &'static str,
+        /// As given.
+        value: String,
+        /// What is allowed.
+        allowed: String,
+    },
+    /// A target could not be measured on the final body.
+    #[error(transparent)]
+    Target(#[from] TargetError),
+    /// The optimiser refused its options.
+    #[error("the optimiser refused its options: {0}")]
+    Optimiser(String),
+    /// No convex start could be drawn.
+    #[error(transparent)]
+    Shape(#[from] crate::geometry::ShapeError),
+}
+
+fn bad(name: &'static str, value: impl ToString, allowed: impl ToString) -> DesignError {
+    DesignError::BadInput {
+        name,
+        value: value.to_string(),
+        allowed: allowed.to_string(),
+    }
+}
+
+impl DesignOptions {
+    /// Refuses what cannot be designed, naming the value, before any work.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::design::*;
+    /// let band = Band { delta_alpha: 0.005, mass_fraction: 0.2, surface_mm: 0.1, draws: 8, seed: 1 };
+    /// let mut o = DesignOptions {
+    ///     space: DesignSpace { dimension: 3, modes: 4 },
+    ///     targets: vec![Target::Hysteresis { mass: 10.0, fraction: 0.8 }],
+    ///     scale_mm: 10.0, min_radius_mm: 0.4, max_amplitude: 1.0, start: None, seed: 1,
+    ///     max_generations: 100, band,
+    /// };
+    /// let e = o.validate().unwrap_err().to_string();
+    /// assert!(e.contains("cylinder"), "{e}");
+    /// o.targets = vec![Target::AlphaStar { alpha: f64::NAN }];
+    /// assert!(o.validate().unwrap_err().to_string().contains("alpha-star"));
+    /// ```
+    pub fn validate(&self) -> Result<(), DesignError> {
+        let s = &self.space;
+        if !(2..=3).contains(&s.dimension) {
+            return Err(bad("dim", s.dimension, "2 or 3"));
+        }
+        if !(2..=MAX_DESIGN_MODES).contains(&s.modes) {
+            return Err(bad("modes", s.modes, format!("2 ≤ L ≤ {MAX_DESIGN_MODES}")));
+        }
+        if self.targets.is_empty() {
+            return Err(bad("targets", "none", "at least one target"));
+        }
+        let mut alpha_stars = 0;
+        for t in &self.targets {
+            if let Some(d) = t.dimension()
+                && d != s.dimension
+            {
+                return Err(bad(
+                    "dim",
+                    s.dimension,
+                    format!("{d} for the target \"{}\" (a cylinder)", t.describe()),
+                ));
+            }
+            match *t {
+                Target::AlphaStar { alpha } => {
+                    alpha_stars += 1;
+                    if !(alpha.is_finite() && alpha > 0.0 && alpha < 1.5) {
+                        return Err(bad("alpha-star", alpha, "0 < α* < 1.5 rad"));
+                    }
+                }
+                Target::Doubling { mass, alpha } => {
+                    // Positive and finite, and so inertial by the one rule.
+                    if !(mass.is_finite()
+                        && mass.is_sign_positive()
+                        && asks_for_inertia(mass)
+                        && mass <= 1e4)
+                    {
+                        return Err(bad(
+                            "doubling m/m0",
+                            mass,
+                            "0 < m/m0 ≤ 1e4 (doubling needs inertia)",
+                        ));
+                    }
+                    if !(alpha.is_finite() && alpha > 0.0 && alpha < 1.5) {
+                        return Err(bad("doubling α", alpha, "0 < α < 1.5 rad"));
+                    }
+                }
+                Target::Hysteresis { mass, fraction } => {
+                    if !(mass.is_finite()
+                        && mass.is_sign_positive()
+                        && asks_for_inertia(mass)
+                        && mass <= 1e6)
+                    {
+                        return Err(bad(
+                            "hysteresis m/m0",
+                            mass,
+                            "0 < m/m0 ≤ 1e6 (hysteresis needs inertia)",
+                        ));
+                    }
+                    if !(fraction.is_finite() && fraction > 0.0 && fraction < 1.0) {
+                        return Err(bad("hysteresis fraction", fraction, "0 < F < 1 (of α*)"));
+                    }
+                }
+            }
+        }
+        if alpha_stars > 1 {
+            return Err(bad("alpha-star", "given twice", "one α* target"));
+        }
+        let positive = |name, v: f64, max: f64| {
+            if v.is_finite() && v > 0.0 && v <= max {
+                Ok(())
+            } else {
+                Err(bad(name, v, format!("0 < {name} ≤ {max}")))
+            }
+        };
+        positive("scale-mm", self.scale_mm, 10_000.0)?;
+        positive("max-amplitude", self.max_amplitude, 1000.0)?;
+        if !(self.min_radius_mm.is_finite() && self.min_radius_mm >= 0.0) {
+            return Err(bad(
+                "min-radius-mm",
+                self.min_radius_mm,
+                "a finite length ≥ 0 mm",
+            ));
+        }
+        if !(1..=MAX_GENERATIONS).contains(&self.max_generations) {
+            return Err(bad(
+                "generations",
+                self.max_generations,
+                format!("1 ≤ generations ≤ {MAX_GENERATIONS}"),
+            ));
+        }
+        let b = &self.band;
+        if !(b.delta_alpha.is_finite() && (0.0..0.5).contains(&b.delta_alpha)) {
+            return Err(bad("alpha-band", b.delta_alpha, "0 ≤ δα < 0.5 rad"));
+        }
+        if !(b.mass_fraction.is_finite() && (0.0..1.0).contains(&b.mass_fraction)) {
+            return Err(bad("mass-band", b.mass_fraction, "0 ≤ fraction < 1"));
+        }
+        if !(b.surface_mm.is_finite() && b.surface_mm >= 0.0 && b.surface_mm < 0.5 * self.scale_mm)
+        {
+            return Err(bad(
+                "surface-mm",
+                b.surface_mm,
+                "0 ≤ ε < half of --scale-mm",
+            ));
+        }
+        if b.draws > MAX_DRAWS {
+            return Err(bad("draws", b.draws, format!("at most {MAX_DRAWS}")));
+        }
+        if let Some(body) = &self.start
+            && s.vector(body).is_none()
+        {
+            return Err(bad(
+                "from",
+                format!(
+                    "a {}D body of degree {}",
+                    body.dimension(),
+                    body_degree(body)
+                ),
+                format!("a {}D body of degree ≤ --modes {}", s.dimension, s.modes),
+            ));
+        }
+        Ok(())
+    }
+}
+
+fn body_degree(body: &Body) -> u32 {
+    match body {
+        Body::Disk(d) => d.modes().iter().map(|m| m.l).max().unwrap_or(0),
+        Body::Sphere(s) => s.max_degree(),
+    }
+}
+
+/// A constraint at the designed body.
+#[derive(Debug, Clone, Serialize)]
+pub struct Constraint {
+    /// Which.
+    pub name: &'static str,
+    /// Its value at the body.
+    pub value: f64,
+    /// Its bound.
+    pub bound: f64,
+    /// (value − bound) relative to the bound's scale: < 0 violated.
+    pub slack: f64,
+    /// Within 5 % of its bound: it limits the design.
+    pub binding: bool,
+}
+
+/// One target as the design achieved it.
+#[derive(Debug, Clone, Serialize)]
+pub struct Achieved {
+    /// The target.
+    #[serde(flatten)]
+    pub target: Target,
+    /// Measured at the optimiser's (fast) setting.
+    pub fast: f64,
+    /// Measured at the precise setting.
+    pub precise: f64,
+    /// The precise value meets the target.
+    pub met: bool,
+}
+
+/// Why the search ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Ended {
+    /// Every target within half its tolerance on a printable body.
+    Met,
+    /// The optimiser stopped improving (its step or the objective's spread fell below its tolerance).
+    Converged,
+    /// The generations ran out.
+    Generations,
+    /// The caller's stop flag (a time budget, Ctrl-C).
+    Stopped,
+    /// No search: a given body checked ([`evaluate`]).
+    CheckedOnly,
+}
+
+/// A designed body and everything known about it.
+#[derive(Debug, Clone, Serialize)]
+pub struct Design {
+    /// The body.
+    #[serde(skip)]
+    pub body: Body,
+    /// Its coefficients in the space's order.
+    pub vector: Vec<f64>,
+    /// Its α* (rad).
+    pub alpha_star: f64,
+    /// Each target.
+    pub achieved: Vec<Achieved>,
+    /// What a printer sees.
+    pub printability: Printability,
+    /// The constraints and which bind.
+    pub constraints: Vec<Constraint>,
+    /// The check over the band.
+    pub check: Check,
+    /// The objective at the body.
+    pub objective: f64,
+    /// Generations run.
+    pub generations: usize,
+    /// Bodies evaluated.
+    pub evaluations: usize,
+    /// Why the search ended.
+    pub ended: Ended,
+}
+
+impl Design {
+    /// Every target met at the precise setting, every constraint kept, and the check holds.
+    ///
+    /// # Example
+    /// ```
+    /// # use rollphase_core::analysis::design::*;
+    /// # fn f(d: &Design) -> bool {
+    /// d.holds()
+    /// # }
+    /// ```
+    pub fn holds(&self) -> bool {
+        self.achieved.iter().all(|a| a.met)
+            && self.constraints.iter().all(|c| c.slack >= 0.0)
+            && self.check.holds()
+    }
+}
+
+/// Progress after each generation.
+#[derive(Debug, Clone, Copy)]
+pub struct DesignProgress {
+    /// Generations run.
+    pub generation: usize,
+    /// Of at most this many.
+    pub max_generations: usize,
+    /// The best objective so far.
+    pub best: f64,
+}
+
+/// The objective of vector `x` (lower is better; see the module doc).
+fn objective(opts: &DesignOptions, x: &[f64], extra_room: f64) -> f64 {
+    let over = opts.space.largest_amplitude(x) / opts.max_amplitude - 1.0;
+    if over > 0.0 {
+        return 1e8 * (1.0 + over);
+    }
+    let body = opts.space.body(x);
+    let p = Printability::of(&body, opts.scale_mm);
+    if p.smallest_r <= 0.0 {
+        return 1e6 * (1.0 - p.smallest_r);
+    }
+    if !p.convex {
+        return 1e4 * (1.0 - p.convexity_min.min(0.0));
+    }
+    if p.smallest_radius_mm < opts.min_radius_mm {
+        return 1e2 * (2.0 - p.smallest_radius_mm / opts.min_radius_mm);
+    }
+    // Each target is aimed at where the band is hardest for it (the lightest m/m0, the ramp δα
+    // lower), so that the check has room to pass.
+    let alpha_room = opts.band.delta_alpha / critical_angle(&body).alpha_star.max(1e-9);
+    let mut sum = 0.0;
+    for t in &opts.targets {
+        let factors = t.optimiser_factors(opts.band.mass_fraction);
+        match t.measure_at(&body, &factors, 0.0, &Setting::FAST) {
+            // The worst of the factors: the largest value for each target but α*'s, whose
+            // value is the same at every m/m0.
+            Ok(v) => {
+                let worst = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                let room = match t {
+                    Target::Hysteresis { .. } => alpha_room + extra_room,
+                    _ => extra_room,
+                };
+                sum += t.violation(worst, room).powi(2);
+                // A doubling body must roll from every start across the band: α* a little
+                // below the lowest ramp, in units of 1e-3 rad.
+                if let Target::Doubling { alpha, .. } = t {
+                    let highest = alpha - opts.band.delta_alpha - 0.002;
+                    let over = (critical_angle(&body).alpha_star - highest).max(0.0) / 1e-3;
+                    sum += over * over;
+                }
+            }
+            // A body a target cannot be measured on ranks just below the printable ones.
+            Err(_) => return 99.0,
+        }
+    }
+    (1.0 + sum).ln().min(98.0)
+}
+
+/// Designs a body (see the module doc), `stop` ending the search between generations and
+/// `progress` told after each.
+///
+/// # Example
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use rollphase_core::analysis::design::*;
+/// let band = Band { delta_alpha: 0.005, mass_fraction: 0.2, surface_mm: 0.05, draws: 4, seed: 1 };
+/// let opts = DesignOptions {
+///     space: DesignSpace { dimension: 2, modes: 4 },
+///     targets: vec![Target::AlphaStar { alpha: 0.2 }],
+///     scale_mm: 10.0, min_radius_mm: 0.4, max_amplitude: 1.0, start: None, seed: 1,
+///     max_generations: 300, band,
+/// };
+/// let d = design_until(&opts, &AtomicBool::new(false), &|_| {})?;
+/// assert_eq!(d.ended, Ended::Met);
+/// assert!((d.alpha_star - 0.2).abs() < 1e-4 && d.printability.convex);
+/// # Ok::<(), DesignError>(())
+/// ```
+pub fn design_until(
+    opts: &DesignOptions,
+    stop: &AtomicBool,
+    progress: &dyn Fn(DesignProgress),
+) -> Result<Design, DesignError> {
+    opts.validate()?;
+    let space = &opts.space;
+    let x0 = match &opts.start {
+        Some(b) => space.vector(b).unwrap_or_else(|| vec![0.0; space.len()]),
+        None => {
+            let start = if space.dimension == 2 {
+                Body::Disk(first_convex_disk(opts.seed, 0.08, space.modes)?.0)
+            } else {
+                Body::Sphere(first_convex_sphere(opts.seed, 0.1, space.modes)?.0)
+            };
+            space
+                .vector(&start)
+                .unwrap_or_else(|| vec![0.0; space.len()])
+        }
+    };
+    let mut x = x0;
+    let (mut generations, mut evaluations, mut extra_room) = (0, 0, 0.0);
+    let mut sigma = if space.dimension == 2 { 0.05 } else { 0.08 };
+    for round in 0..=MAX_ROUNDS {
+        let found = search(opts, x, sigma, extra_room, generations, stop, progress)?;
+        (x, generations) = (found.x, found.generations);
+        evaluations += found.evaluations;
+        let design = finish(
+            opts,
+            x.clone(),
+            found.value,
+            generations,
+            evaluations,
+            found.ended,
+        )?;
+        // A target met at its aim but not over the band: aim again, as much lower as it missed
+        // by (and 1 % more), from where this round ended.
+        let deficit = design
+            .check
+            .targets
+            .iter()
+            .filter(|c| c.margin < 0.0 && !matches!(c.target, Target::AlphaStar { .. }))
+            .map(|c| match c.target {
+                Target::Hysteresis { .. } => -c.margin / design.alpha_star,
+                _ => -c.margin,
+            })
+            .fold(0.0, f64::max);
+        if found.ended != Ended::Met
+            || deficit == 0.0
+            || round == MAX_ROUNDS
+            || generations >= opts.max_generations
+        {
+            return Ok(design);
+        }
+        extra_room += deficit + 0.01;
+        sigma *= 0.5;
+    }
+    unreachable!("the last round returns")
+}
+
+/// A given body (`opts.start`, which must be set) measured, constrained and checked against
+/// the targets as a design would be, without a search: what `design` would say of a body you
+/// have (the authors' printed sphere, last week's print).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::design::*;
+/// use rollphase_core::geometry::Body;
+/// let band = Band { delta_alpha: 0.005, mass_fraction: 0.2, surface_mm: 0.02, draws: 2, seed: 1 };
+/// let opts = DesignOptions {
+///     space: DesignSpace { dimension: 2, modes: 5 },
+///     targets: vec![Target::AlphaStar { alpha: 0.0572 }],
+///     scale_mm: 10.0, min_radius_mm: 0.4, max_amplitude: 1.0,
+///     start: Some(Body::paper_disk(84, 0.12, 5)?), seed: 1, max_generations: 1, band,
+/// };
+/// let d = evaluate(&opts)?;
+/// assert_eq!((d.ended, d.generations), (Ended::CheckedOnly, 0));
+/// assert!(d.holds(), "α* = 0.05721 is within 1e-4 of 0.0572");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn evaluate(opts: &DesignOptions) -> Result<Design, DesignError> {
+    opts.validate()?;
+    let x = opts
+        .start
+        .as_ref()
+        .and_then(|b| opts.space.vector(b))
+        .ok_or_else(|| bad("from", "none", "a body to check"))?;
+    let value = objective(opts, &x, 0.0);
+    finish(opts, x, value, 0, 1, Ended::CheckedOnly)
+}
+
+/// Rounds of [`design_until`]: a search, then one more for each time the check finds a target
+/// met but not over the band.
+const MAX_ROUNDS: usize = 3;
+
+/// What one search found.
+struct Found {
+    x: Vec<f64>,
+    value: f64,
+    generations: usize,
+    evaluations: usize,
+    ended: Ended,
+}
+
+/// One CMA-ES search from `x0` with step `sigma`, its generations counted on from `done`.
+fn search(
+    opts: &DesignOptions,
+    x0: Vec<f64>,
+    sigma: f64,
+    extra_room: f64,
+    done: usize,
+    stop: &AtomicBool,
+    progress: &dyn Fn(DesignProgress),
+) -> Result<Found, DesignError> {
+    let mut search = CMAESOptions::new(DVector::from_vec(x0.clone()), sigma)
+        .seed(opts.seed.wrapping_add(done as u64))
+        .max_generations(opts.max_generations - done)
+        .fun_target(MET_OBJECTIVE)
+        .build(|x: &DVector<f64>| objective(opts, x.as_slice(), extra_room))
+        .map_err(|e| DesignError::Optimiser(format!("{e:?}")))?;
+    let ended = loop {
+        if stop.load(Ordering::Relaxed) {
+            break Ended::Stopped;
+        }
+        let step = search.next_parallel();
+        progress(DesignProgress {
+            generation: done + search.generation(),
+            max_generations: opts.max_generations,
+            best: search
+                .overall_best_individual()
+                .map_or(f64::INFINITY, |b| b.value),
+        });
+        if let Some(data) = step {
+            break if data.reasons.contains(&TerminationReason::FunTarget) {
+                Ended::Met
+            } else if data.reasons.contains(&TerminationReason::MaxGenerations) {
+                Ended::Generations
+            } else {
+                Ended::Converged
+            };
+        }
+    };
+    let (x, value) = match search.overall_best_individual() {
+        Some(b) => (b.point.as_slice().to_vec(), b.value),
+        None => {
+            let value = objective(opts, &x0, extra_room);
+            (x0, value)
+        }
+    };
+    Ok(Found {
+        x,
+        value,
+        generations: done + search.generation(),
+        evaluations: search.function_evals(),
+        ended,
+    })
+}
+
+/// The designed body measured, constrained and checked.
+fn finish(
+    opts: &DesignOptions,
+    x: Vec<f64>,
+    value: f64,
+    generations: usize,
+    evaluations: usize,
+    ended: Ended,
+) -> Result<Design, DesignError> {
+    let body = opts.space.body(&x);
+    let printability = Printability::of(&body, opts.scale_mm);
+    let amplitude = opts.space.largest_amplitude(&x);
+    let mut constraints = vec![
+        Constraint {
+            name: "amplitude",
+            value: amplitude,
+            bound: opts.max_amplitude,
+            slack: 1.0 - amplitude / opts.max_amplitude,
+            binding: false,
+        },
+        // Curvature in 1/⟨r⟩: a round body has 1, so the slack is the curvature itself.
+        Constraint {
+            name: "convexity (smallest curvature, 1/⟨r⟩)",
+            value: printability.convexity_min,
+            bound: 0.0,
+            slack: printability.convexity_min,
+            binding: false,
+        },
+        Constraint {
+            name: "smallest radius of curvature (mm)",
+            value: printability.smallest_radius_mm,
+            bound: opts.min_radius_mm,
+            slack: if opts.min_radius_mm > 0.0 {
+                printability.smallest_radius_mm / opts.min_radius_mm - 1.0
+            } else {
+                f64::INFINITY
+            },
+            binding: false,
+        },
+    ];
+    for c in &mut constraints {
+        c.binding = c.slack < 0.05;
+    }
+    let convex = printability.convex;
+    let mut achieved = Vec::new();
+    for t in &opts.targets {
+        let (fast, precise) = if convex {
+            (
+                t.measure(&body, 1.0, &Setting::FAST)?,
+                t.measure(&body, 1.0, &Setting::PRECISE)?,
+            )
+        } else {
+            (f64::NAN, f64::NAN)
+        };
+        achieved.push(Achieved {
+            target: *t,
+            fast,
+            precise,
+            met: convex && t.met_by(precise),
+        });
+    }
+    let check = if convex {
+        check(&opts.space, &x, &opts.targets, &opts.band, opts.scale_mm)?
+    } else {
+        Check {
+            band: opts.band,
+            targets: Vec::new(),
+            convex_draws: 0,
+            smallest_radius_mm: printability.smallest_radius_mm,
+        }
+    };
+    Ok(Design {
+        alpha_star: critical_angle(&body).alpha_star,
+        body,
+        vector: x,
+        achieved,
+        printability,
+        constraints,
+        check,
+        objective: value,
+        generations,
+        evaluations,
+        ended,
+    })
+}

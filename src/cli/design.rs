@@ -1,0 +1,449 @@
+//! `rollphase design`: a printable body with a chosen critical angle or window of hysteresis,
+//! checked over the band a bench brings before it is reported (`analysis::design`).
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+
+use crate::analysis::design::{
+    Band, Design, DesignOptions, DesignProgress, DesignSpace, Ended, Target, design_until, evaluate,
+};
+use crate::geometry::Body;
+use crate::geometry::mesh::{disk_mesh, sphere_mesh};
+use crate::output::{self, Inputs};
+
+/// Design a body that does what your experiment needs, and check that it still does on a bench.
+///
+/// Searches the model's bodies (harmonic coefficients up to --modes L, the paper's
+/// normalisation) with CMA-ES for one that meets every target given:
+///   --alpha-star A      α* = A rad within 1e-4 (2D or 3D): it rests on every ramp below A
+///                       and rolls from any start above it
+///   --hysteresis M:F    2D: at m/m0 = M a rolling cylinder keeps rolling as the ramp is
+///                       lowered down to F·α* (0 < F < 1), a window you can see by hand
+///   --doubling M --alpha A
+///                       3D: at m/m0 = M on a ramp at A rad the attractor is period 2: every
+///                       period-1 orbit the runs from rest settle on at 0.4 M has flipped (its
+///                       multiplier passed −1) at M, and runs from rest there repeat after two
+///                       crossings
+/// and the printer's constraints: strictly convex, no radius of curvature under
+/// --min-radius-mm at --scale-mm millimetres per ⟨r⟩, no amplitude over --max-amplitude.
+///
+/// The body found is then checked by runs independent of the search, at the precise setting,
+/// over a band: the ramp off by ± --alpha-band rad, m/m0 off by ± --mass-band, and --draws
+/// random print errors of up to ± --surface-mm. The report gives each target's value (fast and
+/// precise), its margin over the band (rad; ≥ 0 holds), which constraints bind, and whether the
+/// design holds. A design that does not hold is still written (the best body found), and the
+/// command exits with status 1 saying why.
+///
+/// The same --seed gives the same body on any number of threads; --budget stops the search after
+/// that many seconds with the best body so far (then checked like any other).
+///
+/// A cylinder that rests at 10° and rolls at 11° (α* = 10.5° ± 0.5°), 10 mm per ⟨r⟩:
+///   rollphase design --dim 2 --alpha-star 0.18326 --alpha-band 0.0087 -o cylinder.json --stl cylinder.stl
+#[derive(Debug, Args)]
+#[command(verbatim_doc_comment)]
+pub struct DesignArgs {
+    /// 2 for a cylinder (its section), 3 for a sphere.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=3))]
+    pub dim: u32,
+    /// Target: the critical angle α* in radians (0 < A < 1.5).
+    #[arg(long, value_name = "A", allow_negative_numbers = true)]
+    pub alpha_star: Option<f64>,
+    /// Target (2D): at m/m0 = M, keeps rolling as α is lowered to F·α* (M > 0, 0 < F < 1).
+    #[arg(long, value_name = "M:F")]
+    pub hysteresis: Option<String>,
+    /// Target (3D): at m/m0 = M and --alpha, the attractor is period 2 (every period-1 orbit
+    /// has flipped).
+    #[arg(
+        long,
+        value_name = "M",
+        allow_negative_numbers = true,
+        requires = "alpha"
+    )]
+    pub doubling: Option<f64>,
+    /// The ramp angle (rad) of a 3D target (sin α = 0.2 is α = 0.2014).
+    #[arg(long, allow_negative_numbers = true)]
+    pub alpha: Option<f64>,
+    /// Highest degree L of the modes searched (2 to 8).
+    #[arg(long, default_value_t = 4)]
+    pub modes: u32,
+    /// Millimetres per ⟨r⟩ of the printed body (the authors' prints: 10).
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    pub scale_mm: f64,
+    /// Smallest radius of curvature the printer can make, in mm (a 0.4 mm nozzle: 0.4).
+    #[arg(long, default_value_t = 0.4, allow_negative_numbers = true)]
+    pub min_radius_mm: f64,
+    /// Largest amplitude |a_l| (2D) or |A_lm| (3D) allowed.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub max_amplitude: f64,
+    /// Start from this body (a shape file of the same dimension, degree ≤ --modes) instead of
+    /// the first convex random body from --seed: the search then stays near it.
+    #[arg(long, value_name = "FILE")]
+    pub from: Option<PathBuf>,
+    /// Seed of the start and of the search.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Most generations of the search.
+    #[arg(long, default_value_t = 400)]
+    pub generations: usize,
+    /// Stop the search after this many seconds, with the best body so far.
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub budget: Option<f64>,
+    /// Check band: the ramp's angle off by up to this (rad).
+    #[arg(long, default_value_t = 0.005, allow_negative_numbers = true)]
+    pub alpha_band: f64,
+    /// Check band: m/m0 off by up to this fraction.
+    #[arg(long, default_value_t = 0.2, allow_negative_numbers = true)]
+    pub mass_band: f64,
+    /// Check band: print errors of up to this many mm on the surface.
+    #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
+    pub surface_mm: f64,
+    /// Check band: how many print errors are drawn.
+    #[arg(long, default_value_t = 16)]
+    pub draws: usize,
+    /// The designed body's shape file (with scale_mm).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Also write it as a watertight STL in mm, for the printer.
+    #[arg(long, value_name = "FILE")]
+    pub stl: Option<PathBuf>,
+    /// Print the report as JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Search nothing: check the --from body against the targets over the band, as a design
+    /// would be checked (what `design` says of a body you already have). -o gets the body.
+    #[arg(long, requires = "from")]
+    pub check_only: bool,
+}
+
+/// The targets the flags name.
+fn targets(a: &DesignArgs) -> Result<Vec<Target>> {
+    let mut targets = Vec::new();
+    if let Some(alpha) = a.alpha_star {
+        targets.push(Target::AlphaStar { alpha });
+    }
+    if let Some(text) = &a.hysteresis {
+        let (m, f) = text.split_once(':').with_context(|| {
+            format!("--hysteresis {text:?} is not M:F (m/m0 and the fraction of α*, e.g. 10:0.8)")
+        })?;
+        let number = |s: &str, what: &str| {
+            s.trim()
+                .parse::<f64>()
+                .with_context(|| format!("--hysteresis {text:?}: {s:?} is not a number ({what})"))
+        };
+        targets.push(Target::Hysteresis {
+            mass: number(m, "m/m0")?,
+            fraction: number(f, "the fraction F of α*")?,
+        });
+    }
+    if let Some(mass) = a.doubling {
+        let alpha = a
+            .alpha
+            .context("--doubling needs --alpha, the ramp angle")?;
+        targets.push(Target::Doubling { mass, alpha });
+    } else if a.alpha.is_some() {
+        bail!("--alpha is the ramp angle of a 3D target (--doubling M); give one, or leave it out");
+    }
+    if targets.is_empty() {
+        bail!(
+            "give at least one target: --alpha-star A, --hysteresis M:F or --doubling M --alpha A \
+             (see --help)"
+        );
+    }
+    Ok(targets)
+}
+
+/// Runs `design`.
+pub fn run(a: DesignArgs) -> Result<()> {
+    let start = match &a.from {
+        Some(f) => Some(super::load_body(f)?),
+        None => None,
+    };
+    let options = DesignOptions {
+        space: DesignSpace {
+            dimension: a.dim,
+            modes: a.modes,
+        },
+        targets: targets(&a)?,
+        scale_mm: a.scale_mm,
+        min_radius_mm: a.min_radius_mm,
+        max_amplitude: a.max_amplitude,
+        start,
+        seed: a.seed,
+        max_generations: a.generations,
+        band: Band {
+            delta_alpha: a.alpha_band,
+            mass_fraction: a.mass_band,
+            surface_mm: a.surface_mm,
+            draws: a.draws,
+            seed: a.seed,
+        },
+    };
+    options.validate()?;
+    if let Some(b) = a.budget
+        && !(b.is_finite() && b > 0.0 && b <= 1e7)
+    {
+        bail!(
+            "--budget {} is not allowed (needs 0 < seconds ≤ 1e7)",
+            super::short(b)
+        );
+    }
+    let inputs = Inputs::of(a.from.iter());
+    output::check_file(&a.output, &inputs)?;
+    if let Some(stl) = &a.stl {
+        output::check_distinct(&[("-o", &a.output), ("--stl", stl)])?;
+        output::check_file(stl, &inputs)?;
+    }
+    let stop = Arc::new(AtomicBool::new(false));
+    if let Some(seconds) = a.budget {
+        let stop = Arc::clone(&stop);
+        std::thread::spawn(move || {
+            std::thread::sleep(std::time::Duration::from_secs_f64(seconds));
+            stop.store(true, Ordering::Relaxed);
+        });
+    }
+    let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        indicatif::ProgressBar::new(a.generations as u64)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "designing {bar:30} generation {pos}/{len} {msg} {elapsed}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let clock = std::time::Instant::now();
+    let progress = |p: DesignProgress| {
+        bar.set_position(p.generation as u64);
+        bar.set_message(format!("best {:.3}", p.best));
+    };
+    let design = if a.check_only {
+        evaluate(&options)?
+    } else {
+        design_until(&options, &stop, &progress)?
+    };
+    bar.finish_and_clear();
+    let seconds = clock.elapsed().as_secs_f64();
+    let shape = design
+        .body
+        .to_shape()
+        .with_scale_mm(Some(a.scale_mm))
+        .to_json()?;
+    let mut outputs = output::OutputSet::new();
+    outputs.write(&a.output, (shape + "\n").as_bytes(), &inputs)?;
+    if let Some(stl) = &a.stl {
+        let mesh = match &design.body {
+            Body::Sphere(s) => sphere_mesh(s, 6),
+            Body::Disk(d) => disk_mesh(d, 1024, 2.0),
+        };
+        let mut bytes = Vec::new();
+        mesh.write_stl(&mut bytes, a.scale_mm, "design")?;
+        outputs.write(stl, &bytes, &inputs)?;
+    }
+    outputs.commit()?;
+    if a.json {
+        let report = serde_json::json!({
+            "holds": design.holds(),
+            "seconds": seconds,
+            "scale_mm": a.scale_mm,
+            "design": design,
+        });
+        outln!("{}", serde_json::to_string_pretty(&report)?)?;
+    } else {
+        print_report(&design, seconds, &a)?;
+    }
+    if !design.holds() {
+        bail!(
+            "the design does not hold: {} (the best body found is in {})",
+            why_not(&design),
+            a.output.display()
+        );
+    }
+    Ok(())
+}
+
+/// Why a design does not hold, in one line.
+fn why_not(d: &Design) -> String {
+    let mut why = Vec::new();
+    for t in d.achieved.iter().filter(|t| !t.met) {
+        why.push(format!(
+            "{} is not met (achieved {:.6})",
+            t.target.describe(),
+            t.precise
+        ));
+    }
+    for c in d.check.targets.iter().filter(|c| !c.holds) {
+        if c.margin < 0.0 {
+            why.push(format!(
+                "{} misses the band by {:.4} {}",
+                c.target.describe(),
+                -c.margin,
+                c.margin_unit
+            ));
+        }
+        if let Some(e) = &c.evidence
+            && e.runs.cycle_counts[1] < e.runs.cycle_counts.iter().sum::<usize>()
+        {
+            why.push(format!(
+                "of {} runs from rest at the target's m/m0, {} repeat after two crossings",
+                e.runs.cycle_counts.iter().sum::<usize>(),
+                e.runs.cycle_counts[1]
+            ));
+        }
+    }
+    if d.check.convex_draws < d.check.band.draws {
+        why.push(format!(
+            "{} of {} print errors dent the body",
+            d.check.band.draws - d.check.convex_draws,
+            d.check.band.draws
+        ));
+    }
+    let binding: Vec<&str> = d
+        .constraints
+        .iter()
+        .filter(|c| c.binding)
+        .map(|c| c.name)
+        .collect();
+    if binding.is_empty() {
+        if !matches!(d.ended, Ended::Met | Ended::CheckedOnly) {
+            why.push(
+                "no constraint binds: the search ended before it got there (try more \
+                 --generations, --modes or another --seed)"
+                    .into(),
+            );
+        }
+    } else {
+        why.push(format!("binding: {}", binding.join(", ")));
+    }
+    why.join("; ")
+}
+
+/// A doubling target's evidence: the window, the runs, the multipliers across m/m0.
+fn print_doubling(e: &crate::analysis::design::targets::DoublingEvidence) -> Result<()> {
+    let at = |m: Option<f64>| m.map_or("not found".into(), |m| format!("{m:.3}"));
+    outln!(
+        "  flip window (every orbit's multiplier below −1): m/m0 from {} to {}",
+        at(e.onset_mass),
+        at(e.end_mass)
+    )?;
+    let c = &e.runs.cycle_counts;
+    outln!(
+        "  runs from rest: {} repeat after 1 crossing, {} after 2, {} after 3–4, {} not \
+         (at rest {}, undecided {}, left the ramp {})",
+        c[0],
+        c[1],
+        c[2] + c[3],
+        c[4],
+        e.runs.at_rest,
+        e.runs.undecided,
+        e.runs.left_model
+    )?;
+    for (i, b) in e.branches.iter().enumerate() {
+        let row: Vec<String> = b
+            .iter()
+            .step_by(4)
+            .map(|s| match s.most_negative_real {
+                Some(mu) => format!("{:.2}:{mu:+.3}", s.mass_ratio),
+                None => format!("{:.2}:none", s.mass_ratio),
+            })
+            .collect();
+        outln!("  orbit {i} (m/m0:μ_min): {}", row.join(" "))?;
+    }
+    Ok(())
+}
+
+/// The report for people.
+fn print_report(d: &Design, seconds: f64, a: &DesignArgs) -> Result<()> {
+    let ended = match d.ended {
+        Ended::Met => "targets met",
+        Ended::Converged => "the search stopped improving",
+        Ended::Generations => "the generations ran out",
+        Ended::Stopped => "the budget ran out",
+        Ended::CheckedOnly => "a given body checked, no search",
+    };
+    outln!(
+        "design: {}D, L = {}, {} generations ({} bodies), {ended}, {seconds:.1} s",
+        a.dim,
+        a.modes,
+        d.generations,
+        d.evaluations
+    )?;
+    outln!(
+        "α* = {:.6} rad ({:.3}°)",
+        d.alpha_star,
+        d.alpha_star.to_degrees()
+    )?;
+    outln!()?;
+    outln!(
+        "{:<44} {:>12} {:>12} {:>5} {:>12} {:>6}",
+        "target",
+        "fast",
+        "precise",
+        "met",
+        "margin",
+        "holds"
+    )?;
+    for (t, c) in d.achieved.iter().zip(
+        d.check
+            .targets
+            .iter()
+            .map(Some)
+            .chain(std::iter::repeat(None)),
+    ) {
+        outln!(
+            "{:<44} {:>12.6} {:>12.6} {:>5} {:>12} {:>6}",
+            t.target.describe(),
+            t.fast,
+            t.precise,
+            if t.met { "yes" } else { "no" },
+            c.map_or("-".into(), |c| format!("{:.6}", c.margin)),
+            c.map_or("-", |c| if c.holds { "yes" } else { "no" })
+        )?;
+    }
+    let b = &d.check.band;
+    outln!(
+        "band: α ± {} rad, m/m0 ± {} %, {} print errors of ± {} mm ({} convex), at the precise setting",
+        b.delta_alpha,
+        100.0 * b.mass_fraction,
+        b.draws,
+        b.surface_mm,
+        d.check.convex_draws
+    )?;
+    for c in &d.check.targets {
+        outln!(
+            "  {}: nominal {:.6}, worst over {} variants {:.6}, margin {:.6} {}",
+            c.target.describe(),
+            c.nominal,
+            c.variants,
+            c.worst,
+            c.margin,
+            c.margin_unit
+        )?;
+        if let Some(e) = &c.evidence {
+            print_doubling(e)?;
+        }
+    }
+    outln!()?;
+    outln!(
+        "{:<40} {:>12} {:>10} {:>8}",
+        "constraint",
+        "value",
+        "bound",
+        "binds"
+    )?;
+    for c in &d.constraints {
+        outln!(
+            "{:<40} {:>12.4} {:>10} {:>8}",
+            c.name,
+            c.value,
+            c.bound,
+            if c.binding { "yes" } else { "no" }
+        )?;
+    }
+    outln!("holds: {}", if d.holds() { "yes" } else { "no" })?;
+    Ok(())
+}

@@ -1,0 +1,224 @@
+//! `analysis::design` against exact results and independent runs: a one-mode cylinder whose
+//! amplitude the critical angle fixes in closed form, a cylinder that rests below and rolls
+//! above its designed α* (the viscous model's own verdict), a hysteresis window re-measured by the
+//! period run, the same design on one thread and on several, and a target no body can meet.
+
+use std::sync::atomic::AtomicBool;
+
+use rollphase::analysis::critical_angle;
+use rollphase::analysis::design::{
+    Band, DesignOptions, DesignSpace, Ended, Printability, Target, design_until,
+};
+use rollphase::analysis::orbits::disk_period::{inertial_disk_period, viscous_disk_period};
+use rollphase::analysis::verdict::Fate;
+use rollphase::dynamics::Ramp;
+use rollphase::geometry::{Body, Disk, DiskMode};
+
+fn options(dimension: u32, modes: u32, targets: Vec<Target>) -> DesignOptions {
+    DesignOptions {
+        space: DesignSpace { dimension, modes },
+        targets,
+        scale_mm: 10.0,
+        min_radius_mm: 0.4,
+        max_amplitude: 1.0,
+        start: None,
+        seed: 3,
+        max_generations: 400,
+        band: Band {
+            delta_alpha: 0.01,
+            mass_fraction: 0.2,
+            surface_mm: 0.01,
+            draws: 4,
+            seed: 3,
+        },
+    }
+}
+
+fn design(o: &DesignOptions) -> rollphase::analysis::design::Design {
+    design_until(o, &AtomicBool::new(false), &|_| {}).expect("a design")
+}
+
+#[test]
+fn a_one_mode_cylinder_gets_the_amplitude_its_critical_angle_fixes() {
+    // r = 1 + (a/4) sin 2(θ − θ2) has Q* = (a/2)/√(1 − a²/16): with L = 2 the design space is
+    // this family alone, and α* decides |a| exactly.
+    for target in [0.05, 0.2, 0.35] {
+        let d = design(&options(2, 2, vec![Target::AlphaStar { alpha: target }]));
+        assert_eq!(
+            d.ended,
+            Ended::Met,
+            "α* = {target}: {} after {} generations",
+            d.alpha_star,
+            d.generations
+        );
+        let Body::Disk(disk) = &d.body else {
+            panic!("a 2D design is a disk")
+        };
+        let a = disk.modes()[0].a.abs();
+        let q = target.tan();
+        let exact = 2.0 * q / (1.0 + q * q / 4.0).sqrt();
+        // α* within 5e-5 rad (half the tolerance), so |a| within 5e-5 · da/dα*.
+        let slope = 2.0 / target.cos().powi(2) / (1.0 + q * q / 4.0).powf(1.5);
+        assert!(
+            (a - exact).abs() < 5e-5 * slope * 1.01,
+            "α* = {target}: |a| = {a}, exactly {exact}"
+        );
+        assert!((critical_angle(&d.body).alpha_star - target).abs() <= 5e-5);
+    }
+}
+
+#[test]
+fn a_cylinder_designed_for_an_angle_rests_below_it_and_rolls_above_it() {
+    // The teacher's cylinder: rests at 10°, rolls at 11°.
+    let target = 10.5f64.to_radians();
+    let d = design(&options(2, 4, vec![Target::AlphaStar { alpha: target }]));
+    assert!(d.holds(), "{:?}", d.check);
+    let Body::Disk(disk) = &d.body else {
+        panic!("a 2D design is a disk")
+    };
+    let rests = viscous_disk_period(disk, &Ramp::new(10f64.to_radians(), 0.0).unwrap());
+    assert!(matches!(
+        rests.fate(-0.5f64.to_radians(), 0.0),
+        Fate::Halted { .. }
+    ));
+    let rolls = viscous_disk_period(disk, &Ramp::new(11f64.to_radians(), 0.0).unwrap());
+    assert!(matches!(
+        rolls.fate(0.5f64.to_radians(), 0.0),
+        Fate::Periodic { multiplicity: 1 }
+    ));
+    // What the report says of the printer's view is what the body is.
+    let p = Printability::of(&d.body, 10.0);
+    assert!(p.convex && p.smallest_radius_mm >= 0.4);
+    assert_eq!(d.printability, p);
+}
+
+#[test]
+fn a_hysteresis_window_holds_when_measured_by_the_period_run_itself() {
+    let (mass, fraction) = (10.0, 0.8);
+    let mut o = options(2, 4, vec![Target::Hysteresis { mass, fraction }]);
+    o.band.delta_alpha = 0.002;
+    let d = design(&o);
+    assert!(d.holds(), "{:?}", d.check);
+    let Body::Disk(disk) = &d.body else {
+        panic!("a 2D design is a disk")
+    };
+    let alpha_star = critical_angle(&d.body).alpha_star;
+    // Released rolling fast on the ramp lowered to F·α* − δα: it settles on a period.
+    let alpha = fraction * alpha_star - o.band.delta_alpha;
+    let p = inertial_disk_period(
+        disk,
+        &Ramp::new(alpha, mass).unwrap(),
+        0.0,
+        0.2,
+        1e-11,
+        20_000.0,
+    )
+    .unwrap();
+    assert_eq!(
+        p.fate(alpha - alpha_star, 20_000.0),
+        Fate::Periodic { multiplicity: 1 },
+        "{p:?}"
+    );
+    // Released from rest there, it stays: the window is one of hysteresis, not of rolling.
+    let rest = rollphase::analysis::studies::disk::fixed_points(disk, alpha)
+        .into_iter()
+        .find(|f| f.stable)
+        .expect("a stable rest below α*");
+    let from_rest = inertial_disk_period(
+        disk,
+        &Ramp::new(alpha, mass).unwrap(),
+        rest.theta,
+        0.0,
+        1e-11,
+        2000.0,
+    )
+    .unwrap();
+    assert!(from_rest.halts, "{from_rest:?}");
+}
+
+#[test]
+fn the_same_seed_gives_the_same_body_on_one_thread_and_on_several() {
+    let o = options(3, 3, vec![Target::AlphaStar { alpha: 0.25 }]);
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| design(&o));
+    let four = rayon::ThreadPoolBuilder::new()
+        .num_threads(4)
+        .build()
+        .unwrap()
+        .install(|| design(&o));
+    assert_eq!(one.vector, four.vector);
+    assert_eq!(one.check.targets[0].worst, four.check.targets[0].worst);
+    // Another seed is another search.
+    let mut other = o.clone();
+    other.seed = 4;
+    assert_ne!(design(&other).vector, one.vector);
+}
+
+#[test]
+fn a_one_mode_cylinder_stops_at_the_convexity_limit_of_its_family() {
+    // r = 1 + ε sin 2θ is convex while ε < 1/5 (r² + 2r'² − r r'' = (1 − ε)(1 − 5ε) at its
+    // flattest): its α* cannot pass atan(0.4/√0.96) = 0.38760. Asking for 0.4 finds the limit,
+    // says the convexity binds, and does not claim the target.
+    let mut o = options(2, 2, vec![Target::AlphaStar { alpha: 0.4 }]);
+    o.max_generations = 300;
+    let d = design(&o);
+    let limit = (0.4f64 / 0.96f64.sqrt()).atan();
+    assert!(
+        d.alpha_star <= limit && limit - d.alpha_star < 1e-3,
+        "{}",
+        d.alpha_star
+    );
+    assert!(!d.holds() && !d.achieved[0].met);
+    let convexity = d
+        .constraints
+        .iter()
+        .find(|c| c.name.starts_with("convexity"))
+        .unwrap();
+    assert!(convexity.binding, "{:?}", d.constraints);
+}
+
+#[test]
+fn a_target_no_printable_body_meets_is_reported_with_what_binds() {
+    // α* = 1.2 rad asks for |r'/r| = 2.6 somewhere; a convex body of degree 4 does not reach it.
+    let mut o = options(2, 4, vec![Target::AlphaStar { alpha: 1.2 }]);
+    o.max_generations = 150;
+    let d = design(&o);
+    assert_ne!(d.ended, Ended::Met);
+    assert!(!d.holds() && !d.achieved[0].met);
+    assert!(d.alpha_star < 1.0, "{}", d.alpha_star);
+    let binding: Vec<&str> = d
+        .constraints
+        .iter()
+        .filter(|c| c.binding)
+        .map(|c| c.name)
+        .collect();
+    assert!(!binding.is_empty(), "{:?}", d.constraints);
+}
+
+#[test]
+fn a_design_space_vector_is_the_body_it_describes() {
+    // 2D: the modes' pairs (a cos lθ_l, a sin lθ_l) give back r(θ).
+    let space = DesignSpace {
+        dimension: 2,
+        modes: 5,
+    };
+    let body = Body::paper_disk(84, 0.12, 5).unwrap();
+    let again = space.body(&space.vector(&body).unwrap());
+    let (Body::Disk(a), Body::Disk(b)) = (&body, &again) else {
+        panic!("disks")
+    };
+    for i in 0..50 {
+        let t = i as f64 * 0.13;
+        assert!((a.jet(t).r - b.jet(t).r).abs() < 1e-14);
+    }
+    // A body of higher degree is not in the space.
+    let fine = Body::Disk(Disk::new(vec![DiskMode {
+        l: 7,
+        a: 0.1,
+        phase: 0.0,
+    }]));
+    assert!(space.vector(&fine).is_none());
+}
