@@ -636,3 +636,54 @@ def mass_bifurcation(
     period, multipliers (k, 5) complex, most_negative_real), flips (orbit, mass_ratio,
     loses_stability), windows (orbit, onset_mass, end_mass, flip_onset_mass, flip_end_mass),
     undecided_runs, longest_run."""
+
+class DesignReport(TypedDict):
+    """What design() and check_design() say of a body, as `rollphase design --json` prints it."""
+
+    holds: bool
+    scale_mm: float
+    design: dict[str, Any]
+
+def design(
+    dim: int,
+    *,
+    alpha_star: Optional[float] = None,
+    hysteresis: Optional[Tuple[float, float]] = None,
+    doubling: Optional[float] = None,
+    alpha: Optional[float] = None,
+    modes: int = 4,
+    scale_mm: float = 10.0,
+    min_radius_mm: float = 0.4,
+    max_amplitude: float = 1.0,
+    start: Optional[Body] = None,
+    seed: int = 1,
+    generations: int = 400,
+    alpha_band: float = 0.005,
+    mass_band: float = 0.2,
+    surface_mm: float = 0.05,
+    draws: int = 16,
+) -> Tuple[Body, DesignReport]:
+    """A printable body for the targets (alpha_star; hysteresis=(M, F) in 2D; doubling=M with
+    alpha= in 3D), found by CMA-ES (seeded) under the printer's constraints and checked at the
+    precise setting over α ± alpha_band, m/m0 ± mass_band and draws print errors of
+    ± surface_mm. Returns (body, report); report["holds"] says whether it holds over the band
+    (a design that does not is returned, not raised), report["design"] the achieved values,
+    margins, constraints and the check."""
+
+def check_design(
+    body: Body,
+    *,
+    alpha_star: Optional[float] = None,
+    hysteresis: Optional[Tuple[float, float]] = None,
+    doubling: Optional[float] = None,
+    alpha: Optional[float] = None,
+    scale_mm: Optional[float] = None,
+    min_radius_mm: float = 0.4,
+    max_amplitude: float = 1.0,
+    alpha_band: float = 0.005,
+    mass_band: float = 0.2,
+    surface_mm: float = 0.05,
+    draws: int = 16,
+    seed: int = 1,
+) -> Tuple[Body, DesignReport]:
+    """What design() would say of a body you have, without a search (`design --check-only`)."""

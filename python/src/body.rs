@@ -42,6 +42,16 @@ impl Body {
         })
     }
 
+    /// A body `design` made, at `scale_mm` millimetres per ⟨r⟩.
+    pub(crate) fn designed(body: CoreBody, scale_mm: f64, what: String) -> Self {
+        Body {
+            body,
+            origin: what,
+            scale_mm: Some(scale_mm),
+            fit: None,
+        }
+    }
+
     /// The core body, refusing a non-convex one the way a run does.
     pub(crate) fn convex(&self) -> PyResult<&CoreBody> {
         self.body.check_convex().map_err(bad_input)?;

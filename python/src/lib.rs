@@ -14,6 +14,7 @@
 //! | [`errors`] | the exception tree: `RollphaseError`, `InputError`, `RunError`, `LeftModelError`, `InternalError` |
 //! | [`run`] | `simulate` and its `DiskTrajectory` / `SphereTrajectory`, `simulate_many` and its `SphereRuns` |
 //! | [`studies`] | `critical_angle`, `period`, `poincare_map`, `cruising_fraction`, `periodic_orbits`, `period_counts` |
+//! | [`design`] | `design` (a printable body for chosen targets, checked over a bench's band) and `check_design` (the same check of a body you have) |
 //! | [`experiment`] | `measure_track` (a filmed run's period with its evidence), `compare_with_model` (m/m0 and t0 from it) |
 
 // Python functions take their settings as keyword-only arguments with defaults (as SciPy's and
@@ -29,6 +30,7 @@ use pyo3::prelude::*;
 use crate::errors::{ErrorClass, input_error};
 
 mod body;
+mod design;
 mod drag_law;
 mod errors;
 mod experiment;
@@ -189,6 +191,8 @@ fn rollphase(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(studies::mass_bifurcation, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::measure_track, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::compare_with_model, m)?)?;
+    m.add_function(wrap_pyfunction!(design::design, m)?)?;
+    m.add_function(wrap_pyfunction!(design::check_design, m)?)?;
     m.add_function(wrap_pyfunction!(drag_law::drag_parameters, m)?)?;
     m.add_function(wrap_pyfunction!(drag_law::models, m)?)?;
     Ok(())

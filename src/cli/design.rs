@@ -257,8 +257,13 @@ pub fn run(a: DesignArgs) -> Result<()> {
         print_report(&design, seconds, &a)?;
     }
     if !design.holds() {
+        let what = if a.check_only {
+            "the body checked"
+        } else {
+            "the best body found"
+        };
         bail!(
-            "the design does not hold: {} (the best body found is in {})",
+            "the design does not hold: {} ({what} is in {})",
             why_not(&design),
             a.output.display()
         );
@@ -372,11 +377,20 @@ fn print_report(d: &Design, seconds: f64, a: &DesignArgs) -> Result<()> {
         d.generations,
         d.evaluations
     )?;
-    outln!(
-        "α* = {:.6} rad ({:.3}°)",
-        d.alpha_star,
-        d.alpha_star.to_degrees()
-    )?;
+    match d.alpha_star_turned {
+        Some(turned) => outln!(
+            "α* = {:.6} rad ({:.3}°); turned end for end {:.6} rad ({:.3}°)",
+            d.alpha_star,
+            d.alpha_star.to_degrees(),
+            turned,
+            turned.to_degrees()
+        )?,
+        None => outln!(
+            "α* = {:.6} rad ({:.3}°)",
+            d.alpha_star,
+            d.alpha_star.to_degrees()
+        )?,
+    }
     outln!()?;
     outln!(
         "{:<44} {:>12} {:>12} {:>5} {:>12} {:>6}",

@@ -22,6 +22,7 @@ mod source;
 mod architecture;
 mod bad_input;
 mod bench_outputs;
+mod design;
 mod drag_law;
 mod figures;
 mod guide_commands;

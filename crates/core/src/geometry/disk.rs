@@ -255,6 +255,33 @@ impl Disk {
         &self.modes
     }
 
+    /// The same cylinder turned end for end: its section seen from the other side, r(−θ)
+    /// (each mode a_l, θ_l becomes −a_l, −θ_l). A cylinder can be set on the ramp either way
+    /// round, and rolls down it with its section mirrored the other way, so its critical angle
+    /// that way is the mirror's.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, DiskMode};
+    /// let d = Disk::new(vec![DiskMode { l: 3, a: 0.2, phase: 0.4 }, DiskMode { l: 2, a: 0.1, phase: 1.0 }]);
+    /// let m = d.turned();
+    /// for t in [0.0, 0.7, 2.0] {
+    ///     assert!((m.jet(t).r - d.jet(-t).r).abs() < 1e-15);
+    /// }
+    /// ```
+    pub fn turned(&self) -> Disk {
+        Disk::new(
+            self.modes
+                .iter()
+                .map(|m| DiskMode {
+                    l: m.l,
+                    a: -m.a,
+                    phase: -m.phase,
+                })
+                .collect(),
+        )
+    }
+
     /// r, r', r'', r''' at contact angle θ, exact.
     ///
     /// # Example

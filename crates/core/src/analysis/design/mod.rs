@@ -136,7 +136,11 @@ impl DesignOptions {
                 return Err(bad(
                     "dim",
                     s.dimension,
-                    format!("{d} for the target \"{}\" (a cylinder)", t.describe()),
+                    format!(
+                        "{d} for the target \"{}\" ({})",
+                        t.describe(),
+                        if d == 2 { "a cylinder" } else { "a sphere" }
+                    ),
                 ));
             }
             match *t {
@@ -304,6 +308,9 @@ pub struct Design {
     pub vector: Vec<f64>,
     /// Its α* (rad).
     pub alpha_star: f64,
+    /// A cylinder's α* turned end for end (its section mirrored), which the targets hold for
+    /// too; `None` for a sphere.
+    pub alpha_star_turned: Option<f64>,
     /// Each target.
     pub achieved: Vec<Achieved>,
     /// What a printer sees.
@@ -646,8 +653,13 @@ fn finish(
             smallest_radius_mm: printability.smallest_radius_mm,
         }
     };
+    let alpha_star_turned = match &body {
+        Body::Disk(d) => Some(critical_angle(&Body::Disk(d.turned())).alpha_star),
+        Body::Sphere(_) => None,
+    };
     Ok(Design {
         alpha_star: critical_angle(&body).alpha_star,
+        alpha_star_turned,
         body,
         vector: x,
         achieved,

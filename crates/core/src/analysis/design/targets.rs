@@ -152,7 +152,8 @@ impl Target {
 
     /// The target's value measured on a body: α* (rad); α**/α* at m/m0 = `mass` times
     /// `mass_factor` (the check's ± 20 %); or μ_min there, the most negative real Floquet
-    /// multiplier of the least flipped orbit (below −1: every orbit has flipped).
+    /// multiplier of the least flipped orbit (below −1: every orbit has flipped). A cylinder's
+    /// is the worse of its two ways round ([`crate::geometry::Disk::turned`]).
     ///
     /// # Example
     /// ```
@@ -192,17 +193,58 @@ impl Target {
         delta_alpha: f64,
         setting: &Setting,
     ) -> Result<Vec<f64>, TargetError> {
+        // A cylinder can be set on the ramp either way round: a target holds both ways, and
+        // its value is the worse way's.
+        if let (Body::Disk(d), Target::AlphaStar { .. } | Target::Hysteresis { .. }) = (body, self)
+        {
+            let turned = Body::Disk(d.turned());
+            let one = self.measure_one_way(body, mass_factors, setting)?;
+            let other = self.measure_one_way(&turned, mass_factors, setting)?;
+            return Ok(one
+                .iter()
+                .zip(&other)
+                .map(|(&a, &b)| self.worse(a, b))
+                .collect());
+        }
         match *self {
-            Target::AlphaStar { .. } => {
+            Target::AlphaStar { .. } | Target::Hysteresis { .. } => {
+                self.measure_one_way(body, mass_factors, setting)
+            }
+            Target::Doubling { mass, alpha } => {
+                flip_values(body, alpha + delta_alpha, mass, mass_factors, setting)
+            }
+        }
+    }
+
+    /// The worse of two values of this target (farther from α*, or the higher α** or μ_min).
+    fn worse(&self, a: f64, b: f64) -> f64 {
+        match self {
+            Target::AlphaStar { alpha } => {
+                if (a - alpha).abs() >= (b - alpha).abs() {
+                    a
+                } else {
+                    b
+                }
+            }
+            _ => a.max(b),
+        }
+    }
+
+    /// α* or α**/α* of the body as it lies.
+    pub(crate) fn measure_one_way(
+        &self,
+        body: &Body,
+        mass_factors: &[f64],
+        setting: &Setting,
+    ) -> Result<Vec<f64>, TargetError> {
+        match *self {
+            Target::AlphaStar { .. } | Target::Doubling { .. } => {
                 Ok(vec![critical_angle(body).alpha_star; mass_factors.len()])
             }
             Target::Hysteresis { mass, .. } => mass_factors
                 .iter()
                 .map(|f| return_fraction(body, mass * f, setting))
                 .collect(),
-            Target::Doubling { mass, alpha } => {
-                flip_values(body, alpha + delta_alpha, mass, mass_factors, setting)
-            }
         }
     }
 }
@@ -280,7 +322,7 @@ pub enum TargetError {
     },
 }
 
-/// α**/α* of a cylinder at m/m0 = `mass`: the lowest α (by bisection between 0 and 1.05 α*)
+/// α**/α* of a cylinder as it lies at m/m0 = `mass`: the lowest α (by bisection between 0 and 1.05 α*)
 /// at which the cylinder, released faster than it rolls at 1.05 α*, settles on a period (the
 /// verdict of [`inertial_disk_period`]: three turns agreeing to 1e-8). A rolling orbit attracts
 /// every faster state, so α** is where the rolling orbit ends, whatever the path down; a trial

@@ -1,0 +1,204 @@
+//! `rollphase.design`: a printable body with a chosen α*, hysteresis window or period doubling,
+//! and `rollphase.check_design`, what a design would say of a body you have; the core's
+//! `analysis::design` (the search, then the check over the bench's band), run with the GIL
+//! released, its report the command line's `--json`.
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rollphase_core::analysis::design::{
+    Band, DesignError, DesignOptions, DesignSpace, Target, TargetError, design_until, evaluate,
+};
+
+use crate::body::Body;
+use crate::errors::{Classified, ErrorClass, input_error, internal_error, raise};
+use crate::run::json_to_py;
+use crate::{interruptible, whole};
+
+impl Classified for TargetError {
+    fn class(&self) -> ErrorClass {
+        match self {
+            TargetError::Integrate(e) => e.class(),
+            TargetError::Study(e) => e.class(),
+            TargetError::NotACylinder | TargetError::NotASphere | TargetError::Model(_) => {
+                ErrorClass::Input
+            }
+            TargetError::NoOrbit { .. } | TargetError::NeverRolled { .. } => ErrorClass::Run,
+        }
+    }
+}
+
+impl Classified for DesignError {
+    fn class(&self) -> ErrorClass {
+        match self {
+            DesignError::BadInput { .. } | DesignError::Shape(_) => ErrorClass::Input,
+            DesignError::Target(e) => e.class(),
+            DesignError::Optimiser(_) => ErrorClass::Internal,
+        }
+    }
+}
+
+/// The targets the keywords name.
+fn targets(
+    alpha_star: Option<f64>,
+    hysteresis: Option<(f64, f64)>,
+    doubling: Option<f64>,
+    alpha: Option<f64>,
+) -> PyResult<Vec<Target>> {
+    let mut targets = Vec::new();
+    if let Some(alpha) = alpha_star {
+        targets.push(Target::AlphaStar { alpha });
+    }
+    if let Some((mass, fraction)) = hysteresis {
+        targets.push(Target::Hysteresis { mass, fraction });
+    }
+    match (doubling, alpha) {
+        (Some(mass), Some(alpha)) => targets.push(Target::Doubling { mass, alpha }),
+        (Some(_), None) => {
+            return Err(input_error(
+                "doubling= needs alpha=, the ramp angle (rad) at which it is to double",
+            ));
+        }
+        (None, Some(_)) => {
+            return Err(input_error(
+                "alpha= is the ramp angle of a 3D target (doubling=); give one, or leave it out",
+            ));
+        }
+        (None, None) => {}
+    }
+    if targets.is_empty() {
+        return Err(input_error(
+            "give at least one target: alpha_star=, hysteresis=(M, F) or doubling= with alpha=",
+        ));
+    }
+    Ok(targets)
+}
+
+/// The body and the report, as `rollphase design --json` prints it.
+fn result<'py>(
+    py: Python<'py>,
+    design: rollphase_core::analysis::design::Design,
+    scale_mm: f64,
+    what: String,
+) -> PyResult<(Body, Bound<'py, PyDict>)> {
+    let report = PyDict::new(py);
+    report.set_item("holds", design.holds())?;
+    report.set_item("scale_mm", scale_mm)?;
+    let value = serde_json::to_value(&design).map_err(internal_error)?;
+    report.set_item("design", json_to_py(py, &value)?)?;
+    Ok((Body::designed(design.body, scale_mm, what), report))
+}
+
+/// A printable body that does what the targets say, as `rollphase design` finds it: alpha_star
+/// (α* in rad within 1e-4), hysteresis=(M, F) (2D: at m/m0 = M it keeps rolling down to F·α*),
+/// doubling=M with alpha=A (3D: period 2 at m/m0 = M on a ramp at A rad). The search (CMA-ES,
+/// seeded: the same body for any thread count) keeps the body convex, its radii of curvature
+/// ≥ min_radius_mm at scale_mm mm per ⟨r⟩ and its amplitudes ≤ max_amplitude, starting from
+/// `start` (a Body) or the first convex random body from `seed`; the body found is then checked
+/// at the precise setting over α ± alpha_band, m/m0 ± mass_band and `draws` print errors of
+/// ± surface_mm. Returns (Body, report): report["holds"] says whether every target holds over
+/// the band; report["design"] has the achieved values, margins, constraints (and which bind),
+/// the check and, for doubling, the flip window and multipliers. A design that does not hold
+/// is returned too, not raised: read report["holds"].
+#[pyfunction]
+#[pyo3(signature = (dim, *, alpha_star = None, hysteresis = None, doubling = None, alpha = None,
+    modes = 4, scale_mm = 10.0, min_radius_mm = 0.4, max_amplitude = 1.0, start = None, seed = 1,
+    generations = 400, alpha_band = 0.005, mass_band = 0.2, surface_mm = 0.05, draws = 16))]
+pub fn design<'py>(
+    py: Python<'py>,
+    dim: i128,
+    alpha_star: Option<f64>,
+    hysteresis: Option<(f64, f64)>,
+    doubling: Option<f64>,
+    alpha: Option<f64>,
+    modes: i128,
+    scale_mm: f64,
+    min_radius_mm: f64,
+    max_amplitude: f64,
+    start: Option<PyRef<'py, Body>>,
+    seed: i128,
+    generations: i128,
+    alpha_band: f64,
+    mass_band: f64,
+    surface_mm: f64,
+    draws: i128,
+) -> PyResult<(Body, Bound<'py, PyDict>)> {
+    let options = DesignOptions {
+        space: DesignSpace {
+            dimension: whole("dim", dim)?,
+            modes: whole("modes", modes)?,
+        },
+        targets: targets(alpha_star, hysteresis, doubling, alpha)?,
+        scale_mm,
+        min_radius_mm,
+        max_amplitude,
+        start: start.as_ref().map(|b| b.body.clone()),
+        seed: whole("seed", seed)?,
+        max_generations: whole("generations", generations)?,
+        band: Band {
+            delta_alpha: alpha_band,
+            mass_fraction: mass_band,
+            surface_mm,
+            draws: whole("draws", draws)?,
+            seed: whole("seed", seed)?,
+        },
+    };
+    options.validate().map_err(raise)?;
+    let found = interruptible(py, |stop| design_until(&options, stop, &|_| {}))?.map_err(raise)?;
+    result(py, found, scale_mm, format!("designed (seed {seed})"))
+}
+
+/// What `design` says of a body you have, without a search (`rollphase design --check-only`):
+/// the same keywords as design(), `body` in place of start; scale_mm defaults to the body's own
+/// (a shape file's or a mesh fit's), else 10. Returns (Body, report) as design().
+#[pyfunction]
+#[pyo3(signature = (body, *, alpha_star = None, hysteresis = None, doubling = None, alpha = None,
+    scale_mm = None, min_radius_mm = 0.4, max_amplitude = 1.0, alpha_band = 0.005,
+    mass_band = 0.2, surface_mm = 0.05, draws = 16, seed = 1))]
+pub fn check_design<'py>(
+    py: Python<'py>,
+    body: PyRef<'py, Body>,
+    alpha_star: Option<f64>,
+    hysteresis: Option<(f64, f64)>,
+    doubling: Option<f64>,
+    alpha: Option<f64>,
+    scale_mm: Option<f64>,
+    min_radius_mm: f64,
+    max_amplitude: f64,
+    alpha_band: f64,
+    mass_band: f64,
+    surface_mm: f64,
+    draws: i128,
+    seed: i128,
+) -> PyResult<(Body, Bound<'py, PyDict>)> {
+    let core = body.body.clone();
+    let scale_mm = scale_mm.or(body.scale_mm).unwrap_or(10.0);
+    let modes = match &core {
+        rollphase_core::geometry::Body::Disk(d) => d.modes().iter().map(|m| m.l).max(),
+        rollphase_core::geometry::Body::Sphere(s) => Some(s.max_degree()),
+    }
+    .unwrap_or(2)
+    .max(2);
+    let options = DesignOptions {
+        space: DesignSpace {
+            dimension: core.dimension(),
+            modes,
+        },
+        targets: targets(alpha_star, hysteresis, doubling, alpha)?,
+        scale_mm,
+        min_radius_mm,
+        max_amplitude,
+        start: Some(core),
+        seed: whole("seed", seed)?,
+        max_generations: 1,
+        band: Band {
+            delta_alpha: alpha_band,
+            mass_fraction: mass_band,
+            surface_mm,
+            draws: whole("draws", draws)?,
+            seed: whole("seed", seed)?,
+        },
+    };
+    options.validate().map_err(raise)?;
+    let checked = interruptible(py, |_| evaluate(&options))?.map_err(raise)?;
+    result(py, checked, scale_mm, "checked".into())
+}

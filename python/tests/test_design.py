@@ -1,0 +1,70 @@
+"""rollphase.design finds the body `rollphase design` finds (the same coefficients, the same
+report), check_design says what `design --check-only` says, a target no body meets comes back
+with holds False and what binds, and bad keywords raise InputError naming the value."""
+
+import json
+
+import pytest
+
+import rollphase
+from rollphase import Body
+
+TARGET = 0.18326  # α* = 10.5°: rests at 10°, rolls at 11°
+
+
+def test_a_cylinder_design_is_the_command_lines(cli, tmp_path):
+    body, report = rollphase.design(2, alpha_star=TARGET, alpha_band=0.0087, scale_mm=40.0)
+    out = tmp_path / "cylinder.json"
+    stdout, _, _ = cli(
+        "design", "--dim", "2", "--alpha-star", TARGET, "--alpha-band", 0.0087,
+        "--scale-mm", 40, "-o", out, "--json",
+    )
+    theirs = json.loads(stdout)
+    assert report["holds"] and theirs["holds"]
+    assert report["design"]["vector"] == theirs["design"]["vector"]
+    assert report["design"]["check"] == theirs["design"]["check"]
+    assert json.loads(body.to_json()) == json.loads(out.read_text())
+    assert body.scale_mm == 40.0
+    assert abs(body.alpha_star - TARGET) <= 1e-4
+
+
+def test_check_design_reports_a_body_as_the_command_line_does(cli, tmp_path):
+    body = Body.paper_disk(84, sigma=0.12, modes=5)
+    _, report = rollphase.check_design(body, alpha_star=0.0572, draws=2)
+    path = tmp_path / "disk.json"
+    body.to_file(path)
+    stdout, _, code = cli(
+        "design", "--dim", "2", "--modes", "5", "--from", path, "--check-only",
+        "--alpha-star", 0.0572, "--draws", 2, "-o", tmp_path / "again.json", "--json",
+        check=False,
+    )
+    theirs = json.loads(stdout)
+    # ± 0.05 mm on a 10 mm body moves α* by more than the 0.005 rad band: it does not hold,
+    # and the command says so by its exit status.
+    assert not theirs["holds"] and code == 1
+    assert report["design"]["achieved"] == theirs["design"]["achieved"]
+    assert report["design"]["ended"] == "checked_only" and report["holds"] == theirs["holds"]
+
+
+def test_a_target_no_body_meets_is_returned_with_what_binds():
+    _, report = rollphase.design(2, alpha_star=1.2, generations=60, draws=0)
+    assert not report["holds"]
+    binding = [c["name"] for c in report["design"]["constraints"] if c["binding"]]
+    assert binding, report["design"]["constraints"]
+
+
+@pytest.mark.parametrize(
+    "keywords, needle",
+    [
+        ({}, "at least one target"),
+        ({"alpha_star": float("nan")}, "alpha-star"),
+        ({"doubling": 2.5}, "alpha="),
+        ({"alpha_star": 0.2, "alpha": 0.2}, "alpha= is the ramp angle"),
+        ({"alpha_star": 0.2, "modes": 9}, "modes"),
+        ({"hysteresis": (10.0, 0.8)}, "cylinder"),
+        ({"alpha_star": 0.2, "draws": -1}, "draws"),
+    ],
+)
+def test_bad_keywords_raise_input_error(keywords, needle):
+    with pytest.raises(rollphase.InputError, match=needle):
+        rollphase.design(3, **keywords)

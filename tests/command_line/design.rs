@@ -1,0 +1,331 @@
+//! `rollphase design`: bad input refused before any search with a message naming the value, the
+//! body written with its scale and as an STL a mesh fit reads back to the same α*, the same bytes
+//! on one thread and on two, and a design that does not hold written but exiting 1 with what
+//! binds.
+
+use std::process::{Command, Output};
+
+use crate::cli::{rollphase, rollphase_ok, scratch};
+
+fn fails_with(out: &Output, code: i32, needles: &[&str]) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(code), "stderr: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    for n in needles {
+        assert!(err.contains(n), "expected {n:?} in: {err}");
+    }
+}
+
+#[test]
+fn bad_targets_and_settings_are_refused_naming_the_value() {
+    let d = scratch("design-bad");
+    let o = d.join("body.json");
+    let o = o.to_str().unwrap();
+    let cases: &[(&[&str], i32, &[&str])] = &[
+        (&["--dim", "2"], 1, &["at least one target"]),
+        (
+            &["--dim", "2", "--alpha-star", "NaN"],
+            1,
+            &["alpha-star = NaN", "0 < α* < 1.5"],
+        ),
+        (&["--dim", "2", "--alpha-star", "2"], 1, &["alpha-star = 2"]),
+        (&["--dim", "2", "--hysteresis", "10"], 1, &["is not M:F"]),
+        (
+            &["--dim", "2", "--hysteresis", "10:x"],
+            1,
+            &["\"x\" is not a number"],
+        ),
+        (
+            &["--dim", "2", "--hysteresis", "10:1.5"],
+            1,
+            &["fraction = 1.5", "0 < F < 1"],
+        ),
+        (
+            &["--dim", "2", "--hysteresis", "0:0.8"],
+            1,
+            &["needs inertia"],
+        ),
+        (&["--dim", "3", "--hysteresis", "10:0.8"], 1, &["cylinder"]),
+        (
+            &["--dim", "2", "--doubling", "2.5", "--alpha", "0.2"],
+            1,
+            &["sphere", "dim = 2"],
+        ),
+        (&["--dim", "3", "--doubling", "2.5"], 2, &["--alpha"]),
+        (
+            &["--dim", "3", "--alpha-star", "0.2", "--alpha", "0.2"],
+            1,
+            &["--alpha is the ramp angle"],
+        ),
+        (
+            &["--dim", "3", "--alpha-star", "0.2", "--modes", "9"],
+            1,
+            &["modes = 9", "2 ≤ L ≤ 8"],
+        ),
+        (
+            &["--dim", "3", "--alpha-star", "0.2", "--draws", "20000"],
+            1,
+            &["draws = 20000"],
+        ),
+        (
+            &["--dim", "3", "--alpha-star", "0.2", "--scale-mm", "-1"],
+            1,
+            &["scale-mm = -1"],
+        ),
+        (
+            &["--dim", "3", "--alpha-star", "0.2", "--surface-mm", "6"],
+            1,
+            &["surface-mm = 6"],
+        ),
+        (
+            &["--dim", "3", "--alpha-star", "0.2", "--budget", "0"],
+            1,
+            &["--budget 0"],
+        ),
+        (
+            &["--dim", "3", "--alpha-star", "0.2", "--generations", "0"],
+            1,
+            &["generations = 0"],
+        ),
+        (
+            &["--dim", "3", "--alpha-star", "0.2", "--check-only"],
+            2,
+            &["--from"],
+        ),
+    ];
+    for (args, code, needles) in cases {
+        let mut all = vec!["design"];
+        all.extend_from_slice(args);
+        all.extend_from_slice(&["-o", o]);
+        fails_with(&rollphase(&all), *code, needles);
+    }
+    assert!(
+        !d.join("body.json").exists(),
+        "nothing is written for bad input"
+    );
+}
+
+#[test]
+fn outputs_are_checked_before_the_search() {
+    let d = scratch("design-outputs");
+    let body = d.join("start.json");
+    let text = rollphase_ok(["shape", "--dim", "3", "--seed", "1", "--modes", "3"]);
+    std::fs::write(&body, &text).unwrap();
+    let b = body.to_str().unwrap();
+    // The start as the output: refused, the start untouched.
+    let out = rollphase([
+        "design",
+        "--dim",
+        "3",
+        "--modes",
+        "3",
+        "--from",
+        b,
+        "--alpha-star",
+        "0.2",
+        "-o",
+        b,
+    ]);
+    fails_with(&out, 1, &["start.json"]);
+    assert_eq!(std::fs::read(&body).unwrap(), text);
+    // A 3D start for a 2D design, or one of higher degree than --modes.
+    let out = rollphase([
+        "design",
+        "--dim",
+        "2",
+        "--from",
+        b,
+        "--alpha-star",
+        "0.2",
+        "-o",
+        "x.json",
+    ]);
+    fails_with(&out, 1, &["from = a 3D body of degree 3", "2D body"]);
+    let out = rollphase([
+        "design",
+        "--dim",
+        "3",
+        "--modes",
+        "2",
+        "--from",
+        b,
+        "--alpha-star",
+        "0.2",
+        "-o",
+        "x.json",
+    ]);
+    fails_with(&out, 1, &["degree ≤ --modes 2"]);
+    // The STL where the shape file goes; a folder that does not exist.
+    let o = d.join("a.json");
+    let o = o.to_str().unwrap();
+    let out = rollphase([
+        "design",
+        "--dim",
+        "2",
+        "--alpha-star",
+        "0.2",
+        "-o",
+        o,
+        "--stl",
+        o,
+    ]);
+    fails_with(&out, 1, &["--stl"]);
+    let missing = d.join("no/such/folder/b.json");
+    let out = rollphase([
+        "design",
+        "--dim",
+        "2",
+        "--alpha-star",
+        "0.2",
+        "-o",
+        missing.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        !String::from_utf8_lossy(&out.stdout).contains("design:"),
+        "no search ran"
+    );
+}
+
+#[test]
+fn a_design_is_written_with_its_scale_and_as_an_stl_that_fits_back() {
+    let d = scratch("design-written");
+    let (json, stl) = (d.join("cylinder.json"), d.join("cylinder.stl"));
+    let stdout = rollphase_ok([
+        "design",
+        "--dim",
+        "2",
+        "--alpha-star",
+        "0.18326",
+        "--alpha-band",
+        "0.0087",
+        "--scale-mm",
+        "40",
+        "-o",
+        json.to_str().unwrap(),
+        "--stl",
+        stl.to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&stdout);
+    assert!(
+        text.contains("holds: yes") && text.contains("targets met"),
+        "{text}"
+    );
+    let shape: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(shape["scale_mm"], 40.0);
+    let body = rollphase::geometry::Body::from_file(&json).unwrap();
+    assert!((body.alpha_star() - 0.18326).abs() <= 1e-4);
+    // The STL read back as a printed body is the designed one.
+    let fitted = d.join("fitted.json");
+    rollphase_ok([
+        "shape",
+        "--from-mesh",
+        stl.to_str().unwrap(),
+        "-o",
+        fitted.to_str().unwrap(),
+    ]);
+    let again = rollphase::geometry::Body::from_file(&fitted).unwrap();
+    assert!(
+        (again.alpha_star() - body.alpha_star()).abs() < 2e-3,
+        "{} against {}",
+        again.alpha_star(),
+        body.alpha_star()
+    );
+    // --json says the same.
+    let json_out = rollphase_ok([
+        "design",
+        "--dim",
+        "2",
+        "--alpha-star",
+        "0.18326",
+        "--alpha-band",
+        "0.0087",
+        "--scale-mm",
+        "40",
+        "-o",
+        d.join("again.json").to_str().unwrap(),
+        "--json",
+    ]);
+    let report: serde_json::Value = serde_json::from_slice(&json_out).unwrap();
+    assert_eq!(report["holds"], true);
+    assert_eq!(report["design"]["ended"], "met");
+    assert_eq!(
+        std::fs::read(d.join("again.json")).unwrap(),
+        std::fs::read(&json).unwrap()
+    );
+}
+
+#[test]
+fn the_same_seed_writes_the_same_bytes_on_one_thread_and_on_two() {
+    let d = scratch("design-threads");
+    let run = |threads: &str, name: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+            .args([
+                "design",
+                "--dim",
+                "2",
+                "--hysteresis",
+                "10:0.8",
+                "--draws",
+                "4",
+                "-o",
+            ])
+            .arg(d.join(name))
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::read(d.join(name)).unwrap()
+    };
+    assert_eq!(run("1", "one.json"), run("2", "two.json"));
+}
+
+#[test]
+fn a_design_that_does_not_hold_is_written_and_says_what_binds() {
+    let d = scratch("design-unmet");
+    let o = d.join("steep.json");
+    let out = rollphase([
+        "design",
+        "--dim",
+        "2",
+        "--modes",
+        "2",
+        "--alpha-star",
+        "0.4",
+        "-o",
+        o.to_str().unwrap(),
+    ]);
+    fails_with(
+        &out,
+        1,
+        &[
+            "does not hold",
+            "α* = 0.4 rad is not met",
+            "binding: convexity",
+            "best body found",
+        ],
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("holds: no"), "{text}");
+    assert!(o.exists(), "the best body found is written");
+    // A budget that runs out says so, and still checks what it has.
+    let out = rollphase([
+        "design",
+        "--dim",
+        "3",
+        "--alpha-star",
+        "1.2",
+        "--budget",
+        "0.001",
+        "--draws",
+        "0",
+        "-o",
+        d.join("quick.json").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("the budget ran out"));
+}
