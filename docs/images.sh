@@ -10,6 +10,7 @@
 #   docs/presentation/      each lesson on a projector, and class mode
 #   docs/python/fig3d.png, fig4e.png   the Python module's figures (docs/python/paper_figures.py)
 #   docs/experiments/*.png   the printed sphere's predicted paths and the tracked run, folded
+#   docs/design/*.png        the designed sphere's orbit diagram and the printed sphere's
 # Run from anywhere: bash docs/images.sh. Takes a few minutes on 2 cores without a GPU.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -96,6 +97,15 @@ done
 "$bin" track assets/data/sphere-track-viscous.csv --markers assets/data/sphere-markers-viscous.csv \
     --body "$tmp/printed-sphere.json" --alpha 0.2014 --out "$tmp/run" > /dev/null 2>&1
 cp "$tmp/run/figure.png" docs/experiments/tracked-run.png
+
+# Design a body (docs/guide/design.md): the designed sphere's orbit diagram in m/m0 beside the
+# printed sphere's, at sin α = 0.2.
+"$bin" figure sphere-bifurcation --shape docs/design/doubling-sphere.json --alpha 0.2014 \
+    --out "$tmp/designed" > /dev/null
+cp "$tmp/designed/sphere-bifurcation/figure.png" docs/design/bifurcation-designed.png
+"$bin" figure sphere-bifurcation --shape "$tmp/printed-sphere.json" --alpha 0.2014 \
+    --out "$tmp/printed" > /dev/null
+cp "$tmp/printed/sphere-bifurcation/figure.png" docs/design/bifurcation-printed.png
 
 "$bin" bench accuracy --out docs/accuracy
 "$bin" bench stiff --out docs/stiff

@@ -1,4 +1,4 @@
-"""Every Python block of the README, docs/guide/python.md and docs/guide/experiments.md runs, top to bottom, one
+"""Every Python block of the README, docs/guide/python.md, experiments.md and design.md runs, top to bottom, one
 namespace per page (as tests/command_line/guide_commands.rs runs the sh blocks), and a print whose comment
 names an exact value (α* = 0.1394, a shape and a model) prints it."""
 
@@ -8,7 +8,7 @@ import re
 
 import pytest
 
-PAGES = ["README.md", "docs/guide/python.md", "docs/guide/experiments.md"]
+PAGES = ["README.md", "docs/guide/python.md", "docs/guide/experiments.md", "docs/guide/design.md"]
 
 
 def python_blocks(text):

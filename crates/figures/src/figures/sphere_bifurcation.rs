@@ -328,14 +328,18 @@ fn panels(s: &Summary, rows: &[Vec<f64>]) -> Vec<Panel> {
             equal_aspect: false,
         },
         Panel {
-            title: format!(
-                "(c) multipliers; flips at m/m0 = {}",
-                s.flips
-                    .iter()
-                    .map(|f| format!("{:.2}", f.mass_ratio))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
+            title: if s.flips.is_empty() {
+                "(c) multipliers; no flip (no μ passes −1)".into()
+            } else {
+                format!(
+                    "(c) multipliers; flips at m/m0 = {}",
+                    s.flips
+                        .iter()
+                        .map(|f| format!("{:.2}", f.mass_ratio))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            },
             x_label: "m/m0".into(),
             y_label: "multiplier".into(),
             log_x: false,
