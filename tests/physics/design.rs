@@ -227,3 +227,53 @@ fn a_design_space_vector_is_the_body_it_describes() {
     }]));
     assert!(space.vector(&fine).is_none());
 }
+
+#[test]
+#[ignore = "slow: the doubling check of the guide's designed sphere (about 30 s)"]
+fn the_guides_designed_sphere_doubles_at_the_uncoated_prints_mass_and_the_printed_one_does_not() {
+    use rollphase::analysis::design::evaluate;
+    use rollphase::analysis::orbits::sphere_orbits::Decide;
+    use rollphase::analysis::studies::sphere::period_counts;
+    let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let designed = Body::from_file(&repo.join("docs/design/doubling-sphere.json")).unwrap();
+    let mut o = options(
+        3,
+        5,
+        vec![Target::Doubling {
+            mass: 2.5,
+            alpha: 0.2014,
+        }],
+    );
+    o.start = Some(designed.clone());
+    o.band = Band {
+        delta_alpha: 0.005,
+        mass_fraction: 0.2,
+        surface_mm: 0.05,
+        draws: 2,
+        seed: 1,
+    };
+    let d = evaluate(&o).unwrap();
+    assert!(d.holds(), "{:?}", d.check);
+    let e = d.check.targets[0].evidence.as_ref().unwrap();
+    let (onset, end) = (e.onset_mass.unwrap(), e.end_mass.unwrap());
+    assert!(onset < 2.0 && end > 3.0, "window {onset} to {end}");
+    // Independently of the design's own runs: other starts from rest, decided by the period
+    // statistics, repeat after two crossings at m/m0 = 2.5 and after one at 1.0 and 7.0.
+    let decide = Decide {
+        t_min: 1200.0,
+        t_cap: 12_000.0,
+        max_k: 4,
+        tol: 1e-5,
+    };
+    for (mass, k) in [(1.0, 0), (2.5, 1), (7.0, 0)] {
+        let c = period_counts(&designed, 0.2014, mass, 6, 99, &decide).unwrap();
+        assert_eq!(c.cycle_counts[k], 6, "m/m0 = {mass}: {c:?}");
+    }
+    // The authors' printed sphere (its generator body) at m/m0 = 2.5: period 1, the target not met.
+    o.start = Some(Body::paper_sphere(6, 0.25, 4).unwrap());
+    o.space.modes = 4;
+    let printed = evaluate(&o).unwrap();
+    assert!(!printed.holds() && !printed.achieved[0].met);
+    let runs = printed.check.targets[0].evidence.as_ref().unwrap().runs;
+    assert_eq!(runs.cycle_counts[0], 12, "{runs:?}");
+}
