@@ -650,6 +650,8 @@ def design(
     alpha_star: Optional[float] = None,
     hysteresis: Optional[Tuple[float, float]] = None,
     doubling: Optional[float] = None,
+    drift: Optional[float] = None,
+    mass_ratio: float = 0.0,
     alpha: Optional[float] = None,
     modes: int = 4,
     scale_mm: float = 10.0,
@@ -663,8 +665,8 @@ def design(
     surface_mm: float = 0.05,
     draws: int = 16,
 ) -> Tuple[Body, DesignReport]:
-    """A printable body for the targets (alpha_star; hysteresis=(M, F) in 2D; doubling=M with
-    alpha= in 3D), found by CMA-ES (seeded) under the printer's constraints and checked at the
+    """A printable body for the targets (alpha_star; hysteresis=(M, F) in 2D; doubling=M or
+    drift=D (with mass_ratio) with alpha= in 3D), found by CMA-ES (seeded) under the printer's constraints and checked at the
     precise setting over α ± alpha_band, m/m0 ± mass_band and draws print errors of
     ± surface_mm. Returns (body, report); report["holds"] says whether it holds over the band
     (a design that does not is returned, not raised), report["design"] the achieved values,
@@ -676,6 +678,8 @@ def check_design(
     alpha_star: Optional[float] = None,
     hysteresis: Optional[Tuple[float, float]] = None,
     doubling: Optional[float] = None,
+    drift: Optional[float] = None,
+    mass_ratio: float = 0.0,
     alpha: Optional[float] = None,
     scale_mm: Optional[float] = None,
     min_radius_mm: float = 0.4,

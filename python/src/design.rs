@@ -42,6 +42,8 @@ fn targets(
     alpha_star: Option<f64>,
     hysteresis: Option<(f64, f64)>,
     doubling: Option<f64>,
+    drift: Option<f64>,
+    mass_ratio: f64,
     alpha: Option<f64>,
 ) -> PyResult<Vec<Target>> {
     let mut targets = Vec::new();
@@ -51,19 +53,26 @@ fn targets(
     if let Some((mass, fraction)) = hysteresis {
         targets.push(Target::Hysteresis { mass, fraction });
     }
-    match (doubling, alpha) {
-        (Some(mass), Some(alpha)) => targets.push(Target::Doubling { mass, alpha }),
-        (Some(_), None) => {
-            return Err(input_error(
-                "doubling= needs alpha=, the ramp angle (rad) at which it is to double",
-            ));
-        }
-        (None, Some(_)) => {
-            return Err(input_error(
-                "alpha= is the ramp angle of a 3D target (doubling=); give one, or leave it out",
-            ));
-        }
-        (None, None) => {}
+    if (doubling.is_some() || drift.is_some()) && alpha.is_none() {
+        return Err(input_error(
+            "doubling= and drift= need alpha=, the ramp angle (rad) of the target",
+        ));
+    }
+    if let (Some(mass), Some(alpha)) = (doubling, alpha) {
+        targets.push(Target::Doubling { mass, alpha });
+    }
+    if let (Some(drift), Some(alpha)) = (drift, alpha) {
+        targets.push(Target::Drift {
+            drift,
+            alpha,
+            mass: mass_ratio,
+        });
+    }
+    if alpha.is_some() && doubling.is_none() && drift.is_none() {
+        return Err(input_error(
+            "alpha= is the ramp angle of a 3D target (doubling= or drift=); give one, or leave it \
+             out",
+        ));
     }
     if targets.is_empty() {
         return Err(input_error(
@@ -90,7 +99,8 @@ fn result<'py>(
 
 /// A printable body that does what the targets say, as `rollphase design` finds it: alpha_star
 /// (α* in rad within 1e-4), hysteresis=(M, F) (2D: at m/m0 = M it keeps rolling down to F·α*),
-/// doubling=M with alpha=A (3D: period 2 at m/m0 = M on a ramp at A rad). The search (CMA-ES,
+/// doubling=M with alpha=A (3D: period 2 at m/m0 = M on a ramp at A rad), drift=D with alpha=A
+/// and mass_ratio (3D: every stable orbit moves D across per unit down). The search (CMA-ES,
 /// seeded: the same body for any thread count) keeps the body convex, its radii of curvature
 /// ≥ min_radius_mm at scale_mm mm per ⟨r⟩ and its amplitudes ≤ max_amplitude, starting from
 /// `start` (a Body) or the first convex random body from `seed`; the body found is then checked
@@ -100,8 +110,8 @@ fn result<'py>(
 /// the check and, for doubling, the flip window and multipliers. A design that does not hold
 /// is returned too, not raised: read report["holds"].
 #[pyfunction]
-#[pyo3(signature = (dim, *, alpha_star = None, hysteresis = None, doubling = None, alpha = None,
-    modes = 4, scale_mm = 10.0, min_radius_mm = 0.4, max_amplitude = 1.0, start = None, seed = 1,
+#[pyo3(signature = (dim, *, alpha_star = None, hysteresis = None, doubling = None, drift = None,
+    mass_ratio = 0.0, alpha = None, modes = 4, scale_mm = 10.0, min_radius_mm = 0.4, max_amplitude = 1.0, start = None, seed = 1,
     generations = 400, alpha_band = 0.005, mass_band = 0.2, surface_mm = 0.05, draws = 16))]
 pub fn design<'py>(
     py: Python<'py>,
@@ -109,6 +119,8 @@ pub fn design<'py>(
     alpha_star: Option<f64>,
     hysteresis: Option<(f64, f64)>,
     doubling: Option<f64>,
+    drift: Option<f64>,
+    mass_ratio: f64,
     alpha: Option<f64>,
     modes: i128,
     scale_mm: f64,
@@ -127,7 +139,7 @@ pub fn design<'py>(
             dimension: whole("dim", dim)?,
             modes: whole("modes", modes)?,
         },
-        targets: targets(alpha_star, hysteresis, doubling, alpha)?,
+        targets: targets(alpha_star, hysteresis, doubling, drift, mass_ratio, alpha)?,
         scale_mm,
         min_radius_mm,
         max_amplitude,
@@ -151,8 +163,8 @@ pub fn design<'py>(
 /// the same keywords as design(), `body` in place of start; scale_mm defaults to the body's own
 /// (a shape file's or a mesh fit's), else 10. Returns (Body, report) as design().
 #[pyfunction]
-#[pyo3(signature = (body, *, alpha_star = None, hysteresis = None, doubling = None, alpha = None,
-    scale_mm = None, min_radius_mm = 0.4, max_amplitude = 1.0, alpha_band = 0.005,
+#[pyo3(signature = (body, *, alpha_star = None, hysteresis = None, doubling = None, drift = None,
+    mass_ratio = 0.0, alpha = None, scale_mm = None, min_radius_mm = 0.4, max_amplitude = 1.0, alpha_band = 0.005,
     mass_band = 0.2, surface_mm = 0.05, draws = 16, seed = 1))]
 pub fn check_design<'py>(
     py: Python<'py>,
@@ -160,6 +172,8 @@ pub fn check_design<'py>(
     alpha_star: Option<f64>,
     hysteresis: Option<(f64, f64)>,
     doubling: Option<f64>,
+    drift: Option<f64>,
+    mass_ratio: f64,
     alpha: Option<f64>,
     scale_mm: Option<f64>,
     min_radius_mm: f64,
@@ -183,7 +197,7 @@ pub fn check_design<'py>(
             dimension: core.dimension(),
             modes,
         },
-        targets: targets(alpha_star, hysteresis, doubling, alpha)?,
+        targets: targets(alpha_star, hysteresis, doubling, drift, mass_ratio, alpha)?,
         scale_mm,
         min_radius_mm,
         max_amplitude,

@@ -59,6 +59,8 @@ def test_a_target_no_body_meets_is_returned_with_what_binds():
         ({}, "at least one target"),
         ({"alpha_star": float("nan")}, "alpha-star"),
         ({"doubling": 2.5}, "alpha="),
+        ({"drift": 0.1}, "alpha="),
+        ({"drift": float("nan"), "alpha": 0.2}, "drift = NaN"),
         ({"alpha_star": 0.2, "alpha": 0.2}, "alpha= is the ramp angle"),
         ({"alpha_star": 0.2, "modes": 9}, "modes"),
         ({"hysteresis": (10.0, 0.8)}, "cylinder"),

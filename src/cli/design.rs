@@ -28,6 +28,10 @@ use crate::output::{self, Inputs};
 ///                       period-1 orbit the runs from rest settle on at 0.4 M has flipped (its
 ///                       multiplier passed −1) at M, and runs from rest there repeat after two
 ///                       crossings
+///   --drift D --alpha A [--mass M]
+///                       3D: every stable orbit the starts settle on moves D across the ramp
+///                       per unit down it within 0.005 (a ball that rolls off at an angle,
+///                       whichever orbit it takes), and within 0.02 over the band
 /// and the printer's constraints: strictly convex, no radius of curvature under
 /// --min-radius-mm at --scale-mm millimetres per ⟨r⟩, no amplitude over --max-amplitude.
 ///
@@ -64,6 +68,23 @@ pub struct DesignArgs {
         requires = "alpha"
     )]
     pub doubling: Option<f64>,
+    /// Target (3D): at --alpha and --mass, every stable orbit the starts settle on moves D across
+    /// the ramp per unit down it (+: to the lab's y).
+    #[arg(
+        long,
+        value_name = "D",
+        allow_negative_numbers = true,
+        requires = "alpha"
+    )]
+    pub drift: Option<f64>,
+    /// m/m0 of a --drift target (0: the viscous model).
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        allow_negative_numbers = true,
+        requires = "drift"
+    )]
+    pub mass: f64,
     /// The ramp angle (rad) of a 3D target (sin α = 0.2 is α = 0.2014).
     #[arg(long, allow_negative_numbers = true)]
     pub alpha: Option<f64>,
@@ -144,13 +165,25 @@ fn targets(a: &DesignArgs) -> Result<Vec<Target>> {
             .alpha
             .context("--doubling needs --alpha, the ramp angle")?;
         targets.push(Target::Doubling { mass, alpha });
-    } else if a.alpha.is_some() {
-        bail!("--alpha is the ramp angle of a 3D target (--doubling M); give one, or leave it out");
+    }
+    if let Some(drift) = a.drift {
+        let alpha = a.alpha.context("--drift needs --alpha, the ramp angle")?;
+        targets.push(Target::Drift {
+            drift,
+            alpha,
+            mass: a.mass,
+        });
+    }
+    if a.alpha.is_some() && a.doubling.is_none() && a.drift.is_none() {
+        bail!(
+            "--alpha is the ramp angle of a 3D target (--doubling M or --drift D); give one, or \
+             leave it out"
+        );
     }
     if targets.is_empty() {
         bail!(
-            "give at least one target: --alpha-star A, --hysteresis M:F or --doubling M --alpha A \
-             (see --help)"
+            "give at least one target: --alpha-star A, --hysteresis M:F, --doubling M --alpha A or \
+             --drift D --alpha A (see --help)"
         );
     }
     Ok(targets)

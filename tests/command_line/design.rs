@@ -52,6 +52,24 @@ fn bad_targets_and_settings_are_refused_naming_the_value() {
             &["sphere", "dim = 2"],
         ),
         (&["--dim", "3", "--doubling", "2.5"], 2, &["--alpha"]),
+        (&["--dim", "3", "--drift", "0.1"], 2, &["--alpha"]),
+        (
+            &["--dim", "3", "--drift", "NaN", "--alpha", "0.2"],
+            1,
+            &["drift = NaN"],
+        ),
+        (
+            &[
+                "--dim", "3", "--drift", "0.1", "--alpha", "0.2", "--mass", "-1",
+            ],
+            1,
+            &["drift m/m0 = -1"],
+        ),
+        (
+            &["--dim", "3", "--alpha-star", "0.2", "--mass", "2"],
+            2,
+            &["--drift"],
+        ),
         (
             &["--dim", "3", "--alpha-star", "0.2", "--alpha", "0.2"],
             1,

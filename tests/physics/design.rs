@@ -277,3 +277,39 @@ fn the_guides_designed_sphere_doubles_at_the_uncoated_prints_mass_and_the_printe
     let runs = printed.check.targets[0].evidence.as_ref().unwrap().runs;
     assert_eq!(runs.cycle_counts[0], 12, "{runs:?}");
 }
+
+#[test]
+fn a_drift_target_reads_every_stable_orbit_that_predict_finds() {
+    use rollphase::analysis::design::Setting;
+    use rollphase::analysis::experiment::prediction::{PredictOptions, predict};
+    // The paper's sphere at α = 0.15 has two stable orbits drifting opposite ways (Fig. 3d):
+    // the target's value is the one farther from what is asked, so asking for either drift
+    // reads the other.
+    let body = Body::paper_sphere(219, 0.25, 5).unwrap();
+    let options = PredictOptions {
+        starts: 8,
+        ..PredictOptions::default()
+    };
+    let drifts: Vec<f64> = predict(&body, 0.15, 0.0, &options)
+        .unwrap()
+        .orbits
+        .iter()
+        .filter(|o| o.stable)
+        .map(|o| o.advance_across / o.advance_down)
+        .collect();
+    assert_eq!(drifts.len(), 2);
+    assert!(drifts[0] * drifts[1] < 0.0, "{drifts:?}");
+    for (asked, other) in [(drifts[0], drifts[1]), (drifts[1], drifts[0])] {
+        let target = Target::Drift {
+            drift: asked,
+            alpha: 0.15,
+            mass: 0.0,
+        };
+        let value = target.measure(&body, 1.0, &Setting::FAST).unwrap();
+        assert!(
+            (value - other).abs() < 1e-6,
+            "asked {asked}: {value} against {other}"
+        );
+        assert!(!target.met_by(value));
+    }
+}

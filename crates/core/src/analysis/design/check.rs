@@ -12,7 +12,10 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::space::{DesignSpace, Printability, smallest_r};
-use super::targets::{DoublingEvidence, Setting, Target, TargetError, doubling_evidence};
+use super::targets::{
+    DRIFT_BAND, DoublingEvidence, Setting, Target, TargetError, doubling_evidence,
+};
+use crate::dynamics::models::asks_for_inertia;
 use crate::geometry::{Body, random_disk, random_sphere};
 
 /// The band the check covers.
@@ -43,9 +46,10 @@ pub struct TargetCheck {
     /// How much room is left, ≥ 0 where it holds, in `margin_unit`: α*: δα − max |α* − A|
     /// (rad); hysteresis: F·α* − δα − the highest α** (rad: a board lowered to F·α*, off by δα,
     /// still has it rolling); doubling: −1 − μ_min at the worst variant (how far below −1 the
-    /// least flipped orbit's multiplier stays).
+    /// least flipped orbit's multiplier stays); drift: 0.02 − max |drift − D| (how far
+    /// inside the band the worst variant's heading stays).
     pub margin: f64,
-    /// "rad" or "multiplier".
+    /// "rad", "multiplier" or "across per down".
     pub margin_unit: &'static str,
     /// The nominal value meets the target, the margin is ≥ 0, and (doubling) every run from
     /// rest at the target's m/m0 settles on period 2.
@@ -125,12 +129,14 @@ fn with_print_error(space: &DesignSpace, x: &[f64], band: &Band, scale_mm: f64, 
 /// # Example
 /// ```
 /// use rollphase_core::analysis::design::{Band, DesignSpace, Target, check};
-/// use rollphase_core::geometry::Body;
-/// let space = DesignSpace { dimension: 2, modes: 5 };
-/// let x = space.vector(&Body::paper_disk(84, 0.12, 5)?).unwrap();
-/// let band = Band { delta_alpha: 0.005, mass_fraction: 0.2, surface_mm: 0.02, draws: 4, seed: 1 };
-/// let c = check(&space, &x, &[Target::AlphaStar { alpha: 0.0572 }], &band, 10.0)?;
-/// // ±0.02 mm on a 10 mm body moves α* by less than 0.005 rad.
+/// use rollphase_core::geometry::{Body, Disk, DiskMode};
+/// // One mode: the same α* either way round (its mirror is itself turned).
+/// let body = Body::Disk(Disk::new(vec![DiskMode { l: 3, a: 0.3, phase: 0.2 }]));
+/// let space = DesignSpace { dimension: 2, modes: 3 };
+/// let x = space.vector(&body).unwrap();
+/// let band = Band { delta_alpha: 0.005, mass_fraction: 0.2, surface_mm: 0.01, draws: 4, seed: 1 };
+/// let c = check(&space, &x, &[Target::AlphaStar { alpha: body.alpha_star() }], &band, 10.0)?;
+/// // ±0.01 mm on a 10 mm body moves α* by less than 0.005 rad.
 /// assert!(c.holds() && c.targets[0].margin > 0.0, "{c:?}");
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
@@ -183,6 +189,14 @@ fn check_target(
             &[1.0, 1.0 - f, 1.0 + f],
             &[0.0, -band.delta_alpha, band.delta_alpha],
         ),
+        // A viscous drift has no m/m0 to be off.
+        Target::Drift { mass, .. } if !asks_for_inertia(*mass) => {
+            (&[1.0], &[0.0, -band.delta_alpha, band.delta_alpha])
+        }
+        Target::Drift { .. } => (
+            &[1.0, 1.0 - f, 1.0 + f],
+            &[0.0, -band.delta_alpha, band.delta_alpha],
+        ),
     };
     let jobs: Vec<(usize, f64)> = (0..bodies.len())
         .flat_map(|b| offsets.iter().map(move |&o| (b, o)))
@@ -203,6 +217,14 @@ fn check_target(
                 .max_by(|a, b| (a - alpha).abs().total_cmp(&(b - alpha).abs()))
                 .unwrap_or(nominal);
             (worst, band.delta_alpha - (worst - alpha).abs(), "rad")
+        }
+        Target::Drift { drift, .. } => {
+            let worst = values
+                .iter()
+                .copied()
+                .max_by(|a, b| (a - drift).abs().total_cmp(&(b - drift).abs()))
+                .unwrap_or(nominal);
+            (worst, DRIFT_BAND - (worst - drift).abs(), "across per down")
         }
         Target::Hysteresis { fraction, .. } => (
             largest,

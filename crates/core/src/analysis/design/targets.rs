@@ -9,6 +9,7 @@ use crate::analysis::rest::critical_angle::critical_angle;
 use glam::DVec3;
 use rayon::prelude::*;
 
+use crate::analysis::experiment::prediction::{PredictOptions, predict};
 use crate::analysis::orbits::disk_period::inertial_disk_period;
 use crate::analysis::orbits::orbit_diagram::{
     Flip, OrbitBranch, continue_orbit, flip_brackets, locate_flip_in,
@@ -27,6 +28,14 @@ pub const ALPHA_STAR_TOLERANCE: f64 = 1e-4;
 pub const HYSTERESIS_AIM: f64 = 0.02;
 /// One unit of a hysteresis target's violation: 1 % of α*.
 const HYSTERESIS_UNIT: f64 = 0.01;
+/// How close a drift target's value must come to it on the designed body: 0.005 across per
+/// down (0.3° of heading).
+pub const DRIFT_TOLERANCE: f64 = 0.005;
+/// How far a drift may wander over the band and still hold: 0.02 across per down (1.1° of
+/// heading, 2 mm across a 10 cm run).
+pub const DRIFT_BAND: f64 = 0.02;
+/// The value of a drift target where no stable orbit rolls down the ramp: far from any drift.
+pub const NO_DRIFT: f64 = 1e3;
 /// The optimiser aims each orbit's most negative multiplier this far below −1.
 pub const DOUBLING_AIM: f64 = 0.1;
 /// One unit of a doubling target's violation.
@@ -52,6 +61,17 @@ pub enum Target {
         mass: f64,
         /// The ramp angle (rad).
         alpha: f64,
+    },
+    /// 3D: at ramp angle `alpha` and m/m0 = `mass`, every stable orbit starts from rest settle
+    /// on moves `drift` across the ramp per unit down it (a ball that rolls off at an angle
+    /// atan `drift`, whichever orbit it takes).
+    Drift {
+        /// Across per unit down (+: the lab's y).
+        drift: f64,
+        /// The ramp angle (rad).
+        alpha: f64,
+        /// m/m0 (0: viscous).
+        mass: f64,
     },
     /// 2D: at m/m0 = `mass`, a cylinder rolling above α* keeps rolling as the ramp is lowered
     /// down to `fraction` · α* (its return angle α** ≤ `fraction` · α*).
@@ -80,6 +100,9 @@ impl Target {
             Target::Doubling { mass, alpha } => {
                 format!("period 2 at m/m0 = {mass}, α = {alpha} rad")
             }
+            Target::Drift { drift, alpha, mass } => {
+                format!("drift {drift} across per down at α = {alpha} rad, m/m0 = {mass}")
+            }
         }
     }
 
@@ -94,7 +117,7 @@ impl Target {
         match self {
             Target::AlphaStar { .. } => None,
             Target::Hysteresis { .. } => Some(2),
-            Target::Doubling { .. } => Some(3),
+            Target::Doubling { .. } | Target::Drift { .. } => Some(3),
         }
     }
 
@@ -120,6 +143,7 @@ impl Target {
                 (value - (fraction - HYSTERESIS_AIM - room)).max(0.0) / HYSTERESIS_UNIT
             }
             Target::Doubling { .. } => (value + 1.0 + DOUBLING_AIM + room).max(0.0) / DOUBLING_UNIT,
+            Target::Drift { drift, .. } => (value - drift).abs() / DRIFT_TOLERANCE,
         }
     }
 
@@ -131,6 +155,7 @@ impl Target {
             Target::AlphaStar { .. } => vec![1.0],
             Target::Hysteresis { .. } => vec![1.0 - band_fraction],
             Target::Doubling { .. } => vec![1.0 - band_fraction, 1.0, 1.0 + band_fraction],
+            Target::Drift { .. } => vec![1.0],
         }
     }
 
@@ -147,6 +172,7 @@ impl Target {
             Target::AlphaStar { alpha } => (value - alpha).abs() <= ALPHA_STAR_TOLERANCE,
             Target::Hysteresis { fraction, .. } => value <= *fraction,
             Target::Doubling { .. } => value < -1.0,
+            Target::Drift { drift, .. } => (value - drift).abs() <= DRIFT_TOLERANCE,
         }
     }
 
@@ -213,14 +239,18 @@ impl Target {
             Target::Doubling { mass, alpha } => {
                 flip_values(body, alpha + delta_alpha, mass, mass_factors, setting)
             }
+            Target::Drift { drift, alpha, mass } => mass_factors
+                .iter()
+                .map(|f| drift_value(body, alpha + delta_alpha, mass * f, drift, setting))
+                .collect(),
         }
     }
 
     /// The worse of two values of this target (farther from α*, or the higher α** or μ_min).
     fn worse(&self, a: f64, b: f64) -> f64 {
         match self {
-            Target::AlphaStar { alpha } => {
-                if (a - alpha).abs() >= (b - alpha).abs() {
+            Target::AlphaStar { alpha: target } | Target::Drift { drift: target, .. } => {
+                if (a - target).abs() >= (b - target).abs() {
                     a
                 } else {
                     b
@@ -238,7 +268,7 @@ impl Target {
         setting: &Setting,
     ) -> Result<Vec<f64>, TargetError> {
         match *self {
-            Target::AlphaStar { .. } | Target::Doubling { .. } => {
+            Target::AlphaStar { .. } | Target::Doubling { .. } | Target::Drift { .. } => {
                 Ok(vec![critical_angle(body).alpha_star; mass_factors.len()])
             }
             Target::Hysteresis { mass, .. } => mass_factors
@@ -581,4 +611,35 @@ pub fn continuation_grid(from: f64, through: &[f64], step: f64) -> Vec<f64> {
         }
     }
     kept
+}
+
+/// Across per down of the stable orbits `setting.starts` × 2 starts from rest settle on at
+/// (`alpha`, `mass`), by `experiment::prediction::predict`: the one farthest from `drift`, so
+/// that every stable orbit must drift as asked (a body whose orbits drift apart would take
+/// either, as the print or the release decides); [`NO_DRIFT`] where none rolls down the ramp.
+fn drift_value(
+    body: &Body,
+    alpha: f64,
+    mass: f64,
+    drift: f64,
+    setting: &Setting,
+) -> Result<f64, TargetError> {
+    let options = PredictOptions {
+        starts: 2 * setting.starts,
+        seed: 1,
+        decide: Decide {
+            t_min: 600.0_f64.min(setting.t_max),
+            t_cap: 5.0 * setting.t_max,
+            max_k: 2,
+            tol: 1e-5,
+        },
+        ..PredictOptions::default()
+    };
+    let p = predict(body, alpha, mass, &options)?;
+    Ok(p.orbits
+        .iter()
+        .filter(|o| o.stable && o.advance_down > 0.0)
+        .map(|o| o.advance_across / o.advance_down)
+        .max_by(|a, b| (a - drift).abs().total_cmp(&(b - drift).abs()))
+        .unwrap_or(NO_DRIFT))
 }
