@@ -82,6 +82,23 @@ fn targets(
     Ok(targets)
 }
 
+/// The check's band from the keywords.
+fn band(
+    alpha_band: f64,
+    mass_band: f64,
+    surface_mm: f64,
+    draws: i128,
+    seed: i128,
+) -> PyResult<Band> {
+    Ok(Band {
+        delta_alpha: alpha_band,
+        mass_fraction: mass_band,
+        surface_mm,
+        draws: whole("draws", draws)?,
+        seed: whole("seed", seed)?,
+    })
+}
+
 /// The body and the report, as `rollphase design --json` prints it.
 fn result<'py>(
     py: Python<'py>,
@@ -146,13 +163,7 @@ pub fn design<'py>(
         start: start.as_ref().map(|b| b.body.clone()),
         seed: whole("seed", seed)?,
         max_generations: whole("generations", generations)?,
-        band: Band {
-            delta_alpha: alpha_band,
-            mass_fraction: mass_band,
-            surface_mm,
-            draws: whole("draws", draws)?,
-            seed: whole("seed", seed)?,
-        },
+        band: band(alpha_band, mass_band, surface_mm, draws, seed)?,
     };
     options.validate().map_err(raise)?;
     let found = interruptible(py, |stop| design_until(&options, stop, &|_| {}))?.map_err(raise)?;
@@ -204,13 +215,7 @@ pub fn check_design<'py>(
         start: Some(core),
         seed: whole("seed", seed)?,
         max_generations: 1,
-        band: Band {
-            delta_alpha: alpha_band,
-            mass_fraction: mass_band,
-            surface_mm,
-            draws: whole("draws", draws)?,
-            seed: whole("seed", seed)?,
-        },
+        band: band(alpha_band, mass_band, surface_mm, draws, seed)?,
     };
     options.validate().map_err(raise)?;
     let checked = interruptible(py, |_| evaluate(&options))?.map_err(raise)?;
