@@ -7,7 +7,7 @@
 //! |---|---|
 //! | [`space`] | the vector of coefficients ↔ the body, and what makes a body printable |
 //! | [`targets`] | each target, measured on a body by the analysis that answers it, and how far it is |
-//! | [`check`] | the independent check over α ± δα, m/m0 ± 20 % and print errors of ± ε mm, with margins |
+//! | [`mod@check`] | the independent check over α ± δα, m/m0 ± 20 % and print errors of ± ε mm, with margins |
 //!
 //! The optimiser is CMA-ES from the `cmaes` crate rather than one of our own: the objective is
 //! non-smooth (α* is a maximum over the surface, a cylinder rolls or stops), has 8 to 77
