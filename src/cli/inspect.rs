@@ -45,6 +45,9 @@ pub struct Inspection {
     pub alpha_star: f64,
     /// α* in degrees.
     pub alpha_star_deg: f64,
+    /// A cylinder's α* turned end for end (rad): set on the ramp the other way round, it rolls
+    /// with its section mirrored, and rests up to this angle that way; `null` for a sphere.
+    pub alpha_star_turned: Option<f64>,
     /// max |∇ ln r| = tan α*.
     pub q_star: f64,
     /// Maximiser: θ* (2D) or polar angle θ (3D).
@@ -74,6 +77,10 @@ pub fn inspect(body: &Body) -> Inspection {
         convexity_place: c.convexity_place,
         alpha_star: a.alpha_star,
         alpha_star_deg: a.alpha_star.to_degrees(),
+        alpha_star_turned: match body {
+            Body::Disk(d) => Some(critical_angle(&Body::Disk(d.turned())).alpha_star),
+            Body::Sphere(_) => None,
+        },
         q_star: a.q_star,
         theta_star: a.theta,
         phi_star: a.phi,
@@ -140,6 +147,14 @@ pub fn run(a: InspectArgs) -> Result<()> {
             f.theta_b,
             f.alpha_from,
             f.alpha
+        )?;
+    }
+    if let Some(turned) = r.alpha_star_turned {
+        outln!(
+            "  turned end for end: α* = {:.10} rad = {:.6}°  (the cylinder set on the ramp the \
+             other way round rolls with its section mirrored)",
+            turned,
+            turned.to_degrees()
         )?;
     }
     if r.dimension == 2 {

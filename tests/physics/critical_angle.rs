@@ -131,3 +131,31 @@ fn disk_halts_just_below_alpha_star_and_cruises_just_above() {
     );
     assert!((t_star_measured / t_star_paper - 1.0).abs() > 0.3);
 }
+
+#[test]
+fn inspect_gives_a_cylinders_critical_angle_both_ways_round() {
+    // The paper's disk 84 rests up to 0.0572 rad as it lies and up to its mirror's α* turned end
+    // for end; a sphere has no other way round.
+    let dir = crate::cli::scratch("inspect-turned");
+    let file = dir.join("disk.json");
+    let body = Body::paper_disk(84, 0.12, 5).unwrap();
+    std::fs::write(&file, body.to_shape().to_json().unwrap()).unwrap();
+    let out = crate::cli::rollphase_ok(["inspect", file.to_str().unwrap(), "--json"]);
+    let r: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let Body::Disk(disk) = &body else {
+        unreachable!()
+    };
+    let turned = critical_angle(&Body::Disk(disk.turned())).alpha_star;
+    assert_eq!(r["alpha_star_turned"].as_f64(), Some(turned));
+    assert!((r["alpha_star"].as_f64().unwrap() - 0.0572145495).abs() < 1e-9);
+    assert!(turned > 0.06, "{turned}");
+    let text = String::from_utf8(crate::cli::rollphase_ok([
+        "inspect",
+        file.to_str().unwrap(),
+    ]))
+    .unwrap();
+    assert!(text.contains("turned end for end: α* = "), "{text}");
+    let sphere = crate::cli::rollphase_ok(["inspect", "assets/shapes/paper-sphere.json", "--json"]);
+    let s: serde_json::Value = serde_json::from_slice(&sphere).unwrap();
+    assert!(s["alpha_star_turned"].is_null());
+}
