@@ -45,8 +45,9 @@ use crate::output::{self, Inputs};
 /// The same --seed gives the same body on any number of threads; --budget stops the search after
 /// that many seconds with the best body so far (then checked like any other).
 ///
-/// A cylinder that rests at 10° and rolls at 11° (α* = 10.5° ± 0.5°), 10 mm per ⟨r⟩:
-///   rollphase design --dim 2 --alpha-star 0.18326 --alpha-band 0.0087 -o cylinder.json --stl cylinder.stl
+/// A cylinder that rests at 10° and rolls at 11° (α* = 10.5° ± 0.5°). At 10 mm per ⟨r⟩
+/// ± 0.05 mm of print moves α* by 1.2° and the design does not hold; at 40 mm it does:
+///   rollphase design --dim 2 --alpha-star 0.18326 --alpha-band 0.0087 --scale-mm 40 -o cylinder.json --stl cylinder.stl
 #[derive(Debug, Args)]
 #[command(verbatim_doc_comment)]
 pub struct DesignArgs {
