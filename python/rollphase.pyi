@@ -651,7 +651,9 @@ def design(
     hysteresis: Optional[Tuple[float, float]] = None,
     doubling: Optional[float] = None,
     drift: Optional[float] = None,
-    mass_ratio: float = 0.0,
+    orbits: Optional[int] = None,
+    share: Optional[float] = None,
+    mass_ratio: Optional[float] = None,
     alpha: Optional[float] = None,
     modes: int = 4,
     scale_mm: float = 10.0,
@@ -665,12 +667,14 @@ def design(
     surface_mm: float = 0.05,
     draws: int = 16,
 ) -> Tuple[Body, DesignReport]:
-    """A printable body for the targets (alpha_star; hysteresis=(M, F) in 2D; doubling=M or
-    drift=D (with mass_ratio) with alpha= in 3D), found by CMA-ES (seeded) under the printer's constraints and checked at the
-    precise setting over α ± alpha_band, m/m0 ± mass_band and draws print errors of
-    ± surface_mm. Returns (body, report); report["holds"] says whether it holds over the band
-    (a design that does not is returned, not raised), report["design"] the achieved values,
-    margins, constraints and the check."""
+    """A printable body for the targets (alpha_star; hysteresis=(M, F) in 2D; doubling=M,
+    drift=D or orbits=K (each of K from ≥ share of the starts, default 1/(2K)) with alpha= in
+    3D, drift and orbits at mass_ratio, default viscous), found by CMA-ES (seeded) under the
+    printer's constraints and checked at the precise setting over α ± alpha_band,
+    m/m0 ± mass_band and draws print errors of ± surface_mm. Returns (body, report);
+    report["holds"] says whether it holds over the band (a design that does not is returned,
+    not raised), report["design"] the achieved values, margins, constraints, the check, and in
+    "predicted" what the body does on each target's ramp in mm and s."""
 
 def check_design(
     body: Body,
@@ -679,7 +683,9 @@ def check_design(
     hysteresis: Optional[Tuple[float, float]] = None,
     doubling: Optional[float] = None,
     drift: Optional[float] = None,
-    mass_ratio: float = 0.0,
+    orbits: Optional[int] = None,
+    share: Optional[float] = None,
+    mass_ratio: Optional[float] = None,
     alpha: Optional[float] = None,
     scale_mm: Optional[float] = None,
     min_radius_mm: float = 0.4,

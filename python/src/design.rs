@@ -6,11 +6,12 @@
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rollphase_core::analysis::design::{
-    Band, DesignError, DesignOptions, DesignSpace, Target, TargetError, design_until, evaluate,
+    Band, DesignError, DesignOptions, DesignSpace, Spelling, Target, TargetError, TargetRequest,
+    design_until, evaluate,
 };
 
 use crate::body::Body;
-use crate::errors::{Classified, ErrorClass, input_error, internal_error, raise};
+use crate::errors::{Classified, ErrorClass, internal_error, raise};
 use crate::run::json_to_py;
 use crate::{interruptible, whole};
 
@@ -30,7 +31,9 @@ impl Classified for TargetError {
 impl Classified for DesignError {
     fn class(&self) -> ErrorClass {
         match self {
-            DesignError::BadInput { .. } | DesignError::Shape(_) => ErrorClass::Input,
+            DesignError::BadInput { .. } | DesignError::Request(_) | DesignError::Shape(_) => {
+                ErrorClass::Input
+            }
             DesignError::Target(e) => e.class(),
             DesignError::Optimiser(_) => ErrorClass::Internal,
         }
@@ -38,48 +41,39 @@ impl Classified for DesignError {
 }
 
 /// The targets the keywords name.
-fn targets(
+fn targets(request: &TargetRequest) -> PyResult<Vec<Target>> {
+    request
+        .targets(&Spelling {
+            alpha: "alpha=",
+            mass: "mass_ratio",
+            share: "share",
+            targets: "alpha_star=, hysteresis=(M, F), or doubling=, drift= or orbits= with alpha=",
+        })
+        .map_err(raise)
+}
+
+/// The request from the keywords shared by design() and check_design().
+#[allow(clippy::too_many_arguments)]
+fn request(
     alpha_star: Option<f64>,
     hysteresis: Option<(f64, f64)>,
     doubling: Option<f64>,
     drift: Option<f64>,
-    mass_ratio: f64,
+    orbits: Option<i128>,
+    share: Option<f64>,
+    mass_ratio: Option<f64>,
     alpha: Option<f64>,
-) -> PyResult<Vec<Target>> {
-    let mut targets = Vec::new();
-    if let Some(alpha) = alpha_star {
-        targets.push(Target::AlphaStar { alpha });
-    }
-    if let Some((mass, fraction)) = hysteresis {
-        targets.push(Target::Hysteresis { mass, fraction });
-    }
-    if (doubling.is_some() || drift.is_some()) && alpha.is_none() {
-        return Err(input_error(
-            "doubling= and drift= need alpha=, the ramp angle (rad) of the target",
-        ));
-    }
-    if let (Some(mass), Some(alpha)) = (doubling, alpha) {
-        targets.push(Target::Doubling { mass, alpha });
-    }
-    if let (Some(drift), Some(alpha)) = (drift, alpha) {
-        targets.push(Target::Drift {
-            drift,
-            alpha,
-            mass: mass_ratio,
-        });
-    }
-    if alpha.is_some() && doubling.is_none() && drift.is_none() {
-        return Err(input_error(
-            "alpha= is the ramp angle of a 3D target (doubling= or drift=); give one, or leave it \
-             out",
-        ));
-    }
-    if targets.is_empty() {
-        return Err(input_error(
-            "give at least one target: alpha_star=, hysteresis=(M, F) or doubling= with alpha=",
-        ));
-    }
-    Ok(targets)
+) -> PyResult<TargetRequest> {
+    Ok(TargetRequest {
+        alpha_star,
+        hysteresis,
+        doubling,
+        drift,
+        orbits: orbits.map(|k| whole("orbits", k)).transpose()?,
+        share,
+        mass: mass_ratio,
+        alpha,
+    })
 }
 
 /// The check's band from the keywords.
@@ -117,18 +111,21 @@ fn result<'py>(
 /// A printable body that does what the targets say, as `rollphase design` finds it: alpha_star
 /// (α* in rad within 1e-4), hysteresis=(M, F) (2D: at m/m0 = M it keeps rolling down to F·α*),
 /// doubling=M with alpha=A (3D: period 2 at m/m0 = M on a ramp at A rad), drift=D with alpha=A
-/// and mass_ratio (3D: every stable orbit moves D across per unit down). The search (CMA-ES,
+/// and mass_ratio (3D: every stable orbit moves D across per unit down), orbits=K with alpha=A
+/// and mass_ratio (3D: exactly K stable orbits, each reached from at least `share` of the
+/// starts, default 1/(2K)). The search (CMA-ES,
 /// seeded: the same body for any thread count) keeps the body convex, its radii of curvature
 /// ≥ min_radius_mm at scale_mm mm per ⟨r⟩ and its amplitudes ≤ max_amplitude, starting from
 /// `start` (a Body) or the first convex random body from `seed`; the body found is then checked
 /// at the precise setting over α ± alpha_band, m/m0 ± mass_band and `draws` print errors of
 /// ± surface_mm. Returns (Body, report): report["holds"] says whether every target holds over
 /// the band; report["design"] has the achieved values, margins, constraints (and which bind),
-/// the check and, for doubling, the flip window and multipliers. A design that does not hold
+/// the check, for doubling the flip window and multipliers, and in "predicted" what the body
+/// does on each target's ramp in mm and s at scale_mm. A design that does not hold
 /// is returned too, not raised: read report["holds"].
 #[pyfunction]
 #[pyo3(signature = (dim, *, alpha_star = None, hysteresis = None, doubling = None, drift = None,
-    mass_ratio = 0.0, alpha = None, modes = 4, scale_mm = 10.0, min_radius_mm = 0.4, max_amplitude = 1.0, start = None, seed = 1,
+    orbits = None, share = None, mass_ratio = None, alpha = None, modes = 4, scale_mm = 10.0, min_radius_mm = 0.4, max_amplitude = 1.0, start = None, seed = 1,
     generations = 400, alpha_band = 0.005, mass_band = 0.2, surface_mm = 0.05, draws = 16))]
 pub fn design<'py>(
     py: Python<'py>,
@@ -137,7 +134,9 @@ pub fn design<'py>(
     hysteresis: Option<(f64, f64)>,
     doubling: Option<f64>,
     drift: Option<f64>,
-    mass_ratio: f64,
+    orbits: Option<i128>,
+    share: Option<f64>,
+    mass_ratio: Option<f64>,
     alpha: Option<f64>,
     modes: i128,
     scale_mm: f64,
@@ -156,7 +155,9 @@ pub fn design<'py>(
             dimension: whole("dim", dim)?,
             modes: whole("modes", modes)?,
         },
-        targets: targets(alpha_star, hysteresis, doubling, drift, mass_ratio, alpha)?,
+        targets: targets(&request(
+            alpha_star, hysteresis, doubling, drift, orbits, share, mass_ratio, alpha,
+        )?)?,
         scale_mm,
         min_radius_mm,
         max_amplitude,
@@ -175,7 +176,7 @@ pub fn design<'py>(
 /// (a shape file's or a mesh fit's), else 10. Returns (Body, report) as design().
 #[pyfunction]
 #[pyo3(signature = (body, *, alpha_star = None, hysteresis = None, doubling = None, drift = None,
-    mass_ratio = 0.0, alpha = None, scale_mm = None, min_radius_mm = 0.4, max_amplitude = 1.0, alpha_band = 0.005,
+    orbits = None, share = None, mass_ratio = None, alpha = None, scale_mm = None, min_radius_mm = 0.4, max_amplitude = 1.0, alpha_band = 0.005,
     mass_band = 0.2, surface_mm = 0.05, draws = 16, seed = 1))]
 pub fn check_design<'py>(
     py: Python<'py>,
@@ -184,7 +185,9 @@ pub fn check_design<'py>(
     hysteresis: Option<(f64, f64)>,
     doubling: Option<f64>,
     drift: Option<f64>,
-    mass_ratio: f64,
+    orbits: Option<i128>,
+    share: Option<f64>,
+    mass_ratio: Option<f64>,
     alpha: Option<f64>,
     scale_mm: Option<f64>,
     min_radius_mm: f64,
@@ -208,7 +211,9 @@ pub fn check_design<'py>(
             dimension: core.dimension(),
             modes,
         },
-        targets: targets(alpha_star, hysteresis, doubling, drift, mass_ratio, alpha)?,
+        targets: targets(&request(
+            alpha_star, hysteresis, doubling, drift, orbits, share, mass_ratio, alpha,
+        )?)?,
         scale_mm,
         min_radius_mm,
         max_amplitude,

@@ -65,8 +65,33 @@ def test_a_target_no_body_meets_is_returned_with_what_binds():
         ({"alpha_star": 0.2, "modes": 9}, "modes"),
         ({"hysteresis": (10.0, 0.8)}, "cylinder"),
         ({"alpha_star": 0.2, "draws": -1}, "draws"),
+        ({"orbits": 2}, "alpha="),
+        ({"orbits": 0, "alpha": 0.15}, "orbits = 0"),
+        ({"orbits": 2, "alpha": 0.15, "share": 0.6}, "share = 0.6"),
+        ({"alpha_star": 0.2, "share": 0.3}, "share is the share of starts"),
+        ({"alpha_star": 0.2, "mass_ratio": 2.0}, "mass_ratio = 2"),
     ],
 )
 def test_bad_keywords_raise_input_error(keywords, needle):
     with pytest.raises(rollphase.InputError, match=needle):
         rollphase.design(3, **keywords)
+
+
+def test_an_orbits_check_counts_the_paper_spheres_orbits_as_the_command_line_does(cli, tmp_path):
+    body = Body.paper_sphere(219, sigma=0.25, modes=5)
+    _, report = rollphase.check_design(body, orbits=2, alpha=0.15, draws=2)
+    path = tmp_path / "sphere.json"
+    body.to_file(path)
+    stdout, _, _ = cli(
+        "design", "--dim", "3", "--modes", "5", "--from", path, "--check-only",
+        "--orbits", 2, "--alpha", 0.15, "--draws", 2, "-o", tmp_path / "again.json", "--json",
+    )
+    theirs = json.loads(stdout)
+    assert report["holds"] and theirs["holds"]
+    assert report["design"]["check"] == theirs["design"]["check"]
+    assert report["design"]["predicted"] == theirs["design"]["predicted"]
+    # Fig. 3d's two orbits, every start on one of them; viscous, so no seconds.
+    ramp = report["design"]["predicted"][0]
+    assert ramp["t0_s"] is None and ramp["alpha"] == 0.15
+    assert sum(o["starts"] for o in ramp["orbits"] if o["stable"]) == ramp["starts"]
+    assert all(o["share_95"][0] < o["share"] < o["share_95"][1] for o in ramp["orbits"])

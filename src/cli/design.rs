@@ -1,5 +1,6 @@
-//! `rollphase design`: a printable body with a chosen critical angle or window of hysteresis,
-//! checked over the band a bench brings before it is reported (`analysis::design`).
+//! `rollphase design`: a printable body with a chosen critical angle, window of hysteresis,
+//! period doubling, drift or number of orbits, checked over the band a bench brings before it
+//! is reported (`analysis::design`).
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -9,7 +10,8 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 
 use crate::analysis::design::{
-    Band, Design, DesignOptions, DesignProgress, DesignSpace, Ended, Target, design_until, evaluate,
+    Band, Design, DesignOptions, DesignProgress, DesignSpace, Ended, RampPrediction, Spelling,
+    Target, TargetRequest, design_until, evaluate,
 };
 use crate::geometry::Body;
 use crate::geometry::mesh::{disk_mesh, sphere_mesh};
@@ -32,14 +34,21 @@ use crate::output::{self, Inputs};
 ///                       3D: every stable orbit the starts settle on moves D across the ramp
 ///                       per unit down it within 0.005 (a ball that rolls off at an angle,
 ///                       whichever orbit it takes), and within 0.02 over the band
+///   --orbits K --alpha A [--mass M] [--share S]
+///                       3D: exactly K stable orbits, each reached from at least a share S
+///                       of the starts from rest (default 1/(2K)), and no start ending
+///                       anywhere else (another orbit, off the ramp, undecided)
 /// and the printer's constraints: strictly convex, no radius of curvature under
 /// --min-radius-mm at --scale-mm millimetres per ⟨r⟩, no amplitude over --max-amplitude.
 ///
 /// The body found is then checked by runs independent of the search, at the precise setting,
 /// over a band: the ramp off by ± --alpha-band rad, m/m0 off by ± --mass-band, and --draws
 /// random print errors of up to ± --surface-mm. The report gives each target's value (fast and
-/// precise), its margin over the band (rad; ≥ 0 holds), which constraints bind, and whether the
-/// design holds. A design that does not hold is still written (the best body found), and the
+/// precise), its margin over the band (≥ 0 holds), which constraints bind, whether the design
+/// holds, and what the model predicts the body does on each target's ramp at the printed scale:
+/// each orbit's share of the starts (with its 95 % interval), period in s (with inertia, where
+/// t0 = √(⟨r⟩/(g·m/m0)); viscous times stay in t0, which depends on the liquid), advance in mm
+/// and heading. A design that does not hold is still written (the best body found), and the
 /// command exits with status 1 saying why.
 ///
 /// The same --seed gives the same body on any number of threads; --budget stops the search after
@@ -78,14 +87,21 @@ pub struct DesignArgs {
         requires = "alpha"
     )]
     pub drift: Option<f64>,
-    /// m/m0 of a --drift target (0: the viscous model).
+    /// Target (3D): at --alpha and --mass, exactly K stable orbits, each reached from at least
+    /// --share of the starts.
+    #[arg(long, value_name = "K", requires = "alpha")]
+    pub orbits: Option<usize>,
+    /// The least share of the starts each of --orbits K must be reached from (default 1/(2K)).
     #[arg(
         long,
-        default_value_t = 0.0,
+        value_name = "S",
         allow_negative_numbers = true,
-        requires = "drift"
+        requires = "orbits"
     )]
-    pub mass: f64,
+    pub share: Option<f64>,
+    /// m/m0 of a --drift or --orbits target (default 0: the viscous model).
+    #[arg(long, allow_negative_numbers = true)]
+    pub mass: Option<f64>,
     /// The ramp angle (rad) of a 3D target (sin α = 0.2 is α = 0.2014).
     #[arg(long, allow_negative_numbers = true)]
     pub alpha: Option<f64>,
@@ -143,10 +159,7 @@ pub struct DesignArgs {
 
 /// The targets the flags name.
 fn targets(a: &DesignArgs) -> Result<Vec<Target>> {
-    let mut targets = Vec::new();
-    if let Some(alpha) = a.alpha_star {
-        targets.push(Target::AlphaStar { alpha });
-    }
+    let mut hysteresis = None;
     if let Some(text) = &a.hysteresis {
         let (m, f) = text.split_once(':').with_context(|| {
             format!("--hysteresis {text:?} is not M:F (m/m0 and the fraction of α*, e.g. 10:0.8)")
@@ -156,38 +169,25 @@ fn targets(a: &DesignArgs) -> Result<Vec<Target>> {
                 .parse::<f64>()
                 .with_context(|| format!("--hysteresis {text:?}: {s:?} is not a number ({what})"))
         };
-        targets.push(Target::Hysteresis {
-            mass: number(m, "m/m0")?,
-            fraction: number(f, "the fraction F of α*")?,
-        });
+        hysteresis = Some((number(m, "m/m0")?, number(f, "the fraction F of α*")?));
     }
-    if let Some(mass) = a.doubling {
-        let alpha = a
-            .alpha
-            .context("--doubling needs --alpha, the ramp angle")?;
-        targets.push(Target::Doubling { mass, alpha });
-    }
-    if let Some(drift) = a.drift {
-        let alpha = a.alpha.context("--drift needs --alpha, the ramp angle")?;
-        targets.push(Target::Drift {
-            drift,
-            alpha,
-            mass: a.mass,
-        });
-    }
-    if a.alpha.is_some() && a.doubling.is_none() && a.drift.is_none() {
-        bail!(
-            "--alpha is the ramp angle of a 3D target (--doubling M or --drift D); give one, or \
-             leave it out"
-        );
-    }
-    if targets.is_empty() {
-        bail!(
-            "give at least one target: --alpha-star A, --hysteresis M:F, --doubling M --alpha A or \
-             --drift D --alpha A (see --help)"
-        );
-    }
-    Ok(targets)
+    let request = TargetRequest {
+        alpha_star: a.alpha_star,
+        hysteresis,
+        doubling: a.doubling,
+        drift: a.drift,
+        orbits: a.orbits,
+        share: a.share,
+        mass: a.mass,
+        alpha: a.alpha,
+    };
+    Ok(request.targets(&Spelling {
+        alpha: "--alpha",
+        mass: "--mass",
+        share: "--share",
+        targets: "--alpha-star A, --hysteresis M:F, --doubling M --alpha A, --drift D --alpha A \
+                  or --orbits K --alpha A (see --help)",
+    })?)
 }
 
 /// Runs `design`.
@@ -395,6 +395,66 @@ fn print_doubling(e: &crate::analysis::design::targets::DoublingEvidence) -> Res
     Ok(())
 }
 
+/// What the body does on one ramp, at the printed scale.
+fn print_prediction(p: &RampPrediction) -> Result<()> {
+    outln!()?;
+    let time = match p.t0_s {
+        Some(t0) => format!("t0 = {:.2} ms", 1000.0 * t0),
+        None => "viscous: times in t0, which the liquid sets (film one period to fix it)".into(),
+    };
+    outln!("predicted on the ramp of \"{}\":", p.why)?;
+    outln!(
+        "  α = {:.4} rad ({:.2}°), m/m0 = {}, ⟨r⟩ = {} mm, {time}; {} starts from rest",
+        p.alpha,
+        p.alpha.to_degrees(),
+        p.mass_ratio,
+        p.scale_mm,
+        p.starts
+    )?;
+    outln!(
+        "  {:<8} {:>6} {:>16} {:>10} {:>10} {:>11} {:>11} {:>9} {:>9}",
+        "orbit",
+        "repeat",
+        "share (95 %)",
+        "period t0",
+        "period s",
+        "down mm",
+        "across mm",
+        "heading°",
+        "mm/s"
+    )?;
+    for (i, o) in p.orbits.iter().enumerate() {
+        let secs =
+            |v: Option<f64>, digits: usize| v.map_or("-".into(), |v| format!("{v:.digits$}"));
+        outln!(
+            "  {:<8} {:>6} {:>16} {:>10.3} {:>10} {:>11.2} {:>11.2} {:>9.2} {:>9}",
+            format!("{i}{}", if o.stable { "" } else { " (not stable)" }),
+            o.repeat,
+            format!(
+                "{}/{} ({:.2}–{:.2})",
+                o.starts, p.starts, o.share_95[0], o.share_95[1]
+            ),
+            o.period_t0,
+            secs(o.period_s, 4),
+            o.advance_down_mm,
+            o.advance_across_mm,
+            o.heading_deg,
+            secs(o.speed_mm_s, 1)
+        )?;
+    }
+    if p.orbits.is_empty() {
+        outln!("  no orbit")?;
+    }
+    if p.halted > 0.0 || p.elsewhere > 0.0 {
+        outln!(
+            "  at rest: {:.3} of the starts; on no stable orbit: {:.3}",
+            p.halted,
+            p.elsewhere
+        )?;
+    }
+    Ok(())
+}
+
 /// The report for people.
 fn print_report(d: &Design, seconds: f64, a: &DesignArgs) -> Result<()> {
     let ended = match d.ended {
@@ -426,8 +486,13 @@ fn print_report(d: &Design, seconds: f64, a: &DesignArgs) -> Result<()> {
         )?,
     }
     outln!()?;
+    let w = d
+        .achieved
+        .iter()
+        .map(|t| t.target.describe().chars().count())
+        .fold(6, usize::max);
     outln!(
-        "{:<44} {:>12} {:>12} {:>5} {:>12} {:>6}",
+        "{:<w$} {:>12} {:>12} {:>5} {:>12} {:>6}",
         "target",
         "fast",
         "precise",
@@ -443,7 +508,7 @@ fn print_report(d: &Design, seconds: f64, a: &DesignArgs) -> Result<()> {
             .chain(std::iter::repeat(None)),
     ) {
         outln!(
-            "{:<44} {:>12.6} {:>12.6} {:>5} {:>12} {:>6}",
+            "{:<w$} {:>12.6} {:>12.6} {:>5} {:>12} {:>6}",
             t.target.describe(),
             t.fast,
             t.precise,
@@ -474,6 +539,9 @@ fn print_report(d: &Design, seconds: f64, a: &DesignArgs) -> Result<()> {
         if let Some(e) = &c.evidence {
             print_doubling(e)?;
         }
+    }
+    for p in &d.predicted {
+        print_prediction(p)?;
     }
     outln!()?;
     outln!(

@@ -67,8 +67,33 @@ fn bad_targets_and_settings_are_refused_naming_the_value() {
         ),
         (
             &["--dim", "3", "--alpha-star", "0.2", "--mass", "2"],
-            2,
-            &["--drift"],
+            1,
+            &["--mass = 2 is the m/m0 of a drift or orbits target"],
+        ),
+        (&["--dim", "3", "--orbits", "2"], 2, &["--alpha"]),
+        (
+            &["--dim", "3", "--orbits", "0", "--alpha", "0.15"],
+            1,
+            &["orbits = 0", "1 ≤ K ≤ 16"],
+        ),
+        (
+            &[
+                "--dim", "3", "--orbits", "2", "--alpha", "0.15", "--share", "0.6",
+            ],
+            1,
+            &["share = 0.6", "1/K = 0.5"],
+        ),
+        (
+            &["--dim", "2", "--orbits", "2", "--alpha", "0.15"],
+            1,
+            &["sphere", "dim = 2"],
+        ),
+        (
+            &[
+                "--dim", "3", "--orbits", "1", "--alpha", "0.15", "--mass", "NaN",
+            ],
+            1,
+            &["orbits m/m0 = NaN"],
         ),
         (
             &["--dim", "3", "--alpha-star", "0.2", "--alpha", "0.2"],
@@ -346,4 +371,64 @@ fn a_design_that_does_not_hold_is_written_and_says_what_binds() {
     ]);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stdout).contains("the budget ran out"));
+}
+
+#[test]
+fn an_orbits_check_counts_the_paper_spheres_orbits_and_gives_them_in_mm() {
+    let d = scratch("design-orbits");
+    let body = d.join("paper-sphere.json");
+    rollphase_ok([
+        "shape",
+        "--dim",
+        "3",
+        "--paper-seed",
+        "219",
+        "--sigma",
+        "0.25",
+        "--modes",
+        "5",
+        "-o",
+        body.to_str().unwrap(),
+    ]);
+    let check = |k: &str| {
+        rollphase([
+            "design",
+            "--dim",
+            "3",
+            "--modes",
+            "5",
+            "--from",
+            body.to_str().unwrap(),
+            "--check-only",
+            "--orbits",
+            k,
+            "--alpha",
+            "0.15",
+            "--draws",
+            "2",
+            "-o",
+            d.join(format!("checked-{k}.json")).to_str().unwrap(),
+        ])
+    };
+    // Fig. 3d: two stable orbits at α = 0.15, each from a good share of the starts.
+    let two = check("2");
+    let text = String::from_utf8_lossy(&two.stdout);
+    assert!(two.status.success(), "{text}");
+    assert!(text.contains("holds: yes"), "{text}");
+    assert!(
+        text.contains("predicted on the ramp of") && text.contains("48 starts from rest"),
+        "{text}"
+    );
+    assert!(text.contains("viscous: times in t0"), "{text}");
+    // Asked for one, the other orbit's starts are the shortfall.
+    fails_with(
+        &check("1"),
+        1,
+        &[
+            "1 stable orbit",
+            "is not met",
+            "share of starts",
+            "body checked",
+        ],
+    );
 }

@@ -47,9 +47,11 @@ pub struct TargetCheck {
     /// (rad); hysteresis: F·α* − δα − the highest α** (rad: a board lowered to F·α*, off by δα,
     /// still has it rolling); doubling: −1 − μ_min at the worst variant (how far below −1 the
     /// least flipped orbit's multiplier stays); drift: 0.02 − max |drift − D| (how far
-    /// inside the band the worst variant's heading stays).
+    /// inside the band the worst variant's heading stays); orbits: the least share above the
+    /// one asked for that the weakest orbit keeps at the worst variant (negative: short by
+    /// that share, or that share of the starts ends elsewhere).
     pub margin: f64,
-    /// "rad", "multiplier" or "across per down".
+    /// "rad", "multiplier", "across per down" or "share of starts".
     pub margin_unit: &'static str,
     /// The nominal value meets the target, the margin is ≥ 0, and (doubling) every run from
     /// rest at the target's m/m0 settles on period 2.
@@ -89,7 +91,13 @@ impl Check {
 }
 
 /// The design with print error `i` added (`x` in `space`).
-fn with_print_error(space: &DesignSpace, x: &[f64], band: &Band, scale_mm: f64, i: usize) -> Body {
+pub(crate) fn with_print_error(
+    space: &DesignSpace,
+    x: &[f64],
+    band: &Band,
+    scale_mm: f64,
+    i: usize,
+) -> Body {
     let top = if space.dimension == 2 { 64 } else { 12 };
     let wider = DesignSpace {
         dimension: space.dimension,
@@ -189,11 +197,11 @@ fn check_target(
             &[1.0, 1.0 - f, 1.0 + f],
             &[0.0, -band.delta_alpha, band.delta_alpha],
         ),
-        // A viscous drift has no m/m0 to be off.
-        Target::Drift { mass, .. } if !asks_for_inertia(*mass) => {
+        // A viscous drift or set of orbits has no m/m0 to be off.
+        Target::Drift { mass, .. } | Target::Orbits { mass, .. } if !asks_for_inertia(*mass) => {
             (&[1.0], &[0.0, -band.delta_alpha, band.delta_alpha])
         }
-        Target::Drift { .. } => (
+        Target::Drift { .. } | Target::Orbits { .. } => (
             &[1.0, 1.0 - f, 1.0 + f],
             &[0.0, -band.delta_alpha, band.delta_alpha],
         ),
@@ -232,6 +240,7 @@ fn check_target(
             "rad",
         ),
         Target::Doubling { .. } => (largest, -1.0 - largest, "multiplier"),
+        Target::Orbits { .. } => (largest, -largest, "share of starts"),
     };
     let evidence = match *target {
         Target::Doubling { mass, alpha } => Some(doubling_evidence(

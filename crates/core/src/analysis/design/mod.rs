@@ -1,5 +1,6 @@
 //! Bodies designed for a property: the harmonic coefficients up to degree L searched for a body
-//! that meets chosen targets (a critical angle, a window of hysteresis) under the constraints of a
+//! that meets chosen targets (a critical angle, a window of hysteresis, period doubling, a
+//! drift, a number of orbits) under the constraints of a
 //! printer (convex, a smallest radius of curvature in mm, an amplitude bound), then checked at
 //! the precise setting over the band a bench brings before anything is reported.
 //!
@@ -8,6 +9,7 @@
 //! | [`space`] | the vector of coefficients ↔ the body, and what makes a body printable |
 //! | [`targets`] | each target, measured on a body by the analysis that answers it, and how far it is |
 //! | [`mod@check`] | the independent check over α ± δα, m/m0 ± 20 % and print errors of ± ε mm, with margins |
+//! | [`at_scale`] | what the design does on each target's ramp, in mm and s at the printed scale |
 //!
 //! The optimiser is CMA-ES from the `cmaes` crate rather than one of our own: the objective is
 //! non-smooth (α* is a maximum over the surface, a cylinder rolls or stops), has 8 to 77
@@ -19,6 +21,7 @@
 //! tolerance. A wall-clock budget is the caller's: a stop flag ends the search between
 //! generations with the best body so far, which is then checked like any other.
 
+pub mod at_scale;
 pub mod check;
 pub mod space;
 pub mod targets;
@@ -26,11 +29,15 @@ pub mod targets;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use cmaes::{CMAESOptions, DVector, TerminationReason};
+use rayon::prelude::*;
 use serde::Serialize;
 
+pub use at_scale::{OrbitAtScale, RampPrediction};
 pub use check::{Band, Check, TargetCheck, check};
 pub use space::{DesignSpace, MAX_DESIGN_MODES, Printability};
 pub use targets::{Setting, Target, TargetError};
+
+use at_scale::{predict_at_scale, ramps};
 
 use crate::analysis::rest::critical_angle::critical_angle;
 use crate::dynamics::models::asks_for_inertia;
@@ -40,6 +47,8 @@ use crate::geometry::{Body, first_convex_disk, first_convex_sphere};
 const MET_OBJECTIVE: f64 = 0.223_143_551_314_209_7;
 /// Most generations a design may ask for.
 pub const MAX_GENERATIONS: usize = 100_000;
+/// Most stable orbits an orbits target may ask for.
+pub const MAX_ORBITS: usize = 16;
 /// Most print errors a check may draw.
 pub const MAX_DRAWS: usize = 10_000;
 
@@ -80,6 +89,9 @@ pub enum DesignError {
         /// What is allowed.
         allowed: String,
     },
+    /// Targets asked for in a way that names none, or half of one.
+    #[error("{0}")]
+    Request(String),
     /// A target could not be measured on the final body.
     #[error(transparent)]
     Target(#[from] TargetError),
@@ -143,58 +155,10 @@ impl DesignOptions {
                     ),
                 ));
             }
-            match *t {
-                Target::AlphaStar { alpha } => {
-                    alpha_stars += 1;
-                    if !(alpha.is_finite() && alpha > 0.0 && alpha < 1.5) {
-                        return Err(bad("alpha-star", alpha, "0 < α* < 1.5 rad"));
-                    }
-                }
-                Target::Doubling { mass, alpha } => {
-                    // Positive and finite, and so inertial by the one rule.
-                    if !(mass.is_finite()
-                        && mass.is_sign_positive()
-                        && asks_for_inertia(mass)
-                        && mass <= 1e4)
-                    {
-                        return Err(bad(
-                            "doubling m/m0",
-                            mass,
-                            "0 < m/m0 ≤ 1e4 (doubling needs inertia)",
-                        ));
-                    }
-                    if !(alpha.is_finite() && alpha > 0.0 && alpha < 1.5) {
-                        return Err(bad("doubling α", alpha, "0 < α < 1.5 rad"));
-                    }
-                }
-                Target::Drift { drift, alpha, mass } => {
-                    if !(drift.is_finite() && drift.abs() <= 10.0) {
-                        return Err(bad("drift", drift, "a finite |D| ≤ 10 across per down"));
-                    }
-                    if !(alpha.is_finite() && alpha > 0.0 && alpha < 1.5) {
-                        return Err(bad("drift α", alpha, "0 < α < 1.5 rad"));
-                    }
-                    if !(mass.is_finite() && (0.0..=1e4).contains(&mass)) {
-                        return Err(bad("drift m/m0", mass, "0 ≤ m/m0 ≤ 1e4 (0: viscous)"));
-                    }
-                }
-                Target::Hysteresis { mass, fraction } => {
-                    if !(mass.is_finite()
-                        && mass.is_sign_positive()
-                        && asks_for_inertia(mass)
-                        && mass <= 1e6)
-                    {
-                        return Err(bad(
-                            "hysteresis m/m0",
-                            mass,
-                            "0 < m/m0 ≤ 1e6 (hysteresis needs inertia)",
-                        ));
-                    }
-                    if !(fraction.is_finite() && fraction > 0.0 && fraction < 1.0) {
-                        return Err(bad("hysteresis fraction", fraction, "0 < F < 1 (of α*)"));
-                    }
-                }
+            if matches!(t, Target::AlphaStar { .. }) {
+                alpha_stars += 1;
             }
+            target_values(t)?;
         }
         if alpha_stars > 1 {
             return Err(bad("alpha-star", "given twice", "one α* target"));
@@ -254,6 +218,201 @@ impl DesignOptions {
             ));
         }
         Ok(())
+    }
+}
+
+/// Refuses a target's values outside what it can be designed for, naming the value.
+fn target_values(t: &Target) -> Result<(), DesignError> {
+    // A ramp the model takes (0 < α < 1.5 rad), and an m/m0 that is finite, 0 (viscous) or more.
+    let ramp = |name, alpha: f64| {
+        if alpha.is_finite() && alpha > 0.0 && alpha < 1.5 {
+            Ok(())
+        } else {
+            Err(bad(name, alpha, "0 < α < 1.5 rad"))
+        }
+    };
+    let any_mass = |name, mass: f64| {
+        if mass.is_finite() && (0.0..=1e4).contains(&mass) {
+            Ok(())
+        } else {
+            Err(bad(name, mass, "0 ≤ m/m0 ≤ 1e4 (0: viscous)"))
+        }
+    };
+    // Positive and finite, and so inertial by the one rule.
+    let inertial = |name, mass: f64, most: f64, why| {
+        if mass.is_finite() && mass.is_sign_positive() && asks_for_inertia(mass) && mass <= most {
+            Ok(())
+        } else {
+            Err(bad(
+                name,
+                mass,
+                format!("0 < m/m0 ≤ {most:e} ({why} needs inertia)"),
+            ))
+        }
+    };
+    match *t {
+        Target::AlphaStar { alpha } => {
+            if !(alpha.is_finite() && alpha > 0.0 && alpha < 1.5) {
+                return Err(bad("alpha-star", alpha, "0 < α* < 1.5 rad"));
+            }
+        }
+        Target::Doubling { mass, alpha } => {
+            inertial("doubling m/m0", mass, 1e4, "doubling")?;
+            ramp("doubling α", alpha)?;
+        }
+        Target::Drift { drift, alpha, mass } => {
+            if !(drift.is_finite() && drift.abs() <= 10.0) {
+                return Err(bad("drift", drift, "a finite |D| ≤ 10 across per down"));
+            }
+            ramp("drift α", alpha)?;
+            any_mass("drift m/m0", mass)?;
+        }
+        Target::Orbits {
+            count,
+            alpha,
+            mass,
+            share,
+        } => {
+            if !(1..=MAX_ORBITS).contains(&count) {
+                return Err(bad("orbits", count, format!("1 ≤ K ≤ {MAX_ORBITS}")));
+            }
+            if !(share.is_finite() && share > 0.0 && share * count as f64 <= 1.0) {
+                let most = 1.0 / count as f64;
+                return Err(bad(
+                    "share",
+                    share,
+                    format!("0 < share ≤ 1/K = {most:.4} (each of K orbits)"),
+                ));
+            }
+            ramp("orbits α", alpha)?;
+            any_mass("orbits m/m0", mass)?;
+        }
+        Target::Hysteresis { mass, fraction } => {
+            inertial("hysteresis m/m0", mass, 1e6, "hysteresis")?;
+            if !(fraction.is_finite() && fraction > 0.0 && fraction < 1.0) {
+                return Err(bad("hysteresis fraction", fraction, "0 < F < 1 (of α*)"));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The targets as a caller asks for them, one optional value per target, as the command line's
+/// flags and Python's keywords carry them: one place turns them into [`Target`]s, so every surface
+/// asks the same way and is told the same thing.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct TargetRequest {
+    /// α* (rad).
+    pub alpha_star: Option<f64>,
+    /// (m/m0, F) of a hysteresis target.
+    pub hysteresis: Option<(f64, f64)>,
+    /// m/m0 of a doubling target.
+    pub doubling: Option<f64>,
+    /// Across per down of a drift target.
+    pub drift: Option<f64>,
+    /// How many stable orbits an orbits target asks for.
+    pub orbits: Option<usize>,
+    /// The least share of the starts each of them is reached from (default 1/(2K)).
+    pub share: Option<f64>,
+    /// m/m0 of a drift or orbits target (default 0: viscous).
+    pub mass: Option<f64>,
+    /// The ramp angle of a doubling, drift or orbits target (rad).
+    pub alpha: Option<f64>,
+}
+
+/// How a surface spells the request's values in its messages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Spelling {
+    /// The ramp angle ("--alpha").
+    pub alpha: &'static str,
+    /// The m/m0 of a drift or orbits target ("--mass").
+    pub mass: &'static str,
+    /// The orbits target's share ("--share").
+    pub share: &'static str,
+    /// Every target, for "give at least one".
+    pub targets: &'static str,
+}
+
+impl TargetRequest {
+    /// The targets asked for, refusing a request that names none, gives a ramp angle or m/m0
+    /// to no target that takes one, or a share to no orbits target (values are checked by
+    /// [`DesignOptions::validate`]).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::design::{Spelling, Target, TargetRequest};
+    /// let spell = Spelling { alpha: "alpha", mass: "mass", share: "share", targets: "alpha_star, …" };
+    /// let r = TargetRequest { orbits: Some(2), alpha: Some(0.15), ..Default::default() };
+    /// assert_eq!(
+    ///     r.targets(&spell)?,
+    ///     vec![Target::Orbits { count: 2, alpha: 0.15, mass: 0.0, share: 0.25 }]
+    /// );
+    /// let r = TargetRequest { drift: Some(0.1), ..Default::default() };
+    /// assert!(r.targets(&spell).unwrap_err().to_string().contains("alpha"));
+    /// # Ok::<(), rollphase_core::analysis::design::DesignError>(())
+    /// ```
+    pub fn targets(&self, spell: &Spelling) -> Result<Vec<Target>, DesignError> {
+        let refuse = |why: String| Err(DesignError::Request(why));
+        let ramp = self.doubling.is_some() || self.drift.is_some() || self.orbits.is_some();
+        let alpha = match (self.alpha, ramp) {
+            (Some(a), true) => a,
+            (None, true) => {
+                return refuse(format!(
+                    "the doubling, drift and orbits targets need {}, the ramp angle (rad)",
+                    spell.alpha
+                ));
+            }
+            (Some(_), false) => {
+                return refuse(format!(
+                    "{} is the ramp angle of a 3D target (doubling, drift or orbits); give one, \
+                     or leave it out",
+                    spell.alpha
+                ));
+            }
+            (None, false) => 0.0,
+        };
+        let on_ramp = self.drift.is_some() || self.orbits.is_some();
+        if let Some(m) = self.mass
+            && !on_ramp
+        {
+            return refuse(format!(
+                "{} = {m} is the m/m0 of a drift or orbits target; give one, or leave it out \
+                 (doubling and hysteresis carry their own)",
+                spell.mass
+            ));
+        }
+        if self.share.is_some() && self.orbits.is_none() {
+            return refuse(format!(
+                "{} is the share of starts of an orbits target; give one, or leave it out",
+                spell.share
+            ));
+        }
+        let mass = self.mass.unwrap_or(0.0);
+        let mut targets = Vec::new();
+        if let Some(alpha) = self.alpha_star {
+            targets.push(Target::AlphaStar { alpha });
+        }
+        if let Some((mass, fraction)) = self.hysteresis {
+            targets.push(Target::Hysteresis { mass, fraction });
+        }
+        if let Some(mass) = self.doubling {
+            targets.push(Target::Doubling { mass, alpha });
+        }
+        if let Some(drift) = self.drift {
+            targets.push(Target::Drift { drift, alpha, mass });
+        }
+        if let Some(count) = self.orbits {
+            targets.push(Target::Orbits {
+                count,
+                alpha,
+                mass,
+                share: self.share.unwrap_or(0.5 / count.max(1) as f64),
+            });
+        }
+        if targets.is_empty() {
+            return refuse(format!("give at least one target: {}", spell.targets));
+        }
+        Ok(targets)
     }
 }
 
@@ -330,6 +489,9 @@ pub struct Design {
     pub constraints: Vec<Constraint>,
     /// The check over the band.
     pub check: Check,
+    /// What the body does on each target's ramp at the printed scale, at the precise setting
+    /// (none for a body that is not convex).
+    pub predicted: Vec<RampPrediction>,
     /// The objective at the body.
     pub objective: f64,
     /// Generations run.
@@ -389,9 +551,17 @@ fn objective(opts: &DesignOptions, x: &[f64], extra_room: f64) -> f64 {
     // lower), so that the check has room to pass.
     let alpha_room = opts.band.delta_alpha / critical_angle(&body).alpha_star.max(1e-9);
     let mut sum = 0.0;
+    let mut printed_alpha_star = None;
+    // The random starts a target runs from (drift, orbits) are seeded by the body itself: a
+    // sample fixed for every body would let the search find bodies whose few starts happen to
+    // miss an orbit, where a fresh sample for each body leaves it only noise.
+    let setting = Setting {
+        seed: seed_of(x),
+        ..Setting::FAST
+    };
     for t in &opts.targets {
         let factors = t.optimiser_factors(opts.band.mass_fraction);
-        match t.measure_at(&body, &factors, 0.0, &Setting::FAST) {
+        match t.measure_at(&body, &factors, 0.0, &setting) {
             // The worst of the factors: the largest value for each target but α*'s, whose
             // value is the same at every m/m0.
             Ok(v) => {
@@ -402,10 +572,15 @@ fn objective(opts: &DesignOptions, x: &[f64], extra_room: f64) -> f64 {
                 };
                 sum += t.violation(worst, room).powi(2);
                 // A sphere designed to roll must roll from every start across the band: α* a
-                // little below the lowest ramp, in units of 1e-3 rad.
-                if let Target::Doubling { alpha, .. } | Target::Drift { alpha, .. } = t {
+                // little below the lowest ramp, in units of 1e-3 rad, printed as well as drawn.
+                if let Target::Doubling { alpha, .. }
+                | Target::Drift { alpha, .. }
+                | Target::Orbits { alpha, .. } = t
+                {
                     let highest = alpha - opts.band.delta_alpha - 0.002;
-                    let over = (critical_angle(&body).alpha_star - highest).max(0.0) / 1e-3;
+                    let top = *printed_alpha_star
+                        .get_or_insert_with(|| highest_printed_alpha_star(opts, x, &body));
+                    let over = (top - highest).max(0.0) / 1e-3;
                     sum += over * over;
                 }
             }
@@ -414,6 +589,39 @@ fn objective(opts: &DesignOptions, x: &[f64], extra_room: f64) -> f64 {
         }
     }
     (1.0 + sum).ln().min(98.0)
+}
+
+/// A seed drawn from the bits of `x` (SplitMix64's mixer over them): the same vector always
+/// gives the same seed, on every machine and build.
+fn seed_of(x: &[f64]) -> u64 {
+    let mix = |mut z: u64| {
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    x.iter().fold(0x9E37_79B9_7F4A_7C15, |h, v| {
+        mix(h ^ v.to_bits()).wrapping_add(0x9E37_79B9_7F4A_7C15)
+    })
+}
+
+/// Print errors the optimiser draws of its own, to keep a rolling design's α* below the ramp
+/// once printed.
+const OPTIMISER_DRAWS: usize = 4;
+
+/// The highest α* of `body` (vector `x`) and of [`OPTIMISER_DRAWS`] print errors of the band's
+/// size added to it, seeded apart from the check's so that the check stays independent: a
+/// print error of ε mm tilts the surface by about ε/λ, and moves α* by as much.
+fn highest_printed_alpha_star(opts: &DesignOptions, x: &[f64], body: &Body) -> f64 {
+    let band = Band {
+        seed: opts.band.seed.wrapping_add(0x005E_ED0F_0971_A115),
+        ..opts.band
+    };
+    (0..OPTIMISER_DRAWS)
+        .map(|i| {
+            let printed = check::with_print_error(&opts.space, x, &band, opts.scale_mm, i);
+            critical_angle(&printed).alpha_star
+        })
+        .fold(critical_angle(body).alpha_star, f64::max)
 }
 
 /// Designs a body (see the module doc), `stop` ending the search between generations and
@@ -667,13 +875,25 @@ fn finish(
             smallest_radius_mm: printability.smallest_radius_mm,
         }
     };
+    let alpha_star = critical_angle(&body).alpha_star;
+    let predicted = if convex {
+        ramps(&opts.targets, alpha_star, &opts.band)
+            .par_iter()
+            .map(|(why, alpha, mass)| {
+                predict_at_scale(&body, why, *alpha, *mass, opts.scale_mm, &Setting::PRECISE)
+            })
+            .collect::<Result<_, _>>()?
+    } else {
+        Vec::new()
+    };
     let alpha_star_turned = match &body {
         Body::Disk(d) => Some(critical_angle(&Body::Disk(d.turned())).alpha_star),
         Body::Sphere(_) => None,
     };
     Ok(Design {
-        alpha_star: critical_angle(&body).alpha_star,
+        alpha_star,
         alpha_star_turned,
+        predicted,
         body,
         vector: x,
         achieved,

@@ -9,7 +9,7 @@ use crate::analysis::rest::critical_angle::critical_angle;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::analysis::experiment::prediction::{PredictOptions, predict};
+use crate::analysis::experiment::prediction::{PredictOptions, Prediction, predict};
 use crate::analysis::orbits::disk_period::inertial_disk_period;
 use crate::analysis::orbits::orbit_diagram::{
     Flip, OrbitBranch, continue_orbit, flip_brackets, locate_flip_in,
@@ -19,6 +19,7 @@ use crate::analysis::orbits::sphere_return_map::PeriodicOrbit;
 use crate::analysis::studies::sphere::{PeriodCounts, period_counts, periodic_orbits};
 use crate::analysis::verdict::Fate;
 use crate::dynamics::Ramp;
+use crate::dynamics::models::asks_for_inertia;
 use crate::geometry::Body;
 
 /// How close α* must come to its target on the designed body (rad): the issue's 1e-4.
@@ -40,6 +41,14 @@ pub const NO_DRIFT: f64 = 1e3;
 pub const DOUBLING_AIM: f64 = 0.1;
 /// One unit of a doubling target's violation.
 const DOUBLING_UNIT: f64 = 0.05;
+/// The optimiser aims an orbits target's weakest orbit this much (a share of the starts) above
+/// the share asked for.
+pub const ORBITS_AIM: f64 = 0.05;
+/// An orbits target runs this many times [`Setting::starts`] from rest (16 fast, 48 precise), as
+/// does the report's prediction of what a design does.
+pub const ORBITS_STARTS: usize = 4;
+/// One unit of an orbits target's violation: 5 % of the starts.
+const ORBITS_UNIT: f64 = 0.05;
 /// Where a doubling target's orbits are found: this fraction of its m/m0, where they still
 /// attract (period 1), to be continued up.
 pub const DOUBLING_SEED_FRACTION: f64 = 0.4;
@@ -73,6 +82,20 @@ pub enum Target {
         /// m/m0 (0: viscous).
         mass: f64,
     },
+    /// 3D: at ramp angle `alpha` and m/m0 = `mass`, exactly `count` stable periodic orbits,
+    /// each reached from at least `share` of the starts from rest, and no start ending anywhere
+    /// else (at rest, on another orbit, off the model, or undecided). Its value is the shortfall in share ([`orbits_shortfall`]):
+    /// ≤ 0 meets it.
+    Orbits {
+        /// How many stable orbits.
+        count: usize,
+        /// The ramp angle (rad).
+        alpha: f64,
+        /// m/m0 (0: viscous).
+        mass: f64,
+        /// The least share of the starts each must be reached from (0 < share ≤ 1/count).
+        share: f64,
+    },
     /// 2D: at m/m0 = `mass`, a cylinder rolling above α* keeps rolling as the ramp is lowered
     /// down to `fraction` · α* (its return angle α** ≤ `fraction` · α*).
     Hysteresis {
@@ -103,6 +126,16 @@ impl Target {
             Target::Drift { drift, alpha, mass } => {
                 format!("drift {drift} across per down at α = {alpha} rad, m/m0 = {mass}")
             }
+            Target::Orbits {
+                count,
+                alpha,
+                mass,
+                share,
+            } => format!(
+                "{count} stable orbit{}, each from ≥ {share} of starts, at α = {alpha} rad, m/m0 = \
+                 {mass}",
+                if *count == 1 { "" } else { "s" }
+            ),
         }
     }
 
@@ -117,7 +150,7 @@ impl Target {
         match self {
             Target::AlphaStar { .. } => None,
             Target::Hysteresis { .. } => Some(2),
-            Target::Doubling { .. } | Target::Drift { .. } => Some(3),
+            Target::Doubling { .. } | Target::Drift { .. } | Target::Orbits { .. } => Some(3),
         }
     }
 
@@ -126,7 +159,8 @@ impl Target {
     /// F − [`HYSTERESIS_AIM`] − `room` it is, in 1 % of α*, so 0 leaves 2 % and `room` (a
     /// fraction of α*: the band's δα) to spare. Doubling (the value is μ_min, the most negative
     /// multiplier of the least flipped orbit): how far above −1 − [`DOUBLING_AIM`] − `room` it
-    /// is, in units of 0.05.
+    /// is, in units of 0.05. Orbits (the value is the shortfall in share): how far above
+    /// −[`ORBITS_AIM`] − `room` it is, in 5 % of the starts.
     ///
     /// # Example
     /// ```
@@ -144,6 +178,7 @@ impl Target {
             }
             Target::Doubling { .. } => (value + 1.0 + DOUBLING_AIM + room).max(0.0) / DOUBLING_UNIT,
             Target::Drift { drift, .. } => (value - drift).abs() / DRIFT_TOLERANCE,
+            Target::Orbits { .. } => (value + ORBITS_AIM + room).max(0.0) / ORBITS_UNIT,
         }
     }
 
@@ -156,6 +191,11 @@ impl Target {
             Target::Hysteresis { .. } => vec![1.0 - band_fraction],
             Target::Doubling { .. } => vec![1.0 - band_fraction, 1.0, 1.0 + band_fraction],
             Target::Drift { .. } => vec![1.0],
+            // Orbits come and go with m/m0: both ends of the band, and the middle.
+            Target::Orbits { mass, .. } if asks_for_inertia(*mass) => {
+                vec![1.0 - band_fraction, 1.0, 1.0 + band_fraction]
+            }
+            Target::Orbits { .. } => vec![1.0],
         }
     }
 
@@ -173,6 +213,7 @@ impl Target {
             Target::Hysteresis { fraction, .. } => value <= *fraction,
             Target::Doubling { .. } => value < -1.0,
             Target::Drift { drift, .. } => (value - drift).abs() <= DRIFT_TOLERANCE,
+            Target::Orbits { .. } => value <= 0.0,
         }
     }
 
@@ -243,6 +284,19 @@ impl Target {
                 .iter()
                 .map(|f| drift_value(body, alpha + delta_alpha, mass * f, drift, setting))
                 .collect(),
+            Target::Orbits {
+                count,
+                alpha,
+                mass,
+                share,
+            } => mass_factors
+                .iter()
+                .map(|f| {
+                    let p =
+                        prediction(body, alpha + delta_alpha, mass * f, ORBITS_STARTS, setting)?;
+                    Ok(orbits_shortfall(&p, count, share))
+                })
+                .collect(),
         }
     }
 
@@ -268,7 +322,10 @@ impl Target {
         setting: &Setting,
     ) -> Result<Vec<f64>, TargetError> {
         match *self {
-            Target::AlphaStar { .. } | Target::Doubling { .. } | Target::Drift { .. } => {
+            Target::AlphaStar { .. }
+            | Target::Doubling { .. }
+            | Target::Drift { .. }
+            | Target::Orbits { .. } => {
                 Ok(vec![critical_angle(body).alpha_star; mass_factors.len()])
             }
             Target::Hysteresis { mass, .. } => mass_factors
@@ -289,8 +346,13 @@ pub struct Setting {
     pub t_max: f64,
     /// Bisection halvings of α**/α*.
     pub halvings: usize,
-    /// 3D: runs from rest that find the orbits to continue.
+    /// 3D: runs from rest that find the orbits to continue (a drift target runs twice as
+    /// many, an orbits target four times).
     pub starts: usize,
+    /// Seed of the random starts of a drift or orbits target: the check's differ from the
+    /// optimiser's (whose seed the search draws afresh from each body it tries), so a design
+    /// cannot be tuned to the starts it is judged by.
+    pub seed: u64,
 }
 
 impl Setting {
@@ -303,6 +365,7 @@ impl Setting {
         t_max: 4000.0,
         halvings: 8,
         starts: 4,
+        seed: 1,
     };
     /// The check's: runs three times as long, α** to 1/4096 of α*, a tolerance 100 × finer.
     pub const PRECISE: Setting = Setting {
@@ -310,6 +373,7 @@ impl Setting {
         t_max: 12_000.0,
         halvings: 12,
         starts: 12,
+        seed: 2,
     };
 }
 
@@ -624,9 +688,27 @@ fn drift_value(
     drift: f64,
     setting: &Setting,
 ) -> Result<f64, TargetError> {
+    let p = prediction(body, alpha, mass, 2, setting)?;
+    Ok(p.orbits
+        .iter()
+        .filter(|o| o.stable && o.advance_down > 0.0)
+        .map(|o| o.advance_across / o.advance_down)
+        .max_by(|a, b| (a - drift).abs().total_cmp(&(b - drift).abs()))
+        .unwrap_or(NO_DRIFT))
+}
+
+/// What `predict` says of `body` at (`alpha`, `mass`) from `per_start` × `setting.starts`
+/// starts from rest (seed `setting.seed`), each decided within 5 × `setting.t_max`.
+pub(crate) fn prediction(
+    body: &Body,
+    alpha: f64,
+    mass: f64,
+    per_start: usize,
+    setting: &Setting,
+) -> Result<Prediction, TargetError> {
     let options = PredictOptions {
-        starts: 2 * setting.starts,
-        seed: 1,
+        starts: per_start * setting.starts,
+        seed: setting.seed,
         decide: Decide {
             t_min: 600.0_f64.min(setting.t_max),
             t_cap: 5.0 * setting.t_max,
@@ -635,11 +717,52 @@ fn drift_value(
         },
         ..PredictOptions::default()
     };
-    let p = predict(body, alpha, mass, &options)?;
-    Ok(p.orbits
+    Ok(predict(body, alpha, mass, &options)?)
+}
+
+/// How far a prediction falls short of `count` stable orbits each reached from at least
+/// `share` of the starts (≤ 0: it meets that, with the least-visited orbit −value above the
+/// share): `share` less the `count`-th most visited stable orbit's share (0 where there are
+/// fewer), or, where any start ends elsewhere — at rest (the body is to roll), on a further
+/// orbit, on one that is not stable, off the model, or undecided (none of which shows there
+/// are only `count`) — that share of the starts if it is larger.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::design::targets::orbits_shortfall;
+/// use rollphase_core::analysis::experiment::prediction::{PredictOptions, predict};
+/// use rollphase_core::geometry::Body;
+/// // The paper's sphere at α = 0.15, viscous: two stable orbits (Fig. 3d).
+/// let body = Body::paper_sphere(219, 0.25, 5)?;
+/// let options = PredictOptions { starts: 8, ..PredictOptions::default() };
+/// let p = predict(&body, 0.15, 0.0, &options)?;
+/// let least = p.orbits.iter().map(|o| o.fraction).fold(1.0, f64::min);
+/// assert!((orbits_shortfall(&p, 2, 0.1) - (0.1 - least)).abs() < 1e-12);
+/// // Asked for one orbit, the other's starts are the shortfall.
+/// assert!((orbits_shortfall(&p, 1, 0.1) - least).abs() < 1e-12);
+/// // Asked for three, the third is missing: short by the whole share.
+/// assert!((orbits_shortfall(&p, 3, 0.1) - 0.1).abs() < 1e-12);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn orbits_shortfall(p: &Prediction, count: usize, share: f64) -> f64 {
+    let n = p.starts.max(1);
+    let mut stable: Vec<usize> = p
+        .orbits
         .iter()
-        .filter(|o| o.stable && o.advance_down > 0.0)
-        .map(|o| o.advance_across / o.advance_down)
-        .max_by(|a, b| (a - drift).abs().total_cmp(&(b - drift).abs()))
-        .unwrap_or(NO_DRIFT))
+        .filter(|o| o.stable)
+        .map(|o| o.starts)
+        .collect();
+    stable.sort_unstable_by(|a, b| b.cmp(a));
+    let weakest = match count.checked_sub(1) {
+        Some(k) => stable.get(k).copied().unwrap_or(0),
+        None => n,
+    };
+    let on_them: usize = stable.iter().take(count).sum();
+    let elsewhere = n.saturating_sub(on_them) as f64 / n as f64;
+    let short = share - weakest as f64 / n as f64;
+    if elsewhere > 0.0 {
+        short.max(elsewhere)
+    } else {
+        short
+    }
 }
