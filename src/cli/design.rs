@@ -309,11 +309,11 @@ pub fn run(a: DesignArgs) -> Result<()> {
 fn why_not(d: &Design) -> String {
     let mut why = Vec::new();
     for t in d.achieved.iter().filter(|t| !t.met) {
-        why.push(format!(
-            "{} is not met (achieved {:.6})",
-            t.target.describe(),
-            t.precise
-        ));
+        let achieved = match t.target {
+            Target::Orbits { .. } => format!("short by {:.4} of the starts", t.precise),
+            _ => format!("achieved {:.6}", t.precise),
+        };
+        why.push(format!("{} is not met ({achieved})", t.target.describe()));
     }
     for c in d.check.targets.iter().filter(|c| !c.holds) {
         if c.margin < 0.0 {

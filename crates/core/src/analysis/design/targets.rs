@@ -132,9 +132,8 @@ impl Target {
                 mass,
                 share,
             } => format!(
-                "{count} stable orbit{}, each from ≥ {share} of starts, at α = {alpha} rad, m/m0 = \
-                 {mass}",
-                if *count == 1 { "" } else { "s" }
+                "{count} stable orbit{}from ≥ {share} of starts, at α = {alpha} rad, m/m0 = {mass}",
+                if *count == 1 { ", " } else { "s, each " }
             ),
         }
     }
