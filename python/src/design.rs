@@ -125,8 +125,9 @@ fn result<'py>(
 /// is returned too, not raised: read report["holds"].
 #[pyfunction]
 #[pyo3(signature = (dim, *, alpha_star = None, hysteresis = None, doubling = None, drift = None,
-    orbits = None, share = None, mass_ratio = None, alpha = None, modes = 4, scale_mm = 10.0, min_radius_mm = 0.4, max_amplitude = 1.0, start = None, seed = 1,
-    generations = 400, alpha_band = 0.005, mass_band = 0.2, surface_mm = 0.05, draws = 16))]
+    orbits = None, share = None, mass_ratio = None, alpha = None, modes = 4, scale_mm = 10.0,
+    min_radius_mm = 0.4, max_amplitude = 1.0, start = None, seed = 1, generations = 400,
+    alpha_band = 0.005, mass_band = 0.2, surface_mm = 0.05, draws = 16))]
 pub fn design<'py>(
     py: Python<'py>,
     dim: i128,
@@ -176,8 +177,9 @@ pub fn design<'py>(
 /// (a shape file's or a mesh fit's), else 10. Returns (Body, report) as design().
 #[pyfunction]
 #[pyo3(signature = (body, *, alpha_star = None, hysteresis = None, doubling = None, drift = None,
-    orbits = None, share = None, mass_ratio = None, alpha = None, scale_mm = None, min_radius_mm = 0.4, max_amplitude = 1.0, alpha_band = 0.005,
-    mass_band = 0.2, surface_mm = 0.05, draws = 16, seed = 1))]
+    orbits = None, share = None, mass_ratio = None, alpha = None, scale_mm = None,
+    min_radius_mm = 0.4, max_amplitude = 1.0, alpha_band = 0.005, mass_band = 0.2,
+    surface_mm = 0.05, draws = 16, seed = 1))]
 pub fn check_design<'py>(
     py: Python<'py>,
     body: PyRef<'py, Body>,

@@ -130,8 +130,8 @@ pub fn ramps(targets: &[Target], alpha_star: f64, band: &Band) -> Vec<(String, f
     out
 }
 
-/// What `body` does at (`alpha`, `mass`) at `setting` ([`ORBITS_STARTS`] times its starts), at `scale_mm`
-/// per ⟨r⟩.
+/// What `body` does at (`alpha`, `mass`) at `setting` ([`ORBITS_STARTS`] times its starts), at
+/// `scale_mm` per ⟨r⟩.
 ///
 /// # Example
 /// ```

@@ -549,7 +549,8 @@ fn objective(opts: &DesignOptions, x: &[f64], extra_room: f64) -> f64 {
     }
     // Each target is aimed at where the band is hardest for it (the lightest m/m0, the ramp δα
     // lower), so that the check has room to pass.
-    let alpha_room = opts.band.delta_alpha / critical_angle(&body).alpha_star.max(1e-9);
+    let alpha_star = critical_angle(&body).alpha_star;
+    let alpha_room = opts.band.delta_alpha / alpha_star.max(1e-9);
     let mut sum = 0.0;
     let mut printed_alpha_star = None;
     // The random starts a target runs from (drift, orbits) are seeded by the body itself: a
@@ -579,7 +580,7 @@ fn objective(opts: &DesignOptions, x: &[f64], extra_room: f64) -> f64 {
                 {
                     let highest = alpha - opts.band.delta_alpha - 0.002;
                     let top = *printed_alpha_star
-                        .get_or_insert_with(|| highest_printed_alpha_star(opts, x, &body));
+                        .get_or_insert_with(|| highest_printed_alpha_star(opts, x, alpha_star));
                     let over = (top - highest).max(0.0) / 1e-3;
                     sum += over * over;
                 }
@@ -608,10 +609,10 @@ fn seed_of(x: &[f64]) -> u64 {
 /// once printed.
 const OPTIMISER_DRAWS: usize = 4;
 
-/// The highest α* of `body` (vector `x`) and of [`OPTIMISER_DRAWS`] print errors of the band's
-/// size added to it, seeded apart from the check's so that the check stays independent: a
-/// print error of ε mm tilts the surface by about ε/λ, and moves α* by as much.
-fn highest_printed_alpha_star(opts: &DesignOptions, x: &[f64], body: &Body) -> f64 {
+/// The highest of `alpha_star` (the design's, vector `x`) and the α* of [`OPTIMISER_DRAWS`] print
+/// errors of the band's size added to it, seeded apart from the check's so that the check stays
+/// independent: a print error of ε mm tilts the surface by about ε/λ, and moves α* by as much.
+fn highest_printed_alpha_star(opts: &DesignOptions, x: &[f64], alpha_star: f64) -> f64 {
     let band = Band {
         seed: opts.band.seed.wrapping_add(0x005E_ED0F_0971_A115),
         ..opts.band
@@ -621,7 +622,7 @@ fn highest_printed_alpha_star(opts: &DesignOptions, x: &[f64], body: &Body) -> f
             let printed = check::with_print_error(&opts.space, x, &band, opts.scale_mm, i);
             critical_angle(&printed).alpha_star
         })
-        .fold(critical_angle(body).alpha_star, f64::max)
+        .fold(alpha_star, f64::max)
 }
 
 /// Designs a body (see the module doc), `stop` ending the search between generations and

@@ -84,8 +84,8 @@ pub enum Target {
     },
     /// 3D: at ramp angle `alpha` and m/m0 = `mass`, exactly `count` stable periodic orbits,
     /// each reached from at least `share` of the starts from rest, and no start ending anywhere
-    /// else (at rest, on another orbit, off the model, or undecided). Its value is the shortfall in share ([`orbits_shortfall`]):
-    /// ≤ 0 meets it.
+    /// else (at rest, on another orbit, off the model, or undecided). Its value is the shortfall
+    /// in share ([`orbits_shortfall`]): ≤ 0 meets it.
     Orbits {
         /// How many stable orbits.
         count: usize,
