@@ -53,5 +53,5 @@ fn vs_main(@builtin(vertex_index) vi: u32, s: Segment) -> VsOut {
 
 @fragment
 fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
-    return in.color;
+    return output_colour(in.color);
 }

@@ -48,35 +48,49 @@ fn vs_main(v: VsIn) -> VsOut {
     return out;
 }
 
-fn grid_line(coord: f32, spacing: f32) -> f32 {
-    let x = coord / spacing;
-    let width = fwidth(x) * 1.2;
+// The line's coverage at `x` (the coordinate in spacings) with `width` = fwidth(x) * 1.2.
+fn grid_line(x: f32, width: f32) -> f32 {
     let d = abs(fract(x + 0.5) - 0.5);
     return 1.0 - smoothstep(0.0, width, d);
+}
+
+// x^48 by five multiplications: pow() is exp2(48 log2 x), two polynomial approximations per
+// pixel on a CPU renderer (llvmpipe).
+fn pow48(x: f32) -> f32 {
+    let x2 = x * x;
+    let x4 = x2 * x2;
+    let x8 = x4 * x4;
+    let x16 = x8 * x8;
+    return x16 * x16 * x16;
 }
 
 @fragment
 fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     var base = in.color.rgb;
     if (draw.params.y > 0.0) {
-        let g = max(grid_line(in.local.x, draw.params.y), grid_line(in.local.y, draw.params.y));
-        let major = max(grid_line(in.local.x, draw.params.y * 5.0), grid_line(in.local.y, draw.params.y * 5.0));
+        // fwidth is linear: one derivative per axis serves both the minor and the major lines.
+        let minor = in.local.xy / draw.params.y;
+        let width = fwidth(minor) * 1.2;
+        let major = minor * 0.2;
+        let g = max(grid_line(minor.x, width.x), grid_line(minor.y, width.y));
+        let m = max(grid_line(major.x, width.x * 0.2), grid_line(major.y, width.y * 0.2));
         base = mix(base, base * 0.55, g * 0.6);
-        base = mix(base, base * 0.35, major * 0.8);
+        base = mix(base, base * 0.35, m * 0.8);
     }
     if (draw.params.w > 0.5) {
-        return vec4<f32>(base, in.color.a * draw.params.x);
+        return output_colour(vec4<f32>(base, in.color.a * draw.params.x));
     }
     var n = normalize(in.normal);
     if (!front) {
         n = -n;
     }
-    let l = normalize(camera.light.xyz);
+    // camera.light.xyz is a unit vector (normalised on the CPU).
+    let l = camera.light.xyz;
     let v = normalize(camera.eye.xyz - in.world);
     let h = normalize(l + v);
     let diffuse = max(dot(n, l), 0.0);
-    let fill = 0.25 * max(dot(n, -l), 0.0);
-    let spec = draw.params.z * pow(max(dot(n, h), 0.0), 48.0);
+    let fill = 0.25 * max(-dot(n, l), 0.0);
+    let spec = draw.params.z * pow48(max(dot(n, h), 0.0));
     let rgb = base * (camera.light.w + 0.75 * diffuse + fill) + vec3<f32>(spec);
-    return vec4<f32>(rgb, in.color.a * draw.params.x);
+    return output_colour(vec4<f32>(rgb, in.color.a * draw.params.x));
 }

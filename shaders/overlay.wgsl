@@ -30,5 +30,5 @@ fn vs_main(v: VsIn) -> VsOut {
 
 @fragment
 fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
-    return textureSample(panel_texture, panel_sampler, in.uv) * in.color;
+    return output_colour(textureSample(panel_texture, panel_sampler, in.uv) * in.color);
 }

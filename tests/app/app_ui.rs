@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use rollphase::live::history::{Branch, PlotHistory};
 use rollphase::live::{LiveRun, SimCommand, SimStatus};
 use rollphase::render::GpuContext;
-use rollphase::render::gpu::{OFFSCREEN_FORMAT, OffscreenTarget};
+use rollphase::render::gpu::{APP_FORMAT, OffscreenTarget};
 use rollphase::scene::Scene;
 use rollphase::ui::workbench::{Workbench, offscreen_input};
 
@@ -21,9 +21,9 @@ const SIZE: (u32, u32) = (1280, 720);
 /// A GPU, an offscreen target of [`SIZE`] and the app core on `preset`.
 fn app(preset: &str) -> (GpuContext, OffscreenTarget, Workbench) {
     let gpu = GpuContext::headless().unwrap();
-    let target = OffscreenTarget::new(&gpu.device, SIZE);
+    let target = OffscreenTarget::with_format(&gpu.device, SIZE, APP_FORMAT);
     let setup = Scene::preset(preset).unwrap().setup(None).unwrap();
-    let bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
+    let bench = Workbench::new(&gpu.device, &gpu.queue, APP_FORMAT, 1, setup, None).unwrap();
     (gpu, target, bench)
 }
 
@@ -40,8 +40,8 @@ fn lesson_app(timeline: &str, speed: f64) -> (GpuContext, OffscreenTarget, Workb
     let setup = scene.setup(None).unwrap();
     let alpha_star = setup.alpha_star;
     let gpu = GpuContext::headless().unwrap();
-    let target = OffscreenTarget::new(&gpu.device, SIZE);
-    let bench = Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
+    let target = OffscreenTarget::with_format(&gpu.device, SIZE, APP_FORMAT);
+    let bench = Workbench::new(&gpu.device, &gpu.queue, APP_FORMAT, 1, setup, None).unwrap();
     (gpu, target, bench, alpha_star)
 }
 
@@ -832,9 +832,8 @@ fn a_sweep_down_across_alpha_star_draws_one_over_t_as_it_goes() {
     let setup = scene.setup(None).unwrap();
     let alpha_star = setup.alpha_star;
     let gpu = GpuContext::headless().unwrap();
-    let target = OffscreenTarget::new(&gpu.device, SIZE);
-    let mut bench =
-        Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
+    let target = OffscreenTarget::with_format(&gpu.device, SIZE, APP_FORMAT);
+    let mut bench = Workbench::new(&gpu.device, &gpu.queue, APP_FORMAT, 1, setup, None).unwrap();
     bench.sim.send(SimCommand::SetSpeed(2000.0));
     bench.ui.set_measuring_sweep(Some(MeasuringSweep {
         target: SweepTarget::Alpha,
@@ -1177,10 +1176,10 @@ fn the_plots_are_the_same_at_two_frame_rates() {
     };
     let run = |frame_pause_ms: u64| {
         let gpu = GpuContext::headless().unwrap();
-        let target = OffscreenTarget::new(&gpu.device, SIZE);
+        let target = OffscreenTarget::with_format(&gpu.device, SIZE, APP_FORMAT);
         let setup = scene.clone().setup(None).unwrap();
         let mut bench =
-            Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
+            Workbench::new(&gpu.device, &gpu.queue, APP_FORMAT, 1, setup, None).unwrap();
         bench.sim.send(SimCommand::SetSpeed(200.0));
         let start = Instant::now();
         while bench
@@ -1429,10 +1428,9 @@ fn save_state_resumes_the_run_where_it_was_with_its_plots() {
     // Opened in a fresh app (which starts playing at once): it goes on from there, with the
     // plot's points.
     let gpu2 = GpuContext::headless().unwrap();
-    let mut fresh =
-        Workbench::new(&gpu2.device, &gpu2.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
+    let mut fresh = Workbench::new(&gpu2.device, &gpu2.queue, APP_FORMAT, 1, setup, None).unwrap();
     fresh.sim.send(SimCommand::Pause);
-    let target2 = OffscreenTarget::new(&gpu2.device, SIZE);
+    let target2 = OffscreenTarget::with_format(&gpu2.device, SIZE, APP_FORMAT);
     let r = frames_until(&mut fresh, &gpu2, &target2, vec![], |r| r.paused);
     let ahead = r.snapshot.t - s.snapshot.t;
     assert!(
@@ -1474,8 +1472,7 @@ fn every_lesson_step_shows_its_plot_large_in_presentation_and_class_modes() {
             for presenting in [true, false] {
                 let setup = Scene::preset(preset).unwrap().setup(None).unwrap();
                 let mut bench =
-                    Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None)
-                        .unwrap();
+                    Workbench::new(&gpu.device, &gpu.queue, APP_FORMAT, 1, setup, None).unwrap();
                 if presenting {
                     bench.ui.present_on_start();
                 } else {
@@ -1575,9 +1572,8 @@ fn a_scene_that_names_its_model_saves_the_model_it_runs() {
         .replace("[model]\n", "[model]\nkind = \"sphere-viscous\"\n");
     let setup = Scene::from_toml(&text).unwrap().setup(None).unwrap();
     let gpu = GpuContext::headless().unwrap();
-    let target = OffscreenTarget::new(&gpu.device, SIZE);
-    let mut bench =
-        Workbench::new(&gpu.device, &gpu.queue, OFFSCREEN_FORMAT, 1, setup, None).unwrap();
+    let target = OffscreenTarget::with_format(&gpu.device, SIZE, APP_FORMAT);
+    let mut bench = Workbench::new(&gpu.device, &gpu.queue, APP_FORMAT, 1, setup, None).unwrap();
     bench.sim.send(SimCommand::SetMassRatio(2.0));
     let s = frames_until(&mut bench, &gpu, &target, vec![], |s| {
         s.snapshot.mass_ratio == 2.0

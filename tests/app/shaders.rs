@@ -4,7 +4,7 @@
 #![cfg(feature = "render")]
 
 use naga::valid::{Capabilities, ValidationFlags, Validator};
-use rollphase::render::SHADERS;
+use rollphase::render::{OUTPUT_COLOUR, SHADERS};
 
 /// The renderer's shaders.
 fn all_shaders() -> Vec<(&'static str, &'static str)> {
@@ -57,8 +57,32 @@ fn the_renderer_loads_every_file_in_the_shaders_folder() {
         .collect();
     on_disk.sort();
     let mut loaded: Vec<String> = all_shaders().iter().map(|(n, _)| n.to_string()).collect();
+    loaded.push("output_colour.wgsl".into());
     loaded.sort();
     assert_eq!(on_disk, loaded);
+}
+
+/// Every shader begins with the colour prelude, so each can encode sRGB for a non-sRGB target
+/// (the app's), and each has the one constant the renderer sets.
+#[test]
+fn every_shader_writes_its_colour_through_the_prelude() {
+    for (name, source) in all_shaders() {
+        assert!(
+            source.starts_with(OUTPUT_COLOUR),
+            "{name} lacks the prelude"
+        );
+        assert!(
+            source[OUTPUT_COLOUR.len()..].contains("output_colour("),
+            "{name} never calls output_colour"
+        );
+        let module = naga::front::wgsl::parse_str(source).unwrap();
+        let overrides: Vec<_> = module
+            .overrides
+            .iter()
+            .filter_map(|(_, o)| o.name.clone())
+            .collect();
+        assert_eq!(overrides, ["ENCODE_SRGB"], "{name}");
+    }
 }
 
 #[test]

@@ -11,7 +11,7 @@ use super::AppBenchArgs;
 pub fn run(a: AppBenchArgs) -> Result<()> {
     use crate::integrate::Preset;
     use crate::live::SimCommand;
-    use crate::render::gpu::{OFFSCREEN_FORMAT, OffscreenTarget};
+    use crate::render::gpu::{APP_FORMAT, OffscreenTarget};
     use crate::ui::workbench::{Workbench, offscreen_input};
 
     if !(a.seconds.is_finite() && a.seconds > 0.0) {
@@ -32,15 +32,8 @@ pub fn run(a: AppBenchArgs) -> Result<()> {
     }
     let setup = crate::cli::pick_scene(None, Some(&a.preset))?;
     let gpu = crate::render::GpuContext::headless()?;
-    let target = OffscreenTarget::new(&gpu.device, a.size);
-    let mut bench = Workbench::new(
-        &gpu.device,
-        &gpu.queue,
-        OFFSCREEN_FORMAT,
-        a.msaa,
-        setup,
-        None,
-    )?;
+    let target = OffscreenTarget::with_format(&gpu.device, a.size, APP_FORMAT);
+    let mut bench = Workbench::new(&gpu.device, &gpu.queue, APP_FORMAT, a.msaa, setup, None)?;
     bench.ui.show_plots = !a.no_plots;
     bench
         .sim

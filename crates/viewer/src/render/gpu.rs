@@ -113,6 +113,13 @@ pub struct OffscreenTarget {
 /// Format of offscreen targets (sRGB, so PNGs get the usual gamma).
 pub const OFFSCREEN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
+/// Format of the app's offscreen targets (`bench app`, the windowless tests): non-sRGB, as the
+/// window's surface is where one is offered. egui then blends in gamma space, as it is designed
+/// to, and its shader skips two sRGB conversions per pixel, which on a CPU renderer is a sixth
+/// of a 1920×1080 frame; the 3D renderer's shaders encode their colours themselves
+/// (`shaders/output_colour.wgsl`). The bytes read back are sRGB either way.
+pub const APP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
 impl OffscreenTarget {
     /// A `width`×`height` target in [`OFFSCREEN_FORMAT`].
     pub fn new(device: &wgpu::Device, size: (u32, u32)) -> Self {

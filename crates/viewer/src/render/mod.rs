@@ -4,7 +4,9 @@
 //! [`Renderer::render`] on a `TextureView`.
 //!
 //! Three pipelines, one shader file each (`shaders/*.wgsl`): lit meshes (opaque and translucent
-//! variants), screen-space thick lines, and textured overlay quads. Everything is drawn in one
+//! variants), screen-space thick lines, and textured overlay quads. Each writes its colour
+//! through `shaders/output_colour.wgsl`: as is into an sRGB target, sRGB-encoded by the shader
+//! into a non-sRGB one (the app's, where egui's panels are cheaper). Everything is drawn in one
 //! render pass with 4× MSAA (configurable) and a Depth32Float buffer; inset views get their own
 //! viewport, and a background quad at depth 1 clears their region of colour and depth.
 //!
@@ -25,7 +27,7 @@ mod pipelines;
 pub mod types;
 
 pub use gpu::{GpuContext, GpuError};
-pub use pipelines::{SHADERS, Scratch, texture_group, texture_sampler_layout};
+pub use pipelines::{OUTPUT_COLOUR, SHADERS, Scratch, texture_group, texture_sampler_layout};
 pub use types::*;
 
 use pipelines::{GpuMesh, Targets};

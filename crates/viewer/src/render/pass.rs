@@ -294,7 +294,7 @@ impl Renderer {
                 Some(msaa) => (msaa, Some(target)),
                 None => (target, None),
             };
-            let [r, g, b, a] = frame.clear.map(f64::from);
+            let [r, g, b, a] = clear_colour(frame.clear, self.format);
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("frame"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -380,6 +380,24 @@ impl Renderer {
         pass.set_index_buffer(m.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..m.index_count, 0, 0..1);
     }
+}
+
+/// The clear colour as `format` stores it: a non-sRGB target gets it sRGB-encoded, as the
+/// shaders' `output_colour` encodes what they draw.
+fn clear_colour(linear: [f32; 4], format: wgpu::TextureFormat) -> [f64; 4] {
+    let [r, g, b, a] = linear.map(f64::from);
+    if format.is_srgb() {
+        return [r, g, b, a];
+    }
+    let encode = |c: f64| {
+        let c = c.clamp(0.0, 1.0);
+        if c <= 0.003_130_8 {
+            c * 12.92
+        } else {
+            1.055 * c.powf(1.0 / 2.4) - 0.055
+        }
+    };
+    [encode(r), encode(g), encode(b), a]
 }
 
 pub(super) fn push_aligned(out: &mut Vec<u8>, bytes: &[u8], stride: u64) {

@@ -106,15 +106,35 @@ pub(super) struct Targets {
     pub(super) depth: wgpu::TextureView,
 }
 
-/// The WGSL sources, by file name: compiled here and validated by `tests/app/shaders.rs`.
+/// The WGSL sources, by file name: compiled here and validated by `tests/app/shaders.rs`. Each
+/// is compiled after [`OUTPUT_COLOUR`], the colour a fragment writes (`output_colour`, with the
+/// `ENCODE_SRGB` constant that [`Renderer::new`] sets from the target's format).
 pub const SHADERS: &[(&str, &str)] = &[
-    ("mesh.wgsl", include_str!("../../../../shaders/mesh.wgsl")),
-    ("lines.wgsl", include_str!("../../../../shaders/lines.wgsl")),
+    (
+        "mesh.wgsl",
+        concat!(
+            include_str!("../../../../shaders/output_colour.wgsl"),
+            include_str!("../../../../shaders/mesh.wgsl")
+        ),
+    ),
+    (
+        "lines.wgsl",
+        concat!(
+            include_str!("../../../../shaders/output_colour.wgsl"),
+            include_str!("../../../../shaders/lines.wgsl")
+        ),
+    ),
     (
         "overlay.wgsl",
-        include_str!("../../../../shaders/overlay.wgsl"),
+        concat!(
+            include_str!("../../../../shaders/output_colour.wgsl"),
+            include_str!("../../../../shaders/overlay.wgsl")
+        ),
     ),
 ];
+
+/// `shaders/output_colour.wgsl`, the prelude every source in [`SHADERS`] begins with.
+pub const OUTPUT_COLOUR: &str = include_str!("../../../../shaders/output_colour.wgsl");
 
 pub(super) fn shader(device: &wgpu::Device, name: &str) -> wgpu::ShaderModule {
     let source = SHADERS
@@ -260,7 +280,10 @@ impl Renderer {
                 fragment: Some(wgpu::FragmentState {
                     module: s.module,
                     entry_point: Some("fs_main"),
-                    compilation_options: Default::default(),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &[("ENCODE_SRGB", f64::from(u8::from(!format.is_srgb())))],
+                        ..Default::default()
+                    },
                     targets: &[Some(wgpu::ColorTargetState {
                         format,
                         blend: Some(s.blend),

@@ -157,17 +157,11 @@ impl SceneView {
         let narrow = (16.0 / 9.0 * full_height / rect[2].max(1) as f32).max(1.0);
         let camera = self.body_camera(target, options, shortened * narrow);
         let snap_to = |v: f32| (v / 5.0).round() * 5.0;
+        // Nearest first: the ramp, drawn last, is not shaded where the body and the marker
+        // already cover it (the depth test drops those pixels before shading; on a CPU
+        // renderer shading is most of a frame). Opaque and depth-tested, so the picture is
+        // the same in any order.
         let meshes = vec![
-            MeshInstance {
-                mesh: self.ramp_mesh,
-                model: world_from_ramp
-                    * Mat4::from_translation(Vec3::new(snap_to(centre.x), snap_to(centre.y), 0.0)),
-                material: Material {
-                    grid_spacing: 0.5,
-                    specular: 0.05,
-                    ..Material::default()
-                },
-            },
             MeshInstance {
                 mesh: self.body_mesh,
                 model: world_from_ramp
@@ -183,6 +177,16 @@ impl SceneView {
                 ),
                 material: Material {
                     tint: linear([255, 214, 10], 1.0),
+                    ..Material::default()
+                },
+            },
+            MeshInstance {
+                mesh: self.ramp_mesh,
+                model: world_from_ramp
+                    * Mat4::from_translation(Vec3::new(snap_to(centre.x), snap_to(centre.y), 0.0)),
+                material: Material {
+                    grid_spacing: 0.5,
+                    specular: 0.05,
                     ..Material::default()
                 },
             },
