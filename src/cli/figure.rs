@@ -155,6 +155,11 @@ pub struct FitLagArgs {
     /// Seed of the bootstrap.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Exit 0 even when a fitted value (the shared β, or a run's α*) ends at the edge of the
+    /// range searched. Such a value is a bound, not a fit: it is printed without a σ, and
+    /// without this flag the command writes its files and exits 1.
+    #[arg(long)]
+    pub allow_bound: bool,
 }
 
 /// Most worker threads a figure may ask for.
@@ -177,19 +182,32 @@ pub fn run_fit_lag(a: FitLagArgs) -> Result<()> {
     for w in &s.warnings {
         eprintln!("warning: {w}");
     }
+    let beta = match s.shared_exponent_stderr {
+        Some(sd) => format!("β = {:.4} ± {sd:.4}", s.shared_exponent),
+        None => format!(
+            "β = {:.4}, the edge of the range searched (a bound, no σ)",
+            s.shared_exponent
+        ),
+    };
     outln!(
-        "fit-lag: {} runs, shared exponent β = {:.4} ± {:.4} (paper: −0.5); wrote {}",
+        "fit-lag: {} runs, shared exponent {beta} (paper: −0.5); wrote {}",
         s.runs,
-        s.shared_exponent,
-        s.shared_exponent_stderr,
         a.out.join("fit-lag").display()
     )?;
     match &s.drag_exponent {
+        None if s.shared_exponent_at_bound => outln!(
+            "  drag exponent: none (β is a bound: no power-law drag with 0.25 ≤ n ≤ 4 fits)"
+        )?,
         Some(e) => outln!(
-            "  drag exponent n = 1/(½ − β) = {:.3} ± {:.3} (β ± 2σ: {:.3} to {}); the paper's \
+            "  drag exponent n = 1/(½ − β) = {:.3} ± {} (β ± 2σ: {:.3} to {}); the paper's \
              linear drag, n = 1, is {:.1}σ away",
             e.n,
-            e.stderr,
+            // Under a thousandth (a steep β's tiny σ_n), in two significant digits, not 0.000.
+            if e.stderr >= 1e-3 {
+                format!("{:.3}", e.stderr)
+            } else {
+                format!("{:.1e}", e.stderr)
+            },
             e.low,
             if e.high.is_finite() {
                 format!("{:.3}", e.high)
@@ -213,6 +231,13 @@ pub fn run_fit_lag(a: FitLagArgs) -> Result<()> {
             f.exponent,
             s.analysis.run_exponent_stderr[k]
         )?;
+    }
+    if s.at_bound && !a.allow_bound {
+        bail!(
+            "a fitted value is a bound, not a fit (the warnings above; files written to {}); \
+             pass --allow-bound to accept it with exit 0",
+            a.out.join("fit-lag").display()
+        );
     }
     Ok(())
 }

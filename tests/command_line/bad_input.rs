@@ -1015,14 +1015,21 @@ fn fit_lag_refuses_data_without_variance_and_flags_a_fit_at_its_bound() {
         "odd.csv",
         "run_idx,alpha*,alpha,t_lag\n0,0.1,0.12,\"[1, 1.1]\"\n0,0.1,0.14,\"[2, 2.1]\"\n0,0.1,0.16,\"[3, 3.2]\"\n0,0.1,0.2,\"[5, 5.1]\"\n",
     );
-    let r = rollphase(&[
+    let args = [
         "fit-lag",
         &odd,
         "--out",
         out.to_str().unwrap(),
         "--bootstrap",
         "20",
-    ]);
+    ];
+    // A bound is not a fit: exit 1, the files written for a look, unless --allow-bound.
+    let r = rollphase(&args);
+    fails_with(&r, 1, &["a bound, not a fit", "--allow-bound"]);
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("fit-lag/summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["at_bound"], true);
+    let r = rollphase(&[&args[..], &["--allow-bound"]].concat());
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     let err = String::from_utf8_lossy(&r.stderr);
     assert!(
@@ -1032,6 +1039,77 @@ fn fit_lag_refuses_data_without_variance_and_flags_a_fit_at_its_bound() {
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("fit-lag/summary.json")).unwrap()).unwrap();
     assert!(!summary["warnings"].as_array().unwrap().is_empty());
+}
+
+/// Lag times t = A (α − α*)^β for three runs at eight angles, two repeats each (±1 % apart).
+fn lag_csv(beta: f64) -> String {
+    let mut text = String::from("run_idx,alpha*,alpha,t_lag\n");
+    for (run, star) in [(0, 0.15), (1, 0.17), (2, 0.2)] {
+        for d in [0.005, 0.01, 0.02, 0.03, 0.05, 0.07, 0.1, 0.14] {
+            let t = 0.2 * f64::powf(d, beta);
+            text += &format!(
+                "{run},{star},{},\"[{}, {}]\"\n",
+                star + d,
+                t * 1.01,
+                t * 0.99
+            );
+        }
+    }
+    text
+}
+
+#[test]
+fn fit_lag_searches_every_exponent_the_drag_laws_accept() {
+    let dir = temp_dir("fit-range");
+    // β = −3 is a drag exponent n = 1/(1/2 − β) = 2/7, inside the accepted 0.25 ≤ n ≤ 4: it was
+    // once reported as the old range's edge −1.5 "± 0.0000", exit 0.
+    for (beta, n) in [(-3.0, 2.0 / 7.0), (-0.5, 1.0), (0.1, 2.5)] {
+        let data = write(&dir, &format!("beta{beta}.csv"), &lag_csv(beta));
+        let out = dir.join(format!("out{beta}"));
+        let r = rollphase(&[
+            "fit-lag",
+            &data,
+            "--out",
+            out.to_str().unwrap(),
+            "--bootstrap",
+            "20",
+        ]);
+        assert!(
+            r.status.success(),
+            "β = {beta}: {}",
+            String::from_utf8_lossy(&r.stderr)
+        );
+        let summary: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("fit-lag/summary.json")).unwrap())
+                .unwrap();
+        let fitted = summary["shared_exponent"].as_f64().unwrap();
+        assert!((fitted - beta).abs() < 0.01, "β = {beta}: fitted {fitted}");
+        assert_eq!(summary["at_bound"], false);
+        let sd = summary["shared_exponent_stderr"].as_f64().unwrap();
+        assert!(sd > 0.0, "β = {beta}: σ {sd}");
+        let fitted_n = summary["drag_exponent"]["n"].as_f64().unwrap();
+        assert!(
+            (fitted_n - n).abs() < 0.03 * n,
+            "β = {beta}: n {fitted_n}, not {n}"
+        );
+    }
+    // Steeper than any accepted drag law: a bound, no σ, exit 1 naming the flag.
+    let data = write(&dir, "beta-5.csv", &lag_csv(-5.0));
+    let out = dir.join("out-5");
+    let r = rollphase(&[
+        "fit-lag",
+        &data,
+        "--out",
+        out.to_str().unwrap(),
+        "--bootstrap",
+        "20",
+    ]);
+    fails_with(&r, 1, &["a bound", "--allow-bound"]);
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("fit-lag/summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["shared_exponent_at_bound"], true);
+    assert!(summary["shared_exponent_stderr"].is_null());
+    assert!(summary["drag_exponent"].is_null());
 }
 
 #[test]

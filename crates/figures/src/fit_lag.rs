@@ -27,10 +27,18 @@ pub struct Summary {
     pub runs: usize,
     /// Shared exponent β (expect −0.5).
     pub shared_exponent: f64,
-    /// Its bootstrap standard deviation.
-    pub shared_exponent_stderr: f64,
+    /// Its bootstrap standard deviation; null when β ended at the edge of the range searched
+    /// (`shared_exponent_at_bound`): a bound has no σ.
+    pub shared_exponent_stderr: Option<f64>,
+    /// The shared β is the edge of the range searched (every β that a drag exponent
+    /// 0.25 ≤ n ≤ 4 gives, −3.5 to 0.25), not a minimum: the data lie outside what the model's
+    /// drag laws can make.
+    pub shared_exponent_at_bound: bool,
+    /// Some fitted value (β or a run's α*) is a bound, not a fit: see `warnings`. The command
+    /// exits non-zero then, unless `--allow-bound`.
+    pub at_bound: bool,
     /// The power-law drag exponent n = 1/(1/2 − β) the shared β implies, with its error and
-    /// range (null when β ≥ 1/2).
+    /// range (null when β ≥ 1/2, or when β is a bound).
     pub drag_exponent: Option<DragExponentEstimate>,
     /// α* reported in the file per run (null if absent).
     pub alpha_star_reported: Vec<Option<f64>>,
@@ -62,6 +70,14 @@ fn refuse_degenerate(runs: &[LagRun]) -> Result<()> {
     Ok(())
 }
 
+/// Whether the shared β sits at the edge of [`SHARED_EXPONENT_RANGE`] (golden section ends
+/// within its 1e-9 tolerance of an edge it was pushed against; 1e-4 is far from any interior
+/// minimum the scan's 0.1 grid would bracket).
+fn shared_exponent_at_bound(beta: f64) -> bool {
+    let (b_lo, b_hi) = SHARED_EXPONENT_RANGE;
+    beta - b_lo < 1e-4 || b_hi - beta < 1e-4
+}
+
 /// Fitted α* or β at the edge of the range searched: a bound, not a fit.
 fn bound_warnings(runs: &[LagRun], a: &LagAnalysis) -> Vec<String> {
     let mut out = Vec::new();
@@ -87,11 +103,17 @@ fn bound_warnings(runs: &[LagRun], a: &LagAnalysis) -> Vec<String> {
         }
     }
     let (b_lo, b_hi) = SHARED_EXPONENT_RANGE;
-    if a.shared_exponent - b_lo < 1e-4 || b_hi - a.shared_exponent < 1e-4 {
+    if shared_exponent_at_bound(a.shared_exponent) {
         out.push(format!(
             "the shared exponent β = {:.4} is at the edge of the range searched ({b_lo} to \
-             {b_hi}): a bound, not a fit",
-            a.shared_exponent
+             {b_hi}, every β = 1/2 − 1/n of a drag exponent 0.25 ≤ n ≤ 4): a bound, not a fit, \
+             so it has no σ; the lag times fall {} than any drag law the model runs",
+            a.shared_exponent,
+            if a.shared_exponent < 0.0 {
+                "more steeply"
+            } else {
+                "less steeply"
+            }
         ));
     }
     out
@@ -130,6 +152,8 @@ pub fn compute(
         .ok_or_else(|| anyhow!("the fit failed (too few angles in a run?)"))?;
     bar.finish_and_clear();
     let warnings = bound_warnings(&runs, &analysis);
+    let beta_at_bound = shared_exponent_at_bound(analysis.shared_exponent);
+    let beta_stderr = (!beta_at_bound).then_some(analysis.shared_exponent_stderr);
     let mut rows = Vec::new();
     let mut series = Vec::new();
     for (k, r) in runs.iter().enumerate() {
@@ -168,10 +192,13 @@ pub fn compute(
             * (x / x0.sqrt() / x1.sqrt()).powf(analysis.shared_exponent)
     };
     series.push(Series {
-        label: format!(
-            "shared fit β = {:.3} ± {:.3}",
-            analysis.shared_exponent, analysis.shared_exponent_stderr
-        ),
+        label: match beta_stderr {
+            Some(sd) => format!("shared fit β = {:.3} ± {sd:.3}", analysis.shared_exponent),
+            None => format!(
+                "shared β at its bound {:.3} (no fit)",
+                analysis.shared_exponent
+            ),
+        },
         points: vec![(x0, y_at(x0)), (x1, y_at(x1))],
         color: (0, 0, 0),
         style: Style::Line,
@@ -180,11 +207,11 @@ pub fn compute(
         input: input.to_string(),
         runs: runs.len(),
         shared_exponent: analysis.shared_exponent,
-        shared_exponent_stderr: analysis.shared_exponent_stderr,
-        drag_exponent: drag_exponent_from_lag(
-            analysis.shared_exponent,
-            analysis.shared_exponent_stderr,
-        ),
+        shared_exponent_stderr: beta_stderr,
+        shared_exponent_at_bound: beta_at_bound,
+        at_bound: !warnings.is_empty(),
+        drag_exponent: beta_stderr
+            .and_then(|sd| drag_exponent_from_lag(analysis.shared_exponent, sd)),
         alpha_star_reported: runs.iter().map(|r| r.alpha_star_reported).collect(),
         warnings,
         analysis,

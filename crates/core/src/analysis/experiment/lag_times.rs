@@ -100,8 +100,17 @@ fn golden_min(f: impl Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
 /// How far below the smallest measured α the fitted α* is searched.
 pub const ALPHA_STAR_RANGE: f64 = 0.15;
 
-/// The range the shared exponent is searched in.
-pub const SHARED_EXPONENT_RANGE: (f64, f64) = (-1.5, -0.05);
+/// The range the shared exponent is searched in: every β = 1/2 − 1/n that a drag exponent n the
+/// power-law drag accepts ([`crate::dynamics::drag::power_law::EXPONENT`], 0.25 ≤ n ≤ 4) gives,
+/// so a ramp whose drag the model can run is never reported at a bound: −3.5 ≤ β ≤ 0.25.
+pub const SHARED_EXPONENT_RANGE: (f64, f64) = (
+    0.5 - 1.0 / crate::dynamics::drag::power_law::EXPONENT.min,
+    0.5 - 1.0 / crate::dynamics::drag::power_law::EXPONENT.max,
+);
+
+/// The coarse scan's spacing in β before the golden section: the summed residual can have more
+/// than one minimum over the wide range, and golden section alone would find any of them.
+const SHARED_EXPONENT_SCAN_STEP: f64 = 0.1;
 
 /// Fits one run's α*, β, A (β fixed if given). α* is searched in (α_min − 0.15, α_min).
 ///
@@ -177,12 +186,15 @@ fn shared_fit(runs: &[Vec<(f64, f64)>]) -> Option<(f64, Vec<f64>)> {
             })
             .sum::<f64>()
     };
-    let beta = golden_min(
-        total,
-        SHARED_EXPONENT_RANGE.0,
-        SHARED_EXPONENT_RANGE.1,
-        1e-9,
-    );
+    let (lo, hi) = SHARED_EXPONENT_RANGE;
+    let steps = ((hi - lo) / SHARED_EXPONENT_SCAN_STEP).round() as usize;
+    let step = (hi - lo) / steps as f64;
+    let best = (0..=steps)
+        .map(|i| lo + step * i as f64)
+        .map(|b| (b, total(b)))
+        .min_by(|x, y| x.1.total_cmp(&y.1))?
+        .0;
+    let beta = golden_min(total, (best - step).max(lo), (best + step).min(hi), 1e-9);
     let stars = runs
         .iter()
         .map(|p| fit_run_logs(p, Some(beta)).map(|f| f.alpha_star))
