@@ -656,7 +656,7 @@ def design(
     mass_ratio: Optional[float] = None,
     alpha: Optional[float] = None,
     modes: int = 4,
-    scale_mm: float = 10.0,
+    scale_mm: Optional[float] = None,
     min_radius_mm: float = 0.4,
     max_amplitude: float = 1.0,
     start: Optional[Body] = None,

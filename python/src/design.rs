@@ -6,8 +6,8 @@
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rollphase_core::analysis::design::{
-    Band, DesignError, DesignOptions, DesignSpace, Spelling, Target, TargetError, TargetRequest,
-    design_until, evaluate,
+    Band, DEFAULT_SCALE_MM, DesignError, DesignOptions, DesignSpace, Spelling, Target, TargetError,
+    TargetRequest, design_until, evaluate,
 };
 
 use crate::body::Body;
@@ -115,7 +115,7 @@ fn result<'py>(
 /// and mass_ratio (3D: exactly K stable orbits, each reached from at least `share` of the
 /// starts, default 1/(2K)). The search (CMA-ES,
 /// seeded: the same body for any thread count) keeps the body convex, its radii of curvature
-/// ≥ min_radius_mm at scale_mm mm per ⟨r⟩ and its amplitudes ≤ max_amplitude, starting from
+/// ≥ min_radius_mm at scale_mm mm per ⟨r⟩ (default: the start body's own, else 10) and its amplitudes ≤ max_amplitude, starting from
 /// `start` (a Body) or the first convex random body from `seed`; the body found is then checked
 /// at the precise setting over α ± alpha_band, m/m0 ± mass_band and `draws` print errors of
 /// ± surface_mm. Returns (Body, report): report["holds"] says whether every target holds over
@@ -125,7 +125,7 @@ fn result<'py>(
 /// is returned too, not raised: read report["holds"].
 #[pyfunction]
 #[pyo3(signature = (dim, *, alpha_star = None, hysteresis = None, doubling = None, drift = None,
-    orbits = None, share = None, mass_ratio = None, alpha = None, modes = 4, scale_mm = 10.0,
+    orbits = None, share = None, mass_ratio = None, alpha = None, modes = 4, scale_mm = None,
     min_radius_mm = 0.4, max_amplitude = 1.0, start = None, seed = 1, generations = 400,
     alpha_band = 0.005, mass_band = 0.2, surface_mm = 0.05, draws = 16))]
 pub fn design<'py>(
@@ -140,7 +140,7 @@ pub fn design<'py>(
     mass_ratio: Option<f64>,
     alpha: Option<f64>,
     modes: i128,
-    scale_mm: f64,
+    scale_mm: Option<f64>,
     min_radius_mm: f64,
     max_amplitude: f64,
     start: Option<PyRef<'py, Body>>,
@@ -151,6 +151,10 @@ pub fn design<'py>(
     surface_mm: f64,
     draws: i128,
 ) -> PyResult<(Body, Bound<'py, PyDict>)> {
+    // A refined body keeps the scale its file was printed at unless scale_mm is given.
+    let scale_mm = scale_mm
+        .or(start.as_ref().and_then(|b| b.scale_mm))
+        .unwrap_or(DEFAULT_SCALE_MM);
     let options = DesignOptions {
         space: DesignSpace {
             dimension: whole("dim", dim)?,
@@ -201,7 +205,7 @@ pub fn check_design<'py>(
     seed: i128,
 ) -> PyResult<(Body, Bound<'py, PyDict>)> {
     let core = body.body.clone();
-    let scale_mm = scale_mm.or(body.scale_mm).unwrap_or(10.0);
+    let scale_mm = scale_mm.or(body.scale_mm).unwrap_or(DEFAULT_SCALE_MM);
     let modes = match &core {
         rollphase_core::geometry::Body::Disk(d) => d.modes().iter().map(|m| m.l).max(),
         rollphase_core::geometry::Body::Sphere(s) => Some(s.max_degree()),

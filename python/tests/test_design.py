@@ -26,6 +26,17 @@ def test_a_cylinder_design_is_the_command_lines(cli, tmp_path):
     assert json.loads(body.to_json()) == json.loads(out.read_text())
     assert body.scale_mm == 40.0
     assert abs(body.alpha_star - TARGET) <= 1e-4
+    # Refined from a body printed at 40 mm, the search keeps 40 mm (not the default 10, where
+    # this cylinder misses its band), as `design --from` does.
+    again, report = rollphase.design(2, alpha_star=TARGET, alpha_band=0.0087, start=body)
+    stdout, _, _ = cli(
+        "design", "--dim", "2", "--alpha-star", TARGET, "--alpha-band", 0.0087,
+        "--from", out, "-o", tmp_path / "again.json", "--json",
+    )
+    theirs = json.loads(stdout)
+    assert again.scale_mm == 40.0 and report["scale_mm"] == 40.0 and theirs["scale_mm"] == 40.0
+    assert report["holds"] and theirs["holds"]
+    assert report["design"]["vector"] == theirs["design"]["vector"]
 
 
 def test_check_design_reports_a_body_as_the_command_line_does(cli, tmp_path):

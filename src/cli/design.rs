@@ -10,8 +10,8 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 
 use crate::analysis::design::{
-    Band, Design, DesignOptions, DesignProgress, DesignSpace, Ended, RampPrediction, Spelling,
-    Target, TargetRequest, design_until, evaluate,
+    Band, DEFAULT_SCALE_MM, Design, DesignOptions, DesignProgress, DesignSpace, Ended,
+    RampPrediction, Spelling, Target, TargetRequest, design_until, evaluate,
 };
 use crate::geometry::Body;
 use crate::geometry::mesh::{disk_mesh, sphere_mesh};
@@ -108,9 +108,10 @@ pub struct DesignArgs {
     /// Highest degree L of the modes searched (2 to 8).
     #[arg(long, default_value_t = 4)]
     pub modes: u32,
-    /// Millimetres per ⟨r⟩ of the printed body (the authors' prints: 10).
-    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
-    pub scale_mm: f64,
+    /// Millimetres per ⟨r⟩ of the printed body (the authors' prints: 10). Default: the --from
+    /// body's own scale_mm where its file has one, else 10.
+    #[arg(long, allow_negative_numbers = true)]
+    pub scale_mm: Option<f64>,
     /// Smallest radius of curvature the printer can make, in mm (a 0.4 mm nozzle: 0.4).
     #[arg(long, default_value_t = 0.4, allow_negative_numbers = true)]
     pub min_radius_mm: f64,
@@ -192,17 +193,23 @@ fn targets(a: &DesignArgs) -> Result<Vec<Target>> {
 
 /// Runs `design`.
 pub fn run(a: DesignArgs) -> Result<()> {
-    let start = match &a.from {
-        Some(f) => Some(super::load_body(f)?),
-        None => None,
+    let (start, file_scale_mm) = match &a.from {
+        Some(f) => {
+            let (body, scale) = crate::geometry::ShapeFile::load_scaled(f)?;
+            (Some(body), scale)
+        }
+        None => (None, None),
     };
+    // A body checked or refined is checked at the size it will be printed: its file's scale,
+    // unless --scale-mm says otherwise.
+    let scale_mm = a.scale_mm.or(file_scale_mm).unwrap_or(DEFAULT_SCALE_MM);
     let options = DesignOptions {
         space: DesignSpace {
             dimension: a.dim,
             modes: a.modes,
         },
         targets: targets(&a)?,
-        scale_mm: a.scale_mm,
+        scale_mm,
         min_radius_mm: a.min_radius_mm,
         max_amplitude: a.max_amplitude,
         start,
@@ -265,30 +272,35 @@ pub fn run(a: DesignArgs) -> Result<()> {
     let shape = design
         .body
         .to_shape()
-        .with_scale_mm(Some(a.scale_mm))
+        .with_scale_mm(Some(scale_mm))
         .to_json()?;
-    let mut outputs = output::OutputSet::new();
-    outputs.write(&a.output, (shape + "\n").as_bytes(), &inputs)?;
+    // The body first, on its own: the search's result is never lost to an optional output
+    // that fails (an STL onto a full disk), and the report is printed before that is tried.
+    output::write_bytes(&a.output, (shape + "\n").as_bytes(), &inputs)?;
+    if a.json {
+        let report = serde_json::json!({
+            "holds": design.holds(),
+            "seconds": seconds,
+            "scale_mm": scale_mm,
+            "design": design,
+        });
+        outln!("{}", serde_json::to_string_pretty(&report)?)?;
+    } else {
+        print_report(&design, seconds, &a)?;
+    }
     if let Some(stl) = &a.stl {
         let mesh = match &design.body {
             Body::Sphere(s) => sphere_mesh(s, 6),
             Body::Disk(d) => disk_mesh(d, 1024, 2.0),
         };
         let mut bytes = Vec::new();
-        mesh.write_stl(&mut bytes, a.scale_mm, "design")?;
-        outputs.write(stl, &bytes, &inputs)?;
-    }
-    outputs.commit()?;
-    if a.json {
-        let report = serde_json::json!({
-            "holds": design.holds(),
-            "seconds": seconds,
-            "scale_mm": a.scale_mm,
-            "design": design,
-        });
-        outln!("{}", serde_json::to_string_pretty(&report)?)?;
-    } else {
-        print_report(&design, seconds, &a)?;
+        mesh.write_stl(&mut bytes, scale_mm, "design")?;
+        output::write_bytes(stl, &bytes, &inputs).with_context(|| {
+            format!(
+                "the STL was not written (the body is in {}, the report above)",
+                a.output.display()
+            )
+        })?;
     }
     if !design.holds() {
         let what = if a.check_only {
@@ -348,15 +360,24 @@ fn why_not(d: &Design) -> String {
         .map(|c| c.name)
         .collect();
     if binding.is_empty() {
-        if !matches!(d.ended, Ended::Met | Ended::CheckedOnly) {
-            why.push(
+        match d.ended {
+            Ended::Met | Ended::CheckedOnly => {}
+            Ended::Stopped => why.push(
+                "no constraint binds: the --budget ran out before the search got there (try a \
+                 larger --budget, more --modes or another --seed)"
+                    .into(),
+            ),
+            Ended::Generations | Ended::Converged => why.push(
                 "no constraint binds: the search ended before it got there (try more \
                  --generations, --modes or another --seed)"
                     .into(),
-            );
+            ),
         }
     } else {
         why.push(format!("binding: {}", binding.join(", ")));
+        if matches!(d.ended, Ended::Stopped) {
+            why.push("the --budget ran out (a larger --budget searches further)".into());
+        }
     }
     why.join("; ")
 }

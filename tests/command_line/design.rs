@@ -296,6 +296,65 @@ fn a_design_is_written_with_its_scale_and_as_an_stl_that_fits_back() {
         std::fs::read(d.join("again.json")).unwrap(),
         std::fs::read(&json).unwrap()
     );
+    // Checked again from its file, the body is checked at the file's 40 mm, not the default
+    // 10 mm (where the guide's 10°/11° cylinder misses its band), and the copy keeps the scale.
+    let check = |extra: &[&str], copy: &str| {
+        let mut args = vec![
+            "design",
+            "--dim",
+            "2",
+            "--check-only",
+            "--from",
+            json.to_str().unwrap(),
+            "--alpha-star",
+            "0.18326",
+            "--alpha-band",
+            "0.0087",
+        ];
+        args.extend_from_slice(extra);
+        let copy = d.join(copy);
+        args.extend_from_slice(&["-o", copy.to_str().unwrap(), "--json"]);
+        let out = rollphase(&args);
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let shape: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&copy).unwrap()).unwrap();
+        (out.status.code(), report, shape["scale_mm"].clone())
+    };
+    let (code, report, scale) = check(&[], "checked.json");
+    assert_eq!(
+        (code, scale, &report["scale_mm"]),
+        (Some(0), 40.0.into(), &40.0.into())
+    );
+    let (code, report, scale) = check(&["--scale-mm", "10"], "at10.json");
+    assert_eq!(
+        (code, scale, &report["holds"]),
+        (Some(1), 10.0.into(), &false.into())
+    );
+    // An STL that cannot be written costs the STL only: the body is written and the report
+    // printed first, and the error says where the body is.
+    let kept = d.join("kept.json");
+    let out = rollphase([
+        "design",
+        "--dim",
+        "2",
+        "--check-only",
+        "--from",
+        json.to_str().unwrap(),
+        "--alpha-star",
+        "0.18326",
+        "--alpha-band",
+        "0.0087",
+        "-o",
+        kept.to_str().unwrap(),
+        "--stl",
+        "/dev/full",
+    ]);
+    fails_with(&out, 1, &["the STL was not written", "kept.json"]);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("holds: yes"));
+    assert_eq!(
+        std::fs::read(&kept).unwrap(),
+        std::fs::read(d.join("checked.json")).unwrap()
+    );
 }
 
 #[test]

@@ -52,6 +52,10 @@ pub const MAX_ORBITS: usize = 16;
 /// Most print errors a check may draw.
 pub const MAX_DRAWS: usize = 10_000;
 
+/// Millimetres per ⟨r⟩ when neither the caller nor the start body's file names a scale: the
+/// authors' prints.
+pub const DEFAULT_SCALE_MM: f64 = 10.0;
+
 /// What to design.
 #[derive(Debug, Clone)]
 pub struct DesignOptions {
