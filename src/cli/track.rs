@@ -216,7 +216,6 @@ pub fn run(a: TrackArgs) -> Result<()> {
     let markers: Vec<(f64, f64, f64)> = match &a.markers {
         Some(path) => read_columns(path, &columns)?
             .into_iter()
-            .filter(|r| r.iter().all(|v| v.is_finite()))
             .map(|r| (r[0], r[2] * sy, r[1] * sx))
             .collect(),
         None => Vec::new(),
@@ -229,11 +228,7 @@ pub fn run(a: TrackArgs) -> Result<()> {
         .collect();
     let folded_centre = fold(&centre_points, start, origin, fit.period_frames, advance);
     let end = track.frames[track.frames.len() - 1];
-    let in_range: Vec<(f64, f64, f64)> = markers
-        .iter()
-        .copied()
-        .filter(|m| m.0 >= start && m.0 <= end)
-        .collect();
+    let (markers, in_range) = markers_on_track(a.markers.as_deref(), markers, start, end)?;
     let folded_markers = fold(&in_range, start, origin, fit.period_frames, advance);
     let period_s = fit.period_frames / a.fps;
     let speed = fit.advance_down / period_s;
@@ -297,6 +292,45 @@ pub fn run(a: TrackArgs) -> Result<()> {
     )?;
     set.commit()?;
     print_summary(&a, &summary)
+}
+
+/// One marker detection: (frame, down, across).
+type Marker = (f64, f64, f64);
+
+/// The markers read (every row, `(frame, down, across)`) split into the finite ones and those
+/// of them within the track's frames `start..=end`. A markers file none of whose rows is a
+/// marker on the track is an error that says why, not a reading of nothing.
+fn markers_on_track(
+    path: Option<&std::path::Path>,
+    rows: Vec<Marker>,
+    start: f64,
+    end: f64,
+) -> Result<(Vec<Marker>, Vec<Marker>)> {
+    let read = rows.len();
+    let finite: Vec<(f64, f64, f64)> = rows
+        .into_iter()
+        .filter(|m| m.0.is_finite() && m.1.is_finite() && m.2.is_finite())
+        .collect();
+    let in_range: Vec<(f64, f64, f64)> = finite
+        .iter()
+        .copied()
+        .filter(|m| m.0 >= start && m.0 <= end)
+        .collect();
+    if let Some(path) = path
+        && in_range.is_empty()
+    {
+        bail!(
+            "{}: none of its {read} rows is a marker on the track: {} have a value that is not \
+             a finite number, and the other {} lie outside the track's frames {} to {} (is it \
+             the markers file of this run, with the same --frame-column?)",
+            path.display(),
+            read - finite.len(),
+            finite.len(),
+            super::short(start),
+            super::short(end)
+        );
+    }
+    Ok((finite, in_range))
 }
 
 /// [`measure`] with a progress bar on long tracks; a track refused for want of a period

@@ -328,6 +328,15 @@ fn cylinders_read_back_in_2d_with_the_axis_found_or_given() {
     let (again, _, _) = fit(&stl, &["--modes", "5", "--axis", "-0,-1,0"], &dir);
     let Body::Disk(again) = &again else { panic!() };
     assert!(disk_difference(again, given) == 0.0);
+    // Any length of the same direction is the same axis: 1e300 once overflowed to a zero axis
+    // ("the slice meets 0 edges"), 1e-300 to "not a direction".
+    for huge in ["0,-1e300,0", "0,-1e-300,0"] {
+        let (scaled, _, _) = fit(&stl, &["--modes", "5", "--axis", huge], &dir);
+        let Body::Disk(scaled) = &scaled else {
+            panic!()
+        };
+        assert!(disk_difference(scaled, given) == 0.0, "--axis {huge}");
+    }
     let max = (0..360)
         .map(|i| {
             let th = i as f64 * TAU / 360.0;

@@ -312,3 +312,27 @@ fn the_stated_error_covers_the_truth() {
         );
     }
 }
+
+/// A periodic track in absurd units is refused by name, not read as a straight line at
+/// constant speed (once its squares overflowed to infinity, and the period search said so).
+#[test]
+fn a_track_too_large_to_square_is_refused_by_name() {
+    use rollphase::analysis::experiment::tracking::{MAX_POSITION, clean};
+    let t = periodic(600, 20.0, 0.5, 0.05, 3);
+    let scaled = |k: f64| -> Vec<f64> { t.down.iter().map(|v| v * k).collect() };
+    let e = clean(&t.frames, &scaled(1e300), &t.across).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.contains("too large for the period search") && text.contains("1e100"),
+        "{text}"
+    );
+    // At the bound's scale the track is still a track, and its period the same.
+    let k = 0.5 * MAX_POSITION / t.down.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let big = clean(&t.frames, &scaled(k), &t.across).unwrap();
+    let fit = find_period(&big, &search(), &|_, _| {}).unwrap();
+    assert!(
+        (fit.period_frames - 20.0).abs() < 0.2,
+        "{}",
+        fit.period_frames
+    );
+}

@@ -146,6 +146,50 @@ fn the_authors_run_gives_their_period_and_advance_without_hand_picking() {
     );
 }
 
+/// Markers that are all NaN, or that never meet the track's frames, are no reading at all: an
+/// error that says which, and nothing written (once "too sparse to tell: 0 detections in 0
+/// cycles", exit 0).
+#[test]
+fn markers_that_never_meet_the_track_are_an_error_not_a_reading() {
+    let dir = scratch("no-markers");
+    for (name, rows, why) in [
+        (
+            "nan",
+            "208,nan,nan,nan,nan\n209,nan,nan,nan,nan\n",
+            "2 have a value that is not a finite",
+        ),
+        (
+            "elsewhere",
+            "1,5,5,0,0\n2,5,6,0,0\n",
+            "the other 2 lie outside the track's frames",
+        ),
+    ] {
+        let file = dir.join(format!("{name}-markers.csv"));
+        std::fs::write(&file, format!("frame,x,y,xn,yn\n{rows}")).unwrap();
+        let out = dir.join(name);
+        let r = rollphase([
+            "track",
+            data("sphere-track-viscous.csv").to_str().unwrap(),
+            "--markers",
+            file.to_str().unwrap(),
+            "--fps",
+            "30",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{name}: {err}");
+        assert!(
+            err.contains("none of its 2 rows is a marker") && err.contains(why),
+            "{err}"
+        );
+        assert!(
+            !out.join("summary.json").exists(),
+            "{name}: nothing written"
+        );
+    }
+}
+
 /// A synthetic track: period `period` frames, advancing `advance` units a period, with a wobble
 /// across and pseudo-random noise of `noise` units.
 fn synthetic(frames: usize, period: f64, advance: f64, noise: f64) -> Vec<(f64, f64, f64)> {

@@ -324,8 +324,10 @@ pub fn fit_mesh(
             )));
         }
     }
+    // Any finite non-zero vector is a direction, however long or short: it is scaled by its
+    // largest component before it is normalised, where its length would over- or underflow.
     if let Some(a) = options.axis
-        && !(a.is_finite() && a.length() > 0.0)
+        && !(a.is_finite() && a.abs().max_element() > 0.0)
     {
         return Err(MeshError::Options(format!(
             "axis {:?} is not a direction (needs a finite, non-zero vector)",
@@ -358,7 +360,7 @@ pub fn fit_mesh(
         );
     }
     let extrusion = match options.axis {
-        Some(a) => Some(a.normalize()),
+        Some(a) => Some((a / a.abs().max_element()).normalize()),
         None if options.dim == Some(3) => None,
         None => find_extrusion_axis(source, &totals, progress)?,
     };

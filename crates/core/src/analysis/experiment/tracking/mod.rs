@@ -109,6 +109,10 @@ pub struct CleanTrack {
     pub warnings: Vec<String>,
 }
 
+/// The largest |position| a track may hold: squares and sums of squares of such numbers stay
+/// finite in double precision.
+pub const MAX_POSITION: f64 = 1e100;
+
 /// Cleans a raw track: rows with a non-finite value dropped, gaps of up to
 /// [`MAX_BRIDGED_GAP`] frames bridged (a longer gap splits it: the longest piece is kept),
 /// jumps (a point ten median steps from the median of its four nearest neighbours) replaced by
@@ -138,6 +142,19 @@ pub fn clean(frames: &[f64], down: &[f64], across: &[f64]) -> Result<CleanTrack,
         .filter(|&i| frames[i].is_finite() && down[i].is_finite() && across[i].is_finite())
         .map(|i| (i, frames[i], down[i], across[i]))
         .collect();
+    // The period search squares positions (its mismatch and variances): past 1e100 those
+    // overflow, and a periodic track read as a straight line. No tracker writes such numbers.
+    if let Some(&(i, _, d, a)) = rows
+        .iter()
+        .find(|r| r.2.abs() > MAX_POSITION || r.3.abs() > MAX_POSITION)
+    {
+        return Err(TrackError::Damaged(format!(
+            "row {}: a position of {:e} is too large for the period search, which squares \
+             positions (needs |position| ≤ {MAX_POSITION:e}); give the track in sensible units",
+            i + 1,
+            if d.abs() > MAX_POSITION { d } else { a }
+        )));
+    }
     let dropped = frames.len() - rows.len();
     if dropped > 0 {
         if dropped * 5 > frames.len() {
