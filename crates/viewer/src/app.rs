@@ -190,17 +190,17 @@ impl App {
         if std::env::var_os("WGPU_BACKEND").is_none() {
             desc.backends = wgpu::Backends::VULKAN | wgpu::Backends::GL;
         }
+        let backends = desc.backends;
         let instance = wgpu::Instance::new(desc);
         let surface = instance
             .create_surface(window.clone())
             .map_err(|e| anyhow!("cannot draw into the window: {e}"))?;
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: Some(&surface),
-            apply_limit_buckets: false,
-        }))
-        .map_err(|_| {
+        let drawable: Vec<wgpu::Adapter> =
+            pollster::block_on(instance.enumerate_adapters(backends))
+                .into_iter()
+                .filter(|a| a.is_surface_supported(&surface))
+                .collect();
+        let adapter = crate::render::gpu::pick(drawable).ok_or_else(|| {
             anyhow!(
                 "no GPU adapter can draw into this window: install Mesa's drivers \
                  (Debian/Ubuntu: apt-get install libegl1 libgl1-mesa-dri), or use --headless"
