@@ -655,3 +655,36 @@ fn a_scene_named_like_a_frame_in_out_is_refused_before_rendering() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Where only CPU renderers exist, the render goes through llvmpipe's GL, the faster of Mesa's
+/// two (lavapipe's Vulkan is not even loaded), says so, and prints no `error:` line: loading
+/// lavapipe without a session made libwayland print "error: XDG_RUNTIME_DIR is invalid or not
+/// set" twice on every successful render. `.ci/run` installs lavapipe so this is tested with it.
+#[test]
+fn a_render_on_a_cpu_renderer_takes_gl_and_prints_no_error_line() {
+    let dir = temp("quiet");
+    let o = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("WGPU_BACKEND")
+        .args([
+            "--headless",
+            "--frames",
+            "2",
+            "--size",
+            "160x90",
+            "--out",
+            dir.join("f").to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        !err.lines().any(|l| l.trim_start().starts_with("error")),
+        "{err}"
+    );
+    let said = String::from_utf8_lossy(&o.stdout);
+    if said.contains("Cpu)") {
+        assert!(said.contains("(Gl, Cpu)"), "{said}");
+    }
+}

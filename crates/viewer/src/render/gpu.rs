@@ -52,7 +52,7 @@ impl GpuContext {
     pub fn headless() -> Result<Self, GpuError> {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
         if std::env::var_os("WGPU_BACKEND").is_none() {
-            desc.backends = wgpu::Backends::VULKAN | wgpu::Backends::GL;
+            desc.backends = default_backends();
         }
         let backends = desc.backends;
         let instance = wgpu::Instance::new(desc);
@@ -95,6 +95,94 @@ impl GpuContext {
         let info = self.adapter.get_info();
         format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type)
     }
+}
+
+/// The backends asked for when `WGPU_BACKEND` names none: GL always, Vulkan only where it
+/// could reach a GPU: a Vulkan driver other than Mesa's lavapipe is installed and a GPU's
+/// device node exists (`/dev/dri/renderD*`, `/dev/nvidia*`, WSL's `/dev/dxg`). Elsewhere
+/// Vulkan can only give lavapipe, which the GL adapter ([`preferred_adapter`]) beats anyway,
+/// and merely loading Mesa's Vulkan drivers (`mesa-vulkan-drivers` installs lavapipe, Intel's
+/// and AMD's together) makes libwayland print "error: XDG_RUNTIME_DIR is invalid or not set"
+/// twice on a machine without a session, on every successful render.
+pub fn default_backends() -> wgpu::Backends {
+    let manifests: Vec<String> = vulkan_driver_manifests()
+        .iter()
+        .filter_map(|path| std::fs::read_to_string(path).ok())
+        .collect();
+    if any_vulkan_driver_beyond_lavapipe(&manifests) && gpu_device_node_exists() {
+        wgpu::Backends::VULKAN | wgpu::Backends::GL
+    } else {
+        wgpu::Backends::GL
+    }
+}
+
+/// Whether a GPU's device node exists: a DRM render node, NVIDIA's device, or WSL's.
+fn gpu_device_node_exists() -> bool {
+    let named = |dir: &str, prefix: &str| {
+        std::fs::read_dir(dir).is_ok_and(|entries| {
+            entries
+                .filter_map(Result::ok)
+                .any(|e| e.file_name().to_string_lossy().starts_with(prefix))
+        })
+    };
+    named("/dev/dri", "renderD") || named("/dev", "nvidia") || named("/dev", "dxg")
+}
+
+/// Whether any of these Vulkan driver manifests (the ICD JSON files the Vulkan loader reads)
+/// names a driver other than lavapipe (`libvulkan_lvp.so`), the CPU renderer.
+///
+/// # Example
+/// ```
+/// use rollphase_viewer::render::gpu::any_vulkan_driver_beyond_lavapipe;
+/// let lavapipe = r#"{"ICD": {"library_path": "libvulkan_lvp.so", "api_version": "1.3.230"}}"#;
+/// let nvidia = r#"{"ICD": {"library_path": "libGLX_nvidia.so.0", "api_version": "1.3.277"}}"#;
+/// assert!(!any_vulkan_driver_beyond_lavapipe(&[lavapipe.to_string()]));
+/// assert!(any_vulkan_driver_beyond_lavapipe(&[lavapipe.to_string(), nvidia.to_string()]));
+/// assert!(!any_vulkan_driver_beyond_lavapipe(&[]));
+/// ```
+pub fn any_vulkan_driver_beyond_lavapipe(manifests: &[String]) -> bool {
+    manifests.iter().any(|m| !m.contains("libvulkan_lvp"))
+}
+
+/// The Vulkan driver manifests the loader would read: those `VK_DRIVER_FILES` or
+/// `VK_ICD_FILENAMES` name (a colon-separated list of files or folders), else every `*.json`
+/// in the loader's standard folders, plus `VK_ADD_DRIVER_FILES`.
+fn vulkan_driver_manifests() -> Vec<std::path::PathBuf> {
+    use std::path::{Path, PathBuf};
+    let split = |v: std::ffi::OsString| -> Vec<PathBuf> { std::env::split_paths(&v).collect() };
+    let mut places: Vec<PathBuf> = match std::env::var_os("VK_DRIVER_FILES")
+        .or_else(|| std::env::var_os("VK_ICD_FILENAMES"))
+    {
+        Some(list) => split(list),
+        None => {
+            let config = std::env::var_os("XDG_CONFIG_DIRS").unwrap_or_else(|| "/etc/xdg".into());
+            let data = std::env::var_os("XDG_DATA_DIRS")
+                .unwrap_or_else(|| "/usr/local/share:/usr/share".into());
+            let mut roots = split(config);
+            roots.push(PathBuf::from("/etc"));
+            roots.extend(split(data));
+            if let Some(home) = std::env::var_os("HOME") {
+                roots.push(Path::new(&home).join(".local/share"));
+            }
+            roots.into_iter().map(|r| r.join("vulkan/icd.d")).collect()
+        }
+    };
+    if let Some(more) = std::env::var_os("VK_ADD_DRIVER_FILES") {
+        places.extend(split(more));
+    }
+    let mut files = Vec::new();
+    for place in places {
+        match std::fs::read_dir(&place) {
+            Ok(entries) => files.extend(
+                entries
+                    .filter_map(|e| e.ok().map(|e| e.path()))
+                    .filter(|p| p.extension().is_some_and(|x| x == "json")),
+            ),
+            Err(_) if place.is_file() => files.push(place),
+            Err(_) => {}
+        }
+    }
+    files
 }
 
 /// The adapter [`preferred_adapter`] ranks first of `adapters`, taken out of the list.
