@@ -419,3 +419,111 @@ fn a_bad_saved_state_is_refused_with_what_is_wrong() {
         assert!(err.contains(expected), "{resume}: {err}");
     }
 }
+
+/// The model's CSV row (as `simulate` writes it, without the contact force) at the run's state.
+struct RowOf(f64);
+
+impl rollphase::dynamics::ModelVisitor for RowOf {
+    type Output = Vec<f64>;
+
+    fn visit<const N: usize, M: rollphase::dynamics::RollingModel<N>>(
+        self,
+        model: &M,
+        y: &[f64; N],
+    ) -> Vec<f64> {
+        let mut row = Vec::new();
+        model.row(self.0, y, &mut row);
+        row
+    }
+}
+
+/// The run you watch is the run you would compute (issue 62): a scene advanced frame by frame at
+/// 60 and at 8 frames a second (with a pause of a few frames on the way), and the same scene run
+/// by `simulate` (rows from its dense output at t = 100 and 400, its run going on to 500), give
+/// the same rows to the bit, at the fast and the balanced settings. The live run once built a
+/// new stepper every frame, whose steps ended where the frames fell: the two frame rates
+/// differed by 3e-6 at the balanced setting.
+#[test]
+fn the_live_run_is_simulates_run_at_any_frame_rate() {
+    use rollphase::integrate::Preset;
+    use rollphase::simulate::{InitialState, RunSpec, Start, run};
+    for name in ["sphere-cruising", "cylinder-hysteresis"] {
+        for setting in [Preset::Fast, Preset::Balanced] {
+            let mut scene = Scene::preset(name).unwrap();
+            scene.integrator = rollphase::scene::IntegratorSpec {
+                preset: Some(setting),
+                ..Default::default()
+            };
+            let mut setup = scene.setup(None).unwrap();
+            assert!(setup.timeline.is_empty(), "{name}: no lesson steps");
+            let initial = match &setup.start {
+                Start::Disk {
+                    theta0, theta_dot0, ..
+                } => InitialState::Disk {
+                    theta0: *theta0,
+                    theta_dot0: *theta_dot0,
+                },
+                Start::Sphere { q0, omega0, .. } => InitialState::Sphere {
+                    q0: *q0,
+                    omega0: *omega0,
+                },
+            };
+            // The start as `simulate` makes it from those numbers (it normalises q₀ again).
+            setup.start = Start::new(&setup.body, initial).unwrap();
+            let spec = RunSpec {
+                ramp: setup.ramp,
+                initial,
+                method: setup.method,
+                t_end: 500.0,
+                samples: 6,
+                max_steps: 50_000_000,
+                limits: setup.limits,
+            };
+            let mut rows: Vec<Vec<f64>> = Vec::new();
+            run(&setup.body, &spec, |r| rows.push(r.to_vec())).unwrap();
+            let speed = setup.scene.playback.speed;
+            for fps in [60.0, 8.0] {
+                let mut live = LiveRun::new(setup.clone());
+                let tick = speed / fps;
+                let mut frame = 0u64;
+                let mut t = 0.0;
+                for (k, target) in [(1, 100.0), (4, 400.0)] {
+                    // Frames a tick apart, a few of them paused (asking for no new time), and
+                    // one at the target itself.
+                    while t + tick < target - 1e-6 {
+                        frame += 1;
+                        if !(50..55).contains(&frame) {
+                            t += tick;
+                        }
+                        live.advance_to(t).unwrap();
+                    }
+                    t = target;
+                    live.advance_to(t).unwrap();
+                    assert_eq!(live.time(), target);
+                    let shown = live.state().visit(&live.ramp(), RowOf(live.time()));
+                    // The columns the integrator carries (t, θ, θ̇ …; t, q, x, y) to the bit. A
+                    // sphere's contact columns (u, ω, z) are solved for at each row by Newton's
+                    // method warm-started from the integrator's last contact, which a row taken
+                    // aside does not have: they agree to rounding.
+                    let carried: Vec<usize> = match shown.len() {
+                        14 => vec![0, 1, 2, 3, 4, 11, 12],
+                        n => (0..n).collect(),
+                    };
+                    for i in carried {
+                        assert_eq!(
+                            shown[i], rows[k][i],
+                            "{name} at {setting:?}, {fps} frames/s: t = {target}, column {i}"
+                        );
+                    }
+                    for (i, (a, b)) in shown.iter().zip(&rows[k]).enumerate() {
+                        assert!(
+                            (a - b).abs() <= 1e-12 * (1.0 + b.abs()),
+                            "{name} at {setting:?}, {fps} frames/s: t = {target}, column {i}: \
+                             {a} against {b}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

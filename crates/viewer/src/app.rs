@@ -188,7 +188,7 @@ impl App {
             event_loop.owned_display_handle(),
         ));
         if std::env::var_os("WGPU_BACKEND").is_none() {
-            desc.backends = wgpu::Backends::VULKAN | wgpu::Backends::GL;
+            desc.backends = crate::render::gpu::default_backends();
         }
         let backends = desc.backends;
         let instance = wgpu::Instance::new(desc);

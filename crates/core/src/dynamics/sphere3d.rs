@@ -58,6 +58,34 @@ impl<'a> ContactTracker<'a> {
         found
     }
 
+    /// The warm start as numbers ([`OdeSystem::memory`]): empty before the first look-up.
+    fn memory(&self) -> Vec<f64> {
+        let Some(sp) = self.last.get() else {
+            return Vec::new();
+        };
+        let mut m = Vec::with_capacity(22);
+        for v in [sp.u, sp.p, sp.grad_s, sp.normal, sp.tangent.0, sp.tangent.1] {
+            m.extend(v.to_array());
+        }
+        m.push(sp.r);
+        m.extend(sp.shape_in_tangent);
+        m
+    }
+
+    /// Restores [`Self::memory`]; anything but its 22 numbers (or none) clears the warm start.
+    fn restore_memory(&self, m: &[f64]) {
+        let v = |k: usize| DVec3::new(m[3 * k], m[3 * k + 1], m[3 * k + 2]);
+        self.last.set((m.len() == 22).then(|| SurfacePoint {
+            u: v(0),
+            p: v(1),
+            grad_s: v(2),
+            normal: v(3),
+            tangent: (v(4), v(5)),
+            r: m[18],
+            shape_in_tangent: [m[19], m[20], m[21]],
+        }));
+    }
+
     /// [`Self::contact`] that leaves the warm start alone: for observers (the contact-force
     /// watch, the sampled rows, the health, a rest test), whose look-ups must not move where
     /// the integrator's next Newton search starts, and so its last bits: a run that records
@@ -271,6 +299,12 @@ impl SphereViscous<'_> {
 }
 
 impl OdeSystem<6> for SphereViscous<'_> {
+    fn memory(&self) -> Vec<f64> {
+        self.tracker.memory()
+    }
+    fn restore_memory(&self, memory: &[f64]) {
+        self.tracker.restore_memory(memory);
+    }
     fn rhs(&self, _t: f64, y: &[f64; 6]) -> [f64; 6] {
         self.rhs_with(y, |q| self.tracker.contact(q))
     }
@@ -486,6 +520,12 @@ impl SphereInertial<'_> {
 }
 
 impl OdeSystem<10> for SphereInertial<'_> {
+    fn memory(&self) -> Vec<f64> {
+        self.tracker.memory()
+    }
+    fn restore_memory(&self, memory: &[f64]) {
+        self.tracker.restore_memory(memory);
+    }
     fn rhs(&self, _t: f64, y: &[f64; 10]) -> [f64; 10] {
         self.rhs_with(y, |q| self.tracker.contact(q))
     }
@@ -683,7 +723,7 @@ fn sphere_observation(
         centre: o.centre,
         contact_on_ramp: DVec3::new(on_ramp.x, on_ramp.y, 0.0),
         contact_in_body: in_body,
-        orientation: Some(o.q),
+        orientation: Some(q),
         angular_speed: o.omega.length(),
         ramp_torque: (q * in_body).cross(weight).length(),
         theta: None,

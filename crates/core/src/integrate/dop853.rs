@@ -7,7 +7,7 @@
 //! new step h·clamp(0.9·err^(−1/8), 0.2, 10), no growth right after a rejection.
 //!
 //! When the system carries a unit quaternion ([`OdeSystem::quaternion_slot`]) it is renormalised
-//! after every accepted step. This is the standard projection method (Hairer, Lubich & Wanner,
+//! after every accepted step, and in the dense output. This is the standard projection method (Hairer, Lubich & Wanner,
 //! *Geometric Numerical Integration*, §IV.4): the projection moves q by at most the step's local
 //! error, so the order is kept, and |q| = 1 then holds to round-off over any horizon instead of
 //! drifting by the accumulated local errors (measured on a 3D viscous run at rtol 1e-10 over 10⁵
@@ -280,6 +280,41 @@ impl<'a, S: OdeSystem<N>, const N: usize> Dop853<'a, S, N> {
         s
     }
 
+    /// Takes up a stepper put down by [`Stepper::detach`] on `system` (`None` if it was not a
+    /// DOP853 stepper of this state size).
+    pub(crate) fn attach(system: &'a S, d: &super::Detached) -> Option<Self> {
+        let super::Method::Dop853 { rtol, atol } = d.method else {
+            return None;
+        };
+        // t, t_prev, h; y, y_prev; 16 stages; 7 polynomial coefficients.
+        if d.dimension != N || d.numbers.len() != 3 + 25 * N {
+            return None;
+        }
+        let mut blocks = d.numbers[3..].chunks_exact(N).map(|c| {
+            let mut a = [0.0; N];
+            a.copy_from_slice(c);
+            a
+        });
+        let mut next = || blocks.next().unwrap_or([0.0; N]);
+        let (y, y_prev) = (next(), next());
+        let k: [[f64; N]; 16] = std::array::from_fn(|_| next());
+        let poly: [[f64; N]; 7] = std::array::from_fn(|_| next());
+        Some(Self {
+            system,
+            rtol,
+            atol,
+            t: d.numbers[0],
+            y,
+            t_prev: d.numbers[1],
+            y_prev,
+            h: d.numbers[2],
+            k,
+            dense_ready: d.dense_ready,
+            poly,
+            stats: d.stats,
+        })
+    }
+
     fn scale(&self, a: f64, b: f64) -> f64 {
         self.atol + self.rtol * a.abs().max(b.abs())
     }
@@ -374,6 +409,29 @@ impl<'a, S: OdeSystem<N>, const N: usize> Dop853<'a, S, N> {
 }
 
 impl<S: OdeSystem<N>, const N: usize> Stepper<N> for Dop853<'_, S, N> {
+    fn detach(&self) -> super::Detached {
+        let mut numbers = Vec::with_capacity(3 + 25 * N);
+        numbers.extend([self.t, self.t_prev, self.h]);
+        for block in [&self.y, &self.y_prev]
+            .into_iter()
+            .chain(&self.k)
+            .chain(&self.poly)
+        {
+            numbers.extend_from_slice(block);
+        }
+        super::Detached {
+            method: super::Method::Dop853 {
+                rtol: self.rtol,
+                atol: self.atol,
+            },
+            dimension: N,
+            numbers,
+            memory: self.system.memory(),
+            dense_ready: self.dense_ready,
+            stats: self.stats,
+        }
+    }
+
     fn t(&self) -> f64 {
         self.t
     }
@@ -492,6 +550,10 @@ impl<S: OdeSystem<N>, const N: usize> Stepper<N> for Dop853<'_, S, N> {
         for (yi, y0) in y.iter_mut().zip(&self.y_prev) {
             *yi += y0;
         }
+        // The interpolant's q projected as the steps' are (it moves by at most the
+        // interpolation error): a state read between steps, which the app shows and saves, is
+        // as much a rotation as one at a step's end.
+        self.project(&mut y);
         y
     }
 

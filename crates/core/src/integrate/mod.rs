@@ -52,6 +52,17 @@ pub trait OdeSystem<const N: usize> {
         self.rhs(t, y)
     }
 
+    /// What the right-hand side remembers between calls (an inner solve's warm start, which
+    /// moves the last bits of the next evaluation), as numbers: a run put down ([`Detached`])
+    /// keeps it, so that taken up on a new copy of the system it goes on bit for bit. Empty
+    /// (the default) for systems that remember nothing.
+    fn memory(&self) -> Vec<f64> {
+        Vec::new()
+    }
+
+    /// Restores what [`Self::memory`] gave (ignored where it does not fit).
+    fn restore_memory(&self, _memory: &[f64]) {}
+
     /// Index of the first of four slots holding an orientation quaternion (w, x, y, z) that
     /// evolves as q̇ = ½ ω q, if the state has one. Lie-group steps use it to advance q by an
     /// exponential map; adaptive steps use it to report and control |q| − 1.
@@ -265,6 +276,85 @@ pub struct Stats {
     pub rejected: u64,
 }
 
+/// A stepper put down without its system: every number its next step and its last step's
+/// interpolant depend on (time, state, proposed step, stages, interpolant, counters), so that
+/// taken up again by [`run::Run::resume`] it continues bit for bit as if it had never stopped.
+/// The app's live run keeps one between frames, so where the frames fall never moves the steps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Detached {
+    pub(crate) method: Method,
+    pub(crate) dimension: usize,
+    pub(crate) numbers: Vec<f64>,
+    /// The system's own memory ([`OdeSystem::memory`]).
+    pub(crate) memory: Vec<f64>,
+    pub(crate) dense_ready: bool,
+    pub(crate) stats: Stats,
+}
+
+impl Detached {
+    /// The time the stepper had reached.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+    /// struct Line;
+    /// impl OdeSystem<1> for Line {
+    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+    ///         [1.0]
+    ///     }
+    /// }
+    /// let mut run = Run::new(&Line, 0.0, [0.0], Method::Rk4 { dt: 0.5 })?;
+    /// run.until::<IntegrateError>(1.0, u64::MAX, |_| Ok(Flow::Continue))?;
+    /// assert_eq!(run.detach().t(), 1.0);
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn t(&self) -> f64 {
+        self.numbers[0]
+    }
+
+    /// The method it steps with.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::Run;
+    /// use rollphase_core::integrate::{Method, OdeSystem};
+    /// struct Still;
+    /// impl OdeSystem<1> for Still {
+    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+    ///         [0.0]
+    ///     }
+    /// }
+    /// let run = Run::new(&Still, 0.0, [1.0], Method::Cf4 { dt: 0.1 })?;
+    /// assert_eq!(run.detach().method(), Method::Cf4 { dt: 0.1 });
+    /// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
+    /// ```
+    pub fn method(&self) -> Method {
+        self.method
+    }
+}
+
+/// Takes up a [`Detached`] stepper on `system`; `None` when it was put down by a stepper of
+/// another state size.
+pub(crate) fn attach<'a, S, const N: usize>(
+    system: &'a S,
+    detached: &Detached,
+) -> Option<Box<dyn Stepper<N> + 'a>>
+where
+    S: OdeSystem<N>,
+{
+    if detached.dimension != N {
+        return None;
+    }
+    system.restore_memory(&detached.memory);
+    Some(match detached.method {
+        Method::Dop853 { .. } => Box::new(dop853::Dop853::attach(system, detached)?),
+        Method::Rk4 { .. } | Method::Cf4 { .. } => {
+            Box::new(rk4::FixedStep::attach(system, detached)?)
+        }
+    })
+}
+
 /// A one-step method advancing one trajectory, with an interpolant over its last step.
 pub trait Stepper<const N: usize> {
     /// Current time.
@@ -281,6 +371,8 @@ pub trait Stepper<const N: usize> {
     fn dense(&mut self, t: f64) -> [f64; N];
     /// Work done so far.
     fn stats(&self) -> Stats;
+    /// Puts the stepper down without its system ([`Detached`]).
+    fn detach(&self) -> Detached;
     /// The largest local error estimate a fixed-step method has checked so far (relative to
     /// 1 + |y|, see [`rk4`]); `None` for adaptive methods, which control their error.
     fn largest_error_estimate(&self) -> Option<f64> {

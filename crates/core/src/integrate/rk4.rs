@@ -94,6 +94,40 @@ impl<'a, S: OdeSystem<N>, const N: usize> FixedStep<'a, S, N> {
     }
 }
 
+impl<'a, S: OdeSystem<N>, const N: usize> FixedStep<'a, S, N> {
+    /// Takes up a stepper put down by [`Stepper::detach`] on `system` (`None` if it was not a
+    /// fixed-step stepper of this state size).
+    pub(crate) fn attach(system: &'a S, d: &super::Detached) -> Option<Self> {
+        let scheme = match d.method {
+            super::Method::Rk4 { .. } => Scheme::Rk4,
+            super::Method::Cf4 { .. } => Scheme::Cf4,
+            super::Method::Dop853 { .. } => return None,
+        };
+        // t, dt, t_prev, largest estimate; y, f, y_prev, f_prev.
+        if d.dimension != N || d.numbers.len() != 4 + 4 * N {
+            return None;
+        }
+        let block = |k: usize| {
+            let mut a = [0.0; N];
+            a.copy_from_slice(&d.numbers[4 + k * N..4 + (k + 1) * N]);
+            a
+        };
+        Some(Self {
+            system,
+            scheme,
+            t: d.numbers[0],
+            dt: d.numbers[1],
+            y: block(0),
+            f: block(1),
+            t_prev: d.numbers[2],
+            y_prev: block(2),
+            f_prev: block(3),
+            stats: d.stats,
+            largest_estimate: d.numbers[3],
+        })
+    }
+}
+
 /// The step-doubling estimate a *suggested* step aims at: far below [`FIXED_STEP_TOLERANCE`],
 /// because passing the check is not keeping the answers. On the paper's sphere at α = 0.2
 /// (`bench accuracy`'s answer table, `tests/physics/fixed_step_check.rs`), RK4 and CF4 at dt 0.5
@@ -118,6 +152,26 @@ fn suggested_step(h: f64, estimate: f64) -> f64 {
 }
 
 impl<S: OdeSystem<N>, const N: usize> Stepper<N> for FixedStep<'_, S, N> {
+    fn detach(&self) -> super::Detached {
+        let mut numbers = Vec::with_capacity(4 + 4 * N);
+        // t first: Detached::t reads it there.
+        numbers.extend([self.t, self.dt, self.t_prev, self.largest_estimate]);
+        for block in [&self.y, &self.f, &self.y_prev, &self.f_prev] {
+            numbers.extend_from_slice(block);
+        }
+        super::Detached {
+            method: match self.scheme {
+                Scheme::Rk4 => super::Method::Rk4 { dt: self.dt },
+                Scheme::Cf4 => super::Method::Cf4 { dt: self.dt },
+            },
+            dimension: N,
+            numbers,
+            memory: self.system.memory(),
+            dense_ready: false,
+            stats: self.stats,
+        }
+    }
+
     fn t(&self) -> f64 {
         self.t
     }

@@ -85,6 +85,111 @@ impl<'a, const N: usize> Run<'a, N> {
         Ok(Run { stepper })
     }
 
+    /// The run `detached` was put down from ([`Self::detach`]), taken up again on `system`: it
+    /// continues bit for bit as if it had never stopped (the same steps, the same interpolant
+    /// of the last step). `None` when `detached` is of another state size. Not a new run: it
+    /// does not count in [`runs_started`].
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+    /// struct Decay;
+    /// impl OdeSystem<1> for Decay {
+    ///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+    ///         [-y[0]]
+    ///     }
+    /// }
+    /// // One run to t = 3 against one put down after every step and taken up again.
+    /// let mut whole = Run::new(&Decay, 0.0, [1.0], Method::dop853(1e-9))?;
+    /// whole.until::<IntegrateError>(3.0, u64::MAX, |_| Ok(Flow::Continue))?;
+    /// let mut put_down = Run::new(&Decay, 0.0, [1.0], Method::dop853(1e-9))?.detach();
+    /// while put_down.t() < 3.0 {
+    ///     let mut run = Run::resume(&Decay, &put_down).unwrap();
+    ///     run.until::<IntegrateError>(3.0, u64::MAX, |_| Ok(Flow::Stop))?;
+    ///     put_down = run.detach();
+    /// }
+    /// let last = Run::resume(&Decay, &put_down).unwrap();
+    /// assert_eq!((last.t(), last.y()), (whole.t(), whole.y()));
+    /// assert_eq!(last.stats(), whole.stats());
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn resume<S: OdeSystem<N>>(system: &'a S, detached: &super::Detached) -> Option<Self> {
+        Some(Run {
+            stepper: super::attach(system, detached)?,
+        })
+    }
+
+    /// Puts the run down ([`super::Detached`]), to be taken up again by [`Self::resume`].
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+    /// struct Line;
+    /// impl OdeSystem<1> for Line {
+    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+    ///         [1.0]
+    ///     }
+    /// }
+    /// let mut run = Run::new(&Line, 0.0, [0.0], Method::dop853(1e-9))?;
+    /// run.until::<IntegrateError>(2.0, u64::MAX, |_| Ok(Flow::Continue))?;
+    /// let again = Run::resume(&Line, &run.detach()).unwrap();
+    /// assert_eq!((again.t(), again.y(), again.stats()), (run.t(), run.y(), run.stats()));
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn detach(&self) -> super::Detached {
+        self.stepper.detach()
+    }
+
+    /// The state at `t` within the last step, from its interpolant (`t` in
+    /// [[`Self::t_prev`], [`Self::t`]]); at the start, before any step, the start.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+    /// struct Line;
+    /// impl OdeSystem<1> for Line {
+    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+    ///         [2.0]
+    ///     }
+    /// }
+    /// let mut run = Run::new(&Line, 0.0, [0.0], Method::Rk4 { dt: 0.5 })?;
+    /// assert_eq!(run.dense(0.3), [0.0]);
+    /// run.until::<IntegrateError>(1.0, u64::MAX, |_| Ok(Flow::Continue))?;
+    /// assert_eq!(run.t_prev(), 0.5);
+    /// assert!((run.dense(0.75)[0] - 1.5).abs() < 1e-15);
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn dense(&mut self, t: f64) -> [f64; N] {
+        if self.stepper.stats().steps == 0 {
+            return *self.stepper.y();
+        }
+        self.stepper.dense(t)
+    }
+
+    /// Where the last step began (see [`Self::dense`]'s example).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::integrate::run::{Flow, Run};
+    /// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+    /// struct Still;
+    /// impl OdeSystem<1> for Still {
+    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
+    ///         [0.0]
+    ///     }
+    /// }
+    /// let mut run = Run::new(&Still, 0.0, [1.0], Method::Rk4 { dt: 0.25 })?;
+    /// run.until::<IntegrateError>(1.0, u64::MAX, |_| Ok(Flow::Continue))?;
+    /// assert_eq!((run.t_prev(), run.t()), (0.75, 1.0));
+    /// # Ok::<(), IntegrateError>(())
+    /// ```
+    pub fn t_prev(&self) -> f64 {
+        self.stepper.t_prev()
+    }
+
     /// A run of a stepper built elsewhere (by [`super::stepper`]).
     ///
     /// # Example

@@ -12,7 +12,7 @@ use crate::geometry::Body;
 use crate::geometry::sphere::angles;
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::run::{Flow, Run};
-use crate::integrate::{self, IntegrateError, Method};
+use crate::integrate::{self, Detached, IntegrateError, Method};
 use crate::scene::{SceneSetup, Step, ViewsSpec};
 use crate::simulate::{ModelState, choose_model, locate_switch};
 
@@ -25,6 +25,10 @@ use thiserror::Error;
 const MAX_CROSSINGS_KEPT: usize = 12;
 /// Step budget of one `advance_to` (a frame), against a stuck integrator.
 const MAX_STEPS_PER_ADVANCE: u64 = 5_000_000;
+/// How far ahead of the time shown the live run asks its steps to go (t0): farther than any
+/// step goes, so the steps are the integrator's own, as in a `simulate` run up to a later end;
+/// near enough that the integrator's smallest step, 16 ε of the span asked for, stays 4e-9.
+const LOOK_AHEAD: f64 = 1e6;
 /// Most switches (tips across a dented cylinder's flats) one advance may take.
 const MAX_SWITCHES_PER_ADVANCE: usize = 100_000;
 
@@ -237,6 +241,22 @@ pub struct LiveRun {
     plot_samples: VecDeque<Sample>,
     /// The index k of the next sample, at t = k · [`PLOT_SAMPLE_DT`].
     next_plot_k: u64,
+    /// The integration in progress, put down between frames: its steps end where the
+    /// integrator puts them (or at a timeline step, or a switch), never where a frame falls,
+    /// and a frame shows the state at its time from the last step's interpolant. So the run is
+    /// the same at any frame rate, paused or not, and the same as `simulate`'s. `None` until
+    /// the first step, and after α, m/m0, the integrator or the drag law change.
+    continuation: Option<Continuation>,
+}
+
+/// See [`LiveRun::continuation`].
+#[derive(Debug, Clone)]
+struct Continuation {
+    /// The stepper, put down where its last step ended: at or past the time shown.
+    stepper: Detached,
+    /// A hybrid model's switch (a tip across a dented cylinder's flat) found in the last step
+    /// and not yet reached by the time shown: its time and the state there, before it.
+    switch: Option<(f64, Vec<f64>)>,
 }
 
 /// Simulation time between two samples of the plots' time series (θ(t), θ̇(θ), the health and
@@ -304,6 +324,7 @@ impl LiveRun {
             start_views,
             contact,
             hull_tips: setup_body_dented.then_some((0, 0.0)),
+            continuation: None,
         };
         let o = observe(&sim.state, &sim.ramp);
         sim.energy0 = o.energy;
@@ -443,6 +464,8 @@ impl LiveRun {
             .map_err(|e| SimError::Refused(e.to_string()))?;
         let ramp = choice.ramp;
         self.stopped = None;
+        // A new model or integrator from the time shown: the run in progress ends there.
+        self.continuation = None;
         self.state = self.state.clone().for_ramp(&ramp);
         self.ramp = ramp;
         self.method = method;
@@ -510,95 +533,158 @@ impl LiveRun {
         Ok(())
     }
 
-    /// Steps `model` from `y0` to `t_target`, recording crossings of its section, the trails
-    /// and the health as it goes; returns the new state. A dented cylinder's switches (a tip
-    /// across a flat of its hull, a rest on one) restart the integration from the state after
-    /// the switch, as `simulate::run` does.
+    /// Steps `model` on to `t_target` and returns the state shown there, recording crossings of
+    /// its section, the trails and the health as the steps go. The steps are the run's own
+    /// ([`Self::continuation`]): they go on from the last frame's and end where the integrator
+    /// puts them, so a frame reads its state from the last step's interpolant. A dented
+    /// cylinder's switches (a tip across a flat of its hull, a rest on one) start the next
+    /// stepper from the state after the switch, as `simulate::run` does.
     fn drive<const N: usize, M: RollingModel<N>>(
         &mut self,
         model: &M,
-        y0: [f64; N],
+        y_shown: [f64; N],
         t_target: f64,
     ) -> Result<[f64; N], SimError> {
-        // A body resting on a flat lies as the statics of the current ramp say (α may have
-        // changed since): it tips if its weight has left the flat.
-        let mut y = model.placed(y0);
-        let mut switches = 0usize;
-        loop {
-            match self.drive_until_switch(model, y, t_target)? {
-                (y_end, None) => {
-                    y = y_end;
-                    break;
-                }
-                (_, Some((t, y_at))) => {
-                    let Some((after, what)) = model.switch(&y_at) else {
-                        break;
-                    };
-                    if let Some((tips, lost)) = self.hull_tips.as_mut() {
-                        *lost += what.energy_lost();
-                        if let crate::dynamics::Switched::Tip { .. } = what {
-                            *tips += 1;
-                        }
-                    }
-                    self.t = t;
-                    // A tip can jump over the section (a flat that spans θ = 0 mod 2π): the
-                    // crossing is then at the tip.
-                    if model.section(&y_at).signum() != model.section(&after).signum() {
-                        self.crossings.push_back((t, model.section_point(&after)));
-                        if self.crossings.len() > MAX_CROSSINGS_KEPT {
-                            self.crossings.pop_front();
-                        }
-                    }
-                    self.contact.jump(t, model.contact_force(&after));
-                    y = after;
-                    switches += 1;
-                    if switches > MAX_SWITCHES_PER_ADVANCE {
-                        let e = IntegrateError::TooManySteps {
-                            t,
-                            max_steps: MAX_SWITCHES_PER_ADVANCE as u64,
-                        };
-                        self.last_failure = Some(overlay_line(&e));
-                        return Err(SimError::Integrate {
-                            t,
-                            message: e.to_string(),
-                        });
-                    }
-                }
-            }
+        let result = self.drive_on(model, y_shown, t_target);
+        if result.is_err() {
+            self.continuation = None;
         }
         let trail_horizon = self.t - self.setup.scene.playback.trail_time;
         while self.trail.front().is_some_and(|s| s.t < trail_horizon) {
             self.trail.pop_front();
         }
-        Ok(y)
+        result
     }
 
-    /// One stepper's share of [`Self::drive`]: to `t_target`, or to the first switch of a hybrid
-    /// model, whose time and state it returns with the state reached.
-    #[allow(clippy::type_complexity)]
-    fn drive_until_switch<const N: usize, M: RollingModel<N>>(
+    fn drive_on<const N: usize, M: RollingModel<N>>(
         &mut self,
         model: &M,
-        y0: [f64; N],
+        y_shown: [f64; N],
         t_target: f64,
-    ) -> Result<([f64; N], Option<(f64, [f64; N])>), SimError> {
+    ) -> Result<[f64; N], SimError> {
+        // Only a timeline step (a change of the model at its time) ends a step early; else the
+        // steps look ahead a span no step reaches (the integrator's smallest step is relative
+        // to how far it is asked to go, so the span is finite).
+        let horizon = self
+            .next_step_time()
+            .filter(|&at| at > self.t)
+            .unwrap_or(f64::INFINITY)
+            .min(self.t + LOOK_AHEAD);
+        let mut switches = 0usize;
+        let mut cont = self.continuation.take();
+        loop {
+            if let Some((ts, y_at)) = cont.as_ref().and_then(|c| c.switch.clone())
+                && ts <= t_target
+            {
+                let y_at = as_state::<N>(&y_at)?;
+                self.t = ts;
+                let Some((after, what)) = model.switch(&y_at) else {
+                    return Ok(y_at);
+                };
+                if let Some((tips, lost)) = self.hull_tips.as_mut() {
+                    *lost += what.energy_lost();
+                    if let crate::dynamics::Switched::Tip { .. } = what {
+                        *tips += 1;
+                    }
+                }
+                // A tip can jump over the section (a flat that spans θ = 0 mod 2π): the
+                // crossing is then at the tip.
+                if model.section(&y_at).signum() != model.section(&after).signum() {
+                    self.crossings.push_back((ts, model.section_point(&after)));
+                    if self.crossings.len() > MAX_CROSSINGS_KEPT {
+                        self.crossings.pop_front();
+                    }
+                }
+                self.contact.jump(ts, model.contact_force(&after));
+                switches += 1;
+                if switches > MAX_SWITCHES_PER_ADVANCE {
+                    let e = IntegrateError::TooManySteps {
+                        t: ts,
+                        max_steps: MAX_SWITCHES_PER_ADVANCE as u64,
+                    };
+                    self.last_failure = Some(overlay_line(&e));
+                    return Err(SimError::Integrate {
+                        t: ts,
+                        message: e.to_string(),
+                    });
+                }
+                let run = self.start(model, ts, after)?;
+                cont = Some(Continuation {
+                    stepper: run.detach(),
+                    switch: None,
+                });
+                continue;
+            }
+            let mut run = match &cont {
+                Some(c) => Run::resume(model, &c.stepper).ok_or_else(|| SimError::Integrate {
+                    t: self.t,
+                    message: "internal error: the run in progress is of another model".into(),
+                })?,
+                None => {
+                    // A body resting on a flat lies as the statics of the current ramp say (α
+                    // may have changed since): it tips if its weight has left the flat.
+                    self.start(model, self.t, model.placed(y_shown))?
+                }
+            };
+            let switch_ahead = cont.as_ref().and_then(|c| c.switch.clone());
+            if switch_ahead.is_some() || run.t() >= t_target {
+                // The time shown lies within the last step (before its switch, if it has one).
+                let y = if run.t() == t_target {
+                    *run.y()
+                } else {
+                    run.dense(t_target)
+                };
+                self.t = t_target;
+                self.continuation = Some(Continuation {
+                    stepper: run.detach(),
+                    switch: switch_ahead,
+                });
+                return Ok(y);
+            }
+            let switch = self.step_past(model, &mut run, horizon, t_target)?;
+            cont = Some(Continuation {
+                stepper: run.detach(),
+                switch: switch.map(|(t, y)| (t, y.to_vec())),
+            });
+        }
+    }
+
+    /// A new stepper of `model` from (t, y).
+    fn start<'m, const N: usize, M: RollingModel<N>>(
+        &mut self,
+        model: &'m M,
+        t: f64,
+        y: [f64; N],
+    ) -> Result<Run<'m, N>, SimError> {
+        Run::new(model, t, y, self.method).map_err(|e| {
+            self.last_failure = Some(overlay_line(&e));
+            SimError::Integrate {
+                t,
+                message: e.to_string(),
+            }
+        })
+    }
+
+    /// Steps `run` (towards `horizon`, so the steps are the integrator's own) until a step
+    /// ends at or past `t_target`, or a hybrid model's switch is found in one, whose time and
+    /// state (before it) it returns. Each step is observed in full as it is taken: crossings of
+    /// the section, the trails, the plots' samples, the contact force and the health, read
+    /// from the step's interpolant; what lies past the time shown waits for its frame.
+    #[allow(clippy::type_complexity)]
+    fn step_past<const N: usize, M: RollingModel<N>>(
+        &mut self,
+        model: &M,
+        run: &mut Run<'_, N>,
+        horizon: f64,
+        t_target: f64,
+    ) -> Result<Option<(f64, [f64; N])>, SimError> {
         let section = |y: &[f64; N]| model.section(y);
         let section_point = |y: &[f64; N]| model.section_point(y);
         let observe = |y: &[f64; N]| Observed::of(model, y);
-        let fail = |t: f64, e: &IntegrateError| SimError::Integrate {
-            t,
-            message: e.to_string(),
-        };
-        let mut run = match Run::new(model, self.t, y0, self.method) {
-            Ok(run) => run,
-            Err(e) => {
-                self.last_failure = Some(overlay_line(&e));
-                return Err(fail(self.t, &e));
-            }
-        };
+        let evals_before = run.stats().rhs_evals;
         let mut crossing_times = Vec::new();
         let mut switch = None;
-        let stepped = run.until(t_target, MAX_STEPS_PER_ADVANCE, |st| {
+        let stepped = run.until(horizon, MAX_STEPS_PER_ADVANCE, |st| {
             if st.y().iter().any(|v| !v.is_finite()) {
                 return Err(IntegrateError::NonFinite { t: st.t() });
             }
@@ -647,22 +733,23 @@ impl LiveRun {
             }
             if found.is_some() {
                 switch = found;
-                // Ends this stepper: `drive` switches and starts the next.
                 return Ok(Flow::Stop);
             }
-            Ok(Flow::Continue)
+            Ok(if st.t() >= t_target {
+                Flow::Stop
+            } else {
+                Flow::Continue
+            })
         });
-        self.health.rhs_evals += run.stats().rhs_evals;
-        match (stepped, switch) {
-            (Ok(Flow::Stop), Some((t, y))) => return Ok((y, Some((t, y)))),
-            (Err(e), _) => {
-                self.last_failure = Some(overlay_line(&e));
-                return Err(fail(run.t(), &e));
-            }
-            _ => {}
+        self.health.rhs_evals += run.stats().rhs_evals - evals_before;
+        if let Err(e) = stepped {
+            self.last_failure = Some(overlay_line(&e));
+            return Err(SimError::Integrate {
+                t: run.t(),
+                message: e.to_string(),
+            });
         }
-        self.t = run.t();
-        Ok((*run.y(), None))
+        Ok(switch)
     }
 
     fn record(&mut self, t: f64, o: &Observed) {
@@ -677,7 +764,9 @@ impl LiveRun {
     /// The plots' samples taken since the last call, oldest first (at most
     /// [`history::MAX_SAMPLES`](super::history::MAX_SAMPLES) are kept waiting).
     pub fn take_plot_samples(&mut self) -> Vec<Sample> {
-        self.plot_samples.drain(..).collect()
+        // Samples past the time shown (the last step reaches beyond it) wait for their frame.
+        let shown = self.plot_samples.partition_point(|s| s.t <= self.t);
+        self.plot_samples.drain(..shown).collect()
     }
 
     fn push_plot_sample(&mut self, t: f64, o: &Observed) {
@@ -704,10 +793,14 @@ impl LiveRun {
     /// What the current state looks like.
     pub fn snapshot(&self) -> Snapshot {
         let o = observe(&self.state, &self.ramp);
+        // What the steps have recorded past the time shown waits for its frame.
+        let trail: Vec<&TrailSample> = self.trail.iter().filter(|s| s.t <= self.t).collect();
+        let crossings: Vec<&(f64, Option<DVec3>)> =
+            self.crossings.iter().filter(|c| c.0 <= self.t).collect();
         let mut ball_trail: Vec<Vec<DVec3>> = Vec::new();
         if self.track_ball {
             let mut prev: Option<DQuat> = None;
-            for s in self.trail.iter().filter_map(|s| s.ball) {
+            for s in trail.iter().filter_map(|s| s.ball) {
                 // Start a new piece where q_w changes sign: there the drawn point (q_w ≥ 0)
                 // jumps to the antipode, and a chord through the ball would be false.
                 let jump = prev.is_none_or(|p| (p.w >= 0.0) != (s.w >= 0.0));
@@ -720,10 +813,9 @@ impl LiveRun {
                 prev = Some(s);
             }
         }
-        let n = self.crossings.len();
-        let period = (n >= 2).then(|| self.crossings[n - 1].0 - self.crossings[n - 2].0);
-        let section: Vec<Crossing> = self
-            .crossings
+        let n = crossings.len();
+        let period = (n >= 2).then(|| crossings[n - 1].0 - crossings[n - 2].0);
+        let section: Vec<Crossing> = crossings
             .iter()
             .filter_map(|(t, p)| {
                 Some(Crossing {
@@ -747,8 +839,8 @@ impl LiveRun {
             pose: o.pose,
             contact_on_ramp: o.on_ramp,
             contact_in_body: o.in_body,
-            ramp_trail: self.trail.iter().map(|s| s.on_ramp).collect(),
-            body_trail: self.trail.iter().map(|s| s.in_body).collect(),
+            ramp_trail: trail.iter().map(|s| s.on_ramp).collect(),
+            body_trail: trail.iter().map(|s| s.in_body).collect(),
             ball_trail,
             ball_point: if self.track_ball {
                 o.ball.map(ball_point)
@@ -758,7 +850,7 @@ impl LiveRun {
             period,
             period_multiplicity,
             last_crossing,
-            last_crossing_t: self.crossings.back().map(|c| c.0),
+            last_crossing_t: crossings.last().map(|c| c.0),
             halted: at_rest_within(o.angular_speed, o.ramp_torque, LIVE_REST_THRESHOLD),
             angular_speed: o.angular_speed,
             theta_dot: o.theta_dot,
@@ -772,6 +864,7 @@ impl LiveRun {
                 .report()
                 .violations()
                 .first()
+                .filter(|v| v.t() <= self.t)
                 .map(|v| v.headline()),
             hull_tips: self.hull_tips,
             views: self.setup.scene.views.clone(),
@@ -822,6 +915,14 @@ fn overlay_line(e: &IntegrateError) -> String {
             }
         }
     }
+}
+
+/// A state kept as a vector, back as the model's array.
+fn as_state<const N: usize>(y: &[f64]) -> Result<[f64; N], SimError> {
+    y.try_into().map_err(|_| SimError::Integrate {
+        t: f64::NAN,
+        message: "internal error: a switch's state is of another model".into(),
+    })
 }
 
 fn observe(state: &ModelState, ramp: &Ramp) -> Observed {
