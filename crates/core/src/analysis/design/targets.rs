@@ -76,7 +76,7 @@ pub enum Target {
     /// angle atan `drift`, whichever orbit it takes). A start that settles on no such orbit
     /// (undecided, at rest, on an unstable orbit, off the model) counts against the target:
     /// its measured value is the farthest orbit's drift moved away from `drift` by the share of
-    /// those starts ([`drift_value`]), so a body that leaves any start unaccounted for does not
+    /// those starts ([`drift_of`]), so a body that leaves any start unaccounted for does not
     /// meet it.
     Drift {
         /// Across per unit down (+: the lab's y).
@@ -700,7 +700,12 @@ fn drift_value(
     Ok(drift_of(&p, drift))
 }
 
-/// [`drift_value`] of a prediction already made.
+/// A drift target's value from a prediction: across per down of the stable orbits rolling down
+/// the ramp, the one farthest from `drift`; [`NO_DRIFT`] where none does. The starts that
+/// settle on no such orbit (undecided, at rest, on an unstable orbit, off the model) say
+/// nothing of the drift a ball will show, so they count against it: the value is moved away
+/// from `drift` by their share of the starts (one start in 24 moves it by 0.042, past the 0.005
+/// tolerance and the 0.02 band).
 ///
 /// # Example
 /// ```
