@@ -14,7 +14,9 @@ import sys
 # What each of .ci/run's builds selects, and which edges it follows.
 BUILDS = {
     "cargo test (default features)": ["-e", "normal,build,dev"],
-    "cargo test --no-default-features -p rollphase": [
+    "cargo build --no-default-features -p rollphase (the binary, no dev-dependencies)": [
+        "-e", "normal,build", "--no-default-features", "-p", "rollphase"],
+    "clippy --no-default-features --all-targets": [
         "-e", "normal,build,dev", "--no-default-features", "-p", "rollphase"],
     "cargo clippy --workspace": ["-e", "normal,build,dev", "--workspace"],
     # The README's main job: the binary alone, without the dev-dependencies' features.

@@ -36,6 +36,16 @@ use clap::{Parser, Subcommand};
 use crate::geometry::{Body, ShapeFile};
 use crate::scene::{DEFAULT_PRESET, Scene, SceneSetup, load_scene_file};
 
+/// `--version`: the version and the optional features this binary was built with, so a bug
+/// report (and the tests run against a build without them) can tell which commands it has.
+const VERSION: &str = if cfg!(feature = "app") {
+    concat!(env!("CARGO_PKG_VERSION"), " (features: render, app)")
+} else if cfg!(feature = "render") {
+    concat!(env!("CARGO_PKG_VERSION"), " (features: render)")
+} else {
+    concat!(env!("CARGO_PKG_VERSION"), " (no render or app feature)")
+};
+
 /// Irregular cylinders and spheres rolling down a ramp: the models, integrators and analyses of
 /// Qian, Jung & Mahadevan, "Phase transitions in rolling of irregular cylinders and spheres".
 ///
@@ -54,7 +64,7 @@ use crate::scene::{DEFAULT_PRESET, Scene, SceneSetup, load_scene_file};
 #[derive(Debug, Parser)]
 #[command(
     name = "rollphase",
-    version,
+    version = VERSION,
     verbatim_doc_comment,
     args_conflicts_with_subcommands = true
 )]

@@ -9,12 +9,71 @@ use std::process::{Command, Output};
 
 use crate::common;
 
-/// One virtual X server at a time: `xvfb-run -a` picks its display number racily, and two of
-/// these tests started together could share one server, which the first to finish takes down
-/// under the other's windows ("Failed to open connection to X server").
-fn one_x_server() -> std::sync::MutexGuard<'static, ()> {
-    static XVFB: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    XVFB.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+/// A virtual X server of the test's own: `Xvfb -displayfd 1` takes the first free display number
+/// itself and prints it, so tests (and two CI runs on one machine) can start servers side by side.
+/// `xvfb-run -a` picked its number racily, so the window tests had to take turns (4 minutes in
+/// all, each holding a test thread). Dropped, it stops the server.
+struct VirtualX {
+    server: std::process::Child,
+    display: String,
+}
+
+impl VirtualX {
+    /// Starts one with a single `WIDTHxHEIGHTx24` screen, or `None` when Xvfb is not installed
+    /// (an error in CI, which must run the window tests).
+    fn start(screen: &str) -> Option<VirtualX> {
+        use std::io::BufRead;
+        let spawned = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-nolisten",
+                "tcp",
+                "-screen",
+                "0",
+                screen,
+            ])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::null())
+            .spawn();
+        let Ok(mut server) = spawned else {
+            assert!(
+                std::env::var_os("CI").is_none(),
+                "CI must run the window tests: install xvfb (apt-get install xvfb xauth)"
+            );
+            eprintln!("skipped: Xvfb is not installed (apt-get install xvfb xauth)");
+            return None;
+        };
+        let mut line = String::new();
+        std::io::BufReader::new(server.stdout.take().expect("piped"))
+            .read_line(&mut line)
+            .expect("Xvfb prints its display number");
+        let number = line.trim();
+        assert!(
+            !number.is_empty() && number.bytes().all(|b| b.is_ascii_digit()),
+            "Xvfb did not print a display number: {line:?}"
+        );
+        Some(VirtualX {
+            display: format!(":{number}"),
+            server,
+        })
+    }
+
+    /// A command that runs on this server.
+    fn command(&self, program: impl AsRef<std::ffi::OsStr>) -> Command {
+        let mut command = Command::new(program);
+        command
+            .env("DISPLAY", &self.display)
+            .env_remove("WAYLAND_DISPLAY");
+        command
+    }
+}
+
+impl Drop for VirtualX {
+    fn drop(&mut self) {
+        let _ = self.server.kill();
+        let _ = self.server.wait();
+    }
 }
 
 fn rollphase_without_display(args: &[&str]) -> Output {
@@ -90,24 +149,13 @@ fn bad_window_flags_name_the_value() {
 #[test]
 #[ignore = "slow: a real window under Xvfb (20 s)"]
 fn window_under_xvfb_shows_the_body_and_the_controls() {
-    let _x = one_x_server();
-    let has_xvfb = Command::new("xvfb-run")
-        .arg("--help")
-        .output()
-        .is_ok_and(|o| o.status.success() || !o.stdout.is_empty() || !o.stderr.is_empty());
-    if !has_xvfb {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI must run the window smoke test: install xvfb (apt-get install xvfb xauth)"
-        );
-        eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb xauth)");
+    let Some(x) = VirtualX::start("1280x800x24") else {
         return;
-    }
+    };
     let shot: PathBuf = crate::cli::scratch("window").join("window.png");
     let _ = std::fs::remove_file(&shot);
-    let o = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24"])
-        .arg(env!("CARGO_BIN_EXE_rollphase"))
+    let o = x
+        .command(env!("CARGO_BIN_EXE_rollphase"))
         .args(["--preset", "sphere-cruising", "--screenshot-after", "3"])
         .arg(&shot)
         .args(["--exit-after", "4"])
@@ -144,22 +192,24 @@ fn window_under_xvfb_shows_the_body_and_the_controls() {
 /// time over three seconds falls to a small fraction of what it uses while shown, and comes back
 /// when restored.
 #[test]
-#[ignore = "slow: a real window under Xvfb, minimised and restored (2 min)"]
+#[ignore = "slow: a real window under Xvfb, minimised and restored (20 s)"]
 fn a_minimised_window_sleeps_and_wakes_when_restored() {
-    let _x = one_x_server();
-    let missing: Vec<&str> = ["xvfb-run", "xwininfo", "python3"]
+    let missing: Vec<&str> = ["xwininfo", "python3"]
         .into_iter()
         .filter(|tool| Command::new(tool).arg("--help").output().is_err())
         .collect();
     if !missing.is_empty() {
         assert!(
             std::env::var_os("CI").is_none(),
-            "CI must run the window tests: {missing:?} missing (apt-get install xvfb xauth \
-             x11-utils python3)"
+            "CI must run the window tests: {missing:?} missing (apt-get install x11-utils \
+             python3)"
         );
         eprintln!("skipped: {missing:?} not installed");
         return;
     }
+    let Some(x) = VirtualX::start("1280x800x24") else {
+        return;
+    };
     let helper = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/tests/fixtures/x11_minimise.py"
@@ -180,8 +230,9 @@ a=$(cpu); sleep 3; b=$(cpu); echo "restored $((b-a))"
 kill $pid
 "#
     );
-    let o = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
+    let o = x
+        .command("sh")
+        .args(["-c", &script])
         .arg(env!("CARGO_BIN_EXE_rollphase"))
         .output()
         .unwrap();
@@ -215,35 +266,36 @@ kill $pid
 /// ending with status 130 and no crash (a segfault, an abort from the allocator or a panic in
 /// the GL driver ended 3 of ~70 when the handler called `exit` from its own thread).
 #[test]
-#[ignore = "slow: a hundred real windows under Xvfb (2 min)"]
+#[ignore = "slow: a hundred real windows under Xvfb, two at a time (1 min)"]
 fn a_hundred_kills_of_the_window_all_end_cleanly() {
-    let _x = one_x_server();
-    let has_xvfb = Command::new("xvfb-run").arg("--help").output().is_ok();
-    if !has_xvfb {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI must run the window tests: install xvfb (apt-get install xvfb xauth)"
-        );
-        eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb xauth)");
+    let Some(x) = VirtualX::start("1280x720x24") else {
         return;
-    }
+    };
     let dir = crate::cli::scratch("kills");
     std::fs::create_dir_all(&dir).unwrap();
-    // One X server for all of them; the delay runs over 0.2 … 1.8 s in a fixed scramble.
+    // One X server for all of them, two windows at a time (kills 1–50 and 51–100 side by side,
+    // so the test waits half as long); the delay runs over 0.2 … 1.8 s in a fixed scramble.
     let script = r#"set -u
-for i in $(seq 1 100); do
-  sig=INT; [ $((i % 2)) = 0 ] && sig=TERM
-  delay=$(awk -v i="$i" 'BEGIN { printf "%.2f", 0.2 + (i * 37 % 100) / 100 * 1.6 }')
-  "$0" app --preset sphere-two-orbits > /dev/null 2> "$1/err$i" &
-  pid=$!
-  sleep "$delay"
-  kill -s "$sig" "$pid"
-  wait "$pid"; rc=$?
-  echo "kill $i $sig after $delay s: status $rc"
-done
+lane() {
+  for i in $(seq "$2" "$3"); do
+    sig=INT; [ $((i % 2)) = 0 ] && sig=TERM
+    delay=$(awk -v i="$i" 'BEGIN { printf "%.2f", 0.2 + (i * 37 % 100) / 100 * 1.6 }')
+    "$0" app --preset sphere-two-orbits > /dev/null 2> "$1/err$i" &
+    pid=$!
+    sleep "$delay"
+    kill -s "$sig" "$pid"
+    wait "$pid"; rc=$?
+    echo "kill $i $sig after $delay s: status $rc" > "$1/status$i"
+  done
+}
+lane "$1" 1 50 &
+lane "$1" 51 100
+wait
+for i in $(seq 1 100); do cat "$1/status$i" 2>/dev/null || echo "kill $i: no status"; done
 "#;
-    let o = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x720x24", "bash", "-c", script])
+    let o = x
+        .command("bash")
+        .args(["-c", script])
         .arg(env!("CARGO_BIN_EXE_rollphase"))
         .arg(&dir)
         .output()

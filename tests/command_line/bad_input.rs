@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::process::{Command, Output};
 
 fn rollphase(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    Command::new(crate::cli::binary())
         .args(args)
         .output()
         .expect("the binary runs")
@@ -512,7 +512,7 @@ fn an_input_is_never_overwritten_by_the_output() {
 fn a_closed_or_full_stdout_is_a_clean_exit() {
     use std::process::Stdio;
     // The reader goes away at once: quiet, status 0, no panic.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    let mut child = Command::new(crate::cli::binary())
         .args(["scenes"])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -529,7 +529,7 @@ fn a_closed_or_full_stdout_is_a_clean_exit() {
     assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
     // A full disk behind standard output (Linux's /dev/full): one line, status 1.
     if let Ok(full) = std::fs::OpenOptions::new().write(true).open("/dev/full") {
-        let out = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        let out = Command::new(crate::cli::binary())
             .args(["figure", "--list"])
             .stdout(full)
             .output()
@@ -901,10 +901,11 @@ fn under_determined_fits_and_out_of_range_scene_angles_are_refused() {
         &["alpha_over_critical = 100", "steeper than a vertical wall"],
     );
     let r = rollphase(&["bench", "app", "--speed", "nan"]);
-    #[cfg(feature = "app")]
-    fails_with(&r, 1, &["--speed NaN is not allowed"]);
-    #[cfg(not(feature = "app"))]
-    fails_with(&r, 1, &["bench app needs the `app` feature"]);
+    if crate::cli::binary_has_app() {
+        fails_with(&r, 1, &["--speed NaN is not allowed"]);
+    } else {
+        fails_with(&r, 1, &["bench app needs the `app` feature"]);
+    }
 }
 
 #[test]
@@ -912,7 +913,7 @@ fn ctrl_c_leaves_no_partial_output() {
     let dir = temp_dir("interrupt");
     let sphere = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/shapes/sphere.json");
     let csv = dir.join("long.csv");
-    let child = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    let child = Command::new(crate::cli::binary())
         .args([
             "simulate", sphere, "--alpha", "0.3", "--t-end", "1e7", "--rtol", "1e-12", "-o",
         ])
@@ -1208,7 +1209,7 @@ fn an_interrupt_during_an_in_place_rewrite_leaves_every_name_whole() {
     let dir = temp_dir("interrupt-in-place");
     let body = write(&dir, "body.json", SPHERE);
     let run = |alpha: &str, out: &std::path::Path| {
-        let mut c = Command::new(env!("CARGO_BIN_EXE_rollphase"));
+        let mut c = Command::new(crate::cli::binary());
         c.args(["simulate", &body, "--alpha", alpha, "--t-end", "100"])
             .args(["--samples", "200000", "-o"])
             .arg(out)
@@ -1275,7 +1276,7 @@ fn an_output_naming_a_descriptor_writes_through_it() {
     let log = dir.join("log.txt");
     std::fs::write(&log, "IMPORTANT\n").unwrap();
     let appending = std::fs::OpenOptions::new().append(true).open(&log).unwrap();
-    let r = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    let r = Command::new(crate::cli::binary())
         .args(["simulate", &body, "--alpha", "0.4", "--t-end", "1"])
         .args(["--samples", "3", "-o", "/proc/self/fd/1"])
         .stdout(appending)
@@ -1293,7 +1294,7 @@ fn an_output_naming_a_descriptor_writes_through_it() {
         .open(&err_log)
         .unwrap();
     let csv = dir.join("rows.csv");
-    let r = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    let r = Command::new(crate::cli::binary())
         .args(["simulate", &body, "--alpha", "0.4", "--t-end", "1"])
         .args(["--samples", "3", "--summary", "/dev/stderr", "-o"])
         .arg(&csv)
@@ -1313,7 +1314,7 @@ fn two_outputs_naming_one_file_are_refused_but_the_null_device_takes_both() {
     let dir = temp_dir("collide");
     let body = write(&dir, "body.json", SPHERE);
     let in_dir = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        Command::new(crate::cli::binary())
             .args([
                 "simulate",
                 &body,
@@ -1406,7 +1407,7 @@ fn stiff_corners_take_the_viscous_limit_or_warn_with_an_estimate_before_running(
         ],
         vec!["period", &disk, "--alpha", "0.3", "--mass", "1e-6"],
     ] {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        let mut child = Command::new(crate::cli::binary())
             .args(&args)
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::piped())

@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::Command;
 
 fn bench(out: &Path) {
-    let status = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    let status = Command::new(crate::cli::binary())
         .args(["bench", "accuracy", "--quick", "--repeats", "1", "--out"])
         .arg(out)
         .output()

@@ -361,7 +361,7 @@ fn a_design_is_written_with_its_scale_and_as_an_stl_that_fits_back() {
 fn the_same_seed_writes_the_same_bytes_on_one_thread_and_on_two() {
     let d = scratch("design-threads");
     let run = |threads: &str, name: &str| {
-        let out = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        let out = Command::new(crate::cli::binary())
             .args([
                 "design",
                 "--dim",

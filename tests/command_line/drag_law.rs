@@ -8,7 +8,7 @@ use rollphase::dynamics::drag::REGISTERED;
 use rollphase::scene::Scene;
 
 fn rollphase(args: &[&str]) -> Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    std::process::Command::new(crate::cli::binary())
         .args(args)
         .output()
         .expect("the binary runs")

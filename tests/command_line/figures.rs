@@ -212,7 +212,7 @@ fn measured_lag_times_give_an_exponent_near_minus_one_half() {
 fn figures_are_identical_for_any_thread_count() {
     let base = crate::cli::scratch("threads");
     for threads in ["1", "2"] {
-        let status = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        let status = Command::new(crate::cli::binary())
             .args([
                 "figure",
                 "disk-transition",
@@ -392,7 +392,7 @@ fn a_figure_folder_holds_the_old_set_or_the_new_one_never_a_mix() {
     let base = crate::cli::scratch("figure-set");
     let _ = std::fs::remove_dir_all(&base);
     let run = || {
-        Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        Command::new(crate::cli::binary())
             .args(["figure", "sphere-tube", "--quick", "--out"])
             .arg(&base)
             .output()
@@ -435,7 +435,7 @@ fn three_d_figures_run_below_alpha_star_and_report_the_halting_runs() {
     // body at α = 0.13 < α* = 0.1394), so the figures run and count the starts that halt.
     let base = crate::cli::scratch("below-star");
     for figure in ["sphere-poincare", "sphere-doubling"] {
-        let o = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        let o = Command::new(crate::cli::binary())
             .args(["figure", figure, "--quick", "--alpha", "0.13", "--out"])
             .arg(&base)
             .output()
@@ -494,7 +494,7 @@ fn a_full_disk_leaves_the_old_figure_set_whole() {
         return;
     };
     let run = |seed: &str| {
-        Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        Command::new(crate::cli::binary())
             .args([
                 "figure",
                 "disk-hysteresis",

@@ -178,7 +178,7 @@ fn guide_env(cmd: &mut Command, log: &Path) {
         std::env::var("PATH").unwrap_or_default()
     );
     cmd.env("PATH", path)
-        .env("ROLLPHASE_REAL", env!("CARGO_BIN_EXE_rollphase"))
+        .env("ROLLPHASE_REAL", crate::cli::binary())
         .env("ROLLPHASE_GUIDE_LOG", log)
         .env_remove("DISPLAY")
         .env_remove("WAYLAND_DISPLAY");
@@ -427,7 +427,7 @@ fn the_cluster_pages_slurm_array_job_merges_byte_identically() {
         merged.join("sweep.csv").exists(),
         "the merge wrote no sweep.csv; its log: {merge_log}"
     );
-    let whole = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    let whole = Command::new(crate::cli::binary())
         .args(["sweep", "scan.toml", "--out", "whole"])
         .current_dir(&dir)
         .output()

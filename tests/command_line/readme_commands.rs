@@ -14,7 +14,7 @@ fn readme_quick_start_renders_sixty_frames() {
         "the README's quick start changed; update this test"
     );
     let dir = crate::cli::scratch("quick");
-    let out = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    let out = Command::new(crate::cli::binary())
         .args(["--headless", "--frames", "60", "--out"])
         .arg(&dir)
         .output()
@@ -39,7 +39,7 @@ fn readme_simulate_example_runs_on_the_bundled_sphere() {
     let csv = dir.join("traj.csv");
     let summary = dir.join("summary.json");
     let shape = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/shapes/sphere.json");
-    let out = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    let out = Command::new(crate::cli::binary())
         .args(["simulate", shape, "--alpha", "0.3", "--t-end", "100", "-o"])
         .arg(&csv)
         .arg("--summary")

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn rollphase(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    Command::new(crate::cli::binary())
         .args(args)
         .output()
         .expect("runs")
@@ -509,7 +509,7 @@ fn merge_reads_regular_shards_only_and_never_writes_over_one() {
     std::fs::remove_file(&fifo).unwrap();
 
     // The shards carry absolute paths: merged from another folder, the body file is found.
-    let o = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    let o = Command::new(crate::cli::binary())
         .args(["merge", p])
         .current_dir("/")
         .output()
@@ -818,7 +818,7 @@ fn merge_dot_from_inside_the_figures_folder_merges_there() {
         "1/1",
     ]);
     let dir = root.join("sphere-orbits");
-    let o = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    let o = Command::new(crate::cli::binary())
         .args(["merge", "."])
         .current_dir(&dir)
         .output()

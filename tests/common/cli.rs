@@ -6,13 +6,31 @@
 use std::ffi::OsStr;
 use std::process::{Command, Output};
 
+/// The binary under test: the file `ROLLPHASE_TEST_BINARY` names when it is set, else the one
+/// Cargo built beside these tests. `.ci/run` sets it to the build without default features and
+/// runs the bad-input tests and the physics tests that start the binary against that build, so
+/// its test binaries need not be compiled a second time without those features.
+pub fn binary() -> std::path::PathBuf {
+    std::env::var_os("ROLLPHASE_TEST_BINARY")
+        .map_or_else(|| env!("CARGO_BIN_EXE_rollphase").into(), Into::into)
+}
+
+/// Whether the binary under test was built with the `app` feature (its `--version` says).
+pub fn binary_has_app() -> bool {
+    let version = Command::new(binary())
+        .arg("--version")
+        .output()
+        .expect("the rollphase binary runs");
+    String::from_utf8_lossy(&version.stdout).contains("features: render, app")
+}
+
 /// Runs `rollphase ARGS` and returns its exit status and both streams, success or not.
 pub fn rollphase<I, S>(args: I) -> Output
 where
     I: IntoIterator<Item = S>,
     S: AsRef<OsStr>,
 {
-    Command::new(env!("CARGO_BIN_EXE_rollphase"))
+    Command::new(binary())
         .args(args)
         .output()
         .expect("the rollphase binary runs")
@@ -25,10 +43,7 @@ where
     S: AsRef<OsStr>,
 {
     let args: Vec<S> = args.into_iter().collect();
-    let out = Command::new(env!("CARGO_BIN_EXE_rollphase"))
-        .args(&args)
-        .output()
-        .unwrap();
+    let out = Command::new(binary()).args(&args).output().unwrap();
     assert!(
         out.status.success(),
         "rollphase {:?} failed: {}",

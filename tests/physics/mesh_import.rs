@@ -605,7 +605,7 @@ fn the_shape_file_keeps_its_scale_and_its_outputs_are_checked_first() {
 fn the_fit_is_the_same_bits_on_any_thread_count() {
     let dir = scratch("threads");
     let fit_with = |threads: &str| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        let out = std::process::Command::new(crate::cli::binary())
             .env("RAYON_NUM_THREADS", threads)
             .args(["shape", "--from-mesh"])
             .arg(data("printed-sphere.stl"))

@@ -55,7 +55,7 @@ fn same_inputs_give_byte_identical_csv() {
     std::fs::create_dir_all(&dir).unwrap();
     let run = |shape: &str, extra: &[&str], out: &str| {
         let path = dir.join(out);
-        let status = Command::new(env!("CARGO_BIN_EXE_rollphase"))
+        let status = Command::new(crate::cli::binary())
             .arg("simulate")
             .arg(bundled(shape))
             .args(extra)
