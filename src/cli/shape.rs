@@ -255,6 +255,12 @@ fn report_text(r: &crate::geometry::mesh_fit::FitReport) -> String {
         },
         r.alpha_star
     );
+    if let Some(hull) = &r.mesh_hull {
+        out += &format!(
+            " (the fit); the mesh's own hull: {} flat sides, α* = {:.6} rad",
+            hull.sides, hull.alpha_star
+        );
+    }
     if let Some(c) = &r.coat {
         out += &format!(
             "\n  coated with {} mm: ⟨r⟩ {:.4} → {:.4} mm ({:+.2} %), α* {:.6} → {:.6} rad ({:+.2} %); \

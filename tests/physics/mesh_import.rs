@@ -756,7 +756,9 @@ fn stl_files_are_read_as_exporters_write_them() {
 /// OpenSCAD's `cylinder(r = 10, h = 20, $fn = K)` for every K from 3 to 512, as written (the
 /// first vertex at angle 0, where sample rays of the section fall exactly on vertices) and
 /// turned by 0.1 rad, along +z and −z: every one fits as a 2D body with the polygon's own mean
-/// radius.
+/// radius, its hull has K sides and rests up to π/K (OpenSCAD's defaults, `$fa = 12, $fs = 2`,
+/// give 16 sides at r = 5 mm and 30 at 10 and 20 mm), and the fit warns exactly when its smooth
+/// α* misses π/K by more than the tolerance.
 #[test]
 fn regular_prisms_of_every_fn_fit_at_any_turn_and_axis_sign() {
     use rollphase::geometry::mesh_fit::{FitOptions, fit_mesh};
@@ -790,6 +792,28 @@ fn regular_prisms_of_every_fn_fit_at_any_turn_and_axis_sign() {
                         assert!(
                             (scale - exact).abs() < 1e-3 * exact,
                             "$fn = {k}, turn {turn}, axis {axis}: ⟨r⟩ {scale} against {exact}"
+                        );
+                        // The print rests on a side up to π/K whatever the fit sees, and a fit
+                        // that does not see it says so.
+                        let hull = fit.report.mesh_hull.expect("a 2D fit reports its hull");
+                        assert_eq!(hull.sides, k, "$fn = {k}");
+                        assert!(
+                            // STL's f32 coordinates: 1e-6 mm on sides of 0.1 mm and more.
+                            (hull.alpha_star - half).abs() < 1e-5,
+                            "$fn = {k}, turn {turn}: the hull's α* {} against π/K = {half}",
+                            hull.alpha_star
+                        );
+                        let misses = (half - fit.report.alpha_star).abs()
+                            > rollphase::geometry::mesh_fit::FACET_TOLERANCE;
+                        let warned = fit
+                            .report
+                            .warnings
+                            .iter()
+                            .any(|w| w.contains(&format!("{k} flat sides")));
+                        assert_eq!(
+                            warned, misses,
+                            "$fn = {k}: fit α* {}, π/K {half}; {:?}",
+                            fit.report.alpha_star, fit.report.warnings
                         );
                         fitted += 1;
                     }

@@ -30,6 +30,7 @@ use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
 
+use super::facets::{SectionHull, section_hull};
 use super::mesh_read::{MeshError, MeshFormat, MeshSource};
 use super::{Body, DiskMode, MAX_SPHERE_L, ShapeFile, SphereCoeff};
 
@@ -71,6 +72,10 @@ pub const AUTO_MAX_3D: u32 = 8;
 pub const AUTO_MAX_2D: u32 = 24;
 /// Largest 2D mode accepted by `--modes`.
 pub const MAX_FIT_DISK_L: u32 = 64;
+/// How far (rad) the mesh hull's α* and the fit's may differ before the fit warns: 0.1°, the
+/// resolution of a digital inclinometer setting a ramp, so a smaller difference cannot be seen
+/// in an experiment.
+pub const FACET_TOLERANCE: f64 = 0.1 * PI / 180.0;
 /// Angles r(θ) is sampled at in 2D.
 const SECTION_SAMPLES: usize = 4096;
 /// Cells in cos θ and in φ of the 3D fit.
@@ -140,6 +145,11 @@ pub struct FitReport {
     pub convex: bool,
     /// α* of the fitted body (rad), atan max |∇ ln r|.
     pub alpha_star: f64,
+    /// 2D: the section's own convex hull, its flat sides and the α* they give (what the
+    /// printed prism rests up to, π/N for a regular N-gon), beside the smooth fit's
+    /// `alpha_star`; a warning says when the two differ by more than [`FACET_TOLERANCE`].
+    /// `None` in 3D, where the mesh's hull is not computed yet.
+    pub mesh_hull: Option<SectionHull>,
     /// Warnings: the fit is usable, but read this.
     pub warnings: Vec<String>,
     /// The coat this body was given after the fit ([`coat`]), if any.
@@ -943,6 +953,23 @@ fn fit_section(
              convex hull, the other commands refuse it"
         ));
     }
+    let alpha_star = body.alpha_star();
+    let corners: Vec<[f64; 2]> = rel.iter().flat_map(|(p, q)| [*p, *q]).collect();
+    let mesh_hull = section_hull(&corners);
+    if let Some(hull) = mesh_hull.filter(|h| (h.alpha_star - alpha_star).abs() > FACET_TOLERANCE) {
+        warnings.push(format!(
+            "the section's hull has {} flat sides, on which the printed body rests up to α = \
+             {:.4} rad ({:.2}°), but the smooth fit's α* is {alpha_star:.4} rad ({:.2}°): the \
+             fit does not see the facets, so `period`, `predict` and `simulate` speak for the \
+             smooth body, not the print (a printer reproduces facets wider than its nozzle; \
+             these are {:.2} mm at most)",
+            hull.sides,
+            hull.alpha_star,
+            hull.alpha_star.to_degrees(),
+            alpha_star.to_degrees(),
+            hull.longest_side * scale_mm,
+        ));
+    }
     let report = FitReport {
         file: source.path().display().to_string(),
         format: format_name(source.format()),
@@ -964,7 +991,8 @@ fn fit_section(
         l1_offset_mm: l1 * scale_mm,
         degree_residuals,
         convex,
-        alpha_star: body.alpha_star(),
+        alpha_star,
+        mesh_hull,
         warnings,
         coat: None,
     };
@@ -1375,6 +1403,7 @@ fn fit_sphere(
         degree_residuals,
         convex: true,
         alpha_star: body.alpha_star(),
+        mesh_hull: None,
         warnings,
         coat: None,
     };

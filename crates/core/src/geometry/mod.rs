@@ -4,6 +4,7 @@
 //! `glam`, `serde`, `rand`, `rand_mt` only.
 
 pub mod disk;
+pub mod facets;
 pub mod harmonics;
 pub mod hull;
 pub mod mesh;
