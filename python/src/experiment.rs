@@ -64,8 +64,10 @@ fn fields_into(
 /// `down` and `across` (cm, one value a frame; NaN for a missing one) cleaned (gaps of up to 10
 /// frames bridged, tracker jumps replaced, the release and the end of the ramp cut off, each in
 /// `warnings`), and its period found at every shift by FFT. Returns a dict (TrackMeasurement):
-/// period_frames with period_error_frames (always finite) and period_error_from ("cycles" or
-/// "dip_width"), period_spread_frames (None under three cycles), cycle_periods (array),
+/// period_frames with period_error_frames (always finite) and period_error_from ("harmonics",
+/// the regression's; "cycles" where the turns' times vary or it cannot be fitted; "dip_width"),
+/// block_check (whether blocks of the track show the turns' times vary),
+/// period_spread_frames (None under three cycles), cycle_periods (array),
 /// unrepeated_cycles, periods_seen, mismatch, advance_down and advance_across (cm per period),
 /// significance (the surrogates' check against chance), mismatch_curve ((N, 2) array of shift
 /// and normalised mismatch), frames_used ([first, last]) and warnings. A track that does not

@@ -133,7 +133,10 @@ def test_measure_track_is_the_command_lines(repo, cli, tmp_path):
     assert fit["significance"] == summary["significance"]
     assert fit["frames_used"] == summary["frames_used"]
     assert fit["warnings"] == summary["warnings"]
+    # The authors' turns vary in time (blocks of the track scatter far beyond their errors),
+    # so the period is the cycles' mean with their spread, as on the command line.
     assert fit["period_error_from"] == "cycles" and np.isfinite(fit["period_error_frames"])
+    assert fit["block_check"]["turns_vary"] and fit["block_check"] == summary["block_check"]
     assert fit["mismatch_curve"].shape[1] == 2 and len(fit["cycle_periods"]) >= 8
 
 

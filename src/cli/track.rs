@@ -13,7 +13,7 @@ use crate::analysis::experiment::tracking::model::{
     Measured, ModelComparison, TrackAlignment, align_with_track, compare_with_model,
 };
 use crate::analysis::experiment::tracking::{
-    CleanTrack, ErrorSource, Folded, PeriodFit, Significance, fold, measure,
+    CleanTrack, ErrorSource, Folded, PeriodFit, Significance, fold, harmonic::BlockCheck, measure,
 };
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::geometry::ShapeFile;
@@ -131,6 +131,9 @@ pub struct TrackSummary {
     pub unrepeated_cycles: usize,
     /// The check against chance: surrogate tracks and the lowest dip they reached.
     pub significance: Option<Significance>,
+    /// The harmonic regression's check over blocks of the track (whether its turns' times
+    /// vary beyond the noise).
+    pub block_check: Option<BlockCheck>,
     /// The period in frames.
     pub period_frames: f64,
     /// Whole periods seen.
@@ -243,6 +246,7 @@ pub fn run(a: TrackArgs) -> Result<()> {
         period_spread_s: fit.period_spread_frames.map(|s| s / a.fps),
         unrepeated_cycles: fit.unrepeated_cycles,
         significance: fit.significance.clone(),
+        block_check: fit.block_check,
         period_frames: fit.period_frames,
         periods_seen: fit.periods_seen,
         mismatch: fit.mismatch,
@@ -488,7 +492,14 @@ fn first_words(text: &str, n: usize) -> String {
 /// The measurement (and the model's) for people.
 fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
     let error_from = match summary.period_error_from {
+        ErrorSource::Cycles if summary.block_check.is_some_and(|b| b.turns_vary) => {
+            "from the cycles' spread: blocks of the track show its turns' times vary, so the \
+             period is their mean"
+        }
         ErrorSource::Cycles => "from the cycles' spread",
+        ErrorSource::Harmonics => {
+            "from a harmonic fit of the whole track, correlated residuals included"
+        }
         ErrorSource::DipWidth => "from the dip's width: too few cycles for a spread",
     };
     // Two significant digits of the error, and the period to the same place.

@@ -136,7 +136,8 @@ fn harmonics_and_two_period_tracks() {
         "{}",
         fit.period_frames
     );
-    assert_eq!(fit.period_error_from, ErrorSource::DipWidth);
+    // Two cycles: no spread to read, but the harmonic regression still gives an error.
+    assert_eq!(fit.period_error_from, ErrorSource::Harmonics);
     assert!(fit.period_error_frames.is_finite() && fit.period_error_frames > 0.0);
     // Too fast for the frame rate: named, not answered with a multiple.
     let track = periodic(1200, 4.0, 0.3, 0.02, 5);
@@ -291,7 +292,8 @@ fn model_tracks_of_the_printed_sphere_in_every_regime() {
 /// The stated error covers the truth: 20 tracks each of true period 30, 100, 177.7 and 200
 /// frames with noise 20 % of the wobble. Until 2026-11-26 the period was the whole track's dip
 /// while its error came from the cycles' spread: it lay 1.5–2.0 errors from the truth (rms),
-/// 177.7 came back as 176.28 ± 0.41. The period is now the cycles' mean: 0.6–1.0.
+/// 177.7 came back as 176.28 ± 0.41. The cycles' mean then gave 0.6–1.0; since 2026-11-28 the
+/// harmonic regression gives period and error (`bench calibration` has its coverage).
 #[test]
 fn the_stated_error_covers_the_truth() {
     for period in [30.0, 100.0, 177.7, 200.0] {
@@ -300,7 +302,17 @@ fn the_stated_error_covers_the_truth() {
                 let frames = if period > 150.0 { 2000 } else { 1500 };
                 let track = periodic(frames, period, 0.5, 0.2, 1000 + seed);
                 let fit = find_period(&track, &search(), &|_, _| {}).unwrap();
-                assert_eq!(fit.period_error_from, ErrorSource::Cycles);
+                // The regression, unless the block check read the turns as varying (under 1 %
+                // of such tracks by chance, `bench calibration`).
+                let varying = fit.block_check.is_some_and(|b| b.turns_vary);
+                assert_eq!(
+                    fit.period_error_from,
+                    if varying {
+                        ErrorSource::Cycles
+                    } else {
+                        ErrorSource::Harmonics
+                    }
+                );
                 (fit.period_frames - period) / fit.period_error_frames
             })
             .collect();
@@ -310,6 +322,41 @@ fn the_stated_error_covers_the_truth() {
             rms < 1.25 && far == 0,
             "period {period}: rms z {rms:.2}, {far} beyond 3"
         );
+    }
+}
+
+/// The short periods whose cycles' shifts were all biased the same way (7.3 frames came back as
+/// 7.2467 ± 0.0011, 47 errors off): 150 synthetic tracks each at 6.3, 7.3 and 10.4 frames,
+/// noise 2 % and 20 %. The stated ±1.96σ interval holds the truth 88–99 % of the time (95 % ±
+/// 1.8 % sampling, with margin) and the mean offset is under a third of an error. The
+/// cycles' mean, on the same tracks, fails both.
+#[test]
+fn short_periods_are_unbiased_and_their_errors_calibrated() {
+    use rollphase::analysis::experiment::tracking::calibration::{TrackCase, calibrate_case};
+    for period in [6.3, 7.3, 10.4] {
+        for noise in [0.02, 0.2] {
+            let case = TrackCase {
+                period_frames: period,
+                noise,
+                cycles: 20.0,
+            };
+            let c = calibrate_case(&case, 150, 500);
+            assert_eq!(c.refused, 0, "{case:?}");
+            let s = c.stated;
+            assert!(
+                (0.88..=0.99).contains(&s.coverage) && s.bias_in_errors.abs() < 1.0 / 3.0,
+                "{case:?}: coverage {:.3}, bias {:.2} errors",
+                s.coverage,
+                s.bias_in_errors
+            );
+            if noise == 0.02 {
+                assert!(
+                    c.cycles_mean.coverage < 0.8,
+                    "{case:?}: {:?}",
+                    c.cycles_mean
+                );
+            }
+        }
     }
 }
 

@@ -8,6 +8,8 @@
 //! that no period is stated that the track does not show. [`model`] sets the measurement
 //! beside the model's prediction for the same body (m/m0 and t0 found together).
 
+pub mod calibration;
+pub mod harmonic;
 pub mod markers;
 pub mod model;
 pub mod period;

@@ -1,0 +1,200 @@
+//! How honest `track`'s period and its error are: synthetic tracks of known period (a drift
+//! down the ramp, three harmonics with random amplitudes and phases, white noise), measured by
+//! [`find_period`], with the share of stated 95 % intervals (±1.96 errors) that hold the truth
+//! and the bias in units of the error. The estimate before the harmonic regression (the
+//! cycles' mean, their spread over √(cycles)) is read from the same fit, so both stand side by
+//! side on the same tracks. `rollphase bench calibration` prints the table; a test holds the
+//! short periods, where the old estimate failed, to the goal.
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::{CleanTrack, PeriodSearch, find_period};
+
+/// One kind of synthetic track.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct TrackCase {
+    /// True period (frames).
+    pub period_frames: f64,
+    /// White noise per coordinate, in units of the first harmonic's amplitude.
+    pub noise: f64,
+    /// Periods in the track.
+    pub cycles: f64,
+}
+
+/// The cases `bench calibration` runs: periods from 6.3 to 300 frames (whole and not), noise
+/// 2 % and 20 % of the wobble.
+pub const BENCH_CASES: [TrackCase; 16] = {
+    const P: [f64; 8] = [6.3, 7.3, 10.4, 17.7, 30.0, 61.7, 150.0, 300.0];
+    let mut out = [TrackCase {
+        period_frames: 0.0,
+        noise: 0.0,
+        cycles: 0.0,
+    }; 16];
+    let mut k = 0;
+    while k < 16 {
+        out[k] = TrackCase {
+            period_frames: P[k / 2],
+            noise: if k % 2 == 0 { 0.02 } else { 0.2 },
+            cycles: 20.0,
+        };
+        k += 1;
+    }
+    out
+};
+
+/// How one estimator did over the draws.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Coverage {
+    /// Draws it gave an estimate with an error for.
+    pub estimates: usize,
+    /// Share of them whose ±1.96-error interval holds the truth (goal 0.93–0.97).
+    pub coverage: f64,
+    /// Mean (estimate − truth) over the median stated error (goal: |bias| < 1/3).
+    pub bias_in_errors: f64,
+    /// The median stated error (frames).
+    pub median_error_frames: f64,
+}
+
+/// One case's calibration.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CaseCalibration {
+    /// The case.
+    pub case: TrackCase,
+    /// Draws made.
+    pub draws: usize,
+    /// Draws `find_period` gave no period for.
+    pub refused: usize,
+    /// Draws whose blocks read the turns' times as varying (then stated by the cycles' mean):
+    /// about 1 % by design, as the tracks' turns do not vary.
+    pub read_as_varying: usize,
+    /// The cycles' mean with their spread over √(cycles) (the estimate before 2026-11-28).
+    pub cycles_mean: Coverage,
+    /// What `track` states now.
+    pub stated: Coverage,
+}
+
+/// A synthetic track of `case`, seed `seed`.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::experiment::tracking::calibration::{TrackCase, synthetic_track};
+/// let t = synthetic_track(&TrackCase { period_frames: 7.3, noise: 0.02, cycles: 20.0 }, 1);
+/// assert_eq!(t.down.len(), 146);
+/// ```
+pub fn synthetic_track(case: &TrackCase, seed: u64) -> CleanTrack {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let normal = Normal::new(0.0, case.noise.max(0.0)).expect("a finite noise");
+    let w = std::f64::consts::TAU / case.period_frames;
+    let mut phase = || rng.random::<f64>() * std::f64::consts::TAU;
+    let phases = [phase(), phase(), phase(), phase(), phase(), phase()];
+    let amplitudes = [
+        1.0,
+        0.2 + 0.6 * rng.random::<f64>(),
+        0.3 * rng.random::<f64>(),
+    ];
+    let advance = 2.0 + 3.0 * rng.random::<f64>();
+    let frames = (case.period_frames * case.cycles).round() as usize;
+    let (mut down, mut across) = (Vec::with_capacity(frames), Vec::with_capacity(frames));
+    for i in 0..frames {
+        let t = i as f64;
+        let (mut d, mut a) = (advance * t / case.period_frames, 0.0);
+        for (h, amplitude) in amplitudes.iter().enumerate() {
+            let arg = (h + 1) as f64 * w * t;
+            d += amplitude * (arg + phases[2 * h]).sin();
+            a += 0.6 * amplitude * (arg + phases[2 * h + 1]).cos();
+        }
+        down.push(d + normal.sample(&mut rng));
+        across.push(a + normal.sample(&mut rng));
+    }
+    CleanTrack {
+        frames: (0..frames).map(|i| i as f64).collect(),
+        down,
+        across,
+        warnings: Vec::new(),
+    }
+}
+
+fn coverage(pairs: &[(f64, f64)], truth: f64) -> Coverage {
+    let n = pairs.len();
+    if n == 0 {
+        return Coverage {
+            estimates: 0,
+            coverage: f64::NAN,
+            bias_in_errors: f64::NAN,
+            median_error_frames: f64::NAN,
+        };
+    }
+    let covered = pairs
+        .iter()
+        .filter(|(e, s)| (e - truth).abs() <= 1.96 * s)
+        .count();
+    let mut errors: Vec<f64> = pairs.iter().map(|p| p.1).collect();
+    errors.sort_by(f64::total_cmp);
+    let median = errors[n / 2];
+    let bias = pairs.iter().map(|p| p.0 - truth).sum::<f64>() / n as f64;
+    Coverage {
+        estimates: n,
+        coverage: covered as f64 / n as f64,
+        bias_in_errors: bias / median,
+        median_error_frames: median,
+    }
+}
+
+/// Runs `draws` synthetic tracks of `case` (seeds `seed`, `seed + 1`, …, in parallel, the same
+/// answer on every run) through [`find_period`] without surrogates (they decide whether a
+/// period is stated, not its value), and measures both estimates.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::experiment::tracking::calibration::{TrackCase, calibrate_case};
+/// let c = calibrate_case(&TrackCase { period_frames: 30.0, noise: 0.2, cycles: 20.0 }, 20, 1);
+/// assert_eq!(c.draws, 20);
+/// assert!(c.stated.coverage > 0.7);
+/// ```
+pub fn calibrate_case(case: &TrackCase, draws: usize, seed: u64) -> CaseCalibration {
+    let search = PeriodSearch {
+        surrogates: 0,
+        ..PeriodSearch::default()
+    };
+    let fits: Vec<_> = (0..draws as u64)
+        .into_par_iter()
+        .map(|k| find_period(&synthetic_track(case, seed + k), &search, &|_, _| {}).ok())
+        .collect();
+    let stated: Vec<(f64, f64)> = fits
+        .iter()
+        .flatten()
+        .map(|f| (f.period_frames, f.period_error_frames))
+        .collect();
+    let cycles: Vec<(f64, f64)> = fits
+        .iter()
+        .flatten()
+        .filter(|f| f.cycle_periods.len() >= 3)
+        .map(|f| {
+            let k = f.cycle_periods.len() as f64;
+            let mean = f.cycle_periods.iter().sum::<f64>() / k;
+            let var = f
+                .cycle_periods
+                .iter()
+                .map(|p| (p - mean).powi(2))
+                .sum::<f64>()
+                / (k - 1.0);
+            (mean, (var / k).sqrt())
+        })
+        .collect();
+    CaseCalibration {
+        case: *case,
+        draws,
+        refused: fits.iter().filter(|f| f.is_none()).count(),
+        read_as_varying: fits
+            .iter()
+            .flatten()
+            .filter(|f| f.block_check.is_some_and(|b| b.turns_vary))
+            .count(),
+        cycles_mean: coverage(&cycles, case.period_frames),
+        stated: coverage(&stated, case.period_frames),
+    }
+}
