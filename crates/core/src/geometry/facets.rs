@@ -5,21 +5,25 @@
 //! N-gon rests on a side up to α = π/N, while a Fourier fit with a few modes sees an almost
 //! perfect circle (α* ≈ 0). The mesh fit reports both numbers and says when they disagree.
 //!
-//! The rule is the smooth one, α* = atan max |r′/r|, read on the hull's sides. A side at height
-//! h from the centroid, with its ends at distances t₁ and t₂ along it from the centroid's foot,
-//! rests on a ramp while the weight's line through the centroid meets the ramp between its ends.
-//! That holds for every α up to atan(max(|t₁|, |t₂|)/h). Andrew's monotone chain gives the hull,
-//! O(n log n), written here because it is 30 lines and exact on the section's own points.
+//! The rule is the smooth one read on the hull's sides, for the body rolling forward (θ
+//! increasing, counter-clockwise in the section's coordinates, as the fitted body's α* is): a
+//! side at height h from the centroid rests on a ramp while the weight's line through the
+//! centroid meets the ramp before the side's downhill end, the one reached later going
+//! counter-clockwise, at distance t from the centroid's foot along the side: every α up to
+//! atan(t/h) ([`super::hull::Bridge::rest_angle`]'s rule for a dent's flat). Andrew's monotone
+//! chain gives the hull, O(n log n), written here because it is 30 lines and exact on the
+//! section's own points.
 
 /// The hull of a cross-section, and the angle it rests up to.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct SectionHull {
     /// The hull's sides (the vertices that turn the boundary by more than round-off).
     pub sides: usize,
-    /// α* of the hull (rad): the steepest ramp on which some side can hold the body.
+    /// α* of the hull (rad): the steepest ramp on which some side can hold the body rolling
+    /// forward (θ increasing); 0 when none can.
     pub alpha_star: f64,
-    /// The longest side over the mean distance of the hull's vertices from the centroid: how
-    /// coarse the facets are (2 sin(π/N) for a regular N-gon).
+    /// The longest side, in the points' units: how coarse the facets are (2R sin(π/N) for a
+    /// regular N-gon of circumradius R).
     pub longest_side: f64,
 }
 
@@ -46,7 +50,6 @@ pub fn section_hull(points: &[[f64; 2]]) -> Option<SectionHull> {
     if hull.len() < 3 {
         return None;
     }
-    let mean_radius = hull.iter().map(|p| p[0].hypot(p[1])).sum::<f64>() / hull.len() as f64;
     let (mut best, mut longest) = (0.0f64, 0.0f64);
     for (k, p) in hull.iter().enumerate() {
         let q = hull[(k + 1) % hull.len()];
@@ -58,16 +61,14 @@ pub fn section_hull(points: &[[f64; 2]]) -> Option<SectionHull> {
         if height <= 0.0 {
             return None;
         }
-        let (tp, tq) = (
-            (p[0] * dx + p[1] * dy) / length,
-            (q[0] * dx + q[1] * dy) / length,
-        );
-        best = best.max(tp.abs().max(tq.abs()).atan2(height));
+        // q is the downhill end rolling forward; a side whose foot lies past q never holds.
+        let reach = (q[0] * dx + q[1] * dy) / length;
+        best = best.max(reach.atan2(height));
     }
     Some(SectionHull {
         sides: hull.len(),
         alpha_star: best,
-        longest_side: longest / mean_radius,
+        longest_side: longest,
     })
 }
 
@@ -134,7 +135,7 @@ mod tests {
                 "{n}: {}",
                 hull.alpha_star
             );
-            assert!((hull.longest_side - 2.0 * (PI / n as f64).sin()).abs() < 1e-12);
+            assert!((hull.longest_side - 14.0 * (PI / n as f64).sin()).abs() < 1e-12);
         }
     }
 
@@ -153,13 +154,31 @@ mod tests {
     }
 
     #[test]
-    fn an_off_centre_square_rests_longest_on_its_nearest_side() {
-        // A unit square with the centroid 0.2 left of its centre. The sides below and above,
-        // at height 0.5 with ends 0.3 and 0.7 away, hold up to atan(0.7/0.5); the left side, at
-        // height 0.3 with ends 0.5 away, up to atan(0.5/0.3), which is α*.
+    fn an_off_centre_rectangle_rests_by_its_forward_ends() {
+        // A rectangle with the centroid off its centre. Rolling forward (counter-clockwise),
+        // each side's downhill end is its later corner: the bottom side (height 0.5) reaches
+        // 0.7, the right (0.7) 0.5, the top (0.5) 0.3, the left (0.3) 0.5.
         let points = [[-0.3, -0.5], [0.7, -0.5], [0.7, 0.5], [-0.3, 0.5]];
         let hull = section_hull(&points).unwrap();
         assert!((hull.alpha_star - 0.5f64.atan2(0.3)).abs() < 1e-12);
+        // Its mirror image rolls the other way round: the left side (height 0.7 now) reaches
+        // 0.5, the top (0.5) 0.7, the right (0.3) 0.5, the bottom (0.5) 0.3.
+        let mirror: Vec<[f64; 2]> = points.iter().map(|p| [-p[0], p[1]]).collect();
+        let hull = section_hull(&mirror).unwrap();
+        assert!((hull.alpha_star - 0.5f64.atan2(0.3)).abs() < 1e-12);
+        // A right triangle, centroid at the origin, rolls differently each way round.
+        // Forward, the side along the bottom (height 2/3) reaches its corner 2 along: atan 3.
+        // Backward (its mirror image forward), the hypotenuse (height 2/√13) reaches 22/(3√13)
+        // back along it: atan(11/3).
+        let triangle = [[-1.0, -2.0 / 3.0], [2.0, -2.0 / 3.0], [-1.0, 4.0 / 3.0]];
+        let forward = section_hull(&triangle).unwrap().alpha_star;
+        let mirrored: Vec<[f64; 2]> = triangle.iter().map(|p| [-p[0], p[1]]).collect();
+        let backward = section_hull(&mirrored).unwrap().alpha_star;
+        assert!((forward - 3f64.atan()).abs() < 1e-12, "{forward}");
+        assert!(
+            (backward - (11.0f64 / 3.0).atan()).abs() < 1e-12,
+            "{backward}"
+        );
     }
 
     #[test]
