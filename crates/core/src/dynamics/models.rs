@@ -205,6 +205,30 @@ impl ModelKind {
         self.entry().inertial
     }
 
+    /// The arm of an exhaustive `match` on [`ModelKind::for_dimension`]`(dimension, …)` for the
+    /// kinds of another dimension, which it never gives. Analyses match every kind by name
+    /// (never `==` one kind and `else` the rest), so a newly registered model is a compile error
+    /// in each of them until it is handled; these arms only say which dimension was asked.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::{ModelKind, Ramp};
+    /// let ramp = Ramp::new(0.1, 0.0)?;
+    /// let state_len = match ModelKind::for_dimension(3, &ramp) {
+    ///     ModelKind::SphereViscous => 6,
+    ///     ModelKind::SphereInertial => 10,
+    ///     other @ (ModelKind::DiskViscous | ModelKind::DiskInertial) => other.wrong_dimension(3),
+    /// };
+    /// assert_eq!(state_len, 6);
+    /// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+    /// ```
+    pub fn wrong_dimension(self, dimension: u32) -> ! {
+        unreachable!(
+            "ModelKind::for_dimension({dimension}, …) gave {self}, a {}D model",
+            self.entry().dimension
+        )
+    }
+
     /// The registered model called `name`.
     ///
     /// # Example

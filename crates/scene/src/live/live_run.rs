@@ -884,7 +884,9 @@ impl LiveRun {
         match (shown, ModelKind::of(&self.setup.body, &self.ramp)) {
             (true, ModelKind::SphereViscous) => FieldWanted::Ramp(self.ramp),
             (true, ModelKind::SphereInertial) => FieldWanted::NeedsViscous,
-            _ => FieldWanted::Off,
+            (true, ModelKind::DiskViscous | ModelKind::DiskInertial) | (false, _) => {
+                FieldWanted::Off
+            }
         }
     }
 }

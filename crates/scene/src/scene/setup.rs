@@ -457,7 +457,13 @@ impl ViewsSpec {
                  a cylinder's lesson can name \"inverse-period\"",
             ));
         }
-        if self.poincare && ModelKind::of(body, ramp) != ModelKind::SphereViscous {
+        // The map on ∂Ω is the viscous sphere's; every model is named, so a new one is a
+        // compile error here until its map is decided.
+        let has_map = match ModelKind::of(body, ramp) {
+            ModelKind::SphereViscous => true,
+            ModelKind::SphereInertial | ModelKind::DiskViscous | ModelKind::DiskInertial => false,
+        };
+        if self.poincare && !has_map {
             return Err(invalid(
                 "views.poincare needs the viscous model (model.mass_ratio = 0): the map on ∂Ω is \
                  of orientations alone, which determine the viscous motion but not the inertial one",

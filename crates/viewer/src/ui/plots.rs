@@ -581,7 +581,11 @@ fn sweep_ui(
     let up = history.sweep(Branch::Up);
     let down = history.sweep(Branch::Down);
     // The √ law is the viscous cylinder's; with inertia the branches follow other laws.
-    let fit = (snap.model == ModelKind::DiskViscous && alpha_star > 0.0)
+    let sqrt_law = match snap.model {
+        ModelKind::DiskViscous => true,
+        ModelKind::DiskInertial | ModelKind::SphereViscous | ModelKind::SphereInertial => false,
+    };
+    let fit = (sqrt_law && alpha_star > 0.0)
         .then(|| {
             let all: Vec<[f64; 2]> = up.iter().chain(&down).copied().collect();
             crate::analysis::fit::sqrt_law(&all, alpha_star)

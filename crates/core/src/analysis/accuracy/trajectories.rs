@@ -235,59 +235,72 @@ pub fn run_case(case: &Case, method: Method) -> Result<Outcome, IntegrateError> 
         Body::Disk(d) => {
             let theta0 = case.start[0];
             let section = Section::Turns { slot: 0, theta0 };
-            if ModelKind::for_dimension(2, &case.ramp) == ModelKind::DiskViscous {
-                let m = DiskViscous::new(d, &case.ramp);
-                let (y, c, s) = drive(&m, [theta0, 0.0], method, case.t_end, section)?;
-                Ok(Outcome {
-                    angle: y[0],
-                    quat: [0.0; 4],
-                    position: [y[1], 0.0],
-                    crossings: c,
-                    stats: s,
-                })
-            } else {
-                let m = DiskInertial::new(d, &case.ramp);
-                let (y, c, s) = drive(&m, [theta0, 0.0, 0.0, 0.0], method, case.t_end, section)?;
-                Ok(Outcome {
-                    angle: y[0],
-                    quat: [0.0; 4],
-                    position: [y[2], 0.0],
-                    crossings: c,
-                    stats: s,
-                })
+            match ModelKind::for_dimension(2, &case.ramp) {
+                ModelKind::DiskViscous => {
+                    let m = DiskViscous::new(d, &case.ramp);
+                    let (y, c, s) = drive(&m, [theta0, 0.0], method, case.t_end, section)?;
+                    Ok(Outcome {
+                        angle: y[0],
+                        quat: [0.0; 4],
+                        position: [y[1], 0.0],
+                        crossings: c,
+                        stats: s,
+                    })
+                }
+                ModelKind::DiskInertial => {
+                    let m = DiskInertial::new(d, &case.ramp);
+                    let (y, c, s) =
+                        drive(&m, [theta0, 0.0, 0.0, 0.0], method, case.t_end, section)?;
+                    Ok(Outcome {
+                        angle: y[0],
+                        quat: [0.0; 4],
+                        position: [y[2], 0.0],
+                        crossings: c,
+                        stats: s,
+                    })
+                }
+                other @ (ModelKind::SphereViscous | ModelKind::SphereInertial) => {
+                    other.wrong_dimension(2)
+                }
             }
         }
         Body::Sphere(s) => {
             let q0 =
                 orientation_touching(s, direction(case.start[0], case.start[1]), case.start[2]);
             let section = Section::BallBoundary;
-            if ModelKind::for_dimension(3, &case.ramp) == ModelKind::SphereViscous {
-                let m = SphereViscous::new(s, &case.ramp);
-                let (y, c, st) = drive(
-                    &m,
-                    SphereViscous::initial_state(q0),
-                    method,
-                    case.t_end,
-                    section,
-                )?;
-                Ok(Outcome {
-                    angle: f64::NAN,
-                    quat: [y[0], y[1], y[2], y[3]],
-                    position: [y[4], y[5]],
-                    crossings: c,
-                    stats: st,
-                })
-            } else {
-                let m = SphereInertial::new(s, &case.ramp);
-                let y0 = SphereInertial::initial_state(q0, DVec3::ZERO);
-                let (y, c, st) = drive(&m, y0, method, case.t_end, section)?;
-                Ok(Outcome {
-                    angle: f64::NAN,
-                    quat: [y[0], y[1], y[2], y[3]],
-                    position: [y[7], y[8]],
-                    crossings: c,
-                    stats: st,
-                })
+            match ModelKind::for_dimension(3, &case.ramp) {
+                ModelKind::SphereViscous => {
+                    let m = SphereViscous::new(s, &case.ramp);
+                    let (y, c, st) = drive(
+                        &m,
+                        SphereViscous::initial_state(q0),
+                        method,
+                        case.t_end,
+                        section,
+                    )?;
+                    Ok(Outcome {
+                        angle: f64::NAN,
+                        quat: [y[0], y[1], y[2], y[3]],
+                        position: [y[4], y[5]],
+                        crossings: c,
+                        stats: st,
+                    })
+                }
+                ModelKind::SphereInertial => {
+                    let m = SphereInertial::new(s, &case.ramp);
+                    let y0 = SphereInertial::initial_state(q0, DVec3::ZERO);
+                    let (y, c, st) = drive(&m, y0, method, case.t_end, section)?;
+                    Ok(Outcome {
+                        angle: f64::NAN,
+                        quat: [y[0], y[1], y[2], y[3]],
+                        position: [y[7], y[8]],
+                        crossings: c,
+                        stats: st,
+                    })
+                }
+                other @ (ModelKind::DiskViscous | ModelKind::DiskInertial) => {
+                    other.wrong_dimension(3)
+                }
             }
         }
     }

@@ -337,29 +337,33 @@ fn sphere_start(
             }
         }
     };
-    if ModelKind::for_dimension(3, ramp) == ModelKind::SphereViscous {
-        let r = decided_run(sphere, ramp, q0, decide, (0.0, 0.0, 0), rtol)?;
-        let points: Vec<(DVec3, DVec3)> = r
-            .crossings
-            .iter()
-            .map(|c| (DVec3::from_array(c.point), DVec3::ZERO))
-            .collect();
-        return Ok(match (r.end, r.cycle) {
-            (RunEnd::Periodic, Some((k, duration))) => StartEnd::Cycle {
-                k,
-                duration,
-                last: points[points.len() - k..].to_vec(),
-            },
-            (RunEnd::Rest, _) => StartEnd::Rest(r.t_end),
-            _ => StartEnd::Undecided(
-                no_cycle(points.len(), r.angular_speed),
-                last_of(&points),
-                drifts(
-                    &points,
-                    &r.crossings.iter().map(|c| c.t).collect::<Vec<_>>(),
+    match ModelKind::for_dimension(3, ramp) {
+        ModelKind::SphereViscous => {
+            let r = decided_run(sphere, ramp, q0, decide, (0.0, 0.0, 0), rtol)?;
+            let points: Vec<(DVec3, DVec3)> = r
+                .crossings
+                .iter()
+                .map(|c| (DVec3::from_array(c.point), DVec3::ZERO))
+                .collect();
+            return Ok(match (r.end, r.cycle) {
+                (RunEnd::Periodic, Some((k, duration))) => StartEnd::Cycle {
+                    k,
+                    duration,
+                    last: points[points.len() - k..].to_vec(),
+                },
+                (RunEnd::Rest, _) => StartEnd::Rest(r.t_end),
+                _ => StartEnd::Undecided(
+                    no_cycle(points.len(), r.angular_speed),
+                    last_of(&points),
+                    drifts(
+                        &points,
+                        &r.crossings.iter().map(|c| c.t).collect::<Vec<_>>(),
+                    ),
                 ),
-            ),
-        });
+            });
+        }
+        ModelKind::SphereInertial => {}
+        other @ (ModelKind::DiskViscous | ModelKind::DiskInertial) => other.wrong_dimension(3),
     }
     let to_crossing = |c: &SectionState| crate::analysis::orbits::sphere_orbits::Crossing {
         t: c.t,
@@ -414,10 +418,10 @@ fn refine(
     (p, omega): (DVec3, DVec3),
 ) -> Result<crate::analysis::orbits::sphere_return_map::PeriodicOrbit, ReturnMapError> {
     let solve = OrbitSolve::default();
-    if ModelKind::for_dimension(3, ramp) == ModelKind::SphereViscous {
-        viscous_periodic_orbit(sphere, ramp, p, &solve)
-    } else {
-        periodic_orbit(sphere, ramp, p, omega, &solve)
+    match ModelKind::for_dimension(3, ramp) {
+        ModelKind::SphereViscous => viscous_periodic_orbit(sphere, ramp, p, &solve),
+        ModelKind::SphereInertial => periodic_orbit(sphere, ramp, p, omega, &solve),
+        other @ (ModelKind::DiskViscous | ModelKind::DiskInertial) => other.wrong_dimension(3),
     }
 }
 
@@ -672,25 +676,29 @@ fn sphere_path(
         .map(|i| period * i as f64 / options.samples_per_period as f64)
         .collect();
     let method = Method::dop853(1e-10);
-    let (path, contact) = if ModelKind::for_dimension(3, ramp) == ModelKind::SphereViscous {
-        let m = SphereViscous::new(sphere, ramp);
-        let run = Run::new(&m, 0.0, SphereViscous::initial_state(q0), method)?;
-        (sample(run, &times, |y| [y[4], y[5]], |_| {})?, None)
-    } else {
-        let m = SphereInertial::new(sphere, ramp);
-        let y0 = SphereInertial::initial_state(q0, omega);
-        let mut watch = ContactWatch::new(ContactLimits::default(), 0.0, m.contact_force(&y0));
-        let run = Run::new(&m, 0.0, y0, method)?;
-        let path = sample(
-            run,
-            &times,
-            |y| [y[7], y[8]],
-            |st| {
-                let at = (st.t(), *st.y());
-                watch.step_along(st, at, |y| m.contact_force(y));
-            },
-        )?;
-        (path, Some(watch.report()))
+    let (path, contact) = match ModelKind::for_dimension(3, ramp) {
+        ModelKind::SphereViscous => {
+            let m = SphereViscous::new(sphere, ramp);
+            let run = Run::new(&m, 0.0, SphereViscous::initial_state(q0), method)?;
+            (sample(run, &times, |y| [y[4], y[5]], |_| {})?, None)
+        }
+        ModelKind::SphereInertial => {
+            let m = SphereInertial::new(sphere, ramp);
+            let y0 = SphereInertial::initial_state(q0, omega);
+            let mut watch = ContactWatch::new(ContactLimits::default(), 0.0, m.contact_force(&y0));
+            let run = Run::new(&m, 0.0, y0, method)?;
+            let path = sample(
+                run,
+                &times,
+                |y| [y[7], y[8]],
+                |st| {
+                    let at = (st.t(), *st.y());
+                    watch.step_along(st, at, |y| m.contact_force(y));
+                },
+            )?;
+            (path, Some(watch.report()))
+        }
+        other @ (ModelKind::DiskViscous | ModelKind::DiskInertial) => other.wrong_dimension(3),
     };
     let start = path[0];
     Ok((
@@ -740,24 +748,25 @@ fn predict_disk(
     let alpha_star = critical_angle(&Body::Disk(disk.clone())).alpha_star;
     let is_periodic = |f: &Fate| matches!(f, Fate::Periodic { .. });
     // Each start's fate, with its period when it rolls.
-    let ends: Vec<(Fate, Option<f64>)> =
-        if ModelKind::for_dimension(2, ramp) == ModelKind::DiskViscous {
+    let ends: Vec<(Fate, Option<f64>)> = match ModelKind::for_dimension(2, ramp) {
+        ModelKind::DiskViscous => {
             // The viscous disk's fate does not depend on where it starts.
             let p = viscous_disk_period(disk, ramp);
             let fate = p.fate(ramp.alpha_rad - alpha_star, t_cap);
             vec![(fate, p.period.filter(|_| is_periodic(&fate))); options.starts]
-        } else {
-            (0..options.starts)
-                .into_par_iter()
-                .map(|i| {
-                    let theta0 = std::f64::consts::TAU * i as f64 / options.starts as f64;
-                    let p = inertial_disk_period_until(disk, ramp, theta0, 0.0, RTOL, t_cap, stop)?
-                        .ok_or(StudyError::Stopped)?;
-                    let fate = p.fate(ramp.alpha_rad - alpha_star, t_cap);
-                    Ok((fate, p.period.filter(|_| is_periodic(&fate))))
-                })
-                .collect::<Result<_, StudyError>>()?
-        };
+        }
+        ModelKind::DiskInertial => (0..options.starts)
+            .into_par_iter()
+            .map(|i| {
+                let theta0 = std::f64::consts::TAU * i as f64 / options.starts as f64;
+                let p = inertial_disk_period_until(disk, ramp, theta0, 0.0, RTOL, t_cap, stop)?
+                    .ok_or(StudyError::Stopped)?;
+                let fate = p.fate(ramp.alpha_rad - alpha_star, t_cap);
+                Ok((fate, p.period.filter(|_| is_periodic(&fate))))
+            })
+            .collect::<Result<_, StudyError>>()?,
+        other @ (ModelKind::SphereViscous | ModelKind::SphereInertial) => other.wrong_dimension(2),
+    };
     let fates: Vec<Fate> = ends.iter().map(|e| e.0).collect();
     let rolling: Vec<f64> = ends.iter().filter_map(|e| e.1).collect();
     if rolling.is_empty() {
@@ -765,10 +774,10 @@ fn predict_disk(
     }
     // Every rolling start is on the same cycle (the disk's phase space is a cylinder with one
     // rolling orbit at most at this α; shown by the periods agreeing).
-    let period = if ModelKind::for_dimension(2, ramp) == ModelKind::DiskViscous {
-        rolling[0]
-    } else {
-        rolling.iter().sum::<f64>() / rolling.len() as f64
+    let period = match ModelKind::for_dimension(2, ramp) {
+        ModelKind::DiskViscous => rolling[0],
+        ModelKind::DiskInertial => rolling.iter().sum::<f64>() / rolling.len() as f64,
+        other @ (ModelKind::SphereViscous | ModelKind::SphereInertial) => other.wrong_dimension(2),
     };
     let perimeter = disk_perimeter(disk);
     let per = options.samples_per_period;

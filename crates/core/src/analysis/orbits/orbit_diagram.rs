@@ -158,8 +158,8 @@ pub fn direct_run(
     window: RunWindow,
 ) -> Result<LateRun, IntegrateError> {
     let RunWindow { t_min, t_cap } = window;
-    let (crossings, omegas, t_end) =
-        if ModelKind::for_dimension(3, ramp) == ModelKind::SphereViscous {
+    let (crossings, omegas, t_end) = match ModelKind::for_dimension(3, ramp) {
+        ModelKind::SphereViscous => {
             let r = decided_run(
                 body,
                 ramp,
@@ -175,7 +175,8 @@ pub fn direct_run(
             )?;
             let n = r.crossings.len();
             (r.crossings, vec![DVec3::ZERO; n], r.t_end)
-        } else {
+        }
+        ModelKind::SphereInertial => {
             let to_crossing = |c: &SectionState| Crossing {
                 t: c.t,
                 point: c.point,
@@ -197,7 +198,9 @@ pub fn direct_run(
                 s.iter().map(|c| DVec3::from_array(c.omega)).collect(),
                 t_end,
             )
-        };
+        }
+        other @ (ModelKind::DiskViscous | ModelKind::DiskInertial) => other.wrong_dimension(3),
+    };
     // The cycle from the whole sequence (its steadiness looks 10k crossings back), the points
     // from the late window.
     let period = settled_cycle(&crossings, MAX_K, PERIOD_TOL).map(|c| c.0);

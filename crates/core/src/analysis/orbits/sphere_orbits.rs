@@ -45,20 +45,24 @@ use crate::integrate::{self, IntegrateError, Method, Stats};
 /// closure: the two models' states differ in size, a const generic a closure cannot take).
 macro_rules! on_model {
     ($body:expr, $ramp:expr, $q0:expr, |$sys:ident, $y0:ident, $omega:ident| $run:expr) => {
-        if ModelKind::for_dimension(3, $ramp) == ModelKind::SphereViscous {
-            let model = SphereViscous::new($body, $ramp);
-            let $sys = &model;
-            let $y0 = SphereViscous::initial_state($q0);
-            let $omega = |y: &[f64; 6]| rest_measure(&model, y);
-            $run
-        } else {
-            let model = SphereInertial::new($body, $ramp);
-            let $sys = &model;
-            let $y0 = SphereInertial::initial_state($q0, DVec3::ZERO);
-            // At rest only where the weight's torque vanishes too (`verdict::at_rest`): a
-            // heavy body is still at first and speeds up over m/m0 t0.
-            let $omega = |y: &[f64; 10]| rest_measure(&model, y);
-            $run
+        match ModelKind::for_dimension(3, $ramp) {
+            ModelKind::SphereViscous => {
+                let model = SphereViscous::new($body, $ramp);
+                let $sys = &model;
+                let $y0 = SphereViscous::initial_state($q0);
+                let $omega = |y: &[f64; 6]| rest_measure(&model, y);
+                $run
+            }
+            ModelKind::SphereInertial => {
+                let model = SphereInertial::new($body, $ramp);
+                let $sys = &model;
+                let $y0 = SphereInertial::initial_state($q0, DVec3::ZERO);
+                // At rest only where the weight's torque vanishes too (`verdict::at_rest`): a
+                // heavy body is still at first and speeds up over m/m0 t0.
+                let $omega = |y: &[f64; 10]| rest_measure(&model, y);
+                $run
+            }
+            other @ (ModelKind::DiskViscous | ModelKind::DiskInertial) => other.wrong_dimension(3),
         }
     };
 }
@@ -888,26 +892,30 @@ pub fn decided_run(
     sampling: (f64, f64, usize),
     rtol: f64,
 ) -> Result<DecidedRun, IntegrateError> {
-    if ModelKind::for_dimension(3, ramp) == ModelKind::SphereViscous {
-        let m = SphereViscous::new(body, ramp);
-        record(
-            &m,
-            SphereViscous::initial_state(q0),
-            decide,
-            sampling,
-            rtol,
-            |y| m.observe(y),
-        )
-    } else {
-        let m = SphereInertial::new(body, ramp);
-        record(
-            &m,
-            SphereInertial::initial_state(q0, DVec3::ZERO),
-            decide,
-            sampling,
-            rtol,
-            |y| m.observe(y),
-        )
+    match ModelKind::for_dimension(3, ramp) {
+        ModelKind::SphereViscous => {
+            let m = SphereViscous::new(body, ramp);
+            record(
+                &m,
+                SphereViscous::initial_state(q0),
+                decide,
+                sampling,
+                rtol,
+                |y| m.observe(y),
+            )
+        }
+        ModelKind::SphereInertial => {
+            let m = SphereInertial::new(body, ramp);
+            record(
+                &m,
+                SphereInertial::initial_state(q0, DVec3::ZERO),
+                decide,
+                sampling,
+                rtol,
+                |y| m.observe(y),
+            )
+        }
+        other @ (ModelKind::DiskViscous | ModelKind::DiskInertial) => other.wrong_dimension(3),
     }
 }
 

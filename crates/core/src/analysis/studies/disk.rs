@@ -47,12 +47,16 @@ pub fn lag_time(
     t_max: f64,
 ) -> Result<Option<f64>, IntegrateError> {
     let target = theta0 + distance;
-    if ModelKind::for_dimension(2, ramp) == ModelKind::DiskViscous {
-        let m = DiskViscous::new(disk, ramp);
-        first_reach(&m, [theta0, 0.0], target, rtol, t_max)
-    } else {
-        let m = DiskInertial::new(disk, ramp);
-        first_reach(&m, [theta0, 0.0, 0.0, 0.0], target, rtol, t_max)
+    match ModelKind::for_dimension(2, ramp) {
+        ModelKind::DiskViscous => {
+            let m = DiskViscous::new(disk, ramp);
+            first_reach(&m, [theta0, 0.0], target, rtol, t_max)
+        }
+        ModelKind::DiskInertial => {
+            let m = DiskInertial::new(disk, ramp);
+            first_reach(&m, [theta0, 0.0, 0.0, 0.0], target, rtol, t_max)
+        }
+        other @ (ModelKind::SphereViscous | ModelKind::SphereInertial) => other.wrong_dimension(2),
     }
 }
 

@@ -758,27 +758,40 @@ pub fn periodic_orbits_until(
             let q0 = random_orientation(sphere, seed, o);
             let span = (decide.t_min, decide.t_cap);
             let (max_k, tol) = (decide.max_k, decide.tol);
-            if ModelKind::for_dimension(3, &ramp) == ModelKind::SphereViscous {
-                let r = decided_run(sphere, &ramp, q0, decide, (0.0, 0.0, 0), RTOL)?;
-                let last = r.crossings.last().map(|c| DVec3::from_array(c.point));
-                Ok(last
-                    .filter(|_| matches!(r.cycle, Some((1, _))))
-                    .map(|p| (p, DVec3::ZERO)))
-            } else {
-                let to_crossing = |c: &SectionState| Crossing {
-                    t: c.t,
-                    point: c.point,
-                };
-                let (s, _) =
-                    inertial_crossings_until(sphere, &ramp, q0, DVec3::ZERO, span, RTOL, |s| {
-                        let c: Vec<Crossing> = s.iter().map(to_crossing).collect();
-                        settled_cycle(&c, max_k, tol).is_some()
-                    })?;
-                let c: Vec<Crossing> = s.iter().map(to_crossing).collect();
-                let period_one = matches!(settled_cycle(&c, max_k, tol), Some((1, _)));
-                Ok(s.last()
-                    .filter(|_| period_one)
-                    .map(|c| (DVec3::from_array(c.point), DVec3::from_array(c.omega))))
+            match ModelKind::for_dimension(3, &ramp) {
+                ModelKind::SphereViscous => {
+                    let r = decided_run(sphere, &ramp, q0, decide, (0.0, 0.0, 0), RTOL)?;
+                    let last = r.crossings.last().map(|c| DVec3::from_array(c.point));
+                    Ok(last
+                        .filter(|_| matches!(r.cycle, Some((1, _))))
+                        .map(|p| (p, DVec3::ZERO)))
+                }
+                ModelKind::SphereInertial => {
+                    let to_crossing = |c: &SectionState| Crossing {
+                        t: c.t,
+                        point: c.point,
+                    };
+                    let (s, _) = inertial_crossings_until(
+                        sphere,
+                        &ramp,
+                        q0,
+                        DVec3::ZERO,
+                        span,
+                        RTOL,
+                        |s| {
+                            let c: Vec<Crossing> = s.iter().map(to_crossing).collect();
+                            settled_cycle(&c, max_k, tol).is_some()
+                        },
+                    )?;
+                    let c: Vec<Crossing> = s.iter().map(to_crossing).collect();
+                    let period_one = matches!(settled_cycle(&c, max_k, tol), Some((1, _)));
+                    Ok(s.last()
+                        .filter(|_| period_one)
+                        .map(|c| (DVec3::from_array(c.point), DVec3::from_array(c.omega))))
+                }
+                other @ (ModelKind::DiskViscous | ModelKind::DiskInertial) => {
+                    other.wrong_dimension(3)
+                }
             }
         })
         .collect::<Result<_, StudyError>>()?;
@@ -794,10 +807,12 @@ pub fn periodic_orbits_until(
                 .iter()
                 .find(|s| boundary_distance(s.0, centre) < 1e-3)
                 .unwrap_or(&(centre, DVec3::ZERO));
-            let orbit = if ModelKind::for_dimension(3, &ramp) == ModelKind::SphereViscous {
-                viscous_periodic_orbit(sphere, &ramp, p, &solve)
-            } else {
-                periodic_orbit(sphere, &ramp, p, omega, &solve)
+            let orbit = match ModelKind::for_dimension(3, &ramp) {
+                ModelKind::SphereViscous => viscous_periodic_orbit(sphere, &ramp, p, &solve),
+                ModelKind::SphereInertial => periodic_orbit(sphere, &ramp, p, omega, &solve),
+                other @ (ModelKind::DiskViscous | ModelKind::DiskInertial) => {
+                    other.wrong_dimension(3)
+                }
             };
             orbit
                 .map(|o| (o, count))
