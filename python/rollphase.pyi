@@ -91,6 +91,13 @@ class CoatReport(TypedDict):
     alpha_star_before: float
     alpha_star_after: float
 
+class SectionHull(TypedDict):
+    """MeshFitReport["mesh_hull"] (2D): the section's own convex hull, as printed."""
+
+    sides: int
+    alpha_star: float
+    longest_side: float
+
 class MeshFitReport(TypedDict):
     """Body.mesh_fit: the fit of a body to a mesh, as `rollphase shape --from-mesh --report`."""
 
@@ -115,6 +122,7 @@ class MeshFitReport(TypedDict):
     degree_residuals: List[DegreeResidual]
     convex: bool
     alpha_star: float
+    mesh_hull: Optional[SectionHull]
     warnings: List[str]
     coat: NotRequired[CoatReport]
 
@@ -212,10 +220,19 @@ class MarkerReading(TypedDict):
     shuffles: int
     reason: str
 
+class BlockCheck(TypedDict):
+    """TrackMeasurement["block_check"]: the harmonic fit on blocks of the track."""
+
+    blocks: int
+    reduced_chi2: Optional[float]
+    threshold: float
+    turns_vary: bool
+    residual_ratio: float
+
 class TrackMeasurement(TypedDict):
     period_frames: float
     period_error_frames: float
-    period_error_from: Literal["cycles", "dip_width"]
+    period_error_from: Literal["harmonics", "cycles", "dip_width"]
     period_spread_frames: Optional[float]
     cycle_periods: _Array
     unrepeated_cycles: int
@@ -224,6 +241,7 @@ class TrackMeasurement(TypedDict):
     advance_down: float
     advance_across: float
     significance: Optional[Significance]
+    block_check: Optional[BlockCheck]
     mismatch_curve: _Array
     frames_used: List[float]
     warnings: List[str]

@@ -25,8 +25,11 @@ use crate::output::{self, Inputs, OutputSet};
 /// coordinates of the ramp's plane (--frame-column, --down-column, --across-column; the
 /// defaults read the paper authors' files, whose rectified `yn` runs down the ramp and `xn`
 /// across it). --scale SX,SY gives cm per unit of the across and down columns, --fps the frame
-/// rate. The period is found automatically, with its uncertainty from the spread of the whole
-/// cycles' own periods; where no period can be found with confidence the command says so and
+/// rate. The period is found automatically; it and its uncertainty come from a harmonic fit of
+/// the whole track at its frames (`bench calibration`: the 95 % interval holds a synthetic
+/// track's true period 92–97 % of the time from 6 to 300 frames a period), or, where blocks of
+/// the track show that its turns take varying times, from the mean and spread of the whole
+/// cycles' own periods. Where no period can be found with confidence the command says so and
 /// exits with an error rather than guess. The release and the end of the ramp (where the speed
 /// is not steady), gaps of up to 10 frames, tracker jumps and missing values are handled and
 /// each is reported.
@@ -161,9 +164,10 @@ pub struct TrackSummary {
 
 /// Runs `track`.
 pub fn run(a: TrackArgs) -> Result<()> {
-    if !(a.fps.is_finite() && a.fps > 0.0 && a.fps <= 1e6) {
+    // A frame a day (time-lapse) to a million a second; below, periods in seconds overflow.
+    if !(a.fps.is_finite() && (1e-5..=1e6).contains(&a.fps)) {
         bail!(
-            "--fps {} is not allowed (needs 0 < fps ≤ 1e6 frames per second)",
+            "--fps {} is not allowed (needs 1e-5 ≤ fps ≤ 1e6 frames per second)",
             a.fps
         );
     }

@@ -360,6 +360,94 @@ fn short_periods_are_unbiased_and_their_errors_calibrated() {
     }
 }
 
+/// A track of `frames` frames: a drift, then for each (period, amplitudes) a motion with those
+/// harmonics (k-th at `amplitudes[k - 1]`, phases from the seed), white noise `noise`.
+fn motions(frames: usize, parts: &[(f64, &[f64])], noise: f64, seed: u64) -> CleanTrack {
+    let mut rng = Noise(seed);
+    let phases: Vec<[f64; 2]> = (0..parts.len() * 8)
+        .map(|_| [rng.uniform() * 6.3, rng.uniform() * 6.3])
+        .collect();
+    let (mut down, mut across) = (Vec::with_capacity(frames), Vec::with_capacity(frames));
+    for i in 0..frames {
+        let t = i as f64;
+        let (mut d, mut a) = (0.3 * t, 0.0);
+        for (j, (period, amplitudes)) in parts.iter().enumerate() {
+            for (k, amplitude) in amplitudes.iter().enumerate() {
+                let arg = std::f64::consts::TAU * (k + 1) as f64 * t / period;
+                let [p, q] = phases[8 * j + k];
+                d += amplitude * (arg + p).sin();
+                a += 0.6 * amplitude * (arg + q).cos();
+            }
+        }
+        down.push(d + noise * rng.normal());
+        across.push(a + noise * rng.normal());
+    }
+    CleanTrack {
+        frames: (0..frames).map(|i| i as f64).collect(),
+        down,
+        across,
+        warnings: vec![],
+    }
+}
+
+/// One test of "it repeats", the harmonics' (found by a hostile tester, 2026-11-28):
+/// - two incommensurate motions (30 frames and 30·φ, 30·√2) nearly repeat after 240 frames
+///   (8 turns of one against 5 of the other) but no one period describes them: no period over
+///   100 turns (over 40, 5 near repeats, the mismatch stays within a period's resolution and
+///   the near repeat is stated: a known limit);
+/// - a 3.5-frame motion repeats exactly after 7 frames sampled once a frame: too fast, never 7;
+/// - a 300-frame motion whose third harmonic dominates is 300 frames, not 100;
+/// - a noiseless track's interval holds its period.
+#[test]
+fn the_harmonics_decide_what_repeats() {
+    let phi = (1.0 + 5f64.sqrt()) / 2.0;
+    for (other, seed) in [(30.0 * phi, 1), (30.0 * phi, 2), (30.0 * 2f64.sqrt(), 3)] {
+        let track = motions(
+            3000,
+            &[(30.0, &[1.0, 0.3, 0.1]), (other, &[0.8, 0.2])],
+            0.05,
+            seed,
+        );
+        match find_period(&track, &search(), &|_, _| {}) {
+            Err(TrackError::NoPeriod { .. }) => {}
+            Err(e) => panic!("quasi-periodic ({seed}): {e}"),
+            Ok(fit) => panic!(
+                "quasi-periodic ({seed}): {} ± {}",
+                fit.period_frames, fit.period_error_frames
+            ),
+        }
+    }
+    for seed in 0..5 {
+        let track = motions(600, &[(3.5, &[1.0, 0.3, 0.1])], 0.02, 40 + seed);
+        match find_period(&track, &search(), &|_, _| {}) {
+            Err(TrackError::TooFast { period_frames, .. }) => {
+                assert!((period_frames - 3.5).abs() < 0.01, "{period_frames}")
+            }
+            Err(e) => panic!("3.5 frames ({seed}): {e}"),
+            Ok(fit) => panic!("3.5 frames ({seed}): {}", fit.period_frames),
+        }
+    }
+    for seed in 0..3 {
+        let track = motions(3000, &[(300.0, &[0.05, 0.0, 0.6])], 0.03, 60 + seed);
+        let fit = find_period(&track, &search(), &|_, _| {}).unwrap();
+        assert!(
+            (fit.period_frames - 300.0).abs() < 4.0 * fit.period_error_frames,
+            "third harmonic ({seed}): {} ± {}",
+            fit.period_frames,
+            fit.period_error_frames
+        );
+    }
+    let track = motions(1010, &[(50.5, &[1.0, 0.4])], 0.0, 7);
+    let fit = find_period(&track, &search(), &|_, _| {}).unwrap();
+    assert!(
+        (fit.period_frames - 50.5).abs() < 1.96 * fit.period_error_frames,
+        "noiseless: {} ± {}",
+        fit.period_frames,
+        fit.period_error_frames
+    );
+    assert!(!fit.block_check.is_some_and(|b| b.turns_vary));
+}
+
 /// A periodic track in absurd units is refused by name, not read as a straight line at
 /// constant speed (once its squares overflowed to infinity, and the period search said so).
 #[test]

@@ -162,7 +162,10 @@ pub fn calibrate_case(case: &TrackCase, draws: usize, seed: u64) -> CaseCalibrat
     };
     let fits: Vec<_> = (0..draws as u64)
         .into_par_iter()
-        .map(|k| find_period(&synthetic_track(case, seed + k), &search, &|_, _| {}).ok())
+        .map(|k| {
+            let track = synthetic_track(case, seed.wrapping_add(k));
+            find_period(&track, &search, &|_, _| {}).ok()
+        })
         .collect();
     let stated: Vec<(f64, f64)> = fits
         .iter()

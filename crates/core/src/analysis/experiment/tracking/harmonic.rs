@@ -25,7 +25,18 @@ use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64;
 
 /// Most harmonics fitted (a rolling body's track is smooth: a few carry it).
-pub const MAX_HARMONICS: usize = 8;
+pub const MAX_HARMONICS: usize = 32;
+/// Harmonics fitted when the track's spectrum says nothing (too short to read).
+const DEFAULT_HARMONICS: usize = 8;
+/// A harmonic's strength above which it is no chance: Gamma(2, 1) exceeds 30 with
+/// probability 31·e⁻³⁰ ≈ 3e-12.
+pub const SIGNIFICANT_STRENGTH: f64 = 30.0;
+/// The floor of the noise a harmonic is measured against, relative to the track's mean square:
+/// a noiseless track's residual is round-off.
+const ROUND_OFF: f64 = 1e-20;
+/// The period's error is at least this fraction of it: a noiseless track's fit reaches the
+/// truth to about 1e-9 of it, and its Gauss–Newton error would be round-off alone.
+const ERROR_FLOOR: f64 = 1e-8;
 /// Cycles in the search's first stretch.
 const FIRST_CYCLES: f64 = 32.0;
 /// Grid points per valley half-width.
@@ -44,6 +55,13 @@ pub struct HarmonicPeriod {
     pub harmonics: usize,
     /// Lag-1 correlation of the residuals (the error is inflated by (1 + ρ)/(1 − ρ) for ρ > 0).
     pub residual_correlation: f64,
+    /// The residual's variance per frame, |z − fit|² summed over the frames less the fitted
+    /// parameters: under measurement noise alone, half the track's mismatch at T.
+    pub residual_variance: f64,
+    /// Each harmonic's strength (1 … H, the rest 0): its fitted power over what noise alone
+    /// gives it, Gamma(2, 1) distributed without a signal; above [`SIGNIFICANT_STRENGTH`] it is
+    /// part of the motion.
+    pub strengths: [f64; MAX_HARMONICS],
     /// The consistency check over blocks of the track ([`period_checked_by_blocks`]); `None`
     /// from [`harmonic_period`] alone or where the track is too short for three blocks.
     pub blocks: Option<BlockCheck>,
@@ -56,21 +74,63 @@ pub struct HarmonicPeriod {
 /// (the cycles' mean, [`super::period`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct BlockCheck {
-    /// Blocks fitted (3 to 8, each at least two periods long).
+    /// Blocks fitted (2 to 8, each at least two periods long).
     pub blocks: usize,
-    /// Σ (T_b − T)²/σ_b² / (blocks − 1).
-    pub reduced_chi2: f64,
+    /// Σ (T_b − T)²/σ_b² / (blocks − 1); `None` with two blocks.
+    pub reduced_chi2: Option<f64>,
     /// [`TURNS_VARY_CHI2`]: above it the turns' times vary.
     pub threshold: f64,
     /// Whether the blocks scatter beyond it (under 1 % of tracks with measurement noise
     /// alone, `bench calibration`'s "varying" column).
     pub turns_vary: bool,
+    /// The whole track's residual variance over the blocks' mean: near 1 where one period
+    /// describes the track, large where only short stretches repeat (two incommensurate
+    /// periods nearly repeating, or turns whose times vary).
+    pub residual_ratio: f64,
 }
 
-/// How many harmonics a period of `t` frames is fitted with: up to half its frames (so that
-/// no two harmonics alias onto each other), at most [`MAX_HARMONICS`].
-fn harmonics_for(t: f64) -> usize {
-    ((t / 2.0).floor() as usize).clamp(1, MAX_HARMONICS)
+/// How many harmonics a period of `t` frames is fitted with: enough to reach the highest
+/// frequency the track has power at (`bandwidth`, cycles a frame; 8 where unknown), up to half
+/// its frames (so that no two harmonics alias onto each other) and [`MAX_HARMONICS`]. A long
+/// period with quick features (a 240-frame near-repeat of a 30-frame motion) needs more than a
+/// few: what they leave unexplained would read as the track not repeating.
+fn harmonics_for(t: f64, bandwidth: Option<f64>) -> usize {
+    let wanted = bandwidth.map_or(DEFAULT_HARMONICS, |f| (f * t).ceil() as usize + 1);
+    wanted
+        .min((t / 2.0).floor() as usize)
+        .clamp(1, MAX_HARMONICS)
+}
+
+/// The highest frequency (cycles a frame) at which the detrended track's periodogram (Hann
+/// window, so that a peak's leakage falls off fast) stands 30 times above its median (the noise
+/// floor) and above 1e-4 of its peak (a harmonic of 1 % of the largest amplitude: what is
+/// weaker leaves a residual no test reads), or `None` for a track under 64 frames.
+fn bandwidth(z: &[Complex64]) -> Option<f64> {
+    let n = z.len();
+    if n < 64 {
+        return None;
+    }
+    let mut spectrum: Vec<Complex64> = z
+        .iter()
+        .enumerate()
+        .map(|(t, v)| v * (0.5 - 0.5 * (std::f64::consts::TAU * t as f64 / n as f64).cos()))
+        .collect();
+    rustfft::FftPlanner::new()
+        .plan_fft_forward(n)
+        .process(&mut spectrum);
+    let power: Vec<f64> = spectrum.iter().map(|v| v.norm_sqr()).collect();
+    let mut sorted = power.clone();
+    sorted.sort_by(f64::total_cmp);
+    let peak = sorted[n - 1];
+    let floor = (30.0 * sorted[n / 2]).max(1e-4 * peak);
+    power
+        .iter()
+        .enumerate()
+        .filter(|&(_, &p)| p > floor)
+        .map(|(k, _)| k.min(n - k) as f64 / n as f64)
+        .fold(None, |best: Option<f64>, f| {
+            Some(best.map_or(f, |b| b.max(f)))
+        })
 }
 
 /// The fit at one trial period over z[..len]: the Gram matrix, the projections and the
@@ -197,7 +257,7 @@ pub fn harmonic_period(z: &[Complex64], start: f64, half_range: f64) -> Option<H
     // cancelling a drift's large squares.
     let detrended = detrend(z);
     let z = &detrended[..];
-    let h = harmonics_for(start);
+    let h = harmonics_for(start, bandwidth(z));
     let (mut centre, mut half) = (start, half_range.min(start / 4.0));
     let mut len = ((FIRST_CYCLES * start).ceil() as usize).clamp(1, n);
     loop {
@@ -278,6 +338,34 @@ fn detrend(z: &[Complex64]) -> Vec<Complex64> {
         .collect()
 }
 
+/// The fit at exactly `period` frames, no search: for asking a known period's multiples which
+/// harmonics they hold. `None` for a track under two periods or a singular fit.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::experiment::tracking::harmonic::harmonics_at;
+/// use rustfft::num_complex::Complex64;
+/// // A 25-frame motion seen at twice its period: its harmonics there are the even ones.
+/// let w = std::f64::consts::TAU / 25.0;
+/// let z: Vec<Complex64> = (0..500)
+///     .map(|t| {
+///         let t = t as f64;
+///         let noise = 0.01 * ((t * 12.9898).sin() * 43758.5453).fract();
+///         Complex64::new(t + (w * t).sin() + noise, (w * t).cos())
+///     })
+///     .collect();
+/// assert_eq!(harmonics_at(&z, 50.0).unwrap().significant(), vec![2]);
+/// ```
+pub fn harmonics_at(z: &[Complex64], period: f64) -> Option<HarmonicPeriod> {
+    if !(period.is_finite() && period >= 2.0) || (z.len() as f64) < 2.0 * period {
+        return None;
+    }
+    let detrended = detrend(z);
+    let h = harmonics_for(period, bandwidth(&detrended));
+    let fit = trial(&detrended, period, h)?;
+    Some(error_of(&detrended, period, h, &fit))
+}
+
 /// Gauss–Newton's standard error of T at the fit, inflated for correlated residuals.
 fn error_of(z: &[Complex64], period: f64, h: usize, fit: &Trial) -> HarmonicPeriod {
     let n = z.len();
@@ -287,8 +375,10 @@ fn error_of(z: &[Complex64], period: f64, h: usize, fit: &Trial) -> HarmonicPeri
     let mut row = vec![Complex64::new(0.0, 0.0); dim];
     let mut proj = DVector::<Complex64>::zeros(dim);
     let (mut jj, mut rr, mut lag, mut previous) = (0.0, 0.0, 0.0, None::<Complex64>);
+    let mut power = 0.0;
     for (t, &v) in z.iter().enumerate() {
         let tf = t as f64;
+        power += v.norm_sqr();
         basis_row(tf, c, s, omega, h, &mut row);
         let model: Complex64 = row
             .iter()
@@ -313,10 +403,9 @@ fn error_of(z: &[Complex64], period: f64, h: usize, fit: &Trial) -> HarmonicPeri
             proj[a] += row[a].conj() * d;
         }
     }
-    let explained = fit
-        .gram
-        .clone()
-        .cholesky()
+    let cholesky = fit.gram.clone().cholesky();
+    let explained = cholesky
+        .as_ref()
         .map_or(0.0, |ch| proj.dotc(&ch.solve(&proj)).re);
     let free = (jj - explained).max(f64::MIN_POSITIVE);
     let dof = (2 * n) as f64 - (2 * dim + 1) as f64;
@@ -327,12 +416,82 @@ fn error_of(z: &[Complex64], period: f64, h: usize, fit: &Trial) -> HarmonicPeri
     } else {
         1.0
     };
+    let residual_variance = rr / (n as f64 - dim as f64).max(1.0);
+    // Each coefficient's variance is σ²·(G⁻¹)ₐₐ; a harmonic's strength sums |x|²/var over its
+    // two senses (Gamma(2, 1) under noise alone). A noiseless fit's σ² is round-off: floored.
+    let noise = (residual_variance * inflation).max(ROUND_OFF * power / n as f64);
+    let mut strengths = [0.0; MAX_HARMONICS];
+    if let Some(ch) = &cholesky {
+        for (k, strength) in strengths.iter_mut().enumerate().take(h) {
+            for a in [2 + 2 * k, 3 + 2 * k] {
+                let mut unit = DVector::<Complex64>::zeros(dim);
+                unit[a] = Complex64::new(1.0, 0.0);
+                let g_aa = ch.solve(&unit)[a].re.max(f64::MIN_POSITIVE);
+                *strength += fit.solution[a].norm_sqr() / (noise * g_aa);
+            }
+        }
+    }
+    // A noiseless fit's error is round-off: floored (ERROR_FLOOR).
+    let error = (per_component / free * inflation)
+        .sqrt()
+        .max(ERROR_FLOOR * period);
     HarmonicPeriod {
         period_frames: period,
-        error_frames: (per_component / free * inflation).sqrt(),
+        error_frames: error,
         harmonics: h,
         residual_correlation: rho,
+        residual_variance,
+        strengths,
         blocks: None,
+    }
+}
+
+impl HarmonicPeriod {
+    /// The harmonics (1 … H) that stand out of the noise ([`SIGNIFICANT_STRENGTH`]).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::experiment::tracking::harmonic::harmonic_period;
+    /// use rustfft::num_complex::Complex64;
+    /// // A 30-frame motion with a first and a third harmonic: those two, not the second.
+    /// let w = std::f64::consts::TAU / 30.0;
+    /// let z: Vec<Complex64> = (0..600)
+    ///     .map(|t| {
+    ///         let t = t as f64;
+    ///         let noise = 0.01 * ((t * 0.618034).fract() - 0.5); // a line at 0.38 a frame
+    ///         Complex64::new(t + (w * t).sin() + 0.3 * (3.0 * w * t).sin() + noise, (w * t).cos())
+    ///     })
+    ///     .collect();
+    /// assert_eq!(harmonic_period(&z, 30.0, 0.5).unwrap().significant(), vec![1, 3]);
+    /// ```
+    pub fn significant(&self) -> Vec<usize> {
+        (1..=self.harmonics)
+            .filter(|&k| self.strengths[k - 1] > SIGNIFICANT_STRENGTH)
+            .collect()
+    }
+
+    /// The strongest harmonic (1 … H): the one the motion's main repeat is (1 for most tracks;
+    /// k when the track repeats k times a period as far as the eye goes).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::experiment::tracking::harmonic::harmonics_at;
+    /// use rustfft::num_complex::Complex64;
+    /// // A 3.5-frame motion sampled once a frame repeats exactly after 7 frames; seen at 7, its
+    /// // strongest harmonic is the second.
+    /// let w = std::f64::consts::TAU / 3.5;
+    /// let z: Vec<Complex64> = (0..700)
+    ///     .map(|t| {
+    ///         let t = t as f64;
+    ///         Complex64::new(t + (w * t).sin() + 0.2 * (2.0 * w * t).cos(), 0.6 * (w * t).cos())
+    ///     })
+    ///     .collect();
+    /// assert_eq!(harmonics_at(&z, 7.0).unwrap().strongest(), 2);
+    /// ```
+    pub fn strongest(&self) -> usize {
+        (1..=self.harmonics)
+            .max_by(|&a, &b| self.strengths[a - 1].total_cmp(&self.strengths[b - 1]))
+            .unwrap_or(1)
     }
 }
 
@@ -377,23 +536,27 @@ pub fn period_checked_by_blocks(
     let dim = 2 + 2 * fit.harmonics;
     let shortest = (2.0 * t).max((10 * 2 * dim) as f64 / 2.0);
     let count = ((z.len() as f64 / shortest).floor() as usize).min(MAX_BLOCKS);
-    if count < 3 {
+    if count < 2 {
         return Some(fit);
     }
     let size = z.len() / count;
-    let mut chi2 = 0.0;
+    let (mut chi2, mut block_variance) = (0.0, 0.0);
     for b in 0..count {
         let block = harmonic_period(&z[b * size..(b + 1) * size], t, (0.03 * t).min(t / 4.0))?;
         chi2 += ((block.period_frames - t) / block.error_frames).powi(2);
+        block_variance += block.residual_variance / count as f64;
     }
-    let dof = count - 1;
-    let reduced = chi2 / dof as f64;
-    let threshold = TURNS_VARY_CHI2;
+    let power = z.iter().map(|v| v.norm_sqr()).sum::<f64>() / z.len() as f64;
+    // Residuals under 1e-12 of the track's mean square (a millionth of its size) are round-off
+    // or a fit's own limit: no tracker is that quiet, and their ratio means nothing.
+    let floor = 1e-12 * power;
+    let reduced = (count >= 3).then(|| chi2 / (count - 1) as f64);
     fit.blocks = Some(BlockCheck {
         blocks: count,
         reduced_chi2: reduced,
-        threshold,
-        turns_vary: reduced > threshold,
+        threshold: TURNS_VARY_CHI2,
+        turns_vary: reduced.is_some_and(|r| r > TURNS_VARY_CHI2),
+        residual_ratio: fit.residual_variance.max(floor) / block_variance.max(floor),
     });
     Some(fit)
 }

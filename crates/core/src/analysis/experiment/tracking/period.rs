@@ -72,6 +72,9 @@ pub const SMOOTHING_RATIO: f64 = 1.5;
 pub const SURROGATE_FRAMES: usize = 1 << 18;
 /// The track's dip must be below this fraction of the lowest a surrogate reached.
 pub const SURROGATE_MARGIN: f64 = 0.5;
+/// A period is refused when the harmonic fit of the whole track leaves more than this many
+/// times the residual its blocks leave ([`harmonic::BlockCheck::residual_ratio`]).
+pub const MAX_FIT_EXCESS: f64 = 4.0;
 /// The surrogates' seed: the same track gives the same answer on every run.
 const SURROGATE_SEED: u64 = 0x5EED_7AC4;
 
@@ -460,6 +463,133 @@ fn cycles(
     out
 }
 
+/// Why no dip of d′ counts as a repeat: the best shift's mismatch, or its dip cut off by the
+/// end of the search.
+fn no_dip(e: &[f64], dn: &[f64], max_tau: usize) -> TrackError {
+    let k = (2..e.len())
+        .min_by(|&a, &b| dn[a].total_cmp(&dn[b]))
+        .unwrap_or(2.min(e.len() - 1));
+    // A dip that reaches the end of the range is cut off: its floor may lie beyond.
+    let why = if dn[k] < MAX_NORMALISED_DIP {
+        format!(
+            "the track repeats best after about {k} frames, but its repeat runs into the end \
+             of the search (shifts up to {max_tau} frames, half the track), so its floor \
+             cannot be told from a longer period's: a period needs a track of at least 2.5 \
+             of them"
+        )
+    } else {
+        format!(
+            "no shift from 2 to {max_tau} frames makes the track repeat better than the \
+             shifts before it: the best (shift {k} frames) leaves {:.2} of the variation \
+             unexplained, {:.2} of its mean over smaller shifts (a repeat needs below \
+             {MAX_NORMALISED_DIP})",
+            e[k], dn[k]
+        )
+    };
+    TrackError::NoPeriod {
+        best_frames: k as f64,
+        why,
+    }
+}
+
+/// The period, its error and where it comes from, by the harmonic regression started at
+/// `start` (the cycles' mean, or the dip) with the estimate so far (`before`): the cycles' shifts
+/// share a bias at short periods that their spread cannot see (harmonic.rs says why). The
+/// search spans the start's own error five times over and at least 3 % (the shifts' bias stayed
+/// under 1 %). Turns whose times vary keep the cycles' mean and spread; a track the regression
+/// describes over its stretches but not as a whole is refused (`m`: its mismatch, for saying so).
+fn regression(
+    z: &[Complex64],
+    start: f64,
+    before: (f64, ErrorSource),
+    m: f64,
+) -> Result<(f64, f64, ErrorSource, Option<harmonic::BlockCheck>), TrackError> {
+    let (error, from) = before;
+    let fit = harmonic::period_checked_by_blocks(z, start, (0.03 * start).max(5.0 * error));
+    let block_check = fit.and_then(|f| f.blocks);
+    // Turns whose times vary are read by counting them: the cycles' mean and spread.
+    let turns_vary = block_check.is_some_and(|b| b.turns_vary) && from == ErrorSource::Cycles;
+    if let Some(fit) = fit.filter(|_| !turns_vary)
+        && let Some(blocks) = fit.blocks
+        && blocks.residual_ratio > MAX_FIT_EXCESS
+    {
+        // One test of "it repeats": a track that repeats after T frames is described by one
+        // set of harmonics of 1/T over its whole length as well as over any stretch of it. Two
+        // incommensurate periods nearly repeat (8 turns of one against 5 of the other), so
+        // short stretches fit and the whole does not.
+        return Err(TrackError::NoPeriod {
+            best_frames: fit.period_frames,
+            why: format!(
+                "the track nearly repeats after {:.1} frames (mismatch {m:.3}), but no one period \
+                 describes it: harmonics of that period leave {:.1} times as much unexplained \
+                 over the whole track as over {} stretches of it (at most {MAX_FIT_EXCESS}), as \
+                 two or more incommensurate periods do (a quasi-periodic motion)",
+                fit.period_frames, blocks.residual_ratio, blocks.blocks
+            ),
+        });
+    }
+    Ok(match fit {
+        Some(fit) if !turns_vary => (
+            fit.period_frames,
+            fit.error_frames,
+            ErrorSource::Harmonics,
+            block_check,
+        ),
+        _ => (start, error, from, block_check),
+    })
+}
+
+/// What the harmonics say of a repeat found at `tau`.
+enum Fundamental {
+    /// It is the period.
+    Keep,
+    /// The period is this (frames): a fraction of `tau` whose harmonics are all the
+    /// significant ones, or a multiple with harmonics between its own.
+    Period(f64),
+    /// The motion's strongest repeat is this many frames, under [`MIN_PERIOD_FRAMES`]: the
+    /// frame rate cannot tell it from its multiples.
+    TooFast(f64),
+}
+
+/// The period the harmonic regression says, from a repeat found at `tau` frames:
+/// - its strongest harmonic k gives the motion's main repeat, τ/k; under
+///   [`MIN_PERIOD_FRAMES`] the frame rate aliases its harmonics onto a slower period's, and it
+///   is refused as too fast (a 3.5-frame motion sampled once a frame repeats exactly after 7);
+/// - its significant harmonics sharing a factor g mean the track repeats after τ/g;
+/// - a multiple k·τ (up to 8, within the search) with a significant harmonic that is not a
+///   multiple of k means the track repeats only after k·τ (a third harmonic that dominates a
+///   weak fundamental made the dips pick a third of the period).
+fn fundamental(z: &[Complex64], tau: f64, longest: f64) -> Fundamental {
+    let fit_at = |t: f64| harmonic::harmonic_period(z, t, (0.03 * t).min(t / 4.0));
+    let Some(fit) = fit_at(tau) else {
+        return Fundamental::Keep;
+    };
+    let main = fit.period_frames / fit.strongest() as f64;
+    if main < MIN_PERIOD_FRAMES {
+        return Fundamental::TooFast(main);
+    }
+    let strong = fit.significant();
+    let shared = strong.iter().fold(0, |g, &k| gcd(g, k));
+    if shared > 1 {
+        return Fundamental::Period(fit.period_frames / shared as f64);
+    }
+    for k in 2..=8usize {
+        let t = k as f64 * fit.period_frames;
+        if t > longest {
+            break;
+        }
+        let at = harmonic::harmonics_at(z, t);
+        if at.is_some_and(|f| f.significant().iter().any(|h| h % k != 0)) {
+            return Fundamental::Period(t);
+        }
+    }
+    Fundamental::Keep
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 { a } else { gcd(b, a % b) }
+}
+
 /// The lowest d′ that [`SURROGATES`] surrogate tracks reach: the track's spectrum (of z, so
 /// the sense of any rotation is kept) averaged over f/ρ … f·ρ on each side, random phases, a
 /// fixed seed per surrogate (the same on every run, whatever the thread count).
@@ -710,19 +840,7 @@ pub fn find_period(
         .collect();
     let found = dips(&e, &dn);
     let Some(&best_whole) = found.iter().min_by(|&&a, &&b| e[a].total_cmp(&e[b])) else {
-        let k = (2..e.len())
-            .min_by(|&a, &b| dn[a].total_cmp(&dn[b]))
-            .unwrap_or(2.min(e.len() - 1));
-        return Err(TrackError::NoPeriod {
-            best_frames: k as f64,
-            why: format!(
-                "no shift from 2 to {max_tau} frames makes the track repeat better than the \
-                 shifts before it: the best (shift {k} frames) leaves {:.2} of the variation \
-                 unexplained, {:.2} of its mean over smaller shifts (a repeat needs below \
-                 {MAX_NORMALISED_DIP})",
-                e[k], dn[k]
-            ),
-        });
+        return Err(no_dip(&e, &dn, max_tau));
     };
     let best = refine(&whole, best_whole, scale);
     // The smallest dip within the tolerance of the best, refined (a period that is not a whole
@@ -752,6 +870,21 @@ pub fn find_period(
         .map(|(_, r)| r)
         .unwrap_or(chosen);
     let (tau, m, mean, curvature) = chosen;
+    // The harmonics have the last word on which repeat is the period (a dip cannot tell a
+    // period from its multiples where the frame rate aliases its harmonics).
+    let (tau, m, mean, curvature) = match fundamental(&det.z, tau, max_tau as f64) {
+        Fundamental::Keep => (tau, m, mean, curvature),
+        Fundamental::Period(t) => {
+            let r = refine(&whole, (t.round() as usize).clamp(2, max_tau - 1), scale);
+            (t, r.1, r.2, r.3)
+        }
+        Fundamental::TooFast(t) => {
+            return Err(TrackError::TooFast {
+                period_frames: t,
+                min_frames: search.min_frames,
+            });
+        }
+    };
     if m > MAX_MISMATCH {
         return Err(TrackError::NoPeriod {
             best_frames: tau,
@@ -787,23 +920,12 @@ pub fn find_period(
     }
     let significance = against_chance(&det, &e, (tau, m), search, progress)?;
     let (spread, error, from) = uncertainty(&cycle_periods, m, curvature, n, tau);
-    // The cycles' mean (or the dip) starts the harmonic regression, which gives the period
-    // and its error wherever it can be fitted (harmonic.rs says why: the cycles' shifts share a
-    // bias at short periods that their spread cannot see). The search spans the start's own
-    // error five times over and at least 3 % (the shifts' bias stayed under 1 %).
     let start = if from == ErrorSource::Cycles {
         cycle_periods.iter().sum::<f64>() / cycle_periods.len() as f64
     } else {
         tau
     };
-    // Turns whose times vary are read by counting them: the cycles' mean and spread.
-    let fit = harmonic::period_checked_by_blocks(&det.z, start, (0.03 * start).max(5.0 * error));
-    let block_check = fit.and_then(|f| f.blocks);
-    let turns_vary = block_check.is_some_and(|b| b.turns_vary) && from == ErrorSource::Cycles;
-    let (tau, error, from) = match fit {
-        Some(fit) if !turns_vary => (fit.period_frames, fit.error_frames, ErrorSource::Harmonics),
-        _ => (start, error, from),
-    };
+    let (tau, error, from, block_check) = regression(&det.z, start, (error, from), m)?;
     let (m, mean) = if tau == start && from == ErrorSource::DipWidth {
         (m, mean)
     } else {
