@@ -1416,6 +1416,19 @@ fn save_state_resumes_the_run_where_it_was_with_its_plots() {
     std::fs::remove_file(&path).ok();
     std::fs::remove_file(&scene_path).ok();
     let saved = Scene::from_toml(&text).unwrap();
+    // Its description is for people: t to two decimals, m/m0 short (a saved state once said
+    // "t = 437.1756825259997").
+    let t_text = saved
+        .description
+        .strip_prefix("Saved state at t = ")
+        .and_then(|rest| rest.split(' ').next())
+        .unwrap_or_else(|| panic!("{}", saved.description));
+    assert_eq!(
+        t_text,
+        format!("{:.2}", s.snapshot.t),
+        "{}",
+        saved.description
+    );
     let resume = saved.resume.clone().expect("a [resume] table");
     assert_eq!(resume.t, s.snapshot.t);
     assert_eq!(resume.state, s.snapshot.state);

@@ -415,10 +415,10 @@ impl AppUi {
         let mut scene = self.scene_to_save(status);
         let snap = &status.snapshot;
         scene.description = format!(
-            "{STATE_PREFIX}{} (α = {:.5} rad, m/m0 = {}); {STATE_END}{}",
+            "{STATE_PREFIX}{:.2} (α = {:.5} rad, m/m0 = {}); {STATE_END}{}",
             snap.t,
             snap.alpha_rad,
-            snap.mass_ratio,
+            crate::view::short_number(snap.mass_ratio),
             original_description(&scene.description)
         );
         scene.resume = Some(crate::scene::ResumeSpec {
@@ -769,7 +769,7 @@ impl AppUi {
                 "{SAVED_PREFIX}{:.4} rad ({:.3} α*), m/m0 = {}{}",
                 snap.alpha_rad,
                 snap.alpha_rad / status.setup.alpha_star,
-                snap.mass_ratio,
+                crate::view::short_number(snap.mass_ratio),
                 if first.is_empty() {
                     String::new()
                 } else {

@@ -34,7 +34,7 @@ pub mod layout;
 mod panels;
 
 use body::field_max;
-pub use panels::multiplicity_text;
+pub use panels::{multiplicity_text, short_number};
 use panels::{title_panel, titled_panel};
 
 /// The SO(3) ball's key: what a point is, and its axes by colour (x downhill, y across the

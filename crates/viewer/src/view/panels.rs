@@ -18,7 +18,11 @@ impl SceneView {
         let mass = if !snap.model.is_inertial() {
             format!("m/m0 = 0 ({} model)", snap.model)
         } else {
-            format!("m/m0 = {} ({} model)", trim(snap.mass_ratio), snap.model)
+            format!(
+                "m/m0 = {} ({} model)",
+                short_number(snap.mass_ratio),
+                snap.model
+            )
         };
         let rate = if snap.halted {
             "halted: 1/T = 0".to_string()
@@ -254,7 +258,9 @@ pub(super) fn wrap(text: &str, width: usize) -> Vec<String> {
     lines
 }
 
-pub(super) fn trim(x: f64) -> String {
+/// A number for people: four decimals, trailing zeros dropped (m/m0 = 3.2100635417193555
+/// shows as 3.2101, 2.5 as 2.5).
+pub fn short_number(x: f64) -> String {
     let s = format!("{x:.4}");
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
