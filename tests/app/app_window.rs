@@ -23,10 +23,13 @@ impl VirtualX {
     /// (an error in CI, which must run the window tests).
     fn start(screen: &str) -> Option<VirtualX> {
         use std::io::BufRead;
+        // -noreset: without it the server resets whenever its last client goes, and a window
+        // opening at that moment finds no server (one of the hundred kills did, in CI).
         let spawned = Command::new("Xvfb")
             .args([
                 "-displayfd",
                 "1",
+                "-noreset",
                 "-nolisten",
                 "tcp",
                 "-screen",
