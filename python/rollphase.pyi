@@ -338,6 +338,7 @@ class Body:
         axis: Optional[Tuple[float, float, float]] = None,
         mm_per_unit: float = 1.0,
         coat_mm: Optional[float] = None,
+        ignore_facets: bool = False,
     ) -> Body:
         """A body fitted to a printed or scanned mesh (.stl, .obj, .ply; mm unless mm_per_unit
         says otherwise), as `rollphase shape --from-mesh` fits it: 3D by real spherical harmonics

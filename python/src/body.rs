@@ -131,8 +131,12 @@ impl Body {
     /// convex body raises ValueError naming the place. coat_mm coats the fitted body with that
     /// many mm of uniform thickness (the rubber of the viscous experiments) and fits the coated
     /// surface again; mesh_fit["coat"] then gives ⟨r⟩ and α* before and after.
+    /// ignore_facets=True treats a 2D section's flat facets as an export's tessellation of a
+    /// round body: the body then keeps no printed section (see `rollphase shape
+    /// --ignore-facets`).
     #[staticmethod]
-    #[pyo3(signature = (path, *, modes = None, dim = None, axis = None, mm_per_unit = 1.0, coat_mm = None))]
+    #[pyo3(signature = (path, *, modes = None, dim = None, axis = None, mm_per_unit = 1.0, coat_mm = None, ignore_facets = false))]
+    #[allow(clippy::too_many_arguments)]
     fn from_mesh(
         py: Python<'_>,
         path: PathBuf,
@@ -141,6 +145,7 @@ impl Body {
         axis: Option<[f64; 3]>,
         mm_per_unit: f64,
         coat_mm: Option<f64>,
+        ignore_facets: bool,
     ) -> PyResult<Self> {
         use rollphase_core::geometry::mesh_fit::{FitOptions, coat, fit_mesh};
         if let Some(c) = coat_mm
@@ -159,6 +164,7 @@ impl Body {
             modes,
             axis: axis.map(DVec3::from_array),
             mm_per_unit,
+            ignore_facets,
         };
         let fit = py
             .detach(|| {

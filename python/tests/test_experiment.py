@@ -60,6 +60,20 @@ def test_the_printed_cylinder_is_2d():
     assert Body.from_mesh(CYLINDER, axis=(0, 0, -1)).mesh_fit["axis"] == [0.0, 0.0, -1.0]
 
 
+def test_the_printed_cylinders_facets_are_kept_and_checked():
+    """Its STL has 199 flat sides, which hold it up to 0.1895 rad where the smooth fit rolls
+    from 0.1735: an α between the two is refused (the print would rest), as on the command
+    line; ignore_facets=True says they are tessellation."""
+    faceted = Body.from_mesh(CYLINDER)
+    assert "printed_section" in faceted.to_json()
+    with pytest.raises(ValueError, match="199 flat sides"):
+        rollphase.period(faceted, 0.18)
+    assert rollphase.period(faceted, 0.2) > 0
+    smooth = Body.from_mesh(CYLINDER, ignore_facets=True)
+    assert "printed_section" not in smooth.to_json()
+    assert rollphase.period(smooth, 0.18) > 0
+
+
 def test_bad_meshes_raise_value_error(tmp_path):
     with pytest.raises(ValueError, match="not a regular file"):
         Body.from_mesh("/dev/zero")

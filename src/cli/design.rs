@@ -196,6 +196,21 @@ pub fn run(a: DesignArgs) -> Result<()> {
     let (start, file_scale_mm) = match &a.from {
         Some(f) => {
             let (body, scale) = crate::geometry::ShapeFile::load_scaled(f)?;
+            if let crate::geometry::Body::Disk(d) = &body {
+                let fit = body.alpha_star();
+                if let Some(gap) = d.printed_section().and_then(|p| p.facets_matter(fit)) {
+                    bail!(
+                        "--from {} is the smooth fit (α* = {fit:.5} rad) of a print with {} flat \
+                         sides that hold it up to α* = {:.5} rad; `design` checks and changes the \
+                         fit, which is not the body printed. Design from a body of the model, or \
+                         refit the mesh with `--ignore-facets` if its facets are only the \
+                         export's tessellation of a round body",
+                        f.display(),
+                        gap.sides,
+                        gap.print_alpha_star
+                    );
+                }
+            }
             (Some(body), scale)
         }
         None => (None, None),

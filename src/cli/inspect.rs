@@ -58,6 +58,9 @@ pub struct Inspection {
     pub direction_star: [f64; 3],
     /// A 2D body that is not convex: the flats of its convex hull it rolls on, over its dents.
     pub hull_flats: Vec<crate::geometry::hull::Bridge>,
+    /// A body fitted to a faceted print (its shape file keeps the print's section): the
+    /// section's flat sides and the angle they hold it up to; `null` otherwise.
+    pub printed_section: Option<crate::geometry::facets::SectionHull>,
     /// A 2D body that is not convex: the steepest ramp it can rest on a flat at, and α* of its
     /// curved parts alone (α* is the larger).
     pub flat_rest: Option<crate::analysis::rest::critical_angle::FlatRest>,
@@ -88,6 +91,10 @@ pub fn inspect(body: &Body) -> Inspection {
         hull_flats: match body {
             Body::Disk(d) => d.hull().bridges().to_vec(),
             Body::Sphere(_) => Vec::new(),
+        },
+        printed_section: match body {
+            Body::Disk(d) => d.printed_section().and_then(|p| p.hull().ok()),
+            Body::Sphere(_) => None,
         },
         flat_rest: a.flat,
     }
@@ -147,6 +154,22 @@ pub fn run(a: InspectArgs) -> Result<()> {
             f.theta_b,
             f.alpha_from,
             f.alpha
+        )?;
+    }
+    if let Some(p) = r.printed_section {
+        let matters =
+            (p.alpha_star - r.alpha_star).abs() > crate::geometry::mesh_fit::FACET_TOLERANCE;
+        outln!(
+            "  as printed:      {} flat sides, resting up to α = {:.10} rad = {:.6}°{}",
+            p.sides,
+            p.alpha_star,
+            p.alpha_star.to_degrees(),
+            if matters {
+                " (the models roll the smooth fit; every command refuses α between the two, \
+                 where the print rests but the fit would roll)"
+            } else {
+                " (within 0.1° of the fit's)"
+            }
         )?;
     }
     if let Some(turned) = r.alpha_star_turned {

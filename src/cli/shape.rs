@@ -76,6 +76,12 @@ pub struct ShapeArgs {
         allow_negative_numbers = true
     )]
     pub coat_mm: Option<f64>,
+    /// With --from-mesh --dim 2: the section's flat facets are an export's tessellation of a
+    /// round body (a turned or cast part), not flats of the print. Without it the shape file
+    /// keeps the section's hull as `printed_section`, and every command refuses a ramp angle at
+    /// which the print's flats hold it while the smooth fit would roll.
+    #[arg(long, requires = "from_mesh")]
+    pub ignore_facets: bool,
     /// With --from-mesh: write the fit's report as JSON here (residuals, ⟨r⟩ in mm, α*, …).
     #[arg(long, requires = "from_mesh", value_name = "FILE")]
     pub report: Option<PathBuf>,
@@ -150,6 +156,7 @@ fn from_mesh(a: &ShapeArgs, mesh: &Path) -> Result<()> {
         modes: a.modes,
         axis,
         mm_per_unit: a.mm_per_unit,
+        ignore_facets: a.ignore_facets,
     };
     if let Some(c) = a.coat_mm
         && !(c.is_finite() && c > 0.0)

@@ -761,6 +761,7 @@ fn stl_files_are_read_as_exporters_write_them() {
 /// α* misses π/K by more than the tolerance.
 #[test]
 fn regular_prisms_of_every_fn_fit_at_any_turn_and_axis_sign() {
+    use rollphase::analysis::rest::critical_angle::check_print_rolls;
     use rollphase::geometry::mesh_fit::{FitOptions, fit_mesh};
     use rollphase::geometry::mesh_read::MeshSource;
     let dir = scratch("prisms");
@@ -815,6 +816,28 @@ fn regular_prisms_of_every_fn_fit_at_any_turn_and_axis_sign() {
                             "$fn = {k}: fit α* {}, π/K {half}; {:?}",
                             fit.report.alpha_star, fit.report.warnings
                         );
+                        // The shape file keeps the print's section, and a ramp the flats hold
+                        // it on while the fit would roll is refused (issue 59's wrong answer:
+                        // `period --alpha 0.05` on a 30- to 62-sided prism said "periodic").
+                        let Body::Disk(d) = &fit.body else {
+                            panic!("$fn = {k}: a 2D fit gives a disk")
+                        };
+                        let printed = d.printed_section().expect("the print's section is kept");
+                        let h = printed.hull().unwrap();
+                        assert_eq!(h.sides, k, "$fn = {k}");
+                        assert!((h.alpha_star - half).abs() < 1e-5, "$fn = {k}: {h:?}");
+                        let below = 0.9 * half;
+                        let refused = check_print_rolls(&fit.body, below).is_err();
+                        assert_eq!(
+                            refused,
+                            misses && below > fit.report.alpha_star,
+                            "$fn = {k}, α = {below}: fit α* {}",
+                            fit.report.alpha_star
+                        );
+                        assert!(
+                            check_print_rolls(&fit.body, 1.01 * half).is_ok(),
+                            "$fn = {k}"
+                        );
                         fitted += 1;
                     }
                     Err(e) => refused.push(format!("$fn = {k}, turn {turn}, axis {axis}: {e}")),
@@ -830,6 +853,123 @@ fn regular_prisms_of_every_fn_fit_at_any_turn_and_axis_sign() {
         refused[..refused.len().min(20)].join("\n")
     );
     assert_eq!(fitted, 510 * 4);
+}
+
+/// A faceted print is answered for as printed (issue 59): OpenSCAD's `cylinder(r = 10)` has
+/// 30 sides and rests up to π/30 = 0.1047 rad, while its smooth fit is a circle. Every command
+/// that rolls it refuses α = 0.05 naming the flats, and answers at 0.11; `--ignore-facets`
+/// says the facets are tessellation, and the body then rolls everywhere; a coat keeps the
+/// flats, further out; a hand-edited section is refused naming the field.
+#[test]
+fn a_faceted_print_is_refused_where_its_flats_hold_it() {
+    let dir = scratch("faceted-print");
+    let polygon: Vec<[f64; 2]> = (0..30)
+        .map(|j| {
+            let a = TAU * j as f64 / 30.0;
+            [10.0 * a.cos(), 10.0 * a.sin()]
+        })
+        .collect();
+    let mesh = dir.join("cylinder-fn30.stl");
+    write_binary_stl(&extrude(&polygon, 20.0), &mesh, 1.0);
+    let (body, _, report) = fit(&mesh, &[], &dir);
+    let shape = dir.join("print.json");
+    std::fs::copy(dir.join("fit.json"), &shape).unwrap();
+    assert_eq!(report["mesh_hull"]["sides"], 30);
+    assert!(body.alpha_star() < 1e-3);
+    let path = shape.display().to_string();
+    let designed = dir.join("designed.json").display().to_string();
+    let refusals: [&[&str]; 4] = [
+        &["period", &path, "--alpha", "0.05"],
+        &["predict", &path, "--alpha", "0.05", "--starts", "2"],
+        &[
+            "simulate", &path, "--alpha", "0.05", "--t-end", "1", "--mass", "1",
+        ],
+        &[
+            "design",
+            "--dim",
+            "2",
+            "--from",
+            &path,
+            "--check-only",
+            "--alpha-star",
+            "0.1",
+            "-o",
+            &designed,
+        ],
+    ];
+    for args in refusals {
+        let out = rollphase(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success(),
+            "{args:?} answered: {}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+        assert!(
+            err.contains("30 flat sides") && err.contains("0.10472"),
+            "{args:?}: {err}"
+        );
+        assert!(err.contains("--ignore-facets"), "{args:?}: {err}");
+    }
+    let answered = String::from_utf8(rollphase_ok(["period", &path, "--alpha", "0.11"])).unwrap();
+    assert!(answered.contains("periodic"), "{answered}");
+    let inspected = String::from_utf8(rollphase_ok(["inspect", &path])).unwrap();
+    assert!(
+        inspected.contains("as printed:      30 flat sides"),
+        "{inspected}"
+    );
+    // Tessellation of a round body: no section kept, and the fit rolls at 0.05.
+    let (round, _, _) = fit(&mesh, &["--ignore-facets"], &dir);
+    let text = std::fs::read_to_string(dir.join("fit.json")).unwrap();
+    assert!(!text.contains("printed_section"), "{text}");
+    let Body::Disk(d) = &round else {
+        panic!("a disk")
+    };
+    assert!(d.printed_section().is_none());
+    let smooth = dir.join("fit.json").display().to_string();
+    rollphase_ok(["period", &smooth, "--alpha", "0.05"]);
+    // A coat of 0.5 mm keeps the 30 flats, 0.5 mm further out: each side (2·10 sin(π/30) long
+    // at height 10 cos(π/30) mm) holds it up to atan(10 sin(π/30) / (10 cos(π/30) + 0.5)).
+    let (coated, _, _) = fit(&mesh, &["--coat-mm", "0.5"], &dir);
+    let Body::Disk(c) = &coated else {
+        panic!("a disk")
+    };
+    let hull = c
+        .printed_section()
+        .expect("the coat keeps the flats")
+        .hull()
+        .unwrap();
+    let half = std::f64::consts::PI / 30.0;
+    let expected = (10.0 * half.sin()).atan2(10.0 * half.cos() + 0.5);
+    assert!(
+        (hull.alpha_star - expected).abs() < 1e-5,
+        "{} against {expected}",
+        hull.alpha_star
+    );
+    // A hand-edited section is refused naming the field, before any run.
+    let mut file: Value = serde_json::from_str(&std::fs::read_to_string(&shape).unwrap()).unwrap();
+    for (bad, says) in [
+        (
+            serde_json::json!({"vertices": [[1.0, 0.0], [0.0, 1.0]]}),
+            "2 vertices",
+        ),
+        (
+            serde_json::json!({"vertices": [[1.0, 1.0], [2.0, 1.0], [1.0, 2.0]]}),
+            "centroid",
+        ),
+        (
+            serde_json::json!({"vertices": [[1.0, 0.0], [0.0, 1.0], [-1.0, 1e300]]}),
+            "vertices[2]",
+        ),
+        (serde_json::json!({"corners": []}), "corners"),
+    ] {
+        file["printed_section"] = bad;
+        let edited = dir.join("edited.json");
+        std::fs::write(&edited, file.to_string()).unwrap();
+        let out = rollphase(["period", &edited.display().to_string(), "--alpha", "0.2"]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(says), "{says}: {err}");
+    }
 }
 
 /// A given --axis is checked against the mesh: a sphere (its equator alone runs along any axis)

@@ -193,11 +193,13 @@ pub struct Disk {
     modes: Vec<DiskMode>,
     /// Its convex hull, found the first time it is asked for (a run of a dented body).
     hull: std::sync::OnceLock<super::hull::DiskHull>,
+    /// The flat-sided section of the print it was fitted to, when its shape file keeps one.
+    printed: Option<std::sync::Arc<super::facets::PrintedSection>>,
 }
 
 impl PartialEq for Disk {
     fn eq(&self, other: &Self) -> bool {
-        self.modes == other.modes
+        self.modes == other.modes && self.printed == other.printed
     }
 }
 
@@ -215,7 +217,38 @@ impl Disk {
         Self {
             modes,
             hull: std::sync::OnceLock::new(),
+            printed: None,
         }
+    }
+
+    /// This disk with the section of the print it was fitted to (or without one).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Disk;
+    /// use rollphase_core::geometry::facets::PrintedSection;
+    /// let square = PrintedSection { vertices: vec![[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0]] };
+    /// let disk = Disk::perfect().with_printed_section(Some(square.clone()));
+    /// assert_eq!(disk.printed_section(), Some(&square));
+    /// assert_ne!(disk, Disk::perfect());
+    /// ```
+    pub fn with_printed_section(self, section: Option<super::facets::PrintedSection>) -> Self {
+        Self {
+            printed: section.map(std::sync::Arc::new),
+            ..self
+        }
+    }
+
+    /// The section of the print it was fitted to, if its shape file keeps one
+    /// ([`super::facets::PrintedSection`]).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Disk;
+    /// assert!(Disk::perfect().printed_section().is_none());
+    /// ```
+    pub fn printed_section(&self) -> Option<&super::facets::PrintedSection> {
+        self.printed.as_deref()
     }
 
     /// The perfect disk r ≡ 1.
@@ -280,6 +313,7 @@ impl Disk {
                 })
                 .collect(),
         )
+        .with_printed_section(self.printed.as_deref().map(|p| p.turned()))
     }
 
     /// r, r', r'', r''' at contact angle θ, exact.

@@ -72,6 +72,171 @@ pub fn section_hull(points: &[[f64; 2]]) -> Option<SectionHull> {
     })
 }
 
+/// The cross-section of a printed prism, kept in its shape file: the convex hull of the mesh's
+/// section, in the fitted body's units (⟨r⟩ = 1) and frame (centroid at the origin, θ from
+/// the fit's first section axis), counter-clockwise.
+///
+/// The smooth fit is what every model rolls; this is what the print rests on. Where the two
+/// disagree ([`PrintedSection::facets_matter`]), a run at an angle on which the print's flats
+/// hold it but the fit rolls would answer for a body that was not printed, and
+/// [`crate::analysis::rest::critical_angle::check_print_rolls`] refuses it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PrintedSection {
+    /// The hull's corners, [x, y] in units of ⟨r⟩, counter-clockwise.
+    pub vertices: Vec<[f64; 2]>,
+}
+
+/// Most corners a printed section may have: a mesh's section of 2¹⁶ facets is finer than any
+/// printer, and the shape file stays under a few MB.
+pub const MAX_PRINTED_CORNERS: usize = 1 << 16;
+
+impl PrintedSection {
+    /// The hull of a section's `points` (centroid at the origin) scaled by 1/`unit`; `None`
+    /// when they do not enclose the origin with positive area.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::facets::PrintedSection;
+    /// let square = [[10.0, 10.0], [-10.0, 10.0], [-10.0, -10.0], [10.0, -10.0], [0.0, 10.0]];
+    /// let section = PrintedSection::from_points(&square, 10.0).unwrap();
+    /// assert_eq!(section.vertices.len(), 4);
+    /// assert!(section.vertices.iter().all(|v| v[0].abs() == 1.0 && v[1].abs() == 1.0));
+    /// ```
+    pub fn from_points(points: &[[f64; 2]], unit: f64) -> Option<Self> {
+        section_hull(points)?;
+        let vertices = convex_hull(points)
+            .into_iter()
+            .map(|p| [p[0] / unit, p[1] / unit])
+            .collect();
+        Some(Self { vertices })
+    }
+
+    /// Its sides and the angle it rests up to rolling forward ([`section_hull`] of its
+    /// corners); an error naming what is wrong for a section that is not a polygon around the
+    /// centroid (a hand-edited file).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::facets::PrintedSection;
+    /// let triangle = PrintedSection { vertices: vec![[1.0, 0.0], [-0.5, 0.866], [-0.5, -0.866]] };
+    /// assert_eq!(triangle.hull()?.sides, 3);
+    /// let outside = PrintedSection { vertices: vec![[1.0, 1.0], [2.0, 1.0], [1.0, 2.0]] };
+    /// assert!(outside.hull().unwrap_err().contains("centroid"));
+    /// # Ok::<(), String>(())
+    /// ```
+    pub fn hull(&self) -> Result<SectionHull, String> {
+        let n = self.vertices.len();
+        if !(3..=MAX_PRINTED_CORNERS).contains(&n) {
+            return Err(format!(
+                "printed_section has {n} vertices (needs 3 to {MAX_PRINTED_CORNERS})"
+            ));
+        }
+        if let Some((i, v)) = self
+            .vertices
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !v.iter().all(|x| x.is_finite() && x.abs() <= 100.0))
+        {
+            return Err(format!(
+                "printed_section.vertices[{i}] = [{}, {}] is not allowed (needs finite \
+                 coordinates within 100 ⟨r⟩ of the centroid)",
+                v[0], v[1]
+            ));
+        }
+        section_hull(&self.vertices).ok_or_else(|| {
+            "printed_section does not enclose the centroid with positive area (needs the \
+             section's corners around its centroid, in units of ⟨r⟩)"
+                .to_string()
+        })
+    }
+
+    /// The same section seen from the cylinder's other end (θ → −θ), as
+    /// [`super::Disk::turned`] turns the fit.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::facets::PrintedSection;
+    /// let s = PrintedSection { vertices: vec![[1.0, 0.0], [0.0, 1.0], [-1.0, -1.0]] };
+    /// assert_eq!(s.turned().turned(), s);
+    /// ```
+    pub fn turned(&self) -> Self {
+        Self {
+            vertices: self.vertices.iter().rev().map(|v| [v[0], -v[1]]).collect(),
+        }
+    }
+
+    /// The section under a coat of `thickness` (in its own units), in units `unit` times its
+    /// own: each side moved out along its normal by the coat, its ends kept as the flat's
+    /// ends (the coat rounds the corners between them, which the chords between the moved ends
+    /// stand for; a body resting on a flat tips at the flat's end).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::facets::PrintedSection;
+    /// let square = PrintedSection { vertices: vec![[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0]] };
+    /// let coated = square.coated(0.5, 1.0).unwrap();
+    /// assert_eq!(coated.vertices.len(), 8);
+    /// // A side 2 long at height 1.5 now: it holds the body up to atan(1/1.5).
+    /// assert!((coated.hull()?.alpha_star - (1.0f64 / 1.5).atan()).abs() < 1e-12);
+    /// # Ok::<(), String>(())
+    /// ```
+    pub fn coated(&self, thickness: f64, unit: f64) -> Option<Self> {
+        let n = self.vertices.len();
+        let moved: Vec<[f64; 2]> = (0..n)
+            .flat_map(|k| {
+                let (p, q) = (self.vertices[k], self.vertices[(k + 1) % n]);
+                let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+                let length = dx.hypot(dy);
+                // Counter-clockwise: the outward normal is the side's direction turned right.
+                let (nx, ny) = (dy / length * thickness, -dx / length * thickness);
+                [[p[0] + nx, p[1] + ny], [q[0] + nx, q[1] + ny]]
+            })
+            .collect();
+        Self::from_points(&moved, unit)
+    }
+
+    /// The print's α* against the fit's, when they differ by more than
+    /// [`super::mesh_fit::FACET_TOLERANCE`] (an inclinometer's 0.1°): the facets then matter to
+    /// where the body rests, and the fit cannot speak for the print below the larger of the two.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::facets::PrintedSection;
+    /// let n = 30;
+    /// let prism = PrintedSection { vertices: (0..n).map(|k| {
+    ///     let t = std::f64::consts::TAU * k as f64 / n as f64;
+    ///     [t.cos(), t.sin()]
+    /// }).collect() };
+    /// // A 30-sided prism rests up to π/30 = 6°; a smooth circle's fit has α* = 0.
+    /// let gap = prism.facets_matter(0.0).unwrap();
+    /// assert_eq!(gap.sides, 30);
+    /// assert!((gap.print_alpha_star - std::f64::consts::PI / 30.0).abs() < 1e-12);
+    /// assert!(prism.facets_matter(std::f64::consts::PI / 30.0).is_none());
+    /// ```
+    pub fn facets_matter(&self, fit_alpha_star: f64) -> Option<FacetGap> {
+        let hull = self.hull().ok()?;
+        ((hull.alpha_star - fit_alpha_star).abs() > super::mesh_fit::FACET_TOLERANCE).then_some(
+            FacetGap {
+                sides: hull.sides,
+                print_alpha_star: hull.alpha_star,
+                fit_alpha_star,
+            },
+        )
+    }
+}
+
+/// Where a printed section and its smooth fit disagree on α* ([`PrintedSection::facets_matter`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FacetGap {
+    /// The print's flat sides.
+    pub sides: usize,
+    /// α* of the print's hull (rad).
+    pub print_alpha_star: f64,
+    /// α* of the smooth fit (rad).
+    pub fit_alpha_star: f64,
+}
+
 /// Andrew's monotone chain, counter-clockwise, collinear and repeated points dropped. A turn
 /// counts only above 1e-12 of the squared extent, so the vertices of a side cut into pieces
 /// (a mesh that splits a long facet) do not count as sides.

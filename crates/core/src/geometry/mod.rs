@@ -79,6 +79,31 @@ pub enum ShapeError {
         /// Which mode.
         what: String,
     },
+    /// A shape file's `printed_section` that is not a polygon around the centroid.
+    #[error("{0}")]
+    PrintedSection(String),
+    /// A ramp on which the print's flat sides hold it while its smooth fit rolls
+    /// ([`crate::analysis::rest::critical_angle::check_print_rolls`]).
+    #[error(
+        "α = {alpha:.5} rad ({:.3}°) is below the printed body's own α* = {print:.5} rad ({:.3}°): \
+         its {sides} flat sides can hold it at rest there, while the smooth fit the models roll \
+         (α* = {fit:.5} rad) would roll, so every answer would be for a body that was not \
+         printed (the models do not roll on facets). Use α ≥ {print:.5}, or refit the mesh \
+         with `rollphase shape --from-mesh … --ignore-facets` if its facets are only the \
+         export's tessellation of a round body",
+        alpha.to_degrees(),
+        print.to_degrees()
+    )]
+    PrintRestsOnFacets {
+        /// The ramp angle asked for (rad).
+        alpha: f64,
+        /// The print's flat sides.
+        sides: usize,
+        /// The print's α* (rad).
+        print: f64,
+        /// The fit's α* (rad).
+        fit: f64,
+    },
     /// A `scale_mm` that is not a size.
     #[error("scale_mm = {0} is not allowed (needs 0 < scale_mm ≤ 10000, millimetres per ⟨r⟩)")]
     BadScale(f64),
@@ -279,7 +304,14 @@ impl Body {
             return Err(ShapeError::BadScale(scale));
         }
         match file {
-            ShapeFile::Disk { modes, .. } => {
+            ShapeFile::Disk {
+                modes,
+                printed_section,
+                ..
+            } => {
+                if let Some(section) = printed_section {
+                    section.hull().map_err(ShapeError::PrintedSection)?;
+                }
                 let mut seen = std::collections::BTreeSet::new();
                 for (i, m) in modes.iter().enumerate() {
                     if !(2..=MAX_DISK_L).contains(&m.l) {
@@ -304,7 +336,7 @@ impl Body {
                         });
                     }
                 }
-                let disk = Disk::new(modes.clone());
+                let disk = Disk::new(modes.clone()).with_printed_section(printed_section.clone());
                 // Σ|a_l|/l² < 1 guarantees r > 0; otherwise look for the smallest radius.
                 if modes
                     .iter()
@@ -390,6 +422,7 @@ impl Body {
             Body::Disk(d) => ShapeFile::Disk {
                 modes: d.modes().to_vec(),
                 scale_mm: None,
+                printed_section: d.printed_section().cloned(),
             },
             Body::Sphere(s) => ShapeFile::Sphere {
                 coeffs: s.coeffs().to_vec(),

@@ -55,6 +55,10 @@ pub enum ShapeFile {
         /// so that predictions can speak in mm); absent for a body of the model alone.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         scale_mm: Option<f64>,
+        /// The flat-sided section of the print the body was fitted to (`shape --from-mesh`
+        /// keeps it unless told the facets are tessellation): what the print rests on.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        printed_section: Option<super::facets::PrintedSection>,
     },
     /// A 3D body.
     Sphere {
@@ -189,9 +193,14 @@ impl ShapeFile {
     /// ```
     pub fn with_scale_mm(self, scale: Option<f64>) -> Self {
         match self {
-            ShapeFile::Disk { modes, .. } => ShapeFile::Disk {
+            ShapeFile::Disk {
+                modes,
+                printed_section,
+                ..
+            } => ShapeFile::Disk {
                 modes,
                 scale_mm: scale,
+                printed_section,
             },
             ShapeFile::Sphere { coeffs, .. } => ShapeFile::Sphere {
                 coeffs,

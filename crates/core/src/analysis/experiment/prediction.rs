@@ -219,6 +219,7 @@ pub fn predict_until(
     stop: &AtomicBool,
 ) -> Result<Prediction, StudyError> {
     let ramp = Ramp::new(alpha, mass_ratio)?.with_drag_law(options.drag_law);
+    crate::analysis::rest::critical_angle::check_print_rolls(body, alpha)?;
     if !(1..=MAX_PREDICT_STARTS).contains(&options.starts) {
         return Err(StudyError::BadArgument(format!(
             "starts = {} is not allowed (needs 1 ≤ starts ≤ {MAX_PREDICT_STARTS})",

@@ -30,7 +30,7 @@ use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::facets::{SectionHull, section_hull};
+use super::facets::{PrintedSection, SectionHull, section_hull};
 use super::mesh_read::{MeshError, MeshFormat, MeshSource};
 use super::{Body, DiskMode, MAX_SPHERE_L, ShapeFile, SphereCoeff};
 
@@ -52,6 +52,9 @@ pub struct FitOptions {
     pub axis: Option<DVec3>,
     /// Millimetres per mesh unit (1: STL, OBJ and PLY from CAD and printers are in mm).
     pub mm_per_unit: f64,
+    /// 2D: treat the section's flat facets as an export's tessellation of a round body (a
+    /// turned or cast part), and keep no [`super::facets::PrintedSection`] in the shape file.
+    pub ignore_facets: bool,
 }
 
 impl Default for FitOptions {
@@ -61,6 +64,7 @@ impl Default for FitOptions {
             modes: None,
             axis: None,
             mm_per_unit: 1.0,
+            ignore_facets: false,
         }
     }
 }
@@ -246,6 +250,8 @@ pub fn coat(
                 dim: Some(2),
                 modes: Some(fit.report.modes),
                 axis: Some(-DVec3::Y),
+                // Its 4,096-gon is the export's sampling, not facets of the print.
+                ignore_facets: true,
                 ..FitOptions::default()
             },
         ),
@@ -284,6 +290,21 @@ pub fn coat(
     coated.report.section_axes = fit.report.section_axes;
     coated.report.centroid = fit.report.centroid;
     coated.report.mesh_hull = None;
+    // The print's flats stay flats under a coat: its section, offset by the coat, in the
+    // coated body's units.
+    if let (Body::Disk(d), ShapeFile::Disk { modes, .. }) = (&fit.body, &coated.shape)
+        && let Some(section) = d.printed_section()
+    {
+        let offset = section.coated(coat_mm / scale, coated.report.scale_mm / scale);
+        coated.shape = ShapeFile::Disk {
+            modes: modes.clone(),
+            scale_mm: coated.shape.scale_mm(),
+            printed_section: offset.clone(),
+        };
+        if let Body::Disk(c) = &coated.body {
+            coated.body = Body::Disk(c.clone().with_printed_section(offset));
+        }
+    }
     coated
         .report
         .warnings

@@ -225,9 +225,16 @@ pub(super) fn fit_section(
         })
         .collect();
     let scale_mm = mean * options.mm_per_unit;
+    let corners: Vec<[f64; 2]> = rel.iter().flat_map(|(p, q)| [*p, *q]).collect();
+    let printed_section = if options.ignore_facets {
+        None
+    } else {
+        PrintedSection::from_points(&corners, mean)
+    };
     let shape = ShapeFile::Disk {
         modes: disk_modes,
         scale_mm: Some(scale_mm),
+        printed_section,
     };
     let body = Body::from_shape(&shape).map_err(|e| shape_error(source, e.to_string()))?;
     let Body::Disk(disk) = &body else {
@@ -254,20 +261,25 @@ pub(super) fn fit_section(
         ));
     }
     let alpha_star = body.alpha_star();
-    let corners: Vec<[f64; 2]> = rel.iter().flat_map(|(p, q)| [*p, *q]).collect();
     let mesh_hull = section_hull(&corners);
     if let Some(hull) = mesh_hull.filter(|h| (h.alpha_star - alpha_star).abs() > FACET_TOLERANCE) {
         warnings.push(format!(
             "the section's hull has {} flat sides, on which the printed body rests up to α = \
              {:.4} rad ({:.2}°), but the smooth fit's α* is {alpha_star:.4} rad ({:.2}°): the \
-             fit does not see the facets, so `period`, `predict` and `simulate` speak for the \
-             smooth body, not the print (a printer reproduces facets wider than its nozzle; \
-             these are {:.2} mm at most)",
+             fit does not see the facets (a printer reproduces facets wider than its nozzle; \
+             these are {:.2} mm at most). {}",
             hull.sides,
             hull.alpha_star,
             hull.alpha_star.to_degrees(),
             alpha_star.to_degrees(),
             hull.longest_side * options.mm_per_unit,
+            if options.ignore_facets {
+                "With --ignore-facets the shape file keeps no section: every command rolls the \
+                 smooth fit, as for a round body"
+            } else {
+                "The shape file keeps the section, and every command refuses a ramp angle \
+                 between the two, where the print rests but the fit would roll"
+            }
         ));
     }
     let report = FitReport {
