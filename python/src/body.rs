@@ -57,6 +57,13 @@ impl Body {
         self.body.check_convex().map_err(bad_input)?;
         Ok(&self.body)
     }
+
+    /// The core body, refusing one that cannot roll even on its hull (`period` and `predict`,
+    /// as on the command line: a dented cylinder or a print's outline rolls on its flats).
+    pub(crate) fn rollable(&self) -> PyResult<&CoreBody> {
+        self.body.check_rollable().map_err(bad_input)?;
+        Ok(&self.body)
+    }
 }
 
 #[pymethods]

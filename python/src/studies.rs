@@ -61,7 +61,7 @@ pub fn period(
     rtol: f64,
     drag_law: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Option<f64>> {
-    let CoreBody::Disk(disk) = body.convex()? else {
+    let CoreBody::Disk(disk) = body.rollable()? else {
         return Err(input_error(
             "this body is a 3D sphere; period is for disks. A sphere's orbits are found by \
              simulation: use simulate, or periodic_orbits",
@@ -100,6 +100,9 @@ pub fn period(
     let p = if !model.is_inertial() {
         viscous_disk_period(disk, &ramp)
     } else {
+        if let Some(why) = rollphase_core::analysis::orbits::disk_period::inertial_on_hull(disk) {
+            return Err(input_error(why));
+        }
         let disk = disk.clone();
         // Ctrl-C sets the stop flag: a stiff run (m/m0 = 1e-9) ends at once instead of after
         // minutes. A stopped run's outcome is never read: the interrupt is raised instead.
@@ -482,7 +485,7 @@ pub fn predict<'py>(
     use rollphase_core::analysis::experiment::prediction::{PredictOptions, predict_until};
     let law = crate::drag_law::from_keywords("predict", drag_law)?;
     let (starts, seed): (usize, u64) = (whole("starts", starts)?, whole("seed", seed)?);
-    let core = body.convex()?;
+    let core = body.rollable()?;
     if !(t_cap.is_finite() && (10.0..=MAX_SPAN).contains(&t_cap)) {
         return Err(input_error(format!(
             "t_cap = {t_cap} is not allowed (needs 10 ≤ t_cap ≤ {MAX_SPAN:e})"

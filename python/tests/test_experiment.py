@@ -60,15 +60,17 @@ def test_the_printed_cylinder_is_2d():
     assert Body.from_mesh(CYLINDER, axis=(0, 0, -1)).mesh_fit["axis"] == [0.0, 0.0, -1.0]
 
 
-def test_the_printed_cylinders_facets_are_kept_and_checked():
+def test_the_printed_cylinder_rolls_on_its_facets():
     """Its STL has 199 flat sides, which hold it up to 0.1895 rad where the smooth fit rolls
-    from 0.1735: an α between the two is refused (the print would rest), as on the command
-    line; ignore_facets=True says they are tessellation."""
+    from 0.1735: the body keeps them and rolls on them, halting at 0.18 as on the command line;
+    ignore_facets=True says they are tessellation and the smooth fit rolls there."""
     faceted = Body.from_mesh(CYLINDER)
     assert "printed_section" in faceted.to_json()
-    with pytest.raises(ValueError, match="199 flat sides"):
-        rollphase.period(faceted, 0.18)
+    assert faceted.mesh_fit["alpha_star"] < 0.175 < faceted.alpha_star
+    assert rollphase.period(faceted, 0.18) is None
     assert rollphase.period(faceted, 0.2) > 0
+    with pytest.raises(ValueError, match="simulate"):
+        rollphase.period(faceted, 0.2, mass_ratio=1.0)
     smooth = Body.from_mesh(CYLINDER, ignore_facets=True)
     assert "printed_section" not in smooth.to_json()
     assert rollphase.period(smooth, 0.18) > 0

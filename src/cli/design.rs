@@ -197,14 +197,15 @@ pub fn run(a: DesignArgs) -> Result<()> {
         Some(f) => {
             let (body, scale) = crate::geometry::ShapeFile::load_scaled(f)?;
             if let crate::geometry::Body::Disk(d) = &body {
-                let fit = body.alpha_star();
+                let fit = crate::geometry::Body::Disk(d.smooth_fit()).alpha_star();
                 if let Some(gap) = d.printed_section().and_then(|p| p.facets_matter(fit)) {
                     bail!(
-                        "--from {} is the smooth fit (α* = {fit:.5} rad) of a print with {} flat \
-                         sides that hold it up to α* = {:.5} rad; `design` checks and changes the \
-                         fit, which is not the body printed. Design from a body of the model, or \
-                         refit the mesh with `--ignore-facets` if its facets are only the \
-                         export's tessellation of a round body",
+                        "--from {} was fitted to a print with {} flat sides that hold it up to \
+                         α* = {:.5} rad, where its smooth fit has α* = {fit:.5} rad; `design` \
+                         checks and changes the smooth fit, which is not the body printed. \
+                         Design from a body of the model, or refit the mesh with \
+                         `--ignore-facets` if its facets are only the export's tessellation of \
+                         a round body",
                         f.display(),
                         gap.sides,
                         gap.print_alpha_star
@@ -306,7 +307,12 @@ pub fn run(a: DesignArgs) -> Result<()> {
     if let Some(stl) = &a.stl {
         let mesh = match &design.body {
             Body::Sphere(s) => sphere_mesh(s, 6),
-            Body::Disk(d) => disk_mesh(d, 1024, 2.0),
+            // Fine enough that the printed polygon's flats do not raise α* (0.05°).
+            Body::Disk(d) => disk_mesh(
+                d,
+                crate::geometry::mesh::print_segments(d, design.body.alpha_star(), 1024),
+                2.0,
+            ),
         };
         let mut bytes = Vec::new();
         mesh.write_stl(&mut bytes, scale_mm, "design")?;

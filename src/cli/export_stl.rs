@@ -27,7 +27,8 @@ pub struct ExportStlArgs {
     /// Cylinder length in millimetres (2D bodies) [default: 2 × radius].
     #[arg(long, allow_negative_numbers = true)]
     pub length_mm: Option<f64>,
-    /// Mesh resolution: icosphere subdivisions (3D: 20·4^n triangles) or 2^n·16 segments (2D).
+    /// Mesh resolution: icosphere subdivisions (3D: 20·4^n triangles) or at least 2^n·16
+    /// segments (2D: more where the printed polygon's flats would raise α* by over 0.05°).
     #[arg(long, default_value_t = 6)]
     pub detail: u32,
 }
@@ -65,7 +66,12 @@ pub fn run(a: ExportStlArgs) -> Result<()> {
         .with_context(|| format!("{} cannot roll as a rigid body", a.file.display()))?;
     let mesh = match &body {
         Body::Sphere(s) => sphere_mesh(s, a.detail),
-        Body::Disk(d) => disk_mesh(d, 16 << a.detail, length / a.radius_mm),
+        Body::Disk(d) => {
+            // Fine enough that the printed polygon's flats do not raise α* (0.05°).
+            let segments =
+                crate::geometry::mesh::print_segments(d, body.alpha_star(), 16 << a.detail);
+            disk_mesh(d, segments, length / a.radius_mm)
+        }
     };
     let open = mesh.open_edges();
     if open != 0 {

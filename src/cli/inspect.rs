@@ -58,9 +58,12 @@ pub struct Inspection {
     pub direction_star: [f64; 3],
     /// A 2D body that is not convex: the flats of its convex hull it rolls on, over its dents.
     pub hull_flats: Vec<crate::geometry::hull::Bridge>,
-    /// A body fitted to a faceted print (its shape file keeps the print's section): the
-    /// section's flat sides and the angle they hold it up to; `null` otherwise.
+    /// A body fitted to a faceted print (its shape file keeps the print's section, which it
+    /// rolls on, corners rounded): the section's flat sides and the angle they hold it up to
+    /// with sharp corners; `null` otherwise.
     pub printed_section: Option<crate::geometry::facets::SectionHull>,
+    /// Such a body's smooth fit (its modes alone): its α* (rad); `null` otherwise.
+    pub smooth_fit_alpha_star: Option<f64>,
     /// A 2D body that is not convex: the steepest ramp it can rest on a flat at, and α* of its
     /// curved parts alone (α* is the larger).
     pub flat_rest: Option<crate::analysis::rest::critical_angle::FlatRest>,
@@ -95,6 +98,12 @@ pub fn inspect(body: &Body) -> Inspection {
         printed_section: match body {
             Body::Disk(d) => d.printed_section().and_then(|p| p.hull().ok()),
             Body::Sphere(_) => None,
+        },
+        smooth_fit_alpha_star: match body {
+            Body::Disk(d) if d.printed_section().is_some() => {
+                Some(critical_angle(&Body::Disk(d.smooth_fit())).alpha_star)
+            }
+            _ => None,
         },
         flat_rest: a.flat,
     }
@@ -156,20 +165,17 @@ pub fn run(a: InspectArgs) -> Result<()> {
             f.alpha
         )?;
     }
-    if let Some(p) = r.printed_section {
-        let matters =
-            (p.alpha_star - r.alpha_star).abs() > crate::geometry::mesh_fit::FACET_TOLERANCE;
+    if let (Some(p), Some(fit)) = (r.printed_section, r.smooth_fit_alpha_star) {
         outln!(
-            "  as printed:      {} flat sides, resting up to α = {:.10} rad = {:.6}°{}",
+            "  as printed:      {} flat sides (sharp corners: α* = {:.10} rad = {:.6}°), which \
+             every command rolls on with its corners rounded to {} ⟨r⟩ (the α* above); the \
+             smooth fit of its modes has α* = {:.10} rad = {:.6}°",
             p.sides,
             p.alpha_star,
             p.alpha_star.to_degrees(),
-            if matters {
-                " (the models roll the smooth fit; every command refuses α between the two, \
-                 where the print rests but the fit would roll)"
-            } else {
-                " (within 0.1° of the fit's)"
-            }
+            crate::geometry::outline::CORNER_RADIUS,
+            fit,
+            fit.to_degrees()
         )?;
     }
     if let Some(turned) = r.alpha_star_turned {

@@ -91,7 +91,8 @@ pub fn run(a: PeriodArgs) -> Result<()> {
             a.file.display()
         );
     };
-    body.check_convex()?;
+    // A dented body or a print's outline rolls on its hull: the viscous period is exact there.
+    body.check_rollable()?;
     let ramp = Ramp::new(a.alpha, a.mass)?.with_drag_law(a.drag_law.law()?);
     if !(a.t_max.is_finite() && a.t_max > 0.0 && a.t_max <= crate::integrate::MAX_SPAN) {
         bail!(
@@ -121,6 +122,9 @@ pub fn run(a: PeriodArgs) -> Result<()> {
     let ramp = choice.ramp;
     let model = ModelKind::of(&body, &ramp);
     if model.is_inertial() {
+        if let Some(why) = crate::analysis::orbits::disk_period::inertial_on_hull(disk) {
+            bail!("{}: {why}", a.file.display());
+        }
         super::warn_if_stiff(&body, &ramp, a.t_max, "--t-max");
     }
     let alpha_star = critical_angle(&body).alpha_star;

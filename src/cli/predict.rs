@@ -126,7 +126,8 @@ pub struct PredictionHead {
 /// Runs `predict`.
 pub fn run(a: PredictArgs) -> Result<()> {
     let (body, scale) = ShapeFile::load_scaled(&a.file)?;
-    body.check_convex()?;
+    // A dented cylinder or a print's outline rolls on its hull; a sphere must be convex.
+    body.check_rollable()?;
     crate::dynamics::Ramp::new(a.alpha, a.mass)?;
     let drag_law = a.drag_law.law()?;
     if !(1..=MAX_PREDICT_STARTS).contains(&a.starts) {

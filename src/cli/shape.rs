@@ -78,8 +78,8 @@ pub struct ShapeArgs {
     pub coat_mm: Option<f64>,
     /// With --from-mesh --dim 2: the section's flat facets are an export's tessellation of a
     /// round body (a turned or cast part), not flats of the print. Without it the shape file
-    /// keeps the section's hull as `printed_section`, and every command refuses a ramp angle at
-    /// which the print's flats hold it while the smooth fit would roll.
+    /// keeps the section's hull as `printed_section`, and every command rolls the body on it
+    /// (its sides flat, its corners rounded to 0.001 ⟨r⟩) rather than on the smooth fit.
     #[arg(long, requires = "from_mesh")]
     pub ignore_facets: bool,
     /// With --from-mesh: write the fit's report as JSON here (residuals, ⟨r⟩ in mm, α*, …).
@@ -123,8 +123,9 @@ pub fn run(a: ShapeArgs) -> Result<()> {
         let deepest = bridges.iter().map(|b| b.depth).fold(0.0, f64::max);
         eprintln!(
             "note: this body is not convex: it has {} dent(s), the deepest {deepest:.4} ⟨r⟩ under \
-             the flat that spans it; `simulate` rolls it on its convex hull (across a dent on the \
-             flat, tipping from one end to the other), the other commands refuse it",
+             the flat that spans it; `simulate`, and `period` and `predict` without inertia, \
+             roll it on its convex hull (across a dent on the flat, tipping from one end to the \
+             other); the figures and `design` refuse it",
             bridges.len()
         );
     }

@@ -82,7 +82,24 @@ fn non_convex_shape_names_the_worst_point() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    // `period` gives its viscous period on the hull too; with inertia it names `simulate`.
     let out = rollphase(&["period", &bad, "--alpha", "0.3"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = rollphase(&["period", &bad, "--alpha", "0.3", "--mass", "1"]);
+    fails_with(&out, 1, &["convex hull", "simulate --mass"]);
+    let dir = d.join("figure");
+    let out = rollphase(&[
+        "figure",
+        "disk-transition",
+        "--shape",
+        &bad,
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
     fails_with(
         &out,
         1,

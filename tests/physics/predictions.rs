@@ -181,16 +181,24 @@ fn bad_input_is_refused_before_any_run() {
         assert!(!out.status.success(), "{args:?} accepted");
         assert!(err.contains(needle), "{args:?}: {err}");
     }
-    // A dented cylinder rolls only in `simulate`.
+    // A dented cylinder rolls on its hull without inertia; with it, `predict` says to use
+    // `simulate` (its flats' impacts need the run loop).
     let dented = dir.join("dented.json");
     std::fs::write(
         &dented,
         r#"{"kind": "disk", "modes": [{"l": 3, "a": 3.0, "phase": 0.0}]}"#,
     )
     .unwrap();
-    let out = rollphase(["predict", dented.to_str().unwrap(), "--alpha", "0.3"]);
+    let out = rollphase([
+        "predict",
+        dented.to_str().unwrap(),
+        "--alpha",
+        "0.3",
+        "--mass",
+        "1",
+    ]);
     assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("convex"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("simulate --mass"));
 }
 
 /// A sphere's shape file with the l = 2 coefficients of a fitted icosphere (α* ≈ 1e-5): round

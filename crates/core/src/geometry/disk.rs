@@ -1,5 +1,7 @@
 //! The 2D body: r(θ) = 1 + Σ_{l≥2} a_l/l² sin(l(θ − θ_l)) (SI §1C), with exact derivatives up to
-//! r''', the curvature κ and the quantities the 2D models are written in.
+//! r''', the curvature κ and the quantities the 2D models are written in. A body fitted to a
+//! faceted print rolls on the print's outline instead ([`super::outline`]), its modes kept as
+//! the smooth fit.
 
 use serde::{Deserialize, Serialize};
 
@@ -195,6 +197,8 @@ pub struct Disk {
     hull: std::sync::OnceLock<super::hull::DiskHull>,
     /// The flat-sided section of the print it was fitted to, when its shape file keeps one.
     printed: Option<std::sync::Arc<super::facets::PrintedSection>>,
+    /// That section's rounded outline, which the body then rolls on instead of the fit.
+    outline: Option<std::sync::Arc<super::outline::PrintedOutline>>,
 }
 
 impl PartialEq for Disk {
@@ -218,10 +222,15 @@ impl Disk {
             modes,
             hull: std::sync::OnceLock::new(),
             printed: None,
+            outline: None,
         }
     }
 
-    /// This disk with the section of the print it was fitted to (or without one).
+    /// This disk with the section of the print it was fitted to (or without one): it then
+    /// rolls on that section's rounded outline ([`super::outline`]), its sides the flats of its
+    /// hull, and keeps its modes as the smooth fit (for drawing, design and the shape file).
+    /// A section that is not a polygon around the centroid is dropped (shape files are checked
+    /// before: [`super::Body::from_shape`]).
     ///
     /// # Example
     /// ```
@@ -231,12 +240,49 @@ impl Disk {
     /// let disk = Disk::perfect().with_printed_section(Some(square.clone()));
     /// assert_eq!(disk.printed_section(), Some(&square));
     /// assert_ne!(disk, Disk::perfect());
+    /// // It rolls on the square: four flat sides, at the apothem 1.
+    /// assert_eq!(disk.hull().bridges().len(), 4);
+    /// assert!((disk.jet(0.0).r - 1.0).abs() < 1e-15);
     /// ```
     pub fn with_printed_section(self, section: Option<super::facets::PrintedSection>) -> Self {
+        let outline = section
+            .as_ref()
+            .and_then(super::outline::PrintedOutline::of)
+            .map(std::sync::Arc::new);
+        let section = section.filter(|_| outline.is_some());
         Self {
+            modes: self.modes,
+            hull: std::sync::OnceLock::new(),
             printed: section.map(std::sync::Arc::new),
-            ..self
+            outline,
         }
+    }
+
+    /// The smooth body of its modes alone, without the print's section it may roll on: the
+    /// fit `design` works on and a mesh fit's residuals are measured against.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Disk;
+    /// use rollphase_core::geometry::facets::PrintedSection;
+    /// let square = PrintedSection { vertices: vec![[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0]] };
+    /// let print = Disk::perfect().with_printed_section(Some(square));
+    /// assert_eq!(print.smooth_fit(), Disk::perfect());
+    /// ```
+    pub fn smooth_fit(&self) -> Disk {
+        Disk::new(self.modes.clone())
+    }
+
+    /// The outline it rolls on when it was fitted to a faceted print
+    /// ([`Disk::with_printed_section`]); `None` for a body of the model.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Disk;
+    /// assert!(Disk::perfect().printed_outline().is_none());
+    /// ```
+    pub fn printed_outline(&self) -> Option<&super::outline::PrintedOutline> {
+        self.outline.as_deref()
     }
 
     /// The section of the print it was fitted to, if its shape file keeps one
@@ -273,7 +319,10 @@ impl Disk {
     /// assert_eq!(dented.hull().bridges().len(), 3);
     /// ```
     pub fn hull(&self) -> &super::hull::DiskHull {
-        self.hull.get_or_init(|| super::hull::DiskHull::of(self))
+        self.hull.get_or_init(|| match &self.outline {
+            Some(o) => super::hull::DiskHull::from_bridges(o.bridges().to_vec()),
+            None => super::hull::DiskHull::of(self),
+        })
     }
 
     /// The modes.
@@ -328,6 +377,10 @@ impl Disk {
     /// assert!((j.r3 - (disk.jet(t + h).r2 - disk.jet(t - h).r2) / (2.0 * h)).abs() < 1e-8);
     /// ```
     pub fn jet(&self, theta: f64) -> RadiusJet {
+        if let Some(o) = &self.outline {
+            let [r, r1, r2, r3] = o.jet(theta);
+            return RadiusJet { r, r1, r2, r3 };
+        }
         let mut j = RadiusJet {
             r: 1.0,
             r1: 0.0,

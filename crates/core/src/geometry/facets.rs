@@ -14,6 +14,11 @@
 //! chain gives the hull, O(n log n), written here because it is 30 lines and exact on the
 //! section's own points.
 
+/// How far (rad) a print's α* and its smooth fit's may differ before the facets count: 0.1°,
+/// the resolution of a digital inclinometer setting a ramp, so a smaller difference cannot be
+/// seen in an experiment.
+pub const FACET_TOLERANCE: f64 = 0.1 * std::f64::consts::PI / 180.0;
+
 /// The hull of a cross-section, and the angle it rests up to.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct SectionHull {
@@ -76,10 +81,10 @@ pub fn section_hull(points: &[[f64; 2]]) -> Option<SectionHull> {
 /// section, in the fitted body's units (⟨r⟩ = 1) and frame (centroid at the origin, θ from
 /// the fit's first section axis), counter-clockwise.
 ///
-/// The smooth fit is what every model rolls; this is what the print rests on. Where the two
-/// disagree ([`PrintedSection::facets_matter`]), a run at an angle on which the print's flats
-/// hold it but the fit rolls would answer for a body that was not printed, and
-/// [`crate::analysis::rest::critical_angle::check_print_rolls`] refuses it.
+/// A disk that keeps one rolls on it ([`super::outline`]: the polygon with its corners rounded
+/// to a hundredth of a millimetre), so every command answers for the print; its modes stay the
+/// smooth fit, which `design` works on ([`PrintedSection::facets_matter`] says when the two
+/// disagree on α*).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PrintedSection {
@@ -197,7 +202,7 @@ impl PrintedSection {
     }
 
     /// The print's α* against the fit's, when they differ by more than
-    /// [`super::mesh_fit::FACET_TOLERANCE`] (an inclinometer's 0.1°): the facets then matter to
+    /// [`FACET_TOLERANCE`] (an inclinometer's 0.1°): the facets then matter to
     /// where the body rests, and the fit cannot speak for the print below the larger of the two.
     ///
     /// # Example
@@ -216,13 +221,11 @@ impl PrintedSection {
     /// ```
     pub fn facets_matter(&self, fit_alpha_star: f64) -> Option<FacetGap> {
         let hull = self.hull().ok()?;
-        ((hull.alpha_star - fit_alpha_star).abs() > super::mesh_fit::FACET_TOLERANCE).then_some(
-            FacetGap {
-                sides: hull.sides,
-                print_alpha_star: hull.alpha_star,
-                fit_alpha_star,
-            },
-        )
+        ((hull.alpha_star - fit_alpha_star).abs() > FACET_TOLERANCE).then_some(FacetGap {
+            sides: hull.sides,
+            print_alpha_star: hull.alpha_star,
+            fit_alpha_star,
+        })
     }
 }
 

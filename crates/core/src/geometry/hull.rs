@@ -143,6 +143,13 @@ impl DiskHull {
         DiskHull { bridges }
     }
 
+    /// A hull given by its bridges (a printed polygon's sides, [`super::outline`]), sorted by
+    /// θ_a.
+    pub(crate) fn from_bridges(mut bridges: Vec<Bridge>) -> DiskHull {
+        bridges.sort_by(|a, b| a.theta_a.total_cmp(&b.theta_a));
+        DiskHull { bridges }
+    }
+
     /// Its bridges, by θ_a.
     ///
     /// # Example

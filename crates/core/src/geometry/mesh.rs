@@ -288,6 +288,38 @@ pub fn sphere_mesh(body: &Sphere, level: u32) -> TriMesh {
     mesh
 }
 
+/// Segments around a 2D body for a mesh that is printed: at least `min`, doubled (up to
+/// 65,536) until the printed polygon rests no steeper than the body itself, within half of
+/// [`super::facets::FACET_TOLERANCE`] (0.05°). A polygon of N equal steps sits flat on its
+/// sides up to about π/N beyond the body's own α*, so 1,024 segments raise a printed
+/// cylinder's α* by about 0.17°, more than an inclinometer resolves. `alpha_star` is the
+/// body's own ([`crate::analysis::critical_angle`]).
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::{Disk, mesh::print_segments};
+/// // A circle: π/N must fall below 0.05°, so N ≥ 4096.
+/// assert_eq!(print_segments(&Disk::perfect(), 0.0, 1024), 4096);
+/// ```
+pub fn print_segments(body: &Disk, alpha_star: f64, min: usize) -> usize {
+    let mut n = min.max(8);
+    while n < 1 << 16 {
+        let ring: Vec<[f64; 2]> = (0..n)
+            .map(|i| {
+                let theta = TAU * i as f64 / n as f64;
+                let r = body.jet(theta).r;
+                [r * theta.cos(), r * theta.sin()]
+            })
+            .collect();
+        let printed = super::facets::section_hull(&ring).map_or(f64::INFINITY, |h| h.alpha_star);
+        if (printed - alpha_star).abs() <= 0.5 * super::facets::FACET_TOLERANCE {
+            break;
+        }
+        n *= 2;
+    }
+    n
+}
+
 /// The 2D body as a closed cylinder of the given length: `segments` points around r(θ) (side
 /// coloured by κ), flat caps. Rim vertices are duplicated (side and cap normals differ) at
 /// bit-identical positions, so the welded surface is watertight.

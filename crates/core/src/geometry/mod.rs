@@ -11,6 +11,7 @@ pub mod mesh;
 pub mod mesh_fit;
 pub(crate) mod mesh_ply;
 pub mod mesh_read;
+pub mod outline;
 pub mod paper_bodies;
 pub mod shape_file;
 pub mod sphere;
@@ -82,28 +83,6 @@ pub enum ShapeError {
     /// A shape file's `printed_section` that is not a polygon around the centroid.
     #[error("{0}")]
     PrintedSection(String),
-    /// A ramp on which the print's flat sides hold it while its smooth fit rolls
-    /// ([`crate::analysis::rest::critical_angle::check_print_rolls`]).
-    #[error(
-        "α = {alpha:.5} rad ({:.3}°) is below the printed body's own α* = {print:.5} rad ({:.3}°): \
-         its {sides} flat sides can hold it at rest there, while the smooth fit the models roll \
-         (α* = {fit:.5} rad) would roll, so every answer would be for a body that was not \
-         printed (the models do not roll on facets). Use α ≥ {print:.5}, or refit the mesh \
-         with `rollphase shape --from-mesh … --ignore-facets` if its facets are only the \
-         export's tessellation of a round body",
-        alpha.to_degrees(),
-        print.to_degrees()
-    )]
-    PrintRestsOnFacets {
-        /// The ramp angle asked for (rad).
-        alpha: f64,
-        /// The print's flat sides.
-        sides: usize,
-        /// The print's α* (rad).
-        print: f64,
-        /// The fit's α* (rad).
-        fit: f64,
-    },
     /// A `scale_mm` that is not a size.
     #[error("scale_mm = {0} is not allowed (needs 0 < scale_mm ≤ 10000, millimetres per ⟨r⟩)")]
     BadScale(f64),
@@ -130,7 +109,8 @@ pub enum ShapeError {
         "shape is not convex: {measure} {value:.6} at {place} (needs > 0); the contact model needs \
          a strictly convex body: lower the amplitudes (σ) or use fewer modes{}",
         if *measure == "curvature" {
-            " (`rollphase simulate` rolls a 2D body like this on its convex hull)"
+            " (`rollphase simulate`, and `period` and `predict` without inertia, roll a 2D \
+             body like this on its convex hull)"
         } else {
             ""
         }
@@ -503,8 +483,14 @@ impl Body {
         // A dented disk rolls on its hull: its curved parts must be strictly convex.
         let hull = d.hull();
         let n = DISK_GRID;
+        // A printed outline's corners are far narrower than the grid: their own samples too.
+        let corners = d
+            .printed_outline()
+            .map(|o| o.corner_samples(9))
+            .unwrap_or_default();
         let worst = (0..n)
             .map(|i| i as f64 * std::f64::consts::TAU / n as f64)
+            .chain(corners)
             .filter(|t| hull.bridge_at(*t).is_none())
             .map(|t| (d.jet(t).convexity(), t))
             .min_by(|a, b| a.0.total_cmp(&b.0));

@@ -347,9 +347,7 @@ pub struct ModelChoice {
     pub note: Option<String>,
 }
 
-/// Applies the stiff-corner policy (module doc) to a request for `body`, after refusing an
-/// angle at which a fitted print's flats hold it while its fit rolls
-/// ([`crate::analysis::rest::critical_angle::check_print_rolls`]).
+/// Applies the stiff-corner policy (module doc) to a request for `body`.
 ///
 /// ```
 /// use rollphase_core::dynamics::Ramp;
@@ -367,8 +365,6 @@ pub struct ModelChoice {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn choose_model(body: &Body, ramp: Ramp, method: Method) -> Result<ModelChoice, RunError> {
-    // A fitted print whose flats hold it at this angle is not the body the models roll.
-    crate::analysis::rest::critical_angle::check_print_rolls(body, ramp.alpha_rad)?;
     let m = ramp.mass_ratio;
     if m == 0.0 || ramp.drag == 0.0 {
         return Ok(ModelChoice { ramp, note: None });

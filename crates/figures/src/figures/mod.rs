@@ -143,22 +143,7 @@ impl FigureOptions {
     pub fn disk(&self, figure: &str, seed: u64, sigma: f64, modes: u32) -> Result<(Disk, u64)> {
         match &self.body {
             BodyChoice::File(path) => match load_convex(path)? {
-                Body::Disk(d) => {
-                    let fit = critical_angle(&Body::Disk(d.clone())).alpha_star;
-                    if let Some(gap) = d.printed_section().and_then(|p| p.facets_matter(fit)) {
-                        bail!(
-                            "{figure} runs the smooth fit of --shape {} at angles around its α* \
-                             = {fit:.5} rad, but the print it was fitted to has {} flat sides \
-                             that hold it up to α* = {:.5} rad, and the models do not roll on \
-                             facets; refit the mesh with `--ignore-facets` if its facets are \
-                             only the export's tessellation of a round body",
-                            path.display(),
-                            gap.sides,
-                            gap.print_alpha_star
-                        );
-                    }
-                    Ok((d, 0))
-                }
+                Body::Disk(d) => Ok((d, 0)),
                 Body::Sphere(_) => bail!(
                     "{figure} needs a 2D body, but --shape {} is a 3D sphere",
                     path.display()
@@ -266,6 +251,18 @@ pub fn sphere_alpha_star(body: &Sphere) -> f64 {
 
 fn load_convex(path: &Path) -> Result<Body> {
     let body = ShapeFile::load(path)?;
+    if let Body::Disk(d) = &body
+        && let Some(p) = d.printed_section()
+    {
+        bail!(
+            "--shape {} was fitted to a print and rolls on its {} flat sides; the figures sweep \
+             angles around a smooth body's α* and need one (`period`, `predict` and `simulate` \
+             roll the print). Refit the mesh with `--ignore-facets` if its facets are only the \
+             export's tessellation of a round body",
+            path.display(),
+            p.vertices.len()
+        );
+    }
     body.check_convex()
         .with_context(|| format!("--shape {}", path.display()))?;
     Ok(body)

@@ -18,7 +18,9 @@ use glam::{DQuat, DVec3};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::analysis::orbits::disk_period::{inertial_disk_period_until, viscous_disk_period};
+use crate::analysis::orbits::disk_period::{
+    inertial_disk_period_until, inertial_on_hull, viscous_disk_period,
+};
 use crate::analysis::orbits::return_map::ReturnMapError;
 use crate::analysis::orbits::sphere_orbits::{
     Decide, RunEnd, boundary_distance, cluster_antipodal, decided_run, settled_cycle,
@@ -219,7 +221,6 @@ pub fn predict_until(
     stop: &AtomicBool,
 ) -> Result<Prediction, StudyError> {
     let ramp = Ramp::new(alpha, mass_ratio)?.with_drag_law(options.drag_law);
-    crate::analysis::rest::critical_angle::check_print_rolls(body, alpha)?;
     if !(1..=MAX_PREDICT_STARTS).contains(&options.starts) {
         return Err(StudyError::BadArgument(format!(
             "starts = {} is not allowed (needs 1 ≤ starts ≤ {MAX_PREDICT_STARTS})",
@@ -756,6 +757,9 @@ fn predict_disk(
             let fate = p.fate(ramp.alpha_rad - alpha_star, t_cap);
             vec![(fate, p.period.filter(|_| is_periodic(&fate))); options.starts]
         }
+        ModelKind::DiskInertial if let Some(why) = inertial_on_hull(disk) => {
+            return Err(StudyError::BadArgument(why));
+        }
         ModelKind::DiskInertial => (0..options.starts)
             .into_par_iter()
             .map(|i| {
@@ -837,15 +841,32 @@ fn simpson_arc(disk: &Disk, a: f64, b: f64) -> f64 {
 }
 
 /// The perimeter of a disk's cross-section, ∫ √(r² + r′²) dθ over a turn: what its centre
-/// advances per turn rolling without slip.
+/// advances per turn rolling without slip. A body that rolls on its hull advances by the
+/// hull's perimeter: its curved parts' arcs and its flats' lengths.
 ///
 /// # Example
 /// ```
 /// use rollphase_core::analysis::experiment::prediction::disk_perimeter;
 /// use rollphase_core::geometry::Disk;
+/// use rollphase_core::geometry::facets::PrintedSection;
 /// assert!((disk_perimeter(&Disk::perfect()) - std::f64::consts::TAU).abs() < 1e-14);
+/// // A square print of side 2: 8, less its corners' rounding ρ (8ρ − 2πρ).
+/// let square = PrintedSection { vertices: vec![[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0]] };
+/// let print = Disk::perfect().with_printed_section(Some(square));
+/// let rho = rollphase_core::geometry::outline::CORNER_RADIUS;
+/// assert!((disk_perimeter(&print) - (8.0 - 8.0 * rho + std::f64::consts::TAU * rho)).abs() < 1e-10);
 /// ```
 pub fn disk_perimeter(disk: &Disk) -> f64 {
+    if let Some(parts) = crate::analysis::orbits::disk_period::curved_parts(disk) {
+        let arc = |t: f64| disk.jet(t).arc_rate();
+        let curved: f64 = parts
+            .iter()
+            .map(|&(a, b)| {
+                crate::numeric::quadrature::integrate_adaptive(&arc, a, b, 1e-13, 100_000).value
+            })
+            .sum();
+        return curved + disk.hull().bridges().iter().map(|b| b.length).sum::<f64>();
+    }
     // The trapezoidal rule on equally spaced angles is spectrally accurate for a periodic
     // integrand.
     let n = 4096;

@@ -161,10 +161,32 @@ pub fn viscous_disk_period_with(
     }
     let model = DiskViscous::new(disk, ramp);
     let f = |t: f64| 1.0 / model.theta_dot(t);
-    let start = ca.theta;
     // Within 1e-8 of α* the integrand carries ~1e-8 relative rounding noise, so a tighter
     // tolerance only spends the budget; 1e-11 is reached everywhere else in ~1e4 evaluations.
-    let q = integrate_adaptive(&f, start, start + std::f64::consts::TAU, 1e-11, 200_000);
+    let q = match curved_parts(disk) {
+        None => {
+            let start = ca.theta;
+            integrate_adaptive(&f, start, start + std::f64::consts::TAU, 1e-11, 200_000)
+        }
+        // On its hull (a dented body, or a print's outline) the body crosses each flat in no
+        // time (it tips), so a turn takes the curved parts' time; each is a panel of its own,
+        // its ends (where the peak of 1/θ̇ sits near α*) at panel ends.
+        Some(parts) => parts.iter().fold(
+            crate::numeric::quadrature::Quadrature {
+                value: 0.0,
+                error: 0.0,
+                evals: 0,
+            },
+            |sum, &(a, b)| {
+                let q = integrate_adaptive(&f, a, b, 1e-11, 200_000);
+                crate::numeric::quadrature::Quadrature {
+                    value: sum.value + q.value,
+                    error: sum.error + q.error,
+                    evals: sum.evals + q.evals,
+                }
+            },
+        ),
+    };
     let t = q.value;
     if !(t.is_finite() && t > 0.0 && q.error.is_finite()) {
         // So close to α* that 1/θ̇ overflows at θ*: no finite period can be computed.
@@ -187,6 +209,53 @@ pub fn viscous_disk_period_with(
         t_simulated: 0.0,
         by_quadrature: true,
     }
+}
+
+/// The curved parts of a disk that rolls on its hull, as (start, end) contact angles over one
+/// turn: the gaps between its bridges; `None` for a convex disk.
+pub(crate) fn curved_parts(disk: &Disk) -> Option<Vec<(f64, f64)>> {
+    let bridges = disk.hull().bridges();
+    let n = bridges.len();
+    (n > 0).then(|| {
+        (0..n)
+            .map(|k| {
+                let end = bridges[k].theta_b;
+                let next = bridges[(k + 1) % n].theta_a;
+                (end, end + (next - end).rem_euclid(std::f64::consts::TAU))
+            })
+            .collect()
+    })
+}
+
+/// Why the inertial period of `disk` is not computed, when it rolls on its hull (a dent's
+/// bridges or a print's flat sides): each flat ends in an impact, which only the run loop
+/// ([`crate::simulate::run`]) follows, while this period steps the smooth equations alone.
+/// `None` for a convex disk.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::orbits::disk_period::inertial_on_hull;
+/// use rollphase_core::geometry::{Body, Disk};
+/// assert!(inertial_on_hull(&Disk::perfect()).is_none());
+/// let Body::Disk(dented) = Body::paper_disk(219, 0.5, 9)? else { unreachable!() };
+/// assert!(inertial_on_hull(&dented).unwrap().contains("simulate"));
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
+pub fn inertial_on_hull(disk: &Disk) -> Option<String> {
+    let flats = disk.hull().bridges().len();
+    (flats > 0).then(|| {
+        format!(
+            "this body rolls on its convex hull ({flats} flat side(s): {}), and with inertia each \
+             flat ends in an impact that the period's turn-by-turn run does not follow; the \
+             viscous period (m/m0 = 0) is computed exactly, and `rollphase simulate --mass M` \
+             runs the inertial model with its impacts",
+            if disk.printed_outline().is_some() {
+                "the print's sides"
+            } else {
+                "bridges over its dents"
+            }
+        )
+    })
 }
 
 /// Inertial period by simulation from (θ₀, θ̇₀), at most `t_max` time units: the time between

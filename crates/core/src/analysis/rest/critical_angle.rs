@@ -64,50 +64,6 @@ impl Body {
     }
 }
 
-/// Refuses a ramp angle α at which a body fitted to a faceted print would speak for a body that
-/// was not printed: the print's flat sides hold it still ([`crate::geometry::facets`]: α below
-/// the hull's α*), while its smooth fit, which every model rolls, would roll (α above the fit's
-/// α*). Every run of a body goes through here ([`crate::simulate::choose_model`] and the
-/// analyses that start their own runs), so `period`, `predict`, `simulate`, the app and Python
-/// all refuse the same α. A body with no printed section, or one whose facets do not change α*
-/// by more than [`crate::geometry::mesh_fit::FACET_TOLERANCE`], passes at every α.
-///
-/// ```
-/// use rollphase_core::analysis::rest::critical_angle::check_print_rolls;
-/// use rollphase_core::geometry::{Body, Disk};
-/// use rollphase_core::geometry::facets::PrintedSection;
-/// // OpenSCAD's cylinder(r = 10): 30 sides, resting up to π/30 = 0.1047 rad; its fit is round.
-/// let sides: Vec<[f64; 2]> = (0..30).map(|k| {
-///     let t = std::f64::consts::TAU * k as f64 / 30.0;
-///     [t.cos(), t.sin()]
-/// }).collect();
-/// let print = Body::Disk(Disk::perfect().with_printed_section(PrintedSection::from_points(&sides, 1.0)));
-/// let refused = check_print_rolls(&print, 0.05).unwrap_err();
-/// assert!(refused.to_string().contains("30 flat sides"), "{refused}");
-/// assert!(check_print_rolls(&print, 0.2).is_ok());
-/// assert!(check_print_rolls(&Body::Disk(Disk::perfect()), 0.05).is_ok());
-/// ```
-pub fn check_print_rolls(body: &Body, alpha: f64) -> Result<(), ShapeError> {
-    let Body::Disk(d) = body else {
-        return Ok(());
-    };
-    let Some(section) = d.printed_section() else {
-        return Ok(());
-    };
-    let fit = critical_angle(body).alpha_star;
-    match section.facets_matter(fit) {
-        Some(gap) if alpha < gap.print_alpha_star && alpha > fit => {
-            Err(ShapeError::PrintRestsOnFacets {
-                alpha,
-                sides: gap.sides,
-                print: gap.print_alpha_star,
-                fit,
-            })
-        }
-        _ => Ok(()),
-    }
-}
-
 /// α* of a body, and where on it the maximum of |∇ ln r| is.
 ///
 /// ```
@@ -142,9 +98,13 @@ fn disk_critical_angle(d: &Disk) -> CriticalAngle {
     let h = std::f64::consts::TAU / n as f64;
     let mut best = (0.0, f64::NEG_INFINITY);
     let hull = d.hull();
+    // A printed outline's corners are far narrower than the grid: their own samples too.
+    let corners = d
+        .printed_outline()
+        .map(|o| o.corner_samples(9))
+        .unwrap_or_default();
     // A dented body rests only where it touches its hull: the dents' points never touch.
-    for i in 0..n {
-        let t = i as f64 * h;
+    for t in (0..n).map(|i| i as f64 * h).chain(corners) {
         if hull.bridge_at(t).is_some() {
             continue;
         }

@@ -53,7 +53,8 @@ pub struct FitOptions {
     /// Millimetres per mesh unit (1: STL, OBJ and PLY from CAD and printers are in mm).
     pub mm_per_unit: f64,
     /// 2D: treat the section's flat facets as an export's tessellation of a round body (a
-    /// turned or cast part), and keep no [`super::facets::PrintedSection`] in the shape file.
+    /// turned or cast part), and keep no [`super::facets::PrintedSection`] in the shape file
+    /// (the body then rolls on its smooth fit, not on the print's outline).
     pub ignore_facets: bool,
 }
 
@@ -81,10 +82,7 @@ pub const AUTO_MAX_3D: u32 = 8;
 pub const AUTO_MAX_2D: u32 = 24;
 /// Largest 2D mode accepted by `--modes`.
 pub const MAX_FIT_DISK_L: u32 = 64;
-/// How far (rad) the mesh hull's α* and the fit's may differ before the fit warns: 0.1°, the
-/// resolution of a digital inclinometer setting a ramp, so a smaller difference cannot be seen
-/// in an experiment.
-pub const FACET_TOLERANCE: f64 = 0.1 * PI / 180.0;
+pub use super::facets::FACET_TOLERANCE;
 /// Angles r(θ) is sampled at in 2D.
 const SECTION_SAMPLES: usize = 4096;
 /// Cells in cos θ and in φ of the 3D fit.

@@ -236,10 +236,14 @@ pub(super) fn fit_section(
         scale_mm: Some(scale_mm),
         printed_section,
     };
-    let body = Body::from_shape(&shape).map_err(|e| shape_error(source, e.to_string()))?;
-    let Body::Disk(disk) = &body else {
+    let rolled = Body::from_shape(&shape).map_err(|e| shape_error(source, e.to_string()))?;
+    let Body::Disk(rolled_disk) = &rolled else {
         unreachable!("a disk shape file gives a disk")
     };
+    // The report is the smooth fit's (its residuals, convexity and α*); the body returned rolls
+    // on the print's outline when the section is kept.
+    let disk = &rolled_disk.smooth_fit();
+    let body = Body::Disk(disk.clone());
     let (mut sum2, mut worst, mut worst_at) = (0.0, 0.0f64, 0.0);
     for (k, r) in radius.iter().enumerate() {
         let th = k as f64 * step;
@@ -256,8 +260,9 @@ pub(super) fn fit_section(
     if !convex {
         let dents = disk.hull().bridges().len();
         warnings.push(format!(
-            "the fitted section is not convex ({dents} dent(s)); `simulate` rolls it on its \
-             convex hull, the other commands refuse it"
+            "the fitted section is not convex ({dents} dent(s)); `simulate`, and `period` and \
+             `predict` without inertia, roll it on its convex hull; the figures and `design` \
+             refuse it"
         ));
     }
     let alpha_star = body.alpha_star();
@@ -277,8 +282,8 @@ pub(super) fn fit_section(
                 "With --ignore-facets the shape file keeps no section: every command rolls the \
                  smooth fit, as for a round body"
             } else {
-                "The shape file keeps the section, and every command refuses a ramp angle \
-                 between the two, where the print rests but the fit would roll"
+                "The shape file keeps the section, and every command rolls the print: its \
+                 sides flat, its corners rounded to 0.001 ⟨r⟩"
             }
         ));
     }
@@ -308,5 +313,5 @@ pub(super) fn fit_section(
         warnings,
         coat: None,
     };
-    Ok((body, shape, report))
+    Ok((rolled, shape, report))
 }
