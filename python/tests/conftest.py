@@ -6,6 +6,7 @@ checkout (`.ci/run` builds it before pytest runs); without one the comparisons f
 
 import json
 import os
+import signal
 import subprocess
 from pathlib import Path
 
@@ -13,6 +14,13 @@ import numpy as np
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
+
+# A shell that starts pytest in the background without job control (`nohup`, `cmd &` in a
+# script) hands it SIGINT ignored, and then Python raises no KeyboardInterrupt: the Ctrl-C tests
+# would run their long computations to the end (minutes) instead of testing the interrupt.
+# Python's own handler, as in a terminal; the children the tests start inherit the default.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def _binary():

@@ -759,6 +759,9 @@ fn export_csv_writes_the_plotted_data_and_says_where() {
             .unwrap();
     assert_eq!(meta["scene"], "sphere-cruising");
     assert_eq!(meta["model"], "sphere-viscous");
+    // The drag law is named beside the model (issue 60), its parameters as numbers too.
+    assert_eq!(meta["drag"], "linear drag");
+    assert_eq!(meta["drag_exponent"].as_f64(), Some(1.0));
     assert_eq!(meta["alpha_rad"].as_f64(), Some(s.snapshot.alpha_rad));
     assert_eq!(
         meta["sample_dt"].as_f64(),
@@ -1429,6 +1432,12 @@ fn save_state_resumes_the_run_where_it_was_with_its_plots() {
         "{}",
         saved.description
     );
+    // It names the drag law with the model's numbers (issue 60).
+    assert!(
+        saved.description.contains("linear drag"),
+        "{}",
+        saved.description
+    );
     let resume = saved.resume.clone().expect("a [resume] table");
     assert_eq!(resume.t, s.snapshot.t);
     assert_eq!(resume.state, s.snapshot.state);
@@ -1455,12 +1464,16 @@ fn save_state_resumes_the_run_where_it_was_with_its_plots() {
         ahead >= 0.0 && ahead <= played,
         "resumed {ahead} t after the saved state, in {played} t of playing"
     );
-    frames(&mut fresh, &gpu2, &target2, vec![], 2);
+    let after = frames(&mut fresh, &gpu2, &target2, vec![], 2);
     let again = fresh.ui.history().sweep(Branch::Up);
-    // The fresh app plays until its pause takes, up to 5 t on under load: if that reached a
-    // new turn, the point at this α is the newer measurement of the same run (the period
-    // still settles), else it is the saved one exactly.
-    let turned = r.snapshot.last_crossing_t.is_some_and(|t| t > s.snapshot.t);
+    // The fresh app plays until its pause takes, further on under load: if that reached a new
+    // turn, the point at this α is the newer measurement of the same run (the period still
+    // settles), else it is the saved one exactly. The turn is read from the last status the
+    // plots were drawn from (a crossing just before the pause reaches them a frame later).
+    let turned = [r.snapshot.last_crossing_t, after.snapshot.last_crossing_t]
+        .into_iter()
+        .flatten()
+        .any(|t| t > s.snapshot.t);
     if turned {
         let alphas = |p: &[[f64; 2]]| p.iter().map(|p| p[0]).collect::<Vec<f64>>();
         assert_eq!(alphas(&again), alphas(&points));

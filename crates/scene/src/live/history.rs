@@ -377,6 +377,12 @@ pub struct PlotMeta {
     pub alpha_star: f64,
     /// m/m0 now (0: the viscous model).
     pub mass_ratio: f64,
+    /// The drag law now: one field per registered parameter, named by its key (the linear
+    /// drag's defaults included).
+    #[serde(flatten)]
+    pub drag_law: crate::dynamics::DragLaw,
+    /// The drag law in words ("linear drag", "drag_exponent = 2").
+    pub drag: String,
     /// The integrator setting.
     pub integrator: String,
     /// The simulation time when the data were written.
@@ -406,6 +412,8 @@ impl PlotMeta {
             alpha_rad: snapshot.alpha_rad,
             alpha_star: snapshot.alpha_star,
             mass_ratio: snapshot.mass_ratio,
+            drag_law: snapshot.drag_law,
+            drag: snapshot.drag_law.label(),
             integrator: method.to_string(),
             t: snapshot.t,
             sample_dt: super::PLOT_SAMPLE_DT,

@@ -415,10 +415,11 @@ impl AppUi {
         let mut scene = self.scene_to_save(status);
         let snap = &status.snapshot;
         scene.description = format!(
-            "{STATE_PREFIX}{:.2} (α = {:.5} rad, m/m0 = {}); {STATE_END}{}",
+            "{STATE_PREFIX}{:.2} (α = {:.5} rad, m/m0 = {}, {}); {STATE_END}{}",
             snap.t,
             snap.alpha_rad,
             crate::view::short_number(snap.mass_ratio),
+            snap.drag_law.label(),
             original_description(&scene.description)
         );
         scene.resume = Some(crate::scene::ResumeSpec {
@@ -763,13 +764,17 @@ impl AppUi {
         let mut scene = status.setup.scene.clone();
         let snap = &status.snapshot;
         let ramp = &status.setup.ramp;
-        if snap.alpha_rad != ramp.alpha_rad || snap.mass_ratio != ramp.mass_ratio {
+        if snap.alpha_rad != ramp.alpha_rad
+            || snap.mass_ratio != ramp.mass_ratio
+            || snap.drag_law != ramp.drag_law
+        {
             let first = original_description(&scene.description);
             scene.description = format!(
-                "{SAVED_PREFIX}{:.4} rad ({:.3} α*), m/m0 = {}{}",
+                "{SAVED_PREFIX}{:.4} rad ({:.3} α*), m/m0 = {}, {}{}",
                 snap.alpha_rad,
                 snap.alpha_rad / status.setup.alpha_star,
                 crate::view::short_number(snap.mass_ratio),
+                snap.drag_law.label(),
                 if first.is_empty() {
                     String::new()
                 } else {

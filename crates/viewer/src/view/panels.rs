@@ -15,13 +15,16 @@ impl SceneView {
         } else {
             "perfect body".into()
         };
+        // The drag law is named with the model: points taken under another law are another
+        // experiment.
         let mass = if !snap.model.is_inertial() {
-            format!("m/m0 = 0 ({} model)", snap.model)
+            format!("m/m0 = 0 ({} model, {})", snap.model, snap.drag_law.label())
         } else {
             format!(
-                "m/m0 = {} ({} model)",
+                "m/m0 = {} ({} model, {})",
                 short_number(snap.mass_ratio),
-                snap.model
+                snap.model,
+                snap.drag_law.label()
             )
         };
         let rate = if snap.halted {

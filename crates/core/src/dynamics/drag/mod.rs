@@ -163,6 +163,27 @@ impl DragLaw {
         REGISTERED.iter().copied().zip(self.values.iter().copied())
     }
 
+    /// The law in a few words, for a status line or a saved description: "linear drag" for
+    /// the paper's, else its parameters away from their defaults ("drag_exponent = 2").
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::dynamics::drag::DragLaw;
+    /// assert_eq!(DragLaw::LINEAR.label(), "linear drag");
+    /// assert_eq!(DragLaw::LINEAR.with("drag_exponent", 2.0)?.label(), "drag_exponent = 2");
+    /// # Ok::<(), rollphase_core::dynamics::drag::DragLawError>(())
+    /// ```
+    pub fn label(&self) -> String {
+        if self.is_linear() {
+            return "linear drag".to_string();
+        }
+        self.parameters()
+            .filter(|(p, v)| *v != p.default)
+            .map(|(p, v)| format!("{} = {v}", p.key))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
     /// Whether this is the paper's linear drag (the models then run their linear equations
     /// untouched, bit for bit).
     ///
