@@ -62,7 +62,8 @@ pub fn run(a: ExportStlArgs) -> Result<()> {
             a.file.display()
         );
     }
-    body.check_convex()
+    // A dented cylinder or a print's outline rolls on its hull: it is printed as it is.
+    body.check_rollable()
         .with_context(|| format!("{} cannot roll as a rigid body", a.file.display()))?;
     let mesh = match &body {
         Body::Sphere(s) => sphere_mesh(s, a.detail),

@@ -1005,12 +1005,22 @@ fn a_faceted_print_rolls_on_its_flats() {
     );
 }
 
-/// A hand-edited `printed_section` is refused naming what is wrong, before any run.
+/// A hand-edited `printed_section` is refused naming what is wrong, before any run: never
+/// dropped in silence (a clockwise or non-convex section once left the smooth fit rolling, exit
+/// 0), never scaled away from the fit's ⟨r⟩ (a section × 1e-9 once gave T = 2.2e10).
 #[test]
 fn a_hand_edited_printed_section_is_refused_naming_what() {
     let dir = scratch("edited-section");
-    let mut file = serde_json::json!({"kind": "disk", "modes": [], "printed_section": {}});
-    for (bad, says) in [
+    // A square of mean radius 1 (its apothem a: the mean of a / cos θ is 8 a asinh(1) / 2π).
+    let a = TAU / (8.0 * 1f64.asinh());
+    let square = [[a, a], [-a, a], [-a, -a], [a, -a]];
+    let with = |section: serde_json::Value| serde_json::json!({"kind": "disk", "modes": [], "printed_section": section});
+    let mut star = Vec::new();
+    for k in 0..10 {
+        let (t, r) = (TAU * k as f64 / 10.0, if k % 2 == 0 { 1.1 } else { 0.8 });
+        star.push([r * t.cos(), r * t.sin()]);
+    }
+    let cases = [
         (
             serde_json::json!({"vertices": [[1.0, 0.0], [0.0, 1.0]]}),
             "2 vertices",
@@ -1024,21 +1034,58 @@ fn a_hand_edited_printed_section_is_refused_naming_what() {
             "vertices[2]",
         ),
         (serde_json::json!({"corners": []}), "corners"),
-    ] {
-        file["printed_section"] = bad;
+        (
+            serde_json::json!({"vertices": square.iter().rev().collect::<Vec<_>>()}),
+            "counter-clockwise",
+        ),
+        (
+            serde_json::json!({"vertices": star}),
+            "not a convex polygon",
+        ),
+        (
+            serde_json::json!({"vertices": [square[0], [0.0, a], square[1], square[2], square[3]]}),
+            "not a convex polygon",
+        ),
+        (
+            serde_json::json!({"vertices": [square[0], square[0], square[1], square[2], square[3]]}),
+            "not a convex polygon",
+        ),
+        (
+            serde_json::json!({"vertices": square.iter().map(|v| [2.0 * v[0], 2.0 * v[1]]).collect::<Vec<_>>()}),
+            "mean radius is 2.0",
+        ),
+        (
+            serde_json::json!({"vertices": square.iter().map(|v| [1e-9 * v[0], 1e-9 * v[1]]).collect::<Vec<_>>()}),
+            "mean radius",
+        ),
+    ];
+    for (bad, says) in cases {
         let edited = dir.join("edited.json");
-        std::fs::write(&edited, file.to_string()).unwrap();
+        std::fs::write(&edited, with(bad).to_string()).unwrap();
         let out = rollphase(["period", &edited.display().to_string(), "--alpha", "0.2"]);
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success() && err.contains(says), "{says}: {err}");
     }
-    // A good one is rolled on: a unit square rests up to 45°, less its rounding.
-    file["printed_section"] =
-        serde_json::json!({"vertices": [[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0]]});
-    let square = dir.join("square.json");
-    std::fs::write(&square, file.to_string()).unwrap();
-    let out = rollphase_ok(["period", &square.display().to_string(), "--alpha", "0.7"]);
+    // Modes that describe no body are refused with a section too.
+    let bad_modes = serde_json::json!({
+        "kind": "disk", "modes": [{"l": 2, "a": 5.0, "phase": 0.0}],
+        "printed_section": {"vertices": square}
+    });
+    let edited = dir.join("bad-modes.json");
+    std::fs::write(&edited, bad_modes.to_string()).unwrap();
+    let out = rollphase(["period", &edited.display().to_string(), "--alpha", "0.2"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not star-shaped"));
+    // A good one is rolled on: the square rests up to 45°, less its rounding.
+    let file = dir.join("square.json");
+    std::fs::write(
+        &file,
+        with(serde_json::json!({"vertices": square})).to_string(),
+    )
+    .unwrap();
+    let out = rollphase_ok(["period", &file.display().to_string(), "--alpha", "0.7"]);
     assert!(String::from_utf8_lossy(&out).contains("halted"));
+    let out = rollphase_ok(["period", &file.display().to_string(), "--alpha", "0.8"]);
+    assert!(String::from_utf8_lossy(&out).contains("periodic"));
 }
 
 /// A given --axis is checked against the mesh: a sphere (its equator alone runs along any axis)

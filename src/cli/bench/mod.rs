@@ -127,6 +127,13 @@ pub struct CalibrationBenchArgs {
     /// The first track's seed (the next ones count up).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Synthetic lag-time data sets per true exponent for `fit-lag`'s table, 10 to 10000, or 0
+    /// to skip it (each is a whole `fit-lag`, a few seconds).
+    #[arg(long, default_value_t = 100)]
+    pub lag_draws: usize,
+    /// Bootstrap resamples of each of those fits (`fit-lag --bootstrap`).
+    #[arg(long, default_value_t = 100)]
+    pub lag_bootstrap: usize,
 }
 
 /// Options of `bench track`.

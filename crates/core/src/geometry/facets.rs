@@ -92,9 +92,36 @@ pub struct PrintedSection {
     pub vertices: Vec<[f64; 2]>,
 }
 
-/// Most corners a printed section may have: a mesh's section of 2¹⁶ facets is finer than any
-/// printer, and the shape file stays under a few MB.
-pub const MAX_PRINTED_CORNERS: usize = 1 << 16;
+/// How far a printed section's mean radius may be from the fitted body's ⟨r⟩ = 1: a coat's
+/// chamfered corners move it by 1e-4, a section scaled by hand by far more.
+pub const MEAN_RADIUS_SLACK: f64 = 0.01;
+
+/// The mean over θ of a convex polygon's radius (its corners counter-clockwise around the
+/// origin): on each side at distance d, ∫ d / cos(θ − φ) dθ in closed form.
+fn mean_radius(corners: &[[f64; 2]]) -> f64 {
+    let n = corners.len();
+    let total: f64 = (0..n)
+        .map(|k| {
+            let (p, q) = (corners[k], corners[(k + 1) % n]);
+            let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+            let length = dx.hypot(dy);
+            let d = (p[0] * dy - p[1] * dx) / length;
+            // The side's ends seen from the origin, at angles a and b from its normal foot.
+            let (a, b) = (
+                (p[0] * dx + p[1] * dy) / length,
+                (q[0] * dx + q[1] * dy) / length,
+            );
+            // ∫ d sec u du from atan(a/d) to atan(b/d) = d [asinh(tan u)].
+            d * ((b / d).asinh() - (a / d).asinh())
+        })
+        .sum();
+    total / std::f64::consts::TAU
+}
+
+/// Most corners a printed section may have: the shape file stays under its 1 MiB limit (about
+/// 60 bytes a corner), and a regular polygon this fine tips 0.02° above its smooth fit, under an
+/// inclinometer's resolution, so `shape --from-mesh` keeps no section for it.
+pub const MAX_PRINTED_CORNERS: usize = 8192;
 
 impl PrintedSection {
     /// The hull of a section's `points` (centroid at the origin) scaled by 1/`unit`; `None`
@@ -149,11 +176,64 @@ impl PrintedSection {
                 v[0], v[1]
             ));
         }
-        section_hull(&self.vertices).ok_or_else(|| {
+        let hull = section_hull(&self.vertices).ok_or_else(|| {
             "printed_section does not enclose the centroid with positive area (needs the \
              section's corners around its centroid, in units of ⟨r⟩)"
                 .to_string()
-        })
+        })?;
+        // The corners as `shape --from-mesh` writes them: the hull itself, counter-clockwise,
+        // no corner inside it or on a side, none twice. Anything else is a different polygon
+        // from the one given, which a hand edit must not get silently.
+        let canonical = convex_hull(&self.vertices);
+        if canonical.len() != n {
+            return Err(format!(
+                "printed_section is not a convex polygon of its {n} vertices: its convex hull \
+                 has {} (a vertex inside, on a side or listed twice); give the hull's corners \
+                 only",
+                canonical.len()
+            ));
+        }
+        let start = canonical
+            .iter()
+            .position(|c| *c == self.vertices[0])
+            .unwrap_or(0);
+        if (0..n).any(|k| canonical[(start + k) % n] != self.vertices[k]) {
+            return Err(
+                "printed_section's vertices are not in counter-clockwise order around the \
+                 centroid (as `shape --from-mesh` writes them)"
+                    .to_string(),
+            );
+        }
+        Ok(hull)
+    }
+
+    /// [`PrintedSection::hull`], and the section in its shape file's units: its mean radius
+    /// over θ is the fitted body's ⟨r⟩ = 1 (within [`MEAN_RADIUS_SLACK`]), so a section scaled
+    /// by hand or taken from another body is refused before any run.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::facets::PrintedSection;
+    /// let n = 30;
+    /// let prism = PrintedSection { vertices: (0..n).map(|k| {
+    ///     let t = std::f64::consts::TAU * k as f64 / n as f64;
+    ///     [t.cos(), t.sin()]
+    /// }).collect() };
+    /// assert!(prism.check_for_shape_file().is_ok());
+    /// let doubled = PrintedSection { vertices: prism.vertices.iter().map(|v| [2.0 * v[0], 2.0 * v[1]]).collect() };
+    /// assert!(doubled.check_for_shape_file().unwrap_err().contains("mean radius"));
+    /// ```
+    pub fn check_for_shape_file(&self) -> Result<SectionHull, String> {
+        let hull = self.hull()?;
+        let mean = mean_radius(&self.vertices);
+        if !((1.0 - MEAN_RADIUS_SLACK)..=(1.0 + MEAN_RADIUS_SLACK)).contains(&mean) {
+            return Err(format!(
+                "printed_section's mean radius is {mean:.6} ⟨r⟩, but the section is in units of \
+                 the fitted body's mean radius: needs 1 within {MEAN_RADIUS_SLACK} (a section \
+                 scaled or from another body)"
+            ));
+        }
+        Ok(hull)
     }
 
     /// The same section seen from the cylinder's other end (θ → −θ), as
@@ -347,6 +427,17 @@ mod tests {
             (backward - (11.0f64 / 3.0).atan()).abs() < 1e-12,
             "{backward}"
         );
+    }
+
+    #[test]
+    fn a_polygons_mean_radius_is_its_closed_form() {
+        // A square of apothem 1: (4/2π) · 2 asinh(1).
+        let square = [[1.0, 1.0], [-1.0, 1.0], [-1.0, -1.0], [1.0, -1.0]];
+        let exact = 8.0 * 1f64.asinh() / TAU;
+        assert!((mean_radius(&square) - exact).abs() < 1e-14);
+        // A fine polygon of circumradius 1 is nearly the unit circle.
+        let fine = polygon(4096, 1.0, 0.3);
+        assert!((mean_radius(&fine) - 1.0).abs() < 1e-6);
     }
 
     #[test]

@@ -290,7 +290,9 @@ impl Body {
                 ..
             } => {
                 if let Some(section) = printed_section {
-                    section.hull().map_err(ShapeError::PrintedSection)?;
+                    section
+                        .check_for_shape_file()
+                        .map_err(ShapeError::PrintedSection)?;
                 }
                 let mut seen = std::collections::BTreeSet::new();
                 for (i, m) in modes.iter().enumerate() {
@@ -316,7 +318,9 @@ impl Body {
                         });
                     }
                 }
-                let disk = Disk::new(modes.clone()).with_printed_section(printed_section.clone());
+                // The modes are checked as the smooth body they describe; the print's section
+                // is attached after.
+                let disk = Disk::new(modes.clone());
                 // Σ|a_l|/l² < 1 guarantees r > 0; otherwise look for the smallest radius.
                 if modes
                     .iter()
@@ -332,7 +336,9 @@ impl Body {
                         });
                     }
                 }
-                Ok(Body::Disk(disk))
+                Ok(Body::Disk(
+                    disk.with_printed_section(printed_section.clone()),
+                ))
             }
             ShapeFile::Sphere { coeffs, .. } => {
                 let mut seen = std::collections::BTreeSet::new();

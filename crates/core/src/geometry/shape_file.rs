@@ -209,6 +209,28 @@ impl ShapeFile {
         }
     }
 
+    /// This disk file with `printed_section` set (a sphere's is returned as it is).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Body, ShapeFile};
+    /// let file = Body::paper_disk(0, 0.1, 6)?.to_shape().with_printed_section(None);
+    /// assert!(matches!(file, ShapeFile::Disk { printed_section: None, .. }));
+    /// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+    /// ```
+    pub fn with_printed_section(self, section: Option<super::facets::PrintedSection>) -> Self {
+        match self {
+            ShapeFile::Disk {
+                modes, scale_mm, ..
+            } => ShapeFile::Disk {
+                modes,
+                scale_mm,
+                printed_section: section,
+            },
+            sphere => sphere,
+        }
+    }
+
     /// Pretty JSON text.
     ///
     /// # Example

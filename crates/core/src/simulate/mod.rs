@@ -620,8 +620,9 @@ impl<const N: usize> From<RunError> for Halt<N> {
     }
 }
 
-/// Most switches (tips and impacts) one run may take: beyond it the rocking is not settling.
-pub const MAX_SWITCHES: u64 = 10_000_000;
+/// Most switches (tips and impacts) one run may take: beyond it the rocking is not settling (a
+/// 30-sided print tips 30 times a turn: a million is 33 000 turns).
+pub const MAX_SWITCHES: u64 = 1_000_000;
 
 /// The first time in the last step where the model's switching function passes from ≥ 0 to
 /// < 0, and the state there (from the step's dense output, to 1e-13 in time); `None` for a step
@@ -765,8 +766,16 @@ impl<F: FnMut(&[f64])> ModelVisitor for Drive<'_, F> {
         let (mut t_start, mut y_start) = (0.0, *y0);
         let mut stats = Stats::default();
         loop {
+            // The step budget is the whole run's, restarts included: a body chattering across
+            // its hull's flats (one step, one switch, again) must end at max_steps too.
+            if stats.steps >= spec.max_steps {
+                return Err(RunError::Integrate(IntegrateError::TooManySteps {
+                    t: t_start,
+                    max_steps: spec.max_steps,
+                }));
+            }
             let mut run = Run::new(model, t_start, y_start, method)?;
-            let budget = spec.max_steps.saturating_sub(stats.steps).max(1);
+            let budget = spec.max_steps - stats.steps;
             let ran = run.until(t_end, budget, |st| {
                 if stop.load(Ordering::Relaxed) {
                     return Err(Halt::Run(RunError::Stopped { t: st.t() }));

@@ -171,6 +171,8 @@ pub fn viscous_disk_period_with(
         // On its hull (a dented body, or a print's outline) the body crosses each flat in no
         // time (it tips), so a turn takes the curved parts' time; each is a panel of its own,
         // its ends (where the peak of 1/θ̇ sits near α*) at panel ends.
+        // The evaluation budget is the turn's, shared by its parts: a 512-sided print has 512
+        // corners, each near-singular just above α*.
         Some(parts) => parts.iter().fold(
             crate::numeric::quadrature::Quadrature {
                 value: 0.0,
@@ -178,7 +180,8 @@ pub fn viscous_disk_period_with(
                 evals: 0,
             },
             |sum, &(a, b)| {
-                let q = integrate_adaptive(&f, a, b, 1e-11, 200_000);
+                let budget = (200_000 / parts.len() as u64).max(2_000);
+                let q = integrate_adaptive(&f, a, b, 1e-11, budget);
                 crate::numeric::quadrature::Quadrature {
                     value: sum.value + q.value,
                     error: sum.error + q.error,

@@ -30,7 +30,7 @@ use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::facets::{PrintedSection, SectionHull, section_hull};
+use super::facets::{MAX_PRINTED_CORNERS, PrintedSection, SectionHull, section_hull};
 use super::mesh_read::{MeshError, MeshFormat, MeshSource};
 use super::{Body, DiskMode, MAX_SPHERE_L, ShapeFile, SphereCoeff};
 
@@ -282,8 +282,8 @@ pub fn coat(
     coated.report.triangles = fit.report.triangles;
     coated.report.modes_rule.clone_from(&fit.report.modes_rule);
     // The coated surface is the fitted body's, in the body's frame: the mesh's axis and
-    // centroid are the original's, and the coated section has no facets of the print's (its
-    // 4,096-gon is the sampling's), so no hull of its own is reported.
+    // centroid are the original's; its 4,096-gon is the sampling's, so the hull reported is the
+    // print's section offset by the coat (below), if the print has one.
     coated.report.axis = fit.report.axis;
     coated.report.section_axes = fit.report.section_axes;
     coated.report.centroid = fit.report.centroid;
@@ -299,6 +299,14 @@ pub fn coat(
             scale_mm: coated.shape.scale_mm(),
             printed_section: offset.clone(),
         };
+        // The report names the coated print's flats as a fit's report names the mesh's.
+        // (Its sides keep the original's lengths, in the mesh's units.)
+        coated.report.mesh_hull = offset.as_ref().and_then(|s| s.hull().ok()).map(|h| {
+            crate::geometry::facets::SectionHull {
+                longest_side: fit.report.mesh_hull.map_or(f64::NAN, |m| m.longest_side),
+                ..h
+            }
+        });
         if let Body::Disk(c) = &coated.body {
             coated.body = Body::Disk(c.clone().with_printed_section(offset));
         }

@@ -226,24 +226,17 @@ pub(super) fn fit_section(
         .collect();
     let scale_mm = mean * options.mm_per_unit;
     let corners: Vec<[f64; 2]> = rel.iter().flat_map(|(p, q)| [*p, *q]).collect();
-    let printed_section = if options.ignore_facets {
-        None
-    } else {
-        PrintedSection::from_points(&corners, mean)
-    };
-    let shape = ShapeFile::Disk {
+    let smooth_shape = ShapeFile::Disk {
         modes: disk_modes,
         scale_mm: Some(scale_mm),
-        printed_section,
-    };
-    let rolled = Body::from_shape(&shape).map_err(|e| shape_error(source, e.to_string()))?;
-    let Body::Disk(rolled_disk) = &rolled else {
-        unreachable!("a disk shape file gives a disk")
+        printed_section: None,
     };
     // The report is the smooth fit's (its residuals, convexity and α*); the body returned rolls
-    // on the print's outline when the section is kept.
-    let disk = &rolled_disk.smooth_fit();
-    let body = Body::Disk(disk.clone());
+    // on the print's outline when the section is kept (below).
+    let body = Body::from_shape(&smooth_shape).map_err(|e| shape_error(source, e.to_string()))?;
+    let Body::Disk(disk) = &body else {
+        unreachable!("a disk shape file gives a disk")
+    };
     let (mut sum2, mut worst, mut worst_at) = (0.0, 0.0f64, 0.0);
     for (k, r) in radius.iter().enumerate() {
         let th = k as f64 * step;
@@ -313,5 +306,17 @@ pub(super) fn fit_section(
         warnings,
         coat: None,
     };
+    // The print's section is kept where its flats move α* beyond an inclinometer's 0.1° (a
+    // finer polygon rolls as its smooth fit does, within what a ramp can be set to), unless told
+    // the facets are tessellation, and where the shape file can hold it.
+    let printed_section = mesh_hull
+        .filter(|h| {
+            !options.ignore_facets
+                && (h.alpha_star - alpha_star).abs() > FACET_TOLERANCE
+                && h.sides <= MAX_PRINTED_CORNERS
+        })
+        .and_then(|_| PrintedSection::from_points(&corners, mean));
+    let shape = smooth_shape.with_printed_section(printed_section);
+    let rolled = Body::from_shape(&shape).map_err(|e| shape_error(source, e.to_string()))?;
     Ok((rolled, shape, report))
 }
