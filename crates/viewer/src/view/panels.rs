@@ -15,16 +15,13 @@ impl SceneView {
         } else {
             "perfect body".into()
         };
-        // The drag law is named with the model: points taken under another law are another
-        // experiment.
         let mass = if !snap.model.is_inertial() {
-            format!("m/m0 = 0 ({} model, {})", snap.model, snap.drag_law.label())
+            format!("m/m0 = 0 ({} model)", snap.model)
         } else {
             format!(
-                "m/m0 = {} ({} model, {})",
+                "m/m0 = {} ({} model)",
                 short_number(snap.mass_ratio),
-                snap.model,
-                snap.drag_law.label()
+                snap.model
             )
         };
         let rate = if snap.halted {
@@ -59,6 +56,10 @@ impl SceneView {
             line(format!("α = {:.5} rad ({deg:.3}°)", snap.alpha_rad), 16.0),
             line(format!("α* = {:.5} rad   {ratio}", snap.alpha_star), 16.0),
             line(mass, 16.0),
+            // The drag law is named with the model, on a line of its own (the panel keeps its
+            // width beside the body's view): points taken under another law are another
+            // experiment.
+            line(snap.drag_law.label(), 16.0),
             line(format!("t = {:.2}", snap.t), 16.0),
         ];
         let worst = snap
