@@ -19,6 +19,17 @@ fn cells(c: &Coverage) -> String {
 
 /// Runs `bench calibration`.
 pub fn run(a: CalibrationBenchArgs) -> Result<()> {
+    // Every count is checked before the first table's minute of work.
+    if !(a.lag_draws == 0 || (10..=10_000).contains(&a.lag_draws))
+        || !(10..=100_000).contains(&a.lag_bootstrap)
+    {
+        bail!(
+            "--lag-draws {} --lag-bootstrap {} is not allowed (needs 10 to 10000 data sets, or 0 \
+             for none, and 10 to 100000 resamples)",
+            a.lag_draws,
+            a.lag_bootstrap
+        );
+    }
     if !(10..=100_000).contains(&a.draws) {
         bail!(
             "--draws {} is not allowed (needs 10 to 100000 tracks per case; 200 gives each \
@@ -75,14 +86,6 @@ fn lag_table(a: &CalibrationBenchArgs) -> Result<()> {
     use crate::analysis::experiment::lag_calibration::{LagCoverage, calibrate_lag};
     if a.lag_draws == 0 {
         return Ok(());
-    }
-    if !(10..=10_000).contains(&a.lag_draws) || !(10..=100_000).contains(&a.lag_bootstrap) {
-        bail!(
-            "--lag-draws {} --lag-bootstrap {} is not allowed (needs 10 to 10000 data sets, or 0 \
-             for none, and 10 to 100000 resamples)",
-            a.lag_draws,
-            a.lag_bootstrap
-        );
     }
     let cell = |c: &LagCoverage| {
         format!(
