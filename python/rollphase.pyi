@@ -595,6 +595,34 @@ def models() -> List[ModelInfo]:
     and the command line use, the body's dimension, whether it carries inertia, what it is and
     its integrated state. A run's model follows from the body and mass_ratio (0: viscous)."""
 
+class TrackTable(TypedDict):
+    format: Literal["plain", "tracker", "trackpy"]
+    columns: List[str]
+    frames: npt.NDArray[np.float64]
+    across: npt.NDArray[np.float64]
+    down: npt.NDArray[np.float64]
+    fps_from_times: Optional[float]
+    notes: List[str]
+
+def read_track_table(
+    path: _Path,
+    *,
+    format: Optional[Literal["plain", "tracker", "trackpy"]] = None,
+    frame_column: Optional[str] = None,
+    time_column: Optional[str] = None,
+    across_column: Optional[str] = None,
+    down_column: Optional[str] = None,
+    fps: Optional[float] = None,
+    particle: Optional[float] = None,
+    every_particle: bool = False,
+) -> TrackTable:
+    """A tracked run's table read as `rollphase track` reads it: format "plain" (the authors'
+    CSV: frame, xn, yn), "tracker" (Tracker's data export: a title line, then t, x, y; tabs,
+    commas, semicolons or spaces, decimal commas; frames are t × fps, the rate read from the
+    time steps unless fps is given; x runs down the ramp) or "trackpy" (frame, particle, x, y;
+    particle picks the body), told from the file when not given. frames, across and down are in
+    the file's units (multiply by cm per unit); InputError names what cannot be read."""
+
 def measure_track(
     frames: _Floats, down: _Floats, across: _Floats, *, markers: Optional[_Floats] = None
 ) -> TrackMeasurement:

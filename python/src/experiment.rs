@@ -1,5 +1,5 @@
-//! A filmed run from Python: `measure_track` (the period search of `rollphase track`, with its
-//! evidence) and `compare_with_model` (the measurement beside the model's prediction, m/m0 and
+//! A filmed run from Python: `read_track_table` (a tracker's table read as `rollphase track`
+//! reads it), `measure_track` (the period search of `rollphase track`, with its evidence) and `compare_with_model` (the measurement beside the model's prediction, m/m0 and
 //! t0 solved together). Each is the core's function of the same name
 //! (`rollphase_core::analysis::experiment::tracking`), run with the GIL released.
 
@@ -10,6 +10,9 @@ use pyo3::types::PyDict;
 use rollphase_core::analysis::experiment::prediction::PredictOptions;
 use rollphase_core::analysis::experiment::tracking::model::{
     CompareError, Measured, compare_with_model_until,
+};
+use rollphase_core::analysis::experiment::tracking::table::{
+    TableError, TableFormat, TableRequest, read_table,
 };
 use rollphase_core::analysis::experiment::tracking::{TrackError, measure};
 
@@ -30,6 +33,12 @@ impl Classified for TrackError {
             | TrackError::MostlyUnsteady { .. }
             | TrackError::BadArgument(_) => ErrorClass::Input,
         }
+    }
+}
+
+impl Classified for TableError {
+    fn class(&self) -> ErrorClass {
+        ErrorClass::Input
     }
 }
 
@@ -58,6 +67,89 @@ fn fields_into(
         }
     }
     Ok(())
+}
+
+/// Most rows read from a table, as `rollphase track` reads.
+const MAX_TABLE_ROWS: usize = 10_000_000;
+
+/// A tracked run's table at `path` read as `rollphase track` reads it: the authors' plain CSV,
+/// Tracker's data export (title lines, t, x, y; decimal commas; frames are t × fps, the rate read
+/// from the time steps unless `fps` is given) or trackpy's linked table (frame, particle, x, y;
+/// `particle` picks the body, `every_particle` keeps all rows, for markers). Returns a dict
+/// (TrackTable): format, columns (frame or time, across, down), frames, across and down (arrays,
+/// in the file's units: multiply by cm per unit), fps_from_times (None where not read) and
+/// notes. A file that cannot be read so raises InputError naming why.
+#[pyfunction]
+#[pyo3(signature = (
+    path, *, format = None, frame_column = None, time_column = None, across_column = None,
+    down_column = None, fps = None, particle = None, every_particle = false
+))]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "Python keywords, one per command-line flag"
+)]
+pub fn read_track_table<'py>(
+    py: Python<'py>,
+    path: std::path::PathBuf,
+    format: Option<String>,
+    frame_column: Option<String>,
+    time_column: Option<String>,
+    across_column: Option<String>,
+    down_column: Option<String>,
+    fps: Option<f64>,
+    particle: Option<f64>,
+    every_particle: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let format = match format.as_deref() {
+        None => None,
+        Some(name) => Some(TableFormat::named(name).ok_or_else(|| {
+            input_error(format!(
+                "format {name:?} is not one of {}",
+                TableFormat::ALL.map(TableFormat::name).join(", ")
+            ))
+        })?),
+    };
+    if frame_column.is_some() && time_column.is_some() {
+        return Err(input_error(
+            "give frame_column or time_column, not both".to_string(),
+        ));
+    }
+    if let Some(f) = fps
+        && !(f.is_finite() && (1e-5..=1e6).contains(&f))
+    {
+        return Err(input_error(format!(
+            "fps {f} is not allowed (needs 1e-5 ≤ fps ≤ 1e6 frames per second)"
+        )));
+    }
+    let meta = std::fs::metadata(&path)
+        .map_err(|e| input_error(format!("cannot read {}: {e}", path.display())))?;
+    if !meta.is_file() {
+        return Err(input_error(format!(
+            "{} is not a regular file (a device, FIFO or folder)",
+            path.display()
+        )));
+    }
+    let file = std::fs::File::open(&path)
+        .map_err(|e| input_error(format!("cannot read {}: {e}", path.display())))?;
+    let request = TableRequest {
+        format,
+        frame_column,
+        time_column,
+        across_column,
+        down_column,
+        fps,
+        particle,
+        every_particle,
+    };
+    let table = read_table(std::io::BufReader::new(file), &request, MAX_TABLE_ROWS)
+        .map_err(|e| input_error(format!("{}: {e}", path.display())))?;
+    let d = PyDict::new(py);
+    fields_into(&d, &table, &[])?;
+    for (k, name) in ["frames", "across", "down"].into_iter().enumerate() {
+        let column: Vec<f64> = table.rows.iter().map(|r| r[k]).collect();
+        d.set_item(name, Array1::from_vec(column).into_pyarray(py))?;
+    }
+    Ok(d)
 }
 
 /// `rollphase track`'s measurement of a centre track: `frames` (increasing frame numbers),

@@ -15,7 +15,7 @@
 //! | [`run`] | `simulate` and its `DiskTrajectory` / `SphereTrajectory`, `simulate_many` and its `SphereRuns` |
 //! | [`studies`] | `critical_angle`, `period`, `poincare_map`, `cruising_fraction`, `periodic_orbits`, `period_counts` |
 //! | [`design`] | `design` (a printable body for chosen targets, checked over a bench's band) and `check_design` (the same check of a body you have) |
-//! | [`experiment`] | `measure_track` (a filmed run's period with its evidence), `compare_with_model` (m/m0 and t0 from it) |
+//! | [`experiment`] | `read_track_table` (a tracker's table, as `track` reads it), `measure_track` (a filmed run's period with its evidence), `compare_with_model` (m/m0 and t0 from it) |
 
 // Python functions take their settings as keyword-only arguments with defaults (as SciPy's and
 // rapier's bindings do); each is one Rust parameter.
@@ -189,6 +189,7 @@ fn rollphase(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(studies::predict, m)?)?;
     m.add_function(wrap_pyfunction!(studies::period_counts, m)?)?;
     m.add_function(wrap_pyfunction!(studies::mass_bifurcation, m)?)?;
+    m.add_function(wrap_pyfunction!(experiment::read_track_table, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::measure_track, m)?)?;
     m.add_function(wrap_pyfunction!(experiment::compare_with_model, m)?)?;
     m.add_function(wrap_pyfunction!(design::design, m)?)?;

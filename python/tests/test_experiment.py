@@ -137,6 +137,33 @@ def authors_track(repo):
     return frames, down, across
 
 
+def test_read_track_table_reads_the_authors_and_trackers_files_alike(repo, tmp_path):
+    frames, down, across = authors_track(repo)
+    plain = rollphase.read_track_table(repo / TRACK)
+    assert plain["format"] == "plain" and plain["columns"] == ["frame", "xn", "yn"]
+    assert np.array_equal(plain["frames"], frames)
+    assert np.allclose(plain["down"] * 0.0361, down, equal_nan=True)
+    # The same run as Tracker exports it in a German locale: title line, tabs, decimal commas,
+    # t in seconds (the rate read from its steps), x down the ramp in metres.
+    lines = ["mass A", "t\tx\ty"]
+    for f, d, a in zip(frames, down, across):
+        lines.append("\t".join(f"{v:.9E}".replace(".", ",") for v in (f / 30, d / 100, a / 100)))
+    tracker = tmp_path / "tracker.txt"
+    tracker.write_text("\n".join(lines) + "\n")
+    table = rollphase.read_track_table(tracker)
+    assert table["format"] == "tracker" and table["fps_from_times"] == 30.0
+    assert np.array_equal(table["frames"], frames)
+    assert np.allclose(table["down"] * 100, down, rtol=1e-8)
+    with pytest.raises(rollphase.InputError, match="not a whole frame"):
+        rollphase.read_track_table(tracker, fps=25.0)
+    with pytest.raises(rollphase.InputError, match="only in trackpy"):
+        rollphase.read_track_table(tracker, particle=3)
+    with pytest.raises(rollphase.InputError, match="not one of"):
+        rollphase.read_track_table(tracker, format="excel")
+    with pytest.raises(rollphase.InputError, match="not a regular file"):
+        rollphase.read_track_table(tmp_path)
+
+
 def test_measure_track_is_the_command_lines(repo, cli, tmp_path):
     fit = rollphase.measure_track(*authors_track(repo))
     out = tmp_path / "run"

@@ -753,6 +753,42 @@ fn stl_files_are_read_as_exporters_write_them() {
     );
 }
 
+/// A box-like mesh is an extrusion along two or three axes: the fit takes the one whose section
+/// is the roundest (then the longest), and warns naming the others. A square rod 10 × 10 × 40
+/// along z was read along x (a 10 × 40 section resting up to 1.33 rad where the rod rests up to
+/// π/4); a square tile 10 × 10 × 4 and a 20 × 10 × 40 bar are read along z too.
+#[test]
+fn box_like_meshes_are_read_along_their_roundest_section() {
+    use rollphase::geometry::mesh_fit::{FitOptions, fit_mesh};
+    use rollphase::geometry::mesh_read::MeshSource;
+    let dir = scratch("boxes");
+    for (name, (w, h, length), sides) in [
+        ("rod", (10.0, 10.0, 40.0), 4),
+        ("tile", (10.0, 10.0, 4.0), 4),
+        ("bar", (20.0, 10.0, 40.0), 4),
+    ] {
+        let polygon = [[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]];
+        let path = dir.join(format!("{name}.stl"));
+        write_binary_stl(&extrude(&polygon, length), &path, 1.0);
+        let source = MeshSource::open(&path).unwrap();
+        let fit = fit_mesh(&source, &FitOptions::default(), &|_, _, _| {}).unwrap();
+        assert_eq!(fit.report.axis, Some([0.0, 0.0, 1.0]), "{name}");
+        let hull = fit.report.mesh_hull.expect("a 2D fit reports its hull");
+        assert_eq!(hull.sides, sides, "{name}");
+        let rest = (w.max(h) / w.min(h)).atan();
+        assert!(
+            (hull.alpha_star - rest).abs() < 2e-3,
+            "{name}: rests up to {} against {rest}",
+            hull.alpha_star
+        );
+        let warnings = fit.report.warnings.join(" ");
+        assert!(
+            warnings.contains("box-like") && warnings.contains("--axis"),
+            "{name}: {warnings}"
+        );
+    }
+}
+
 /// OpenSCAD's `cylinder(r = 10, h = 20, $fn = K)` for every K from 3 to 512, as written (the
 /// first vertex at angle 0, where sample rays of the section fall exactly on vertices) and
 /// turned by 0.1 rad, along +z and −z: every one fits as a 2D body with the polygon's own mean

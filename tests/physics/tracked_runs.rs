@@ -303,6 +303,87 @@ fn a_known_period_comes_back_through_noise_gaps_jumps_and_missing_values() {
     );
 }
 
+/// What classroom trackers write reads as the same track: Tracker's export (title line, tabs,
+/// decimal commas, t in seconds at 29.97 frames/s, x down the ramp, metres) and trackpy's linked
+/// table (an unnamed index column, the body among other particles, pixels) give the plain CSV's
+/// period and advance. Each needs its scale; trackpy's needs the particle named; a frame rate
+/// the times do not fall on is refused, naming it.
+#[test]
+fn trackers_and_trackpys_tables_give_the_plain_tables_answer() {
+    let dir = scratch("trackers");
+    let rows = synthetic(1500, 123.4, 160.0, 2.0);
+    let plain = dir.join("plain.csv");
+    write_track(&plain, &rows, &[]);
+    let out = dir.join("plain");
+    assert!(track(&plain, &out, &[]).status.success());
+    let want = summary(&out);
+    // Tracker: t = (frame − 100)/29.97 s, x (down) and y (across) in m (0.04 cm a unit).
+    let mut text = String::from("mass A\nt\tx\ty\n");
+    for (f, across, down) in &rows {
+        let t = (f - 100.0) / 29.97;
+        let cell = |v: f64| format!("{v:.9E}").replace('.', ",");
+        text += &format!(
+            "{}\t{}\t{}\n",
+            cell(t),
+            cell(down * 0.0004),
+            cell(across * 0.0004)
+        );
+    }
+    let tracker = dir.join("tracker.txt");
+    std::fs::write(&tracker, text).unwrap();
+    let none = dir.join("refused");
+    let o = rollphase([
+        "track",
+        tracker.to_str().unwrap(),
+        "--out",
+        dir.join("no-scale").to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("give --scale"));
+    refused(&tracker, &none, &["--fps", "25"], "not a whole frame");
+    let out = dir.join("tracker");
+    let o = track(&tracker, &out, &["--scale", "100,100"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let got = summary(&out);
+    assert_eq!(got["table"]["format"], "tracker");
+    assert_eq!(got["fps"], 29.97);
+    let close = |key: &str, tol: f64| {
+        let (a, b) = (got[key].as_f64().unwrap(), want[key].as_f64().unwrap());
+        assert!((a - b).abs() <= tol * b.abs(), "{key}: {a} against {b}");
+    };
+    close("period_frames", 1e-6);
+    close("advance_down_cm", 1e-6);
+    close("advance_across_cm", 1e-6);
+    // trackpy: the body is particle 4 among a second particle that wanders; frame-major order.
+    let mut text = String::from(",y,x,mass,frame,particle\n");
+    for (i, (f, across, down)) in rows.iter().enumerate() {
+        text += &format!("{},{across},{down},90,{f},4\n", 2 * i);
+        text += &format!(
+            "{},{},{},10,{f},9\n",
+            2 * i + 1,
+            (i % 7) as f64,
+            (i % 5) as f64
+        );
+    }
+    let trackpy = dir.join("linked.csv");
+    std::fs::write(&trackpy, text).unwrap();
+    refused(
+        &trackpy,
+        &none,
+        &[],
+        "pick the body's centre with --particle",
+    );
+    refused(&trackpy, &none, &["--particle", "5"], "has no particle 5");
+    refused(&trackpy, &none, &["--particle", "4.5"], "whole number");
+    let out = dir.join("trackpy");
+    let o = track(&trackpy, &out, &["--particle", "4"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let got = summary(&out);
+    assert_eq!(got["table"]["format"], "trackpy");
+    assert_eq!(got["period_frames"], want["period_frames"]);
+    assert_eq!(got["advance_down_cm"], want["advance_down_cm"]);
+}
+
 /// The printed sphere as the authors' generator makes it (seed 6, σ 0.25, l ≤ 4), without a
 /// scale, written to `path`.
 fn printed_sphere_shape(path: &Path) {

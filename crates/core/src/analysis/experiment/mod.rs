@@ -6,7 +6,7 @@
 //! | [`prediction`] | the periodic motions a body settles into from rest, in the lab's terms, with their contact forces and fractions of starts |
 //! | [`lag_times`] | fits of measured lag times t_lag = A (α − α*)^β, per run and with one shared exponent |
 //! | [`lag_calibration`] | how often `fit-lag`'s stated intervals hold the true exponent, on synthetic runs shaped like the authors' |
-//! | [`tracking`] | a filmed run's centre track cleaned, its period with evidence, the folded track, the markers' reading, and the comparison with the model |
+//! | [`tracking`] | a filmed run's centre track cleaned, its period with evidence, the folded track, the markers' reading, the trackers' tables (`table`), and the comparison with the model |
 
 pub mod lag_calibration;
 pub mod lag_times;

@@ -416,7 +416,13 @@ pub fn fit_mesh(
     let extrusion = match options.axis {
         Some(a) => Some((a / a.abs().max_element()).normalize()),
         None if options.dim == Some(3) => None,
-        None => find_extrusion_axis(source, &totals, progress)?,
+        None => match find_extrusion_axis(source, &totals, progress)? {
+            Some((axis, warning)) => {
+                warnings.extend(warning);
+                Some(axis)
+            }
+            None => None,
+        },
     };
     let dim = options
         .dim
@@ -518,12 +524,14 @@ fn first_pass(source: &MeshSource, progress: Progress) -> Result<Totals, MeshErr
 
 /// The axis of an extrusion: the eigenvector of the normal tensor along which every face is a
 /// side (normal across it) or a cap (normal along it), up to 0.1 % of the area; `None` if no
-/// eigenvector is.
+/// eigenvector is. A box-like mesh (a square rod, a tile) is an extrusion along two or three
+/// axes: the one whose section is the roundest (the smallest ratio of its extents, so the
+/// most rollable; then the longest) is taken, with a warning naming the others.
 fn find_extrusion_axis(
     source: &MeshSource,
     totals: &Totals,
     progress: Progress,
-) -> Result<Option<DVec3>, MeshError> {
+) -> Result<Option<(DVec3, Option<String>)>, MeshError> {
     let t = totals.normal_tensor;
     let m = nalgebra::Matrix3::from_fn(|r, c| t[r][c]);
     let eigen = m.symmetric_eigen();
@@ -534,13 +542,18 @@ fn find_extrusion_axis(
         })
         .collect();
     let mut oblique = [0.0f64; 3];
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
     let total = source.triangles();
     source.for_each(|i, [a, b, c]| {
         tick(progress, "finding the axis", i, total);
         let n = (b - a).cross(c - a);
         let len = n.length();
-        if len > 0.0 {
-            for (k, e) in candidates.iter().enumerate() {
+        for (k, e) in candidates.iter().enumerate() {
+            for p in [a, b, c] {
+                lo[k] = lo[k].min(p.dot(*e));
+                hi[k] = hi[k].max(p.dot(*e));
+            }
+            if len > 0.0 {
                 let along = (n.dot(*e) / len).abs();
                 if along > EXTRUSION_TOL && along < 1.0 - EXTRUSION_TOL {
                     oblique[k] += 0.5 * len;
@@ -549,13 +562,45 @@ fn find_extrusion_axis(
         }
         Ok(())
     })?;
-    let best = (0..3)
-        .min_by(|&i, &j| oblique[i].total_cmp(&oblique[j]))
-        .unwrap_or(0);
-    if oblique[best] > 1e-3 * totals.area {
+    let extruded: Vec<usize> = (0..3)
+        .filter(|&k| oblique[k] <= 1e-3 * totals.area)
+        .collect();
+    let extent = |k: usize| hi[k] - lo[k];
+    // The section across axis k: its longer extent over its shorter.
+    let aspect = |k: usize| {
+        let (a, b) = (extent((k + 1) % 3), extent((k + 2) % 3));
+        a.max(b) / a.min(b)
+    };
+    let roundest = |&i: &usize, &j: &usize| {
+        let (ai, aj) = (aspect(i), aspect(j));
+        if (ai - aj).abs() <= 1e-6 * ai.max(aj) {
+            extent(j).total_cmp(&extent(i))
+        } else {
+            ai.total_cmp(&aj)
+        }
+    };
+    let Some(best) = extruded.iter().copied().min_by(roundest) else {
         return Ok(None);
-    }
-    Ok(Some(canonical_axis(candidates[best])))
+    };
+    let axis = canonical_axis(candidates[best]);
+    let warning = (extruded.len() > 1).then(|| {
+        let others: Vec<String> = extruded
+            .iter()
+            .filter(|&&k| k != best)
+            .map(|&k| format!("{:?}", canonical_axis(candidates[k]).to_array()))
+            .collect();
+        format!(
+            "the mesh is an extrusion along {} axes (a box-like body): read along {:?}, whose \
+             section ({:.4} × {:.4}) is the roundest, not along {}; give --axis X,Y,Z to roll \
+             it about another",
+            extruded.len(),
+            axis.to_array(),
+            extent((best + 1) % 3).max(extent((best + 2) % 3)),
+            extent((best + 1) % 3).min(extent((best + 2) % 3)),
+            others.join(" or ")
+        )
+    });
+    Ok(Some((axis, warning)))
 }
 
 /// A given axis checked against the mesh: more of the surface must run along it (a side) than
@@ -598,7 +643,7 @@ fn check_given_axis(
             100.0 * tilted / totals.area,
             100.0 * side / totals.area,
             match own {
-                Some(a) => format!(
+                Some((a, _)) => format!(
                     "the mesh is an extrusion along {:?} (give that axis, or leave --axis out)",
                     a.to_array()
                 ),

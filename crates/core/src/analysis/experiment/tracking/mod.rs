@@ -6,13 +6,15 @@
 //! The period search lives in [`period`]: every shift at once by FFT, the dip read against the
 //! shifts before it, each cycle checked on its own and the whole against surrogate tracks, so
 //! that no period is stated that the track does not show. [`model`] sets the measurement
-//! beside the model's prediction for the same body (m/m0 and t0 found together).
+//! beside the model's prediction for the same body (m/m0 and t0 found together). [`table`]
+//! reads the files trackers write (the authors' CSV, Tracker's export, trackpy's table).
 
 pub mod calibration;
 pub mod harmonic;
 pub mod markers;
 pub mod model;
 pub mod period;
+pub mod table;
 
 pub use period::{
     ErrorSource, MAX_MISMATCH, MIN_PERIOD_FRAMES, PeriodFit, PeriodSearch, Significance,

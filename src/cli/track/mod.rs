@@ -12,20 +12,27 @@ use crate::analysis::experiment::tracking::markers::{MarkerReading, read_markers
 use crate::analysis::experiment::tracking::model::{
     Measured, ModelComparison, TrackAlignment, align_with_track, compare_with_model,
 };
+use crate::analysis::experiment::tracking::table::{
+    TableFormat, TableRequest, TrackTable, read_table,
+};
 use crate::analysis::experiment::tracking::{
     CleanTrack, ErrorSource, Folded, PeriodFit, Significance, fold, harmonic::BlockCheck, measure,
 };
-use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::geometry::ShapeFile;
 use crate::output::{self, Inputs, OutputSet};
 
+mod figures;
+use figures::{figure, refusal_figure};
+
 /// Read a tracked run: its period, advance per period and folded track, and the model's.
 ///
-/// FILE is a CSV with one row per video frame: a frame number and the body's centre in two
+/// FILE is a table with one row per video frame: a frame number and the body's centre in two
 /// coordinates of the ramp's plane (--frame-column, --down-column, --across-column; the
 /// defaults read the paper authors' files, whose rectified `yn` runs down the ramp and `xn`
-/// across it). --scale SX,SY gives cm per unit of the across and down columns, --fps the frame
-/// rate. The period is found automatically; it and its uncertainty come from a harmonic fit of
+/// across it). Tracker's data export (a title line, then t, x, y: frames are t × fps, the rate
+/// read from the time steps unless --fps is given) and trackpy's linked table (frame, particle,
+/// x, y; --particle picks the body) are read as they are written (--format). --scale SX,SY
+/// gives cm per unit of the across and down columns, --fps the frame rate. The period is found automatically; it and its uncertainty come from a harmonic fit of
 /// the whole track at its frames (`bench calibration`: the 95 % interval holds a synthetic
 /// track's true period 92–97 % of the time from 6 to 300 frames a period), or, where blocks of
 /// the track show that its turns take varying times, from the mean and spread of the whole
@@ -56,22 +63,40 @@ use crate::output::{self, Inputs, OutputSet};
 pub struct TrackArgs {
     /// The centre's track (CSV with a header row).
     pub file: PathBuf,
-    /// Frames per second of the video.
-    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
-    pub fps: f64,
+    /// Frames per second of the video [default: read from a time column's steps, else 30, the
+    /// authors' camera].
+    #[arg(long, allow_negative_numbers = true)]
+    pub fps: Option<f64>,
     /// cm per unit of the across and of the down column, as SX,SY (a negative factor flips that
-    /// axis: the model's down is the direction the body rolls).
-    #[arg(long, default_value = "0.0404,0.0361", allow_hyphen_values = true)]
-    pub scale: String,
-    /// Column of the frame number.
-    #[arg(long, default_value = "frame")]
-    pub frame_column: String,
-    /// Column of the position across the ramp (scaled by SX).
-    #[arg(long, default_value = "xn")]
-    pub across_column: String,
-    /// Column of the position down the ramp (scaled by SY).
-    #[arg(long, default_value = "yn")]
-    pub down_column: String,
+    /// axis: the model's down is the direction the body rolls) [default: 0.0404,0.0361, the
+    /// authors' camera, for plain tables; Tracker's and trackpy's need it: 100,100 for metres].
+    #[arg(long, allow_hyphen_values = true)]
+    pub scale: Option<String>,
+    /// The table's layout: plain (a header row, a row per frame), tracker (Tracker's data
+    /// export: a title line, then t, x, y; tabs, commas, semicolons or spaces; decimal commas
+    /// read) or trackpy (frame, particle, x, y) [default: told from the file].
+    #[arg(long, value_parser = ["plain", "tracker", "trackpy"])]
+    pub format: Option<String>,
+    /// Column of the frame number [default: frame].
+    #[arg(long, conflicts_with = "time_column")]
+    pub frame_column: Option<String>,
+    /// Column of the time in seconds, read as frames at --fps (Tracker's t) [default for
+    /// Tracker: t].
+    #[arg(long)]
+    pub time_column: Option<String>,
+    /// Column of the position across the ramp, scaled by SX [default: xn; Tracker, trackpy: y].
+    #[arg(long)]
+    pub across_column: Option<String>,
+    /// Column of the position down the ramp, scaled by SY [default: yn; Tracker, trackpy: x, as
+    /// Tracker's incline tutorials turn the axes].
+    #[arg(long)]
+    pub down_column: Option<String>,
+    /// trackpy: the particle that is the body's centre (needed when the table holds several).
+    #[arg(long, allow_negative_numbers = true)]
+    pub particle: Option<f64>,
+    /// The frame rate used: --fps, or the one read from the times ([`run`] sets it).
+    #[arg(skip)]
+    pub rate: f64,
     /// Markers drawn on the body (CSV, the same column names), folded with the centre.
     #[arg(long, value_name = "FILE")]
     pub markers: Option<PathBuf>,
@@ -92,7 +117,7 @@ pub struct TrackArgs {
 }
 
 const FILES: [&str; 4] = ["data.csv", "figure.png", "summary.json", REFUSAL_FIGURE];
-/// What a refused track writes instead ([`refusal_figure`]).
+/// What a refused track writes instead ([`figures::refusal_figure`]).
 const REFUSAL_FIGURE: &str = "refused.png";
 /// Most rows read from a track file (a video of a day at 1000 frames/s is 8.6e7).
 const MAX_ROWS: usize = 10_000_000;
@@ -156,29 +181,79 @@ pub struct TrackSummary {
     /// With --markers: whether their pattern repeats after one period or only after two
     /// (Fig. 5e), with the evidence, or that they are too sparse to tell.
     pub marker_reading: Option<MarkerReading>,
+    /// How the file was read: its format, the columns, the frame rate read from its times and
+    /// what was left out.
+    pub table: TrackTable,
     /// What was cleaned or left out.
     pub warnings: Vec<String>,
     /// The model's prediction for the body, with --body.
     pub model: Option<Comparison>,
 }
 
-/// Runs `track`.
-pub fn run(a: TrackArgs) -> Result<()> {
-    // A frame a day (time-lapse) to a million a second; below, periods in seconds overflow.
-    if !(a.fps.is_finite() && (1e-5..=1e6).contains(&a.fps)) {
-        bail!(
-            "--fps {} is not allowed (needs 1e-5 ≤ fps ≤ 1e6 frames per second)",
-            a.fps
-        );
+/// A frame a day (time-lapse) to a million a second; below, periods in seconds overflow.
+fn check_rate(fps: f64, from: &str) -> Result<()> {
+    if fps.is_finite() && (1e-5..=1e6).contains(&fps) {
+        Ok(())
+    } else {
+        bail!("{from} {fps} is not allowed (needs 1e-5 ≤ fps ≤ 1e6 frames per second)")
     }
-    let scale = super::parse_list(&a.scale, 2, "--scale", "SX,SY (cm per unit across, down)")?;
+}
+
+/// The flags checked before any file is read: --fps, --particle, and --scale's factors (`None`
+/// where not given).
+fn checked_flags(a: &TrackArgs) -> Result<Option<(f64, f64)>> {
+    if let Some(fps) = a.fps {
+        check_rate(fps, "--fps")?;
+    }
+    if let Some(p) = a.particle
+        && !(p.is_finite() && p.fract() == 0.0)
+    {
+        bail!("--particle {p} is not allowed (needs trackpy's particle number, a whole number)");
+    }
+    let Some(text) = &a.scale else {
+        return Ok(None);
+    };
+    let scale = super::parse_list(text, 2, "--scale", "SX,SY (cm per unit across, down)")?;
     if scale.iter().any(|s| *s == 0.0 || s.abs() > 1e6) {
         bail!(
-            "--scale {} is not allowed (needs two non-zero cm-per-unit factors of at most 1e6)",
-            a.scale
+            "--scale {text} is not allowed (needs two non-zero cm-per-unit factors of at most \
+             1e6)"
         );
     }
-    let (sx, sy) = (scale[0], scale[1]);
+    Ok(Some((scale[0], scale[1])))
+}
+
+/// The centre's table read, with the frame rate (given, read from its times, or the authors'
+/// 30) set in `a.rate` and the scale (given, or the authors' for a plain table) returned.
+fn read_centre(a: &mut TrackArgs, scale: Option<(f64, f64)>) -> Result<(TrackTable, f64, f64)> {
+    let table = read_track_table(&a.file, &table_request(a, a.fps))?;
+    a.rate = match (a.fps, table.fps_from_times) {
+        (Some(given), _) => given,
+        (None, Some(read)) => {
+            check_rate(read, "the frame rate read from the times,")?;
+            read
+        }
+        (None, None) => 30.0,
+    };
+    let (sx, sy) = match scale {
+        Some(s) => s,
+        None if table.format.needs_scale() => bail!(
+            "{} is a {} table, whose x and y are in units only you know (Tracker's calibration, \
+             often m; trackpy's pixels): give --scale SX,SY in cm per unit (100,100 for metres)",
+            a.file.display(),
+            table.format.name()
+        ),
+        None => (0.0404, 0.0361),
+    };
+    for note in &table.notes {
+        eprintln!("note: {}: {note}", a.file.display());
+    }
+    Ok((table, sx, sy))
+}
+
+/// Runs `track`.
+pub fn run(mut a: TrackArgs) -> Result<()> {
+    let scale = checked_flags(&a)?;
     let body = match (&a.body, a.alpha) {
         (Some(path), Some(alpha)) => {
             let (body, scale_mm) = ShapeFile::load_scaled(path)?;
@@ -203,8 +278,8 @@ pub fn run(a: TrackArgs) -> Result<()> {
         inputs.add(b);
     }
     output::check_folder(&a.out, &FILES, &inputs)?;
-    let columns = [&a.frame_column, &a.across_column, &a.down_column];
-    let rows = read_columns(&a.file, &columns)?;
+    let (table, sx, sy) = read_centre(&mut a, scale)?;
+    let rows = &table.rows;
     let frames_read = rows.len();
     let frames: Vec<f64> = rows.iter().map(|r| r[0]).collect();
     let down: Vec<f64> = rows.iter().map(|r| r[2] * sy).collect();
@@ -221,10 +296,17 @@ pub fn run(a: TrackArgs) -> Result<()> {
         eprintln!("warning: {w}");
     }
     let markers: Vec<(f64, f64, f64)> = match &a.markers {
-        Some(path) => read_columns(path, &columns)?
-            .into_iter()
-            .map(|r| (r[0], r[2] * sy, r[1] * sx))
-            .collect(),
+        Some(path) => {
+            let request = TableRequest {
+                every_particle: true,
+                ..table_request(&a, Some(a.rate))
+            };
+            read_track_table(path, &request)?
+                .rows
+                .into_iter()
+                .map(|r| (r[0], r[2] * sy, r[1] * sx))
+                .collect()
+        }
         None => Vec::new(),
     };
     let start = track.frames[0];
@@ -237,17 +319,18 @@ pub fn run(a: TrackArgs) -> Result<()> {
     let end = track.frames[track.frames.len() - 1];
     let (markers, in_range) = markers_on_track(a.markers.as_deref(), markers, start, end)?;
     let folded_markers = fold(&in_range, start, origin, fit.period_frames, advance);
-    let period_s = fit.period_frames / a.fps;
+    let period_s = fit.period_frames / a.rate;
     let speed = fit.advance_down / period_s;
     let mut summary = TrackSummary {
         file: a.file.display().to_string(),
-        fps: a.fps,
+        fps: a.rate,
+        table: table.clone(),
         frames_read,
         frames_used: [start, end],
         period_s,
-        period_error_s: fit.period_error_frames / a.fps,
+        period_error_s: fit.period_error_frames / a.rate,
         period_error_from: fit.period_error_from,
-        period_spread_s: fit.period_spread_frames.map(|s| s / a.fps),
+        period_spread_s: fit.period_spread_frames.map(|s| s / a.rate),
         unrepeated_cycles: fit.unrepeated_cycles,
         significance: fit.significance.clone(),
         block_check: fit.block_check,
@@ -257,7 +340,7 @@ pub fn run(a: TrackArgs) -> Result<()> {
         advance_down_cm: fit.advance_down,
         advance_across_cm: fit.advance_across,
         speed_cm_s: speed,
-        cycle_periods_s: fit.cycle_periods.iter().map(|p| p / a.fps).collect(),
+        cycle_periods_s: fit.cycle_periods.iter().map(|p| p / a.rate).collect(),
         markers: in_range.len(),
         marker_reading: a
             .markers
@@ -275,7 +358,7 @@ pub fn run(a: TrackArgs) -> Result<()> {
             a.mass,
             &fit,
             &folded_centre,
-            a.fps,
+            a.rate,
         )?;
         summary.model = Some(comparison);
         predicted_path = Some(drawn);
@@ -288,7 +371,7 @@ pub fn run(a: TrackArgs) -> Result<()> {
         predicted_path.as_ref(),
     );
     let png = crate::chart::png_bytes(&figure, 2, (1400, 1000))?;
-    let csv = data_csv(&folded_centre, &track, &folded_markers, &in_range, a.fps)?;
+    let csv = data_csv(&folded_centre, &track, &folded_markers, &in_range, a.rate)?;
     output::create_folder(&a.out)?;
     let mut set = OutputSet::new();
     set.write(&a.out.join("data.csv"), csv.as_bytes(), &inputs)?;
@@ -342,7 +425,7 @@ fn markers_on_track(
 }
 
 /// [`measure`] with a progress bar on long tracks; a track refused for want of a period
-/// leaves [`refusal_figure`] behind.
+/// leaves [`figures::refusal_figure`] behind.
 fn measure_or_show_why(
     a: &TrackArgs,
     (frames, down, across): (&[f64], &[f64], &[f64]),
@@ -371,128 +454,6 @@ fn measure_or_show_why(
     }
 }
 
-/// Where a track is refused for want of a period (none with confidence, too fast, mostly
-/// unsteady), the evidence the user needs to see why: OUT/refused.png with the track less its
-/// mean drift and the normalised mismatch d′ at every shift against the level a repeat needs.
-/// A file of its own name, so that it never sits beside a different run's summary.json as if
-/// it were that run's. Returns the sentence that names it; `None` for other errors.
-fn refusal_figure(
-    a: &TrackArgs,
-    (frames, down, across): (&[f64], &[f64], &[f64]),
-    error: &crate::analysis::experiment::tracking::TrackError,
-    inputs: &Inputs,
-) -> Result<Option<String>> {
-    use crate::analysis::experiment::tracking::TrackError;
-    if !matches!(
-        error,
-        TrackError::NoPeriod { .. }
-            | TrackError::TooFast { .. }
-            | TrackError::MostlyUnsteady { .. }
-    ) {
-        return Ok(None);
-    }
-    let Ok(track) = crate::analysis::experiment::tracking::clean(frames, down, across) else {
-        return Ok(None);
-    };
-    // The middle 80 %, as the search first reads it (away from the release and the end).
-    let len = track.frames.len();
-    let middle = CleanTrack {
-        frames: track.frames[len / 10..len - len / 10].to_vec(),
-        down: track.down[len / 10..len - len / 10].to_vec(),
-        across: track.across[len / 10..len - len / 10].to_vec(),
-        warnings: Vec::new(),
-    };
-    let curve = crate::analysis::experiment::tracking::period::mismatch_curve(&middle);
-    if curve.is_empty() {
-        return Ok(None);
-    }
-    let n = track.frames.len();
-    let (f0, f1) = (track.frames[0], track.frames[n - 1]);
-    let drift = |v: &[f64]| (v[n - 1] - v[0]) / (f1 - f0).max(1.0);
-    let (dd, da) = (drift(&track.down), drift(&track.across));
-    let step = n.div_ceil(20_000).max(1);
-    let less_drift = |v: &[f64], rate: f64| -> Vec<(f64, f64)> {
-        (0..n)
-            .step_by(step)
-            .map(|i| (track.frames[i], v[i] - v[0] - rate * (track.frames[i] - f0)))
-            .collect()
-    };
-    let series = |label: &str, points, color, style| Series {
-        label: label.into(),
-        points,
-        color,
-        style,
-    };
-    let track_panel = Panel {
-        title: "the track, less its mean drift".into(),
-        x_label: "frame".into(),
-        y_label: "cm".into(),
-        log_x: false,
-        log_y: false,
-        series: vec![
-            series("down", less_drift(&track.down, dd), PALETTE[0], Style::Line),
-            series(
-                "across",
-                less_drift(&track.across, da),
-                PALETTE[1],
-                Style::Line,
-            ),
-        ],
-        legend: SeriesLabelPosition::UpperRight,
-        equal_aspect: false,
-    };
-    let last = curve[curve.len() - 1][0];
-    let level = crate::analysis::experiment::tracking::period::MAX_NORMALISED_DIP;
-    let mismatch_panel = Panel {
-        title: format!("refused: {}", first_words(&error.to_string(), 12)),
-        x_label: "shift (frames), over the middle 80 % of the track, as the search first reads it"
-            .into(),
-        y_label: "normalised mismatch d′".into(),
-        log_x: false,
-        log_y: false,
-        series: vec![
-            series(
-                "d′ at every shift",
-                curve
-                    .iter()
-                    .step_by(curve.len().div_ceil(20_000).max(1))
-                    .map(|c| (c[0], c[1]))
-                    .collect(),
-                PALETTE[0],
-                Style::Line,
-            ),
-            series(
-                "a repeat needs d′ below this",
-                vec![(1.0, level), (last, level)],
-                (0, 0, 0),
-                Style::Line,
-            ),
-        ],
-        legend: SeriesLabelPosition::UpperRight,
-        equal_aspect: false,
-    };
-    let png = crate::chart::png_bytes(&[track_panel, mismatch_panel], 1, (1200, 1000))?;
-    let path = a.out.join(REFUSAL_FIGURE);
-    output::create_folder(&a.out)?;
-    let mut set = OutputSet::new();
-    set.write(&path, &png, inputs)?;
-    set.commit()?;
-    Ok(Some(format!(
-        "wrote {} (the track and its mismatch at every shift) to show why no period is stated",
-        path.display()
-    )))
-}
-
-/// The first `n` words of `text`, with "…" if it had more.
-fn first_words(text: &str, n: usize) -> String {
-    let words: Vec<&str> = text.split_whitespace().collect();
-    if words.len() <= n {
-        text.to_string()
-    } else {
-        words[..n].join(" ") + " …"
-    }
-}
-
 /// The measurement (and the model's) for people.
 fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
     let error_from = match summary.period_error_from {
@@ -517,6 +478,20 @@ fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
         summary.period_frames,
         summary.periods_seen,
     )?;
+    let table = &summary.table;
+    if table.format != TableFormat::Plain || table.fps_from_times.is_some() {
+        let rate = match table.fps_from_times {
+            Some(fps) => format!("at {fps} frames/s, read from its time steps"),
+            None => format!("at {} frames/s", summary.fps),
+        };
+        outln!(
+            "  read as a {} table: frames from column {:?} {rate}, across {:?}, down {:?}",
+            table.format.name(),
+            table.columns[0],
+            table.columns[1],
+            table.columns[2],
+        )?;
+    }
     if let Some(s) = &summary.significance {
         outln!(
             "  evidence: repeats with normalised mismatch {:.3}; {} surrogate tracks (same \
@@ -622,9 +597,23 @@ fn compare(
     ))
 }
 
-/// The rows of `path`'s named columns as numbers; an empty cell or "nan" is NaN (the cleaning
-/// counts it), any other text an error naming the row and column.
-fn read_columns(path: &Path, names: &[&String; 3]) -> Result<Vec<[f64; 3]>> {
+/// The request for a table from the flags; `fps` turns a time column into frames (the markers
+/// take the centre's rate).
+fn table_request(a: &TrackArgs, fps: Option<f64>) -> TableRequest {
+    TableRequest {
+        format: a.format.as_deref().and_then(TableFormat::named),
+        frame_column: a.frame_column.clone(),
+        time_column: a.time_column.clone(),
+        across_column: a.across_column.clone(),
+        down_column: a.down_column.clone(),
+        fps,
+        particle: a.particle,
+        every_particle: false,
+    }
+}
+
+/// The table at `path` ([`read_table`]): a regular file, its errors named by it.
+fn read_track_table(path: &Path, request: &TableRequest) -> Result<TrackTable> {
     let meta =
         std::fs::metadata(path).with_context(|| format!("cannot read {}", path.display()))?;
     if !meta.is_file() {
@@ -633,279 +622,10 @@ fn read_columns(path: &Path, names: &[&String; 3]) -> Result<Vec<[f64; 3]>> {
             path.display()
         );
     }
-    let mut reader = csv::ReaderBuilder::new()
-        .flexible(false)
-        .from_path(path)
-        .with_context(|| format!("cannot read {}", path.display()))?;
-    let header = reader
-        .headers()
-        .with_context(|| format!("{} has no header row", path.display()))?
-        .clone();
-    let index: Vec<usize> = names
-        .iter()
-        .map(|n| {
-            header
-                .iter()
-                .position(|h| h.trim() == n.as_str())
-                .with_context(|| {
-                    format!(
-                        "{} has no column {n:?} (its columns: {}); name the columns with \
-                     --frame-column, --across-column, --down-column",
-                        path.display(),
-                        header
-                            .iter()
-                            .map(|h| format!("{h:?}"))
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    )
-                })
-        })
-        .collect::<Result<_>>()?;
-    let mut rows = Vec::new();
-    for (r, record) in reader.records().enumerate() {
-        let record = record.with_context(|| format!("{}: row {}", path.display(), r + 1))?;
-        if rows.len() >= MAX_ROWS {
-            bail!("{} has more than {MAX_ROWS} rows", path.display());
-        }
-        let mut row = [0.0; 3];
-        for (k, &i) in index.iter().enumerate() {
-            let cell = record.get(i).unwrap_or("").trim();
-            row[k] = if cell.is_empty() || cell.eq_ignore_ascii_case("nan") {
-                f64::NAN
-            } else {
-                cell.parse().with_context(|| {
-                    format!(
-                        "{}: row {}, column {:?}: {cell:?} is not a number",
-                        path.display(),
-                        r + 1,
-                        names[k]
-                    )
-                })?
-            };
-        }
-        rows.push(row);
-    }
-    Ok(rows)
-}
-
-/// Most periods drawn over each other in the folded panels.
-const MAX_DRAWN_PERIODS: usize = 200;
-/// Most points a line of the figure is drawn with (the picture is 1400 pixels wide).
-const MAX_DRAWN_POINTS: usize = 20_000;
-
-/// Every k-th point, so that at most [`MAX_DRAWN_POINTS`] are drawn.
-fn thinned<T>(points: &[T]) -> impl Iterator<Item = &T> {
-    points
-        .iter()
-        .step_by(points.len().div_ceil(MAX_DRAWN_POINTS).max(1))
-}
-
-/// The curve in at most [`MAX_DRAWN_POINTS`] points: each run of points by its lowest and its
-/// highest, in order, so that no dip (the evidence) is thinned away.
-fn lowest_and_highest(curve: &[[f64; 2]]) -> impl Iterator<Item = &[f64; 2]> {
-    let run = curve.len().div_ceil(MAX_DRAWN_POINTS / 2).max(1);
-    curve.chunks(run).flat_map(|c| {
-        let low = c.iter().min_by(|a, b| a[1].total_cmp(&b[1]));
-        let high = c.iter().max_by(|a, b| a[1].total_cmp(&b[1]));
-        match (low, high) {
-            (Some(l), Some(h)) if l[0] <= h[0] => vec![l, h],
-            (Some(l), Some(h)) => vec![h, l],
-            _ => vec![],
-        }
-    })
-}
-
-#[expect(
-    clippy::too_many_lines,
-    reason = "four panels (the track and its cycles, the two folded coordinates with the markers \
-              and the prediction, the period's evidence), each a handful of series"
-)]
-fn figure(
-    fit: &PeriodFit,
-    centre: &[Folded],
-    markers: &[Folded],
-    a: &TrackArgs,
-    predicted: Option<&Drawn>,
-) -> Vec<Panel> {
-    let fps = a.fps;
-    let grey = (150, 150, 150);
-    let (blue, red) = ((31, 119, 180), (214, 39, 40));
-    let periods = centre.iter().map(|f| f.period).max().unwrap_or(0) + 1;
-    // Each period's points in one pass (a long track has tens of thousands of periods), and at
-    // most MAX_DRAWN_PERIODS of them drawn, evenly chosen: more only darken the same band.
-    let mut by_period: Vec<Vec<&Folded>> = vec![Vec::new(); periods];
-    for f in centre {
-        by_period[f.period].push(f);
-    }
-    let drawn: Vec<usize> = if periods <= MAX_DRAWN_PERIODS {
-        (0..periods).collect()
-    } else {
-        (0..MAX_DRAWN_PERIODS)
-            .map(|i| i * periods / MAX_DRAWN_PERIODS)
-            .collect()
-    };
-    let centre_label = if drawn.len() == periods {
-        "centre, each period".to_string()
-    } else {
-        format!("centre, {} of {periods} periods", drawn.len())
-    };
-    let per_period = |k: usize, coord: fn(&Folded) -> f64| Series {
-        label: if k == drawn[0] {
-            centre_label.clone()
-        } else {
-            String::new()
-        },
-        points: by_period[k]
-            .iter()
-            .map(|f| (f.t_local / fps, coord(f)))
-            .collect(),
-        color: grey,
-        style: Style::Line,
-    };
-    let marker_series = |even: bool, coord: fn(&Folded) -> f64| Series {
-        label: if even {
-            "markers, even periods".into()
-        } else {
-            "markers, odd periods".into()
-        },
-        points: markers
-            .iter()
-            .filter(|f| (f.period % 2 == 0) == even)
-            .map(|f| (f.t_local / fps, coord(f)))
-            .collect(),
-        color: if even { blue } else { red },
-        style: Style::Markers,
-    };
-    let model_series = |k: usize| -> Option<Series> {
-        let (orbit, cm, frames_per_t0, phase, mirrored) = predicted?;
-        let per = (orbit.path.len() - 1) / 3;
-        let sign = if k == 1 && *mirrored { -1.0 } else { 1.0 };
-        let dt = orbit.period * frames_per_t0 / per as f64 / fps;
-        let points = (0..=per + per / 10)
-            .filter(|j| phase + j < orbit.path.len())
-            .map(|j| {
-                (
-                    j as f64 * dt,
-                    sign * cm * (orbit.path[phase + j][k] - orbit.path[*phase][k]),
-                )
-            })
-            .collect();
-        Some(Series {
-            label: "model (offset free)".into(),
-            points,
-            color: (0, 0, 0),
-            style: Style::Line,
-        })
-    };
-    let folded_panel = |title: &str, y: &str, coord: fn(&Folded) -> f64, k: usize| {
-        let mut series: Vec<Series> = drawn.iter().map(|&p| per_period(p, coord)).collect();
-        if !markers.is_empty() {
-            series.push(marker_series(true, coord));
-            series.push(marker_series(false, coord));
-        }
-        series.extend(model_series(k));
-        Panel {
-            title: title.into(),
-            x_label: "t local (s)".into(),
-            y_label: y.into(),
-            log_x: false,
-            log_y: false,
-            series,
-            legend: SeriesLabelPosition::UpperLeft,
-            equal_aspect: false,
-        }
-    };
-    let starts: Vec<(f64, f64)> = centre
-        .windows(2)
-        .filter(|w| w[1].period != w[0].period)
-        .map(|w| {
-            (
-                w[1].t_local / fps + (w[1].period as f64 * fit.period_frames) / fps,
-                w[1].down_local + w[1].period as f64 * fit.advance_down,
-            )
-        })
-        .collect();
-    // A marker a period, at most a thousand of them.
-    let starts: Vec<(f64, f64)> = starts
-        .iter()
-        .step_by(starts.len().div_ceil(1000).max(1))
-        .copied()
-        .collect();
-    let global = Panel {
-        title: format!(
-            "the track: {} periods of {:.3} s",
-            fit.periods_seen,
-            fit.period_frames / fps
-        ),
-        x_label: "t from the first frame used (s)".into(),
-        y_label: "down the ramp (cm)".into(),
-        log_x: false,
-        log_y: false,
-        series: vec![
-            Series {
-                label: "centre".into(),
-                points: thinned(centre)
-                    .map(|f| {
-                        (
-                            (f.t_local + f.period as f64 * fit.period_frames) / fps,
-                            f.down_local + f.period as f64 * fit.advance_down,
-                        )
-                    })
-                    .collect(),
-                color: grey,
-                style: Style::Line,
-            },
-            Series {
-                label: "start of each period".into(),
-                points: starts,
-                color: red,
-                style: Style::Markers,
-            },
-        ],
-        legend: SeriesLabelPosition::UpperLeft,
-        equal_aspect: false,
-    };
-    let evidence = Panel {
-        title: "how well the track repeats after a shift".into(),
-        x_label: "shift (s)".into(),
-        y_label: "unexplained fraction".into(),
-        log_x: false,
-        log_y: false,
-        series: vec![
-            Series {
-                label: "mismatch".into(),
-                points: lowest_and_highest(&fit.mismatch_curve)
-                    .map(|c| (c[0] / fps, c[1]))
-                    .collect(),
-                color: blue,
-                style: Style::Line,
-            },
-            Series {
-                label: format!("period {:.3} s", fit.period_frames / fps),
-                points: vec![(fit.period_frames / fps, fit.mismatch)],
-                color: red,
-                style: Style::Markers,
-            },
-        ],
-        legend: SeriesLabelPosition::UpperRight,
-        equal_aspect: false,
-    };
-    vec![
-        global,
-        evidence,
-        folded_panel(
-            "folded: down the ramp (Fig. 5c)",
-            "x local, down the ramp (cm)",
-            |f| f.down_local,
-            0,
-        ),
-        folded_panel(
-            "folded: across the ramp",
-            "y local, across the ramp (cm)",
-            |f| f.across_local,
-            1,
-        ),
-    ]
+    let file =
+        std::fs::File::open(path).with_context(|| format!("cannot read {}", path.display()))?;
+    read_table(std::io::BufReader::new(file), request, MAX_ROWS)
+        .with_context(|| format!("{}", path.display()))
 }
 
 /// data.csv: every centre and marker point with its period and local coordinates.
