@@ -8,7 +8,6 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, anyhow, bail};
 use serde::{Deserialize, Serialize};
 
-use super::record::fields_left;
 use super::{Fields, JobId, Record, ShardSpec};
 use crate::figures::BodyChoice;
 use crate::geometry::shape_file::read_text_capped;
@@ -132,7 +131,9 @@ pub fn write_shard(
     Ok(path)
 }
 
-pub(super) fn encode_line(r: &[f64]) -> String {
+/// A record as one line of a shard file: its numbers in Rust's shortest round-trip form,
+/// separated by spaces ([`decode_line`] reads them back bit for bit, NaN, inf and −0 included).
+pub fn encode_line(r: &[f64]) -> String {
     let mut s = String::with_capacity(r.len() * 12);
     for (i, v) in r.iter().enumerate() {
         if i > 0 {
@@ -145,7 +146,8 @@ pub(super) fn encode_line(r: &[f64]) -> String {
     s
 }
 
-pub(super) fn decode_line(line: &str) -> Option<Vec<f64>> {
+/// A shard file's line as its numbers; `None` if any field is not a number.
+pub fn decode_line(line: &str) -> Option<Vec<f64>> {
     line.split_ascii_whitespace()
         .map(|f| f.parse::<f64>().ok())
         .collect()
@@ -254,13 +256,9 @@ pub(super) fn decode_record<T: Record>(
             record.len() - left
         )
     };
-    let v =
-        T::decode(&mut fields).map_err(|e| anyhow!("{}: {e:#}", place(fields_left(&fields))))?;
-    if fields_left(&fields) > 0 {
-        bail!(
-            "{}: more numbers than a result",
-            place(fields_left(&fields))
-        );
+    let v = T::decode(&mut fields).map_err(|e| anyhow!("{}: {e:#}", place(fields.remaining())))?;
+    if fields.remaining() > 0 {
+        bail!("{}: more numbers than a result", place(fields.remaining()));
     }
     Ok(v)
 }

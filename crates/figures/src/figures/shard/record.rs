@@ -12,10 +12,6 @@ use crate::dynamics::validity::ContactReport;
 /// capped at it).
 pub const MAX_FATE_MULTIPLICITY: usize = 64;
 
-pub(super) fn fields_left(f: &Fields) -> usize {
-    f.0.len()
-}
-
 /// The numbers of one record, read in order by [`Record::decode`].
 pub struct Fields<'a>(std::slice::Iter<'a, f64>);
 
@@ -23,6 +19,11 @@ impl<'a> Fields<'a> {
     /// The numbers of `record`.
     pub fn of(record: &'a [f64]) -> Self {
         Fields(record.iter())
+    }
+
+    /// How many numbers are left unread (a record that decodes with some left is refused).
+    pub fn remaining(&self) -> usize {
+        self.0.len()
     }
 
     /// The next number.
