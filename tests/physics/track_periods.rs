@@ -471,3 +471,52 @@ fn a_track_too_large_to_square_is_refused_by_name() {
         fit.period_frames
     );
 }
+
+/// Gaps that recur are bridged the same way each time, so on their own they repeat: a 12.5-frame
+/// track with one frame missing every 20 repeated best after 50 frames and was stated so, exit 0.
+/// Where a fraction of the period repeats as well on the measured frames alone, no period is
+/// stated and the error names the fraction; gaps once a turn (a marker hidden at the same phase)
+/// and gaps on a track whose period the search already finds leave the answer as it was.
+#[test]
+fn recurring_gaps_never_make_a_multiple_of_the_period() {
+    let with_gaps = |period: f64, every: usize, missing: usize| {
+        let t = periodic(1500, period, 0.4, 0.01, 7);
+        let keep: Vec<usize> = (0..1500).filter(|i| i % every >= missing).collect();
+        let pick = |v: &[f64]| keep.iter().map(|&i| v[i]).collect::<Vec<f64>>();
+        measure(
+            &pick(&t.frames),
+            &pick(&t.down),
+            &pick(&t.across),
+            &|_, _| {},
+        )
+    };
+    let mut refused = 0;
+    for (period, every, missing) in [(12.5, 20, 1), (12.5, 20, 2), (8.3, 15, 1), (6.5, 10, 1)] {
+        match with_gaps(period, every, missing) {
+            Err(TrackError::NoPeriod { why, .. }) => {
+                assert!(
+                    why.contains("measured frames alone") && why.contains(&format!("{period:.2}")),
+                    "{period}: {why}"
+                );
+                refused += 1;
+            }
+            Ok((_, fit)) => assert!(
+                (fit.period_frames - period).abs() < 0.05,
+                "{period} with {missing} missing every {every}: stated {}",
+                fit.period_frames
+            ),
+            Err(e) => panic!("{period}: {e}"),
+        }
+    }
+    // These seeded tracks: three are refused (a fraction of the search's repeat repeats as well
+    // on the measured frames); the 6.5-frame one is found, its bridges close enough to the motion.
+    assert_eq!(refused, 3);
+    for (period, every, missing) in [(20.0, 20, 1), (40.0, 40, 2), (30.0, 40, 3), (17.3, 25, 2)] {
+        let (_, fit) = with_gaps(period, every, missing).unwrap();
+        assert!(
+            (fit.period_frames - period).abs() < 0.05,
+            "{period}: {}",
+            fit.period_frames
+        );
+    }
+}

@@ -93,7 +93,8 @@ pub enum TrackError {
     BadArgument(String),
 }
 
-/// Gaps of at most this many frames are bridged by straight lines; a longer one splits the track.
+/// Gaps of at most this many frames are bridged (by cubics through the two measured frames on
+/// each side, straight lines at a piece's ends); a longer one splits the track.
 pub const MAX_BRIDGED_GAP: usize = 10;
 /// A window of one period whose speed down the ramp differs from the median by more than this
 /// fraction is not steady rolling (the release, the end of the ramp): over a period, steady
@@ -117,8 +118,72 @@ pub struct CleanTrack {
 /// finite in double precision.
 pub const MAX_POSITION: f64 = 1e100;
 
+/// The cubic through (xs[i], ys[i]) at x (Lagrange's form; the xs distinct).
+fn cubic_through(xs: [f64; 4], ys: [f64; 4], x: f64) -> f64 {
+    (0..4)
+        .map(|i| {
+            let weight: f64 = (0..4)
+                .filter(|&j| j != i)
+                .map(|j| (x - xs[j]) / (xs[i] - xs[j]))
+                .product();
+            weight * ys[i]
+        })
+        .sum()
+}
+
+/// A stretch of the track without a long gap: (frame, down, across) per frame.
+type Piece = Vec<(f64, f64, f64)>;
+
+/// The measured rows (row, frame, down, across) in pieces split at gaps longer than
+/// [`MAX_BRIDGED_GAP`], shorter gaps bridged, and how many frames were bridged.
+fn bridged_pieces(rows: &[(usize, f64, f64, f64)]) -> (Vec<Piece>, usize) {
+    let mut pieces: Vec<Piece> = vec![Vec::new()];
+    let mut bridged = 0usize;
+    for (k, &(_, f, d, a)) in rows.iter().enumerate() {
+        if k > 0 {
+            let (_, f0, d0, a0) = rows[k - 1];
+            let gap = (f - f0).round() as usize - 1;
+            if gap > MAX_BRIDGED_GAP {
+                pieces.push(Vec::new());
+            } else {
+                // Two measured frames on each side, no farther than the gap is wide: a cubic
+                // through them. A straight line across a gap cuts the corner of every turn (12 %
+                // of the swing for one frame missing at 12.5 frames a period), and gaps that
+                // recur then repeat on their own, which the period search took for the motion.
+                let outer = (k >= 2 && k + 1 < rows.len())
+                    .then(|| (rows[k - 2], rows[k + 1]))
+                    .filter(|(before, after)| {
+                        f0 - before.1 <= (gap + 1) as f64 && after.1 - f <= (gap + 1) as f64
+                    });
+                for g in 1..=gap {
+                    let x = f0 + g as f64;
+                    let (dx, ax) = match outer {
+                        Some((b, n)) => {
+                            let at = |v: [f64; 4]| cubic_through([b.1, f0, f, n.1], v, x);
+                            (at([b.2, d0, d, n.2]), at([b.3, a0, a, n.3]))
+                        }
+                        None => {
+                            let s = g as f64 / (gap + 1) as f64;
+                            (d0 + s * (d - d0), a0 + s * (a - a0))
+                        }
+                    };
+                    let piece = pieces.last_mut().expect("one piece at least");
+                    piece.push((x, dx, ax));
+                    bridged += 1;
+                }
+            }
+        }
+        pieces
+            .last_mut()
+            .expect("one piece at least")
+            .push((f, d, a));
+    }
+    (pieces, bridged)
+}
+
 /// Cleans a raw track: rows with a non-finite value dropped, gaps of up to
-/// [`MAX_BRIDGED_GAP`] frames bridged (a longer gap splits it: the longest piece is kept),
+/// [`MAX_BRIDGED_GAP`] frames bridged by cubics through the two measured frames on each side
+/// (a longer gap splits it: the longest piece is kept),
 /// jumps (a point ten median steps from the median of its four nearest neighbours) replaced by
 /// straight lines between good points.
 ///
@@ -189,33 +254,11 @@ pub fn clean(frames: &[f64], down: &[f64], across: &[f64]) -> Result<CleanTrack,
             )));
         }
     }
-    // Pieces split at gaps longer than the bridge; the longest is kept.
-    let mut pieces: Vec<Vec<(f64, f64, f64)>> = vec![Vec::new()];
-    let mut bridged = 0usize;
-    for (k, &(_, f, d, a)) in rows.iter().enumerate() {
-        if k > 0 {
-            let (_, f0, d0, a0) = rows[k - 1];
-            let gap = (f - f0).round() as usize - 1;
-            if gap > MAX_BRIDGED_GAP {
-                pieces.push(Vec::new());
-            } else {
-                for g in 1..=gap {
-                    let s = g as f64 / (gap + 1) as f64;
-                    let piece = pieces.last_mut().expect("one piece at least");
-                    piece.push((f0 + g as f64, d0 + s * (d - d0), a0 + s * (a - a0)));
-                    bridged += 1;
-                }
-            }
-        }
-        pieces
-            .last_mut()
-            .expect("one piece at least")
-            .push((f, d, a));
-    }
+    let (pieces, bridged) = bridged_pieces(&rows);
     if bridged > 0 {
         warnings.push(format!(
             "{bridged} missing frame(s) in gaps of up to {MAX_BRIDGED_GAP} frames bridged by \
-             straight lines"
+             cubics through the two measured frames on each side"
         ));
     }
     if pieces.len() > 1 {
@@ -468,7 +511,126 @@ pub fn measure(
         });
     }
     let fit = find_period(&fine, &PeriodSearch::default(), progress)?;
+    gaps_do_not_make_the_repeat(&fine, frames, &fit)?;
     Ok((fine, fit))
+}
+
+/// Where frames were bridged, the period checked on the measured frames alone. A bridge is not
+/// the motion, and gaps that recur (a marker hidden every 20 frames) repeat on their own: a
+/// 12.5-frame track with one frame missing every 20 repeated best after 50 frames, bridged
+/// frames included, and was stated so. If a fraction T/q of the period repeats on the measured
+/// frames as well as T does (the search's own rule: within [`period::MULTIPLE_TOLERANCE`] of it,
+/// plus [`period::MULTIPLE_SLACK`]), T is a multiple made by the gaps and no period is stated.
+fn gaps_do_not_make_the_repeat(
+    track: &CleanTrack,
+    raw_frames: &[f64],
+    fit: &PeriodFit,
+) -> Result<(), TrackError> {
+    let mut raw: Vec<f64> = raw_frames
+        .iter()
+        .copied()
+        .filter(|f| f.is_finite())
+        .collect();
+    raw.sort_by(f64::total_cmp);
+    let measured: Vec<bool> = track
+        .frames
+        .iter()
+        .map(|f| {
+            let i = raw.partition_point(|r| *r < f - 1e-6);
+            raw.get(i).is_some_and(|r| (r - f).abs() <= 1e-6)
+        })
+        .collect();
+    let bridged = measured.iter().filter(|m| !**m).count();
+    if bridged == 0 {
+        return Ok(());
+    }
+    let n = track.frames.len();
+    let z = |i: usize| (track.down[i], track.across[i]);
+    // The mismatch over pairs of measured frames (i, i + τ), the point at i + τ by the cubic
+    // through the four measured frames around it; with the least-squares line's variance, as
+    // the search normalises it. `None` with too few pairs to tell.
+    let mismatch = |tau: f64| -> Option<f64> {
+        let k = tau.floor() as usize;
+        let s = tau - k as f64;
+        let whole = s < 1e-9;
+        let mut d = Vec::new();
+        for i in (0..n).filter(|&i| measured[i]) {
+            let base = i + k;
+            let (lo, hi) = if whole {
+                (base, base)
+            } else {
+                (base.checked_sub(1)?, base + 2)
+            };
+            if hi >= n || !(lo..=hi).all(|j| measured[j]) {
+                continue;
+            }
+            let p = if whole {
+                z(base)
+            } else {
+                let xs = [-1.0, 0.0, 1.0, 2.0];
+                let c = |f: &dyn Fn(usize) -> f64| {
+                    cubic_through(xs, [f(lo), f(lo + 1), f(lo + 2), f(hi)], s)
+                };
+                (c(&|j| track.down[j]), c(&|j| track.across[j]))
+            };
+            d.push((p.0 - z(i).0, p.1 - z(i).1));
+        }
+        (d.len() >= 20).then(|| {
+            let c = d.len() as f64;
+            let mean = (
+                d.iter().map(|v| v.0).sum::<f64>() / c,
+                d.iter().map(|v| v.1).sum::<f64>() / c,
+            );
+            d.iter()
+                .map(|v| (v.0 - mean.0).powi(2) + (v.1 - mean.1).powi(2))
+                .sum::<f64>()
+                / c
+        })
+    };
+    let points: Vec<usize> = (0..n).filter(|&i| measured[i]).collect();
+    let c = points.len() as f64;
+    let mid = points.iter().map(|&i| i as f64).sum::<f64>() / c;
+    let variance = |v: &[f64]| {
+        let mean = points.iter().map(|&i| v[i]).sum::<f64>() / c;
+        let sxx: f64 = points.iter().map(|&i| (i as f64 - mid).powi(2)).sum();
+        let slope = points
+            .iter()
+            .map(|&i| (i as f64 - mid) * (v[i] - mean))
+            .sum::<f64>()
+            / sxx.max(1e-300);
+        points
+            .iter()
+            .map(|&i| (v[i] - mean - slope * (i as f64 - mid)).powi(2))
+            .sum::<f64>()
+            / c
+    };
+    let scale = 2.0 * (variance(&track.down) + variance(&track.across));
+    let period = fit.period_frames;
+    let Some(at_period) = mismatch(period) else {
+        return Ok(());
+    };
+    let tolerance = period::MULTIPLE_TOLERANCE * at_period / scale + period::MULTIPLE_SLACK;
+    for q in (2..=8usize).rev() {
+        let fraction = period / q as f64;
+        if fraction < MIN_PERIOD_FRAMES {
+            continue;
+        }
+        if let Some(m) = mismatch(fraction)
+            && m / scale <= tolerance
+        {
+            return Err(TrackError::NoPeriod {
+                best_frames: period,
+                why: format!(
+                    "the track repeats best after {period:.2} frames, but on its measured frames \
+                     alone (its {bridged} bridged frame(s) left out) it repeats as well after \
+                     {fraction:.2} frames ({period:.2}/{q}): the gaps, bridged the same way at \
+                     recurring frames, make the longer repeat. A track with fewer gaps, or \
+                     gaps that do not recur, would decide between the two"
+                ),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The track without the ends that do not repeat: each point's distance from where the period
