@@ -602,6 +602,7 @@ class TrackTable(TypedDict):
     across: npt.NDArray[np.float64]
     down: npt.NDArray[np.float64]
     fps_from_times: Optional[float]
+    time_origin: Optional[float]
     notes: List[str]
 
 def read_track_table(
@@ -618,8 +619,8 @@ def read_track_table(
 ) -> TrackTable:
     """A tracked run's table read as `rollphase track` reads it: format "plain" (the authors'
     CSV: frame, xn, yn), "tracker" (Tracker's data export: a title line, then t, x, y; tabs,
-    commas, semicolons or spaces, decimal commas; frames are t × fps, the rate read from the
-    time steps unless fps is given; x runs down the ramp) or "trackpy" (frame, particle, x, y;
+    commas, semicolons or spaces, decimal commas; frames are counted from the first time at
+    fps, the rate read from the time steps unless given; x runs down the ramp) or "trackpy" (frame, particle, x, y;
     particle picks the body), told from the file when not given. frames, across and down are in
     the file's units (multiply by cm per unit); InputError names what cannot be read."""
 

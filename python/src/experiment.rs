@@ -73,11 +73,12 @@ fn fields_into(
 const MAX_TABLE_ROWS: usize = 10_000_000;
 
 /// A tracked run's table at `path` read as `rollphase track` reads it: the authors' plain CSV,
-/// Tracker's data export (title lines, t, x, y; decimal commas; frames are t × fps, the rate read
-/// from the time steps unless `fps` is given) or trackpy's linked table (frame, particle, x, y;
+/// Tracker's data export (title lines, t, x, y; decimal commas; frames counted from the first time
+/// at `fps`, the rate read from the time steps unless given) or trackpy's linked table (frame, particle, x, y;
 /// `particle` picks the body, `every_particle` keeps all rows, for markers). Returns a dict
 /// (TrackTable): format, columns (frame or time, across, down), frames, across and down (arrays,
-/// in the file's units: multiply by cm per unit), fps_from_times (None where not read) and
+/// in the file's units: multiply by cm per unit), fps_from_times (None where not read),
+/// time_origin (the time of frame 0, None without a time column) and
 /// notes. A file that cannot be read so raises InputError naming why.
 #[pyfunction]
 #[pyo3(signature = (
@@ -138,6 +139,7 @@ pub fn read_track_table<'py>(
         across_column,
         down_column,
         fps,
+        time_origin: None,
         particle,
         every_particle,
     };

@@ -315,7 +315,11 @@ pub fn run(a: DesignArgs) -> Result<()> {
             ),
         };
         let mut bytes = Vec::new();
-        mesh.write_stl(&mut bytes, scale_mm, "design")?;
+        let name = match &design.body {
+            Body::Disk(_) => format!("design {}", crate::geometry::mesh::DISK_AXIS_TAG),
+            Body::Sphere(_) => "design".to_string(),
+        };
+        mesh.write_stl(&mut bytes, scale_mm, &name)?;
         output::write_bytes(stl, &bytes, &inputs).with_context(|| {
             format!(
                 "the STL was not written (the body is in {}, the report above)",

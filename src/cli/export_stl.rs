@@ -85,7 +85,11 @@ pub fn run(a: ExportStlArgs) -> Result<()> {
         .file_stem()
         .and_then(|s| s.to_str())
         .unwrap_or("body");
-    mesh.write_stl(&mut file, a.radius_mm, name)
+    let name = match &body {
+        Body::Disk(_) => format!("{name} {}", crate::geometry::mesh::DISK_AXIS_TAG),
+        Body::Sphere(_) => name.to_string(),
+    };
+    mesh.write_stl(&mut file, a.radius_mm, &name)
         .with_context(|| format!("cannot write {}", a.output.display()))?;
     file.commit()?;
     let volume_cm3 = mesh.volume() * a.radius_mm.powi(3) / 1000.0;

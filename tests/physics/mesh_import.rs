@@ -789,6 +789,55 @@ fn box_like_meshes_are_read_along_their_roundest_section() {
     }
 }
 
+/// A cap between a mesh's ends is a step or a notch: the section changes along that axis,
+/// which the faces' normals alone cannot see. A 30 mm cube with a 10 × 10 notch along its z edge
+/// has every face along x, y or z, and was read along x as a plain square, exit 0; it is an
+/// extrusion along z only, and is read so (its hull a pentagon: the notch bridged). A rod with a
+/// block on it is an extrusion along no axis, and a 2D fit is refused, naming steps and notches.
+#[test]
+fn a_step_or_a_notch_is_no_extrusion_along_its_axis() {
+    use rollphase::geometry::mesh_fit::{FitOptions, fit_mesh};
+    use rollphase::geometry::mesh_read::MeshSource;
+    let dir = scratch("notches");
+    let notched = [
+        [0.0, 0.0],
+        [30.0, 0.0],
+        [30.0, 20.0],
+        [20.0, 20.0],
+        [20.0, 30.0],
+        [0.0, 30.0],
+    ];
+    let path = dir.join("notched.stl");
+    write_binary_stl(&extrude(&notched, 30.0), &path, 1.0);
+    let source = MeshSource::open(&path).unwrap();
+    let fit = fit_mesh(&source, &FitOptions::default(), &|_, _, _| {}).unwrap();
+    assert_eq!(fit.report.axis, Some([0.0, 0.0, 1.0]));
+    assert_eq!(fit.report.mesh_hull.expect("a 2D fit's hull").sides, 5);
+    // Two shells: a 20 × 20 × 40 rod and a 10 × 10 × 20 block on its end.
+    let mut stepped = extrude(&[[0.0, 0.0], [20.0, 0.0], [20.0, 20.0], [0.0, 20.0]], 40.0);
+    let block = extrude(&[[5.0, 5.0], [15.0, 5.0], [15.0, 15.0], [5.0, 15.0]], 20.0);
+    let offset = stepped.positions.len() as u32;
+    stepped
+        .positions
+        .extend(block.positions.iter().map(|p| [p[0], p[1], p[2] + 40.0]));
+    stepped
+        .indices
+        .extend(block.indices.iter().map(|t| t.map(|i| i + offset)));
+    stepped.normals = vec![[0.0; 3]; stepped.positions.len()];
+    stepped.values = vec![0.0; stepped.positions.len()];
+    let path = dir.join("stepped.stl");
+    write_binary_stl(&stepped, &path, 1.0);
+    let source = MeshSource::open(&path).unwrap();
+    let options = FitOptions {
+        dim: Some(2),
+        ..FitOptions::default()
+    };
+    let e = fit_mesh(&source, &options, &|_, _, _| {})
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("step or a notch"), "{e}");
+}
+
 /// OpenSCAD's `cylinder(r = 10, h = 20, $fn = K)` for every K from 3 to 512, as written (the
 /// first vertex at angle 0, where sample rays of the section fall exactly on vertices) and
 /// turned by 0.1 rad, along +z and −z: every one fits as a 2D body with the polygon's own mean
@@ -1450,4 +1499,39 @@ fn a_ply_read_in_blocks_gives_the_stl_triangles_bit_for_bit() {
     std::fs::write(&cut, &bytes[..bytes.len() - 100]).unwrap();
     let err = MeshSource::open(&cut).err().unwrap().to_string();
     assert!(err.contains("vertex records"), "{err}");
+}
+
+/// A cylinder written by `export-stl` comes back from `shape --from-mesh` as the same body, not
+/// its mirror image: a mesh cannot tell which end of its axis θ runs counter-clockwise from
+/// (turned end for end, the section's θ runs the other way), so the export names its axis in
+/// the STL header (`axis=0,-1,0`) and the fit reads it. Before, the round trip gave the mirror
+/// image (each mode's phase negated), exit 0, and only `--axis 0,-1,0` gave the body back.
+#[test]
+fn an_exported_cylinder_is_fitted_back_as_itself_not_its_mirror() {
+    let dir = scratch("export-round-trip");
+    let body = dir.join("body.json");
+    let stl = dir.join("body.stl");
+    let back = dir.join("back.json");
+    let (b, s, k) = (
+        body.to_str().unwrap(),
+        stl.to_str().unwrap(),
+        back.to_str().unwrap(),
+    );
+    rollphase_ok([
+        "shape", "--dim", "2", "--seed", "3", "--sigma", "0.3", "--modes", "4", "-o", b,
+    ]);
+    rollphase_ok(["export-stl", b, "-o", s]);
+    rollphase_ok(["shape", "--from-mesh", s, "-o", k]);
+    let r = |path: &Path, theta: f64| match ShapeFile::load(path).unwrap() {
+        Body::Disk(d) => d.smooth_fit().jet(theta).r,
+        Body::Sphere(_) => panic!("a disk"),
+    };
+    for i in 0..64 {
+        let theta = TAU * i as f64 / 64.0;
+        let (want, got) = (r(&body, theta), r(&back, theta));
+        assert!(
+            (want - got).abs() < 2e-3,
+            "θ = {theta}: {got} against {want}"
+        );
+    }
 }

@@ -29,8 +29,8 @@ use figures::{figure, refusal_figure};
 /// FILE is a table with one row per video frame: a frame number and the body's centre in two
 /// coordinates of the ramp's plane (--frame-column, --down-column, --across-column; the
 /// defaults read the paper authors' files, whose rectified `yn` runs down the ramp and `xn`
-/// across it). Tracker's data export (a title line, then t, x, y: frames are t × fps, the rate
-/// read from the time steps unless --fps is given) and trackpy's linked table (frame, particle,
+/// across it). Tracker's data export (a title line, then t, x, y: frames counted from the first
+/// time at --fps, the rate read from the time steps unless given) and trackpy's linked table (frame, particle,
 /// x, y; --particle picks the body) are read as they are written (--format). --scale SX,SY
 /// gives cm per unit of the across and down columns, --fps the frame rate. The period is found automatically; it and its uncertainty come from a harmonic fit of
 /// the whole track at its frames (`bench calibration`: the 95 % interval holds a synthetic
@@ -299,9 +299,23 @@ pub fn run(mut a: TrackArgs) -> Result<()> {
         Some(path) => {
             let request = TableRequest {
                 every_particle: true,
+                time_origin: table.time_origin,
                 ..table_request(&a, Some(a.rate))
             };
-            read_track_table(path, &request)?
+            let markers = read_track_table(path, &request)?;
+            // One scale and one set of columns for both files: a layout of its own would be read
+            // in the track's units (a plain file's pixels as Tracker's metres).
+            if markers.format != table.format {
+                bail!(
+                    "{} is a {} table but the track {} a {} one: give the markers in the track's \
+                     layout (--scale and the columns apply to both)",
+                    path.display(),
+                    markers.format.name(),
+                    a.file.display(),
+                    table.format.name()
+                );
+            }
+            markers
                 .rows
                 .into_iter()
                 .map(|r| (r[0], r[2] * sy, r[1] * sx))
@@ -607,6 +621,7 @@ fn table_request(a: &TrackArgs, fps: Option<f64>) -> TableRequest {
         across_column: a.across_column.clone(),
         down_column: a.down_column.clone(),
         fps,
+        time_origin: None,
         particle: a.particle,
         every_particle: false,
     }

@@ -208,8 +208,10 @@ impl PrintedSection {
     }
 
     /// [`PrintedSection::hull`], and the section in its shape file's units: its mean radius
-    /// over θ is the fitted body's ⟨r⟩ = 1 (within [`MEAN_RADIUS_SLACK`]), so a section scaled
-    /// by hand or taken from another body is refused before any run.
+    /// over θ lies between the fitted body's ⟨r⟩ = 1 and its convex hull's, `smooth_hull_mean`
+    /// (more than 1 for a dented body, whose hull bridges the dents), each widened by
+    /// [`MEAN_RADIUS_SLACK`], so a section scaled by hand or taken from another body is refused
+    /// before any run.
     ///
     /// # Example
     /// ```
@@ -219,21 +221,48 @@ impl PrintedSection {
     ///     let t = std::f64::consts::TAU * k as f64 / n as f64;
     ///     [t.cos(), t.sin()]
     /// }).collect() };
-    /// assert!(prism.check_for_shape_file().is_ok());
+    /// assert!(prism.check_for_shape_file(1.0).is_ok());
     /// let doubled = PrintedSection { vertices: prism.vertices.iter().map(|v| [2.0 * v[0], 2.0 * v[1]]).collect() };
-    /// assert!(doubled.check_for_shape_file().unwrap_err().contains("mean radius"));
+    /// assert!(doubled.check_for_shape_file(1.0).unwrap_err().contains("mean radius"));
     /// ```
-    pub fn check_for_shape_file(&self) -> Result<SectionHull, String> {
+    pub fn check_for_shape_file(&self, smooth_hull_mean: f64) -> Result<SectionHull, String> {
         let hull = self.hull()?;
         let mean = mean_radius(&self.vertices);
-        if !((1.0 - MEAN_RADIUS_SLACK)..=(1.0 + MEAN_RADIUS_SLACK)).contains(&mean) {
+        // The print's hull holds the section (mean radius 1 within the fit's residuals), and
+        // where the section is not convex it bridges dents, as the fit's own hull does.
+        let (low, high) = (
+            1.0 - MEAN_RADIUS_SLACK,
+            smooth_hull_mean.max(1.0) * (1.0 + MEAN_RADIUS_SLACK),
+        );
+        if !(low..=high).contains(&mean) {
             return Err(format!(
                 "printed_section's mean radius is {mean:.6} ⟨r⟩, but the section is in units of \
-                 the fitted body's mean radius: needs 1 within {MEAN_RADIUS_SLACK} (a section \
-                 scaled or from another body)"
+                 the fitted body's mean radius: its hull's needs {low} to {high:.6} (1 less \
+                 {MEAN_RADIUS_SLACK}, to the fitted body's own hull's, {smooth_hull_mean:.6}, \
+                 plus {MEAN_RADIUS_SLACK}; a section scaled or from another body)"
             ));
         }
         Ok(hull)
+    }
+
+    /// The mean radius over θ of the convex hull of the closed curve r(θ) (sampled at 4096
+    /// angles): 1 for a convex body of ⟨r⟩ = 1, more where the hull bridges dents.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::facets::PrintedSection;
+    /// let round = PrintedSection::hull_mean_radius(|_| 1.0);
+    /// assert!((round - 1.0).abs() < 1e-6);
+    /// ```
+    pub fn hull_mean_radius(r: impl Fn(f64) -> f64) -> f64 {
+        let points: Vec<[f64; 2]> = (0..4096)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / 4096.0;
+                let rt = r(t);
+                [rt * t.cos(), rt * t.sin()]
+            })
+            .collect();
+        mean_radius(&convex_hull(&points))
     }
 
     /// The same section seen from the cylinder's other end (θ → −θ), as

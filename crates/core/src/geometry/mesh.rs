@@ -320,6 +320,36 @@ pub fn print_segments(body: &Disk, alpha_star: f64, min: usize) -> usize {
     n
 }
 
+/// What [`TriMesh::write_stl`]'s header says of a [`disk_mesh`] beside its name: its axis, with
+/// θ counter-clockwise seen from that end. The mesh fit reads it back ([`stl_header_axis`]), so
+/// that an exported cylinder is not fitted as its mirror image, which a mesh alone cannot tell
+/// from it (turned end for end, the section's θ runs the other way).
+pub const DISK_AXIS_TAG: &str = "axis=0,-1,0";
+
+/// The axis an STL header written by rollphase names (`axis=X,Y,Z`), if any.
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::mesh::{DISK_AXIS_TAG, stl_header_axis};
+/// let header = format!("rollphase cylinder {DISK_AXIS_TAG}");
+/// assert_eq!(stl_header_axis(&header), Some([0.0, -1.0, 0.0]));
+/// assert_eq!(stl_header_axis("solid made by a CAD tool"), None);
+/// ```
+pub fn stl_header_axis(header: &str) -> Option<[f64; 3]> {
+    if !header.starts_with("rollphase ") {
+        return None;
+    }
+    let tag = header
+        .split_whitespace()
+        .find_map(|w| w.strip_prefix("axis="))?;
+    let v: Vec<f64> = tag
+        .split(',')
+        .map(|c| c.parse().ok())
+        .collect::<Option<_>>()?;
+    let a: [f64; 3] = v.try_into().ok()?;
+    (a.iter().all(|c| c.is_finite()) && a.iter().any(|c| *c != 0.0)).then_some(a)
+}
+
 /// The 2D body as a closed cylinder of the given length: `segments` points around r(θ) (side
 /// coloured by κ), flat caps. Rim vertices are duplicated (side and cap normals differ) at
 /// bit-identical positions, so the welded surface is watertight.

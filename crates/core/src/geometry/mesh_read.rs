@@ -465,6 +465,34 @@ impl MeshSource {
         }
     }
 
+    /// A binary STL's 80-byte header as text (trailing spaces and NULs trimmed); `None` for
+    /// other formats, ASCII STL, or a header that cannot be read.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::{Disk, mesh::disk_mesh, mesh_read::MeshSource};
+    /// let path = std::env::temp_dir().join(format!("header-{}.stl", std::process::id()));
+    /// let mut bytes = Vec::new();
+    /// disk_mesh(&Disk::perfect(), 64, 2.0).write_stl(&mut bytes, 10.0, "rod")?;
+    /// std::fs::write(&path, bytes)?;
+    /// let source = MeshSource::open(&path).unwrap();
+    /// assert_eq!(source.stl_header().as_deref(), Some("rollphase rod"));
+    /// # std::fs::remove_file(&path)?;
+    /// # Ok::<(), std::io::Error>(())
+    /// ```
+    pub fn stl_header(&self) -> Option<String> {
+        if self.format != MeshFormat::Stl || self.ascii {
+            return None;
+        }
+        let mut header = [0u8; 80];
+        File::open(&self.path).ok()?.read_exact(&mut header).ok()?;
+        Some(
+            String::from_utf8_lossy(&header)
+                .trim_end_matches([' ', '\0'])
+                .to_string(),
+        )
+    }
+
     /// The triangle count of an STL: a binary one's from its header, checked against the file's
     /// length; an ASCII one's by a first pass. Binary when the length is exactly a binary STL's
     /// for its header's count (some binary headers start with "solid"); otherwise ASCII when

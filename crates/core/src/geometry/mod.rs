@@ -289,11 +289,6 @@ impl Body {
                 printed_section,
                 ..
             } => {
-                if let Some(section) = printed_section {
-                    section
-                        .check_for_shape_file()
-                        .map_err(ShapeError::PrintedSection)?;
-                }
                 let mut seen = std::collections::BTreeSet::new();
                 for (i, m) in modes.iter().enumerate() {
                     if !(2..=MAX_DISK_L).contains(&m.l) {
@@ -335,6 +330,12 @@ impl Body {
                             place: format!("θ = {:.4}", t.rem_euclid(TAU)),
                         });
                     }
+                }
+                if let Some(section) = printed_section {
+                    let smooth_hull = facets::PrintedSection::hull_mean_radius(|t| disk.jet(t).r);
+                    section
+                        .check_for_shape_file(smooth_hull)
+                        .map_err(ShapeError::PrintedSection)?;
                 }
                 Ok(Body::Disk(
                     disk.with_printed_section(printed_section.clone()),

@@ -417,10 +417,19 @@ pub fn fit_mesh(
         Some(a) => Some((a / a.abs().max_element()).normalize()),
         None if options.dim == Some(3) => None,
         None => match find_extrusion_axis(source, &totals, progress)? {
-            Some((axis, warning)) => {
-                warnings.extend(warning);
-                Some(axis)
-            }
+            // rollphase's own export names its axis, whose sign the mesh cannot tell.
+            Some((axis, warning)) => match source
+                .stl_header()
+                .as_deref()
+                .and_then(crate::geometry::mesh::stl_header_axis)
+                .map(|a| DVec3::from_array(a).normalize())
+            {
+                Some(named) if named.dot(axis).abs() > 1.0 - 1e-9 => Some(named),
+                _ => {
+                    warnings.extend(warning);
+                    Some(axis)
+                }
+            },
             None => None,
         },
     };
@@ -432,7 +441,8 @@ pub fn fit_mesh(
             return Err(shape_error(
                 source,
                 "is not an extruded cylinder: no axis has every face either a side along it or \
-                 a cap across it; give the axis (--axis X,Y,Z) if it is a cylinder with rough \
+                 a cap at one of its two ends (a cap between them is a step or a notch, where \
+                 the section changes); give the axis (--axis X,Y,Z) if it is a cylinder with rough \
                  ends, or fit it in 3D (--dim 3)"
                     .to_string(),
             ));
@@ -523,8 +533,8 @@ fn first_pass(source: &MeshSource, progress: Progress) -> Result<Totals, MeshErr
 }
 
 /// The axis of an extrusion: the eigenvector of the normal tensor along which every face is a
-/// side (normal across it) or a cap (normal along it), up to 0.1 % of the area; `None` if no
-/// eigenvector is. A box-like mesh (a square rod, a tile) is an extrusion along two or three
+/// side (normal across it) or a cap (normal along it) at one of the two ends, up to 0.1 % of
+/// the area; `None` if no eigenvector is. A box-like mesh (a square rod, a tile) is an extrusion along two or three
 /// axes: the one whose section is the roundest (the smallest ratio of its extents, so the
 /// most rollable; then the longest) is taken, with a warning naming the others.
 fn find_extrusion_axis(
@@ -562,10 +572,31 @@ fn find_extrusion_axis(
         }
         Ok(())
     })?;
-    let extruded: Vec<usize> = (0..3)
+    let extent = |k: usize| hi[k] - lo[k];
+    let mut extruded: Vec<usize> = (0..3)
         .filter(|&k| oblique[k] <= 1e-3 * totals.area)
         .collect();
-    let extent = |k: usize| hi[k] - lo[k];
+    if !extruded.is_empty() {
+        // A cap between the ends is a step or a notch: the section changes along that axis,
+        // which the normals alone cannot see (a notched cube's faces all face along x, y or z).
+        let mut inside = [0.0f64; 3];
+        source.for_each(|i, [a, b, c]| {
+            tick(progress, "checking the ends", i, total);
+            let n = (b - a).cross(c - a);
+            let len = n.length();
+            for &k in &extruded {
+                let e = candidates[k];
+                if len > 0.0 && (n.dot(e) / len).abs() >= 1.0 - EXTRUSION_TOL {
+                    let at = (a + b + c).dot(e) / 3.0;
+                    if (at - lo[k]).min(hi[k] - at) > 1e-4 * extent(k) {
+                        inside[k] += 0.5 * len;
+                    }
+                }
+            }
+            Ok(())
+        })?;
+        extruded.retain(|&k| inside[k] <= 1e-3 * totals.area);
+    }
     // The section across axis k: its longer extent over its shorter.
     let aspect = |k: usize| {
         let (a, b) = (extent((k + 1) % 3), extent((k + 2) % 3));

@@ -105,6 +105,9 @@ pub struct TableRequest {
     pub down_column: Option<String>,
     /// Frames per second, to turn times into frames; `None` reads it from the time steps.
     pub fps: Option<f64>,
+    /// The time (s) of frame 0 where a time column is read; `None` takes the table's first
+    /// time (markers take their track's, so that both count frames from one instant).
+    pub time_origin: Option<f64>,
     /// trackpy: the particle to read.
     pub particle: Option<f64>,
     /// Read every particle's rows (markers: each detection is its own particle).
@@ -123,6 +126,8 @@ pub struct TrackTable {
     pub columns: [String; 3],
     /// The frame rate read from the time column's steps, where it was not given.
     pub fps_from_times: Option<f64>,
+    /// The time (s) of frame 0, where a time column was read.
+    pub time_origin: Option<f64>,
     /// What was done that the user should know (rows of other particles left out, sorting).
     pub notes: Vec<String>,
 }
@@ -251,6 +256,103 @@ fn layout(preamble: &[String], first_data: &str) -> Option<Layout> {
     })
 }
 
+/// The columns a request reads from a table: their indices (frame or time, across, down), the
+/// particle column's in trackpy's, their names, and whether the first is a time.
+struct Columns {
+    wanted: [usize; 3],
+    particle: Option<usize>,
+    names: [String; 3],
+    is_time: bool,
+}
+
+/// The request's columns found in `header` (a table of `format`), each named once, and its
+/// particle a particle number that the format has.
+fn columns(
+    format: TableFormat,
+    header: &[String],
+    request: &TableRequest,
+) -> Result<Columns, TableError> {
+    let has = |name: &str| header.iter().any(|h| h == name);
+    let (default_first, default_is_time, default_across, default_down) = format.default_columns();
+    let (first, is_time) = match (&request.time_column, &request.frame_column) {
+        (Some(t), _) => (t.clone(), true),
+        (None, Some(f)) => (f.clone(), false),
+        (None, None) => (default_first.to_string(), default_is_time),
+    };
+    let across = request
+        .across_column
+        .clone()
+        .unwrap_or(default_across.into());
+    let down = request.down_column.clone().unwrap_or(default_down.into());
+    let column = |name: &str| {
+        let times = header.iter().filter(|h| *h == name).count();
+        if times > 1 {
+            return Err(TableError::Other(format!(
+                "has {times} columns named {name:?}: a table of several tracks (Tracker's \
+                 #multi export) or objects; export the body's track alone, or name another \
+                 column"
+            )));
+        }
+        header
+            .iter()
+            .position(|h| h == name)
+            .ok_or_else(|| TableError::MissingColumn {
+                name: name.to_string(),
+                columns: header
+                    .iter()
+                    .map(|h| format!("{h:?}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                hint: if !is_time && name == first && has("t") && has("x") && has("y") {
+                    "; a table of t, x, y is Tracker's export (read as such with --format \
+                     tracker, or its title line kept)"
+                        .into()
+                } else if !is_time && name == first && has("t") {
+                    "; its \"t\" column (seconds) can stand for the frames: --time-column t".into()
+                } else {
+                    String::new()
+                },
+            })
+    };
+    for (a, b) in [(&first, &across), (&first, &down), (&across, &down)] {
+        if a == b {
+            return Err(TableError::Other(format!(
+                "would read column {a:?} twice (frame or time, across and down are three \
+                 different columns)"
+            )));
+        }
+    }
+    if let Some(p) = request.particle
+        && !(p.is_finite() && p.fract() == 0.0 && p.abs() < 1e15)
+    {
+        return Err(TableError::Other(format!(
+            "particle {} is not a particle number (trackpy numbers them 0, 1, 2, …)",
+            if p.abs() < 1e15 {
+                p.to_string()
+            } else {
+                format!("{p:e}")
+            }
+        )));
+    }
+    let wanted = [column(&first)?, column(&across)?, column(&down)?];
+    let particle = if format == TableFormat::Trackpy {
+        Some(column("particle")?)
+    } else if request.particle.is_some() {
+        return Err(TableError::Other(format!(
+            "is a {} table: a particle is picked only in trackpy's (--format trackpy)",
+            format.name()
+        )));
+    } else {
+        None
+    };
+    Ok(Columns {
+        wanted,
+        particle,
+        names: [first, across, down],
+        is_time,
+    })
+}
+
 /// Reads a tracked run's table (see the module doc) from `source`, at most `max_rows` rows.
 ///
 /// # Example
@@ -306,59 +408,17 @@ pub fn read_table(
         .format
         .unwrap_or(if has("frame") && has("particle") {
             TableFormat::Trackpy
-        } else if !titles.is_empty() && has("t") && !has("frame") {
+        } else if !titles.is_empty() && has("t") {
             TableFormat::Tracker
         } else {
             TableFormat::Plain
         });
-    let (default_first, default_is_time, default_across, default_down) = format.default_columns();
-    let (first, is_time) = match (&request.time_column, &request.frame_column) {
-        (Some(t), _) => (t.clone(), true),
-        (None, Some(f)) => (f.clone(), false),
-        (None, None) => (default_first.to_string(), default_is_time),
-    };
-    let across = request
-        .across_column
-        .clone()
-        .unwrap_or(default_across.into());
-    let down = request.down_column.clone().unwrap_or(default_down.into());
-    let column = |name: &str| {
-        let times = header.iter().filter(|h| *h == name).count();
-        if times > 1 {
-            return Err(TableError::Other(format!(
-                "has {times} columns named {name:?}: a table of several tracks (Tracker's \
-                 #multi export) or objects; export the body's track alone, or name another \
-                 column"
-            )));
-        }
-        header
-            .iter()
-            .position(|h| h == name)
-            .ok_or_else(|| TableError::MissingColumn {
-                name: name.to_string(),
-                columns: header
-                    .iter()
-                    .map(|h| format!("{h:?}"))
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                hint: if !is_time && name == first && has("t") {
-                    "; its \"t\" column (seconds) can stand for the frames: --time-column t".into()
-                } else {
-                    String::new()
-                },
-            })
-    };
-    let wanted = [column(&first)?, column(&across)?, column(&down)?];
-    let particle = if format == TableFormat::Trackpy {
-        Some(column("particle")?)
-    } else if request.particle.is_some() {
-        return Err(TableError::Other(format!(
-            "is a {} table: a particle is picked only in trackpy's (--format trackpy)",
-            format.name()
-        )));
-    } else {
-        None
-    };
+    let Columns {
+        wanted,
+        particle,
+        names: [first, across, down],
+        is_time,
+    } = columns(format, &header, request)?;
     let names = [first.as_str(), across.as_str(), down.as_str()];
     let mut rows = Vec::new();
     let mut particles = Vec::new();
@@ -405,16 +465,18 @@ pub fn read_table(
     if particle.is_some() {
         rows = one_particle(rows, &particles, request, &mut notes)?;
     }
-    let fps_from_times = if is_time {
-        times_as_frames(&mut rows, request.fps, &first)?
+    let (fps_from_times, time_origin) = if is_time {
+        let (rate, origin) = times_as_frames(&mut rows, request.fps, request.time_origin, &first)?;
+        (rate, Some(origin))
     } else {
-        None
+        (None, None)
     };
     Ok(TrackTable {
         format,
         rows,
         columns: [first, across, down],
         fps_from_times,
+        time_origin,
         notes,
     })
 }
@@ -499,22 +561,25 @@ fn one_particle(
 /// How far from a whole frame a time may fall (in frames) and still be that frame.
 const FRAME_TOLERANCE: f64 = 0.05;
 
-/// The first column's times (s) turned into frame numbers at `fps`, or at the rate read from the
-/// median step where `fps` is `None` (returned). Every time must fall on a whole frame.
+/// The first column's times (s) turned into frame numbers counted from `origin` (by default
+/// the first time: a clip's start time is no frame), at `fps` or, where it is `None`, at the
+/// rate read from the steps. Every time must fall on a whole frame. Returns the rate read and
+/// the origin.
 fn times_as_frames(
     rows: &mut [[f64; 3]],
     fps: Option<f64>,
+    origin: Option<f64>,
     column: &str,
-) -> Result<Option<f64>, TableError> {
+) -> Result<(Option<f64>, f64), TableError> {
+    let times: Vec<f64> = rows
+        .iter()
+        .map(|r| r[0])
+        .filter(|t| t.is_finite())
+        .collect();
     let (rate, read) = match fps {
         Some(f) => (f, None),
         None => {
-            let times: Vec<f64> = rows
-                .iter()
-                .map(|r| r[0])
-                .filter(|t| t.is_finite())
-                .collect();
-            let mut steps: Vec<f64> = times
+            let steps: Vec<f64> = times
                 .windows(2)
                 .map(|w| w[1] - w[0])
                 .filter(|d| *d > 0.0)
@@ -525,8 +590,20 @@ fn times_as_frames(
                      rate from (give --fps)"
                 )));
             }
-            steps.sort_by(f64::total_cmp);
-            let step = steps[steps.len() / 2];
+            let mut sorted = steps.clone();
+            sorted.sort_by(f64::total_cmp);
+            let median = sorted[sorted.len() / 2];
+            // Each step as a whole number of median steps, the rate from their sum: times
+            // written to 3 decimals (0.033, 0.067, …) give 30 frames/s, not 1/0.033.
+            let (mut span, mut count) = (0.0, 0.0);
+            for d in steps {
+                let k = (d / median).round();
+                if k >= 1.0 {
+                    span += d;
+                    count += k;
+                }
+            }
+            let step = span / count;
             // The rate to 6 digits: 29.97 frames/s stays 29.97, not 29.970029970.
             let rate = format!("{:.6e}", 1.0 / step)
                 .parse::<f64>()
@@ -534,20 +611,21 @@ fn times_as_frames(
             (rate, Some(rate))
         }
     };
+    let start = origin.unwrap_or_else(|| times.first().copied().unwrap_or(0.0));
     for (i, row) in rows.iter_mut().enumerate() {
-        let f = row[0] * rate;
+        let f = (row[0] - start) * rate;
         if f.is_finite() && (f - f.round()).abs() > FRAME_TOLERANCE {
             return Err(TableError::Other(format!(
-                "row {}: {column} = {} s is {f:.3} frames at {rate} frames/s, not a whole frame \
-                 (give the rate the times were taken at with --fps: the video's, or its own \
-                 divided by the tracker's step size)",
+                "row {}: {column} = {} s is {f:.3} frames after {start} s at {rate} \
+                 frames/s, not a whole frame (give the rate the times were taken at with --fps: \
+                 the video's, or its own divided by the tracker's step size)",
                 i + 1,
                 row[0]
             )));
         }
         row[0] = f.round();
     }
-    Ok(read)
+    Ok((read, start))
 }
 
 #[cfg(test)]
@@ -598,6 +676,35 @@ mod tests {
     }
 
     #[test]
+    fn rounded_times_and_a_start_time_read_as_whole_frames() {
+        // Tracker's formatted export: 3 decimals at 30 frames/s, from a clip start of 0.01 s.
+        let mut text = String::from("mass A\nt,x,y\n");
+        for k in 0..100 {
+            text += &format!("{:.3},{k},0\n", 0.01 + f64::from(k) / 30.0);
+        }
+        let t = read(&text, &TableRequest::default()).unwrap();
+        assert_eq!(t.fps_from_times, Some(30.0));
+        assert!(t.rows.iter().enumerate().all(|(k, r)| r[0] == k as f64));
+        let same = TableRequest {
+            across_column: Some("x".into()),
+            down_column: Some("x".into()),
+            ..TableRequest::default()
+        };
+        assert!(
+            read(&text, &same)
+                .unwrap_err()
+                .to_string()
+                .contains("twice")
+        );
+        let odd = TableRequest {
+            particle: Some(f64::NAN),
+            ..TableRequest::default()
+        };
+        let e = read(&text, &odd).unwrap_err().to_string();
+        assert!(e.contains("not a particle number"), "{e}");
+    }
+
+    #[test]
     fn a_time_off_the_frames_is_refused_with_the_rate() {
         let text = "mass A\nt,x,y\n0,0,0\n0.04,1,0\n0.1,2,0\n";
         let e = read(text, &TableRequest::default()).unwrap_err();
@@ -645,7 +752,8 @@ mod tests {
             ("1,2,3\n4,5,6\n", "no row of numbers"),
             ("frame,xn,yn\n1,2,zero\n", "row 1, column \"yn\" (line 2)"),
             ("frame,xn,yn\n1,2,3\n1,2,3,4\n", "line 3 has 4 cells"),
-            ("t,x,y\n1,0,0\n", "--time-column t"),
+            ("t,x,y\n1,0,0\n", "--format tracker"),
+            ("t,x,z\n1,0,0\n", "--time-column t"),
             ("mass A\nt,x,y\n0,0,0\n0,1,0\n", "no two increasing times"),
             (
                 "#multi:\nA,,B,\nt,x,y,x,y\n0,1,2,3,4\n",
