@@ -787,6 +787,22 @@ fn box_like_meshes_are_read_along_their_roundest_section() {
             "{name}: {warnings}"
         );
     }
+    // The bar turned by 0.3 rad about z and 0.5 about x, in single precision: its section's
+    // sides, cut where the mesh's triangles meet them, lie 1e-7 off straight, and were read as
+    // 6 sides. Still 4.
+    let mut turned = extrude(&[[0.0, 0.0], [20.0, 0.0], [20.0, 10.0], [0.0, 10.0]], 40.0);
+    let (cz, sz, cx, sx) = (0.3f64.cos(), 0.3f64.sin(), 0.5f64.cos(), 0.5f64.sin());
+    for p in &mut turned.positions {
+        let [x, y, z] = p.map(f64::from);
+        let (x, y) = (cz * x - sz * y, sz * x + cz * y);
+        let (y, z) = (cx * y - sx * z, sx * y + cx * z);
+        *p = [x as f32, y as f32, z as f32];
+    }
+    let path = dir.join("turned-bar.stl");
+    write_binary_stl(&turned, &path, 1.0);
+    let source = MeshSource::open(&path).unwrap();
+    let fit = fit_mesh(&source, &FitOptions::default(), &|_, _, _| {}).unwrap();
+    assert_eq!(fit.report.mesh_hull.expect("a 2D fit's hull").sides, 4);
 }
 
 /// A cap between a mesh's ends is a step or a notch: the section changes along that axis,

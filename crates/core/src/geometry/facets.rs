@@ -349,9 +349,13 @@ pub struct FacetGap {
     pub fit_alpha_star: f64,
 }
 
-/// Andrew's monotone chain, counter-clockwise, collinear and repeated points dropped. A turn
-/// counts only above 1e-12 of the squared extent, so the vertices of a side cut into pieces
-/// (a mesh that splits a long facet) do not count as sides.
+/// Andrew's monotone chain, counter-clockwise, collinear and repeated points dropped. A point
+/// counts as a corner only where it lies more than 1e-6 of the extent off the line through its
+/// neighbours on the hull, so the vertices of a side cut into pieces (a mesh that splits a long
+/// facet) do not count as sides, even where the mesh's single-precision coordinates, turned, put
+/// them 1e-7 off it (a turned 10 × 20 bar was read as 6 sides). A regular N-gon's corners lie
+/// 20/N² of its radius off that line: 7.5e-5 at N = 512, 6e-6 at the 1,800 sides past which
+/// facets no longer move α* by 0.1°.
 fn convex_hull(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
     let mut sorted: Vec<[f64; 2]> = points
         .iter()
@@ -370,7 +374,10 @@ fn convex_hull(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
     let turn = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
         (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
     };
-    let left = |o, a, b| turn(o, a, b) > 1e-12 * extent;
+    let reach = extent.sqrt();
+    let left = |o: [f64; 2], a, b: [f64; 2]| {
+        turn(o, a, b) > 1e-6 * reach * (b[0] - o[0]).hypot(b[1] - o[1])
+    };
     let mut hull: Vec<[f64; 2]> = Vec::with_capacity(2 * sorted.len());
     for pass in [
         &sorted[..],
