@@ -152,7 +152,9 @@ def test_read_track_table_reads_the_authors_and_trackers_files_alike(repo, tmp_p
     tracker.write_text("\n".join(lines) + "\n")
     table = rollphase.read_track_table(tracker)
     assert table["format"] == "tracker" and table["fps_from_times"] == 30.0
-    assert np.array_equal(table["frames"], frames)
+    # Frames count from the first time, which stands for frame 0.
+    assert np.array_equal(table["frames"], frames - frames[0])
+    assert abs(table["time_origin"] - frames[0] / 30) < 1e-8
     assert np.allclose(table["down"] * 100, down, rtol=1e-8)
     with pytest.raises(rollphase.InputError, match="not a whole frame"):
         rollphase.read_track_table(tracker, fps=25.0)
