@@ -370,10 +370,30 @@ fn columns(
 /// # Ok::<(), rollphase_core::analysis::experiment::tracking::table::TableError>(())
 /// ```
 pub fn read_table(
-    source: impl BufRead,
+    mut source: impl BufRead,
     request: &TableRequest,
     max_rows: usize,
 ) -> Result<TrackTable, TableError> {
+    let start = source
+        .fill_buf()
+        .map_err(|e| TableError::Other(format!("cannot be read: {e}")))?;
+    if start.starts_with(&[0xFF, 0xFE]) || start.starts_with(&[0xFE, 0xFF]) {
+        return Err(TableError::Other(
+            "is UTF-16 text (as a spreadsheet's \"Unicode text\" saves it): save it as CSV in \
+             UTF-8"
+                .into(),
+        ));
+    }
+    let unreadable = |line: usize, e: std::io::Error| {
+        TableError::Other(if e.kind() == std::io::ErrorKind::InvalidData {
+            format!(
+                "line {line} is not UTF-8 text (Latin-1 or Windows-1252, perhaps): save the file \
+                 as UTF-8"
+            )
+        } else {
+            format!("cannot be read at line {line}: {e}")
+        })
+    };
     let mut lines = source.lines().enumerate();
     let mut preamble = Vec::new();
     let (found, first_line) = loop {
@@ -382,7 +402,14 @@ pub fn read_table(
                 "holds no row of numbers under a header row".into(),
             ));
         };
-        let mut line = line.map_err(|e| TableError::Other(format!("cannot be read: {e}")))?;
+        let mut line = line.map_err(|e| unreadable(i + 1, e))?;
+        if line.trim_end_matches('\r').contains('\r') {
+            return Err(TableError::Other(format!(
+                "line {} holds carriage returns inside it: old Mac line ends (CR alone); save the \
+                 file with LF or CRLF line ends",
+                i + 1
+            )));
+        }
         if i == 0 {
             // The byte-order mark spreadsheets write first is not part of the first column's name.
             line = line.trim_start_matches('\u{feff}').to_string();
@@ -458,7 +485,7 @@ pub fn read_table(
     };
     read_row(first_line.0, &first_line.1)?;
     for (i, line) in lines {
-        let line = line.map_err(|e| TableError::Other(format!("cannot be read: {e}")))?;
+        let line = line.map_err(|e| unreadable(i + 1, e))?;
         read_row(i + 1, &line)?;
     }
     let mut notes = Vec::new();
@@ -762,6 +789,17 @@ mod tests {
         ] {
             let e = read(text, &r).unwrap_err().to_string();
             assert!(e.contains(needle), "{text:?}: {e}");
+        }
+        for (bytes, needle) in [
+            (&b"\xff\xfef\x00r\x00"[..], "UTF-16"),
+            (
+                &b"frame,xn,yn\n1,2,3\n\xe9,2,3\n"[..],
+                "line 3 is not UTF-8",
+            ),
+            (&b"frame,xn,yn\r1,2,3\r2,3,4\r"[..], "old Mac line ends"),
+        ] {
+            let e = read_table(bytes, &r, 1000).unwrap_err().to_string();
+            assert!(e.contains(needle), "{e}");
         }
         let long = "frame,xn,yn\n".to_string() + &"1,2,3\n".repeat(1001);
         assert!(
