@@ -511,6 +511,24 @@ fn recurring_gaps_never_make_a_multiple_of_the_period() {
     // These seeded tracks: three are refused (a fraction of the search's repeat repeats as well
     // on the measured frames); the 6.5-frame one is found, its bridges close enough to the motion.
     assert_eq!(refused, 3);
+    // The same gaps written as empty cells (rows kept, NaN where the tracker lost the body), as
+    // Tracker and trackpy export them: refused alike.
+    let t = periodic(1500, 12.5, 0.4, 0.01, 7);
+    let blank = |v: &[f64]| -> Vec<f64> {
+        v.iter()
+            .enumerate()
+            .map(|(i, &x)| if i % 20 == 0 { f64::NAN } else { x })
+            .collect()
+    };
+    match measure(&t.frames, &blank(&t.down), &blank(&t.across), &|_, _| {}) {
+        Err(TrackError::NoPeriod { why, .. }) => assert!(why.contains("12.50"), "{why}"),
+        Ok((_, fit)) => assert!(
+            (fit.period_frames - 12.5).abs() < 0.05,
+            "{}",
+            fit.period_frames
+        ),
+        Err(e) => panic!("{e}"),
+    }
     for (period, every, missing) in [(20.0, 20, 1), (40.0, 40, 2), (30.0, 40, 3), (17.3, 25, 2)] {
         let (_, fit) = with_gaps(period, every, missing).unwrap();
         assert!(

@@ -511,7 +511,7 @@ pub fn measure(
         });
     }
     let fit = find_period(&fine, &PeriodSearch::default(), progress)?;
-    gaps_do_not_make_the_repeat(&fine, frames, &fit)?;
+    gaps_do_not_make_the_repeat(&fine, (frames, down, across), &fit)?;
     Ok((fine, fit))
 }
 
@@ -523,13 +523,14 @@ pub fn measure(
 /// plus [`period::MULTIPLE_SLACK`]), T is a multiple made by the gaps and no period is stated.
 fn gaps_do_not_make_the_repeat(
     track: &CleanTrack,
-    raw_frames: &[f64],
+    (frames, down, across): (&[f64], &[f64], &[f64]),
     fit: &PeriodFit,
 ) -> Result<(), TrackError> {
-    let mut raw: Vec<f64> = raw_frames
-        .iter()
-        .copied()
-        .filter(|f| f.is_finite())
+    // Measured: a row with all three values (a tracker writes an empty cell where it lost the
+    // body, and that row is bridged like a missing one).
+    let mut raw: Vec<f64> = (0..frames.len())
+        .filter(|&i| frames[i].is_finite() && down[i].is_finite() && across[i].is_finite())
+        .map(|i| frames[i])
         .collect();
     raw.sort_by(f64::total_cmp);
     let measured: Vec<bool> = track
