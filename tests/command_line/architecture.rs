@@ -913,3 +913,39 @@ fn the_model_is_chosen_in_one_place() {
     );
     assert!(compared("if a.mass > 0.0 {") && compared("ramp.is_viscous()"));
 }
+
+/// Longest source file (lines) anywhere in the crates, and in the command line (`src/cli`, which
+/// only parses and prints): past these a file mixes concepts and is split by concept (issue 58).
+const MAX_SOURCE_LINES: usize = 1000;
+const MAX_CLI_LINES: usize = 700;
+
+#[test]
+fn no_source_file_is_over_its_length() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut roots = source_roots();
+    roots.push(root.join("python/src"));
+    let mut long = Vec::new();
+    for src in roots {
+        let mut files = Vec::new();
+        rust_files(&src, &mut files);
+        for f in files {
+            let lines = std::fs::read_to_string(&f).unwrap().lines().count();
+            let limit = if f.starts_with(root.join("src/cli")) {
+                MAX_CLI_LINES
+            } else {
+                MAX_SOURCE_LINES
+            };
+            if lines > limit {
+                long.push(format!(
+                    "{} has {lines} lines (at most {limit})",
+                    f.strip_prefix(root).unwrap().display()
+                ));
+            }
+        }
+    }
+    assert!(long.is_empty(), "split by concept: {long:#?}");
+    // The check sees the files: the core is there and counted.
+    let mut core = Vec::new();
+    rust_files(&root.join("crates/core/src"), &mut core);
+    assert!(core.len() > 50, "{} core files", core.len());
+}

@@ -2,8 +2,8 @@
 //! cruising fraction equals `sphere-cruising`'s at the same α, seed and orientations, and the
 //! Poincaré map equals the Poincaré field's arrows; bad input is an error naming it.
 
+use rollphase::analysis::orbits::poincare_field::{field_lattice, poincare_field};
 use rollphase::analysis::orbits::sphere_orbits::Decide;
-use rollphase::analysis::orbits::sphere_orbits::{field_lattice, poincare_field};
 use rollphase::analysis::studies::sphere::{
     StudyError, cruising_fraction, doubling_across_bodies, period_counts, poincare_map,
 };

@@ -15,7 +15,7 @@ use std::sync::Arc;
 use anyhow::{Context, Result, anyhow, bail};
 use image::RgbaImage;
 
-use crate::analysis::orbits::sphere_orbits::FieldArrow;
+use crate::analysis::orbits::poincare_field::FieldArrow;
 use crate::clip::{ClipKind, ClipWriter};
 use crate::dynamics::Ramp;
 use crate::live::LiveRun;

@@ -4,7 +4,7 @@
 //!
 //! From N boundary points p (a Fibonacci lattice; antipodes identified, and V(−p) = −V(p) since
 //! q and −q are the same orientation, so half the lattice is integrated) the body rolls until the
-//! next crossing of ∂Ω ([`crate::analysis::orbits::sphere_orbits::poincare_step`]); V = P(p) − p. Its
+//! next crossing of ∂Ω ([`crate::analysis::orbits::poincare_field::poincare_step`]); V = P(p) − p. Its
 //! attractors (stable closed orbits) are found by iterating P from a subset of starts until
 //! |V| < 1e-9 and clustering the limits (antipodes identified): the paper finds two antipodal
 //! pairs, i.e. two stable periodic orbits. Drawn as arrows on a flat (θ, φ) map and on the
@@ -18,9 +18,8 @@ use serde::Serialize;
 
 use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::critical_angle;
-use crate::analysis::orbits::sphere_orbits::{
-    boundary_distance, cluster_antipodal, field_from_images, field_lattice, poincare_step,
-};
+use crate::analysis::orbits::poincare_field::{field_from_images, field_lattice, poincare_step};
+use crate::analysis::orbits::sphere_orbits::{boundary_distance, cluster_antipodal};
 use crate::chart::{Panel, Series, SeriesLabelPosition, Style};
 use crate::colormap::viridis;
 use crate::dynamics::Ramp;

@@ -1,12 +1,12 @@
 //! [`FieldCache`]: the Poincaré field of a scene's body and ramp (see
-//! [`crate::analysis::orbits::sphere_orbits::poincare_field`]), computed once per (body, α, resolution)
+//! [`crate::analysis::orbits::poincare_field::poincare_field`]), computed once per (body, α, resolution)
 //! on a worker thread for the app, or on the caller's thread for headless frames. The view only
 //! draws the arrows it gets from here.
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
-use crate::analysis::orbits::sphere_orbits::{FieldArrow, poincare_field};
+use crate::analysis::orbits::poincare_field::{FieldArrow, poincare_field};
 use crate::dynamics::Ramp;
 use crate::geometry::Body;
 use crate::scene::SceneSetup;

@@ -3,10 +3,9 @@
 //! trail on the body, the orientation's path in the SO(3) ball), the measured period and the
 //! numerical health. Headless frames and the app's simulation thread both drive it.
 //!
-//! Time is an argument ([`LiveRun::advance_to`]): the same scene and the same sequence of
-//! target times give the same numbers on every run. Each call restarts the integrator from the
-//! stored state, so a run's values depend (within the tolerance) on the frame times it was
-//! advanced through, never on wall-clock time.
+//! Time is an argument ([`LiveRun::advance_to`]), and the run is put down between calls and
+//! taken up again bit for bit: its steps are the integrator's own, never cut where a frame
+//! falls, so the trajectory is `simulate`'s for the same scene at any frame rate, paused or not.
 //!
 //! Only what the views need is computed: the SO(3) trail only when the ball is shown.
 //!
@@ -18,7 +17,8 @@
 //!
 //! | file | owns |
 //! |---|---|
-//! | `simulation` | [`LiveRun`], [`Snapshot`], health (the running model is [`crate::simulate::ModelState`]) |
+//! | `live_run` | [`LiveRun`]: the run kept across frames, the lesson's steps, trails, crossings (the running model is [`crate::simulate::ModelState`]) |
+//! | `snapshot` | [`Snapshot`], [`Health`], [`SimError`]: what a run shows |
 //! | `controller` | [`Controller`], [`SimCommand`] |
 //! | `thread` | [`SimThread`], [`SimStatus`] |
 //! | `field` | [`FieldCache`]: Poincaré fields computed off the render thread |
@@ -28,9 +28,11 @@ mod controller;
 mod field;
 pub mod history;
 mod live_run;
+mod snapshot;
 mod thread;
 
 pub use controller::{Controller, SimCommand};
 pub use field::FieldCache;
 pub use live_run::*;
+pub use snapshot::*;
 pub use thread::{SimStatus, SimThread, TICK_INTERVAL};

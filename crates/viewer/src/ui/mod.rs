@@ -17,9 +17,11 @@
 //! |---|---|
 //! | `mod` | [`AppUi`]: the state, [`AppUi::show`] laying out the panels, [`UiAction`] |
 //! | `controls` | the menu bar and the control panels (playback, α and m/m0, integrator, body, views) |
+//! | `fields` | the typed number fields (α, m/m0) and the α rail's scale, finest at α* |
 //! | `files` | the files panel: scenes, shapes, CSV and PNG out, presets |
 //! | `dialog` | native Open / Save dialogs (rfd) on their own thread, or why there are none |
 //! | `keys` | the keyboard bindings and class mode |
+//! | `picking` | starts picked in the views: the curvature map, the SO(3) ball, the Poincaré field |
 //! | `plots`, `painter`, `workbench` | the plots, the wgpu painter, the windowless app core |
 //! | `measuring_sweep` | the measuring sweep of α or m/m0 (hold each value until measured, then step) |
 //! | `fonts` | egui's fonts with the bundled DejaVu Sans as the fallback |
@@ -32,8 +34,10 @@ pub mod plots;
 pub mod workbench;
 
 mod controls;
+mod fields;
 mod files;
 mod keys;
+mod picking;
 
 pub use controls::{ALPHA_FIELD, MASS_FIELD};
 

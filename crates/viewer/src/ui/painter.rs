@@ -13,7 +13,7 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use crate::analysis::orbits::sphere_orbits::FieldArrow;
+use crate::analysis::orbits::poincare_field::FieldArrow;
 use crate::live::SimStatus;
 use crate::live::{FieldCache, FieldWanted};
 use crate::render::Renderer;

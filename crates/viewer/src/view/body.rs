@@ -5,7 +5,7 @@ use std::f32::consts::PI;
 
 use glam::{DVec3, Mat4, Quat, Vec3};
 
-use crate::analysis::orbits::sphere_orbits::FieldArrow;
+use crate::analysis::orbits::poincare_field::FieldArrow;
 use crate::colormap::{VIRIDIS, linear, sample};
 use crate::live::Snapshot;
 use crate::render::types::{Camera, Material, MeshInstance, Segment, View};

@@ -18,7 +18,7 @@
 //!
 //! Colours come from [`crate::colormap`]; the Poincaré field from [`crate::live::FieldCache`].
 
-use crate::analysis::orbits::sphere_orbits::FieldArrow;
+use crate::analysis::orbits::poincare_field::FieldArrow;
 use crate::colormap::{DIVERGING, VIRIDIS, linear, sample};
 use crate::geometry::Body;
 use crate::geometry::mesh::{TriMesh, disk_mesh, icosphere, sphere_mesh};

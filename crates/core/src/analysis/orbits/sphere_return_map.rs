@@ -15,8 +15,9 @@ use glam::{DQuat, DVec3};
 use nalgebra::DVector;
 use serde::Serialize;
 
+use crate::analysis::orbits::poincare_field::{first_crossing, poincare_step};
 use crate::analysis::orbits::return_map::{self, ReturnMapError};
-use crate::analysis::orbits::sphere_orbits::{first_crossing, nearest_sign, poincare_step};
+use crate::analysis::orbits::sphere_orbits::nearest_sign;
 use crate::analysis::verdict::state_at_rest;
 use crate::dynamics::validity::{ContactReport, ContactWatch};
 use crate::dynamics::{Ramp, RollingModel, SphereInertial, SphereViscous};

@@ -14,10 +14,11 @@ use rayon::prelude::*;
 use serde::Serialize;
 use thiserror::Error;
 
+use crate::analysis::orbits::poincare_field::poincare_step;
 use crate::analysis::orbits::return_map::ReturnMapError;
 use crate::analysis::orbits::sphere_orbits::{
     Crossing, Decide, DecidedRun, RunEnd, Settle, Settlement, boundary_distance, cluster_antipodal,
-    decided_run, poincare_step, settle, settled_cycle,
+    decided_run, settle, settled_cycle,
 };
 use crate::analysis::orbits::sphere_return_map::{
     OrbitSolve, PeriodicOrbit, SectionState, inertial_crossings_until, periodic_orbit,

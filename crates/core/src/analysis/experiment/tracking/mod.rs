@@ -12,8 +12,10 @@
 pub mod calibration;
 pub mod harmonic;
 pub mod markers;
+mod mismatch;
 pub mod model;
 pub mod period;
+mod surrogates;
 pub mod table;
 
 pub use period::{

@@ -40,13 +40,13 @@
 //! δτ = √(E_min / (a·(n − τ))) for E ≈ E_min + a(τ − T)². `bench calibration` measures how
 //! often the stated 95 % interval holds a synthetic track's known period.
 
-use rand::{RngExt, SeedableRng};
-use rand_chacha::ChaCha8Rng;
-use rayon::prelude::*;
 use rustfft::FftPlanner;
 use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
+use super::mismatch::{Curve, Detrended, next_pow2, normalised};
+pub use super::surrogates::SMOOTHING_RATIO;
+use super::surrogates::surrogate_floor;
 use super::{CleanTrack, TrackError, harmonic};
 
 /// The normalised mismatch above which a period is not stated.
@@ -66,8 +66,6 @@ pub const CYCLE_WINDOW: f64 = 0.2;
 /// Surrogate tracks searched for the chance level (p < 1/(SURROGATES + 1) = 0.05, with the
 /// margin below on top).
 pub const SURROGATES: usize = 19;
-/// A surrogate's spectrum is the track's averaged over frequencies f/ρ … f·ρ.
-pub const SMOOTHING_RATIO: f64 = 1.5;
 /// Surrogates of longer tracks are of their first this many frames (2¹⁸).
 pub const SURROGATE_FRAMES: usize = 1 << 18;
 /// The track's dip must be below this fraction of the lowest a surrogate reached.
@@ -75,8 +73,6 @@ pub const SURROGATE_MARGIN: f64 = 0.5;
 /// A period is refused when the harmonic fit of the whole track leaves more than this many
 /// times the residual its blocks leave ([`harmonic::BlockCheck::residual_ratio`]).
 pub const MAX_FIT_EXCESS: f64 = 4.0;
-/// The surrogates' seed: the same track gives the same answer on every run.
-const SURROGATE_SEED: u64 = 0x5EED_7AC4;
 
 /// How the period search runs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -157,180 +153,6 @@ pub struct PeriodFit {
     pub mismatch_curve: Vec<[f64; 2]>,
 }
 
-/// The track as z = down + i·across less its least-squares line.
-struct Detrended {
-    z: Vec<Complex64>,
-    /// The line's slope (per frame), added back to the mean displacement.
-    slope: Complex64,
-}
-
-impl Detrended {
-    fn of(track: &CleanTrack) -> Self {
-        let z: Vec<Complex64> = track
-            .down
-            .iter()
-            .zip(&track.across)
-            .map(|(&d, &a)| Complex64::new(d, a))
-            .collect();
-        Self::of_signal(z)
-    }
-
-    fn of_signal(mut z: Vec<Complex64>) -> Self {
-        let n = z.len() as f64;
-        let mid = (n - 1.0) / 2.0;
-        let mean = z.iter().sum::<Complex64>() / n;
-        let (mut sxy, mut sxx) = (Complex64::new(0.0, 0.0), 0.0);
-        for (i, v) in z.iter().enumerate() {
-            let x = i as f64 - mid;
-            sxy += (v - mean) * x;
-            sxx += x * x;
-        }
-        let slope = if sxx > 0.0 { sxy / sxx } else { sxy * 0.0 };
-        for (i, v) in z.iter_mut().enumerate() {
-            *v -= mean + slope * (i as f64 - mid);
-        }
-        Detrended { z, slope }
-    }
-
-    /// Twice the variance: the mismatch of unrelated points.
-    fn scale(&self) -> f64 {
-        2.0 * self.z.iter().map(Complex64::norm_sqr).sum::<f64>() / self.z.len() as f64
-    }
-
-    /// E(τ) (unnormalised) and the mean displacement over τ for a whole shift, directly: the
-    /// FFT curve's check.
-    #[cfg(test)]
-    fn mismatch_at(&self, tau: usize) -> (f64, Complex64) {
-        let n = self.z.len();
-        let count = n - tau;
-        let (mut sum, mut sq) = (Complex64::new(0.0, 0.0), 0.0);
-        for i in 0..count {
-            let d = self.z[i + tau] - self.z[i];
-            sum += d;
-            sq += d.norm_sqr();
-        }
-        let c = count as f64;
-        let mean = sum / c;
-        ((sq / c - mean.norm_sqr()).max(0.0), mean)
-    }
-}
-
-fn next_pow2(n: usize) -> usize {
-    n.max(2).next_power_of_two()
-}
-
-/// The mismatch at every whole shift, and what evaluates it between whole shifts.
-struct Curve {
-    /// E(τ) (unnormalised) at τ = 0 … max_tau.
-    e: Vec<f64>,
-    /// The mean displacement D(τ).
-    displacement: Vec<Complex64>,
-    /// Σ|z(t + τ)|² + Σ|z(t)|² over the n − τ pairs.
-    squares: Vec<f64>,
-    /// The power spectrum folded onto |frequency| (P_j + P_{m−j}), for the autocorrelation
-    /// between whole shifts.
-    folded_power: Vec<f64>,
-    /// The FFT length.
-    m: usize,
-    /// The track's length.
-    len: usize,
-}
-
-impl Curve {
-    /// E(τ) for every whole shift τ = 0 … `max_tau` (unnormalised): Σ|z|² sums by prefix sums,
-    /// the autocorrelation by one FFT pair of length ≥ 2n (no wrap-around).
-    fn of(z: &[Complex64], max_tau: usize, planner: &mut FftPlanner<f64>) -> Curve {
-        let n = z.len();
-        let m = next_pow2(2 * n);
-        let mut buf = vec![Complex64::new(0.0, 0.0); m];
-        buf[..n].copy_from_slice(z);
-        planner.plan_fft_forward(m).process(&mut buf);
-        let power: Vec<f64> = buf.iter().map(Complex64::norm_sqr).collect();
-        let mut folded_power = Vec::with_capacity(m / 2 + 1);
-        folded_power.push(power[0]);
-        for j in 1..m / 2 {
-            folded_power.push(power[j] + power[m - j]);
-        }
-        folded_power.push(power[m / 2]);
-        for (b, p) in buf.iter_mut().zip(&power) {
-            *b = Complex64::new(*p, 0.0);
-        }
-        planner.plan_fft_inverse(m).process(&mut buf);
-        let mut s1 = vec![Complex64::new(0.0, 0.0); n + 1];
-        let mut s2 = vec![0.0; n + 1];
-        for (i, v) in z.iter().enumerate() {
-            s1[i + 1] = s1[i] + v;
-            s2[i + 1] = s2[i] + v.norm_sqr();
-        }
-        let top = max_tau.min(n - 1);
-        let mut e = Vec::with_capacity(top + 1);
-        let mut displacement = Vec::with_capacity(top + 1);
-        let mut squares = Vec::with_capacity(top + 1);
-        for tau in 0..=top {
-            let count = n - tau;
-            let c = count as f64;
-            // Σ_{t<count} |z(t+τ) − z(t)|² = Σ|z(t+τ)|² + Σ|z(t)|² − 2 Re Σ conj(z(t)) z(t+τ).
-            let auto = buf[tau].re / m as f64;
-            let sq = (s2[n] - s2[tau]) + s2[count];
-            let mean = ((s1[n] - s1[tau]) - s1[count]) / c;
-            e.push(((sq - 2.0 * auto) / c - mean.norm_sqr()).max(0.0));
-            displacement.push(mean);
-            squares.push(sq);
-        }
-        Curve {
-            e,
-            displacement,
-            squares,
-            folded_power,
-            m,
-            len: n,
-        }
-    }
-
-    /// E and D at a shift between whole frames: the autocorrelation by its band-limited
-    /// (trigonometric) interpolation, exact at whole shifts, which shifts the noise without
-    /// averaging it away; the sums of squares and D, which change by one end point a frame,
-    /// linearly.
-    fn at(&self, tau: f64) -> (f64, Complex64) {
-        let k = (tau.floor() as usize).min(self.e.len() - 2);
-        let s = tau - k as f64;
-        let lerp = |a: f64, b: f64| a + (b - a) * s;
-        let sq = lerp(self.squares[k], self.squares[k + 1]);
-        let mean = self.displacement[k] + (self.displacement[k + 1] - self.displacement[k]) * s;
-        let theta = std::f64::consts::TAU * tau / self.m as f64;
-        let mut auto = self.folded_power[0];
-        let mut phase = Complex64::new(1.0, 0.0);
-        let step = Complex64::from_polar(1.0, theta);
-        for (j, p) in self.folded_power.iter().enumerate().skip(1) {
-            // Re-anchored every 1024 steps so that round-off in the recurrence cannot grow.
-            phase = if j % 1024 == 0 {
-                Complex64::from_polar(1.0, theta * j as f64)
-            } else {
-                phase * step
-            };
-            auto += p * phase.re;
-        }
-        let auto = auto / self.m as f64;
-        let pairs = self.len as f64 - tau;
-        (((sq - 2.0 * auto) / pairs - mean.norm_sqr()).max(0.0), mean)
-    }
-}
-
-/// The cumulative-mean-normalised mismatch d′(τ) = e(τ)·τ / Σ_{1≤s≤τ} e(s) (d′(0) = 1).
-fn normalised(e: &[f64]) -> Vec<f64> {
-    let mut out = Vec::with_capacity(e.len());
-    let mut sum = 0.0;
-    for (tau, &v) in e.iter().enumerate() {
-        if tau == 0 {
-            out.push(1.0);
-            continue;
-        }
-        sum += v;
-        out.push(if sum > 0.0 { v * tau as f64 / sum } else { 1.0 });
-    }
-    out
-}
-
 /// The dips of d′ below [`MAX_NORMALISED_DIP`] from shift 2 on, each as its lowest whole
 /// shift by `e`; a dip that runs into the end of the range may be cut off and is left out.
 fn dips(e: &[f64], dn: &[f64]) -> Vec<usize> {
@@ -352,11 +174,6 @@ fn dips(e: &[f64], dn: &[f64]) -> Vec<usize> {
         }
     }
     out
-}
-
-/// The lowest d′ anywhere from shift 2 to the end of the range (the chance statistic).
-fn lowest_dip(dn: &[f64]) -> f64 {
-    dn.iter().skip(2).copied().fold(f64::INFINITY, f64::min)
 }
 
 /// A dip at whole shift `k` refined: [`Curve::at`] at quarter frames over k ± 1, then the
@@ -588,74 +405,6 @@ fn fundamental(z: &[Complex64], tau: f64, longest: f64) -> Fundamental {
 
 fn gcd(a: usize, b: usize) -> usize {
     if b == 0 { a } else { gcd(b, a % b) }
-}
-
-/// The lowest d′ that [`SURROGATES`] surrogate tracks reach: the track's spectrum (of z, so
-/// the sense of any rotation is kept) averaged over f/ρ … f·ρ on each side, random phases, a
-/// fixed seed per surrogate (the same on every run, whatever the thread count).
-fn surrogate_floor(
-    det: &Detrended,
-    count: usize,
-    max_tau: usize,
-    progress: &(dyn Fn(usize, usize) + Sync),
-) -> f64 {
-    // The spectrum and the surrogates at a power-of-two length (the track zero-padded, each
-    // surrogate cut to the track's length): a track of awkward length would otherwise take
-    // Bluestein's three FFTs per transform, and the spectrum is smoothed over ±50 % anyway.
-    let len = det.z.len();
-    let n = next_pow2(len);
-    let mut planner = FftPlanner::new();
-    let mut spectrum = det.z.clone();
-    spectrum.resize(n, Complex64::new(0.0, 0.0));
-    planner.plan_fft_forward(n).process(&mut spectrum);
-    // Signed frequency index of bin k: k for k ≤ n/2, k − n above.
-    let power: Vec<f64> = spectrum.iter().map(Complex64::norm_sqr).collect();
-    let half = n / 2;
-    let mut smoothed = vec![0.0; n];
-    for sign in [1i64, -1] {
-        // |f| = 1 … half on this side, prefix sums over |f|.
-        let bin = |f: usize| -> usize { if sign > 0 { f } else { (n - f) % n } };
-        let mut prefix = vec![0.0; half + 2];
-        for f in 1..=half {
-            prefix[f + 1] = prefix[f] + power[bin(f)];
-        }
-        for f in 1..=half {
-            let a = ((f as f64 / SMOOTHING_RATIO).ceil() as usize).max(1);
-            let b = ((f as f64 * SMOOTHING_RATIO).floor() as usize).clamp(a, half);
-            smoothed[bin(f)] = (prefix[b + 1] - prefix[a]) / (b + 1 - a) as f64;
-        }
-    }
-    let amplitude: Vec<f64> = smoothed.iter().map(|p| p.sqrt()).collect();
-    let done = std::sync::atomic::AtomicUsize::new(0);
-    (0..count)
-        .into_par_iter()
-        .map(|s| {
-            let mut rng = ChaCha8Rng::seed_from_u64(SURROGATE_SEED.wrapping_add(s as u64));
-            let mut z: Vec<Complex64> = amplitude
-                .iter()
-                .map(|&a| Complex64::from_polar(a, rng.random::<f64>() * std::f64::consts::TAU))
-                .collect();
-            z[0] = Complex64::new(0.0, 0.0);
-            let mut planner = FftPlanner::new();
-            planner.plan_fft_inverse(n).process(&mut z);
-            z.truncate(len);
-            let det = Detrended::of_signal(z);
-            let scale = det.scale();
-            let e: Vec<f64> = Curve::of(&det.z, max_tau, &mut planner)
-                .e
-                .into_iter()
-                .map(|v| v / scale)
-                .collect();
-            let floor = lowest_dip(&normalised(&e));
-            progress(
-                done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1,
-                count,
-            );
-            floor
-        })
-        .collect::<Vec<f64>>()
-        .into_iter()
-        .fold(f64::INFINITY, f64::min)
 }
 
 /// The check against chance (see the module doc) of the period `tau` with normalised
