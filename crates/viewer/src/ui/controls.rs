@@ -323,11 +323,13 @@ impl AppUi {
                         }
                     }
                 });
+            let target = choice.target;
             ui.add(
                 egui::DragValue::new(&mut choice.step)
                     .range(-1.0..=1.0)
                     .speed(1e-4)
-                    .max_decimals(5),
+                    .custom_formatter(move |step, _| target.shown_step(step))
+                    .custom_parser(move |text| target.parse_step(text)),
             )
             .on_hover_text(choice.target.step_hint());
             ui.label("per point");

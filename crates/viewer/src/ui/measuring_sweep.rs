@@ -33,8 +33,8 @@ impl SweepTarget {
         match self {
             SweepTarget::Alpha => "radians added to α after each point (negative: down)",
             SweepTarget::MassRatio => {
-                "ln of the factor m/m0 is multiplied by after each point (0.05: 5 % more; \
-                 negative: down)"
+                "the factor m/m0 is multiplied by after each point (×1.051: 5 % more; below \
+                 ×1: down)"
             }
         }
     }
@@ -45,6 +45,33 @@ impl SweepTarget {
             SweepTarget::Alpha => (ALPHA_MIN, ALPHA_MAX),
             SweepTarget::MassRatio => MASS_RANGE,
         }
+    }
+
+    /// The step as the sweep's field and the status bar both show it: α's in radians
+    /// ("+0.00200 rad"), m/m0's as the factor per point ("×1.051"; the step is its ln). The
+    /// field once showed m/m0's ln ("0.0500") beside the status bar's factor.
+    pub fn shown_step(self, step: f64) -> String {
+        match self {
+            SweepTarget::Alpha => format!("{step:+.5} rad"),
+            SweepTarget::MassRatio => format!("×{:.3}", step.exp()),
+        }
+    }
+
+    /// A typed step read back as [`Self::shown_step`] writes it (the unit and the × may be left
+    /// out); `None` for text that is no step: not a number, or a factor that is not > 0.
+    pub fn parse_step(self, text: &str) -> Option<f64> {
+        let t = text.trim();
+        match self {
+            SweepTarget::Alpha => t.trim_end_matches("rad").trim().parse::<f64>().ok(),
+            SweepTarget::MassRatio => t
+                .trim_start_matches(['×', 'x', '*'])
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|f| *f > 0.0 && f.is_finite())
+                .map(f64::ln),
+        }
+        .filter(|s| s.is_finite())
     }
 
     /// A step fine enough to follow a branch: about 1 % of the paper's α*, 5 % in m/m0.
@@ -142,10 +169,7 @@ impl MeasuringSweep {
 
     /// One line for the status bar: what moves, and where the hold is.
     pub fn describe(&self, hold: &SweepHold) -> String {
-        let step = match self.target {
-            SweepTarget::Alpha => format!("{:+.5} rad", self.step),
-            SweepTarget::MassRatio => format!("×{:.3}", self.step.exp()),
-        };
+        let step = self.target.shown_step(self.step);
         let at = hold.value.map_or(String::new(), |v| {
             format!(" at {} = {v:.5}", self.target.name())
         });
@@ -302,6 +326,30 @@ impl SweepHold {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_field_and_the_status_bar_show_the_step_alike() {
+        let sweep = MeasuringSweep::default();
+        let field = sweep.target.shown_step(sweep.step);
+        assert_eq!(field, "×1.051");
+        assert!(
+            sweep.describe(&SweepHold::default()).contains(&field),
+            "{}",
+            sweep.describe(&SweepHold::default())
+        );
+        // What the field shows reads back (to its digits), with or without the ×.
+        let back = sweep.target.parse_step(&field).unwrap();
+        assert!((back.exp() - 1.051).abs() < 1e-12);
+        assert_eq!(sweep.target.parse_step("0.95"), Some(0.95f64.ln()));
+        let alpha = SweepTarget::Alpha;
+        assert_eq!(alpha.shown_step(-0.002), "-0.00200 rad");
+        assert_eq!(alpha.parse_step("-0.00200 rad"), Some(-0.002));
+        // No step: a factor ≤ 0, NaN or text.
+        for bad in ["×0", "-1.2", "NaN", "inf", "fast", ""] {
+            assert_eq!(sweep.target.parse_step(bad), None, "{bad}");
+        }
+        assert_eq!(alpha.parse_step("nan rad"), None);
+    }
 
     #[test]
     fn a_sweep_steps_by_its_step_and_stops_at_the_end() {
