@@ -1350,8 +1350,9 @@ alpha_over_critical = 3.0
     }
     let at_first_step = at_first_step.expect("a point during the first step");
     assert!(points(&bench).len() >= 3);
-    // Paused at step 3, B goes back to the start of step 2: the plot holds what step 1
-    // measured, and nothing of steps 2 and 3.
+    // Paused at step 3, B goes back to the start of step 2: the plot holds step 2's evidence
+    // (what steps 1 and 2 measure, computed ahead from the lesson's own run), and nothing of
+    // step 3.
     let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::Space), |s| {
         s.paused
     });
@@ -1362,7 +1363,7 @@ alpha_over_critical = 3.0
     frames(&mut bench, &gpu, &target, vec![], 2);
     let after_b = points(&bench);
     assert!(
-        !measured_at(&bench, 2.0) && !measured_at(&bench, 3.0),
+        measured_at(&bench, 2.0) && !measured_at(&bench, 3.0),
         "{after_b:?}"
     );
     // Step 1's points are kept (by α: the UI may take in one more period measured at 1.5 α*
@@ -1377,12 +1378,78 @@ alpha_over_critical = 3.0
         bench.ui.history().sweep(Branch::Down).is_empty(),
         "{after_b:?}"
     );
-    // R restarts the lesson: an empty plot, as at its start.
+    // R restarts the lesson: its first step's evidence (the point at 1.5 α*) and nothing of
+    // the steps after.
     frames_until(&mut bench, &gpu, &target, key(egui::Key::R), |s| {
         s.run_id == run + 2
     });
     frames(&mut bench, &gpu, &target, vec![], 2);
-    assert!(points(&bench).is_empty(), "{:?}", points(&bench));
+    assert!(
+        measured_at(&bench, 1.5) && !measured_at(&bench, 2.0) && !measured_at(&bench, 3.0),
+        "{:?}",
+        points(&bench)
+    );
+}
+
+/// A lesson step shows its caption's evidence as it opens, however soon N is pressed: paused
+/// at the period-doubling lesson's start, N N goes to "m/m0 = 4.5 … (period 2)", and the
+/// crossings plot holds two separated points at m/m0 = 4.5 (the doubled orbit) once the
+/// evidence, measured ahead on a worker thread, is in; until then the caption says it is being
+/// measured. Before, the plot stayed empty for the whole step when N was pressed early.
+#[test]
+fn a_lesson_step_shows_its_evidence_however_soon_n_is_pressed() {
+    let (gpu, target, mut bench) = app("lesson-period-doubling");
+    frames_until(&mut bench, &gpu, &target, key(egui::Key::Space), |s| {
+        s.paused
+    });
+    frames_until(&mut bench, &gpu, &target, key(egui::Key::N), |s| {
+        s.snapshot.lesson.unwrap().done == 2
+    });
+    frames_until(&mut bench, &gpu, &target, key(egui::Key::N), |s| {
+        s.snapshot.lesson.unwrap().done == 3
+    });
+    let branches = |bench: &Workbench| -> Vec<f64> {
+        let mut found: Vec<f64> = Vec::new();
+        for p in bench.ui.history().crossings_by_mass() {
+            if p[0] == 4.5 && found.iter().all(|f| (f - p[1]).abs() > 0.1) {
+                found.push(p[1]);
+            }
+        }
+        found
+    };
+    let start = Instant::now();
+    let mut noted = false;
+    loop {
+        let frame = bench.run_ui(offscreen_input(SIZE, now(), vec![]), SIZE);
+        bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+        let caption = frame.status.snapshot.caption.clone().unwrap_or_default();
+        assert!(caption.contains("period 2"), "{caption}");
+        assert_eq!(frame.status.snapshot.lesson.unwrap().done, 3);
+        if branches(&bench).len() == 2 {
+            break;
+        }
+        // No claim over an empty plot without a word: the caption says it is measured.
+        assert!(
+            caption.contains("measuring this step's evidence ahead"),
+            "the plot lacks period 2 and the caption says nothing: {caption}"
+        );
+        noted = true;
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "no period-2 evidence: {:?}",
+            bench.ui.history().crossings_by_mass()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    // Paused, the run never reached the flip itself: the points are the evidence's.
+    assert!(bench.sim.status().paused);
+    // Once shown, the caption is the lesson's own again.
+    let frame = bench.run_ui(offscreen_input(SIZE, now(), vec![]), SIZE);
+    let caption = frame.status.snapshot.caption.clone().unwrap_or_default();
+    assert!(
+        !caption.contains("measuring"),
+        "{caption} (noted before: {noted})"
+    );
 }
 
 /// Save state writes the run as it is (time, pose and velocity, the sweep plot's points), and

@@ -26,6 +26,7 @@ mod design;
 mod drag_law;
 mod figures;
 mod guide_commands;
+mod lesson_evidence;
 mod presets;
 mod readme_commands;
 mod scene_simulation;

@@ -188,8 +188,9 @@ impl PlotHistory {
             && rollable
             && self.last_crossing_t != Some(t)
             && snap.period_multiplicity.is_some()
-            && snap.model.is_inertial()
         {
+            // The viscous model is the massless limit: its crossings are the diagram's points
+            // at m/m0 = 0 (a lesson's first step claims period 1 there).
             let p = if p.z < 0.0 { -p } else { p };
             let point = [snap.mass_ratio, p.z.clamp(-1.0, 1.0).acos()];
             let seen = self

@@ -91,6 +91,10 @@ pub struct LiveRun {
     /// the same at any frame rate, paused or not, and the same as `simulate`'s. `None` until
     /// the first step, and after α, m/m0, the integrator or the drag law change.
     continuation: Option<Continuation>,
+    /// α, m/m0, the drag law or the integrator were changed by hand ([`Self::set_parameters`]),
+    /// not by the scene's timeline: the run no longer plays the scene as written, so a lesson's
+    /// evidence computed ahead from the scene ([`super::evidence`]) is not this run's.
+    off_script: bool,
 }
 
 /// See [`LiveRun::continuation`].
@@ -169,6 +173,7 @@ impl LiveRun {
             contact,
             hull_tips: setup_body_dented.then_some((0, 0.0)),
             continuation: None,
+            off_script: false,
         };
         let o = observe(&sim.state, &sim.ramp);
         sim.energy0 = o.energy;
@@ -256,7 +261,7 @@ impl LiveRun {
             )
             .map_err(|e| SimError::Refused(format!("timeline step at t = {}: {e}", step.at)))?
             .with_drag_law(self.ramp.drag_law);
-            self.set_parameters(ramp, step.method.unwrap_or(self.method))?;
+            self.change_parameters(ramp, step.method.unwrap_or(self.method))?;
         }
         if let Some(change) = &step.views {
             let views = change.applied_to(&self.setup.scene.views);
@@ -301,6 +306,19 @@ impl LiveRun {
     /// Going from inertial to viscous drops the velocity; from viscous to inertial the body
     /// starts from rest.
     pub fn set_parameters(&mut self, ramp: Ramp, method: Method) -> Result<(), SimError> {
+        self.change_parameters(ramp, method)?;
+        self.off_script = true;
+        Ok(())
+    }
+
+    /// Whether α, m/m0, the drag law or the integrator were changed by hand since the run
+    /// started: it then no longer plays its scene as written.
+    pub fn off_script(&self) -> bool {
+        self.off_script
+    }
+
+    /// [`Self::set_parameters`] for a hand change or a timeline step alike.
+    fn change_parameters(&mut self, ramp: Ramp, method: Method) -> Result<(), SimError> {
         let choice = choose_model(&self.setup.body, ramp, method)
             .map_err(|e| SimError::Refused(e.to_string()))?;
         method
@@ -719,6 +737,7 @@ impl LiveRun {
                 next_at: self.next_step_time(),
             }),
             poincare_field: self.field_wanted(),
+            off_script: self.off_script,
         }
     }
 

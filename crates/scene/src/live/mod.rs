@@ -21,10 +21,12 @@
 //! | `snapshot` | [`Snapshot`], [`Health`], [`SimError`]: what a run shows |
 //! | `controller` | [`Controller`], [`SimCommand`] |
 //! | `thread` | [`SimThread`], [`SimStatus`] |
+//! | `evidence` | [`evidence::LessonEvidence`]: a lesson's plots measured ahead, step by step, on a worker thread |
 //! | `field` | [`FieldCache`]: Poincaré fields computed off the render thread |
 //! | `history` | [`history::PlotHistory`]: the plotted series accumulated from snapshots, and their CSV |
 
 mod controller;
+pub mod evidence;
 mod field;
 pub mod history;
 mod live_run;

@@ -65,7 +65,7 @@ pub struct BodyPose {
 pub struct Snapshot {
     /// Simulation time.
     pub t: f64,
-    /// The model's whole state vector at `t` ([`ModelState::vector`]): what Save state writes.
+    /// The model's whole state vector at `t` ([`crate::simulate::ModelState::vector`]): what Save state writes.
     pub state: Vec<f64>,
     /// Which model runs.
     pub model: ModelKind,
@@ -139,6 +139,9 @@ pub struct Snapshot {
     /// Which Poincaré field the view should show now: decided here, once, for the app and the
     /// headless frames alike (they only fetch and draw it).
     pub poincare_field: FieldWanted,
+    /// α, m/m0, the drag law or the integrator were changed by hand: the run no longer plays
+    /// its scene (a lesson's evidence computed ahead is not this run's).
+    pub off_script: bool,
 }
 
 /// What the Poincaré-field view needs at a moment of the run.

@@ -81,7 +81,7 @@ pub struct Scene {
     /// Resolution of the Poincaré field, used only when that view is on.
     #[serde(default)]
     pub poincare: PoincareSpec,
-    /// A lesson's steps (`[[timeline]]`), in increasing simulation time; see [`timeline`].
+    /// A lesson's steps (`[[timeline]]`), in increasing simulation time; see `scene::timeline`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub timeline: Vec<TimelineSpec>,
     /// A saved state to go on from (the app's "Save state"), instead of `[initial]` at t = 0.

@@ -166,6 +166,10 @@ pub struct AppUi {
     /// go back to a step, and its plots come back with it (stale points of later steps, in
     /// the other direction's colour, changed the lesson's final fit).
     step_plots: std::collections::BTreeMap<usize, crate::live::history::PlotCheckpoint>,
+    /// The lesson's evidence, measured ahead on a worker thread for the setup now running.
+    evidence: Option<crate::live::evidence::LessonEvidence>,
+    /// The lesson step whose evidence the plots took in last (`None`: none since the run began).
+    evidence_shown: Option<usize>,
     /// Native Open / Save dialogs.
     pub dialogs: dialog::FileDialogs,
     /// A dropped mesh being fitted.
@@ -238,6 +242,8 @@ impl AppUi {
             turn: 0.0,
             seen_step: None,
             step_plots: std::collections::BTreeMap::new(),
+            evidence: None,
+            evidence_shown: None,
             asked_speed: None,
             dialogs: dialog::FileDialogs::detect(),
             mesh_fit: None,
@@ -298,7 +304,9 @@ impl AppUi {
             }
             self.follow_values(status);
             self.seen_run = Some(run);
+            self.evidence_shown = None;
         }
+        self.take_in_evidence(status, step);
         if let Some(done) = step {
             self.step_plots
                 .entry(done)
@@ -336,6 +344,46 @@ impl AppUi {
         // this run's.
         if samples.0 == run {
             self.history.push_samples(samples.1);
+        }
+    }
+
+    /// A lesson's evidence: measured ahead for each new setup with a timeline, and taken into
+    /// the plots as each step opens (or as soon as it is measured), while the run plays the
+    /// lesson as written. A run changed by hand is its own: its plots are what it collects.
+    fn take_in_evidence(&mut self, status: &SimStatus, step: Option<usize>) {
+        if self
+            .evidence
+            .as_ref()
+            .is_none_or(|e| !e.is_for(&status.setup))
+        {
+            self.evidence = crate::live::evidence::LessonEvidence::start(status.setup.clone());
+            self.evidence_shown = None;
+        }
+        if let (Some(done), Some(evidence)) = (step, &self.evidence)
+            && !status.snapshot.off_script
+            && self.evidence_shown != Some(done)
+            && let Some(checkpoint) = evidence.step(done)
+        {
+            self.history.restore(&checkpoint);
+            self.evidence_shown = Some(done);
+        }
+    }
+
+    /// The line under a lesson's caption while the step's evidence is still being measured
+    /// (`None` once it is shown, for a run changed by hand, or outside a lesson).
+    pub fn evidence_note(&self, status: &SimStatus) -> Option<String> {
+        let done = status.snapshot.lesson?.done;
+        let evidence = self.evidence.as_ref()?;
+        if status.snapshot.off_script || !evidence.is_for(&status.setup) {
+            return None;
+        }
+        match evidence.progress(done) {
+            (f, None) if f < 1.0 => Some(format!(
+                "measuring this step's evidence ahead: {:.0} %",
+                100.0 * f
+            )),
+            (_, Some(why)) => Some(format!("this step's evidence could not be measured: {why}")),
+            _ => None,
         }
     }
 

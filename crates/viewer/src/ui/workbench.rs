@@ -138,6 +138,17 @@ impl Workbench {
         self.ui.field_note = note;
         let samples = self.sim.take_plot_samples();
         self.ui.follow_status(&status, scale, samples);
+        // Under a lesson's caption, while its step's evidence is measured: say so (the plot
+        // under the claim would otherwise look empty or partial without a word).
+        let status = match self.ui.evidence_note(&status) {
+            Some(note) => {
+                let mut shown = (*status).clone();
+                let caption = shown.snapshot.caption.take().unwrap_or_default();
+                shown.snapshot.caption = Some(format!("{caption} ({note})"));
+                std::sync::Arc::new(shown)
+            }
+            None => status,
+        };
         self.ui.recording = self.recording.as_ref().map(|r| RecordProgress {
             done: r.done,
             total: r.total,

@@ -1,0 +1,211 @@
+//! A lesson's evidence, measured ahead of the live clock: the scene's own run, from its start to
+//! its end at full speed on a worker thread, with the plots' points it collects (1/T against α,
+//! the settled crossings of ∂Ω against m/m0) kept as they stand at the end of each step. While
+//! the teacher's run plays the scene as written ([`super::Snapshot::off_script`] false), the
+//! app shows a step's whole evidence as the step opens, however soon N is pressed: the caption's
+//! claim and the points that back it are on the screen together. The run is the same one the
+//! live run makes (a run does not depend on where its frames fall), so the points are the ones
+//! the live run would collect by the step's end, only sooner.
+//!
+//! A step whose evidence is not measured yet is reported with how far the measurement has got,
+//! so the app can say so under the caption instead of showing an empty plot under a claim.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+
+use crate::scene::SceneSetup;
+
+use super::LiveRun;
+use super::history::{PlotCheckpoint, PlotHistory};
+
+/// Simulation time between the snapshots the evidence run takes in: far below the time between
+/// two crossings of ∂Ω or two turns of a cylinder (several t0), so none is missed.
+pub const EVIDENCE_DT: f64 = 0.25;
+
+/// Simulation time a lesson's last step is measured for when its scene sets no
+/// `playback.end_time`.
+pub const LAST_STEP_SPAN: f64 = 600.0;
+
+/// The simulation-time span of each step's evidence: step `d` (the state after `d` timeline
+/// steps were applied, as [`super::LessonProgress::done`] counts) runs from the step before's
+/// time to `ends[d]`, the next step's time (or the scene's end).
+///
+/// # Example
+/// ```
+/// use rollphase_scene::live::evidence::step_ends;
+/// use rollphase_scene::scene::Scene;
+/// let setup = Scene::preset("lesson-period-doubling")?.setup(None)?;
+/// // Steps at 0, 400, 900 and 1600; the scene ends at 2400.
+/// assert_eq!(step_ends(&setup), [0.0, 400.0, 900.0, 1600.0, 2400.0]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn step_ends(setup: &SceneSetup) -> Vec<f64> {
+    let mut ends: Vec<f64> = setup.timeline.iter().map(|s| s.at).collect();
+    let last = ends.last().copied().unwrap_or(0.0);
+    ends.push(
+        setup
+            .scene
+            .playback
+            .end_time
+            .filter(|&e| e > last)
+            .unwrap_or(last + LAST_STEP_SPAN),
+    );
+    ends
+}
+
+/// What the evidence run has measured so far.
+#[derive(Debug, Clone, Default)]
+pub struct EvidenceState {
+    /// The plots as they stand at the end of each step measured so far (index: steps done).
+    pub steps: Vec<PlotCheckpoint>,
+    /// Simulation time the run has reached.
+    pub t_done: f64,
+    /// The end of the last step's evidence.
+    pub t_end: f64,
+    /// Why the run stopped early, if it did (the steps measured before stay valid).
+    pub failed: Option<String>,
+}
+
+/// Runs the lesson of `setup` from its start (its `[resume]` ignored) to the end of its last
+/// step, taking a snapshot every [`EVIDENCE_DT`] into a [`PlotHistory`], and calls `publish`
+/// with the state after each step's end and every `report_every` of simulation time. Stops
+/// when `stop` is set. The same numbers on every run: the lesson's own run, stepped as the live
+/// run steps it.
+///
+/// # Example
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use rollphase_scene::live::evidence::measure_evidence;
+/// use rollphase_scene::scene::Scene;
+/// let mut setup = Scene::preset("lesson-critical-angle")?.setup(None)?;
+/// setup.scene.playback.end_time = Some(60.0); // a short lesson for the example
+/// setup.timeline.retain(|s| s.at < 60.0);
+/// let mut last = None;
+/// measure_evidence(&setup, &AtomicBool::new(false), 1e9, |s| last = Some(s.clone()));
+/// let state = last.unwrap();
+/// assert_eq!(state.steps.len(), setup.timeline.len() + 1);
+/// assert!(state.failed.is_none() && state.t_done >= 60.0 - 1e-9);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn measure_evidence(
+    setup: &SceneSetup,
+    stop: &AtomicBool,
+    report_every: f64,
+    mut publish: impl FnMut(&EvidenceState),
+) {
+    let mut setup = setup.clone();
+    setup.resume = None;
+    let ends = step_ends(&setup);
+    let mut state = EvidenceState {
+        t_end: *ends.last().unwrap_or(&0.0),
+        ..EvidenceState::default()
+    };
+    let mut sim = LiveRun::new(setup);
+    let mut history = PlotHistory::default();
+    let mut next_report = report_every;
+    for &end in &ends {
+        // The snapshots up to the step's end, the step's own time left to the next step (a
+        // step applies at its time, and its point belongs to the next step's evidence).
+        loop {
+            if stop.load(Ordering::Relaxed) {
+                return;
+            }
+            let t = (sim.time() + EVIDENCE_DT).min(end);
+            if t >= end {
+                break;
+            }
+            if let Err(e) = sim.advance_to(t) {
+                state.failed = Some(e.to_string());
+                publish(&state);
+                return;
+            }
+            // The time series are the live run's own; only the sweep's points are kept here.
+            sim.take_plot_samples();
+            history.push(&sim.snapshot());
+            state.t_done = t;
+            if t >= next_report {
+                next_report = t + report_every;
+                publish(&state);
+            }
+        }
+        state.steps.push(history.checkpoint());
+        if let Err(e) = sim.advance_to(end) {
+            state.failed = Some(e.to_string());
+            publish(&state);
+            return;
+        }
+        state.t_done = end;
+        publish(&state);
+    }
+}
+
+/// A lesson's evidence measured on a worker thread ([`measure_evidence`]), for the setup it
+/// was started on; dropped, it stops the worker.
+#[derive(Debug)]
+pub struct LessonEvidence {
+    setup: Arc<SceneSetup>,
+    shared: Arc<Mutex<EvidenceState>>,
+    stop: Arc<AtomicBool>,
+}
+
+impl LessonEvidence {
+    /// Starts measuring `setup`'s lesson; `None` for a scene without a timeline, a resumed one
+    /// (its run did not start at the lesson's start), or where no thread can be started.
+    pub fn start(setup: Arc<SceneSetup>) -> Option<Self> {
+        if setup.timeline.is_empty() || setup.resume.is_some() {
+            return None;
+        }
+        let shared = Arc::new(Mutex::new(EvidenceState::default()));
+        let stop = Arc::new(AtomicBool::new(false));
+        let (s, sh, st) = (setup.clone(), shared.clone(), stop.clone());
+        std::thread::Builder::new()
+            .name("lesson-evidence".into())
+            .spawn(move || {
+                measure_evidence(&s, &st, 20.0, |state| {
+                    if let Ok(mut shared) = sh.lock() {
+                        *shared = state.clone();
+                    }
+                });
+            })
+            .ok()?;
+        Some(Self {
+            setup,
+            shared,
+            stop,
+        })
+    }
+
+    /// Whether this is the evidence of `setup` (the same scene and start: a restart from a
+    /// picked point is another run).
+    pub fn is_for(&self, setup: &Arc<SceneSetup>) -> bool {
+        Arc::ptr_eq(&self.setup, setup)
+    }
+
+    /// The plots at the end of step `done`, once measured.
+    pub fn step(&self, done: usize) -> Option<PlotCheckpoint> {
+        self.shared.lock().ok()?.steps.get(done).cloned()
+    }
+
+    /// How far the measurement of step `done` has got, 0 to 1 (1: measured), and why it
+    /// stopped if it failed first.
+    pub fn progress(&self, done: usize) -> (f64, Option<String>) {
+        let Ok(state) = self.shared.lock() else {
+            return (0.0, Some("the evidence thread stopped".into()));
+        };
+        if done < state.steps.len() {
+            return (1.0, None);
+        }
+        let ends = step_ends(&self.setup);
+        let start = if done == 0 { 0.0 } else { ends[done - 1] };
+        let end = ends.get(done).copied().unwrap_or(state.t_end);
+        let fraction =
+            ((state.t_done - start) / (end - start).max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+        (fraction, state.failed.clone())
+    }
+}
+
+impl Drop for LessonEvidence {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+    }
+}
