@@ -1391,6 +1391,49 @@ alpha_over_critical = 3.0
     );
 }
 
+/// Entering presentation mode with the pointer resting over the view shows no values under it
+/// on the lesson's plot (a clicker never moves the mouse, and the stale tooltip stayed for the
+/// whole lesson); a real move brings them back.
+#[test]
+fn presentation_shows_no_tooltip_until_the_pointer_moves() {
+    let (gpu, target, mut bench) = app("lesson-period-doubling");
+    let resting = egui::pos2(300.0, 200.0);
+    frames(
+        &mut bench,
+        &gpu,
+        &target,
+        vec![egui::Event::PointerMoved(resting)],
+        2,
+    );
+    assert!(bench.ui.plot_hover_shown());
+    frames(&mut bench, &gpu, &target, key(egui::Key::F5), 2);
+    assert!(bench.ui.presenting);
+    // The mode change's own moves (the window resized under the pointer) do not count.
+    frames(
+        &mut bench,
+        &gpu,
+        &target,
+        vec![egui::Event::PointerMoved(resting)],
+        2,
+    );
+    frames(&mut bench, &gpu, &target, vec![], 40);
+    assert!(
+        !bench.ui.plot_hover_shown(),
+        "a resting pointer shows no tooltip"
+    );
+    frames(
+        &mut bench,
+        &gpu,
+        &target,
+        vec![egui::Event::PointerMoved(egui::pos2(320.0, 210.0))],
+        2,
+    );
+    assert!(
+        bench.ui.plot_hover_shown(),
+        "a moved pointer shows values again"
+    );
+}
+
 /// A lesson step shows its caption's evidence as it opens, however soon N is pressed: paused
 /// at the period-doubling lesson's start, N N goes to "m/m0 = 4.5 … (period 2)", and the
 /// crossings plot holds two separated points at m/m0 = 4.5 (the doubled orbit) once the

@@ -90,6 +90,9 @@ impl AppUi {
         actions: &mut Vec<UiAction>,
     ) {
         self.class_mode = on;
+        // The pointer rests where it was: no values under it on the large plot until it moves.
+        self.pointer_resting = on;
+        self.mode_entered_at = ctx.input(|i| i.time);
         ctx.set_zoom_factor(if on {
             class_zoom(ctx.content_rect().size() * ctx.zoom_factor())
         } else {

@@ -170,6 +170,10 @@ pub struct AppUi {
     evidence: Option<crate::live::evidence::LessonEvidence>,
     /// The lesson step whose evidence the plots took in last (`None`: none since the run began).
     evidence_shown: Option<usize>,
+    /// The pointer has not moved since presentation or class mode began (then at egui time
+    /// `.1`): the large plot shows no values under it until it does.
+    pointer_resting: bool,
+    mode_entered_at: f64,
     /// Native Open / Save dialogs.
     pub dialogs: dialog::FileDialogs,
     /// A dropped mesh being fitted.
@@ -244,6 +248,8 @@ impl AppUi {
             step_plots: std::collections::BTreeMap::new(),
             evidence: None,
             evidence_shown: None,
+            pointer_resting: false,
+            mode_entered_at: 0.0,
             asked_speed: None,
             dialogs: dialog::FileDialogs::detect(),
             mesh_fit: None,
@@ -255,6 +261,12 @@ impl AppUi {
     /// Shows a one-line notice in the status bar (`error` in red).
     pub fn notify(&mut self, text: String, error: bool) {
         self.notice = Some((text, error));
+    }
+
+    /// Whether the large lesson plot shows values under the pointer: not in presentation or
+    /// class mode until the pointer moves (see [`plots::PlotLook::hover`]).
+    pub fn plot_hover_shown(&self) -> bool {
+        !self.pointer_resting
     }
 
     /// The plots' history.
@@ -625,6 +637,18 @@ impl AppUi {
         // The plot a lesson step talks about, large beside the 3D view, in presentation and
         // class modes (in presentation mode every other plot is hidden, and the lessons' words
         // "watch the 1/T plot" named a plot that was not on screen).
+        // A moved pointer shows values again; the moves the mode change itself makes (the
+        // window going full screen, the zoom) within its first half second do not count.
+        if self.pointer_resting
+            && ui.input(|i| {
+                i.time - self.mode_entered_at > POINTER_SETTLE_S
+                    && i.events
+                        .iter()
+                        .any(|e| matches!(e, egui::Event::PointerMoved(_)))
+            })
+        {
+            self.pointer_resting = false;
+        }
         let lesson_plot = status.snapshot.views.plot;
         let large_plot = (self.presenting || self.class_mode) && !lesson_plot.is_none();
         self.lesson_plot_rect = None;
@@ -642,6 +666,7 @@ impl AppUi {
                         &self.history,
                         &status.snapshot,
                         width,
+                        !self.pointer_resting,
                     ));
                 });
         }
@@ -696,6 +721,7 @@ fn lesson_plot_ui(
     history: &PlotHistory,
     snap: &crate::live::Snapshot,
     width: f32,
+    hover: bool,
 ) -> (egui::Rect, f32) {
     let ppp = ui.ctx().pixels_per_point();
     let points = LESSON_PLOT_TEXT_PX / ppp;
@@ -714,11 +740,18 @@ fn lesson_plot_ui(
     let height = (ui.available_height() - 8.0).max(120.0);
     let inner_width = (width - 16.0).max(120.0);
     let plot_rect = ui
-        .scope(|ui| plots::lesson_plot(ui, plot, history, snap, inner_width, height))
+        .scope(|ui| {
+            let look = plots::PlotLook::large(ppp, hover);
+            plots::lesson_plot(ui, plot, history, snap, (inner_width, height), look)
+        })
         .response
         .rect;
     (title.rect.union(plot_rect), points * ppp)
 }
+
+/// How long after entering presentation or class mode pointer moves are the mode change's own
+/// (the window resized under a resting pointer), seconds.
+const POINTER_SETTLE_S: f64 = 0.5;
 
 /// Where the paused badge's bottom-right corner goes (points): the scene's bottom-right corner,
 /// moved left of any inset (`insets`: the SO(3) ball's and the Poincaré view's rectangles in

@@ -397,9 +397,16 @@ pub fn plots_ui(
             );
         } else {
             input = contact_map_ui(ui, snap, map, width, height);
-            crossings_ui(ui, history, snap, width, height);
+            crossings_ui(ui, history, snap, (width, height), PlotLook::ROW);
         }
-        sweep_ui(ui, history, snap, alpha_star, width, height);
+        sweep_ui(
+            ui,
+            history,
+            snap,
+            alpha_star,
+            (width, height),
+            PlotLook::ROW,
+        );
         if shown >= 4.0 {
             health_ui(ui, history, snap.health.measured, width, height);
         }
@@ -558,25 +565,68 @@ pub(super) fn lesson_plot(
     plot: crate::scene::LessonPlot,
     history: &PlotHistory,
     snap: &Snapshot,
-    width: f32,
-    height: f32,
+    size: (f32, f32),
+    look: PlotLook,
 ) {
     match plot {
         crate::scene::LessonPlot::InversePeriod => {
-            sweep_ui(ui, history, snap, snap.alpha_star, width, height);
+            sweep_ui(ui, history, snap, snap.alpha_star, size, look);
         }
-        crate::scene::LessonPlot::Crossings => crossings_ui(ui, history, snap, width, height),
+        crate::scene::LessonPlot::Crossings => crossings_ui(ui, history, snap, size, look),
         crate::scene::LessonPlot::None => {}
     }
 }
+
+/// How a sweep or crossing plot is drawn: in the row of plots, or large for a room.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct PlotLook {
+    /// Marker radius, points.
+    pub marker: f32,
+    /// Values under the pointer (crosshair and label). Off in presentation and class modes
+    /// until the pointer moves: a pointer left resting where the view was showed a stale
+    /// tooltip for a whole lesson taught with a clicker.
+    pub hover: bool,
+    /// Space beside the data, as a fraction of the plot (a point at the largest m/m0 sat on
+    /// the edge).
+    pub margin: f32,
+}
+
+impl PlotLook {
+    /// The row of plots under the 3D view.
+    pub const ROW: PlotLook = PlotLook {
+        marker: 3.0,
+        hover: true,
+        margin: 0.05,
+    };
+
+    /// The lesson's plot on a projector: markers at least [`LESSON_MARKER_PX`] across at
+    /// `pixels_per_point`.
+    pub fn large(pixels_per_point: f32, hover: bool) -> PlotLook {
+        PlotLook {
+            marker: (0.5 * LESSON_MARKER_PX / pixels_per_point).max(3.0),
+            hover,
+            margin: 0.1,
+        }
+    }
+
+    fn apply<'a>(self, plot: Plot<'a>) -> Plot<'a> {
+        plot.show_x(self.hover)
+            .show_y(self.hover)
+            .show_crosshair(self.hover)
+            .set_margin_fraction(egui::vec2(self.margin, self.margin))
+    }
+}
+
+/// The least width of a marker on the lesson's plot, pixels: a back row sees a 10 px dot.
+pub const LESSON_MARKER_PX: f32 = 12.0;
 
 fn sweep_ui(
     ui: &mut egui::Ui,
     history: &PlotHistory,
     snap: &Snapshot,
     alpha_star: f64,
-    width: f32,
-    height: f32,
+    (width, height): (f32, f32),
+    look: PlotLook,
 ) {
     let up = history.sweep(Branch::Up);
     let down = history.sweep(Branch::Down);
@@ -617,7 +667,7 @@ fn sweep_ui(
         keys.push((name, green, Swatch::Line));
     }
     keyed(ui, width, height, &keys, |ui, plot_height| {
-        instrument(Plot::new("sweep"), "α", "1/T")
+        look.apply(instrument(Plot::new("sweep"), "α", "1/T"))
             .width(width)
             .height(plot_height)
             .x_axis_label("α (rad)")
@@ -632,12 +682,12 @@ fn sweep_ui(
                 p.points(
                     Points::new("α up", PlotPoints::from(up))
                         .color(blue)
-                        .radius(3.0),
+                        .radius(look.marker),
                 );
                 p.points(
                     Points::new("α down", PlotPoints::from(down))
                         .color(orange)
-                        .radius(3.0),
+                        .radius(look.marker),
                 );
             });
     });
@@ -681,8 +731,8 @@ fn crossings_ui(
     ui: &mut egui::Ui,
     history: &PlotHistory,
     snap: &Snapshot,
-    width: f32,
-    height: f32,
+    (width, height): (f32, f32),
+    look: PlotLook,
 ) {
     let points = history.crossings_by_mass();
     let blue = SERIES_COLORS[0];
@@ -692,21 +742,25 @@ fn crossings_ui(
     ];
     let (lo, hi) = crossing_span(&points);
     keyed(ui, width, height, &keys, |ui, plot_height| {
-        instrument(Plot::new("crossings_by_mass"), "m/m0", "polar angle")
-            .width(width)
-            .height(plot_height)
-            .x_axis_label("m/m0")
-            .y_axis_label("polar angle")
-            .include_y(lo)
-            .include_y(hi)
-            .show(ui, |p| {
-                p.vline(VLine::new("m/m0 now", snap.mass_ratio).color(Color32::GRAY));
-                p.points(
-                    Points::new("∂Ω crossings, settled", PlotPoints::from(points))
-                        .color(blue)
-                        .radius(2.0),
-                );
-            });
+        look.apply(instrument(
+            Plot::new("crossings_by_mass"),
+            "m/m0",
+            "polar angle",
+        ))
+        .width(width)
+        .height(plot_height)
+        .x_axis_label("m/m0")
+        .y_axis_label("polar angle")
+        .include_y(lo)
+        .include_y(hi)
+        .show(ui, |p| {
+            p.vline(VLine::new("m/m0 now", snap.mass_ratio).color(Color32::GRAY));
+            p.points(
+                Points::new("∂Ω crossings, settled", PlotPoints::from(points))
+                    .color(blue)
+                    .radius(look.marker),
+            );
+        });
     });
 }
 
@@ -835,6 +889,24 @@ mod axis_tests {
             })
             .is_empty()
         );
+    }
+}
+
+#[cfg(test)]
+mod look_tests {
+    use super::{LESSON_MARKER_PX, PlotLook};
+
+    #[test]
+    fn the_lesson_plots_markers_are_large_enough_for_a_room_at_any_zoom() {
+        for ppp in [1.0, 1.25, 1.6, 1.8, 2.2, 3.0] {
+            let look = PlotLook::large(ppp, false);
+            assert!(
+                2.0 * look.marker * ppp >= LESSON_MARKER_PX,
+                "{ppp}: {look:?}"
+            );
+            assert!(!look.hover && look.margin > PlotLook::ROW.margin);
+        }
+        assert!(LESSON_MARKER_PX >= 10.0);
     }
 }
 
