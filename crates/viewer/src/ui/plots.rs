@@ -906,7 +906,7 @@ mod look_tests {
             );
             assert!(!look.hover && look.margin > PlotLook::ROW.margin);
         }
-        assert!(LESSON_MARKER_PX >= 10.0);
+        const { assert!(LESSON_MARKER_PX >= 10.0) };
     }
 }
 
