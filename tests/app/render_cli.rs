@@ -468,7 +468,9 @@ fn plot_data_writes_the_plots_csv_of_a_headless_run() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let read = |name: &str| std::fs::read_to_string(data.join(name)).unwrap();
-    assert!(read("sweep-alpha.csv").starts_with("direction,alpha,inverse_period,mass_ratio\n"));
+    assert!(
+        read("sweep-alpha.csv").starts_with("direction,alpha,inverse_period,mass_ratio,drag\n")
+    );
     assert!(read("series.csv").starts_with("t,contact_theta,contact_phi,angular_speed\n"));
     assert!(read("plot-data.json").contains("\"scene\": \"sphere-cruising\""));
     assert!(read("sweep-mass.csv").starts_with("mass_ratio,polar_angle\n"));

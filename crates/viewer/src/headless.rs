@@ -259,7 +259,7 @@ pub fn render_to(
         crate::output::check_folder(dir, &names, inputs).context("--plot-data")?;
     }
     let mut history = match &setup.scene.resume {
-        Some(resume) => PlotHistory::resumed(resume, setup.ramp.alpha_rad),
+        Some(resume) => PlotHistory::resumed(resume, setup.ramp.alpha_rad, &setup.ramp.drag_law),
         None => PlotHistory::default(),
     };
     let fps = setup.scene.playback.fps;

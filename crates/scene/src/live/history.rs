@@ -66,7 +66,7 @@ pub enum Branch {
 pub struct PlotHistory {
     samples: VecDeque<Sample>,
     /// (direction, α bin) → (α, 1/T, m/m0).
-    sweep: BTreeMap<(Branch, i64), (f64, f64, f64)>,
+    sweep: BTreeMap<(Branch, Regime, i64), (f64, f64)>,
     last_alpha: Option<f64>,
     direction: Option<Branch>,
     last_period: Option<f64>,
@@ -75,13 +75,57 @@ pub struct PlotHistory {
     last_crossing_t: Option<f64>,
 }
 
+/// What a 1/T point was measured under: m/m0 and the drag law. Points of different regimes
+/// are different series, never one: a point taken at drag exponent 2 once went unmarked into
+/// a series collected at 1 (issue 60).
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Regime {
+    /// m/m0's bits (0 for the viscous model), so that the regime can order a map.
+    mass_bits: u64,
+    /// The drag law in words ([`crate::dynamics::DragLaw::label`]).
+    drag: String,
+}
+
+impl Regime {
+    /// m/m0 `mass_ratio` under the drag law `drag`.
+    pub fn new(mass_ratio: f64, drag: &crate::dynamics::DragLaw) -> Self {
+        Self {
+            // −0 and +0 are one regime.
+            mass_bits: (mass_ratio + 0.0).to_bits(),
+            drag: drag.label(),
+        }
+    }
+
+    /// The regime a snapshot runs under.
+    pub fn of(snap: &Snapshot) -> Self {
+        Self::new(snap.mass_ratio, &snap.drag_law)
+    }
+
+    /// Its m/m0.
+    pub fn mass_ratio(&self) -> f64 {
+        f64::from_bits(self.mass_bits)
+    }
+
+    /// Its drag law in words.
+    pub fn drag(&self) -> &str {
+        &self.drag
+    }
+
+    /// As a plot's key names it: "m/m0 = 10, linear drag".
+    pub fn label(&self) -> String {
+        let m = format!("{:.4}", self.mass_ratio());
+        let m = m.trim_end_matches('0').trim_end_matches('.');
+        format!("m/m0 = {m}, {}", self.drag)
+    }
+}
+
 /// What a [`PlotHistory`] has collected besides its time series: the α sweep's points and the
 /// settled crossings, with what they are judged against (the last α, the sweep's direction).
 /// The app keeps one as each lesson step begins, so that going back a step shows the plots
 /// of the step returned to.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct PlotCheckpoint {
-    sweep: BTreeMap<(Branch, i64), (f64, f64, f64)>,
+    sweep: BTreeMap<(Branch, Regime, i64), (f64, f64)>,
     last_alpha: Option<f64>,
     direction: Option<Branch>,
     crossings_by_mass: VecDeque<[f64; 2]>,
@@ -173,14 +217,14 @@ impl PlotHistory {
         let rollable = snap.validity.is_none();
         if rollable && snap.halted {
             self.sweep
-                .insert((direction, bin), (alpha, 0.0, snap.mass_ratio));
+                .insert((direction, Regime::of(snap), bin), (alpha, 0.0));
         } else if let Some(period) = snap.period
             && rollable
             && self.last_period != Some(period)
             && period > 0.0
         {
             self.sweep
-                .insert((direction, bin), (alpha, 1.0 / period, snap.mass_ratio));
+                .insert((direction, Regime::of(snap), bin), (alpha, 1.0 / period));
         }
         self.last_period = snap.period;
 
@@ -210,13 +254,20 @@ impl PlotHistory {
     }
 
     /// The plots of a saved state (`[resume]`): its 1/T and crossing points, taken in as if
-    /// collected, and its last α as the one the next change is judged from.
-    pub fn resumed(resume: &crate::scene::ResumeSpec, alpha_now: f64) -> Self {
+    /// collected under the scene's drag law `drag` (a saved point keeps its m/m0, not its
+    /// law), and its last α as the one the next change is judged from.
+    pub fn resumed(
+        resume: &crate::scene::ResumeSpec,
+        alpha_now: f64,
+        drag: &crate::dynamics::DragLaw,
+    ) -> Self {
         let mut history = Self::default();
         for &[alpha, rate, mass, dir] in &resume.alpha_sweep {
             let direction = if dir < 0.0 { Branch::Down } else { Branch::Up };
             let bin = (alpha.ln() / SWEEP_BIN).round() as i64;
-            history.sweep.insert((direction, bin), (alpha, rate, mass));
+            history
+                .sweep
+                .insert((direction, Regime::new(mass, drag), bin), (alpha, rate));
         }
         history.crossings_by_mass = resume.crossings.iter().copied().collect();
         while history.crossings_by_mass.len() > MAX_CROSSING_POINTS {
@@ -230,9 +281,13 @@ impl PlotHistory {
     pub fn alpha_sweep_points(&self) -> Vec<[f64; 4]> {
         self.sweep
             .iter()
-            .map(|(&(direction, _), &(alpha, rate, mass))| {
-                let dir = if direction == Branch::Down { -1.0 } else { 1.0 };
-                [alpha, rate, mass, dir]
+            .map(|((direction, regime, _), &(alpha, rate))| {
+                let dir = if *direction == Branch::Down {
+                    -1.0
+                } else {
+                    1.0
+                };
+                [alpha, rate, regime.mass_ratio(), dir]
             })
             .collect()
     }
@@ -271,22 +326,34 @@ impl PlotHistory {
             .skip(self.samples.len().saturating_sub(n))
     }
 
-    /// The sweep points (α, 1/T) of one direction, by α.
+    /// The sweep points (α, 1/T) of one direction, every regime's, by regime then α.
     pub fn sweep(&self, direction: Branch) -> Vec<[f64; 2]> {
         self.sweep
             .iter()
-            .filter(|((d, _), _)| *d == direction)
-            .map(|(_, &(a, f, _))| [a, f])
+            .filter(|((d, _, _), _)| *d == direction)
+            .map(|(_, &(a, f))| [a, f])
             .collect()
     }
 
-    /// The sweep points (α, 1/T, m/m0) of one direction, by α: the m/m0 each was measured at
-    /// (a lesson may sweep α at several masses).
-    pub fn sweep_with_mass(&self, direction: Branch) -> Vec<[f64; 3]> {
+    /// The sweep points (α, 1/T) of one direction, one series per regime (m/m0 and drag law),
+    /// each by α: what the 1/T plot draws, never one series of several regimes.
+    pub fn sweep_by_regime(&self, direction: Branch) -> BTreeMap<Regime, Vec<[f64; 2]>> {
+        let mut series: BTreeMap<Regime, Vec<[f64; 2]>> = BTreeMap::new();
+        for ((d, regime, _), &(a, f)) in &self.sweep {
+            if *d == direction {
+                series.entry(regime.clone()).or_default().push([a, f]);
+            }
+        }
+        series
+    }
+
+    /// The sweep points (α, 1/T, m/m0) of one direction with the drag law each was measured
+    /// under (a lesson may sweep α at several masses), by regime then α.
+    pub fn sweep_with_regime(&self, direction: Branch) -> Vec<([f64; 3], &str)> {
         self.sweep
             .iter()
-            .filter(|((d, _), _)| *d == direction)
-            .map(|(_, &(a, f, m))| [a, f, m])
+            .filter(|((d, _, _), _)| *d == direction)
+            .map(|((_, r, _), &(a, f))| ([a, f, r.mass_ratio()], r.drag()))
             .collect()
     }
 }
@@ -441,7 +508,7 @@ impl PlotData {
         match self {
             PlotData::AlphaSweep => {
                 "direction (up/down), alpha (rad), inverse_period (1/T; 0 where the body halted), \
-                 mass_ratio (m/m0 when measured)"
+                 mass_ratio (m/m0 when measured), drag (the drag law when measured)"
             }
             PlotData::Crossings => "mass_ratio, polar_angle of a settled crossing of ∂Ω (rad)",
             PlotData::Health => "t and the worst health quantities so far of the model",
@@ -484,10 +551,17 @@ impl PlotHistory {
                     "alpha".into(),
                     "inverse_period".into(),
                     "mass_ratio".into(),
+                    "drag".into(),
                 ]);
                 for (direction, name) in [(Branch::Up, "up"), (Branch::Down, "down")] {
-                    for [a, f, m] in self.sweep_with_mass(direction) {
-                        row(vec![name.into(), number(a), number(f), number(m)]);
+                    for ([a, f, m], drag) in self.sweep_with_regime(direction) {
+                        row(vec![
+                            name.into(),
+                            number(a),
+                            number(f),
+                            number(m),
+                            drag.into(),
+                        ]);
                     }
                 }
             }
@@ -585,7 +659,7 @@ impl PlotHistory {
 
 #[cfg(test)]
 mod tests {
-    use super::{PlotData, PlotHistory};
+    use super::{Branch, PlotData, PlotHistory, Regime};
     use crate::live::{LiveRun, Measured};
     use crate::scene::Scene;
 
@@ -621,11 +695,13 @@ mod tests {
         let rows: Vec<Vec<&str>> = sweep.lines().map(|l| l.split(',').collect()).collect();
         assert_eq!(
             rows[0],
-            ["direction", "alpha", "inverse_period", "mass_ratio"]
+            ["direction", "alpha", "inverse_period", "mass_ratio", "drag"]
         );
         assert!(
-            rows[1..].iter().all(|r| r[3] == "0.0"),
-            "the viscous model: m/m0 = 0"
+            rows[1..]
+                .iter()
+                .all(|r| r[3] == "0.0" && r[4] == "linear drag"),
+            "the viscous model: m/m0 = 0, under linear drag\n{sweep}"
         );
         let series = history.csv(PlotData::Series, measured);
         assert!(
@@ -648,6 +724,48 @@ mod tests {
         for r in &rows[1..] {
             assert!(r[1].parse::<f64>().unwrap() > 0.0);
         }
+    }
+
+    /// The same α measured under two drag laws gives two points in two series, each named by
+    /// its law, never one point of one series (issue 60).
+    #[test]
+    fn points_under_another_drag_law_are_a_series_of_their_own() {
+        let setup = Scene::preset("cylinder-near-critical")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let alpha = 2.0 * setup.alpha_star;
+        let mut sim = LiveRun::new(setup);
+        let mut history = PlotHistory::default();
+        let mut t = 0.0;
+        for exponent in [1.0, 2.0] {
+            let law = crate::dynamics::DragLaw::LINEAR
+                .with("drag_exponent", exponent)
+                .unwrap();
+            let ramp = crate::dynamics::Ramp::with_drag(alpha, 0.0, 1.0)
+                .unwrap()
+                .with_drag_law(law);
+            sim.set_parameters(ramp, sim.method()).unwrap();
+            for _ in 0..300 {
+                t += 1.0;
+                sim.advance_to(t).unwrap();
+                history.push(&sim.snapshot());
+            }
+        }
+        let series = history.sweep_by_regime(Branch::Up);
+        assert_eq!(series.len(), 2, "{series:?}");
+        let labels: Vec<String> = series.keys().map(Regime::label).collect();
+        assert!(
+            labels.iter().any(|l| l.contains("linear drag"))
+                && labels.iter().any(|l| l.contains("drag_exponent = 2")),
+            "{labels:?}"
+        );
+        // One point each, at the same α, with different 1/T (n = 2 rolls at another speed).
+        let rates: Vec<f64> = series.values().map(|p| p[0][1]).collect();
+        assert!(series.values().all(|p| p.len() == 1 && p[0][0] == alpha));
+        assert!((rates[0] - rates[1]).abs() > 1e-3 * rates[0], "{rates:?}");
+        let csv = history.csv(PlotData::AlphaSweep, sim.snapshot().health.measured);
+        assert_eq!(csv.lines().count(), 3, "{csv}");
     }
 
     #[test]

@@ -297,7 +297,11 @@ impl AppUi {
         if self.seen_run != Some(run) {
             if self.seen_run.map(|r| r.0) != Some(status.scene_id) {
                 self.history = match &status.setup.scene.resume {
-                    Some(resume) => PlotHistory::resumed(resume, status.setup.ramp.alpha_rad),
+                    Some(resume) => PlotHistory::resumed(
+                        resume,
+                        status.setup.ramp.alpha_rad,
+                        &status.setup.ramp.drag_law,
+                    ),
                     None => PlotHistory::default(),
                 };
                 self.step_plots.clear();

@@ -22,7 +22,7 @@ use crate::dynamics::ModelKind;
 use crate::geometry::Body;
 use crate::geometry::sphere::{angles, direction};
 use crate::live::Snapshot;
-use crate::live::history::{Branch, PlotHistory};
+use crate::live::history::{Branch, PlotHistory, Regime};
 use crate::view::CurvatureScale;
 
 /// Samples in the phase curve: the last 300 time units at every
@@ -265,6 +265,14 @@ const SERIES_COLORS: [Color32; 4] = [
     Color32::from_rgb(255, 150, 30),
     Color32::from_rgb(120, 200, 120),
     Color32::from_rgb(190, 120, 230),
+];
+
+/// The 1/T points of regimes other than the running one (another m/m0 or drag law): greys and
+/// muted tones, apart from the running regime's blue and orange and the fit's green.
+const OTHER_REGIME_COLORS: [Color32; 3] = [
+    Color32::from_rgb(170, 170, 170),
+    Color32::from_rgb(190, 120, 230),
+    Color32::from_rgb(200, 170, 110),
 ];
 
 /// A plot under its key. The key is a row over the plot, outside what it plots: a legend in
@@ -628,8 +636,26 @@ fn sweep_ui(
     (width, height): (f32, f32),
     look: PlotLook,
 ) {
-    let up = history.sweep(Branch::Up);
-    let down = history.sweep(Branch::Down);
+    // The running regime's points are "α up" and "α down"; points taken under another m/m0
+    // or drag law are series of their own, named, never mixed in (nor into the fit).
+    let now = Regime::of(snap);
+    let mut up_by = history.sweep_by_regime(Branch::Up);
+    let mut down_by = history.sweep_by_regime(Branch::Down);
+    let up = up_by.remove(&now).unwrap_or_default();
+    let down = down_by.remove(&now).unwrap_or_default();
+    let others: Vec<(String, Vec<[f64; 2]>)> = {
+        let mut regimes: Vec<Regime> = up_by.keys().chain(down_by.keys()).cloned().collect();
+        regimes.sort();
+        regimes.dedup();
+        regimes
+            .into_iter()
+            .map(|r| {
+                let mut points = up_by.remove(&r).unwrap_or_default();
+                points.extend(down_by.remove(&r).unwrap_or_default());
+                (r.label(), points)
+            })
+            .collect()
+    };
     // The √ law is the viscous cylinder's; with inertia the branches follow other laws.
     let sqrt_law = match snap.model {
         ModelKind::DiskViscous => true,
@@ -666,6 +692,10 @@ fn sweep_ui(
     if let Some((name, _)) = &fit_curve {
         keys.push((name, green, Swatch::Line));
     }
+    let other_color = |i: usize| OTHER_REGIME_COLORS[i % OTHER_REGIME_COLORS.len()];
+    for (i, (label, _)) in others.iter().enumerate() {
+        keys.push((label, other_color(i), Swatch::Dot));
+    }
     keyed(ui, width, height, &keys, |ui, plot_height| {
         look.apply(instrument(Plot::new("sweep"), "α", "1/T"))
             .width(width)
@@ -689,6 +719,13 @@ fn sweep_ui(
                         .color(orange)
                         .radius(look.marker),
                 );
+                for (i, (label, points)) in others.iter().enumerate() {
+                    p.points(
+                        Points::new(label.as_str(), PlotPoints::from(points.clone()))
+                            .color(other_color(i))
+                            .radius(look.marker),
+                    );
+                }
             });
     });
 }
