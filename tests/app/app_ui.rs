@@ -1507,6 +1507,13 @@ fn save_state_resumes_the_run_where_it_was_with_its_plots() {
     frames(&mut bench, &gpu, &target, vec![], 3);
     let points = bench.ui.history().sweep(Branch::Up);
     assert!(!points.is_empty(), "a measured period gives a point");
+    // A change by hand at whatever time the frame had reached: the saved state records it.
+    let alpha_now = bench.sim.status().snapshot.alpha_rad;
+    bench.sim.send(SimCommand::SetAlpha(1.02 * alpha_now));
+    frames_until(&mut bench, &gpu, &target, vec![], |s| {
+        s.snapshot.alpha_rad != alpha_now
+    });
+    frames(&mut bench, &gpu, &target, vec![], 3);
     let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::Space), |s| {
         s.paused
     });
@@ -1553,6 +1560,11 @@ fn save_state_resumes_the_run_where_it_was_with_its_plots() {
     assert_eq!(resume.state, s.snapshot.state);
     // The saved state is the run's exactly.
     let setup = saved.setup(None).unwrap();
+    // And how the run got there: replayed from the scene's start with the change by hand at
+    // its simulation time, it reaches the saved state to the bit, whatever the app's frames.
+    assert_eq!(saved.replay.len(), 2, "{:?}", saved.replay);
+    let replayed = LiveRun::replayed(&setup).unwrap();
+    assert_eq!(replayed.state().vector(), s.snapshot.state.as_slice());
     let resumed = LiveRun::new(setup.clone());
     assert_eq!(resumed.time(), s.snapshot.t);
     assert_eq!(resumed.state().vector(), s.snapshot.state.as_slice());

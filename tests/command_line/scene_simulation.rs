@@ -527,3 +527,140 @@ fn the_live_run_is_simulates_run_at_any_frame_rate() {
         }
     }
 }
+
+/// What the app's Save state writes (tests/app/app_ui.rs checks the app writes this): the
+/// scene with the model as it runs now, the state, and how the run got there.
+fn saved_state(setup: &rollphase::scene::SceneSetup, run: &LiveRun) -> Scene {
+    let snap = run.snapshot();
+    let mut scene = setup.scene.clone();
+    scene.model.alpha_rad = Some(snap.alpha_rad);
+    scene.model.alpha_over_critical = None;
+    scene.model.mass_ratio = snap.mass_ratio;
+    scene.integrator = rollphase::scene::IntegratorSpec::of(&run.method());
+    scene.resume = Some(rollphase::scene::ResumeSpec {
+        t: snap.t,
+        state: snap.state.clone(),
+        ..Default::default()
+    });
+    scene.replay = snap.replay.clone();
+    // Through the file's TOML, as the app writes and reads it.
+    Scene::from_toml(&scene.to_toml().unwrap()).unwrap()
+}
+
+/// Changes made by hand take effect at a simulation time, and the saved state records them:
+/// replayed from the scene's start (its first model, each change at its time, the resumes),
+/// the run reaches the saved state to the bit, whatever frames the live run was advanced
+/// through. Here a viscous ball is given inertia, then a steeper ramp, then the fast setting,
+/// between frames of uneven length; saved, resumed, changed again and saved again.
+#[test]
+fn a_saved_state_replays_from_the_start_to_the_bit() {
+    let setup = Scene::preset("sphere-cruising")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    let mut run = LiveRun::new(setup.clone());
+    let mut t = 0.0;
+    for (k, dt) in [0.37, 1.13, 0.05, 2.9].iter().cycle().take(48).enumerate() {
+        t += dt;
+        run.advance_to(t).unwrap();
+        let ramp = run.ramp();
+        match k {
+            12 => run
+                .set_parameters(
+                    rollphase::dynamics::Ramp {
+                        mass_ratio: 2.0,
+                        ..ramp
+                    },
+                    run.method(),
+                )
+                .unwrap(),
+            24 => run
+                .set_parameters(
+                    rollphase::dynamics::Ramp {
+                        alpha_rad: 0.35,
+                        ..ramp
+                    },
+                    run.method(),
+                )
+                .unwrap(),
+            36 => run
+                .set_parameters(ramp, rollphase::integrate::Preset::Fast.method())
+                .unwrap(),
+            _ => {}
+        }
+    }
+    let saved = saved_state(&setup, &run);
+    assert_eq!(saved.replay.len(), 4, "{:?}", saved.replay);
+    let saved_setup = saved.setup(None).unwrap();
+    let replayed = LiveRun::replayed(&saved_setup).unwrap();
+    assert_eq!(replayed.time(), run.time());
+    assert_eq!(replayed.state().vector(), run.state().vector());
+
+    // Resumed from the file, changed again and saved again: the replay goes through the
+    // resume (the integrator started afresh there, as the resumed run's was).
+    let mut resumed = LiveRun::new(saved_setup.clone());
+    let t0 = resumed.time();
+    resumed.advance_to(t0 + 3.3).unwrap();
+    let ramp = resumed.ramp();
+    resumed
+        .set_parameters(
+            rollphase::dynamics::Ramp {
+                mass_ratio: 0.5,
+                ..ramp
+            },
+            resumed.method(),
+        )
+        .unwrap();
+    resumed.advance_to(t0 + 20.71).unwrap();
+    let again = saved_state(&saved_setup, &resumed);
+    assert_eq!(again.replay.len(), 6, "{:?}", again.replay);
+    let replayed = LiveRun::replayed(&again.setup(None).unwrap()).unwrap();
+    assert_eq!(replayed.state().vector(), resumed.state().vector());
+    // Without the resume's restart the replay would not be exact: the check can fail.
+    let mut skipped = again.clone();
+    skipped.replay.remove(4);
+    let off = LiveRun::replayed(&skipped.setup(None).unwrap()).unwrap();
+    assert_ne!(off.state().vector(), resumed.state().vector());
+}
+
+#[test]
+fn a_replay_that_cannot_lead_to_its_saved_state_is_refused_by_name() {
+    let setup = Scene::preset("sphere-cruising")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    let mut run = LiveRun::new(setup.clone());
+    run.advance_to(5.0).unwrap();
+    let saved = saved_state(&setup, &run);
+    let refused = |scene: &Scene| scene.setup(None).unwrap_err().to_string();
+    let mut no_resume = saved.clone();
+    no_resume.resume = None;
+    assert!(refused(&no_resume).contains("without [resume]"));
+    let mut late_start = saved.clone();
+    late_start.replay[0].at = 1.0;
+    assert!(refused(&late_start).contains("needs t = 0"));
+    for bad in [f64::NAN, 6.0, -1.0] {
+        let mut s = saved.clone();
+        s.replay.push(rollphase::scene::ReplayEntry {
+            at: bad,
+            ..s.replay[0].clone()
+        });
+        assert!(
+            refused(&s).contains("is not allowed"),
+            "{bad}: {}",
+            refused(&s)
+        );
+    }
+    let mut steep = saved.clone();
+    steep.replay[0].alpha_rad = 2.0;
+    assert!(
+        refused(&steep).contains("replay at t = 0"),
+        "{}",
+        refused(&steep)
+    );
+    // A saved state without a replay resumes, but says why it cannot be replayed.
+    let mut plain = saved.clone();
+    plain.replay.clear();
+    let e = LiveRun::replayed(&plain.setup(None).unwrap()).unwrap_err();
+    assert!(e.to_string().contains("no [[replay]]"), "{e}");
+}

@@ -13,7 +13,7 @@ use crate::geometry::sphere::angles;
 use crate::integrate::events::{Direction, crossings_in_last_step};
 use crate::integrate::run::{Flow, Run};
 use crate::integrate::{self, Detached, IntegrateError, Method};
-use crate::scene::{SceneSetup, Step, ViewsSpec};
+use crate::scene::{ReplayEntry, SceneSetup, Step, ViewsSpec};
 use crate::simulate::{ModelState, choose_model, locate_switch};
 
 use super::history::Sample;
@@ -95,6 +95,10 @@ pub struct LiveRun {
     /// not by the scene's timeline: the run no longer plays the scene as written, so a lesson's
     /// evidence computed ahead from the scene ([`super::evidence`]) is not this run's.
     off_script: bool,
+    /// How this run got here, as a saved state's `[[replay]]` records it: its model at the
+    /// start, then each hand change and resume (empty: a resumed run whose file had no replay,
+    /// which cannot be replayed).
+    replay: Vec<ReplayEntry>,
 }
 
 /// See [`LiveRun::continuation`].
@@ -136,6 +140,15 @@ impl LiveRun {
     /// done, with their captions and views, but not their α or m/m0 (the saved scene's model is
     /// the one the run had).
     pub fn new(setup: SceneSetup) -> Self {
+        let replay = match &setup.resume {
+            None => vec![ReplayEntry::of(0.0, &setup.ramp, setup.method)],
+            Some(r) if !setup.scene.replay.is_empty() => {
+                let mut replay = setup.scene.replay.clone();
+                replay.push(ReplayEntry::of(r.t, &setup.ramp, setup.method));
+                replay
+            }
+            Some(_) => Vec::new(),
+        };
         let (t0, state) = match &setup.resume {
             Some(r) => (r.t, r.state.clone()),
             None => (0.0, ModelState::new(&setup.start, &setup.ramp)),
@@ -174,6 +187,7 @@ impl LiveRun {
             hull_tips: setup_body_dented.then_some((0, 0.0)),
             continuation: None,
             off_script: false,
+            replay,
         };
         let o = observe(&sim.state, &sim.ramp);
         sim.energy0 = o.energy;
@@ -308,7 +322,42 @@ impl LiveRun {
     pub fn set_parameters(&mut self, ramp: Ramp, method: Method) -> Result<(), SimError> {
         self.change_parameters(ramp, method)?;
         self.off_script = true;
+        if !self.replay.is_empty() {
+            self.replay.push(ReplayEntry::of(self.t, &ramp, method));
+        }
         Ok(())
+    }
+
+    /// A saved state's run again from its scene's start: the model of its first `[[replay]]`
+    /// entry, each later entry's model set at its time (as the hand changes and resumes were),
+    /// the lesson's steps at theirs, up to the saved time. The run a replay gives is the saved
+    /// run to the bit (the live run's steps do not depend on where its frames fell).
+    ///
+    /// # Errors
+    /// `setup` has no `[resume]` or no `[[replay]]`, or the run fails on the way.
+    pub fn replayed(setup: &SceneSetup) -> Result<LiveRun, SimError> {
+        let refused = |why: String| SimError::Refused(why);
+        let resume = setup.resume.as_ref().ok_or_else(|| {
+            refused("a replay goes to a saved state, and this scene has no [resume]".into())
+        })?;
+        let start = setup
+            .replay_start()
+            .map_err(|e| refused(e.to_string()))?
+            .ok_or_else(|| {
+                refused(
+                    "this saved state has no [[replay]] (saved before replays were recorded, \
+                     or resumed from such a file)"
+                        .into(),
+                )
+            })?;
+        let mut run = LiveRun::new(start);
+        for entry in &setup.scene.replay[1..] {
+            run.advance_to(entry.at)?;
+            let ramp = entry.ramp().map_err(|e| refused(e.to_string()))?;
+            run.set_parameters(ramp, entry.integrator)?;
+        }
+        run.advance_to(resume.t)?;
+        Ok(run)
     }
 
     /// Whether α, m/m0, the drag law or the integrator were changed by hand since the run
@@ -738,6 +787,7 @@ impl LiveRun {
             }),
             poincare_field: self.field_wanted(),
             off_script: self.off_script,
+            replay: self.replay.clone(),
         }
     }
 

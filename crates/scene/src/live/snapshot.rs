@@ -142,6 +142,9 @@ pub struct Snapshot {
     /// α, m/m0, the drag law or the integrator were changed by hand: the run no longer plays
     /// its scene (a lesson's evidence computed ahead is not this run's).
     pub off_script: bool,
+    /// How the run got here, for a saved state's `[[replay]]` (see
+    /// [`super::LiveRun::replayed`]); empty where it cannot be replayed.
+    pub replay: Vec<crate::scene::ReplayEntry>,
 }
 
 /// What the Poincaré-field view needs at a moment of the run.

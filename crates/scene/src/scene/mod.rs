@@ -87,6 +87,61 @@ pub struct Scene {
     /// A saved state to go on from (the app's "Save state"), instead of `[initial]` at t = 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub resume: Option<ResumeSpec>,
+    /// How the saved run got to `[resume]` (`[[replay]]`, written by Save state): the model it
+    /// started with at t = 0, then each change made by hand (α, m/m0, the drag law, the
+    /// integrator) and each time it was resumed, at the simulation time it took effect. From
+    /// the scene's start, [`crate::live::LiveRun::replayed`] runs it again to the saved state,
+    /// bit for bit.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub replay: Vec<ReplayEntry>,
+}
+
+/// One `[[replay]]` entry: from simulation time `at` on, the run has this model and integrator,
+/// the integrator started afresh there (a change made by hand, or a resume).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReplayEntry {
+    /// Simulation time.
+    pub at: f64,
+    /// α in radians, as asked for.
+    pub alpha_rad: f64,
+    /// m/m0 as asked for (0: viscous).
+    pub mass_ratio: f64,
+    /// Rotational drag γ in units of γ0.
+    #[serde(default = "one")]
+    pub drag: f64,
+    /// The drag law's parameters (none: linear drag).
+    #[serde(default, flatten)]
+    pub drag_law: DragLawFields,
+    /// The integrator, exactly.
+    pub integrator: crate::integrate::Method,
+}
+
+impl ReplayEntry {
+    /// The entry for `ramp` and `method` from `at` on.
+    pub fn of(at: f64, ramp: &crate::dynamics::Ramp, method: crate::integrate::Method) -> Self {
+        Self {
+            at,
+            alpha_rad: ramp.alpha_rad,
+            mass_ratio: ramp.mass_ratio,
+            drag: ramp.drag,
+            drag_law: DragLawFields::from(&ramp.drag_law),
+            integrator: method,
+        }
+    }
+
+    /// The ramp it asks for, or why it is not one.
+    pub fn ramp(&self) -> Result<crate::dynamics::Ramp, SceneError> {
+        let law = self
+            .drag_law
+            .law()
+            .map_err(|e| error::invalid(format!("replay at t = {}: {e}", self.at)))?;
+        Ok(
+            crate::dynamics::Ramp::with_drag(self.alpha_rad, self.mass_ratio, self.drag)
+                .map_err(|e| error::invalid(format!("replay at t = {}: {e}", self.at)))?
+                .with_drag_law(law),
+        )
+    }
 }
 
 /// Where a saved run goes on from (`[resume]`, written by the app's Save state): the time, the

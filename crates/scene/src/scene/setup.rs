@@ -15,8 +15,8 @@ use std::path::Path;
 use super::error::{SceneError, check_speed, invalid};
 use super::timeline::Step;
 use super::{
-    BodySpec, InitialSpec, IntegratorSpec, PerfectBody, PlaybackSpec, PoincareSpec, Scene,
-    ViewsSpec,
+    BodySpec, InitialSpec, IntegratorSpec, MethodName, PerfectBody, PlaybackSpec, PoincareSpec,
+    Scene, ViewsSpec,
 };
 use crate::assets::{BUNDLED_SHAPES, PRESETS};
 
@@ -90,7 +90,11 @@ impl Scene {
     /// Validates the scene and builds what a run needs. `base` is the folder of the scene file
     /// (shape paths are relative to it); `None` for a bundled preset.
     pub fn setup(&self, base: Option<&Path>) -> Result<SceneSetup, SceneError> {
-        let body = self.body.build(base)?;
+        self.setup_with_body(self.body.build(base)?)
+    }
+
+    /// [`Self::setup`] for `body`, already built from the scene's `[body]`.
+    fn setup_with_body(&self, body: Body) -> Result<SceneSetup, SceneError> {
         // A dented cylinder rolls on its convex hull; a sphere must be convex.
         body.check_rollable()?;
         let alpha_star = critical_angle(&body).alpha_star;
@@ -155,6 +159,7 @@ impl Scene {
             Some(r) => Some(r.check(&start, &choice.ramp)?),
             None => None,
         };
+        self.check_replay()?;
         Ok(SceneSetup {
             scene: self.clone(),
             body,
@@ -167,6 +172,74 @@ impl Scene {
             limits,
             resume,
         })
+    }
+}
+
+impl Scene {
+    /// `[[replay]]` as a saved state writes it: with a `[resume]`, from t = 0, in order of
+    /// time, none after the saved time, each a ramp and an integrator the app runs.
+    fn check_replay(&self) -> Result<(), SceneError> {
+        let Some(first) = self.replay.first() else {
+            return Ok(());
+        };
+        let Some(resume) = &self.resume else {
+            return Err(invalid(
+                "[[replay]] without [resume]: a replay leads to a saved state; Save state writes                  both, Save scene neither",
+            ));
+        };
+        if first.at != 0.0 {
+            return Err(invalid(format!(
+                "the first [[replay]] entry is at t = {} (needs t = 0: the model the run started                  with)",
+                first.at
+            )));
+        }
+        let mut before = 0.0;
+        for e in &self.replay {
+            if !(e.at.is_finite() && e.at >= before && e.at <= resume.t) {
+                return Err(invalid(format!(
+                    "[[replay]] at t = {} is not allowed (needs times in order from 0 to the                      saved t = {}; the one before is at {before})",
+                    e.at, resume.t
+                )));
+            }
+            before = e.at;
+            e.ramp()?;
+            e.integrator
+                .validate()
+                .map_err(|err| invalid(format!("[[replay]] at t = {}: {err}", e.at)))?;
+        }
+        Ok(())
+    }
+}
+
+impl SceneSetup {
+    /// The run a saved state's `[[replay]]` starts from: this scene at t = 0 with the model
+    /// of its first entry (the one the saved run started with). `None` without a replay.
+    ///
+    /// # Errors
+    /// The first entry's model or integrator cannot be written as the scene's (the check that
+    /// the replay starts where the saved run did, to the bit).
+    pub fn replay_start(&self) -> Result<Option<SceneSetup>, SceneError> {
+        let Some(first) = self.scene.replay.first() else {
+            return Ok(None);
+        };
+        let mut scene = self.scene.clone();
+        scene.resume = None;
+        scene.replay.clear();
+        scene.model.alpha_rad = Some(first.alpha_rad);
+        scene.model.alpha_over_critical = None;
+        scene.model.mass_ratio = first.mass_ratio;
+        scene.model.drag = first.drag;
+        scene.model.drag_law = first.drag_law.clone();
+        scene.model.kind = None;
+        scene.integrator = IntegratorSpec::of(&first.integrator);
+        let start = scene.setup_with_body(self.body.clone())?;
+        if start.method != first.integrator {
+            return Err(invalid(format!(
+                "the replay's first integrator ({}) cannot be written as a scene's",
+                first.integrator
+            )));
+        }
+        Ok(Some(start))
     }
 }
 
@@ -372,6 +445,34 @@ impl InitialSpec {
 }
 
 impl IntegratorSpec {
+    /// The spec that names `method`: its preset where it is one, else the method with its
+    /// step or tolerance (a DOP853 spec has one tolerance: rtol = atol).
+    pub fn of(method: &Method) -> IntegratorSpec {
+        if let Some(p) = Preset::ALL.into_iter().find(|p| p.method() == *method) {
+            return IntegratorSpec {
+                preset: Some(p),
+                ..IntegratorSpec::default()
+            };
+        }
+        match *method {
+            Method::Dop853 { rtol, .. } => IntegratorSpec {
+                method: Some(MethodName::Dop853),
+                rtol: Some(rtol),
+                ..IntegratorSpec::default()
+            },
+            Method::Rk4 { dt } => IntegratorSpec {
+                method: Some(MethodName::Rk4),
+                dt: Some(dt),
+                ..IntegratorSpec::default()
+            },
+            Method::Cf4 { dt } => IntegratorSpec {
+                method: Some(MethodName::Cf4),
+                dt: Some(dt),
+                ..IntegratorSpec::default()
+            },
+        }
+    }
+
     /// The integrator this spec names; `balanced` when nothing is given.
     pub fn method(&self) -> Result<Method, SceneError> {
         let method = match (self.preset, self.method) {

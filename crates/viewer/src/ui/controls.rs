@@ -613,30 +613,7 @@ pub(super) fn mark_on_slider(
 }
 
 pub(super) fn method_spec(method: &Method) -> crate::scene::IntegratorSpec {
-    use crate::scene::{IntegratorSpec, MethodName};
-    if let Some(p) = Preset::ALL.into_iter().find(|p| p.method() == *method) {
-        return IntegratorSpec {
-            preset: Some(p),
-            ..IntegratorSpec::default()
-        };
-    }
-    match *method {
-        Method::Dop853 { rtol, .. } => IntegratorSpec {
-            method: Some(MethodName::Dop853),
-            rtol: Some(rtol),
-            ..IntegratorSpec::default()
-        },
-        Method::Rk4 { dt } => IntegratorSpec {
-            method: Some(MethodName::Rk4),
-            dt: Some(dt),
-            ..IntegratorSpec::default()
-        },
-        Method::Cf4 { dt } => IntegratorSpec {
-            method: Some(MethodName::Cf4),
-            dt: Some(dt),
-            ..IntegratorSpec::default()
-        },
-    }
+    crate::scene::IntegratorSpec::of(method)
 }
 
 /// Where a scene's body comes from, in words: the paper's own body, a file, an inline shape, a

@@ -428,6 +428,9 @@ impl AppUi {
             alpha_sweep: self.history.alpha_sweep_points(),
             crossings: self.history.crossings_by_mass(),
         });
+        // How the run got here: replayed from the scene's start, it reaches this state to the
+        // bit (`LiveRun::replayed`).
+        scene.replay = snap.replay.clone();
         let path = self.state_path.clone();
         self.write_toml(&scene, &path, "the run's state");
     }
@@ -661,6 +664,8 @@ impl AppUi {
         }
         scene.model.drag_law = crate::scene::DragLawFields::from(&snap.drag_law);
         scene.integrator = method_spec(&status.method);
+        // A scene from its start has no history to replay (Save state adds the run's).
+        scene.replay.clear();
         scene.playback.speed = status.speed;
         scene.views = self.views.clone();
         scene
