@@ -517,6 +517,9 @@ fn print_report(d: &Design, seconds: f64, a: &DesignArgs) -> Result<()> {
         d.generations,
         d.evaluations
     )?;
+    if d.ended != Ended::CheckedOnly {
+        outln!("started from {}", d.start)?;
+    }
     match d.alpha_star_turned {
         Some(turned) => outln!(
             "α* = {:.6} rad ({:.3}°); turned end for end {:.6} rad ({:.3}°)",
