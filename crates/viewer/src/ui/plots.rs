@@ -703,6 +703,11 @@ fn sweep_ui(
             .x_axis_label("α (rad)")
             .y_axis_label("1/T")
             .include_y(0.0)
+            .include_y(rate_top(
+                up.iter()
+                    .chain(&down)
+                    .chain(others.iter().flat_map(|o| &o.1)),
+            ))
             .show(ui, |p| {
                 p.vline(VLine::new("α*", alpha_star).color(red));
                 p.vline(VLine::new("α now", snap.alpha_rad).color(Color32::GRAY));
@@ -728,6 +733,18 @@ fn sweep_ui(
                 }
             });
     });
+}
+
+/// The least top of the 1/T axis (1/t0): a plot holding only halts (1/T = 0) was centred on
+/// 0, half of it negative 1/T; rolling bodies here turn at 0.005–0.1.
+pub const RATE_MIN_TOP: f64 = 0.01;
+
+/// The top the 1/T plot includes: its largest point, at least [`RATE_MIN_TOP`].
+pub fn rate_top<'a>(points: impl Iterator<Item = &'a [f64; 2]>) -> f64 {
+    points
+        .map(|p| p[1])
+        .filter(|r| r.is_finite())
+        .fold(RATE_MIN_TOP, f64::max)
 }
 
 /// The least span the crossing plot shows, in radians of polar angle. A settled orbit's
@@ -931,7 +948,15 @@ mod axis_tests {
 
 #[cfg(test)]
 mod look_tests {
-    use super::{LESSON_MARKER_PX, PlotLook};
+    use super::{LESSON_MARKER_PX, PlotLook, RATE_MIN_TOP, rate_top};
+
+    #[test]
+    fn a_1_over_t_plot_of_halts_alone_shows_no_negative_half() {
+        // Only halts: the axis runs from 0 to the least top, not about 0.
+        assert_eq!(rate_top([[0.2, 0.0], [0.21, 0.0]].iter()), RATE_MIN_TOP);
+        assert_eq!(rate_top([[0.2, 0.0], [0.3, 0.05]].iter()), 0.05);
+        assert_eq!(rate_top([[0.2, f64::NAN]].iter()), RATE_MIN_TOP);
+    }
 
     #[test]
     fn the_lesson_plots_markers_are_large_enough_for_a_room_at_any_zoom() {
