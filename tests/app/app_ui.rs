@@ -1517,6 +1517,8 @@ fn save_state_resumes_the_run_where_it_was_with_its_plots() {
     let s = frames_until(&mut bench, &gpu, &target, key(egui::Key::Space), |s| {
         s.paused
     });
+    // The plot as saved: the change's α may have its point by now.
+    let points = bench.ui.history().sweep(Branch::Up);
     let dir = crate::cli::scratch("state");
     let path = dir.join("state.toml");
     let scene_path = dir.join("scene.toml");

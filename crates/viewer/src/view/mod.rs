@@ -293,11 +293,27 @@ impl SceneView {
             views.push(self.body_view(snap, rect, full_height, &covered, options));
         }
         if let Some(rect) = ball_rect {
-            views.push(self.ball_view(
+            // The ball below its title and key, not under them (at 720p the key's lines sat
+            // over the top of the ball): the inset's background behind both, the ball's view
+            // in what the text leaves.
+            let key = titled_panel(rect, "Orientation (SO(3) ball)", Some(SO3_KEY), text);
+            let below = (panels::estimated_height(&key)).min(rect[3] / 3);
+            let ball = self.ball_view(
                 snap,
-                rect,
+                [rect[0], rect[1] + below, rect[2], rect[3] - below],
                 if body_rect.is_some() { inset_bg } else { None },
-            ));
+            );
+            if body_rect.is_some() {
+                // The whole inset's background, drawn first: nothing in it but the fill.
+                views.push(crate::render::View {
+                    viewport: rect,
+                    meshes: Vec::new(),
+                    segments: Vec::new(),
+                    segments_on_top: Vec::new(),
+                    ..ball.clone()
+                });
+            }
+            views.push(ball);
             panels.push(titled_panel(
                 rect,
                 // Short enough not to wrap in the inset, in words rather than q_w, with what a
