@@ -42,21 +42,24 @@ window "$bin" app --preset lesson-critical-angle --screenshot-after 40 docs/less
 window "$bin" app --preset lesson-inertia-hysteresis --screenshot-after 40 docs/lessons/inertia-hysteresis.png --exit-after 41
 window "$bin" app --preset lesson-period-doubling --screenshot-after 60 docs/lessons/period-doubling.png --exit-after 61
 
-# Each lesson on a projector (presentation mode, docs/guide/lessons.md) at 1280×720 and
-# 3840×2160, and class mode at 1280×720: a virtual screen of that size, the window full screen.
+# Each lesson on a projector (presentation mode, docs/guide/lessons.md) at its key step, at
+# 1280×720 and 1920×1080, and class mode at 1280×720: a virtual screen of that size, the window
+# full screen, opened at the step (--step) with the step's evidence on its plot.
 screen() {
     local size="$1"
     shift
     xvfb-run -a -s "-screen 0 ${size}x24" "$@"
 }
-for lesson in critical-angle inertia-hysteresis period-doubling; do
-    for size in 1280x720 3840x2160; do
-        screen "$size" "$bin" app --preset "lesson-$lesson" --present --screenshot-after 12 \
-            "docs/presentation/lesson-$lesson-$size.png" --exit-after 13
+for lesson_step in critical-angle:7 inertia-hysteresis:8 period-doubling:3; do
+    lesson="${lesson_step%:*}"
+    step="${lesson_step#*:}"
+    for size in 1280x720 1920x1080; do
+        screen "$size" "$bin" app --preset "lesson-$lesson" --present --step "$step" \
+            --screenshot-after 6 "docs/presentation/lesson-$lesson-$size.png" --exit-after 7
     done
 done
-screen 1280x720 "$bin" app --preset lesson-period-doubling --class --screenshot-after 12 \
-    docs/presentation/class-mode-1280x720.png --exit-after 13
+screen 1280x720 "$bin" app --preset lesson-period-doubling --class --step 3 --screenshot-after 6 \
+    docs/presentation/class-mode-1280x720.png --exit-after 7
 
 # The app's measuring sweeps (docs/guide/app.md): α up across α* on a cylinder from 0.96 α*,
 # α down across α* on a sphere, m/m0 up across the flip; each window's screenshot as it ends

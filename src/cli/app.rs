@@ -34,6 +34,10 @@ pub struct WindowFlags {
     /// Start at this playback speed, in simulated time per second (0.05 to 1000).
     #[arg(long, value_name = "T_PER_S")]
     pub speed: Option<f64>,
+    /// Open a lesson at its step K (1 is its first), as if N were pressed until it: the run is
+    /// simulated up to the step and the step's evidence shown on its plot.
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
+    pub step: Option<usize>,
 }
 
 /// A `--sweep`: what moves, by how much per point, and where it stops.
@@ -151,6 +155,23 @@ pub fn run_window(
         })
         .transpose()?;
     let setup = pick_scene(scene, preset)?;
+    if let Some(k) = flags.step {
+        let steps = setup.timeline.len();
+        if steps == 0 {
+            bail!(
+                "--step {k} needs a lesson (a scene with [[timeline]] steps); \"{}\" has none \
+                 (the lessons: --preset lesson-critical-angle, lesson-inertia-hysteresis, \
+                 lesson-period-doubling)",
+                setup.scene.name
+            );
+        }
+        if k == 0 || k > steps {
+            bail!(
+                "--step {k} is not a step of \"{}\" (it has {steps}: give 1 to {steps})",
+                setup.scene.name
+            );
+        }
+    }
     if let Some(dir) = plot_data {
         let names = crate::live::history::PlotHistory::file_names();
         let inputs = crate::output::Inputs::of(scene);
@@ -178,6 +199,7 @@ pub fn run_window(
                     end: f.end,
                 }),
             speed,
+            step: flags.step,
             plot_data: plot_data.map(Path::to_path_buf),
         })
     }

@@ -925,6 +925,31 @@ fn under_determined_fits_and_out_of_range_scene_angles_are_refused() {
     }
 }
 
+/// `--step K` opens a lesson at a step it has; anything else is refused before a window opens.
+#[test]
+fn a_lesson_step_that_is_not_there_is_refused_by_name() {
+    let r = rollphase(&["app", "--preset", "sphere-cruising", "--step", "2"]);
+    fails_with(
+        &r,
+        1,
+        &["--step 2 needs a lesson", "\"sphere-cruising\" has none"],
+    );
+    for k in ["0", "5"] {
+        let r = rollphase(&["app", "--preset", "lesson-period-doubling", "--step", k]);
+        fails_with(
+            &r,
+            1,
+            &[
+                &format!("--step {k} is not a step"),
+                "it has 4: give 1 to 4",
+            ],
+        );
+    }
+    let r = rollphase(&["app", "--preset", "lesson-period-doubling", "--step", "-1"]);
+    assert!(!r.status.success());
+    assert!(String::from_utf8_lossy(&r.stderr).contains("--step"));
+}
+
 #[test]
 fn ctrl_c_leaves_no_partial_output() {
     let dir = temp_dir("interrupt");

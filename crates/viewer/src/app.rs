@@ -50,6 +50,8 @@ pub struct AppOptions {
     pub sweep: Option<crate::ui::measuring_sweep::MeasuringSweep>,
     /// Start at this playback speed (t per s).
     pub speed: Option<f64>,
+    /// Open a lesson at this step (1-based, checked against the timeline).
+    pub step: Option<usize>,
     /// Write the plots' data into this folder when the window closes (checked before).
     pub plot_data: Option<PathBuf>,
 }
@@ -254,6 +256,10 @@ impl App {
         }
         if let Some(sweep) = options.sweep {
             bench.ui.set_measuring_sweep(Some(sweep));
+        }
+        // Step k of a lesson is where N, pressed k times from its start, goes.
+        for _ in 0..options.step.unwrap_or(0) {
+            bench.sim.send(crate::live::SimCommand::NextStep);
         }
         let egui_winit = egui_winit::State::new(
             bench.ctx.clone(),
