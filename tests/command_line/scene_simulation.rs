@@ -536,6 +536,7 @@ fn saved_state(setup: &rollphase::scene::SceneSetup, run: &LiveRun) -> Scene {
     scene.model.alpha_rad = Some(snap.alpha_rad);
     scene.model.alpha_over_critical = None;
     scene.model.mass_ratio = snap.mass_ratio;
+    scene.model.drag_law = rollphase::scene::DragLawFields::from(&snap.drag_law);
     scene.integrator = rollphase::scene::IntegratorSpec::of(&run.method());
     scene.resume = Some(rollphase::scene::ResumeSpec {
         t: snap.t,
@@ -586,11 +587,24 @@ fn a_saved_state_replays_from_the_start_to_the_bit() {
             36 => run
                 .set_parameters(ramp, rollphase::integrate::Preset::Fast.method())
                 .unwrap(),
+            // A drag law's parameter, as the app's drag field sets it: saved states with one
+            // could not be opened again (serde's flatten beside deny_unknown_fields).
+            42 => run
+                .set_parameters(
+                    rollphase::dynamics::Ramp {
+                        drag_law: rollphase::dynamics::DragLaw::LINEAR
+                            .with("drag_exponent", 1.5)
+                            .unwrap(),
+                        ..ramp
+                    },
+                    run.method(),
+                )
+                .unwrap(),
             _ => {}
         }
     }
     let saved = saved_state(&setup, &run);
-    assert_eq!(saved.replay.len(), 4, "{:?}", saved.replay);
+    assert_eq!(saved.replay.len(), 5, "{:?}", saved.replay);
     let saved_setup = saved.setup(None).unwrap();
     let replayed = LiveRun::replayed(&saved_setup).unwrap();
     assert_eq!(replayed.time(), run.time());
@@ -613,12 +627,12 @@ fn a_saved_state_replays_from_the_start_to_the_bit() {
         .unwrap();
     resumed.advance_to(t0 + 20.71).unwrap();
     let again = saved_state(&saved_setup, &resumed);
-    assert_eq!(again.replay.len(), 6, "{:?}", again.replay);
+    assert_eq!(again.replay.len(), 7, "{:?}", again.replay);
     let replayed = LiveRun::replayed(&again.setup(None).unwrap()).unwrap();
     assert_eq!(replayed.state().vector(), resumed.state().vector());
     // Without the resume's restart the replay would not be exact: the check can fail.
     let mut skipped = again.clone();
-    skipped.replay.remove(4);
+    skipped.replay.remove(5);
     let off = LiveRun::replayed(&skipped.setup(None).unwrap()).unwrap();
     assert_ne!(off.state().vector(), resumed.state().vector());
 }
@@ -654,9 +668,34 @@ fn a_replay_that_cannot_lead_to_its_saved_state_is_refused_by_name() {
     let mut steep = saved.clone();
     steep.replay[0].alpha_rad = 2.0;
     assert!(
-        refused(&steep).contains("replay at t = 0"),
+        refused(&steep).contains("[[replay]] entry 1 (at t = 0)"),
         "{}",
         refused(&steep)
+    );
+    // A step the app would not have run: coarser than a frame.
+    let mut coarse = saved.clone();
+    coarse.replay[0].integrator = rollphase::integrate::Method::Rk4 { dt: 10.0 };
+    assert!(refused(&coarse).contains("entry 1"), "{}", refused(&coarse));
+    // A time past the saved one is named readably, not in 309 digits.
+    let mut huge = saved.clone();
+    huge.replay.push(rollphase::scene::ReplayEntry {
+        at: 1e308,
+        ..huge.replay[0].clone()
+    });
+    assert!(
+        refused(&huge).contains("at t = 1e308"),
+        "{}",
+        refused(&huge)
+    );
+    // An unknown key in an entry is refused, naming the entry's own fields.
+    let text = saved
+        .to_toml()
+        .unwrap()
+        .replace("[[replay]]\n", "[[replay]]\nspeed = 2.0\n");
+    let e = Scene::from_toml(&text).unwrap_err().to_string();
+    assert!(
+        e.contains("unknown field `speed`") && e.contains("`integrator`"),
+        "{e}"
     );
     // A saved state without a replay resumes, but says why it cannot be replayed.
     let mut plain = saved.clone();

@@ -144,7 +144,10 @@ impl LiveRun {
             None => vec![ReplayEntry::of(0.0, &setup.ramp, setup.method)],
             Some(r) if !setup.scene.replay.is_empty() => {
                 let mut replay = setup.scene.replay.clone();
-                replay.push(ReplayEntry::of(r.t, &setup.ramp, setup.method));
+                replay.push(ReplayEntry {
+                    resumed: true,
+                    ..ReplayEntry::of(r.t, &setup.ramp, setup.method)
+                });
                 replay
             }
             Some(_) => Vec::new(),
@@ -353,8 +356,17 @@ impl LiveRun {
         let mut run = LiveRun::new(start);
         for entry in &setup.scene.replay[1..] {
             run.advance_to(entry.at)?;
-            let ramp = entry.ramp().map_err(|e| refused(e.to_string()))?;
-            run.set_parameters(ramp, entry.integrator)?;
+            if entry.resumed {
+                // As the app resumed the saved state: a new run from the state vector.
+                let at = Some((entry.at, run.state().vector().to_vec()));
+                let resumed = setup
+                    .replay_setup(entry, at)
+                    .map_err(|e| refused(e.to_string()))?;
+                run = LiveRun::new(resumed);
+            } else {
+                let ramp = entry.ramp().map_err(|e| refused(e.to_string()))?;
+                run.set_parameters(ramp, entry.integrator)?;
+            }
         }
         run.advance_to(resume.t)?;
         Ok(run)

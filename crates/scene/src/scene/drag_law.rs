@@ -41,14 +41,39 @@ impl From<&DragLaw> for DragLawFields {
 
 impl<'de> Deserialize<'de> for DragLawFields {
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        deserializer.deserialize_map(FieldsVisitor)
+        deserializer.deserialize_map(FieldsVisitor {
+            fields: MODEL_FIELDS,
+        })
     }
 }
 
 /// The `[model]` fields `ModelSpec` names itself, for the unknown-field message.
 const MODEL_FIELDS: &str = "`alpha_rad`, `alpha_over_critical`, `mass_ratio`, `drag`, `friction`";
 
-struct FieldsVisitor;
+/// The drag-law parameters of a `[[replay]]` entry: [`DragLawFields`] whose unknown-field
+/// message names the entry's own fields. (The entry flattens them in; serde's
+/// `deny_unknown_fields` does not work beside a flattened field, and refused every drag-law key.)
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[serde(transparent)]
+pub struct ReplayDragLaw(pub DragLawFields);
+
+/// The `[[replay]]` entry's fields, for the unknown-field message.
+const REPLAY_FIELDS: &str = "`at`, `alpha_rad`, `mass_ratio`, `drag`, `integrator`, `resumed`";
+
+impl<'de> Deserialize<'de> for ReplayDragLaw {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer
+            .deserialize_map(FieldsVisitor {
+                fields: REPLAY_FIELDS,
+            })
+            .map(ReplayDragLaw)
+    }
+}
+
+struct FieldsVisitor {
+    /// The fields of the table the parameters sit in, for the message.
+    fields: &'static str,
+}
 
 impl<'de> serde::de::Visitor<'de> for FieldsVisitor {
     type Value = DragLawFields;
@@ -63,8 +88,8 @@ impl<'de> serde::de::Visitor<'de> for FieldsVisitor {
             if !REGISTERED.iter().any(|p| p.key == key) {
                 let laws: Vec<_> = REGISTERED.iter().map(|p| format!("`{}`", p.key)).collect();
                 return Err(serde::de::Error::custom(format!(
-                    "unknown field `{key}`, expected one of {MODEL_FIELDS} or a drag-law \
-                     parameter ({})",
+                    "unknown field `{key}`, expected one of {} or a drag-law parameter ({})",
+                    self.fields,
                     laws.join(", ")
                 )));
             }

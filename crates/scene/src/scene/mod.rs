@@ -45,7 +45,7 @@ mod drag_law;
 mod error;
 mod setup;
 mod timeline;
-pub use drag_law::DragLawFields;
+pub use drag_law::{DragLawFields, ReplayDragLaw};
 pub use error::SceneError;
 pub use setup::{Resume, SceneSetup, bundled_shape, load_scene_file};
 pub use timeline::{MAX_CAPTION_CHARS, MAX_STEPS, Step, TimelineSpec, ViewsChange};
@@ -97,9 +97,9 @@ pub struct Scene {
 }
 
 /// One `[[replay]]` entry: from simulation time `at` on, the run has this model and integrator,
-/// the integrator started afresh there (a change made by hand, or a resume).
+/// the integrator started afresh there (a change made by hand, or a resume). Unknown keys are
+/// refused by [`ReplayDragLaw`], which takes the keys this struct does not name.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct ReplayEntry {
     /// Simulation time.
     pub at: f64,
@@ -112,9 +112,14 @@ pub struct ReplayEntry {
     pub drag: f64,
     /// The drag law's parameters (none: linear drag).
     #[serde(default, flatten)]
-    pub drag_law: DragLawFields,
+    pub drag_law: ReplayDragLaw,
     /// The integrator, exactly.
     pub integrator: crate::integrate::Method,
+    /// The run was resumed from a saved state here: a replay resumes from its own state at
+    /// this time as the app did (a fresh run from the state vector), rather than changing the
+    /// model of the run in progress, which differs by 1e-15 and grows.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub resumed: bool,
 }
 
 impl ReplayEntry {
@@ -125,8 +130,9 @@ impl ReplayEntry {
             alpha_rad: ramp.alpha_rad,
             mass_ratio: ramp.mass_ratio,
             drag: ramp.drag,
-            drag_law: DragLawFields::from(&ramp.drag_law),
+            drag_law: ReplayDragLaw(DragLawFields::from(&ramp.drag_law)),
             integrator: method,
+            resumed: false,
         }
     }
 
@@ -134,11 +140,12 @@ impl ReplayEntry {
     pub fn ramp(&self) -> Result<crate::dynamics::Ramp, SceneError> {
         let law = self
             .drag_law
+            .0
             .law()
-            .map_err(|e| error::invalid(format!("replay at t = {}: {e}", self.at)))?;
+            .map_err(|e| error::invalid(e.to_string()))?;
         Ok(
             crate::dynamics::Ramp::with_drag(self.alpha_rad, self.mass_ratio, self.drag)
-                .map_err(|e| error::invalid(format!("replay at t = {}: {e}", self.at)))?
+                .map_err(|e| error::invalid(e.to_string()))?
                 .with_drag_law(law),
         )
     }

@@ -184,28 +184,37 @@ impl Scene {
         };
         let Some(resume) = &self.resume else {
             return Err(invalid(
-                "[[replay]] without [resume]: a replay leads to a saved state; Save state writes                  both, Save scene neither",
+                "[[replay]] without [resume]: a replay leads to a saved state; Save state writes \
+                 both, Save scene neither",
             ));
         };
+        let t = crate::integrate::readable;
         if first.at != 0.0 {
             return Err(invalid(format!(
-                "the first [[replay]] entry is at t = {} (needs t = 0: the model the run started                  with)",
-                first.at
+                "the first [[replay]] entry is at t = {} (needs t = 0: the model the run started \
+                 with)",
+                t(first.at)
             )));
         }
         let mut before = 0.0;
-        for e in &self.replay {
+        for (i, e) in self.replay.iter().enumerate() {
+            let entry = format!("[[replay]] entry {} (at t = {})", i + 1, t(e.at));
             if !(e.at.is_finite() && e.at >= before && e.at <= resume.t) {
                 return Err(invalid(format!(
-                    "[[replay]] at t = {} is not allowed (needs times in order from 0 to the                      saved t = {}; the one before is at {before})",
-                    e.at, resume.t
+                    "{entry} is not allowed (needs times in order from 0 to the saved t = {}; \
+                     the entry before is at {})",
+                    t(resume.t),
+                    t(before)
                 )));
             }
             before = e.at;
-            e.ramp()?;
+            e.ramp().map_err(|err| invalid(format!("{entry}: {err}")))?;
             e.integrator
                 .validate()
-                .map_err(|err| invalid(format!("[[replay]] at t = {}: {err}", e.at)))?;
+                .map_err(|err| invalid(format!("{entry}: {err}")))?;
+            // The same rule as [integrator]'s: the app never ran a coarser step.
+            self.check_step_fits_a_frame(e.integrator)
+                .map_err(|err| invalid(format!("{entry}: {err}")))?;
         }
         Ok(())
     }
@@ -219,29 +228,52 @@ impl SceneSetup {
     /// The first entry's model or integrator cannot be written as the scene's (the check that
     /// the replay starts where the saved run did, to the bit).
     pub fn replay_start(&self) -> Result<Option<SceneSetup>, SceneError> {
-        let Some(first) = self.scene.replay.first() else {
-            return Ok(None);
-        };
+        match self.scene.replay.first() {
+            Some(first) => self.replay_setup(first, None).map(Some),
+            None => Ok(None),
+        }
+    }
+
+    /// This scene with the model of `entry`, from its start, or (`resume`: a time and a state
+    /// vector) resumed there as the app resumes a saved state: what a replay runs from each
+    /// entry that was a resume (`ReplayEntry::resumed`).
+    ///
+    /// # Errors
+    /// The entry's model, integrator or state does not fit the scene.
+    pub fn replay_setup(
+        &self,
+        entry: &super::ReplayEntry,
+        resume: Option<(f64, Vec<f64>)>,
+    ) -> Result<SceneSetup, SceneError> {
         let mut scene = self.scene.clone();
-        scene.resume = None;
+        scene.resume = resume.map(|(t, state)| super::ResumeSpec {
+            t,
+            state,
+            ..Default::default()
+        });
         scene.replay.clear();
-        scene.model.alpha_rad = Some(first.alpha_rad);
+        scene.model.alpha_rad = Some(entry.alpha_rad);
         scene.model.alpha_over_critical = None;
-        scene.model.mass_ratio = first.mass_ratio;
-        scene.model.drag = first.drag;
-        scene.model.drag_law = first.drag_law.clone();
+        scene.model.mass_ratio = entry.mass_ratio;
+        scene.model.drag = entry.drag;
+        scene.model.drag_law = entry.drag_law.0.clone();
         scene.model.kind = None;
-        scene.integrator = IntegratorSpec::of(&first.integrator);
-        let start = scene.setup_with_body(self.body.clone())?;
-        if start.method != first.integrator {
+        scene.integrator = IntegratorSpec::of(&entry.integrator);
+        let setup = scene.setup_with_body(self.body.clone())?;
+        if setup.method != entry.integrator {
             return Err(invalid(format!(
-                "the replay's first integrator ({}) cannot be written as a scene's",
-                first.integrator
+                "the replay's integrator at t = {} ({}) cannot be written as a scene's",
+                crate::integrate::readable(entry.at),
+                entry.integrator
             )));
         }
-        Ok(Some(start))
+        Ok(setup)
     }
 }
+
+/// The latest time a saved state may be at: a billion t0 (a day at the app's fastest speed is
+/// 9e7), where a frame's time step still has 8 digits.
+pub const MAX_RESUME_T: f64 = 1e9;
 
 /// The most points `[resume]` may carry in each plot (the app keeps 5000 crossings).
 const MAX_RESUME_POINTS: usize = 100_000;
@@ -249,10 +281,12 @@ const MAX_RESUME_POINTS: usize = 100_000;
 impl super::ResumeSpec {
     /// Checks the saved state against the scene's model, and the plots' points.
     fn check(&self, start: &Start, ramp: &Ramp) -> Result<Resume, SceneError> {
-        if !(self.t.is_finite() && self.t >= 0.0) {
+        if !(self.t.is_finite() && (0.0..=MAX_RESUME_T).contains(&self.t)) {
             return Err(invalid(format!(
-                "resume.t = {} is not allowed (needs a finite time ≥ 0)",
-                self.t
+                "resume.t = {} is not allowed (needs a time from 0 to {MAX_RESUME_T:e}: past it a \
+                 frame's step is lost in the time's rounding, and at 1e307 the frame clock \
+                 never advanced)",
+                crate::integrate::readable(self.t)
             )));
         }
         let state = ModelState::new(start, ramp)
