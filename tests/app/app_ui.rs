@@ -1416,7 +1416,7 @@ fn presentation_shows_no_tooltip_until_the_pointer_moves() {
         vec![egui::Event::PointerMoved(resting)],
         2,
     );
-    frames(&mut bench, &gpu, &target, vec![], 40);
+    frames(&mut bench, &gpu, &target, vec![], 130);
     assert!(
         !bench.ui.plot_hover_shown(),
         "a resting pointer shows no tooltip"

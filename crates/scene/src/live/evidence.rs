@@ -186,8 +186,10 @@ impl LessonEvidence {
         self.shared.lock().ok()?.steps.get(done).cloned()
     }
 
-    /// How far the measurement of step `done` has got, 0 to 1 (1: measured), and why it
-    /// stopped if it failed first.
+    /// How far the measurement of step `done` has got, 0 to 1 (1: measured): the share of the
+    /// run from the lesson's start to the step's end that is done (the steps before it are run
+    /// first, so a share of the step alone sat at 0 while they ran), and why it stopped if it
+    /// failed first.
     pub fn progress(&self, done: usize) -> (f64, Option<String>) {
         let Ok(state) = self.shared.lock() else {
             return (0.0, Some("the evidence thread stopped".into()));
@@ -196,10 +198,8 @@ impl LessonEvidence {
             return (1.0, None);
         }
         let ends = step_ends(&self.setup);
-        let start = if done == 0 { 0.0 } else { ends[done - 1] };
         let end = ends.get(done).copied().unwrap_or(state.t_end);
-        let fraction =
-            ((state.t_done - start) / (end - start).max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+        let fraction = (state.t_done / end.max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
         (fraction, state.failed.clone())
     }
 }

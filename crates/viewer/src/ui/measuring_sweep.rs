@@ -51,8 +51,13 @@ impl SweepTarget {
     /// ("+0.00200 rad"), m/m0's as the factor per point ("×1.051"; the step is its ln). The
     /// field once showed m/m0's ln ("0.0500") beside the status bar's factor.
     pub fn shown_step(self, step: f64) -> String {
+        // Enough digits that a small step never reads as none ("+0.00000 rad", "×1.000").
         match self {
+            SweepTarget::Alpha if step != 0.0 && step.abs() < 1e-4 => format!("{step:+.2e} rad"),
             SweepTarget::Alpha => format!("{step:+.5} rad"),
+            SweepTarget::MassRatio if step != 0.0 && step.abs() < 5e-4 => {
+                format!("×{:.7}", step.exp())
+            }
             SweepTarget::MassRatio => format!("×{:.3}", step.exp()),
         }
     }
@@ -349,6 +354,12 @@ mod tests {
             assert_eq!(sweep.target.parse_step(bad), None, "{bad}");
         }
         assert_eq!(alpha.parse_step("nan rad"), None);
+        // A small step still reads as one, and back.
+        assert_eq!(alpha.shown_step(1e-6), "+1.00e-6 rad");
+        assert_eq!(alpha.parse_step("+1.00e-6 rad"), Some(1e-6));
+        let small = sweep.target.shown_step(0.0004);
+        assert_eq!(small, "×1.0004001");
+        assert!((sweep.target.parse_step(&small).unwrap() - 0.0004).abs() < 1e-7);
     }
 
     #[test]

@@ -22,6 +22,7 @@
 //! | `dialog` | native Open / Save dialogs (rfd) on their own thread, or why there are none |
 //! | `keys` | the keyboard bindings and class mode |
 //! | `picking` | starts picked in the views: the curvature map, the SO(3) ball, the Poincaré field |
+//! | `plot_axes` | the plots' axes: numbers on a 1-2-5 ladder, far enough apart to read |
 //! | `plots`, `painter`, `workbench` | the plots, the wgpu painter, the windowless app core |
 //! | `measuring_sweep` | the measuring sweep of α or m/m0 (hold each value until measured, then step) |
 //! | `fonts` | egui's fonts with the bundled DejaVu Sans as the fallback |
@@ -30,6 +31,7 @@ pub mod dialog;
 pub mod fonts;
 pub mod measuring_sweep;
 pub mod painter;
+mod plot_axes;
 pub mod plots;
 pub mod workbench;
 
@@ -394,8 +396,9 @@ impl AppUi {
             return None;
         }
         match evidence.progress(done) {
+            // A no-break space: the number and its % never part at a line's end.
             (f, None) if f < 1.0 => Some(format!(
-                "measuring this step's evidence ahead: {:.0} %",
+                "measuring this step's evidence ahead: {:.0}\u{a0}%",
                 100.0 * f
             )),
             (_, Some(why)) => Some(format!("this step's evidence could not be measured: {why}")),
@@ -642,7 +645,7 @@ impl AppUi {
         // class modes (in presentation mode every other plot is hidden, and the lessons' words
         // "watch the 1/T plot" named a plot that was not on screen).
         // A moved pointer shows values again; the moves the mode change itself makes (the
-        // window going full screen, the zoom) within its first half second do not count.
+        // window going full screen, the zoom) within its first seconds do not count.
         if self.pointer_resting
             && ui.input(|i| {
                 i.time - self.mode_entered_at > POINTER_SETTLE_S
@@ -755,7 +758,9 @@ fn lesson_plot_ui(
 
 /// How long after entering presentation or class mode pointer moves are the mode change's own
 /// (the window resized under a resting pointer), seconds.
-const POINTER_SETTLE_S: f64 = 0.5;
+/// Two seconds: under a loaded X server the full-screen resize's pointer event came after 0.5 s
+/// and showed a label at the pointer's position × the zoom.
+const POINTER_SETTLE_S: f64 = 2.0;
 
 /// Where the paused badge's bottom-right corner goes (points): the scene's bottom-right corner,
 /// moved left of any inset (`insets`: the SO(3) ball's and the Poincaré view's rectangles in

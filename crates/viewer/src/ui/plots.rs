@@ -13,9 +13,7 @@
 //! health quantities the model has.
 
 use egui::Color32;
-use egui_plot::{
-    GridInput, GridMark, HoverPosition, Line, Plot, PlotPoint, PlotPoints, Points, VLine,
-};
+use egui_plot::{HoverPosition, Line, Plot, PlotPoint, PlotPoints, Points, VLine};
 
 use crate::colormap::{DIVERGING, sample};
 use crate::dynamics::ModelKind;
@@ -24,6 +22,10 @@ use crate::geometry::sphere::{angles, direction};
 use crate::live::Snapshot;
 use crate::live::history::{Branch, PlotHistory, Regime};
 use crate::view::CurvatureScale;
+
+use super::plot_axes::{
+    X_LABEL_POINTS, Y_LABEL_POINTS, label_spacing, tick_label, x_marks, y_marks,
+};
 
 /// Samples in the phase curve: the last 300 time units at every
 /// [`PLOT_SAMPLE_DT`](crate::live::PLOT_SAMPLE_DT).
@@ -99,100 +101,6 @@ impl CurvatureMap {
     }
 }
 
-/// How far apart the numbers of an x axis are at least, in points: a number such as
-/// "0.04425" is about 45 points wide; with the gap neighbours never read as one, and a plot
-/// 130 points wide still gets two.
-const X_LABEL_POINTS: f64 = 55.0;
-/// How far apart the numbers of a y axis are at least, in points (a line of text is 14).
-const Y_LABEL_POINTS: f64 = 32.0;
-/// egui_plot's default finest grid spacing, in points: `GridInput::base_step_size` is this
-/// many points' worth of data.
-const GRID_MIN_POINTS: f64 = 8.0;
-
-/// The step of rung `k` of the 1-2-5 ladder: …, 0.1, 0.2, 0.5, 1, 2, 5, 10, … (k = 0 is 1).
-fn rung(k: i32) -> f64 {
-    [1.0, 2.0, 5.0][k.rem_euclid(3) as usize] * 10f64.powi(k.div_euclid(3))
-}
-
-/// Grid marks with exactly one labelled level: numbers every `label` (the finest 1-2-5 step
-/// at least `label_points` apart), grid lines every fifth (a quarter of a 2) of it between
-/// them. egui_plot labels every mark whose step is further apart than the axis's label
-/// spacing, so marks of two coarser steps were both labelled ("0.0440.0450.046", or t at 0,
-/// 200, 400, 500, 600): here a mark has the label step or the fine one, and the axes' label
-/// spacing ([`label_spacing`]) lies between the two. A number within `edge_points` of the
-/// upper end, where the widget's edge would cut it, or `low_edge_points` of the lower end,
-/// where it would meet the other axis's numbers, is left off.
-fn axis_marks(
-    input: GridInput,
-    label_points: f64,
-    (low_edge_points, edge_points): (f64, f64),
-) -> Vec<GridMark> {
-    let (lo, hi) = input.bounds;
-    if !(lo.is_finite() && hi.is_finite() && hi > lo && input.base_step_size > 0.0) {
-        return Vec::new();
-    }
-    let points_per_unit = GRID_MIN_POINTS / input.base_step_size;
-    let wanted = label_points / points_per_unit;
-    let mut k = wanted.log10().floor() as i32 * 3 - 3;
-    while rung(k) < wanted {
-        k += 1;
-    }
-    // A 2× or 2.5× step of the ladder can leave one number on a narrow plot: then the step
-    // under it, if its numbers are still 3/4 of the spacing apart.
-    let labels_in = |step: f64| ((hi / step).floor() - (lo / step).ceil() + 1.0).max(0.0);
-    if labels_in(rung(k)) < 2.0 && rung(k - 1) >= 0.75 * wanted {
-        k -= 1;
-    }
-    let label = rung(k);
-    let per_label: i64 = if k.rem_euclid(3) == 1 { 4 } else { 5 };
-    let fine = label / per_label as f64;
-    let first = (lo / fine).ceil() as i64;
-    let last = (hi / fine).floor() as i64;
-    if last - first > 10_000 {
-        return Vec::new();
-    }
-    (first..=last)
-        .map(|i| {
-            let value = i as f64 * fine;
-            let near_edge = (value - lo) * points_per_unit < low_edge_points
-                || (hi - value) * points_per_unit < edge_points;
-            let step_size = if i.rem_euclid(per_label) == 0 && !near_edge {
-                label
-            } else {
-                fine
-            };
-            GridMark { value, step_size }
-        })
-        .collect()
-}
-
-/// The x axis's marks ([`axis_marks`]).
-pub fn x_marks(input: GridInput) -> Vec<GridMark> {
-    axis_marks(input, X_LABEL_POINTS, (0.0, 0.4 * X_LABEL_POINTS))
-}
-
-/// The y axis's marks ([`axis_marks`]).
-pub fn y_marks(input: GridInput) -> Vec<GridMark> {
-    // A y number at an end overhangs the frame by half a line, which the axis has room for.
-    axis_marks(input, Y_LABEL_POINTS, (0.0, 0.0))
-}
-
-/// The label spacing to give egui_plot for an axis whose numbers are `label_points` apart:
-/// above the fine marks' spacing (at most 2.5/5 of it) and below the labelled ones' (at least
-/// 3/4 of it).
-fn label_spacing(label_points: f64) -> std::ops::RangeInclusive<f32> {
-    let min = (0.7 * label_points) as f32;
-    min..=min + 1.0
-}
-
-/// A tick's number with as many decimals as its step needs (a step of 0.0005 shows 0.0495, not
-/// egui_plot's rounded 0.050); an axis's numbers share one step ([`axis_marks`]), so they all
-/// have the same decimals (0.0490 beside 0.0495, not 0.049).
-pub fn tick_label(mark: GridMark, _range: &std::ops::RangeInclusive<f64>) -> String {
-    let decimals = (-mark.step_size.log10() - 1e-9).ceil().max(0.0) as usize;
-    format!("{:.*}", decimals.min(12), mark.value)
-}
-
 /// A plot that reads as an instrument: numbered ticks on both axes at any size, and the
 /// values under the pointer named by the axes (`x` and `y`), with the series' name near a point.
 fn instrument<'a>(plot: Plot<'a>, x: &'static str, y: &'static str) -> Plot<'a> {
@@ -266,6 +174,9 @@ const SERIES_COLORS: [Color32; 4] = [
     Color32::from_rgb(120, 200, 120),
     Color32::from_rgb(190, 120, 230),
 ];
+
+/// Regimes besides the running one the 1/T plot names one by one; more are one series.
+const MAX_NAMED_REGIMES: usize = 2;
 
 /// The 1/T points of regimes other than the running one (another m/m0 or drag law): greys and
 /// muted tones, apart from the running regime's blue and orange and the fit's green.
@@ -647,14 +558,25 @@ fn sweep_ui(
         let mut regimes: Vec<Regime> = up_by.keys().chain(down_by.keys()).cloned().collect();
         regimes.sort();
         regimes.dedup();
-        regimes
+        let named: Vec<(String, Vec<[f64; 2]>)> = regimes
             .into_iter()
             .map(|r| {
                 let mut points = up_by.remove(&r).unwrap_or_default();
                 points.extend(down_by.remove(&r).unwrap_or_default());
                 (r.label(), points)
             })
-            .collect()
+            .collect();
+        // A mass sweep leaves a regime per m/m0: past a few, one grey series says how many
+        // (a key per regime once buried the plot under 28 of them).
+        if named.len() > MAX_NAMED_REGIMES {
+            let count = named.len();
+            vec![(
+                format!("{count} other m/m0 or drag laws"),
+                named.into_iter().flat_map(|(_, p)| p).collect(),
+            )]
+        } else {
+            named
+        }
     };
     // The √ law is the viscous cylinder's; with inertia the branches follow other laws.
     let sqrt_law = match snap.model {
@@ -863,87 +785,6 @@ fn health_ui(
                 }
             });
     });
-}
-
-#[cfg(test)]
-mod axis_tests {
-    use super::{X_LABEL_POINTS, label_spacing, tick_label, x_marks, y_marks};
-    use egui_plot::{GridInput, GridMark};
-
-    /// The labelled ticks of an axis `pixels` long over `bounds`, as egui_plot labels them: a
-    /// mark whose step spans more than the axis's label spacing.
-    fn labelled(
-        marks: fn(GridInput) -> Vec<GridMark>,
-        spacing: f64,
-        bounds: (f64, f64),
-        pixels: f64,
-    ) -> Vec<(f64, String)> {
-        let per_point = (bounds.1 - bounds.0) / pixels;
-        // egui_plot asks for steps of at least 8 points.
-        marks(GridInput {
-            bounds,
-            base_step_size: 8.0 * per_point,
-        })
-        .iter()
-        .filter(|m| m.step_size / per_point > f64::from(*label_spacing(spacing).start()))
-        .map(|m| (m.value, tick_label(*m, &(bounds.0..=bounds.1))))
-        .collect()
-    }
-
-    #[test]
-    fn every_axis_gets_evenly_spaced_numbers_at_one_level_at_any_range_and_size() {
-        for bounds in [
-            (0.0489, 0.0499),
-            (0.0, 1.0),
-            (-16.0, -15.2),
-            (0.0, 2000.0),
-            (0.0, 830.0),
-            (0.1, 6.3),
-            (0.0440, 0.0462),
-        ] {
-            for pixels in [180.0, 320.0, 900.0] {
-                for (marks, spacing) in [(x_marks as fn(_) -> _, X_LABEL_POINTS), (y_marks, 32.0)] {
-                    let ticks = labelled(marks, spacing, bounds, pixels);
-                    let what = format!("{bounds:?} over {pixels} px: {ticks:?}");
-                    assert!(ticks.len() >= 2, "{what}");
-                    // Distinct numbers with the same decimals, evenly spaced, far enough
-                    // apart to read (t: 0, 200, 400, 500, 600 had two steps).
-                    let steps: Vec<f64> = ticks.windows(2).map(|w| w[1].0 - w[0].0).collect();
-                    let step = steps[0];
-                    assert!(
-                        steps.iter().all(|s| (s - step).abs() < 1e-9 * step),
-                        "{what}"
-                    );
-                    assert!(
-                        step / (bounds.1 - bounds.0) * pixels >= 0.75 * spacing - 1e-9,
-                        "{what}"
-                    );
-                    let decimals: Vec<usize> = ticks
-                        .iter()
-                        .map(|(_, t)| t.split('.').nth(1).map_or(0, str::len))
-                        .collect();
-                    assert!(decimals.iter().all(|&d| d == decimals[0]), "{what}");
-                    let mut unique: Vec<&String> = ticks.iter().map(|(_, t)| t).collect();
-                    unique.dedup();
-                    assert_eq!(unique.len(), ticks.len(), "{what}");
-                }
-            }
-        }
-        // The case of issue 25: α from α* = 0.0489 to 0.0499 on a 300 px plot.
-        let ticks = labelled(x_marks, X_LABEL_POINTS, (0.0489, 0.0499), 300.0);
-        assert!(ticks.iter().any(|(_, t)| t == "0.0490"), "{ticks:?}");
-        // No number at the very end of an axis, where the frame cuts it.
-        let ticks = labelled(x_marks, X_LABEL_POINTS, (0.0, 1000.0), 320.0);
-        assert!(ticks.iter().all(|(v, _)| *v != 1000.0), "{ticks:?}");
-        // Nothing for a broken range.
-        assert!(
-            x_marks(GridInput {
-                bounds: (1.0, f64::NAN),
-                base_step_size: 0.1
-            })
-            .is_empty()
-        );
-    }
 }
 
 #[cfg(test)]

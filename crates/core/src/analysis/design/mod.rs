@@ -10,6 +10,7 @@
 //! | [`targets`] | each target, measured on a body by the analysis that answers it, and how far it is |
 //! | [`mod@check`] | the independent check over α ± δα, m/m0 ± 20 % and print errors of ± ε mm, with margins |
 //! | [`at_scale`] | what the design does on each target's ramp, in mm and s at the printed scale |
+//! | `start` | where a search starts: the given body, the seed's first convex body, or (doubling) the best of 24 screened |
 //!
 //! The optimiser is CMA-ES from the `cmaes` crate rather than one of our own: the objective is
 //! non-smooth (α* is a maximum over the surface, a cylinder rolls or stops), has 8 to 77
@@ -24,6 +25,7 @@
 pub mod at_scale;
 pub mod check;
 pub mod space;
+mod start;
 pub mod targets;
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -35,13 +37,14 @@ use serde::Serialize;
 pub use at_scale::{OrbitAtScale, RampPrediction};
 pub use check::{Band, Check, TargetCheck, check};
 pub use space::{DesignSpace, MAX_DESIGN_MODES, Printability};
+pub use start::{DOUBLING_SCREEN_SEEDS, DOUBLING_SCREEN_SIGMAS};
 pub use targets::{Setting, Target, TargetError};
 
 use at_scale::{predict_at_scale, ramps};
 
 use crate::analysis::rest::critical_angle::critical_angle;
 use crate::dynamics::models::asks_for_inertia;
-use crate::geometry::{Body, first_convex_disk, first_convex_sphere};
+use crate::geometry::Body;
 
 /// The objective at which every target is within half its tolerance (ln(1 + 0.5²)).
 const MET_OBJECTIVE: f64 = 0.223_143_551_314_209_7;
@@ -658,42 +661,7 @@ pub fn design_until(
 ) -> Result<Design, DesignError> {
     opts.validate()?;
     let space = &opts.space;
-    let (x0, start) = match &opts.start {
-        Some(b) => (
-            space.vector(b).unwrap_or_else(|| vec![0.0; space.len()]),
-            "the given body".to_string(),
-        ),
-        None if space.dimension == 3
-            && opts
-                .targets
-                .iter()
-                .any(|t| matches!(t, Target::Doubling { .. })) =>
-        {
-            doubling_start(opts, stop)?
-        }
-        None => {
-            let (start, sigma) = if space.dimension == 2 {
-                (
-                    Body::Disk(first_convex_disk(opts.seed, 0.08, space.modes)?.0),
-                    0.08,
-                )
-            } else {
-                (
-                    Body::Sphere(first_convex_sphere(opts.seed, 0.1, space.modes)?.0),
-                    0.1,
-                )
-            };
-            (
-                space
-                    .vector(&start)
-                    .unwrap_or_else(|| vec![0.0; space.len()]),
-                format!(
-                    "the first convex generator body from seed {} (σ = {sigma})",
-                    opts.seed
-                ),
-            )
-        }
-    };
+    let (x0, start) = start::search_start(opts, stop)?;
     progress(DesignProgress {
         generation: 0,
         max_generations: opts.max_generations,
@@ -738,88 +706,6 @@ pub fn design_until(
         sigma *= 0.5;
     }
     unreachable!("the last round returns")
-}
-
-/// Generator bodies a doubling search screens for its start: [`DOUBLING_SCREEN_SEEDS`] seeds at
-/// each of these σ. A random body of σ = 0.1 (the other targets' start) has orbits far from
-/// flipping at the m/m0 a design asks for (the paper's body, σ = 0.25, flips near 1.7), and a
-/// search from it spent its 20-minute budget without one repeat after two crossings (issue 59).
-pub const DOUBLING_SCREEN_SIGMAS: [f64; 3] = [0.1, 0.18, 0.25];
-/// Seeds per σ screened for a doubling search's start.
-pub const DOUBLING_SCREEN_SEEDS: u64 = 8;
-
-/// A doubling search's start: of the convex generator bodies of [`DOUBLING_SCREEN_SIGMAS`] ×
-/// [`DOUBLING_SCREEN_SEEDS`] seeds from `opts.seed`, the one the objective ranks best (at the
-/// fast setting: its most negative Floquet multiplier against the target, with every
-/// constraint), in parallel and the same for any thread count. Its vector and, in words, which
-/// body it is and how it ranked.
-fn doubling_start(
-    opts: &DesignOptions,
-    stop: &AtomicBool,
-) -> Result<(Vec<f64>, String), DesignError> {
-    let space = &opts.space;
-    let mut candidates: Vec<(f64, u64, Vec<f64>)> = Vec::new();
-    let mut last_error = None;
-    for sigma in DOUBLING_SCREEN_SIGMAS {
-        for k in 0..DOUBLING_SCREEN_SEEDS {
-            let (body, seed) =
-                match first_convex_sphere(opts.seed.wrapping_add(k * 1000), sigma, space.modes) {
-                    Ok(found) => found,
-                    Err(e) => {
-                        last_error = Some(e);
-                        continue;
-                    }
-                };
-            if let Some(x) = space.vector(&Body::Sphere(body))
-                && !candidates.iter().any(|c| c.2 == x)
-            {
-                candidates.push((sigma, seed, x));
-            }
-        }
-    }
-    let values: Vec<f64> = candidates
-        .par_iter()
-        .map(|(_, _, x)| {
-            if stop.load(std::sync::atomic::Ordering::Relaxed) {
-                f64::INFINITY
-            } else {
-                objective(opts, x, 0.0)
-            }
-        })
-        .collect();
-    // Stopped while screening: the first candidate (the search stops at once too).
-    let best = values
-        .iter()
-        .enumerate()
-        .min_by(|a, b| a.1.total_cmp(b.1))
-        .map(|(i, _)| i);
-    match best {
-        Some(i) => {
-            let (sigma, seed, x) = candidates.swap_remove(i);
-            Ok((
-                x,
-                format!(
-                    "the best of {} convex generator bodies screened for the flip (seed {seed}, \
-                     σ = {sigma}; objective {:.3}, the next best {:.3})",
-                    values.len(),
-                    values[i],
-                    values
-                        .iter()
-                        .enumerate()
-                        .filter(|&(j, v)| j != i && v.is_finite())
-                        .map(|(_, v)| *v)
-                        .fold(f64::INFINITY, f64::min)
-                ),
-            ))
-        }
-        None => Err(match last_error {
-            Some(e) => DesignError::Shape(e),
-            None => DesignError::Request(format!(
-                "no generator body from seed {} fits the design space (L = {})",
-                opts.seed, space.modes
-            )),
-        }),
-    }
 }
 
 /// A given body (`opts.start`, which must be set) measured, constrained and checked against
@@ -1027,49 +913,4 @@ fn finish(
         ended,
         start: String::new(),
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A doubling search without a body to start from starts at the screened generator body
-    /// the objective ranks best, never worse than the one other targets start from (the first
-    /// convex body of σ = 0.1, from which the search never reached a flip), and says which.
-    #[test]
-    #[ignore = "slow: screens 24 bodies for the flip (10 s)"]
-    fn a_doubling_search_starts_from_the_best_screened_body() {
-        let opts = DesignOptions {
-            space: DesignSpace {
-                dimension: 3,
-                modes: 4,
-            },
-            targets: vec![Target::Doubling {
-                mass: 2.5,
-                alpha: 0.20136,
-            }],
-            scale_mm: 10.0,
-            min_radius_mm: 0.4,
-            max_amplitude: 1.0,
-            start: None,
-            seed: 1,
-            max_generations: 1,
-            band: Band {
-                delta_alpha: 0.005,
-                mass_fraction: 0.2,
-                surface_mm: 0.05,
-                draws: 2,
-                seed: 1,
-            },
-        };
-        let (x, said) = doubling_start(&opts, &AtomicBool::new(false)).unwrap();
-        let chosen = objective(&opts, &x, 0.0);
-        let old = first_convex_sphere(1, 0.1, 4).unwrap().0;
-        let old = objective(&opts, &opts.space.vector(&Body::Sphere(old)).unwrap(), 0.0);
-        assert!(chosen <= old, "{chosen} > the old start's {old}");
-        assert!(
-            said.contains("screened") && said.contains(&format!("{chosen:.3}")),
-            "{said}"
-        );
-    }
 }
