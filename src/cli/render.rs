@@ -251,8 +251,8 @@ fn write_headless(a: &RenderArgs, setup: SceneSetup, frames: u64) -> Result<()> 
         None => a.out.display().to_string(),
     };
     let status = format!(
-        "wrote {} frame(s) of {name} at {}x{} to {written} (t = 0 … {:.3}) on {}",
-        report.frames, a.size.0, a.size.1, report.t_last, report.adapter
+        "wrote {} frame(s) of {name} at {}x{} to {written} (t = {:.3} … {:.3}) on {}",
+        report.frames, a.size.0, a.size.1, report.t_first, report.t_last, report.adapter
     );
     // A clip on standard output: nothing but its bytes may go there.
     if clip

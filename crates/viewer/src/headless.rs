@@ -185,6 +185,8 @@ pub struct HeadlessReport {
     pub adapter: String,
     /// Frames written.
     pub frames: u64,
+    /// Simulation time of the first frame (a scene's `start_time`, or a saved state's time).
+    pub t_first: f64,
     /// Simulation time of the last frame.
     pub t_last: f64,
     /// Why the model differs from the request, if it does.
@@ -299,8 +301,12 @@ pub fn render_to(
         bar.set_position(0);
     }
     bar.set_message("rendering");
+    let mut t_first = f64::NAN;
     for k in 0..frames {
         let image = hr.frame(k)?;
+        if k == 0 {
+            t_first = hr.simulation().time();
+        }
         if extras.plot_data.is_some() {
             history.push(&hr.simulation().snapshot());
             history.push_samples(hr.take_plot_samples());
@@ -329,6 +335,7 @@ pub fn render_to(
     Ok(HeadlessReport {
         adapter: hr.adapter(),
         frames,
+        t_first,
         t_last: hr.simulation().time(),
         model_note,
     })

@@ -101,6 +101,14 @@ impl Regime {
         Self::new(snap.mass_ratio, &snap.drag_law)
     }
 
+    /// m/m0 `mass_ratio` under the drag law its words `drag` name (a saved state's points).
+    pub fn labelled(mass_ratio: f64, drag: &str) -> Self {
+        Self {
+            mass_bits: (mass_ratio + 0.0).to_bits(),
+            drag: drag.to_string(),
+        }
+    }
+
     /// Its m/m0.
     pub fn mass_ratio(&self) -> f64 {
         f64::from_bits(self.mass_bits)
@@ -254,20 +262,26 @@ impl PlotHistory {
     }
 
     /// The plots of a saved state (`[resume]`): its 1/T and crossing points, taken in as if
-    /// collected under the scene's drag law `drag` (a saved point keeps its m/m0, not its
-    /// law), and its last α as the one the next change is judged from.
+    /// collected, each 1/T point under its saved drag law (or the scene's, `drag`, where the
+    /// file has none), and its last α as the one the next change is judged from.
     pub fn resumed(
         resume: &crate::scene::ResumeSpec,
         alpha_now: f64,
         drag: &crate::dynamics::DragLaw,
     ) -> Self {
         let mut history = Self::default();
-        for &[alpha, rate, mass, dir] in &resume.alpha_sweep {
+        let labels = (resume.alpha_sweep_drag.len() == resume.alpha_sweep.len())
+            .then_some(&resume.alpha_sweep_drag);
+        for (i, &[alpha, rate, mass, dir]) in resume.alpha_sweep.iter().enumerate() {
             let direction = if dir < 0.0 { Branch::Down } else { Branch::Up };
             let bin = (alpha.ln() / SWEEP_BIN).round() as i64;
+            let regime = match labels {
+                Some(l) => Regime::labelled(mass, &l[i]),
+                None => Regime::new(mass, drag),
+            };
             history
                 .sweep
-                .insert((direction, Regime::new(mass, drag), bin), (alpha, rate));
+                .insert((direction, regime, bin), (alpha, rate));
         }
         history.crossings_by_mass = resume.crossings.iter().copied().collect();
         while history.crossings_by_mass.len() > MAX_CROSSING_POINTS {
@@ -289,6 +303,15 @@ impl PlotHistory {
                 };
                 [alpha, rate, regime.mass_ratio(), dir]
             })
+            .collect()
+    }
+
+    /// The drag law of each 1/T point, in [`Self::alpha_sweep_points`]'s order (a saved
+    /// state's `alpha_sweep_drag`).
+    pub fn alpha_sweep_drag(&self) -> Vec<String> {
+        self.sweep
+            .keys()
+            .map(|(_, regime, _)| regime.drag().to_string())
             .collect()
     }
 
@@ -766,6 +789,15 @@ mod tests {
         assert!((rates[0] - rates[1]).abs() > 1e-3 * rates[0], "{rates:?}");
         let csv = history.csv(PlotData::AlphaSweep, sim.snapshot().health.measured);
         assert_eq!(csv.lines().count(), 3, "{csv}");
+        // Saved and resumed, each point keeps its law (without the labels both were read as
+        // the scene's law, and one replaced the other in their shared bin).
+        let resume = crate::scene::ResumeSpec {
+            alpha_sweep: history.alpha_sweep_points(),
+            alpha_sweep_drag: history.alpha_sweep_drag(),
+            ..Default::default()
+        };
+        let back = PlotHistory::resumed(&resume, alpha, &crate::dynamics::DragLaw::LINEAR);
+        assert_eq!(back.sweep_by_regime(Branch::Up), series);
     }
 
     #[test]

@@ -168,6 +168,11 @@ pub struct ResumeSpec {
     /// The crossing plot's points: [m/m0, polar angle of the ∂Ω crossing].
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub crossings: Vec<[f64; 2]>,
+    /// The drag law each `alpha_sweep` point was measured under, in its order, as
+    /// sweep-alpha.csv's drag column words it ("linear drag", "drag_exponent = 1.5"); absent:
+    /// the scene's law for every point (files saved before this was written).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub alpha_sweep_drag: Vec<String>,
 }
 
 /// Where the body comes from: exactly one of the four fields.

@@ -300,6 +300,27 @@ impl super::ResumeSpec {
                 self.crossings.len()
             )));
         }
+        if !self.alpha_sweep_drag.is_empty()
+            && self.alpha_sweep_drag.len() != self.alpha_sweep.len()
+        {
+            return Err(invalid(format!(
+                "resume.alpha_sweep_drag has {} labels for {} alpha_sweep points (needs one per \
+                 point, or none)",
+                self.alpha_sweep_drag.len(),
+                self.alpha_sweep.len()
+            )));
+        }
+        if let Some((i, label)) = self
+            .alpha_sweep_drag
+            .iter()
+            .enumerate()
+            .find(|(_, l)| l.is_empty() || l.chars().count() > 200)
+        {
+            return Err(invalid(format!(
+                "resume.alpha_sweep_drag[{i}] = {label:?} is not a drag law's words (needs 1 to \
+                 200 characters, as sweep-alpha.csv's drag column)"
+            )));
+        }
         for (i, p) in self.alpha_sweep.iter().enumerate() {
             let [alpha, rate, mass, dir] = *p;
             let ok = alpha.is_finite()

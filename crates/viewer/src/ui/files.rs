@@ -427,6 +427,7 @@ impl AppUi {
             state: snap.state.clone(),
             alpha_sweep: self.history.alpha_sweep_points(),
             crossings: self.history.crossings_by_mass(),
+            alpha_sweep_drag: self.history.alpha_sweep_drag(),
         });
         // How the run got here: replayed from the scene's start, it reaches this state to the
         // bit (`LiveRun::replayed`).
