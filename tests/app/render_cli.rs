@@ -100,7 +100,7 @@ fn frames_all_renders_a_lesson_up_to_its_end_through_its_speed_steps() {
     assert!(o.status.success(), "{}", stderr(&o));
     let said = String::from_utf8_lossy(&o.stdout);
     assert!(said.contains("wrote 46 frame(s)"), "{said}");
-    assert!(said.contains("t = 0 … 36.000"), "{said}");
+    assert!(said.contains("t = 0.000 … 36.000"), "{said}");
     assert!(out.join("frame_00045.png").exists());
     assert!(!out.join("frame_00046.png").exists());
 }
