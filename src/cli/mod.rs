@@ -22,6 +22,7 @@ pub mod merge;
 pub mod period;
 pub mod predict;
 pub mod render;
+pub mod replay;
 pub mod scenes;
 pub mod shape;
 pub mod simulate;
@@ -120,6 +121,9 @@ pub enum Command {
     Track(track::TrackArgs),
     /// List the preset scenes for --preset (or print one as TOML).
     Scenes(scenes::ScenesArgs),
+    /// Run a saved state again from its scene's start and check it reaches the saved state to
+    /// the bit.
+    Replay(replay::ReplayArgs),
     #[command(about = "Write a body as a watertight STL mesh in millimetres, for 3D printing")]
     ExportStl(export_stl::ExportStlArgs),
     #[command(
@@ -200,6 +204,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => merge::run(a),
         Command::Scenes(a) => scenes::run(a),
+        Command::Replay(a) => replay::run(a),
         Command::Track(a) => track::run(a),
         Command::ExportStl(a) => export_stl::run(a),
         Command::Design(a) => design::run(a),

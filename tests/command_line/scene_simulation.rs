@@ -703,3 +703,84 @@ fn a_replay_that_cannot_lead_to_its_saved_state_is_refused_by_name() {
     let e = LiveRun::replayed(&plain.setup(None).unwrap()).unwrap_err();
     assert!(e.to_string().contains("no [[replay]]"), "{e}");
 }
+
+/// `rollphase replay STATE` runs a saved state again and says whether it reaches it to the
+/// bit; a state that its replay does not reach (edited by hand) exits 1 naming the difference,
+/// and a plain scene or a state without a replay is refused with why.
+#[test]
+fn the_replay_command_checks_a_saved_state() {
+    let setup = Scene::preset("sphere-cruising")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    let mut run = LiveRun::new(setup.clone());
+    run.advance_to(3.3).unwrap();
+    let ramp = run.ramp();
+    run.set_parameters(
+        rollphase::dynamics::Ramp {
+            mass_ratio: 2.0,
+            ..ramp
+        },
+        run.method(),
+    )
+    .unwrap();
+    run.advance_to(11.7).unwrap();
+    let saved = saved_state(&setup, &run);
+    let dir = crate::cli::scratch("replay-command");
+    // As a file of its own: the preset's bundled shape written inline, as `scenes --toml` does.
+    let write = |name: &str, scene: &Scene| {
+        let mut scene = scene.clone();
+        if let Some(shape) = scene.body.shape.take() {
+            let json = rollphase::scene::bundled_shape(&shape).unwrap();
+            scene.body.inline = Some(rollphase::geometry::ShapeFile::from_json(json).unwrap());
+        }
+        let path = dir.join(name);
+        std::fs::write(&path, scene.to_toml().unwrap()).unwrap();
+        path.to_string_lossy().into_owned()
+    };
+    let text = |o: &std::process::Output| {
+        format!(
+            "{}{}",
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr)
+        )
+    };
+    let good = write("state.toml", &saved);
+    let o = crate::cli::rollphase(["replay", good.as_str()]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("the saved state to the bit (10 numbers)"),
+        "{}",
+        text(&o)
+    );
+    // One number of the saved state moved by an ulp's worth: not reached, exit 1.
+    let mut edited = saved.clone();
+    let state = &mut edited.resume.as_mut().unwrap().state;
+    state[7] += 1e-12;
+    let bad = write("edited.toml", &edited);
+    let o = crate::cli::rollphase(["replay", bad.as_str()]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(
+        text(&o).contains("differs from the saved state") && text(&o).contains("in 1 of 10"),
+        "{}",
+        text(&o)
+    );
+    // A scene is not a saved state; a state without [[replay]] cannot be replayed.
+    let mut plain = saved.clone();
+    plain.resume = None;
+    plain.replay.clear();
+    let o = crate::cli::rollphase(["replay", write("plain.toml", &plain).as_str()]);
+    assert!(
+        !o.status.success() && text(&o).contains("has no [resume]"),
+        "{}",
+        text(&o)
+    );
+    let mut old = saved.clone();
+    old.replay.clear();
+    let o = crate::cli::rollphase(["replay", write("old.toml", &old).as_str()]);
+    assert!(
+        !o.status.success() && text(&o).contains("no [[replay]]"),
+        "{}",
+        text(&o)
+    );
+}

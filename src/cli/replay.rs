@@ -1,0 +1,71 @@
+//! `rollphase replay STATE`: a saved state's run again from its scene's start, through its
+//! `[[replay]]` (the model it started with, each change made by hand and each resume, at its
+//! simulation time) and the lesson's steps, and whether it reaches the saved state to the bit.
+//! The run is the core's (`LiveRun::replayed`); this file parses and prints.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Result, bail};
+use clap::Args;
+
+use crate::live::LiveRun;
+use crate::scene::load_scene_file;
+
+/// Run a saved state again from its scene's start and check it reaches the saved state.
+#[derive(Debug, Args)]
+#[command(
+    long_about = "Run a saved state (the app's Save state: a scene with [resume] and \
+    [[replay]]) again from its scene's start: the model it started with, each change made by \
+    hand (α, m/m0, drag, drag law, integrator) and each resume at the simulation time it took \
+    effect, and the lesson's steps. Says whether the run reaches the saved state to the bit, \
+    and exits 1 if it does not (a file edited by hand, or written by another build).\n\n\
+    Example: rollphase replay state.toml"
+)]
+pub struct ReplayArgs {
+    /// The saved state (TOML with [resume] and [[replay]]).
+    pub state: PathBuf,
+}
+
+/// Runs `replay`.
+pub fn run(a: ReplayArgs) -> Result<()> {
+    let setup = load_scene_file(&a.state)?;
+    let Some(resume) = &setup.resume else {
+        bail!(
+            "{} has no [resume]: it is a scene, not a saved state (the app's Save state writes \
+             one, with its [[replay]])",
+            a.state.display()
+        );
+    };
+    let entries = setup.scene.replay.len();
+    let started = Instant::now();
+    let run = LiveRun::replayed(&setup)?;
+    let seconds = started.elapsed().as_secs_f64();
+    let (saved, got) = (resume.state.vector(), run.state().vector());
+    let differing: Vec<f64> = saved
+        .iter()
+        .zip(got)
+        .map(|(s, g)| (s - g).abs())
+        .filter(|d| *d != 0.0 || d.is_nan())
+        .collect();
+    let t = crate::integrate::readable(resume.t);
+    if run.time() == resume.t && differing.is_empty() && saved.len() == got.len() {
+        outln!(
+            "{}: replayed from t = 0 through {entries} [[replay]] entries to t = {t}: the saved \
+             state to the bit ({} numbers), in {seconds:.2} s",
+            a.state.display(),
+            saved.len()
+        )?;
+        return Ok(());
+    }
+    let worst = differing.iter().copied().fold(0.0, f64::max);
+    bail!(
+        "{}: replayed to t = {}, the run differs from the saved state at t = {t} in {} of {} \
+         numbers, by up to {worst:e}: its [[replay]] does not lead to its [resume] (edited by \
+         hand, or saved by another build)",
+        a.state.display(),
+        crate::integrate::readable(run.time()),
+        differing.len(),
+        saved.len()
+    )
+}
