@@ -8,6 +8,7 @@
 use glam::{DQuat, DVec3};
 
 use super::sphere_orbits::nearest_sign;
+use crate::analysis::verdict::REST_THRESHOLD;
 use crate::dynamics::{Ramp, RollingModel, SphereViscous};
 use crate::geometry::Sphere;
 use crate::integrate::events::{Direction, crossings_in_last_step};
@@ -49,7 +50,9 @@ pub fn poincare_step(
 }
 
 /// The first crossing of ∂Ω (q_w = 0, state slot 0) after t = 0 from `y0`: its time and state,
-/// or `None` if |ω| (`omega`) falls below 1e-9 first (the body halts) or `t_max` passes.
+/// or `None` if `omega` (the caller's distance from rest: |ω| in the viscous model, where ω is
+/// the ramp's torque over γ) falls below the verdict's [`REST_THRESHOLD`] first (the body
+/// halts) or `t_max` passes.
 ///
 /// # Example
 /// ```
@@ -86,7 +89,7 @@ pub fn first_crossing<const N: usize, S: RollingModel<N>>(
             found = Some((t, st.dense(t)));
             return Ok(Flow::Stop);
         }
-        Ok(if omega(st.y()) < 1e-9 {
+        Ok(if omega(st.y()) < REST_THRESHOLD {
             Flow::Stop
         } else {
             Flow::Continue
