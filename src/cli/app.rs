@@ -38,6 +38,13 @@ pub struct WindowFlags {
     /// simulated up to the step and the step's evidence shown on its plot.
     #[arg(long, value_name = "K", allow_negative_numbers = true)]
     pub step: Option<usize>,
+    /// How finely the 3D view is drawn: `auto` (the default: full on a GPU; on a CPU renderer
+    /// such as llvmpipe, lowered in steps to as little as half the width and height while
+    /// frames would take longer than 1/30 s, and said in the status bar as "3D at 70 %"), or a
+    /// share from 0.5 to 1; `1` always draws it in full (as View ▸ 3D at full resolution).
+    /// Text, panels and plots are always drawn in full, and screenshots and clips in full.
+    #[arg(long, value_name = "auto|0.5..1", allow_negative_numbers = true)]
+    pub render_scale: Option<String>,
 }
 
 /// A `--sweep`: what moves, by how much per point, and where it stops.
@@ -154,6 +161,12 @@ pub fn run_window(
             }
         })
         .transpose()?;
+    #[cfg(feature = "app")]
+    let render_scale = match &flags.render_scale {
+        Some(text) => crate::ui::render_scale::RenderScaleMode::parse(text)
+            .map_err(|e| anyhow::anyhow!("--render-scale: {e}"))?,
+        None => crate::ui::render_scale::RenderScaleMode::Auto,
+    };
     let setup = pick_scene(scene, preset)?;
     if let Some(k) = flags.step {
         let steps = setup.timeline.len();
@@ -201,6 +214,7 @@ pub fn run_window(
             speed,
             step: flags.step,
             plot_data: plot_data.map(Path::to_path_buf),
+            render_scale,
         })
     }
     #[cfg(not(feature = "app"))]

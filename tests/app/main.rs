@@ -28,4 +28,5 @@ mod headless_snapshots;
 mod lessons;
 mod presentation;
 mod render_cli;
+mod render_scale;
 mod shaders;

@@ -30,6 +30,7 @@ use winit::window::{Fullscreen, Window, WindowId};
 use crate::render::GpuContext;
 use crate::scene::SceneSetup;
 use crate::ui::UiAction;
+use crate::ui::render_scale::{RenderScale, RenderScaleMode};
 use crate::ui::workbench::Workbench;
 
 /// What the window opens with.
@@ -54,6 +55,8 @@ pub struct AppOptions {
     pub step: Option<usize>,
     /// Write the plots' data into this folder when the window closes (checked before).
     pub plot_data: Option<PathBuf>,
+    /// How finely the 3D view is drawn (`--render-scale`).
+    pub render_scale: RenderScaleMode,
 }
 
 /// A window's event loop is running (it will see [`CLOSE_REQUESTED`]).
@@ -229,7 +232,7 @@ impl App {
             view_formats: vec![],
         };
         surface.configure(&gpu.device, &config);
-        let cpu = gpu.adapter.get_info().device_type == wgpu::DeviceType::Cpu;
+        let cpu = gpu.is_cpu();
         let samples = if cpu { 1 } else { 4 };
         let options = self
             .options
@@ -244,6 +247,7 @@ impl App {
             options.base.clone(),
         )
         .context("cannot start the simulation thread")?;
+        bench.set_render_scale(RenderScale::new(options.render_scale, cpu));
         if options.present {
             bench.ui.present_on_start();
         }
@@ -323,7 +327,9 @@ impl App {
         w.bench.paint(&w.gpu.device, &w.gpu.queue, &view, &frame);
         w.window.pre_present_notify();
         w.gpu.queue.present(texture);
-        self.frame_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        let frame_s = t0.elapsed().as_secs_f64();
+        w.bench.frame_done(frame_s);
+        self.frame_ms.push(frame_s * 1e3);
 
         let elapsed = self.started.elapsed().as_secs_f64();
         if let Some((after, path)) = self

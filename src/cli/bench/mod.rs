@@ -90,6 +90,11 @@ pub struct AppBenchArgs {
     /// Hide the plots panel (to see what the plots cost).
     #[arg(long)]
     pub no_plots: bool,
+    /// How finely the 3D view is drawn: `auto` (on a CPU renderer, as the 30 frames/s budget
+    /// allows, never below half) or a share from 0.5 to 1 (1: full resolution). Not given: full
+    /// resolution and `auto` are timed in alternate blocks, side by side.
+    #[arg(long, value_name = "auto|0.5..1", allow_negative_numbers = true)]
+    pub render_scale: Option<String>,
 }
 
 /// Options of `bench render`.

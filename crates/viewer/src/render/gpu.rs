@@ -90,6 +90,11 @@ impl GpuContext {
         })
     }
 
+    /// Whether the adapter is a CPU renderer (llvmpipe, lavapipe, WARP).
+    pub fn is_cpu(&self) -> bool {
+        self.adapter.get_info().device_type == wgpu::DeviceType::Cpu
+    }
+
     /// "name (backend, device type)" of the adapter.
     pub fn describe(&self) -> String {
         let info = self.adapter.get_info();

@@ -17,6 +17,7 @@
 //! | `types` | the plain draw data: [`Frame`], [`View`], [`Camera`], [`MeshData`], … (no wgpu) |
 //! | `pipelines` | the shaders, bind-group layouts, GPU-side structs and [`Renderer::new`] |
 //! | `pass` | uploads and the render pass ([`Renderer::render`]) |
+//! | `scale` | the 3D views drawn at a lower resolution and stretched ([`Renderer::render_scaled_in`]) |
 //! | `overlay` | text and colour-bar panels rasterised to a texture |
 //! | `gpu` | adapter and device set-up, offscreen targets |
 
@@ -24,6 +25,7 @@ pub mod gpu;
 pub mod overlay;
 mod pass;
 mod pipelines;
+mod scale;
 pub mod types;
 
 pub use gpu::{GpuContext, GpuError};
@@ -60,7 +62,13 @@ pub struct Renderer {
     quads: Scratch,
     /// Uploaded meshes by handle; a freed one leaves its slot empty for the next upload.
     meshes: Vec<Option<GpuMesh>>,
-    targets: Option<Targets>,
+    /// Depth and MSAA targets of the two sizes drawn most recently, the latest last.
+    targets: Vec<Targets>,
+    /// The 3D view's picture at a lower resolution, and the pipeline and sampler that stretch
+    /// it over the target (`scale`).
+    scaled: Option<scale::ScaledPicture>,
+    blit: wgpu::RenderPipeline,
+    linear_sampler: wgpu::Sampler,
     font: overlay::Font,
     /// Panels rasterised and uploaded in recent frames, with their size and texture, reused
     /// while a frame shows the same panel: the legends and titles are the same frame after

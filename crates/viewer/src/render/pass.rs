@@ -72,9 +72,17 @@ impl Renderer {
         }
     }
 
+    /// Makes sure depth (and MSAA) targets of `size` exist. Two sizes are kept, the most
+    /// recently used last: a scaled 3D view draws at its own size and then the full target at
+    /// the window's, every frame, and neither should be reallocated each time.
     pub(super) fn ensure_targets(&mut self, size: (u32, u32)) {
-        if self.targets.as_ref().is_some_and(|t| t.size == size) {
+        if let Some(k) = self.targets.iter().position(|t| t.size == size) {
+            let found = self.targets.remove(k);
+            self.targets.push(found);
             return;
+        }
+        if self.targets.len() >= 2 {
+            self.targets.remove(0);
         }
         let extent = wgpu::Extent3d {
             width: size.0,
@@ -95,11 +103,12 @@ impl Renderer {
                 })
                 .create_view(&Default::default())
         };
-        self.targets = Some(Targets {
+        let made = Targets {
             size,
             msaa: (self.sample_count > 1).then(|| make(self.format, "msaa colour")),
             depth: make(DEPTH_FORMAT, "depth"),
-        });
+        };
+        self.targets.push(made);
     }
 
     /// Draws `frame` into `target` (a `width`×`height` view of this renderer's format) and
@@ -111,18 +120,31 @@ impl Renderer {
     /// Draws `frame`, laid out for a `rect[2]`×`rect[3]` picture, into the pixel rectangle `rect`
     /// (x, y, w, h) of `target` (`size` pixels): the app's 3D area beside its controls. The whole
     /// target is cleared to `frame.clear` first.
-    #[expect(
-        clippy::too_many_lines,
-        reason = "one frame's wgpu work in the order the GPU needs it (upload the frame's buffers, \
-                  then one render pass over every view and panel); the steps share the buffers and \
-                  the pass, and read in order"
-    )]
     pub fn render_in(
         &mut self,
         target: &wgpu::TextureView,
         size: (u32, u32),
         rect: [u32; 4],
         frame: &Frame,
+    ) {
+        self.draw(target, size, rect, frame, Layers::ALL);
+    }
+
+    /// [`Self::render_in`] with a choice of what is drawn: the views, the panels, and a
+    /// picture drawn first over `rect` (the scaled 3D view, `render/scale.rs`).
+    #[expect(
+        clippy::too_many_lines,
+        reason = "one frame's wgpu work in the order the GPU needs it (upload the frame's buffers, \
+                  then one render pass over every view and panel); the steps share the buffers and \
+                  the pass, and read in order"
+    )]
+    pub(super) fn draw(
+        &mut self,
+        target: &wgpu::TextureView,
+        size: (u32, u32),
+        rect: [u32; 4],
+        frame: &Frame,
+        layers: Layers<'_>,
     ) {
         self.ensure_targets(size);
         let (width, height) = size;
@@ -148,7 +170,8 @@ impl Renderer {
             segments_on_top: std::ops::Range<u32>,
         }
         let mut plans = Vec::new();
-        for view in &frame.views {
+        let views: &[super::View] = if layers.views { &frame.views } else { &[] };
+        for view in views {
             let [x, y, w, h] = clamp_viewport(view.viewport, picture);
             let (x, y) = (x + ox, y + oy);
             let aspect = w as f32 / h.max(1) as f32;
@@ -213,9 +236,11 @@ impl Renderer {
         // Panels: rasterised on the CPU, one texture each; a panel the last frames showed
         // unchanged reuses its texture.
         let mut panel_draws = Vec::new();
+        // A frame drawn without its panels leaves the cache as it was.
+        let panels: &[super::OverlayPanel] = if layers.panels { &frame.panels } else { &[] };
         let mut cache = std::mem::take(&mut self.panel_cache);
-        let mut kept = Vec::with_capacity(frame.panels.len());
-        for panel in &frame.panels {
+        let mut kept = Vec::with_capacity(panels.len());
+        for panel in panels {
             let cached = cache
                 .iter()
                 .position(|c| c.0 == *panel)
@@ -253,7 +278,19 @@ impl Renderer {
             kept.push((panel, (w, h), group));
         }
         // Only this frame's panels stay: the cache never outgrows one frame's.
-        self.panel_cache = kept;
+        self.panel_cache = if layers.panels { kept } else { cache };
+        let underlay = layers.underlay.map(|group| {
+            let [x, y, _, _] = clamp_viewport(rect, size);
+            let start = quad_data.len() as u32;
+            quad_data.extend(quad(
+                [x, y, picture.0, picture.1],
+                size,
+                1.0,
+                [0.0, 0.0, 1.0, 1.0],
+                [1.0; 4],
+            ));
+            (group, start..quad_data.len() as u32)
+        });
         if cam_bytes.is_empty() {
             cam_bytes.resize(cam_stride as usize, 0);
         }
@@ -287,7 +324,7 @@ impl Renderer {
                 label: Some("frame"),
             });
         {
-            let Some(targets) = self.targets.as_ref() else {
+            let Some(targets) = self.targets.last() else {
                 return;
             };
             let (view, resolve) = match &targets.msaa {
@@ -325,6 +362,12 @@ impl Renderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
+            if let Some((group, range)) = underlay {
+                pass.set_pipeline(&self.blit);
+                pass.set_bind_group(0, group, &[]);
+                pass.set_vertex_buffer(0, self.quads.buffer.slice(..));
+                pass.draw(range, 0..1);
+            }
             for plan in &plans {
                 let [x, y, w, h] = plan.viewport;
                 pass.set_viewport(x, y, w, h, 0.0, 1.0);
@@ -398,6 +441,26 @@ fn clear_colour(linear: [f32; 4], format: wgpu::TextureFormat) -> [f64; 4] {
         }
     };
     [encode(r), encode(g), encode(b), a]
+}
+
+/// What [`Renderer::draw`] draws of a frame.
+#[derive(Clone, Copy)]
+pub(super) struct Layers<'a> {
+    /// The 3D views.
+    pub(super) views: bool,
+    /// The 2D panels.
+    pub(super) panels: bool,
+    /// A texture stretched over the picture's rectangle before anything else.
+    pub(super) underlay: Option<&'a wgpu::BindGroup>,
+}
+
+impl Layers<'_> {
+    /// The whole frame.
+    pub(super) const ALL: Layers<'static> = Layers {
+        views: true,
+        panels: true,
+        underlay: None,
+    };
 }
 
 pub(super) fn push_aligned(out: &mut Vec<u8>, bytes: &[u8], stride: u64) {

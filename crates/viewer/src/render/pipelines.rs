@@ -200,6 +200,9 @@ pub(super) struct PipelineSpec<'a> {
     depth_write: bool,
     depth_compare: wgpu::CompareFunction,
     cull: Option<wgpu::Face>,
+    /// Writes the colour as sampled, never sRGB-encoding it: a copy of a picture already
+    /// encoded for this format (the scaled 3D view).
+    pass_through: bool,
 }
 
 impl Renderer {
@@ -281,7 +284,10 @@ impl Renderer {
                     module: s.module,
                     entry_point: Some("fs_main"),
                     compilation_options: wgpu::PipelineCompilationOptions {
-                        constants: &[("ENCODE_SRGB", f64::from(u8::from(!format.is_srgb())))],
+                        constants: &[(
+                            "ENCODE_SRGB",
+                            f64::from(u8::from(!format.is_srgb() && !s.pass_through)),
+                        )],
                         ..Default::default()
                     },
                     targets: &[Some(wgpu::ColorTargetState {
@@ -304,6 +310,7 @@ impl Renderer {
             depth_write: true,
             depth_compare: wgpu::CompareFunction::Less,
             cull: Some(wgpu::Face::Back),
+            pass_through: false,
         });
         let mesh_blended = make(PipelineSpec {
             label: "mesh blended",
@@ -314,6 +321,7 @@ impl Renderer {
             depth_write: false,
             depth_compare: wgpu::CompareFunction::Less,
             cull: Some(wgpu::Face::Back),
+            pass_through: false,
         });
         let sbuf = [Some(segment_layout)];
         let lines = make(PipelineSpec {
@@ -325,6 +333,7 @@ impl Renderer {
             depth_write: true,
             depth_compare: wgpu::CompareFunction::LessEqual,
             cull: None,
+            pass_through: false,
         });
         let lines_on_top = make(PipelineSpec {
             label: "lines on top",
@@ -335,6 +344,7 @@ impl Renderer {
             depth_write: false,
             depth_compare: wgpu::CompareFunction::Always,
             cull: None,
+            pass_through: false,
         });
         let qbuf = [Some(quad_layout)];
         let overlay = make(PipelineSpec {
@@ -346,6 +356,26 @@ impl Renderer {
             depth_write: true,
             depth_compare: wgpu::CompareFunction::Always,
             cull: None,
+            pass_through: false,
+        });
+        // The scaled 3D view, stretched over the picture: as the overlay's quads, but the colour
+        // is copied as sampled (it is already encoded for the format) and replaces what is there.
+        let blit = make(PipelineSpec {
+            label: "scaled view",
+            module: &overlay_module,
+            layout: &overlay_layout,
+            buffers: &qbuf,
+            blend: wgpu::BlendState::REPLACE,
+            depth_write: false,
+            depth_compare: wgpu::CompareFunction::Always,
+            cull: None,
+            pass_through: true,
+        });
+        let linear_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("scaled view"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
         });
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("panel"),
@@ -383,7 +413,10 @@ impl Renderer {
             segments: Scratch::new(device, "segments", wgpu::BufferUsages::VERTEX),
             quads: Scratch::new(device, "quads", wgpu::BufferUsages::VERTEX),
             meshes: Vec::new(),
-            targets: None,
+            targets: Vec::new(),
+            scaled: None,
+            blit,
+            linear_sampler,
             font: overlay::Font::bundled(),
             panel_cache: Vec::new(),
         }

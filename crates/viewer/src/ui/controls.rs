@@ -68,6 +68,12 @@ impl AppUi {
                     let ctx = ui.ctx().clone();
                     self.set_class_mode(&ctx, class, actions);
                 }
+                ui.checkbox(&mut self.full_resolution, "3D at full resolution")
+                    .on_hover_text(
+                        "On a CPU renderer the 3D view is drawn at a lower resolution when \
+                         frames would take longer than 1/30 s (never below half; the status bar \
+                         says \"3D at 70 %\"). Tick to always draw it in full.",
+                    );
                 if ui.button("Reset camera").clicked() {
                     self.reset_camera();
                 }
@@ -230,6 +236,13 @@ impl AppUi {
             let state = if status.paused { "paused" } else { "playing" };
             ui.label(RichText::new(format!("t = {:>9.2}  {state}", snap.t)).monospace());
             ui.separator();
+            if let Some(note) = &self.render_scale_note {
+                ui.label(RichText::new(note).weak()).on_hover_text(
+                    "the 3D view is drawn at this share of its width and height to keep 30 \
+                     frames/s on this CPU renderer; View ▸ 3D at full resolution draws it in full",
+                );
+                ui.separator();
+            }
             if let Some(r) = self.recording {
                 ui.label(format!("recording frame {} of {}", r.done, r.total));
                 ui.separator();

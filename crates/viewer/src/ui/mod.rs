@@ -24,6 +24,7 @@
 //! | `picking` | starts picked in the views: the curvature map, the SO(3) ball, the Poincaré field |
 //! | `plot_axes` | the plots' axes: numbers on a 1-2-5 ladder, far enough apart to read |
 //! | `plots`, `painter`, `workbench` | the plots, the wgpu painter, the windowless app core |
+//! | `render_scale` | how finely the 3D view is drawn: full, or on a CPU renderer as 30 frames/s allow |
 //! | `measuring_sweep` | the measuring sweep of α or m/m0 (hold each value until measured, then step) |
 //! | `fonts` | egui's fonts with the bundled DejaVu Sans as the fallback |
 
@@ -33,6 +34,7 @@ pub mod measuring_sweep;
 pub mod painter;
 mod plot_axes;
 pub mod plots;
+pub mod render_scale;
 pub mod workbench;
 
 mod controls;
@@ -122,6 +124,10 @@ pub struct AppUi {
     pub field_note: Option<String>,
     /// Measured frames per second of the window (set by the app).
     pub fps: Option<f64>,
+    /// "3D at 70 %" while the 3D view is drawn below full resolution (the status bar's).
+    pub render_scale_note: Option<String>,
+    /// The View menu's "3D at full resolution": the automatic render scale is not used.
+    pub full_resolution: bool,
     alpha: f64,
     inertial: bool,
     mass_ratio: f64,
@@ -210,6 +216,8 @@ impl AppUi {
             recording: None,
             field_note: None,
             fps: None,
+            render_scale_note: None,
+            full_resolution: false,
             alpha: setup.ramp.alpha_rad,
             inertial,
             mass_ratio: if inertial { setup.ramp.mass_ratio } else { 1.0 },

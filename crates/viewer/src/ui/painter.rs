@@ -246,9 +246,11 @@ impl Painter {
         views: &ViewsSpec,
         options: &ViewOptions,
     ) {
-        self.paint_scene_in(target, size, [0, 0, size.0, size.1], status, views, options);
+        let rect = [0, 0, size.0, size.1];
+        self.paint_scene_in(target, size, rect, status, views, options, 1.0);
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn paint_scene_in(
         &mut self,
         target: &wgpu::TextureView,
@@ -257,6 +259,7 @@ impl Painter {
         status: &SimStatus,
         views: &ViewsSpec,
         options: &ViewOptions,
+        scale: f32,
     ) {
         let Some((_, view)) = self.scene.as_mut() else {
             return;
@@ -268,11 +271,12 @@ impl Painter {
             .filter(|_| views.poincare)
             .map(|f| f.1.as_slice());
         let frame = view.frame(&status.snapshot, field, (rect[2], rect[3]), options);
-        self.renderer.render_in(target, size, rect, &frame);
+        self.renderer
+            .render_scaled_in(target, size, rect, &frame, scale);
     }
 
-    /// The whole frame: the 3D scene in `scene_rect` (pixels), egui's panels (uploaded by
-    /// [`Self::prepare`]) over it.
+    /// The whole frame: the 3D scene in `scene_rect` (pixels, its views drawn at `scale` of
+    /// that: `ui::render_scale`), egui's panels (uploaded by [`Self::prepare`]) over it.
     #[allow(clippy::too_many_arguments)]
     pub fn paint(
         &mut self,
@@ -284,10 +288,11 @@ impl Painter {
         status: &SimStatus,
         views: &ViewsSpec,
         options: &ViewOptions,
+        scale: f32,
     ) {
         let has_scene = scene_rect[2] >= 16 && scene_rect[3] >= 16;
         if has_scene {
-            self.paint_scene_in(target, size, scene_rect, status, views, options);
+            self.paint_scene_in(target, size, scene_rect, status, views, options, scale);
         }
         let mut encoder = device.create_command_encoder(&Default::default());
         {

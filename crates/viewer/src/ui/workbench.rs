@@ -10,6 +10,7 @@ use anyhow::{Context, Result, anyhow};
 use image::RgbaImage;
 
 use super::painter::{EguiFrame, Painter, rect_to_pixels};
+use super::render_scale::{RenderScale, RenderScaleMode};
 use super::{AppUi, RecordProgress, UiAction};
 use crate::clip::{ClipKind, ClipWriter};
 use crate::live::{SimStatus, SimThread};
@@ -89,6 +90,7 @@ pub struct Workbench {
     /// egui's texture changes not yet uploaded (a frame the window skips keeps them here).
     textures: egui::TexturesDelta,
     frame_times: std::collections::VecDeque<Instant>,
+    render_scale: RenderScale,
 }
 
 impl Workbench {
@@ -115,7 +117,29 @@ impl Workbench {
             pending_screenshots: Vec::new(),
             textures: egui::TexturesDelta::default(),
             frame_times: Default::default(),
+            render_scale: RenderScale::new(RenderScaleMode::Auto, false),
         })
+    }
+
+    /// Sets how finely the 3D view is drawn (`--render-scale`, and whether the adapter is a CPU
+    /// renderer); until called, at full resolution.
+    pub fn set_render_scale(&mut self, scale: RenderScale) {
+        self.render_scale = scale;
+    }
+
+    /// Counts one frame's wall time (the UI and the paint) towards the automatic render scale.
+    pub fn frame_done(&mut self, seconds: f64) {
+        self.render_scale.record(seconds);
+    }
+
+    /// The scale the live frames' 3D view is drawn at: the View menu's "3D at full resolution"
+    /// overrides the automatic choice.
+    pub fn render_scale(&self) -> f32 {
+        if self.ui.full_resolution {
+            1.0
+        } else {
+            self.render_scale.scale()
+        }
     }
 
     /// Runs the UI on `input` for a `size`-pixel target: reads the latest status (never
@@ -133,6 +157,11 @@ impl Workbench {
         if self.frame_times.len() > 2 {
             self.ui.fps = Some((self.frame_times.len() - 1) as f64);
         }
+        self.ui.render_scale_note = if self.ui.full_resolution {
+            None
+        } else {
+            self.render_scale.shown()
+        };
         let status = self.sim.status();
         let (scale, note) = self.painter.sync(&status, &self.ui.views);
         self.ui.field_note = note;
@@ -244,7 +273,8 @@ impl Workbench {
     ) {
         self.painter
             .prepare(device, queue, frame.size, &frame.egui, &mut self.textures);
-        self.paint_prepared(device, queue, target, frame);
+        let scale = self.render_scale();
+        self.paint_prepared(device, queue, target, frame, scale);
         for path in std::mem::take(&mut self.pending_screenshots) {
             let result = self
                 .capture_painted(device, queue, frame)
@@ -268,13 +298,15 @@ impl Workbench {
         self.recording.is_some()
     }
 
-    /// Paints `frame` (egui's data already uploaded) with the UI's views and camera.
+    /// Paints `frame` (egui's data already uploaded) with the UI's views and camera, the 3D
+    /// view at `scale`.
     fn paint_prepared(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         target: &wgpu::TextureView,
         frame: &UiFrame,
+        scale: f32,
     ) {
         self.painter.paint(
             device,
@@ -285,10 +317,12 @@ impl Workbench {
             &frame.status,
             &self.ui.views,
             &self.ui.view_options,
+            scale,
         );
     }
 
-    /// Paints the frame again into an offscreen texture and reads it back (RGBA).
+    /// Paints the frame again into an offscreen texture, always at full resolution, and reads
+    /// it back (RGBA).
     fn capture_painted(
         &mut self,
         device: &wgpu::Device,
@@ -296,7 +330,7 @@ impl Workbench {
         frame: &UiFrame,
     ) -> Result<RgbaImage> {
         let target = OffscreenTarget::with_format(device, frame.size, self.format);
-        self.paint_prepared(device, queue, &target.view, frame);
+        self.paint_prepared(device, queue, &target.view, frame, 1.0);
         let pixels = target.read(device, queue)?;
         RgbaImage::from_raw(frame.size.0, frame.size.1, pixels)
             .ok_or_else(|| anyhow!("the screenshot readback returned a short buffer"))
