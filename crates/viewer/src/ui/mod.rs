@@ -274,7 +274,7 @@ impl AppUi {
     }
 
     /// Whether the large lesson plot shows values under the pointer: not in presentation or
-    /// class mode until the pointer moves (see [`plots::PlotLook::hover`]).
+    /// class mode until the pointer moves (see `plots::PlotLook::hover`).
     pub fn plot_hover_shown(&self) -> bool {
         !self.pointer_resting
     }

@@ -9,7 +9,7 @@
 //!
 //! [`PlotHistory`] (in `live::history`, so the headless renderer collects the same data) is plain
 //! data, tested without a window; [`plots_ui`] draws it as instruments: numbered ticks on every
-//! axis at any size ([`nice_marks`], [`tick_label`]), values under the pointer, and only the
+//! axis at any size (`plot_axes`: `nice_marks`, `tick_label`), values under the pointer, and only the
 //! health quantities the model has.
 
 use egui::Color32;
