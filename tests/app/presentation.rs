@@ -13,7 +13,7 @@ use rollphase::headless::HeadlessRenderer;
 use rollphase::render::overlay::{Font, rasterise};
 use rollphase::render::types::{Anchor, Frame};
 use rollphase::scene::{PRESETS, Scene};
-use rollphase::view::ViewOptions;
+use rollphase::view::{ROOM_TEXT_PX, ViewOptions};
 
 /// A radius that contains the body (its largest r over a fine set of directions, plus 2 %; a
 /// cylinder's half length counts too).
@@ -104,11 +104,16 @@ fn the_caption_never_covers_the_body_on_any_lesson_step() {
             (3840, 2160),
             (768, 720),
             (1152, 1080),
+            // Class mode's 3D view at 1280×720, beside the controls and the lesson's plot.
+            (540, 656),
         ] {
             for text_scale in [1.0, 1.8] {
                 let mut r = HeadlessRenderer::new(setup.clone(), size, 1).unwrap();
+                // Class text is the app's presentation and class modes: a room's 24 px floor.
+                let room_text_px = if text_scale > 1.0 { ROOM_TEXT_PX } else { 0.0 };
                 r.set_view_options(ViewOptions {
                     text_scale,
+                    room_text_px,
                     ..ViewOptions::default()
                 });
                 let mut k = 0;
@@ -134,6 +139,9 @@ fn the_caption_never_covers_the_body_on_any_lesson_step() {
                             .find(|b| b.1)
                             .unwrap_or_else(|| panic!("{name} at t = {at}: no caption"))
                             .0;
+                        if room_text_px > 0.0 {
+                            room_checks(&frame, &boxes, size, &format!("{name} at t = {at}"));
+                        }
                         for (b, is_caption) in &boxes {
                             assert!(
                                 apart(body, *b),
@@ -214,6 +222,59 @@ fn the_caption_never_covers_the_body_on_any_lesson_step() {
         }
     }
     assert!(measured >= 3 * 4 * 3 * 4, "{measured} frames measured");
+}
+
+/// For a room: every text at least [`ROOM_TEXT_PX`], every panel inside the frame, and no two
+/// panels (nor a panel and an inset it does not title) over each other.
+fn room_checks(frame: &Frame, boxes: &[([f32; 4], bool)], size: (u32, u32), what: &str) {
+    use rollphase::render::types::PanelItem;
+    for panel in &frame.panels {
+        for item in &panel.items {
+            let (text, px) = match item {
+                PanelItem::Text { text, size_px, .. } => (text.clone(), *size_px),
+                PanelItem::ColorBar {
+                    labels, size_px, ..
+                } => (format!("{labels:?}"), *size_px),
+            };
+            assert!(
+                px >= ROOM_TEXT_PX,
+                "{what}, {size:?}: \"{text}\" at {px:.1} px, under {ROOM_TEXT_PX}"
+            );
+        }
+    }
+    let (w, h) = (size.0 as f32, size.1 as f32);
+    let insets: Vec<[f32; 4]> = frame.views[1..]
+        .iter()
+        .map(|v| {
+            let [x, y, vw, vh] = v.viewport.map(|u| u as f32);
+            [x, y, x + vw, y + vh]
+        })
+        .collect();
+    let inside =
+        |b: [f32; 4], r: [f32; 4]| b[0] >= r[0] && b[1] >= r[1] && b[2] <= r[2] && b[3] <= r[3];
+    for (i, (a, _)) in boxes.iter().enumerate() {
+        assert!(
+            inside(*a, [0.0, 0.0, w, h]),
+            "{what}, {size:?}: panel {i} {a:?} leaves the frame"
+        );
+        for (j, (b, _)) in boxes.iter().enumerate().skip(i + 1) {
+            assert!(
+                apart(*a, *b),
+                "{what}, {size:?}: panels {i} {a:?} and {j} {b:?} overlap"
+            );
+        }
+        // A panel inside an inset is its title (over the inset's own views); any other keeps
+        // off every inset.
+        if insets.iter().any(|inset| inside(*a, *inset)) {
+            continue;
+        }
+        for inset in &insets {
+            assert!(
+                apart(*a, *inset),
+                "{what}, {size:?}: panel {i} {a:?} reaches over the inset {inset:?}"
+            );
+        }
+    }
 }
 
 /// With inertia on, the Poincaré inset has no field to wait for: its title says what it needs

@@ -99,6 +99,7 @@ impl AppUi {
             1.0
         });
         self.view_options.text_scale = if on { 1.8 } else { 1.0 };
+        self.view_options.room_text_px = if on { crate::view::ROOM_TEXT_PX } else { 0.0 };
         actions.push(UiAction::Fullscreen(on));
     }
 
@@ -188,6 +189,7 @@ impl AppUi {
     pub(super) fn reset_camera(&mut self) {
         self.view_options = ViewOptions {
             text_scale: self.view_options.text_scale,
+            room_text_px: self.view_options.room_text_px,
             follow: self.view_options.follow,
             fixed_target: None,
             ..ViewOptions::default()

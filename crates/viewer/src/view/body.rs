@@ -519,6 +519,28 @@ pub(super) fn push_polyline_indexed(
     }
 }
 
+/// The box (x0, y0, x1, y1, frame pixels) the body's bounding sphere of `radius` covers on
+/// screen in the body's `view`: centred on what its camera looks at (the body, when the camera
+/// follows it), widened for the perspective silhouette.
+pub(super) fn screen_box(view: &View, radius: f32) -> [f32; 4] {
+    let [vx, vy, vw, vh] = view.viewport.map(|v| v as f32);
+    let cam = &view.camera;
+    let view_proj = cam.view_proj(vw / vh.max(1.0));
+    let to_pixel = |p: Vec3| {
+        let c = view_proj.project_point3(p);
+        (vx + (c.x + 1.0) * 0.5 * vw, vy + (1.0 - c.y) * 0.5 * vh)
+    };
+    let forward = (cam.target - cam.eye).normalize_or(Vec3::X);
+    let right = forward.cross(cam.up).normalize_or(Vec3::Y);
+    let up = right.cross(forward);
+    let (cx, cy) = to_pixel(cam.target);
+    let distance = (cam.target - cam.eye).length().max(1e-6);
+    let silhouette = 1.0 / (1.0 - (radius / distance).powi(2)).max(1e-6).sqrt();
+    let rx = (to_pixel(cam.target + right * radius).0 - cx).abs() * silhouette;
+    let ry = (to_pixel(cam.target + up * radius).1 - cy).abs() * silhouette;
+    [cx - rx, cy - ry, cx + rx, cy + ry]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -34,8 +34,8 @@ pub mod layout;
 mod panels;
 
 use body::field_max;
+use panels::{TextSize, title_panel, titled_panel};
 pub use panels::{multiplicity_text, short_number};
-use panels::{title_panel, titled_panel};
 
 /// The SO(3) ball's key: what a point is, and its axes by colour (x downhill, y across the
 /// ramp, z its normal: the lab frame the orientation turns the body into).
@@ -107,7 +107,16 @@ pub struct ViewOptions {
     pub fixed_target: Option<glam::DVec3>,
     /// Multiplies every overlay font size (the app's "class" mode).
     pub text_scale: f32,
+    /// The least font size in pixels of any text on the view, 0 for none: [`ROOM_TEXT_PX`] in
+    /// the app's presentation and class modes, where the view is read from the back of a room.
+    /// Panels then leave out their small print (the integrator's health line, the SO(3) ball's
+    /// key) rather than show it too small to read.
+    pub room_text_px: f32,
 }
+
+/// The least text size on the view and the lesson's plot in presentation and class modes, in
+/// pixels: read from the back of a room.
+pub const ROOM_TEXT_PX: f32 = 24.0;
 
 impl Default for ViewOptions {
     fn default() -> Self {
@@ -118,6 +127,7 @@ impl Default for ViewOptions {
             follow: true,
             fixed_target: None,
             text_scale: 1.0,
+            room_text_px: 0.0,
         }
     }
 }
@@ -261,6 +271,10 @@ impl SceneView {
         // square frame keeps its panels inside the frame and clear of the insets.
         let fit = (size.0 as f32 / 1280.0).min(size.1 as f32 / 720.0);
         let text = options.text_scale * fit.clamp(0.3, 3.0);
+        let sized = |scale: f32| TextSize {
+            scale,
+            min_px: options.room_text_px.max(0.0),
+        };
         // A lesson's caption is part of what it shows, so it stays when the overlay is off.
         // It sits above the colour legend (about 70 px tall at text scale 1), in a band of its
         // own: the body's view ends above the band and keeps the scale it has without a caption,
@@ -273,12 +287,18 @@ impl SceneView {
         } else {
             text
         };
+        let legend = self.legend_panel(sized(legend_text), size.0.saturating_sub(20) as f32);
         let lift = if self.show_overlay && body_rect.is_some() {
-            10 + (72.0 * legend_text) as u32
+            // 72 px a unit of text holds the legend; a room's floor can make it taller.
+            if options.room_text_px > 0.0 {
+                10 + panels::estimated_height(&legend).max((72.0 * legend_text) as u32)
+            } else {
+                10 + (72.0 * legend_text) as u32
+            }
         } else {
             10
         };
-        let caption = panels::caption_panel(snap, text, 0.86 * size.0 as f32, lift);
+        let caption = panels::caption_panel(snap, sized(text), 0.86 * size.0 as f32, lift);
         // The caption's band, under the body's view (at most half of the frame).
         let band = match (&body_rect, &caption) {
             (Some(rect), Some(c)) => {
@@ -286,17 +306,51 @@ impl SceneView {
             }
             _ => 0,
         };
+        // The numbers, built before the body's view: for a room their 24 px lines take a band
+        // at the top, which the body's view starts below (as it ends above the caption's).
+        let status = self.show_overlay.then(|| {
+            // Under a caption the body's view is shorter, and class mode's largest numbers would
+            // reach the body: they are a little smaller than elsewhere, still large enough for
+            // the back of the room (α and α/α* are what a lesson talks about).
+            let status_text = if caption.is_some() {
+                text.min(1.4 * fit.clamp(0.3, 3.0))
+            } else {
+                text
+            };
+            let mut status = self.status_panel(snap, sized(status_text));
+            if body_rect.is_none() {
+                // The views' titles hold the top edge; keep the numbers clear of them.
+                status.anchor = Anchor::BottomLeft(10, 10);
+            }
+            status
+        });
         if let Some(mut rect) = body_rect {
             let covered: Vec<[u32; 4]> = [ball_rect, poincare_rect].into_iter().flatten().collect();
             let full_height = rect[3];
             rect[3] -= band;
-            views.push(self.body_view(snap, rect, full_height, &covered, options));
+            let mut view = self.body_view(snap, rect, full_height, &covered, options);
+            if let Some(status) = status.as_ref().filter(|_| options.room_text_px > 0.0) {
+                // A top band moves the body down by half its height at the same scale: as far
+                // as the numbers' bottom needs, and no further than the view's bottom allows.
+                let [_, top, _, bottom] = body::screen_box(&view, self.body_radius);
+                let numbers_bottom = (10 + panels::estimated_height(status) + 4) as f32;
+                let needed = numbers_bottom - top;
+                let room = (rect[1] + rect[3]) as f32 - bottom;
+                let shift = needed.min(room);
+                if shift > 0.0 {
+                    let band = (2.0 * shift).ceil() as u32;
+                    rect[1] += band;
+                    rect[3] -= band;
+                    view = self.body_view(snap, rect, full_height, &covered, options);
+                }
+            }
+            views.push(view);
         }
         if let Some(rect) = ball_rect {
             // The ball below its title and key, not under them (at 720p the key's lines sat
             // over the top of the ball): the inset's background behind both, the ball's view
             // in what the text leaves.
-            let key = titled_panel(rect, "Orientation (SO(3) ball)", Some(SO3_KEY), text);
+            let key = titled_panel(rect, "Orientation (SO(3) ball)", Some(SO3_KEY), sized(text));
             let below = (panels::estimated_height(&key)).min(rect[3] / 3);
             let ball = self.ball_view(
                 snap,
@@ -314,14 +368,9 @@ impl SceneView {
                 });
             }
             views.push(ball);
-            panels.push(titled_panel(
-                rect,
-                // Short enough not to wrap in the inset, in words rather than q_w, with what a
-                // point means and which axis is which (the axes are drawn in these colours).
-                "Orientation (SO(3) ball)",
-                Some(SO3_KEY),
-                text,
-            ));
+            // Short enough not to wrap in the inset, in words rather than q_w, with what a
+            // point means and which axis is which (the axes are drawn in these colours).
+            panels.push(key);
         }
         if let Some(rect) = poincare_rect {
             views.push(self.poincare_view(
@@ -338,49 +387,17 @@ impl SceneView {
                 }
                 (None, _) => "Poincaré map on ∂Ω: computing…",
             };
-            panels.push(title_panel(rect, title, text));
+            panels.push(title_panel(rect, title, sized(text)));
             if self.show_overlay
                 && let Some(f) = field
             {
-                let vmax = field_max(f);
-                panels.push(OverlayPanel {
-                    anchor: Anchor::TopLeft(rect[0] + 8, rect[1] + rect[3] - (70.0 * text) as u32),
-                    items: vec![
-                        PanelItem::Text {
-                            text: "|V| = |P(p) − p|".into(),
-                            size_px: 15.0 * text,
-                            color: [235; 3],
-                        },
-                        PanelItem::ColorBar {
-                            width: (160.0 * text) as u32,
-                            height: (10.0 * text).max(4.0) as u32,
-                            colors: VIRIDIS.to_vec(),
-                            labels: vec![(0.0, "0".into()), (1.0, format!("{vmax:.2}"))],
-                            size_px: 13.0 * text,
-                        },
-                    ],
-                    background: [16, 18, 24, 200],
-                    padding: (6.0 * text) as u32,
-                });
+                panels.push(field_legend(rect, field_max(f), text, sized(text)));
             }
         }
-        if self.show_overlay {
-            // Under a caption the body's view is shorter, and class mode's largest numbers would
-            // reach the body: they are a little smaller than elsewhere, still large enough for
-            // the back of the room (α and α/α* are what a lesson talks about).
-            let status_text = if caption.is_some() {
-                text.min(1.4 * fit.clamp(0.3, 3.0))
-            } else {
-                text
-            };
-            let mut status = self.status_panel(snap, status_text);
-            if body_rect.is_none() {
-                // The views' titles hold the top edge; keep the numbers clear of them.
-                status.anchor = Anchor::BottomLeft(10, 10);
-            }
+        if let Some(status) = status {
             panels.push(status);
             if body_rect.is_some() {
-                panels.push(self.legend_panel(legend_text));
+                panels.push(legend);
             }
         }
         if let Some(caption) = caption {
@@ -399,4 +416,41 @@ impl SceneView {
             panels,
         }
     }
+}
+
+/// The Poincaré field's colour legend at the bottom left of its inset `rect`: 70 px a unit of
+/// text up, or higher if a room's text makes it taller.
+fn field_legend(rect: [u32; 4], vmax: f32, scale: f32, t: TextSize) -> OverlayPanel {
+    let mut legend = OverlayPanel {
+        anchor: Anchor::TopLeft(rect[0], rect[1]),
+        items: vec![
+            PanelItem::Text {
+                text: "|V| = |P(p) − p|".into(),
+                size_px: t.px(15.0),
+                color: [235; 3],
+            },
+            PanelItem::ColorBar {
+                width: if t.for_a_room() {
+                    (160.0 * t.px(13.0) / 13.0) as u32
+                } else {
+                    (160.0 * scale) as u32
+                },
+                height: (10.0 * scale).max(4.0) as u32,
+                colors: VIRIDIS.to_vec(),
+                labels: vec![(0.0, "0".into()), (1.0, format!("{vmax:.2}"))],
+                size_px: t.px(13.0),
+            },
+        ],
+        background: [16, 18, 24, 200],
+        padding: (6.0 * scale) as u32,
+    };
+    let mut up = (70.0 * scale) as u32;
+    if t.for_a_room() {
+        up = up.max(panels::estimated_height(&legend) + 8);
+    }
+    legend.anchor = Anchor::TopLeft(
+        rect[0] + 8,
+        (rect[1] + rect[3]).saturating_sub(up).max(rect[1]),
+    );
+    legend
 }

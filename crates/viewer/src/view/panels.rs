@@ -7,8 +7,39 @@ use crate::render::types::{Anchor, OverlayPanel, PanelItem};
 
 use super::SceneView;
 
+/// How large a panel's text is: its sizes (given for 1280×720) times `scale`, but none under
+/// `min_px` (a room's floor: [`super::ROOM_TEXT_PX`] in presentation and class modes, 0
+/// elsewhere).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct TextSize {
+    /// Multiplies every size (and the panels' padding and bars).
+    pub scale: f32,
+    /// The least font size in pixels.
+    pub min_px: f32,
+}
+
+impl TextSize {
+    /// Text scaled by `scale`, with no floor.
+    #[cfg(test)]
+    pub fn plain(scale: f32) -> Self {
+        Self { scale, min_px: 0.0 }
+    }
+
+    /// The font size in pixels for a size of `base` at 1280×720.
+    pub fn px(self, base: f32) -> f32 {
+        (base * self.scale).max(self.min_px)
+    }
+
+    /// Whether a room's floor applies (presentation and class modes): panels then leave out
+    /// their small print.
+    pub fn for_a_room(self) -> bool {
+        self.min_px > 0.0
+    }
+}
+
 impl SceneView {
-    pub(super) fn status_panel(&self, snap: &Snapshot, text: f32) -> OverlayPanel {
+    pub(super) fn status_panel(&self, snap: &Snapshot, text: TextSize) -> OverlayPanel {
+        let room = text.for_a_room();
         let deg = snap.alpha_rad.to_degrees();
         let ratio = if snap.alpha_star > 0.0 {
             format!("α/α* = {:.4}", snap.alpha_rad / snap.alpha_star)
@@ -28,6 +59,8 @@ impl SceneView {
             "halted: 1/T = 0".to_string()
         } else {
             match snap.period {
+                // For a room, without the words on what T spans: a narrower panel at 24 px.
+                Some(t) if room => format!("1/T = {:.5}   (T = {:.3})", 1.0 / t, t),
                 Some(t) => format!(
                     "1/T = {:.5}   (T = {:.3}, {})",
                     1.0 / t,
@@ -43,25 +76,29 @@ impl SceneView {
         };
         let line = |s: String, px: f32| PanelItem::Text {
             text: s,
-            size_px: px * text,
+            size_px: text.px(px),
             color: [240; 3],
         };
-        let mut items = vec![
-            PanelItem::Text {
-                text: self.name.clone(),
-                size_px: 19.0 * text,
-                color: [255, 214, 10],
-            },
-            // Five decimals: the slider moves α by 1e-5 rad, and a lesson sets α = 0.99 α*.
-            line(format!("α = {:.5} rad ({deg:.3}°)", snap.alpha_rad), 16.0),
-            line(format!("α* = {:.5} rad   {ratio}", snap.alpha_star), 16.0),
-            line(mass, 16.0),
-            // The drag law is named with the model, on a line of its own (the panel keeps its
-            // width beside the body's view): points taken under another law are another
-            // experiment.
-            line(snap.drag_law.label(), 16.0),
-            line(format!("t = {:.2}", snap.t), 16.0),
-        ];
+        let mut items = if room {
+            room_lines(snap, text)
+        } else {
+            vec![
+                PanelItem::Text {
+                    text: self.name.clone(),
+                    size_px: text.px(19.0),
+                    color: [255, 214, 10],
+                },
+                // Five decimals: the slider moves α by 1e-5 rad, and a lesson sets α = 0.99 α*.
+                line(format!("α = {:.5} rad ({deg:.3}°)", snap.alpha_rad), 16.0),
+                line(format!("α* = {:.5} rad   {ratio}", snap.alpha_star), 16.0),
+                line(mass, 16.0),
+                // The drag law is named with the model, on a line of its own (the panel keeps
+                // its width beside the body's view): points taken under another law are
+                // another experiment.
+                line(snap.drag_law.label(), 16.0),
+                line(format!("t = {:.2}", snap.t), 16.0),
+            ]
+        };
         let worst = snap
             .health
             .quat_norm_error
@@ -72,7 +109,7 @@ impl SceneView {
             // trustworthy ones, and the reason is what the viewer must read.
             items.push(PanelItem::Text {
                 text: stopped.clone(),
-                size_px: 16.0 * text,
+                size_px: text.px(16.0),
                 color: [255, 70, 60],
             });
         } else if !self.is_disk && !trustworthy {
@@ -83,7 +120,7 @@ impl SceneView {
                      smaller step",
                     snap.health.quat_norm_error, snap.health.contact_normal_error
                 ),
-                size_px: 16.0 * text,
+                size_px: text.px(16.0),
                 color: [255, 70, 60],
             });
         } else if let Some(validity) = &snap.validity {
@@ -91,7 +128,7 @@ impl SceneView {
             // no 1/T or period is claimed for it.
             items.push(PanelItem::Text {
                 text: format!("left the model: the body {validity}"),
-                size_px: 16.0 * text,
+                size_px: text.px(16.0),
                 color: [255, 70, 60],
             });
         } else {
@@ -116,7 +153,10 @@ impl SceneView {
                 14.0,
             ));
         }
-        if !self.is_disk {
+        if room {
+            // The integrator and its health are small print for the operator, not the room;
+            // an untrustworthy state is said above in red at full size.
+        } else if !self.is_disk {
             // Before the first step nothing has been measured: "—", not a reassuring 0.0e0.
             let measured = |v: f64| {
                 if snap.health.rhs_evals == 0 {
@@ -132,13 +172,13 @@ impl SceneView {
                     measured(snap.health.quat_norm_error),
                     measured(snap.health.contact_normal_error)
                 ),
-                size_px: 13.0 * text,
+                size_px: text.px(13.0),
                 color: [190; 3],
             });
         } else {
             items.push(PanelItem::Text {
                 text: snap.integrator.to_string(),
-                size_px: 13.0 * text,
+                size_px: text.px(13.0),
                 color: [190; 3],
             });
         }
@@ -146,17 +186,23 @@ impl SceneView {
             anchor: Anchor::TopLeft(10, 10),
             items,
             background: [16, 18, 24, 200],
-            padding: (8.0 * text) as u32,
+            padding: (8.0 * text.scale) as u32,
         }
     }
 
-    pub(super) fn legend_panel(&self, text: f32) -> OverlayPanel {
+    /// The colour legend, at most `max_width` pixels wide (its view's width less margins).
+    pub(super) fn legend_panel(&self, text: TextSize, max_width: f32) -> OverlayPanel {
         let s = &self.scale;
-        let what = if self.is_disk {
-            "curvature κ of the section (1 = circle)"
-        } else {
-            "Gaussian curvature K (1 = sphere)"
+        let what = match (self.is_disk, text.for_a_room()) {
+            (true, false) => "curvature κ of the section (1 = circle)",
+            (false, false) => "Gaussian curvature K (1 = sphere)",
+            // Shorter, to fit a narrow view at a room's size.
+            (true, true) => "curvature κ (1 = circle)",
+            (false, true) => "curvature K (1 = sphere)",
         };
+        let padding = (8.0 * text.scale) as u32;
+        // The bar leaves room for half a label at each end and the padding.
+        let widest = (max_width - 2.0 * padding as f32 - 4.0 * text.px(13.0)).max(60.0);
         let mut labels = vec![(s.position(1.0), "1".to_string())];
         if s.max - s.min > 1e-3 {
             labels.push((s.position(s.min), format!("{:.2}", s.min)));
@@ -167,21 +213,57 @@ impl SceneView {
             items: vec![
                 PanelItem::Text {
                     text: what.into(),
-                    size_px: 15.0 * text,
+                    size_px: text.px(15.0),
                     color: [240; 3],
                 },
                 PanelItem::ColorBar {
-                    width: (240.0 * text) as u32,
-                    height: (12.0 * text).max(4.0) as u32,
+                    // As long as the title, so its numbers keep apart at a room's size.
+                    width: if text.for_a_room() {
+                        (240.0 * text.px(13.0) / 13.0).min(widest) as u32
+                    } else {
+                        (240.0 * text.scale) as u32
+                    },
+                    height: (12.0 * text.scale).max(4.0) as u32,
                     colors: DIVERGING.to_vec(),
                     labels,
-                    size_px: 13.0 * text,
+                    size_px: text.px(13.0),
                 },
             ],
             background: [16, 18, 24, 200],
-            padding: (8.0 * text) as u32,
+            padding,
         }
     }
+}
+
+/// For a room, the numbers a lesson talks about in three short lines at 24 px or more (the
+/// 1/T line follows), so the panel keeps clear of the body beside a lesson's plot: α against
+/// α*, m/m0 with the drag law, t. The scene's name, the model's name and α in degrees are the
+/// operator's, in the window's other modes.
+fn room_lines(snap: &Snapshot, text: TextSize) -> Vec<PanelItem> {
+    let line = |s: String| PanelItem::Text {
+        text: s,
+        size_px: text.px(16.0),
+        color: [240; 3],
+    };
+    let alpha = if snap.alpha_star > 0.0 {
+        format!(
+            "α = {:.5} rad = {:.4} α*",
+            snap.alpha_rad,
+            snap.alpha_rad / snap.alpha_star
+        )
+    } else {
+        format!("α = {:.5} rad (perfect body)", snap.alpha_rad)
+    };
+    let mass = if snap.model.is_inertial() {
+        short_number(snap.mass_ratio)
+    } else {
+        "0".to_string()
+    };
+    vec![
+        line(alpha),
+        line(format!("m/m0 = {mass}, {}", snap.drag_law.label())),
+        line(format!("t = {:.2}", snap.t)),
+    ]
 }
 
 /// Average advance of DejaVu Sans per pixel of font size, rounded up: enough to wrap a caption
@@ -192,18 +274,18 @@ const CHARS_EM: f32 = 0.56;
 /// `lift` pixels (clear of the colour legend), with the step count above it.
 pub(super) fn caption_panel(
     snap: &Snapshot,
-    text: f32,
+    text: TextSize,
     max_width: f32,
     lift: u32,
 ) -> Option<OverlayPanel> {
     let caption = snap.caption.as_deref()?;
-    let size_px = 22.0 * text;
+    let size_px = text.px(22.0);
     let per_line = ((max_width / (CHARS_EM * size_px)) as usize).max(12);
     let mut items = Vec::new();
     if let Some(l) = snap.lesson {
         items.push(PanelItem::Text {
             text: format!("step {} of {}", l.done, l.steps),
-            size_px: 14.0 * text,
+            size_px: text.px(14.0),
             color: [255, 214, 10],
         });
     }
@@ -220,7 +302,7 @@ pub(super) fn caption_panel(
         anchor: Anchor::BottomCentre(lift),
         items,
         background: [10, 12, 18, 240],
-        padding: (10.0 * text) as u32,
+        padding: (10.0 * text.scale) as u32,
     })
 }
 
@@ -269,7 +351,7 @@ pub fn short_number(x: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-pub(super) fn title_panel(rect: [u32; 4], title: &str, text: f32) -> OverlayPanel {
+pub(super) fn title_panel(rect: [u32; 4], title: &str, text: TextSize) -> OverlayPanel {
     titled_panel(rect, title, None, text)
 }
 
@@ -279,7 +361,7 @@ pub(super) fn titled_panel(
     rect: [u32; 4],
     title: &str,
     key: Option<&str>,
-    text: f32,
+    text: TextSize,
 ) -> OverlayPanel {
     // The title keeps the text size of the other panels (a projector's room reads it too) and
     // wraps to its inset's width; only a word longer than the inset shrinks it. (Shrunk to one
@@ -292,7 +374,9 @@ pub(super) fn titled_panel(
         let size_px = size_px.min(width / (CHARS_EM * longest as f32));
         (lines, size_px)
     };
-    let (lines, size_px) = lines_at(title, 14.0 * text);
+    // For a room the key is small print: the title alone, at the room's size.
+    let key = key.filter(|_| !text.for_a_room());
+    let (lines, size_px) = lines_at(title, text.px(14.0));
     let mut items: Vec<PanelItem> = lines
         .into_iter()
         .map(|line| PanelItem::Text {
@@ -303,7 +387,7 @@ pub(super) fn titled_panel(
         .collect();
     // Each of the key's lines wraps on its own.
     for part in key.into_iter().flat_map(|k| k.split('\n')) {
-        let (lines, size_px) = lines_at(part, 12.0 * text);
+        let (lines, size_px) = lines_at(part, text.px(12.0));
         items.extend(lines.into_iter().map(|line| PanelItem::Text {
             text: line,
             size_px,
@@ -374,7 +458,7 @@ mod tests {
             .unwrap();
         let caption = setup.timeline[0].caption.clone().unwrap();
         let snap = crate::live::LiveRun::new(setup).snapshot();
-        let normal = caption_panel(&snap, 1.0, 700.0, 10).unwrap();
+        let normal = caption_panel(&snap, TextSize::plain(1.0), 700.0, 10).unwrap();
         assert_eq!(normal.anchor, Anchor::BottomCentre(10));
         let lines = texts(&normal);
         assert_eq!(lines[0].0, "step 1 of 7");
@@ -383,7 +467,7 @@ mod tests {
         assert!(body.len() >= 2, "wrapped to 700 px: {body:?}");
         assert!(lines[1..].iter().all(|(_, size)| *size == 22.0));
         // Class mode's text scale 1.8: the same caption, larger, on more lines.
-        let class = texts(&caption_panel(&snap, 1.8, 700.0, 10).unwrap());
+        let class = texts(&caption_panel(&snap, TextSize::plain(1.8), 700.0, 10).unwrap());
         assert!(
             class[1..]
                 .iter()
@@ -396,6 +480,6 @@ mod tests {
             .setup(None)
             .unwrap();
         let snap = crate::live::LiveRun::new(plain).snapshot();
-        assert!(caption_panel(&snap, 1.0, 700.0, 10).is_none());
+        assert!(caption_panel(&snap, TextSize::plain(1.0), 700.0, 10).is_none());
     }
 }
