@@ -296,7 +296,8 @@ pub fn is_stable_rest(j: DMat3) -> bool {
 }
 
 /// Whether a viscous run from `q`, a small rotation away from the rest orientation `rest`, stays
-/// near it: it comes to rest (|ω| < 1e-8) within `t_max` less than 0.05 rad from `rest`. A
+/// near it: it comes to rest (the verdict's rest, [`crate::analysis::verdict::state_at_rest`])
+/// within `t_max` less than 0.05 rad from `rest`. A
 /// neighbour on the (neutral) loop counts as near; an unstable point is left for good, either
 /// rolling away or settling on a distant stable part of the loop.
 ///
@@ -336,7 +337,7 @@ pub fn returns_to_rest(
         if 2.0 * now.dot(rest).abs().min(1.0).acos() > 0.05 {
             return Ok(Flow::Stop);
         }
-        returned = model.observe(y).omega.length() < 1e-8;
+        returned = crate::analysis::verdict::state_at_rest(model, y);
         Ok(if returned { Flow::Stop } else { Flow::Continue })
     })?;
     Ok(returned)
