@@ -25,6 +25,7 @@ mod app_ui;
 mod app_window;
 mod egui_panels;
 mod headless_snapshots;
+mod lesson_claims;
 mod lessons;
 mod presentation;
 mod render_cli;

@@ -26,22 +26,9 @@ fn plots(state: &EvidenceState, done: usize) -> PlotHistory {
     h
 }
 
-/// The distinct crossing points (polar angle of ∂Ω's crossing, 1e-2 apart) at `mass`.
+/// The distinct settled crossing points at `mass` (the library's reading of a claim).
 fn branches(h: &PlotHistory, mass: f64) -> Vec<f64> {
-    let mut found: Vec<f64> = Vec::new();
-    // The settled cycle: the last points at this mass (the first ones are its transient).
-    let at: Vec<f64> = h
-        .crossings_by_mass()
-        .iter()
-        .filter(|p| p[0] == mass)
-        .map(|p| p[1])
-        .collect();
-    for &angle in at.iter().rev().take(6) {
-        if found.iter().all(|&f| (f - angle).abs() > 1e-2) {
-            found.push(angle);
-        }
-    }
-    found
+    rollphase::live::evidence::settled_branches(&h.checkpoint(), mass)
 }
 
 #[test]
@@ -112,4 +99,74 @@ fn a_run_changed_by_hand_is_off_script_and_a_timeline_step_is_not() {
     run.set_parameters(ramp, run.method()).unwrap();
     assert!(run.snapshot().off_script);
     assert!(!run.restarted().snapshot().off_script);
+}
+
+/// The claim a step would make if its caption said the opposite.
+fn opposite(claim: rollphase::scene::Claim) -> rollphase::scene::Claim {
+    use rollphase::scene::Claim;
+    match claim {
+        Claim::Halted => Claim::Rolling,
+        Claim::Rolling => Claim::Halted,
+        Claim::Period1 => Claim::Period2,
+        Claim::Period2 => Claim::Period1,
+    }
+}
+
+#[test]
+fn every_bundled_lessons_claims_hold_in_its_evidence_and_their_opposites_do_not() {
+    use rollphase::live::evidence::{check_claim, claims_checked};
+    // (lesson, steps that declare a claim)
+    for (name, declared) in [
+        ("lesson-critical-angle", 6),
+        ("lesson-inertia-hysteresis", 8),
+        ("lesson-period-doubling", 4),
+    ] {
+        let (setup, state) = evidence(name);
+        let checked = claims_checked(&setup, &state);
+        assert_eq!(checked.len(), declared, "{name}: {checked:?}");
+        let mut alpha = setup.ramp.alpha_rad;
+        let mut mass = setup.ramp.mass_ratio;
+        for (k, step) in setup.timeline.iter().enumerate() {
+            alpha = step.alpha_rad.unwrap_or(alpha);
+            mass = step.mass_ratio.unwrap_or(mass);
+            let Some(claim) = step.claim else { continue };
+            let (_, _, verdict) = checked.iter().find(|c| c.0 == k).unwrap();
+            assert!(
+                verdict.is_ok(),
+                "{name} step {}: claims {claim:?}: {verdict:?}",
+                k + 1
+            );
+            let not = check_claim(opposite(claim), &state.steps[k + 1], alpha, mass);
+            assert!(
+                not.is_err(),
+                "{name} step {}: the opposite of {claim:?} holds too: {not:?}",
+                k + 1
+            );
+        }
+    }
+}
+
+#[test]
+fn a_claim_needs_the_plot_it_is_read_from() {
+    let text = Scene::preset("lesson-critical-angle")
+        .unwrap()
+        .to_toml()
+        .unwrap()
+        .replacen("claim = \"halted\"", "claim = \"period-2\"", 1);
+    let e = Scene::from_toml(&text)
+        .unwrap()
+        .setup(None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("timeline[0].claim = \"period-2\"") && e.contains("Crossings of ∂Ω"),
+        "{e}"
+    );
+    let unknown = Scene::preset("lesson-critical-angle")
+        .unwrap()
+        .to_toml()
+        .unwrap()
+        .replacen("claim = \"halted\"", "claim = \"stops\"", 1);
+    let e = Scene::from_toml(&unknown).unwrap_err().to_string();
+    assert!(e.contains("stops") && e.contains("halted"), "{e}");
 }

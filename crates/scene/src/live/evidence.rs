@@ -13,7 +13,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
-use crate::scene::SceneSetup;
+use crate::scene::{Claim, SceneSetup};
 
 use super::LiveRun;
 use super::history::{PlotCheckpoint, PlotHistory};
@@ -139,6 +139,132 @@ pub fn measure_evidence(
     }
 }
 
+/// Crossings of ∂Ω this far apart (rad) are different points of a cycle; closer, one point
+/// settling. A period-2 cycle's two crossings are 0.2–0.5 rad apart on the bundled lesson,
+/// a settled period-1 cycle's repeat to 1e-3 (the history keeps no two closer).
+pub const DISTINCT_CROSSINGS: f64 = 1e-2;
+
+/// How many of the latest crossings at one m/m0 make its settled cycle (the earlier ones are
+/// its transient): more than a period-2 cycle's two, few enough to be settled.
+pub const SETTLED_CROSSINGS: usize = 6;
+
+/// The distinct crossings of ∂Ω ([`DISTINCT_CROSSINGS`] apart) among the last
+/// [`SETTLED_CROSSINGS`] at `mass_ratio`, newest first: one for a period-1 cycle, two for a
+/// period-2 one.
+pub fn settled_branches(evidence: &PlotCheckpoint, mass_ratio: f64) -> Vec<f64> {
+    let mut found: Vec<f64> = Vec::new();
+    for &angle in evidence
+        .crossings_at(mass_ratio)
+        .iter()
+        .rev()
+        .take(SETTLED_CROSSINGS)
+    {
+        if found
+            .iter()
+            .all(|&f| (f - angle).abs() > DISTINCT_CROSSINGS)
+        {
+            found.push(angle);
+        }
+    }
+    found
+}
+
+/// Whether a step's `claim` holds in its `evidence` (the plots at the step's end) at the step's
+/// α and m/m0: `Ok` with what shows it, or `Err` with what the plot shows instead.
+///
+/// # Example
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use rollphase_scene::live::evidence::{check_claim, measure_evidence};
+/// use rollphase_scene::scene::{Claim, Scene};
+/// let setup = Scene::preset("lesson-period-doubling")?.setup(None)?;
+/// let mut last = None;
+/// measure_evidence(&setup, &AtomicBool::new(false), 1e9, |s| last = Some(s.clone()));
+/// let state = last.unwrap();
+/// // After the third step (m/m0 = 4.5): period 2, not period 1.
+/// assert!(check_claim(Claim::Period2, &state.steps[3], 0.15, 4.5).is_ok());
+/// assert!(check_claim(Claim::Period1, &state.steps[3], 0.15, 4.5).is_err());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn check_claim(
+    claim: Claim,
+    evidence: &PlotCheckpoint,
+    alpha: f64,
+    mass_ratio: f64,
+) -> Result<String, String> {
+    let rates = evidence.rates_at(alpha, mass_ratio);
+    // The point of the branch the sweep is moving along, where α was met both ways.
+    let now = rates
+        .iter()
+        .find(|r| Some(r.0) == evidence.direction())
+        .or(rates.last());
+    let at = format!("α = {alpha:.5}, m/m0 = {}", short(mass_ratio));
+    let no_point = || format!("the 1/T plot has no point at {at}");
+    match claim {
+        Claim::Halted | Claim::Rolling => {
+            let &(_, rate) = now.ok_or_else(no_point)?;
+            match (claim, rate == 0.0) {
+                (Claim::Halted, true) => Ok(format!("1/T = 0 at {at}")),
+                (Claim::Rolling, false) => Ok(format!("1/T = {rate:.5} at {at}")),
+                (Claim::Halted, false) => Err(format!("1/T = {rate:.5} at {at}: it rolls")),
+                _ => Err(format!("1/T = 0 at {at}: it halted")),
+            }
+        }
+        Claim::Period1 | Claim::Period2 => {
+            let branches = settled_branches(evidence, mass_ratio);
+            let want = if claim == Claim::Period1 { 1 } else { 2 };
+            let shown = |b: &[f64]| {
+                b.iter()
+                    .map(|x| format!("{x:.3}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            match branches.len() {
+                0 => Err(format!(
+                    "the crossings plot has no settled crossing at m/m0 = {}",
+                    short(mass_ratio)
+                )),
+                n if n == want => Ok(format!(
+                    "{n} settled crossing(s) at m/m0 = {}: {} rad",
+                    short(mass_ratio),
+                    shown(&branches)
+                )),
+                n => Err(format!(
+                    "{n} distinct settled crossings at m/m0 = {} ({} rad), not {want}",
+                    short(mass_ratio),
+                    shown(&branches)
+                )),
+            }
+        }
+    }
+}
+
+/// A number as people read it: four decimals at most.
+fn short(x: f64) -> String {
+    let s = format!("{x:.4}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// Each step's claim checked against its evidence, as (step index in the timeline, claim,
+/// verdict), for the steps that make one and whose evidence is measured.
+pub fn claims_checked(
+    setup: &SceneSetup,
+    state: &EvidenceState,
+) -> Vec<(usize, Claim, Result<String, String>)> {
+    let mut alpha = setup.ramp.alpha_rad;
+    let mut mass = setup.ramp.mass_ratio;
+    let mut out = Vec::new();
+    for (k, step) in setup.timeline.iter().enumerate() {
+        alpha = step.alpha_rad.unwrap_or(alpha);
+        mass = step.mass_ratio.unwrap_or(mass);
+        // Step k is shown once k + 1 steps are done; its evidence is the plots then.
+        if let (Some(claim), Some(evidence)) = (step.claim, state.steps.get(k + 1)) {
+            out.push((k, claim, check_claim(claim, evidence, alpha, mass)));
+        }
+    }
+    out
+}
+
 /// A lesson's evidence measured on a worker thread ([`measure_evidence`]), for the setup it
 /// was started on; dropped, it stops the worker.
 #[derive(Debug)]
@@ -184,6 +310,17 @@ impl LessonEvidence {
     /// The plots at the end of step `done`, once measured.
     pub fn step(&self, done: usize) -> Option<PlotCheckpoint> {
         self.shared.lock().ok()?.steps.get(done).cloned()
+    }
+
+    /// The claim of the step shown once `done` steps are done, checked against its measured
+    /// evidence ([`check_claim`]); `None` while unmeasured or where the step claims nothing.
+    pub fn claim(&self, done: usize) -> Option<Result<String, String>> {
+        let state = self.shared.lock().ok()?;
+        let k = done.checked_sub(1)?;
+        claims_checked(&self.setup, &state)
+            .into_iter()
+            .find(|c| c.0 == k)
+            .map(|c| c.2)
     }
 
     /// How far the measurement of step `done` has got, 0 to 1 (1: measured): the share of the

@@ -140,6 +140,45 @@ pub struct PlotCheckpoint {
     last_crossing_t: Option<f64>,
 }
 
+impl PlotCheckpoint {
+    /// The 1/T points at `alpha` (to 1e-9 rad) measured at `mass_ratio`, with their branch.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_scene::live::history::PlotHistory;
+    /// assert!(PlotHistory::default().checkpoint().rates_at(0.1, 0.0).is_empty());
+    /// ```
+    pub fn rates_at(&self, alpha: f64, mass_ratio: f64) -> Vec<(Branch, f64)> {
+        self.sweep
+            .iter()
+            .filter(|((_, regime, _), (a, _))| {
+                (a - alpha).abs() <= 1e-9 && regime.mass_ratio() == mass_ratio
+            })
+            .map(|((branch, _, _), &(_, rate))| (*branch, rate))
+            .collect()
+    }
+
+    /// The direction the α sweep was last moving in, if it has moved.
+    pub fn direction(&self) -> Option<Branch> {
+        self.direction
+    }
+
+    /// The settled crossings of ∂Ω (polar angles) collected at `mass_ratio`, oldest first.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_scene::live::history::PlotHistory;
+    /// assert!(PlotHistory::default().checkpoint().crossings_at(2.0).is_empty());
+    /// ```
+    pub fn crossings_at(&self, mass_ratio: f64) -> Vec<f64> {
+        self.crossings_by_mass
+            .iter()
+            .filter(|p| p[0] == mass_ratio)
+            .map(|p| p[1])
+            .collect()
+    }
+}
+
 /// Crossing points kept for the mass sweep.
 const MAX_CROSSING_POINTS: usize = 5000;
 

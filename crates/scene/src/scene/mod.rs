@@ -48,7 +48,7 @@ mod timeline;
 pub use drag_law::{DragLawFields, ReplayDragLaw};
 pub use error::SceneError;
 pub use setup::{Resume, SceneSetup, bundled_shape, load_scene_file};
-pub use timeline::{MAX_CAPTION_CHARS, MAX_STEPS, Step, TimelineSpec, ViewsChange};
+pub use timeline::{Claim, MAX_CAPTION_CHARS, MAX_STEPS, Step, TimelineSpec, ViewsChange};
 
 /// The preset shown when none is asked for.
 pub const DEFAULT_PRESET: &str = "sphere-cruising";

@@ -65,6 +65,49 @@ pub struct TimelineSpec {
     /// Caption shown from this step on ("" clears it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub caption: Option<String>,
+    /// What the caption claims the step's plot shows, checked against the step's evidence
+    /// (`live::evidence::check_claim`): the app says so under a caption its run does not bear
+    /// out, and the tests hold every bundled lesson to its claims.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub claim: Option<Claim>,
+}
+
+/// What a lesson step claims its plot shows by the step's end, at the step's α and m/m0.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Claim {
+    /// The 1/T plot has a point at the step's α, and it is 0: the body halted.
+    #[serde(rename = "halted")]
+    Halted,
+    /// The 1/T plot has a point at the step's α above 0: the body rolls on.
+    #[serde(rename = "rolling")]
+    Rolling,
+    /// The crossings plot has one settled crossing of ∂Ω at the step's m/m0: period 1.
+    #[serde(rename = "period-1")]
+    Period1,
+    /// The crossings plot has two settled crossings of ∂Ω at the step's m/m0, alternating:
+    /// period 2.
+    #[serde(rename = "period-2")]
+    Period2,
+}
+
+impl Claim {
+    /// The plot the claim is read from.
+    pub fn plot(self) -> super::LessonPlot {
+        match self {
+            Claim::Halted | Claim::Rolling => super::LessonPlot::InversePeriod,
+            Claim::Period1 | Claim::Period2 => super::LessonPlot::Crossings,
+        }
+    }
+
+    /// The name a scene file gives it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Claim::Halted => "halted",
+            Claim::Rolling => "rolling",
+            Claim::Period1 => "period-1",
+            Claim::Period2 => "period-2",
+        }
+    }
 }
 
 /// The views a step turns on or off.
@@ -118,6 +161,8 @@ pub struct Step {
     pub method: Option<Method>,
     /// New caption (empty: none).
     pub caption: Option<String>,
+    /// What the step claims its plot shows (checked: the plot is the one in effect).
+    pub claim: Option<Claim>,
 }
 
 impl Step {
@@ -215,6 +260,26 @@ pub(super) fn resolve(
                 c.chars().count()
             )));
         }
+        if let Some(claim) = spec.claim
+            && views.plot != claim.plot()
+        {
+            return Err(invalid(format!(
+                "{name}.claim = \"{}\" is read from the {} plot, but the plot in effect at this \
+                 step is {}: name it in [views] or in this step's views (plot = \"{}\")",
+                claim.name(),
+                claim.plot().title(),
+                if views.plot.is_none() {
+                    "none"
+                } else {
+                    views.plot.title()
+                },
+                if claim.plot() == super::LessonPlot::Crossings {
+                    "crossings"
+                } else {
+                    "inverse-period"
+                }
+            )));
+        }
         let step = Step {
             at,
             alpha_rad,
@@ -223,6 +288,7 @@ pub(super) fn resolve(
             views: spec.views,
             method: step_method,
             caption: spec.caption.clone(),
+            claim: spec.claim,
         };
         if !step.changes_model()
             && step.speed.is_none()

@@ -410,7 +410,11 @@ impl AppUi {
                 100.0 * f
             )),
             (_, Some(why)) => Some(format!("this step's evidence could not be measured: {why}")),
-            _ => None,
+            // Measured: a claim the run does not bear out is said under it, never left standing.
+            _ => match evidence.claim(done) {
+                Some(Err(why)) => Some(format!("this run does not show it: {why}")),
+                _ => None,
+            },
         }
     }
 
