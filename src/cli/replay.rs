@@ -39,7 +39,18 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     };
     let entries = setup.scene.replay.len();
     let started = Instant::now();
-    let run = LiveRun::replayed(&setup)?;
+    // Progress on standard error, where a terminal shows it (hidden otherwise).
+    let bar = indicatif::ProgressBar::new(1000);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("replaying {bar:40} t = {msg} {elapsed}/{eta}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let run = LiveRun::replayed_reporting(&setup, &mut |t, end| {
+        bar.set_position((1000.0 * t / end.max(f64::MIN_POSITIVE)) as u64);
+        bar.set_message(crate::integrate::readable(t));
+    });
+    bar.finish_and_clear();
+    let run = run?;
     let seconds = started.elapsed().as_secs_f64();
     let (saved, got) = (resume.state.vector(), run.state().vector());
     let differing: Vec<f64> = saved

@@ -609,6 +609,20 @@ fn a_saved_state_replays_from_the_start_to_the_bit() {
     let replayed = LiveRun::replayed(&saved_setup).unwrap();
     assert_eq!(replayed.time(), run.time());
     assert_eq!(replayed.state().vector(), run.state().vector());
+    // Its progress: a report about every hundredth of the way (at most 1.5 apart), in order,
+    // up to the end; and the run reported on is the same to the bit.
+    let mut reports: Vec<(f64, f64)> = Vec::new();
+    LiveRun::replayed_reporting(&saved_setup, &mut |t, end| reports.push((t, end))).unwrap();
+    assert!(reports.len() >= 100, "{} reports", reports.len());
+    assert!(reports.windows(2).all(|w| w[0].0 <= w[1].0));
+    assert!(
+        reports
+            .windows(2)
+            .all(|w| w[1].0 - w[0].0 <= 1.5 * run.time() / 100.0 + 1e-9)
+    );
+    assert_eq!(reports.last().map(|r| r.0), Some(run.time()));
+    let reported = LiveRun::replayed_reporting(&saved_setup, &mut |_, _| {}).unwrap();
+    assert_eq!(reported.state().vector(), run.state().vector());
 
     // Resumed from the file, changed again and saved again: the replay goes through the
     // resume (the integrator started afresh there, as the resumed run's was).

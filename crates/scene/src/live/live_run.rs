@@ -339,6 +339,20 @@ impl LiveRun {
     /// # Errors
     /// `setup` has no `[resume]` or no `[[replay]]`, or the run fails on the way.
     pub fn replayed(setup: &SceneSetup) -> Result<LiveRun, SimError> {
+        Self::replayed_reporting(setup, &mut |_, _| {})
+    }
+
+    /// [`Self::replayed`], calling `report(t, t_end)` about every hundredth of the saved time
+    /// (never more than 1.5 hundredths apart; a long replay takes minutes). The run advances in
+    /// those pieces as it would in one: its steps do not depend on where it is stopped, and each
+    /// change is made at its own time, never at a piece's end.
+    ///
+    /// # Errors
+    /// As [`Self::replayed`].
+    pub fn replayed_reporting(
+        setup: &SceneSetup,
+        report: &mut dyn FnMut(f64, f64),
+    ) -> Result<LiveRun, SimError> {
         let refused = |why: String| SimError::Refused(why);
         let resume = setup.resume.as_ref().ok_or_else(|| {
             refused("a replay goes to a saved state, and this scene has no [resume]".into())
@@ -353,9 +367,31 @@ impl LiveRun {
                         .into(),
                 )
             })?;
+        let t_end = resume.t;
+        let piece = (t_end / 100.0).max(f64::MIN_POSITIVE);
+        let mut advance = |run: &mut LiveRun, to: f64| -> Result<(), SimError> {
+            // Pieces that leave at least half a piece before `to`, then `to` itself: a piece
+            // ending within rounding of `to` would leave the last call nothing to do, and the
+            // change at `to` would be made a few ulps early.
+            loop {
+                let next = run.time() + piece;
+                if next.is_nan() || next >= to - 0.5 * piece {
+                    break;
+                }
+                let before = run.time();
+                run.advance_to(next)?;
+                report(run.time(), t_end);
+                if run.time() <= before {
+                    break;
+                }
+            }
+            run.advance_to(to)?;
+            report(run.time(), t_end);
+            Ok(())
+        };
         let mut run = LiveRun::new(start);
         for entry in &setup.scene.replay[1..] {
-            run.advance_to(entry.at)?;
+            advance(&mut run, entry.at)?;
             if entry.resumed {
                 // As the app resumed the saved state: a new run from the state vector.
                 let at = Some((entry.at, run.state().vector().to_vec()));
@@ -368,7 +404,7 @@ impl LiveRun {
                 run.set_parameters(ramp, entry.integrator)?;
             }
         }
-        run.advance_to(resume.t)?;
+        advance(&mut run, resume.t)?;
         Ok(run)
     }
 
