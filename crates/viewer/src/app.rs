@@ -261,8 +261,8 @@ impl App {
         if let Some(sweep) = options.sweep {
             bench.ui.set_measuring_sweep(Some(sweep));
         }
-        // Step k of a lesson is where N, pressed k times from its start, goes.
-        for _ in 0..options.step.unwrap_or(0) {
+        // A lesson opens at its step 1; step k is where N, pressed k − 1 times, goes.
+        for _ in 1..options.step.unwrap_or(1) {
             bench.sim.send(crate::live::SimCommand::NextStep);
         }
         let egui_winit = egui_winit::State::new(

@@ -233,7 +233,8 @@ impl SimWorker {
                 }
             };
             for command in first.into_iter().chain(inbox.try_iter()) {
-                let is_speed = matches!(command, SimCommand::SetSpeed(_));
+                // A jump to the next step is not playback: its simulated time is not delivered.
+                let is_speed = matches!(command, SimCommand::SetSpeed(_) | SimCommand::NextStep);
                 let restarts = matches!(
                     command,
                     SimCommand::Reset
