@@ -169,6 +169,18 @@ pub fn run(cli: Cli) -> Result<()> {
                      sweep α or m/m0 in a clip"
                 );
             }
+            if w.render_scale.is_some() {
+                bail!(
+                    "--render-scale sets how finely the window draws its 3D view; --headless \
+                     frames are always drawn in full (use --size for fewer pixels)"
+                );
+            }
+            if w.step.is_some() {
+                bail!(
+                    "--step opens the window at a lesson's step; a --headless run renders the \
+                     lesson from its start (--frames all for the whole lesson)"
+                );
+            }
             if w.present || w.class {
                 bail!(
                     "--present and --class open the window in presentation or class mode; a \

@@ -153,3 +153,26 @@ fn a_render_scale_outside_half_to_one_is_refused_by_name_before_any_window() {
         }
     }
 }
+
+#[test]
+fn headless_frames_refuse_the_window_s_render_scale_and_step() {
+    for (args, flag) in [
+        (
+            vec!["--headless", "--frames", "1", "--render-scale", "0.5"],
+            "--render-scale",
+        ),
+        (
+            vec!["--headless", "--frames", "1", "--render-scale", "1"],
+            "--render-scale",
+        ),
+        (vec!["--headless", "--frames", "1", "--step", "2"], "--step"),
+    ] {
+        let out = crate::cli::rollphase(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(
+            err.contains(flag) && err.contains("--headless"),
+            "{args:?}: {err}"
+        );
+    }
+}

@@ -10,8 +10,9 @@
 //! So the automatic scale goes by evidence, judging the median frame time of [`WINDOW`] frames
 //! at a time against the budget ([`FRAME_BUDGET_S`]):
 //! - over the budget, it *probes*: one window at each coarser step of [`LEVELS`], stopping at the
-//!   first that meets the budget; if none does, it keeps the fastest, but only when that is at
-//!   least [`WORTH`] faster than where the probe began, and otherwise goes back there;
+//!   first that meets the budget and is at least [`WORTH`] faster than where the probe began
+//!   (a window under the budget by noise alone is not a gain); if none is, it keeps the
+//!   fastest, again only when that is at least [`WORTH`] faster, and otherwise goes back;
 //! - after a probe it waits [`COOLDOWN`] windows before probing again, so a picture that cannot
 //!   be helped is not disturbed every few seconds;
 //! - under [`UP_BELOW`] of the budget it steps one level finer. A step changes the pixels
@@ -125,14 +126,16 @@ impl RenderScale {
         let over = median > FRAME_BUDGET_S;
         if let Some((began, mut medians)) = self.probe.take() {
             medians[self.level] = Some(median);
-            if over && self.level + 1 < LEVELS.len() {
+            let start = medians[began].unwrap_or(f64::INFINITY);
+            let gain = median < (1.0 - WORTH) * start;
+            if (over || !gain) && self.level + 1 < LEVELS.len() {
                 self.level += 1;
                 self.probe = Some((began, medians));
                 return;
             }
-            if over {
-                // No step met the budget: the fastest, if it is worth its coarser picture.
-                let start = medians[began].unwrap_or(f64::INFINITY);
+            if over || !gain {
+                // No step met the budget with a gain: the fastest, if it is worth its coarser
+                // picture.
                 let (fastest, best) = medians
                     .iter()
                     .enumerate()
@@ -213,6 +216,18 @@ mod tests {
         // One probe through every step, then full resolution for the cooldown.
         assert_eq!(&seen[..5], &[0.9, 0.8, 0.7, 0.6, 0.5]);
         assert!(seen[5..5 + COOLDOWN].iter().all(|&k| k == 1.0), "{seen:?}");
+    }
+
+    #[test]
+    fn a_step_under_the_budget_by_noise_alone_is_not_kept() {
+        // 34 ms in full, 33 at every coarser step: under the budget, but no gain.
+        let mut s = RenderScale::new(RenderScaleMode::Auto, true);
+        feed(&mut s, 0.034, WINDOW);
+        assert_eq!(s.scale(), 0.9, "probing");
+        for _ in 0..5 {
+            feed(&mut s, 0.033, WINDOW);
+        }
+        assert_eq!(s.scale(), 1.0, "back to full: nothing gained");
     }
 
     #[test]
