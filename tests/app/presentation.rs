@@ -393,3 +393,49 @@ fn the_overlay_claims_no_rate_for_a_body_that_left_the_ramp() {
     );
     assert!(!later.iter().any(|t| t.starts_with("1/T")), "{later:?}");
 }
+
+/// Presentation and class modes on every preset that is not a lesson (F5 works on any scene):
+/// the room's checks ([`room_checks`]: text, overlaps, the frame) and the body clear of every
+/// panel and inset, at the 3D view sizes those modes give.
+#[test]
+fn every_preset_reads_from_the_back_of_a_room() {
+    let font = Font::bundled();
+    let mut measured = 0;
+    for (name, _) in PRESETS.iter().filter(|(n, _)| !n.starts_with("lesson-")) {
+        let setup = Scene::preset(name).unwrap().setup(None).unwrap();
+        let radius = bounding_radius(&setup.body);
+        // Presentation's whole screen, class mode's view beside a lesson's plot (540×656) and
+        // above the row of plots at 1280×720 and 1920×1080 (896×420, 1344×584).
+        for size in [
+            (1280, 720),
+            (1920, 1080),
+            (540, 656),
+            (896, 420),
+            (1344, 584),
+        ] {
+            let mut r = HeadlessRenderer::new(setup.clone(), size, 1).unwrap();
+            r.set_view_options(ViewOptions {
+                text_scale: 1.8,
+                room_text_px: ROOM_TEXT_PX,
+                ..ViewOptions::default()
+            });
+            for k in [0, 90] {
+                let frame = r.frame_data(k).unwrap();
+                let boxes = panel_boxes(&frame, size, &font);
+                let what = format!("{name}, frame {k}");
+                room_checks(&frame, &boxes, size, &what);
+                if setup.scene.views.body {
+                    let body = body_box(&frame, radius);
+                    for (b, _) in &boxes {
+                        assert!(
+                            apart(body, *b),
+                            "{what}, {size:?}: the body {body:?} meets the panel {b:?}"
+                        );
+                    }
+                }
+                measured += 1;
+            }
+        }
+    }
+    assert!(measured >= 20, "{measured} frames measured");
+}

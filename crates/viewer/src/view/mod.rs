@@ -255,6 +255,64 @@ impl SceneView {
         self.show_overlay = overlay;
     }
 
+    /// The body's view where a room's large numbers (top left) and colour legend (bottom left,
+    /// `legend`, where no caption's band holds it) would reach the body: it moves clear of them
+    /// at the same scale (a band above it moves it down by half the band, one below moves it
+    /// up), or where it cannot fit between them, is drawn smaller.
+    #[allow(clippy::too_many_arguments)]
+    fn body_view_for_a_room(
+        &self,
+        snap: &Snapshot,
+        rect: [u32; 4],
+        full_height: u32,
+        covered: &[[u32; 4]],
+        options: &ViewOptions,
+        status: &OverlayPanel,
+        legend: Option<&OverlayPanel>,
+        size: (u32, u32),
+    ) -> crate::render::View {
+        let mut view = self.body_view(snap, rect, full_height, covered, options);
+        let [left, top, _, bottom] = body::screen_box(&view, self.body_radius);
+        // A panel at the left edge is in the way only where it reaches the body's box.
+        let reaches = |panel: &OverlayPanel| (10 + panels::estimated_width(panel)) as f32 > left;
+        let below_numbers = if reaches(status) {
+            (10 + panels::estimated_height(status) + 4) as f32
+        } else {
+            rect[1] as f32
+        };
+        let view_bottom = (rect[1] + rect[3]) as f32;
+        let above_legend = if let Some(legend) = legend.filter(|l| reaches(l)) {
+            size.1 as f32 - (10 + panels::estimated_height(legend) + 4) as f32
+        } else {
+            view_bottom
+        }
+        .min(view_bottom);
+        let (mut rect, mut scale_height) = (rect, full_height);
+        let (height, room) = (bottom - top, above_legend - below_numbers);
+        if height > room && room > 0.0 {
+            scale_height = ((scale_height as f32) * room / height).floor() as u32;
+        }
+        // Where the body's centre goes: as it is, within what the panels leave.
+        let centre = 0.5 * (top + bottom);
+        let half = 0.5 * height.min(room.max(0.0));
+        let wanted = centre.clamp(
+            below_numbers + half,
+            (above_legend - half).max(below_numbers + half),
+        );
+        let shift = wanted - centre;
+        let band = (2.0 * shift.abs()).ceil() as u32;
+        if band > 0 && band < rect[3] / 2 {
+            if shift > 0.0 {
+                rect[1] += band;
+            }
+            rect[3] -= band;
+        }
+        if band > 0 || scale_height != full_height {
+            view = self.body_view(snap, rect, scale_height, covered, options);
+        }
+        view
+    }
+
     /// The frame showing `snap` at `size`; `field` is the Poincaré field if it is ready.
     pub fn frame(
         &self,
@@ -263,7 +321,7 @@ impl SceneView {
         size: (u32, u32),
         options: &ViewOptions,
     ) -> Frame {
-        let [body_rect, ball_rect, poincare_rect] = self.layout(size);
+        let [body_rect, mut ball_rect, mut poincare_rect] = self.layout(size);
         let inset_bg = Some(linear([24, 26, 34], 1.0));
         let mut views = Vec::new();
         let mut panels = Vec::new();
@@ -324,26 +382,35 @@ impl SceneView {
             }
             status
         });
+        // Without the body's view the numbers sit at the bottom left, over the insets; for a
+        // room they are too large for that, and the insets end above them.
+        if let (None, Some(status)) = (body_rect, &status)
+            && options.room_text_px > 0.0
+        {
+            let band = panels::estimated_height(status) + 20;
+            for rect in [&mut ball_rect, &mut poincare_rect].into_iter().flatten() {
+                rect[3] = rect[3].saturating_sub(band).max(rect[3] / 2);
+            }
+        }
         if let Some(mut rect) = body_rect {
             let covered: Vec<[u32; 4]> = [ball_rect, poincare_rect].into_iter().flatten().collect();
             let full_height = rect[3];
             rect[3] -= band;
-            let mut view = self.body_view(snap, rect, full_height, &covered, options);
-            if let Some(status) = status.as_ref().filter(|_| options.room_text_px > 0.0) {
-                // A top band moves the body down by half its height at the same scale: as far
-                // as the numbers' bottom needs, and no further than the view's bottom allows.
-                let [_, top, _, bottom] = body::screen_box(&view, self.body_radius);
-                let numbers_bottom = (10 + panels::estimated_height(status) + 4) as f32;
-                let needed = numbers_bottom - top;
-                let room = (rect[1] + rect[3]) as f32 - bottom;
-                let shift = needed.min(room);
-                if shift > 0.0 {
-                    let band = (2.0 * shift).ceil() as u32;
-                    rect[1] += band;
-                    rect[3] -= band;
-                    view = self.body_view(snap, rect, full_height, &covered, options);
-                }
-            }
+            let room = status.as_ref().filter(|_| options.room_text_px > 0.0);
+            let legend = (caption.is_none() && self.show_overlay).then_some(&legend);
+            let view = match room {
+                Some(status) => self.body_view_for_a_room(
+                    snap,
+                    rect,
+                    full_height,
+                    &covered,
+                    options,
+                    status,
+                    legend,
+                    size,
+                ),
+                None => self.body_view(snap, rect, full_height, &covered, options),
+            };
             views.push(view);
         }
         if let Some(rect) = ball_rect {
@@ -430,8 +497,11 @@ fn field_legend(rect: [u32; 4], vmax: f32, scale: f32, t: TextSize) -> OverlayPa
                 color: [235; 3],
             },
             PanelItem::ColorBar {
+                // For a room, as long as its labels need, within the inset.
                 width: if t.for_a_room() {
-                    (160.0 * t.px(13.0) / 13.0) as u32
+                    let padding = (6.0 * scale) as u32;
+                    let widest = rect[2] as f32 - 16.0 - 2.0 * padding as f32 - 3.0 * t.px(13.0);
+                    (160.0 * t.px(13.0) / 13.0).min(widest.max(40.0)) as u32
                 } else {
                     (160.0 * scale) as u32
                 },

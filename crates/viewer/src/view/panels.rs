@@ -324,6 +324,34 @@ pub(super) fn estimated_height(panel: &OverlayPanel) -> u32 {
     items as u32 + 2 * panel.padding
 }
 
+/// A panel's width in pixels as the overlay will draw it, from above (by [`CHARS_EM`], which
+/// overestimates DejaVu Sans's advance: never narrower than drawn).
+pub(super) fn estimated_width(panel: &OverlayPanel) -> u32 {
+    let items = panel
+        .items
+        .iter()
+        .map(|item| match item {
+            PanelItem::Text { text, size_px, .. } => {
+                text.chars().count() as f32 * CHARS_EM * size_px
+            }
+            PanelItem::ColorBar {
+                width,
+                labels,
+                size_px,
+                ..
+            } => {
+                let widest = labels
+                    .iter()
+                    .map(|l| l.1.chars().count())
+                    .max()
+                    .unwrap_or(0);
+                *width as f32 + widest as f32 * CHARS_EM * size_px
+            }
+        })
+        .fold(0.0f32, f32::max);
+    items.ceil() as u32 + 2 * panel.padding
+}
+
 /// Greedy word wrap to at most `width` characters a line (a longer word gets a line of its own).
 pub(super) fn wrap(text: &str, width: usize) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
