@@ -75,8 +75,8 @@ pub fn run(a: AppBenchArgs) -> Result<()> {
         }
         waited
     };
-    // Warm-up: 1 s, then each automatic scale probes and settles for 6 s (a window of 15
-    // frames at each of 5 coarser steps).
+    // Warm-up: 1 s, then each automatic scale probes and settles for 12 s (15 windows of 15
+    // frames: the start, each of 5 coarser steps twice, and the confirmation).
     let warm = |bench: &mut Workbench, scale: &mut RenderScale, seconds: f64| -> Result<()> {
         let until = Instant::now() + std::time::Duration::from_secs_f64(seconds);
         while Instant::now() < until {
@@ -87,7 +87,7 @@ pub fn run(a: AppBenchArgs) -> Result<()> {
     warm(&mut bench, &mut scales[0], 1.0)?;
     for scale in &mut scales {
         if scale.mode() == RenderScaleMode::Auto && cpu {
-            warm(&mut bench, scale, 6.0)?;
+            warm(&mut bench, scale, 12.0)?;
         }
     }
     // Alternate blocks: full, auto, full, auto: a slow spell of the machine falls on both.

@@ -78,8 +78,8 @@ pub struct AppBenchArgs {
     /// Window size, WIDTHxHEIGHT.
     #[arg(long, default_value = "1600x900", value_parser = super::render::parse_size)]
     pub size: (u32, u32),
-    /// Wall seconds timed per setting (after 1 s of warm-up, and 6 s more for the automatic
-    /// scale to probe and settle: `--seconds 8` takes about 23 s with both settings).
+    /// Wall seconds timed per setting (after 1 s of warm-up, and 12 s more for the automatic
+    /// scale to probe and settle: `--seconds 8` takes about 29 s with both settings).
     #[arg(long, default_value_t = 8.0)]
     pub seconds: f64,
     /// Requested playback speed, simulation time per second [default: the preset's].
