@@ -18,10 +18,11 @@
 //! | file | owns |
 //! |---|---|
 //! | `live_run` | [`LiveRun`]: the run kept across frames, the lesson's steps, trails, crossings (the running model is [`crate::simulate::ModelState`]) |
+//! | `replay` | [`LiveRun::replayed`]: a saved state's run again from the scene's start, to the bit |
 //! | `snapshot` | [`Snapshot`], [`Health`], [`SimError`]: what a run shows |
 //! | `controller` | [`Controller`], [`SimCommand`] |
 //! | `thread` | [`SimThread`], [`SimStatus`] |
-//! | `evidence` | [`evidence::LessonEvidence`]: a lesson's plots measured ahead, step by step, on a worker thread |
+//! | `evidence` | [`evidence::LessonEvidence`]: a lesson's plots measured ahead, step by step, on a worker thread, and each step's claim checked against them |
 //! | `field` | [`FieldCache`]: Poincaré fields computed off the render thread |
 //! | `history` | [`history::PlotHistory`]: the plotted series accumulated from snapshots, and their CSV |
 
@@ -30,6 +31,7 @@ pub mod evidence;
 mod field;
 pub mod history;
 mod live_run;
+mod replay;
 mod snapshot;
 mod thread;
 
