@@ -528,7 +528,12 @@ impl AppUi {
                     } else {
                         egui::Color32::from_rgb(120, 200, 120)
                     };
-                    ui.label(egui::RichText::new(text).color(color));
+                    let mut words = egui::RichText::new(text).color(color);
+                    // Read from the back of a room in presentation and class modes.
+                    if self.presenting || self.class_mode {
+                        words = words.size(crate::view::ROOM_TEXT_PX / ctx.pixels_per_point());
+                    }
+                    ui.label(words);
                 });
             });
     }
