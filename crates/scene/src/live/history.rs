@@ -28,6 +28,11 @@ pub const PLOT_POINTS: usize = 1000;
 /// lesson needs.
 const SWEEP_BIN: f64 = 1e-3;
 
+/// The α bin a 1/T point belongs to: points in one bin are the same α to the sweep.
+fn sweep_bin(alpha: f64) -> i64 {
+    (alpha.ln() / SWEEP_BIN).round() as i64
+}
+
 /// One sample of the time series.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {
@@ -141,7 +146,8 @@ pub struct PlotCheckpoint {
 }
 
 impl PlotCheckpoint {
-    /// The 1/T points at `alpha` (to 1e-9 rad) measured at `mass_ratio`, with their branch.
+    /// The 1/T points in `alpha`'s bin (the sweep's own "same α", 0.1 % of α) measured at
+    /// `mass_ratio`, with their branch.
     ///
     /// # Example
     /// ```
@@ -151,8 +157,8 @@ impl PlotCheckpoint {
     pub fn rates_at(&self, alpha: f64, mass_ratio: f64) -> Vec<(Branch, f64)> {
         self.sweep
             .iter()
-            .filter(|((_, regime, _), (a, _))| {
-                (a - alpha).abs() <= 1e-9 && regime.mass_ratio() == mass_ratio
+            .filter(|((_, regime, bin), _)| {
+                *bin == sweep_bin(alpha) && regime.mass_ratio() == mass_ratio
             })
             .map(|((branch, _, _), &(_, rate))| (*branch, rate))
             .collect()
@@ -258,7 +264,7 @@ impl PlotHistory {
         }
         self.last_alpha = Some(alpha);
         let direction = self.direction.unwrap_or(Branch::Up);
-        let bin = (alpha.ln() / SWEEP_BIN).round() as i64;
+        let bin = sweep_bin(alpha);
         // Past a lift-off or a slip the model's motion is not the body's: no point of it is
         // recorded (the verdict's `left_model`).
         let rollable = snap.validity.is_none();
@@ -313,7 +319,7 @@ impl PlotHistory {
             .then_some(&resume.alpha_sweep_drag);
         for (i, &[alpha, rate, mass, dir]) in resume.alpha_sweep.iter().enumerate() {
             let direction = if dir < 0.0 { Branch::Down } else { Branch::Up };
-            let bin = (alpha.ln() / SWEEP_BIN).round() as i64;
+            let bin = sweep_bin(alpha);
             let regime = match labels {
                 Some(l) => Regime::labelled(mass, &l[i]),
                 None => Regime::new(mass, drag),
