@@ -240,6 +240,8 @@ class TrackMeasurement(TypedDict):
     mismatch: float
     advance_down: float
     advance_across: float
+    advance_error: Optional[List[float]]
+    velocity: Optional[List[List[float]]]
     significance: Optional[Significance]
     block_check: Optional[BlockCheck]
     mismatch_curve: _Array
@@ -269,6 +271,9 @@ class ModelComparison(TypedDict):
     orbit_fraction: float
     orbits: List[List[float]]
     iterations: int
+    period_sensitivity: Optional[float]
+    mass_ratio_error: Optional[float]
+    t0_error_s: Optional[float]
     path: _Array
 
 class PeriodCounts(TypedDict):
@@ -645,10 +650,13 @@ def compare_with_model(
     scale_mm: Optional[float] = None,
     starts: int = 32,
     seed: int = 1,
+    period_error_s: Optional[float] = None,
 ) -> ModelComparison:
     """A measured motion beside the model's prediction, as `rollphase track --body` gives it:
     m/m0 and t0 solved together so that the model's period in seconds is the measured one
-    (m/m0 = ⟨r⟩/(g t0²)), or at a given mass_ratio; the SI's speed estimate v²/(g⟨r⟩ sin²α)
+    (m/m0 = ⟨r⟩/(g t0²)), or at a given mass_ratio; with period_error_s (the period's standard
+    error, from measure_track), mass_ratio_error and t0_error_s from it alone (None without
+    it, or where m/m0 was given); the SI's speed estimate v²/(g⟨r⟩ sin²α)
     beside them; the nearest predicted orbit's period, advance and speed against the measured
     ones, and its path in cm."""
 

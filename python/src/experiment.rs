@@ -163,7 +163,9 @@ pub fn read_track_table<'py>(
 /// block_check (whether blocks of the track show the turns' times vary),
 /// period_spread_frames (None under three cycles), cycle_periods (array),
 /// unrepeated_cycles, periods_seen, mismatch, advance_down and advance_across (cm per period),
-/// significance (the surrogates' check against chance), mismatch_curve ((N, 2) array of shift
+/// advance_error ([down, across] standard errors in cm, from the regression's slope and the
+/// period's error; None where the regression could not be fitted), velocity ([[down, across]
+/// in cm a frame, [their standard errors]], None likewise), significance (the surrogates' check against chance), mismatch_curve ((N, 2) array of shift
 /// and normalised mismatch), frames_used ([first, last]) and warnings. A track that does not
 /// show a period with that evidence raises InputError saying why. Multiply by 1/fps for
 /// seconds; the same numbers as the command line's summary.json. With `markers` (an (N, 3)
@@ -242,12 +244,14 @@ pub fn measure_track<'py>(
 /// predicted_period_s, predicted_advance_down_cm, predicted_advance_across_cm,
 /// predicted_speed_cm_s, repeat, orbit_fraction), the differences measured against predicted
 /// (advance_down_difference, period_difference, speed_difference), all orbits
-/// ([advance_down_cm, period_t0] pairs), iterations, and path ((N, 2) array: the orbit's centre,
+/// ([advance_down_cm, period_t0] pairs), iterations, period_sensitivity (d ln(m/m0)/d ln
+/// period), mass_ratio_error and t0_error_s (from `period_error_s`, the period's standard error,
+/// alone: None without it or where m/m0 was given), and path ((N, 2) array: the orbit's centre,
 /// down and across in cm, over three repeats).
 #[pyfunction]
 #[pyo3(signature = (
     body, alpha, *, period_s, advance_down_cm, advance_across_cm, mass_ratio = None,
-    scale_mm = None, starts = 32, seed = 1
+    scale_mm = None, starts = 32, seed = 1, period_error_s = None
 ))]
 pub fn compare_with_model<'py>(
     py: Python<'py>,
@@ -260,8 +264,17 @@ pub fn compare_with_model<'py>(
     scale_mm: Option<f64>,
     starts: i128,
     seed: i128,
+    period_error_s: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (starts, seed): (usize, u64) = (whole("starts", starts)?, whole("seed", seed)?);
+    if let Some(e) = period_error_s
+        && !(e.is_finite() && e > 0.0)
+    {
+        return Err(input_error(format!(
+            "period_error_s = {e} is not allowed (the period's standard error: a positive \
+             number of seconds, or None)"
+        )));
+    }
     let core = body.convex()?;
     let Some(scale_mm) = scale_mm.or(body.scale_mm) else {
         return Err(input_error(
@@ -286,6 +299,10 @@ pub fn compare_with_model<'py>(
         compare_with_model_until(core, scale_mm, alpha, &measured, mass_ratio, &options, stop)
     })?
     .map_err(raise)?;
+    let c = match period_error_s {
+        Some(e) => c.with_period_error(period_s, e),
+        None => c,
+    };
     let d = PyDict::new(py);
     fields_into(&d, &c, &[])?;
     let cm = scale_mm / 10.0;

@@ -329,7 +329,8 @@ fn the_stated_error_covers_the_truth() {
 /// 7.2467 ± 0.0011, 47 errors off): 150 synthetic tracks each at 6.3, 7.3 and 10.4 frames,
 /// noise 2 % and 20 %. The stated ±1.96σ interval holds the truth 88–99 % of the time (95 % ±
 /// 1.8 % sampling, with margin) and the mean offset is under a third of an error. The
-/// cycles' mean, on the same tracks, fails both.
+/// cycles' mean, on the same tracks, fails both. The advance per period and the speed, with
+/// the errors stated beside them, are held to the same.
 #[test]
 fn short_periods_are_unbiased_and_their_errors_calibrated() {
     use rollphase::analysis::experiment::tracking::calibration::{TrackCase, calibrate_case};
@@ -349,6 +350,19 @@ fn short_periods_are_unbiased_and_their_errors_calibrated() {
                 s.coverage,
                 s.bias_in_errors
             );
+            // The advance per period and the speed, from the same regression's slope.
+            for (what, k) in [
+                ("advance down", c.advance_down),
+                ("advance across", c.advance_across),
+                ("speed", c.speed),
+            ] {
+                assert!(
+                    k.estimates == 150
+                        && (0.88..=0.99).contains(&k.coverage)
+                        && k.bias_in_errors.abs() < 1.0 / 3.0,
+                    "{case:?} {what}: {k:?}"
+                );
+            }
             if noise == 0.02 {
                 assert!(
                     c.cycles_mean.coverage < 0.8,

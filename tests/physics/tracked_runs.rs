@@ -553,6 +553,12 @@ fn an_inertial_model_run_gives_back_its_mass_ratio_and_time_unit() {
     let m = &s["model"];
     let solved = m["mass_ratio"].as_f64().unwrap();
     assert!((solved - mass).abs() < 0.02 * mass, "m/m0 {solved}");
+    // Its stated error, the period's carried through the solve, holds the truth.
+    let error = m["mass_ratio_error"].as_f64().unwrap();
+    assert!(
+        error > 0.0 && (solved - mass).abs() < 5.0 * error,
+        "m/m0 {solved} ± {error}"
+    );
     assert!((m["t0_s"].as_f64().unwrap() - t0).abs() < 0.01 * t0);
     // The model ran at the last iterate, within the solve's tolerance of the answer.
     assert!((m["mass_ratio_model"].as_f64().unwrap() - solved).abs() < 1e-3 * solved);
@@ -563,4 +569,51 @@ fn an_inertial_model_run_gives_back_its_mass_ratio_and_time_unit() {
     let speed_m_s = s["speed_cm_s"].as_f64().unwrap() / 100.0;
     assert!((from_speed - speed_m_s.powi(2) / (9.81 * 0.01 * 0.04)).abs() < 1e-9 * from_speed);
     assert!(from_speed > 0.5 && from_speed < 12.0, "{from_speed}");
+}
+
+/// The errors of m/m0 and t0 are the period's carried through the joint solve: its
+/// sensitivity d ln(m/m0)/d ln T_s, read from the solve's own last steps, matches the finite
+/// difference of whole solves at T_s(1 ± 1 %), viscous (−2 exactly) and inertial (the period
+/// of the paper's sphere shortens with inertia, so the solve is not −2 there).
+#[test]
+fn the_mass_ratio_error_is_the_periods_carried_through_the_solve() {
+    use rollphase::analysis::experiment::prediction::{PredictOptions, predict};
+    use rollphase::analysis::experiment::tracking::model::{Measured, compare_with_model};
+    use rollphase::geometry::Body;
+    let body = Body::paper_sphere(219, 0.25, 5).unwrap();
+    let options = PredictOptions {
+        starts: 4,
+        ..PredictOptions::default()
+    };
+    let orbit = predict(&body, 0.15, 0.0, &options).unwrap().orbits[0].clone();
+    // t0 = 0.2 s gives m/m0 = 0.026 (viscous); t0 = 0.025 s gives about 1.6 (inertial).
+    for t0 in [0.2, 0.025] {
+        let solve = |factor: f64| {
+            let measured = Measured {
+                period_s: orbit.period * t0 * factor,
+                advance_down_cm: orbit.advance_down,
+                advance_across_cm: orbit.advance_across,
+            };
+            compare_with_model(&body, 10.0, 0.15, &measured, None, &options)
+                .unwrap()
+                .with_period_error(measured.period_s, 0.01 * measured.period_s)
+        };
+        let (centre, up, down) = (solve(1.0), solve(1.01), solve(1.0 / 1.01));
+        let finite = (up.mass_ratio / down.mass_ratio).ln() / (1.01f64 * 1.01).ln();
+        let stated = centre.period_sensitivity.unwrap();
+        eprintln!(
+            "t0 {t0}: m/m0 {} ± {:?} (model at {}), sensitivity {stated} against {finite}",
+            centre.mass_ratio, centre.mass_ratio_error, centre.mass_ratio_model
+        );
+        assert!(
+            (stated - finite).abs() < 0.03 * finite.abs(),
+            "t0 {t0}: stated {stated}, whole solves {finite}"
+        );
+        let error = centre.mass_ratio_error.unwrap();
+        assert!((error - 0.01 * stated.abs() * centre.mass_ratio).abs() < 1e-12 * error);
+        assert!(
+            (centre.t0_error_s.unwrap() - 0.5 * error / centre.mass_ratio * centre.t0_s).abs()
+                < 1e-12
+        );
+    }
 }

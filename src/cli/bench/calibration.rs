@@ -1,6 +1,7 @@
 //! `bench calibration`: how often `track`'s stated 95 % interval holds a synthetic track's
 //! known period, and its bias in units of the error, beside the estimate it replaced (the
-//! cycles' mean and spread) on the same tracks; then the same for `fit-lag`'s exponent on
+//! cycles' mean and spread) on the same tracks; the same for the advance per period and the
+//! speed; then the same for `fit-lag`'s exponent on
 //! synthetic runs shaped like the authors'. The data and statistics are the core's
 //! ([`crate::analysis::experiment::tracking::calibration`],
 //! [`crate::analysis::experiment::lag_calibration`]).
@@ -8,7 +9,9 @@
 use anyhow::{Result, bail};
 
 use super::CalibrationBenchArgs;
-use crate::analysis::experiment::tracking::calibration::{BENCH_CASES, Coverage, calibrate_case};
+use crate::analysis::experiment::tracking::calibration::{
+    BENCH_CASES, CaseCalibration, Coverage, calibrate_case,
+};
 
 fn cells(c: &Coverage) -> String {
     if c.estimates == 0 {
@@ -56,6 +59,7 @@ pub fn run(a: CalibrationBenchArgs) -> Result<()> {
         "median σ"
     )?;
     let (mut covered, mut total) = (0.0, 0usize);
+    let mut done = Vec::with_capacity(BENCH_CASES.len());
     for case in &BENCH_CASES {
         let c = calibrate_case(case, a.draws, a.seed);
         if c.stated.estimates > 0 {
@@ -70,14 +74,66 @@ pub fn run(a: CalibrationBenchArgs) -> Result<()> {
             c.read_as_varying,
             cells(&c.cycles_mean),
             cells(&c.stated),
-            c.stated.median_error_frames
+            c.stated.median_error
         )?;
+        done.push(c);
     }
     outln!(
         "all cases: {:.1} % of {total} stated intervals hold the truth",
         100.0 * covered / total.max(1) as f64
     )?;
+    motion_table(&done)?;
     lag_table(&a)
+}
+
+/// The same tracks' advance per period (down, and across where the truth is 0) and mean speed
+/// down the ramp, against the drift the tracks were drawn with.
+fn motion_table(done: &[CaseCalibration]) -> Result<()> {
+    outln!(
+        "\ntrack's advance per period and speed on the same tracks (the drift drawn uniformly in 2–5 units a period, straight down): coverage and bias / σ as above"
+    )?;
+    outln!(
+        "{:>8} {:>6} | {:>9} {:>9} | {:>9} {:>9} | {:>9} {:>9}",
+        "period",
+        "noise",
+        "down",
+        "bias",
+        "across",
+        "bias",
+        "speed",
+        "bias"
+    )?;
+    // Pooled over the cases: intervals holding the truth and intervals stated, per column.
+    let mut pooled = [(0.0, 0usize); 3];
+    for c in done {
+        for (k, p) in [&c.advance_down, &c.advance_across, &c.speed]
+            .into_iter()
+            .zip(&mut pooled)
+        {
+            if k.estimates > 0 {
+                p.0 += k.coverage * k.estimates as f64;
+                p.1 += k.estimates;
+            }
+        }
+        outln!(
+            "{:>8.1} {:>6.2} | {} | {} | {}",
+            c.case.period_frames,
+            c.case.noise,
+            cells(&c.advance_down),
+            cells(&c.advance_across),
+            cells(&c.speed)
+        )?;
+    }
+    let share = |p: (f64, usize)| 100.0 * p.0 / p.1.max(1) as f64;
+    outln!(
+        "all cases: {:.1} % (down), {:.1} % (across) and {:.1} % (speed) of {} stated intervals \
+         each hold the truth",
+        share(pooled[0]),
+        share(pooled[1]),
+        share(pooled[2]),
+        pooled[0].1
+    )?;
+    Ok(())
 }
 
 /// fit-lag's exponent: `--lag-draws` data sets a true β, each fitted as `fit-lag` fits (with

@@ -54,8 +54,9 @@ pub enum BenchKind {
     /// Time to fit a body to a mesh (`shape --from-mesh`): the printed sphere's STL and the
     /// paper's sphere written as STL from 20,480 to 5,242,880 triangles.
     Mesh(MeshBenchArgs),
-    /// How often `track`'s stated 95 % interval holds a synthetic track's known period, and its
-    /// bias, beside the estimate it replaced: periods of 6.3 to 300 frames, noise 2 % and 20 %.
+    /// How often `track`'s stated 95 % intervals hold a synthetic track's known period, advance
+    /// per period and speed, and their bias, beside the period estimate it replaced (periods of
+    /// 6.3 to 300 frames, noise 2 % and 20 %); then `fit-lag`'s exponent on synthetic runs.
     Calibration(CalibrationBenchArgs),
     /// Time `track` takes on tracks of 10⁴ to 10^k rows (reading, the period search with its
     /// checks, the whole process), beside the search it used before on the smaller ones.

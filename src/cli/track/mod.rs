@@ -174,6 +174,15 @@ pub struct TrackSummary {
     pub advance_across_cm: f64,
     /// Mean speed down the ramp (cm/s).
     pub speed_cm_s: f64,
+    /// Standard errors of the advance per period (down, across; cm) and of the speed (cm/s),
+    /// from the harmonic regression's slope and the period's error (`bench calibration`
+    /// measures their coverage); null where the regression could not be fitted, and then no
+    /// error is stated.
+    pub advance_down_error_cm: Option<f64>,
+    /// See `advance_down_error_cm`.
+    pub advance_across_error_cm: Option<f64>,
+    /// See `advance_down_error_cm`.
+    pub speed_error_cm_s: Option<f64>,
     /// Each whole cycle's own period (s).
     pub cycle_periods_s: Vec<f64>,
     /// Markers read (0 without --markers).
@@ -354,6 +363,9 @@ pub fn run(mut a: TrackArgs) -> Result<()> {
         advance_down_cm: fit.advance_down,
         advance_across_cm: fit.advance_across,
         speed_cm_s: speed,
+        advance_down_error_cm: fit.advance_error.map(|e| e[0]),
+        advance_across_error_cm: fit.advance_error.map(|e| e[1]),
+        speed_error_cm_s: fit.velocity.map(|(_, e)| e[0] * a.rate),
         cycle_periods_s: fit.cycle_periods.iter().map(|p| p / a.rate).collect(),
         markers: in_range.len(),
         marker_reading: a
@@ -468,6 +480,18 @@ fn measure_or_show_why(
     }
 }
 
+/// `value ± error` with two significant digits of the error and the value to the same place
+/// (3 to 9 decimals), or the value to 3 decimals where no error is stated.
+fn with_error(value: f64, error: Option<f64>) -> String {
+    match error.filter(|e| e.is_finite() && *e > 0.0) {
+        Some(e) => {
+            let digits = (1 - e.log10().floor() as i32).clamp(3, 9) as usize;
+            format!("{value:.digits$} ± {e:.digits$}")
+        }
+        None => format!("{value:.3}"),
+    }
+}
+
 /// The measurement (and the model's) for people.
 fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
     let error_from = match summary.period_error_from {
@@ -517,10 +541,10 @@ fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
         )?;
     }
     outln!(
-        "  per period: {:.3} cm down the ramp, {:.3} cm across; speed {:.3} cm/s",
-        summary.advance_down_cm,
-        summary.advance_across_cm,
-        summary.speed_cm_s
+        "  per period: {} cm down the ramp, {} cm across; speed {} cm/s",
+        with_error(summary.advance_down_cm, summary.advance_down_error_cm),
+        with_error(summary.advance_across_cm, summary.advance_across_error_cm),
+        with_error(summary.speed_cm_s, summary.speed_error_cm_s)
     )?;
     if let Some(m) = &summary.marker_reading {
         outln!("  markers: {}", m.reason)?;
@@ -533,15 +557,21 @@ fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
             format!("inertial model at m/m0 = {:.3}", c.mass_ratio_model)
         };
         outln!(
-            "  model ({}, {model}): m/m0 = {:.3} and t0 = {:.4} s found together from the period \
-             ({}); the SI's speed estimate v²/(g⟨r⟩ sin²α) gives m/m0 = {:.3}, t0 = {:.4} s, a \
-             period of {:.3} s",
+            "  model ({}, {model}): m/m0 = {} and t0 = {} s found together from the period ({}); \
+             the SI's speed estimate v²/(g⟨r⟩ sin²α) gives m/m0 = {:.3}, t0 = {:.4} s, a period \
+             of {:.3} s",
             m.body,
-            c.mass_ratio,
-            c.t0_s,
-            match c.mass_ratio_from {
-                crate::analysis::experiment::tracking::model::MassSource::Period => "solved",
-                crate::analysis::experiment::tracking::model::MassSource::Given => "m/m0 given",
+            with_error(c.mass_ratio, c.mass_ratio_error),
+            with_error(c.t0_s, c.t0_error_s),
+            match (c.mass_ratio_from, c.mass_ratio_error.is_some()) {
+                (crate::analysis::experiment::tracking::model::MassSource::Period, true) => {
+                    "solved; errors from the period's alone, not ⟨r⟩'s or α's"
+                }
+                (crate::analysis::experiment::tracking::model::MassSource::Period, false) => {
+                    "solved"
+                }
+                (_, true) => "the viscous model asked for; errors from the period's alone",
+                (_, false) => "m/m0 given",
             },
             c.mass_ratio_from_speed,
             c.t0_from_speed_s,
@@ -594,7 +624,8 @@ fn compare(
         mass,
         &PredictOptions::default(),
     )
-    .with_context(|| format!("the model for {}", path.display()))?;
+    .with_context(|| format!("the model for {}", path.display()))?
+    .with_period_error(measured.period_s, fit.period_error_frames / fps);
     let cm = scale_mm / 10.0;
     let TrackAlignment {
         phase,

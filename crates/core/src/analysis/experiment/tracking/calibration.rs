@@ -3,8 +3,10 @@
 //! [`find_period`], with the share of stated 95 % intervals (±1.96 errors) that hold the truth
 //! and the bias in units of the error. The estimate before the harmonic regression (the
 //! cycles' mean, their spread over √(cycles)) is read from the same fit, so both stand side by
-//! side on the same tracks. `rollphase bench calibration` prints the table; a test holds the
-//! short periods, where the old estimate failed, to the goal.
+//! side on the same tracks. The advance per period (down and across) and the mean speed down
+//! the ramp are measured the same way against the track's known drift. `rollphase bench
+//! calibration` prints the table; a test holds the short periods, where the old estimate
+//! failed, to the goal.
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -55,8 +57,9 @@ pub struct Coverage {
     pub coverage: f64,
     /// Mean (estimate − truth) over the median stated error (goal: |bias| < 1/3).
     pub bias_in_errors: f64,
-    /// The median stated error (frames).
-    pub median_error_frames: f64,
+    /// The median stated error (in the estimate's units: frames for the period, the track's
+    /// units for the advance, a frame for the speed).
+    pub median_error: f64,
 }
 
 /// One case's calibration.
@@ -75,6 +78,12 @@ pub struct CaseCalibration {
     pub cycles_mean: Coverage,
     /// What `track` states now.
     pub stated: Coverage,
+    /// The advance per period down the ramp and its stated error.
+    pub advance_down: Coverage,
+    /// The advance per period across the ramp (its truth is 0: the tracks drift straight down).
+    pub advance_across: Coverage,
+    /// The mean speed down the ramp (units a frame) and its stated error.
+    pub speed: Coverage,
 }
 
 /// A synthetic track of `case`, seed `seed`.
@@ -86,6 +95,18 @@ pub struct CaseCalibration {
 /// assert_eq!(t.down.len(), 146);
 /// ```
 pub fn synthetic_track(case: &TrackCase, seed: u64) -> CleanTrack {
+    synthetic_track_and_advance(case, seed).0
+}
+
+/// [`synthetic_track`] and its true advance per period down the ramp (units of the track).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::experiment::tracking::calibration::{TrackCase, synthetic_track_and_advance};
+/// let (t, advance) = synthetic_track_and_advance(&TrackCase { period_frames: 7.3, noise: 0.02, cycles: 20.0 }, 1);
+/// assert!((2.0..5.0).contains(&advance) && t.down.len() == 146);
+/// ```
+pub fn synthetic_track_and_advance(case: &TrackCase, seed: u64) -> (CleanTrack, f64) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let normal = Normal::new(0.0, case.noise.max(0.0)).expect("a finite noise");
     let w = std::f64::consts::TAU / case.period_frames;
@@ -110,38 +131,63 @@ pub fn synthetic_track(case: &TrackCase, seed: u64) -> CleanTrack {
         down.push(d + normal.sample(&mut rng));
         across.push(a + normal.sample(&mut rng));
     }
-    CleanTrack {
+    let track = CleanTrack {
         frames: (0..frames).map(|i| i as f64).collect(),
         down,
         across,
         warnings: Vec::new(),
-    }
+    };
+    (track, advance)
 }
 
-fn coverage(pairs: &[(f64, f64)], truth: f64) -> Coverage {
-    let n = pairs.len();
+/// Coverage of (estimate, error, truth) triples.
+fn coverage(triples: &[(f64, f64, f64)]) -> Coverage {
+    let n = triples.len();
     if n == 0 {
         return Coverage {
             estimates: 0,
             coverage: f64::NAN,
             bias_in_errors: f64::NAN,
-            median_error_frames: f64::NAN,
+            median_error: f64::NAN,
         };
     }
-    let covered = pairs
+    let covered = triples
         .iter()
-        .filter(|(e, s)| (e - truth).abs() <= 1.96 * s)
+        .filter(|(e, s, truth)| (e - truth).abs() <= 1.96 * s)
         .count();
-    let mut errors: Vec<f64> = pairs.iter().map(|p| p.1).collect();
+    let mut errors: Vec<f64> = triples.iter().map(|p| p.1).collect();
     errors.sort_by(f64::total_cmp);
     let median = errors[n / 2];
-    let bias = pairs.iter().map(|p| p.0 - truth).sum::<f64>() / n as f64;
+    let bias = triples.iter().map(|p| p.0 - p.2).sum::<f64>() / n as f64;
     Coverage {
         estimates: n,
         coverage: covered as f64 / n as f64,
         bias_in_errors: bias / median,
-        median_error_frames: median,
+        median_error: median,
     }
+}
+
+/// Coverage of (estimate, error) pairs against one truth.
+fn coverage_of(pairs: &[(f64, f64)], truth: f64) -> Coverage {
+    coverage(
+        &pairs
+            .iter()
+            .map(|&(e, s)| (e, s, truth))
+            .collect::<Vec<_>>(),
+    )
+}
+
+/// The coverage of what `pick` reads from each fit (estimate, error, truth), given the true
+/// advance per period its track was drawn with.
+fn covered(
+    runs: &[(Option<super::PeriodFit>, f64)],
+    pick: impl Fn(&super::PeriodFit, f64) -> Option<(f64, f64, f64)>,
+) -> Coverage {
+    let triples: Vec<_> = runs
+        .iter()
+        .filter_map(|(f, truth)| f.as_ref().and_then(|f| pick(f, *truth)))
+        .collect();
+    coverage(&triples)
 }
 
 /// Runs `draws` synthetic tracks of `case` (seeds `seed`, `seed + 1`, …, in parallel, the same
@@ -160,18 +206,25 @@ pub fn calibrate_case(case: &TrackCase, draws: usize, seed: u64) -> CaseCalibrat
         surrogates: 0,
         ..PeriodSearch::default()
     };
-    let fits: Vec<_> = (0..draws as u64)
+    let runs: Vec<_> = (0..draws as u64)
         .into_par_iter()
         .map(|k| {
-            let track = synthetic_track(case, seed.wrapping_add(k));
-            find_period(&track, &search, &|_, _| {}).ok()
+            let (track, advance) = synthetic_track_and_advance(case, seed.wrapping_add(k));
+            (find_period(&track, &search, &|_, _| {}).ok(), advance)
         })
         .collect();
+    let fits: Vec<_> = runs.iter().map(|r| r.0.clone()).collect();
     let stated: Vec<(f64, f64)> = fits
         .iter()
         .flatten()
         .map(|f| (f.period_frames, f.period_error_frames))
         .collect();
+    let advance_down = covered(&runs, |f, truth| {
+        f.advance_error.map(|e| (f.advance_down, e[0], truth))
+    });
+    let advance_across = covered(&runs, |f, _| {
+        f.advance_error.map(|e| (f.advance_across, e[1], 0.0))
+    });
     let cycles: Vec<(f64, f64)> = fits
         .iter()
         .flatten()
@@ -188,6 +241,10 @@ pub fn calibrate_case(case: &TrackCase, draws: usize, seed: u64) -> CaseCalibrat
             (mean, (var / k).sqrt())
         })
         .collect();
+    let speed = covered(&runs, |f, truth| {
+        f.velocity
+            .map(|(v, e)| (v[0], e[0], truth / case.period_frames))
+    });
     CaseCalibration {
         case: *case,
         draws,
@@ -197,7 +254,10 @@ pub fn calibrate_case(case: &TrackCase, draws: usize, seed: u64) -> CaseCalibrat
             .flatten()
             .filter(|f| f.block_check.is_some_and(|b| b.turns_vary))
             .count(),
-        cycles_mean: coverage(&cycles, case.period_frames),
-        stated: coverage(&stated, case.period_frames),
+        cycles_mean: coverage_of(&cycles, case.period_frames),
+        stated: coverage_of(&stated, case.period_frames),
+        advance_down,
+        advance_across,
+        speed,
     }
 }

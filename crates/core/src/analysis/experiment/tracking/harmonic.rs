@@ -65,6 +65,14 @@ pub struct HarmonicPeriod {
     /// The consistency check over blocks of the track ([`period_checked_by_blocks`]); `None`
     /// from [`harmonic_period`] alone or where the track is too short for three blocks.
     pub blocks: Option<BlockCheck>,
+    /// The fitted line's slope: the track's mean velocity (units of z a frame, down + i·across).
+    pub velocity: Complex64,
+    /// Its standard errors (down, across), with T's uncertainty and the residuals' correlation
+    /// taken in: the line and the harmonics are fitted together, so a shift in T moves the
+    /// slope too.
+    pub velocity_error: [f64; 2],
+    /// The covariance of each velocity component with T (units of z).
+    pub velocity_period_covariance: [f64; 2],
 }
 
 /// The track cut into blocks, each fitted on its own: under measurement noise alone their
@@ -255,7 +263,7 @@ pub fn harmonic_period(z: &[Complex64], start: f64, half_range: f64) -> Option<H
     }
     // The line is in the model; taking it out first keeps Σ|z|² − explained (the residual) from
     // cancelling a drift's large squares.
-    let detrended = detrend(z);
+    let (detrended, slope) = detrend(z);
     let z = &detrended[..];
     let h = harmonics_for(start, bandwidth(z));
     let (mut centre, mut half) = (start, half_range.min(start / 4.0));
@@ -313,11 +321,11 @@ pub fn harmonic_period(z: &[Complex64], start: f64, half_range: f64) -> Option<H
     }
     let centre = if f1 <= f2 { x1 } else { x2 };
     let fit = trial(z, centre, h)?;
-    Some(error_of(z, centre, h, &fit))
+    Some(error_of(z, centre, h, (&fit, slope)))
 }
 
-/// z less its least-squares line.
-fn detrend(z: &[Complex64]) -> Vec<Complex64> {
+/// z less its least-squares line, and the line's slope.
+fn detrend(z: &[Complex64]) -> (Vec<Complex64>, Complex64) {
     let n = z.len() as f64;
     let c = (n - 1.0) / 2.0;
     let mean = z.iter().sum::<Complex64>() / n;
@@ -332,10 +340,12 @@ fn detrend(z: &[Complex64]) -> Vec<Complex64> {
     } else {
         cross
     };
-    z.iter()
+    let rest = z
+        .iter()
         .enumerate()
         .map(|(t, v)| v - mean - slope * (t as f64 - c))
-        .collect()
+        .collect();
+    (rest, slope)
 }
 
 /// The fit at exactly `period` frames, no search: for asking a known period's multiples which
@@ -360,14 +370,25 @@ pub fn harmonics_at(z: &[Complex64], period: f64) -> Option<HarmonicPeriod> {
     if !(period.is_finite() && period >= 2.0) || (z.len() as f64) < 2.0 * period {
         return None;
     }
-    let detrended = detrend(z);
+    let (detrended, slope) = detrend(z);
     let h = harmonics_for(period, bandwidth(&detrended));
     let fit = trial(&detrended, period, h)?;
-    Some(error_of(&detrended, period, h, &fit))
+    Some(error_of(&detrended, period, h, (&fit, slope)))
 }
 
-/// Gauss–Newton's standard error of T at the fit, inflated for correlated residuals.
-fn error_of(z: &[Complex64], period: f64, h: usize, fit: &Trial) -> HarmonicPeriod {
+/// Gauss–Newton's standard errors of T and of the line's slope at the fit (z detrended by
+/// `slope` first), inflated for correlated residuals.
+///
+/// The joint covariance of (coefficients, T) is σ²·J⁺ with J = [X, ∂model/∂T]; by the block
+/// inverse, T's variance is σ²/f with f = |∂model/∂T|² − pᴴG⁻¹p (p = Xᴴ∂model/∂T, G = XᴴX),
+/// a coefficient's is σ²·((G⁻¹)ₐₐ + (G⁻¹p)ₐ²/f) per real part, and its covariance with T is
+/// −σ²·(G⁻¹p)ₐ/f.
+fn error_of(
+    z: &[Complex64],
+    period: f64,
+    h: usize,
+    (fit, slope): (&Trial, Complex64),
+) -> HarmonicPeriod {
     let n = z.len();
     let dim = 2 + 2 * h;
     let (c, s) = ((n as f64 - 1.0) / 2.0, n as f64 / 2.0);
@@ -404,9 +425,8 @@ fn error_of(z: &[Complex64], period: f64, h: usize, fit: &Trial) -> HarmonicPeri
         }
     }
     let cholesky = fit.gram.clone().cholesky();
-    let explained = cholesky
-        .as_ref()
-        .map_or(0.0, |ch| proj.dotc(&ch.solve(&proj)).re);
+    let coupling = cholesky.as_ref().map(|ch| ch.solve(&proj));
+    let explained = coupling.as_ref().map_or(0.0, |g| proj.dotc(g).re);
     let free = (jj - explained).max(f64::MIN_POSITIVE);
     let dof = (2 * n) as f64 - (2 * dim + 1) as f64;
     let per_component = rr / dof.max(1.0);
@@ -435,6 +455,22 @@ fn error_of(z: &[Complex64], period: f64, h: usize, fit: &Trial) -> HarmonicPeri
     let error = (per_component / free * inflation)
         .sqrt()
         .max(ERROR_FLOOR * period);
+    // The slope is the ψ column's coefficient over s (ψ = (t − c)/s), plus the line taken out.
+    let velocity = slope + fit.solution[1] / s;
+    let variance = per_component * inflation;
+    let (g_11, g_1) = match (&cholesky, &coupling) {
+        (Some(ch), Some(g)) => {
+            let mut unit = DVector::<Complex64>::zeros(dim);
+            unit[1] = Complex64::new(1.0, 0.0);
+            (ch.solve(&unit)[1].re.max(0.0), g[1])
+        }
+        _ => (f64::INFINITY, Complex64::new(0.0, 0.0)),
+    };
+    let floor = ERROR_FLOOR * velocity.norm();
+    let velocity_error = [g_1.re, g_1.im]
+        .map(|g| (variance * (g_11 + g * g / free)).sqrt() / s)
+        .map(|e| e.max(floor));
+    let velocity_period_covariance = [g_1.re, g_1.im].map(|g| -variance * g / free / s);
     HarmonicPeriod {
         period_frames: period,
         error_frames: error,
@@ -443,10 +479,53 @@ fn error_of(z: &[Complex64], period: f64, h: usize, fit: &Trial) -> HarmonicPeri
         residual_variance,
         strengths,
         blocks: None,
+        velocity,
+        velocity_error,
+        velocity_period_covariance,
     }
 }
 
 impl HarmonicPeriod {
+    /// The advance per period, velocity × T (units of z, down + i·across), and its standard
+    /// errors (down, across) with `period_error` (frames) for T's: the one stated, which is
+    /// [`HarmonicPeriod::error_frames`] unless the caller reads the period another way. The
+    /// covariance of velocity and T enters only where that error is the regression's own.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::experiment::tracking::harmonic::harmonic_period;
+    /// use rustfft::num_complex::Complex64;
+    /// let w = std::f64::consts::TAU / 12.5;
+    /// let z: Vec<Complex64> = (0..500)
+    ///     .map(|t| {
+    ///         let t = t as f64;
+    ///         Complex64::new(0.4 * t + (w * t).sin(), 0.5 * (w * t).cos() - 0.01 * t)
+    ///     })
+    ///     .collect();
+    /// let fit = harmonic_period(&z, 12.4, 0.3).unwrap();
+    /// let (advance, errors) = fit.advance(fit.error_frames);
+    /// assert!((advance.re - 5.0).abs() < 1e-6 && (advance.im + 0.125).abs() < 1e-6);
+    /// assert!(errors[0] < 1e-6 && errors[1] < 1e-6);
+    /// ```
+    pub fn advance(&self, period_error: f64) -> (Complex64, [f64; 2]) {
+        let t = self.period_frames;
+        let v = [self.velocity.re, self.velocity.im];
+        let own = (period_error - self.error_frames).abs() <= 1e-12 * self.error_frames;
+        let errors = [0, 1].map(|k| {
+            let covariance = if own {
+                self.velocity_period_covariance[k]
+            } else {
+                0.0
+            };
+            (t * t * self.velocity_error[k].powi(2)
+                + v[k] * v[k] * period_error * period_error
+                + 2.0 * t * v[k] * covariance)
+                .max(0.0)
+                .sqrt()
+        });
+        (self.velocity * t, errors)
+    }
+
     /// The harmonics (1 … H) that stand out of the noise ([`SIGNIFICANT_STRENGTH`]).
     ///
     /// # Example

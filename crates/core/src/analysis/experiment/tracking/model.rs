@@ -194,6 +194,16 @@ pub struct ModelComparison {
     pub orbits: Vec<[f64; 2]>,
     /// Joint-solve iterations (each a prediction; 0 when m/m0 was given).
     pub iterations: usize,
+    /// d ln(m/m0) / d ln T_s: how the solved m/m0 moves with the measured period (−2 in the
+    /// viscous model, −2/(1 − f′) with inertia, f′ the joint solve's own contraction, read from
+    /// its last steps); t0's is −½ of it. `None` where m/m0 was given (the period does not
+    /// move it) or the solve's steps do not tell.
+    pub period_sensitivity: Option<f64>,
+    /// The standard error of m/m0 from the measured period's alone
+    /// ([`ModelComparison::with_period_error`]); ⟨r⟩'s, g's and α's are not in it.
+    pub mass_ratio_error: Option<f64>,
+    /// The standard error of t0 (s) from the measured period's alone, likewise.
+    pub t0_error_s: Option<f64>,
     /// The orbit compared, with its path (⟨r⟩) for drawing.
     #[serde(skip)]
     pub orbit: PredictedOrbit,
@@ -230,6 +240,61 @@ pub enum CompareError {
         /// The last values of m/m0.
         last: Vec<f64>,
     },
+}
+
+impl ModelComparison {
+    /// The comparison with the errors of m/m0 and t0 that the measured period's error
+    /// `period_error_s` (s, on `period_s`) gives through [`ModelComparison::period_sensitivity`]
+    /// (none where that is `None`, or the error is not a positive number).
+    ///
+    /// ```
+    /// use rollphase_core::analysis::experiment::prediction::{PredictOptions, predict};
+    /// use rollphase_core::analysis::experiment::tracking::model::{Measured, compare_with_model};
+    /// use rollphase_core::geometry::Body;
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// let options = PredictOptions { starts: 4, ..PredictOptions::default() };
+    /// let orbit = predict(&body, 0.15, 0.0, &options)?.orbits[0].clone();
+    /// let measured = Measured {
+    ///     period_s: orbit.period * 0.2,
+    ///     advance_down_cm: orbit.advance_down,
+    ///     advance_across_cm: orbit.advance_across,
+    /// };
+    /// // Viscous: m/m0 ∝ 1/T_s², t0 ∝ T_s, so a 1 % period error is 2 % and 1 %.
+    /// let c = compare_with_model(&body, 10.0, 0.15, &measured, None, &options)?
+    ///     .with_period_error(measured.period_s, 0.01 * measured.period_s);
+    /// assert!((c.mass_ratio_error.unwrap() / c.mass_ratio - 0.02).abs() < 1e-12);
+    /// assert!((c.t0_error_s.unwrap() / c.t0_s - 0.01).abs() < 1e-12);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    #[must_use]
+    pub fn with_period_error(mut self, period_s: f64, period_error_s: f64) -> Self {
+        let relative = period_error_s / period_s;
+        let ok = relative.is_finite() && relative > 0.0;
+        let s = self.period_sensitivity.filter(|_| ok);
+        self.mass_ratio_error = s.map(|s| (s * relative * self.mass_ratio).abs());
+        self.t0_error_s = s.map(|s| (0.5 * s * relative * self.t0_s).abs());
+        self
+    }
+}
+
+/// d ln(m/m0)/d ln T_s of the joint solve m = f(m) = ⟨r⟩T(m)²/(g T_s²): at its fixed point
+/// dm = f′dm − 2(m/T_s)dT_s, so −2/(1 − f′). f′ is a secant of the solve's own values (each the
+/// map of the one before: (m₂ − m₁)/(m₁ − m₀) = (f(m₁) − f(m₀))/(m₁ − m₀)), the last whose
+/// first step is over 1e-3 of m/m0 (nearer steps are the predictions' noise); 0 where no step
+/// is (the map barely depends on m/m0), and `None` where f′ ≥ 0.9 (a slow solve: the period
+/// then hardly fixes m/m0).
+fn solved_sensitivity(history: &[f64], inertial: bool) -> Option<f64> {
+    let last = history.last().copied().unwrap_or(0.0).abs();
+    let slope = if inertial {
+        history
+            .windows(3)
+            .rev()
+            .find(|w| (w[1] - w[0]).abs() > 1e-3 * last)
+            .map_or(0.0, |w| (w[2] - w[1]) / (w[1] - w[0]))
+    } else {
+        0.0
+    };
+    (slope < 0.9).then(|| -2.0 / (1.0 - slope))
 }
 
 /// The SI's estimate (§2H): m/m0 ≈ v²/(g⟨r⟩ sin²α), v in m/s, ⟨r⟩ in m.
@@ -385,6 +450,7 @@ pub fn compare_with_model_until(
     let cm = scale_mm / 10.0;
     let from_speed = mass_ratio_from_speed(measured.speed_cm_s() / 100.0, radius_m, alpha, G);
     let mut iterations = 0;
+    let mut sensitivity = None;
     let (prediction, orbit, model_mass, mass, t0, source) = match mass_ratio {
         Some(m) if m > 0.0 => {
             let (p, orbit, run_at) = model_at(body, alpha, m, (measured, cm), options, stop)?;
@@ -401,6 +467,7 @@ pub fn compare_with_model_until(
             let (p, orbit, _) = model_at(body, alpha, 0.0, (measured, cm), options, stop)?;
             let t0 = measured.period_s / orbit.period;
             let implied = radius_m / (G * t0 * t0);
+            sensitivity = Some(-2.0);
             (p, orbit, 0.0, implied, t0, MassSource::Given)
         }
         None => {
@@ -432,6 +499,7 @@ pub fn compare_with_model_until(
                 mass = implied(orbit.period);
             }
             let t0 = measured.period_s / orbit.period;
+            sensitivity = solved_sensitivity(&history, run_at > 0.0);
             (p, orbit, run_at, mass, t0, MassSource::Period)
         }
     };
@@ -474,6 +542,9 @@ pub fn compare_with_model_until(
             .map(|o| [o.advance_down * cm, o.period])
             .collect(),
         iterations,
+        period_sensitivity: sensitivity,
+        mass_ratio_error: None,
+        t0_error_s: None,
         orbit,
     })
 }

@@ -144,6 +144,13 @@ pub struct PeriodFit {
     pub advance_down: f64,
     /// Advance per period across the ramp (cm).
     pub advance_across: f64,
+    /// Standard errors of the advance per period (down, across; cm), from the harmonic
+    /// regression's slope and the stated period error; `None` where the regression could not be
+    /// fitted (then no error is stated).
+    pub advance_error: Option<[f64; 2]>,
+    /// The mean velocity (down, across; cm a frame) and its standard errors, from the same
+    /// regression; `None` likewise.
+    pub velocity: Option<([f64; 2], [f64; 2])>,
     /// The check against chance (`None` when the search ran without surrogates).
     pub significance: Option<Significance>,
     /// The regression's check over blocks of the track (`None` under six periods, or where
@@ -320,7 +327,7 @@ fn regression(
     start: f64,
     before: (f64, ErrorSource),
     m: f64,
-) -> Result<(f64, f64, ErrorSource, Option<harmonic::BlockCheck>), TrackError> {
+) -> Result<(f64, f64, ErrorSource, Option<harmonic::HarmonicPeriod>), TrackError> {
     let (error, from) = before;
     let fit = harmonic::period_checked_by_blocks(z, start, (0.03 * start).max(5.0 * error));
     let block_check = fit.and_then(|f| f.blocks);
@@ -350,10 +357,55 @@ fn regression(
             fit.period_frames,
             fit.error_frames,
             ErrorSource::Harmonics,
-            block_check,
+            Some(fit),
         ),
-        _ => (start, error, from, block_check),
+        _ => (start, error, from, fit),
     })
+}
+
+/// The advance per period, its errors (down, across), and the velocity (down, across) with its
+/// errors.
+type Motion = (Complex64, Option<[f64; 2]>, Option<([f64; 2], [f64; 2])>);
+
+/// The advance per period (down + i·across), its errors and the mean velocity with its errors,
+/// from the regression `harmonic` (its velocity the whole track's) and the period stated
+/// (`tau` ± `error`, from `from`); `displaced` is the mean displacement over one period, the
+/// advance where the regression does not state the period.
+fn motion(
+    harmonic: Option<harmonic::HarmonicPeriod>,
+    (tau, error, from): (f64, f64, ErrorSource),
+    displaced: Complex64,
+) -> Motion {
+    // Where the regression states the period, the advance is its velocity × T (the same fit);
+    // otherwise the mean displacement over one period, with the regression's error beside it
+    // where it could be fitted.
+    let (advance, advance_error) = match harmonic {
+        Some(fit) if from == ErrorSource::Harmonics => {
+            let (a, e) = fit.advance(error);
+            (a, Some(e))
+        }
+        // The turns' times vary, and the period is the cycles' mean: the advance is the mean
+        // displacement over that period, with the slope's error and that period's.
+        Some(fit) => {
+            let mut at_cycles_mean = fit;
+            at_cycles_mean.period_frames = tau;
+            (displaced, Some(at_cycles_mean.advance(error).1))
+        }
+        None => (displaced, None),
+    };
+    // Where the turns' times vary, the mean speed is as uncertain as the mean turn's time (a
+    // body rolls the same path each turn, slower or faster): the relative error of the period
+    // joins the slope's, which sees only this run's positions.
+    let velocity = harmonic.map(|fit| {
+        let v = [fit.velocity.re, fit.velocity.im];
+        let e = if from == ErrorSource::Harmonics {
+            fit.velocity_error
+        } else {
+            [0, 1].map(|k| fit.velocity_error[k].hypot(v[k] * error / tau))
+        };
+        (v, e)
+    });
+    (advance, advance_error, velocity)
 }
 
 /// What the harmonics say of a repeat found at `tau`.
@@ -674,14 +726,21 @@ pub fn find_period(
     } else {
         tau
     };
-    let (tau, error, from, block_check) = regression(&det.z, start, (error, from), m)?;
+    let (tau, error, from, harmonic) = regression(&det.z, start, (error, from), m)?;
+    // The regression saw the track less its line: the line's slope goes back into its velocity.
+    let harmonic = harmonic.map(|mut fit| {
+        fit.velocity += det.slope;
+        fit
+    });
+    let block_check = harmonic.and_then(|f| f.blocks);
     let (m, mean) = if tau == start && from == ErrorSource::DipWidth {
         (m, mean)
     } else {
         let (e_at, d_at) = whole.at(tau);
         (e_at / scale, d_at)
     };
-    let advance = mean + det.slope * tau;
+    let (advance, advance_error, velocity) =
+        motion(harmonic, (tau, error, from), mean + det.slope * tau);
     Ok(PeriodFit {
         period_frames: tau,
         period_error_frames: error,
@@ -693,6 +752,8 @@ pub fn find_period(
         mismatch: m,
         advance_down: advance.re,
         advance_across: advance.im,
+        advance_error,
+        velocity,
         significance,
         block_check,
         mismatch_curve: curve,
