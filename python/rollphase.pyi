@@ -98,6 +98,13 @@ class SectionHull(TypedDict):
     alpha_star: float
     longest_side: float
 
+class SolidHull(TypedDict):
+    """MeshFitReport["solid_hull"] (3D): the mesh's own convex hull, as printed."""
+    vertices: int
+    triangles: int
+    alpha_star: float
+    longest_edge: float
+
 class MeshFitReport(TypedDict):
     """Body.mesh_fit: the fit of a body to a mesh, as `rollphase shape --from-mesh --report`."""
 
@@ -123,6 +130,7 @@ class MeshFitReport(TypedDict):
     convex: bool
     alpha_star: float
     mesh_hull: Optional[SectionHull]
+    solid_hull: Optional[SolidHull]
     warnings: List[str]
     coat: NotRequired[CoatReport]
 

@@ -140,7 +140,8 @@ impl Body {
     /// surface again; mesh_fit["coat"] then gives ⟨r⟩ and α* before and after.
     /// ignore_facets=True treats a 2D section's flat facets as an export's tessellation of a
     /// round body: the body then keeps no printed section (see `rollphase shape
-    /// --ignore-facets`).
+    /// --ignore-facets`); in 3D it skips mesh_fit["solid_hull"] (the mesh's own hull and the
+    /// α* its facets give) and its warning.
     #[staticmethod]
     #[pyo3(signature = (path, *, modes = None, dim = None, axis = None, mm_per_unit = 1.0, coat_mm = None, ignore_facets = false))]
     #[allow(clippy::too_many_arguments)]

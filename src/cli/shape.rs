@@ -79,7 +79,8 @@ pub struct ShapeArgs {
     /// With --from-mesh --dim 2: the section's flat facets are an export's tessellation of a
     /// round body (a turned or cast part), not flats of the print. Without it the shape file
     /// keeps the section's hull as `printed_section`, and every command rolls the body on it
-    /// (its sides flat, its corners rounded to 0.001 ⟨r⟩) rather than on the smooth fit.
+    /// (its sides flat, its corners rounded to 0.001 ⟨r⟩) rather than on the smooth fit. In 3D
+    /// it skips the mesh's own hull (the α* its facets give) and its warning.
     #[arg(long, requires = "from_mesh")]
     pub ignore_facets: bool,
     /// With --from-mesh: write the fit's report as JSON here (residuals, ⟨r⟩ in mm, α*, …).
@@ -267,6 +268,12 @@ fn report_text(r: &crate::geometry::mesh_fit::FitReport) -> String {
         out += &format!(
             " (the fit); the mesh's own hull: {} flat sides, α* = {:.6} rad",
             hull.sides, hull.alpha_star
+        );
+    }
+    if let Some(hull) = &r.solid_hull {
+        out += &format!(
+            " (the fit); the mesh's own hull: {} triangles, α* = {:.6} rad",
+            hull.triangles, hull.alpha_star
         );
     }
     if let Some(c) = &r.coat {

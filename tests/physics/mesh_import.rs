@@ -87,6 +87,27 @@ fn printed_sphere_is_the_generators_seed_6_body() {
         "α* {alpha_star}"
     );
     assert_eq!(report["convex"], true);
+    // The print is a polyhedron of 0.4–0.7 mm facets: its own hull rests up to 0.1968 rad
+    // (measured 2026-11-28), 2.3° above the smooth fit, and a warning says so.
+    let hull = &report["solid_hull"];
+    let printed = hull["alpha_star"].as_f64().unwrap();
+    assert!((printed - 0.1968).abs() < 5e-4, "{hull}");
+    assert!(hull["vertices"].as_u64().unwrap() > 15_000, "{hull}");
+    assert!(
+        report["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("rests up to α = 0.1968 rad")),
+        "{report}"
+    );
+    // With --ignore-facets, neither.
+    let (_, _, smooth) = fit(&data("printed-sphere.stl"), &["--ignore-facets"], &dir);
+    assert_eq!(smooth["solid_hull"], Value::Null);
+    assert!(
+        !smooth["warnings"].to_string().contains("rests up to"),
+        "{smooth}"
+    );
 }
 
 #[test]

@@ -14,6 +14,7 @@ pub mod mesh_read;
 pub mod outline;
 pub mod paper_bodies;
 pub mod shape_file;
+pub mod solid_hull;
 pub mod sphere;
 
 use std::f64::consts::TAU;

@@ -303,6 +303,7 @@ pub(super) fn fit_section(
         convex,
         alpha_star,
         mesh_hull,
+        solid_hull: None,
         warnings,
         coat: None,
     };

@@ -330,8 +330,19 @@ pub(super) fn fit_sphere(
         }
         chunk.clear();
     };
+    // The distinct vertices (about the centroid), for the print's own hull.
+    let collect = !options.ignore_facets;
+    let mut distinct: std::collections::HashSet<[u64; 3]> = std::collections::HashSet::new();
+    let mut corners: Vec<DVec3> = Vec::new();
     source.for_each(|i, t| {
         tick(progress, "measuring the fit", i, total);
+        if collect && distinct.len() <= MAX_HULL_VERTICES {
+            for p in t {
+                if distinct.insert(p.to_array().map(f64::to_bits)) {
+                    corners.push(p - c);
+                }
+            }
+        }
         chunk.push(t);
         if chunk.len() == chunk.capacity() {
             measure(&mut chunk);
@@ -369,6 +380,12 @@ pub(super) fn fit_sphere(
             ),
         ));
     }
+    let solid_hull = printed_hull(
+        &corners,
+        (collect, options.mm_per_unit),
+        &body,
+        &mut warnings,
+    );
     let report = FitReport {
         file: source.path().display().to_string(),
         format: format_name(source.format()),
@@ -392,10 +409,52 @@ pub(super) fn fit_sphere(
         convex: true,
         alpha_star: body.alpha_star(),
         mesh_hull: None,
+        solid_hull,
         warnings,
         coat: None,
     };
     Ok((body, shape, report))
+}
+
+/// The print's own hull from its distinct vertices `corners` (about the centroid; `collect`
+/// false with `ignore_facets`), and a warning where its α* and the smooth fit's differ by more
+/// than [`FACET_TOLERANCE`], or where the mesh is too fine for it to be computed.
+fn printed_hull(
+    corners: &[DVec3],
+    (collect, mm_per_unit): (bool, f64),
+    body: &Body,
+    warnings: &mut Vec<String>,
+) -> Option<crate::geometry::solid_hull::SolidHull> {
+    if !collect {
+        return None;
+    }
+    if corners.len() > MAX_HULL_VERTICES {
+        warnings.push(format!(
+            "the mesh has over {MAX_HULL_VERTICES} distinct vertices: its own hull (the α* its \
+             facets give) is not computed; facets that fine tip a ball by about 0.3° or less"
+        ));
+        return None;
+    }
+    let hull = crate::geometry::solid_hull::solid_hull(corners, DVec3::ZERO)?;
+    let fitted = body.alpha_star();
+    if hull.alpha_star - fitted > FACET_TOLERANCE {
+        warnings.push(format!(
+            "the mesh's hull has {} triangles, on which the printed body rests up to α = {:.4} \
+             rad ({:.2}°), but the smooth fit's α* is {:.4} rad ({:.2}°): the fit does not see \
+             the facets (up to {:.2} mm across; a printer reproduces facets wider than its \
+             nozzle). In 3D every command rolls the smooth fit, so below {:.4} rad the print \
+             may rest where they say it rolls; export a finer mesh, or use --ignore-facets for \
+             a round part the mesh only approximates",
+            hull.triangles,
+            hull.alpha_star,
+            hull.alpha_star.to_degrees(),
+            fitted,
+            fitted.to_degrees(),
+            hull.longest_edge * mm_per_unit,
+            hull.alpha_star
+        ));
+    }
+    Some(hull)
 }
 
 /// The shape file's coefficients A_lm (m ≥ 0) of the real-basis fit `x` (mesh units), up to
