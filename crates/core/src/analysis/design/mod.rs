@@ -35,7 +35,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 pub use at_scale::{OrbitAtScale, RampPrediction};
-pub use check::{Band, Check, TargetCheck, check};
+pub use check::{Band, Check, TargetCheck, check, failure_bound};
 pub use space::{DesignSpace, MAX_DESIGN_MODES, Printability};
 pub use start::{DOUBLING_SCREEN_SEEDS, DOUBLING_SCREEN_SIGMAS};
 pub use targets::{Setting, Target, TargetError};
@@ -880,6 +880,7 @@ fn finish(
             targets: Vec::new(),
             convex_draws: 0,
             smallest_radius_mm: printability.smallest_radius_mm,
+            print_failure_bound: None,
         }
     };
     let alpha_star = critical_angle(&body).alpha_star;
