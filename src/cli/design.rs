@@ -305,27 +305,7 @@ pub fn run(a: DesignArgs) -> Result<()> {
         print_report(&design, seconds, &a)?;
     }
     if let Some(stl) = &a.stl {
-        let mesh = match &design.body {
-            Body::Sphere(s) => sphere_mesh(s, 6),
-            // Fine enough that the printed polygon's flats do not raise α* (0.05°).
-            Body::Disk(d) => disk_mesh(
-                d,
-                crate::geometry::mesh::print_segments(d, design.body.alpha_star(), 1024),
-                2.0,
-            ),
-        };
-        let mut bytes = Vec::new();
-        let name = match &design.body {
-            Body::Disk(_) => format!("design {}", crate::geometry::mesh::DISK_AXIS_TAG),
-            Body::Sphere(_) => "design".to_string(),
-        };
-        mesh.write_stl(&mut bytes, scale_mm, &name)?;
-        output::write_bytes(stl, &bytes, &inputs).with_context(|| {
-            format!(
-                "the STL was not written (the body is in {}, the report above)",
-                a.output.display()
-            )
-        })?;
+        write_stl(stl, &design, (scale_mm, &a.output), &inputs)?;
     }
     if !design.holds() {
         let what = if a.check_only {
@@ -497,6 +477,48 @@ fn print_prediction(p: &RampPrediction) -> Result<()> {
             p.halted,
             p.elsewhere
         )?;
+    }
+    Ok(())
+}
+
+/// The design as an STL for the printer, after the body and the report: a failed write names
+/// where the body is. A sphere's facets are said (`export_stl::printed_facets_note`).
+fn write_stl(
+    stl: &std::path::Path,
+    design: &Design,
+    (scale_mm, output_path): (f64, &std::path::Path),
+    inputs: &Inputs,
+) -> Result<()> {
+    let mesh = match &design.body {
+        Body::Sphere(s) => sphere_mesh(s, 6),
+        // Fine enough that the printed polygon's flats do not raise α* (0.05°).
+        Body::Disk(d) => disk_mesh(
+            d,
+            crate::geometry::mesh::print_segments(d, design.body.alpha_star(), 1024),
+            2.0,
+        ),
+    };
+    let mut bytes = Vec::new();
+    let name = match &design.body {
+        Body::Disk(_) => format!("design {}", crate::geometry::mesh::DISK_AXIS_TAG),
+        Body::Sphere(_) => "design".to_string(),
+    };
+    mesh.write_stl(&mut bytes, scale_mm, &name)?;
+    output::write_bytes(stl, &bytes, inputs).with_context(|| {
+        format!(
+            "the STL was not written (the body is in {}, the report above)",
+            output_path.display()
+        )
+    })?;
+    if matches!(design.body, Body::Sphere(_))
+        && let Some(note) =
+            super::export_stl::printed_facets_note(&mesh, design.body.alpha_star(), 6)
+    {
+        eprintln!(
+            "note: {note}; the check above is the smooth body's (`rollphase export-stl {} -o FILE.stl \
+             --detail 8` writes a finer STL)",
+            output_path.display()
+        );
     }
     Ok(())
 }

@@ -99,11 +99,43 @@ pub fn run(a: ExportStlArgs) -> Result<()> {
         mesh.indices.len(),
         a.radius_mm
     );
+    let facets = match &body {
+        Body::Sphere(_) => printed_facets_note(&mesh, body.alpha_star(), a.detail),
+        Body::Disk(_) => None,
+    };
     // Standard output carries the STL itself: nothing else may follow it there.
     if crate::output::is_standard_output(&a.output) {
         eprintln!("{status}");
     } else {
         outln!("{status}")?;
     }
+    if let Some(note) = facets {
+        eprintln!("note: {note}");
+    }
     Ok(())
+}
+
+/// What a sphere's icosphere does to the print: a polyhedron rests on its facets up to the
+/// α* of its own hull, above the body's (`alpha_star`), by about the facets' size over the
+/// radius; each level of `detail` halves that. `None` where the excess is within 0.1°.
+pub fn printed_facets_note(
+    mesh: &crate::geometry::mesh::TriMesh,
+    alpha_star: f64,
+    detail: u32,
+) -> Option<String> {
+    let hull = mesh.printed_hull()?;
+    let excess = hull.alpha_star - alpha_star;
+    (excess > crate::geometry::facets::FACET_TOLERANCE).then(|| {
+        format!(
+            "printed as written, this mesh's facets hold the ball up to α = {:.4} rad ({:.2}°), \
+             {:.2}° above the body's α* = {:.4} rad; each step of --detail halves that (detail \
+             {detail} now; 8 gives about {:.2}°, a 65 MB STL), and a print's layers and a \
+             coat round the facets part of the way",
+            hull.alpha_star,
+            hull.alpha_star.to_degrees(),
+            excess.to_degrees(),
+            alpha_star,
+            (excess / f64::from(1u32 << (8u32.saturating_sub(detail)))).to_degrees()
+        )
+    })
 }

@@ -1572,3 +1572,58 @@ fn an_exported_cylinder_is_fitted_back_as_itself_not_its_mirror() {
         );
     }
 }
+
+/// `export-stl` says how far a sphere's facets hold the print above the body's α*, from the
+/// written mesh's own hull, and the excess halves with each step of `--detail` as it says; the
+/// mesh fit reads the same hull back from the file.
+#[test]
+fn an_exported_spheres_facets_are_said_and_halve_with_each_detail() {
+    let dir = scratch("export-facets");
+    let shape = dir.join("paper.json");
+    let shape = shape.to_str().unwrap();
+    rollphase_ok([
+        "shape",
+        "--dim",
+        "3",
+        "--paper-seed",
+        "219",
+        "--sigma",
+        "0.25",
+        "--modes",
+        "5",
+        "-o",
+        shape,
+    ]);
+    let excess = |detail: &str| {
+        let stl = dir.join(format!("d{detail}.stl"));
+        let out = rollphase([
+            "export-stl",
+            shape,
+            "-o",
+            stl.to_str().unwrap(),
+            "--radius-mm",
+            "10",
+            "--detail",
+            detail,
+        ]);
+        assert!(out.status.success());
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        let at = err
+            .find("° above")
+            .unwrap_or_else(|| panic!("no note: {err}"));
+        let start = err[..at].rfind(' ').unwrap() + 1;
+        (err[start..at].parse::<f64>().unwrap(), stl)
+    };
+    let (four, _) = excess("4");
+    let (five, stl) = excess("5");
+    assert!((four / five - 2.0).abs() < 0.2, "{four}° then {five}°");
+    // The fit of the written file reports the hull the note read.
+    let (_, _, report) = fit(&stl, &[], &dir);
+    let printed = report["solid_hull"]["alpha_star"].as_f64().unwrap();
+    let body = ShapeFile::load_scaled(Path::new(shape)).unwrap().0;
+    let said = body.alpha_star() + five.to_radians();
+    assert!(
+        (printed - said).abs() < 2e-3,
+        "fit {printed} against the note's {said}"
+    );
+}

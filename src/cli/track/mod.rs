@@ -22,7 +22,9 @@ use crate::geometry::ShapeFile;
 use crate::output::{self, Inputs, OutputSet};
 
 mod figures;
+mod print;
 use figures::{figure, refusal_figure};
+use print::print_summary;
 
 /// Read a tracked run: its period, advance per period and folded track, and the model's.
 ///
@@ -478,122 +480,6 @@ fn measure_or_show_why(
             Err(anyhow::Error::new(e).context(format!("track {}", a.file.display())))
         }
     }
-}
-
-/// `value ± error` with two significant digits of the error and the value to the same place
-/// (3 to 9 decimals), or the value to 3 decimals where no error is stated.
-fn with_error(value: f64, error: Option<f64>) -> String {
-    match error.filter(|e| e.is_finite() && *e > 0.0) {
-        Some(e) => {
-            let digits = (1 - e.log10().floor() as i32).clamp(3, 9) as usize;
-            format!("{value:.digits$} ± {e:.digits$}")
-        }
-        None => format!("{value:.3}"),
-    }
-}
-
-/// The measurement (and the model's) for people.
-fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()> {
-    let error_from = match summary.period_error_from {
-        ErrorSource::Cycles if summary.block_check.is_some_and(|b| b.turns_vary) => {
-            "from the cycles' spread: blocks of the track show its turns' times vary, so the \
-             period is their mean"
-        }
-        ErrorSource::Cycles => "from the cycles' spread",
-        ErrorSource::Harmonics => {
-            "from a harmonic fit of the whole track, correlated residuals included"
-        }
-        ErrorSource::DipWidth => "from the dip's width: too few cycles for a spread",
-    };
-    // Two significant digits of the error, and the period to the same place.
-    let digits = (1 - summary.period_error_s.log10().floor() as i32).clamp(3, 9) as usize;
-    outln!(
-        "{}: period {:.digits$} ± {:.digits$} s ({:.2} frames; {} whole periods seen; error \
-         {error_from})",
-        a.file.display(),
-        summary.period_s,
-        summary.period_error_s,
-        summary.period_frames,
-        summary.periods_seen,
-    )?;
-    let table = &summary.table;
-    if table.format != TableFormat::Plain || table.fps_from_times.is_some() {
-        let rate = match table.fps_from_times {
-            Some(fps) => format!("at {fps} frames/s, read from its time steps"),
-            None => format!("at {} frames/s", summary.fps),
-        };
-        outln!(
-            "  read as a {} table: frames from column {:?} {rate}, across {:?}, down {:?}",
-            table.format.name(),
-            table.columns[0],
-            table.columns[1],
-            table.columns[2],
-        )?;
-    }
-    if let Some(s) = &summary.significance {
-        outln!(
-            "  evidence: repeats with normalised mismatch {:.3}; {} surrogate tracks (same \
-             smoothed spectrum, random phases) reach {:.3} at best (p < {:.2})",
-            s.normalised_dip,
-            s.surrogates,
-            s.surrogate_floor,
-            s.p_bound
-        )?;
-    }
-    outln!(
-        "  per period: {} cm down the ramp, {} cm across; speed {} cm/s",
-        with_error(summary.advance_down_cm, summary.advance_down_error_cm),
-        with_error(summary.advance_across_cm, summary.advance_across_error_cm),
-        with_error(summary.speed_cm_s, summary.speed_error_cm_s)
-    )?;
-    if let Some(m) = &summary.marker_reading {
-        outln!("  markers: {}", m.reason)?;
-    }
-    if let Some(m) = &summary.model {
-        let c = &m.comparison;
-        let model = if c.mass_ratio_model == 0.0 {
-            "viscous model".to_string()
-        } else {
-            format!("inertial model at m/m0 = {:.3}", c.mass_ratio_model)
-        };
-        outln!(
-            "  model ({}, {model}): m/m0 = {} and t0 = {} s found together from the period ({}); \
-             the SI's speed estimate v²/(g⟨r⟩ sin²α) gives m/m0 = {:.3}, t0 = {:.4} s, a period \
-             of {:.3} s",
-            m.body,
-            with_error(c.mass_ratio, c.mass_ratio_error),
-            with_error(c.t0_s, c.t0_error_s),
-            match (c.mass_ratio_from, c.mass_ratio_error.is_some()) {
-                (crate::analysis::experiment::tracking::model::MassSource::Period, true) => {
-                    "solved; errors from the period's alone, not ⟨r⟩'s or α's"
-                }
-                (crate::analysis::experiment::tracking::model::MassSource::Period, false) => {
-                    "solved"
-                }
-                (_, true) => "the viscous model asked for; errors from the period's alone",
-                (_, false) => "m/m0 given",
-            },
-            c.mass_ratio_from_speed,
-            c.t0_from_speed_s,
-            c.period_from_speed_s
-        )?;
-        outln!(
-            "  predicted per period: {:.3} cm down, {:.3} cm across, {:.3} s, {:.3} cm/s \
-             (measured against predicted: advance {:+.1} %, period {:+.1} %, speed {:+.1} %)",
-            c.predicted_advance_down_cm,
-            c.predicted_advance_across_cm,
-            c.predicted_period_s,
-            c.predicted_speed_cm_s,
-            100.0 * c.advance_down_difference,
-            100.0 * c.period_difference,
-            100.0 * c.speed_difference
-        )?;
-    }
-    outln!(
-        "  wrote {}/{{data.csv, figure.png, summary.json}}",
-        a.out.display()
-    )?;
-    Ok(())
 }
 
 /// The predicted orbit drawn over the folded track: the orbit, cm per ⟨r⟩, frames per t0, the

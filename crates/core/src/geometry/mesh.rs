@@ -73,6 +73,33 @@ impl TriMesh {
             .sum()
     }
 
+    /// The solid's own convex hull about its volume centroid, and the α* its facets give
+    /// ([`super::solid_hull`]): what a print of this mesh rests up to, in the mesh's units.
+    /// `None` for a mesh with no volume.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::geometry::Sphere;
+    /// use rollphase_core::geometry::mesh::sphere_mesh;
+    /// // A round ball's icosphere of 1,280 triangles rests on a facet up to about 5.5°.
+    /// let hull = sphere_mesh(&Sphere::perfect(), 3).printed_hull().unwrap();
+    /// assert!(hull.alpha_star > 0.09 && hull.alpha_star < 0.1, "{hull:?}");
+    /// ```
+    pub fn printed_hull(&self) -> Option<super::solid_hull::SolidHull> {
+        let (mut volume, mut moment) = (0.0, DVec3::ZERO);
+        for t in &self.indices {
+            let [a, b, c] = t.map(|i| as_dvec(self.positions[i as usize]));
+            let v = a.dot(b.cross(c)) / 6.0;
+            volume += v;
+            moment += v * (a + b + c) / 4.0;
+        }
+        if volume == 0.0 || !volume.is_finite() {
+            return None;
+        }
+        let points: Vec<DVec3> = self.positions.iter().map(|&p| as_dvec(p)).collect();
+        super::solid_hull::solid_hull(&points, moment / volume)
+    }
+
     /// Edges that are not shared by exactly two triangles in opposite directions, after
     /// welding vertices with identical positions. Zero means the surface is closed and
     /// consistently oriented (watertight), which a slicer for 3D printing needs.
