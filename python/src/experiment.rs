@@ -268,11 +268,12 @@ pub fn compare_with_model<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let (starts, seed): (usize, u64) = (whole("starts", starts)?, whole("seed", seed)?);
     if let Some(e) = period_error_s
-        && !(e.is_finite() && e > 0.0)
+        && !(e.is_finite() && e > 0.0 && e <= 0.25 * period_s)
     {
         return Err(input_error(format!(
             "period_error_s = {e} is not allowed (the period's standard error: a positive \
-             number of seconds, or None)"
+             number of seconds up to a quarter of period_s = {period_s}, where carrying it \
+             through the solve linearly still means something; or None)"
         )));
     }
     let core = body.convex()?;

@@ -242,6 +242,25 @@ def test_compare_with_model_solves_m_and_t0_together(printed, repo, cli, tmp_pat
     model = json.loads((out / "summary.json").read_text())["model"]
     for key in ("mass_ratio", "t0_s", "mass_ratio_from_speed", "predicted_advance_down_cm"):
         assert c[key] == model[key], key
+    # With the period's error, m/m0's and t0's as the command line states them.
+    error_s = fit["period_error_frames"] / 30.0
+    with_error = rollphase.compare_with_model(
+        printed,
+        0.2014,
+        period_s=period_s,
+        advance_down_cm=fit["advance_down"],
+        advance_across_cm=fit["advance_across"],
+        period_error_s=error_s,
+    )
+    assert with_error["mass_ratio_error"] == model["mass_ratio_error"]
+    assert with_error["t0_error_s"] == model["t0_error_s"]
+    assert c["mass_ratio_error"] is None
+    for bad in (0.0, -1.0, float("nan"), float("inf"), period_s):
+        with pytest.raises(rollphase.InputError, match="period_error_s"):
+            rollphase.compare_with_model(
+                printed, 0.2014, period_s=period_s, advance_down_cm=fit["advance_down"],
+                advance_across_cm=fit["advance_across"], period_error_s=bad,
+            )
     # Bad input before any work.
     with pytest.raises(rollphase.InputError, match="up the ramp|downhill"):
         rollphase.compare_with_model(

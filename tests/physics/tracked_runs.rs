@@ -58,6 +58,12 @@ fn the_authors_run_gives_their_period_and_advance_without_hand_picking() {
         "{period} ± {error} (spread {spread})"
     );
     assert!(error > 0.1 && error < 3.0, "standard error {error} frames");
+    // Each cycle's period spans two turns, so the mean's error is √2 × spread / √(cycles).
+    let cycles = s["cycle_periods_s"].as_array().unwrap().len() as f64;
+    assert!(
+        (error - (2.0f64 / cycles).sqrt() * spread).abs() < 1e-9 * error,
+        "{error} against {spread} over {cycles} cycles"
+    );
     assert!((s["period_s"].as_f64().unwrap() - period / 30.0).abs() < 1e-12);
     let down = s["advance_down_cm"].as_f64().unwrap();
     let across = s["advance_across_cm"].as_f64().unwrap();

@@ -12,6 +12,8 @@ use crate::analysis::experiment::tracking::table::TableFormat;
 /// (3 to 9 decimals), or the value to 3 decimals where no error is stated.
 fn with_error(value: f64, error: Option<f64>) -> String {
     match error.filter(|e| e.is_finite() && *e > 0.0) {
+        // An error under 1e-8 would print as zeros: both in scientific notation.
+        Some(e) if e < 1e-8 => format!("{value:.4e} ± {e:.1e}"),
         Some(e) => {
             let digits = (1 - e.log10().floor() as i32).clamp(3, 9) as usize;
             format!("{value:.digits$} ± {e:.digits$}")
@@ -84,23 +86,31 @@ pub(super) fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()>
         } else {
             format!("inertial model at m/m0 = {:.3}", c.mass_ratio_model)
         };
-        outln!(
-            "  model ({}, {model}): m/m0 = {} and t0 = {} s found together from the period ({}); \
-             the SI's speed estimate v²/(g⟨r⟩ sin²α) gives m/m0 = {:.3}, t0 = {:.4} s, a period \
-             of {:.3} s",
-            m.body,
+        use crate::analysis::experiment::tracking::model::MassSource;
+        let (m_text, t0_text) = (
             with_error(c.mass_ratio, c.mass_ratio_error),
             with_error(c.t0_s, c.t0_error_s),
-            match (c.mass_ratio_from, c.mass_ratio_error.is_some()) {
-                (crate::analysis::experiment::tracking::model::MassSource::Period, true) => {
-                    "solved; errors from the period's alone, not ⟨r⟩'s or α's"
-                }
-                (crate::analysis::experiment::tracking::model::MassSource::Period, false) => {
-                    "solved"
-                }
-                (_, true) => "the viscous model asked for; errors from the period's alone",
-                (_, false) => "m/m0 given",
-            },
+        );
+        let how = match (c.mass_ratio_from, c.mass_ratio_error.is_some()) {
+            (MassSource::Period, true) => format!(
+                "m/m0 = {m_text} and t0 = {t0_text} s found together from the period (errors \
+                 from the period's alone, not ⟨r⟩'s or α's)"
+            ),
+            (MassSource::Period, false) => {
+                format!("m/m0 = {m_text} and t0 = {t0_text} s found together from the period")
+            }
+            (MassSource::Given, true) => format!(
+                "t0 = {t0_text} s from the period, as --mass 0 asks, so m/m0 = {m_text} (errors \
+                 from the period's alone)"
+            ),
+            (MassSource::Given, false) => {
+                format!("m/m0 = {m_text} as given, so t0 = {t0_text} s")
+            }
+        };
+        outln!(
+            "  model ({}, {model}): {how}; the SI's speed estimate v²/(g⟨r⟩ sin²α) gives m/m0 = \
+             {:.3}, t0 = {:.4} s, a period of {:.3} s",
+            m.body,
             c.mass_ratio_from_speed,
             c.t0_from_speed_s,
             c.period_from_speed_s

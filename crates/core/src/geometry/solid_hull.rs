@@ -22,7 +22,7 @@
 use glam::DVec3;
 
 /// The hull of a solid's vertices, and the angle it rests up to.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct SolidHull {
     /// The vertices on the hull.
     pub vertices: usize,
@@ -33,6 +33,38 @@ pub struct SolidHull {
     pub alpha_star: f64,
     /// The longest hull edge, in the points' units: how coarse the facets are.
     pub longest_edge: f64,
+    /// Each hull triangle's farthest corner from the centroid's foot and the centroid's height
+    /// above it (the points' units), for [`SolidHull::coated`].
+    #[serde(skip)]
+    pub facets: Vec<[f64; 2]>,
+    /// Millimetres per unit of the points (1 unless the mesh fit says otherwise).
+    #[serde(skip)]
+    pub mm_per_unit: f64,
+}
+
+impl SolidHull {
+    /// α* of the print under a coat `thickness` thick (the points' units): the hull grown by a
+    /// ball keeps its flat faces, each moved out by the coat (its far corner as far from the
+    /// centroid's foot, the centroid that much higher), and rounds its edges and corners, on
+    /// which the body rolls. So max atan(d/(h + thickness)).
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use rollphase_core::geometry::solid_hull::solid_hull;
+    /// let corners: Vec<DVec3> = (0..8)
+    ///     .map(|k| DVec3::new((k & 1) as f64, ((k >> 1) & 1) as f64, ((k >> 2) & 1) as f64) * 2.0 - 1.0)
+    ///     .collect();
+    /// let hull = solid_hull(&corners, DVec3::ZERO).unwrap();
+    /// // A cube of side 2 under a coat of 1: its faces are 2 from the centre.
+    /// assert!((hull.coated(1.0) - (2f64.sqrt() / 2.0).atan()).abs() < 1e-12);
+    /// assert_eq!(hull.coated(0.0), hull.alpha_star);
+    /// ```
+    pub fn coated(&self, thickness: f64) -> f64 {
+        self.facets
+            .iter()
+            .map(|[d, h]| d.atan2(h + thickness))
+            .fold(0.0, f64::max)
+    }
 }
 
 /// Fewest vertices a hull is computed from.
@@ -229,6 +261,7 @@ pub fn solid_hull(points: &[DVec3], centroid: DVec3) -> Option<SolidHull> {
     // The mean of the hull's vertices is inside it: the side of each facet it is on is in.
     let inside = used.iter().map(|&i| scaled[i]).sum::<DVec3>() / used.len() as f64;
     let (mut alpha_star, mut longest) = (0.0f64, 0.0f64);
+    let mut facets = Vec::with_capacity(faces.len());
     for triangle in &faces {
         let [a, b, c] = [
             corner(triangle[0]),
@@ -251,9 +284,12 @@ pub fn solid_hull(points: &[DVec3], centroid: DVec3) -> Option<SolidHull> {
             return None;
         }
         let foot = h * n;
-        for v in [a, b, c] {
-            alpha_star = alpha_star.max((v - foot).length().atan2(h));
-        }
+        let far = [a, b, c]
+            .iter()
+            .map(|&v| (v - foot).length())
+            .fold(0.0, f64::max);
+        alpha_star = alpha_star.max(far.atan2(h));
+        facets.push([far * size, h * size]);
         longest = longest.max((b - a).length().max((c - b).length()).max((a - c).length()));
     }
     Some(SolidHull {
@@ -261,6 +297,8 @@ pub fn solid_hull(points: &[DVec3], centroid: DVec3) -> Option<SolidHull> {
         triangles: faces.len(),
         alpha_star,
         longest_edge: longest * size,
+        facets,
+        mm_per_unit: 1.0,
     })
 }
 

@@ -161,8 +161,9 @@ pub struct FitReport {
     pub mesh_hull: Option<SectionHull>,
     /// 3D: the mesh's own convex hull and the α* its facets give (what the printed polyhedron
     /// rests up to), beside the smooth fit's `alpha_star`; a warning says when the two differ by
-    /// more than [`FACET_TOLERANCE`]. `None` in 2D, with `ignore_facets`, for a coated body, or
-    /// over [`MAX_HULL_VERTICES`] distinct vertices (a warning says so).
+    /// more than [`FACET_TOLERANCE`]. For a coated body, its flat faces moved out by the coat.
+    /// `None` in 2D, with `ignore_facets`, or over [`MAX_HULL_VERTICES`] distinct vertices (a
+    /// warning says so).
     pub solid_hull: Option<crate::geometry::solid_hull::SolidHull>,
     /// Warnings: the fit is usable, but read this.
     pub warnings: Vec<String>,
@@ -199,7 +200,8 @@ pub struct CoatReport {
 
 /// Most distinct vertices a 3D mesh's hull is computed from: `bench mesh` measured a fit of
 /// 163,842 vertices at 1.7 s and 213 MB with it, where a finer mesh is streamed in about 22 MB
-/// (2026-11-28). Facets of a mesh that fine tip a ball by about 0.3° or less.
+/// (2026-11-28). Facets of a mesh that fine tip a ball by about half a degree or less (a UV
+/// sphere of 200,000 vertices: 0.43°).
 pub const MAX_HULL_VERTICES: usize = 200_000;
 
 /// Thickest coat accepted, as a fraction of ⟨r⟩.
@@ -297,6 +299,31 @@ pub fn coat(
     // The coated surface is the fitted body's, in the body's frame: the mesh's axis and
     // centroid are the original's; its 4,096-gon is the sampling's, so the hull reported is the
     // print's section offset by the coat (below), if the print has one.
+    // A printed ball's facets stay flat under a coat, moved out by it: its own hull's α* is
+    // read again for the coated print, and the mesh's other warnings are the original's.
+    let facets = "the mesh's hull has";
+    let mut warnings: Vec<String> = fit
+        .report
+        .warnings
+        .iter()
+        .filter(|w| !w.starts_with(facets))
+        .cloned()
+        .collect();
+    warnings.append(&mut coated.report.warnings);
+    if let Some(hull) = &fit.report.solid_hull {
+        let printed = hull.coated(coat_mm / hull.mm_per_unit);
+        warnings.extend(sphere::facet_warning(
+            hull,
+            printed,
+            coated.report.alpha_star,
+            hull.mm_per_unit,
+        ));
+        coated.report.solid_hull = Some(crate::geometry::solid_hull::SolidHull {
+            alpha_star: printed,
+            ..hull.clone()
+        });
+    }
+    coated.report.warnings = warnings;
     coated.report.axis = fit.report.axis;
     coated.report.section_axes = fit.report.section_axes;
     coated.report.centroid = fit.report.centroid;

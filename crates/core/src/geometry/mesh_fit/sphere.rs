@@ -431,14 +431,32 @@ fn printed_hull(
     if corners.len() > MAX_HULL_VERTICES {
         warnings.push(format!(
             "the mesh has over {MAX_HULL_VERTICES} distinct vertices: its own hull (the α* its \
-             facets give) is not computed; facets that fine tip a ball by about 0.3° or less"
+             facets give) is not computed; facets that fine tip a ball by about half a degree or \
+             less"
         ));
         return None;
     }
-    let hull = crate::geometry::solid_hull::solid_hull(corners, DVec3::ZERO)?;
-    let fitted = body.alpha_star();
-    if hull.alpha_star - fitted > FACET_TOLERANCE {
-        warnings.push(format!(
+    let mut hull = crate::geometry::solid_hull::solid_hull(corners, DVec3::ZERO)?;
+    hull.mm_per_unit = mm_per_unit;
+    warnings.extend(facet_warning(
+        &hull,
+        hull.alpha_star,
+        body.alpha_star(),
+        mm_per_unit,
+    ));
+    Some(hull)
+}
+
+/// The warning where a print's own α* (`printed`, rad: its hull's, or the coated hull's) is
+/// more than [`FACET_TOLERANCE`] above the smooth fit's (`fitted`).
+pub(super) fn facet_warning(
+    hull: &crate::geometry::solid_hull::SolidHull,
+    printed: f64,
+    fitted: f64,
+    mm_per_unit: f64,
+) -> Option<String> {
+    (printed - fitted > FACET_TOLERANCE).then(|| {
+        format!(
             "the mesh's hull has {} triangles, on which the printed body rests up to α = {:.4} \
              rad ({:.2}°), but the smooth fit's α* is {:.4} rad ({:.2}°): the fit does not see \
              the facets (up to {:.2} mm across; a printer reproduces facets wider than its \
@@ -446,15 +464,14 @@ fn printed_hull(
              may rest where they say it rolls; export a finer mesh, or use --ignore-facets for \
              a round part the mesh only approximates",
             hull.triangles,
-            hull.alpha_star,
-            hull.alpha_star.to_degrees(),
+            printed,
+            printed.to_degrees(),
             fitted,
             fitted.to_degrees(),
             hull.longest_edge * mm_per_unit,
-            hull.alpha_star
-        ));
-    }
-    Some(hull)
+            printed
+        )
+    })
 }
 
 /// The shape file's coefficients A_lm (m ≥ 0) of the real-basis fit `x` (mesh units), up to

@@ -376,13 +376,46 @@ pub fn harmonics_at(z: &[Complex64], period: f64) -> Option<HarmonicPeriod> {
     Some(error_of(&detrended, period, h, (&fit, slope)))
 }
 
-/// Gauss–Newton's standard errors of T and of the line's slope at the fit (z detrended by
-/// `slope` first), inflated for correlated residuals.
+/// ∂model/∂T at frame `tf` (`row` its basis row): ∂/∂T of x e^{i·2π·k·t/T} is
+/// x·(−i·2π·k·t/T²)·e^{…}, k = ±1 … ±H.
+fn period_derivative(
+    row: &[Complex64],
+    solution: &DVector<Complex64>,
+    h: usize,
+    tf: f64,
+    period: f64,
+) -> Complex64 {
+    let mut d = Complex64::new(0.0, 0.0);
+    for k in 0..h {
+        let factor = -std::f64::consts::TAU * (k + 1) as f64 * tf / (period * period);
+        d += Complex64::new(0.0, factor) * row[2 + 2 * k] * solution[2 + 2 * k];
+        d += Complex64::new(0.0, -factor) * row[3 + 2 * k] * solution[3 + 2 * k];
+    }
+    d
+}
+
+/// A residual's variance per frame in one coordinate, inflated by (1 + ρ)/(1 − ρ) for its
+/// lag-1 correlation ρ > 0, from its sum of squares `rr`, lagged products `lag` and `dof`.
+fn inflated_variance(rr: f64, lag: f64, dof: f64) -> f64 {
+    let rho = if rr > 0.0 { lag / rr } else { 0.0 };
+    let inflation = if rho > 0.0 {
+        (1.0 + rho) / (1.0 - rho).max(1e-6)
+    } else {
+        1.0
+    };
+    rr / dof.max(1.0) * inflation
+}
+
+/// Standard errors of T and of the line's slope at the fit (z detrended by `slope` first).
 ///
-/// The joint covariance of (coefficients, T) is σ²·J⁺ with J = [X, ∂model/∂T]; by the block
-/// inverse, T's variance is σ²/f with f = |∂model/∂T|² − pᴴG⁻¹p (p = Xᴴ∂model/∂T, G = XᴴX),
-/// a coefficient's is σ²·((G⁻¹)ₐₐ + (G⁻¹p)ₐ²/f) per real part, and its covariance with T is
-/// −σ²·(G⁻¹p)ₐ/f.
+/// Each estimate is a linear function of the residuals near the fit: δT = Re(fᴴε)/F, with
+/// f = (I − P)∂model/∂T the derivative less what the linear part absorbs and F = |f|², and
+/// δβ = G⁻¹Xᴴε − (G⁻¹Xᴴ∂model/∂T)·δT for the coefficients (G = XᴴX). Their variances are
+/// summed over the frames with each coordinate's own residual variance (down and across may be
+/// measured with different noise, or scaled differently: one shared variance put the better
+/// coordinate's error on the worse one), each inflated for its residuals' lag-1 correlation.
+/// With equal variances this is Gauss–Newton's σ²/F and σ²·((G⁻¹)ₐₐ + |gₐ|²/F).
+#[allow(clippy::too_many_lines)]
 fn error_of(
     z: &[Complex64],
     period: f64,
@@ -395,8 +428,9 @@ fn error_of(
     let omega = std::f64::consts::TAU / period;
     let mut row = vec![Complex64::new(0.0, 0.0); dim];
     let mut proj = DVector::<Complex64>::zeros(dim);
-    let (mut jj, mut rr, mut lag, mut previous) = (0.0, 0.0, 0.0, None::<Complex64>);
-    let mut power = 0.0;
+    let (mut jj, mut power) = (0.0, 0.0);
+    // Per coordinate (down, across): squares and lagged products of the residuals.
+    let (mut rr, mut lag, mut previous) = ([0.0f64; 2], [0.0f64; 2], None::<Complex64>);
     for (t, &v) in z.iter().enumerate() {
         let tf = t as f64;
         power += v.norm_sqr();
@@ -407,18 +441,14 @@ fn error_of(
             .map(|(b, x)| b * x)
             .sum();
         let r = v - model;
-        rr += r.norm_sqr();
+        rr[0] += r.re * r.re;
+        rr[1] += r.im * r.im;
         if let Some(p) = previous {
-            lag += (p.conj() * r).re;
+            lag[0] += p.re * r.re;
+            lag[1] += p.im * r.im;
         }
         previous = Some(r);
-        // ∂/∂T of x e^{i·2π·k·t/T} is x·(−i·2π·k·t/T²)·e^{…}, k = ±1 … ±H.
-        let mut d = Complex64::new(0.0, 0.0);
-        for k in 0..h {
-            let factor = -std::f64::consts::TAU * (k + 1) as f64 * tf / (period * period);
-            d += Complex64::new(0.0, factor) * row[2 + 2 * k] * fit.solution[2 + 2 * k];
-            d += Complex64::new(0.0, -factor) * row[3 + 2 * k] * fit.solution[3 + 2 * k];
-        }
+        let d = period_derivative(&row, &fit.solution, h, tf, period);
         jj += d.norm_sqr();
         for a in 0..dim {
             proj[a] += row[a].conj() * d;
@@ -428,15 +458,18 @@ fn error_of(
     let coupling = cholesky.as_ref().map(|ch| ch.solve(&proj));
     let explained = coupling.as_ref().map_or(0.0, |g| proj.dotc(g).re);
     let free = (jj - explained).max(f64::MIN_POSITIVE);
-    let dof = (2 * n) as f64 - (2 * dim + 1) as f64;
-    let per_component = rr / dof.max(1.0);
-    let rho = if rr > 0.0 { lag / rr } else { 0.0 };
+    let total = rr[0] + rr[1];
+    let rho = if total > 0.0 {
+        (lag[0] + lag[1]) / total
+    } else {
+        0.0
+    };
     let inflation = if rho > 0.0 {
         (1.0 + rho) / (1.0 - rho).max(1e-6)
     } else {
         1.0
     };
-    let residual_variance = rr / (n as f64 - dim as f64).max(1.0);
+    let residual_variance = total / (n as f64 - dim as f64).max(1.0);
     // Each coefficient's variance is σ²·(G⁻¹)ₐₐ; a harmonic's strength sums |x|²/var over its
     // two senses (Gamma(2, 1) under noise alone). A noiseless fit's σ² is round-off: floored.
     let noise = (residual_variance * inflation).max(ROUND_OFF * power / n as f64);
@@ -451,26 +484,70 @@ fn error_of(
             }
         }
     }
-    // A noiseless fit's error is round-off: floored (ERROR_FLOOR).
-    let error = (per_component / free * inflation)
-        .sqrt()
-        .max(ERROR_FLOOR * period);
-    // The slope is the ψ column's coefficient over s (ψ = (t − c)/s), plus the line taken out.
-    let velocity = slope + fit.solution[1] / s;
-    let variance = per_component * inflation;
-    let (g_11, g_1) = match (&cholesky, &coupling) {
-        (Some(ch), Some(g)) => {
+    // Each coordinate's residual variance (its share of the 2n − (2·dim + 1) degrees of freedom).
+    let dof = n as f64 - dim as f64 - 0.5;
+    let variance = [0, 1].map(|k| inflated_variance(rr[k], lag[k], dof));
+    // Second pass: each frame's weight in δT and in the slope's δβ₁ (real and imaginary parts),
+    // as coefficients of the residual's down and across parts.
+    let zero = Complex64::new(0.0, 0.0);
+    let g = coupling.unwrap_or_else(|| DVector::<Complex64>::zeros(dim));
+    let column = cholesky.as_ref().map_or_else(
+        || DVector::<Complex64>::zeros(dim),
+        |ch| {
             let mut unit = DVector::<Complex64>::zeros(dim);
             unit[1] = Complex64::new(1.0, 0.0);
-            (ch.solve(&unit)[1].re.max(0.0), g[1])
+            ch.solve(&unit)
+        },
+    );
+    let g1 = g[1];
+    // Sums of squares: [T][coordinate], [slope down][coordinate], [slope across][coordinate],
+    // and the slope's products with T.
+    let (mut t_sq, mut down_sq, mut across_sq) = ([0.0f64; 2], [0.0f64; 2], [0.0f64; 2]);
+    let (mut down_t, mut across_t) = ([0.0f64; 2], [0.0f64; 2]);
+    for t in 0..n {
+        let tf = t as f64;
+        basis_row(tf, c, s, omega, h, &mut row);
+        let d = period_derivative(&row, &fit.solution, h, tf, period);
+        let mut absorbed = zero;
+        let mut h_t = zero;
+        for a in 0..dim {
+            absorbed += row[a] * g[a];
+            // (G⁻¹)₁ₐ = conj((G⁻¹)ₐ₁): h_t = Σₐ (G⁻¹)₁ₐ conj(rowₐ).
+            h_t += (column[a] * row[a]).conj();
         }
-        _ => (f64::INFINITY, Complex64::new(0.0, 0.0)),
-    };
+        let f = d - absorbed;
+        let w_t = [f.re / free, f.im / free];
+        let w_down = [h_t.re - g1.re * w_t[0], -h_t.im - g1.re * w_t[1]];
+        let w_across = [h_t.im - g1.im * w_t[0], h_t.re - g1.im * w_t[1]];
+        for k in 0..2 {
+            t_sq[k] += w_t[k] * w_t[k];
+            down_sq[k] += w_down[k] * w_down[k];
+            across_sq[k] += w_across[k] * w_across[k];
+            down_t[k] += w_down[k] * w_t[k];
+            across_t[k] += w_across[k] * w_t[k];
+        }
+    }
+    let sum = |sq: [f64; 2]| variance[0] * sq[0] + variance[1] * sq[1];
+    // A noiseless fit's error is round-off: floored (ERROR_FLOOR).
+    let error = if cholesky.is_some() {
+        sum(t_sq).sqrt()
+    } else {
+        f64::INFINITY
+    }
+    .max(ERROR_FLOOR * period);
+    // The slope is the ψ column's coefficient over s (ψ = (t − c)/s), plus the line taken out.
+    let velocity = slope + fit.solution[1] / s;
     let floor = ERROR_FLOOR * velocity.norm();
-    let velocity_error = [g_1.re, g_1.im]
-        .map(|g| (variance * (g_11 + g * g / free)).sqrt() / s)
+    let velocity_error = [sum(down_sq), sum(across_sq)]
+        .map(|v| {
+            if cholesky.is_some() {
+                v.sqrt() / s
+            } else {
+                f64::INFINITY
+            }
+        })
         .map(|e| e.max(floor));
-    let velocity_period_covariance = [g_1.re, g_1.im].map(|g| -variance * g / free / s);
+    let velocity_period_covariance = [sum(down_t) / s, sum(across_t) / s];
     HarmonicPeriod {
         period_frames: period,
         error_frames: error,
