@@ -306,69 +306,14 @@ pub fn solid_hull(points: &[DVec3], centroid: DVec3) -> Option<SolidHull> {
 mod tests {
     use super::*;
 
-    /// An icosphere of `level` subdivisions (unit radius).
+    /// The vertices of the icosphere the STL export writes, of `level` subdivisions (unit
+    /// radius).
     fn icosphere(level: u32) -> Vec<DVec3> {
-        let t = (1.0 + 5f64.sqrt()) / 2.0;
-        let mut points: Vec<DVec3> = [
-            [-1.0, t, 0.0],
-            [1.0, t, 0.0],
-            [-1.0, -t, 0.0],
-            [1.0, -t, 0.0],
-            [0.0, -1.0, t],
-            [0.0, 1.0, t],
-            [0.0, -1.0, -t],
-            [0.0, 1.0, -t],
-            [t, 0.0, -1.0],
-            [t, 0.0, 1.0],
-            [-t, 0.0, -1.0],
-            [-t, 0.0, 1.0],
-        ]
-        .iter()
-        .map(|p| DVec3::from_array(*p).normalize())
-        .collect();
-        let mut faces: Vec<[usize; 3]> = vec![
-            [0, 11, 5],
-            [0, 5, 1],
-            [0, 1, 7],
-            [0, 7, 10],
-            [0, 10, 11],
-            [1, 5, 9],
-            [5, 11, 4],
-            [11, 10, 2],
-            [10, 7, 6],
-            [7, 1, 8],
-            [3, 9, 4],
-            [3, 4, 2],
-            [3, 2, 6],
-            [3, 6, 8],
-            [3, 8, 9],
-            [4, 9, 5],
-            [2, 4, 11],
-            [6, 2, 10],
-            [8, 6, 7],
-            [9, 8, 1],
-        ];
-        for _ in 0..level {
-            let mut cache = std::collections::HashMap::new();
-            let mut mid = |a: usize, b: usize, points: &mut Vec<DVec3>| {
-                *cache.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                    points.push(((points[a] + points[b]) / 2.0).normalize());
-                    points.len() - 1
-                })
-            };
-            faces = faces
-                .iter()
-                .flat_map(|&[a, b, c]| {
-                    let (ab, bc, ca) = (
-                        mid(a, b, &mut points),
-                        mid(b, c, &mut points),
-                        mid(c, a, &mut points),
-                    );
-                    [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
-                })
-                .collect();
-        }
-        points
+        crate::geometry::mesh::sphere_mesh(&crate::geometry::Sphere::perfect(), level)
+            .positions
+            .iter()
+            .map(|p| DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])))
+            .collect()
     }
 
     #[test]
