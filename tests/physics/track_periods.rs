@@ -421,6 +421,41 @@ fn turns_of_varying_time_never_make_a_multiple_of_the_period() {
     );
 }
 
+/// A slow drift under a large wobble is steady rolling: its windowed speed scatters by more than
+/// 15 % of itself, and a track advancing 1 unit a period under a wobble of 10 was cut to 1 % of
+/// its frames and refused ("repeats only over frames 451–451", a helper's finding). The
+/// windowed speeds' own scatter now sets the band where it is wider; the advance comes back.
+#[test]
+fn a_slow_drift_under_a_large_wobble_is_measured() {
+    for drift in [0.0, 0.01, 0.1] {
+        let mut rng = Noise(77);
+        let w = std::f64::consts::TAU / 40.0;
+        let frames: Vec<f64> = (0..800).map(f64::from).collect();
+        let down: Vec<f64> = frames
+            .iter()
+            .map(|&t| {
+                drift * t / 40.0 + (w * t).sin() + 0.3 * (2.0 * w * t).cos() + 0.005 * rng.normal()
+            })
+            .collect();
+        let across: Vec<f64> = frames
+            .iter()
+            .map(|&t| 0.6 * (w * t + 0.4).cos() + 0.005 * rng.normal())
+            .collect();
+        let (_, fit) = measure(&frames, &down, &across, &|_, _| {}).unwrap();
+        assert!(
+            (fit.period_frames - 40.0).abs() < 0.01,
+            "{drift}: {}",
+            fit.period_frames
+        );
+        let error = fit.advance_error.unwrap()[0];
+        assert!(
+            (fit.advance_down - drift).abs() < 4.0 * error,
+            "{drift}: {} ± {error}",
+            fit.advance_down
+        );
+    }
+}
+
 /// Down and across measured with different noise (a camera's two axes, or `--scale`'s two
 /// factors): each coordinate's error is its own. With one residual variance shared by both,
 /// noise 4 times larger down than across held the advance down 87 % of the time and across

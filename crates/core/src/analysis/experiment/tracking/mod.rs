@@ -342,7 +342,8 @@ pub fn clean(frames: &[f64], down: &[f64], across: &[f64]) -> Result<CleanTrack,
 
 /// The longest stretch of `track` whose speed down the ramp, averaged over a window of
 /// `window` frames (each point's displacement `window` frames later) centred on each frame, is
-/// within `tolerance` of the median: steady rolling,
+/// within `tolerance` of the median (or within four robust σ of the windowed speeds' own
+/// scatter, where that is wider): steady rolling,
 /// without the release or the end of the ramp. Over a window of one period the speed of a
 /// periodic motion is constant, so `tolerance` can then be tight; over a shorter window the
 /// speed-up and slow-down within a period show.
@@ -405,9 +406,17 @@ pub fn steady_stretch(
             "the body does not move down the ramp (median speed 0)".into(),
         ));
     }
+    // Steady within `tolerance` of the median, or within the windowed speeds' own scatter (4
+    // robust σ, from their median absolute deviation) where that is wider: a slow drift under
+    // a large wobble scatters its windowed speed by more than 15 % of itself, and a track that
+    // advanced 1 unit a period under a wobble of 10 was cut to 1 % of its frames and refused.
+    let mut deviations: Vec<f64> = speeds.iter().map(|v| (v - median).abs()).collect();
+    deviations.sort_by(f64::total_cmp);
+    let scatter = 4.0 * 1.4826 * deviations[deviations.len() / 2];
+    let allowed = (tolerance * median.abs()).max(scatter);
     let steady: Vec<bool> = speeds
         .iter()
-        .map(|v| ((v - median) / median).abs() <= tolerance)
+        .map(|v| (v - median).abs() <= allowed)
         .collect();
     let (mut best, mut run_start) = ((0, 0), None);
     for (s, &ok) in steady.iter().chain(std::iter::once(&false)).enumerate() {
@@ -458,7 +467,8 @@ pub fn steady_stretch(
 
 /// A raw track measured: [`clean`]ed, a first period found ([`find_period`] without the check
 /// against chance) on its middle 80 %, the track cut to its steady stretch over windows of that
-/// period (where steady rolling has a constant mean speed: within 15 %) and its ends cut where
+/// period (where steady rolling has a constant mean speed: within 15 %, or the windowed speeds'
+/// own scatter where that is wider) and its ends cut where
 /// they do not repeat one period apart, and the period found again on what is left, with every
 /// check. A period that holds over less than half of the usable frames is refused
 /// ([`TrackError::MostlyUnsteady`]). `progress` hears of the surrogates searched.
