@@ -12,11 +12,16 @@ use crate::analysis::experiment::tracking::table::TableFormat;
 /// (3 to 9 decimals), or the value to 3 decimals where no error is stated.
 fn with_error(value: f64, error: Option<f64>) -> String {
     match error.filter(|e| e.is_finite() && *e > 0.0) {
-        // An error under 1e-8 would print as zeros: both in scientific notation.
-        Some(e) if e < 1e-8 => format!("{value:.4e} ± {e:.1e}"),
         Some(e) => {
-            let digits = (1 - e.log10().floor() as i32).clamp(3, 9) as usize;
-            format!("{value:.digits$} ± {e:.digits$}")
+            // Two significant digits of the error need this many decimals; past 9 fixed
+            // notation prints the error as zeros, so both go to scientific notation.
+            let digits = 1 - e.log10().floor() as i32;
+            if digits > 9 {
+                format!("{value:.4e} ± {e:.1e}")
+            } else {
+                let digits = digits.max(3) as usize;
+                format!("{value:.digits$} ± {e:.digits$}")
+            }
         }
         None => format!("{value:.3}"),
     }

@@ -564,9 +564,8 @@ fn error_of(
 
 impl HarmonicPeriod {
     /// The advance per period, velocity × T (units of z, down + i·across), and its standard
-    /// errors (down, across) with `period_error` (frames) for T's: the one stated, which is
-    /// [`HarmonicPeriod::error_frames`] unless the caller reads the period another way. The
-    /// covariance of velocity and T enters only where that error is the regression's own.
+    /// errors (down, across): (T²σ_v² + v²σ_T² + 2Tv·cov)^½ with the regression's own σ_T
+    /// ([`HarmonicPeriod::error_frames`]) and its covariance with the velocity.
     ///
     /// # Example
     /// ```
@@ -580,23 +579,17 @@ impl HarmonicPeriod {
     ///     })
     ///     .collect();
     /// let fit = harmonic_period(&z, 12.4, 0.3).unwrap();
-    /// let (advance, errors) = fit.advance(fit.error_frames);
+    /// let (advance, errors) = fit.advance();
     /// assert!((advance.re - 5.0).abs() < 1e-6 && (advance.im + 0.125).abs() < 1e-6);
     /// assert!(errors[0] < 1e-6 && errors[1] < 1e-6);
     /// ```
-    pub fn advance(&self, period_error: f64) -> (Complex64, [f64; 2]) {
-        let t = self.period_frames;
+    pub fn advance(&self) -> (Complex64, [f64; 2]) {
+        let (t, e) = (self.period_frames, self.error_frames);
         let v = [self.velocity.re, self.velocity.im];
-        let own = (period_error - self.error_frames).abs() <= 1e-12 * self.error_frames;
         let errors = [0, 1].map(|k| {
-            let covariance = if own {
-                self.velocity_period_covariance[k]
-            } else {
-                0.0
-            };
             (t * t * self.velocity_error[k].powi(2)
-                + v[k] * v[k] * period_error * period_error
-                + 2.0 * t * v[k] * covariance)
+                + v[k] * v[k] * e * e
+                + 2.0 * t * v[k] * self.velocity_period_covariance[k])
                 .max(0.0)
                 .sqrt()
         });

@@ -277,10 +277,15 @@ impl ModelComparison {
     }
 }
 
+/// A step of the joint solve over this fraction of m/m0 is read for its secant: ten times the
+/// solve's own tolerance ([`SOLVE_TOLERANCE`]), since nearer steps differ by the predictions'
+/// noise as much as by the map.
+const SECANT_STEP: f64 = 10.0 * SOLVE_TOLERANCE;
+
 /// d ln(m/m0)/d ln T_s of the joint solve m = f(m) = ⟨r⟩T(m)²/(g T_s²): at its fixed point
 /// dm = f′dm − 2(m/T_s)dT_s, so −2/(1 − f′). f′ is a secant of the solve's own values (each the
 /// map of the one before: (m₂ − m₁)/(m₁ − m₀) = (f(m₁) − f(m₀))/(m₁ − m₀)), the last whose
-/// first step is over 1e-3 of m/m0 (nearer steps are the predictions' noise); 0 where no step
+/// first step is over [`SECANT_STEP`] of m/m0; 0 where no step
 /// is (the map barely depends on m/m0), and `None` where f′ ≥ 0.9 (a slow solve: the period
 /// then hardly fixes m/m0).
 fn solved_sensitivity(history: &[f64], inertial: bool) -> Option<f64> {
@@ -289,7 +294,7 @@ fn solved_sensitivity(history: &[f64], inertial: bool) -> Option<f64> {
         history
             .windows(3)
             .rev()
-            .find(|w| (w[1] - w[0]).abs() > 1e-3 * last)
+            .find(|w| (w[1] - w[0]).abs() > SECANT_STEP * last)
             .map_or(0.0, |w| (w[2] - w[1]) / (w[1] - w[0]))
     } else {
         0.0

@@ -376,15 +376,13 @@ fn motion(
     (tau, error, from): (f64, f64, ErrorSource),
     displaced: Complex64,
 ) -> Motion {
-    // Where the regression could be fitted, the advance is its velocity × T (the same fit);
-    // otherwise the mean displacement over one period, with no error.
+    // Where the regression states the period, the advance is its velocity × T (the same fit);
+    // otherwise the mean displacement over one period, with an error only where it was fitted.
     let (advance, advance_error) = match harmonic {
         Some(fit) if from == ErrorSource::Harmonics => {
-            let (a, e) = fit.advance(error);
+            let (a, e) = fit.advance();
             (a, Some(e))
         }
-        // The turns' times vary, and the period is the cycles' mean: the advance is the mean
-        // displacement over that period, with the slope's error and that period's.
         // The turns' times vary, and the period is the mean turn's: the advance is the mean
         // displacement over it, and its error the velocity's with the regression's own error of
         // this track's mean turn, not the stated error of the mean turn time (a body rolls the
@@ -393,7 +391,7 @@ fn motion(
         Some(fit) => {
             let mut at_cycles_mean = fit;
             at_cycles_mean.period_frames = tau;
-            (displaced, Some(at_cycles_mean.advance(fit.error_frames).1))
+            (displaced, Some(at_cycles_mean.advance().1))
         }
         None => (displaced, None),
     };
