@@ -415,7 +415,6 @@ fn inflated_variance(rr: f64, lag: f64, dof: f64) -> f64 {
 /// measured with different noise, or scaled differently: one shared variance put the better
 /// coordinate's error on the worse one), each inflated for its residuals' lag-1 correlation.
 /// With equal variances this is Gauss–Newton's σ²/F and σ²·((G⁻¹)ₐₐ + |gₐ|²/F).
-#[allow(clippy::too_many_lines)]
 fn error_of(
     z: &[Complex64],
     period: f64,
