@@ -18,7 +18,8 @@ use rollphase::dynamics::sphere3d::{DOWN, orientation_touching};
 use rollphase::dynamics::{Ramp, SphereInertial, SphereViscous};
 use rollphase::geometry::{Body, Sphere, random_disk, random_sphere};
 use rollphase::integrate::record::{self, replay};
-use rollphase::integrate::{self, Method, OdeSystem};
+use rollphase::integrate::run::{Flow, Run};
+use rollphase::integrate::{IntegrateError, Method, OdeSystem};
 
 fn default_sphere() -> Sphere {
     (1..)
@@ -30,18 +31,17 @@ fn default_sphere() -> Sphere {
 fn run_3d(s: &Sphere, alpha: f64) -> u64 {
     let model = SphereViscous::new(s, &Ramp::new(alpha, 0.0).expect("valid ramp"));
     let q0 = orientation_touching(s, DVec3::new(0.2, -0.5, 0.7).normalize(), 0.9);
-    let mut st = integrate::stepper(
+    let mut run = Run::new(
         &model,
         0.0,
         SphereViscous::initial_state(q0),
         Method::dop853(1e-10),
     )
     .expect("valid method");
-    while st.t() < 100.0 {
-        st.step(100.0).expect("integrates");
-    }
-    black_box(st.y());
-    st.stats().rhs_evals
+    run.until::<IntegrateError>(100.0, u64::MAX, |_| Ok(Flow::Continue))
+        .expect("integrates");
+    black_box(run.y());
+    run.stats().rhs_evals
 }
 
 /// The states a DOP853 run at rtol 1e-10 to t = `t_end` evaluates, in order.

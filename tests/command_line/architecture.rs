@@ -825,38 +825,6 @@ fn the_module_table_names_every_source_file_of_each_module() {
     assert!(checked >= 10, "{checked} modules checked");
 }
 
-/// One run loop: outside `integrate`, no code builds a stepper or takes a step itself; every
-/// trajectory is stepped by `integrate::run::Run::until` (or a loop of `integrate` built on it),
-/// so an observer added there is seen by every command, figure, the app and Python.
-#[test]
-fn no_code_outside_integrate_builds_or_steps_a_stepper() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let integrate = root.join("crates/core/src/integrate");
-    let mut files: Vec<PathBuf> = workspace_files().into_iter().map(|(_, f)| f).collect();
-    rust_files(&root.join("python/src"), &mut files);
-    let mut violations = Vec::new();
-    for file in files.iter().filter(|f| !f.starts_with(&integrate)) {
-        let text = code_only(&std::fs::read_to_string(file).unwrap());
-        for call in [
-            "integrate::stepper(",
-            "integrate::step_until(",
-            "Dop853::new(",
-            "FixedStep::new(",
-            "st.step(",
-            "stepper.step(",
-        ] {
-            if text.contains(call) {
-                violations.push(format!("{}: {call}", file.display()));
-            }
-        }
-    }
-    assert!(
-        violations.is_empty(),
-        "step through integrate::run::Run:\n{}",
-        violations.join("\n")
-    );
-}
-
 /// One model choice: which model a run gets is decided by `dynamics::models`
 /// (`ModelKind::of`, `for_dimension`, `asks_for_inertia`), never by an m/m0 compared with 0
 /// elsewhere (issue 44 found it in 29 places). The comparisons left compare a value, not a

@@ -9,7 +9,8 @@ use crate::cli::rollphase;
 use rollphase::analysis::critical_angle;
 use rollphase::dynamics::{DiskInertial, Ramp, RollingModel, Switched};
 use rollphase::geometry::{Body, Disk};
-use rollphase::integrate::{Method, step_until, stepper};
+use rollphase::integrate::run::{Flow, Run};
+use rollphase::integrate::{IntegrateError, Method};
 use rollphase::simulate::{InitialState, Model, Simulation, Trajectory, simulate};
 
 /// The authors' printed σ = 0.5 cylinder (their `num_modes = 8`: our `--modes 9`).
@@ -177,17 +178,17 @@ fn a_convex_body_runs_exactly_as_before() {
     let (tr, s) = simulate(&body, &sim).unwrap();
     assert!(s.hull.is_none());
     let model = DiskInertial::new(&disk, &Ramp::new(0.1, 2.0).unwrap());
-    let mut st = stepper(&model, 0.0, [0.0; 4], Method::dop853(1e-10)).unwrap();
-    step_until::<4, rollphase::integrate::IntegrateError>(st.as_mut(), 50.0, 1_000_000, |_| Ok(()))
+    let mut run = Run::new(&model, 0.0, [0.0; 4], Method::dop853(1e-10)).unwrap();
+    run.until::<IntegrateError>(50.0, 1_000_000, |_| Ok(Flow::Continue))
         .unwrap();
     let Trajectory::Disk(d) = tr else {
         unreachable!()
     };
-    assert_eq!(d.theta[1], st.y()[0]);
-    assert_eq!(d.theta_dot[1], st.y()[1]);
+    assert_eq!(d.theta[1], run.y()[0]);
+    assert_eq!(d.theta_dot[1], run.y()[1]);
     // The same steps (the run's evaluation count is larger: the contact force it follows
     // reads each step's dense output, whose stages DOP853 evaluates on demand).
-    assert_eq!(s.steps, st.stats().steps);
+    assert_eq!(s.steps, run.stats().steps);
 }
 
 #[test]

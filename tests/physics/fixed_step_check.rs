@@ -16,7 +16,8 @@ use rollphase::dynamics::sphere3d::{SphereInertial, SphereViscous, orientation_t
 use rollphase::geometry::sphere::direction;
 use rollphase::geometry::{Body, ShapeFile};
 use rollphase::integrate::rk4::FIXED_STEP_TOLERANCE;
-use rollphase::integrate::{IntegrateError, Method, OdeSystem, stepper};
+use rollphase::integrate::run::{Flow, Run};
+use rollphase::integrate::{IntegrateError, Method, OdeSystem};
 
 fn body(text: &str) -> Body {
     Body::from_shape(&ShapeFile::from_json(text).unwrap()).unwrap()
@@ -29,11 +30,13 @@ fn largest_estimate<S: OdeSystem<N>, const N: usize>(
     method: Method,
     t_end: f64,
 ) -> Result<f64, IntegrateError> {
-    let mut st = stepper(sys, 0.0, y0, method)?;
-    while st.t() < t_end {
-        st.step(t_end)?;
-    }
-    Ok(st.largest_error_estimate().expect("a fixed-step method"))
+    let mut run = Run::new(sys, 0.0, y0, method)?;
+    let mut largest = None;
+    run.until::<IntegrateError>(t_end, u64::MAX, |st| {
+        largest = st.largest_error_estimate();
+        Ok(Flow::Continue)
+    })?;
+    Ok(largest.expect("a fixed-step method that took a step"))
 }
 
 fn run_case(case: &Case, method: Method) -> Result<f64, IntegrateError> {

@@ -9,7 +9,8 @@ use rollphase::dynamics::sphere3d::orientation_touching;
 use rollphase::dynamics::{Ramp, SphereViscous};
 use rollphase::geometry::Body;
 use rollphase::integrate::events::{Direction, integrate_collecting};
-use rollphase::integrate::{self, Method, OdeSystem};
+use rollphase::integrate::run::{Flow, Run};
+use rollphase::integrate::{IntegrateError, Method, OdeSystem, Stepper};
 
 /// Harmonic oscillator x'' = −x: exact x = sin t, crossings at kπ.
 struct Oscillator;
@@ -33,11 +34,27 @@ fn final_state<S: OdeSystem<N>, const N: usize>(
     t_end: f64,
     method: Method,
 ) -> [f64; N] {
-    let mut st = integrate::stepper(sys, 0.0, y0, method).unwrap();
-    while st.t() < t_end {
-        st.step(t_end).unwrap();
-    }
-    *st.y()
+    let mut run = Run::new(sys, 0.0, y0, method).unwrap();
+    run.until::<IntegrateError>(t_end, u64::MAX, |_| Ok(Flow::Continue))
+        .unwrap();
+    *run.y()
+}
+
+/// Steps `sys` from `y0` to `t_end`, calling `visit` after every step.
+fn each_step<S: OdeSystem<N>, const N: usize>(
+    sys: &S,
+    y0: [f64; N],
+    t_end: f64,
+    method: Method,
+    mut visit: impl FnMut(&mut dyn Stepper<N>),
+) -> [f64; N] {
+    let mut run = Run::new(sys, 0.0, y0, method).unwrap();
+    run.until::<IntegrateError>(t_end, u64::MAX, |st| {
+        visit(st);
+        Ok(Flow::Continue)
+    })
+    .unwrap();
+    *run.y()
 }
 
 fn distance<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
@@ -113,36 +130,29 @@ fn cf4_keeps_the_quaternion_unit_without_projection() {
         unreachable!()
     };
     let model = SphereViscous::new(s, &Ramp::new(0.5, 0.0).unwrap());
-    let mut st = integrate::stepper(
-        &model,
-        0.0,
-        SphereViscous::initial_state(q0),
-        Method::Cf4 { dt: 0.2 },
-    )
-    .unwrap();
     let mut worst = 0.0f64;
-    while st.t() < 2000.0 {
-        st.step(2000.0).unwrap();
-        let y = st.y();
-        worst =
-            worst.max(((y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt() - 1.0).abs());
-    }
+    each_step(
+        &model,
+        SphereViscous::initial_state(q0),
+        2000.0,
+        Method::Cf4 { dt: 0.2 },
+        |st| {
+            let y = st.y();
+            worst = worst
+                .max(((y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt() - 1.0).abs());
+        },
+    );
     assert!(
         worst < 1e-13,
         "||q| − 1| reached {worst:e} over 10⁴ CF4 steps"
     );
     // RK4 on the same problem drifts off the unit sphere, which is why CF4 exists.
-    let mut st = integrate::stepper(
+    let y = final_state(
         &model,
-        0.0,
         SphereViscous::initial_state(q0),
+        2000.0,
         Method::Rk4 { dt: 0.2 },
-    )
-    .unwrap();
-    while st.t() < 2000.0 {
-        st.step(2000.0).unwrap();
-    }
-    let y = st.y();
+    );
     let rk4_drift = ((y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt() - 1.0).abs();
     assert!(
         rk4_drift > 100.0 * worst.max(1e-16),
@@ -177,10 +187,8 @@ fn dop853_global_error_tracks_its_tolerance() {
 
 #[test]
 fn dense_output_is_as_accurate_as_the_steps() {
-    let mut st = integrate::stepper(&Oscillator, 0.0, [0.0, 1.0], Method::dop853(1e-11)).unwrap();
     let mut worst = 0.0f64;
-    while st.t() < 30.0 {
-        st.step(30.0).unwrap();
+    each_step(&Oscillator, [0.0, 1.0], 30.0, Method::dop853(1e-11), |st| {
         let (a, b) = (st.t_prev(), st.t());
         for k in 1..8 {
             let t = a + (b - a) * k as f64 / 8.0;
@@ -189,7 +197,7 @@ fn dense_output_is_as_accurate_as_the_steps() {
                 .max((y[0] - t.sin()).abs())
                 .max((y[1] - t.cos()).abs());
         }
-    }
+    });
     assert!(worst < 1e-9, "dense output error {worst:e}");
 }
 
@@ -197,9 +205,9 @@ fn dense_output_is_as_accurate_as_the_steps() {
 fn events_are_located_on_the_dense_output() {
     // Ballistic: h(0) = 2, v(0) = 5: lands at t* = (5 + √(25 + 2·9.81·2))/9.81.
     let exact = (5.0 + (25.0f64 + 2.0 * 9.81 * 2.0).sqrt()) / 9.81;
-    let mut st = integrate::stepper(&Ballistic, 0.0, [2.0, 5.0], Method::dop853(1e-10)).unwrap();
+    let mut run = Run::new(&Ballistic, 0.0, [2.0, 5.0], Method::dop853(1e-10)).unwrap();
     let ev = integrate_collecting(
-        st.as_mut(),
+        &mut run,
         10.0,
         10_000,
         &|_t, y: &[f64; 2]| y[0],
@@ -216,9 +224,9 @@ fn events_are_located_on_the_dense_output() {
     // Oscillator: sin t crosses zero at kπ, rising at even k and falling at odd k; steps are
     // long (≈1) so the locator, not the step, sets the accuracy.
     for method in [Method::dop853(1e-10), Method::Rk4 { dt: 0.01 }] {
-        let mut st = integrate::stepper(&Oscillator, 0.0, [0.0, 1.0], method).unwrap();
+        let mut run = Run::new(&Oscillator, 0.0, [0.0, 1.0], method).unwrap();
         let ev = integrate_collecting(
-            st.as_mut(),
+            &mut run,
             20.0,
             100_000,
             &|_t, y: &[f64; 2]| y[0],

@@ -341,15 +341,18 @@ impl ContactWatch {
     /// use rollphase_core::dynamics::validity::{ContactLimits, ContactWatch};
     /// use rollphase_core::dynamics::{DiskInertial, Ramp, RollingModel};
     /// use rollphase_core::geometry::Disk;
-    /// use rollphase_core::integrate::{Method, stepper};
+    /// use rollphase_core::integrate::run::{Flow, Run};
+    /// use rollphase_core::integrate::{IntegrateError, Method};
     /// let disk = Disk::perfect();
     /// let model = DiskInertial::new(&disk, &Ramp::with_drag(0.3, 2.0, 0.0)?);
     /// let y0 = [0.0, 0.0, 0.0, 0.0];
     /// let mut watch = ContactWatch::new(ContactLimits::default(), 0.0, model.contact_force(&y0));
-    /// let mut st = stepper(&model, 0.0, y0, Method::dop853(1e-10))?;
-    /// st.step(5.0)?;
-    /// let end = (st.t(), *st.y());
-    /// watch.step_along(st.as_mut(), end, |y| model.contact_force(y));
+    /// let mut run = Run::new(&model, 0.0, y0, Method::dop853(1e-10))?;
+    /// run.until::<IntegrateError>(5.0, u64::MAX, |st| {
+    ///     let end = (st.t(), *st.y());
+    ///     watch.step_along(st, end, |y| model.contact_force(y));
+    ///     Ok(Flow::Continue)
+    /// })?;
     /// // A uniform disk rolling freely is pressed with cos α throughout.
     /// assert!((watch.report().min_normal_force - 0.3f64.cos()).abs() < 1e-12);
     /// # Ok::<(), Box<dyn std::error::Error>>(())

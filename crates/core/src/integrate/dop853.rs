@@ -233,29 +233,9 @@ pub struct Dop853<'a, S, const N: usize> {
 }
 
 impl<'a, S: OdeSystem<N>, const N: usize> Dop853<'a, S, N> {
-    /// Starts at (t0, y0); the first step is chosen by Hairer's heuristic.
-    ///
-    /// # Example
-    /// ```
-    /// use rollphase_core::integrate::dop853::Dop853;
-    /// use rollphase_core::integrate::{OdeSystem, Stepper};
-    /// struct Decay;
-    /// impl OdeSystem<1> for Decay {
-    ///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
-    ///         [-y[0]]
-    ///     }
-    /// }
-    /// let mut d = Dop853::new(&Decay, 0.0, [1.0], 1e-12, 1e-12);
-    /// while d.t() < 5.0 {
-    ///     d.step(5.0)?;
-    /// }
-    /// assert!((d.y()[0] - (-5.0f64).exp()).abs() < 1e-12);
-    /// // Dense output between the last two steps.
-    /// let mid = 0.5 * (d.t_prev() + d.t());
-    /// assert!((d.dense(mid)[0] - (-mid).exp()).abs() < 1e-12);
-    /// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
-    /// ```
-    pub fn new(system: &'a S, t0: f64, y0: [f64; N], rtol: f64, atol: f64) -> Self {
+    /// Starts at (t0, y0); the first step is chosen by Hairer's heuristic. Built only by
+    /// `integrate::stepper`, for a [`Run`](super::run::Run).
+    pub(super) fn new(system: &'a S, t0: f64, y0: [f64; N], rtol: f64, atol: f64) -> Self {
         let f0 = system.rhs(t0, &y0);
         let mut k = [[0.0; N]; 16];
         k[12] = f0;
@@ -282,7 +262,7 @@ impl<'a, S: OdeSystem<N>, const N: usize> Dop853<'a, S, N> {
 
     /// Takes up a stepper put down by [`Stepper::detach`] on `system` (`None` if it was not a
     /// DOP853 stepper of this state size).
-    pub(crate) fn attach(system: &'a S, d: &super::Detached) -> Option<Self> {
+    pub(super) fn attach(system: &'a S, d: &super::Detached) -> Option<Self> {
         let super::Method::Dop853 { rtol, atol } = d.method else {
             return None;
         };
@@ -445,6 +425,36 @@ impl<S: OdeSystem<N>, const N: usize> Stepper<N> for Dop853<'_, S, N> {
         &self.y_prev
     }
 
+    fn dense(&mut self, t: f64) -> [f64; N] {
+        let h = self.t - self.t_prev;
+        if h == 0.0 {
+            return self.y;
+        }
+        self.build_dense();
+        let x = (t - self.t_prev) / h;
+        let mut y = [0.0; N];
+        for (j, row) in self.poly.iter().rev().enumerate() {
+            let w = if j % 2 == 0 { x } else { 1.0 - x };
+            for i in 0..N {
+                y[i] = (y[i] + row[i]) * w;
+            }
+        }
+        for (yi, y0) in y.iter_mut().zip(&self.y_prev) {
+            *yi += y0;
+        }
+        // The interpolant's q projected as the steps' are (it moves by at most the
+        // interpolation error): a state read between steps, which the app shows and saves, is
+        // as much a rotation as one at a step's end.
+        self.project(&mut y);
+        y
+    }
+
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+}
+
+impl<S: OdeSystem<N>, const N: usize> super::Advance<N> for Dop853<'_, S, N> {
     fn step(&mut self, t_limit: f64) -> Result<(), IntegrateError> {
         let remaining = t_limit - self.t;
         if remaining <= 0.0 {
@@ -531,33 +541,5 @@ impl<S: OdeSystem<N>, const N: usize> Stepper<N> for Dop853<'_, S, N> {
             self.h = h * (SAFETY * err.powf(-1.0 / 8.0)).max(MIN_FACTOR);
             rejected_last = true;
         }
-    }
-
-    fn dense(&mut self, t: f64) -> [f64; N] {
-        let h = self.t - self.t_prev;
-        if h == 0.0 {
-            return self.y;
-        }
-        self.build_dense();
-        let x = (t - self.t_prev) / h;
-        let mut y = [0.0; N];
-        for (j, row) in self.poly.iter().rev().enumerate() {
-            let w = if j % 2 == 0 { x } else { 1.0 - x };
-            for i in 0..N {
-                y[i] = (y[i] + row[i]) * w;
-            }
-        }
-        for (yi, y0) in y.iter_mut().zip(&self.y_prev) {
-            *yi += y0;
-        }
-        // The interpolant's q projected as the steps' are (it moves by at most the
-        // interpolation error): a state read between steps, which the app shows and saves, is
-        // as much a rotation as one at a step's end.
-        self.project(&mut y);
-        y
-    }
-
-    fn stats(&self) -> Stats {
-        self.stats
     }
 }

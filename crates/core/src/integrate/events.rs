@@ -6,6 +6,7 @@
 //! 1e-13·max(1, |t|). The error of a located event is therefore the interpolant's error, not the
 //! step length.
 
+use super::run::{Flow, Run};
 use super::{IntegrateError, Stepper};
 use crate::numeric::roots::brent;
 
@@ -29,7 +30,8 @@ const PROBES: usize = 3;
 /// # Example
 /// ```
 /// use rollphase_core::integrate::events::{Direction, crossings_in_last_step};
-/// use rollphase_core::integrate::{Method, OdeSystem, stepper};
+/// use rollphase_core::integrate::run::{Flow, Run};
+/// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
 /// // The oscillator y'' = −y from (0, 1): y = sin t rises through 0 at t = 2π.
 /// struct Oscillator;
 /// impl OdeSystem<2> for Oscillator {
@@ -37,12 +39,12 @@ const PROBES: usize = 3;
 ///         [y[1], -y[0]]
 ///     }
 /// }
-/// let mut st = stepper(&Oscillator, 0.0, [0.0, 1.0], Method::dop853(1e-12))?;
+/// let mut run = Run::new(&Oscillator, 0.0, [0.0, 1.0], Method::dop853(1e-12))?;
 /// let mut rising = Vec::new();
-/// while st.t() < 7.0 {
-///     st.step(7.0)?;
-///     crossings_in_last_step(st.as_mut(), &|_t, y: &[f64; 2]| y[0], Direction::Rising, &mut rising);
-/// }
+/// run.until::<IntegrateError>(7.0, u64::MAX, |st| {
+///     crossings_in_last_step(st, &|_t, y: &[f64; 2]| y[0], Direction::Rising, &mut rising);
+///     Ok(Flow::Continue)
+/// })?;
 /// assert_eq!(rising.len(), 1);
 /// assert!((rising[0] - std::f64::consts::TAU).abs() < 1e-10);
 /// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
@@ -105,7 +107,8 @@ pub fn crossings_in_last_step<const N: usize>(
 /// # Example
 /// ```
 /// use rollphase_core::integrate::events::turns_in_last_step;
-/// use rollphase_core::integrate::{Method, OdeSystem, stepper};
+/// use rollphase_core::integrate::run::{Flow, Run};
+/// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
 /// // θ' = 1: whole turns at t = 2π, 4π.
 /// struct Spin;
 /// impl OdeSystem<1> for Spin {
@@ -114,12 +117,12 @@ pub fn crossings_in_last_step<const N: usize>(
 ///     }
 /// }
 /// let tau = std::f64::consts::TAU;
-/// let mut st = stepper(&Spin, 0.0, [0.0], Method::dop853(1e-12))?;
+/// let mut run = Run::new(&Spin, 0.0, [0.0], Method::dop853(1e-12))?;
 /// let (mut next, mut turns) = (tau, Vec::new());
-/// while st.t() < 13.0 {
-///     st.step(13.0)?;
-///     turns_in_last_step(st.as_mut(), 0, &mut next, tau, &mut turns);
-/// }
+/// run.until::<IntegrateError>(13.0, u64::MAX, |st| {
+///     turns_in_last_step(st, 0, &mut next, tau, &mut turns);
+///     Ok(Flow::Continue)
+/// })?;
 /// assert_eq!(turns.len(), 2);
 /// assert!((turns[1] - 2.0 * tau).abs() < 1e-9 && (next - 3.0 * tau).abs() < 1e-12);
 /// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
@@ -147,12 +150,13 @@ pub fn turns_in_last_step<const N: usize>(
     }
 }
 
-/// Integrates until `t_end` or until `stop(events_so_far)` says so, collecting crossings.
+/// Steps `run` until `t_end` or until `stop(events_so_far)` says so, collecting crossings.
 ///
 /// # Example
 /// ```
 /// use rollphase_core::integrate::events::{Direction, integrate_collecting};
-/// use rollphase_core::integrate::{Method, OdeSystem, stepper};
+/// use rollphase_core::integrate::run::Run;
+/// use rollphase_core::integrate::{Method, OdeSystem};
 /// struct Oscillator;
 /// impl OdeSystem<2> for Oscillator {
 ///     fn rhs(&self, _t: f64, y: &[f64; 2]) -> [f64; 2] {
@@ -160,14 +164,14 @@ pub fn turns_in_last_step<const N: usize>(
 ///     }
 /// }
 /// // Zeros of sin t in either direction, stopping at the third: π, 2π, 3π.
-/// let mut st = stepper(&Oscillator, 0.0, [0.0, 1.0], Method::dop853(1e-12))?;
-/// let zeros = integrate_collecting(st.as_mut(), 100.0, 100_000, &|_t, y: &[f64; 2]| y[0], Direction::Both, |e| e.len() >= 3)?;
+/// let mut run = Run::new(&Oscillator, 0.0, [0.0, 1.0], Method::dop853(1e-12))?;
+/// let zeros = integrate_collecting(&mut run, 100.0, 100_000, &|_t, y: &[f64; 2]| y[0], Direction::Both, |e| e.len() >= 3)?;
 /// assert_eq!(zeros.len(), 3);
-/// assert!((zeros[2] - 3.0 * std::f64::consts::PI).abs() < 1e-10 && st.t() < 100.0);
+/// assert!((zeros[2] - 3.0 * std::f64::consts::PI).abs() < 1e-10 && run.t() < 100.0);
 /// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
 /// ```
 pub fn integrate_collecting<const N: usize>(
-    stepper: &mut dyn Stepper<N>,
+    run: &mut Run<'_, N>,
     t_end: f64,
     max_steps: u64,
     g: &impl Fn(f64, &[f64; N]) -> f64,
@@ -175,13 +179,13 @@ pub fn integrate_collecting<const N: usize>(
     mut stop: impl FnMut(&[f64]) -> bool,
 ) -> Result<Vec<f64>, IntegrateError> {
     let mut events = Vec::new();
-    super::run::drive(stepper, t_end, max_steps, |st| {
+    run.until::<IntegrateError>(t_end, max_steps, |st| {
         let before = events.len();
         crossings_in_last_step(st, g, direction, &mut events);
-        Ok::<_, IntegrateError>(if events.len() > before && stop(&events) {
-            super::run::Flow::Stop
+        Ok(if events.len() > before && stop(&events) {
+            Flow::Stop
         } else {
-            super::run::Flow::Continue
+            Flow::Continue
         })
     })?;
     Ok(events)

@@ -1,10 +1,11 @@
 //! Time steppers for the rolling models, and the error control they need.
 //!
-//! Owns: the [`OdeSystem`] contract, the one stepping loop every run goes through ([`run`]),
+//! Owns: the [`OdeSystem`] contract, the one stepping loop every run goes through ([`run`]; no
+//! stepper can be built or stepped outside this module, see [`Stepper`]),
 //! fixed-step RK4 ([`rk4`]), adaptive DOP853 with 7th-order
 //! dense output ([`dop853`]), the commutator-free Lie-group RK4 step that keeps a unit
 //! quaternion on the unit sphere to round-off ([`lie`]), event location on dense output
-//! ([`events`]), uniform sampling of a trajectory, and recording the states a run evaluates
+//! ([`events`]), uniform sample times, and recording the states a run evaluates
 //! ([`record`], for timing a right-hand side as a run calls it). Imports only `std`, `glam` and `thiserror`.
 //!
 //! Why we wrote DOP853 ourselves: no maintained Rust crate offers DOP853 with dense output *and*
@@ -336,10 +337,10 @@ impl Detached {
 
 /// Takes up a [`Detached`] stepper on `system`; `None` when it was put down by a stepper of
 /// another state size.
-pub(crate) fn attach<'a, S, const N: usize>(
+fn attach<'a, S, const N: usize>(
     system: &'a S,
     detached: &Detached,
-) -> Option<Box<dyn Stepper<N> + 'a>>
+) -> Option<Box<dyn Advance<N> + 'a>>
 where
     S: OdeSystem<N>,
 {
@@ -355,7 +356,50 @@ where
     })
 }
 
-/// A one-step method advancing one trajectory, with an interpolant over its last step.
+/// The stepper of a run as an observer sees it after each accepted step: the state, the last
+/// step's interpolant and the work done. It has no way to take a step: only [`run::Run`] moves
+/// a trajectory (the one-loop rule, held by the compiler: the method that steps is on a trait
+/// private to `integrate`, and so are [`Dop853`](dop853::Dop853)'s and the fixed steps'
+/// constructors).
+///
+/// An observer that tried to step would not compile:
+/// ```compile_fail,E0599
+/// use rollphase_core::integrate::run::{Flow, Run};
+/// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem};
+/// struct Decay;
+/// impl OdeSystem<1> for Decay {
+///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+///         [-y[0]]
+///     }
+/// }
+/// let mut run = Run::new(&Decay, 0.0, [1.0], Method::dop853(1e-9)).unwrap();
+/// run.until::<IntegrateError>(1.0, u64::MAX, |st| {
+///     st.step(2.0)?; // no such method: an observer never moves the run
+///     Ok(Flow::Continue)
+/// });
+/// ```
+/// Nor would a stepper built outside a run:
+/// ```compile_fail,E0603
+/// use rollphase_core::integrate::{Method, OdeSystem, stepper};
+/// struct Decay;
+/// impl OdeSystem<1> for Decay {
+///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+///         [-y[0]]
+///     }
+/// }
+/// let _ = stepper(&Decay, 0.0, [1.0], Method::dop853(1e-9));
+/// ```
+/// ```compile_fail,E0624
+/// use rollphase_core::integrate::dop853::Dop853;
+/// use rollphase_core::integrate::OdeSystem;
+/// struct Decay;
+/// impl OdeSystem<1> for Decay {
+///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+///         [-y[0]]
+///     }
+/// }
+/// let _ = Dop853::new(&Decay, 0.0, [1.0], 1e-9, 1e-12);
+/// ```
 pub trait Stepper<const N: usize> {
     /// Current time.
     fn t(&self) -> f64;
@@ -365,8 +409,6 @@ pub trait Stepper<const N: usize> {
     fn t_prev(&self) -> f64;
     /// State at the start of the last accepted step.
     fn y_prev(&self) -> &[f64; N];
-    /// Takes one accepted step, never past `t_limit`.
-    fn step(&mut self, t_limit: f64) -> Result<(), IntegrateError>;
     /// State at `t` in `[t_prev, t]` from the interpolant of the last step.
     fn dense(&mut self, t: f64) -> [f64; N];
     /// Work done so far.
@@ -380,68 +422,20 @@ pub trait Stepper<const N: usize> {
     }
 }
 
-/// Steps `stepper` until it reaches `t_end`, within `max_steps` accepted steps, calling
-/// `after_step` after each one: [`run::Run::until`] for a stepper held elsewhere (the app's live
-/// run keeps its own across frames), with an observer that never ends the run early.
-///
-/// # Example
-/// ```
-/// use rollphase_core::integrate::{IntegrateError, Method, OdeSystem, step_until, stepper};
-/// struct Decay;
-/// impl OdeSystem<1> for Decay {
-///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
-///         [-y[0]]
-///     }
-/// }
-/// // Steps of about 0.1 reach t = 1 within 20; a budget of 3 is an error, not a silent stop.
-/// let mut st = stepper(&Decay, 0.0, [1.0], Method::Rk4 { dt: 0.1 })?;
-/// step_until::<1, IntegrateError>(st.as_mut(), 1.0, 20, |_| Ok(()))?;
-/// assert!((st.t() - 1.0).abs() < 1e-12);
-/// let mut short = stepper(&Decay, 0.0, [1.0], Method::Rk4 { dt: 0.1 })?;
-/// let e = step_until::<1, IntegrateError>(short.as_mut(), 1.0, 3, |_| Ok(()));
-/// assert!(matches!(e, Err(IntegrateError::TooManySteps { .. })));
-/// # Ok::<(), IntegrateError>(())
-/// ```
-pub fn step_until<const N: usize, E: From<IntegrateError>>(
-    stepper: &mut dyn Stepper<N>,
-    t_end: f64,
-    max_steps: u64,
-    mut after_step: impl FnMut(&mut dyn Stepper<N>) -> Result<(), E>,
-) -> Result<(), E> {
-    run::drive(stepper, t_end, max_steps, |st| {
-        after_step(st).map(|()| run::Flow::Continue)
-    })
-    .map(|_| ())
+/// The one thing an observer's [`Stepper`] cannot do: take a step. Private to `integrate`, so
+/// the only loop that calls it is [`run`]'s.
+trait Advance<const N: usize>: Stepper<N> {
+    /// Takes one accepted step, never past `t_limit`.
+    fn step(&mut self, t_limit: f64) -> Result<(), IntegrateError>;
 }
 
-/// Builds the stepper for `method` starting at (t0, y0).
-///
-/// ```
-/// use rollphase_core::integrate::{Method, OdeSystem, step_until, stepper};
-/// use rollphase_core::integrate::IntegrateError;
-/// // y' = −y from y(0) = 1: y(1) = e^−1.
-/// struct Decay;
-/// impl OdeSystem<1> for Decay {
-///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
-///         [-y[0]]
-///     }
-/// }
-/// let mut st = stepper(&Decay, 0.0, [1.0], Method::dop853(1e-12))?;
-/// let mut steps = 0;
-/// step_until::<1, IntegrateError>(st.as_mut(), 1.0, 1000, |_| {
-///     steps += 1;
-///     Ok(())
-/// })?;
-/// assert!((st.y()[0] - (-1.0f64).exp()).abs() < 1e-11);
-/// assert!(steps > 0);
-/// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
-/// ```
-pub fn stepper<'a, S, const N: usize>(
+/// Builds the stepper for `method` starting at (t0, y0): for [`run::Run::new`] alone.
+fn stepper<'a, S, const N: usize>(
     system: &'a S,
     t0: f64,
     y0: [f64; N],
     method: Method,
-) -> Result<Box<dyn Stepper<N> + 'a>, IntegrateError>
+) -> Result<Box<dyn Advance<N> + 'a>, IntegrateError>
 where
     S: OdeSystem<N>,
 {
@@ -454,43 +448,6 @@ where
         Method::Dop853 { rtol, atol } => Box::new(dop853::Dop853::new(system, t0, y0, rtol, atol)),
         Method::Cf4 { dt } => Box::new(rk4::FixedStep::new(system, rk4::Scheme::Cf4, t0, y0, dt)),
     })
-}
-
-/// Integrates to `t_end` and calls `visit(t, y)` at each of the `times` (ascending, within
-/// [t0, t_end]) from the dense output, so samples do not depend on where steps fall.
-///
-/// # Example
-/// ```
-/// use rollphase_core::integrate::{Method, OdeSystem, sample, stepper, uniform_times};
-/// struct Decay;
-/// impl OdeSystem<1> for Decay {
-///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
-///         [-y[0]]
-///     }
-/// }
-/// let mut st = stepper(&Decay, 0.0, [1.0], Method::dop853(1e-12))?;
-/// let mut seen = Vec::new();
-/// sample(st.as_mut(), &uniform_times(0.0, 2.0, 5), 10_000, |t, y| seen.push((t, y[0])))?;
-/// assert_eq!(seen.len(), 5);
-/// assert!(seen.iter().all(|(t, y)| (y - (-t).exp()).abs() < 1e-11));
-/// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
-/// ```
-pub fn sample<const N: usize>(
-    stepper: &mut dyn Stepper<N>,
-    times: &[f64],
-    max_steps: u64,
-    mut visit: impl FnMut(f64, &[f64; N]),
-) -> Result<(), IntegrateError> {
-    let mut samples = run::Samples::new(times);
-    samples.take(stepper, &mut visit);
-    let Some(&t_end) = times.last() else {
-        return Ok(());
-    };
-    run::drive(stepper, t_end, max_steps, |st| {
-        samples.take(st, &mut visit);
-        Ok::<_, IntegrateError>(run::Flow::Continue)
-    })
-    .map(|_| ())
 }
 
 /// `n` equally spaced times from `t0` to `t_end` inclusive (n ≥ 2), or just `[t_end]` for n = 1.

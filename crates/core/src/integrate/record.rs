@@ -5,7 +5,8 @@
 
 use std::cell::RefCell;
 
-use super::{IntegrateError, Method, OdeSystem, step_until, stepper};
+use super::run::{Flow, drive};
+use super::{IntegrateError, Method, OdeSystem, stepper};
 
 /// Wraps a system and keeps every state its right-hand side is called with.
 pub struct Recorder<'a, S, const N: usize> {
@@ -53,8 +54,10 @@ pub fn recorded_states<S: OdeSystem<N>, const N: usize>(
         states: RefCell::new(Vec::new()),
     };
     {
+        // The run's own stepper and loop, but not a `Run`: a recording is not a trajectory a
+        // command integrates, so it stays out of `runs_started`.
         let mut st = stepper(&recorder, 0.0, y0, method)?;
-        step_until::<N, IntegrateError>(&mut *st, t_end, u64::MAX, |_| Ok(()))?;
+        drive::<N, IntegrateError>(&mut *st, t_end, u64::MAX, |_| Ok(Flow::Continue))?;
     }
     Ok(recorder.states.into_inner())
 }

@@ -53,27 +53,9 @@ pub struct FixedStep<'a, S, const N: usize> {
 }
 
 impl<'a, S: OdeSystem<N>, const N: usize> FixedStep<'a, S, N> {
-    /// Starts at (t0, y0) with nominal step `dt`.
-    ///
-    /// # Example
-    /// ```
-    /// use rollphase_core::integrate::rk4::{FixedStep, Scheme};
-    /// use rollphase_core::integrate::{OdeSystem, Stepper};
-    /// struct Decay;
-    /// impl OdeSystem<1> for Decay {
-    ///     fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
-    ///         [-y[0]]
-    ///     }
-    /// }
-    /// let mut rk4 = FixedStep::new(&Decay, Scheme::Rk4, 0.0, [1.0], 0.1);
-    /// while rk4.t() < 1.0 {
-    ///     rk4.step(1.0)?;
-    /// }
-    /// // Fourth order: the error at t = 1 is ~h⁴/120 · e^−1.
-    /// assert!((rk4.y()[0] - (-1.0f64).exp()).abs() < 1e-6);
-    /// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
-    /// ```
-    pub fn new(system: &'a S, scheme: Scheme, t0: f64, y0: [f64; N], dt: f64) -> Self {
+    /// Starts at (t0, y0) with nominal step `dt`. Built only by `integrate::stepper`, for a
+    /// [`Run`](super::run::Run).
+    pub(super) fn new(system: &'a S, scheme: Scheme, t0: f64, y0: [f64; N], dt: f64) -> Self {
         let f = system.rhs(t0, &y0);
         Self {
             system,
@@ -97,7 +79,7 @@ impl<'a, S: OdeSystem<N>, const N: usize> FixedStep<'a, S, N> {
 impl<'a, S: OdeSystem<N>, const N: usize> FixedStep<'a, S, N> {
     /// Takes up a stepper put down by [`Stepper::detach`] on `system` (`None` if it was not a
     /// fixed-step stepper of this state size).
-    pub(crate) fn attach(system: &'a S, d: &super::Detached) -> Option<Self> {
+    pub(super) fn attach(system: &'a S, d: &super::Detached) -> Option<Self> {
         let scheme = match d.method {
             super::Method::Rk4 { .. } => Scheme::Rk4,
             super::Method::Cf4 { .. } => Scheme::Cf4,
@@ -184,6 +166,34 @@ impl<S: OdeSystem<N>, const N: usize> Stepper<N> for FixedStep<'_, S, N> {
     fn y_prev(&self) -> &[f64; N] {
         &self.y_prev
     }
+    fn dense(&mut self, t: f64) -> [f64; N] {
+        let h = self.t - self.t_prev;
+        if h == 0.0 {
+            return self.y;
+        }
+        let mut y = hermite(
+            &self.y_prev,
+            &self.f_prev,
+            &self.y,
+            &self.f,
+            h,
+            (t - self.t_prev) / h,
+        );
+        if let (Scheme::Cf4, Some(slot)) = (self.scheme, self.system.quaternion_slot()) {
+            let q = quat_at(&y, slot).normalize();
+            set_quat(&mut y, slot, q);
+        }
+        y
+    }
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+    fn largest_error_estimate(&self) -> Option<f64> {
+        Some(self.largest_estimate)
+    }
+}
+
+impl<S: OdeSystem<N>, const N: usize> super::Advance<N> for FixedStep<'_, S, N> {
     fn step(&mut self, t_limit: f64) -> Result<(), IntegrateError> {
         let h = super::fitted_step(t_limit - self.t, self.dt).min(t_limit - self.t);
         if h <= 0.0 {
@@ -237,30 +247,5 @@ impl<S: OdeSystem<N>, const N: usize> Stepper<N> for FixedStep<'_, S, N> {
         self.f = f_new;
         self.stats.steps += 1;
         Ok(())
-    }
-    fn dense(&mut self, t: f64) -> [f64; N] {
-        let h = self.t - self.t_prev;
-        if h == 0.0 {
-            return self.y;
-        }
-        let mut y = hermite(
-            &self.y_prev,
-            &self.f_prev,
-            &self.y,
-            &self.f,
-            h,
-            (t - self.t_prev) / h,
-        );
-        if let (Scheme::Cf4, Some(slot)) = (self.scheme, self.system.quaternion_slot()) {
-            let q = quat_at(&y, slot).normalize();
-            set_quat(&mut y, slot, q);
-        }
-        y
-    }
-    fn stats(&self) -> Stats {
-        self.stats
-    }
-    fn largest_error_estimate(&self) -> Option<f64> {
-        Some(self.largest_estimate)
     }
 }

@@ -13,7 +13,7 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::{IntegrateError, Method, OdeSystem, Stats, Stepper, stepper};
+use super::{Advance, IntegrateError, Method, OdeSystem, Stats, Stepper, stepper};
 
 /// Runs started in this process (every [`Run`] counts once): how many trajectories a command
 /// integrates, for `bench speed` (a relaxed counter: it never orders or moves a run).
@@ -51,7 +51,7 @@ pub enum Flow {
 
 /// One trajectory being stepped: the stepper for its method, from its start.
 pub struct Run<'a, const N: usize> {
-    stepper: Box<dyn Stepper<N> + 'a>,
+    stepper: Box<dyn Advance<N> + 'a>,
 }
 
 impl<'a, const N: usize> Run<'a, N> {
@@ -190,27 +190,6 @@ impl<'a, const N: usize> Run<'a, N> {
         self.stepper.t_prev()
     }
 
-    /// A run of a stepper built elsewhere (by [`super::stepper`]).
-    ///
-    /// # Example
-    /// ```
-    /// use rollphase_core::integrate::run::Run;
-    /// use rollphase_core::integrate::{Method, OdeSystem, stepper};
-    /// struct Still;
-    /// impl OdeSystem<1> for Still {
-    ///     fn rhs(&self, _t: f64, _y: &[f64; 1]) -> [f64; 1] {
-    ///         [0.0]
-    ///     }
-    /// }
-    /// let run = Run::from_stepper(stepper(&Still, 2.0, [3.0], Method::Rk4 { dt: 0.1 })?);
-    /// assert_eq!((run.t(), run.y()[0]), (2.0, 3.0));
-    /// # Ok::<(), rollphase_core::integrate::IntegrateError>(())
-    /// ```
-    pub fn from_stepper(stepper: Box<dyn Stepper<N> + 'a>) -> Self {
-        RUNS_STARTED.fetch_add(1, Ordering::Relaxed);
-        Run { stepper }
-    }
-
     /// Steps towards `t_end` (never past it) within `max_steps` more accepted steps (`u64::MAX`:
     /// no bound beyond the method's own), calling `observe` after each step. Returns
     /// [`Flow::Stop`] if the observer ended the run, [`Flow::Continue`] if it reached `t_end`.
@@ -314,7 +293,7 @@ impl<'a, const N: usize> Run<'a, N> {
 
 /// The loop itself: every accepted step of every run in the program is taken here.
 pub(super) fn drive<const N: usize, E: From<IntegrateError>>(
-    stepper: &mut dyn Stepper<N>,
+    stepper: &mut dyn Advance<N>,
     t_end: f64,
     max_steps: u64,
     mut observe: impl FnMut(&mut dyn Stepper<N>) -> Result<Flow, E>,

@@ -633,16 +633,19 @@ pub const MAX_SWITCHES: u64 = 1_000_000;
 /// ```
 /// use rollphase_core::dynamics::{DiskViscous, Ramp, RollingModel};
 /// use rollphase_core::geometry::Body;
-/// use rollphase_core::integrate::{Method, stepper};
+/// use rollphase_core::integrate::run::{Flow, Run};
+/// use rollphase_core::integrate::{IntegrateError, Method};
 /// use rollphase_core::simulate::locate_switch;
 /// // The printed σ = 0.5 cylinder rolls onto a flat of its hull within a few time units.
 /// let Body::Disk(disk) = Body::paper_disk(219, 0.5, 9)? else { unreachable!() };
 /// let model = DiskViscous::new(&disk, &Ramp::new(0.45, 0.0)?);
-/// let mut st = stepper(&model, 0.0, [4.5, 0.0], Method::dop853(1e-10))?;
-/// let (t, y) = loop {
-///     st.step(100.0)?;
-///     if let Some(found) = locate_switch(st.as_mut(), &model) { break found; }
-/// };
+/// let mut run = Run::new(&model, 0.0, [4.5, 0.0], Method::dop853(1e-10))?;
+/// let mut found = None;
+/// run.until::<IntegrateError>(100.0, u64::MAX, |st| {
+///     found = locate_switch(st, &model);
+///     Ok(if found.is_some() { Flow::Stop } else { Flow::Continue })
+/// })?;
+/// let (t, y) = found.expect("a switch within 100 time units");
 /// assert!(model.switching(&y).unwrap().abs() < 1e-9 && t > 0.0);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
