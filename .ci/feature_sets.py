@@ -13,12 +13,11 @@ import sys
 
 # What each of .ci/run's builds selects, and which edges it follows.
 BUILDS = {
-    "cargo test (default features)": ["-e", "normal,build,dev"],
-    "cargo build --no-default-features -p rollphase (the binary, no dev-dependencies)": [
-        "-e", "normal,build", "--no-default-features", "-p", "rollphase"],
-    "clippy --no-default-features --all-targets": [
+    "cargo test --all-targets (default features)": ["-e", "normal,build,dev"],
+    "cargo build --no-default-features --all-targets": [
         "-e", "normal,build,dev", "--no-default-features", "-p", "rollphase"],
-    "cargo clippy --workspace": ["-e", "normal,build,dev", "--workspace"],
+    "the binary without default features (no dev-dependencies)": [
+        "-e", "normal,build", "--no-default-features", "-p", "rollphase"],
     # The README's main job: the binary alone, without the dev-dependencies' features.
     "cargo run (the binary, no dev-dependencies)": ["-e", "normal,build", "-p", "rollphase"],
     "pip install ./python (rollphase-python alone)": [
