@@ -262,7 +262,7 @@ class ModelComparison(TypedDict):
     scale_mm: float
     mass_ratio_model: float
     mass_ratio: float
-    mass_ratio_from: Literal["period", "given"]
+    mass_ratio_from: Literal["period", "given", "viscous_period"]
     t0_s: float
     mass_ratio_from_speed: float
     t0_from_speed_s: float

@@ -237,8 +237,9 @@ pub fn measure_track<'py>(
 /// size is its scale_mm (from Body.from_mesh or a shape file), or `scale_mm=`. m/m0 and the
 /// time unit t0 are solved together so that the model's period in seconds is the measured one
 /// (m/m0 = ⟨r⟩/(g t0²), g = 9.81), unless `mass_ratio` is given (0: the viscous model, t0 from
-/// the period). Returns a dict (ModelComparison): mass_ratio, mass_ratio_from ("period" or
-/// "given"), mass_ratio_model (what the model ran at: 0 is viscous, used below 0.1), t0_s, the
+/// the period). Returns a dict (ModelComparison): mass_ratio, mass_ratio_from ("period";
+/// "given" for a mass_ratio > 0; "viscous_period" for mass_ratio = 0, where t0 and so m/m0 come
+/// from the period in the viscous model), mass_ratio_model (what the model ran at: 0 is viscous, used below 0.1), t0_s, the
 /// SI's speed estimate mass_ratio_from_speed = v²/(g⟨r⟩ sin²α) with the t0_from_speed_s and
 /// period_from_speed_s it implies, the predicted orbit nearest in advance (predicted_period_t0,
 /// predicted_period_s, predicted_advance_down_cm, predicted_advance_across_cm,

@@ -584,7 +584,9 @@ fn an_inertial_model_run_gives_back_its_mass_ratio_and_time_unit() {
 #[test]
 fn the_mass_ratio_error_is_the_periods_carried_through_the_solve() {
     use rollphase::analysis::experiment::prediction::{PredictOptions, predict};
-    use rollphase::analysis::experiment::tracking::model::{Measured, compare_with_model};
+    use rollphase::analysis::experiment::tracking::model::{
+        MassSource, Measured, compare_with_model,
+    };
     use rollphase::geometry::Body;
     let body = Body::paper_sphere(219, 0.25, 5).unwrap();
     let options = PredictOptions {
@@ -622,4 +624,20 @@ fn the_mass_ratio_error_is_the_periods_carried_through_the_solve() {
                 < 1e-12
         );
     }
+    // m/m0 = 0 asks for the viscous model: m/m0 is then the period's, not the user's (the JSON
+    // said "given" for it), with the viscous model's exact sensitivity −2.
+    let measured = Measured {
+        period_s: orbit.period * 0.2,
+        advance_down_cm: orbit.advance_down,
+        advance_across_cm: orbit.advance_across,
+    };
+    let viscous = compare_with_model(&body, 10.0, 0.15, &measured, Some(0.0), &options).unwrap();
+    assert_eq!(viscous.mass_ratio_from, MassSource::ViscousPeriod);
+    assert_eq!(viscous.period_sensitivity, Some(-2.0));
+    assert!((viscous.t0_s - 0.2).abs() < 1e-9, "t0 {}", viscous.t0_s);
+    let given = compare_with_model(&body, 10.0, 0.15, &measured, Some(2.5), &options).unwrap();
+    assert_eq!(
+        (given.mass_ratio_from, given.mass_ratio),
+        (MassSource::Given, 2.5)
+    );
 }

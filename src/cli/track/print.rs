@@ -104,11 +104,14 @@ pub(super) fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()>
             (MassSource::Period, false) => {
                 format!("m/m0 = {m_text} and t0 = {t0_text} s found together from the period")
             }
-            (MassSource::Given, true) => format!(
+            (MassSource::ViscousPeriod, true) => format!(
                 "t0 = {t0_text} s from the period, as --mass 0 asks, so m/m0 = {m_text} (errors \
                  from the period's alone)"
             ),
-            (MassSource::Given, false) => {
+            (MassSource::ViscousPeriod, false) => {
+                format!("t0 = {t0_text} s from the period, as --mass 0 asks, so m/m0 = {m_text}")
+            }
+            (MassSource::Given, _) => {
                 format!("m/m0 = {m_text} as given, so t0 = {t0_text} s")
             }
         };

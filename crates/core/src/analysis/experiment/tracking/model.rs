@@ -145,8 +145,12 @@ impl Measured {
 pub enum MassSource {
     /// Solved with t0 so that the model's period in seconds is the measured one.
     Period,
-    /// Given by the user (t0 then follows from it, or from the period in the viscous model).
+    /// Given by the user (m/m0 > 0): t0 follows from it.
     Given,
+    /// The viscous model was asked for (m/m0 = 0 given): t0 is the one that makes its period in
+    /// seconds the measured one, and m/m0 = ⟨r⟩/(g t0²) is what that t0 implies, so it comes
+    /// from the period, not from the user.
+    ViscousPeriod,
 }
 
 /// The measurement against the model's prediction for the same body.
@@ -473,7 +477,7 @@ pub fn compare_with_model_until(
             let t0 = measured.period_s / orbit.period;
             let implied = radius_m / (G * t0 * t0);
             sensitivity = Some(-2.0);
-            (p, orbit, 0.0, implied, t0, MassSource::Given)
+            (p, orbit, 0.0, implied, t0, MassSource::ViscousPeriod)
         }
         None => {
             let (mut p, mut orbit, _) = model_at(body, alpha, 0.0, (measured, cm), options, stop)?;
