@@ -115,6 +115,7 @@ class MeshFitReport(TypedDict):
     modes: int
     modes_rule: str
     scale_mm: float
+    scale_mm_error: Optional[float]
     size_mm: float
     centroid: List[float]
     axis: Optional[List[float]]
@@ -129,6 +130,9 @@ class MeshFitReport(TypedDict):
     degree_residuals: List[DegreeResidual]
     convex: bool
     alpha_star: float
+    alpha_star_error: Optional[float]
+    alpha_star_bias: Optional[float]
+    error_blocks: Optional[int]
     mesh_hull: Optional[SectionHull]
     solid_hull: Optional[SolidHull]
     warnings: List[str]

@@ -213,9 +213,11 @@ impl Body {
     }
 
     /// The mesh fit's report (a dict: rms_residual, rms_residual_mm, max_residual,
-    /// max_residual_mm, max_residual_at, l1_part, l1_offset_mm, scale_mm, modes, modes_rule,
-    /// degree_residuals, convex, alpha_star, warnings, …) for a body from Body.from_mesh;
-    /// None otherwise.
+    /// max_residual_mm, max_residual_at, l1_part, l1_offset_mm, scale_mm and its standard error
+    /// scale_mm_error, modes, modes_rule, degree_residuals, convex, alpha_star with
+    /// alpha_star_error and alpha_star_bias (how far the mesh's scatter raises a fit's α*),
+    /// error_blocks, warnings, …) for a body from Body.from_mesh; None otherwise. The errors are
+    /// None for a mesh too coarse to tell its scatter from its facets.
     #[getter]
     fn mesh_fit<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
         match &self.fit {

@@ -215,10 +215,18 @@ fn from_mesh(a: &ShapeArgs, mesh: &Path) -> Result<()> {
     Ok(())
 }
 
+/// `value` with `digits` decimals and its standard error where there is one, in `unit`.
+fn with_error(value: f64, error: Option<f64>, digits: usize, unit: &str) -> String {
+    match error {
+        Some(e) => format!("{value:.digits$} ± {e:.1e} {unit}"),
+        None => format!("{value:.digits$} {unit}"),
+    }
+}
+
 /// The fit's report for people.
 fn report_text(r: &crate::geometry::mesh_fit::FitReport) -> String {
     let mut out = format!(
-        "{} ({}, {} triangles): a {} body, ⟨r⟩ = {:.4} mm\n",
+        "{} ({}, {} triangles): a {} body, ⟨r⟩ = {}\n",
         r.file,
         r.format,
         r.triangles,
@@ -227,7 +235,7 @@ fn report_text(r: &crate::geometry::mesh_fit::FitReport) -> String {
         } else {
             "3D"
         },
-        r.scale_mm
+        with_error(r.scale_mm, r.scale_mm_error, 4, "mm")
     );
     if let (Some(axis), Some([e1, _])) = (r.axis, r.section_axes) {
         out += &format!(
@@ -256,13 +264,13 @@ fn report_text(r: &crate::geometry::mesh_fit::FitReport) -> String {
         r.l1_offset_mm
     );
     out += &format!(
-        "  {}, α* = {:.6} rad",
+        "  {}, α* = {}",
         if r.convex {
             "strictly convex"
         } else {
             "not convex"
         },
-        r.alpha_star
+        with_error(r.alpha_star, r.alpha_star_error, 6, "rad")
     );
     if let Some(hull) = &r.mesh_hull {
         out += &format!(
@@ -276,6 +284,18 @@ fn report_text(r: &crate::geometry::mesh_fit::FitReport) -> String {
             hull.triangles, hull.alpha_star
         );
     }
+    out += &match (r.error_blocks, r.alpha_star_bias) {
+        (Some(blocks), Some(bias)) => format!(
+            "\n  ± one standard error, from the mesh's scatter about the fit ({blocks} blocks of \
+             nearby triangles; facets are not scatter, and the hull above is what they do); the \
+             scatter raises a fit's α* by {bias:.1e} rad on average, so the surface's is nearer \
+             {:.6} rad",
+            r.alpha_star - bias
+        ),
+        _ => "\n  no errors stated: the mesh is too coarse for its scatter to be told from its \
+              facets"
+            .to_string(),
+    };
     if let Some(c) = &r.coat {
         out += &format!(
             "\n  coated with {} mm: ⟨r⟩ {:.4} → {:.4} mm ({:+.2} %), α* {:.6} → {:.6} rad ({:+.2} %); \

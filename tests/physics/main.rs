@@ -31,6 +31,7 @@ mod fixed_step_check;
 mod geometry_laws;
 mod integrator_order;
 mod library_use;
+mod mesh_errors;
 mod mesh_import;
 mod paper_bodies;
 mod paper_equations;

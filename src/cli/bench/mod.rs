@@ -141,6 +141,10 @@ pub struct CalibrationBenchArgs {
     /// Bootstrap resamples of each of those fits (`fit-lag --bootstrap`).
     #[arg(long, default_value_t = 100)]
     pub lag_bootstrap: usize,
+    /// Noisy meshes per case for the mesh fit's table, 10 to 10000, or 0 to skip it (a mesh of
+    /// 81,920 triangles takes about a second to fit).
+    #[arg(long, default_value_t = 200)]
+    pub mesh_draws: usize,
 }
 
 /// Options of `bench track`.

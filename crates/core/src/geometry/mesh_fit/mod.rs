@@ -34,8 +34,11 @@ use super::facets::{MAX_PRINTED_CORNERS, PrintedSection, SectionHull, section_hu
 use super::mesh_read::{MeshError, MeshFormat, MeshSource};
 use super::{Body, DiskMode, MAX_SPHERE_L, ShapeFile, SphereCoeff};
 
+mod errors;
 mod section;
 mod sphere;
+
+pub use errors::{ALPHA_DRAWS, BLOCK_EDGES, MIN_BLOCKS_PER_COEFFICIENT};
 
 pub use sphere::real_harmonics;
 
@@ -123,6 +126,13 @@ pub struct FitReport {
     pub modes_rule: String,
     /// ⟨r⟩ in mm: the mean radius about the centroid over directions.
     pub scale_mm: f64,
+    /// The standard error of `scale_mm` (mm) from the mesh's scatter about the fit (a scan's
+    /// noise, a print's roughness), its correlation between neighbouring triangles included
+    /// (`errors`: blocks [`BLOCK_EDGES`] edges a side); `None` where the mesh makes fewer than
+    /// [`MIN_BLOCKS_PER_COEFFICIENT`] blocks a coefficient fitted (a coarse mesh's large
+    /// triangles are facets, not noise). It leaves out the facets (see the hulls) and any error
+    /// in millimetres per mesh unit.
+    pub scale_mm_error: Option<f64>,
     /// The volume (3D, mm³) or the section's area (2D, mm²).
     pub size_mm: f64,
     /// The centroid in the mesh's coordinates (mesh units).
@@ -153,6 +163,15 @@ pub struct FitReport {
     pub convex: bool,
     /// α* of the fitted body (rad), atan max |∇ ln r|.
     pub alpha_star: f64,
+    /// Its standard error (rad), from the same scatter: the spread of α* over coefficient
+    /// vectors drawn with the fit's covariance; `None` with `scale_mm_error`.
+    pub alpha_star_error: Option<f64>,
+    /// How far the scatter raises the fit's α* on average (rad; the maximum of a noisy slope is
+    /// biased up): the surface the mesh scatters about has α* ≈ `alpha_star` − this, within
+    /// `alpha_star_error`. The body written is the fit's, with `alpha_star`.
+    pub alpha_star_bias: Option<f64>,
+    /// The blocks of nearby samples the errors were estimated from (`None`: too few).
+    pub error_blocks: Option<usize>,
     /// 2D: the section's own convex hull, its flat sides and the α* they give (what the
     /// printed prism rests up to, π/N for a regular N-gon), beside the smooth fit's
     /// `alpha_star` (its longest side in the mesh's units); a warning says when the two differ
@@ -324,6 +343,12 @@ pub fn coat(
         });
     }
     coated.report.warnings = warnings;
+    // The coat is taken as exact: the uncertainty is the fitted mesh's, carried over (the
+    // refit of the coated smooth surface has no scatter of its own to measure).
+    coated.report.scale_mm_error = fit.report.scale_mm_error;
+    coated.report.alpha_star_error = fit.report.alpha_star_error;
+    coated.report.alpha_star_bias = fit.report.alpha_star_bias;
+    coated.report.error_blocks = fit.report.error_blocks;
     coated.report.axis = fit.report.axis;
     coated.report.section_axes = fit.report.section_axes;
     coated.report.centroid = fit.report.centroid;

@@ -259,6 +259,7 @@ pub(super) fn fit_section(
         ));
     }
     let alpha_star = body.alpha_star();
+    let errors = errors::section_errors(&radius, (mean, &b, &c), modes as usize, rel.len());
     let mesh_hull = section_hull(&corners);
     if let Some(hull) = mesh_hull.filter(|h| (h.alpha_star - alpha_star).abs() > FACET_TOLERANCE) {
         warnings.push(format!(
@@ -288,6 +289,7 @@ pub(super) fn fit_section(
         modes,
         modes_rule: rule,
         scale_mm,
+        scale_mm_error: errors.map(|e| e.mean * options.mm_per_unit),
         size_mm: area * options.mm_per_unit.powi(2),
         centroid: (c3 + centre[0] * e1 + centre[1] * e2).to_array(),
         axis: Some(axis.to_array()),
@@ -302,6 +304,9 @@ pub(super) fn fit_section(
         degree_residuals,
         convex,
         alpha_star,
+        alpha_star_error: errors.map(|e| e.alpha_star),
+        alpha_star_bias: errors.map(|e| e.alpha_star_bias),
+        error_blocks: errors.map(|e| e.blocks),
         mesh_hull,
         solid_hull: None,
         warnings,

@@ -380,6 +380,9 @@ pub(super) fn fit_sphere(
             ),
         ));
     }
+    let errors = errors::sphere_errors(&samples, x, modes, total, |xs| {
+        crate::geometry::Sphere::new(sphere_coeffs(xs, modes, xs[0] * (0.25 / PI).sqrt()))
+    });
     let solid_hull = printed_hull(
         &corners,
         (collect, options.mm_per_unit),
@@ -394,6 +397,7 @@ pub(super) fn fit_sphere(
         modes,
         modes_rule: rule,
         scale_mm,
+        scale_mm_error: errors.map(|e| e.mean * options.mm_per_unit),
         size_mm: totals.volume.abs() * options.mm_per_unit.powi(3),
         centroid: c.to_array(),
         axis: None,
@@ -408,6 +412,9 @@ pub(super) fn fit_sphere(
         degree_residuals,
         convex: true,
         alpha_star: body.alpha_star(),
+        alpha_star_error: errors.map(|e| e.alpha_star),
+        alpha_star_bias: errors.map(|e| e.alpha_star_bias),
+        error_blocks: errors.map(|e| e.blocks),
         mesh_hull: None,
         solid_hull,
         warnings,

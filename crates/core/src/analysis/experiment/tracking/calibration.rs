@@ -141,7 +141,7 @@ pub fn synthetic_track_and_advance(case: &TrackCase, seed: u64) -> (CleanTrack, 
 }
 
 /// Coverage of (estimate, error, truth) triples.
-fn coverage(triples: &[(f64, f64, f64)]) -> Coverage {
+pub(crate) fn coverage(triples: &[(f64, f64, f64)]) -> Coverage {
     let n = triples.len();
     if n == 0 {
         return Coverage {
