@@ -284,16 +284,27 @@ fn report_text(r: &crate::geometry::mesh_fit::FitReport) -> String {
             hull.triangles, hull.alpha_star
         );
     }
-    out += &match (r.error_blocks, r.alpha_star_bias) {
-        (Some(blocks), Some(bias)) => format!(
+    out += &match (r.error_blocks, r.alpha_star_error, r.alpha_star_bias) {
+        (Some(blocks), Some(_), Some(bias)) => format!(
             "\n  ± one standard error, from the mesh's scatter about the fit ({blocks} blocks of \
              nearby triangles; facets are not scatter, and the hull above is what they do); the \
              scatter raises a fit's α* by {bias:.1e} rad on average, so the surface's is nearer \
              {:.6} rad",
-            r.alpha_star - bias
+            (r.alpha_star - bias).max(0.0)
         ),
-        _ => "\n  no errors stated: the mesh is too coarse for its scatter to be told from its \
-              facets"
+        (Some(blocks), _, _) if r.coat.is_some() => format!(
+            "\n  ⟨r⟩ ± one standard error, from the mesh's scatter about the fit ({blocks} blocks \
+             of nearby triangles); α*'s error is not carried through the coat"
+        ),
+        (Some(blocks), _, _) => format!(
+            "\n  ⟨r⟩ ± one standard error, from the mesh's scatter about the fit ({blocks} blocks \
+             of nearby triangles); α* has none: the scatter raises a fit's α* by over half its \
+             spread, so the slope's maximum is not resolved (several near-equal maxima, or a \
+             body near round)"
+        ),
+        _ => "\n  no errors stated: the mesh makes fewer than 3 blocks of nearby triangles per \
+              coefficient fitted (a mesh too coarse for its scatter to be told from its facets, \
+              or a degree too high for it: a lower --modes may give them)"
             .to_string(),
     };
     if let Some(c) = &r.coat {

@@ -87,6 +87,9 @@ pub struct MeshCalibration {
     pub draws: usize,
     /// Fits that stated no errors (too few blocks) or failed.
     pub without_errors: usize,
+    /// Fits with an error of ⟨r⟩ but none of α* (its bias over
+    /// [`crate::geometry::mesh_fit::MAX_ALPHA_BIAS`] errors).
+    pub alpha_without_error: usize,
     /// ⟨r⟩ (mesh units: the body's ⟨r⟩ is about 1) and its stated error.
     pub scale: Coverage,
     /// α* less its stated bias (rad), and its stated error.
@@ -238,7 +241,7 @@ pub fn calibrate_mesh_case(
     let with_errors: Vec<&FitReport> = fits
         .iter()
         .flatten()
-        .filter(|r| r.scale_mm_error.is_some() && r.alpha_star_error.is_some())
+        .filter(|r| r.scale_mm_error.is_some())
         .collect();
     let triples = |pick: &dyn Fn(&FitReport) -> (f64, Option<f64>), truth: f64| {
         with_errors
@@ -259,6 +262,10 @@ pub fn calibrate_mesh_case(
         case: *case,
         draws,
         without_errors: draws - with_errors.len(),
+        alpha_without_error: with_errors
+            .iter()
+            .filter(|r| r.alpha_star_error.is_none())
+            .count(),
         scale: coverage(&triples(
             &|r| (r.scale_mm, r.scale_mm_error),
             truth.scale_mm,
