@@ -1,14 +1,13 @@
 //! The mesh fit's stated errors of ⟨r⟩ and α*: calibrated on noisy icospheres of a known body
 //! (the stated ±1.96σ holds the noiseless fit about 95 % of the time), none stated for a mesh too
-//! coarse to tell scatter from facets, and printed by `shape --from-mesh`.
+//! coarse to tell scatter from facets. No test here starts the binary (`.ci/run` runs the
+//! modules that do a second time, against the binary without default features): how `shape
+//! --from-mesh` prints the errors is `mesh_import::shape_prints_and_writes_the_errors`.
 
 use rollphase::analysis::experiment::mesh_calibration::{
     MeshCase, calibrate_mesh_case, calibration_body, noisy_mesh,
 };
 use rollphase::geometry::mesh_fit::{FitOptions, fit_mesh};
-use serde_json::Value;
-
-use crate::cli::{data, rollphase, scratch};
 
 #[test]
 fn stated_errors_hold_the_truth_about_95_percent_of_the_time() {
@@ -87,37 +86,6 @@ fn a_coarse_mesh_states_no_errors_and_an_exact_one_tiny_ones() {
     assert!(exact.error_blocks.unwrap() > 500);
     // The bias is a fraction of the error: noise has none to add.
     assert!(exact.alpha_star_bias.unwrap().abs() < exact.alpha_star_error.unwrap());
-}
-
-#[test]
-fn shape_prints_and_writes_the_errors() {
-    let dir = scratch("mesh-errors");
-    std::fs::create_dir_all(&dir).unwrap();
-    let report = dir.join("fit.json");
-    let out = rollphase([
-        "shape",
-        "--from-mesh",
-        data("printed-sphere.stl").to_str().unwrap(),
-        "-o",
-        dir.join("body.json").to_str().unwrap(),
-        "--report",
-        report.to_str().unwrap(),
-    ]);
-    assert!(out.status.success(), "{out:?}");
-    let v: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
-    let (scale_error, alpha_error) = (
-        v["scale_mm_error"].as_f64().unwrap(),
-        v["alpha_star_error"].as_f64().unwrap(),
-    );
-    assert!(scale_error > 0.0 && alpha_error > 0.0 && v["error_blocks"].as_u64().unwrap() > 20);
-    // The report for people is on standard error.
-    let text = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        text.contains(&format!("± {scale_error:.1e} mm"))
-            && text.contains(&format!("± {alpha_error:.1e} rad"))
-            && text.contains("one standard error"),
-        "{text}"
-    );
 }
 
 #[test]

@@ -1640,3 +1640,34 @@ fn an_exported_spheres_facets_are_said_and_halve_with_each_detail() {
         "fit {printed} against the note's {said}"
     );
 }
+
+#[test]
+fn shape_prints_and_writes_the_errors() {
+    let dir = scratch("mesh-errors");
+    std::fs::create_dir_all(&dir).unwrap();
+    let report = dir.join("fit.json");
+    let out = rollphase([
+        "shape",
+        "--from-mesh",
+        data("printed-sphere.stl").to_str().unwrap(),
+        "-o",
+        dir.join("body.json").to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    let v: Value = serde_json::from_slice(&std::fs::read(&report).unwrap()).unwrap();
+    let (scale_error, alpha_error) = (
+        v["scale_mm_error"].as_f64().unwrap(),
+        v["alpha_star_error"].as_f64().unwrap(),
+    );
+    assert!(scale_error > 0.0 && alpha_error > 0.0 && v["error_blocks"].as_u64().unwrap() > 20);
+    // The report for people is on standard error.
+    let text = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        text.contains(&format!("± {scale_error:.1e} mm"))
+            && text.contains(&format!("± {alpha_error:.1e} rad"))
+            && text.contains("one standard error"),
+        "{text}"
+    );
+}
