@@ -173,6 +173,7 @@ impl Body {
             axis: axis.map(DVec3::from_array),
             mm_per_unit,
             ignore_facets,
+            errors: true,
         };
         let fit = py
             .detach(|| {

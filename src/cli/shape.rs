@@ -159,6 +159,7 @@ fn from_mesh(a: &ShapeArgs, mesh: &Path) -> Result<()> {
         axis,
         mm_per_unit: a.mm_per_unit,
         ignore_facets: a.ignore_facets,
+        errors: true,
     };
     if let Some(c) = a.coat_mm
         && !(c.is_finite() && c > 0.0)

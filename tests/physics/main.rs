@@ -33,6 +33,7 @@ mod integrator_order;
 mod library_use;
 mod mesh_errors;
 mod mesh_import;
+mod mesh_prisms;
 mod paper_bodies;
 mod paper_equations;
 mod perfect_bodies;

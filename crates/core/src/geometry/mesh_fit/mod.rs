@@ -60,6 +60,11 @@ pub struct FitOptions {
     /// (the body then rolls on its smooth fit, not on the print's outline). 3D: compute no
     /// `solid_hull` and give no facet warning.
     pub ignore_facets: bool,
+    /// Compute the errors of ⟨r⟩ and α* ([`BLOCK_EDGES`], [`ALPHA_DRAWS`]); `false` leaves them
+    /// `None`. The α* bootstrap is [`ALPHA_DRAWS`] α* searches, most of a fit's time at high
+    /// degrees: a caller that reads only the fit itself (a coat's refit, a sweep of test
+    /// meshes) skips it.
+    pub errors: bool,
 }
 
 impl Default for FitOptions {
@@ -70,6 +75,7 @@ impl Default for FitOptions {
             axis: None,
             mm_per_unit: 1.0,
             ignore_facets: false,
+            errors: true,
         }
     }
 }
@@ -274,6 +280,8 @@ pub fn coat(
                 modes: Some(fit.report.modes),
                 // Its icosphere is the sampling, not facets of the print.
                 ignore_facets: true,
+                // The coat's errors are the fitted mesh's (below).
+                errors: false,
                 ..FitOptions::default()
             },
         ),
@@ -286,6 +294,7 @@ pub fn coat(
                 axis: Some(-DVec3::Y),
                 // Its 4,096-gon is the export's sampling, not facets of the print.
                 ignore_facets: true,
+                errors: false,
                 ..FitOptions::default()
             },
         ),

@@ -259,7 +259,10 @@ pub(super) fn fit_section(
         ));
     }
     let alpha_star = body.alpha_star();
-    let errors = errors::section_errors(&radius, (mean, &b, &c), modes as usize, rel.len());
+    let errors = options
+        .errors
+        .then(|| errors::section_errors(&radius, (mean, &b, &c), modes as usize, rel.len()))
+        .flatten();
     let mesh_hull = section_hull(&corners);
     if let Some(hull) = mesh_hull.filter(|h| (h.alpha_star - alpha_star).abs() > FACET_TOLERANCE) {
         warnings.push(format!(

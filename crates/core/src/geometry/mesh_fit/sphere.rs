@@ -380,9 +380,14 @@ pub(super) fn fit_sphere(
             ),
         ));
     }
-    let errors = errors::sphere_errors(&samples, x, modes, total, |xs| {
-        crate::geometry::Sphere::new(sphere_coeffs(xs, modes, xs[0] * (0.25 / PI).sqrt()))
-    });
+    let errors = options
+        .errors
+        .then(|| {
+            errors::sphere_errors(&samples, x, modes, total, |xs| {
+                crate::geometry::Sphere::new(sphere_coeffs(xs, modes, xs[0] * (0.25 / PI).sqrt()))
+            })
+        })
+        .flatten();
     let solid_hull = printed_hull(
         &corners,
         (collect, options.mm_per_unit),
