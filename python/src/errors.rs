@@ -23,6 +23,7 @@ use rollphase_core::analysis::studies::sphere::StudyError;
 use rollphase_core::dynamics::ModelError;
 use rollphase_core::integrate::IntegrateError;
 use rollphase_core::simulate::RunError;
+use rollphase_core::simulate::period::PeriodError;
 
 /// One class of the tree.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -198,6 +199,16 @@ impl Classified for RunError {
             | RunError::NonFiniteOutput { .. }
             | RunError::Stopped { .. } => ErrorClass::Run,
             RunError::LeftModel { .. } => ErrorClass::LeftModel,
+        }
+    }
+}
+
+impl Classified for PeriodError {
+    fn class(&self) -> ErrorClass {
+        match self {
+            PeriodError::Run(e) => e.class(),
+            PeriodError::Integrate(e) => e.class(),
+            PeriodError::NotADisk | PeriodError::OnHull(_) => ErrorClass::Input,
         }
     }
 }

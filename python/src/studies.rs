@@ -18,12 +18,12 @@ use rollphase_core::analysis::studies::sphere::{
     cruising_fraction_until, period_counts_until, periodic_orbits_until, poincare_map_until,
 };
 use rollphase_core::analysis::verdict::Fate;
-use rollphase_core::analysis::{inertial_disk_period_until, viscous_disk_period};
 use rollphase_core::dynamics::Ramp;
 use rollphase_core::geometry::Body as CoreBody;
 use rollphase_core::glam::DVec3;
 use rollphase_core::integrate::MAX_SPAN;
 use rollphase_core::simulate::InitialState;
+use rollphase_core::simulate::period::PeriodPlan;
 use rollphase_core::simulate::start::StartRequest;
 
 use crate::body::Body;
@@ -61,7 +61,7 @@ pub fn period(
     rtol: f64,
     drag_law: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Option<f64>> {
-    let CoreBody::Disk(disk) = body.rollable()? else {
+    let CoreBody::Disk(_) = body.rollable()? else {
         return Err(input_error(
             "this body is a 3D sphere; period is for disks. A sphere's orbits are found by \
              simulation: use simulate, or periodic_orbits",
@@ -88,33 +88,16 @@ pub fn period(
     else {
         return Err(input_error("period is for a 2D disk"));
     };
-    // The stiff corner as the command line handles it: at m/m0 ≤ rtol the viscous limit.
-    let ramp = rollphase_core::simulate::choose_model(
-        &body.body,
-        ramp,
-        rollphase_core::integrate::Method::dop853(rtol),
-    )
-    .map_err(raise)?
-    .ramp;
-    let model = rollphase_core::dynamics::ModelKind::of(&body.body, &ramp);
-    let p = if !model.is_inertial() {
-        viscous_disk_period(disk, &ramp)
-    } else {
-        if let Some(why) = rollphase_core::analysis::orbits::disk_period::inertial_on_hull(disk) {
-            return Err(input_error(why));
-        }
-        let disk = disk.clone();
-        // Ctrl-C sets the stop flag: a stiff run (m/m0 = 1e-9) ends at once instead of after
-        // minutes. A stopped run's outcome is never read: the interrupt is raised instead.
-        let run = interruptible(py, move |stop| {
-            inertial_disk_period_until(&disk, &ramp, theta0, theta_dot0, rtol, t_max, stop)
-        })?
-        .map_err(raise)?;
-        run.ok_or_else(|| ErrorClass::Run.err("the period run was stopped"))?
-    };
+    // The model as the command line chooses it (the viscous limit at m/m0 ≤ rtol). Ctrl-C sets
+    // the stop flag: a stiff run (m/m0 = 1e-9) ends at once instead of after minutes. A stopped
+    // run's outcome is never read: the interrupt is raised instead.
+    let plan = PeriodPlan::new(&body.body, ramp, rtol).map_err(raise)?;
+    let p = interruptible(py, move |stop| plan.run(theta0, theta_dot0, t_max, stop))?
+        .map_err(raise)?
+        .ok_or_else(|| ErrorClass::Run.err("the period run was stopped"))?;
     // The fate decides, as `rollphase period` decides it: a period still changing when the run
     // ends is a transient, undecided, never returned as T.
-    let fate = p.fate(alpha - body.body.alpha_star(), t_max);
+    let fate = p.fate;
     match (fate, p.period) {
         (Fate::Periodic { .. }, Some(t)) => Ok(Some(t)),
         (Fate::Halted { .. }, _) => Ok(None),

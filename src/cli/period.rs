@@ -2,15 +2,15 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Result, bail};
+use anyhow::{Result, anyhow, bail};
 use clap::Args;
 use serde::Serialize;
 
 use crate::analysis::verdict::{Fate, Undecided};
-use crate::analysis::{critical_angle, inertial_disk_period, viscous_disk_period};
 use crate::dynamics::{ModelKind, Ramp};
 use crate::geometry::Body;
 use crate::simulate::InitialState;
+use crate::simulate::period::{PeriodError, PeriodPlan};
 use crate::simulate::start::StartRequest;
 
 /// Period T of a rolling disk and its mean angular speed 2π/T, or that it halts.
@@ -57,7 +57,7 @@ pub struct PeriodReport {
     pub period: Option<f64>,
     /// 2π/T; 0 when it halts.
     pub mean_angular_speed: f64,
-    /// Whether it comes to rest.
+    /// Whether it comes to rest: `fate` is "halted".
     pub halts: bool,
     /// Whether the number is converged (quadrature error ≤ 1e-9, or periodic to 1e-8).
     pub converged: bool,
@@ -84,13 +84,13 @@ pub struct PeriodReport {
 /// Runs `period`.
 pub fn run(a: PeriodArgs) -> Result<()> {
     let body = super::load_body(&a.file)?;
-    let Body::Disk(disk) = &body else {
+    if !matches!(body, Body::Disk(_)) {
         bail!(
             "{} is a 3D sphere; `period` is for disks. A sphere's orbits are found by simulation: \
              use `rollphase simulate`",
             a.file.display()
         );
-    };
+    }
     // A dented body or a print's outline rolls on its hull: the viscous period is exact there.
     body.check_rollable()?;
     let ramp = Ramp::new(a.alpha, a.mass)?.with_drag_law(a.drag_law.law()?);
@@ -114,28 +114,21 @@ pub fn run(a: PeriodArgs) -> Result<()> {
     else {
         bail!("{} is not a disk", a.file.display());
     };
-    // The stiff corner as `simulate` handles it: at m/m0 ≤ rtol the viscous limit (which
-    // differs by O(m/m0), below the tolerance), said in the note; above it a warning when the
-    // run would take minutes.
-    let choice =
-        crate::simulate::choose_model(&body, ramp, crate::integrate::Method::dop853(a.rtol))?;
-    let ramp = choice.ramp;
-    let model = ModelKind::of(&body, &ramp);
+    // The model as `simulate` chooses it (the viscous limit at m/m0 ≤ rtol, said in the
+    // note); above it a warning when the inertial run would take minutes.
+    let plan = PeriodPlan::new(&body, ramp, a.rtol).map_err(|e| match e {
+        PeriodError::OnHull(why) => anyhow!("{}: {why}", a.file.display()),
+        e => e.into(),
+    })?;
+    let (ramp, model, alpha_star) = (plan.ramp, plan.model, plan.alpha_star);
     if model.is_inertial() {
-        if let Some(why) = crate::analysis::orbits::disk_period::inertial_on_hull(disk) {
-            bail!("{}: {why}", a.file.display());
-        }
         super::warn_if_stiff(&body, &ramp, a.t_max, "--t-max");
     }
-    let alpha_star = critical_angle(&body).alpha_star;
-    let p = if model.is_inertial() {
-        inertial_disk_period(disk, &ramp, theta0, theta_dot0, a.rtol, a.t_max)?
-    } else {
-        viscous_disk_period(disk, &ramp)
-    };
-    let fate = p.fate(a.alpha - alpha_star, a.t_max);
-    // A transient is not an answer: a period still changing at --t-max is not reported.
-    let period = p.period.filter(|_| matches!(fate, Fate::Periodic { .. }));
+    let never = std::sync::atomic::AtomicBool::new(false);
+    let p = plan
+        .run(theta0, theta_dot0, a.t_max, &never)?
+        .ok_or_else(|| anyhow!("the period run was stopped"))?;
+    let (fate, period) = (p.fate, p.period);
     let note = match fate {
         Fate::Undecided { why } => Some(match why {
             Undecided::AtThreshold { .. } => why.what_would_decide(),
@@ -146,18 +139,15 @@ pub fn run(a: PeriodArgs) -> Result<()> {
                 crate::analysis::orbits::disk_period::coarse_rtol_hint(&why, a.rtol, "--rtol")
             ),
         }),
-        _ => choice.note.clone(),
+        _ => plan.note.clone(),
     };
     let report = PeriodReport {
         note: note.clone(),
         fate,
         period,
-        mean_angular_speed: if period.is_some() {
-            p.mean_angular_speed
-        } else {
-            0.0
-        },
-        halts: p.halts,
+        mean_angular_speed: p.mean_angular_speed,
+        // The fate's word, as a flag (kept for scripts that read it).
+        halts: matches!(fate, Fate::Halted { .. }),
         converged: p.converged,
         model,
         alpha: a.alpha,
@@ -191,7 +181,7 @@ pub fn run(a: PeriodArgs) -> Result<()> {
             (Fate::Halted { .. }, _) => outln!("  halted: 2π/T = 0")?,
             _ => outln!("  undecided: {}", note.clone().unwrap_or_default())?,
         }
-        if let Some(n) = &choice.note
+        if let Some(n) = &plan.note
             && !matches!(fate, Fate::Undecided { .. })
         {
             outln!("  note: {n}")?;

@@ -200,13 +200,25 @@ fn a_sweep_writes_one_row_per_run_and_its_shards_merge_to_the_same_bytes() {
             other => assert_eq!(other, "undecided"),
         }
     }
-    // The paper's body at α = 0.2 > α* = 0.139 has no rest point: every run there cruises.
+    // The paper's body at α = 0.2 > α* = 0.139 has no rest point: no run there halts, and
+    // "cruising" is said of those seen to close an orbit (an undecided run is not counted).
     let paper_at_02: Vec<_> = rows
         .iter()
         .filter(|r| r[0] == "paper:219" && r[col("alpha")] == "0.2")
         .collect();
     assert_eq!(paper_at_02.len(), 8);
-    assert!(paper_at_02.iter().all(|r| r[col("cruising")] == "true"));
+    // The viscous runs close their orbit within t_max = 300; the heavy ones (m/m0 = 6) are
+    // still on their way there.
+    let fates: Vec<(&str, &str, &str)> = paper_at_02
+        .iter()
+        .map(|r| (r[col("mass_ratio")], r[col("fate")], r[col("cruising")]))
+        .collect();
+    assert!(
+        fates.iter().all(|&(m, f, c)| f != "halted"
+            && (c == "true") == (f == "periodic")
+            && (m != "0" || f == "periodic")),
+        "{fates:?}"
+    );
     // The tighter tolerance costs more work on the same run.
     let work = |integrator: &str| -> u64 {
         rows.iter()

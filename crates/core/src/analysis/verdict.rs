@@ -258,6 +258,16 @@ pub enum Undecided {
         /// How far from rest it was there ([`rest_measure`]).
         from_rest: f64,
     },
+    /// A settle run (a sweep's, a figure's) still moving at its cap without closing a cycle of
+    /// at most `max_k` crossings of ∂Ω within the settle tolerance.
+    NoCycle {
+        /// The run's length (t0).
+        t_cap: f64,
+        /// How far from rest it was there ([`rest_measure`]).
+        from_rest: f64,
+        /// The longest cycle looked for, in crossings.
+        max_k: usize,
+    },
 }
 
 impl Undecided {
@@ -301,6 +311,15 @@ impl Undecided {
                  fixed-time run does not look for a cycle: `rollphase period` (a cylinder) or \
                  `rollphase predict` (a sphere) decides whether the motion repeats"
             ),
+            Undecided::NoCycle {
+                t_cap,
+                from_rest,
+                max_k,
+            } => format!(
+                "still moving at t = {t_cap} (|ω| or the weight's torque {from_rest:.3e}) with \
+                 no cycle of ≤ {max_k} crossings of ∂Ω: a longer t_max may settle it; the \
+                 motion may also never repeat"
+            ),
         }
     }
 
@@ -318,6 +337,7 @@ impl Undecided {
             Undecided::NoRepeat { .. } => "no_repeat",
             Undecided::AtThreshold { .. } => "at_threshold",
             Undecided::NotSettled { .. } => "not_settled",
+            Undecided::NoCycle { .. } => "no_cycle",
         }
     }
 }

@@ -28,6 +28,7 @@ use serde::Serialize;
 use thiserror::Error;
 
 mod model;
+pub mod period;
 pub mod start;
 mod typed;
 pub use crate::dynamics::validity::{

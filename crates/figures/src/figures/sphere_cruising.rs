@@ -3,9 +3,10 @@
 //! step at the same α*.
 //!
 //! Each orientation (uniform contact point, uniform spin; seeded per index) is followed until it
-//! halts (|ω| < 1e-9) or settles on a closed orbit (crossings of ∂Ω repeat to 1e-5); the few runs
-//! still undecided at t = 2000 count as halting if |ω| < 1e-3 (creeping to rest), else as
-//! cruising. In 2D the
+//! halts (the verdict's rest: still, and the weight's torque gone) or settles on a closed orbit
+//! (crossings of ∂Ω repeat to 1e-5); a run still undecided at t = 2000 is counted as neither, so
+//! the fraction is the share of starts seen to cruise, and the summary gives the undecided
+//! count beside it. In 2D the
 //! state space is a loop, so a disk halts for every start below α* and cruises for every start
 //! above: the 2D curve is a step. It is computed, not drawn: a convex disk with the sphere's α*
 //! (low modes rescaled, see [`convex_disk_with_alpha_star`]) is simulated from as many starts θ₀.

@@ -604,17 +604,21 @@ impl Sweep {
         // A run that left the ramp is reported as such: its period, multiplicity and rest are
         // the model's past the lift-off (lift_off_t says when), not a motion the body makes.
         let left = r.left_model();
-        let (_, period, mult, halt, omega_end) = fate_fields(&r.fate);
+        let (period, mult, halt, omega_end) = fate_fields(&r.fate);
         let (period, mult, halt) = if left {
             (f64::NAN, String::new(), f64::NAN)
         } else {
             (period, mult, halt)
         };
-        let fate = r.fate_word();
+        let fate = r.fate(&self.scan.settle).name();
         let (fast_fate, fast_period, fast_mult) = match &r.check {
             AnswerCheck::Corrected { fast } => {
-                let (f, period, mult, ..) = fate_fields(fast);
-                (f.to_string(), number_field(period), mult)
+                let (period, mult, ..) = fate_fields(fast);
+                (
+                    fast.fate(&self.scan.settle).name().to_string(),
+                    number_field(period),
+                    mult,
+                )
             }
             _ => (String::new(), String::new(), String::new()),
         };
@@ -654,16 +658,13 @@ impl Sweep {
     }
 }
 
-/// A fate's CSV fields: its name, period, multiplicity, halt time and end |ω|.
-fn fate_fields(fate: &Settlement) -> (&'static str, f64, String, f64, f64) {
+/// A fate's evidence as CSV fields: its period, multiplicity, halt time and end |ω| (its word
+/// is the verdict's, [`Settlement::fate`]).
+fn fate_fields(fate: &Settlement) -> (f64, String, f64, f64) {
     match *fate {
-        Settlement::Halts { t } => ("halted", f64::NAN, String::new(), t, 0.0),
-        Settlement::Periodic { period, k, .. } => {
-            ("periodic", period, k.to_string(), f64::NAN, f64::NAN)
-        }
-        Settlement::Undecided { omega_end } => {
-            ("undecided", f64::NAN, String::new(), f64::NAN, omega_end)
-        }
+        Settlement::Halts { t } => (f64::NAN, String::new(), t, 0.0),
+        Settlement::Periodic { period, k, .. } => (period, k.to_string(), f64::NAN, f64::NAN),
+        Settlement::Undecided { omega_end } => (f64::NAN, String::new(), f64::NAN, omega_end),
     }
 }
 

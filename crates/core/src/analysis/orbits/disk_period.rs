@@ -7,12 +7,12 @@
 //! Inertial: simulated with DOP853; the times where θ passes θ₀ + 2πk are located on the dense
 //! output, and T is the interval between crossings once three successive intervals agree to
 //! 1e-8 (the limit cycle is reached). A disk halts when it stops making revolutions and comes
-//! to rest (|θ̇| below 1e-8 at the end of the run).
+//! to rest (`verdict::state_at_rest` at the end of the run: still, and the weight's torque gone).
 
 use serde::Serialize;
 
 use crate::analysis::rest::critical_angle;
-use crate::analysis::verdict::{Fate, Undecided};
+use crate::analysis::verdict::{Fate, Undecided, state_at_rest};
 use crate::dynamics::{DiskInertial, DiskViscous, Ramp};
 use crate::geometry::{Body, Disk};
 use crate::integrate::run::{Flow, Run};
@@ -356,11 +356,9 @@ pub fn inertial_disk_period_until(
     if stopped {
         return Ok(None);
     }
-    // At rest only where a rest point exists (α ≤ α*): a very heavy disk above α* also has
-    // θ̇ ≈ 0 for a long time, but it is accelerating, not halted.
-    let can_rest =
-        ramp.alpha_rad <= critical_angle::critical_angle(&Body::Disk(disk.clone())).alpha_star;
-    let resting = run.y()[1].abs() < 1e-8 && can_rest;
+    // At rest by the verdict's one rule: still, and the weight's torque gone (a very heavy
+    // disk above α* has θ̇ ≈ 0 for a long time, but it is accelerating, not halted).
+    let resting = state_at_rest(&model, run.y());
     let last_crossing = crossings.last().copied().unwrap_or(0.0);
     let not_measured = PeriodResult {
         period: None,

@@ -29,7 +29,7 @@
 use glam::{DQuat, DVec3};
 use serde::Serialize;
 
-use crate::analysis::verdict::{rest_measure, state_at_rest};
+use crate::analysis::verdict::{Fate, Undecided, rest_measure, state_at_rest};
 use crate::dynamics::ModelKind;
 use crate::dynamics::sphere3d::SphereObservation;
 use crate::dynamics::validity::{ContactLimits, ContactReport, ContactWatch};
@@ -40,25 +40,20 @@ use crate::integrate::run::{Flow, Run, Samples};
 use crate::integrate::{self, IntegrateError, Method, Stats};
 
 /// Expands `$run` for the body's 3D model (viscous if m/m0 = 0, else inertial from rest),
-/// with `$sys` the model, `$y0` its initial state and `$omega` its distance from rest (`verdict::rest_measure`) (a macro rather than a
-/// closure: the two models' states differ in size, a const generic a closure cannot take).
+/// with `$sys` the model and `$y0` its initial state (a macro rather than a closure: the two models' states differ in size, a const generic a closure cannot take).
 macro_rules! on_model {
-    ($body:expr, $ramp:expr, $q0:expr, |$sys:ident, $y0:ident, $omega:ident| $run:expr) => {
+    ($body:expr, $ramp:expr, $q0:expr, |$sys:ident, $y0:ident| $run:expr) => {
         match ModelKind::for_dimension(3, $ramp) {
             ModelKind::SphereViscous => {
                 let model = SphereViscous::new($body, $ramp);
                 let $sys = &model;
                 let $y0 = SphereViscous::initial_state($q0);
-                let $omega = |y: &[f64; 6]| rest_measure(&model, y);
                 $run
             }
             ModelKind::SphereInertial => {
                 let model = SphereInertial::new($body, $ramp);
                 let $sys = &model;
                 let $y0 = SphereInertial::initial_state($q0, DVec3::ZERO);
-                // At rest only where the weight's torque vanishes too (`verdict::at_rest`): a
-                // heavy body is still at first and speeds up over m/m0 t0.
-                let $omega = |y: &[f64; 10]| rest_measure(&model, y);
                 $run
             }
             other @ (ModelKind::DiskViscous | ModelKind::DiskInertial) => other.wrong_dimension(3),
@@ -153,13 +148,41 @@ pub enum Settlement {
     },
 }
 
+impl Settlement {
+    /// The run's fate in the verdict's words (the contact force's lift-off or slip, which a
+    /// caller that watched it puts before this, aside): halted, periodic with multiplicity k,
+    /// or undecided at `settle`'s cap.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{Settle, Settlement};
+    /// use rollphase_core::analysis::verdict::Fate;
+    /// let s = Settle::default();
+    /// assert_eq!(Settlement::Halts { t: 3.0 }.fate(&s), Fate::Halted { t: Some(3.0) });
+    /// let cycle = Settlement::Periodic { period: 64.8, k: 2, point: [1.0, 0.0, 0.0], t: 900.0 };
+    /// assert_eq!(cycle.fate(&s).name(), "periodic");
+    /// assert_eq!(Settlement::Undecided { omega_end: 0.1 }.fate(&s).name(), "undecided");
+    /// ```
+    pub fn fate(&self, settle: &Settle) -> Fate {
+        match *self {
+            Settlement::Halts { t } => Fate::Halted { t: Some(t) },
+            Settlement::Periodic { k, .. } => Fate::Periodic { multiplicity: k },
+            Settlement::Undecided { omega_end } => Fate::Undecided {
+                why: Undecided::NoCycle {
+                    t_cap: settle.t_max,
+                    from_rest: omega_end,
+                    max_k: settle.max_k,
+                },
+            },
+        }
+    }
+}
+
 /// Settling criteria.
 #[derive(Debug, Clone, Copy)]
 pub struct Settle {
     /// Longest simulated time.
     pub t_max: f64,
-    /// Halted when |ω| falls below this.
-    pub omega_rest: f64,
     /// Periodic when the cycle's boundary points repeat to this distance…
     pub point_tol: f64,
     /// …and its duration repeats to this relative tolerance.
@@ -257,7 +280,6 @@ impl Default for Settle {
     fn default() -> Self {
         Self {
             t_max: 3000.0,
-            omega_rest: 1e-9,
             point_tol: 1e-7,
             period_rtol: 1e-7,
             max_k: 1,
@@ -312,9 +334,8 @@ pub fn settle_with(
     s: &Settle,
     method: Method,
 ) -> Result<(Settlement, Vec<Crossing>, Stats), IntegrateError> {
-    on_model!(body, ramp, q0, |sys, y0, omega| {
-        follow(sys, 0.0, y0, s.t_max, s, method, omega, Watch::Not)
-            .map(|f| (f.fate, f.crossings, f.stats))
+    on_model!(body, ramp, q0, |sys, y0| {
+        follow(sys, 0.0, y0, s.t_max, s, method, Watch::Not).map(|f| (f.fate, f.crossings, f.stats))
     })
 }
 
@@ -344,8 +365,8 @@ pub fn settle_checked(
     s: &Settle,
     method: Method,
 ) -> Result<Settled, IntegrateError> {
-    on_model!(body, ramp, q0, |sys, y0, omega| {
-        follow_checked(sys, y0, s, method, omega)
+    on_model!(body, ramp, q0, |sys, y0| {
+        follow_checked(sys, y0, s, method)
     })
 }
 
@@ -379,7 +400,6 @@ fn follow<const N: usize, S: RollingModel<N>>(
     t_end: f64,
     s: &Settle,
     method: Method,
-    omega: impl Fn(&[f64; N]) -> f64,
     watch: Watch,
 ) -> Result<Followed<N>, IntegrateError> {
     let mut run = Run::new(sys, t0, y0, method)?;
@@ -413,15 +433,16 @@ fn follow<const N: usize, S: RollingModel<N>>(
                 return Ok(Flow::Stop);
             }
         }
-        // At rest: the viscous ω vanishes at a rest point; the inertial one decays to it.
-        if omega(st.y()) < s.omega_rest && st.t() > t0 + 1.0 {
+        // At rest by the verdict's one rule: still, and the weight's torque gone (a heavy body
+        // is still at first and speeds up over m/m0 t0).
+        if state_at_rest(sys, st.y()) {
             fate = Some(Settlement::Halts { t: st.t() });
             return Ok(Flow::Stop);
         }
         Ok(Flow::Continue)
     })?;
     let fate = fate.unwrap_or_else(|| Settlement::Undecided {
-        omega_end: omega(run.y()),
+        omega_end: rest_measure(sys, run.y()),
     });
     Ok(Followed {
         fate,
@@ -444,9 +465,8 @@ fn follow_checked<const N: usize, S: RollingModel<N>>(
     y0: [f64; N],
     s: &Settle,
     method: Method,
-    omega: impl Fn(&[f64; N]) -> f64,
 ) -> Result<Settled, IntegrateError> {
-    let fast = follow(sys, 0.0, y0, s.t_max, s, method, &omega, Watch::Contact)?;
+    let fast = follow(sys, 0.0, y0, s.t_max, s, method, Watch::Contact)?;
     let fast_contact = fast.contact.unwrap_or_else(|| unreachable!("watched"));
     if is_reference(method, s) {
         return Ok(Settled {
@@ -463,13 +483,13 @@ fn follow_checked<const N: usize, S: RollingModel<N>>(
         // followed on from its last crossing shows both, in a few periods.
         (Settlement::Periodic { period, k: 1, .. }, Some((t_c, y_c))) => {
             let t_end = s.t_max.max(t_c + VERIFY_CYCLES * period);
-            follow(sys, t_c, y_c, t_end, s, reference, &omega, Watch::Contact)?
+            follow(sys, t_c, y_c, t_end, s, reference, Watch::Contact)?
         }
         // A cycle of k ≥ 2 is what a coarse step invents (its error moves a flip), and near a
         // flip the settle criterion's k depends on where the transient stands when it fires;
         // a halt ends at a rest point, where every integrator rests. Both are re-decided from
         // the start, as the reference alone decides them.
-        _ => follow(sys, 0.0, y0, s.t_max, s, reference, &omega, Watch::Contact)?,
+        _ => follow(sys, 0.0, y0, s.t_max, s, reference, Watch::Contact)?,
     };
     let checked_contact = checked.contact.unwrap_or_else(|| unreachable!("watched"));
     let contact = match &fast.fate {

@@ -18,6 +18,7 @@ use serde::Serialize;
 use crate::analysis::fit::{logspace, power_law};
 use crate::analysis::orbits::disk_period::{inertial_disk_period, viscous_disk_period_with};
 use crate::analysis::rest::critical_angle::critical_angle;
+use crate::analysis::verdict::state_at_rest;
 use crate::dynamics::ModelKind;
 use crate::dynamics::{DiskInertial, DiskViscous, ModelError, Ramp};
 use crate::geometry::{Body, Disk};
@@ -263,7 +264,7 @@ pub fn fixed_points(disk: &Disk, alpha: f64) -> Vec<FixedPoint> {
 }
 
 /// Whether a viscous disk released at θ₀ makes a whole turn (cruises) before halting
-/// (|θ̇| < 1e-12), DOP853 at rtol 1e-10 up to t = 10⁶: the 2D side of the cruising fraction
+/// (`verdict::state_at_rest`), DOP853 at rtol 1e-10 up to t = 10⁶: the 2D side of the cruising fraction
 /// (paper Fig. 3b).
 ///
 /// # Example
@@ -286,7 +287,7 @@ pub fn disk_cruises(disk: &Disk, ramp: &Ramp, theta0: f64) -> Result<bool, Integ
     let mut cruises = false;
     run.until::<IntegrateError>(1e6, u64::MAX, |st| {
         cruises = st.y()[0] - theta0 > std::f64::consts::TAU;
-        Ok(if cruises || m.theta_dot(st.y()[0]).abs() < 1e-12 {
+        Ok(if cruises || state_at_rest(&m, st.y()) {
             Flow::Stop
         } else {
             Flow::Continue
@@ -297,7 +298,7 @@ pub fn disk_cruises(disk: &Disk, ramp: &Ramp, theta0: f64) -> Result<bool, Integ
 
 /// The inertial disk's path in the (θ, θ̇) plane from `start` = (θ, θ̇) to `t_end`: `samples` + 1
 /// evenly spaced points (θ wrapped to [0, 2π), dense output of DOP853 at rtol 1e-10), and
-/// whether it still rolls at the end (|θ̇| > 1e-6). SI Fig. S2's trajectories.
+/// whether it rolls on: not at rest (`verdict::state_at_rest`) within ten times `t_end`. SI Fig. S2's trajectories.
 ///
 /// # Example
 ///
@@ -340,8 +341,18 @@ pub fn phase_path(
         sampled.take(st, &mut point);
         Ok(Flow::Continue)
     })?;
-    let rolls = run.y()[1].abs() > 1e-6;
-    Ok((points, rolls))
+    // Whether it rolls on: the run goes on past the path drawn, up to ten times its length,
+    // until the verdict's rest. A disk settling into a rest point's well still swings at the
+    // path's end (at m/m0 = 10 and 0.3 α*, |θ̇| ~ 1e-6 at t = 300); a cut of |θ̇| < 1e-6 there
+    // was a second rest rule.
+    let mut rests = state_at_rest(model, run.y());
+    if !rests {
+        run.until::<IntegrateError>(10.0 * t_end, u64::MAX, |st| {
+            rests = state_at_rest(model, st.y());
+            Ok(if rests { Flow::Stop } else { Flow::Continue })
+        })?;
+    }
+    Ok((points, !rests))
 }
 
 /// Why the return transition α** could not be located.

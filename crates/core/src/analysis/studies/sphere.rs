@@ -201,32 +201,30 @@ pub fn poincare_map_until(
 /// How the starts of [`cruising_fraction`] ended.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Cruising {
-    /// Starts that cruise: a closed orbit, or still rolling (|ω| ≥ 1e-3) when undecided.
+    /// Starts that cruise: seen to close an orbit.
     pub cruising: usize,
     /// Starts that came to rest.
     pub halted: usize,
-    /// Starts neither periodic nor at rest by the end (counted as cruising when |ω| ≥ 1e-3).
+    /// Starts neither periodic nor at rest by the end (the verdict's undecided: counted in
+    /// neither `cruising` nor `halted`, so `fraction` is the share seen to cruise).
     pub undecided: usize,
     /// cruising / starts.
     pub fraction: f64,
 }
 
-/// Whether a run's fate counts as cruising: a closed orbit, or an undecided run still turning
-/// (|ω| ≥ 1e-3 at the end).
+/// Whether a run's fate counts as cruising: it closed an orbit. An undecided run is not
+/// counted, however fast it still turns (it was counted from |ω| ≥ 1e-3 on, a second rest rule
+/// beside the verdict's): a study reports its undecided starts beside the fraction.
 ///
 /// ```
 /// use rollphase_core::analysis::orbits::sphere_orbits::Settlement;
 /// use rollphase_core::analysis::studies::sphere::cruises;
 /// assert!(!cruises(&Settlement::Halts { t: 3.0 }));
-/// assert!(cruises(&Settlement::Undecided { omega_end: 0.2 }));
-/// assert!(!cruises(&Settlement::Undecided { omega_end: 1e-6 }));
+/// assert!(cruises(&Settlement::Periodic { period: 40.0, k: 1, point: [1.0, 0.0, 0.0], t: 400.0 }));
+/// assert!(!cruises(&Settlement::Undecided { omega_end: 0.2 }));
 /// ```
 pub fn cruises(f: &Settlement) -> bool {
-    match f {
-        Settlement::Halts { .. } => false,
-        Settlement::Periodic { .. } => true,
-        Settlement::Undecided { omega_end } => *omega_end >= 1e-3,
-    }
+    matches!(f, Settlement::Periodic { .. })
 }
 
 /// The settling criteria of the cruising study (as `sphere-cruising`): at most t = 2000, a

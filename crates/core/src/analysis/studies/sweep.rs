@@ -14,6 +14,7 @@ use rayon::prelude::*;
 
 use crate::analysis::orbits::sphere_orbits::{AnswerCheck, Settle, Settlement, settle_checked};
 use crate::analysis::studies::sphere::{cruises, random_orientation};
+use crate::analysis::verdict::Fate;
 use crate::dynamics::{ModelError, Ramp};
 use crate::geometry::Sphere;
 use crate::integrate::{IntegrateError, Method};
@@ -68,7 +69,7 @@ pub struct ScanRun {
 }
 
 impl ScanRun {
-    /// Cruises: periodic, or still moving (|ω| ≥ 1e-3) at t_max ([`cruises`]).
+    /// Cruises: closed a cycle on the ramp ([`cruises`]); an undecided run is not counted.
     ///
     /// # Example
     /// ```
@@ -102,32 +103,28 @@ impl ScanRun {
         !self.contact.violations().is_empty()
     }
 
-    /// The run's fate in the words every surface uses (`verdict`, `predict`'s fates):
-    /// "left_model" when the body left the ramp (the model's motion past a lift-off is not one
-    /// the body can make, so no period or rest is claimed for it), else "periodic", "halted"
-    /// or "undecided".
+    /// The run's fate ([`Settlement::fate`]), the contact force's verdict first: a body that
+    /// left the ramp is [`Fate::LeftModel`] (the model's motion past a lift-off is not one the
+    /// body can make, so no period or rest is claimed for it). Its [`Fate::name`] is the word
+    /// the sweep CSV writes.
     ///
     /// # Example
     /// ```
     /// use rollphase_core::analysis::studies::sweep::ScanRun;
-    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Settlement};
+    /// use rollphase_core::analysis::orbits::sphere_orbits::{AnswerCheck, Settle, Settlement};
     /// use rollphase_core::dynamics::{ContactForce, validity::{ContactLimits, ContactWatch}};
     /// let mut contact = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.1)).report();
     /// let fate = Settlement::Periodic { period: 40.0, k: 1, point: [1.0, 0.0, 0.0], t: 400.0 };
     /// let run = ScanRun { fate: fate.clone(), check: AnswerCheck::Reference, rhs_evals: 10, contact };
-    /// assert_eq!(run.fate_word(), "periodic");
+    /// assert_eq!(run.fate(&Settle::default()).name(), "periodic");
     /// contact.lift_off_t = Some(4.5);
     /// let lifted = ScanRun { fate, check: AnswerCheck::Reference, rhs_evals: 10, contact };
-    /// assert_eq!(lifted.fate_word(), "left_model");
+    /// assert_eq!(lifted.fate(&Settle::default()).name(), "left_model");
     /// ```
-    pub fn fate_word(&self) -> &'static str {
-        if self.left_model() {
-            return "left_model";
-        }
-        match self.fate {
-            Settlement::Halts { .. } => "halted",
-            Settlement::Periodic { .. } => "periodic",
-            Settlement::Undecided { .. } => "undecided",
+    pub fn fate(&self, settle: &Settle) -> Fate {
+        match self.contact.violations().first() {
+            Some(&violation) => Fate::LeftModel { violation },
+            None => self.fate.fate(settle),
         }
     }
 }
@@ -145,7 +142,7 @@ pub struct ScanTally {
     pub undecided: usize,
     /// Runs whose body left the ramp (counted here and in no other fate).
     pub left_model: usize,
-    /// Runs that cruise (periodic, or undecided with |ω| ≥ 1e-3).
+    /// Runs that cruise (closed a cycle on the ramp: the periodic ones).
     pub cruising: usize,
     /// Runs whose own integrator's fate the reference corrected.
     pub corrected: usize,
@@ -166,7 +163,7 @@ impl ScanTally {
     /// # let contact = ContactWatch::new(ContactLimits::default(), 0.0, ContactForce::viscous(0.1)).report();
     /// tally.add(&ScanRun { fate: Settlement::Undecided { omega_end: 0.1 }, check, rhs_evals: 40, contact });
     /// tally.add(&ScanRun { fate: Settlement::Halts { t: 9.0 }, check: AnswerCheck::Confirmed, rhs_evals: 2, contact });
-    /// assert_eq!((tally.runs, tally.undecided, tally.halts, tally.cruising), (2, 1, 1, 1));
+    /// assert_eq!((tally.runs, tally.undecided, tally.halts, tally.cruising), (2, 1, 1, 0));
     /// assert_eq!((tally.rhs_evals, tally.corrected), (42, 1));
     /// ```
     pub fn add(&mut self, r: &ScanRun) {
