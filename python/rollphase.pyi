@@ -709,6 +709,7 @@ class DesignReport(TypedDict):
     """What design() and check_design() say of a body, as `rollphase design --json` prints it."""
 
     holds: bool
+    why_not: list[str]
     scale_mm: float
     design: dict[str, Any]
 

@@ -102,6 +102,7 @@ fn result<'py>(
 ) -> PyResult<(Body, Bound<'py, PyDict>)> {
     let report = PyDict::new(py);
     report.set_item("holds", design.holds())?;
+    report.set_item("why_not", design.why_not(&|s| format!("{s}=")))?;
     report.set_item("scale_mm", scale_mm)?;
     let value = serde_json::to_value(&design).map_err(internal_error)?;
     report.set_item("design", json_to_py(py, &value)?)?;
@@ -119,7 +120,7 @@ fn result<'py>(
 /// `start` (a Body) or the first convex random body from `seed`; the body found is then checked
 /// at the precise setting over α ± alpha_band, m/m0 ± mass_band and `draws` print errors of
 /// ± surface_mm. Returns (Body, report): report["holds"] says whether every target holds over
-/// the band; report["design"] has the achieved values, margins, constraints (and which bind),
+/// the band, and report["why_not"] why not (one reason each, as `rollphase design` gives them); report["design"] has the achieved values, margins, constraints (and which bind),
 /// the check, for doubling the flip window and multipliers, and in "predicted" what the body
 /// does on each target's ramp in mm and s at scale_mm. A design that does not hold
 /// is returned too, not raised: read report["holds"].

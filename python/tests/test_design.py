@@ -55,6 +55,8 @@ def test_check_design_reports_a_body_as_the_command_line_does(cli, tmp_path):
     assert not theirs["holds"] and code == 1
     assert report["design"]["achieved"] == theirs["design"]["achieved"]
     assert report["design"]["ended"] == "checked_only" and report["holds"] == theirs["holds"]
+    # Why not, as the command line says it: the same reasons (no setting is named here).
+    assert report["why_not"] and report["why_not"] == theirs["why_not"]
 
 
 def test_a_target_no_body_meets_is_returned_with_what_binds():
@@ -62,6 +64,7 @@ def test_a_target_no_body_meets_is_returned_with_what_binds():
     assert not report["holds"]
     binding = [c["name"] for c in report["design"]["constraints"] if c["binding"]]
     assert binding, report["design"]["constraints"]
+    assert report["why_not"][-1] == "binding: " + ", ".join(binding), report["why_not"]
 
 
 @pytest.mark.parametrize(

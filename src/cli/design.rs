@@ -296,6 +296,7 @@ pub fn run(a: DesignArgs) -> Result<()> {
     if a.json {
         let report = serde_json::json!({
             "holds": design.holds(),
+            "why_not": design.why_not(&|s| format!("--{s}")),
             "seconds": seconds,
             "scale_mm": scale_mm,
             "design": design,
@@ -315,76 +316,11 @@ pub fn run(a: DesignArgs) -> Result<()> {
         };
         bail!(
             "the design does not hold: {} ({what} is in {})",
-            why_not(&design),
+            design.why_not(&|s| format!("--{s}")).join("; "),
             a.output.display()
         );
     }
     Ok(())
-}
-
-/// Why a design does not hold, in one line.
-fn why_not(d: &Design) -> String {
-    let mut why = Vec::new();
-    for t in d.achieved.iter().filter(|t| !t.met) {
-        let achieved = match t.target {
-            Target::Orbits { .. } => format!("short by {:.4} of the starts", t.precise),
-            _ => format!("achieved {:.6}", t.precise),
-        };
-        why.push(format!("{} is not met ({achieved})", t.target.describe()));
-    }
-    for c in d.check.targets.iter().filter(|c| !c.holds) {
-        if c.margin < 0.0 {
-            why.push(format!(
-                "{} misses the band by {:.4} {}",
-                c.target.describe(),
-                -c.margin,
-                c.margin_unit
-            ));
-        }
-        if let Some(e) = &c.evidence
-            && e.runs.cycle_counts[1] < e.runs.cycle_counts.iter().sum::<usize>()
-        {
-            why.push(format!(
-                "of {} runs from rest at the target's m/m0, {} repeat after two crossings",
-                e.runs.cycle_counts.iter().sum::<usize>(),
-                e.runs.cycle_counts[1]
-            ));
-        }
-    }
-    if d.check.convex_draws < d.check.band.draws {
-        why.push(format!(
-            "{} of {} print errors dent the body",
-            d.check.band.draws - d.check.convex_draws,
-            d.check.band.draws
-        ));
-    }
-    let binding: Vec<&str> = d
-        .constraints
-        .iter()
-        .filter(|c| c.binding)
-        .map(|c| c.name)
-        .collect();
-    if binding.is_empty() {
-        match d.ended {
-            Ended::Met | Ended::CheckedOnly => {}
-            Ended::Stopped => why.push(
-                "no constraint binds: the --budget ran out before the search got there (try a \
-                 larger --budget, more --modes or another --seed)"
-                    .into(),
-            ),
-            Ended::Generations | Ended::Converged => why.push(
-                "no constraint binds: the search ended before it got there (try more \
-                 --generations, --modes or another --seed)"
-                    .into(),
-            ),
-        }
-    } else {
-        why.push(format!("binding: {}", binding.join(", ")));
-        if matches!(d.ended, Ended::Stopped) {
-            why.push("the --budget ran out (a larger --budget searches further)".into());
-        }
-    }
-    why.join("; ")
 }
 
 /// A doubling target's evidence: the window, the runs, the multipliers across m/m0.

@@ -11,6 +11,7 @@
 //! | [`mod@check`] | the independent check over α ± δα, m/m0 ± 20 % and print errors of ± ε mm, with margins |
 //! | [`at_scale`] | what the design does on each target's ramp, in mm and s at the printed scale |
 //! | `start` | where a search starts: the given body, the seed's first convex body, or (doubling) the best of 24 screened |
+//! | `why_not` | why a design does not hold ([`Design::why_not`]), for the command line and Python |
 //!
 //! The optimiser is CMA-ES from the `cmaes` crate rather than one of our own: the objective is
 //! non-smooth (α* is a maximum over the surface, a cylinder rolls or stops), has 8 to 77
@@ -27,6 +28,7 @@ pub mod check;
 pub mod space;
 mod start;
 pub mod targets;
+mod why_not;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
