@@ -284,3 +284,15 @@ def test_a_rubber_coat_is_the_command_lines(repo, cli, tmp_path):
     assert json.loads(coated.to_json()) == json.loads(out.read_text())
     with pytest.raises(rollphase.InputError, match="coat"):
         Body.from_mesh(repo / SPHERE, coat_mm=-1.0)
+
+
+def test_a_track_that_climbs_is_diagnosed_as_the_command_line_diagnoses_it(repo, cli, tmp_path):
+    frames, down, across = authors_track(repo)
+    fit = rollphase.measure_track(frames, -down, across)
+    climbs = [w for w in fit["warnings"] if "moves up the ramp" in w]
+    assert len(climbs) == 1 and "-down in Python" in climbs[0], fit["warnings"]
+    assert fit["advance_down"] < 0
+    out = tmp_path / "run"
+    cli("track", repo / TRACK, "--scale", "0.0404,-0.0361", "--out", out)
+    assert json.loads((out / "summary.json").read_text())["warnings"] == fit["warnings"]
+    assert not any("moves up" in w for w in rollphase.measure_track(frames, down, across)["warnings"])

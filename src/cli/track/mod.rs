@@ -295,14 +295,7 @@ pub fn run(mut a: TrackArgs) -> Result<()> {
     let frames: Vec<f64> = rows.iter().map(|r| r[0]).collect();
     let down: Vec<f64> = rows.iter().map(|r| r[2] * sy).collect();
     let across: Vec<f64> = rows.iter().map(|r| r[1] * sx).collect();
-    let (mut track, fit) = measure_or_show_why(&a, (&frames, &down, &across), &inputs)?;
-    if fit.advance_down < 0.0 {
-        track.warnings.push(format!(
-            "the body moves up the ramp ({:.4} cm a period down it): if it rolled down, flip the \
-             sign of --scale's down factor SY ({sy})",
-            fit.advance_down
-        ));
-    }
+    let (track, fit) = measure_or_show_why(&a, (&frames, &down, &across), &inputs)?;
     for w in &track.warnings {
         eprintln!("warning: {w}");
     }

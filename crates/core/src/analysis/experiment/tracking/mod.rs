@@ -524,6 +524,17 @@ pub fn measure(
     }
     let fit = find_period(&fine, &PeriodSearch::default(), progress)?;
     gaps_do_not_make_the_repeat(&fine, (frames, down, across), &fit)?;
+    let mut fine = fine;
+    if fit.advance_down < 0.0 {
+        // A body rolls down: a track that climbs has its down axis the wrong way round (image
+        // rows grow downwards, a tracker's y upwards). Said by every surface alike.
+        fine.warnings.push(format!(
+            "the body moves up the ramp ({:.4} cm a period down it): if it rolled down, the down \
+             coordinate has the wrong sign (flip it: the command line's --scale down factor, or \
+             -down in Python)",
+            fit.advance_down
+        ));
+    }
     Ok((fine, fit))
 }
 
