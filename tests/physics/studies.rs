@@ -252,7 +252,8 @@ fn a_stopped_study_says_so() {
 /// Issue 33, case 1: a scan's answers do not depend on the integrator picked for speed. The
 /// issue's spec (paper body, α = 0.2, m/m0 = 6, two orientations) gave period 64.84 with
 /// multiplicity 2 for rk4:0.5, cf4:0.5 and dop853:1e-4 where the reference gives 32.419 with
-/// multiplicity 1; viscous at α = 0.2, rk4:0.8 and cf4:0.8 gave period 3. Every run now reports
+/// multiplicity 1; viscous at α = 0.2, rk4:0.8 and cf4:0.8 gave period 3 (period 1 since one test
+/// of a repeat decides every run, its period off by 1.2e-5). Every run now reports
 /// the reference's answer, and the ones the reference corrected say what the fast setting said.
 /// Since issue 44 a cycle of k ≥ 2 must be steady to be an answer: the fast settings' period-2
 /// answers at m/m0 = 6 were transients of the period-1 orbit, and none is given any more.
@@ -316,14 +317,25 @@ fn a_scans_answers_do_not_depend_on_the_integrator_picked_for_speed() {
                 }
             }
         }
-        // At m/m0 = 6 no setting's own answer is a doubling now (dop853:1e-4 is still wrong on
-        // its own, by its period); viscous, dt 0.8 makes a steady cycle of 3 crossings of its
-        // own, a defect of the coarse step that the check corrects.
-        if mass > 0.0 {
-            assert_eq!(fast_doublings, 0, "m/m0 = {mass}");
-        } else {
-            assert!(fast_doublings >= 2, "m/m0 = {mass}: {fast_doublings}");
+        // No setting's own answer is a doubling now. At m/m0 = 6 dop853:1e-4 is still wrong on
+        // its own, by its period. Viscous, dt 0.8 made a steady cycle of 3 crossings of its own
+        // while a run's test of a repeat also asked the cycle's duration to repeat to 1e-5 (the
+        // coarse step's durations jitter more); since one test decides every run (points only,
+        // 2026-12-02) it says period 1, its period 1.2e-5 off the reference's, and the check
+        // corrects that.
+        assert_eq!(fast_doublings, 0, "m/m0 = {mass}");
+        assert!(tally.corrected >= 1, "m/m0 = {mass}");
+        for run in &runs {
+            if let AnswerCheck::Corrected {
+                fast: Settlement::Periodic { period, .. },
+            } = &run.check
+                && let Settlement::Periodic { period: truth, .. } = run.fate
+            {
+                assert!(
+                    (period / truth - 1.0).abs() < 1e-3,
+                    "m/m0 = {mass}: {period} against {truth}"
+                );
+            }
         }
-        assert!(tally.corrected >= fast_doublings.max(1), "m/m0 = {mass}");
     }
 }

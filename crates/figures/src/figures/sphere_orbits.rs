@@ -12,7 +12,7 @@ use serde::Serialize;
 use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::critical_angle;
 use crate::analysis::orbits::sphere_orbits::{
-    Settle, Settlement, boundary_distance, cluster_antipodal, settle,
+    SETTLED_ON_SAME_ORBIT, Settle, Settlement, boundary_distance, cluster_antipodal, settle,
 };
 use crate::chart::{PALETTE, Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::Ramp;
@@ -90,7 +90,10 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
                 _ => None,
             })
             .collect();
-        let clusters = cluster_antipodal(&pts.iter().map(|p| p.1).collect::<Vec<_>>(), 1e-4);
+        let clusters = cluster_antipodal(
+            &pts.iter().map(|p| p.1).collect::<Vec<_>>(),
+            SETTLED_ON_SAME_ORBIT,
+        );
         distinct = distinct.max(clusters.len());
         let mut reps: Vec<DVec3> = Vec::new();
         for (c, _) in &clusters {
@@ -104,7 +107,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
                 .unwrap_or(previous.len() + reps.len());
             reps.push(*c);
             for (r, p) in &pts {
-                if boundary_distance(*p, *c) < 1e-4 {
+                if boundary_distance(*p, *c) < SETTLED_ON_SAME_ORBIT {
                     labels[*r][a] = label as i64;
                 }
             }

@@ -19,7 +19,7 @@ use serde::Serialize;
 use super::{Computed, FigureData, FigureOptions};
 use crate::analysis::critical_angle;
 use crate::analysis::orbits::poincare_field::{field_from_images, field_lattice, poincare_step};
-use crate::analysis::orbits::sphere_orbits::{boundary_distance, cluster_antipodal};
+use crate::analysis::orbits::sphere_orbits::{SAME_ORBIT, boundary_distance, cluster_antipodal};
 use crate::chart::{Panel, Series, SeriesLabelPosition, Style};
 use crate::colormap::viridis;
 use crate::dynamics::Ramp;
@@ -134,13 +134,13 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
         .collect();
     let halted = field.iter().filter(|f| f.1.is_none()).count();
     let limits: Vec<(DVec3, f64)> = limits.iter().flatten().copied().collect();
-    let clusters = cluster_antipodal(&limits.iter().map(|l| l.0).collect::<Vec<_>>(), 1e-5);
+    let clusters = cluster_antipodal(&limits.iter().map(|l| l.0).collect::<Vec<_>>(), SAME_ORBIT);
     let attractor_list: Vec<Attractor> = clusters
         .iter()
         .map(|(c, count)| {
             let period = limits
                 .iter()
-                .find(|l| boundary_distance(l.0, *c) < 1e-5)
+                .find(|l| boundary_distance(l.0, *c) < SAME_ORBIT)
                 .map(|l| l.1)
                 .unwrap_or(f64::NAN);
             let c = if c.z < 0.0 { -*c } else { *c };

@@ -23,7 +23,8 @@ use crate::analysis::orbits::disk_period::{
 };
 use crate::analysis::orbits::return_map::ReturnMapError;
 use crate::analysis::orbits::sphere_orbits::{
-    Decide, RunEnd, boundary_distance, cluster_antipodal, decided_run, settled_cycle,
+    Decide, RunEnd, SAME_ORBIT, SETTLED_ON_SAME_ORBIT, boundary_distance, cluster_antipodal,
+    decided_run, settled_cycle,
 };
 use crate::analysis::orbits::sphere_return_map::{
     InertialEnd, OrbitSolve, SectionState, inertial_run, periodic_orbit, viscous_periodic_orbit,
@@ -428,7 +429,7 @@ fn refine(
 }
 
 /// Adds a period-1 orbit that `count` starts settled on (or roll near, for a neutral one) to
-/// `found`: the same orbit (its crossing within 1e-6) counts them once more; a neutral orbit
+/// `found`: the same orbit (its crossing within [`SAME_ORBIT`]) counts them once more; a neutral orbit
 /// joins a neutral family of the same period and speed (within 1 %): a round body has one
 /// motion, rolling straight, whatever great circle it rolls on.
 fn add_orbit(
@@ -440,14 +441,14 @@ fn add_orbit(
     let p = DVec3::from_array(orbit.point);
     let same = found.iter_mut().find(|f| {
         f.repeat == 1
-            && (boundary_distance(f.point, p) < 1e-6
+            && (boundary_distance(f.point, p) < SAME_ORBIT
                 || (stability == Stability::Neutral
                     && f.stability == Stability::Neutral
                     && (f.period - orbit.period).abs() < 0.01 * orbit.period))
     });
     match same {
         Some(f) => {
-            if boundary_distance(f.point, p) >= 1e-6 {
+            if boundary_distance(f.point, p) >= SAME_ORBIT {
                 f.members += 1;
                 f.max_modulus = f.max_modulus.max(orbit.max_modulus);
             }
@@ -507,7 +508,7 @@ fn predict_sphere(
         })
         .collect();
     let points: Vec<DVec3> = singles.iter().map(|s| s.0).collect();
-    let clusters = cluster_antipodal(&points, 1e-3);
+    let clusters = cluster_antipodal(&points, SETTLED_ON_SAME_ORBIT);
     let refined: Vec<(
         crate::analysis::orbits::sphere_return_map::PeriodicOrbit,
         usize,
@@ -517,7 +518,7 @@ fn predict_sphere(
             stopped(stop)?;
             let &(p, omega) = singles
                 .iter()
-                .find(|s| boundary_distance(s.0, centre) < 1e-3)
+                .find(|s| boundary_distance(s.0, centre) < SETTLED_ON_SAME_ORBIT)
                 .unwrap_or(&(centre, DVec3::ZERO));
             refine(sphere, ramp, (p, omega))
                 .map(|o| (o, count))
@@ -578,7 +579,7 @@ fn predict_sphere(
             f.repeat == 2
                 && last
                     .iter()
-                    .any(|(p, _)| boundary_distance(f.point, *p) < 1e-3)
+                    .any(|(p, _)| boundary_distance(f.point, *p) < SETTLED_ON_SAME_ORBIT)
         });
         match same {
             Some(f) => f.starts += 1,
@@ -613,10 +614,9 @@ fn predict_sphere(
             }
             StartEnd::Cycle { k: 1, last, .. } => {
                 // Its cluster's refined orbit (the same test that grouped it).
-                let orbit = clusters
-                    .iter()
-                    .zip(&refined)
-                    .find(|((centre, _), _)| boundary_distance(*centre, last[0].0) < 1e-3);
+                let orbit = clusters.iter().zip(&refined).find(|((centre, _), _)| {
+                    boundary_distance(*centre, last[0].0) < SETTLED_ON_SAME_ORBIT
+                });
                 match orbit.map(|(_, (o, _))| Stability::of(o.max_modulus, o.period, decide.t_cap))
                 {
                     Some(Stability::Neutral) => Fate::Neutral,

@@ -25,7 +25,8 @@ use serde::Serialize;
 use crate::analysis::fit;
 use crate::analysis::orbits::return_map::locate_flip;
 use crate::analysis::orbits::sphere_orbits::{
-    Crossing, Decide, boundary_distance, cluster_antipodal, decided_run, settled_cycle,
+    Crossing, Decide, SETTLED_ON_SAME_ORBIT, boundary_distance, cluster_antipodal, decided_run,
+    settled_cycle,
 };
 use crate::analysis::orbits::sphere_return_map::{
     OrbitSolve, PeriodicOrbit, SectionState, inertial_crossings_until, periodic_orbit,
@@ -451,13 +452,13 @@ pub fn period_one_seeds(grid: &DirectRuns) -> Result<Vec<(DVec3, DVec3)>, OrbitD
         (r.period == Some(1)).then(|| DVec3::from_array(last.point))
     };
     let finals: Vec<DVec3> = (0..starts).filter_map(last_of).collect();
-    let seeds: Vec<(DVec3, DVec3)> = cluster_antipodal(&finals, 1e-3)
+    let seeds: Vec<(DVec3, DVec3)> = cluster_antipodal(&finals, SETTLED_ON_SAME_ORBIT)
         .into_iter()
         .filter_map(|(p, _)| {
             (0..starts).find_map(|o| {
                 let point = last_of(o)?;
                 let omega = *grid.run_at(first, o).omegas.last()?;
-                (boundary_distance(point, p) < 1e-3).then_some((point, omega))
+                (boundary_distance(point, p) < SETTLED_ON_SAME_ORBIT).then_some((point, omega))
             })
         })
         .collect();

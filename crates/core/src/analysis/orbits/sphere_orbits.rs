@@ -61,6 +61,20 @@ macro_rules! on_model {
     };
 }
 
+/// Two solved periodic orbits (Newton on the return map, to ~1e-9 on ∂Ω) are one when their
+/// crossings of ∂Ω agree to this (antipodes identified): a thousand times the solve's error, and
+/// far below the distance between distinct orbits of the bodies rolled here (≥ 0.1 on the
+/// paper's). The one "same orbit" of solved orbits: `predict`, the study of the orbits the
+/// starts settle on, and the figures' attractors ask it.
+pub const SAME_ORBIT: f64 = 1e-6;
+
+/// Runs that settled on a cycle (their crossings repeating to [`Decide::tol`], 1e-5, where a
+/// slow multiplier can leave the last crossing ~1e-4 off the orbit) are on one orbit when their
+/// last crossings agree to this: they seed one Newton solve, whose orbit [`SAME_ORBIT`] then
+/// compares. The one "same orbit" of settled runs: `predict`, the studies, the orbit diagram
+/// and the `sphere-orbits` figure ask it.
+pub const SETTLED_ON_SAME_ORBIT: f64 = 1e-3;
+
 /// Distance between two boundary points with antipodes identified.
 ///
 /// # Example
@@ -183,9 +197,11 @@ impl Settlement {
 pub struct Settle {
     /// Longest simulated time.
     pub t_max: f64,
-    /// Periodic when the cycle's boundary points repeat to this distance…
+    /// Periodic when the cycle's boundary points repeat to this distance ([`settled_cycle`], the
+    /// one test of a repeat that every run of this module asks).
     pub point_tol: f64,
-    /// …and its duration repeats to this relative tolerance.
+    /// Two runs' cycles are the same answer when their periods agree to this relative
+    /// tolerance ([`same_answer`]: a fast setting's against the reference's).
     pub period_rtol: f64,
     /// Longest cycle searched.
     pub max_k: usize,
@@ -520,32 +536,20 @@ fn follow_checked<const N: usize, S: RollingModel<N>>(
     })
 }
 
-/// A cycle of length k ≤ max_k closing twice in a row (points and durations), and steady for
-/// k ≥ 2 ([`steady_cycle`]).
+/// The run's cycle by [`settled_cycle`] at `s.point_tol`: the one test of a repeat, which
+/// [`decided_run`] asks too. (Its own test also asked the cycle's duration to repeat to
+/// `period_rtol`, and no distinct alternation of a 2-cycle: two crossings closing twice in a row
+/// to 1e-7 repeat their durations to the same order, the flow being smooth, and the alternation
+/// rule is what keeps a slow approach to a flip from passing for period 2.)
 fn periodic(c: &[Crossing], s: &Settle) -> Option<Settlement> {
-    let n = c.len();
-    for k in 1..=s.max_k {
-        if n < 2 * k + 1 {
-            continue;
-        }
-        let p = |i: usize| DVec3::from_array(c[i].point);
-        let (a, b, d) = (n - 1, n - 1 - k, n - 1 - 2 * k);
-        let t1 = c[a].t - c[b].t;
-        let t0 = c[b].t - c[d].t;
-        if boundary_distance(p(a), p(b)) < s.point_tol
-            && boundary_distance(p(b), p(d)) < s.point_tol
-            && (t1 - t0).abs() < s.period_rtol * t1
-            && steady_cycle(c, k, s.point_tol)
-        {
-            return Some(Settlement::Periodic {
-                period: t1,
-                k,
-                point: c[a].point,
-                t: c[a].t,
-            });
-        }
-    }
-    None
+    let (k, period) = settled_cycle(c, s.max_k, s.point_tol)?;
+    let last = c.last()?;
+    Some(Settlement::Periodic {
+        period,
+        k,
+        point: last.point,
+        t: last.t,
+    })
 }
 
 /// Clusters unit vectors (antipodes identified) within `tol`; returns (representative, count).

@@ -17,8 +17,8 @@ use thiserror::Error;
 use crate::analysis::orbits::poincare_field::poincare_step;
 use crate::analysis::orbits::return_map::ReturnMapError;
 use crate::analysis::orbits::sphere_orbits::{
-    Crossing, Decide, DecidedRun, RunEnd, Settle, Settlement, boundary_distance, cluster_antipodal,
-    decided_run, settle, settled_cycle,
+    Crossing, Decide, DecidedRun, RunEnd, SAME_ORBIT, SETTLED_ON_SAME_ORBIT, Settle, Settlement,
+    boundary_distance, cluster_antipodal, decided_run, settle, settled_cycle,
 };
 use crate::analysis::orbits::sphere_return_map::{
     OrbitSolve, PeriodicOrbit, SectionState, inertial_crossings_until, periodic_orbit,
@@ -679,9 +679,6 @@ pub struct FoundOrbit {
     pub starts: usize,
 }
 
-/// Two fixed points closer than this on ∂Ω (antipodes identified) are one orbit.
-const SAME_ORBIT: f64 = 1e-6;
-
 /// The period-1 orbits that `orientations` runs from rest at random orientations
 /// ([`random_orientation`] with `seed`) settle on at ramp angle `alpha` and `mass_ratio`
 /// (0: viscous), each refined as a fixed point of the return map on ∂Ω by Newton's method, with
@@ -796,7 +793,7 @@ pub fn periodic_orbits_until(
         .collect::<Result<_, StudyError>>()?;
     let found: Vec<(DVec3, DVec3)> = seeds.into_iter().flatten().collect();
     let points: Vec<DVec3> = found.iter().map(|s| s.0).collect();
-    let clusters = cluster_antipodal(&points, 1e-3);
+    let clusters = cluster_antipodal(&points, SETTLED_ON_SAME_ORBIT);
     let solve = OrbitSolve::default();
     let solved: Vec<(PeriodicOrbit, usize)> = clusters
         .par_iter()
@@ -804,7 +801,7 @@ pub fn periodic_orbits_until(
             stopped(stop)?;
             let &(p, omega) = found
                 .iter()
-                .find(|s| boundary_distance(s.0, centre) < 1e-3)
+                .find(|s| boundary_distance(s.0, centre) < SETTLED_ON_SAME_ORBIT)
                 .unwrap_or(&(centre, DVec3::ZERO));
             let orbit = match ModelKind::for_dimension(3, &ramp) {
                 ModelKind::SphereViscous => viscous_periodic_orbit(sphere, &ramp, p, &solve),
