@@ -159,3 +159,30 @@ fn inspect_gives_a_cylinders_critical_angle_both_ways_round() {
     let s: serde_json::Value = serde_json::from_slice(&sphere).unwrap();
     assert!(s["alpha_star_turned"].is_null());
 }
+
+/// With inertia, a disk below α* that comes to rest in its well is halted at a coarse tolerance
+/// as at the default: the rest is the verdict's, at the resolution the run's tolerance has
+/// (`verdict::rest_resolution`). At rtol 1e-6 the integrator holds the resting torque near 1e-7,
+/// and the plain 1e-9 rule called every one of these undecided (2026-12-02, before the fix).
+#[test]
+fn a_disk_at_rest_is_halted_at_a_coarse_tolerance_as_at_the_default() {
+    use rollphase::analysis::inertial_disk_period;
+    let Body::Disk(disk) = Body::random_disk(1, 0.12, 5).unwrap() else {
+        unreachable!()
+    };
+    let alpha_star = critical_angle(&Body::Disk(disk.clone())).alpha_star;
+    let mut halted = 0;
+    for f in [0.5, 0.8, 0.9] {
+        for m in [0.5, 2.0, 10.0] {
+            let ramp = Ramp::new(f * alpha_star, m).unwrap();
+            let fine = inertial_disk_period(&disk, &ramp, 0.0, 0.0, 1e-10, 5000.0).unwrap();
+            let coarse = inertial_disk_period(&disk, &ramp, 0.0, 0.0, 1e-6, 5000.0).unwrap();
+            assert_eq!(
+                fine.halts, coarse.halts,
+                "{f} α*, m/m0 = {m}: rtol 1e-10 {fine:?}, rtol 1e-6 {coarse:?}"
+            );
+            halted += usize::from(fine.halts);
+        }
+    }
+    assert!(halted >= 7, "{halted} of 9 halted");
+}

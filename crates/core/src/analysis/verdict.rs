@@ -85,6 +85,48 @@ pub fn state_at_rest<const N: usize, M: RollingModel<N>>(model: &M, y: &[f64; N]
     rest_measure(model, y) < REST_THRESHOLD
 }
 
+/// The resolution of a rest that a run at relative tolerance `rtol` (an adaptive step's) can
+/// show: [`REST_THRESHOLD`], or 10 rtol where that is coarser. The integrator keeps a resting
+/// state only to its tolerance, so the weight's torque there stays at the integrator's error:
+/// an inertial disk come to rest in its well had a torque near 1e-7 at rtol 1e-6, and the
+/// 1e-9 rule called 2 of 32 halted disks undecided (seed-1 disk, α 0.5–1.5 α*, m/m0 0.5–50).
+/// At rtol ≤ 1e-10 it is [`REST_THRESHOLD`] itself. The one rest rule ([`at_rest_within`]), at
+/// the resolution the run has.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::verdict::{REST_THRESHOLD, rest_resolution};
+/// assert_eq!(rest_resolution(1e-10), REST_THRESHOLD);
+/// assert!((rest_resolution(1e-6) - 1e-5).abs() < 1e-20);
+/// ```
+pub fn rest_resolution(rtol: f64) -> f64 {
+    REST_THRESHOLD.max(10.0 * rtol)
+}
+
+/// [`state_at_rest`] to the resolution of a run at relative tolerance `rtol`
+/// ([`rest_resolution`]).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::verdict::state_at_rest_for;
+/// use rollphase_core::dynamics::{Ramp, SphereInertial};
+/// use rollphase_core::geometry::Sphere;
+/// use rollphase_core::glam::{DQuat, DVec3};
+/// let ball = Sphere::perfect();
+/// let model = SphereInertial::new(&ball, &Ramp::new(0.3, 2.0)?);
+/// // Released from rest on a ramp: pushed, at any resolution.
+/// let y = SphereInertial::initial_state(DQuat::IDENTITY, DVec3::ZERO);
+/// assert!(!state_at_rest_for(&model, &y, 1e-6));
+/// # Ok::<(), rollphase_core::dynamics::ModelError>(())
+/// ```
+pub fn state_at_rest_for<const N: usize, M: RollingModel<N>>(
+    model: &M,
+    y: &[f64; N],
+    rtol: f64,
+) -> bool {
+    rest_measure(model, y) < rest_resolution(rtol)
+}
+
 /// How far `model` at `y` is from rest: the larger of its angular speed and the weight's
 /// unbalanced torque ([`at_rest`] is this below [`REST_THRESHOLD`]). What an undecided run
 /// reports at its end, and what a run with its own rest threshold compares.

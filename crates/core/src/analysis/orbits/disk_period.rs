@@ -7,12 +7,13 @@
 //! Inertial: simulated with DOP853; the times where θ passes θ₀ + 2πk are located on the dense
 //! output, and T is the interval between crossings once three successive intervals agree to
 //! 1e-8 (the limit cycle is reached). A disk halts when it stops making revolutions and comes
-//! to rest (`verdict::state_at_rest` at the end of the run: still, and the weight's torque gone).
+//! to rest (`verdict::state_at_rest_for` at the end of the run: still, and the weight's torque
+//! gone, to the resolution of the run's tolerance).
 
 use serde::Serialize;
 
 use crate::analysis::rest::critical_angle;
-use crate::analysis::verdict::{Fate, Undecided, state_at_rest};
+use crate::analysis::verdict::{Fate, Undecided, state_at_rest_for};
 use crate::dynamics::{DiskInertial, DiskViscous, Ramp};
 use crate::geometry::{Body, Disk};
 use crate::integrate::run::{Flow, Run};
@@ -356,9 +357,10 @@ pub fn inertial_disk_period_until(
     if stopped {
         return Ok(None);
     }
-    // At rest by the verdict's one rule: still, and the weight's torque gone (a very heavy
-    // disk above α* has θ̇ ≈ 0 for a long time, but it is accelerating, not halted).
-    let resting = state_at_rest(&model, run.y());
+    // At rest by the verdict's one rule, to the resolution this run's tolerance has: still,
+    // and the weight's torque gone (a very heavy disk above α* has θ̇ ≈ 0 for a long time, but
+    // it is accelerating, not halted).
+    let resting = state_at_rest_for(&model, run.y(), rtol);
     let last_crossing = crossings.last().copied().unwrap_or(0.0);
     let not_measured = PeriodResult {
         period: None,
