@@ -26,12 +26,13 @@ use serde::Serialize;
 
 use super::shard::{Fields, Record};
 use super::{Computed, FigureData, FigureOptions, PAPER_ALPHA, sphere_alpha_star};
-use crate::analysis::orbits::sphere_orbits::{Decide, RunEnd, decided_run};
+use crate::analysis::orbits::sphere_orbits::{Decide, decided_run};
 use crate::analysis::rest::critical_angle::paper_spheres_with_alpha_star;
 use crate::analysis::studies::sphere::random_orientation;
 use crate::analysis::studies::sphere::{
     DoublingAcrossBodies, PeriodCounts, RunOutcome, decided_from_rest, median_cycle_duration,
 };
+use crate::analysis::verdict::Fate;
 use crate::chart::{Panel, Series, SeriesLabelPosition, Style};
 use crate::dynamics::Ramp;
 use crate::geometry::Sphere;
@@ -381,7 +382,7 @@ pub fn compute(opts: &FigureOptions) -> Result<Computed<FigureData<Summary>>> {
                 left_model: r.left_model(),
                 cycle: r.cycle,
                 path: r.path,
-                rest: r.end == RunEnd::Rest,
+                rest: matches!(r.fate, Fate::Halted { .. }),
                 t_end: r.t_end,
             })
         },

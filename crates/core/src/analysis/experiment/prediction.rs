@@ -23,8 +23,8 @@ use crate::analysis::orbits::disk_period::{
 };
 use crate::analysis::orbits::return_map::ReturnMapError;
 use crate::analysis::orbits::sphere_orbits::{
-    Decide, RunEnd, SAME_ORBIT, SETTLED_ON_SAME_ORBIT, boundary_distance, cluster_antipodal,
-    decided_run, settled_cycle,
+    Decide, SAME_ORBIT, SETTLED_ON_SAME_ORBIT, boundary_distance, cluster_antipodal, decided_run,
+    settled_cycle,
 };
 use crate::analysis::orbits::sphere_return_map::{
     InertialEnd, OrbitSolve, SectionState, inertial_run, periodic_orbit, viscous_periodic_orbit,
@@ -348,21 +348,23 @@ fn sphere_start(
                 .iter()
                 .map(|c| (DVec3::from_array(c.point), DVec3::ZERO))
                 .collect();
-            return Ok(match (r.end, r.cycle) {
-                (RunEnd::Periodic, Some((k, duration))) => StartEnd::Cycle {
+            return Ok(match (r.fate, r.cycle) {
+                (Fate::Periodic { .. }, Some((k, duration))) => StartEnd::Cycle {
                     k,
                     duration,
                     last: points[points.len() - k..].to_vec(),
                 },
-                (RunEnd::Rest, _) => StartEnd::Rest(r.t_end),
-                _ => StartEnd::Undecided(
-                    no_cycle(points.len(), r.angular_speed),
+                (Fate::Halted { .. }, _) => StartEnd::Rest(r.t_end),
+                (Fate::LeftModel { violation }, _) => StartEnd::LeftModel(violation),
+                (Fate::Undecided { why }, _) => StartEnd::Undecided(
+                    why,
                     last_of(&points),
                     drifts(
                         &points,
                         &r.crossings.iter().map(|c| c.t).collect::<Vec<_>>(),
                     ),
                 ),
+                (fate, cycle) => unreachable!("a decided run's fate {fate:?} with cycle {cycle:?}"),
             });
         }
         ModelKind::SphereInertial => {}

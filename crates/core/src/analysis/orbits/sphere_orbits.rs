@@ -633,19 +633,6 @@ pub struct Decide {
     pub tol: f64,
 }
 
-/// How a run's fate was decided.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RunEnd {
-    /// Its ∂Ω crossings repeat with a steady cycle of k ≤ `max_k` ([`settled_cycle`]).
-    Periodic,
-    /// It came to rest (`verdict::state_at_rest`: still and unpushed; no crossing for the last
-    /// `t_min`).
-    Rest,
-    /// Neither by `t_cap`.
-    Undecided,
-}
-
 /// A run from [`decided_run`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct DecidedRun {
@@ -653,10 +640,14 @@ pub struct DecidedRun {
     pub crossings: Vec<Crossing>,
     /// The contact point (body frame) at the sampled times.
     pub path: Vec<DVec3>,
-    /// The cycle found: (k, its duration), as [`settled_cycle`] gives it.
+    /// The cycle found: (k, its duration), as [`settled_cycle`] gives it: the evidence of a
+    /// periodic fate.
     pub cycle: Option<(usize, f64)>,
-    /// How it ended.
-    pub end: RunEnd,
+    /// Its fate in the verdict's words: the body left the ramp (its cycle or rest is then the
+    /// model's past the lift-off), else periodic (its crossings closed a steady cycle of k ≤
+    /// `max_k`), halted (`verdict::state_at_rest`, and no crossing for the last `t_min`), or
+    /// undecided at `t_cap` (no turn, or no cycle among its crossings).
+    pub fate: Fate,
     /// When it ended.
     pub t_end: f64,
     /// |ω| at its end.
@@ -686,11 +677,11 @@ impl DecidedRun {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn left_model(&self) -> bool {
-        self.contact.is_some_and(|c| !c.violations().is_empty())
+        matches!(self.fate, Fate::LeftModel { .. })
     }
 
     /// The run's period multiplicity: k for a cycle of k crossings, 0 at rest, `None` when still
-    /// undecided (the statistic of paper Fig. 4e).
+    /// undecided or when the body left the ramp (the statistic of paper Fig. 4e).
     ///
     /// ```
     /// use rollphase_core::analysis::orbits::sphere_orbits::{Decide, decided_run};
@@ -704,10 +695,10 @@ impl DecidedRun {
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn multiplicity(&self) -> Option<usize> {
-        match self.end {
-            RunEnd::Periodic => self.cycle.map(|c| c.0),
-            RunEnd::Rest => Some(0),
-            RunEnd::Undecided => None,
+        match self.fate {
+            Fate::Periodic { multiplicity } => Some(multiplicity),
+            Fate::Halted { .. } => Some(0),
+            Fate::Neutral | Fate::LeftModel { .. } | Fate::Undecided { .. } => None,
         }
     }
 }
@@ -720,15 +711,16 @@ impl DecidedRun {
 /// the run's end.
 ///
 /// ```
-/// use rollphase_core::analysis::orbits::sphere_orbits::{Decide, RunEnd, decided_run};
+/// use rollphase_core::analysis::orbits::sphere_orbits::{Decide, decided_run};
+/// use rollphase_core::analysis::verdict::Fate;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
 /// use rollphase_core::glam::DQuat;
 /// let Body::Sphere(s) = Body::paper_sphere(219, 0.25, 5)? else { unreachable!() };
 /// let decide = Decide { t_min: 1200.0, t_cap: 6000.0, max_k: 4, tol: 1e-5 };
 /// let run = decided_run(&s, &Ramp::new(0.15, 6.0)?, DQuat::IDENTITY, &decide, (0.0, 0.0, 0), 1e-9)?;
-/// assert_eq!(run.end, RunEnd::Periodic);
-/// assert_eq!(run.cycle.map(|c| c.0), Some(2), "period doubling at m/m0 = 6");
+/// assert_eq!(run.fate, Fate::Periodic { multiplicity: 2 }, "period doubling at m/m0 = 6");
+/// assert!(run.cycle.is_some_and(|(k, duration)| k == 2 && duration > 0.0));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn decided_run(
@@ -786,7 +778,7 @@ fn record<const N: usize, S: RollingModel<N>>(
     let mut path = Vec::with_capacity(times.len());
     let mut sampled = Samples::new(&times);
     let mut cycle = None;
-    let mut end = RunEnd::Undecided;
+    let mut rested = false;
     run.until::<IntegrateError>(decide.t_cap, u64::MAX, |st| {
         found.clear();
         crossings_in_last_step(
@@ -811,7 +803,6 @@ fn record<const N: usize, S: RollingModel<N>>(
             if decide.max_k > 0 && (!found.is_empty() || cycle.is_none()) {
                 cycle = settled_cycle(&crossings, decide.max_k, decide.tol);
                 if cycle.is_some() {
-                    end = RunEnd::Periodic;
                     return Ok(Flow::Stop);
                 }
             }
@@ -819,20 +810,46 @@ fn record<const N: usize, S: RollingModel<N>>(
                 .last()
                 .is_none_or(|c| st.t() - c.t >= decide.t_min);
             if decide.max_k > 0 && quiet && state_at_rest(sys, st.y()) {
-                end = RunEnd::Rest;
+                rested = true;
                 return Ok(Flow::Stop);
             }
         }
         Ok(Flow::Continue)
     })?;
+    let contact = watch.map(|w| w.report());
+    let angular_speed = observe(run.y()).omega.length();
+    let fate = match (
+        contact
+            .as_ref()
+            .and_then(|c| c.violations().first().copied()),
+        cycle,
+    ) {
+        (Some(violation), _) => Fate::LeftModel { violation },
+        (None, Some((k, _))) => Fate::Periodic { multiplicity: k },
+        (None, None) if rested => Fate::Halted { t: Some(run.t()) },
+        (None, None) => Fate::Undecided {
+            why: if crossings.is_empty() {
+                Undecided::NoTurn {
+                    t_cap: decide.t_cap,
+                    angular_speed,
+                }
+            } else {
+                Undecided::NoRepeat {
+                    t_cap: decide.t_cap,
+                    crossings: crossings.len(),
+                    max_k: decide.max_k,
+                }
+            },
+        },
+    };
     Ok(DecidedRun {
         crossings,
         path,
         cycle,
-        end,
+        fate,
         t_end: run.t(),
-        angular_speed: observe(run.y()).omega.length(),
-        contact: watch.map(|w| w.report()),
+        angular_speed,
+        contact,
     })
 }
 

@@ -17,13 +17,14 @@ use thiserror::Error;
 use crate::analysis::orbits::poincare_field::poincare_step;
 use crate::analysis::orbits::return_map::ReturnMapError;
 use crate::analysis::orbits::sphere_orbits::{
-    Crossing, Decide, DecidedRun, RunEnd, SAME_ORBIT, SETTLED_ON_SAME_ORBIT, Settle, Settlement,
+    Crossing, Decide, DecidedRun, SAME_ORBIT, SETTLED_ON_SAME_ORBIT, Settle, Settlement,
     boundary_distance, cluster_antipodal, decided_run, settle, settled_cycle,
 };
 use crate::analysis::orbits::sphere_return_map::{
     OrbitSolve, PeriodicOrbit, SectionState, inertial_crossings_until, periodic_orbit,
     viscous_periodic_orbit,
 };
+use crate::analysis::verdict::Fate;
 use crate::dynamics::ModelKind;
 use crate::dynamics::sphere3d::orientation_touching;
 use crate::dynamics::{ModelError, Ramp};
@@ -325,7 +326,8 @@ pub fn cruising_fraction_until(
 /// runs on other bodies are these.
 ///
 /// ```
-/// use rollphase_core::analysis::orbits::sphere_orbits::{Decide, RunEnd};
+/// use rollphase_core::analysis::orbits::sphere_orbits::Decide;
+/// use rollphase_core::analysis::verdict::Fate;
 /// use rollphase_core::analysis::studies::sphere::decided_from_rest;
 /// use rollphase_core::dynamics::Ramp;
 /// use rollphase_core::geometry::Body;
@@ -334,7 +336,7 @@ pub fn cruising_fraction_until(
 /// let decide = Decide { t_min: 100.0, t_cap: 400.0, max_k: 4, tol: 1e-5 };
 /// let run = decided_from_rest(&sphere, &Ramp::new(0.15, 1.0)?, 1, 0, &decide)?;
 /// // This start settles on a period-1 orbit: one crossing of ∂Ω per period.
-/// assert_eq!(run.end, RunEnd::Periodic);
+/// assert_eq!(run.fate, Fate::Periodic { multiplicity: 1 });
 /// let (k, period) = run.cycle.unwrap();
 /// assert_eq!(k, 1);
 /// assert!(period > 0.0 && run.crossings.len() >= 2);
@@ -391,7 +393,7 @@ impl From<&DecidedRun> for RunOutcome {
     fn from(r: &DecidedRun) -> Self {
         RunOutcome {
             cycle: r.cycle,
-            at_rest: r.end == RunEnd::Rest,
+            at_rest: matches!(r.fate, Fate::Halted { .. }),
             t_end: r.t_end,
             left_model: r.left_model(),
         }
