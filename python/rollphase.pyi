@@ -612,6 +612,24 @@ def models() -> List[ModelInfo]:
     and the command line use, the body's dimension, whether it carries inertia, what it is and
     its integrated state. A run's model follows from the body and mass_ratio (0: viscous)."""
 
+class ReplayCheck(TypedDict):
+    """What replay() reached against the saved state, as `rollphase replay` checks it."""
+
+    to_the_bit: bool
+    entries: int
+    saved_t: float
+    reached_t: float
+    numbers: int
+    differing: int
+    worst: float
+    state: npt.NDArray[np.float64]
+
+def replay(state: _Path) -> ReplayCheck:
+    """A saved state of the app (a scene with [resume] and [[replay]]) run again from its scene's
+    start through its [[replay]] and the lesson's steps, as `rollphase replay STATE`: whether it
+    reaches the saved state to the bit, and by how much it misses. A scene that is not a saved
+    state raises InputError."""
+
 class TrackTable(TypedDict):
     format: Literal["plain", "tracker", "trackpy"]
     columns: List[str]

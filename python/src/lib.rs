@@ -15,6 +15,7 @@
 //! | [`run`] | `simulate` and its `DiskTrajectory` / `SphereTrajectory`, `simulate_many` and its `SphereRuns` |
 //! | [`studies`] | `critical_angle`, `period`, `poincare_map`, `cruising_fraction`, `periodic_orbits`, `period_counts` |
 //! | [`design`] | `design` (a printable body for chosen targets, checked over a bench's band) and `check_design` (the same check of a body you have) |
+//! | [`scene`] | `replay` (a saved state of the app run again from its scene's start, checked to the bit, as `rollphase replay`) |
 //! | [`experiment`] | `read_track_table` (a tracker's table, as `track` reads it), `measure_track` (a filmed run's period with its evidence), `compare_with_model` (m/m0 and t0 from it) |
 
 // Python functions take their settings as keyword-only arguments with defaults (as SciPy's and
@@ -35,6 +36,7 @@ mod drag_law;
 mod errors;
 mod experiment;
 mod run;
+mod scene;
 mod studies;
 
 /// `array` as a 2-D view, or a ValueError in Python's words naming `name` and what it must be
@@ -196,5 +198,6 @@ fn rollphase(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(design::check_design, m)?)?;
     m.add_function(wrap_pyfunction!(drag_law::drag_parameters, m)?)?;
     m.add_function(wrap_pyfunction!(drag_law::models, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::replay, m)?)?;
     Ok(())
 }

@@ -1,7 +1,8 @@
 //! `rollphase replay STATE`: a saved state's run again from its scene's start, through its
 //! `[[replay]]` (the model it started with, each change made by hand and each resume, at its
 //! simulation time) and the lesson's steps, and whether it reaches the saved state to the bit.
-//! The run is the core's (`LiveRun::replayed`); this file parses and prints.
+//! The run and the check are the scene crate's (`LiveRun::replay_check`, which Python's `replay`
+//! returns too); this file parses and prints.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -37,7 +38,6 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             a.state.display()
         );
     };
-    let entries = setup.scene.replay.len();
     let started = Instant::now();
     // Progress on standard error, where a terminal shows it (hidden otherwise).
     let bar = indicatif::ProgressBar::new(1000);
@@ -45,38 +45,32 @@ pub fn run(a: ReplayArgs) -> Result<()> {
         indicatif::ProgressStyle::with_template("replaying {bar:40} t = {msg} {elapsed}/{eta}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let run = LiveRun::replayed_reporting(&setup, &mut |t, end| {
+    let check = LiveRun::replay_check(&setup, &mut |t, end| {
         bar.set_position((1000.0 * t / end.max(f64::MIN_POSITIVE)) as u64);
         bar.set_message(crate::integrate::readable(t));
     });
     bar.finish_and_clear();
-    let run = run?;
+    let check = check?;
     let seconds = started.elapsed().as_secs_f64();
-    let (saved, got) = (resume.state.vector(), run.state().vector());
-    let differing: Vec<f64> = saved
-        .iter()
-        .zip(got)
-        .map(|(s, g)| (s - g).abs())
-        .filter(|d| *d != 0.0 || d.is_nan())
-        .collect();
     let t = crate::integrate::readable(resume.t);
-    if run.time() == resume.t && differing.is_empty() && saved.len() == got.len() {
+    if check.to_the_bit() {
         outln!(
-            "{}: replayed from t = 0 through {entries} [[replay]] entries to t = {t}: the saved \
-             state to the bit ({} numbers), in {seconds:.2} s",
+            "{}: replayed from t = 0 through {} [[replay]] entries to t = {t}: the saved state \
+             to the bit ({} numbers), in {seconds:.2} s",
             a.state.display(),
-            saved.len()
+            check.entries,
+            check.numbers
         )?;
         return Ok(());
     }
-    let worst = differing.iter().copied().fold(0.0, f64::max);
     bail!(
         "{}: replayed to t = {}, the run differs from the saved state at t = {t} in {} of {} \
-         numbers, by up to {worst:e}: its [[replay]] does not lead to its [resume] (edited by \
-         hand, or saved by another build)",
+         numbers, by up to {:e}: its [[replay]] does not lead to its [resume] (edited by hand, or \
+         saved by another build)",
         a.state.display(),
-        crate::integrate::readable(run.time()),
-        differing.len(),
-        saved.len()
+        crate::integrate::readable(check.reached_t),
+        check.differing,
+        check.numbers,
+        check.worst
     )
 }

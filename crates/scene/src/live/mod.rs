@@ -38,5 +38,6 @@ mod thread;
 pub use controller::{Controller, SimCommand};
 pub use field::FieldCache;
 pub use live_run::*;
+pub use replay::ReplayCheck;
 pub use snapshot::*;
 pub use thread::{SimStatus, SimThread, TICK_INTERVAL};

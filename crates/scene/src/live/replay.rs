@@ -86,3 +86,65 @@ impl LiveRun {
         Ok(run)
     }
 }
+
+/// What a replay reached against the saved state ([`LiveRun::replay_check`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReplayCheck {
+    /// `[[replay]]` entries the run went through.
+    pub entries: usize,
+    /// The saved state's time.
+    pub saved_t: f64,
+    /// The time the replay reached.
+    pub reached_t: f64,
+    /// The numbers of the saved state vector.
+    pub numbers: usize,
+    /// How many of them the replay's state differs in (a NaN counts).
+    pub differing: usize,
+    /// The largest difference (0 when none).
+    pub worst: f64,
+    /// The replay's state vector at its end.
+    pub state: Vec<f64>,
+}
+
+impl ReplayCheck {
+    /// Whether the replay reached the saved state to the bit: the same time, the same number
+    /// of numbers, none different.
+    pub fn to_the_bit(&self) -> bool {
+        self.reached_t == self.saved_t && self.differing == 0 && self.state.len() == self.numbers
+    }
+}
+
+impl LiveRun {
+    /// [`Self::replayed_reporting`], compared with the saved state number by number: the one
+    /// check `rollphase replay` prints and Python's `replay` returns.
+    ///
+    /// # Errors
+    /// As [`Self::replayed`].
+    pub fn replay_check(
+        setup: &SceneSetup,
+        report: &mut dyn FnMut(f64, f64),
+    ) -> Result<ReplayCheck, SimError> {
+        let run = Self::replayed_reporting(setup, report)?;
+        let resume = setup.resume.as_ref().ok_or_else(|| {
+            SimError::Refused(
+                "a replay goes to a saved state, and this scene has no [resume]".into(),
+            )
+        })?;
+        let (saved, got) = (resume.state.vector(), run.state().vector());
+        let differences: Vec<f64> = saved
+            .iter()
+            .zip(got)
+            .map(|(s, g)| (s - g).abs())
+            .filter(|d| *d != 0.0 || d.is_nan())
+            .collect();
+        Ok(ReplayCheck {
+            entries: setup.scene.replay.len(),
+            saved_t: resume.t,
+            reached_t: run.time(),
+            numbers: saved.len(),
+            differing: differences.len(),
+            worst: differences.iter().copied().fold(0.0, f64::max),
+            state: got.to_vec(),
+        })
+    }
+}

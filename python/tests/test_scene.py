@@ -1,0 +1,52 @@
+"""A saved state of the app run again: `replay` gives the check `rollphase replay` prints."""
+
+import numpy as np
+import pytest
+import rollphase
+
+SAVED = """
+[resume]
+t = 20.0
+state = [{state}]
+
+[[replay]]
+at = 0.0
+alpha_rad = 0.3
+mass_ratio = 0.0
+integrator = {{ kind = "dop853", rtol = 1e-8, atol = 1e-8 }}
+"""
+
+
+def saved_state(cli, path, state):
+    scene, _, _ = cli("scenes", "--toml", "sphere-cruising")
+    path.write_text(scene + SAVED.format(state=", ".join(repr(float(x)) for x in state)))
+    return path
+
+
+def test_a_saved_state_replays_as_the_command_line_replays_it(cli, tmp_path):
+    # A state the run never reached (the ball at rest in its start pose at t = 20): not to the
+    # bit, and the command line says so with the same count.
+    edited = saved_state(cli, tmp_path / "edited.toml", [1.0, 0, 0, 0, 0, 0])
+    check = rollphase.replay(edited)
+    assert not check["to_the_bit"] and check["numbers"] == 6 and check["entries"] == 1
+    assert check["saved_t"] == check["reached_t"] == 20.0
+    assert 0 < check["differing"] <= 6 and check["worst"] > 0
+    out, err, code = cli("replay", edited, check=False)
+    assert code == 1 and f"in {check['differing']} of 6 numbers" in err, err
+    # The state the replay reached, saved: to the bit, here and on the command line.
+    exact = saved_state(cli, tmp_path / "exact.toml", check["state"])
+    again = rollphase.replay(exact)
+    assert again["to_the_bit"] and again["differing"] == 0 and again["worst"] == 0.0
+    assert np.array_equal(again["state"], check["state"])
+    out, _, code = cli("replay", exact)
+    assert code == 0 and "the saved state to the bit (6 numbers)" in out
+
+
+def test_a_scene_is_not_a_saved_state(cli, tmp_path):
+    scene, _, _ = cli("scenes", "--toml", "sphere-cruising")
+    path = tmp_path / "scene.toml"
+    path.write_text(scene)
+    with pytest.raises(rollphase.InputError, match=r"has no \[resume\]"):
+        rollphase.replay(path)
+    with pytest.raises(rollphase.InputError):
+        rollphase.replay(tmp_path / "missing.toml")
