@@ -531,8 +531,11 @@ def period(
 ) -> Optional[float]:
     """A disk's period T (time for θ to advance 2π), None when it halts, nan (with a
     RuntimeWarning saying what would decide it) when undecided: not measurable, or still
-    changing at t_max (a transient is never returned as T); as `rollphase period`. Further
-    keywords are drag-law parameters (drag_parameters())."""
+    changing at t_max (a transient is never returned as T), or within a few ulps of α*; as
+    `rollphase period`. What the command line says beside a number is a RuntimeWarning here: a
+    T known to less than 1e-9 (within about 1e-8 of α*: how well it is known), the viscous limit
+    taken (mass_ratio ≤ rtol), a stiff run's cost. Further keywords are drag-law parameters
+    (drag_parameters())."""
 
 def poincare_map(
     body: Body,
@@ -619,6 +622,8 @@ class ReplayCheck(TypedDict):
     entries: int
     saved_t: float
     reached_t: float
+    saved_model: str
+    reached_model: str
     numbers: int
     differing: int
     worst: float

@@ -17,10 +17,11 @@ use crate::interruptible;
 /// scene's start: the model it started with, each change made by hand (α, m/m0, drag, drag law,
 /// integrator) and each resume at the simulation time it took effect, and the lesson's steps,
 /// as `rollphase replay STATE` runs it. Returns a dict (ReplayCheck): to_the_bit (whether the
-/// run reaches the saved state exactly: the same time, every number equal), entries (the
-/// [[replay]] entries gone through), saved_t, reached_t, numbers (of the state vector),
-/// differing (how many differ), worst (the largest difference) and state (the replay's state
-/// vector at its end, an array). A file that is not a saved state raises InputError naming
+/// run reaches the saved state exactly: the same time and model, every number the same bits),
+/// entries (the [[replay]] entries gone through), saved_t, reached_t, saved_model and
+/// reached_model (the models' registry names), numbers (of the saved state vector), differing
+/// (how many differ; all where the models differ), worst (the largest difference; NaN where
+/// the models differ) and state (the replay's state vector at its end, an array). A file that is not a saved state raises InputError naming
 /// what is missing; a run that fails on the way, RunError.
 #[pyfunction]
 pub fn replay<'py>(py: Python<'py>, state: PathBuf) -> PyResult<Bound<'py, PyDict>> {
@@ -43,6 +44,8 @@ pub fn replay<'py>(py: Python<'py>, state: PathBuf) -> PyResult<Bound<'py, PyDic
     d.set_item("entries", check.entries)?;
     d.set_item("saved_t", check.saved_t)?;
     d.set_item("reached_t", check.reached_t)?;
+    d.set_item("saved_model", check.saved_model)?;
+    d.set_item("reached_model", check.reached_model)?;
     d.set_item("numbers", check.numbers)?;
     d.set_item("differing", check.differing)?;
     d.set_item("worst", check.worst)?;

@@ -92,12 +92,36 @@ pub fn period(
     // the stop flag: a stiff run (m/m0 = 1e-9) ends at once instead of after minutes. A stopped
     // run's outcome is never read: the interrupt is raised instead.
     let plan = PeriodPlan::new(&body.body, ramp, rtol).map_err(raise)?;
+    // What the command line says before and after the run, as warnings here: a stiff run's
+    // cost, the viscous limit taken, a period known to less than 1e-9.
+    let warn = |text: String| -> PyResult<()> {
+        let message = std::ffi::CString::new(text).unwrap_or_default();
+        PyErr::warn(py, py.get_type::<PyRuntimeWarning>().as_any(), &message, 1)
+    };
+    if plan.model.is_inertial()
+        && rollphase_core::simulate::is_stiff_run(&body.body, &plan.ramp, t_max)
+    {
+        warn(format!(
+            "mass_ratio = {mass_ratio:?} relaxes to the viscous model on τ ≈ {:.1e}, which an \
+             explicit integrator must follow: about {:.0e} right-hand-side evaluations over t_max \
+             = {t_max} (minutes or more). mass_ratio=0 runs the viscous limit, which differs by \
+             O(m/m0); an rtol above m/m0 chooses it for you",
+            rollphase_core::simulate::relaxation_time(&body.body, &plan.ramp),
+            rollphase_core::simulate::stiff_work_estimate(&body.body, &plan.ramp, t_max),
+        ))?;
+    }
+    if let Some(note) = &plan.note {
+        warn(note.clone())?;
+    }
     let p = interruptible(py, move |stop| plan.run(theta0, theta_dot0, t_max, stop))?
         .map_err(raise)?
         .ok_or_else(|| ErrorClass::Run.err("the period run was stopped"))?;
     // The fate decides, as `rollphase period` decides it: a period still changing when the run
     // ends is a transient, undecided, never returned as T.
     let fate = p.fate;
+    if let Some(caveat) = &p.caveat {
+        warn(caveat.clone())?;
+    }
     match (fate, p.period) {
         (Fate::Periodic { .. }, Some(t)) => Ok(Some(t)),
         (Fate::Halted { .. }, _) => Ok(None),
@@ -112,10 +136,7 @@ pub fn period(
                 ),
                 _ => "no period was found".to_string(),
             };
-            let message =
-                std::ffi::CString::new(format!("T is undecided: {why}")).unwrap_or_default();
-            let category = py.get_type::<PyRuntimeWarning>();
-            PyErr::warn(py, category.as_any(), &message, 1)?;
+            warn(format!("T is undecided: {why}"))?;
             Ok(Some(f64::NAN))
         }
     }

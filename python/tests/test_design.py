@@ -109,3 +109,23 @@ def test_an_orbits_check_counts_the_paper_spheres_orbits_as_the_command_line_doe
     assert ramp["t0_s"] is None and ramp["alpha"] == 0.15
     assert sum(o["starts"] for o in ramp["orbits"] if o["stable"]) == ramp["starts"]
     assert all(o["share_95"][0] < o["share"] < o["share_95"][1] for o in ramp["orbits"])
+
+
+def test_a_check_that_draws_no_print_error_does_not_say_the_print_holds(cli, tmp_path):
+    # The paper's disk meets its own α* at the nominal print; with no print error drawn nothing
+    # says a print within ± 0.05 mm does (a helper found "holds: yes" here, 2026-12-02).
+    body = Body.paper_disk(84, sigma=0.12, modes=5)
+    _, report = rollphase.check_design(body, alpha_star=rollphase.critical_angle(body), draws=0)
+    assert not report["holds"], report["why_not"]
+    assert any("no print error was drawn (draws=0)" in w for w in report["why_not"]), report["why_not"]
+    # An exact print needs no draws.
+    _, exact = rollphase.check_design(body, alpha_star=rollphase.critical_angle(body), draws=0, surface_mm=0.0)
+    assert not any("no print error" in w for w in exact["why_not"]), exact["why_not"]
+    path = tmp_path / "disk.json"
+    body.to_file(path)
+    out, err, code = cli(
+        "design", "--dim", "2", "--modes", "5", "--from", path, "--check-only",
+        "--alpha-star", rollphase.critical_angle(body), "--draws", 0, "-o", tmp_path / "again.json", "--json",
+        check=False,
+    )
+    assert code == 1 and "no print error was drawn (--draws 0)" in out, out + err

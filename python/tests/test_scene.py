@@ -50,3 +50,22 @@ def test_a_scene_is_not_a_saved_state(cli, tmp_path):
         rollphase.replay(path)
     with pytest.raises(rollphase.InputError):
         rollphase.replay(tmp_path / "missing.toml")
+
+
+def test_a_replay_that_ends_in_another_model_says_so(cli, tmp_path):
+    # The saved state is the viscous scene's; its [[replay]] turns the ball heavy at t = 5, so
+    # the replay ends in the inertial model: not compared number by number, said plainly.
+    path = saved_state(cli, tmp_path / "heavier.toml", [1.0, 0, 0, 0, 0, 0])
+    path.write_text(
+        path.read_text()
+        + '\n[[replay]]\nat = 5.0\nalpha_rad = 0.3\nmass_ratio = 2.0\n'
+        + 'integrator = { kind = "dop853", rtol = 1e-8, atol = 1e-8 }\n'
+    )
+    check = rollphase.replay(path)
+    assert not check["to_the_bit"] and check["entries"] == 2
+    assert (check["saved_model"], check["reached_model"]) == ("sphere-viscous", "sphere-inertial")
+    assert check["differing"] == check["numbers"] == 6 and len(check["state"]) == 10
+    assert np.isnan(check["worst"])
+    _, err, code = cli("replay", path, check=False)
+    assert code == 1 and "ends in the sphere-inertial model (10 numbers)" in err, err
+    assert "the sphere-viscous model's (6 numbers)" in err, err

@@ -223,3 +223,27 @@ def test_bad_arrays_and_settings_are_named_in_pythons_words():
     with pytest.raises(ValueError) as e:
         rollphase.periodic_orbits(body, 0.15, t_min=-1.0)
     assert "t_min = -1" in str(e.value) and "Decide" not in str(e.value)
+
+
+def test_a_period_near_alpha_star_says_how_well_it_is_known(cli, tmp_path):
+    # Within 1e-9 of α* the period is known to less than 1e-9 (α* is found to a few ulps, and
+    # T grows as (α − α*)^−½): said as a warning here and in the command line's note; within
+    # α*'s own rounding no period is given (a helper found 3x errors stated as 1.6 %).
+    body = Body.random_disk(1, sigma=0.12, modes=5)
+    path = tmp_path / "d1.json"
+    body.to_file(path)
+    star = rollphase.critical_angle(body)
+    alpha = star + 1e-12
+    with pytest.warns(RuntimeWarning, match="T is known to") as caught:
+        t = rollphase.period(body, alpha)
+    out, _, _ = cli("period", path, "--alpha", repr(alpha), "--json")
+    theirs = json.loads(out)
+    assert theirs["fate"] == "periodic" and not theirs["converged"] and t == theirs["period"]
+    assert theirs["note"] == str(caught[0].message)
+    with pytest.warns(RuntimeWarning, match="too close to α"):
+        assert np.isnan(rollphase.period(body, star + 3e-17))
+    out, _, _ = cli("period", path, "--alpha", repr(star + 3e-17), "--json")
+    theirs = json.loads(out)
+    # Undecided: neither a period nor a speed (0 would say it is at rest).
+    assert theirs["fate"] == "undecided" and theirs["period"] is None
+    assert theirs["mean_angular_speed"] is None and not theirs["halts"]

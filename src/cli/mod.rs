@@ -286,7 +286,7 @@ pub fn warn_if_stiff(
     flag: &str,
 ) {
     let evals = crate::simulate::stiff_work_estimate(body, ramp, span);
-    if evals > crate::simulate::STIFF_WARNING_EVALS {
+    if crate::simulate::is_stiff_run(body, ramp, span) {
         eprintln!(
             "warning: m/m0 = {} relaxes to the viscous model on τ ≈ {:.1e}, which an explicit \
              integrator must follow: about {:.0e} right-hand-side evaluations over {flag} {} \

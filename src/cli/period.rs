@@ -19,6 +19,10 @@ use crate::simulate::start::StartRequest;
 /// α ≤ α*. Inertial (--mass > 0): simulated from (--theta0, --thetadot0) until successive periods
 /// agree to 1e-8, at most --t-max time units; with inertia a disk can keep rolling below α*
 /// (hysteresis) and its fate depends on where it starts.
+///
+/// Within about 1e-8 of α* a viscous T is given with how well it is known (α* is found to a few
+/// ulps, and T grows as (α − α*)^−½), and within a few ulps of α* none is: undecided. The fate's
+/// words are every command's: periodic, halted, or undecided with what would decide it.
 #[derive(Debug, Args)]
 #[command(verbatim_doc_comment)]
 pub struct PeriodArgs {
@@ -45,7 +49,8 @@ pub struct PeriodArgs {
     /// Inertial: DOP853 relative tolerance.
     #[arg(long, default_value = "1e-10")]
     pub rtol: f64,
-    /// Print JSON (keys period, mean_angular_speed, halts, …).
+    /// Print JSON (keys period, mean_angular_speed (null when undecided), halts, converged,
+    /// note, fate, …).
     #[arg(long)]
     pub json: bool,
 }
@@ -55,8 +60,8 @@ pub struct PeriodArgs {
 pub struct PeriodReport {
     /// Time for θ to advance 2π; null when the disk halts.
     pub period: Option<f64>,
-    /// 2π/T; 0 when it halts.
-    pub mean_angular_speed: f64,
+    /// 2π/T; 0 when it halts; null when undecided (neither is known).
+    pub mean_angular_speed: Option<f64>,
     /// Whether it comes to rest: `fate` is "halted".
     pub halts: bool,
     /// Whether the number is converged (quadrature error ≤ 1e-9, or periodic to 1e-8).
@@ -139,7 +144,11 @@ pub fn run(a: PeriodArgs) -> Result<()> {
                 crate::analysis::orbits::disk_period::coarse_rtol_hint(&why, a.rtol, "--rtol")
             ),
         }),
-        _ => plan.note.clone(),
+        // A period known to less than 1e-9 says how well beside the number.
+        _ => match (p.caveat.clone(), plan.note.clone()) {
+            (Some(caveat), Some(note)) => Some(format!("{caveat}; {note}")),
+            (caveat, note) => caveat.or(note),
+        },
     };
     let report = PeriodReport {
         note: note.clone(),
@@ -164,21 +173,20 @@ pub fn run(a: PeriodArgs) -> Result<()> {
             alpha_star,
             super::drag_law::describe(&ramp.drag_law)
         )?;
-        match (fate, period) {
-            (Fate::Periodic { .. }, Some(t)) => outln!(
-                "  periodic: T = {t:.12}, 2π/T = {:.12}{}",
-                p.mean_angular_speed,
-                if p.converged {
-                    String::new()
-                } else {
-                    format!(
-                        "  (quadrature error estimate {:.1e} of T: this close to α* rounding in \
-                         1/θ̇ limits the accuracy)",
-                        p.relative_error
-                    )
-                }
+        match (fate, period, &p.caveat) {
+            (Fate::Periodic { .. }, Some(t), None) => outln!(
+                "  periodic: T = {t:.12}, 2π/T = {:.12}",
+                p.mean_angular_speed.unwrap_or(f64::NAN)
             )?,
-            (Fate::Halted { .. }, _) => outln!("  halted: 2π/T = 0")?,
+            // Only the digits that are known.
+            (Fate::Periodic { .. }, Some(t), Some(caveat)) => {
+                let digits = (-p.relative_error.log10()).floor().clamp(1.0, 14.0) as usize;
+                outln!(
+                    "  periodic: T = {t:.digits$e}, 2π/T = {:.digits$e}  ({caveat})",
+                    p.mean_angular_speed.unwrap_or(f64::NAN)
+                )?
+            }
+            (Fate::Halted { .. }, _, _) => outln!("  halted: 2π/T = 0")?,
             _ => outln!("  undecided: {}", note.clone().unwrap_or_default())?,
         }
         if let Some(n) = &plan.note

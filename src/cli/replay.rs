@@ -53,15 +53,30 @@ pub fn run(a: ReplayArgs) -> Result<()> {
     let check = check?;
     let seconds = started.elapsed().as_secs_f64();
     let t = crate::integrate::readable(resume.t);
+    let entries = match check.entries {
+        1 => "1 [[replay]] entry".to_string(),
+        n => format!("{n} [[replay]] entries"),
+    };
     if check.to_the_bit() {
         outln!(
-            "{}: replayed from t = 0 through {} [[replay]] entries to t = {t}: the saved state \
-             to the bit ({} numbers), in {seconds:.2} s",
+            "{}: replayed from t = 0 through {entries} to t = {t}: the saved state to the bit \
+             ({} numbers), in {seconds:.2} s",
             a.state.display(),
-            check.entries,
             check.numbers
         )?;
         return Ok(());
+    }
+    if check.saved_model != check.reached_model {
+        bail!(
+            "{}: the replay ends in the {} model ({} numbers), but the saved state at t = {t} is \
+             the {} model's ({} numbers): its [[replay]] does not lead to its [resume] (edited \
+             by hand, or saved by another build)",
+            a.state.display(),
+            check.reached_model,
+            check.state.len(),
+            check.saved_model,
+            check.numbers
+        );
     }
     bail!(
         "{}: replayed to t = {}, the run differs from the saved state at t = {t} in {} of {} \

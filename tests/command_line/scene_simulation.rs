@@ -406,6 +406,24 @@ fn a_bad_saved_state_is_refused_with_what_is_wrong() {
             format!("t = 1.0\nstate = {unit}\ncrossings = [[1.0, nan]]"),
             "resume.crossings[0]",
         ),
+        // Points no run could have measured (a helper's, 2026-12-02: accepted, then written to
+        // --plot-data): α past π/2, α = 1e300, m/m0 < 0, a polar angle past π.
+        (
+            format!("t = 1.0\nstate = {unit}\nalpha_sweep = [[2.0, 0.01, 0.0, 1.0]]"),
+            "α in [1e-9, π/2)",
+        ),
+        (
+            format!("t = 1.0\nstate = {unit}\nalpha_sweep = [[1e300, 1e300, 1e300, 1.0]]"),
+            "resume.alpha_sweep[0]",
+        ),
+        (
+            format!("t = 1.0\nstate = {unit}\ncrossings = [[1.0, 0.5], [-1.0, 1.17]]"),
+            "resume.crossings[1]",
+        ),
+        (
+            format!("t = 1.0\nstate = {unit}\ncrossings = [[1.0, 100.0]]"),
+            "a polar angle from 0 to π",
+        ),
         (
             format!("t = 1.0\nstate = {unit}\nspeed = 3.0"),
             "unknown field",

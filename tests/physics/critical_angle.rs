@@ -186,3 +186,45 @@ fn a_disk_at_rest_is_halted_at_a_coarse_tolerance_as_at_the_default() {
     }
     assert!(halted >= 7, "{halted} of 9 halted");
 }
+
+/// A viscous period this close to α* states how well it is known, and none is stated within
+/// α*'s own rounding: α* is a maximum found to a few ulps, so T ∝ (α − α*)^−½ takes half of
+/// that error of α − α* (the seed-1 disk's T·√Δ strayed by 0.9 % at Δ = 1e-15 and 8.5 % at 1e-16
+/// while the quadrature estimated 5e-4 and 4e-3; 2026-12-02).
+#[test]
+fn a_viscous_period_near_alpha_star_states_its_error_and_none_within_alpha_stars_rounding() {
+    use rollphase::analysis::verdict::{Fate, Undecided};
+    let Body::Disk(disk) = Body::random_disk(1, 0.12, 5).unwrap() else {
+        unreachable!()
+    };
+    let star = critical_angle(&Body::Disk(disk.clone())).alpha_star;
+    let at = |delta: f64| {
+        let ramp = Ramp::new(star + delta, 0.0).unwrap();
+        let p = viscous_disk_period(&disk, &ramp);
+        (p, p.fate(ramp.alpha_rad - star, 0.0))
+    };
+    let (far, fate) = at(1e-6);
+    assert!(far.converged && far.relative_error <= 1e-9, "{far:?}");
+    assert_eq!(fate, Fate::Periodic { multiplicity: 1 });
+    // Δ = 1e-12: periodic, known to about 2e-5 (α*'s rounding: 4 ε α* / 2Δ).
+    let (near, fate) = at(1e-12);
+    assert!(!near.converged, "{near:?}");
+    assert!((1e-5..3e-5).contains(&near.relative_error), "{near:?}");
+    assert_eq!(fate, Fate::Periodic { multiplicity: 1 });
+    // The stated error holds what the square-root law says of T there: T √Δ within it of its
+    // value at Δ = 1e-10, where the law's constant term is 1e-4 of T.
+    let law = |p: rollphase::analysis::orbits::disk_period::PeriodResult, d: f64| {
+        p.period.unwrap() * d.sqrt()
+    };
+    let (mid, _) = at(1e-10);
+    let (a, b) = (law(mid, 1e-10), law(near, 1e-12));
+    assert!((a / b - 1.0).abs() < 2e-3 + near.relative_error, "{a} {b}");
+    // Within a few ulps of α*: undecided, never a number.
+    for delta in [3e-17, 1e-16] {
+        let (p, fate) = at(delta);
+        assert!(
+            matches!(fate, Fate::Undecided { why: Undecided::AtThreshold { .. } }),
+            "Δ = {delta}: {p:?} {fate:?}"
+        );
+    }
+}

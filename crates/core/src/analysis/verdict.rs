@@ -286,8 +286,9 @@ pub enum Undecided {
         /// The longest cycle looked for, in crossings.
         max_k: usize,
     },
-    /// A viscous cylinder so close above its critical angle that its period integral, T grows
-    /// as (α − α*)^−½, cannot be computed: 1/θ̇ overflows at the contact angle of α*.
+    /// A viscous cylinder so close above its critical angle that its period, which grows as
+    /// (α − α*)^−½, is not known to 1 %: α* is found to a few ulps, or 1/θ̇ overflows at the
+    /// contact angle of α*.
     AtThreshold {
         /// α − α* (rad).
         alpha_above: f64,
@@ -345,8 +346,9 @@ impl Undecided {
                  settle it; the motion may also never repeat"
             ),
             Undecided::AtThreshold { alpha_above } => format!(
-                "α − α* = {alpha_above:.3e} is too close to α* for the period integral to \
-                 converge (T grows as (α − α*)^−½): a larger α would decide it"
+                "α − α* = {alpha_above:.3e} is too close to α* for a period to be known (T grows \
+                 as (α − α*)^−½, and α* itself is found to a few ulps, which this close leaves \
+                 T over 1 % uncertain): a larger α would decide it"
             ),
             Undecided::NotSettled { t_end, from_rest } => format!(
                 "still moving at t = {t_end} (|ω| or the weight's torque {from_rest:.3e}); a \

@@ -468,6 +468,31 @@ pub fn stiff_work_estimate(body: &Body, ramp: &Ramp, span: f64) -> f64 {
 /// the few million evaluations per second of one core).
 pub const STIFF_WARNING_EVALS: f64 = 1e8;
 
+/// m/m0 below which a run is in the stiff corner (the module doc: below m ≈ 0.01 the cost grows
+/// as 1/m). Above it the step follows the motion, not the relaxation, and
+/// [`stiff_work_estimate`] says nothing of the run's cost.
+pub const STIFF_BELOW_MASS: f64 = 1e-2;
+
+/// Whether a run of `span` on `ramp` is a stiff one that takes minutes: m/m0 below
+/// [`STIFF_BELOW_MASS`] and over [`STIFF_WARNING_EVALS`] evaluations estimated. The commands and
+/// Python warn of it before they start. (A heavy body over a long span was warned of, with
+/// advice that cannot apply: m/m0 = 10 over 1e9 t0, a helper found, 2026-12-02.)
+///
+/// # Example
+/// ```
+/// use rollphase_core::dynamics::Ramp;
+/// use rollphase_core::geometry::{Body, Sphere};
+/// use rollphase_core::simulate::is_stiff_run;
+/// let ball = Body::Sphere(Sphere::perfect());
+/// assert!(is_stiff_run(&ball, &Ramp::new(0.3, 1e-8)?, 100.0));
+/// assert!(!is_stiff_run(&ball, &Ramp::new(0.3, 10.0)?, 1e9));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn is_stiff_run(body: &Body, ramp: &Ramp, span: f64) -> bool {
+    ramp.mass_ratio < STIFF_BELOW_MASS
+        && stiff_work_estimate(body, ramp, span) > STIFF_WARNING_EVALS
+}
+
 /// A fixed-step run stops when ||q| − 1| or the contact-normal error exceeds this: an error of
 /// 1e-3 already shifts the drawn contact point by 1e-3 ⟨r⟩, and beyond it the numbers are no
 /// longer a rolling body's (DOP853 keeps both near 1e-15).

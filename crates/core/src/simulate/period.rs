@@ -61,12 +61,15 @@ pub struct PeriodAnswer {
     pub fate: Fate,
     /// T, the time for θ to advance 2π: only when the fate is periodic.
     pub period: Option<f64>,
-    /// 2π/T when periodic, else 0.
-    pub mean_angular_speed: f64,
+    /// 2π/T when periodic, 0 when halted; `None` when undecided (neither is known).
+    pub mean_angular_speed: Option<f64>,
     /// Whether the number is converged (quadrature error ≤ 1e-9, or periodic to 1e-8).
     pub converged: bool,
-    /// The quadrature's relative error estimate of T (viscous), else NaN.
+    /// The relative error of T (viscous: the quadrature's and α*'s rounding), else NaN.
     pub relative_error: f64,
+    /// Said with a periodic T that is not known to 1e-9 (a viscous period this close to α*):
+    /// how well it is known, for every surface to say beside the number.
+    pub caveat: Option<String>,
 }
 
 impl PeriodPlan {
@@ -143,16 +146,24 @@ impl PeriodPlan {
         };
         let fate = p.fate(self.ramp.alpha_rad - self.alpha_star, t_max);
         let period = p.period.filter(|_| matches!(fate, Fate::Periodic { .. }));
+        let caveat = (period.is_some() && !p.converged).then(|| {
+            format!(
+                "T is known to {:.1e} of itself: this close to α* the rounding of α − α* (α* is \
+                 found to a few ulps) and of 1/θ̇ limits it",
+                p.relative_error
+            )
+        });
         Ok(Some(PeriodAnswer {
             fate,
             period,
-            mean_angular_speed: if period.is_some() {
-                p.mean_angular_speed
-            } else {
-                0.0
+            mean_angular_speed: match fate {
+                Fate::Periodic { .. } => period.map(|_| p.mean_angular_speed),
+                Fate::Halted { .. } => Some(0.0),
+                _ => None,
             },
             converged: p.converged,
             relative_error: p.relative_error,
+            caveat,
         }))
     }
 }

@@ -96,11 +96,18 @@ pub struct ReplayCheck {
     pub saved_t: f64,
     /// The time the replay reached.
     pub reached_t: f64,
+    /// The saved state's model (its registry name).
+    pub saved_model: &'static str,
+    /// The model the replay ends in: another than the saved state's where the file's
+    /// `[[replay]]` does not lead to its `[resume]`'s model.
+    pub reached_model: &'static str,
     /// The numbers of the saved state vector.
     pub numbers: usize,
-    /// How many of them the replay's state differs in (a NaN counts).
+    /// How many of them the replay's state differs in, bit for bit (−0 against +0 counts; all
+    /// of them where the models differ).
     pub differing: usize,
-    /// The largest difference (0 when none).
+    /// The largest difference (0 when none; NaN where the models differ, whose numbers are not
+    /// the same quantities).
     pub worst: f64,
     /// The replay's state vector at its end.
     pub state: Vec<f64>,
@@ -110,7 +117,10 @@ impl ReplayCheck {
     /// Whether the replay reached the saved state to the bit: the same time, the same number
     /// of numbers, none different.
     pub fn to_the_bit(&self) -> bool {
-        self.reached_t == self.saved_t && self.differing == 0 && self.state.len() == self.numbers
+        self.reached_t.to_bits() == self.saved_t.to_bits()
+            && self.saved_model == self.reached_model
+            && self.differing == 0
+            && self.state.len() == self.numbers
     }
 }
 
@@ -131,19 +141,32 @@ impl LiveRun {
             )
         })?;
         let (saved, got) = (resume.state.vector(), run.state().vector());
+        let (saved_model, reached_model) = (resume.state.kind().name(), run.state().kind().name());
+        // Bit for bit: −0 and +0 differ, and so do two NaNs of other payloads.
         let differences: Vec<f64> = saved
             .iter()
             .zip(got)
+            .filter(|(s, g)| s.to_bits() != g.to_bits())
             .map(|(s, g)| (s - g).abs())
-            .filter(|d| *d != 0.0 || d.is_nan())
             .collect();
+        let same_model = saved_model == reached_model;
         Ok(ReplayCheck {
             entries: setup.scene.replay.len(),
             saved_t: resume.t,
             reached_t: run.time(),
+            saved_model,
+            reached_model,
             numbers: saved.len(),
-            differing: differences.len(),
-            worst: differences.iter().copied().fold(0.0, f64::max),
+            differing: if same_model {
+                differences.len()
+            } else {
+                saved.len()
+            },
+            worst: if same_model {
+                differences.iter().copied().fold(0.0, f64::max)
+            } else {
+                f64::NAN
+            },
             state: got.to_vec(),
         })
     }

@@ -321,29 +321,28 @@ impl super::ResumeSpec {
                  200 characters, as sweep-alpha.csv's drag column)"
             )));
         }
+        // A point is one the app could have measured: a ramp it runs (α and m/m0 as `Ramp`
+        // takes them), a finite 1/T ≥ 0, a polar angle on the ball (0 to π).
+        let a_ramp = |alpha: f64, mass: f64| Ramp::new(alpha, mass).is_ok();
         for (i, p) in self.alpha_sweep.iter().enumerate() {
             let [alpha, rate, mass, dir] = *p;
-            let ok = alpha.is_finite()
-                && alpha > 0.0
+            let ok = a_ramp(alpha, mass)
                 && rate.is_finite()
                 && rate >= 0.0
-                && mass.is_finite()
-                && mass >= 0.0
                 && (dir == 1.0 || dir == -1.0);
             if !ok {
                 return Err(invalid(format!(
-                    "resume.alpha_sweep[{i}] = {p:?} is not a point (needs [α > 0, 1/T ≥ 0, \
-                     m/m0 ≥ 0, +1 or −1])"
+                    "resume.alpha_sweep[{i}] = {p:?} is not a point (needs [α in [1e-9, π/2), \
+                     1/T ≥ 0, m/m0 ≥ 0, +1 or −1], all finite)"
                 )));
             }
         }
-        if let Some(i) = self
-            .crossings
-            .iter()
-            .position(|p| !p.iter().all(|x| x.is_finite()))
-        {
+        if let Some(i) = self.crossings.iter().position(|&[mass, polar]| {
+            !(a_ramp(0.1, mass) && (0.0..=std::f64::consts::PI).contains(&polar))
+        }) {
             return Err(invalid(format!(
-                "resume.crossings[{i}] = {:?} is not a point (needs two finite numbers)",
+                "resume.crossings[{i}] = {:?} is not a point (needs [m/m0 ≥ 0, a polar angle \
+                 from 0 to π], both finite)",
                 self.crossings[i]
             )));
         }

@@ -80,19 +80,45 @@ pub struct Check {
 }
 
 impl Check {
-    /// Every target holds over the band and every print error is convex.
+    /// Every target holds over the band and every print error is convex, and print errors
+    /// were drawn where the band has them ([`Self::prints_checked`]).
     ///
     /// # Example
     /// ```
     /// use rollphase_core::analysis::design::{Band, Check};
-    /// let band = Band { delta_alpha: 0.01, mass_fraction: 0.2, surface_mm: 0.1, draws: 0, seed: 0 };
+    /// let band = Band { delta_alpha: 0.01, mass_fraction: 0.2, surface_mm: 0.1, draws: 2, seed: 0 };
+    /// let check = Check {
+    ///     band, targets: vec![], convex_draws: 2, smallest_radius_mm: 1.0, print_failure_bound: None,
+    /// };
+    /// assert!(check.holds());
+    /// // No print error drawn for prints of ± 0.1 mm: nothing says the print holds.
+    /// let undrawn = Check { band: Band { draws: 0, ..band }, convex_draws: 0, ..check.clone() };
+    /// assert!(!undrawn.holds());
+    /// // An exact print (surface_mm = 0) needs no draws.
+    /// let exact = Check { band: Band { draws: 0, surface_mm: 0.0, ..band }, ..undrawn };
+    /// assert!(exact.holds());
+    /// ```
+    pub fn holds(&self) -> bool {
+        self.prints_checked()
+            && self.convex_draws == self.band.draws
+            && self.targets.iter().all(|t| t.holds)
+    }
+
+    /// Whether the print errors were checked: some were drawn, or the band's prints are exact
+    /// (`surface_mm` = 0). With none drawn (`draws` = 0) a design said "holds: yes" although
+    /// the same body failed the band at 4 draws (a helper found it, 2026-12-02).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::design::{Band, Check};
+    /// let band = Band { delta_alpha: 0.01, mass_fraction: 0.2, surface_mm: 0.05, draws: 0, seed: 0 };
     /// let check = Check {
     ///     band, targets: vec![], convex_draws: 0, smallest_radius_mm: 1.0, print_failure_bound: None,
     /// };
-    /// assert!(check.holds());
+    /// assert!(!check.prints_checked());
     /// ```
-    pub fn holds(&self) -> bool {
-        self.convex_draws == self.band.draws && self.targets.iter().all(|t| t.holds)
+    pub fn prints_checked(&self) -> bool {
+        self.band.draws > 0 || self.band.surface_mm == 0.0
     }
 }
 

@@ -59,6 +59,17 @@ impl Design {
                 ));
             }
         }
+        if !self.check.prints_checked() {
+            // `--draws 0` on the command line, `draws=0` in Python.
+            let draws = setting("draws");
+            let space = if draws.ends_with('=') { "" } else { " " };
+            why.push(format!(
+                "no print error was drawn ({draws}{space}0): whether a print within ± {} mm \
+                 holds is not checked (draw at least 1, or give a surface error of 0 for an \
+                 exact print)",
+                self.check.band.surface_mm
+            ));
+        }
         if self.check.convex_draws < self.check.band.draws {
             why.push(format!(
                 "{} of {} print errors dent the body",
