@@ -223,7 +223,12 @@ fn a_viscous_period_near_alpha_star_states_its_error_and_none_within_alpha_stars
     for delta in [3e-17, 1e-16] {
         let (p, fate) = at(delta);
         assert!(
-            matches!(fate, Fate::Undecided { why: Undecided::AtThreshold { .. } }),
+            matches!(
+                fate,
+                Fate::Undecided {
+                    why: Undecided::AtThreshold { .. }
+                }
+            ),
             "Δ = {delta}: {p:?} {fate:?}"
         );
     }

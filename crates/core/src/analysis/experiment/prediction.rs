@@ -326,20 +326,6 @@ fn sphere_start(
         steady_drift(&points.iter().map(|p| p.0).collect::<Vec<_>>())
             .and_then(|_| (n >= 2).then(|| times[n - 1] - times[n - 2]))
     };
-    let no_cycle = |crossings: usize, angular_speed: f64| {
-        if crossings == 0 {
-            Undecided::NoTurn {
-                t_cap: decide.t_cap,
-                angular_speed,
-            }
-        } else {
-            Undecided::NoRepeat {
-                t_cap: decide.t_cap,
-                crossings,
-                max_k: decide.max_k,
-            }
-        }
-    };
     match ModelKind::for_dimension(3, ramp) {
         ModelKind::SphereViscous => {
             let r = decided_run(sphere, ramp, q0, decide, (0.0, 0.0, 0), rtol)?;
@@ -404,7 +390,7 @@ fn sphere_start(
                     last: points[points.len() - k..].to_vec(),
                 },
                 None => StartEnd::Undecided(
-                    no_cycle(points.len(), run.angular_speed),
+                    decide.undecided(points.len(), run.angular_speed),
                     last_of(&points),
                     drifts(
                         &points,

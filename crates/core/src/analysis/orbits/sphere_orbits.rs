@@ -633,6 +633,35 @@ pub struct Decide {
     pub tol: f64,
 }
 
+impl Decide {
+    /// Why a run that `self` left undecided at its cap is: no turn (no crossing of ∂Ω, and not
+    /// at rest: `angular_speed` at the end), or no cycle among its `crossings`. The one wording
+    /// of a decided run's undecided fate, for `decided_run` and `predict`'s inertial runs alike.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::orbits::sphere_orbits::Decide;
+    /// use rollphase_core::analysis::verdict::Undecided;
+    /// let decide = Decide { t_min: 100.0, t_cap: 400.0, max_k: 4, tol: 1e-5 };
+    /// assert!(matches!(decide.undecided(0, 1e-3), Undecided::NoTurn { .. }));
+    /// assert_eq!(decide.undecided(9, 0.2), Undecided::NoRepeat { t_cap: 400.0, crossings: 9, max_k: 4 });
+    /// ```
+    pub fn undecided(&self, crossings: usize, angular_speed: f64) -> Undecided {
+        if crossings == 0 {
+            Undecided::NoTurn {
+                t_cap: self.t_cap,
+                angular_speed,
+            }
+        } else {
+            Undecided::NoRepeat {
+                t_cap: self.t_cap,
+                crossings,
+                max_k: self.max_k,
+            }
+        }
+    }
+}
+
 /// A run from [`decided_run`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct DecidedRun {
@@ -828,18 +857,7 @@ fn record<const N: usize, S: RollingModel<N>>(
         (None, Some((k, _))) => Fate::Periodic { multiplicity: k },
         (None, None) if rested => Fate::Halted { t: Some(run.t()) },
         (None, None) => Fate::Undecided {
-            why: if crossings.is_empty() {
-                Undecided::NoTurn {
-                    t_cap: decide.t_cap,
-                    angular_speed,
-                }
-            } else {
-                Undecided::NoRepeat {
-                    t_cap: decide.t_cap,
-                    crossings: crossings.len(),
-                    max_k: decide.max_k,
-                }
-            },
+            why: decide.undecided(crossings.len(), angular_speed),
         },
     };
     Ok(DecidedRun {
