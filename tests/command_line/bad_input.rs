@@ -1620,3 +1620,17 @@ fn a_bad_integrator_name_gets_the_same_message_everywhere() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `period --rtol` is checked whichever model runs: the viscous quadrature does not use it, and
+/// `--rtol nan` or `-5` passed there while the inertial run refused them (a helper's, 2026-12-02).
+#[test]
+fn period_refuses_a_bad_rtol_in_the_viscous_model_too() {
+    let disk = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/shapes/disk.json");
+    for rtol in ["nan", "-5", "0", "1"] {
+        for mass in ["0", "2"] {
+            let rtol = format!("--rtol={rtol}");
+            let r = rollphase(&["period", disk, "--alpha", "0.3", "--mass", mass, &rtol]);
+            fails_with(&r, 1, &["rtol", "1e-15 ≤ rtol < 1"]);
+        }
+    }
+}

@@ -84,12 +84,17 @@ impl PeriodPlan {
     /// let plan = PeriodPlan::new(&Body::paper_disk(84, 0.12, 5)?, Ramp::new(0.3, 1e-12)?, 1e-10)?;
     /// assert_eq!(plan.model, ModelKind::DiskViscous);
     /// assert!(plan.note.is_some());
+    /// // A tolerance that is no tolerance is refused, viscous or not.
+    /// assert!(PeriodPlan::new(&Body::paper_disk(84, 0.12, 5)?, Ramp::new(0.3, 0.0)?, f64::NAN).is_err());
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     pub fn new(body: &Body, ramp: Ramp, rtol: f64) -> Result<Self, PeriodError> {
         let Body::Disk(disk) = body else {
             return Err(PeriodError::NotADisk);
         };
+        // Checked whatever the model: the viscous quadrature does not use it, but `--rtol nan`
+        // was accepted there and refused with inertia (a helper found it, 2026-12-02).
+        Method::dop853(rtol).validate()?;
         let choice = choose_model(body, ramp, Method::dop853(rtol))?;
         let model = ModelKind::of(body, &choice.ramp);
         if model.is_inertial()
