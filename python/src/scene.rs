@@ -8,7 +8,7 @@ use numpy::ndarray::Array1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rollphase_scene::live::{LiveRun, SimError};
-use rollphase_scene::scene::load_scene_file;
+use rollphase_scene::scene::{SceneError, load_scene_file};
 
 use crate::errors::{ErrorClass, input_error};
 use crate::interruptible;
@@ -25,7 +25,11 @@ use crate::interruptible;
 /// what is missing; a run that fails on the way, RunError.
 #[pyfunction]
 pub fn replay<'py>(py: Python<'py>, state: PathBuf) -> PyResult<Bound<'py, PyDict>> {
-    let setup = load_scene_file(&state).map_err(|e| input_error(e.to_string()))?;
+    // The file named in every message, as the command line names it.
+    let setup = load_scene_file(&state).map_err(|e| match e {
+        e @ SceneError::SceneIo { .. } => input_error(e.to_string()),
+        e => input_error(format!("bad saved state {}: {e}", state.display())),
+    })?;
     if setup.resume.is_none() {
         return Err(input_error(format!(
             "{} has no [resume]: it is a scene, not a saved state (the app's Save state writes \

@@ -69,3 +69,12 @@ def test_a_replay_that_ends_in_another_model_says_so(cli, tmp_path):
     _, err, code = cli("replay", path, check=False)
     assert code == 1 and "ends in the sphere-inertial model (10 numbers)" in err, err
     assert "the sphere-viscous model's (6 numbers)" in err, err
+
+
+def test_a_bad_saved_state_is_named_in_the_message(cli, tmp_path):
+    empty = tmp_path / "empty.toml"
+    empty.write_text("")
+    with pytest.raises(rollphase.InputError, match=r"bad saved state .*empty\.toml"):
+        rollphase.replay(empty)
+    _, err, code = cli("replay", empty, check=False)
+    assert code == 1 and f"bad saved state {empty}" in err, err

@@ -30,7 +30,13 @@ pub struct ReplayArgs {
 
 /// Runs `replay`.
 pub fn run(a: ReplayArgs) -> Result<()> {
-    let setup = load_scene_file(&a.state)?;
+    // The scene file named in every message, as `--scene` names it (a TOML error said only
+    // "line 1, column 1").
+    let setup = match load_scene_file(&a.state) {
+        Ok(s) => s,
+        Err(e @ crate::scene::SceneError::SceneIo { .. }) => return Err(e.into()),
+        Err(e) => bail!("bad saved state {}: {e}", a.state.display()),
+    };
     let Some(resume) = &setup.resume else {
         bail!(
             "{} has no [resume]: it is a scene, not a saved state (the app's Save state writes \

@@ -8,10 +8,11 @@
 //! way (see [`super::shard`] and docs/guide/cluster.md).
 //!
 //! Each run is the core's [`Scan::run`] ([`crate::analysis::orbits::sphere_orbits::settle_checked`]):
-//! released from rest (viscous if m/m0 = 0), followed until it halts (|ω| < 1e-9), closes a
-//! cycle of k ≤ `max_multiplicity` crossings of ∂Ω twice in a row (points to `point_tol`,
-//! durations to `period_rtol`), or reaches `t_max`. An undecided run counts as
-//! cruising if its final |ω| ≥ 1e-3 (as in `sphere-cruising`). Orientation o of a body is
+//! released from rest (viscous if m/m0 = 0), followed until it halts (the verdict's rest),
+//! closes a steady cycle of k ≤ `max_multiplicity` crossings of ∂Ω (`settled_cycle`, points to
+//! `point_tol`; a fast setting's period is checked against the reference's to `period_rtol`), or
+//! reaches `t_max`. Only a periodic run cruises; an undecided one is not counted (as in
+//! `sphere-cruising`). Orientation o of a body is
 //! [`crate::analysis::studies::sphere::random_orientation`]`(body, orientation_seed, o)`, the one the
 //! figures use. A fate found with a setting coarser than DOP853 at rtol 1e-10 is re-decided with
 //! that reference before it is written (a cycle from its last crossing, a halt or an undecided
@@ -773,7 +774,7 @@ pub struct SweepSummary {
     pub undecided: usize,
     /// Runs whose body left the ramp (sweep.csv's `left_model`; in no other count of fates).
     pub left_model: usize,
-    /// Runs that cruise (periodic, or undecided with |ω| ≥ 1e-3).
+    /// Runs that cruise: the periodic ones (an undecided run is not counted).
     pub cruising: usize,
     /// Runs whose own integrator's fate the reference corrected (sweep.csv's `answer_check`).
     pub corrected: usize,
