@@ -79,7 +79,7 @@ fn disk_hysteresis_speeds_are_the_period_commands() {
     let dir = o.out.join("disk-hysteresis");
     let disk = dir.join("disk.json");
     let disk_arg = disk.to_string_lossy().into_owned();
-    let seed = s.seed.to_string();
+    let seed = s.seed.expect("a seeded disk").to_string();
     cli::rollphase_ok([
         "shape", "--dim", "2", "--sigma", "0.12", "--modes", "5", "--seed", &seed, "-o", &disk_arg,
     ]);
@@ -537,4 +537,37 @@ fn a_full_disk_leaves_the_old_figure_set_whole() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     assert_eq!(names.len(), 3, "{names:?}");
+}
+
+/// A figure drawn from a `--shape` file records no seed (null), not seed 0: the body came from
+/// the file, and 0 is a seed a reader could regenerate a different body from.
+#[test]
+fn a_figure_from_a_shape_file_records_no_seed() {
+    let dir = cli::scratch("fig-shape-seed");
+    let shape = dir.join("disk.json");
+    let shape = shape.to_str().unwrap();
+    cli::rollphase_ok(["shape", "--dim", "2", "--seed", "1", "-o", shape]);
+    let seeded = cli::unmade_folder("fig-shape-seed-seeded");
+    let from_file = cli::unmade_folder("fig-shape-seed-file");
+    for (out, body) in [(&seeded, ["--seed", "1"]), (&from_file, ["--shape", shape])] {
+        let out_arg = out.to_str().unwrap();
+        cli::rollphase_ok([
+            "figure",
+            "disk-flow",
+            "--quick",
+            body[0],
+            body[1],
+            "--out",
+            out_arg,
+        ]);
+    }
+    let seed_of = |out: &Path| {
+        let text = std::fs::read_to_string(out.join("disk-flow/summary.json")).unwrap();
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()["seed"].clone()
+    };
+    assert_eq!(seed_of(&seeded), serde_json::json!(1));
+    assert_eq!(seed_of(&from_file), serde_json::Value::Null);
+    for d in [dir, seeded, from_file] {
+        let _ = std::fs::remove_dir_all(d);
+    }
 }

@@ -32,8 +32,8 @@ pub struct FlowPanel {
 /// Headline numbers.
 #[derive(Debug, Serialize)]
 pub struct Summary {
-    /// Seed of the disk.
-    pub seed: u64,
+    /// Seed of the disk. (null for a `--shape` file).
+    pub seed: Option<u64>,
     /// α*.
     pub alpha_star: f64,
     /// Number of fixed points above α* (expect 0).

@@ -32,8 +32,8 @@ const RTOL: f64 = 1e-10;
 /// Headline numbers.
 #[derive(Debug, Serialize)]
 pub struct Summary {
-    /// Seed of the disk.
-    pub seed: u64,
+    /// Seed of the disk. (null for a `--shape` file).
+    pub seed: Option<u64>,
     /// α* (rad).
     pub alpha_star: f64,
     /// First α of the ascending sweep at which the disk rolls.

@@ -34,8 +34,8 @@ pub struct MassFit {
 /// Headline numbers.
 #[derive(Debug, Serialize)]
 pub struct Summary {
-    /// Seed of the disk.
-    pub seed: u64,
+    /// Seed of the disk. (null for a `--shape` file).
+    pub seed: Option<u64>,
     /// Its α*.
     pub alpha_star: f64,
     /// Mean exponent over the masses (expect 0.5).

@@ -30,8 +30,8 @@ use crate::geometry::Disk;
 /// Per-disk results.
 #[derive(Debug, Clone, Serialize)]
 pub struct DiskTransition {
-    /// Seed the disk was generated with.
-    pub seed: u64,
+    /// Seed the disk was generated with. (null for a `--shape` file).
+    pub seed: Option<u64>,
     /// α* (rad).
     pub alpha_star: f64,
     /// Fitted exponent β of T − C ∝ (α − α*)^(−β), from differences (expect 1/2).
@@ -84,7 +84,7 @@ impl Record for DiskTransition {
     }
     fn decode(f: &mut Fields) -> Result<Self> {
         Ok(DiskTransition {
-            seed: u64::decode(f)?,
+            seed: Option::<u64>::decode(f)?,
             alpha_star: f.number()?,
             exponent: f.number()?,
             exponent_stderr: f.number()?,

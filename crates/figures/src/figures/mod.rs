@@ -81,8 +81,9 @@ pub struct FigureSphere {
     pub body: Sphere,
     /// Where it came from, e.g. "paper (numpy seed 219, σ = 0.25, l ≤ 5)".
     pub label: String,
-    /// The seed it was generated from (the numpy seed for the paper's body; 0 for a file).
-    pub seed: u64,
+    /// The seed it was generated from (the numpy seed for the paper's body; none for a file,
+    /// written as null).
+    pub seed: Option<u64>,
     /// Whether it is the paper's Figs. 3–4 body.
     pub is_paper: bool,
 }
@@ -111,7 +112,7 @@ impl FigureOptions {
             BodyChoice::FigureDefault => Ok(FigureSphere {
                 body: paper_sphere(PAPER_SPHERE_SEED, 0.25, 5)?,
                 label: format!("paper (numpy seed {PAPER_SPHERE_SEED}, σ = 0.25, l ≤ 5)"),
-                seed: PAPER_SPHERE_SEED as u64,
+                seed: Some(PAPER_SPHERE_SEED as u64),
                 is_paper: true,
             }),
             BodyChoice::Seeded => {
@@ -119,7 +120,7 @@ impl FigureOptions {
                 Ok(FigureSphere {
                     body,
                     label: format!("seed {used} (σ = 0.25, l ≤ 5)"),
-                    seed: used,
+                    seed: Some(used),
                     is_paper: false,
                 })
             }
@@ -127,7 +128,7 @@ impl FigureOptions {
                 Body::Sphere(body) => Ok(FigureSphere {
                     body,
                     label: format!("file {}", path.display()),
-                    seed: 0,
+                    seed: None,
                     is_paper: false,
                 }),
                 Body::Disk(_) => bail!(
@@ -139,17 +140,23 @@ impl FigureOptions {
     }
 
     /// The 2D body of a disk figure: the first convex random disk at or after `seed` (σ, M), or
-    /// the `--shape` file. Returns the disk and the seed used (0 for a file).
-    pub fn disk(&self, figure: &str, seed: u64, sigma: f64, modes: u32) -> Result<(Disk, u64)> {
+    /// the `--shape` file. Returns the disk and the seed used (none for a file).
+    pub fn disk(
+        &self,
+        figure: &str,
+        seed: u64,
+        sigma: f64,
+        modes: u32,
+    ) -> Result<(Disk, Option<u64>)> {
         match &self.body {
             BodyChoice::File(path) => match load_convex(path)? {
-                Body::Disk(d) => Ok((d, 0)),
+                Body::Disk(d) => Ok((d, None)),
                 Body::Sphere(_) => bail!(
                     "{figure} needs a 2D body, but --shape {} is a 3D sphere",
                     path.display()
                 ),
             },
-            _ => convex_disk(seed, sigma, modes),
+            _ => convex_disk(seed, sigma, modes).map(|(d, used)| (d, Some(used))),
         }
     }
 

@@ -35,8 +35,8 @@ use crate::geometry::Body;
 pub struct Summary {
     /// The body: the paper's by default, or `--seed`, or `--shape`.
     pub body: String,
-    /// Seed of the sphere.
-    pub seed: u64,
+    /// Seed of the sphere. (null for a `--shape` file).
+    pub seed: Option<u64>,
     /// α* of the sphere (and of the rescaled disk).
     pub alpha_star: f64,
     /// Orientations per α.

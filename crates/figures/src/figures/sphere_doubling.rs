@@ -71,8 +71,8 @@ pub struct MassResult {
 pub struct Summary {
     /// The body: the paper's by default, or `--seed`, or `--shape`.
     pub body: String,
-    /// Seed of the body used.
-    pub seed: u64,
+    /// Seed of the body used. (null for a `--shape` file).
+    pub seed: Option<u64>,
     /// Its α*.
     pub alpha_star: f64,
     /// α.

@@ -23,8 +23,8 @@ use crate::geometry::Body;
 pub struct Summary {
     /// The body: the paper's by default, or `--seed`, or `--shape`.
     pub body: String,
-    /// Seed.
-    pub seed: u64,
+    /// Seed. (null for a `--shape` file).
+    pub seed: Option<u64>,
     /// α*.
     pub alpha_star: f64,
     /// Most distinct closed orbits seen at one α (the paper: 2).

@@ -46,8 +46,8 @@ pub struct Attractor {
 pub struct Summary {
     /// The body: the paper's by default, or `--seed`, or `--shape`.
     pub body: String,
-    /// Seed of the body.
-    pub seed: u64,
+    /// Seed of the body. (null for a `--shape` file).
+    pub seed: Option<u64>,
     /// α* of the body.
     pub alpha_star: f64,
     /// α used.
