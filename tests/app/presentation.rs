@@ -111,9 +111,11 @@ fn the_caption_never_covers_the_body_on_any_lesson_step() {
                 let mut r = HeadlessRenderer::new(setup.clone(), size, 1).unwrap();
                 // Class text is the app's presentation and class modes: a room's 24 px floor.
                 let room_text_px = if text_scale > 1.0 { ROOM_TEXT_PX } else { 0.0 };
+                // The widest numbers a step can show: a period measured ahead as well.
                 r.set_view_options(ViewOptions {
                     text_scale,
                     room_text_px,
+                    lesson_period: Some(2),
                     ..ViewOptions::default()
                 });
                 let mut k = 0;
@@ -438,4 +440,30 @@ fn every_preset_reads_from_the_back_of_a_room() {
         }
     }
     assert!(measured >= 20, "{measured} frames measured");
+}
+
+/// A lesson step's period, measured ahead on the same run (`LessonEvidence::period_shown`), is on
+/// the overlay as the step opens, marked so; without it the overlay claims no period before the
+/// live run has found one.
+#[test]
+fn the_overlay_says_the_steps_period_measured_ahead_until_the_live_run_finds_it() {
+    let setup = Scene::preset("lesson-period-doubling")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    let mut r = HeadlessRenderer::new(setup, (1280, 720), 1).unwrap();
+    let live = panel_texts(&r.frame_data(0).unwrap());
+    assert!(!live.iter().any(|t| t.starts_with("period")), "{live:?}");
+    for room in [0.0, ROOM_TEXT_PX] {
+        r.set_view_options(ViewOptions {
+            lesson_period: Some(2),
+            room_text_px: room,
+            ..ViewOptions::default()
+        });
+        let ahead = panel_texts(&r.frame_data(0).unwrap());
+        assert!(
+            ahead.iter().any(|t| t == "period 2 (measured ahead)"),
+            "{ahead:?}"
+        );
+    }
 }

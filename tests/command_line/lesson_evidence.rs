@@ -170,3 +170,38 @@ fn a_claim_needs_the_plot_it_is_read_from() {
     let e = Scene::from_toml(&unknown).unwrap_err().to_string();
     assert!(e.contains("stops") && e.contains("halted"), "{e}");
 }
+
+/// The period each doubling step claims, read from its evidence as the app's overlay reads it:
+/// period 1 at m/m0 = 0 and 2, period 2 at 4.5 and 6; nothing before the first step, and
+/// nothing for a lesson whose steps claim no period.
+#[test]
+fn the_period_the_overlay_says_ahead_is_the_steps_checked_claim() {
+    use rollphase::live::evidence::LessonEvidence;
+    use std::sync::Arc;
+    let measured = |name: &str| {
+        let setup = Arc::new(Scene::preset(name).unwrap().setup(None).unwrap());
+        let evidence = LessonEvidence::start(setup.clone()).expect("a lesson has a timeline");
+        let last = setup.timeline.len();
+        let started = std::time::Instant::now();
+        while evidence.progress(last).0 < 1.0 {
+            assert!(evidence.progress(last).1.is_none(), "{name}: failed");
+            assert!(
+                started.elapsed().as_secs() < 600,
+                "{name}: not measured in 10 min"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        (0..=last)
+            .map(|done| evidence.period_shown(done))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(
+        measured("lesson-period-doubling"),
+        [None, Some(1), Some(1), Some(2), Some(2)]
+    );
+    assert!(
+        measured("lesson-critical-angle")
+            .iter()
+            .all(Option::is_none)
+    );
+}

@@ -323,6 +323,21 @@ impl LessonEvidence {
             .map(|c| c.2)
     }
 
+    /// The period (1 or 2) the step shown once `done` steps are done claims, where its
+    /// measured evidence bears the claim out: what the overlay says while the live run, the
+    /// same run, has not yet settled onto the cycle (it finds the lesson's period 2 about
+    /// 560 t0 into its 700 t0 step, later than a teacher's click). `None` for a step that
+    /// claims no period, one still being measured, or one whose evidence does not show it.
+    pub fn period_shown(&self, done: usize) -> Option<usize> {
+        let k = done.checked_sub(1)?;
+        let period = match self.setup.timeline.get(k)?.claim? {
+            Claim::Period1 => 1,
+            Claim::Period2 => 2,
+            Claim::Halted | Claim::Rolling => return None,
+        };
+        self.claim(done)?.ok().map(|_| period)
+    }
+
     /// How far the measurement of step `done` has got, 0 to 1 (1: measured): the share of the
     /// run from the lesson's start to the step's end that is done (the steps before it are run
     /// first, so a share of the step alone sat at 0 while they ran), and why it stopped if it

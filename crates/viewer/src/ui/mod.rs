@@ -333,6 +333,12 @@ impl AppUi {
             self.evidence_shown = None;
         }
         self.take_in_evidence(status, step);
+        self.view_options.lesson_period = step.and_then(|done| {
+            self.evidence
+                .as_ref()
+                .filter(|e| !status.snapshot.off_script && e.is_for(&status.setup))?
+                .period_shown(done)
+        });
         if let Some(done) = step {
             self.step_plots
                 .entry(done)

@@ -112,6 +112,10 @@ pub struct ViewOptions {
     /// Panels then leave out their small print (the integrator's health line, the SO(3) ball's
     /// key) rather than show it too small to read.
     pub room_text_px: f32,
+    /// The period a lesson step's evidence, measured ahead on the same run, shows at the step's
+    /// end (`LessonEvidence::period_shown`): said on the overlay, marked "measured ahead", until
+    /// the live run finds its own.
+    pub lesson_period: Option<usize>,
 }
 
 /// The least text size on the view and the lesson's plot in presentation and class modes, in
@@ -128,6 +132,7 @@ impl Default for ViewOptions {
             fixed_target: None,
             text_scale: 1.0,
             room_text_px: 0.0,
+            lesson_period: None,
         }
     }
 }
@@ -375,7 +380,7 @@ impl SceneView {
             } else {
                 text
             };
-            let mut status = self.status_panel(snap, sized(status_text));
+            let mut status = self.status_panel(snap, sized(status_text), options.lesson_period);
             if body_rect.is_none() {
                 // The views' titles hold the top edge; keep the numbers clear of them.
                 status.anchor = Anchor::BottomLeft(10, 10);

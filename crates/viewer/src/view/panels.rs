@@ -38,7 +38,14 @@ impl TextSize {
 }
 
 impl SceneView {
-    pub(super) fn status_panel(&self, snap: &Snapshot, text: TextSize) -> OverlayPanel {
+    /// The numbers; `lesson_period` is the period a lesson step's evidence measured ahead
+    /// (said, marked so, while the live run has not found its own).
+    pub(super) fn status_panel(
+        &self,
+        snap: &Snapshot,
+        text: TextSize,
+        lesson_period: Option<usize>,
+    ) -> OverlayPanel {
         let room = text.for_a_room();
         let deg = snap.alpha_rad.to_degrees();
         let ratio = if snap.alpha_star > 0.0 {
@@ -135,15 +142,15 @@ impl SceneView {
             items.push(line(rate, 16.0));
             // On a line of its own: appended to the 1/T line it widened the box over the body
             // at the period-doubling lesson's key moment.
-            if let Some(k) = snap.period_multiplicity.filter(|_| snap.period.is_some()) {
-                items.push(line(
-                    if k == 2 {
-                        "period 2: doubled".to_string()
-                    } else {
-                        format!("period {k}")
-                    },
-                    16.0,
-                ));
+            let live = snap.period_multiplicity.filter(|_| snap.period.is_some());
+            if let Some(k) = live {
+                items.push(line(period_line(k), 16.0));
+            } else if let Some(k) = lesson_period.filter(|_| !snap.halted) {
+                // The same run's evidence, measured ahead: the step's claim on the screen
+                // when the step opens, marked as such until the live run settles too.
+                // Short: for a room the line is 24 px, and the panel must stay clear of the
+                // SO(3) inset at class mode's 1280×720.
+                items.push(line(format!("period {k} (measured ahead)"), 16.0));
             }
         }
         if let Some((tips, lost)) = snap.hull_tips {
@@ -370,6 +377,15 @@ pub(super) fn wrap(text: &str, width: usize) -> Vec<String> {
         lines.push(line);
     }
     lines
+}
+
+/// The overlay's period line for a cycle of multiplicity `k`.
+fn period_line(k: usize) -> String {
+    if k == 2 {
+        "period 2: doubled".to_string()
+    } else {
+        format!("period {k}")
+    }
 }
 
 /// A number for people: four decimals, trailing zeros dropped (m/m0 = 3.2100635417193555
