@@ -61,6 +61,11 @@ done
 screen 1280x720 "$bin" app --preset lesson-period-doubling --class --step 3 --screenshot-after 6 \
     docs/presentation/class-mode-1280x720.png --exit-after 7
 
+# Sculpting (docs/guide/app.md): the paper's body before and after one pulled bump, from the
+# test that checks α* and the drift change with it.
+ROLLPHASE_SCREENSHOTS="$PWD/docs/sculpt" cargo test -q --test app -- --ignored --exact \
+    sculpt::a_strokes_before_and_after_show_alpha_star_and_the_drift_change
+
 # The app's measuring sweeps (docs/guide/app.md): α up across α* on a cylinder from 0.96 α*,
 # α down across α* on a sphere, m/m0 up across the flip; each window's screenshot as it ends
 # and its plot data (--plot-data writes them as the window closes).

@@ -7,7 +7,6 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 
 use crate::geometry::Body;
-use crate::geometry::mesh::{disk_mesh, sphere_mesh};
 
 /// Write a body as a watertight STL mesh in millimetres, for 3D printing.
 ///
@@ -65,15 +64,7 @@ pub fn run(a: ExportStlArgs) -> Result<()> {
     // A dented cylinder or a print's outline rolls on its hull: it is printed as it is.
     body.check_rollable()
         .with_context(|| format!("{} cannot roll as a rigid body", a.file.display()))?;
-    let mesh = match &body {
-        Body::Sphere(s) => sphere_mesh(s, a.detail),
-        Body::Disk(d) => {
-            // Fine enough that the printed polygon's flats do not raise α* (0.05°).
-            let segments =
-                crate::geometry::mesh::print_segments(d, body.alpha_star(), 16 << a.detail);
-            disk_mesh(d, segments, length / a.radius_mm)
-        }
-    };
+    let mesh = crate::geometry::mesh::print_mesh(&body, a.detail, length / a.radius_mm);
     let open = mesh.open_edges();
     if open != 0 {
         bail!("internal error: the mesh has {open} open edges; please report this shape file");

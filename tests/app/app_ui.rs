@@ -19,7 +19,7 @@ use crate::common;
 const SIZE: (u32, u32) = (1280, 720);
 
 /// A GPU, an offscreen target of [`SIZE`] and the app core on `preset`.
-fn app(preset: &str) -> (GpuContext, OffscreenTarget, Workbench) {
+pub(crate) fn app(preset: &str) -> (GpuContext, OffscreenTarget, Workbench) {
     let gpu = GpuContext::headless().unwrap();
     let target = OffscreenTarget::with_format(&gpu.device, SIZE, APP_FORMAT);
     let setup = Scene::preset(preset).unwrap().setup(None).unwrap();
@@ -64,7 +64,7 @@ fn now() -> f64 {
 }
 
 /// Runs UI frames (painting each) until `done` holds for the status.
-fn frames_until(
+pub(crate) fn frames_until(
     bench: &mut Workbench,
     gpu: &GpuContext,
     target: &OffscreenTarget,
@@ -418,7 +418,7 @@ fn a_dropped_file_loads_and_a_bad_one_leaves_the_scene_running_with_a_message() 
 }
 
 /// A few frames for the layout to settle (the panels size themselves on the first ones).
-fn settle_layout(bench: &mut Workbench, gpu: &GpuContext, target: &OffscreenTarget) {
+pub(crate) fn settle_layout(bench: &mut Workbench, gpu: &GpuContext, target: &OffscreenTarget) {
     for _ in 0..5 {
         frames_until(bench, gpu, target, vec![], |_| true);
     }

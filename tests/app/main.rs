@@ -30,4 +30,5 @@ mod lessons;
 mod presentation;
 mod render_cli;
 mod render_scale;
+mod sculpt;
 mod shaders;

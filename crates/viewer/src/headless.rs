@@ -151,6 +151,11 @@ impl HeadlessRenderer {
         ))
     }
 
+    /// What picking a body point in `frame` (one of this renderer's) needs: the body's view.
+    pub fn pick_view(&self, frame: &Frame) -> Option<crate::view::pick::PickView> {
+        self.view.pick_view(frame)
+    }
+
     /// Sets the camera and text options (e.g. class mode's text scale) of the frames to come.
     pub fn set_view_options(&mut self, options: ViewOptions) {
         self.options = options;

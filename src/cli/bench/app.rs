@@ -15,28 +15,7 @@ pub fn run(a: AppBenchArgs) -> Result<()> {
     use crate::ui::render_scale::{RenderScale, RenderScaleMode};
     use crate::ui::workbench::{Workbench, offscreen_input};
 
-    if !(a.seconds.is_finite() && a.seconds > 0.0) {
-        bail!(
-            "--seconds {} is not allowed (needs a number > 0)",
-            a.seconds
-        );
-    }
-    // Checked here as well as in the simulation thread, so a refused speed stops the bench
-    // instead of timing the preset's speed under a wrong label.
-    if let Some(speed) = a.speed
-        && !(speed.is_finite() && speed > 0.0 && speed <= 10_000.0)
-    {
-        bail!(
-            "--speed {} is not allowed (needs 0 < speed ≤ 10000 time units per second)",
-            crate::cli::short(speed)
-        );
-    }
-    let settings: Vec<RenderScaleMode> = match &a.render_scale {
-        Some(text) => {
-            vec![RenderScaleMode::parse(text).map_err(|e| anyhow::anyhow!("--render-scale: {e}"))?]
-        }
-        None => vec![RenderScaleMode::Fixed(1.0), RenderScaleMode::Auto],
-    };
+    let settings = check_args(&a)?;
     let setup = crate::cli::pick_scene(None, Some(&a.preset))?;
     let gpu = crate::render::GpuContext::headless()?;
     let cpu = gpu.is_cpu();
@@ -159,7 +138,160 @@ pub fn run(a: AppBenchArgs) -> Result<()> {
     if let Some(m) = &status.message {
         outln!("message: {m}")?;
     }
+    let paint = |bench: &mut Workbench, events| {
+        let frame = bench.run_ui(
+            offscreen_input(a.size, start.elapsed().as_secs_f64(), events),
+            a.size,
+        );
+        bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
+        Ok(target.wait(&gpu.device)?)
+    };
+    stroke_timing(&mut bench, a.strokes, paint)
+}
+
+/// `bench app --strokes N` (nothing for 0): N clicks on the body facing the camera (a dent, then a bump, in
+/// turn), each timed from the click to the first frame of the restarted run, and the steps
+/// between it timed alone on the same bodies.
+fn stroke_timing(
+    bench: &mut crate::ui::workbench::Workbench,
+    strokes: usize,
+    mut paint: impl FnMut(
+        &mut crate::ui::workbench::Workbench,
+        crate::ui::workbench::UiEvents,
+    ) -> Result<()>,
+) -> Result<()> {
+    use crate::geometry::Body;
+    use crate::geometry::sculpt::{Stroke, sculpt};
+    use crate::scene::sculpt::{SculptReadout, sculpted_scene};
+    use crate::view::pick::{body_point_at, eye_in_body};
+
+    if strokes == 0 {
+        return Ok(());
+    }
+    bench.ui.sculpt.on = true;
+    bench.ui.sculpt.depth = 0.005;
+    let ms = |t: Instant| t.elapsed().as_secs_f64() * 1e3;
+    let mut rows: [Vec<f64>; 6] = Default::default();
+    for i in 0..strokes {
+        paint(bench, crate::ui::workbench::UiEvents::new())?;
+        let status = bench.sim.status();
+        let body = status.setup.body.clone();
+        let view = bench
+            .ui
+            .sculpt
+            .pick_view
+            .ok_or_else(|| anyhow::anyhow!("the body was not drawn"))?;
+        let eye = eye_in_body(&view);
+        let p = match &body {
+            Body::Sphere(s) => s.radius(eye.normalize()) * eye.normalize(),
+            Body::Disk(d) => {
+                let theta = eye.z.atan2(eye.x);
+                let r = d.jet(theta).r;
+                crate::glam::DVec3::new(r * theta.cos(), 0.0, r * theta.sin())
+            }
+        };
+        let pos = bench
+            .ui
+            .body_point_position(p)
+            .ok_or_else(|| anyhow::anyhow!("the body's front is off the view"))?;
+        let [press, release] = crate::ui::workbench::click_events(pos, i % 2 == 1);
+        paint(bench, press)?;
+        // From the release (a click is a press and its release) to the new run on the screen.
+        let clicked = Instant::now();
+        paint(bench, release)?;
+        while bench.sim.status().scene_id == status.scene_id {
+            if clicked.elapsed().as_secs() > 30 {
+                bail!(
+                    "stroke {i}: no restarted run within 30 s ({:?})",
+                    bench.ui.notice()
+                );
+            }
+            paint(bench, crate::ui::workbench::UiEvents::new())?;
+        }
+        // The first frame that draws the new run (its meshes built, its readout measured).
+        paint(bench, crate::ui::workbench::UiEvents::new())?;
+        rows[5].push(ms(clicked));
+        // The steps alone, on the same body and point.
+        let (x, y, _) = view.project(p).unwrap_or_default();
+        let t = Instant::now();
+        let at = body_point_at(&view, &body, x, y)
+            .ok_or_else(|| anyhow::anyhow!("no body under its own front point"))?;
+        rows[0].push(ms(t));
+        let stroke = Stroke {
+            at,
+            width: bench.ui.sculpt.width,
+            height: -0.005,
+        };
+        let t = Instant::now();
+        let sculpted = sculpt(&body, &stroke)?;
+        rows[1].push(ms(t));
+        let t = Instant::now();
+        SculptReadout::of(&sculpted, 20.0);
+        rows[2].push(ms(t));
+        let t = Instant::now();
+        let (_, setup) = sculpted_scene(
+            &status.setup.scene,
+            &sculpted,
+            crate::scene::InitialSpec::default(),
+            None,
+        )?;
+        rows[3].push(ms(t));
+        let t = Instant::now();
+        crate::live::LiveRun::new(setup);
+        rows[4].push(ms(t));
+    }
+    outln!(
+        "\nsculpting: {strokes} strokes on the body facing the camera (a dent, then a bump, \
+         in turn)\n"
+    )?;
+    outln!("| step | mean ms | p50 ms | p95 ms |")?;
+    outln!("|---|---|---|---|")?;
+    let names = [
+        "pick the body point under the pointer",
+        "the stroke (least-squares map, convexity check)",
+        "the readout (α*, curvature at the print scale)",
+        "the scene's setup (checks, α*)",
+        "the new run",
+        "release to the restarted run's first frame drawn (frames included)",
+    ];
+    for (name, v) in names.iter().zip(&rows) {
+        let (mean, p50, p95) = stats(v);
+        outln!("| {name} | {mean:.1} | {p50:.1} | {p95:.1} |")?;
+    }
     Ok(())
+}
+
+/// The options checked before any work: the settings the frames are timed at.
+fn check_args(a: &AppBenchArgs) -> Result<Vec<crate::ui::render_scale::RenderScaleMode>> {
+    use crate::ui::render_scale::RenderScaleMode;
+    if a.strokes > 1000 {
+        bail!(
+            "--strokes {} is not allowed (needs 0 ≤ strokes ≤ 1000)",
+            a.strokes
+        );
+    }
+    if !(a.seconds.is_finite() && a.seconds > 0.0) {
+        bail!(
+            "--seconds {} is not allowed (needs a number > 0)",
+            a.seconds
+        );
+    }
+    // Checked here as well as in the simulation thread, so a refused speed stops the bench
+    // instead of timing the preset's speed under a wrong label.
+    if let Some(speed) = a.speed
+        && !(speed.is_finite() && speed > 0.0 && speed <= 10_000.0)
+    {
+        bail!(
+            "--speed {} is not allowed (needs 0 < speed ≤ 10000 time units per second)",
+            crate::cli::short(speed)
+        );
+    }
+    Ok(match &a.render_scale {
+        Some(text) => {
+            vec![RenderScaleMode::parse(text).map_err(|e| anyhow::anyhow!("--render-scale: {e}"))?]
+        }
+        None => vec![RenderScaleMode::Fixed(1.0), RenderScaleMode::Auto],
+    })
 }
 
 /// One setting's frame times.

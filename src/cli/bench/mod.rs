@@ -97,6 +97,11 @@ pub struct AppBenchArgs {
     /// resolution and `auto` are timed in alternate blocks, side by side.
     #[arg(long, value_name = "auto|0.5..1", allow_negative_numbers = true)]
     pub render_scale: Option<String>,
+    /// Sculpting strokes timed after the frames (0 to 1000): clicks on the body, a dent then a
+    /// bump in turn, each from the click to the restarted run's first frame, with the steps
+    /// between (pick, stroke, readout, the scene's setup, the new run).
+    #[arg(long, default_value_t = 10)]
+    pub strokes: usize,
 }
 
 /// Options of `bench render`.

@@ -377,6 +377,27 @@ pub fn stl_header_axis(header: &str) -> Option<[f64; 3]> {
     (a.iter().all(|c| c.is_finite()) && a.iter().any(|c| *c != 0.0)).then_some(a)
 }
 
+/// The mesh a body is printed from: a 3D body's icosphere at `detail` (1–8), a cylinder's
+/// section fine enough that the polygon's flats do not raise α* (0.05°), `length` long in ⟨r⟩.
+/// Both `rollphase export-stl` and the app's "Save STL" write this mesh.
+///
+/// # Example
+/// ```
+/// use rollphase_core::geometry::{Body, mesh::print_mesh};
+/// let mesh = print_mesh(&Body::random_disk(1, 0.1, 5)?, 3, 2.0);
+/// assert_eq!(mesh.open_edges(), 0);
+/// # Ok::<(), rollphase_core::geometry::ShapeError>(())
+/// ```
+pub fn print_mesh(body: &super::Body, detail: u32, length: f64) -> TriMesh {
+    match body {
+        super::Body::Sphere(s) => sphere_mesh(s, detail),
+        super::Body::Disk(d) => {
+            let segments = print_segments(d, body.alpha_star(), 16 << detail);
+            disk_mesh(d, segments, length)
+        }
+    }
+}
+
 /// The 2D body as a closed cylinder of the given length: `segments` points around r(θ) (side
 /// coloured by κ), flat caps. Rim vertices are duplicated (side and cap normals differ) at
 /// bit-identical positions, so the welded surface is watertight.

@@ -13,6 +13,7 @@ pub(crate) mod mesh_ply;
 pub mod mesh_read;
 pub mod outline;
 pub mod paper_bodies;
+pub mod sculpt;
 pub mod shape_file;
 pub mod solid_hull;
 pub mod sphere;

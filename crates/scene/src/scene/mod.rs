@@ -43,6 +43,7 @@ mod clock;
 pub mod description;
 mod drag_law;
 mod error;
+pub mod sculpt;
 mod setup;
 mod timeline;
 pub use drag_law::{DragLawFields, ReplayDragLaw};

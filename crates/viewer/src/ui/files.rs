@@ -722,8 +722,26 @@ impl AppUi {
             let angle = std::mem::take(&mut self.turn) as f64;
             self.restart_turned(angle, status, actions);
         }
+        // Sculpting: a click on the body presses a dent, a right click pulls a bump (the
+        // insets keep their own clicks).
+        let sculpted = self.sculpt.on
+            && (response.clicked() || response.secondary_clicked())
+            && response.interact_pointer_pos().is_some_and(|pos| {
+                self.poincare_pick(rect, pos, status).is_none()
+                    && !self.in_ball_inset(rect, pos, status)
+                    && self.sculpt_click(
+                        (
+                            (pos.x - rect.min.x) * self.pixels_per_point,
+                            (pos.y - rect.min.y) * self.pixels_per_point,
+                        ),
+                        response.secondary_clicked(),
+                        status,
+                        actions,
+                    )
+            });
         // A click on the Poincaré sphere starts from that orientation on ∂Ω.
-        if response.clicked()
+        if !sculpted
+            && response.clicked()
             && let Some(pos) = response.interact_pointer_pos()
         {
             if let Some(p) = self.poincare_pick(rect, pos, status) {

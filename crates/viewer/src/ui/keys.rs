@@ -81,6 +81,19 @@ impl AppUi {
         if pressed(Key::P) {
             self.show_plots = !self.show_plots;
         }
+        // Shift+Ctrl+Z first: Ctrl+Z alone would also match it (egui ignores an extra Shift).
+        let shortcut = |m, k| egui::KeyboardShortcut::new(m, k);
+        let redo = ctx.input_mut(|i| {
+            i.consume_shortcut(&shortcut(
+                egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+                Key::Z,
+            )) || i.consume_shortcut(&shortcut(egui::Modifiers::COMMAND, Key::Y))
+        });
+        let undo = !redo
+            && ctx.input_mut(|i| i.consume_shortcut(&shortcut(egui::Modifiers::COMMAND, Key::Z)));
+        if undo || redo {
+            self.step_history(undo, status, actions);
+        }
     }
 
     pub(super) fn set_class_mode(
@@ -135,7 +148,7 @@ impl AppUi {
     }
 
     /// The keys, as the `?` legend lists them.
-    pub const KEYS: [(&'static str, &'static str); 13] = [
+    pub const KEYS: [(&'static str, &'static str); 15] = [
         ("Space", "play / pause"),
         ("→", "one step"),
         ("R", "restart the scene"),
@@ -147,6 +160,8 @@ impl AppUi {
         ("C", "class mode (large text, full screen)"),
         ("H", "hide / show the controls"),
         ("P", "hide / show the plots"),
+        ("Ctrl+Z", "undo a sculpting stroke"),
+        ("Ctrl+Y, Ctrl+Shift+Z", "redo it"),
         ("Esc", "close this list; leave presentation or class mode"),
         ("?", "this list"),
     ];

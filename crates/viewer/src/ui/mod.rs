@@ -42,6 +42,7 @@ mod fields;
 mod files;
 mod keys;
 mod picking;
+mod sculpting;
 
 pub use controls::{ALPHA_FIELD, MASS_FIELD};
 
@@ -95,6 +96,8 @@ pub struct RecordProgress {
 pub struct AppUi {
     /// Camera and overlay settings of the 3D view.
     pub view_options: ViewOptions,
+    /// Sculpting the body by hand.
+    pub sculpt: sculpting::SculptPanel,
     /// Which 3D views are on.
     pub views: ViewsSpec,
     /// Plots panel shown.
@@ -202,6 +205,7 @@ impl AppUi {
         let inertial = ModelKind::of(&setup.body, &setup.ramp).is_inertial();
         Self {
             view_options: ViewOptions::default(),
+            sculpt: sculpting::SculptPanel::default(),
             views,
             show_plots: true,
             show_controls: true,
@@ -333,6 +337,7 @@ impl AppUi {
             self.evidence_shown = None;
         }
         self.take_in_evidence(status, step);
+        self.follow_sculpt(status);
         self.view_options.lesson_period = step.and_then(|done| {
             self.evidence
                 .as_ref()

@@ -108,6 +108,9 @@ pub struct Painter {
     field: Option<(f64, Arc<Vec<FieldArrow>>)>,
     field_wanted: Option<(f64, Instant)>,
     field_error: Option<String>,
+    /// The body's view as the window's scene last drew it: where a click lands on the body
+    /// (sculpting).
+    pick: Option<crate::view::pick::PickView>,
 }
 
 impl Painter {
@@ -126,6 +129,7 @@ impl Painter {
             field: None,
             field_wanted: None,
             field_error: None,
+            pick: None,
         }
     }
 
@@ -250,6 +254,7 @@ impl Painter {
         self.paint_scene_in(target, size, rect, status, views, options, 1.0);
     }
 
+    /// Paints the scene into `rect`; returns the body's view as drawn, for picking.
     #[allow(clippy::too_many_arguments)]
     fn paint_scene_in(
         &mut self,
@@ -260,10 +265,8 @@ impl Painter {
         views: &ViewsSpec,
         options: &ViewOptions,
         scale: f32,
-    ) {
-        let Some((_, view)) = self.scene.as_mut() else {
-            return;
-        };
+    ) -> Option<crate::view::pick::PickView> {
+        let (_, view) = self.scene.as_mut()?;
         view.set_views(views.body, views.ball, views.poincare, views.overlay);
         let field = self
             .field
@@ -271,8 +274,16 @@ impl Painter {
             .filter(|_| views.poincare)
             .map(|f| f.1.as_slice());
         let frame = view.frame(&status.snapshot, field, (rect[2], rect[3]), options);
+        let pick = view.pick_view(&frame);
         self.renderer
             .render_scaled_in(target, size, rect, &frame, scale);
+        pick
+    }
+
+    /// The body's view as the window's scene was last painted (frame pixels from the scene
+    /// area's top left), if a body was drawn.
+    pub fn pick_view(&self) -> Option<crate::view::pick::PickView> {
+        self.pick
     }
 
     /// The whole frame: the 3D scene in `scene_rect` (pixels, its views drawn at `scale` of
@@ -292,7 +303,8 @@ impl Painter {
     ) {
         let has_scene = scene_rect[2] >= 16 && scene_rect[3] >= 16;
         if has_scene {
-            self.paint_scene_in(target, size, scene_rect, status, views, options, scale);
+            self.pick =
+                self.paint_scene_in(target, size, scene_rect, status, views, options, scale);
         }
         let mut encoder = device.create_command_encoder(&Default::default());
         {

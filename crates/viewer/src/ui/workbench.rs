@@ -319,6 +319,7 @@ impl Workbench {
             &self.ui.view_options,
             scale,
         );
+        self.ui.sculpt.pick_view = self.painter.pick_view();
     }
 
     /// Paints the frame again into an offscreen texture, always at full resolution, and reads
@@ -402,6 +403,29 @@ impl Drop for Workbench {
         // Texture changes never uploaded (the window closed first) are dropped on purpose.
         self.textures.clear();
     }
+}
+
+/// The input events of one frame, as [`offscreen_input`] takes them.
+pub type UiEvents = Vec<egui::Event>;
+
+/// A click at `pos` (screen points), the right button if `secondary`: the press (with the pointer
+/// moved there) and the release, for two frames in turn. For benchmarks and scripted demos.
+pub fn click_events(pos: egui::Pos2, secondary: bool) -> [UiEvents; 2] {
+    let button = if secondary {
+        egui::PointerButton::Secondary
+    } else {
+        egui::PointerButton::Primary
+    };
+    let event = |pressed| egui::Event::PointerButton {
+        pos,
+        button,
+        pressed,
+        modifiers: egui::Modifiers::NONE,
+    };
+    [
+        vec![egui::Event::PointerMoved(pos), event(true)],
+        vec![event(false)],
+    ]
 }
 
 /// egui input for a `size`-pixel offscreen target at one pixel per point, with `events`

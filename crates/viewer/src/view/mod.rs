@@ -32,6 +32,7 @@ use glam::DVec3;
 mod body;
 pub mod layout;
 mod panels;
+pub mod pick;
 
 use body::field_max;
 use panels::{TextSize, title_panel, titled_panel};
@@ -316,6 +317,12 @@ impl SceneView {
             view = self.body_view(snap, rect, scale_height, covered, options);
         }
         view
+    }
+
+    /// What picking a body point under the pointer needs of `frame` (drawn by this view):
+    /// [`pick::body_point_at`].
+    pub fn pick_view(&self, frame: &Frame) -> Option<pick::PickView> {
+        pick::PickView::of(frame, self.body_mesh)
     }
 
     /// The frame showing `snap` at `size`; `field` is the Poincaré field if it is ready.
