@@ -303,7 +303,7 @@ fn the_body_saves_as_a_shape_file_and_an_stl_never_over_its_input() {
     let shape_arg = shape.to_str().unwrap();
     crate::cli::rollphase_ok(["shape", "--dim", "3", "--seed", "4", "-o", shape_arg]);
     let text = "name = \"mine\"\n[body]\nshape = \"body.json\"\n[model]\nalpha_rad = 0.3\n";
-    let setup = Scene::from_toml(&text).unwrap().setup(Some(&dir)).unwrap();
+    let setup = Scene::from_toml(text).unwrap().setup(Some(&dir)).unwrap();
     let gpu = GpuContext::headless().unwrap();
     let mut bench = Workbench::new(
         &gpu.device,
