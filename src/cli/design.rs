@@ -9,12 +9,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 
+use crate::analysis::design;
 use crate::analysis::design::{
     Band, DEFAULT_SCALE_MM, Design, DesignOptions, DesignProgress, DesignSpace, Ended,
     RampPrediction, Spelling, Target, TargetRequest, design_until, evaluate,
 };
 use crate::geometry::Body;
-use crate::geometry::mesh::{disk_mesh, sphere_mesh};
 use crate::output::{self, Inputs};
 
 /// Design a body that does what your experiment needs, and check that it still does on a bench.
@@ -113,10 +113,10 @@ pub struct DesignArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub scale_mm: Option<f64>,
     /// Smallest radius of curvature the printer can make, in mm (a 0.4 mm nozzle: 0.4).
-    #[arg(long, default_value_t = 0.4, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = design::DEFAULT_MIN_RADIUS_MM, allow_negative_numbers = true)]
     pub min_radius_mm: f64,
     /// Largest amplitude |a_l| (2D) or |A_lm| (3D) allowed.
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = design::DEFAULT_MAX_AMPLITUDE, allow_negative_numbers = true)]
     pub max_amplitude: f64,
     /// Start from this body (a shape file of the same dimension, degree ≤ --modes) instead of
     /// the first convex random body from --seed: the search then stays near it.
@@ -126,7 +126,7 @@ pub struct DesignArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Most generations of the search.
-    #[arg(long, default_value_t = 400)]
+    #[arg(long, default_value_t = design::DEFAULT_GENERATIONS)]
     pub generations: usize,
     /// Stop the search after this many seconds, with the best body so far.
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
@@ -425,15 +425,9 @@ fn write_stl(
     (scale_mm, output_path): (f64, &std::path::Path),
     inputs: &Inputs,
 ) -> Result<()> {
-    let mesh = match &design.body {
-        Body::Sphere(s) => sphere_mesh(s, 6),
-        // Fine enough that the printed polygon's flats do not raise α* (0.05°).
-        Body::Disk(d) => disk_mesh(
-            d,
-            crate::geometry::mesh::print_segments(d, design.body.alpha_star(), 1024),
-            2.0,
-        ),
-    };
+    // Detail 6, as `export-stl`'s default: fine enough that a printed polygon's flats do not
+    // raise α* (0.05°).
+    let mesh = crate::geometry::mesh::print_mesh(&design.body, 6, 2.0);
     let mut bytes = Vec::new();
     let name = match &design.body {
         Body::Disk(_) => format!("design {}", crate::geometry::mesh::DISK_AXIS_TAG),

@@ -134,7 +134,17 @@ fn a_click_presses_a_dent_restarts_from_the_same_contact_and_undo_gives_the_body
     };
     // Pressed in by the depth near the clicked point (the pick is within 0.05 rad of it).
     let moved = b.radius(u) - a.radius(u);
-    assert!((-0.031..-0.02).contains(&moved), "Δr = {moved}");
+    assert!((-0.03..-0.015).contains(&moved), "Δr = {moved}");
+    // The deepest point of the dent is the depth (the stroke's own point, within the grid's
+    // spacing of the clicked one).
+    let deepest = rollphase::geometry::sphere::fibonacci_sphere(20_000)
+        .into_iter()
+        .map(|v| b.radius(v) - a.radius(v))
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        (-0.03 - 1e-9..-0.0295).contains(&deepest),
+        "deepest Δr = {deepest}"
+    );
     assert_ne!(s.setup.alpha_star, before.setup.alpha_star);
     let (text, error) = bench.ui.notice().cloned().unwrap();
     assert!(!error && text.starts_with("pressed a dent: α* "), "{text}");
@@ -216,8 +226,9 @@ fn a_right_click_pulls_a_bump_and_a_non_convex_stroke_is_refused_with_why() {
     );
 }
 
-/// Before and after one stroke on the paper's body (α = 0.15, viscous), with the Sculpt panel's
-/// readout: α* and the drift change, each measured on the body shown. The screenshots go to
+/// Before and after one bump on the paper's body (α = 0.15, viscous), with the Sculpt panel's
+/// readout: α* and the drift change, each measured on the body shown (the numbers
+/// docs/guide/app.md gives). The screenshots go to
 /// `$ROLLPHASE_SCREENSHOTS` (docs/images.sh: docs/sculpt/), or a temporary folder.
 #[test]
 #[ignore = "slow: the drift is measured twice (predict, 8 starts each)"]
@@ -270,10 +281,29 @@ fn a_strokes_before_and_after_show_alpha_star_and_the_drift_change() {
         (bench.sim.status(), drift)
     };
     let (before, drift_before) = settle(&mut bench, &mut frame, "sculpt-before");
-    let (pos, _) = facing_on_screen(&bench, &before.setup.body);
-    let [press, release] = rollphase::ui::workbench::click_events(pos, true);
-    frame(&mut bench, press);
-    frame(&mut bench, release);
+    // One bump at a fixed body point (a click lands where the run has rolled to by then, which
+    // depends on the frames' timing: the clicks are tested above), run as a stroke's restart is.
+    let mut sculptor = rollphase::scene::sculpt::Sculptor::new(before.setup.body.clone());
+    let u = DVec3::new(0.3, -0.4, 0.85).normalize();
+    let bump = rollphase::geometry::sculpt::Stroke {
+        at: StrokePoint::Sphere { u },
+        width: 0.4,
+        height: 0.04,
+    };
+    let body = sculptor.stroke(&bump).unwrap().clone();
+    let mut named = before.setup.scene.clone();
+    named.name = "paper's body, sculpted".into();
+    let (_, setup) = rollphase::scene::sculpt::sculpted_scene(
+        &named,
+        &body,
+        rollphase::scene::InitialSpec::default(),
+        (None, Some(20.0)),
+    )
+    .unwrap();
+    bench
+        .sim
+        .send(rollphase::live::SimCommand::Load(Box::new(setup)));
+    frame(&mut bench, vec![]);
     let (after, drift_after) = settle(&mut bench, &mut frame, "sculpt-after");
     assert_ne!(after.scene_id, before.scene_id, "{:?}", bench.ui.notice());
     assert!(
@@ -282,8 +312,28 @@ fn a_strokes_before_and_after_show_alpha_star_and_the_drift_change() {
         before.setup.alpha_star,
         after.setup.alpha_star
     );
-    assert!(drift_before.contains("of 8 starts"));
-    assert_ne!(drift_before, drift_after);
+    eprintln!(
+        "α* {:.5} → {:.5}; drift: {drift_before} → {drift_after}",
+        before.setup.alpha_star, after.setup.alpha_star
+    );
+    // What docs/guide/app.md says of these screenshots.
+    assert_eq!(
+        format!(
+            "{:.5} → {:.5}",
+            before.setup.alpha_star, after.setup.alpha_star
+        ),
+        "0.13944 → 0.13646"
+    );
+    assert_eq!(
+        drift_before,
+        "drift across per down, stable orbits: -0.051 (5 starts), +0.038 (3 starts); 0 of 8 \
+         starts elsewhere"
+    );
+    assert_eq!(
+        drift_after,
+        "drift across per down, stable orbits: -0.001 (5 starts), -0.018 (2 starts), +0.170 \
+         (1 start); 0 of 8 starts elsewhere"
+    );
     eprintln!(
         "α* {:.5} → {:.5}; drift: {drift_before} → {drift_after}; screenshots in {}",
         before.setup.alpha_star,
@@ -353,4 +403,96 @@ fn the_body_saves_as_a_shape_file_and_an_stl_never_over_its_input() {
         "the input was written"
     );
     let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Runs frames until the app's design panel has a report (or `limit_s` passes); returns the
+/// scene names the run went through.
+fn frames_until_designed(
+    bench: &mut Workbench,
+    gpu: &GpuContext,
+    target: &OffscreenTarget,
+    limit_s: u64,
+    mut each: impl FnMut(&mut Workbench),
+) -> Vec<String> {
+    let started = std::time::Instant::now();
+    let mut names: Vec<String> = Vec::new();
+    while bench.ui.design.report.is_none() {
+        assert!(
+            started.elapsed().as_secs() < limit_s,
+            "no design in {limit_s} s"
+        );
+        let s = frames_until(bench, gpu, target, vec![], |_| true);
+        if names.last() != Some(&s.setup.scene.name) {
+            names.push(s.setup.scene.name.clone());
+        }
+        each(bench);
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    // The designed body's load reaches the simulation a frame later.
+    let s = frames_until(bench, gpu, target, vec![], |s| {
+        s.setup.scene.name == "design: designed"
+    });
+    names.push(s.setup.scene.name.clone());
+    names
+}
+
+#[test]
+fn the_design_panel_runs_the_search_shows_the_best_so_far_and_reports_the_design() {
+    let (gpu, target, mut bench) = app("cylinder-near-critical");
+    assert!(
+        bench.ui.design.options(2).is_ok(),
+        "the panel's default asks for α* = 0.15"
+    );
+    let mut none = rollphase::ui::designing::DesignPanel::default();
+    none.alpha_star = None;
+    let why = none.options(2).unwrap_err();
+    assert!(why.contains("give at least one target"), "{why}");
+    bench.ui.design.alpha_star = Some(0.2);
+    bench.ui.design.generations = 300;
+    let options = bench.ui.design.options(2).unwrap();
+    bench.ui.design.start(options.clone());
+    let names = frames_until_designed(&mut bench, &gpu, &target, 300, |_| {});
+    assert!(
+        names.iter().any(|n| n == "design: the best so far"),
+        "{names:?}"
+    );
+    // The report is the design's own: the same search run here says the same, line for line
+    // (met at α* = 0.2, and whether it holds over the print band).
+    let report = bench.ui.design.report.clone().unwrap().unwrap();
+    let direct = rollphase::analysis::design::design_until(
+        &options,
+        &std::sync::atomic::AtomicBool::new(false),
+        &|_| {},
+    )
+    .unwrap();
+    assert_eq!(report, rollphase::ui::designing::report_lines(&direct));
+    assert!(
+        report[1].starts_with("α* = 0.2 rad: 0.2000 (met)"),
+        "{report:?}"
+    );
+    let s = bench.sim.status();
+    assert_eq!(s.setup.alpha_star, direct.alpha_star);
+    assert_eq!(s.setup.body.to_shape(), direct.body.to_shape());
+}
+
+#[test]
+fn cancel_keeps_the_best_body_so_far_and_checks_it() {
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    bench.ui.design.alpha_star = Some(0.25);
+    bench.ui.design.generations = 5000;
+    let options = bench.ui.design.options(3).unwrap();
+    bench.ui.design.start(options);
+    let names = frames_until_designed(&mut bench, &gpu, &target, 300, |bench| {
+        if bench
+            .ui
+            .design
+            .progress()
+            .is_some_and(|p| p.generation >= 2)
+        {
+            bench.ui.design.cancel();
+        }
+    });
+    let report = bench.ui.design.report.clone().unwrap().unwrap();
+    assert!(report[0].contains("ended Stopped"), "{report:?}");
+    assert_eq!(names.last().map(String::as_str), Some("design: designed"));
 }

@@ -200,6 +200,9 @@ fn stroke_timing(
         let clicked = Instant::now();
         paint(bench, release)?;
         while bench.sim.status().scene_id == status.scene_id {
+            if let Some((why, true)) = bench.ui.notice() {
+                bail!("stroke {i} was refused: {why}");
+            }
             if clicked.elapsed().as_secs() > 30 {
                 bail!(
                     "stroke {i}: no restarted run within 30 s ({:?})",
@@ -233,16 +236,18 @@ fn stroke_timing(
             &status.setup.scene,
             &sculpted,
             crate::scene::InitialSpec::default(),
-            None,
+            (None, Some(20.0)),
         )?;
         rows[3].push(ms(t));
         let t = Instant::now();
-        crate::live::LiveRun::new(setup);
+        crate::live::LiveRun::new(setup).snapshot();
         rows[4].push(ms(t));
     }
     outln!(
-        "\nsculpting: {strokes} strokes on the body facing the camera (a dent, then a bump, \
-         in turn)\n"
+        "\nsculpting: {strokes} strokes (width {} rad, depth 0.005) on the body point facing \
+         the camera, a dent then a bump in turn; the drift is measured on a worker thread \
+         beside them\n",
+        bench.ui.sculpt.width
     )?;
     outln!("| step | mean ms | p50 ms | p95 ms |")?;
     outln!("|---|---|---|---|")?;
@@ -251,7 +256,7 @@ fn stroke_timing(
         "the stroke (least-squares map, convexity check)",
         "the readout (α*, curvature at the print scale)",
         "the scene's setup (checks, α*)",
-        "the new run",
+        "the new run and its first snapshot",
         "release to the restarted run's first frame drawn (frames included)",
     ];
     for (name, v) in names.iter().zip(&rows) {

@@ -2,16 +2,19 @@
 //! surface, mapped by least squares onto the body's own harmonics, so the result is again a body
 //! of the model's family (modes l = 2 … L, L the body's degree) and every check applies to it.
 //!
-//! The stroke's profile is a Gaussian in the angle γ from the point, f(γ) = exp(−γ²/2w²). On
+//! The stroke's profile is f(γ) = exp((cos γ − 1)/w²) in the angle γ from the point: a Gaussian
+//! of width w near it, smooth all the way round. On
 //! the sphere the least-squares fit of a function of γ alone onto the harmonics of degree ≤ L is
 //! its Legendre series cut at L, and by the addition theorem P_l(u·u₀) = 4π/(2l+1) Σ_m
 //! Y_lm(u) Y*_lm(u₀), so the coefficients are closed-form: ΔA_lm = l(l+1) g_l 4π/(2l+1)
 //! Y*_lm(u₀). On the circle the fit is the Fourier series cut at L, cos l(θ − θ₀) folded into
 //! the disk's sine form. Degrees 0 and 1 are left out, as the model's family leaves them out:
-//! the mean radius stays 1 and the centre stays put, so pressing in one place lifts the rest a
-//! little. The fit is scaled so that the surface moves by exactly the stroke's height at the
-//! point (the cut series is lower and wider than the Gaussian; a narrow stroke on a body of low
-//! degree is spread over the width its degree can draw).
+//! the mean radius stays 1 and the centre stays put, so pressing in one place lifts the rest.
+//! The fit is scaled so that the surface moves by exactly the stroke's height at the point. It is
+//! only as local as the body's degree allows: a stroke narrower than about π/L is drawn as
+//! wide as π/L (on the paper's L = 5 body, widths 0.05 to 0.2 rad give nearly the same stroke),
+//! and on a sphere a stroke wider than about 0.7 rad moves the far side by half its height or
+//! more, the same way (a reviewer's measurement, 2026-12-02).
 //!
 //! Why our own: the fit is the closed form above (a quadrature of one profile and the
 //! harmonics the body already uses), which no crate offers for these bodies.
@@ -86,6 +89,9 @@ pub enum SculptError {
         "refused: the body would not be strictly convex ({0}); try a smaller height or a wider stroke"
     )]
     NotConvex(ShapeError),
+    /// A body given whole (the mode panel's values) that is not a body of the family.
+    #[error("refused: {0}")]
+    NotABody(ShapeError),
 }
 
 impl Stroke {
@@ -177,9 +183,12 @@ pub fn sculpt(body: &Body, stroke: &Stroke) -> Result<Body, SculptError> {
     Ok(sculpted)
 }
 
-/// The stroke's profile at angle `gamma` from its point.
+/// The stroke's profile at angle `gamma` from its point: exp((cos γ − 1)/w²), a Gaussian of
+/// width w near the point (cos γ − 1 ≈ −γ²/2) that is smooth all the way round. A Gaussian in γ
+/// itself has a kink at the far side (γ = π), whose modes fall off only as 1/l²: on a body of
+/// high degree a wide stroke then dented the far side.
 fn profile(gamma: f64, width: f64) -> f64 {
-    (-0.5 * (gamma / width).powi(2)).exp()
+    ((gamma.cos() - 1.0) / (width * width)).exp()
 }
 
 /// Legendre coefficients g_l (l = 0 … `degree`) of f(γ) on the sphere:

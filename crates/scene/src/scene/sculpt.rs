@@ -98,9 +98,21 @@ impl Sculptor {
     /// Takes `body` (the mode panel's edit of the body now) as the next one, if it is strictly
     /// convex; refused with why otherwise.
     pub fn set_body(&mut self, body: Body) -> Result<&Body, SculptError> {
+        // Through the shape file's own checks first: finite values, phases and degrees in
+        // range (a NaN amplitude would otherwise pass a curvature search).
+        let body = Body::from_shape(&body.to_shape()).map_err(SculptError::NotABody)?;
         body.check_convex().map_err(SculptError::NotConvex)?;
         self.push(body);
         Ok(self.body())
+    }
+
+    /// Drops the newest body if it is the one shown (its run could not be set up): the
+    /// session is as before that stroke.
+    pub fn drop_newest(&mut self) {
+        if self.at > 0 && self.at + 1 == self.bodies.len() {
+            self.bodies.pop();
+            self.at -= 1;
+        }
     }
 
     fn push(&mut self, body: Body) {
@@ -142,9 +154,11 @@ impl Sculptor {
     }
 }
 
-/// `scene` with `body` in place of its own (inline, in the shape-file schema, keeping a shape
-/// file's print scale), started from `initial` (the same contact as the run before, for a
-/// restart), and its setup: the same checks as a body loaded from disk.
+/// `scene` with `body` in place of its own (inline, in the shape-file schema, with the print
+/// scale `scale_mm`), started from `initial` at t = 0 (the same contact as the run before, for a
+/// restart: a saved state's `[resume]` and `[[replay]]` are the old body's and are dropped), and
+/// its setup: the same checks as a body loaded from disk. A lesson (a scene with a timeline) is
+/// refused: its captions are about its own body.
 ///
 /// # Example
 /// ```
@@ -156,30 +170,37 @@ impl Sculptor {
 /// let mut s = Sculptor::new(setup.body.clone());
 /// let u = rollphase_scene::glam::DVec3::Z;
 /// s.stroke(&Stroke { at: StrokePoint::Sphere { u }, width: 0.4, height: 0.02 })?;
-/// let (edited, new_setup) = sculpted_scene(&scene, s.body(), InitialSpec::default(), None)?;
+/// let (edited, new_setup) = sculpted_scene(&scene, s.body(), InitialSpec::default(), (None, Some(20.0)))?;
 /// // Saved and loaded, the scene holds the same body to the bit.
 /// let again = Scene::from_toml(&edited.to_toml()?)?.setup(None)?;
 /// assert_eq!(again.body.to_shape(), new_setup.body.to_shape());
 /// assert_eq!(again.alpha_star, new_setup.alpha_star);
+/// // A lesson's captions are about its own body: refused.
+/// let lesson = Scene::preset("lesson-period-doubling")?;
+/// assert!(sculpted_scene(&lesson, s.body(), InitialSpec::default(), (None, None)).is_err());
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn sculpted_scene(
     scene: &Scene,
     body: &Body,
     initial: InitialSpec,
-    base: Option<&Path>,
+    (base, scale_mm): (Option<&Path>, Option<f64>),
 ) -> Result<(Scene, SceneSetup), SceneError> {
+    if !scene.timeline.is_empty() {
+        return Err(SceneError::Invalid(format!(
+            "{} is a lesson: its captions are about its own body, so it is not sculpted or \
+             designed (load a scene, or a preset that is not a lesson)",
+            scene.name
+        )));
+    }
     let mut edited = scene.clone();
-    let scale = scene
-        .body
-        .inline
-        .as_ref()
-        .and_then(|shape| shape.scale_mm());
     edited.body = BodySpec {
-        inline: Some(body.to_shape().with_scale_mm(scale)),
+        inline: Some(body.to_shape().with_scale_mm(scale_mm)),
         ..BodySpec::default()
     };
     edited.initial = initial;
+    edited.resume = None;
+    edited.replay.clear();
     // From t = 0: a scene that skips ahead to a settled orbit would hide the new body's start.
     edited.playback.start_time = 0.0;
     // A scene that named its α relative to α* keeps that ratio on the new body.

@@ -521,6 +521,7 @@ impl AppUi {
         // What the body is, so the generator's settings below are not read as the body's.
         ui.label(describe_body(&status.setup.scene.body));
         self.sculpt_ui(ui, status, actions);
+        self.design_ui(ui, status);
         ui.separator();
         ui.label("a new random body:");
         ui.horizontal(|ui| {

@@ -38,6 +38,7 @@ pub mod render_scale;
 pub mod workbench;
 
 mod controls;
+pub mod designing;
 mod fields;
 mod files;
 mod keys;
@@ -98,6 +99,8 @@ pub struct AppUi {
     pub view_options: ViewOptions,
     /// Sculpting the body by hand.
     pub sculpt: sculpting::SculptPanel,
+    /// Designing a body for targets.
+    pub design: designing::DesignPanel,
     /// Which 3D views are on.
     pub views: ViewsSpec,
     /// Plots panel shown.
@@ -206,6 +209,7 @@ impl AppUi {
         Self {
             view_options: ViewOptions::default(),
             sculpt: sculpting::SculptPanel::default(),
+            design: designing::DesignPanel::default(),
             views,
             show_plots: true,
             show_controls: true,
@@ -650,6 +654,7 @@ impl AppUi {
         self.keyboard(ui.ctx(), status, &mut actions);
         self.keep_class_zoom(ui.ctx());
         self.advance_sweep(status, &mut actions);
+        self.poll_design(status, &mut actions);
         self.keep_body_in_view(status);
         if !self.presenting {
             egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, status, &mut actions));

@@ -13,6 +13,7 @@ use std::sync::{Arc, Mutex};
 use egui::RichText;
 
 use super::{AppUi, UiAction};
+use crate::analysis::design::DEFAULT_SCALE_MM;
 use crate::analysis::experiment::prediction::{PredictOptions, Prediction, predict_until};
 use crate::geometry::Body;
 use crate::geometry::sculpt::{MAX_STROKE_HEIGHT, MAX_STROKE_WIDTH, MIN_STROKE_WIDTH, Stroke};
@@ -47,6 +48,11 @@ pub struct SculptPanel {
     draft: Option<(Body, Vec<ModeRow>)>,
     /// How long the last stroke took from the click to the restarted run's setup (ms).
     pub last_stroke_ms: Option<f64>,
+    /// The scene the session follows (a new scene that is not the session's body starts a new
+    /// session; frames before a stroke's scene arrives still show the old one).
+    seen_scene: Option<u64>,
+    /// The α and m/m0 the drift waits to see held still before it is measured.
+    drift_wait: Option<((f64, f64), std::time::Instant)>,
 }
 
 impl Default for SculptPanel {
@@ -63,6 +69,8 @@ impl Default for SculptPanel {
             drift: None,
             draft: None,
             last_stroke_ms: None,
+            seen_scene: None,
+            drift_wait: None,
         }
     }
 }
@@ -156,13 +164,18 @@ fn describe_drift(p: &Prediction) -> String {
 }
 
 impl AppUi {
-    /// Follows the running body: a session continues while the body running is its body (a
-    /// stroke's restart), and starts afresh on any other.
+    /// Follows the running body: when a new scene arrives, the session goes on if it runs the
+    /// session's body (a stroke's restart), and starts afresh on any other body, at that body's
+    /// print scale.
     pub(super) fn follow_sculpt(&mut self, status: &SimStatus) {
         let running = &status.setup.body;
         let same = |b: &Body| b.to_shape() == running.to_shape();
-        if !self.sculpt.session.as_ref().is_some_and(|s| same(s.body())) {
-            self.sculpt.session = Some(Sculptor::new(running.clone()));
+        if self.sculpt.seen_scene != Some(status.scene_id) {
+            self.sculpt.seen_scene = Some(status.scene_id);
+            if !self.sculpt.session.as_ref().is_some_and(|s| same(s.body())) {
+                self.sculpt.session = Some(Sculptor::new(running.clone()));
+                self.sculpt.scale_mm = self.body_scale_mm(status).unwrap_or(DEFAULT_SCALE_MM);
+            }
         }
         let stale = self.sculpt.on
             && self
@@ -174,6 +187,18 @@ impl AppUi {
             let readout = SculptReadout::of(running, self.sculpt.scale_mm);
             self.sculpt.readout = Some((running.clone(), readout));
         }
+    }
+
+    /// The print scale the scene's body names: its inline shape's, or its shape file's.
+    fn body_scale_mm(&self, status: &SimStatus) -> Option<f64> {
+        let spec = &status.setup.scene.body;
+        if let Some(inline) = &spec.inline {
+            return inline.scale_mm();
+        }
+        let path = self.base.as_ref()?.join(spec.shape.as_ref()?);
+        crate::geometry::shape_file::ShapeFile::load_scaled(&path)
+            .ok()?
+            .1
     }
 
     /// Where body-frame point `p` is drawn in the 3D view (screen points), if the body was
@@ -196,11 +221,25 @@ impl AppUi {
         actions: &mut Vec<UiAction>,
     ) -> bool {
         let Some(view) = self.sculpt.pick_view else {
+            self.notice = Some((
+                "sculpting needs the body's view: turn it on under Views".into(),
+                true,
+            ));
             return false;
         };
         let Some(at) = body_point_at(&view, &status.setup.body, x, y) else {
             return false;
         };
+        if let Err(e) = status.setup.body.check_convex() {
+            self.notice = Some((
+                format!(
+                    "this body is not strictly convex ({e}): it rolls on its hull, and a stroke \
+                     keeps it so; sculpt a convex body"
+                ),
+                true,
+            ));
+            return true;
+        }
         let stroke = Stroke {
             at,
             width: self.sculpt.width,
@@ -261,18 +300,32 @@ impl AppUi {
             .to_string();
         scene.name = format!("{name}, sculpted");
         scene.description = format!("sculpted in the app ({strokes} change(s) from the start)");
-        match sculpted_scene(&scene, body, initial, self.base.as_deref()) {
+        let printed = matches!(&status.setup.body, Body::Disk(d) if d.printed_section().is_some());
+        let scale = (self.base.as_deref(), Some(self.sculpt.scale_mm));
+        match sculpted_scene(&scene, body, initial, scale) {
             Ok((_, setup)) => {
                 self.notice = Some((
                     format!(
-                        "{what}: α* {:.5} → {:.5} rad; restarted from the same contact",
-                        status.setup.alpha_star, setup.alpha_star
+                        "{what}: α* {:.5} → {:.5} rad; restarted from the same contact{}",
+                        status.setup.alpha_star,
+                        setup.alpha_star,
+                        if printed {
+                            " (the print's section is dropped: the body is now its smooth modes)"
+                        } else {
+                            ""
+                        }
                     ),
                     false,
                 ));
                 actions.push(UiAction::Sim(SimCommand::Load(Box::new(setup))));
             }
-            Err(e) => self.notice = Some((e.to_string(), true)),
+            Err(e) => {
+                // Not run: the session is as before this change.
+                if let Some(session) = self.sculpt.session.as_mut() {
+                    session.drop_newest();
+                }
+                self.notice = Some((e.to_string(), true));
+            }
         }
     }
 
@@ -358,7 +411,10 @@ impl AppUi {
         let convex = if r.print.convex {
             format!("convex: smallest curvature {:.4}", r.print.convexity_min)
         } else {
-            "NOT convex".to_string()
+            format!(
+                "NOT convex: smallest curvature {:.4} (≤ 0)",
+                r.print.convexity_min
+            )
         };
         ui.label(convex);
         ui.horizontal(|ui| {
@@ -381,8 +437,21 @@ impl AppUi {
             let fresh = self.sculpt.drift.as_ref().is_some_and(|j| {
                 j.key.0.to_shape() == key.0.to_shape() && j.key.1 == key.1 && j.key.2 == key.2
             });
-            if !fresh {
-                self.sculpt.drift = Some(DriftJob::start(key.0, key.1, key.2));
+            // Measured once α and m/m0 have been still for a second: a slider being dragged,
+            // a sweep or a lesson step would otherwise start a measurement every frame.
+            let ramp = (key.1, key.2);
+            match self.sculpt.drift_wait {
+                _ if fresh => self.sculpt.drift_wait = None,
+                Some((held, since)) if held == ramp => {
+                    if since.elapsed().as_secs_f64() >= 1.0 {
+                        self.sculpt.drift = Some(DriftJob::start(key.0, key.1, key.2));
+                        self.sculpt.drift_wait = None;
+                    }
+                }
+                _ => {
+                    self.sculpt.drift = None;
+                    self.sculpt.drift_wait = Some((ramp, std::time::Instant::now()));
+                }
             }
             let said = self.sculpt.drift.as_ref().and_then(DriftJob::said);
             match said {
@@ -392,7 +461,12 @@ impl AppUi {
             };
         }
         if let Some(ms) = self.sculpt.last_stroke_ms {
-            ui.label(RichText::new(format!("last stroke to restart: {ms:.0} ms")).weak());
+            ui.label(
+                RichText::new(format!(
+                    "last stroke computed and sent in {ms:.0} ms (on screen a frame or two later)"
+                ))
+                .weak(),
+            );
         }
     }
 }
@@ -517,8 +591,13 @@ impl AppUi {
                                     format!("{}, {}", row.l, row.m)
                                 });
                                 for v in [&mut row.x, &mut row.y] {
-                                    let r = ui
-                                        .add(egui::DragValue::new(v).speed(0.002).max_decimals(4));
+                                    // Taken when typing is done, not at each key.
+                                    let r = ui.add(
+                                        egui::DragValue::new(v)
+                                            .speed(0.002)
+                                            .max_decimals(4)
+                                            .update_while_editing(false),
+                                    );
                                     committed |= r.drag_stopped() || (r.changed() && !r.dragged());
                                 }
                                 ui.end_row();
@@ -570,6 +649,21 @@ impl AppUi {
     /// as given); never over the shape file the scene read. The notice says where, or why not.
     pub fn save_sculpted(&mut self, status: &SimStatus, stl: bool) {
         let path = std::path::PathBuf::from(self.sculpt.shape_path.trim());
+        let stl_named = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("stl"));
+        if path.as_os_str() == "-" || (!stl && stl_named) {
+            self.notice = Some((
+                format!(
+                    "{} is not a place for the body's {}: give a file path{}",
+                    path.display(),
+                    if stl { "STL" } else { "shape file" },
+                    if stl { "" } else { " ending in .json" }
+                ),
+                true,
+            ));
+            return;
+        }
         let scale = self.sculpt.scale_mm;
         let body = &status.setup.body;
         // The shape file the scene read (a preset's is bundled, not on disk) is never written.
@@ -624,7 +718,7 @@ fn save_stl(
     inputs: &crate::output::Inputs,
 ) -> anyhow::Result<()> {
     use anyhow::Context;
-    let mesh = crate::geometry::mesh::print_mesh(body, 4, 2.0);
+    let mesh = crate::geometry::mesh::print_mesh(body, 6, 2.0);
     let mut file = crate::output::OutputFile::create(path, inputs)?;
     let name = match body {
         Body::Disk(_) => format!("sculpted {}", crate::geometry::mesh::DISK_AXIS_TAG),

@@ -33,6 +33,27 @@ pub struct Band {
     pub seed: u64,
 }
 
+impl Default for Band {
+    /// The band every surface checks by default (`rollphase design`'s flags, Python's keywords,
+    /// the app's panel): the ramp off by 0.005 rad, m/m0 by 20 %, the surface by 0.05 mm, 16
+    /// print errors drawn.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::design::Band;
+    /// assert_eq!(Band::default().draws, 16);
+    /// ```
+    fn default() -> Self {
+        Self {
+            delta_alpha: 0.005,
+            mass_fraction: 0.2,
+            surface_mm: 0.05,
+            draws: 16,
+            seed: 1,
+        }
+    }
+}
+
 /// How one target fares over the band.
 #[derive(Debug, Clone, Serialize)]
 pub struct TargetCheck {

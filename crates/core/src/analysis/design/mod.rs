@@ -61,6 +61,13 @@ pub const MAX_DRAWS: usize = 10_000;
 /// authors' prints.
 pub const DEFAULT_SCALE_MM: f64 = 10.0;
 
+/// The smallest radius of curvature a printer makes by default, in mm (a 0.4 mm nozzle).
+pub const DEFAULT_MIN_RADIUS_MM: f64 = 0.4;
+/// The largest |a_l| (2D) or |A_lm| (3D) allowed by default.
+pub const DEFAULT_MAX_AMPLITUDE: f64 = 1.0;
+/// The most generations a search runs by default.
+pub const DEFAULT_GENERATIONS: usize = 400;
+
 /// What to design.
 #[derive(Debug, Clone)]
 pub struct DesignOptions {
@@ -532,7 +539,7 @@ impl Design {
 }
 
 /// Progress after each generation.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct DesignProgress {
     /// Generations run.
     pub generation: usize,
@@ -540,6 +547,9 @@ pub struct DesignProgress {
     pub max_generations: usize,
     /// The best objective so far.
     pub best: f64,
+    /// The best body so far, as a vector of the design space ([`DesignSpace::body`] makes it
+    /// a body): the app rolls it on the ramp while the search goes on.
+    pub best_vector: Vec<f64>,
 }
 
 /// The objective of vector `x` (lower is better; see the module doc).
@@ -668,6 +678,7 @@ pub fn design_until(
         generation: 0,
         max_generations: opts.max_generations,
         best: objective(opts, &x0, 0.0),
+        best_vector: x0.clone(),
     });
     let mut x = x0;
     let (mut generations, mut evaluations, mut extra_room) = (0, 0, 0.0);
@@ -780,12 +791,12 @@ fn search(
             break Ended::Stopped;
         }
         let step = search.next_parallel();
+        let best = search.overall_best_individual();
         progress(DesignProgress {
             generation: done + search.generation(),
             max_generations: opts.max_generations,
-            best: search
-                .overall_best_individual()
-                .map_or(f64::INFINITY, |b| b.value),
+            best: best.map_or(f64::INFINITY, |b| b.value),
+            best_vector: best.map_or_else(|| x0.clone(), |b| b.point.as_slice().to_vec()),
         });
         if let Some(data) = step {
             break if data.reasons.contains(&TerminationReason::FunTarget) {
