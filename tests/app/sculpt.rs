@@ -436,6 +436,34 @@ fn frames_until_designed(
     names
 }
 
+/// Frames until the design panel has a report, and ten more; the scene names the run went
+/// through.
+fn frames_until_designed_or(
+    bench: &mut Workbench,
+    gpu: &GpuContext,
+    target: &OffscreenTarget,
+    limit_s: u64,
+    mut each: impl FnMut(&mut Workbench),
+) -> Vec<String> {
+    let started = std::time::Instant::now();
+    let mut names: Vec<String> = Vec::new();
+    let mut after = 0;
+    while after < 10 {
+        assert!(
+            started.elapsed().as_secs() < limit_s,
+            "no design in {limit_s} s"
+        );
+        let s = frames_until(bench, gpu, target, vec![], |_| true);
+        if names.last() != Some(&s.setup.scene.name) {
+            names.push(s.setup.scene.name.clone());
+        }
+        each(bench);
+        after += usize::from(bench.ui.design.report.is_some());
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    names
+}
+
 #[test]
 fn the_design_panel_runs_the_search_shows_the_best_so_far_and_reports_the_design() {
     let (gpu, target, mut bench) = app("cylinder-near-critical");
@@ -450,7 +478,15 @@ fn the_design_panel_runs_the_search_shows_the_best_so_far_and_reports_the_design
     bench.ui.design.alpha_star = Some(0.2);
     bench.ui.design.generations = 300;
     let options = bench.ui.design.options(2).unwrap();
-    bench.ui.design.start(options.clone());
+    let run_at = bench.ui.design.run_at(2, 0.0);
+    assert_eq!(
+        run_at,
+        rollphase::ui::designing::RunAt::AboveAlphaStar(1.05, 0.0)
+    );
+    bench
+        .ui
+        .design
+        .start(options.clone(), bench.sim.status().scene_id, run_at);
     let names = frames_until_designed(&mut bench, &gpu, &target, 300, |_| {});
     assert!(
         names.iter().any(|n| n == "design: the best so far"),
@@ -472,6 +508,8 @@ fn the_design_panel_runs_the_search_shows_the_best_so_far_and_reports_the_design
     );
     let s = bench.sim.status();
     assert_eq!(s.setup.alpha_star, direct.alpha_star);
+    // Shown just above its own α*, so it rolls.
+    assert!((s.setup.ramp.alpha_rad / s.setup.alpha_star - 1.05).abs() < 1e-12);
     assert_eq!(s.setup.body.to_shape(), direct.body.to_shape());
 }
 
@@ -481,7 +519,11 @@ fn cancel_keeps_the_best_body_so_far_and_checks_it() {
     bench.ui.design.alpha_star = Some(0.25);
     bench.ui.design.generations = 5000;
     let options = bench.ui.design.options(3).unwrap();
-    bench.ui.design.start(options);
+    let run_at = bench.ui.design.run_at(3, 0.0);
+    bench
+        .ui
+        .design
+        .start(options, bench.sim.status().scene_id, run_at);
     let names = frames_until_designed(&mut bench, &gpu, &target, 300, |bench| {
         if bench
             .ui
@@ -494,5 +536,56 @@ fn cancel_keeps_the_best_body_so_far_and_checks_it() {
     });
     let report = bench.ui.design.report.clone().unwrap().unwrap();
     assert!(report[0].contains("ended Stopped"), "{report:?}");
+    // Cancelled, not a time budget that ran out (the app has none).
+    assert!(
+        report
+            .iter()
+            .any(|l| l.starts_with("cancelled: this is the best body so far")),
+        "{report:?}"
+    );
+    assert!(!report.iter().any(|l| l.contains("budget")), "{report:?}");
     assert_eq!(names.last().map(String::as_str), Some("design: designed"));
+}
+
+/// Another scene loaded during a search cancels it: its report still comes, and its body is not
+/// run in the scene the user went to.
+#[test]
+fn loading_another_scene_cancels_the_design_and_keeps_that_scene() {
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    bench.ui.design.alpha_star = Some(0.25);
+    bench.ui.design.generations = 5000;
+    let options = bench.ui.design.options(3).unwrap();
+    let run_at = bench.ui.design.run_at(3, 0.0);
+    bench
+        .ui
+        .design
+        .start(options, bench.sim.status().scene_id, run_at);
+    let other = Scene::preset("sphere-two-orbits")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    let mut loaded = false;
+    let mut said = String::new();
+    let names = frames_until_designed_or(&mut bench, &gpu, &target, 300, |bench| {
+        if !loaded && bench.ui.design.progress().is_some() {
+            bench
+                .sim
+                .send(rollphase::live::SimCommand::Load(Box::new(other.clone())));
+            loaded = true;
+        }
+        if let Some((text, _)) = bench.ui.notice() {
+            said = text.clone();
+        }
+    });
+    assert!(
+        said.starts_with("design cancelled: another scene was loaded"),
+        "{said}"
+    );
+    assert_eq!(
+        names.last().map(String::as_str),
+        Some("sphere-two-orbits"),
+        "{names:?}"
+    );
+    let report = bench.ui.design.report.clone().unwrap().unwrap();
+    assert!(report[0].contains("ended Stopped"), "{report:?}");
 }

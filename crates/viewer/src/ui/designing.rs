@@ -75,9 +75,27 @@ impl Default for DesignPanel {
 /// A search on a worker thread; dropped, it is told to stop.
 struct DesignJob {
     space: DesignSpace,
+    /// The print scale the search checks at (the body is saved with it).
+    scale_mm: f64,
+    /// Where the designed bodies run: the ramp angle relative to α*, or absolute, and m/m0.
+    run_at: RunAt,
+    /// The scene the search was started on; its bodies are loaded only while the app shows
+    /// that scene or one of the search's own.
+    scene: u64,
     progress: Arc<Mutex<Option<DesignProgress>>>,
     result: Arc<Mutex<Option<Result<Design, String>>>>,
     stop: Arc<AtomicBool>,
+    worker: std::thread::JoinHandle<()>,
+}
+
+/// The ramp a designed body is shown on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RunAt {
+    /// At this multiple of the body's own α* (a target of α* or hysteresis: just above it, so
+    /// the body rolls), and this m/m0.
+    AboveAlphaStar(f64, f64),
+    /// At the target's ramp angle and m/m0 (orbits, drift, doubling).
+    Ramp(f64, f64),
 }
 
 impl Drop for DesignJob {
@@ -88,10 +106,11 @@ impl Drop for DesignJob {
 
 impl DesignPanel {
     /// The design options the panel asks for on a body of `dimension`, or why they are refused
-    /// (the same words as the command line's, with the panel's names).
+    /// (the core's words, which name the command line's flags). Targets of the other dimension
+    /// are not shown for this dimension and are left out.
     ///
     /// # Errors
-    /// No target, a value out of range, or a target of the other dimension.
+    /// No target, or a value out of range.
     pub fn options(&self, dimension: u32) -> Result<DesignOptions, String> {
         let three_d = dimension == 3;
         let request = TargetRequest {
@@ -132,13 +151,35 @@ impl DesignPanel {
         Ok(options)
     }
 
-    /// Starts the search of `options` (replacing any running).
-    pub fn start(&mut self, options: DesignOptions) {
+    /// Where the bodies of a search with these targets are shown: at the target's ramp (orbits,
+    /// drift, doubling), else just above the body's own α* at the hysteresis target's m/m0 or
+    /// `mass_now`.
+    pub fn run_at(&self, dimension: u32, mass_now: f64) -> RunAt {
+        let three_d = dimension == 3;
+        match (
+            three_d,
+            self.orbits.is_some() || self.drift.is_some(),
+            self.doubling,
+        ) {
+            (true, true, _) => RunAt::Ramp(self.ramp.0, self.ramp.1),
+            (true, false, Some(mass)) => RunAt::Ramp(self.ramp.0, mass),
+            _ => RunAt::AboveAlphaStar(
+                1.05,
+                self.hysteresis
+                    .filter(|_| !three_d)
+                    .map_or(mass_now, |h| h.0),
+            ),
+        }
+    }
+
+    /// Starts the search of `options` (replacing any running) for the scene `scene`, its
+    /// bodies shown as `run_at` says.
+    pub fn start(&mut self, options: DesignOptions, scene: u64, run_at: RunAt) {
         let progress = Arc::new(Mutex::new(None));
         let result = Arc::new(Mutex::new(None));
         let stop = Arc::new(AtomicBool::new(false));
         let (p, r, s) = (progress.clone(), result.clone(), stop.clone());
-        let space = options.space;
+        let (space, scale_mm) = (options.space, options.scale_mm);
         let spawned = std::thread::Builder::new()
             .name("app-design".into())
             .spawn(move || {
@@ -152,17 +193,24 @@ impl DesignPanel {
                     *slot = Some(found);
                 }
             });
-        if let Err(e) = spawned {
-            self.report = Some(Err(format!("no worker thread for the design: {e}")));
-            return;
-        }
+        let worker = match spawned {
+            Ok(w) => w,
+            Err(e) => {
+                self.report = Some(Err(format!("no worker thread for the design: {e}")));
+                return;
+            }
+        };
         self.report = None;
         self.shown = None;
         self.job = Some(DesignJob {
             space,
+            scale_mm,
+            run_at,
+            scene,
             progress,
             result,
             stop,
+            worker,
         });
     }
 
@@ -178,13 +226,21 @@ impl DesignPanel {
         }
     }
 
+    /// Whether the running search was asked to stop (it is checking its best body so far).
+    pub fn cancelled(&self) -> bool {
+        self.job
+            .as_ref()
+            .is_some_and(|j| j.stop.load(Ordering::Relaxed))
+    }
+
     /// The latest progress of the running search.
     pub fn progress(&self) -> Option<DesignProgress> {
         self.job.as_ref()?.progress.lock().ok()?.clone()
     }
 }
 
-/// The report of a design in lines: holds or not, each target's value and margin, why not.
+/// The report of a design in lines: holds or not, each target's value (and its margin over the
+/// band where the body could be checked: a body that is not convex is not), why not.
 pub fn report_lines(d: &Design) -> Vec<String> {
     let mut lines = vec![format!(
         "{}: α* = {:.5} rad, {} generations, ended {:?}",
@@ -193,17 +249,40 @@ pub fn report_lines(d: &Design) -> Vec<String> {
         d.generations,
         d.ended
     )];
-    for (a, c) in d.achieved.iter().zip(&d.check.targets) {
+    for (k, a) in d.achieved.iter().enumerate() {
+        let margin = d
+            .check
+            .targets
+            .get(k)
+            .filter(|c| c.target == a.target)
+            .map_or(String::new(), |c| {
+                format!("; margin over the band {:+.4} {}", c.margin, c.margin_unit)
+            });
         lines.push(format!(
-            "{}: {:.4} ({}); margin over the band {:+.4} {}",
+            "{}: {:.4} ({}){margin}",
             a.target.describe(),
             a.precise,
             if a.met { "met" } else { "not met" },
-            c.margin,
-            c.margin_unit
         ));
     }
-    lines.extend(d.why_not(&|s| s.to_string()));
+    // The app has no time budget: a stopped search was cancelled.
+    let setting = |s: &str| match s {
+        "budget" => "BUDGET".to_string(),
+        "seed" => "seed (rollphase design --seed)".to_string(),
+        other => other.to_string(),
+    };
+    for why in d.why_not(&setting) {
+        if why.contains("BUDGET") {
+            lines.push(
+                "cancelled: this is the best body so far, checked (Design again with more \
+                 generations searches further)"
+                    .to_string(),
+            );
+        } else {
+            lines.push(why);
+        }
+    }
+    lines.dedup();
     lines
 }
 
@@ -231,13 +310,25 @@ impl AppUi {
                         .suffix(" mm per mean radius"),
                 );
                 if d.running() {
-                    if ui.button("Cancel (keep the best so far)").clicked() {
+                    if d.cancelled() {
+                        ui.label(RichText::new("cancelled: checking the best body so far…").weak());
+                    } else if ui.button("Cancel (keep the best so far)").clicked() {
                         d.cancel();
                     }
                 } else if ui.button("Design").clicked() {
-                    match d.options(dimension) {
-                        Ok(options) => d.start(options),
-                        Err(why) => self.notice = Some((why, true)),
+                    if !status.setup.timeline.is_empty() {
+                        self.notice = Some((
+                            "a lesson is not a place to design: its captions are about its own \
+                             body (load a scene first)"
+                                .into(),
+                            true,
+                        ));
+                    } else {
+                        let run_at = d.run_at(dimension, status.snapshot.mass_ratio);
+                        match d.options(dimension) {
+                            Ok(options) => d.start(options, status.scene_id, run_at),
+                            Err(why) => self.notice = Some((why, true)),
+                        }
                     }
                 }
                 self.design_status_ui(ui);
@@ -303,24 +394,53 @@ impl AppUi {
     }
 
     /// Every frame, shown or not: the search's end (its report, its body on the ramp) and the
-    /// best body so far on the ramp as it improves.
+    /// best body so far on the ramp as it improves. Bodies are loaded only while the app shows
+    /// the scene the search started on or one of its own bodies; another scene cancels it.
     pub(super) fn poll_design(&mut self, status: &SimStatus, actions: &mut Vec<UiAction>) {
-        let finished = self
-            .design
-            .job
-            .as_ref()
-            .and_then(|j| j.result.lock().ok()?.take());
+        let Some(job) = &self.design.job else {
+            return;
+        };
+        let ours = status.scene_id == job.scene || status.setup.scene.name.starts_with("design: ");
+        if !ours && !job.stop.load(Ordering::Relaxed) {
+            job.stop.store(true, Ordering::Relaxed);
+            self.notice = Some((
+                "design cancelled: another scene was loaded (its best body so far is checked \
+                 and reported, not run)"
+                    .into(),
+                false,
+            ));
+        }
+        let (run_at, scale_mm, space) = (job.run_at, job.scale_mm, job.space);
+        let finished = job.result.lock().ok().and_then(|mut r| r.take());
+        let died = finished.is_none() && job.worker.is_finished();
+        if died {
+            self.design.job = None;
+            self.design.report = Some(Err(
+                "the design search stopped without a result (a failure in the search)".into(),
+            ));
+            return;
+        }
         if let Some(found) = finished {
             self.design.job = None;
             self.design.report = Some(found.as_ref().map(report_lines).map_err(Clone::clone));
             match found {
-                Ok(design) => self.run_designed(&design.body, "designed", status, actions),
+                Ok(design) if ours => {
+                    if let Err(e) = design.body.check_convex() {
+                        self.notice = Some((
+                            format!("the design is not strictly convex ({e}): not run"),
+                            true,
+                        ));
+                    } else {
+                        let at = (run_at, scale_mm);
+                        self.run_designed(&design.body, "designed", at, status, actions);
+                    }
+                }
+                Ok(_) => {}
                 Err(why) => self.notice = Some((format!("design: {why}"), true)),
             }
             return;
         }
-        let space = self.design.job.as_ref().map(|j| j.space);
-        if let (Some(p), Some(space)) = (self.design.progress(), space) {
+        if let (Some(p), true) = (self.design.progress(), ours) {
             let due = self.design.shown.as_ref().is_none_or(|(v, at)| {
                 *v != p.best_vector && at.elapsed().as_secs_f64() >= SHOW_EVERY_S
             });
@@ -328,7 +448,8 @@ impl AppUi {
                 let body = space.body(&p.best_vector);
                 self.design.shown = Some((p.best_vector.clone(), Instant::now()));
                 if body.check_convex().is_ok() {
-                    self.run_designed(&body, "the best so far", status, actions);
+                    let at = (run_at, scale_mm);
+                    self.run_designed(&body, "the best so far", at, status, actions);
                 }
             }
         }
@@ -357,19 +478,29 @@ impl AppUi {
         }
     }
 
-    /// Runs `body` on the ramp (the current α, m/m0, integrator and speed), from rest.
+    /// Runs `body` where `run_at` says (at 1.05 of its own α*, or at a target's ramp), with
+    /// the current integrator and speed, from rest; saved with the search's print scale.
     fn run_designed(
         &mut self,
         body: &Body,
         what: &str,
+        (run_at, scale_mm): (RunAt, f64),
         status: &SimStatus,
         actions: &mut Vec<UiAction>,
     ) {
         let mut scene = self.current_scene(status);
         scene.name = format!("design: {what}");
         scene.description = "designed in the app".into();
-        let scale = (self.base.as_deref(), Some(self.design.scale_mm));
-        match sculpted_scene(&scene, body, InitialSpec::default(), scale) {
+        let (alpha, ratio, mass) = match run_at {
+            RunAt::AboveAlphaStar(ratio, mass) => (None, Some(ratio), mass),
+            RunAt::Ramp(alpha, mass) => (Some(alpha), None, mass),
+        };
+        scene.model.alpha_rad = alpha;
+        scene.model.alpha_over_critical = ratio;
+        scene.model.mass_ratio = mass;
+        scene.model.kind = None;
+        let at = (self.base.as_deref(), Some(scale_mm));
+        match sculpted_scene(&scene, body, InitialSpec::default(), at) {
             Ok((_, setup)) => actions.push(UiAction::Sim(crate::live::SimCommand::Load(Box::new(
                 setup,
             )))),

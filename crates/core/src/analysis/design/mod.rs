@@ -712,6 +712,9 @@ pub fn design_until(
             || deficit == 0.0
             || round == MAX_ROUNDS
             || generations >= opts.max_generations
+            // Stopped while this round's body was checked: that body is the answer, not a
+            // round that stops at once and checks it again.
+            || stop.load(Ordering::Relaxed)
         {
             return Ok(design);
         }

@@ -1,4 +1,4 @@
-//! The shard file: its format ("rollphase shard 2", records in shortest round-trip form, a
+//! The shard file: its format ("rollphase shard 3", records in shortest round-trip form, a
 //! SHA-256 of the contents), writing one through the output layer, and reading a folder's shards
 //! back: scanned one file at a time, checked against each other, and merged in index order.
 
@@ -16,7 +16,7 @@ use crate::output::{self, Inputs};
 /// One shard file.
 #[derive(Debug, Serialize, Deserialize)]
 pub struct ShardFile {
-    /// "rollphase shard 2".
+    /// "rollphase shard 3".
     pub format: String,
     /// What ran.
     pub job: JobId,
@@ -99,7 +99,7 @@ impl ShardFile {
 }
 
 /// Version 2 added the digest.
-const FORMAT: &str = "rollphase shard 2";
+const FORMAT: &str = "rollphase shard 3";
 
 /// Writes one shard's file into `dir` through the output layer (staged, so a killed shard leaves
 /// no half-written file behind for `merge` to trip on). Returns its path.
