@@ -513,17 +513,21 @@ fn the_design_panel_runs_the_search_shows_the_best_so_far_and_reports_the_design
     assert_eq!(s.setup.body.to_shape(), direct.body.to_shape());
 }
 
-#[test]
-fn cancel_keeps_the_best_body_so_far_and_checks_it() {
-    let (gpu, target, mut bench) = app("sphere-cruising");
+/// A search on the app's sphere that would run for minutes: α* = 0.25 in up to 5,000
+/// generations.
+fn start_a_long_sphere_design(bench: &mut Workbench) {
     bench.ui.design.alpha_star = Some(0.25);
     bench.ui.design.generations = 5000;
     let options = bench.ui.design.options(3).unwrap();
     let run_at = bench.ui.design.run_at(3, 0.0);
-    bench
-        .ui
-        .design
-        .start(options, bench.sim.status().scene_id, run_at);
+    let scene = bench.sim.status().scene_id;
+    bench.ui.design.start(options, scene, run_at);
+}
+
+#[test]
+fn cancel_keeps_the_best_body_so_far_and_checks_it() {
+    let (gpu, target, mut bench) = app("sphere-cruising");
+    start_a_long_sphere_design(&mut bench);
     let names = frames_until_designed(&mut bench, &gpu, &target, 300, |bench| {
         if bench
             .ui
@@ -552,14 +556,7 @@ fn cancel_keeps_the_best_body_so_far_and_checks_it() {
 #[test]
 fn loading_another_scene_cancels_the_design_and_keeps_that_scene() {
     let (gpu, target, mut bench) = app("sphere-cruising");
-    bench.ui.design.alpha_star = Some(0.25);
-    bench.ui.design.generations = 5000;
-    let options = bench.ui.design.options(3).unwrap();
-    let run_at = bench.ui.design.run_at(3, 0.0);
-    bench
-        .ui
-        .design
-        .start(options, bench.sim.status().scene_id, run_at);
+    start_a_long_sphere_design(&mut bench);
     let other = Scene::preset("sphere-two-orbits")
         .unwrap()
         .setup(None)
