@@ -390,6 +390,9 @@ fn the_body_saves_as_a_shape_file_and_an_stl_never_over_its_input() {
         (shape_arg, "input", &[false][..]),
         ("/dev/full", "", &[false, true][..]),
         ("", "", &[false, true][..]),
+        // Standard output is no place for a file, and a shape file is not an STL.
+        ("-", "not a place", &[false, true][..]),
+        ("body-shape.stl", "ending in .json", &[false][..]),
     ] {
         for &stl in kinds {
             let (text, error) = save(path, stl);
