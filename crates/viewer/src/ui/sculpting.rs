@@ -672,7 +672,9 @@ impl AppUi {
             _ => Vec::new(),
         };
         let inputs = crate::output::Inputs::of(read);
-        let (path, result) = if stl {
+        // Either file is made in memory and written by the output layer in one call
+        // (staged, all or nothing, never over an input).
+        let (path, bytes) = if stl {
             // A shape file's name gives its STL's (body.json: body.stl); any other path is
             // taken as given (a device, a name without an extension), never changed silently.
             let json = path
@@ -683,20 +685,17 @@ impl AppUi {
             } else {
                 path
             };
-            let result = save_stl(body, scale, &path, &inputs);
-            (path, result)
+            (path, stl_bytes(body, scale))
         } else {
-            let result = body
-                .to_shape()
-                .with_scale_mm(Some(scale))
-                .to_json()
-                .map_err(anyhow::Error::from)
-                .and_then(|json| {
-                    crate::output::write_bytes(&path, json.as_bytes(), &inputs)
-                        .map_err(anyhow::Error::from)
-                });
-            (path, result)
+            let json = body.to_shape().with_scale_mm(Some(scale)).to_json();
+            (
+                path,
+                json.map(String::into_bytes).map_err(anyhow::Error::from),
+            )
         };
+        let result = bytes.and_then(|b| {
+            crate::output::write_bytes(&path, &b, &inputs).map_err(anyhow::Error::from)
+        });
         self.notice = Some(match result {
             Ok(()) => (
                 format!(
@@ -710,24 +709,17 @@ impl AppUi {
     }
 }
 
-/// The body's print mesh as a binary STL in mm, `scale_mm` per ⟨r⟩ (a cylinder 2 ⟨r⟩ long).
-fn save_stl(
-    body: &Body,
-    scale_mm: f64,
-    path: &std::path::Path,
-    inputs: &crate::output::Inputs,
-) -> anyhow::Result<()> {
-    use anyhow::Context;
+/// The body's print mesh as a binary STL in mm, `scale_mm` per ⟨r⟩ (a cylinder 2 ⟨r⟩ long), in
+/// memory: the same mesh `export-stl` and `design --stl` write.
+fn stl_bytes(body: &Body, scale_mm: f64) -> anyhow::Result<Vec<u8>> {
     let mesh = crate::geometry::mesh::print_mesh(body, 6, 2.0);
-    let mut file = crate::output::OutputFile::create(path, inputs)?;
     let name = match body {
         Body::Disk(_) => format!("sculpted {}", crate::geometry::mesh::DISK_AXIS_TAG),
         Body::Sphere(_) => "sculpted".to_string(),
     };
-    mesh.write_stl(&mut file, scale_mm, &name)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    file.commit()?;
-    Ok(())
+    let mut bytes = Vec::new();
+    mesh.write_stl(&mut bytes, scale_mm, &name)?;
+    Ok(bytes)
 }
 
 #[cfg(test)]
