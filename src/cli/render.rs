@@ -147,7 +147,7 @@ fn refuse_inputs_named_like_frames(a: &RenderArgs, setup: &SceneSetup, frames: u
         return Ok(());
     };
     let mut files = vec![scene.clone()];
-    if let Some(shape) = &setup.scene.body.shape {
+    for shape in setup.shape_paths() {
         files.push(
             scene
                 .parent()
@@ -205,8 +205,8 @@ fn write_headless(a: &RenderArgs, setup: SceneSetup, frames: u64) -> Result<()> 
     let mut inputs = crate::output::Inputs::none();
     if let Some(scene) = &a.scene {
         inputs.add(scene);
-        if let Some(shape) = &setup.scene.body.shape {
-            let base = scene.parent().unwrap_or(std::path::Path::new("."));
+        let base = scene.parent().unwrap_or(std::path::Path::new("."));
+        for shape in setup.shape_paths() {
             inputs.add(&base.join(shape));
         }
     }
@@ -214,7 +214,7 @@ fn write_headless(a: &RenderArgs, setup: SceneSetup, frames: u64) -> Result<()> 
         Some((kind, flag, p)) => {
             crate::output::check_file(p, &inputs).with_context(|| flag.to_string())?;
             if let Some(dir) = &a.plot_data {
-                for name in crate::live::history::PlotHistory::file_names() {
+                for name in crate::live::history::PlotHistory::file_names(1 + setup.lanes.len()) {
                     let file = dir.join(name);
                     crate::output::check_distinct(&[(flag, p), ("--plot-data", &file)])?;
                 }

@@ -1710,7 +1710,7 @@ fn every_lesson_step_shows_its_plot_large_in_presentation_and_class_modes() {
             }
         }
     }
-    assert_eq!(checked, (7 + 8 + 4) * 2 * 2);
+    assert_eq!(checked, (7 + 8 + 5) * 2 * 2);
 }
 
 /// Input for a `size`-pixel target at the app's zoom, as a window gives it: the screen in

@@ -276,6 +276,8 @@ fn the_period_doubling_lesson_goes_from_period_1_to_period_2() {
             (0.0, Some(1)),
             (2.0, Some(1)),
             (4.5, Some(2)),
+            (6.0, Some(2)),
+            // The comparison step: the lesson's body stays at 6 beside the others.
             (6.0, Some(2))
         ]
     );

@@ -23,6 +23,7 @@ mod app_state;
 mod app_thread;
 mod app_ui;
 mod app_window;
+mod bodies;
 mod egui_panels;
 mod headless_snapshots;
 mod lesson_claims;

@@ -934,14 +934,14 @@ fn a_lesson_step_that_is_not_there_is_refused_by_name() {
         1,
         &["--step 2 needs a lesson", "\"sphere-cruising\" has none"],
     );
-    for k in ["0", "5"] {
+    for k in ["0", "6"] {
         let r = rollphase(&["app", "--preset", "lesson-period-doubling", "--step", k]);
         fails_with(
             &r,
             1,
             &[
                 &format!("--step {k} is not a step"),
-                "it has 4: give 1 to 4",
+                "it has 5: give 1 to 5",
             ],
         );
     }

@@ -119,7 +119,7 @@ fn every_bundled_lessons_claims_hold_in_its_evidence_and_their_opposites_do_not(
     for (name, declared) in [
         ("lesson-critical-angle", 6),
         ("lesson-inertia-hysteresis", 8),
-        ("lesson-period-doubling", 4),
+        ("lesson-period-doubling", 5),
     ] {
         let (setup, state) = evidence(name);
         let checked = claims_checked(&setup, &state);
@@ -197,7 +197,7 @@ fn the_period_the_overlay_says_ahead_is_the_steps_checked_claim() {
     };
     assert_eq!(
         measured("lesson-period-doubling"),
-        [None, Some(1), Some(1), Some(2), Some(2)]
+        [None, Some(1), Some(1), Some(2), Some(2), Some(2)]
     );
     assert!(
         measured("lesson-critical-angle")

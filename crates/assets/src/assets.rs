@@ -10,6 +10,9 @@ pub const DISK: &str = include_str!("../../../assets/shapes/disk.json");
 pub const DISK_INERTIAL: &str = include_str!("../../../assets/shapes/disk-inertial.json");
 /// The paper's 3D body (numpy seed 219, σ = 0.25, l ≤ 5).
 pub const PAPER_SPHERE: &str = include_str!("../../../assets/shapes/paper-sphere.json");
+/// A cylinder designed to rest below 10° (`rollphase design --dim 2 --alpha-star 0.174533
+/// --alpha-band 0.0087 --scale-mm 40 --seed 1`): the "which one stops?" preset's.
+pub const CYLINDER_10DEG: &str = include_str!("../../../assets/shapes/cylinder-10deg.json");
 
 /// The bundled shape files, by file name (scenes refer to them as `../shapes/NAME`).
 pub const BUNDLED_SHAPES: &[(&str, &str)] = &[
@@ -17,6 +20,7 @@ pub const BUNDLED_SHAPES: &[(&str, &str)] = &[
     ("disk.json", DISK),
     ("disk-inertial.json", DISK_INERTIAL),
     ("paper-sphere.json", PAPER_SPHERE),
+    ("cylinder-10deg.json", CYLINDER_10DEG),
 ];
 
 /// The preset scenes (name = file stem), the default first.
@@ -48,6 +52,10 @@ pub const PRESETS: &[(&str, &str)] = &[
     (
         "cylinder-hysteresis",
         include_str!("../../../assets/scenes/cylinder-hysteresis.toml"),
+    ),
+    (
+        "which-one-stops",
+        include_str!("../../../assets/scenes/which-one-stops.toml"),
     ),
     (
         "poincare-field",

@@ -69,6 +69,21 @@ pub fn linear(c: [u8; 3], alpha: f32) -> [f32; 4] {
     [f(c[0]), f(c[1]), f(c[2]), alpha]
 }
 
+/// sRGB colour of each body on one ramp (a scene's own, then its `[[bodies]]`): the same in
+/// the 3D view, the overlay and every plot. Okabe–Ito's orange, sky blue, bluish green and
+/// reddish purple, told apart with any colour vision, on the dark panels and the light ramp.
+pub const BODY_COLOURS: [[u8; 3]; 4] = [
+    [230, 90, 20],
+    [86, 180, 233],
+    [0, 158, 115],
+    [204, 121, 167],
+];
+
+/// The colour of body `n` on the ramp (0: the scene's own), cycling past four.
+pub fn body_colour(n: usize) -> [u8; 3] {
+    BODY_COLOURS[n % BODY_COLOURS.len()]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

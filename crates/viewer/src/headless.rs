@@ -262,7 +262,8 @@ pub fn render_to(
     }
     let progress = extras.progress;
     if let Some(dir) = extras.plot_data {
-        let names = PlotHistory::file_names();
+        let names = PlotHistory::file_names(1 + setup.lanes.len());
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         crate::output::check_folder(dir, &names, inputs).context("--plot-data")?;
     }
     let mut history = match &setup.scene.resume {

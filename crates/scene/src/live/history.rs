@@ -54,6 +54,8 @@ pub struct Sample {
     pub normal_force: f64,
     /// The friction rolling needs, |f_t|/N (infinite where N ≤ 0).
     pub friction_needed: f64,
+    /// Whose: 0 the scene's own body, n its n-th `[[bodies]]` entry (body n + 1).
+    pub body: usize,
 }
 
 /// The branch of the 1/T plot a point belongs to: the way α was last moved (hysteresis shows
@@ -70,6 +72,8 @@ pub enum Branch {
 #[derive(Debug, Clone, Default)]
 pub struct PlotHistory {
     samples: VecDeque<Sample>,
+    /// The other bodies' samples (`[[bodies]]`), by entry.
+    lanes: Vec<VecDeque<Sample>>,
     /// (direction, α bin) → (α, 1/T, m/m0).
     sweep: BTreeMap<(Branch, Regime, i64), (f64, f64)>,
     last_alpha: Option<f64>,
@@ -202,6 +206,7 @@ impl PlotHistory {
     /// Clears the time series (a new run); the α sweep is kept, since it describes the body.
     pub fn clear_run(&mut self) {
         self.samples.clear();
+        self.lanes.clear();
         self.last_period = None;
     }
 
@@ -237,13 +242,22 @@ impl PlotHistory {
     /// oldest first; one not after the last taken is left out.
     pub fn push_samples(&mut self, samples: impl IntoIterator<Item = Sample>) {
         for s in samples {
-            if self.samples.back().is_some_and(|last| s.t <= last.t) {
+            let series = match s.body {
+                0 => &mut self.samples,
+                n => {
+                    if self.lanes.len() < n {
+                        self.lanes.resize_with(n, VecDeque::new);
+                    }
+                    &mut self.lanes[n - 1]
+                }
+            };
+            if series.back().is_some_and(|last| s.t <= last.t) {
                 continue;
             }
-            self.samples.push_back(s);
-        }
-        while self.samples.len() > MAX_SAMPLES {
-            self.samples.pop_front();
+            series.push_back(s);
+            if series.len() > MAX_SAMPLES {
+                series.pop_front();
+            }
         }
     }
 
@@ -373,6 +387,24 @@ impl PlotHistory {
     /// The samples, oldest first.
     pub fn samples(&self) -> impl Iterator<Item = &Sample> {
         self.samples.iter()
+    }
+
+    /// How many other bodies (`[[bodies]]`) have samples.
+    pub fn lanes(&self) -> usize {
+        self.lanes.len()
+    }
+
+    /// The time series of the `n`-th other body (`[[bodies]]` entry n, from 1) alone, as a
+    /// history of its own: its plots and CSV are the scene's own body's, for it.
+    pub fn lane(&self, n: usize) -> PlotHistory {
+        PlotHistory {
+            samples: self
+                .lanes
+                .get(n.wrapping_sub(1))
+                .cloned()
+                .unwrap_or_default(),
+            ..PlotHistory::default()
+        }
     }
 
     /// At most about [`PLOT_POINTS`] evenly spaced samples, the newest always included: a
@@ -523,10 +555,45 @@ pub struct PlotMeta {
     pub integrator: String,
     /// The simulation time when the data were written.
     pub t: f64,
+    /// The scene's own body's fate then, in the verdict's words.
+    pub fate: String,
     /// Simulation time between two samples of the time series.
     pub sample_dt: f64,
     /// Each file and its columns.
     pub files: BTreeMap<&'static str, &'static str>,
+    /// The scene's other bodies (`[[bodies]]`), body 2 on: each one's run and its files.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub bodies: Vec<BodyMeta>,
+}
+
+/// One of the scene's other bodies in [`PlotMeta`].
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct BodyMeta {
+    /// Its number on the ramp (the scene's own body is 1).
+    pub body: usize,
+    /// Its name (the entry's label, or "body N").
+    pub label: String,
+    /// Its model.
+    pub model: String,
+    /// Its critical angle, rad.
+    pub alpha_star: f64,
+    /// Its m/m0.
+    pub mass_ratio: f64,
+    /// Its drag law in words.
+    pub drag: String,
+    /// Its fate when the data were written, in the verdict's words.
+    pub fate: String,
+    /// Its time series ([`PlotData::Series`]'s columns) and contact force
+    /// ([`PlotData::Forces`]'s).
+    pub files: [String; 2],
+}
+
+/// The files of body `n` (2 on): its series and its contact force.
+fn body_files(n: usize) -> [String; 2] {
+    [
+        format!("series-body-{n}.csv"),
+        format!("contact-force-body-{n}.csv"),
+    ]
 }
 
 impl PlotMeta {
@@ -552,10 +619,26 @@ impl PlotMeta {
             drag: snapshot.drag_law.label(),
             integrator: method.to_string(),
             t: snapshot.t,
+            fate: snapshot.fate(),
             sample_dt: super::PLOT_SAMPLE_DT,
             files: PlotData::ALL
                 .iter()
                 .map(|d| (d.file_name(), d.columns()))
+                .collect(),
+            bodies: snapshot
+                .lanes
+                .iter()
+                .enumerate()
+                .map(|(i, lane)| BodyMeta {
+                    body: i + 2,
+                    label: lane.label.clone(),
+                    model: lane.model.to_string(),
+                    alpha_star: lane.alpha_star,
+                    mass_ratio: lane.mass_ratio,
+                    drag: lane.drag_law.label(),
+                    fate: lane.fate(),
+                    files: body_files(i + 2),
+                })
                 .collect(),
         }
     }
@@ -689,10 +772,15 @@ impl PlotHistory {
 }
 
 impl PlotHistory {
-    /// The files [`Self::write_csv_files`] writes into its folder.
-    pub fn file_names() -> Vec<&'static str> {
-        let mut names: Vec<&str> = PlotData::ALL.iter().map(|d| d.file_name()).collect();
-        names.push(PLOT_META_FILE);
+    /// The files [`Self::write_csv_files`] writes into its folder for a ramp of `bodies`
+    /// bodies.
+    pub fn file_names(bodies: usize) -> Vec<String> {
+        let mut names: Vec<String> = PlotData::ALL
+            .iter()
+            .map(|d| d.file_name().to_string())
+            .collect();
+        names.push(PLOT_META_FILE.to_string());
+        names.extend((2..=bodies).flat_map(body_files));
         names
     }
 
@@ -706,7 +794,9 @@ impl PlotHistory {
         meta: &PlotMeta,
         inputs: &Inputs,
     ) -> output::Result<Vec<std::path::PathBuf>> {
-        output::check_folder(dir, &Self::file_names(), inputs)?;
+        let names = Self::file_names(1 + meta.bodies.len());
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        output::check_folder(dir, &names, inputs)?;
         output::create_folder(dir)?;
         let mut set = OutputSet::new();
         let mut written = Vec::new();
@@ -714,6 +804,14 @@ impl PlotHistory {
             let path = dir.join(data.file_name());
             set.write(&path, self.csv(data, measured).as_bytes(), inputs)?;
             written.push(path);
+        }
+        for body in &meta.bodies {
+            let lane = self.lane(body.body - 1);
+            for (data, name) in [PlotData::Series, PlotData::Forces].iter().zip(&body.files) {
+                let path = dir.join(name);
+                set.write(&path, lane.csv(*data, measured).as_bytes(), inputs)?;
+                written.push(path);
+            }
         }
         let path = dir.join(PLOT_META_FILE);
         // Serialising plain numbers and strings cannot fail.

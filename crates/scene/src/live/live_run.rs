@@ -99,6 +99,9 @@ pub struct LiveRun {
     /// start, then each hand change and resume (empty: a resumed run whose file had no replay,
     /// which cannot be replayed).
     replay: Vec<ReplayEntry>,
+    /// The scene's other bodies on the ramp (`[[bodies]]`), each a run of its own on the same
+    /// clock, α and integrator (`super::lanes`).
+    pub(super) lanes: Vec<LiveRun>,
 }
 
 /// See [`LiveRun::continuation`].
@@ -165,6 +168,7 @@ impl LiveRun {
             Body::Sphere(_) => false,
         };
         let contact = ContactWatch::new(setup.limits, t0, first.force);
+        let lanes = setup.lanes.iter().cloned().map(LiveRun::new).collect();
         let mut sim = Self {
             ramp: setup.ramp,
             method: setup.method,
@@ -191,6 +195,7 @@ impl LiveRun {
             continuation: None,
             off_script: false,
             replay,
+            lanes,
         };
         let o = observe(&sim.state, &sim.ramp);
         sim.energy0 = o.energy;
@@ -279,6 +284,7 @@ impl LiveRun {
             .map_err(|e| SimError::Refused(format!("timeline step at t = {}: {e}", step.at)))?
             .with_drag_law(self.ramp.drag_law);
             self.change_parameters(ramp, step.method.unwrap_or(self.method))?;
+            self.lanes_follow(ramp.alpha_rad, self.method);
         }
         if let Some(change) = &step.views {
             let views = change.applied_to(&self.setup.scene.views);
@@ -324,6 +330,7 @@ impl LiveRun {
     /// starts from rest.
     pub fn set_parameters(&mut self, ramp: Ramp, method: Method) -> Result<(), SimError> {
         self.change_parameters(ramp, method)?;
+        self.lanes_follow(ramp.alpha_rad, method);
         self.off_script = true;
         if !self.replay.is_empty() {
             self.replay.push(ReplayEntry::of(self.t, &ramp, method));
@@ -335,6 +342,25 @@ impl LiveRun {
     /// started: it then no longer plays its scene as written.
     pub fn off_script(&self) -> bool {
         self.off_script
+    }
+
+    /// A body on a lane takes the ramp's new α or integrator (`super::lanes`).
+    pub(super) fn change_lane_parameters(
+        &mut self,
+        ramp: Ramp,
+        method: Method,
+    ) -> Result<(), SimError> {
+        self.change_parameters(ramp, method)
+    }
+
+    /// Whether the run stopped (an integration failure, a refused change).
+    pub fn is_stopped(&self) -> bool {
+        self.stopped.is_some()
+    }
+
+    /// Stops the run with `why` on its line (a body on a lane that cannot follow the ramp).
+    pub(super) fn stop_with(&mut self, why: String) {
+        self.stopped = Some(why);
     }
 
     /// [`Self::set_parameters`] for a hand change or a timeline step alike.
@@ -386,9 +412,12 @@ impl LiveRun {
             .cloned()
         {
             self.integrate_to(step.at)?;
+            self.lanes_to(step.at);
             self.apply_step(&step)?;
         }
-        self.integrate_to(t_target)
+        self.integrate_to(t_target)?;
+        self.lanes_to(t_target);
+        Ok(())
     }
 
     fn integrate_to(&mut self, t_target: f64) -> Result<(), SimError> {
@@ -648,7 +677,9 @@ impl LiveRun {
     pub fn take_plot_samples(&mut self) -> Vec<Sample> {
         // Samples past the time shown (the last step reaches beyond it) wait for their frame.
         let shown = self.plot_samples.partition_point(|s| s.t <= self.t);
-        self.plot_samples.drain(..shown).collect()
+        let mut samples: Vec<Sample> = self.plot_samples.drain(..shown).collect();
+        self.take_lane_samples(&mut samples);
+        samples
     }
 
     fn push_plot_sample(&mut self, t: f64, o: &Observed) {
@@ -666,6 +697,7 @@ impl LiveRun {
             energy_drift: self.health.energy_drift,
             normal_force: o.force.normal,
             friction_needed: o.force.friction_needed(),
+            body: 0,
         });
         while self.plot_samples.len() > super::history::MAX_SAMPLES {
             self.plot_samples.pop_front();
@@ -759,6 +791,12 @@ impl LiveRun {
             poincare_field: self.field_wanted(),
             off_script: self.off_script,
             replay: self.replay.clone(),
+            label: if self.setup.scene.label.is_empty() {
+                self.setup.scene.name.clone()
+            } else {
+                self.setup.scene.label.clone()
+            },
+            lanes: self.lanes.iter().map(LiveRun::snapshot).collect(),
         }
     }
 

@@ -18,6 +18,7 @@
 //! | file | owns |
 //! |---|---|
 //! | `live_run` | [`LiveRun`]: the run kept across frames, the lesson's steps, trails, crossings (the running model is [`crate::simulate::ModelState`]) |
+//! | `lanes` | the scene's other bodies (`[[bodies]]`) run beside its own on the same clock, α and integrator; each body's fate in the verdict's words ([`Snapshot::fate`]) |
 //! | `replay` | [`LiveRun::replayed`]: a saved state's run again from the scene's start, to the bit |
 //! | `snapshot` | [`Snapshot`], [`Health`], [`SimError`]: what a run shows |
 //! | `controller` | [`Controller`], [`SimCommand`] |
@@ -30,6 +31,7 @@ mod controller;
 pub mod evidence;
 mod field;
 pub mod history;
+mod lanes;
 mod live_run;
 mod replay;
 mod snapshot;

@@ -145,6 +145,11 @@ pub struct Snapshot {
     /// How the run got here, for a saved state's `[[replay]]` (see
     /// [`super::LiveRun::replayed`]); empty where it cannot be replayed.
     pub replay: Vec<crate::scene::ReplayEntry>,
+    /// The body's name: the scene's name for its own body, a `[[bodies]]` entry's label (or
+    /// "body N") for another.
+    pub label: String,
+    /// The scene's other bodies (`[[bodies]]`) at the same time, each as its own run shows it.
+    pub lanes: Vec<Snapshot>,
 }
 
 /// What the Poincaré-field view needs at a moment of the run.

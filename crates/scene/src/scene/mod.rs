@@ -43,11 +43,13 @@ mod clock;
 pub mod description;
 mod drag_law;
 mod error;
+mod lanes;
 pub mod sculpt;
 mod setup;
 mod timeline;
 pub use drag_law::{DragLawFields, ReplayDragLaw};
 pub use error::SceneError;
+pub use lanes::{LaneResume, LaneSpec, MAX_BODIES, MAX_LABEL_CHARS};
 pub use setup::{Resume, SceneSetup, bundled_shape, load_scene_file};
 pub use timeline::{Claim, MAX_CAPTION_CHARS, MAX_STEPS, Step, TimelineSpec, ViewsChange};
 
@@ -63,6 +65,10 @@ pub struct Scene {
     /// One line saying what the scene shows.
     #[serde(default)]
     pub description: String,
+    /// The scene's own body's name beside the other bodies (`[[bodies]]`) on the overlay, the
+    /// plots and the plot data (empty: the scene's name).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub label: String,
     /// The body.
     pub body: BodySpec,
     /// Ramp angle, mass and drag.
@@ -95,6 +101,10 @@ pub struct Scene {
     /// bit for bit.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub replay: Vec<ReplayEntry>,
+    /// More bodies on the same ramp (`[[bodies]]`, at most three): each on a lane of its own,
+    /// with its own body, start, m/m0 and drag law; see `scene::lanes`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub bodies: Vec<LaneSpec>,
 }
 
 /// One `[[replay]]` entry: from simulation time `at` on, the run has this model and integrator,
@@ -367,6 +377,14 @@ pub struct ViewsSpec {
     /// beside the 3D view.
     #[serde(default, skip_serializing_if = "LessonPlot::is_none")]
     pub plot: LessonPlot,
+    /// The scene's other bodies (`[[bodies]]`) on their lanes. They run whether shown or not,
+    /// so a lesson step that shows them shows runs as long as the scene's own.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub lanes: bool,
+}
+
+fn is_true(b: &bool) -> bool {
+    *b
 }
 
 /// The plot a lesson step talks about ([`ViewsSpec::plot`]).
@@ -410,6 +428,7 @@ impl Default for ViewsSpec {
             poincare: false,
             overlay: true,
             plot: LessonPlot::None,
+            lanes: true,
         }
     }
 }

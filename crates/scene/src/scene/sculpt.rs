@@ -194,6 +194,13 @@ pub fn sculpted_scene(
         )));
     }
     let mut edited = scene.clone();
+    // The other bodies on the ramp are not sculpted: each keeps the body and start it had
+    // (an entry without its own took the scene's), and goes from t = 0 with the scene.
+    for entry in &mut edited.bodies {
+        entry.body.get_or_insert_with(|| scene.body.clone());
+        entry.initial.get_or_insert_with(|| scene.initial.clone());
+        entry.resume = None;
+    }
     edited.body = BodySpec {
         inline: Some(body.to_shape().with_scale_mm(scale_mm)),
         ..BodySpec::default()

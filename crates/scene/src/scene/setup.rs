@@ -44,6 +44,9 @@ pub struct SceneSetup {
     pub limits: ContactLimits,
     /// The saved state the run goes on from (`[resume]`), checked; `None`: from `start` at 0.
     pub resume: Option<Resume>,
+    /// The other bodies on the ramp (`[[bodies]]`), each validated as a scene of its own into
+    /// the setup of its run (`scene::lanes`); empty for one body.
+    pub lanes: Vec<SceneSetup>,
 }
 
 /// A checked `[resume]`: the run goes on at `t` from `state`.
@@ -90,7 +93,9 @@ impl Scene {
     /// Validates the scene and builds what a run needs. `base` is the folder of the scene file
     /// (shape paths are relative to it); `None` for a bundled preset.
     pub fn setup(&self, base: Option<&Path>) -> Result<SceneSetup, SceneError> {
-        self.setup_with_body(self.body.build(base)?)
+        let mut setup = self.setup_with_body(self.body.build(base)?)?;
+        setup.lanes = self.lane_setups(base, &setup)?;
+        Ok(setup)
     }
 
     /// [`Self::setup`] for `body`, already built from the scene's `[body]`.
@@ -171,6 +176,7 @@ impl Scene {
             timeline,
             limits,
             resume,
+            lanes: Vec::new(),
         })
     }
 }
@@ -252,6 +258,9 @@ impl SceneSetup {
             ..Default::default()
         });
         scene.replay.clear();
+        // A replay checks the scene's own body: the other bodies' states are saved, not
+        // replayed (`[[bodies]]` resume).
+        scene.bodies.clear();
         scene.model.alpha_rad = Some(entry.alpha_rad);
         scene.model.alpha_over_critical = None;
         scene.model.mass_ratio = entry.mass_ratio;

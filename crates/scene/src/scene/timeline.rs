@@ -129,6 +129,9 @@ pub struct ViewsChange {
     /// The plot the step talks about ("none" to name none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plot: Option<super::LessonPlot>,
+    /// The scene's other bodies (`[[bodies]]`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lanes: Option<bool>,
 }
 
 impl ViewsChange {
@@ -140,6 +143,7 @@ impl ViewsChange {
             poincare: self.poincare.unwrap_or(views.poincare),
             overlay: self.overlay.unwrap_or(views.overlay),
             plot: self.plot.unwrap_or(views.plot),
+            lanes: self.lanes.unwrap_or(views.lanes),
         }
     }
 }
@@ -448,6 +452,7 @@ speed = 3.0
             poincare: true,
             overlay: true,
             plot: super::super::LessonPlot::InversePeriod,
+            lanes: false,
         };
         let changed = ViewsChange {
             ball: Some(true),
@@ -463,6 +468,7 @@ speed = 3.0
                 poincare: true,
                 overlay: false,
                 plot: super::super::LessonPlot::InversePeriod,
+                lanes: false,
             }
         );
     }

@@ -581,6 +581,18 @@ impl AppUi {
         )
         .on_disabled_hover_text("3D bodies only");
         ui.checkbox(&mut self.views.overlay, "text overlay");
+        if !status.setup.lanes.is_empty() {
+            ui.checkbox(
+                &mut self.views.lanes,
+                match status.setup.lanes.len() {
+                    1 => "the other body on the ramp".to_string(),
+                    n => format!("the other {n} bodies on the ramp"),
+                },
+            )
+            .on_hover_text(
+                "the scene's [[bodies]]: they run whether shown or not; α and the integrator are                  the ramp's, each keeps its own m/m0",
+            );
+        }
         ui.checkbox(&mut self.show_plots, "plots");
         if !(self.views.body || self.views.ball || self.views.poincare) {
             self.views.body = true;

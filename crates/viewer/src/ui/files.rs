@@ -298,6 +298,12 @@ impl AppUi {
             inline: Some(status.setup.body.to_shape()),
             ..BodySpec::default()
         };
+        for (entry, lane) in scene.bodies.iter_mut().zip(&status.setup.lanes) {
+            entry.body = Some(BodySpec {
+                inline: Some(lane.body.to_shape()),
+                ..BodySpec::default()
+            });
+        }
         scene
     }
 
@@ -414,6 +420,19 @@ impl AppUi {
     pub fn save_state(&mut self, status: &SimStatus) {
         let mut scene = self.scene_to_save(status);
         let snap = &status.snapshot;
+        if let Some((n, lane)) = snap.lanes.iter().enumerate().find(|(_, l)| l.t != snap.t) {
+            self.notice = Some((
+                format!(
+                    "cannot save the state: body {} ({}) stopped at t = {:.2}, not at the run's                      t = {:.2} (the bodies are saved together, at one time); save the scene, or                      reset",
+                    n + 2,
+                    lane.label,
+                    lane.t,
+                    snap.t
+                ),
+                true,
+            ));
+            return;
+        }
         scene.description = format!(
             "{STATE_PREFIX}{:.2} (α = {:.5} rad, m/m0 = {}, {}); {STATE_END}{}",
             snap.t,
@@ -432,6 +451,12 @@ impl AppUi {
         // How the run got here: replayed from the scene's start, it reaches this state to the
         // bit (`LiveRun::replayed`).
         scene.replay = snap.replay.clone();
+        for (entry, lane) in scene.bodies.iter_mut().zip(&snap.lanes) {
+            entry.resume = Some(crate::scene::LaneResume {
+                t: lane.t,
+                state: lane.state.clone(),
+            });
+        }
         let path = self.state_path.clone();
         self.write_toml(&scene, &path, "the run's state");
     }
@@ -669,6 +694,16 @@ impl AppUi {
         scene.replay.clear();
         scene.playback.speed = status.speed;
         scene.views = self.views.clone();
+        // Each other body as it runs: its own body, start and model written out (a hand
+        // changes only the scene's own m/m0, which an entry without a model would take).
+        for (entry, lane) in scene.bodies.iter_mut().zip(&status.setup.lanes) {
+            let mut model = lane.scene.model.clone();
+            model.alpha_rad = None;
+            model.alpha_over_critical = None;
+            entry.model = Some(model);
+            entry.body = Some(lane.scene.body.clone());
+            entry.initial = Some(lane.scene.initial.clone());
+        }
         scene
     }
 

@@ -318,6 +318,9 @@ pub fn plots_ui(
             input = contact_map_ui(ui, snap, map, width, height);
             crossings_ui(ui, history, snap, (width, height), PlotLook::ROW);
         }
+        if history.lanes() > 0 && snap.views.lanes {
+            bodies_ui(ui, history, snap, width, height);
+        }
         sweep_ui(
             ui,
             history,
@@ -334,6 +337,48 @@ pub fn plots_ui(
         }
     });
     input
+}
+
+/// Every body on the ramp (the scene's own and its `[[bodies]]`) against time, each in its
+/// colour: a cylinder's θ̇, a sphere's |ω|, from each body's own run.
+fn bodies_ui(ui: &mut egui::Ui, history: &PlotHistory, snap: &Snapshot, width: f32, height: f32) {
+    let colour = |n: usize| {
+        let [r, g, b] = crate::colormap::body_colour(n);
+        Color32::from_rgb(r, g, b)
+    };
+    let lanes: Vec<PlotHistory> = (1..=history.lanes()).map(|n| history.lane(n)).collect();
+    let labels: Vec<&str> = std::iter::once(snap.label.as_str())
+        .chain(snap.lanes.iter().map(|l| l.label.as_str()))
+        .collect();
+    let series: Vec<Vec<[f64; 2]>> = std::iter::once(history)
+        .chain(&lanes)
+        .map(|h| h.plotted().map(|s| [s.t, s.rate]).collect())
+        .collect();
+    let keys: Vec<Key<'_>> = labels
+        .iter()
+        .enumerate()
+        .take(series.len())
+        .map(|(n, label)| (*label, colour(n), Swatch::Line))
+        .collect();
+    let (name, axis) = if snap.theta.is_some() {
+        ("bodies_rate", "dθ/dt")
+    } else {
+        ("bodies_rate", "|ω|")
+    };
+    keyed(ui, width, height, &keys, |ui, plot_height| {
+        instrument(Plot::new(name), "t", axis)
+            .width(width)
+            .height(plot_height)
+            .x_axis_label("t")
+            .y_axis_label(axis)
+            .include_y(0.0)
+            .show(ui, |p| {
+                for (n, points) in series.into_iter().enumerate() {
+                    let label = labels.get(n).copied().unwrap_or("body");
+                    p.line(Line::new(label, PlotPoints::from(points)).color(colour(n)));
+                }
+            });
+    });
 }
 
 /// The contact force against time: N/F and the friction rolling needs, with the scene's μ

@@ -145,9 +145,22 @@ impl SceneView {
             }
         };
         let centre = snap.pose.centre.as_vec3();
+        // With other bodies on the ramp, the camera frames them all while it can.
+        let placement = self.lanes.placement(snap);
+        let (framed, lanes_zoom) = (placement.target, placement.zoom);
         let target = match (options.follow, options.fixed_target) {
             (false, Some(fixed)) => world_from_ramp.transform_point3(fixed.as_vec3()),
-            _ => world_from_ramp.transform_point3(centre),
+            _ => world_from_ramp.transform_point3(framed.as_vec3()),
+        };
+        // Parallel lanes are across the ramp, in depth to the usual camera: with other bodies
+        // it looks down more steeply and from further uphill, so that they stand apart on the
+        // screen.
+        let (pitch, yaw) = (placement.pitch, placement.yaw);
+        let options = &ViewOptions {
+            zoom: options.zoom * lanes_zoom,
+            pitch: options.pitch + pitch,
+            yaw: options.yaw + yaw,
+            ..*options
         };
         let full_height = scale_height.max(rect[3]).max(1) as f32;
         let shortened = rect[3].max(1) as f32 / full_height;
@@ -161,7 +174,7 @@ impl SceneView {
         // already cover it (the depth test drops those pixels before shading; on a CPU
         // renderer shading is most of a frame). Opaque and depth-tested, so the picture is
         // the same in any order.
-        let meshes = vec![
+        let mut meshes = vec![
             MeshInstance {
                 mesh: self.body_mesh,
                 model: world_from_ramp
@@ -198,7 +211,7 @@ impl SceneView {
             &mut segments,
             snap.ramp_trail.iter().map(|&p| to_world(on_face(p) + lift)),
             3.0,
-            |age| linear([230, 90, 20], 0.25 + 0.75 * age),
+            |age| linear(crate::colormap::body_colour(0), 0.25 + 0.75 * age),
         );
         // Contact trail on the body, carried with the body.
         let body_to_world =
@@ -257,6 +270,13 @@ impl SceneView {
                 width_px: 3.0,
             }));
         }
+        let (lane_meshes, lane_segments, lane_rings) =
+            self.lanes
+                .draw(snap, world_from_ramp, to_world, on_face, self.is_disk);
+        // Before the ramp: the ramp, drawn last, is not shaded where a body covers it.
+        meshes.splice(0..0, lane_meshes);
+        segments.extend(lane_segments);
+        segments_on_top.extend(lane_rings);
         View {
             viewport: rect,
             background: None,
@@ -519,10 +539,11 @@ pub(super) fn push_polyline_indexed(
     }
 }
 
-/// The box (x0, y0, x1, y1, frame pixels) the body's bounding sphere of `radius` covers on
-/// screen in the body's `view`: centred on what its camera looks at (the body, when the camera
-/// follows it), widened for the perspective silhouette.
-pub(super) fn screen_box(view: &View, radius: f32) -> [f32; 4] {
+/// The box (x0, y0, x1, y1, frame pixels) the bodies' bounding spheres of `radius` cover on
+/// screen in the body's `view`, each centred on one of `centres` (world coordinates; none:
+/// what the camera looks at, the body when the camera follows it), widened for the
+/// perspective silhouette.
+pub(super) fn screen_box(view: &View, radius: f32, centres: &[Vec3]) -> [f32; 4] {
     let [vx, vy, vw, vh] = view.viewport.map(|v| v as f32);
     let cam = &view.camera;
     let view_proj = cam.view_proj(vw / vh.max(1.0));
@@ -533,12 +554,33 @@ pub(super) fn screen_box(view: &View, radius: f32) -> [f32; 4] {
     let forward = (cam.target - cam.eye).normalize_or(Vec3::X);
     let right = forward.cross(cam.up).normalize_or(Vec3::Y);
     let up = right.cross(forward);
-    let (cx, cy) = to_pixel(cam.target);
-    let distance = (cam.target - cam.eye).length().max(1e-6);
-    let silhouette = 1.0 / (1.0 - (radius / distance).powi(2)).max(1e-6).sqrt();
-    let rx = (to_pixel(cam.target + right * radius).0 - cx).abs() * silhouette;
-    let ry = (to_pixel(cam.target + up * radius).1 - cy).abs() * silhouette;
-    [cx - rx, cy - ry, cx + rx, cy + ry]
+    let one = |centre: Vec3| {
+        let (cx, cy) = to_pixel(centre);
+        let distance = (centre - cam.eye).length().max(1e-6);
+        let silhouette = 1.0 / (1.0 - (radius / distance).powi(2)).max(1e-6).sqrt();
+        let rx = (to_pixel(centre + right * radius).0 - cx).abs() * silhouette;
+        let ry = (to_pixel(centre + up * radius).1 - cy).abs() * silhouette;
+        [cx - rx, cy - ry, cx + rx, cy + ry]
+    };
+    if centres.is_empty() {
+        return one(cam.target);
+    }
+    centres.iter().map(|&c| one(c)).fold(
+        [
+            f32::INFINITY,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NEG_INFINITY,
+        ],
+        |a, b| {
+            [
+                a[0].min(b[0]),
+                a[1].min(b[1]),
+                a[2].max(b[2]),
+                a[3].max(b[3]),
+            ]
+        },
+    )
 }
 
 #[cfg(test)]

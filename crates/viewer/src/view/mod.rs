@@ -30,6 +30,7 @@ use crate::scene::SceneSetup;
 use glam::DVec3;
 
 mod body;
+mod lanes;
 pub mod layout;
 mod panels;
 pub mod pick;
@@ -89,6 +90,8 @@ pub struct SceneView {
     show_ball: bool,
     show_poincare: bool,
     show_overlay: bool,
+    /// The scene's other bodies (`[[bodies]]`).
+    lanes: lanes::LaneMeshes,
 }
 
 /// User-controlled camera and overlay settings (the app changes them; headless uses defaults).
@@ -168,6 +171,7 @@ const DISK_SEGMENTS: usize = 360;
 impl SceneView {
     /// Frees the meshes [`Self::new`] uploaded, when another scene replaces this one.
     pub fn release(self, store: &mut impl MeshStore) {
+        self.lanes.release(store);
         // The boundary sphere may be the ball's mesh; freeing a freed mesh again does nothing.
         for handle in [
             self.body_mesh,
@@ -250,6 +254,7 @@ impl SceneView {
             show_ball: views.ball,
             show_poincare: views.poincare,
             show_overlay: views.overlay,
+            lanes: lanes::LaneMeshes::new(renderer, setup),
         }
     }
 
@@ -278,9 +283,23 @@ impl SceneView {
         size: (u32, u32),
     ) -> crate::render::View {
         let mut view = self.body_view(snap, rect, full_height, covered, options);
-        let [left, top, _, bottom] = body::screen_box(&view, self.body_radius);
+        // Every body on the ramp is kept clear of the panels, not only the scene's own.
+        let centres = self.lanes.world_centres(snap);
+        // (Their meshes differ a little in size: 5 % more than the scene's own body's.)
+        let radius = if centres.is_empty() {
+            self.body_radius
+        } else {
+            1.05 * self.body_radius
+        };
+        let [left, top, _, bottom] = body::screen_box(&view, radius, &centres);
         // A panel at the left edge is in the way only where it reaches the body's box.
-        let reaches = |panel: &OverlayPanel| (10 + panels::estimated_width(panel)) as f32 > left;
+        let group = !centres.is_empty();
+        // A group of bodies keeps a margin from the panel's estimated width.
+        let margin = if group { 24.0 } else { 0.0 };
+        let reaches_from = |panel: &OverlayPanel, left: f32| {
+            (10 + panels::estimated_width(panel)) as f32 + margin > left
+        };
+        let reaches = |panel: &OverlayPanel| reaches_from(panel, left);
         let below_numbers = if reaches(status) {
             (10 + panels::estimated_height(status) + 4) as f32
         } else {
@@ -315,6 +334,49 @@ impl SceneView {
         }
         if band > 0 || scale_height != full_height {
             view = self.body_view(snap, rect, scale_height, covered, options);
+        }
+        // A group is not centred on what the camera looks at, and shrinks about that point,
+        // not its own centre: moved again, or drawn smaller, until it clears both.
+        let mut options = *options;
+        for _ in 0..6 {
+            if !group {
+                break;
+            }
+            let [left, top, right, bottom] = body::screen_box(&view, radius, &centres);
+            // The insets (the SO(3) ball, the Poincaré field) over the view are kept clear too:
+            // one in the upper half as the numbers are, one in the lower as the legend is.
+            let (mut below, mut above) = (rect[1] as f32, (rect[1] + rect[3]) as f32);
+            if reaches_from(status, left) {
+                below = below.max((10 + panels::estimated_height(status) + 4) as f32);
+            }
+            if let Some(legend) = legend.filter(|l| reaches(l)) {
+                above =
+                    above.min(size.1 as f32 - (10 + panels::estimated_height(legend) + 4) as f32);
+            }
+            for &[x, y, w, h] in covered {
+                let (x0, x1, y0, y1) = (x as f32, (x + w) as f32, y as f32, (y + h) as f32);
+                if x1 > left && x0 < right {
+                    if y0 + y1 < size.1 as f32 {
+                        below = below.max(y1 + 4.0);
+                    } else {
+                        above = above.min(y0 - 4.0);
+                    }
+                }
+            }
+            let (down, up) = (below - top, bottom - above);
+            let band = (2.0 * down.max(up)).ceil() as u32;
+            if down <= 0.0 && up <= 0.0 {
+                break;
+            } else if bottom - top > above - below || band >= rect[3] / 2 {
+                // Farther back: the group smaller about the same point.
+                options.zoom *= 1.12;
+            } else {
+                if down > 0.0 {
+                    rect[1] += band;
+                }
+                rect[3] -= band;
+            }
+            view = self.body_view(snap, rect, scale_height, covered, &options);
         }
         view
     }
@@ -408,7 +470,11 @@ impl SceneView {
             let covered: Vec<[u32; 4]> = [ball_rect, poincare_rect].into_iter().flatten().collect();
             let full_height = rect[3];
             rect[3] -= band;
-            let room = status.as_ref().filter(|_| options.room_text_px > 0.0);
+            // For a room, and with other bodies on the ramp (whose group reaches the corners),
+            // the picture moves or shrinks clear of the numbers and the legend.
+            let room = status
+                .as_ref()
+                .filter(|_| options.room_text_px > 0.0 || self.lanes.shown(snap));
             let legend = (caption.is_none() && self.show_overlay).then_some(&legend);
             let view = match room {
                 Some(status) => self.body_view_for_a_room(

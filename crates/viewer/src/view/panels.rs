@@ -86,6 +86,9 @@ impl SceneView {
             size_px: text.px(px),
             color: [240; 3],
         };
+        // For a room with other bodies on the ramp, each body's line gives its fate: the scene's
+        // own rate lines are left out, so the panel leaves the bodies room.
+        let listed = room && snap.views.lanes && !snap.lanes.is_empty();
         let mut items = if room {
             room_lines(snap, text)
         } else {
@@ -138,7 +141,7 @@ impl SceneView {
                 size_px: text.px(16.0),
                 color: [255, 70, 60],
             });
-        } else {
+        } else if !listed {
             items.push(line(rate, 16.0));
             // On a line of its own: appended to the 1/T line it widened the box over the body
             // at the period-doubling lesson's key moment.
@@ -153,6 +156,7 @@ impl SceneView {
                 items.push(line(format!("period {k} (measured ahead)"), 16.0));
             }
         }
+        items.extend(lane_lines(snap, text, self.lanes.placement(snap).aligned));
         if let Some((tips, lost)) = snap.hull_tips {
             // A dented cylinder rolls on its hull: say what the flats did.
             items.push(line(
@@ -380,6 +384,70 @@ pub(super) fn wrap(text: &str, width: usize) -> Vec<String> {
 }
 
 /// The overlay's period line for a cycle of multiplicity `k`.
+/// Each body's line when the scene has others on the ramp (`[[bodies]]`) and they are shown:
+/// its name, m/m0 and fate in the verdict's words, in its colour, and how far along the ramp
+/// it is from the scene's own body.
+fn lane_lines(snap: &Snapshot, text: TextSize, aligned: bool) -> Vec<PanelItem> {
+    if !snap.views.lanes || snap.lanes.is_empty() {
+        return Vec::new();
+    }
+    let room = text.for_a_room();
+    let line = |n: usize, body: &Snapshot, relative: String| {
+        // A label that names its m/m0 ("m/m0 = 4.5") is not followed by it again; for a room,
+        // the label and the fate's first words only, on a panel narrow enough for 24 px.
+        let mass = if body.label.contains("m/m0") || room {
+            String::new()
+        } else {
+            format!(" (m/m0 = {})", short_number(body.mass_ratio))
+        };
+        let fate = if room { room_fate(body) } else { body.fate() };
+        PanelItem::Text {
+            text: format!("● {}{mass}: {fate}{relative}", body.label),
+            size_px: text.px(15.0),
+            color: crate::colormap::body_colour(n),
+        }
+    };
+    let mut items = vec![line(0, snap, String::new())];
+    for (i, lane) in snap.lanes.iter().enumerate() {
+        let dx = lane.pose.centre.x - snap.pose.centre.x;
+        let relative = if dx.abs() >= 1.0 && !room {
+            format!(
+                ", {:.1} radii {}",
+                dx.abs(),
+                if dx > 0.0 { "ahead" } else { "behind" }
+            )
+        } else {
+            String::new()
+        };
+        items.push(line(i + 1, lane, relative));
+    }
+    if aligned {
+        items.push(PanelItem::Text {
+            text: if room {
+                "drawn beside body 1".to_string()
+            } else {
+                "too far apart: drawn side by side, not to scale".to_string()
+            },
+            size_px: text.px(13.0),
+            color: [190; 3],
+        });
+    }
+    items
+}
+
+/// A body's fate in its first words, for a room: "period 2", "periodic", "halted", "left the
+/// model", "undecided", "stopped".
+fn room_fate(body: &Snapshot) -> String {
+    let fate = body.fate();
+    match (
+        fate.split(':').next().unwrap_or(""),
+        body.period_multiplicity,
+    ) {
+        ("periodic", Some(k)) if body.theta.is_none() => format!("period {k}"),
+        (word, _) => word.to_string(),
+    }
+}
+
 fn period_line(k: usize) -> String {
     if k == 2 {
         "period 2: doubled".to_string()

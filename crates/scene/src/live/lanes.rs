@@ -1,0 +1,227 @@
+//! The scene's other bodies on the ramp (`[[bodies]]`, `scene::lanes`): each is a [`LiveRun`]
+//! of its own, from a setup validated as any scene's, advanced on the scene's clock to the same
+//! times as the scene's own body, so each is the run `simulate` makes of it alone. They share
+//! the ramp: a change of α or of the integrator (a lesson's step or a hand) reaches them all;
+//! m/m0 and the drag law are each body's own, and a hand changes only the scene's own body's.
+//!
+//! Each body's fate is said in the verdict's words ([`Snapshot::fate`]): periodic (with its
+//! period), halted, left the model, or undecided while no period is measured.
+
+use crate::dynamics::Ramp;
+use crate::integrate::Method;
+
+use super::history::Sample;
+use super::{LiveRun, Snapshot};
+
+impl LiveRun {
+    /// Advances the other bodies to `t` (where the scene's own body is). A body whose run
+    /// fails stops there with its reason on its line, as the scene's own would; the others go
+    /// on.
+    pub(super) fn lanes_to(&mut self, t: f64) {
+        for lane in self.lanes.iter_mut().filter(|l| !l.is_stopped()) {
+            // The failure is kept on the lane (`stopped`) and shown on its line.
+            let _ = lane.advance_to(t);
+        }
+    }
+
+    /// The ramp's new α and integrator, for the other bodies too (each keeps its m/m0 and drag
+    /// law). A body whose model refuses them (a fixed step too coarse for it) stops with why.
+    pub(super) fn lanes_follow(&mut self, alpha_rad: f64, method: Method) {
+        for lane in &mut self.lanes {
+            let ramp = Ramp {
+                alpha_rad,
+                ..lane.ramp()
+            };
+            if let Err(e) = lane.change_lane_parameters(ramp, method) {
+                lane.stop_with(e.to_string());
+            }
+        }
+    }
+
+    /// The other bodies' plot samples taken since the last call, each tagged with its body.
+    pub(super) fn take_lane_samples(&mut self, samples: &mut Vec<Sample>) {
+        for (i, lane) in self.lanes.iter_mut().enumerate() {
+            samples.extend(
+                lane.take_plot_samples()
+                    .into_iter()
+                    .map(|s| Sample { body: i + 1, ..s }),
+            );
+        }
+    }
+
+    /// How many bodies the ramp holds (the scene's own and its `[[bodies]]`).
+    pub fn bodies(&self) -> usize {
+        1 + self.lanes.len()
+    }
+}
+
+impl Snapshot {
+    /// The body's fate so far, in the verdict's words (`analysis::verdict::Fate`): "left the
+    /// model: …", "halted", "periodic: period k, T = …" (a cylinder's T one full turn, a
+    /// sphere's ∂Ω to ∂Ω), or "undecided: …" with what would decide it; a stopped run says why.
+    pub fn fate(&self) -> String {
+        if let Some(stopped) = &self.stopped {
+            return format!("stopped: {stopped}");
+        }
+        if let Some(validity) = &self.validity {
+            return format!("left the model: the body {validity}");
+        }
+        if self.halted {
+            return "halted".to_string();
+        }
+        let sphere = self.theta.is_none();
+        match (self.period, self.period_multiplicity) {
+            (Some(t), Some(k)) if sphere => format!("periodic: period {k}, T = {t:.3}"),
+            (Some(t), _) if !sphere => format!("periodic: T = {t:.3}"),
+            _ => "undecided: no period yet (needs more turns)".to_string(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::history::{PlotData, PlotHistory, PlotMeta};
+    use super::super::{LiveRun, Measured};
+    use crate::scene::Scene;
+
+    fn which_one_stops() -> crate::scene::SceneSetup {
+        Scene::preset("which-one-stops")
+            .unwrap()
+            .setup(None)
+            .unwrap()
+    }
+
+    /// A body on a lane is the run of its own scene alone, to the bit, whatever the frames: the
+    /// same trust as a body loaded from a file.
+    #[test]
+    fn a_body_beside_another_runs_as_it_would_alone() {
+        let setup = which_one_stops();
+        let mut together = LiveRun::new(setup.clone());
+        let mut t = 0.0;
+        for k in 0..200 {
+            t += 0.05 + 0.3 * f64::from(k % 7) / 7.0;
+            together.advance_to(t).unwrap();
+        }
+        for (lane_setup, lane) in setup.lanes.iter().zip(&together.snapshot().lanes) {
+            let mut alone = LiveRun::new(lane_setup.clone());
+            alone.advance_to(t).unwrap();
+            let alone = alone.snapshot();
+            assert_eq!(lane.t, alone.t);
+            assert_eq!(lane.state, alone.state, "the body beside is its run alone");
+        }
+        // And the scene's own body is unchanged by the other's company.
+        let mut own = setup.clone();
+        own.lanes.clear();
+        let mut alone = LiveRun::new(own);
+        alone.advance_to(t).unwrap();
+        assert_eq!(together.snapshot().state, alone.snapshot().state);
+    }
+
+    /// Which one stops: the designed cylinder halts on the 9° ramp, the smooth one rolls with
+    /// the perfect disk's exact period 2π/sin α; each says so in the verdict's words.
+    #[test]
+    fn each_body_states_its_own_fate() {
+        let setup = which_one_stops();
+        let alpha = setup.ramp.alpha_rad;
+        let mut run = LiveRun::new(setup);
+        run.advance_to(90.0).unwrap();
+        let snap = run.snapshot();
+        assert_eq!(snap.fate(), "halted");
+        let smooth = &snap.lanes[0];
+        let period = smooth.period.expect("two turns measured");
+        let exact = std::f64::consts::TAU / alpha.sin();
+        assert!((period - exact).abs() < 1e-6 * exact, "{period} vs {exact}");
+        assert!(
+            smooth.fate().starts_with("periodic: T = 40.16"),
+            "{}",
+            smooth.fate()
+        );
+        assert_eq!(smooth.label, "smooth");
+        assert_eq!(snap.label, "α* = 10°");
+    }
+
+    /// The ramp is one: α set by hand reaches every body; m/m0 set by hand is the scene's own
+    /// body's alone.
+    #[test]
+    fn alpha_by_hand_moves_every_body_and_mass_only_the_own() {
+        let mut run = LiveRun::new(which_one_stops());
+        run.advance_to(5.0).unwrap();
+        let ramp = crate::dynamics::Ramp::with_drag(0.2, 3.0, 1.0).unwrap();
+        run.set_parameters(ramp, run.method()).unwrap();
+        run.advance_to(6.0).unwrap();
+        let snap = run.snapshot();
+        assert_eq!(snap.alpha_rad, 0.2);
+        assert_eq!(snap.mass_ratio, 3.0);
+        assert_eq!(snap.lanes[0].alpha_rad, 0.2);
+        assert_eq!(
+            snap.lanes[0].mass_ratio, 0.0,
+            "the smooth one keeps its m/m0"
+        );
+        assert_eq!(snap.lanes[0].t, 6.0);
+    }
+
+    /// The plot data hold every body's series, each in files of its own, named in
+    /// plot-data.json with its fate.
+    #[test]
+    fn the_plot_data_hold_both_bodies_series() {
+        let setup = which_one_stops();
+        let mut run = LiveRun::new(setup.clone());
+        let mut history = PlotHistory::default();
+        for k in 1..=40 {
+            run.advance_to(f64::from(k)).unwrap();
+            history.push(&run.snapshot());
+            history.push_samples(run.take_plot_samples());
+        }
+        assert_eq!(history.lanes(), 1);
+        assert_eq!(history.samples().count(), 401);
+        assert_eq!(history.lane(1).samples().count(), 401);
+        let snap = run.snapshot();
+        let meta = PlotMeta::of(&snap, &setup, run.method());
+        let dir = std::env::temp_dir().join(format!("rollphase-lanes-{}", std::process::id()));
+        let inputs = crate::output::Inputs::none();
+        let written = history
+            .write_csv_files(&dir, Measured::default(), &meta, &inputs)
+            .unwrap();
+        assert_eq!(written.len(), 6 + 2);
+        let series = std::fs::read_to_string(dir.join("series-body-2.csv")).unwrap();
+        let json = std::fs::read_to_string(dir.join("plot-data.json")).unwrap();
+        std::fs::remove_dir_all(&dir).ok();
+        assert_eq!(
+            series,
+            history.lane(1).csv(PlotData::Series, Measured::default())
+        );
+        let rows: Vec<&str> = series.lines().collect();
+        assert_eq!(rows[0], "t,theta,theta_dot");
+        assert_eq!(rows.len(), 402);
+        // The smooth disk turns at sin α exactly: its θ̇ column is the run's.
+        let rate: f64 = rows[200].split(',').nth(2).unwrap().parse().unwrap();
+        assert!((rate - setup.ramp.alpha_rad.sin()).abs() < 1e-9, "{rate}");
+        let meta: serde_json::Value = serde_json::from_str(&json).unwrap();
+        assert_eq!(meta["bodies"][0]["label"], "smooth");
+        assert_eq!(meta["bodies"][0]["files"][0], "series-body-2.csv");
+        assert_eq!(meta["fate"], snap.fate());
+        assert_eq!(meta["bodies"][0]["fate"], snap.lanes[0].fate());
+    }
+
+    /// The period-doubling lesson's comparison step says the body at m/m0 = 2 is on period 1
+    /// and the one at 4.5 on period 2: their own runs say so by the step's end.
+    #[test]
+    fn the_doubling_comparison_shows_period_1_beside_period_2() {
+        let setup = Scene::preset("lesson-period-doubling")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let end = setup.scene.playback.end_time.unwrap();
+        let mut run = LiveRun::new(setup);
+        run.advance_to(end).unwrap();
+        let snap = run.snapshot();
+        assert!(snap.views.lanes, "the last step shows them");
+        let k: Vec<Option<usize>> = snap.lanes.iter().map(|l| l.period_multiplicity).collect();
+        assert_eq!(k, [Some(1), Some(2)], "m/m0 = 2 and 4.5");
+        assert!(
+            snap.lanes
+                .iter()
+                .all(|l| l.fate().starts_with("periodic: period"))
+        );
+    }
+}

@@ -1,0 +1,353 @@
+//! More bodies on the scene's ramp (`[[bodies]]`): up to three beside the scene's own, each on
+//! a lane of its own, with its own body, start, m/m0 and drag law, sharing the ramp's α, the
+//! integrator and the clock.
+//!
+//! Each entry is validated as a scene of its own would be: the scene with the entry's body,
+//! `[model]` (α the scene's) and `[initial]` put in, through the same [`Scene::setup`], so a
+//! body on a lane passes every check a body from a file does and runs the same run. An entry
+//! that leaves a table out takes the scene's.
+//!
+//! ```toml
+//! [[bodies]]
+//! label = "m/m0 = 4.5"          # its name on the overlay and in the plot data
+//! [bodies.model]                # optional: m/m0, drag, friction, the drag law's keys (no α)
+//! mass_ratio = 4.5
+//! # [bodies.body] shape = "…"   # optional: another body (the same dimension)
+//! # [bodies.initial] …          # optional: another start
+//! ```
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::error::invalid;
+use super::setup::SceneSetup;
+use super::{BodySpec, InitialSpec, LessonPlot, ModelSpec, Scene, SceneError, ViewsSpec};
+
+/// The most bodies one ramp holds, the scene's own included.
+pub const MAX_BODIES: usize = 4;
+
+/// Longest label of a body, in characters.
+pub const MAX_LABEL_CHARS: usize = 40;
+
+/// One more body on the ramp (`[[bodies]]`); a table left out is the scene's.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LaneSpec {
+    /// Its name on the overlay, the plots and the plot data (empty: "body N").
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub label: String,
+    /// Its body (absent: the scene's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body: Option<BodySpec>,
+    /// Its m/m0, drag, friction and drag law (absent: the scene's). α is the ramp's, the
+    /// scene's `[model]`'s: an entry may not give one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<ModelSpec>,
+    /// Its start (absent: the scene's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial: Option<InitialSpec>,
+    /// Its saved state, at the scene's `[resume]` time (Save state writes it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resume: Option<LaneResume>,
+}
+
+/// A body's saved state on its lane: the time (the scene's `[resume]` time) and the model's
+/// state vector.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LaneResume {
+    /// Simulation time of the saved state.
+    pub t: f64,
+    /// The state vector, as `[resume]` writes it.
+    pub state: Vec<f64>,
+}
+
+impl LaneSpec {
+    /// Its name: the label, or "body N" for the `n`-th body on the ramp (the scene's own is 1).
+    pub fn name(&self, n: usize) -> String {
+        if self.label.is_empty() {
+            format!("body {n}")
+        } else {
+            self.label.clone()
+        }
+    }
+}
+
+/// A body's name as the overlay shows it: at most [`MAX_LABEL_CHARS`] characters, on one line.
+fn check_label(label: &str, field: &str) -> Result<(), SceneError> {
+    let chars = label.chars().count();
+    if chars > MAX_LABEL_CHARS || label.chars().any(char::is_control) {
+        return Err(invalid(format!(
+            "{field} {label:?} is not allowed (needs at most {MAX_LABEL_CHARS} characters on one \
+             line; it has {chars})"
+        )));
+    }
+    Ok(())
+}
+
+impl SceneSetup {
+    /// The shape files the scene's bodies are read from, as the scene names them (relative to
+    /// its folder): its own body's, then each `[[bodies]]` entry's. Inputs: no output may
+    /// overwrite one.
+    pub fn shape_paths(&self) -> Vec<&Path> {
+        std::iter::once(self)
+            .chain(&self.lanes)
+            .filter_map(|s| s.scene.body.shape.as_deref())
+            .collect()
+    }
+}
+
+impl Scene {
+    /// The scene `entry` makes: this one with its body, model and start put in, the ramp's α
+    /// (`alpha_rad`, as resolved for the scene's own body) given, and none of a lesson's
+    /// steps, the other bodies, the plots or a replay: a plain run on the same ramp.
+    fn lane_scene(&self, entry: &LaneSpec, n: usize, alpha_rad: f64) -> Scene {
+        let mut model = entry.model.clone().unwrap_or_else(|| self.model.clone());
+        model.alpha_rad = Some(alpha_rad);
+        model.alpha_over_critical = None;
+        Scene {
+            name: entry.name(n),
+            description: String::new(),
+            label: String::new(),
+            body: entry.body.clone().unwrap_or_else(|| self.body.clone()),
+            model,
+            initial: entry
+                .initial
+                .clone()
+                .unwrap_or_else(|| self.initial.clone()),
+            integrator: self.integrator.clone(),
+            playback: self.playback.clone(),
+            views: ViewsSpec {
+                body: true,
+                ball: false,
+                poincare: false,
+                overlay: true,
+                plot: LessonPlot::None,
+                lanes: true,
+            },
+            poincare: self.poincare.clone(),
+            timeline: Vec::new(),
+            resume: entry.resume.as_ref().map(|r| super::ResumeSpec {
+                t: r.t,
+                state: r.state.clone(),
+                ..Default::default()
+            }),
+            replay: Vec::new(),
+            bodies: Vec::new(),
+        }
+    }
+
+    /// Each `[[bodies]]` entry validated into the setup of its run, beside `own`, the scene's
+    /// own body's: at most [`MAX_BODIES`] in all, each the same dimension as the scene's, α
+    /// the ramp's, and a saved state exactly when the scene has one, at its time.
+    pub(super) fn lane_setups(
+        &self,
+        base: Option<&Path>,
+        own: &SceneSetup,
+    ) -> Result<Vec<SceneSetup>, SceneError> {
+        if self.bodies.len() > MAX_BODIES - 1 {
+            return Err(invalid(format!(
+                "[[bodies]]: {} entries is too many (a ramp holds at most {MAX_BODIES} bodies: \
+                 the scene's own and {} more)",
+                self.bodies.len(),
+                MAX_BODIES - 1
+            )));
+        }
+        check_label(&self.label, "label")?;
+        let mut lanes = Vec::with_capacity(self.bodies.len());
+        for (i, entry) in self.bodies.iter().enumerate() {
+            let n = i + 2;
+            let at = format!("[[bodies]] entry {} (body {n})", i + 1);
+            check_label(&entry.label, &format!("{at}: label"))?;
+            if let Some(model) = &entry.model
+                && (model.alpha_rad.is_some() || model.alpha_over_critical.is_some())
+            {
+                return Err(invalid(format!(
+                    "{at}: model gives α, but the bodies share one ramp: α is the scene's \
+                     [model] alpha_rad or alpha_over_critical; leave it out of [bodies.model]"
+                )));
+            }
+            match (&self.resume, &entry.resume) {
+                (Some(own_resume), Some(r)) if r.t == own_resume.t => {}
+                (Some(own_resume), Some(r)) => {
+                    return Err(invalid(format!(
+                        "{at}: resume.t = {} is not the scene's [resume] t = {} (the bodies were \
+                         saved together, at one time)",
+                        crate::integrate::readable(r.t),
+                        crate::integrate::readable(own_resume.t)
+                    )));
+                }
+                (Some(_), None) => {
+                    return Err(invalid(format!(
+                        "{at}: the scene goes on from a saved state ([resume]) but this body has \
+                         no resume of its own (Save state writes one for every body)"
+                    )));
+                }
+                (None, Some(_)) => {
+                    return Err(invalid(format!(
+                        "{at}: resume is given but the scene has no [resume]: a body's saved \
+                         state goes with the scene's"
+                    )));
+                }
+                (None, None) => {}
+            }
+            let scene = self.lane_scene(entry, n, own.ramp.alpha_rad);
+            let setup = scene
+                .setup(base)
+                .map_err(|e| invalid(format!("{at}: {e}")))?;
+            if setup.body.dimension() != own.body.dimension() {
+                return Err(invalid(format!(
+                    "{at}: its body is {}D but the scene's is {}D (the bodies on one ramp are all \
+                     cylinders or all spheres)",
+                    setup.body.dimension(),
+                    own.body.dimension()
+                )));
+            }
+            lanes.push(setup);
+        }
+        Ok(lanes)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Scene;
+
+    /// Two more bodies on the doubling lesson's ramp, as the lesson's comparison step has.
+    fn lesson() -> Scene {
+        Scene::preset("lesson-period-doubling").unwrap()
+    }
+
+    #[test]
+    fn each_body_is_set_up_as_a_scene_of_its_own_on_the_one_ramp() {
+        let setup = lesson().setup(None).unwrap();
+        assert_eq!(setup.lanes.len(), 2);
+        for (lane, m) in setup.lanes.iter().zip([2.0, 4.5]) {
+            assert_eq!(lane.ramp.alpha_rad, setup.ramp.alpha_rad, "one ramp");
+            assert_eq!(lane.ramp.mass_ratio, m);
+            assert_eq!(lane.method, setup.method);
+            assert!(lane.timeline.is_empty() && lane.lanes.is_empty());
+            // The same body and start as the scene's, where the entry gives none.
+            assert_eq!(lane.alpha_star, setup.alpha_star);
+            assert_eq!(lane.scene.initial, setup.scene.initial);
+            assert_eq!(lane.scene.body, setup.scene.body);
+        }
+        assert_eq!(setup.lanes[1].scene.name, "m/m0 = 4.5");
+        // It writes and reads back as it was.
+        let scene = lesson();
+        assert_eq!(Scene::from_toml(&scene.to_toml().unwrap()).unwrap(), scene);
+    }
+
+    #[test]
+    fn a_body_that_does_not_fit_the_ramp_is_refused_naming_its_entry() {
+        let cases: [(&str, &str); 7] = [
+            (
+                "[[bodies]]\n[[bodies]]\n[[bodies]]\n[[bodies]]\n",
+                "at most 4 bodies",
+            ),
+            (
+                "[[bodies]]\n[bodies.model]\nalpha_rad = 0.2\n",
+                "entry 1 (body 2): model gives α",
+            ),
+            (
+                "[[bodies]]\n[bodies.body]\nperfect = \"disk\"\n[bodies.initial]\ntheta0 = 0.0\n",
+                "its body is 2D but the scene's is 3D",
+            ),
+            (
+                "[[bodies]]\n[bodies.model]\nmass_ratio = -1.0\n",
+                "[[bodies]] entry 1 (body 2): ",
+            ),
+            (
+                "[[bodies]]\nlabel = \"a\\nb\"\n",
+                "needs at most 40 characters on one line",
+            ),
+            (
+                "[[bodies]]\n[bodies.resume]\nt = 1.0\nstate = [1.0]\n",
+                "the scene has no [resume]",
+            ),
+            (
+                "[[bodies]]\n[bodies.initial]\ncontact = [1.0, nan]\n",
+                "[[bodies]] entry 1 (body 2): ",
+            ),
+        ];
+        let base = Scene::preset("sphere-cruising").unwrap().to_toml().unwrap();
+        for (extra, expected) in cases {
+            let text = format!("{base}\n{extra}");
+            let err = Scene::from_toml(&text)
+                .and_then(|s| s.setup(None))
+                .map(|_| ())
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains(expected), "{extra}: {err}");
+        }
+    }
+
+    #[test]
+    fn a_saved_state_needs_every_body_saved_at_its_time() {
+        let mut scene = Scene::preset("sphere-cruising").unwrap();
+        let setup = scene.setup(None).unwrap();
+        let state = crate::simulate::ModelState::new(&setup.start, &setup.ramp)
+            .vector()
+            .to_vec();
+        scene.resume = Some(super::super::ResumeSpec {
+            t: 5.0,
+            state: state.clone(),
+            ..Default::default()
+        });
+        scene.bodies = vec![super::LaneSpec::default()];
+        let err = scene.setup(None).unwrap_err().to_string();
+        assert!(err.contains("has no resume of its own"), "{err}");
+        scene.bodies[0].resume = Some(super::LaneResume {
+            t: 4.0,
+            state: state.clone(),
+        });
+        let err = scene.setup(None).unwrap_err().to_string();
+        assert!(err.contains("is not the scene's [resume] t = 5"), "{err}");
+        scene.bodies[0].resume = Some(super::LaneResume { t: 5.0, state });
+        let setup = scene.setup(None).unwrap();
+        assert_eq!(setup.lanes[0].resume.as_ref().map(|r| r.t), Some(5.0));
+    }
+
+    /// Sculpting the scene's own body leaves the others as they were: an entry that took the
+    /// scene's body and start keeps the old ones, pinned, and the saved scene loads as it ran.
+    #[test]
+    fn sculpting_the_own_body_leaves_the_others_theirs() {
+        use crate::geometry::sculpt::{Stroke, StrokePoint};
+        use crate::scene::sculpt::{Sculptor, sculpted_scene};
+        let mut scene = Scene::preset("sphere-cruising").unwrap();
+        scene.bodies = vec![super::LaneSpec {
+            label: "as it was".into(),
+            ..Default::default()
+        }];
+        let setup = scene.setup(None).unwrap();
+        let mut s = Sculptor::new(setup.body.clone());
+        s.stroke(&Stroke {
+            at: StrokePoint::Sphere {
+                u: [0.0, 0.0, 1.0].into(),
+            },
+            width: 0.4,
+            height: 0.03,
+        })
+        .unwrap();
+        let initial = crate::scene::InitialSpec {
+            contact: Some([0.5, 0.5]),
+            ..Default::default()
+        };
+        let (edited, new_setup) = sculpted_scene(&scene, s.body(), initial, (None, None)).unwrap();
+        assert_ne!(
+            new_setup.alpha_star, setup.alpha_star,
+            "the own body changed"
+        );
+        assert_eq!(
+            new_setup.lanes[0].alpha_star, setup.alpha_star,
+            "the other did not"
+        );
+        assert_eq!(new_setup.lanes[0].scene.initial, setup.scene.initial);
+        let again = Scene::from_toml(&edited.to_toml().unwrap())
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        assert_eq!(again.lanes[0].body.to_shape(), setup.body.to_shape());
+    }
+}

@@ -1,0 +1,111 @@
+//! Several bodies on one ramp (`[[bodies]]`): Save state writes every body's state and the file
+//! loads each to the bit; Save scene pins each body's own model, so a hand's m/m0 stays the
+//! scene's own body's; a headless clip draws both bodies, in their colours, and its plot data
+//! hold both bodies' series.
+#![cfg(feature = "app")]
+
+use rollphase::live::{LiveRun, SimCommand};
+use rollphase::scene::Scene;
+
+use crate::app_ui::{app, frames_until};
+use crate::cli::{rollphase, scratch};
+
+#[test]
+fn save_state_of_two_bodies_loads_every_body_to_the_bit() {
+    let (gpu, target, mut bench) = app("which-one-stops");
+    bench.sim.send(SimCommand::SetSpeed(60.0));
+    frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 5.0);
+    bench.sim.send(SimCommand::SetMassRatio(2.0));
+    frames_until(&mut bench, &gpu, &target, vec![], |s| {
+        s.snapshot.mass_ratio == 2.0 && s.snapshot.t > 12.0
+    });
+    bench.sim.send(SimCommand::Pause);
+    let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.paused);
+    assert_eq!(s.snapshot.lanes.len(), 1);
+    assert_eq!(
+        s.snapshot.lanes[0].mass_ratio, 0.0,
+        "a hand's m/m0 is the own body's"
+    );
+    let dir = scratch("bodies-state");
+    let (state_path, scene_path) = (dir.join("state.toml"), dir.join("scene.toml"));
+    bench.ui.set_state_path(&state_path);
+    bench.ui.set_scene_path(&scene_path);
+    bench.ui.save_state(&s);
+    let (notice, error) = bench.ui.notice().cloned().unwrap();
+    assert!(!error, "{notice}");
+    bench.ui.save_scene(&s);
+    let (notice, error) = bench.ui.notice().cloned().unwrap();
+    assert!(!error, "{notice}");
+    let saved = Scene::from_toml(&std::fs::read_to_string(&state_path).unwrap()).unwrap();
+    let scene = Scene::from_toml(&std::fs::read_to_string(&scene_path).unwrap()).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    // The other body's state, at the run's time, exactly.
+    let resume = saved.bodies[0].resume.clone().expect("[bodies.resume]");
+    assert_eq!(resume.t, s.snapshot.t);
+    assert_eq!(resume.state, s.snapshot.lanes[0].state);
+    // Loaded, every body goes on from its saved state, to the bit.
+    let loaded = LiveRun::new(saved.setup(None).unwrap()).snapshot();
+    assert_eq!(loaded.t, s.snapshot.t);
+    assert_eq!(loaded.state, s.snapshot.state);
+    assert_eq!(loaded.lanes[0].state, s.snapshot.lanes[0].state);
+    assert_eq!(loaded.lanes[0].label, "smooth");
+    // Save scene: the own body at the hand's m/m0, the other at its own, its body inline.
+    assert_eq!(scene.model.mass_ratio, 2.0);
+    let other = scene.setup(None).unwrap();
+    assert_eq!(other.lanes[0].ramp.mass_ratio, 0.0);
+    assert_eq!(
+        other.lanes[0].alpha_star, 0.0,
+        "the smooth cylinder, inline"
+    );
+    assert!(scene.bodies[0].body.as_ref().unwrap().inline.is_some());
+}
+
+#[test]
+fn a_headless_clip_of_two_bodies_draws_both_and_writes_both_series() {
+    use image::AnimationDecoder;
+    let dir = scratch("bodies-clip");
+    let gif = dir.join("which.gif");
+    let data = dir.join("data");
+    let o = rollphase([
+        "--headless",
+        "--preset",
+        "which-one-stops",
+        "--frames",
+        "90",
+        "--size",
+        "320x180",
+        "--gif",
+        gif.to_str().unwrap(),
+        "--plot-data",
+        data.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let file = std::io::BufReader::new(std::fs::File::open(&gif).unwrap());
+    let frames = image::codecs::gif::GifDecoder::new(file)
+        .unwrap()
+        .into_frames()
+        .collect_frames()
+        .unwrap();
+    assert_eq!(frames.len(), 90);
+    // The smooth body is drawn in its sky blue (86, 180, 233), shaded: pixels near that hue.
+    let last = frames.last().unwrap().buffer();
+    let blue = last
+        .pixels()
+        .filter(|p| {
+            let [r, g, b, _] = p.0.map(i32::from);
+            b > 150 && b > r + 60 && g > r + 30
+        })
+        .count();
+    assert!(blue > 200, "{blue} sky-blue pixels");
+    let series = std::fs::read_to_string(data.join("series.csv")).unwrap();
+    let other = std::fs::read_to_string(data.join("series-body-2.csv")).unwrap();
+    let json = std::fs::read_to_string(data.join("plot-data.json")).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    // 90 frames at 4.5 t0 per second and 30 frames/s: t = 0 … 13.35, a sample every 0.1.
+    assert_eq!(series.lines().count(), other.lines().count());
+    assert_eq!(other.lines().next(), Some("t,theta,theta_dot"));
+    assert!(other.lines().count() > 100);
+    let meta: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(meta["bodies"][0]["label"], "smooth");
+    assert_eq!(meta["bodies"][0]["model"], "disk-viscous");
+}
