@@ -11,6 +11,7 @@
 #   docs/python/fig3d.png, fig4e.png   the Python module's figures (docs/python/paper_figures.py)
 #   docs/experiments/*.png   the printed sphere's predicted paths and the tracked run, folded
 #   docs/design/*.png        the designed sphere's orbit diagram and the printed sphere's
+#   docs/bodies/*.png        several bodies on one ramp: which one stops, the doubling side by side
 # Run from anywhere: bash docs/images.sh. Takes a few minutes on 2 cores without a GPU.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -60,6 +61,18 @@ for lesson_step in critical-angle:7 inertia-hysteresis:8 period-doubling:3; do
 done
 screen 1280x720 "$bin" app --preset lesson-period-doubling --class --step 3 --screenshot-after 6 \
     docs/presentation/class-mode-1280x720.png --exit-after 7
+
+# Several bodies on one ramp (docs/guide/scenes.md, app.md): "which one stops?" at its end, and
+# the period-doubling lesson's side-by-side step on a 1920×1080 projector and as a headless frame.
+mkdir -p docs/bodies
+"$bin" --headless --preset which-one-stops --frames all --out "$tmp/which" > /dev/null
+cp "$tmp/which/$(ls "$tmp/which" | sort | tail -1)" docs/bodies/which-one-stops-end.png
+screen 1920x1080 "$bin" app --preset lesson-period-doubling --present --step 5 --screenshot-after 8 \
+    docs/bodies/doubling-side-by-side-present-1920x1080.png --exit-after 9
+"$bin" scenes --toml lesson-period-doubling | sed 's/^trail_time = 120.0/&\nstart_time = 2900.0/' \
+    > "$tmp/side-by-side.toml"
+"$bin" --headless --scene "$tmp/side-by-side.toml" --frames 1 --size 1920x1080 --out "$tmp/side" > /dev/null
+cp "$tmp/side/frame_00000.png" docs/bodies/doubling-side-by-side-1920x1080.png
 
 # Sculpting (docs/guide/app.md): the paper's body before and after one pulled bump, from the
 # test that checks α* and the drift change with it.
