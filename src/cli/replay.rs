@@ -70,6 +70,16 @@ pub fn run(a: ReplayArgs) -> Result<()> {
             a.state.display(),
             check.numbers
         )?;
+        if !setup.lanes.is_empty() {
+            // The replay is the scene's own body's; the others' states are only loaded.
+            let others = match setup.lanes.len() {
+                1 => "other body".to_string(),
+                n => format!("other {n} bodies"),
+            };
+            outln!(
+                "the scene's {others} ([[bodies]]): saved states loaded as written, not replayed"
+            )?;
+        }
         return Ok(());
     }
     if check.saved_model != check.reached_model {

@@ -36,6 +36,20 @@ fn save_state_of_two_bodies_loads_every_body_to_the_bit() {
     bench.ui.save_scene(&s);
     let (notice, error) = bench.ui.notice().cloned().unwrap();
     assert!(!error, "{notice}");
+    // `rollphase replay` replays the scene's own body to the bit and says the other's state is
+    // loaded as saved.
+    let replay = rollphase(["replay", state_path.to_str().unwrap()]);
+    let said = String::from_utf8_lossy(&replay.stdout).to_string();
+    assert!(
+        replay.status.success(),
+        "{said}{}",
+        String::from_utf8_lossy(&replay.stderr)
+    );
+    assert!(said.contains("the saved state to the bit"), "{said}");
+    assert!(
+        said.contains("other body ([[bodies]]): saved states loaded as written, not replayed"),
+        "{said}"
+    );
     let saved = Scene::from_toml(&std::fs::read_to_string(&state_path).unwrap()).unwrap();
     let scene = Scene::from_toml(&std::fs::read_to_string(&scene_path).unwrap()).unwrap();
     std::fs::remove_dir_all(&dir).ok();
@@ -108,4 +122,42 @@ fn a_headless_clip_of_two_bodies_draws_both_and_writes_both_series() {
     let meta: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(meta["bodies"][0]["label"], "smooth");
     assert_eq!(meta["bodies"][0]["model"], "disk-viscous");
+}
+
+/// A plot-data folder holding an earlier run's body files (more bodies than this run's) is
+/// refused: they would read as this run's.
+#[test]
+#[expect(
+    clippy::disallowed_methods,
+    reason = "the fixture: an earlier run's file"
+)]
+fn an_earlier_runs_body_files_are_not_left_beside_this_ones() {
+    let setup = Scene::preset("which-one-stops")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    let run = LiveRun::new(setup.clone());
+    let history = rollphase::live::history::PlotHistory::default();
+    let meta = rollphase::live::history::PlotMeta::of(&run.snapshot(), &setup, run.method());
+    let dir = scratch("bodies-stale");
+    std::fs::write(dir.join("series-body-3.csv"), "t,theta,theta_dot\n").unwrap();
+    let err = history
+        .write_csv_files(
+            &dir,
+            rollphase::live::Measured::default(),
+            &meta,
+            &rollphase::output::Inputs::none(),
+        )
+        .unwrap_err()
+        .to_string();
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(
+        err.contains("series-body-3.csv is there from an earlier run"),
+        "{err}"
+    );
+    assert_eq!(left.len(), 1, "nothing written: {left:?}");
 }

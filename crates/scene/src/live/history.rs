@@ -555,6 +555,8 @@ pub struct PlotMeta {
     pub integrator: String,
     /// The simulation time when the data were written.
     pub t: f64,
+    /// The scene's own body's name (its `label`, else the scene's name).
+    pub label: String,
     /// The scene's own body's fate then, in the verdict's words.
     pub fate: String,
     /// Simulation time between two samples of the time series.
@@ -619,6 +621,7 @@ impl PlotMeta {
             drag: snapshot.drag_law.label(),
             integrator: method.to_string(),
             t: snapshot.t,
+            label: snapshot.label.clone(),
             fate: snapshot.fate(),
             sample_dt: super::PLOT_SAMPLE_DT,
             files: PlotData::ALL
@@ -797,6 +800,25 @@ impl PlotHistory {
         let names = Self::file_names(1 + meta.bodies.len());
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         output::check_folder(dir, &names, inputs)?;
+        // A body's files of an earlier run with more bodies would sit beside these as if of
+        // this run: refused, not left (nor deleted: they are not this run's to remove).
+        for name in (2 + meta.bodies.len()..=crate::scene::MAX_BODIES).flat_map(body_files) {
+            let path = dir.join(&name);
+            if std::fs::symlink_metadata(&path).is_ok() {
+                return Err(output::OutputError::Io {
+                    path,
+                    error: std::io::Error::new(
+                        std::io::ErrorKind::AlreadyExists,
+                        format!(
+                            "{name} is there from an earlier run with more bodies, and this \
+                             run has {}: it would read as this run's (remove it, or write the \
+                             plot data to another folder)",
+                            1 + meta.bodies.len()
+                        ),
+                    ),
+                });
+            }
+        }
         output::create_folder(dir)?;
         let mut set = OutputSet::new();
         let mut written = Vec::new();

@@ -224,4 +224,47 @@ mod tests {
                 .all(|l| l.fate().starts_with("periodic: period"))
         );
     }
+
+    /// A change of α, by a lesson's step or by hand, reaches every body's plotted samples from
+    /// its time on: none is left from the old ramp by a step that had reached beyond it.
+    #[test]
+    fn samples_after_a_change_of_alpha_are_of_the_new_ramp() {
+        let text = "name = \"two\"\n[body]\nperfect = \"disk\"\n[model]\nalpha_rad = 0.2\n\
+                    [[timeline]]\nat = 0.5\nalpha_rad = 0.4\n[[bodies]]\nlabel = \"b\"\n";
+        let setup = Scene::from_toml(text).unwrap().setup(None).unwrap();
+        let mut run = LiveRun::new(setup);
+        let mut samples = Vec::new();
+        let mut t = 0.0;
+        for k in 1..=60 {
+            t = f64::from(k) * 0.13;
+            run.advance_to(t).unwrap();
+            samples.extend(run.take_plot_samples());
+            if k == 30 {
+                // By hand, mid-run: from the time shown on.
+                let ramp = crate::dynamics::Ramp::with_drag(0.3, 0.0, 1.0).unwrap();
+                run.set_parameters(ramp, run.method()).unwrap();
+            }
+        }
+        let hand = 30.0 * 0.13;
+        for body in [0, 1] {
+            let series: Vec<_> = samples.iter().filter(|s| s.body == body).collect();
+            assert_eq!(series.len(), 1 + (t / 0.1).floor() as usize, "body {body}");
+            for s in series {
+                let alpha = if s.t <= 0.5 {
+                    0.2
+                } else if s.t <= hand {
+                    0.4
+                } else {
+                    0.3
+                };
+                // A perfect disk's viscous θ̇ is sin α exactly.
+                assert!(
+                    (s.rate - f64::sin(alpha)).abs() < 1e-9,
+                    "body {body} at t = {}: θ̇ = {} on the ramp at {alpha}",
+                    s.t,
+                    s.rate
+                );
+            }
+        }
+    }
 }

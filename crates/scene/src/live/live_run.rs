@@ -353,6 +353,27 @@ impl LiveRun {
         self.change_parameters(ramp, method)
     }
 
+    /// Forgets the plots' samples and the trail recorded past `now` (by a step that reached
+    /// beyond it), so that the next steps take them again on the same grid.
+    fn drop_recorded_after(&mut self, now: f64) {
+        while self.plot_samples.back().is_some_and(|s| s.t > now) {
+            self.plot_samples.pop_back();
+        }
+        // The first grid time after `now`: k · dt > now.
+        let mut k = (now / PLOT_SAMPLE_DT).floor().max(0.0) as u64;
+        while k as f64 * PLOT_SAMPLE_DT <= now {
+            k += 1;
+        }
+        self.next_plot_k = self.next_plot_k.min(k);
+        let mut first_dropped = None;
+        while self.trail.back().is_some_and(|s| s.t > now) {
+            first_dropped = self.trail.pop_back().map(|s| s.t);
+        }
+        if let Some(t) = first_dropped {
+            self.next_trail_t = self.next_trail_t.min(t);
+        }
+    }
+
     /// Whether the run stopped (an integration failure, a refused change).
     pub fn is_stopped(&self) -> bool {
         self.stopped.is_some()
@@ -372,8 +393,11 @@ impl LiveRun {
             .map_err(|e| SimError::Refused(e.to_string()))?;
         let ramp = choice.ramp;
         self.stopped = None;
-        // A new model or integrator from the time shown: the run in progress ends there.
+        // A new model or integrator from the time shown: the run in progress ends there, and
+        // what its last step recorded past the time shown (the plots' samples, the trail) was
+        // the old model's: dropped, to be taken again from the new run.
         self.continuation = None;
+        self.drop_recorded_after(self.t);
         self.state = self.state.clone().for_ramp(&ramp);
         self.ramp = ramp;
         self.method = method;

@@ -77,10 +77,16 @@ impl LaneSpec {
 /// A body's name as the overlay shows it: at most [`MAX_LABEL_CHARS`] characters, on one line.
 fn check_label(label: &str, field: &str) -> Result<(), SceneError> {
     let chars = label.chars().count();
-    if chars > MAX_LABEL_CHARS || label.chars().any(char::is_control) {
+    if chars > MAX_LABEL_CHARS {
         return Err(invalid(format!(
             "{field} {label:?} is not allowed (needs at most {MAX_LABEL_CHARS} characters on one \
              line; it has {chars})"
+        )));
+    }
+    if let Some(c) = label.chars().find(|c| c.is_control()) {
+        return Err(invalid(format!(
+            "{field} {label:?} is not allowed: it holds the control character {c:?} (needs one \
+             line of printable text)"
         )));
     }
     Ok(())
@@ -160,6 +166,24 @@ impl Scene {
             let n = i + 2;
             let at = format!("[[bodies]] entry {} (body {n})", i + 1);
             check_label(&entry.label, &format!("{at}: label"))?;
+            let name = entry.name(n);
+            let own_name = if self.label.is_empty() {
+                &self.name
+            } else {
+                &self.label
+            };
+            let taken = std::iter::once(own_name.clone()).chain(
+                self.bodies[..i]
+                    .iter()
+                    .enumerate()
+                    .map(|(j, e)| e.name(j + 2)),
+            );
+            if let Some(twin) = taken.into_iter().find(|t| *t == name) {
+                return Err(invalid(format!(
+                    "{at}: its name {twin:?} is another body's too (the overlay, the plots and \
+                     the plot data tell the bodies apart by name: give each its own label)"
+                )));
+            }
             if let Some(model) = &entry.model
                 && (model.alpha_rad.is_some() || model.alpha_over_critical.is_some())
             {
@@ -241,7 +265,7 @@ mod tests {
 
     #[test]
     fn a_body_that_does_not_fit_the_ramp_is_refused_naming_its_entry() {
-        let cases: [(&str, &str); 7] = [
+        let cases: [(&str, &str); 9] = [
             (
                 "[[bodies]]\n[[bodies]]\n[[bodies]]\n[[bodies]]\n",
                 "at most 4 bodies",
@@ -260,7 +284,15 @@ mod tests {
             ),
             (
                 "[[bodies]]\nlabel = \"a\\nb\"\n",
-                "needs at most 40 characters on one line",
+                "entry 1 (body 2): label \"a\\nb\" is not allowed: it holds the control character '\\n'",
+            ),
+            (
+                "[[bodies]]\nlabel = \"twin\"\n[[bodies]]\nlabel = \"twin\"\n",
+                "entry 2 (body 3): its name \"twin\" is another body's too",
+            ),
+            (
+                "[[bodies]]\nlabel = \"sphere-cruising\"\n",
+                "its name \"sphere-cruising\" is another body's too",
             ),
             (
                 "[[bodies]]\n[bodies.resume]\nt = 1.0\nstate = [1.0]\n",
