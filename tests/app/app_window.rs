@@ -343,7 +343,10 @@ fn step_k_opens_the_lesson_at_its_step_k() {
         let o = x
             .command(env!("CARGO_BIN_EXE_rollphase"))
             .args(["app", "--preset", "lesson-period-doubling", "--step", k])
-            .args(["--exit-after", "1.5", "--plot-data"])
+            // 3 s: the jump to step 3 runs the lesson's comparison bodies too (they run from
+            // t = 0, hidden), three times the work of the lesson's own body; 1.5 s left a
+            // loaded CI machine still at t = 1.75.
+            .args(["--exit-after", "3", "--plot-data"])
             .arg(&dir)
             .output()
             .unwrap();
