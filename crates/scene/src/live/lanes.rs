@@ -32,7 +32,7 @@ impl LiveRun {
                 alpha_rad,
                 ..lane.ramp()
             };
-            if let Err(e) = lane.change_lane_parameters(ramp, method) {
+            if let Err(e) = lane.change_parameters(ramp, method) {
                 lane.stop_with(e.to_string());
             }
         }
@@ -47,11 +47,6 @@ impl LiveRun {
                     .map(|s| Sample { body: i + 1, ..s }),
             );
         }
-    }
-
-    /// How many bodies the ramp holds (the scene's own and its `[[bodies]]`).
-    pub fn bodies(&self) -> usize {
-        1 + self.lanes.len()
     }
 }
 

@@ -344,15 +344,6 @@ impl LiveRun {
         self.off_script
     }
 
-    /// A body on a lane takes the ramp's new α or integrator (`super::lanes`).
-    pub(super) fn change_lane_parameters(
-        &mut self,
-        ramp: Ramp,
-        method: Method,
-    ) -> Result<(), SimError> {
-        self.change_parameters(ramp, method)
-    }
-
     /// Forgets the plots' samples and the trail recorded past `now` (by a step that reached
     /// beyond it), so that the next steps take them again on the same grid.
     fn drop_recorded_after(&mut self, now: f64) {
@@ -384,8 +375,9 @@ impl LiveRun {
         self.stopped = Some(why);
     }
 
-    /// [`Self::set_parameters`] for a hand change or a timeline step alike.
-    fn change_parameters(&mut self, ramp: Ramp, method: Method) -> Result<(), SimError> {
+    /// [`Self::set_parameters`] for a hand change, a timeline step, or a body on a lane taking
+    /// the ramp's new α or integrator (`super::lanes`) alike.
+    pub(super) fn change_parameters(&mut self, ramp: Ramp, method: Method) -> Result<(), SimError> {
         let choice = choose_model(&self.setup.body, ramp, method)
             .map_err(|e| SimError::Refused(e.to_string()))?;
         method
