@@ -628,12 +628,14 @@ class ReplayCheck(TypedDict):
     differing: int
     worst: float
     state: npt.NDArray[np.float64]
+    bodies_not_replayed: int
 
 def replay(state: _Path) -> ReplayCheck:
     """A saved state of the app (a scene with [resume] and [[replay]]) run again from its scene's
     start through its [[replay]] and the lesson's steps, as `rollphase replay STATE`: whether it
-    reaches the saved state to the bit, and by how much it misses. A scene that is not a saved
-    state raises InputError."""
+    reaches the saved state to the bit, and by how much it misses. The replay is the scene's own
+    body's: bodies_not_replayed counts the other bodies ([[bodies]]), whose saved states are
+    loaded as written. A scene that is not a saved state raises InputError."""
 
 class TrackTable(TypedDict):
     format: Literal["plain", "tracker", "trackpy"]

@@ -21,8 +21,11 @@ use crate::interruptible;
 /// entries (the [[replay]] entries gone through), saved_t, reached_t, saved_model and
 /// reached_model (the models' registry names), numbers (of the saved state vector), differing
 /// (how many differ; all where the models differ), worst (the largest difference; NaN where
-/// the models differ) and state (the replay's state vector at its end, an array). A file that is not a saved state raises InputError naming
-/// what is missing; a run that fails on the way, RunError.
+/// the models differ), state (the replay's state vector at its end, an array) and
+/// bodies_not_replayed (how many other bodies the scene holds in [[bodies]]: the replay is the
+/// scene's own body's, and their saved states are loaded as written, not checked). A file that
+/// is not a saved state raises InputError naming what is missing; a run that fails on the way,
+/// RunError.
 #[pyfunction]
 pub fn replay<'py>(py: Python<'py>, state: PathBuf) -> PyResult<Bound<'py, PyDict>> {
     // The file named in every message, as the command line names it.
@@ -54,5 +57,6 @@ pub fn replay<'py>(py: Python<'py>, state: PathBuf) -> PyResult<Bound<'py, PyDic
     d.set_item("differing", check.differing)?;
     d.set_item("worst", check.worst)?;
     d.set_item("state", Array1::from_vec(check.state).into_pyarray(py))?;
+    d.set_item("bodies_not_replayed", setup.lanes.len())?;
     Ok(d)
 }

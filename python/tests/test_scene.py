@@ -40,6 +40,23 @@ def test_a_saved_state_replays_as_the_command_line_replays_it(cli, tmp_path):
     assert np.array_equal(again["state"], check["state"])
     out, _, code = cli("replay", exact)
     assert code == 0 and "the saved state to the bit (6 numbers)" in out
+    assert again["bodies_not_replayed"] == 0
+
+
+def test_a_replay_says_the_other_bodies_are_loaded_not_replayed(cli, tmp_path):
+    # The scene's own body replays to the bit; the body beside it is only loaded, and both
+    # surfaces say so.
+    first = rollphase.replay(saved_state(cli, tmp_path / "first.toml", [1.0, 0, 0, 0, 0, 0]))
+    path = saved_state(cli, tmp_path / "two.toml", first["state"])
+    path.write_text(
+        path.read_text()
+        + '\n[[bodies]]\nlabel = "beside"\n[bodies.resume]\nt = 20.0\n'
+        + "state = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]\n"
+    )
+    check = rollphase.replay(path)
+    assert check["to_the_bit"] and check["bodies_not_replayed"] == 1
+    out, _, code = cli("replay", path)
+    assert code == 0 and "other body ([[bodies]]): saved states loaded as written" in out, out
 
 
 def test_a_scene_is_not_a_saved_state(cli, tmp_path):

@@ -226,6 +226,145 @@ fn a_right_click_pulls_a_bump_and_a_non_convex_stroke_is_refused_with_why() {
     );
 }
 
+/// One frame of a primary-button drag at `pos` (`pressed`: the press or the release; `None` for a
+/// move), then frames until `done`.
+fn drag_frame(
+    bench: &mut Workbench,
+    gpu: &GpuContext,
+    target: &OffscreenTarget,
+    pos: egui::Pos2,
+    pressed: Option<bool>,
+    done: impl Fn(&SimStatus) -> bool,
+) -> SimStatus {
+    let events = rollphase::ui::workbench::drag_events(pos, pressed);
+    frames_until(bench, gpu, target, events, done)
+}
+
+/// The largest outward move of the contour from body `a` to body `b` (a dent's is negative).
+fn largest_move(a: &Body, b: &Body) -> f64 {
+    let (Body::Disk(a), Body::Disk(b)) = (a, b) else {
+        panic!("a cylinder stays a cylinder")
+    };
+    let moves = (0..7200).map(|i| {
+        let t = i as f64 * std::f64::consts::TAU / 7200.0;
+        b.jet(t).r - a.jet(t).r
+    });
+    moves.fold(0.0, |m: f64, d| if d.abs() > m.abs() { d } else { m })
+}
+
+#[test]
+fn a_drag_pulls_and_presses_live_from_one_contact_and_is_one_stroke_to_undo() {
+    use rollphase::ui::DRAG_HEIGHT_PER_POINT;
+    let (gpu, target, mut bench) = app("cylinder-near-critical");
+    bench.ui.sculpt.on = true;
+    bench.ui.sculpt.width = 0.4;
+    settle_layout(&mut bench, &gpu, &target);
+    let before = bench.sim.status();
+    let first = before.setup.body.clone();
+    let (pos, _) = facing_on_screen(&bench, &first);
+    drag_frame(&mut bench, &gpu, &target, pos, Some(true), |_| true);
+    // Up by 10, 20, 30 points: a bump growing live, each restarting the run.
+    let mut contact = None;
+    let mut id = before.scene_id;
+    for k in 1..=3 {
+        let to = pos - egui::vec2(0.0, 10.0 * k as f32);
+        let s = drag_frame(&mut bench, &gpu, &target, to, None, |s| s.scene_id != id);
+        id = s.scene_id;
+        let grew = largest_move(&first, &s.setup.body);
+        let want = 10.0 * k as f64 * DRAG_HEIGHT_PER_POINT;
+        assert!(
+            (grew - want).abs() < 1e-9,
+            "move {k}: Δr {grew}, not {want}"
+        );
+        // Every restart starts from the contact the run had at the press.
+        let theta0 = s.setup.scene.initial.theta0;
+        assert_eq!(*contact.get_or_insert(theta0), theta0, "move {k}");
+        let (text, error) = bench.ui.notice().cloned().unwrap();
+        assert!(
+            !error && text.starts_with("pulling a bump out by "),
+            "{text}"
+        );
+    }
+    // Down past the press: a dent, from the body before the drag, not on top of the bump.
+    let to = pos + egui::vec2(0.0, 20.0);
+    let s = drag_frame(&mut bench, &gpu, &target, to, None, |s| s.scene_id != id);
+    let pressed = largest_move(&first, &s.setup.body);
+    assert!(
+        (pressed + 20.0 * DRAG_HEIGHT_PER_POINT).abs() < 1e-9,
+        "Δr {pressed}"
+    );
+    let dented = s.setup.body.clone();
+    drag_frame(&mut bench, &gpu, &target, to, Some(false), |_| true);
+    let (text, _) = bench.ui.notice().cloned().unwrap();
+    assert_eq!(text, "pressed a dent by 0.0100 mean r; Ctrl+Z undoes");
+    assert_eq!(bench.sim.status().setup.body.to_shape(), dented.to_shape());
+    // The whole drag is one stroke: one undo gives the body before it, to the bit.
+    let ctrl_z = vec![egui::Event::Key {
+        key: egui::Key::Z,
+        physical_key: None,
+        pressed: true,
+        repeat: false,
+        modifiers: egui::Modifiers::COMMAND,
+    }];
+    bench.ui.sculpt.on = false;
+    let last = bench.sim.status().scene_id;
+    let back = frames_until(&mut bench, &gpu, &target, ctrl_z, |s| s.scene_id != last);
+    assert_eq!(back.setup.body.to_shape(), first.to_shape());
+}
+
+#[test]
+fn a_drag_past_the_edge_of_convexity_stops_at_the_edge_and_says_why() {
+    let (gpu, target, mut bench) = app("cylinder-near-critical");
+    bench.ui.sculpt.on = true;
+    bench.ui.sculpt.width = 0.05;
+    settle_layout(&mut bench, &gpu, &target);
+    let before = bench.sim.status();
+    let first = before.setup.body.clone();
+    let curvature = |b: &Body| {
+        rollphase::scene::sculpt::SculptReadout::of(b, 20.0)
+            .print
+            .convexity_min
+    };
+    let (pos, _) = facing_on_screen(&bench, &first);
+    drag_frame(&mut bench, &gpu, &target, pos, Some(true), |_| true);
+    // 600 points down asks for the deepest dent there is, far past the edge.
+    let to = pos + egui::vec2(0.0, 600.0);
+    let s = drag_frame(&mut bench, &gpu, &target, to, None, |s| {
+        s.scene_id != before.scene_id
+    });
+    let (text, error) = bench.ui.notice().cloned().unwrap();
+    assert!(
+        error && text.contains("the edge") && text.contains("not strictly convex"),
+        "{text}"
+    );
+    // At the edge: still strictly convex, its flattest point nearly flat.
+    let at_edge = s.setup.body.clone();
+    at_edge
+        .check_convex()
+        .expect("the body at the edge is convex");
+    let (was, now) = (curvature(&first), curvature(&at_edge));
+    assert!(
+        now > 0.0 && now < 0.05 * was,
+        "smallest curvature {was} → {now}"
+    );
+    let depth = largest_move(&first, &at_edge);
+    assert!(depth < -0.001, "a dent: Δr {depth}");
+    // Further down changes nothing; the release keeps the edge.
+    let further = pos + egui::vec2(0.0, 650.0);
+    drag_frame(&mut bench, &gpu, &target, further, None, |_| true);
+    drag_frame(&mut bench, &gpu, &target, further, Some(false), |_| true);
+    settle_layout(&mut bench, &gpu, &target);
+    let kept = bench.sim.status();
+    assert_eq!(kept.setup.body.to_shape(), at_edge.to_shape());
+    let (text, error) = bench.ui.notice().cloned().unwrap();
+    assert!(
+        !error
+            && text.starts_with("pressed a dent by ")
+            && text.contains("at the edge of convexity"),
+        "{text}"
+    );
+}
+
 /// Before and after one bump on the paper's body (α = 0.15, viscous), with the Sculpt panel's
 /// readout: α* and the drift change, each measured on the body shown (the numbers
 /// docs/guide/app.md gives). The screenshots go to

@@ -160,10 +160,9 @@ fn stroke_timing(
         crate::ui::workbench::UiEvents,
     ) -> Result<()>,
 ) -> Result<()> {
-    use crate::geometry::Body;
     use crate::geometry::sculpt::{Stroke, sculpt};
     use crate::scene::sculpt::{SculptReadout, sculpted_scene};
-    use crate::view::pick::{body_point_at, eye_in_body};
+    use crate::view::pick::body_point_at;
 
     if strokes == 0 {
         return Ok(());
@@ -171,7 +170,7 @@ fn stroke_timing(
     bench.ui.sculpt.on = true;
     bench.ui.sculpt.depth = 0.005;
     let ms = |t: Instant| t.elapsed().as_secs_f64() * 1e3;
-    let mut rows: [Vec<f64>; 6] = Default::default();
+    let mut rows: [Vec<f64>; 7] = Default::default();
     for i in 0..strokes {
         paint(bench, crate::ui::workbench::UiEvents::new())?;
         let status = bench.sim.status();
@@ -181,19 +180,7 @@ fn stroke_timing(
             .sculpt
             .pick_view
             .ok_or_else(|| anyhow::anyhow!("the body was not drawn"))?;
-        let eye = eye_in_body(&view);
-        let p = match &body {
-            Body::Sphere(s) => s.radius(eye.normalize()) * eye.normalize(),
-            Body::Disk(d) => {
-                let theta = eye.z.atan2(eye.x);
-                let r = d.jet(theta).r;
-                crate::glam::DVec3::new(r * theta.cos(), 0.0, r * theta.sin())
-            }
-        };
-        let pos = bench
-            .ui
-            .body_point_position(p)
-            .ok_or_else(|| anyhow::anyhow!("the body's front is off the view"))?;
+        let (p, pos) = front_of_body(bench, &body, &view)?;
         let [press, release] = crate::ui::workbench::click_events(pos, i % 2 == 1);
         paint(bench, press)?;
         // From the release (a click is a press and its release) to the new run on the screen.
@@ -243,11 +230,14 @@ fn stroke_timing(
         crate::live::LiveRun::new(setup).snapshot();
         rows[4].push(ms(t));
     }
+    rows[6] = drag_timing(bench, strokes, &mut paint)?;
     outln!(
         "\nsculpting: {strokes} strokes (width {} rad, depth 0.005) on the body point facing \
-         the camera, a dent then a bump in turn; the drift is measured on a worker thread \
-         beside them\n",
-        bench.ui.sculpt.width
+         the camera, a dent then a bump in turn, then one drag up from it in {strokes} moves of \
+         {DRAG_MOVE_POINTS} points ({:.4} mean r each); the drift is measured on a worker \
+         thread beside them\n",
+        bench.ui.sculpt.width,
+        f64::from(DRAG_MOVE_POINTS) * crate::ui::DRAG_HEIGHT_PER_POINT
     )?;
     outln!("| step | mean ms | p50 ms | p95 ms |")?;
     outln!("|---|---|---|---|")?;
@@ -258,12 +248,85 @@ fn stroke_timing(
         "the scene's setup (checks, α*)",
         "the new run and its first snapshot",
         "release to the restarted run's first frame drawn (frames included)",
+        "a drag's move to the restarted run's first frame drawn (live stroke, frames included)",
     ];
     for (name, v) in names.iter().zip(&rows) {
         let (mean, p50, p95) = stats(v);
         outln!("| {name} | {mean:.1} | {p50:.1} | {p95:.1} |")?;
     }
     Ok(())
+}
+
+/// How far the pointer goes in one move of the timed drag (screen points): past egui's
+/// click distance (6), so the first move starts the drag.
+const DRAG_MOVE_POINTS: f32 = 8.0;
+
+/// The body point facing the camera (body frame) and where it is drawn (screen points).
+fn front_of_body(
+    bench: &crate::ui::workbench::Workbench,
+    body: &crate::geometry::Body,
+    view: &crate::view::pick::PickView,
+) -> Result<(crate::glam::DVec3, crate::ui::workbench::Pos2)> {
+    let eye = crate::view::pick::eye_in_body(view);
+    let p = match body {
+        crate::geometry::Body::Sphere(s) => s.radius(eye.normalize()) * eye.normalize(),
+        crate::geometry::Body::Disk(d) => {
+            let theta = eye.z.atan2(eye.x);
+            let r = d.jet(theta).r;
+            crate::glam::DVec3::new(r * theta.cos(), 0.0, r * theta.sin())
+        }
+    };
+    let pos = bench
+        .ui
+        .body_point_position(p)
+        .ok_or_else(|| anyhow::anyhow!("the body's front is off the view"))?;
+    Ok((p, pos))
+}
+
+/// One drag from the body's front straight up, in `moves` moves of [`DRAG_MOVE_POINTS`]: each
+/// timed from its frame to the first frame that draws the run on the body it made.
+fn drag_timing(
+    bench: &mut crate::ui::workbench::Workbench,
+    moves: usize,
+    paint: &mut impl FnMut(
+        &mut crate::ui::workbench::Workbench,
+        crate::ui::workbench::UiEvents,
+    ) -> Result<()>,
+) -> Result<Vec<f64>> {
+    use crate::ui::workbench::{UiEvents, drag_events};
+    paint(bench, UiEvents::new())?;
+    let status = bench.sim.status();
+    let view = bench
+        .ui
+        .sculpt
+        .pick_view
+        .ok_or_else(|| anyhow::anyhow!("the body was not drawn"))?;
+    let (_, pos) = front_of_body(bench, &status.setup.body, &view)?;
+    paint(bench, drag_events(pos, Some(true)))?;
+    let mut times = Vec::with_capacity(moves);
+    let mut to = pos;
+    for i in 0..moves {
+        let id = bench.sim.status().scene_id;
+        to.y -= DRAG_MOVE_POINTS;
+        let moved = Instant::now();
+        paint(bench, drag_events(to, None))?;
+        while bench.sim.status().scene_id == id {
+            if let Some((why, true)) = bench.ui.notice() {
+                bail!("drag move {i} was refused: {why}");
+            }
+            if moved.elapsed().as_secs() > 30 {
+                bail!(
+                    "drag move {i}: no restarted run within 30 s ({:?})",
+                    bench.ui.notice()
+                );
+            }
+            paint(bench, UiEvents::new())?;
+        }
+        paint(bench, UiEvents::new())?;
+        times.push(moved.elapsed().as_secs_f64() * 1e3);
+    }
+    paint(bench, drag_events(to, Some(false)))?;
+    Ok(times)
 }
 
 /// The options checked before any work: the settings the frames are timed at.

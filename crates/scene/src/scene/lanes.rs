@@ -89,7 +89,33 @@ fn check_label(label: &str, field: &str) -> Result<(), SceneError> {
              line of printable text)"
         )));
     }
+    if let Some(c) = label.chars().find(|&c| invisible_format(c)) {
+        return Err(invalid(format!(
+            "{field} {label:?} is not allowed: it holds the invisible formatting character \
+             U+{:04X}, which reorders or hides the text around it (needs one line of printable \
+             text)",
+            u32::from(c)
+        )));
+    }
     Ok(())
+}
+
+/// Unicode's invisible format characters that change how the text around them is shown: the
+/// direction marks, embeddings, overrides and isolates (a label "abc" shown as "cba"), the
+/// zero-width ones and the byte-order mark (two labels that look the same but differ).
+fn invisible_format(c: char) -> bool {
+    matches!(
+        c,
+        '\u{00AD}'
+            | '\u{061C}'
+            | '\u{180E}'
+            | '\u{200B}'..='\u{200F}'
+            | '\u{202A}'..='\u{202E}'
+            | '\u{2060}'..='\u{2064}'
+            | '\u{2066}'..='\u{206F}'
+            | '\u{FEFF}'
+            | '\u{FFF9}'..='\u{FFFB}'
+    )
 }
 
 impl SceneSetup {
@@ -265,7 +291,7 @@ mod tests {
 
     #[test]
     fn a_body_that_does_not_fit_the_ramp_is_refused_naming_its_entry() {
-        let cases: [(&str, &str); 9] = [
+        let cases: [(&str, &str); 10] = [
             (
                 "[[bodies]]\n[[bodies]]\n[[bodies]]\n[[bodies]]\n",
                 "at most 4 bodies",
@@ -285,6 +311,12 @@ mod tests {
             (
                 "[[bodies]]\nlabel = \"a\\nb\"\n",
                 "entry 1 (body 2): label \"a\\nb\" is not allowed: it holds the control character '\\n'",
+            ),
+            (
+                // Shown as "fast ydob": a right-to-left override.
+                "[[bodies]]\nlabel = \"fast \\u202Ebody\"\n",
+                "entry 1 (body 2): label \"fast \\u{202e}body\" is not allowed: it holds the \
+                 invisible formatting character U+202E",
             ),
             (
                 "[[bodies]]\nlabel = \"twin\"\n[[bodies]]\nlabel = \"twin\"\n",

@@ -757,6 +757,32 @@ impl AppUi {
             let angle = std::mem::take(&mut self.turn) as f64;
             self.restart_turned(angle, status, actions);
         }
+        // Sculpting: a drag from the body pulls or presses its surface as the pointer moves
+        // (a drag from elsewhere turns the camera).
+        if self.sculpt.on
+            && !turning
+            && response.drag_started_by(egui::PointerButton::Primary)
+            && let Some(origin) = ui.input(|i| i.pointer.press_origin())
+            && self.poincare_pick(rect, origin, status).is_none()
+            && !self.in_ball_inset(rect, origin, status)
+        {
+            self.sculpt_drag_start(
+                (
+                    (origin.x - rect.min.x) * self.pixels_per_point,
+                    (origin.y - rect.min.y) * self.pixels_per_point,
+                ),
+                origin.y,
+                status,
+            );
+        }
+        if self.sculpt_dragging() {
+            if let Some(pos) = response.interact_pointer_pos() {
+                self.sculpt_drag_move(pos.y, status, actions);
+            }
+            if response.drag_stopped() || !ui.input(|i| i.pointer.primary_down()) {
+                self.sculpt_drag_end();
+            }
+        }
         // Sculpting: a click on the body presses a dent, a right click pulls a bump (the
         // insets keep their own clicks).
         let sculpted = self.sculpt.on
@@ -793,7 +819,7 @@ impl AppUi {
                 ));
             }
         }
-        if response.dragged() && !turning {
+        if response.dragged() && !turning && !self.sculpt_dragging() {
             let d = response.drag_delta();
             self.view_options.yaw -= d.x * 0.01;
             self.view_options.pitch = (self.view_options.pitch + d.y * 0.01).clamp(-1.2, 1.2);

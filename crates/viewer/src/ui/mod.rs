@@ -46,6 +46,7 @@ mod picking;
 mod sculpting;
 
 pub use controls::{ALPHA_FIELD, MASS_FIELD};
+pub use sculpting::DRAG_HEIGHT_PER_POINT;
 
 use std::path::PathBuf;
 

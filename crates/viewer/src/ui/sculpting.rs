@@ -1,6 +1,9 @@
 //! Sculpting in the app (the Body panel's "Sculpt" section): with "sculpt with the mouse" on, a
 //! click on the body presses a dent and a right click pulls a bump, of the width and depth set
-//! there; the mode amplitudes can be edited too. Each change is the core's stroke
+//! there, and a drag from the body pulls the surface out (up) or presses it in (down) live, the
+//! run restarting on the body at every move and the readout following, until the release keeps
+//! it as one stroke (one undo); a drag past the edge of convexity stops at the edge and says
+//! why. The mode amplitudes can be edited too. Each change is the core's stroke
 //! ([`crate::geometry::sculpt`]) through a [`Sculptor`] (undo, redo; a stroke that would make
 //! the body non-convex is refused with why) and restarts the run on the new body from the same
 //! contact, at rest. Beside it: α*, the convexity, the smallest radius of curvature at the print
@@ -21,6 +24,11 @@ use crate::live::{SimCommand, SimStatus};
 use crate::scene::InitialSpec;
 use crate::scene::sculpt::{SculptReadout, Sculptor, sculpted_scene};
 use crate::view::pick::{PickView, body_point_at};
+
+mod drag;
+
+pub use drag::DRAG_HEIGHT_PER_POINT;
+use drag::DragStroke;
 
 /// Starts of the drift measurement: enough to see the orbits a ball settles on, few enough to
 /// answer in seconds.
@@ -53,6 +61,11 @@ pub struct SculptPanel {
     seen_scene: Option<u64>,
     /// The α and m/m0 the drift waits to see held still before it is measured.
     drift_wait: Option<((f64, f64), std::time::Instant)>,
+    /// The stroke being dragged, from the press on the body to the release.
+    dragging: Option<DragStroke>,
+    /// The bodies a drag has sent to the simulation whose runs may not have arrived yet: a frame
+    /// that shows one of them is the drag's, not a new body to start a session on.
+    in_flight: Vec<crate::geometry::shape_file::ShapeFile>,
 }
 
 impl Default for SculptPanel {
@@ -71,6 +84,8 @@ impl Default for SculptPanel {
             last_stroke_ms: None,
             seen_scene: None,
             drift_wait: None,
+            dragging: None,
+            in_flight: Vec::new(),
         }
     }
 }
@@ -172,7 +187,13 @@ impl AppUi {
         let same = |b: &Body| b.to_shape() == running.to_shape();
         if self.sculpt.seen_scene != Some(status.scene_id) {
             self.sculpt.seen_scene = Some(status.scene_id);
-            if !self.sculpt.session.as_ref().is_some_and(|s| same(s.body())) {
+            let shown = running.to_shape();
+            let drags = self.sculpt.in_flight.contains(&shown);
+            if self.sculpt.session.as_ref().is_some_and(|s| same(s.body())) {
+                self.sculpt.in_flight.clear();
+            } else if !drags {
+                self.sculpt.in_flight.clear();
+                self.sculpt.dragging = None;
                 self.sculpt.session = Some(Sculptor::new(running.clone()));
                 self.sculpt.scale_mm = self.body_scale_mm(status).unwrap_or(DEFAULT_SCALE_MM);
             }
@@ -261,7 +282,7 @@ impl AppUi {
                 } else {
                     "pressed a dent"
                 };
-                self.run_sculpted(&body, what, status, actions);
+                self.run_sculpted(&body, what, None, status, actions);
                 self.sculpt.last_stroke_ms = Some(started.elapsed().as_secs_f64() * 1e3);
             }
             Err(e) => self.notice = Some((e.to_string(), true)),
@@ -269,27 +290,18 @@ impl AppUi {
         true
     }
 
-    /// Restarts the run on `body` (the session's body now) from the contact the run has now,
-    /// at rest, with the current α, m/m0, integrator and speed.
+    /// Restarts the run on `body` (the session's body now) from `initial`, or else the contact
+    /// the run has now, at rest, with the current α, m/m0, integrator and speed. The notice
+    /// says `what` was done (none for an empty `what`). Returns the new run's α*, if it runs.
     fn run_sculpted(
         &mut self,
         body: &Body,
         what: &str,
+        initial: Option<InitialSpec>,
         status: &SimStatus,
         actions: &mut Vec<UiAction>,
-    ) {
-        let snap = &status.snapshot;
-        let q = snap.pose.rotation;
-        let initial = match snap.theta {
-            Some(theta) => InitialSpec {
-                theta0: theta,
-                ..InitialSpec::default()
-            },
-            None => InitialSpec {
-                q0: Some([q.w, q.x, q.y, q.z]),
-                ..InitialSpec::default()
-            },
-        };
+    ) -> Option<f64> {
+        let initial = initial.unwrap_or_else(|| contact_now(status));
         let mut scene = self.current_scene(status);
         let strokes = self.sculpt.session.as_ref().map_or(0, Sculptor::strokes);
         let name = scene
@@ -304,27 +316,37 @@ impl AppUi {
         let scale = (self.base.as_deref(), Some(self.sculpt.scale_mm));
         match sculpted_scene(&scene, body, initial, scale) {
             Ok((_, setup)) => {
-                self.notice = Some((
-                    format!(
-                        "{what}: α* {:.5} → {:.5} rad; restarted from the same contact{}",
-                        status.setup.alpha_star,
-                        setup.alpha_star,
-                        if printed {
-                            " (the print's section is dropped: the body is now its smooth modes)"
-                        } else {
-                            ""
-                        }
-                    ),
-                    false,
-                ));
+                let alpha_star = setup.alpha_star;
+                if !what.is_empty() {
+                    self.notice = Some((
+                        format!(
+                            "{what}: α* {:.5} → {alpha_star:.5} rad; restarted from the same \
+                             contact{}",
+                            status.setup.alpha_star,
+                            if printed {
+                                " (the print's section is dropped: the body is now its smooth \
+                                 modes)"
+                            } else {
+                                ""
+                            }
+                        ),
+                        false,
+                    ));
+                }
                 actions.push(UiAction::Sim(SimCommand::Load(Box::new(setup))));
+                Some(alpha_star)
             }
             Err(e) => {
-                // Not run: the session is as before this change.
+                // Not run: the session is as before this change (a drag starts again from the
+                // body before it).
                 if let Some(session) = self.sculpt.session.as_mut() {
                     session.drop_newest();
                 }
+                if let Some(drag) = self.sculpt.dragging.as_mut() {
+                    drag.height = 0.0;
+                }
                 self.notice = Some((e.to_string(), true));
+                None
             }
         }
     }
@@ -339,7 +361,8 @@ impl AppUi {
     ) {
         ui.checkbox(&mut self.sculpt.on, "sculpt with the mouse")
             .on_hover_text(
-                "a click on the body presses a dent, a right click pulls a bump; the run \
+                "a click on the body presses a dent, a right click pulls a bump; a drag from the \
+                 body pulls the surface out (up) or presses it in (down) as you move; the run \
                  restarts on the new body from the same contact (Ctrl+Z undoes)",
             );
         if !self.sculpt.on {
@@ -393,6 +416,7 @@ impl AppUi {
             self.run_sculpted(
                 &body,
                 if back { "undone" } else { "redone" },
+                None,
                 status,
                 actions,
             );
@@ -443,7 +467,8 @@ impl AppUi {
             match self.sculpt.drift_wait {
                 _ if fresh => self.sculpt.drift_wait = None,
                 Some((held, since)) if held == ramp => {
-                    if since.elapsed().as_secs_f64() >= 1.0 {
+                    // A drag's bodies change every move: measured when it is released.
+                    if since.elapsed().as_secs_f64() >= 1.0 && self.sculpt.dragging.is_none() {
                         self.sculpt.drift = Some(DriftJob::start(key.0, key.1, key.2));
                         self.sculpt.drift_wait = None;
                     }
@@ -455,6 +480,9 @@ impl AppUi {
             }
             let said = self.sculpt.drift.as_ref().and_then(DriftJob::said);
             match said {
+                None if self.sculpt.dragging.is_some() => {
+                    ui.label(RichText::new("drift: measured when the drag is released").weak())
+                }
                 None => ui.label(RichText::new("drift: measuring (8 starts)…").weak()),
                 Some(Ok(text)) => ui.add(egui::Label::new(text).wrap()),
                 Some(Err(e)) => ui.label(RichText::new(format!("drift: {e}")).weak()),
@@ -468,6 +496,23 @@ impl AppUi {
                 .weak(),
             );
         }
+    }
+}
+
+/// The contact a restart starts from: the run's now (θ₀ for a cylinder, the orientation for a
+/// 3D body), at rest.
+pub(super) fn contact_now(status: &SimStatus) -> InitialSpec {
+    let snap = &status.snapshot;
+    let q = snap.pose.rotation;
+    match snap.theta {
+        Some(theta) => InitialSpec {
+            theta0: theta,
+            ..InitialSpec::default()
+        },
+        None => InitialSpec {
+            q0: Some([q.w, q.x, q.y, q.z]),
+            ..InitialSpec::default()
+        },
     }
 }
 
@@ -618,7 +663,7 @@ impl AppUi {
         match session.set_body(edited) {
             Ok(b) => {
                 let b = b.clone();
-                self.run_sculpted(&b, "modes edited", status, actions);
+                self.run_sculpted(&b, "modes edited", None, status, actions);
             }
             Err(e) => {
                 self.notice = Some((e.to_string(), true));

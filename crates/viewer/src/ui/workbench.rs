@@ -405,6 +405,10 @@ impl Drop for Workbench {
     }
 }
 
+/// A point of the screen in egui's points, as the scripted input takes it (for callers without
+/// egui of their own, such as `rollphase bench app`).
+pub use egui::Pos2;
+
 /// The input events of one frame, as [`offscreen_input`] takes them.
 pub type UiEvents = Vec<egui::Event>;
 
@@ -426,6 +430,21 @@ pub fn click_events(pos: egui::Pos2, secondary: bool) -> [UiEvents; 2] {
         vec![egui::Event::PointerMoved(pos), event(true)],
         vec![event(false)],
     ]
+}
+
+/// The pointer moved to `pos` (screen points), and the primary button pressed there (`Some(true)`)
+/// or released (`Some(false)`): one frame of a drag. For benchmarks and scripted demos.
+pub fn drag_events(pos: egui::Pos2, pressed: Option<bool>) -> UiEvents {
+    let mut events = vec![egui::Event::PointerMoved(pos)];
+    if let Some(pressed) = pressed {
+        events.push(egui::Event::PointerButton {
+            pos,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        });
+    }
+    events
 }
 
 /// egui input for a `size`-pixel offscreen target at one pixel per point, with `events`
