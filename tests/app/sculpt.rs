@@ -365,6 +365,101 @@ fn a_drag_past_the_edge_of_convexity_stops_at_the_edge_and_says_why() {
     );
 }
 
+/// Ctrl+Z or Ctrl+Y in the middle of a drag is refused (the drag is one stroke, built on the
+/// body of its press), and a drag that ends where it began leaves the history as it was, the
+/// redo of an undone stroke included.
+#[test]
+fn a_drag_keeps_the_history_whole() {
+    let (gpu, target, mut bench) = app("cylinder-near-critical");
+    bench.ui.sculpt.on = true;
+    bench.ui.sculpt.width = 0.4;
+    bench.ui.sculpt.depth = 0.01;
+    settle_layout(&mut bench, &gpu, &target);
+    let first = bench.sim.status();
+    let (pos, _) = facing_on_screen(&bench, &first.setup.body);
+    let bumped = click(
+        &mut bench,
+        &gpu,
+        &target,
+        pos,
+        egui::PointerButton::Secondary,
+        |s| s.scene_id != first.scene_id,
+    );
+    let key = |k, modifiers| egui::Event::Key {
+        key: k,
+        physical_key: None,
+        pressed: true,
+        repeat: false,
+        modifiers,
+    };
+    let undone = frames_until(
+        &mut bench,
+        &gpu,
+        &target,
+        vec![key(egui::Key::Z, egui::Modifiers::COMMAND)],
+        |s| s.scene_id != bumped.scene_id,
+    );
+    assert_eq!(undone.setup.body.to_shape(), first.setup.body.to_shape());
+    settle_layout(&mut bench, &gpu, &target);
+    // A drag up, an undo in its middle (refused), and back to where it began.
+    let (pos, _) = facing_on_screen(&bench, &undone.setup.body);
+    drag_frame(&mut bench, &gpu, &target, pos, Some(true), |_| true);
+    let up = pos - egui::vec2(0.0, 20.0);
+    let id = undone.scene_id;
+    let moved = drag_frame(&mut bench, &gpu, &target, up, None, |s| s.scene_id != id);
+    let mut events = rollphase::ui::workbench::drag_events(up, None);
+    events.push(key(egui::Key::Z, egui::Modifiers::COMMAND));
+    frames_until(&mut bench, &gpu, &target, events, |_| true);
+    let (text, error) = bench.ui.notice().cloned().unwrap();
+    assert!(
+        error && text.starts_with("release the drag first"),
+        "{text}"
+    );
+    settle_layout(&mut bench, &gpu, &target);
+    assert_eq!(
+        bench.sim.status().scene_id,
+        moved.scene_id,
+        "the undo did nothing"
+    );
+    let back = drag_frame(&mut bench, &gpu, &target, pos, None, |s| {
+        s.scene_id != moved.scene_id
+    });
+    assert_eq!(back.setup.body.to_shape(), first.setup.body.to_shape());
+    drag_frame(&mut bench, &gpu, &target, pos, Some(false), |_| true);
+    let (text, _) = bench.ui.notice().cloned().unwrap();
+    assert_eq!(text, "the drag ended where it began: the body is as before");
+    // The bump undone before the drag can still be redone.
+    let redone = frames_until(
+        &mut bench,
+        &gpu,
+        &target,
+        vec![key(egui::Key::Y, egui::Modifiers::COMMAND)],
+        |s| s.scene_id != back.scene_id,
+    );
+    assert_eq!(redone.setup.body.to_shape(), bumped.setup.body.to_shape());
+}
+
+/// A drag on a lesson is refused at its start, with why (its captions are about its own body),
+/// and the run is left alone.
+#[test]
+fn a_drag_on_a_lesson_says_why_it_is_refused() {
+    let (gpu, target, mut bench) = app("lesson-critical-angle");
+    bench.ui.sculpt.on = true;
+    settle_layout(&mut bench, &gpu, &target);
+    let before = bench.sim.status();
+    let (pos, _) = facing_on_screen(&bench, &before.setup.body);
+    drag_frame(&mut bench, &gpu, &target, pos, Some(true), |_| true);
+    for k in 1..=3 {
+        let to = pos - egui::vec2(0.0, 10.0 * k as f32);
+        drag_frame(&mut bench, &gpu, &target, to, None, |_| true);
+    }
+    let (text, error) = bench.ui.notice().cloned().unwrap();
+    assert!(error && text.contains("is a lesson"), "{text}");
+    drag_frame(&mut bench, &gpu, &target, pos, Some(false), |_| true);
+    settle_layout(&mut bench, &gpu, &target);
+    assert_eq!(bench.sim.status().scene_id, before.scene_id);
+}
+
 /// Before and after one bump on the paper's body (α = 0.15, viscous), with the Sculpt panel's
 /// readout: α* and the drift change, each measured on the body shown (the numbers
 /// docs/guide/app.md gives). The screenshots go to

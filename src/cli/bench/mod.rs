@@ -100,7 +100,8 @@ pub struct AppBenchArgs {
     /// Sculpting strokes timed after the frames (0 to 1000): clicks on the body, a dent then a
     /// bump in turn, each from the click to the restarted run's first frame, with the steps
     /// between (pick, stroke, readout, the scene's setup, the new run); then one drag up from the
-    /// body in as many moves, each from the move to the restarted run's first frame.
+    /// body in as many moves (20 at most, to the edge of convexity at most), each from the move
+    /// to the restarted run's first frame.
     #[arg(long, default_value_t = 10)]
     pub strokes: usize,
 }

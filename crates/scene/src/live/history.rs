@@ -16,6 +16,10 @@ use crate::output::{self, Inputs, OutputSet};
 
 use super::{Measured, Snapshot};
 
+mod crossings;
+
+use crossings::Crossings;
+
 /// Samples kept per time series (older ones are dropped): the last 5000 time units.
 pub const MAX_SAMPLES: usize = 50_000;
 
@@ -79,9 +83,10 @@ pub struct PlotHistory {
     last_alpha: Option<f64>,
     direction: Option<Branch>,
     last_period: Option<f64>,
-    /// (m/m0, polar angle of the crossing point with p_z ≥ 0) of settled ∂Ω crossings.
-    crossings_by_mass: VecDeque<[f64; 2]>,
-    last_crossing_t: Option<f64>,
+    /// The settled ∂Ω crossings of the scene's own body.
+    crossings: Crossings,
+    /// The other bodies' (`[[bodies]]`), by entry.
+    lane_crossings: Vec<Crossings>,
 }
 
 /// What a 1/T point was measured under: m/m0 and the drag law. Points of different regimes
@@ -145,8 +150,8 @@ pub struct PlotCheckpoint {
     sweep: BTreeMap<(Branch, Regime, i64), (f64, f64)>,
     last_alpha: Option<f64>,
     direction: Option<Branch>,
-    crossings_by_mass: VecDeque<[f64; 2]>,
-    last_crossing_t: Option<f64>,
+    crossings: Crossings,
+    lane_crossings: Vec<Crossings>,
 }
 
 impl PlotCheckpoint {
@@ -181,26 +186,14 @@ impl PlotCheckpoint {
     /// assert!(PlotHistory::default().checkpoint().crossings_at(2.0).is_empty());
     /// ```
     pub fn crossings_at(&self, mass_ratio: f64) -> Vec<f64> {
-        self.crossings_by_mass
+        self.crossings
+            .points
             .iter()
             .filter(|p| p[0] == mass_ratio)
             .map(|p| p[1])
             .collect()
     }
 }
-
-/// Crossing points kept for the mass sweep.
-const MAX_CROSSING_POINTS: usize = 5000;
-
-/// A settled crossing this close (rad of the plotted angle, far below a pixel at any plot size)
-/// to one already kept at the same m/m0 adds nothing: a run held at one value repeats its
-/// cycle's points for ever (a sweep that ended at m/m0 = 50 piled ~1,400 near-duplicates
-/// there, 67 KB in a saved state).
-const SAME_CROSSING: f64 = 1e-3;
-
-/// How many of the latest points a new one is compared with: more than the points of any
-/// cycle the app tells apart.
-const CROSSINGS_COMPARED: usize = 256;
 
 impl PlotHistory {
     /// Clears the time series (a new run); the α sweep is kept, since it describes the body.
@@ -221,8 +214,8 @@ impl PlotHistory {
             sweep: self.sweep.clone(),
             last_alpha: self.last_alpha,
             direction: self.direction,
-            crossings_by_mass: self.crossings_by_mass.clone(),
-            last_crossing_t: self.last_crossing_t,
+            crossings: self.crossings.clone(),
+            lane_crossings: self.lane_crossings.clone(),
         }
     }
 
@@ -233,8 +226,8 @@ impl PlotHistory {
         self.sweep = c.sweep;
         self.last_alpha = c.last_alpha;
         self.direction = c.direction;
-        self.crossings_by_mass = c.crossings_by_mass;
-        self.last_crossing_t = c.last_crossing_t;
+        self.crossings = c.crossings;
+        self.lane_crossings = c.lane_crossings;
         self.last_period = None;
     }
 
@@ -295,28 +288,13 @@ impl PlotHistory {
         }
         self.last_period = snap.period;
 
-        if let Some((t, p)) = snap.last_crossing
-            && rollable
-            && self.last_crossing_t != Some(t)
-            && snap.period_multiplicity.is_some()
-        {
-            // The viscous model is the massless limit: its crossings are the diagram's points
-            // at m/m0 = 0 (a lesson's first step claims period 1 there).
-            let p = if p.z < 0.0 { -p } else { p };
-            let point = [snap.mass_ratio, p.z.clamp(-1.0, 1.0).acos()];
-            let seen = self
-                .crossings_by_mass
-                .iter()
-                .rev()
-                .take(CROSSINGS_COMPARED)
-                .any(|q| q[0] == point[0] && (q[1] - point[1]).abs() < SAME_CROSSING);
-            if !seen {
-                self.crossings_by_mass.push_back(point);
-                while self.crossings_by_mass.len() > MAX_CROSSING_POINTS {
-                    self.crossings_by_mass.pop_front();
-                }
-            }
-            self.last_crossing_t = Some(t);
+        self.crossings.take(snap);
+        if self.lane_crossings.len() < snap.lanes.len() {
+            self.lane_crossings
+                .resize_with(snap.lanes.len(), Crossings::default);
+        }
+        for (crossings, lane) in self.lane_crossings.iter_mut().zip(&snap.lanes) {
+            crossings.take(lane);
         }
     }
 
@@ -342,10 +320,7 @@ impl PlotHistory {
                 .sweep
                 .insert((direction, regime, bin), (alpha, rate));
         }
-        history.crossings_by_mass = resume.crossings.iter().copied().collect();
-        while history.crossings_by_mass.len() > MAX_CROSSING_POINTS {
-            history.crossings_by_mass.pop_front();
-        }
+        history.crossings = Crossings::from_points(&resume.crossings);
         history.last_alpha = Some(alpha_now);
         history
     }
@@ -376,12 +351,27 @@ impl PlotHistory {
 
     /// Whether any settled crossing of ∂Ω was collected (the mass sweep plot is shown then).
     pub fn has_crossings(&self) -> bool {
-        !self.crossings_by_mass.is_empty()
+        !self.crossings.points.is_empty()
+    }
+
+    /// Whether any other body (`[[bodies]]`) has a settled crossing of ∂Ω.
+    pub fn has_lane_crossings(&self) -> bool {
+        self.lane_crossings.iter().any(|c| !c.points.is_empty())
+    }
+
+    /// The settled crossing points of body `n` (0: the scene's own; n: its n-th `[[bodies]]`
+    /// entry) as (m/m0, polar angle), oldest first.
+    pub fn crossings_of_body(&self, n: usize) -> Vec<[f64; 2]> {
+        let crossings = match n {
+            0 => Some(&self.crossings),
+            n => self.lane_crossings.get(n - 1),
+        };
+        crossings.map_or_else(Vec::new, |c| c.points.iter().copied().collect())
     }
 
     /// The settled crossing points of ∂Ω as (m/m0, polar angle), oldest first.
     pub fn crossings_by_mass(&self) -> Vec<[f64; 2]> {
-        self.crossings_by_mass.iter().copied().collect()
+        self.crossings.points.iter().copied().collect()
     }
 
     /// The samples, oldest first.
@@ -400,6 +390,11 @@ impl PlotHistory {
         PlotHistory {
             samples: self
                 .lanes
+                .get(n.wrapping_sub(1))
+                .cloned()
+                .unwrap_or_default(),
+            crossings: self
+                .lane_crossings
                 .get(n.wrapping_sub(1))
                 .cloned()
                 .unwrap_or_default(),
@@ -585,16 +580,20 @@ pub struct BodyMeta {
     pub drag: String,
     /// Its fate when the data were written, in the verdict's words.
     pub fate: String,
-    /// Its time series ([`PlotData::Series`]'s columns) and contact force
-    /// ([`PlotData::Forces`]'s).
-    pub files: [String; 2],
+    /// Its time series ([`PlotData::Series`]'s columns), contact force ([`PlotData::Forces`]'s)
+    /// and settled crossings ([`PlotData::Crossings`]'s).
+    pub files: [String; 3],
 }
 
-/// The files of body `n` (2 on): its series and its contact force.
-fn body_files(n: usize) -> [String; 2] {
+/// The data sets each other body has a file of, in [`body_files`]' order.
+const BODY_DATA: [PlotData; 3] = [PlotData::Series, PlotData::Forces, PlotData::Crossings];
+
+/// The files of body `n` (2 on): its series, its contact force and its settled crossings.
+fn body_files(n: usize) -> [String; 3] {
     [
         format!("series-body-{n}.csv"),
         format!("contact-force-body-{n}.csv"),
+        format!("sweep-mass-body-{n}.csv"),
     ]
 }
 
@@ -829,7 +828,7 @@ impl PlotHistory {
         }
         for body in &meta.bodies {
             let lane = self.lane(body.body - 1);
-            for (data, name) in [PlotData::Series, PlotData::Forces].iter().zip(&body.files) {
+            for (data, name) in BODY_DATA.iter().zip(&body.files) {
                 let path = dir.join(name);
                 set.write(&path, lane.csv(*data, measured).as_bytes(), inputs)?;
                 written.push(path);

@@ -177,7 +177,7 @@ mod tests {
         let written = history
             .write_csv_files(&dir, Measured::default(), &meta, &inputs)
             .unwrap();
-        assert_eq!(written.len(), 6 + 2);
+        assert_eq!(written.len(), 6 + 3);
         let series = std::fs::read_to_string(dir.join("series-body-2.csv")).unwrap();
         let json = std::fs::read_to_string(dir.join("plot-data.json")).unwrap();
         std::fs::remove_dir_all(&dir).ok();
@@ -208,7 +208,11 @@ mod tests {
             .unwrap();
         let end = setup.scene.playback.end_time.unwrap();
         let mut run = LiveRun::new(setup);
-        run.advance_to(end).unwrap();
+        let mut history = PlotHistory::default();
+        for k in 1..=end.ceil() as u32 {
+            run.advance_to(f64::from(k).min(end)).unwrap();
+            history.push(&run.snapshot());
+        }
         let snap = run.snapshot();
         assert!(snap.views.lanes, "the last step shows them");
         let k: Vec<Option<usize>> = snap.lanes.iter().map(|l| l.period_multiplicity).collect();
@@ -218,6 +222,20 @@ mod tests {
                 .iter()
                 .all(|l| l.fate().starts_with("periodic: period"))
         );
+        // The crossings plot shows it too: each body's settled crossings at its own m/m0, the
+        // last of them on one branch at 2 and on two at 4.5.
+        for (body, mass, branches) in [(1, 2.0, 1), (2, 4.5, 2)] {
+            let points = history.crossings_of_body(body);
+            assert!(points.len() >= 6, "body {body}: {points:?}");
+            assert!(
+                points.iter().all(|p| p[0] == mass),
+                "body {body}: {points:?}"
+            );
+            let mut last: Vec<f64> = points.iter().rev().take(6).map(|p| p[1]).collect();
+            last.sort_by(f64::total_cmp);
+            let gaps = last.windows(2).filter(|w| w[1] - w[0] > 0.02).count();
+            assert_eq!(gaps + 1, branches, "body {body}: {last:?}");
+        }
     }
 
     /// A change of α, by a lesson's step or by hand, reaches every body's plotted samples from

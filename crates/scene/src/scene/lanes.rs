@@ -83,16 +83,29 @@ fn check_label(label: &str, field: &str) -> Result<(), SceneError> {
              line; it has {chars})"
         )));
     }
-    if let Some(c) = label.chars().find(|c| c.is_control()) {
+    check_characters(label, field)?;
+    if !label.is_empty() && as_shown(label).is_empty() {
         return Err(invalid(format!(
-            "{field} {label:?} is not allowed: it holds the control character {c:?} (needs one \
+            "{field} {label:?} is not allowed: it has no visible character (leave it out for the \
+             body's number, \"body N\")"
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses a name's characters that reorder, break or hide the text around them (the checks a
+/// label gets, less its length: a scene's `name` names its own body where it has no label).
+fn check_characters(text: &str, field: &str) -> Result<(), SceneError> {
+    if let Some(c) = text.chars().find(|c| c.is_control()) {
+        return Err(invalid(format!(
+            "{field} {text:?} is not allowed: it holds the control character {c:?} (needs one \
              line of printable text)"
         )));
     }
-    if let Some(c) = label.chars().find(|&c| invisible_format(c)) {
+    if let Some(c) = text.chars().find(|&c| hides_or_reorders(c)) {
         return Err(invalid(format!(
-            "{field} {label:?} is not allowed: it holds the invisible formatting character \
-             U+{:04X}, which reorders or hides the text around it (needs one line of printable \
+            "{field} {text:?} is not allowed: it holds the invisible character U+{:04X}, which \
+             breaks the line, reorders or hides the text around it (needs one line of printable \
              text)",
             u32::from(c)
         )));
@@ -100,22 +113,56 @@ fn check_label(label: &str, field: &str) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// Unicode's invisible format characters that change how the text around them is shown: the
-/// direction marks, embeddings, overrides and isolates (a label "abc" shown as "cba"), the
-/// zero-width ones and the byte-order mark (two labels that look the same but differ).
-fn invisible_format(c: char) -> bool {
+/// Characters that break a line (U+2028, U+2029), turn the text around them (the direction
+/// embeddings, overrides and isolates: "abc" shown as "cba"), or hide text: the zero-width
+/// space, the soft hyphen, the word joiner and invisible operators, the byte-order mark,
+/// interlinear annotations and tags. The ones spelling needs stay allowed: the zero-width
+/// joiner and non-joiner (Persian, Indic scripts, emoji sequences) and the left-to-right and
+/// right-to-left marks (numbers in Hebrew or Arabic text).
+fn hides_or_reorders(c: char) -> bool {
     matches!(
         c,
         '\u{00AD}'
-            | '\u{061C}'
-            | '\u{180E}'
-            | '\u{200B}'..='\u{200F}'
-            | '\u{202A}'..='\u{202E}'
+            | '\u{200B}'
+            | '\u{2028}'..='\u{202E}'
             | '\u{2060}'..='\u{2064}'
             | '\u{2066}'..='\u{206F}'
             | '\u{FEFF}'
             | '\u{FFF9}'..='\u{FFFB}'
+            | '\u{E0000}'..='\u{E007F}'
     )
+}
+
+/// Unicode's default-ignorable characters: drawn as nothing (or as a box where a font lacks
+/// them), so two names that differ only in them look the same.
+fn ignorable(c: char) -> bool {
+    matches!(
+        c,
+        '\u{00AD}'
+            | '\u{034F}'
+            | '\u{061C}'
+            | '\u{115F}'..='\u{1160}'
+            | '\u{17B4}'..='\u{17B5}'
+            | '\u{180B}'..='\u{180F}'
+            | '\u{200B}'..='\u{200F}'
+            | '\u{202A}'..='\u{202E}'
+            | '\u{2060}'..='\u{206F}'
+            | '\u{3164}'
+            | '\u{FE00}'..='\u{FE0F}'
+            | '\u{FEFF}'
+            | '\u{FFA0}'
+            | '\u{FFF0}'..='\u{FFF8}'
+            | '\u{1BCA0}'..='\u{1BCA3}'
+            | '\u{1D173}'..='\u{1D17A}'
+            | '\u{E0000}'..='\u{E0FFF}'
+    )
+}
+
+/// A name as it looks: its ignorable characters left out and its white space trimmed, each run
+/// of it one space. Two bodies whose names look the same are refused as one name.
+fn as_shown(name: &str) -> String {
+    let visible: String = name.chars().filter(|&c| !ignorable(c)).collect();
+    visible.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 impl SceneSetup {
@@ -187,6 +234,12 @@ impl Scene {
             )));
         }
         check_label(&self.label, "label")?;
+        if self.label.is_empty() && !self.bodies.is_empty() {
+            check_characters(
+                &self.name,
+                "name (the scene's own body's name beside the other bodies, as it has no label)",
+            )?;
+        }
         let mut lanes = Vec::with_capacity(self.bodies.len());
         for (i, entry) in self.bodies.iter().enumerate() {
             let n = i + 2;
@@ -204,10 +257,15 @@ impl Scene {
                     .enumerate()
                     .map(|(j, e)| e.name(j + 2)),
             );
-            if let Some(twin) = taken.into_iter().find(|t| *t == name) {
+            if let Some(twin) = taken.into_iter().find(|t| as_shown(t) == as_shown(&name)) {
+                let same = if twin == name {
+                    format!("its name {twin:?} is another body's too")
+                } else {
+                    format!("its name {name:?} looks the same as another body's, {twin:?}")
+                };
                 return Err(invalid(format!(
-                    "{at}: its name {twin:?} is another body's too (the overlay, the plots and \
-                     the plot data tell the bodies apart by name: give each its own label)"
+                    "{at}: {same} (the overlay, the plots and the plot data tell the bodies apart \
+                     by name: give each its own label)"
                 )));
             }
             if let Some(model) = &entry.model
@@ -291,7 +349,7 @@ mod tests {
 
     #[test]
     fn a_body_that_does_not_fit_the_ramp_is_refused_naming_its_entry() {
-        let cases: [(&str, &str); 10] = [
+        let cases: [(&str, &str); 13] = [
             (
                 "[[bodies]]\n[[bodies]]\n[[bodies]]\n[[bodies]]\n",
                 "at most 4 bodies",
@@ -316,7 +374,21 @@ mod tests {
                 // Shown as "fast ydob": a right-to-left override.
                 "[[bodies]]\nlabel = \"fast \\u202Ebody\"\n",
                 "entry 1 (body 2): label \"fast \\u{202e}body\" is not allowed: it holds the \
-                 invisible formatting character U+202E",
+                 invisible character U+202E",
+            ),
+            (
+                "[[bodies]]\nlabel = \"two\\u2028lines\"\n",
+                "it holds the invisible character U+2028, which breaks the line",
+            ),
+            (
+                "[[bodies]]\nlabel = \" \\u3000\\u200D \"\n",
+                "it has no visible character",
+            ),
+            (
+                // Looks like the scene's own name, and the first entry's.
+                "[[bodies]]\nlabel = \"twin\"\n[[bodies]]\nlabel = \" twin\\uFE0F \"\n",
+                "entry 2 (body 3): its name \" twin\\u{fe0f} \" looks the same as another \
+                 body's, \"twin\"",
             ),
             (
                 "[[bodies]]\nlabel = \"twin\"\n[[bodies]]\nlabel = \"twin\"\n",
@@ -345,6 +417,36 @@ mod tests {
                 .to_string();
             assert!(err.contains(expected), "{extra}: {err}");
         }
+    }
+
+    #[test]
+    fn names_keep_what_spelling_needs_and_refuse_what_hides_text() {
+        let with = |label: &str| {
+            let mut scene = Scene::preset("which-one-stops").unwrap();
+            scene.bodies[0].label = label.into();
+            scene.setup(None).map(|_| ()).map_err(|e| e.to_string())
+        };
+        // Persian with a zero-width non-joiner, an emoji sequence, Hebrew with a mark.
+        for fine in [
+            "می\u{200C}خواهم",
+            "👨\u{200D}👩\u{200D}👧",
+            "גוף\u{200F} 2",
+            "smooth 2",
+        ] {
+            assert_eq!(with(fine), Ok(()), "{fine:?}");
+        }
+        // The scene's own body has no label: its name names it beside the others.
+        let mut scene = Scene::preset("which-one-stops").unwrap();
+        scene.label = String::new();
+        scene.name = "fast \u{202E}body".into();
+        let err = scene.setup(None).unwrap_err().to_string();
+        assert!(
+            err.contains(
+                "name (the scene's own body's name beside the other bodies, as it has no \
+                          label) \"fast \\u{202e}body\" is not allowed"
+            ),
+            "{err}"
+        );
     }
 
     #[test]

@@ -742,7 +742,7 @@ impl AppUi {
         // Shift-drag turns a 3D body about the ramp normal; the run restarts from the turned
         // orientation when the drag ends.
         let disk = status.snapshot.theta.is_some();
-        let turning = ui.input(|i| i.modifiers.shift) && !disk;
+        let turning = ui.input(|i| i.modifiers.shift) && !disk && !self.sculpt_dragging();
         if response.dragged() && turning {
             self.turn += response.drag_delta().x * 0.01;
             self.notice = Some((

@@ -306,7 +306,7 @@ pub fn plots_ui(
                         }
                     });
             });
-        } else if !history.has_crossings() {
+        } else if !(history.has_crossings() || snap.views.lanes && history.has_lane_crossings()) {
             input = contact_map_ui(
                 ui,
                 snap,
@@ -748,6 +748,9 @@ pub fn min_span(values: impl Iterator<Item = f64>, least: f64) -> (f64, f64) {
     (mid - half, mid + half)
 }
 
+/// The settled crossings of ∂Ω against m/m0 (the orbit diagram), with the run's m/m0. With the
+/// other bodies shown, each body's points are in its colour under its name: the doubling
+/// lesson's bodies at m/m0 = 2 and 4.5 show one point and two.
 fn crossings_ui(
     ui: &mut egui::Ui,
     history: &PlotHistory,
@@ -755,13 +758,37 @@ fn crossings_ui(
     (width, height): (f32, f32),
     look: PlotLook,
 ) {
-    let points = history.crossings_by_mass();
-    let blue = SERIES_COLORS[0];
-    let keys = [
-        ("∂Ω crossings, settled", blue, Swatch::Dot),
-        ("m/m0 now", Color32::GRAY, Swatch::Line),
-    ];
-    let (lo, hi) = crossing_span(&points);
+    let bodies = if snap.views.lanes {
+        1 + snap.lanes.len()
+    } else {
+        1
+    };
+    let series: Vec<Vec<[f64; 2]>> = (0..bodies).map(|n| history.crossings_of_body(n)).collect();
+    let labels: Vec<String> = if bodies == 1 {
+        vec!["∂Ω crossings, settled".into()]
+    } else {
+        // The bodies' names alone: the plot's title says they are crossings, and a room's
+        // large text has no width to spare.
+        std::iter::once(&snap.label)
+            .chain(snap.lanes.iter().map(|l| &l.label))
+            .cloned()
+            .collect()
+    };
+    let colour = |n: usize| match bodies {
+        1 => SERIES_COLORS[0],
+        _ => {
+            let [r, g, b] = crate::colormap::body_colour(n);
+            Color32::from_rgb(r, g, b)
+        }
+    };
+    let mut keys: Vec<Key<'_>> = labels
+        .iter()
+        .enumerate()
+        .map(|(n, label)| (label.as_str(), colour(n), Swatch::Dot))
+        .collect();
+    keys.push(("m/m0 now", Color32::GRAY, Swatch::Line));
+    let all: Vec<[f64; 2]> = series.iter().flatten().copied().collect();
+    let (lo, hi) = crossing_span(&all);
     keyed(ui, width, height, &keys, |ui, plot_height| {
         look.apply(instrument(
             Plot::new("crossings_by_mass"),
@@ -776,11 +803,13 @@ fn crossings_ui(
         .include_y(hi)
         .show(ui, |p| {
             p.vline(VLine::new("m/m0 now", snap.mass_ratio).color(Color32::GRAY));
-            p.points(
-                Points::new("∂Ω crossings, settled", PlotPoints::from(points))
-                    .color(blue)
-                    .radius(look.marker),
-            );
+            for (n, points) in series.into_iter().enumerate() {
+                p.points(
+                    Points::new(labels[n].as_str(), PlotPoints::from(points))
+                        .color(colour(n))
+                        .radius(look.marker),
+                );
+            }
         });
     });
 }

@@ -1,6 +1,6 @@
 //! Sculpting in the app (the Body panel's "Sculpt" section): with "sculpt with the mouse" on, a
 //! click on the body presses a dent and a right click pulls a bump, of the width and depth set
-//! there, and a drag from the body pulls the surface out (up) or presses it in (down) live, the
+//! there, and a left-button drag from the body pulls the surface out (up) or presses it in (down) live, the
 //! run restarting on the body at every move and the readout following, until the release keeps
 //! it as one stroke (one undo); a drag past the edge of convexity stops at the edge and says
 //! why. The mode amplitudes can be edited too. Each change is the core's stroke
@@ -29,6 +29,9 @@ mod drag;
 
 pub use drag::DRAG_HEIGHT_PER_POINT;
 use drag::DragStroke;
+
+/// What a stroke's notice adds when the body was a print's section, which any stroke drops.
+const PRINT_DROPPED: &str = " (the print's section is dropped: the body is now its smooth modes)";
 
 /// Starts of the drift measurement: enough to see the orbits a ball settles on, few enough to
 /// answer in seconds.
@@ -187,11 +190,13 @@ impl AppUi {
         let same = |b: &Body| b.to_shape() == running.to_shape();
         if self.sculpt.seen_scene != Some(status.scene_id) {
             self.sculpt.seen_scene = Some(status.scene_id);
+            // The simulation loads in the order sent: a drag's body shown means the ones sent
+            // before it are done.
             let shown = running.to_shape();
-            let drags = self.sculpt.in_flight.contains(&shown);
-            if self.sculpt.session.as_ref().is_some_and(|s| same(s.body())) {
-                self.sculpt.in_flight.clear();
-            } else if !drags {
+            let drags = self.sculpt.in_flight.iter().position(|s| *s == shown);
+            if let Some(i) = drags {
+                self.sculpt.in_flight.drain(..=i);
+            } else if !self.sculpt.session.as_ref().is_some_and(|s| same(s.body())) {
                 self.sculpt.in_flight.clear();
                 self.sculpt.dragging = None;
                 self.sculpt.session = Some(Sculptor::new(running.clone()));
@@ -282,7 +287,7 @@ impl AppUi {
                 } else {
                     "pressed a dent"
                 };
-                self.run_sculpted(&body, what, None, status, actions);
+                self.run_sculpted(&body, what, status, actions);
                 self.sculpt.last_stroke_ms = Some(started.elapsed().as_secs_f64() * 1e3);
             }
             Err(e) => self.notice = Some((e.to_string(), true)),
@@ -290,18 +295,14 @@ impl AppUi {
         true
     }
 
-    /// Restarts the run on `body` (the session's body now) from `initial`, or else the contact
-    /// the run has now, at rest, with the current α, m/m0, integrator and speed. The notice
-    /// says `what` was done (none for an empty `what`). Returns the new run's α*, if it runs.
-    fn run_sculpted(
-        &mut self,
+    /// The scene and setup that run `body` (the session's body now) from `initial`, at rest,
+    /// with the current α, m/m0, integrator and speed: the same checks as a file's.
+    fn sculpted_setup(
+        &self,
         body: &Body,
-        what: &str,
-        initial: Option<InitialSpec>,
+        initial: InitialSpec,
         status: &SimStatus,
-        actions: &mut Vec<UiAction>,
-    ) -> Option<f64> {
-        let initial = initial.unwrap_or_else(|| contact_now(status));
+    ) -> Result<crate::scene::SceneSetup, crate::scene::SceneError> {
         let mut scene = self.current_scene(status);
         let strokes = self.sculpt.session.as_ref().map_or(0, Sculptor::strokes);
         let name = scene
@@ -312,41 +313,40 @@ impl AppUi {
             .to_string();
         scene.name = format!("{name}, sculpted");
         scene.description = format!("sculpted in the app ({strokes} change(s) from the start)");
-        let printed = matches!(&status.setup.body, Body::Disk(d) if d.printed_section().is_some());
         let scale = (self.base.as_deref(), Some(self.sculpt.scale_mm));
-        match sculpted_scene(&scene, body, initial, scale) {
-            Ok((_, setup)) => {
-                let alpha_star = setup.alpha_star;
-                if !what.is_empty() {
-                    self.notice = Some((
-                        format!(
-                            "{what}: α* {:.5} → {alpha_star:.5} rad; restarted from the same \
-                             contact{}",
-                            status.setup.alpha_star,
-                            if printed {
-                                " (the print's section is dropped: the body is now its smooth \
-                                 modes)"
-                            } else {
-                                ""
-                            }
-                        ),
-                        false,
-                    ));
-                }
+        sculpted_scene(&scene, body, initial, scale).map(|(_, setup)| setup)
+    }
+
+    /// Restarts the run on `body` (the session's body now) from the contact the run has now, at
+    /// rest; the notice says `what` was done. Refused, the session drops its newest body (the
+    /// one this change pushed) and the notice says why.
+    fn run_sculpted(
+        &mut self,
+        body: &Body,
+        what: &str,
+        status: &SimStatus,
+        actions: &mut Vec<UiAction>,
+    ) {
+        let printed = matches!(&status.setup.body, Body::Disk(d) if d.printed_section().is_some());
+        match self.sculpted_setup(body, contact_now(status), status) {
+            Ok(setup) => {
+                self.notice = Some((
+                    format!(
+                        "{what}: α* {:.5} → {:.5} rad; restarted from the same contact{}",
+                        status.setup.alpha_star,
+                        setup.alpha_star,
+                        if printed { PRINT_DROPPED } else { "" }
+                    ),
+                    false,
+                ));
                 actions.push(UiAction::Sim(SimCommand::Load(Box::new(setup))));
-                Some(alpha_star)
             }
             Err(e) => {
-                // Not run: the session is as before this change (a drag starts again from the
-                // body before it).
+                // Not run: the session is as before this change.
                 if let Some(session) = self.sculpt.session.as_mut() {
                     session.drop_newest();
                 }
-                if let Some(drag) = self.sculpt.dragging.as_mut() {
-                    drag.height = 0.0;
-                }
                 self.notice = Some((e.to_string(), true));
-                None
             }
         }
     }
@@ -361,9 +361,9 @@ impl AppUi {
     ) {
         ui.checkbox(&mut self.sculpt.on, "sculpt with the mouse")
             .on_hover_text(
-                "a click on the body presses a dent, a right click pulls a bump; a drag from the \
-                 body pulls the surface out (up) or presses it in (down) as you move; the run \
-                 restarts on the new body from the same contact (Ctrl+Z undoes)",
+                "a click on the body presses a dent, a right click pulls a bump; a left-button \
+                 drag from the body pulls the surface out (up) or presses it in (down) as you \
+                 move; the run restarts on the new body from the same contact (Ctrl+Z undoes)",
             );
         if !self.sculpt.on {
             return;
@@ -407,6 +407,14 @@ impl AppUi {
         status: &SimStatus,
         actions: &mut Vec<UiAction>,
     ) {
+        if self.sculpt.dragging.is_some() {
+            // The drag is built on the body of its press: release it first.
+            self.notice = Some((
+                "release the drag first: it is one stroke, undone as one".into(),
+                true,
+            ));
+            return;
+        }
         let Some(session) = self.sculpt.session.as_mut() else {
             return;
         };
@@ -416,7 +424,6 @@ impl AppUi {
             self.run_sculpted(
                 &body,
                 if back { "undone" } else { "redone" },
-                None,
                 status,
                 actions,
             );
@@ -663,7 +670,7 @@ impl AppUi {
         match session.set_body(edited) {
             Ok(b) => {
                 let b = b.clone();
-                self.run_sculpted(&b, "modes edited", None, status, actions);
+                self.run_sculpted(&b, "modes edited", status, actions);
             }
             Err(e) => {
                 self.notice = Some((e.to_string(), true));

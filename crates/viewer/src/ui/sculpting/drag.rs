@@ -1,16 +1,19 @@
 //! A sculpting drag: from a press on the body, the pointer's height above or below the press is
 //! the stroke's height (up pulls the surface out, down presses it in). Every move sculpts the
-//! body as it was at the press again and restarts the run from the press's contact, so the
-//! readout follows live, moving back takes the stroke back, and the release keeps one stroke
-//! (one undo). A drag past the edge of convexity stops at the edge, found by halving, and says
-//! why.
+//! body as it was when the drag began again, from the session as it was then, and restarts the
+//! run from that moment's contact, so the readout follows live, moving back takes the stroke
+//! back, and the release keeps one stroke (one undo; a drag that ends where it began leaves the
+//! history as it was, redo included). A drag past the edge of convexity stops at the edge,
+//! found by halving, and says why. A restart refused mid-drag ends the drag on the body before
+//! it, with why.
 
 use super::super::{AppUi, UiAction};
-use super::contact_now;
+use super::{PRINT_DROPPED, contact_now};
 use crate::geometry::Body;
 use crate::geometry::sculpt::{MAX_STROKE_HEIGHT, SculptError, Stroke, StrokePoint, sculpt};
-use crate::live::SimStatus;
+use crate::live::{SimCommand, SimStatus};
 use crate::scene::InitialSpec;
+use crate::scene::sculpt::Sculptor;
 use crate::view::pick::body_point_at;
 
 /// How far a drag moves the surface per screen point the pointer moves up (pull) or down
@@ -26,8 +29,12 @@ const DRAG_HEIGHT_STEP: f64 = 2e-4;
 /// to 2⁻¹² of the way from the last height taken to the one refused.
 const EDGE_HALVINGS: u32 = 12;
 
-/// A stroke being dragged: where it was pressed, what the body was then, and the height it has
-/// now. Every move sculpts the body before the drag again, so the drag is one stroke.
+/// The drag's bodies sent and not yet shown that are remembered: far more than the moves of the
+/// few frames a load takes to arrive.
+const MAX_IN_FLIGHT: usize = 64;
+
+/// A stroke being dragged: where it was pressed, what the body and the session were when the
+/// drag began, and the height it has now.
 pub(super) struct DragStroke {
     at: StrokePoint,
     /// The press's height on the screen (points): the height follows the pointer from there.
@@ -36,10 +43,14 @@ pub(super) struct DragStroke {
     base: Body,
     /// α* before the drag.
     base_alpha_star: f64,
-    /// The contact every restart starts from: the run's at the press.
+    /// The session before the drag: each move starts from it again.
+    session_before: Sculptor,
+    /// The contact every restart starts from: the run's when the drag began.
     initial: InitialSpec,
+    /// Whether the body before the drag was a print's section (the notice says it is dropped).
+    printed: bool,
     /// The height the running body has (0: the body before the drag).
-    pub(super) height: f64,
+    height: f64,
     /// Once a height was refused: the largest height of that sign taken, the smallest refused,
     /// and why (heights past it are not tried again: the base does not change during a drag).
     edge: Option<(f64, f64, String)>,
@@ -47,19 +58,24 @@ pub(super) struct DragStroke {
 
 impl AppUi {
     /// A press at frame pixel (`x`, `y`) of the scene area that became a drag while sculpting,
-    /// pressed at `origin_y` (screen points): the drag sculpts if the body is under the press.
-    /// Returns whether it does (otherwise the drag turns the camera, as without sculpting).
+    /// pressed at `origin_y` (screen points): the drag sculpts if the body is under the press and
+    /// the scene may be sculpted. Otherwise the notice says why, or (off the body) the drag turns
+    /// the camera, as without sculpting.
     pub(in crate::ui) fn sculpt_drag_start(
         &mut self,
         (x, y): (f32, f32),
         origin_y: f32,
         status: &SimStatus,
-    ) -> bool {
+    ) {
         let Some(view) = self.sculpt.pick_view else {
-            return false;
+            self.notice = Some((
+                "sculpting needs the body's view: turn it on under Views".into(),
+                true,
+            ));
+            return;
         };
         let Some(at) = body_point_at(&view, &status.setup.body, x, y) else {
-            return false;
+            return;
         };
         if let Err(e) = status.setup.body.check_convex() {
             self.notice = Some((
@@ -69,17 +85,25 @@ impl AppUi {
                 ),
                 true,
             ));
-            return true;
+            return;
         }
-        let Some(session) = self.sculpt.session.as_ref() else {
-            return false;
+        let Some(session) = self.sculpt.session.clone() else {
+            return;
         };
+        let initial = contact_now(status);
+        // Refused for the whole drag (a lesson, for one): said once, at its start.
+        if let Err(e) = self.sculpted_setup(session.body(), initial.clone(), status) {
+            self.notice = Some((e.to_string(), true));
+            return;
+        }
         self.sculpt.dragging = Some(DragStroke {
             at,
             origin_y,
             base: session.body().clone(),
             base_alpha_star: status.setup.alpha_star,
-            initial: contact_now(status),
+            session_before: session,
+            initial,
+            printed: matches!(&status.setup.body, Body::Disk(d) if d.printed_section().is_some()),
             height: 0.0,
             edge: None,
         });
@@ -87,11 +111,10 @@ impl AppUi {
             "drag up to pull the surface out, down to press it in; release to keep".into(),
             false,
         ));
-        true
     }
 
     /// The pointer of a sculpting drag is at height `y` (screen points): the body before the drag
-    /// with the stroke of that height, run from the press's contact, unless the height moved by
+    /// with the stroke of that height, run from the drag's contact, unless the height moved by
     /// less than [`DRAG_HEIGHT_STEP`]. Past the edge of convexity the stroke stops at the edge
     /// (found by halving) and the notice says why.
     pub(in crate::ui) fn sculpt_drag_move(
@@ -106,13 +129,13 @@ impl AppUi {
         };
         let wanted = (f64::from(drag.origin_y - y) * DRAG_HEIGHT_PER_POINT)
             .clamp(-MAX_STROKE_HEIGHT, MAX_STROKE_HEIGHT);
+        let past_edge = |edge: &Option<(f64, f64, String)>| {
+            edge.as_ref().is_some_and(|(_, refused, _)| {
+                wanted * refused > 0.0 && wanted.abs() >= refused.abs()
+            })
+        };
         let height = match &drag.edge {
-            // Past the edge found before: the edge.
-            Some((taken, refused, _))
-                if wanted * refused > 0.0 && wanted.abs() >= refused.abs() =>
-            {
-                *taken
-            }
+            Some((taken, ..)) if past_edge(&drag.edge) => *taken,
             _ if wanted.abs() < DRAG_HEIGHT_STEP / 2.0 => 0.0,
             _ => wanted,
         };
@@ -149,8 +172,9 @@ impl AppUi {
                 match body {
                     Ok(body) if taken != drag.height => (taken, body),
                     _ => {
-                        let said = (drag.height, drag.edge.clone());
-                        self.say_drag(said.0, None, said.1.map(|(_, r, w)| (r, w)));
+                        // Already at the edge: nothing to restart, but say why it stops.
+                        let (h, edge) = (drag.height, drag.edge.clone());
+                        self.say_drag(h, None, edge.map(|(_, r, w)| (r, w)));
                         return;
                     }
                 }
@@ -160,91 +184,125 @@ impl AppUi {
                 return;
             }
         };
+        // At the edge: held at it (a body already at the edge stays at 0 past it).
         let at_edge = drag
             .edge
             .as_ref()
-            .filter(|(taken, ..)| *taken == height && height != 0.0)
+            .filter(|(taken, ..)| *taken == height && (height != 0.0 || past_edge(&drag.edge)))
             .map(|(_, refused, why)| (*refused, why.clone()));
-        let was = std::mem::replace(&mut drag.height, height);
-        let (base_alpha_star, initial) = (drag.base_alpha_star, drag.initial.clone());
-        let Some(session) = self.sculpt.session.as_mut() else {
-            return;
-        };
-        if was != 0.0 {
-            session.drop_newest();
-        }
+        let mut session = drag.session_before.clone();
         if height != 0.0
             && let Err(e) = session.set_body(body.clone())
         {
-            self.notice = Some((e.to_string(), true));
+            self.drag_refused(e.to_string(), status, actions);
             return;
         }
-        self.sculpt.in_flight.push(body.to_shape());
-        let now = self.run_sculpted(&body, "", Some(initial), status, actions);
-        self.say_drag(height, now.map(|a| (base_alpha_star, a)), at_edge);
+        let (base_alpha_star, initial) = (drag.base_alpha_star, drag.initial.clone());
+        drag.height = height;
+        self.sculpt.session = Some(session);
+        match self.sculpted_setup(&body, initial, status) {
+            Ok(setup) => {
+                let alpha_star = setup.alpha_star;
+                self.send_drag_body(&body, setup, actions);
+                self.say_drag(height, Some((base_alpha_star, alpha_star)), at_edge);
+            }
+            Err(e) => self.drag_refused(e.to_string(), status, actions),
+        }
     }
 
-    /// The notice while a drag sculpts: the height, α* before and now, and the edge if the drag
-    /// went past it.
+    /// Sends the run of a drag's `body`, remembering it as the drag's while it is on its way.
+    fn send_drag_body(
+        &mut self,
+        body: &Body,
+        setup: crate::scene::SceneSetup,
+        actions: &mut Vec<UiAction>,
+    ) {
+        let in_flight = &mut self.sculpt.in_flight;
+        in_flight.push(body.to_shape());
+        if in_flight.len() > MAX_IN_FLIGHT {
+            in_flight.remove(0);
+        }
+        actions.push(UiAction::Sim(SimCommand::Load(Box::new(setup))));
+    }
+
+    /// A restart refused in the middle of a drag: the drag ends, the session and the run go back
+    /// to the body before it, and the notice says why.
+    fn drag_refused(&mut self, why: String, status: &SimStatus, actions: &mut Vec<UiAction>) {
+        let Some(drag) = self.sculpt.dragging.take() else {
+            return;
+        };
+        self.sculpt.session = Some(drag.session_before);
+        if drag.height != 0.0
+            && let Ok(setup) = self.sculpted_setup(&drag.base, drag.initial, status)
+        {
+            self.send_drag_body(&drag.base, setup, actions);
+        }
+        self.notice = Some((
+            format!("the drag is undone, the body is as before it: {why}"),
+            true,
+        ));
+    }
+
+    /// The notice while a drag sculpts: the height, α* before and now, and the edge of
+    /// convexity (the height refused, and why) if the drag is held past it.
     fn say_drag(
         &mut self,
         height: f64,
         alpha_stars: Option<(f64, f64)>,
         edge: Option<(f64, String)>,
     ) {
+        let printed = self.sculpt.dragging.as_ref().is_some_and(|d| d.printed);
         let what = if height > 0.0 {
-            format!("pulling a bump out by {height:.4}")
+            format!("pulling a bump out by {height:.4} mean r")
         } else if height < 0.0 {
-            format!("pressing a dent in by {:.4}", -height)
+            format!("pressing a dent in by {:.4} mean r", -height)
         } else {
-            "back to the body before the drag".into()
+            "the body before the drag".into()
         };
         let alpha = alpha_stars.map_or(String::new(), |(a, b)| format!("; α* {a:.5} → {b:.5} rad"));
-        match edge {
-            Some((refused, why)) => {
-                self.notice = Some((
-                    format!(
-                        "{what} mean r{alpha}: the edge — a height of {refused:.4} would leave \
-                         the body not strictly convex ({why}); release to keep"
-                    ),
-                    true,
-                ))
-            }
-            None => self.notice = Some((format!("{what} mean r{alpha}; release to keep"), false)),
-        }
+        let print = if printed && height != 0.0 {
+            PRINT_DROPPED
+        } else {
+            ""
+        };
+        self.notice = Some(match edge {
+            Some((refused, why)) => (
+                format!(
+                    "{what}{alpha}{print}: the edge of convexity — a {} of {:.4} mean r would \
+                     leave the body not strictly convex ({why}); release to keep",
+                    if refused > 0.0 { "bump" } else { "dent" },
+                    refused.abs()
+                ),
+                true,
+            ),
+            None => (format!("{what}{alpha}{print}; release to keep"), false),
+        });
     }
 
-    /// The release of a sculpting drag: the body it made is kept as one stroke (one undo), or
-    /// nothing changed if it ended where it began.
+    /// The release of a sculpting drag: the body it made is kept as one stroke (one undo), or,
+    /// ended where it began, the session is as it was before the drag (redo included).
     pub(in crate::ui) fn sculpt_drag_end(&mut self) {
         let Some(drag) = self.sculpt.dragging.take() else {
             return;
         };
         let h = drag.height;
-        self.notice = Some((
-            match (h, &drag.edge) {
-                (0.0, _) => "the drag ended where it began: the body is as before".into(),
-                (_, Some((taken, _, why))) if *taken == h => format!(
-                    "{} by {:.4} mean r, at the edge of convexity ({why}); Ctrl+Z undoes",
-                    if h > 0.0 {
-                        "pulled a bump"
-                    } else {
-                        "pressed a dent"
-                    },
-                    h.abs()
-                ),
-                _ => format!(
-                    "{} by {:.4} mean r; Ctrl+Z undoes",
-                    if h > 0.0 {
-                        "pulled a bump"
-                    } else {
-                        "pressed a dent"
-                    },
-                    h.abs()
-                ),
-            },
-            false,
-        ));
+        let kind = if h > 0.0 {
+            "pulled a bump"
+        } else {
+            "pressed a dent"
+        };
+        let text = match &drag.edge {
+            _ if h == 0.0 => {
+                self.sculpt.session = Some(drag.session_before);
+                "the drag ended where it began: the body is as before".to_string()
+            }
+            Some((taken, _, why)) if *taken == h => format!(
+                "{kind} by {:.4} mean r, at the edge of convexity ({why}); Ctrl+Z undoes",
+                h.abs()
+            ),
+            _ => format!("{kind} by {:.4} mean r; Ctrl+Z undoes", h.abs()),
+        };
+        self.notice = Some((text, false));
     }
 
     /// Whether a drag is sculpting (the camera stays put meanwhile).

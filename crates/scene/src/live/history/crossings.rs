@@ -1,0 +1,67 @@
+//! One body's settled crossings of ∂Ω against m/m0, the points of the mass sweep's plot
+//! (the orbit diagram): taken from its snapshots once the run has found its cycle, one point
+//! per crossing that a pixel could tell from the ones already kept.
+
+use std::collections::VecDeque;
+
+use super::super::Snapshot;
+
+/// Crossing points kept for the mass sweep.
+pub(super) const MAX_CROSSING_POINTS: usize = 5000;
+
+/// A settled crossing this close (rad of the plotted angle, far below a pixel at any plot size)
+/// to one already kept at the same m/m0 adds nothing: a run held at one value repeats its
+/// cycle's points for ever (a sweep that ended at m/m0 = 50 piled ~1,400 near-duplicates
+/// there, 67 KB in a saved state).
+const SAME_CROSSING: f64 = 1e-3;
+
+/// How many of the latest points a new one is compared with: more than the points of any
+/// cycle the app tells apart.
+const CROSSINGS_COMPARED: usize = 256;
+
+/// One body's settled crossings: (m/m0, polar angle of the crossing point with p_z ≥ 0),
+/// oldest first, and the time of the last crossing taken.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(super) struct Crossings {
+    pub(super) points: VecDeque<[f64; 2]>,
+    last_t: Option<f64>,
+}
+
+impl Crossings {
+    /// Points as a saved state keeps them (the newest [`MAX_CROSSING_POINTS`]).
+    pub(super) fn from_points(points: &[[f64; 2]]) -> Self {
+        let skip = points.len().saturating_sub(MAX_CROSSING_POINTS);
+        Self {
+            points: points[skip..].iter().copied().collect(),
+            last_t: None,
+        }
+    }
+
+    /// Takes in the crossing `snap` shows, if it is new, its run's cycle is decided
+    /// (`period_multiplicity`) and the body is within the model (no lift-off or slip).
+    pub(super) fn take(&mut self, snap: &Snapshot) {
+        let Some((t, p)) = snap.last_crossing else {
+            return;
+        };
+        if snap.validity.is_some() || self.last_t == Some(t) || snap.period_multiplicity.is_none() {
+            return;
+        }
+        // The viscous model is the massless limit: its crossings are the diagram's points at
+        // m/m0 = 0 (a lesson's first step claims period 1 there).
+        let p = if p.z < 0.0 { -p } else { p };
+        let point = [snap.mass_ratio, p.z.clamp(-1.0, 1.0).acos()];
+        let seen = self
+            .points
+            .iter()
+            .rev()
+            .take(CROSSINGS_COMPARED)
+            .any(|q| q[0] == point[0] && (q[1] - point[1]).abs() < SAME_CROSSING);
+        if !seen {
+            self.points.push_back(point);
+            while self.points.len() > MAX_CROSSING_POINTS {
+                self.points.pop_front();
+            }
+        }
+        self.last_t = Some(t);
+    }
+}
