@@ -76,17 +76,16 @@ pub enum Branch {
 #[derive(Debug, Clone, Default)]
 pub struct PlotHistory {
     samples: VecDeque<Sample>,
-    /// The other bodies' samples (`[[bodies]]`), by entry.
-    lanes: Vec<VecDeque<Sample>>,
+    /// The other bodies' (`[[bodies]]`) histories, by entry: their samples, 1/T points and
+    /// crossings, each taken from its own snapshots as the scene's own body's are.
+    others: Vec<PlotHistory>,
     /// (direction, α bin) → (α, 1/T, m/m0).
     sweep: BTreeMap<(Branch, Regime, i64), (f64, f64)>,
     last_alpha: Option<f64>,
     direction: Option<Branch>,
     last_period: Option<f64>,
-    /// The settled ∂Ω crossings of the scene's own body.
+    /// The settled ∂Ω crossings.
     crossings: Crossings,
-    /// The other bodies' (`[[bodies]]`), by entry.
-    lane_crossings: Vec<Crossings>,
 }
 
 /// What a 1/T point was measured under: m/m0 and the drag law. Points of different regimes
@@ -151,7 +150,8 @@ pub struct PlotCheckpoint {
     last_alpha: Option<f64>,
     direction: Option<Branch>,
     crossings: Crossings,
-    lane_crossings: Vec<Crossings>,
+    /// The other bodies' (`[[bodies]]`), by entry.
+    others: Vec<PlotCheckpoint>,
 }
 
 impl PlotCheckpoint {
@@ -199,7 +199,7 @@ impl PlotHistory {
     /// Clears the time series (a new run); the α sweep is kept, since it describes the body.
     pub fn clear_run(&mut self) {
         self.samples.clear();
-        self.lanes.clear();
+        self.others.iter_mut().for_each(Self::clear_run);
         self.last_period = None;
     }
 
@@ -215,7 +215,7 @@ impl PlotHistory {
             last_alpha: self.last_alpha,
             direction: self.direction,
             crossings: self.crossings.clone(),
-            lane_crossings: self.lane_crossings.clone(),
+            others: self.others.iter().map(Self::checkpoint).collect(),
         }
     }
 
@@ -227,8 +227,11 @@ impl PlotHistory {
         self.last_alpha = c.last_alpha;
         self.direction = c.direction;
         self.crossings = c.crossings;
-        self.lane_crossings = c.lane_crossings;
         self.last_period = None;
+        self.others.truncate(c.others.len());
+        for (n, other) in c.others.iter().enumerate() {
+            self.other_mut(n + 1).restore(other);
+        }
     }
 
     /// Takes in the simulation's samples ([`LiveRun::take_plot_samples`](super::LiveRun::take_plot_samples)),
@@ -237,12 +240,7 @@ impl PlotHistory {
         for s in samples {
             let series = match s.body {
                 0 => &mut self.samples,
-                n => {
-                    if self.lanes.len() < n {
-                        self.lanes.resize_with(n, VecDeque::new);
-                    }
-                    &mut self.lanes[n - 1]
-                }
+                n => &mut self.other_mut(n).samples,
             };
             if series.back().is_some_and(|last| s.t <= last.t) {
                 continue;
@@ -289,13 +287,17 @@ impl PlotHistory {
         self.last_period = snap.period;
 
         self.crossings.take(snap);
-        if self.lane_crossings.len() < snap.lanes.len() {
-            self.lane_crossings
-                .resize_with(snap.lanes.len(), Crossings::default);
+        for (n, lane) in snap.lanes.iter().enumerate() {
+            self.other_mut(n + 1).push(lane);
         }
-        for (crossings, lane) in self.lane_crossings.iter_mut().zip(&snap.lanes) {
-            crossings.take(lane);
+    }
+
+    /// Body `n`'s history (n ≥ 1: the n-th `[[bodies]]` entry), made if it is not there yet.
+    fn other_mut(&mut self, n: usize) -> &mut PlotHistory {
+        if self.others.len() < n {
+            self.others.resize_with(n, PlotHistory::default);
         }
+        &mut self.others[n - 1]
     }
 
     /// The plots of a saved state (`[resume]`): its 1/T and crossing points, taken in as if
@@ -356,7 +358,7 @@ impl PlotHistory {
 
     /// Whether any other body (`[[bodies]]`) has a settled crossing of ∂Ω.
     pub fn has_lane_crossings(&self) -> bool {
-        self.lane_crossings.iter().any(|c| !c.points.is_empty())
+        self.others.iter().any(Self::has_crossings)
     }
 
     /// The settled crossing points of body `n` (0: the scene's own; n: its n-th `[[bodies]]`
@@ -364,7 +366,7 @@ impl PlotHistory {
     pub fn crossings_of_body(&self, n: usize) -> Vec<[f64; 2]> {
         let crossings = match n {
             0 => Some(&self.crossings),
-            n => self.lane_crossings.get(n - 1),
+            n => self.others.get(n - 1).map(|h| &h.crossings),
         };
         crossings.map_or_else(Vec::new, |c| c.points.iter().copied().collect())
     }
@@ -379,27 +381,15 @@ impl PlotHistory {
         self.samples.iter()
     }
 
-    /// How many other bodies (`[[bodies]]`) have samples.
+    /// How many other bodies (`[[bodies]]`) have a history.
     pub fn lanes(&self) -> usize {
-        self.lanes.len()
+        self.others.len()
     }
 
-    /// The time series of the `n`-th other body (`[[bodies]]` entry n, from 1) alone, as a
-    /// history of its own: its plots and CSV are the scene's own body's, for it.
-    pub fn lane(&self, n: usize) -> PlotHistory {
-        PlotHistory {
-            samples: self
-                .lanes
-                .get(n.wrapping_sub(1))
-                .cloned()
-                .unwrap_or_default(),
-            crossings: self
-                .lane_crossings
-                .get(n.wrapping_sub(1))
-                .cloned()
-                .unwrap_or_default(),
-            ..PlotHistory::default()
-        }
+    /// The history of the `n`-th other body (`[[bodies]]` entry n, from 1): its plots and CSV
+    /// are the scene's own body's, for it. `None` for a body with none yet.
+    pub fn lane(&self, n: usize) -> Option<&PlotHistory> {
+        self.others.get(n.checked_sub(1)?)
     }
 
     /// At most about [`PLOT_POINTS`] evenly spaced samples, the newest always included: a
@@ -580,21 +570,24 @@ pub struct BodyMeta {
     pub drag: String,
     /// Its fate when the data were written, in the verdict's words.
     pub fate: String,
-    /// Its time series ([`PlotData::Series`]'s columns), contact force ([`PlotData::Forces`]'s)
-    /// and settled crossings ([`PlotData::Crossings`]'s).
-    pub files: [String; 3],
+    /// Its time series ([`PlotData::Series`]'s columns), contact force ([`PlotData::Forces`]'s),
+    /// settled crossings ([`PlotData::Crossings`]'s) and 1/T points ([`PlotData::AlphaSweep`]'s).
+    pub files: [String; 4],
 }
 
-/// The data sets each other body has a file of, in [`body_files`]' order.
-const BODY_DATA: [PlotData; 3] = [PlotData::Series, PlotData::Forces, PlotData::Crossings];
+/// The data sets each other body has a file of, in [`body_files`]' order: every plot's but the
+/// health's, whose quantities are the scene's own model's.
+const BODY_DATA: [PlotData; 4] = [
+    PlotData::Series,
+    PlotData::Forces,
+    PlotData::Crossings,
+    PlotData::AlphaSweep,
+];
 
-/// The files of body `n` (2 on): its series, its contact force and its settled crossings.
-fn body_files(n: usize) -> [String; 3] {
-    [
-        format!("series-body-{n}.csv"),
-        format!("contact-force-body-{n}.csv"),
-        format!("sweep-mass-body-{n}.csv"),
-    ]
+/// The files of body `n` (2 on): its series, contact force, settled crossings and 1/T points,
+/// named as the scene's own body's with `-body-N`.
+fn body_files(n: usize) -> [String; 4] {
+    BODY_DATA.map(|d| d.file_name().replace(".csv", &format!("-body-{n}.csv")))
 }
 
 impl PlotMeta {
@@ -827,7 +820,8 @@ impl PlotHistory {
             written.push(path);
         }
         for body in &meta.bodies {
-            let lane = self.lane(body.body - 1);
+            let none = PlotHistory::default();
+            let lane = self.lane(body.body - 1).unwrap_or(&none);
             for (data, name) in BODY_DATA.iter().zip(&body.files) {
                 let path = dir.join(name);
                 set.write(&path, lane.csv(*data, measured).as_bytes(), inputs)?;

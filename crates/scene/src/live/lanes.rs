@@ -119,9 +119,24 @@ mod tests {
         let setup = which_one_stops();
         let alpha = setup.ramp.alpha_rad;
         let mut run = LiveRun::new(setup);
-        run.advance_to(90.0).unwrap();
+        let mut history = PlotHistory::default();
+        for k in 1..=90 {
+            run.advance_to(f64::from(k)).unwrap();
+            history.push(&run.snapshot());
+        }
         let snap = run.snapshot();
         assert_eq!(snap.fate(), "halted");
+        // The 1/T plot shows each: the designed cylinder at rest (1/T = 0), the smooth one
+        // turning at sin α / 2π.
+        let up = |h: &PlotHistory| h.sweep(super::super::history::Branch::Up);
+        assert_eq!(up(&history), [[alpha, 0.0]]);
+        let smooth_points = up(history.lane(1).expect("the smooth body's history"));
+        assert_eq!(smooth_points.len(), 1);
+        let rate = smooth_points[0][1];
+        assert!(
+            (rate - alpha.sin() / std::f64::consts::TAU).abs() < 1e-6 * rate,
+            "{rate}"
+        );
         let smooth = &snap.lanes[0];
         let period = smooth.period.expect("two turns measured");
         let exact = std::f64::consts::TAU / alpha.sin();
@@ -169,7 +184,7 @@ mod tests {
         }
         assert_eq!(history.lanes(), 1);
         assert_eq!(history.samples().count(), 401);
-        assert_eq!(history.lane(1).samples().count(), 401);
+        assert_eq!(history.lane(1).unwrap().samples().count(), 401);
         let snap = run.snapshot();
         let meta = PlotMeta::of(&snap, &setup, run.method());
         let dir = std::env::temp_dir().join(format!("rollphase-lanes-{}", std::process::id()));
@@ -177,13 +192,16 @@ mod tests {
         let written = history
             .write_csv_files(&dir, Measured::default(), &meta, &inputs)
             .unwrap();
-        assert_eq!(written.len(), 6 + 3);
+        assert_eq!(written.len(), 6 + 4);
         let series = std::fs::read_to_string(dir.join("series-body-2.csv")).unwrap();
         let json = std::fs::read_to_string(dir.join("plot-data.json")).unwrap();
         std::fs::remove_dir_all(&dir).ok();
         assert_eq!(
             series,
-            history.lane(1).csv(PlotData::Series, Measured::default())
+            history
+                .lane(1)
+                .unwrap()
+                .csv(PlotData::Series, Measured::default())
         );
         let rows: Vec<&str> = series.lines().collect();
         assert_eq!(rows[0], "t,theta,theta_dot");
@@ -226,7 +244,7 @@ mod tests {
         // last of them on one branch at 2 and on two at 4.5.
         for (body, mass, branches) in [(1, 2.0, 1), (2, 4.5, 2)] {
             let points = history.crossings_of_body(body);
-            assert!(points.len() >= 6, "body {body}: {points:?}");
+            assert!(points.len() >= branches, "body {body}: {points:?}");
             assert!(
                 points.iter().all(|p| p[0] == mass),
                 "body {body}: {points:?}"

@@ -161,6 +161,8 @@ enum Swatch {
     Line,
     /// Points.
     Dot,
+    /// Another body's points, where the scene's own are dots of nearby colours.
+    Diamond,
 }
 
 /// One series in a plot's key.
@@ -219,6 +221,16 @@ fn keyed<R>(
                         }
                         Swatch::Dot => {
                             painter.circle_filled(rect.center(), 3.0, color);
+                        }
+                        Swatch::Diamond => {
+                            let c = rect.center();
+                            let corners = [(0.0, -4.0), (4.0, 0.0), (0.0, 4.0), (-4.0, 0.0)]
+                                .map(|(x, y)| c + egui::vec2(x, y));
+                            painter.add(egui::Shape::convex_polygon(
+                                corners.to_vec(),
+                                color,
+                                egui::Stroke::NONE,
+                            ));
                         }
                     }
                     ui.label(egui::RichText::new(name).small());
@@ -346,12 +358,14 @@ fn bodies_ui(ui: &mut egui::Ui, history: &PlotHistory, snap: &Snapshot, width: f
         let [r, g, b] = crate::colormap::body_colour(n);
         Color32::from_rgb(r, g, b)
     };
-    let lanes: Vec<PlotHistory> = (1..=history.lanes()).map(|n| history.lane(n)).collect();
+    let lanes: Vec<&PlotHistory> = (1..=history.lanes())
+        .filter_map(|n| history.lane(n))
+        .collect();
     let labels: Vec<&str> = std::iter::once(snap.label.as_str())
         .chain(snap.lanes.iter().map(|l| l.label.as_str()))
         .collect();
     let series: Vec<Vec<[f64; 2]>> = std::iter::once(history)
-        .chain(&lanes)
+        .chain(lanes.iter().copied())
         .map(|h| h.plotted().map(|s| [s.t, s.rate]).collect())
         .collect();
     let keys: Vec<Key<'_>> = labels
@@ -663,6 +677,10 @@ fn sweep_ui(
     for (i, (label, _)) in others.iter().enumerate() {
         keys.push((label, other_color(i), Swatch::Dot));
     }
+    let bodies = other_bodies_sweeps(history, snap);
+    for body in &bodies {
+        keys.push((&body.label, body.colour, Swatch::Diamond));
+    }
     keyed(ui, width, height, &keys, |ui, plot_height| {
         look.apply(instrument(Plot::new("sweep"), "α", "1/T"))
             .width(width)
@@ -673,7 +691,8 @@ fn sweep_ui(
             .include_y(rate_top(
                 up.iter()
                     .chain(&down)
-                    .chain(others.iter().flat_map(|o| &o.1)),
+                    .chain(others.iter().flat_map(|o| &o.1))
+                    .chain(bodies.iter().flat_map(|b| &b.points)),
             ))
             .show(ui, |p| {
                 p.vline(VLine::new("α*", alpha_star).color(red));
@@ -698,8 +717,53 @@ fn sweep_ui(
                             .radius(look.marker),
                     );
                 }
+                for body in &bodies {
+                    if body.alpha_star > 0.0 {
+                        let name = format!("α* of {}", body.label);
+                        p.vline(VLine::new(name, body.alpha_star).color(body.colour));
+                    }
+                    p.points(
+                        Points::new(body.label.as_str(), PlotPoints::from(body.points.clone()))
+                            .color(body.colour)
+                            .shape(egui_plot::MarkerShape::Diamond)
+                            .radius(look.marker * 1.4),
+                    );
+                }
             });
     });
+}
+
+/// Another body's 1/T points on the ramp, drawn in its colour with its α*.
+struct BodySweep {
+    label: String,
+    colour: Color32,
+    points: Vec<[f64; 2]>,
+    alpha_star: f64,
+}
+
+/// The 1/T points of each other body shown (`[[bodies]]`, with the view's "the other bodies"
+/// on) that has any: a ramp at 9° shows the designed 10° cylinder at rest (1/T = 0) and the
+/// smooth one rolling.
+fn other_bodies_sweeps(history: &PlotHistory, snap: &Snapshot) -> Vec<BodySweep> {
+    if !snap.views.lanes {
+        return Vec::new();
+    }
+    snap.lanes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, lane)| {
+            let h = history.lane(i + 1)?;
+            let mut points = h.sweep(Branch::Up);
+            points.extend(h.sweep(Branch::Down));
+            let [r, g, b] = crate::colormap::body_colour(i + 1);
+            (!points.is_empty()).then(|| BodySweep {
+                label: lane.label.clone(),
+                colour: Color32::from_rgb(r, g, b),
+                points,
+                alpha_star: lane.alpha_star,
+            })
+        })
+        .collect()
 }
 
 /// The least top of the 1/T axis (1/t0): a plot holding only halts (1/T = 0) was centred on
