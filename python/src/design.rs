@@ -125,6 +125,9 @@ fn result<'py>(
 /// does on each target's ramp in mm and s at scale_mm. A design that does not hold
 /// is returned too, not raised: read report["holds"].
 #[pyfunction]
+// Literal defaults, as Python's signature shows them: the core's DEFAULT_MODES, DEFAULT_SEED,
+// DEFAULT_GENERATIONS, DEFAULT_MIN_RADIUS_MM, DEFAULT_MAX_AMPLITUDE and DEFAULT_BAND, which
+// `rollphase design`'s flags use (python/tests/test_design.py holds the two equal).
 #[pyo3(signature = (dim, *, alpha_star = None, hysteresis = None, doubling = None, drift = None,
     orbits = None, share = None, mass_ratio = None, alpha = None, modes = 4, scale_mm = None,
     min_radius_mm = 0.4, max_amplitude = 1.0, start = None, seed = 1, generations = 400,

@@ -2,6 +2,7 @@
 report), check_design says what `design --check-only` says, a target no body meets comes back
 with holds False and what binds, and bad keywords raise InputError naming the value."""
 
+import inspect
 import json
 
 import pytest
@@ -129,3 +130,30 @@ def test_a_check_that_draws_no_print_error_does_not_say_the_print_holds(cli, tmp
         check=False,
     )
     assert code == 1 and "no print error was drawn (--draws 0)" in out, out + err
+
+
+def cli_defaults(cli):
+    """`rollphase design --help`'s defaults, by flag: the core's constants."""
+    out, _, _ = cli("design", "--help")
+    defaults, flag = {}, None
+    for line in out.splitlines():
+        words = line.split()
+        if words and words[0].startswith("--"):
+            flag = words[0][2:].replace("-", "_")
+        elif words and words[0].startswith("-") and len(words) > 1 and words[1].startswith("--"):
+            flag = words[1][2:].rstrip(",").replace("-", "_")
+        if flag and "[default: " in line:
+            defaults[flag] = float(line.split("[default: ")[1].rstrip("]"))
+    return defaults
+
+
+def test_pythons_design_defaults_are_the_command_lines(cli):
+    # Every keyword the command line also has a default for: the same value, on both functions.
+    flags = cli_defaults(cli)
+    assert {"modes", "seed", "generations", "alpha_band", "draws"} <= set(flags), flags
+    for function in (rollphase.design, rollphase.check_design):
+        params = inspect.signature(function).parameters
+        shared = [name for name in flags if name in params]
+        assert len(shared) >= 7, (function.__name__, shared)
+        for name in shared:
+            assert params[name].default == flags[name], (function.__name__, name)

@@ -106,7 +106,7 @@ pub struct DesignArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub alpha: Option<f64>,
     /// Highest degree L of the modes searched (2 to 8).
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = design::DEFAULT_MODES)]
     pub modes: u32,
     /// Millimetres per ⟨r⟩ of the printed body (the authors' prints: 10). Default: the --from
     /// body's own scale_mm where its file has one, else 10.
@@ -123,7 +123,7 @@ pub struct DesignArgs {
     #[arg(long, value_name = "FILE")]
     pub from: Option<PathBuf>,
     /// Seed of the start and of the search.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = design::DEFAULT_SEED)]
     pub seed: u64,
     /// Most generations of the search.
     #[arg(long, default_value_t = design::DEFAULT_GENERATIONS)]
@@ -132,16 +132,16 @@ pub struct DesignArgs {
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub budget: Option<f64>,
     /// Check band: the ramp's angle off by up to this (rad).
-    #[arg(long, default_value_t = 0.005, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = design::DEFAULT_BAND.delta_alpha, allow_negative_numbers = true)]
     pub alpha_band: f64,
     /// Check band: m/m0 off by up to this fraction.
-    #[arg(long, default_value_t = 0.2, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = design::DEFAULT_BAND.mass_fraction, allow_negative_numbers = true)]
     pub mass_band: f64,
     /// Check band: print errors of up to this many mm on the surface.
-    #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = design::DEFAULT_BAND.surface_mm, allow_negative_numbers = true)]
     pub surface_mm: f64,
     /// Check band: how many print errors are drawn.
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = design::DEFAULT_BAND.draws)]
     pub draws: usize,
     /// The designed body's shape file (with scale_mm).
     #[arg(short, long)]

@@ -712,6 +712,16 @@ fn the_design_panel_runs_the_search_shows_the_best_so_far_and_reports_the_design
     none.alpha_star = None;
     let why = none.options(2).unwrap_err();
     assert!(why.contains("give at least one target"), "{why}");
+    // The panel's defaults are the command line's, and its seed is the search's.
+    let defaults = bench.ui.design.options(2).unwrap();
+    assert_eq!(defaults.seed, rollphase::analysis::design::DEFAULT_SEED);
+    assert_eq!(
+        defaults.space.modes,
+        rollphase::analysis::design::DEFAULT_MODES
+    );
+    let mut seeded = rollphase::ui::designing::DesignPanel::default();
+    seeded.seed = 7;
+    assert_eq!(seeded.options(2).unwrap().seed, 7);
     bench.ui.design.alpha_star = Some(0.2);
     bench.ui.design.generations = 300;
     let options = bench.ui.design.options(2).unwrap();

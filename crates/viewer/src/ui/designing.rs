@@ -45,6 +45,9 @@ pub struct DesignPanel {
     pub modes: u32,
     /// Most generations.
     pub generations: usize,
+    /// The seed of the search's start and steps (`rollphase design --seed`): the same seed and
+    /// settings give the same body.
+    pub seed: u64,
     /// mm per mean radius of the print.
     pub scale_mm: f64,
     job: Option<DesignJob>,
@@ -62,8 +65,9 @@ impl Default for DesignPanel {
             drift: None,
             doubling: None,
             ramp: (0.15, 0.0),
-            modes: 4,
+            modes: crate::analysis::design::DEFAULT_MODES,
             generations: DEFAULT_GENERATIONS,
+            seed: crate::analysis::design::DEFAULT_SEED,
             scale_mm: crate::analysis::design::DEFAULT_SCALE_MM,
             job: None,
             report: None,
@@ -143,7 +147,7 @@ impl DesignPanel {
             min_radius_mm: DEFAULT_MIN_RADIUS_MM,
             max_amplitude: DEFAULT_MAX_AMPLITUDE,
             start: None,
-            seed: 1,
+            seed: self.seed,
             max_generations: self.generations,
             band: Band::default(),
         };
@@ -298,6 +302,15 @@ impl AppUi {
                 ui.horizontal(|ui| {
                     ui.add(egui::Slider::new(&mut d.modes, 2..=8).text("modes l ≤"));
                 });
+                ui.add(
+                    egui::DragValue::new(&mut d.seed)
+                        .range(0..=u64::from(u32::MAX))
+                        .prefix("seed "),
+                )
+                .on_hover_text(
+                    "the seed of the search's start and steps (rollphase design --seed): the \
+                     same seed and settings give the same body",
+                );
                 ui.add(
                     egui::DragValue::new(&mut d.generations)
                         .range(1..=5000)

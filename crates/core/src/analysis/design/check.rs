@@ -33,24 +33,27 @@ pub struct Band {
     pub seed: u64,
 }
 
+/// The band every surface checks by default (`rollphase design`'s flags, Python's keywords,
+/// the app's panel): the ramp off by 0.005 rad, m/m0 by 20 %, the surface by 0.05 mm, 16 print
+/// errors drawn from seed 1.
+pub const DEFAULT_BAND: Band = Band {
+    delta_alpha: 0.005,
+    mass_fraction: 0.2,
+    surface_mm: 0.05,
+    draws: 16,
+    seed: 1,
+};
+
 impl Default for Band {
-    /// The band every surface checks by default (`rollphase design`'s flags, Python's keywords,
-    /// the app's panel): the ramp off by 0.005 rad, m/m0 by 20 %, the surface by 0.05 mm, 16
-    /// print errors drawn.
+    /// [`DEFAULT_BAND`].
     ///
     /// # Example
     /// ```
-    /// use rollphase_core::analysis::design::Band;
-    /// assert_eq!(Band::default().draws, 16);
+    /// use rollphase_core::analysis::design::{Band, DEFAULT_BAND};
+    /// assert_eq!(Band::default().draws, DEFAULT_BAND.draws);
     /// ```
     fn default() -> Self {
-        Self {
-            delta_alpha: 0.005,
-            mass_fraction: 0.2,
-            surface_mm: 0.05,
-            draws: 16,
-            seed: 1,
-        }
+        DEFAULT_BAND
     }
 }
 

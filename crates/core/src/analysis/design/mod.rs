@@ -37,7 +37,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 pub use at_scale::{OrbitAtScale, RampPrediction};
-pub use check::{Band, Check, TargetCheck, check, failure_bound};
+pub use check::{Band, Check, DEFAULT_BAND, TargetCheck, check, failure_bound};
 pub use space::{DesignSpace, MAX_DESIGN_MODES, Printability};
 pub use start::{DOUBLING_SCREEN_SEEDS, DOUBLING_SCREEN_SIGMAS};
 pub use targets::{Setting, Target, TargetError};
@@ -67,6 +67,10 @@ pub const DEFAULT_MIN_RADIUS_MM: f64 = 0.4;
 pub const DEFAULT_MAX_AMPLITUDE: f64 = 1.0;
 /// The most generations a search runs by default.
 pub const DEFAULT_GENERATIONS: usize = 400;
+/// The highest degree L of the modes a search uses by default (the authors' printed sphere's).
+pub const DEFAULT_MODES: u32 = 4;
+/// The seed of a search's start and of its steps by default.
+pub const DEFAULT_SEED: u64 = 1;
 
 /// What to design.
 #[derive(Debug, Clone)]
