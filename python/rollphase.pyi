@@ -765,7 +765,7 @@ def design(
     drift=D or orbits=K (each of K from ≥ share of the starts, default 1/(2K)) with alpha= in
     3D, drift and orbits at mass_ratio, default viscous), found by CMA-ES (seeded) under the
     printer's constraints and checked at the precise setting over α ± alpha_band,
-    m/m0 ± mass_band and draws print errors of ± surface_mm. Returns (body, report);
+    m/m0 ± mass_band × m/m0 and draws print errors of ± surface_mm. Returns (body, report);
     report["holds"] says whether it holds over the band (a design that does not is returned,
     not raised), report["design"] the achieved values, margins, constraints, the check, and in
     "predicted" what the body does on each target's ramp in mm and s."""

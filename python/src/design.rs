@@ -118,7 +118,7 @@ fn result<'py>(
 /// seeded: the same body for any thread count) keeps the body convex, its radii of curvature
 /// ≥ min_radius_mm at scale_mm mm per ⟨r⟩ (default: the start body's own, else 10) and its amplitudes ≤ max_amplitude, starting from
 /// `start` (a Body) or the first convex random body from `seed`; the body found is then checked
-/// at the precise setting over α ± alpha_band, m/m0 ± mass_band and `draws` print errors of
+/// at the precise setting over α ± alpha_band, m/m0 ± mass_band × m/m0 and `draws` print errors of
 /// ± surface_mm. Returns (Body, report): report["holds"] says whether every target holds over
 /// the band, and report["why_not"] why not (one reason each, as `rollphase design` gives them); report["design"] has the achieved values, margins, constraints (and which bind),
 /// the check, for doubling the flip window and multipliers, and in "predicted" what the body

@@ -186,10 +186,8 @@ pub fn run_window(
         }
     }
     if let Some(dir) = plot_data {
-        let names = crate::live::history::PlotHistory::file_names(1 + setup.lanes.len());
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let inputs = crate::output::Inputs::of(scene);
-        crate::output::check_folder(dir, &names, &inputs)
+        crate::live::history::PlotHistory::check_folder(dir, 1 + setup.lanes.len(), &inputs)
             .map_err(|e| anyhow::anyhow!("--plot-data: {e}"))?;
     }
     #[cfg(feature = "app")]

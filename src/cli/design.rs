@@ -42,7 +42,7 @@ use crate::output::{self, Inputs};
 /// --min-radius-mm at --scale-mm millimetres per ⟨r⟩, no amplitude over --max-amplitude.
 ///
 /// The body found is then checked by runs independent of the search, at the precise setting,
-/// over a band: the ramp off by ± --alpha-band rad, m/m0 off by ± --mass-band, and --draws
+/// over a band: the ramp off by ± --alpha-band rad, m/m0 off by ± --mass-band × m/m0, and --draws
 /// random print errors of up to ± --surface-mm. The report gives each target's value (fast and
 /// precise), its margin over the band (≥ 0 holds), which constraints bind, whether the design
 /// holds, and what the model predicts the body does on each target's ramp at the printed scale:

@@ -150,6 +150,22 @@ fn an_earlier_runs_body_files_are_not_left_beside_this_ones() {
         )
         .unwrap_err()
         .to_string();
+    // The headless renderer refuses it before rendering anything, not after the clip.
+    let gif = scratch("bodies-stale-gif").join("which.gif");
+    let o = rollphase([
+        "--headless",
+        "--preset",
+        "which-one-stops",
+        "--frames",
+        "30",
+        "--size",
+        "160x90",
+        "--gif",
+        gif.to_str().unwrap(),
+        "--plot-data",
+        dir.to_str().unwrap(),
+    ]);
+    let said = String::from_utf8_lossy(&o.stderr).to_string();
     let left: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().file_name())
@@ -160,4 +176,9 @@ fn an_earlier_runs_body_files_are_not_left_beside_this_ones() {
         "{err}"
     );
     assert_eq!(left.len(), 1, "nothing written: {left:?}");
+    assert!(
+        !o.status.success() && said.contains("series-body-3.csv is there from an earlier run"),
+        "{said}"
+    );
+    assert!(!gif.exists(), "no clip rendered before the refusal");
 }

@@ -262,9 +262,7 @@ pub fn render_to(
     }
     let progress = extras.progress;
     if let Some(dir) = extras.plot_data {
-        let names = PlotHistory::file_names(1 + setup.lanes.len());
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        crate::output::check_folder(dir, &names, inputs).context("--plot-data")?;
+        PlotHistory::check_folder(dir, 1 + setup.lanes.len(), inputs).context("--plot-data")?;
     }
     let mut history = match &setup.scene.resume {
         Some(resume) => PlotHistory::resumed(resume, setup.ramp.alpha_rad, &setup.ramp.drag_law),

@@ -144,7 +144,8 @@ pub fn run(a: AppBenchArgs) -> Result<()> {
             a.size,
         );
         bench.paint(&gpu.device, &gpu.queue, &target.view, &frame);
-        Ok(target.wait(&gpu.device)?)
+        target.wait(&gpu.device)?;
+        Ok(frame.status.scene_id)
     };
     stroke_timing(&mut bench, a.strokes, paint)
 }
@@ -158,7 +159,7 @@ fn stroke_timing(
     mut paint: impl FnMut(
         &mut crate::ui::workbench::Workbench,
         crate::ui::workbench::UiEvents,
-    ) -> Result<()>,
+    ) -> Result<u64>,
 ) -> Result<()> {
     use crate::geometry::sculpt::{Stroke, sculpt};
     use crate::scene::sculpt::{SculptReadout, sculpted_scene};
@@ -185,8 +186,10 @@ fn stroke_timing(
         paint(bench, press)?;
         // From the release (a click is a press and its release) to the new run on the screen.
         let clicked = Instant::now();
-        paint(bench, release)?;
-        while bench.sim.status().scene_id == status.scene_id {
+        // Until a frame draws the new run (its meshes built): the click's own frame, where the
+        // simulation takes the load in time.
+        let mut drawn = paint(bench, release)?;
+        while drawn == status.scene_id {
             if let Some((why, true)) = bench.ui.notice() {
                 bail!("stroke {i} was refused: {why}");
             }
@@ -196,11 +199,11 @@ fn stroke_timing(
                     bench.ui.notice()
                 );
             }
-            paint(bench, crate::ui::workbench::UiEvents::new())?;
+            drawn = paint(bench, crate::ui::workbench::UiEvents::new())?;
         }
-        // The first frame that draws the new run (its meshes built, its readout measured).
-        paint(bench, crate::ui::workbench::UiEvents::new())?;
         rows[5].push(ms(clicked));
+        // The panels' readout follows the frame after.
+        paint(bench, crate::ui::workbench::UiEvents::new())?;
         // The steps alone, on the same body and point.
         let (x, y, _) = view.project(p).unwrap_or_default();
         let t = Instant::now();
@@ -253,8 +256,8 @@ fn stroke_timing(
         "the readout (α*, curvature at the print scale)",
         "the scene's setup (checks, α*)",
         "the new run and its first snapshot",
-        "release to the restarted run's first frame drawn (frames included)",
-        "a drag's move to the restarted run's first frame drawn (live stroke, frames included)",
+        "release to the first frame that draws the restarted run (frames included)",
+        "a drag's move to the first frame that draws its run (live stroke, frames included)",
     ];
     for (name, v) in names.iter().zip(&rows).filter(|(_, v)| !v.is_empty()) {
         let (mean, p50, p95) = stats(v);
@@ -300,7 +303,7 @@ fn drag_timing(
     paint: &mut impl FnMut(
         &mut crate::ui::workbench::Workbench,
         crate::ui::workbench::UiEvents,
-    ) -> Result<()>,
+    ) -> Result<u64>,
 ) -> Result<Vec<f64>> {
     use crate::ui::workbench::{UiEvents, drag_events};
     paint(bench, UiEvents::new())?;
@@ -318,8 +321,8 @@ fn drag_timing(
         let id = bench.sim.status().scene_id;
         to.y -= DRAG_MOVE_POINTS;
         let moved = Instant::now();
-        paint(bench, drag_events(to, None))?;
-        while bench.sim.status().scene_id == id {
+        let mut drawn = paint(bench, drag_events(to, None))?;
+        while drawn == id {
             match bench.ui.notice() {
                 // Held at the edge of convexity: nothing more to restart.
                 Some((why, true)) if why.contains("the edge of convexity") => {
@@ -335,9 +338,8 @@ fn drag_timing(
                     bench.ui.notice()
                 );
             }
-            paint(bench, UiEvents::new())?;
+            drawn = paint(bench, UiEvents::new())?;
         }
-        paint(bench, UiEvents::new())?;
         times.push(moved.elapsed().as_secs_f64() * 1e3);
     }
     paint(bench, drag_events(to, Some(false)))?;

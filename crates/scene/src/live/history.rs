@@ -779,6 +779,33 @@ impl PlotHistory {
         names
     }
 
+    /// Checks, before any work, that the plot data of a ramp of `bodies` bodies can be written
+    /// into `dir`: the folder's checks ([`output::check_folder`]: none of `inputs`, no device),
+    /// and no body file of an earlier run with more bodies there (it would read as this run's;
+    /// it is not this run's to remove).
+    pub fn check_folder(dir: &Path, bodies: usize, inputs: &Inputs) -> output::Result<()> {
+        let names = Self::file_names(bodies);
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        output::check_folder(dir, &names, inputs)?;
+        for name in (bodies + 1..=crate::scene::MAX_BODIES).flat_map(body_files) {
+            let path = dir.join(&name);
+            if std::fs::symlink_metadata(&path).is_ok() {
+                return Err(output::OutputError::Io {
+                    path,
+                    error: std::io::Error::new(
+                        std::io::ErrorKind::AlreadyExists,
+                        format!(
+                            "{name} is there from an earlier run with more bodies, and this \
+                             run has {bodies}: it would read as this run's (remove it, or write \
+                             the plot data to another folder)"
+                        ),
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+
     /// Writes the data sets into the folder `dir` (created if missing) as
     /// [`PlotData::file_name`]s with `meta` as [`PLOT_META_FILE`], through the output layer: all
     /// or none, none of them one of `inputs`. Returns the files written.
@@ -789,28 +816,7 @@ impl PlotHistory {
         meta: &PlotMeta,
         inputs: &Inputs,
     ) -> output::Result<Vec<std::path::PathBuf>> {
-        let names = Self::file_names(1 + meta.bodies.len());
-        let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        output::check_folder(dir, &names, inputs)?;
-        // A body's files of an earlier run with more bodies would sit beside these as if of
-        // this run: refused, not left (nor deleted: they are not this run's to remove).
-        for name in (2 + meta.bodies.len()..=crate::scene::MAX_BODIES).flat_map(body_files) {
-            let path = dir.join(&name);
-            if std::fs::symlink_metadata(&path).is_ok() {
-                return Err(output::OutputError::Io {
-                    path,
-                    error: std::io::Error::new(
-                        std::io::ErrorKind::AlreadyExists,
-                        format!(
-                            "{name} is there from an earlier run with more bodies, and this \
-                             run has {}: it would read as this run's (remove it, or write the \
-                             plot data to another folder)",
-                            1 + meta.bodies.len()
-                        ),
-                    ),
-                });
-            }
-        }
+        Self::check_folder(dir, 1 + meta.bodies.len(), inputs)?;
         output::create_folder(dir)?;
         let mut set = OutputSet::new();
         let mut written = Vec::new();

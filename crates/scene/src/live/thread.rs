@@ -52,8 +52,9 @@ pub const TICK_INTERVAL: Duration = Duration::from_millis(8);
 const MAX_TICK_WALL: f64 = 0.1;
 
 /// The simulation thread: owns a [`Controller`], takes [`SimCommand`]s through a channel and
-/// publishes an `Arc<SimStatus>` after each tick. The UI never waits for it (reading the status
-/// clones an `Arc` under a lock held for that long only) and it never waits for a frame. A panic
+/// publishes an `Arc<SimStatus>` after each tick. The UI does not wait for it (reading the status
+/// clones an `Arc` under a lock held for that long only; only a frame that sent a load polls,
+/// briefly, for the new run to draw it) and it never waits for a frame. A panic
 /// inside the simulation is caught and becomes a message and a paused state.
 pub struct SimThread {
     commands: Sender<SimCommand>,

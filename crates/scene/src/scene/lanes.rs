@@ -133,8 +133,9 @@ fn hides_or_reorders(c: char) -> bool {
     )
 }
 
-/// Unicode's default-ignorable characters: drawn as nothing (or as a box where a font lacks
-/// them), so two names that differ only in them look the same.
+/// Unicode's default-ignorable characters, and the blank Braille pattern (U+2800, which the
+/// bundled font draws blank): drawn as nothing (or as a box where a font lacks them), so two
+/// names that differ only in them look the same.
 fn ignorable(c: char) -> bool {
     matches!(
         c,
@@ -147,6 +148,7 @@ fn ignorable(c: char) -> bool {
             | '\u{200B}'..='\u{200F}'
             | '\u{202A}'..='\u{202E}'
             | '\u{2060}'..='\u{206F}'
+            | '\u{2800}'
             | '\u{3164}'
             | '\u{FE00}'..='\u{FE0F}'
             | '\u{FEFF}'
@@ -235,10 +237,16 @@ impl Scene {
         }
         check_label(&self.label, "label")?;
         if self.label.is_empty() && !self.bodies.is_empty() {
-            check_characters(
-                &self.name,
-                "name (the scene's own body's name beside the other bodies, as it has no label)",
-            )?;
+            let field =
+                "name (the scene's own body's name beside the other bodies, as it has no label)";
+            check_characters(&self.name, field)?;
+            if as_shown(&self.name).is_empty() {
+                return Err(invalid(format!(
+                    "{field} {:?} is not allowed: it has no visible character (give the scene a \
+                     name, or its body a label)",
+                    self.name
+                )));
+            }
         }
         let mut lanes = Vec::with_capacity(self.bodies.len());
         for (i, entry) in self.bodies.iter().enumerate() {
@@ -435,7 +443,23 @@ mod tests {
         ] {
             assert_eq!(with(fine), Ok(()), "{fine:?}");
         }
+        // A blank Braille pattern draws as nothing: it looks like the scene's own body's label.
+        let err = with("α* = 10°\u{2800}").unwrap_err();
+        assert!(
+            err.contains("looks the same as another body's, \"α* = 10°\""),
+            "{err}"
+        );
+        assert!(
+            with("\u{2800}")
+                .unwrap_err()
+                .contains("no visible character")
+        );
         // The scene's own body has no label: its name names it beside the others.
+        let mut unnamed = Scene::preset("which-one-stops").unwrap();
+        unnamed.label = String::new();
+        unnamed.name = "\u{200D}".into();
+        let err = unnamed.setup(None).unwrap_err().to_string();
+        assert!(err.contains("it has no visible character"), "{err}");
         let mut scene = Scene::preset("which-one-stops").unwrap();
         scene.label = String::new();
         scene.name = "fast \u{202E}body".into();

@@ -496,12 +496,7 @@ impl AppUi {
             };
         }
         if let Some(ms) = self.sculpt.last_stroke_ms {
-            ui.label(
-                RichText::new(format!(
-                    "last stroke computed and sent in {ms:.0} ms (on screen a frame or two later)"
-                ))
-                .weak(),
-            );
+            ui.label(RichText::new(format!("last stroke: computed and sent in {ms:.0} ms")).weak());
         }
     }
 }

@@ -143,7 +143,9 @@ impl Workbench {
     }
 
     /// Runs the UI on `input` for a `size`-pixel target: reads the latest status (never
-    /// waiting for the simulation), sends the commands the user gave, and tessellates.
+    /// waiting for the simulation, but for a load this frame asked for: up to
+    /// [`RESTART_WAIT`], so that the frame draws it), sends the commands the user gave, and
+    /// tessellates.
     pub fn run_ui(&mut self, input: egui::RawInput, size: (u32, u32)) -> UiFrame {
         let now = Instant::now();
         self.frame_times.push_back(now);
@@ -187,14 +189,23 @@ impl Workbench {
             actions = self.ui.show(ui, &status);
         });
         let mut window_actions = Vec::new();
+        let mut loads = false;
         for action in actions {
             match action {
-                UiAction::Sim(c) => self.sim.send(c),
+                UiAction::Sim(c) => {
+                    loads |= matches!(c, crate::live::SimCommand::Load(_));
+                    self.sim.send(c);
+                }
                 UiAction::Screenshot(path) => self.pending_screenshots.push(path),
                 UiAction::Record { dir, frames } => self.start_recording(dir, frames, size),
                 UiAction::Fullscreen(_) => window_actions.push(action),
             }
         }
+        let status = if loads {
+            self.restarted(status)
+        } else {
+            status
+        };
         self.textures.append(output.textures_delta);
         let pixels_per_point = output.pixels_per_point;
         let primitives = self.ctx.tessellate(output.shapes, pixels_per_point);
@@ -214,6 +225,26 @@ impl Workbench {
             size,
             window_actions,
         }
+    }
+
+    /// The status of the run a load this frame asked for, waited for at most
+    /// [`RESTART_WAIT`] (the simulation takes a load within a tick, 8 ms): the 3D view then
+    /// draws a sculpting stroke's new body in the frame of the click, not the frame after, which
+    /// on a CPU renderer is 55–100 ms later. The only wait for the simulation: every other
+    /// frame reads the latest status as it is. `status` if the load has not arrived by then.
+    fn restarted(&mut self, status: std::sync::Arc<SimStatus>) -> std::sync::Arc<SimStatus> {
+        let asked = Instant::now();
+        while asked.elapsed() < RESTART_WAIT {
+            let now = self.sim.status();
+            if now.scene_id != status.scene_id {
+                // The new body's meshes for this frame; the panels follow it next frame.
+                let (_, note) = self.painter.sync(&now, &self.ui.views);
+                self.ui.field_note = note;
+                return now;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+        status
     }
 
     /// Records the 3D view of the next `frames` painted frames (at its size now, in a `size`
@@ -404,6 +435,11 @@ impl Drop for Workbench {
         self.textures.clear();
     }
 }
+
+/// The longest a frame that asked for a load (a sculpting stroke, undo, a scene opened) waits
+/// for the simulation to take it, so that the frame draws the new run: the simulation's tick is
+/// 8 ms, and a frame of a CPU renderer 55–100 ms.
+pub const RESTART_WAIT: std::time::Duration = std::time::Duration::from_millis(40);
 
 /// A point of the screen in egui's points, as the scripted input takes it (for callers without
 /// egui of their own, such as `rollphase bench app`).
