@@ -71,6 +71,17 @@ fn a_pixel_picks_the_body_point_drawn_there_and_nothing_off_the_body() {
     }
 }
 
+/// `k` pressed with Ctrl (Cmd on a Mac): undo and redo.
+fn command_key(k: egui::Key) -> egui::Event {
+    egui::Event::Key {
+        key: k,
+        physical_key: None,
+        pressed: true,
+        repeat: false,
+        modifiers: egui::Modifiers::COMMAND,
+    }
+}
+
 /// A click of `button` at `pos`; frames run until `done`.
 fn click(
     bench: &mut Workbench,
@@ -155,13 +166,7 @@ fn a_click_presses_a_dent_restarts_from_the_same_contact_and_undo_gives_the_body
     // Undo: the first body again, to the bit, and run.
     bench.ui.sculpt.on = false;
     let sculpted_id = s.scene_id;
-    let ctrl_z = vec![egui::Event::Key {
-        key: egui::Key::Z,
-        physical_key: None,
-        pressed: true,
-        repeat: false,
-        modifiers: egui::Modifiers::COMMAND,
-    }];
+    let ctrl_z = vec![command_key(egui::Key::Z)];
     let back = frames_until(&mut bench, &gpu, &target, ctrl_z, |s| {
         s.scene_id != sculpted_id
     });
@@ -299,13 +304,7 @@ fn a_drag_pulls_and_presses_live_from_one_contact_and_is_one_stroke_to_undo() {
     assert_eq!(text, "pressed a dent by 0.0100 mean r; Ctrl+Z undoes");
     assert_eq!(bench.sim.status().setup.body.to_shape(), dented.to_shape());
     // The whole drag is one stroke: one undo gives the body before it, to the bit.
-    let ctrl_z = vec![egui::Event::Key {
-        key: egui::Key::Z,
-        physical_key: None,
-        pressed: true,
-        repeat: false,
-        modifiers: egui::Modifiers::COMMAND,
-    }];
+    let ctrl_z = vec![command_key(egui::Key::Z)];
     bench.ui.sculpt.on = false;
     let last = bench.sim.status().scene_id;
     let back = frames_until(&mut bench, &gpu, &target, ctrl_z, |s| s.scene_id != last);
@@ -385,18 +384,11 @@ fn a_drag_keeps_the_history_whole() {
         egui::PointerButton::Secondary,
         |s| s.scene_id != first.scene_id,
     );
-    let key = |k, modifiers| egui::Event::Key {
-        key: k,
-        physical_key: None,
-        pressed: true,
-        repeat: false,
-        modifiers,
-    };
     let undone = frames_until(
         &mut bench,
         &gpu,
         &target,
-        vec![key(egui::Key::Z, egui::Modifiers::COMMAND)],
+        vec![command_key(egui::Key::Z)],
         |s| s.scene_id != bumped.scene_id,
     );
     assert_eq!(undone.setup.body.to_shape(), first.setup.body.to_shape());
@@ -408,7 +400,7 @@ fn a_drag_keeps_the_history_whole() {
     let id = undone.scene_id;
     let moved = drag_frame(&mut bench, &gpu, &target, up, None, |s| s.scene_id != id);
     let mut events = rollphase::ui::workbench::drag_events(up, None);
-    events.push(key(egui::Key::Z, egui::Modifiers::COMMAND));
+    events.push(command_key(egui::Key::Z));
     frames_until(&mut bench, &gpu, &target, events, |_| true);
     let (text, error) = bench.ui.notice().cloned().unwrap();
     assert!(
@@ -433,7 +425,7 @@ fn a_drag_keeps_the_history_whole() {
         &mut bench,
         &gpu,
         &target,
-        vec![key(egui::Key::Y, egui::Modifiers::COMMAND)],
+        vec![command_key(egui::Key::Y)],
         |s| s.scene_id != back.scene_id,
     );
     assert_eq!(redone.setup.body.to_shape(), bumped.setup.body.to_shape());

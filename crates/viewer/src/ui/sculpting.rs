@@ -19,7 +19,9 @@ use super::{AppUi, UiAction};
 use crate::analysis::design::DEFAULT_SCALE_MM;
 use crate::analysis::experiment::prediction::{PredictOptions, Prediction, predict_until};
 use crate::geometry::Body;
-use crate::geometry::sculpt::{MAX_STROKE_HEIGHT, MAX_STROKE_WIDTH, MIN_STROKE_WIDTH, Stroke};
+use crate::geometry::sculpt::{
+    MAX_STROKE_HEIGHT, MAX_STROKE_WIDTH, MIN_STROKE_WIDTH, Stroke, StrokePoint,
+};
 use crate::live::{SimCommand, SimStatus};
 use crate::scene::InitialSpec;
 use crate::scene::sculpt::{SculptReadout, Sculptor, sculpted_scene};
@@ -237,24 +239,23 @@ impl AppUi {
         Some(rect.min + egui::vec2(x / ppp, y / ppp))
     }
 
-    /// A click at frame pixel (`x`, `y`) of the scene area while sculpting: a dent there (a bump
-    /// with `pull`), if the body is under it. Returns whether the body was under it.
-    pub(super) fn sculpt_click(
+    /// The body point under frame pixel (`x`, `y`) that a stroke may sculpt: `None` where the
+    /// body is not under it; refused, with the notice saying why, without the body's view or on
+    /// a body that is not strictly convex.
+    pub(super) fn sculptable_point(
         &mut self,
         (x, y): (f32, f32),
-        pull: bool,
         status: &SimStatus,
-        actions: &mut Vec<UiAction>,
-    ) -> bool {
+    ) -> Result<Option<StrokePoint>, ()> {
         let Some(view) = self.sculpt.pick_view else {
             self.notice = Some((
                 "sculpting needs the body's view: turn it on under Views".into(),
                 true,
             ));
-            return false;
+            return Err(());
         };
         let Some(at) = body_point_at(&view, &status.setup.body, x, y) else {
-            return false;
+            return Ok(None);
         };
         if let Err(e) = status.setup.body.check_convex() {
             self.notice = Some((
@@ -264,8 +265,25 @@ impl AppUi {
                 ),
                 true,
             ));
-            return true;
+            return Err(());
         }
+        Ok(Some(at))
+    }
+
+    /// A click at frame pixel (`x`, `y`) of the scene area while sculpting: a dent there (a bump
+    /// with `pull`), if the body is under it. Returns whether the body was under it.
+    pub(super) fn sculpt_click(
+        &mut self,
+        (x, y): (f32, f32),
+        pull: bool,
+        status: &SimStatus,
+        actions: &mut Vec<UiAction>,
+    ) -> bool {
+        let at = match self.sculptable_point((x, y), status) {
+            Ok(Some(at)) => at,
+            Ok(None) => return false,
+            Err(()) => return true,
+        };
         let stroke = Stroke {
             at,
             width: self.sculpt.width,

@@ -14,7 +14,6 @@ use crate::geometry::sculpt::{MAX_STROKE_HEIGHT, SculptError, Stroke, StrokePoin
 use crate::live::{SimCommand, SimStatus};
 use crate::scene::InitialSpec;
 use crate::scene::sculpt::Sculptor;
-use crate::view::pick::body_point_at;
 
 /// How far a drag moves the surface per screen point the pointer moves up (pull) or down
 /// (press), in ⟨r⟩: 100 points make 0.05, and the largest stroke is 600 points away.
@@ -67,26 +66,9 @@ impl AppUi {
         origin_y: f32,
         status: &SimStatus,
     ) {
-        let Some(view) = self.sculpt.pick_view else {
-            self.notice = Some((
-                "sculpting needs the body's view: turn it on under Views".into(),
-                true,
-            ));
+        let Ok(Some(at)) = self.sculptable_point((x, y), status) else {
             return;
         };
-        let Some(at) = body_point_at(&view, &status.setup.body, x, y) else {
-            return;
-        };
-        if let Err(e) = status.setup.body.check_convex() {
-            self.notice = Some((
-                format!(
-                    "this body is not strictly convex ({e}): it rolls on its hull, and a stroke \
-                     keeps it so; sculpt a convex body"
-                ),
-                true,
-            ));
-            return;
-        }
         let Some(session) = self.sculpt.session.clone() else {
             return;
         };
