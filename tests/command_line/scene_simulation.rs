@@ -168,7 +168,31 @@ fn the_doubling_preset_shows_period_two_and_its_trail_covers_both_loops() {
         s.setup().scene.playback.trail_time > 2.0 * turn,
         "turn {turn}"
     );
-    assert!(snap.last_crossing.is_some());
+    assert_eq!(
+        snap.cycle_crossings.len(),
+        5,
+        "a doubled cycle is decided by 2k + 1 crossings"
+    );
+}
+
+#[test]
+fn one_snapshot_of_a_doubled_cycle_puts_both_branches_in_the_crossings_plot() {
+    // A headless render of a few frames feeds the plot one snapshot per frame, several
+    // crossings apart: the plot must show both of the cycle's points, as the verdict says.
+    let mut s = preset("sphere-doubling");
+    let start = s.setup().scene.playback.start_time;
+    s.advance_to(start).unwrap();
+    let snap = s.snapshot();
+    assert_eq!(snap.period_multiplicity, Some(2));
+    let mut history = rollphase::live::history::PlotHistory::default();
+    history.push(&snap);
+    let mut branches = history.checkpoint().crossings_at(snap.mass_ratio);
+    branches.sort_by(f64::total_cmp);
+    assert_eq!(branches.len(), 2, "{branches:?}");
+    assert!(branches[1] - branches[0] > 0.05, "{branches:?}");
+    // The same snapshot again adds nothing.
+    history.push(&snap);
+    assert_eq!(history.checkpoint().crossings_at(snap.mass_ratio).len(), 2);
 }
 
 #[test]

@@ -522,6 +522,8 @@ pub struct PlotMeta {
     pub description: String,
     /// The body as the scene gives it (a shape file, inline coefficients, a generator).
     pub body: serde_json::Value,
+    /// Its start as the scene gives it (`[initial]`).
+    pub initial: serde_json::Value,
     /// The model (disk-viscous, …).
     pub model: String,
     /// The ramp angle now, rad.
@@ -566,6 +568,14 @@ pub struct BodyMeta {
     pub alpha_star: f64,
     /// Its m/m0.
     pub mass_ratio: f64,
+    /// The body as its entry gives it, or the scene's when it gives none (a shape file,
+    /// inline coefficients, a generator). (`shape`, as `body` is its number.)
+    pub shape: serde_json::Value,
+    /// Its start as its entry gives it, or the scene's.
+    pub initial: serde_json::Value,
+    /// Its drag law: one field per registered parameter, as the scene's own body's.
+    #[serde(flatten)]
+    pub drag_law: crate::dynamics::DragLaw,
     /// Its drag law in words.
     pub drag: String,
     /// Its fate when the data were written, in the verdict's words.
@@ -604,7 +614,8 @@ impl PlotMeta {
             // it was saved at, which `alpha_rad` here may no longer be.
             description: crate::scene::description::original_description(&setup.scene.description)
                 .to_string(),
-            body: serde_json::to_value(&setup.scene.body).unwrap_or(serde_json::Value::Null),
+            body: json(&setup.scene.body),
+            initial: json(&setup.scene.initial),
             model: snapshot.model.to_string(),
             alpha_rad: snapshot.alpha_rad,
             alpha_star: snapshot.alpha_star,
@@ -624,19 +635,33 @@ impl PlotMeta {
                 .lanes
                 .iter()
                 .enumerate()
-                .map(|(i, lane)| BodyMeta {
-                    body: i + 2,
-                    label: lane.label.clone(),
-                    model: lane.model.to_string(),
-                    alpha_star: lane.alpha_star,
-                    mass_ratio: lane.mass_ratio,
-                    drag: lane.drag_law.label(),
-                    fate: lane.fate(),
-                    files: body_files(i + 2),
+                .map(|(i, lane)| {
+                    let entry = setup.scene.bodies.get(i);
+                    let shape = entry.and_then(|e| e.body.as_ref());
+                    let initial = entry.and_then(|e| e.initial.as_ref());
+                    BodyMeta {
+                        body: i + 2,
+                        label: lane.label.clone(),
+                        model: lane.model.to_string(),
+                        alpha_star: lane.alpha_star,
+                        mass_ratio: lane.mass_ratio,
+                        shape: json(shape.unwrap_or(&setup.scene.body)),
+                        initial: json(initial.unwrap_or(&setup.scene.initial)),
+                        drag_law: lane.drag_law,
+                        drag: lane.drag_law.label(),
+                        fate: lane.fate(),
+                        files: body_files(i + 2),
+                    }
                 })
                 .collect(),
         }
     }
+}
+
+/// A scene table as plot-data JSON (`null` if it could not be written, which a table of
+/// numbers and strings never is).
+fn json<T: serde::Serialize>(value: &T) -> serde_json::Value {
+    serde_json::to_value(value).unwrap_or(serde_json::Value::Null)
 }
 
 impl PlotData {

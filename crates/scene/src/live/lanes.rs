@@ -212,6 +212,11 @@ mod tests {
         let meta: serde_json::Value = serde_json::from_str(&json).unwrap();
         assert_eq!(meta["bodies"][0]["label"], "smooth");
         assert_eq!(meta["bodies"][0]["files"][0], "series-body-2.csv");
+        // Each body's shape, start and drag law, as the scene's own body's are given.
+        assert_eq!(meta["bodies"][0]["shape"]["perfect"], "disk");
+        assert_eq!(meta["bodies"][0]["initial"], meta["initial"]);
+        assert_eq!(meta["bodies"][0]["drag_exponent"], 1.0);
+        assert!(meta["body"]["shape"].is_string(), "{}", meta["body"]);
         assert_eq!(meta["fate"], snap.fate());
         assert_eq!(meta["bodies"][0]["fate"], snap.lanes[0].fate());
     }

@@ -756,7 +756,12 @@ impl LiveRun {
             .collect();
         let period_multiplicity =
             late_cycle(&section, MAX_MULTIPLICITY, MULTIPLICITY_TOL).map(|c| c.0);
-        let last_crossing = section.last().map(|c| (c.t, DVec3::from_array(c.point)));
+        let cycle_crossings = period_multiplicity.map_or_else(Vec::new, |k| {
+            section[section.len() - (2 * k + 1)..]
+                .iter()
+                .map(|c| (c.t, DVec3::from_array(c.point)))
+                .collect()
+        });
         Snapshot {
             state: self.state.vector().to_vec(),
             t: self.t,
@@ -779,7 +784,7 @@ impl LiveRun {
             },
             period,
             period_multiplicity,
-            last_crossing,
+            cycle_crossings,
             last_crossing_t: crossings.last().map(|c| c.0),
             halted: at_rest_within(o.angular_speed, o.ramp_torque, LIVE_REST_THRESHOLD),
             angular_speed: o.angular_speed,

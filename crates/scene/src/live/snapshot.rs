@@ -99,8 +99,10 @@ pub struct Snapshot {
     /// 3D: the period k of the crossing sequence of ∂Ω (1: closed orbit, 2: doubled), once the
     /// last 2k + 1 crossings repeat to 1e-3; `None` before that, or in 2D.
     pub period_multiplicity: Option<usize>,
-    /// 3D: the latest crossing of ∂Ω (time, boundary point; sign arbitrary).
-    pub last_crossing: Option<(f64, DVec3)>,
+    /// 3D: the crossings of ∂Ω that decided `period_multiplicity` k, the last 2k + 1 (time,
+    /// boundary point; sign arbitrary), oldest first; empty while it is undecided. All of them,
+    /// not only the latest: a frame may come several crossings after the one before it.
+    pub cycle_crossings: Vec<(f64, DVec3)>,
     /// When the run last crossed its section (a full turn in 2D, ∂Ω in 3D) since α, m/m0 or
     /// the integrator last changed: a measuring sweep counts crossings by it.
     pub last_crossing_t: Option<f64>,

@@ -8,9 +8,15 @@ impl SceneSetup {
     /// Simulation time of video frame `k`: frame 0 at `playback.start_time` (or a saved
     /// state's time, `[resume]`, if later), then `1/fps`
     /// seconds of video per frame at the playback speed in force, which timeline steps may
-    /// change. Between speed steps this is `start_time + k · speed / fps`.
+    /// change. Between speed steps this is `start_time + k · speed / fps`. The frame that shows
+    /// a scene's end ([`Self::frames_to_end`]'s last) shows `end_time` itself, not the time a
+    /// whole frame step would reach past it.
     pub fn frame_time(&self, k: u64) -> f64 {
-        self.time_after_video(k as f64 / self.scene.playback.fps)
+        let t = self.time_after_video(k as f64 / self.scene.playback.fps);
+        match (self.scene.playback.end_time, self.frames_to_end()) {
+            (Some(end), Some(frames)) if k + 1 == frames => t.min(end),
+            _ => t,
+        }
     }
 
     /// The playback speed in force at simulation time `t` (the scene's, or the last speed step

@@ -48,7 +48,8 @@ impl<'de> Deserialize<'de> for DragLawFields {
 }
 
 /// The `[model]` fields `ModelSpec` names itself, for the unknown-field message.
-const MODEL_FIELDS: &str = "`alpha_rad`, `alpha_over_critical`, `mass_ratio`, `drag`, `friction`";
+const MODEL_FIELDS: &str =
+    "`kind`, `alpha_rad`, `alpha_over_critical`, `mass_ratio`, `drag`, `friction`";
 
 /// The drag-law parameters of a `[[replay]]` entry: [`DragLawFields`] whose unknown-field
 /// message names the entry's own fields. (The entry flattens them in; serde's
@@ -70,6 +71,17 @@ impl<'de> Deserialize<'de> for ReplayDragLaw {
     }
 }
 
+/// Whether `key` is a registered drag law's parameter.
+pub(crate) fn is_registered_key(key: &str) -> bool {
+    REGISTERED.iter().any(|p| p.key == key)
+}
+
+/// The registered drag-law parameters, quoted, for a message: "`drag_exponent`".
+pub(crate) fn registered_keys() -> String {
+    let laws: Vec<_> = REGISTERED.iter().map(|p| format!("`{}`", p.key)).collect();
+    laws.join(", ")
+}
+
 struct FieldsVisitor {
     /// The fields of the table the parameters sit in, for the message.
     fields: &'static str,
@@ -85,12 +97,11 @@ impl<'de> serde::de::Visitor<'de> for FieldsVisitor {
     fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
         let mut values = BTreeMap::new();
         while let Some(key) = map.next_key::<String>()? {
-            if !REGISTERED.iter().any(|p| p.key == key) {
-                let laws: Vec<_> = REGISTERED.iter().map(|p| format!("`{}`", p.key)).collect();
+            if !is_registered_key(&key) {
                 return Err(serde::de::Error::custom(format!(
                     "unknown field `{key}`, expected one of {} or a drag-law parameter ({})",
                     self.fields,
-                    laws.join(", ")
+                    registered_keys()
                 )));
             }
             let value: f64 = map.next_value()?;

@@ -42,7 +42,11 @@ pub struct LaneSpec {
     pub body: Option<BodySpec>,
     /// Its m/m0, drag, friction and drag law (absent: the scene's). α is the ramp's, the
     /// scene's `[model]`'s: an entry may not give one.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "lane_model"
+    )]
     pub model: Option<ModelSpec>,
     /// Its start (absent: the scene's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -50,6 +54,36 @@ pub struct LaneSpec {
     /// Its saved state, at the scene's `[resume]` time (Save state writes it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub resume: Option<LaneResume>,
+}
+
+/// The `[bodies.model]` fields besides the drag law's, for the unknown-field message (α is
+/// the ramp's; an entry that gives it is refused by name at validation).
+const LANE_MODEL_FIELDS: [&str; 4] = ["kind", "mass_ratio", "drag", "friction"];
+
+/// Reads `[bodies.model]` as `[model]` is read, but refuses an unknown key with the fields an
+/// entry may give: `[model]`'s message would offer `alpha_rad`, which an entry may not give.
+fn lane_model<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<ModelSpec>, D::Error> {
+    use serde::de::Error;
+    let Some(table) = Option::<toml::Table>::deserialize(d)? else {
+        return Ok(None);
+    };
+    let alpha = ["alpha_rad", "alpha_over_critical"];
+    if let Some(key) = table.keys().find(|k| {
+        !LANE_MODEL_FIELDS.contains(&k.as_str())
+            && !alpha.contains(&k.as_str())
+            && !crate::scene::drag_law::is_registered_key(k)
+    }) {
+        let fields: Vec<_> = LANE_MODEL_FIELDS.iter().map(|f| format!("`{f}`")).collect();
+        return Err(D::Error::custom(format!(
+            "[bodies.model] has an unknown field `{key}`: expected one of {} or a drag-law \
+             parameter ({}) (α is the ramp's, the scene's [model])",
+            fields.join(", "),
+            crate::scene::drag_law::registered_keys()
+        )));
+    }
+    ModelSpec::deserialize(table)
+        .map(Some)
+        .map_err(|e| D::Error::custom(format!("[bodies.model]: {}", e.message())))
 }
 
 /// A body's saved state on its lane: the time (the scene's `[resume]` time) and the model's
@@ -357,7 +391,7 @@ mod tests {
 
     #[test]
     fn a_body_that_does_not_fit_the_ramp_is_refused_naming_its_entry() {
-        let cases: [(&str, &str); 13] = [
+        let cases: [(&str, &str); 16] = [
             (
                 "[[bodies]]\n[[bodies]]\n[[bodies]]\n[[bodies]]\n",
                 "at most 4 bodies",
@@ -413,6 +447,21 @@ mod tests {
             (
                 "[[bodies]]\n[bodies.initial]\ncontact = [1.0, nan]\n",
                 "[[bodies]] entry 1 (body 2): ",
+            ),
+            (
+                // The entry's own fields are offered, not α, which it may not give.
+                "[[bodies]]\n[bodies.model]\nmass_ration = 2.0\n",
+                "[bodies.model] has an unknown field `mass_ration`: expected one of `kind`, \
+                 `mass_ratio`, `drag`, `friction` or a drag-law parameter (`drag_exponent`) (α is \
+                 the ramp's, the scene's [model])",
+            ),
+            (
+                "[[bodies]]\n[bodies.model]\nmass_ratio = \"heavy\"\n",
+                "[bodies.model]: invalid type: string \"heavy\", expected f64",
+            ),
+            (
+                "[[bodies]]\n[bodies.model]\nalpha_over_critical = 1.1\n",
+                "entry 1 (body 2): model gives α",
             ),
         ];
         let base = Scene::preset("sphere-cruising").unwrap().to_toml().unwrap();

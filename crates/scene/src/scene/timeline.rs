@@ -376,6 +376,18 @@ speed = 3.0
     }
 
     #[test]
+    fn the_last_frame_shows_the_end_when_frames_do_not_land_on_it() {
+        // 93.1 of simulation time after t = 10 at speed 6 then 60 then 3: the end falls 0.3 of a
+        // frame step after frame 102, so frame 103 is the last and shows 103.1 exactly, not 103.2.
+        let s = setup(&LESSON.replace("end_time = 103.0", "end_time = 103.1")).unwrap();
+        assert_eq!(s.frames_to_end(), Some(104));
+        assert_eq!(s.frame_time(103), 103.1);
+        assert!((s.frame_time(102) - 103.0).abs() < 1e-9);
+        // Frames asked for by count go on past the end at the playback speed.
+        assert!((s.frame_time(104) - 103.2).abs() < 1e-9);
+    }
+
+    #[test]
     fn a_speed_step_before_the_start_time_sets_the_first_speed() {
         let s = setup(&LESSON.replace("start_time = 10.0", "start_time = 50.0")).unwrap();
         assert!((s.frame_time(15) - 80.0).abs() < 1e-9);

@@ -37,19 +37,28 @@ impl Crossings {
         }
     }
 
-    /// Takes in the crossing `snap` shows, if it is new, its run's cycle is decided
-    /// (`period_multiplicity`) and the body is within the model (no lift-off or slip).
+    /// Takes in the crossings of the cycle `snap` shows that are new since the last call, once
+    /// its run's cycle is decided (`period_multiplicity`) and while the body is within the model
+    /// (no lift-off or slip). All the cycle's new crossings count, so a plot fed at sparse
+    /// frames (a headless render of three frames) shows every branch the verdict names.
     pub(super) fn take(&mut self, snap: &Snapshot) {
-        let Some((t, p)) = snap.last_crossing else {
-            return;
-        };
-        if snap.validity.is_some() || self.last_t == Some(t) || snap.period_multiplicity.is_none() {
+        if snap.validity.is_some() || snap.period_multiplicity.is_none() {
             return;
         }
+        for &(t, p) in &snap.cycle_crossings {
+            if self.last_t.is_some_and(|last| t <= last) {
+                continue;
+            }
+            self.take_point(snap.mass_ratio, p);
+            self.last_t = Some(t);
+        }
+    }
+
+    fn take_point(&mut self, mass_ratio: f64, p: glam::DVec3) {
         // The viscous model is the massless limit: its crossings are the diagram's points at
         // m/m0 = 0 (a lesson's first step claims period 1 there).
         let p = if p.z < 0.0 { -p } else { p };
-        let point = [snap.mass_ratio, p.z.clamp(-1.0, 1.0).acos()];
+        let point = [mass_ratio, p.z.clamp(-1.0, 1.0).acos()];
         let seen = self
             .points
             .iter()
@@ -62,6 +71,5 @@ impl Crossings {
                 self.points.pop_front();
             }
         }
-        self.last_t = Some(t);
     }
 }
