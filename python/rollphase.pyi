@@ -760,6 +760,7 @@ def design(
     mass_band: float = 0.2,
     surface_mm: float = 0.05,
     draws: int = 16,
+    budget: Optional[float] = None,
 ) -> Tuple[Body, DesignReport]:
     """A printable body for the targets (alpha_star; hysteresis=(M, F) in 2D; doubling=M,
     drift=D or orbits=K (each of K from ≥ share of the starts, default 1/(2K)) with alpha= in
@@ -768,7 +769,9 @@ def design(
     m/m0 ± mass_band × m/m0 and draws print errors of ± surface_mm. Returns (body, report);
     report["holds"] says whether it holds over the band (a design that does not is returned,
     not raised), report["design"] the achieved values, margins, constraints, the check, and in
-    "predicted" what the body does on each target's ramp in mm and s."""
+    "predicted" what the body does on each target's ramp in mm and s. budget (seconds, as
+    --budget) ends the search early with the best body so far, checked as any other
+    (report["design"]["ended"] == "stopped")."""
 
 def check_design(
     body: Body,
@@ -790,4 +793,5 @@ def check_design(
     draws: int = 16,
     seed: int = 1,
 ) -> Tuple[Body, DesignReport]:
-    """What design() would say of a body you have, without a search (`design --check-only`)."""
+    """What design() would say of a body you have, without a search (`design --check-only`),
+    at the body's own degree (any: a fitted print's too)."""

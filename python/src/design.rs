@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rollphase_core::analysis::design::{
     Band, DEFAULT_SCALE_MM, DesignError, DesignOptions, DesignSpace, Spelling, Target, TargetError,
-    TargetRequest, design_until, evaluate,
+    TargetRequest, check_budget, design_until, evaluate, with_budget,
 };
 
 use crate::body::Body;
@@ -123,7 +123,9 @@ fn result<'py>(
 /// the band, and report["why_not"] why not (one reason each, as `rollphase design` gives them); report["design"] has the achieved values, margins, constraints (and which bind),
 /// the check, for doubling the flip window and multipliers, and in "predicted" what the body
 /// does on each target's ramp in mm and s at scale_mm. A design that does not hold
-/// is returned too, not raised: read report["holds"].
+/// is returned too, not raised: read report["holds"]. budget (seconds, as `--budget`) ends the
+/// search early with the best body so far, checked as any other (report["design"]["ended"] is
+/// "stopped"); Ctrl+C raises KeyboardInterrupt.
 #[pyfunction]
 // Literal defaults, as Python's signature shows them: the core's DEFAULT_MODES, DEFAULT_SEED,
 // DEFAULT_GENERATIONS, DEFAULT_MIN_RADIUS_MM, DEFAULT_MAX_AMPLITUDE and DEFAULT_BAND, which
@@ -131,7 +133,7 @@ fn result<'py>(
 #[pyo3(signature = (dim, *, alpha_star = None, hysteresis = None, doubling = None, drift = None,
     orbits = None, share = None, mass_ratio = None, alpha = None, modes = 4, scale_mm = None,
     min_radius_mm = 0.4, max_amplitude = 1.0, start = None, seed = 1, generations = 400,
-    alpha_band = 0.005, mass_band = 0.2, surface_mm = 0.05, draws = 16))]
+    alpha_band = 0.005, mass_band = 0.2, surface_mm = 0.05, draws = 16, budget = None))]
 pub fn design<'py>(
     py: Python<'py>,
     dim: i128,
@@ -154,6 +156,7 @@ pub fn design<'py>(
     mass_band: f64,
     surface_mm: f64,
     draws: i128,
+    budget: Option<f64>,
 ) -> PyResult<(Body, Bound<'py, PyDict>)> {
     // A refined body keeps the scale its file was printed at unless scale_mm is given.
     let scale_mm = scale_mm
@@ -176,7 +179,11 @@ pub fn design<'py>(
         band: band(alpha_band, mass_band, surface_mm, draws, seed)?,
     };
     options.validate().map_err(raise)?;
-    let found = interruptible(py, |stop| design_until(&options, stop, &|_| {}))?.map_err(raise)?;
+    check_budget(budget).map_err(raise)?;
+    let found = interruptible(py, |stop| {
+        with_budget(stop, budget, || design_until(&options, stop, &|_| {}))
+    })?
+    .map_err(raise)?;
     result(py, found, scale_mm, format!("designed (seed {seed})"))
 }
 
@@ -210,17 +217,8 @@ pub fn check_design<'py>(
 ) -> PyResult<(Body, Bound<'py, PyDict>)> {
     let core = body.body.clone();
     let scale_mm = scale_mm.or(body.scale_mm).unwrap_or(DEFAULT_SCALE_MM);
-    let modes = match &core {
-        rollphase_core::geometry::Body::Disk(d) => d.modes().iter().map(|m| m.l).max(),
-        rollphase_core::geometry::Body::Sphere(s) => Some(s.max_degree()),
-    }
-    .unwrap_or(2)
-    .max(2);
     let options = DesignOptions {
-        space: DesignSpace {
-            dimension: core.dimension(),
-            modes,
-        },
+        space: DesignSpace::of(&core),
         targets: targets(&request(
             alpha_star, hysteresis, doubling, drift, orbits, share, mass_ratio, alpha,
         )?)?,
@@ -231,8 +229,9 @@ pub fn check_design<'py>(
         seed: whole("seed", seed)?,
         max_generations: 1,
         band: band(alpha_band, mass_band, surface_mm, draws, seed)?,
-    };
-    options.validate().map_err(raise)?;
+    }
+    .for_check()
+    .map_err(raise)?;
     let checked = interruptible(py, |_| evaluate(&options))?.map_err(raise)?;
     result(py, checked, scale_mm, "checked".into())
 }

@@ -157,3 +157,27 @@ def test_pythons_design_defaults_are_the_command_lines(cli):
         assert len(shared) >= 7, (function.__name__, shared)
         for name in shared:
             assert params[name].default == flags[name], (function.__name__, name)
+
+
+def test_check_design_takes_a_body_past_the_searchs_degree():
+    # A check searches nothing: a cylinder of degree 10 (a paper viscous body) is checked as it
+    # is, not refused for the search's L ≤ 8, and comes back with all its modes.
+    body = Body.paper_disk(3, sigma=0.08, modes=10)
+    checked, report = rollphase.check_design(body, alpha_star=rollphase.critical_angle(body), draws=2)
+    assert len(report["design"]["vector"]) == 2 * (10 - 1)
+    assert abs(checked.alpha_star - body.alpha_star) < 1e-12  # (a, θ) → (a cos lθ, a sin lθ) and back
+    assert report["design"]["ended"] == "checked_only"
+
+
+def test_a_budget_ends_the_search_with_the_best_body_so_far():
+    # α* = 1.4 rad is past what the amplitude bound allows: only the budget ends this search.
+    import time
+    start = time.monotonic()
+    body, report = rollphase.design(2, alpha_star=1.4, generations=100000, budget=1.0, draws=0, surface_mm=0.0)
+    took = time.monotonic() - start
+    assert report["design"]["ended"] == "stopped", report["design"]["ended"]
+    assert not report["holds"] and body.alpha_star < 1.4
+    assert took < 60, took
+    for bad in (0.0, -1.0, float("nan"), float("inf"), 1e8):
+        with pytest.raises(rollphase.InputError, match=r"budget = .* is not allowed \(needs 0 < seconds ≤ 1e7\)"):
+            rollphase.design(2, alpha_star=0.2, budget=bad)

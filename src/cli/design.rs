@@ -3,8 +3,7 @@
 //! is reported (`analysis::design`).
 
 use std::path::PathBuf;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
@@ -105,7 +104,8 @@ pub struct DesignArgs {
     /// The ramp angle (rad) of a 3D target (sin α = 0.2 is α = 0.2014).
     #[arg(long, allow_negative_numbers = true)]
     pub alpha: Option<f64>,
-    /// Highest degree L of the modes searched (2 to 8).
+    /// Highest degree L of the modes searched (2 to 8). --check-only searches nothing and
+    /// checks the body at its own degree, whatever this says.
     #[arg(long, default_value_t = design::DEFAULT_MODES)]
     pub modes: u32,
     /// Millimetres per ⟨r⟩ of the printed body (the authors' prints: 10). Default: the --from
@@ -153,7 +153,8 @@ pub struct DesignArgs {
     #[arg(long)]
     pub json: bool,
     /// Search nothing: check the --from body against the targets over the band, as a design
-    /// would be checked (what `design` says of a body you already have). -o gets the body.
+    /// would be checked (what `design` says of a body you already have), at its own degree
+    /// (any: a fitted print's 24 modes too). -o gets the body.
     #[arg(long, requires = "from")]
     pub check_only: bool,
 }
@@ -239,29 +240,20 @@ pub fn run(a: DesignArgs) -> Result<()> {
             seed: a.seed,
         },
     };
-    options.validate()?;
-    if let Some(b) = a.budget
-        && !(b.is_finite() && b > 0.0 && b <= 1e7)
-    {
-        bail!(
-            "--budget {} is not allowed (needs 0 < seconds ≤ 1e7)",
-            super::short(b)
-        );
-    }
+    let options = if a.check_only {
+        options.for_check()?
+    } else {
+        options.validate()?;
+        options
+    };
+    design::check_budget(a.budget)?;
     let inputs = Inputs::of(a.from.iter());
     output::check_file(&a.output, &inputs)?;
     if let Some(stl) = &a.stl {
         output::check_distinct(&[("-o", &a.output), ("--stl", stl)])?;
         output::check_file(stl, &inputs)?;
     }
-    let stop = Arc::new(AtomicBool::new(false));
-    if let Some(seconds) = a.budget {
-        let stop = Arc::clone(&stop);
-        std::thread::spawn(move || {
-            std::thread::sleep(std::time::Duration::from_secs_f64(seconds));
-            stop.store(true, Ordering::Relaxed);
-        });
-    }
+    let stop = AtomicBool::new(false);
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         indicatif::ProgressBar::new(a.generations as u64)
     } else {
@@ -281,7 +273,7 @@ pub fn run(a: DesignArgs) -> Result<()> {
     let design = if a.check_only {
         evaluate(&options)?
     } else {
-        design_until(&options, &stop, &progress)?
+        design::with_budget(&stop, a.budget, || design_until(&options, &stop, &progress))?
     };
     bar.finish_and_clear();
     let seconds = clock.elapsed().as_secs_f64();
@@ -465,7 +457,12 @@ fn print_report(d: &Design, seconds: f64, a: &DesignArgs) -> Result<()> {
     outln!(
         "design: {}D, L = {}, {} generations ({} bodies), {ended}, {seconds:.1} s",
         a.dim,
-        a.modes,
+        // A check is of the body at its own degree.
+        if d.ended == Ended::CheckedOnly {
+            DesignSpace::of(&d.body).modes
+        } else {
+            a.modes
+        },
         d.generations,
         d.evaluations
     )?;

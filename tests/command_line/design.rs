@@ -123,7 +123,7 @@ fn bad_targets_and_settings_are_refused_naming_the_value() {
         (
             &["--dim", "3", "--alpha-star", "0.2", "--budget", "0"],
             1,
-            &["--budget 0"],
+            &["budget = 0 is not allowed (needs 0 < seconds ≤ 1e7)"],
         ),
         (
             &["--dim", "3", "--alpha-star", "0.2", "--generations", "0"],
@@ -146,6 +146,58 @@ fn bad_targets_and_settings_are_refused_naming_the_value() {
         !d.join("body.json").exists(),
         "nothing is written for bad input"
     );
+}
+
+#[test]
+fn a_check_takes_the_body_at_its_own_degree_and_dimension() {
+    // `shape --dim 2` draws degree 10 by default, past the search's L ≤ 8: a check searches
+    // nothing, so it checks the body as it is, and says so.
+    let d = scratch("design-check-degree");
+    let body = d.join("ten.json");
+    std::fs::write(&body, rollphase_ok(["shape", "--dim", "2", "--seed", "3"])).unwrap();
+    let b = body.to_str().unwrap();
+    let o = d.join("checked.json");
+    let o = o.to_str().unwrap();
+    let check = |extra: &[&str]| {
+        let mut args = vec![
+            "design",
+            "--check-only",
+            "--from",
+            b,
+            "--alpha-star",
+            "0.0489",
+        ];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["-o", o]);
+        rollphase(&args)
+    };
+    let out = check(&["--dim", "2", "--draws", "2"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.starts_with("design: 2D, L = 10, 0 generations"),
+        "{text}"
+    );
+    assert!(text.contains("α* = 0.048905 rad"), "{text}");
+    // Its coefficients are all kept: the copy is the body.
+    let copy: serde_json::Value = serde_json::from_slice(&std::fs::read(o).unwrap()).unwrap();
+    assert_eq!(copy["modes"].as_array().map(Vec::len), Some(9), "{copy}");
+    fails_with(
+        &check(&["--dim", "3"]),
+        1,
+        &["from = a 2D body is not allowed (needs a 3D body (--dim 3))"],
+    );
+    // --modes is the search's: a check of the same body at --modes 5 is the same check.
+    let at_five = check(&["--dim", "2", "--draws", "2", "--modes", "5"]);
+    // (All but the first line, which holds the seconds taken.)
+    let after_first = |o: &Output| {
+        String::from_utf8_lossy(&o.stdout)
+            .lines()
+            .skip(1)
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(after_first(&at_five), after_first(&out));
+    assert!(String::from_utf8_lossy(&at_five.stdout).starts_with("design: 2D, L = 10,"));
 }
 
 #[test]

@@ -24,6 +24,7 @@
 //! generations with the best body so far, which is then checked like any other.
 
 pub mod at_scale;
+mod budget;
 pub mod check;
 pub mod space;
 mod start;
@@ -37,6 +38,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 pub use at_scale::{OrbitAtScale, RampPrediction};
+pub use budget::{MAX_BUDGET_S, check_budget, with_budget};
 pub use check::{Band, Check, DEFAULT_BAND, TargetCheck, check, failure_bound};
 pub use space::{DesignSpace, MAX_DESIGN_MODES, Printability};
 pub use start::{DOUBLING_SCREEN_SEEDS, DOUBLING_SCREEN_SIGMAS};
@@ -157,6 +159,70 @@ impl DesignOptions {
         if !(2..=MAX_DESIGN_MODES).contains(&s.modes) {
             return Err(bad("modes", s.modes, format!("2 ≤ L ≤ {MAX_DESIGN_MODES}")));
         }
+        self.validate_targets_and_band()?;
+        if let Some(body) = &self.start
+            && s.vector(body).is_none()
+        {
+            return Err(bad(
+                "from",
+                format!(
+                    "a {}D body of degree {}",
+                    body.dimension(),
+                    body_degree(body)
+                ),
+                format!("a {}D body of degree ≤ --modes {}", s.dimension, s.modes),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The options [`evaluate`] checks the start body with: these, in the body's own space
+    /// ([`DesignSpace::of`]), validated as [`Self::validate`] does except for the search's limit
+    /// on the degree (a check searches nothing: a fitted print of degree 24 is checked as it is).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::design::*;
+    /// use rollphase_core::geometry::Body;
+    /// let band = Band { delta_alpha: 0.005, mass_fraction: 0.2, surface_mm: 0.01, draws: 2, seed: 1 };
+    /// let o = DesignOptions {
+    ///     space: DesignSpace { dimension: 2, modes: 4 },
+    ///     targets: vec![Target::AlphaStar { alpha: 0.1 }],
+    ///     scale_mm: 10.0, min_radius_mm: 0.4, max_amplitude: 1.0,
+    ///     start: Some(Body::paper_disk(3, 0.08, 10)?), seed: 1, max_generations: 1, band,
+    /// };
+    /// assert!(o.validate().is_err()); // degree 10 is past the search's 8
+    /// assert_eq!(o.for_check()?.space, DesignSpace { dimension: 2, modes: 10 });
+    /// // A cylinder is not checked as a sphere.
+    /// let sphere = DesignOptions { space: DesignSpace { dimension: 3, modes: 4 }, ..o };
+    /// let e = sphere.for_check().unwrap_err().to_string();
+    /// assert!(e.contains("from = a 2D body is not allowed (needs a 3D body (--dim 3))"), "{e}");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn for_check(&self) -> Result<DesignOptions, DesignError> {
+        let body = self
+            .start
+            .as_ref()
+            .ok_or_else(|| bad("from", "none", "a body to check"))?;
+        if body.dimension() != self.space.dimension {
+            return Err(bad(
+                "from",
+                format!("a {}D body", body.dimension()),
+                format!("a {0}D body (--dim {0})", self.space.dimension),
+            ));
+        }
+        let checked = DesignOptions {
+            space: DesignSpace::of(body),
+            ..self.clone()
+        };
+        checked.validate_targets_and_band()?;
+        Ok(checked)
+    }
+
+    /// The targets, the scale, the printability bounds and the band, as [`Self::validate`]
+    /// and [`Self::for_check`] both refuse them.
+    fn validate_targets_and_band(&self) -> Result<(), DesignError> {
+        let s = &self.space;
         if self.targets.is_empty() {
             return Err(bad("targets", "none", "at least one target"));
         }
@@ -223,19 +289,6 @@ impl DesignOptions {
         }
         if b.draws > MAX_DRAWS {
             return Err(bad("draws", b.draws, format!("at most {MAX_DRAWS}")));
-        }
-        if let Some(body) = &self.start
-            && s.vector(body).is_none()
-        {
-            return Err(bad(
-                "from",
-                format!(
-                    "a {}D body of degree {}",
-                    body.dimension(),
-                    body_degree(body)
-                ),
-                format!("a {}D body of degree ≤ --modes {}", s.dimension, s.modes),
-            ));
         }
         Ok(())
     }
@@ -752,7 +805,7 @@ pub fn design_until(
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn evaluate(opts: &DesignOptions) -> Result<Design, DesignError> {
-    opts.validate()?;
+    let opts = &opts.for_check()?;
     let x = opts
         .start
         .as_ref()

@@ -29,6 +29,28 @@ pub struct DesignSpace {
 }
 
 impl DesignSpace {
+    /// The space a body lies in: its dimension and its degree (2 at least), with no limit on
+    /// the degree (a check's, not a search's).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::design::DesignSpace;
+    /// use rollphase_core::geometry::Body;
+    /// let body = Body::paper_disk(3, 0.08, 10)?;
+    /// assert_eq!(DesignSpace::of(&body), DesignSpace { dimension: 2, modes: 10 });
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn of(body: &Body) -> DesignSpace {
+        let degree = match body {
+            Body::Disk(d) => d.modes().iter().map(|m| m.l).max().unwrap_or(0),
+            Body::Sphere(s) => s.max_degree(),
+        };
+        DesignSpace {
+            dimension: body.dimension(),
+            modes: degree.max(2),
+        }
+    }
+
     /// How many numbers describe a body: 2(L − 1) in 2D, (L + 1)² − 4 in 3D.
     ///
     /// # Example
