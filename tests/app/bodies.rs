@@ -16,8 +16,9 @@ fn save_state_of_two_bodies_loads_every_body_to_the_bit() {
     bench.sim.send(SimCommand::SetSpeed(60.0));
     frames_until(&mut bench, &gpu, &target, vec![], |s| s.snapshot.t > 5.0);
     bench.sim.send(SimCommand::SetMassRatio(2.0));
+    // Past the smooth cylinder's first turns (T = 2π/sin α = 40.2): its 1/T point is measured.
     frames_until(&mut bench, &gpu, &target, vec![], |s| {
-        s.snapshot.mass_ratio == 2.0 && s.snapshot.t > 12.0
+        s.snapshot.mass_ratio == 2.0 && s.snapshot.t > 100.0
     });
     bench.sim.send(SimCommand::Pause);
     let s = frames_until(&mut bench, &gpu, &target, vec![], |s| s.paused);
@@ -63,6 +64,16 @@ fn save_state_of_two_bodies_loads_every_body_to_the_bit() {
     assert_eq!(loaded.state, s.snapshot.state);
     assert_eq!(loaded.lanes[0].state, s.snapshot.lanes[0].state);
     assert_eq!(loaded.lanes[0].label, "smooth");
+    // And every body's plot points come back as they were: the other body's 1/T point too.
+    let lane_points = bench.ui.history().lane(1).unwrap().alpha_sweep_points();
+    assert_eq!(lane_points.len(), 1, "{lane_points:?}");
+    assert_eq!(resume.alpha_sweep, lane_points);
+    let plots = rollphase::live::history::PlotHistory::of_setup(&saved.setup(None).unwrap());
+    assert_eq!(plots.lane(1).unwrap().alpha_sweep_points(), lane_points);
+    assert_eq!(
+        plots.alpha_sweep_points(),
+        bench.ui.history().alpha_sweep_points()
+    );
     // Save scene: the own body at the hand's m/m0, the other at its own, its body inline.
     assert_eq!(scene.model.mass_ratio, 2.0);
     let other = scene.setup(None).unwrap();

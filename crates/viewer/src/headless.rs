@@ -264,10 +264,7 @@ pub fn render_to(
     if let Some(dir) = extras.plot_data {
         PlotHistory::check_folder(dir, 1 + setup.lanes.len(), inputs).context("--plot-data")?;
     }
-    let mut history = match &setup.scene.resume {
-        Some(resume) => PlotHistory::resumed(resume, setup.ramp.alpha_rad, &setup.ramp.drag_law),
-        None => PlotHistory::default(),
-    };
+    let mut history = PlotHistory::of_setup(&setup);
     let fps = setup.scene.playback.fps;
     // PNG files in a folder (written by a pool of threads), or one clip.
     let mut writer = match sink {

@@ -330,6 +330,31 @@ impl PlotHistory {
         history
     }
 
+    /// The plots a scene starts with: its saved state's (`[resume]`), and each other body's
+    /// from its own `[bodies.resume]`; empty for a scene that starts afresh.
+    pub fn of_setup(setup: &crate::scene::SceneSetup) -> Self {
+        let resumed = |s: &crate::scene::SceneSetup| match &s.scene.resume {
+            Some(resume) => Self::resumed(resume, s.ramp.alpha_rad, &s.ramp.drag_law),
+            None => Self::default(),
+        };
+        let mut history = resumed(setup);
+        for (i, lane) in setup.lanes.iter().enumerate() {
+            *history.other_mut(i + 1) = resumed(lane);
+        }
+        history
+    }
+
+    /// The saved state `[resume]` keeps of the run at `t` in `state`, with these plots' points.
+    pub fn saved(&self, t: f64, state: Vec<f64>) -> crate::scene::ResumeSpec {
+        crate::scene::ResumeSpec {
+            t,
+            state,
+            alpha_sweep: self.alpha_sweep_points(),
+            crossings: self.crossings_by_mass(),
+            alpha_sweep_drag: self.alpha_sweep_drag(),
+        }
+    }
+
     /// The 1/T points as `[resume]` keeps them: [α, 1/T, m/m0, +1 up or −1 down].
     pub fn alpha_sweep_points(&self) -> Vec<[f64; 4]> {
         self.sweep
@@ -509,7 +534,6 @@ pub enum PlotData {
     /// (the contact point's polar angle and azimuth on the body, |ω|).
     Series,
 }
-
 
 impl PlotData {
     /// All five, in file order.

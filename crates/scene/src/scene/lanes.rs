@@ -86,8 +86,9 @@ fn lane_model<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<ModelSpec
         .map_err(|e| D::Error::custom(format!("[bodies.model]: {}", e.message())))
 }
 
-/// A body's saved state on its lane: the time (the scene's `[resume]` time) and the model's
-/// state vector.
+/// A body's saved state on its lane: the time (the scene's `[resume]` time), the model's
+/// state vector, and its points in the sweep plots, as `[resume]` keeps the scene's own body's
+/// (checked by the same rules).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LaneResume {
@@ -95,6 +96,28 @@ pub struct LaneResume {
     pub t: f64,
     /// The state vector, as `[resume]` writes it.
     pub state: Vec<f64>,
+    /// Its 1/T points: [α, 1/T, m/m0, +1 when α was increasing or −1 decreasing].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub alpha_sweep: Vec<[f64; 4]>,
+    /// Its settled crossings: [m/m0, polar angle of the ∂Ω crossing].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub crossings: Vec<[f64; 2]>,
+    /// The drag law of each `alpha_sweep` point, as `[resume]`'s.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub alpha_sweep_drag: Vec<String>,
+}
+
+impl From<super::ResumeSpec> for LaneResume {
+    /// A body's `[resume]` as its lane keeps it (the same fields).
+    fn from(r: super::ResumeSpec) -> Self {
+        LaneResume {
+            t: r.t,
+            state: r.state,
+            alpha_sweep: r.alpha_sweep,
+            crossings: r.crossings,
+            alpha_sweep_drag: r.alpha_sweep_drag,
+        }
+    }
 }
 
 impl LaneSpec {
@@ -246,7 +269,9 @@ impl Scene {
             resume: entry.resume.as_ref().map(|r| super::ResumeSpec {
                 t: r.t,
                 state: r.state.clone(),
-                ..Default::default()
+                alpha_sweep: r.alpha_sweep.clone(),
+                crossings: r.crossings.clone(),
+                alpha_sweep_drag: r.alpha_sweep_drag.clone(),
             }),
             replay: Vec::new(),
             bodies: Vec::new(),
@@ -540,10 +565,15 @@ mod tests {
         scene.bodies[0].resume = Some(super::LaneResume {
             t: 4.0,
             state: state.clone(),
+            ..Default::default()
         });
         let err = scene.setup(None).unwrap_err().to_string();
         assert!(err.contains("is not the scene's [resume] t = 5"), "{err}");
-        scene.bodies[0].resume = Some(super::LaneResume { t: 5.0, state });
+        scene.bodies[0].resume = Some(super::LaneResume {
+            t: 5.0,
+            state,
+            ..Default::default()
+        });
         let setup = scene.setup(None).unwrap();
         assert_eq!(setup.lanes[0].resume.as_ref().map(|r| r.t), Some(5.0));
     }

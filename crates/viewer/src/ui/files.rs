@@ -441,21 +441,19 @@ impl AppUi {
             snap.drag_law.label(),
             original_description(&scene.description)
         );
-        scene.resume = Some(crate::scene::ResumeSpec {
-            t: snap.t,
-            state: snap.state.clone(),
-            alpha_sweep: self.history.alpha_sweep_points(),
-            crossings: self.history.crossings_by_mass(),
-            alpha_sweep_drag: self.history.alpha_sweep_drag(),
-        });
+        scene.resume = Some(self.history.saved(snap.t, snap.state.clone()));
         // How the run got here: replayed from the scene's start, it reaches this state to the
         // bit (`LiveRun::replayed`).
         scene.replay = snap.replay.clone();
-        for (entry, lane) in scene.bodies.iter_mut().zip(&snap.lanes) {
-            entry.resume = Some(crate::scene::LaneResume {
-                t: lane.t,
-                state: lane.state.clone(),
-            });
+        // Each other body with its own plots' points, so they load back as they were.
+        for (n, (entry, lane)) in scene.bodies.iter_mut().zip(&snap.lanes).enumerate() {
+            let saved = match self.history.lane(n + 1) {
+                Some(plots) => plots.saved(lane.t, lane.state.clone()),
+                None => {
+                    crate::live::history::PlotHistory::default().saved(lane.t, lane.state.clone())
+                }
+            };
+            entry.resume = Some(saved.into());
         }
         let path = self.state_path.clone();
         self.write_toml(&scene, &path, "the run's state");

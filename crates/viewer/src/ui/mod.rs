@@ -315,14 +315,7 @@ impl AppUi {
         let step = status.snapshot.lesson.map(|l| l.done);
         if self.seen_run != Some(run) {
             if self.seen_run.map(|r| r.0) != Some(status.scene_id) {
-                self.history = match &status.setup.scene.resume {
-                    Some(resume) => PlotHistory::resumed(
-                        resume,
-                        status.setup.ramp.alpha_rad,
-                        &status.setup.ramp.drag_law,
-                    ),
-                    None => PlotHistory::default(),
-                };
+                self.history = PlotHistory::of_setup(&status.setup);
                 self.step_plots.clear();
                 self.scene = status.setup.scene.clone();
                 self.views = status.setup.scene.views.clone();
