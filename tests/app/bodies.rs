@@ -193,3 +193,62 @@ fn an_earlier_runs_body_files_are_not_left_beside_this_ones() {
     );
     assert!(!gif.exists(), "no clip rendered before the refusal");
 }
+
+/// The SO(3) ball draws every shown body's path in its colour: the doubling lesson's last step
+/// (three bodies) has the sky-blue and green paths of m/m0 = 2 and 4.5 in the inset, which the
+/// same frame with the other bodies hidden does not.
+#[test]
+fn the_ball_draws_each_shown_bodys_path_in_its_colour() {
+    let dir = scratch("bodies-ball");
+    let lesson =
+        String::from_utf8(rollphase(["scenes", "--toml", "lesson-period-doubling"]).stdout)
+            .unwrap()
+            .replace(
+                "trail_time = 120.0",
+                "trail_time = 120.0\nstart_time = 2900.0",
+            );
+    let frame = |name: &str, text: &str| {
+        let scene = dir.join(format!("{name}.toml"));
+        std::fs::write(&scene, text).unwrap();
+        let out = dir.join(name);
+        let o = rollphase([
+            "--headless",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--size",
+            "960x540",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        image::open(out.join("frame_00000.png")).unwrap().to_rgb8()
+    };
+    // Pixels of the inset (the top right) that `near` picks.
+    let in_inset = |img: &image::RgbImage, near: &dyn Fn([i32; 3]) -> bool| {
+        let (w, h) = img.dimensions();
+        img.enumerate_pixels()
+            .filter(|(x, y, p)| *x > w * 3 / 4 && *y < h * 9 / 20 && near(p.0.map(i32::from)))
+            .count()
+    };
+    let shown = frame("shown", &lesson);
+    let hidden = frame(
+        "hidden",
+        &lesson.replace("views = { lanes = true }", "views = { lanes = false }"),
+    );
+    std::fs::remove_dir_all(&dir).ok();
+    // Sky blue (86, 180, 233) and bluish green (0, 158, 115), drawn at up to 75 % opacity over
+    // the ball's dim blue: the green reads about (50, 140, 130), apart from the y axis's light
+    // green, whose green stands far above its blue.
+    let sky_blue = |[r, g, b]: [i32; 3]| b > 150 && b > r + 60 && g > r + 30;
+    let green = |[r, g, b]: [i32; 3]| g > 110 && g > r + 60 && (-5..=40).contains(&(g - b));
+    for (name, near) in [
+        ("sky blue", &sky_blue as &dyn Fn([i32; 3]) -> bool),
+        ("green", &green),
+    ] {
+        let (with, without) = (in_inset(&shown, near), in_inset(&hidden, near));
+        assert!(
+            with > 2 * without + 50,
+            "{name}: {with} pixels with the bodies shown, {without} hidden"
+        );
+    }
+}

@@ -261,6 +261,29 @@ mod tests {
         }
     }
 
+    /// With the scene's SO(3) ball shown, each other body's orientation is followed too, for
+    /// the ball to draw its path in its colour; with the ball off, none is.
+    #[test]
+    fn each_bodys_path_is_followed_in_the_ball_while_it_is_shown() {
+        let setup = Scene::preset("lesson-period-doubling")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        assert!(setup.scene.views.ball);
+        let mut views = setup.scene.views.clone();
+        let mut run = LiveRun::new(setup);
+        run.advance_to(60.0).unwrap();
+        let snap = run.snapshot();
+        for lane in &snap.lanes {
+            assert!(lane.ball_point.is_some(), "{}", lane.label);
+            assert!(lane.ball_trail.iter().map(Vec::len).sum::<usize>() > 10);
+        }
+        views.ball = false;
+        run.set_views(&views);
+        run.advance_to(61.0).unwrap();
+        assert!(run.snapshot().lanes.iter().all(|l| l.ball_point.is_none()));
+    }
+
     /// A change of α, by a lesson's step or by hand, reaches every body's plotted samples from
     /// its time on: none is left from the old ramp by a step that had reached beyond it.
     #[test]

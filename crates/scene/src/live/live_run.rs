@@ -169,6 +169,7 @@ impl LiveRun {
         };
         let contact = ContactWatch::new(setup.limits, t0, first.force);
         let lanes = setup.lanes.iter().cloned().map(LiveRun::new).collect();
+        // (Each lane's scene asks for the ball when the scene's own does: `Scene::lane_scene`.)
         let mut sim = Self {
             ramp: setup.ramp,
             method: setup.method,
@@ -407,6 +408,10 @@ impl LiveRun {
     pub fn set_views(&mut self, views: &ViewsSpec) {
         self.setup.scene.views = views.clone();
         self.track_ball = views.ball && matches!(self.setup.body, Body::Sphere(_));
+        // The other bodies' paths are drawn in the same ball.
+        for lane in &mut self.lanes {
+            lane.track_ball = self.track_ball && matches!(lane.setup.body, Body::Sphere(_));
+        }
     }
 
     /// Integrates from the current time to `t_target`, applying the timeline steps on the way

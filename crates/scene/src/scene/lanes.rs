@@ -258,7 +258,8 @@ impl Scene {
             playback: self.playback.clone(),
             views: ViewsSpec {
                 body: true,
-                ball: false,
+                // Its path is drawn in the scene's SO(3) ball beside the own body's.
+                ball: self.views.ball,
                 poincare: false,
                 overlay: true,
                 plot: LessonPlot::None,

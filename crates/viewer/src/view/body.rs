@@ -329,42 +329,57 @@ impl SceneView {
             .collect()
     }
 
+    /// The SO(3) ball: the path of the body's orientation, and with the other bodies shown
+    /// (`lanes`), each body's path in its own colour, newest brightest, with its current
+    /// orientation as a marker in that colour; alone, the path fades from blue (old) to orange.
     pub(super) fn ball_view(
         &self,
         snap: &Snapshot,
+        lanes: bool,
         rect: [u32; 4],
         background: Option<[f32; 4]>,
     ) -> View {
         let mut segments = Vec::new();
         axes_and_circles(&mut segments);
-        let pieces = &snap.ball_trail;
-        let total: usize = pieces.iter().map(|p| p.len()).sum();
-        let mut seen = 0usize;
-        for piece in pieces {
-            let start = seen;
-            push_polyline_indexed(&mut segments, piece, 3.0, |i| {
-                let age = (start + i) as f32 / total.max(1) as f32;
-                linear(
-                    sample(&[[70, 110, 190], [255, 140, 30]], age),
-                    0.3 + 0.7 * age,
-                )
-            });
-            seen += piece.len();
-        }
         let mut meshes = Vec::new();
-        if let Some(p) = snap.ball_point {
-            meshes.push(MeshInstance {
-                mesh: self.marker_mesh,
-                model: Mat4::from_scale_rotation_translation(
-                    Vec3::splat(0.055),
-                    Quat::IDENTITY,
-                    p.as_vec3(),
-                ),
-                material: Material {
-                    tint: linear([240, 40, 40], 1.0),
-                    ..Material::default()
-                },
-            });
+        let bodies: Vec<&Snapshot> = if lanes {
+            std::iter::once(snap).chain(&snap.lanes).collect()
+        } else {
+            vec![snap]
+        };
+        for (n, body) in bodies.iter().enumerate() {
+            let colour = lanes.then(|| crate::colormap::body_colour(n));
+            let pieces = &body.ball_trail;
+            let total: usize = pieces.iter().map(|p| p.len()).sum();
+            let mut seen = 0usize;
+            for piece in pieces {
+                let start = seen;
+                push_polyline_indexed(&mut segments, piece, 3.0, |i| {
+                    let age = (start + i) as f32 / total.max(1) as f32;
+                    match colour {
+                        Some(c) => linear(c, 0.25 + 0.75 * age),
+                        None => linear(
+                            sample(&[[70, 110, 190], [255, 140, 30]], age),
+                            0.3 + 0.7 * age,
+                        ),
+                    }
+                });
+                seen += piece.len();
+            }
+            if let Some(p) = body.ball_point {
+                meshes.push(MeshInstance {
+                    mesh: self.marker_mesh,
+                    model: Mat4::from_scale_rotation_translation(
+                        Vec3::splat(0.055),
+                        Quat::IDENTITY,
+                        p.as_vec3(),
+                    ),
+                    material: Material {
+                        tint: linear(colour.unwrap_or([240, 40, 40]), 1.0),
+                        ..Material::default()
+                    },
+                });
+            }
         }
         meshes.push(MeshInstance {
             mesh: self.ball_mesh,

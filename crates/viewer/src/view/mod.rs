@@ -499,6 +499,7 @@ impl SceneView {
             let below = (panels::estimated_height(&key)).min(rect[3] / 3);
             let ball = self.ball_view(
                 snap,
+                self.lanes.shown(snap),
                 [rect[0], rect[1] + below, rect[2], rect[3] - below],
                 if body_rect.is_some() { inset_bg } else { None },
             );
