@@ -23,6 +23,10 @@ use crate::live::Snapshot;
 use crate::live::history::{Branch, PlotHistory, Regime};
 use crate::view::CurvatureScale;
 
+mod time_series;
+
+use time_series::{bodies_ui, force_ui, health_measures, health_ui};
+
 use super::plot_axes::{
     X_LABEL_POINTS, Y_LABEL_POINTS, label_spacing, tick_label, x_marks, y_marks,
 };
@@ -259,7 +263,11 @@ pub fn plots_ui(
     let is_disk = snap.theta.is_some();
     let gap = ui.spacing().item_spacing.x;
     let fit = ((ui.available_width() + gap) / (MIN_PLOT_WIDTH + gap)).floor();
-    let shown = fit.clamp(3.0, 5.0);
+    // The other bodies' rate plot is one more: the health and force plots keep their places
+    // after it where the panel is wide enough (at 1920 px it gives six ~300 px plots).
+    let lanes = history.lanes() > 0 && snap.views.lanes;
+    let extra = if lanes { 1.0 } else { 0.0 };
+    let shown = fit.clamp(3.0 + extra, 5.0 + extra);
     let width = ((ui.available_width() - (shown - 1.0) * gap) / shown).max(120.0);
     ui.horizontal(|ui| {
         if is_disk {
@@ -330,7 +338,7 @@ pub fn plots_ui(
             input = contact_map_ui(ui, snap, map, width, height);
             crossings_ui(ui, history, snap, (width, height), PlotLook::ROW);
         }
-        if history.lanes() > 0 && snap.views.lanes {
+        if lanes {
             bodies_ui(ui, history, snap, width, height);
         }
         sweep_ui(
@@ -341,98 +349,17 @@ pub fn plots_ui(
             (width, height),
             PlotLook::ROW,
         );
-        if shown >= 4.0 {
-            health_ui(ui, history, snap.health.measured, width, height);
+        // A health plot with nothing to draw (no shown body's model has a constraint or a
+        // conserved quantity: a viscous cylinder's) gives its place to the force plot.
+        let health = health_measures(history, snap);
+        if health && shown >= 4.0 + extra {
+            health_ui(ui, history, snap, width, height);
         }
-        if shown >= 5.0 {
+        if shown >= if health { 5.0 } else { 4.0 } + extra {
             force_ui(ui, history, snap, width, height);
         }
     });
     input
-}
-
-/// Every body on the ramp (the scene's own and its `[[bodies]]`) against time, each in its
-/// colour: a cylinder's θ̇, a sphere's |ω|, from each body's own run.
-fn bodies_ui(ui: &mut egui::Ui, history: &PlotHistory, snap: &Snapshot, width: f32, height: f32) {
-    let colour = |n: usize| {
-        let [r, g, b] = crate::colormap::body_colour(n);
-        Color32::from_rgb(r, g, b)
-    };
-    let lanes: Vec<&PlotHistory> = (1..=history.lanes())
-        .filter_map(|n| history.lane(n))
-        .collect();
-    let labels: Vec<&str> = std::iter::once(snap.label.as_str())
-        .chain(snap.lanes.iter().map(|l| l.label.as_str()))
-        .collect();
-    let series: Vec<Vec<[f64; 2]>> = std::iter::once(history)
-        .chain(lanes.iter().copied())
-        .map(|h| h.plotted().map(|s| [s.t, s.rate]).collect())
-        .collect();
-    let keys: Vec<Key<'_>> = labels
-        .iter()
-        .enumerate()
-        .take(series.len())
-        .map(|(n, label)| (*label, colour(n), Swatch::Line))
-        .collect();
-    let (name, axis) = if snap.theta.is_some() {
-        ("bodies_rate", "dθ/dt")
-    } else {
-        ("bodies_rate", "|ω|")
-    };
-    keyed(ui, width, height, &keys, |ui, plot_height| {
-        instrument(Plot::new(name), "t", axis)
-            .width(width)
-            .height(plot_height)
-            .x_axis_label("t")
-            .y_axis_label(axis)
-            .include_y(0.0)
-            .show(ui, |p| {
-                for (n, points) in series.into_iter().enumerate() {
-                    let label = labels.get(n).copied().unwrap_or("body");
-                    p.line(Line::new(label, PlotPoints::from(points)).color(colour(n)));
-                }
-            });
-    });
-}
-
-/// The contact force against time: N/F and the friction rolling needs, with the scene's μ
-/// (when it has one) and N = 0 as the lines the model must stay within.
-fn force_ui(ui: &mut egui::Ui, history: &PlotHistory, snap: &Snapshot, width: f32, height: f32) {
-    let normal: Vec<[f64; 2]> = history.plotted().map(|s| [s.t, s.normal_force]).collect();
-    // Where N ≤ 0 no friction holds the body: drawn as a gap, not a line off to infinity.
-    let needed: Vec<[f64; 2]> = history
-        .plotted()
-        .map(|s| [s.t, s.friction_needed])
-        .filter(|p| p[1].is_finite())
-        .collect();
-    let friction = snap.contact.friction;
-    let red = Color32::from_rgb(230, 60, 50);
-    // Colours apart from the surface's red line: N orange, μ needed blue.
-    let (orange, blue) = (SERIES_COLORS[1], SERIES_COLORS[0]);
-    let mut keys = vec![
-        ("N/F", orange, Swatch::Line),
-        ("μ needed", blue, Swatch::Line),
-        ("N = 0", Color32::GRAY, Swatch::Line),
-    ];
-    if friction.is_some() {
-        keys.push(("surface μ", red, Swatch::Line));
-    }
-    keyed(ui, width, height, &keys, |ui, plot_height| {
-        instrument(Plot::new("contact_force"), "t", "force / F")
-            .width(width)
-            .height(plot_height)
-            .x_axis_label("t")
-            .y_axis_label("N/F, μ")
-            .include_y(0.0)
-            .show(ui, |p| {
-                p.line(Line::new("N/F", PlotPoints::from(normal)).color(orange));
-                p.line(Line::new("μ needed", PlotPoints::from(needed)).color(blue));
-                p.hline(egui_plot::HLine::new("N = 0", 0.0).color(Color32::GRAY));
-                if let Some(mu) = friction {
-                    p.hline(egui_plot::HLine::new("surface μ", mu).color(red));
-                }
-            });
-    });
 }
 
 /// What the contact map reports back to the app: a click, and where the map is on screen.
@@ -875,53 +802,6 @@ fn crossings_ui(
                 );
             }
         });
-    });
-}
-
-fn health_ui(
-    ui: &mut egui::Ui,
-    history: &PlotHistory,
-    measured: crate::live::Measured,
-    width: f32,
-    height: f32,
-) {
-    let log = |v: f64| v.max(1e-17).log10();
-    // Only what the running model has (flat lines at the floor said nothing).
-    let quantities = crate::live::history::health_quantities(measured);
-    if quantities.is_empty() {
-        ui.allocate_ui(egui::vec2(width, height), |ui| {
-            ui.vertical_centered(|ui| {
-                ui.add_space(height * 0.35);
-                ui.label("health: this model has no constraint or conserved quantity to drift");
-                ui.label(egui::RichText::new("(θ is integrated directly)").weak());
-            });
-        });
-        return;
-    }
-    let keys: Vec<Key<'_>> = quantities
-        .iter()
-        .zip(SERIES_COLORS.iter().cycle())
-        .map(|(q, &c)| (q.label, c, Swatch::Line))
-        .collect();
-    keyed(ui, width, height, &keys, |ui, plot_height| {
-        instrument(Plot::new("health"), "t", "log₁₀ error")
-            .width(width)
-            .height(plot_height)
-            .x_axis_label("t")
-            .y_axis_label("log₁₀ error")
-            .include_y(-16.0)
-            .show(ui, |p| {
-                for &(label, color, _) in &keys {
-                    let Some(q) = quantities.iter().find(|q| q.label == label) else {
-                        continue;
-                    };
-                    let points: PlotPoints = history
-                        .plotted()
-                        .map(|s| [s.t, log((q.value)(s))])
-                        .collect();
-                    p.line(Line::new(label, points).color(color));
-                }
-            });
     });
 }
 
