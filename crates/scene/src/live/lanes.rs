@@ -261,6 +261,21 @@ mod tests {
         }
     }
 
+    /// A body whose entry takes the scene's body shares its contact map; one of another shape
+    /// does not.
+    #[test]
+    fn a_body_shares_the_contact_map_only_when_it_is_the_same_body() {
+        let mut scene = Scene::preset("lesson-period-doubling").unwrap();
+        scene.bodies[1].body = Some(crate::scene::BodySpec {
+            perfect: Some(crate::scene::PerfectBody::Sphere),
+            ..Default::default()
+        });
+        let snap = LiveRun::new(scene.setup(None).unwrap()).snapshot();
+        assert!(snap.shares_body);
+        let shares: Vec<bool> = snap.lanes.iter().map(|l| l.shares_body).collect();
+        assert_eq!(shares, [true, false]);
+    }
+
     /// With the scene's SO(3) ball shown, each other body's orientation is followed too, for
     /// the ball to draw its path in its colour; with the ball off, none is.
     #[test]

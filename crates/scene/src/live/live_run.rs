@@ -102,6 +102,8 @@ pub struct LiveRun {
     /// The scene's other bodies on the ramp (`[[bodies]]`), each a run of its own on the same
     /// clock, α and integrator (`super::lanes`).
     pub(super) lanes: Vec<LiveRun>,
+    /// For each of `lanes`, whether its body is this run's (the same shape).
+    lanes_share_body: Vec<bool>,
 }
 
 /// See [`LiveRun::continuation`].
@@ -169,6 +171,12 @@ impl LiveRun {
         };
         let contact = ContactWatch::new(setup.limits, t0, first.force);
         let lanes = setup.lanes.iter().cloned().map(LiveRun::new).collect();
+        let own_shape = setup.body.to_shape();
+        let lanes_share_body = setup
+            .lanes
+            .iter()
+            .map(|l| l.body.to_shape() == own_shape)
+            .collect();
         // (Each lane's scene asks for the ball when the scene's own does: `Scene::lane_scene`.)
         let mut sim = Self {
             ramp: setup.ramp,
@@ -197,6 +205,7 @@ impl LiveRun {
             off_script: false,
             replay,
             lanes,
+            lanes_share_body,
         };
         let o = observe(&sim.state, &sim.ramp);
         sim.energy0 = o.energy;
@@ -822,7 +831,16 @@ impl LiveRun {
             } else {
                 self.setup.scene.label.clone()
             },
-            lanes: self.lanes.iter().map(LiveRun::snapshot).collect(),
+            lanes: self
+                .lanes
+                .iter()
+                .zip(&self.lanes_share_body)
+                .map(|(lane, &shares_body)| Snapshot {
+                    shares_body,
+                    ..lane.snapshot()
+                })
+                .collect(),
+            shares_body: true,
         }
     }
 

@@ -152,6 +152,10 @@ pub struct Snapshot {
     pub label: String,
     /// The scene's other bodies (`[[bodies]]`) at the same time, each as its own run shows it.
     pub lanes: Vec<Snapshot>,
+    /// Whether this body is the scene's own body's shape (always, for the scene's own; for
+    /// another body, when its entry takes the scene's body or one equal to it): its contact
+    /// path then belongs on the scene's body's contact map.
+    pub shares_body: bool,
 }
 
 /// What the Poincaré-field view needs at a moment of the run.

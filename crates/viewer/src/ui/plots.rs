@@ -385,33 +385,46 @@ fn contact_map_ui(
     width: f32,
     height: f32,
 ) -> MapInput {
-    // Split the path where φ wraps, so no line crosses the whole plot.
-    let mut pieces: Vec<Vec<[f64; 2]>> = vec![Vec::new()];
-    let mut prev_phi: Option<f64> = None;
-    for p in &snap.body_trail {
-        let (theta, phi) = angles(*p);
-        if prev_phi.is_some_and(|q| (phi - q).abs() > std::f64::consts::PI) {
-            pieces.push(Vec::new());
-        }
-        if let Some(piece) = pieces.last_mut() {
-            piece.push([phi, theta]);
-        }
-        prev_phi = Some(phi);
-    }
+    // The paths drawn: the scene's own body's, and with the other bodies shown, each that is
+    // the same body's (the map is of the scene's body), in its colour.
+    let others: Vec<(usize, &Snapshot)> = if snap.views.lanes {
+        snap.lanes
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.shares_body)
+            .map(|(i, l)| (i + 1, l))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let colour = |n: usize| {
+        let [r, g, b] = crate::colormap::body_colour(n);
+        Color32::from_rgb(r, g, b)
+    };
     let (theta_now, phi_now) = angles(snap.contact_in_body);
     let ctx = ui.ctx().clone();
     // The map is the whole body, always: fixed bounds, and no pan or zoom, so a click names a
     // body point (it restarts the run from there).
     let yellow = Color32::from_rgb(255, 200, 0);
-    let keys = [
-        ("contact path", Color32::BLACK, Swatch::Line),
-        ("contact now", yellow, Swatch::Dot),
-        (
-            "colour: curvature K",
-            Color32::from_rgb(200, 70, 60),
-            Swatch::Dot,
-        ),
-    ];
+    let mut keys: Vec<Key<'_>> = if others.is_empty() {
+        vec![
+            ("contact path", Color32::BLACK, Swatch::Line),
+            ("contact now", yellow, Swatch::Dot),
+        ]
+    } else {
+        std::iter::once((snap.label.as_str(), colour(0), Swatch::Line))
+            .chain(
+                others
+                    .iter()
+                    .map(|&(n, l)| (l.label.as_str(), colour(n), Swatch::Line)),
+            )
+            .collect()
+    };
+    keys.push((
+        "colour: curvature K",
+        Color32::from_rgb(200, 70, 60),
+        Swatch::Dot,
+    ));
     let shown = keyed(ui, width, height, &keys, |ui, plot_height| {
         instrument(Plot::new("contact_map"), "φ", "θ")
             .width(width)
@@ -435,18 +448,44 @@ fn contact_map_ui(
                         egui::vec2(std::f32::consts::TAU, std::f32::consts::PI),
                     ));
                 }
-                for piece in pieces.into_iter().filter(|piece| piece.len() > 1) {
-                    p.line(
-                        Line::new("contact path", PlotPoints::from(piece))
-                            .color(Color32::BLACK)
-                            .width(1.5),
+                if others.is_empty() {
+                    for piece in map_pieces(&snap.body_trail) {
+                        p.line(
+                            Line::new("contact path", PlotPoints::from(piece))
+                                .color(Color32::BLACK)
+                                .width(1.5),
+                        );
+                    }
+                    p.points(
+                        Points::new("contact now", PlotPoints::from(vec![[phi_now, theta_now]]))
+                            .color(yellow)
+                            .radius(4.0),
+                    );
+                    return;
+                }
+                // Each body's path in its colour over a black edge, readable on the map's blues
+                // and reds alike; its contact now a dot in its colour.
+                for (n, body) in std::iter::once((0, snap)).chain(others.iter().copied()) {
+                    let name = body.label.as_str();
+                    for piece in map_pieces(&body.body_trail) {
+                        p.line(
+                            Line::new(name, PlotPoints::from(piece.clone()))
+                                .color(Color32::BLACK)
+                                .width(3.5),
+                        );
+                        p.line(
+                            Line::new(name, PlotPoints::from(piece))
+                                .color(colour(n))
+                                .width(2.0),
+                        );
+                    }
+                    let (theta, phi) = angles(body.contact_in_body);
+                    p.points(
+                        Points::new(name, PlotPoints::from(vec![[phi, theta]]))
+                            .color(colour(n))
+                            .radius(4.5),
                     );
                 }
-                p.points(
-                    Points::new("contact now", PlotPoints::from(vec![[phi_now, theta_now]]))
-                        .color(yellow)
-                        .radius(4.0),
-                );
             })
     });
     let clicked = shown
@@ -462,6 +501,24 @@ fn contact_map_ui(
         clicked,
         transform: Some(shown.transform),
     }
+}
+
+/// A contact path on the (φ, θ) map, split where φ wraps, so no line crosses the whole plot.
+fn map_pieces(trail: &[glam::DVec3]) -> Vec<Vec<[f64; 2]>> {
+    let mut pieces: Vec<Vec<[f64; 2]>> = vec![Vec::new()];
+    let mut prev_phi: Option<f64> = None;
+    for p in trail {
+        let (theta, phi) = angles(*p);
+        if prev_phi.is_some_and(|q| (phi - q).abs() > std::f64::consts::PI) {
+            pieces.push(Vec::new());
+        }
+        if let Some(piece) = pieces.last_mut() {
+            piece.push([phi, theta]);
+        }
+        prev_phi = Some(phi);
+    }
+    pieces.retain(|piece| piece.len() > 1);
+    pieces
 }
 
 /// The lesson's plot alone (`presentation and class modes`), `width` × `height` points.

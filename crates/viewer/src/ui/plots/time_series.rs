@@ -325,10 +325,16 @@ mod tests {
         ] {
             assert!(has(word), "{word:?} not in {words:?}");
         }
-        // The body's own quantities are not named one by one then.
-        assert!(!has("||q|−1|"), "{words:?}");
+        // The body's own quantities are not named one by one then; and the contact map, of the
+        // body the three share, names each body's path instead of one "contact path".
+        assert!(!has("||q|−1|") && !has("contact path"), "{words:?}");
+        assert!(has("colour: curvature K"), "{words:?}");
         scene.bodies.clear();
         let alone = plot_words(scene, 20.0, 1900.0);
         assert!(alone.iter().any(|t| t.contains("||q|−1|")), "{alone:?}");
+        assert!(
+            alone.iter().any(|t| t.contains("contact path")),
+            "{alone:?}"
+        );
     }
 }
