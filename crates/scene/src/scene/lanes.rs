@@ -217,10 +217,13 @@ fn ignorable(c: char) -> bool {
     )
 }
 
-/// A name as it looks: its ignorable characters left out and its white space trimmed, each run
-/// of it one space. Two bodies whose names look the same are refused as one name.
+/// A name as it looks: in Unicode's canonical composition (NFC: "cafe" with a combining acute
+/// is "café", the Ohm sign is Ω), its ignorable characters left out and its white space
+/// trimmed, each run of it one space. Two bodies whose names look the same are refused as one
+/// name. (NFC, not the compatibility form NFKC: "x²" and "x2" look different and stay apart.)
 fn as_shown(name: &str) -> String {
-    let visible: String = name.chars().filter(|&c| !ignorable(c)).collect();
+    use unicode_normalization::UnicodeNormalization;
+    let visible: String = name.nfc().filter(|&c| !ignorable(c)).collect();
     visible.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
@@ -546,6 +549,19 @@ mod tests {
             ),
             "{err}"
         );
+        // Composed and decomposed, the Ohm sign and omega: one name as drawn, so refused as a
+        // second body's; a superscript is not a digit, so "x²" beside "x2" is two names.
+        let pair = |own: &str, other: &str| {
+            let mut scene = Scene::preset("which-one-stops").unwrap();
+            scene.label = own.into();
+            scene.bodies[0].label = other.into();
+            scene.setup(None).map(|_| ()).map_err(|e| e.to_string())
+        };
+        for (own, other) in [("café", "cafe\u{301}"), ("\u{2126} = 1", "\u{3a9} = 1")] {
+            let err = pair(own, other).unwrap_err();
+            assert!(err.contains("looks the same as another body's"), "{err}");
+        }
+        assert_eq!(pair("x²", "x2"), Ok(()));
     }
 
     #[test]
