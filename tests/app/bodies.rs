@@ -252,3 +252,50 @@ fn the_ball_draws_each_shown_bodys_path_in_its_colour() {
         );
     }
 }
+
+/// A lesson rendered from past its steps keeps the plots of the steps it skipped: the doubling
+/// lesson from t = 2900 writes the crossings at m/m0 = 0, 2, 4.5 and 6 that its steps measured
+/// (the simulation to the start collects them at every frame step, as frames from 0 would),
+/// not only those at 6 (a helper found them lost).
+#[test]
+fn a_late_start_keeps_the_plots_of_the_steps_it_skipped() {
+    let dir = scratch("bodies-late-start");
+    let lesson =
+        String::from_utf8(rollphase(["scenes", "--toml", "lesson-period-doubling"]).stdout)
+            .unwrap()
+            .replace(
+                "trail_time = 120.0",
+                "trail_time = 120.0\nstart_time = 2900.0",
+            );
+    let scene = dir.join("late.toml");
+    std::fs::write(&scene, lesson).unwrap();
+    let data = dir.join("data");
+    let o = rollphase([
+        "--headless",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--size",
+        "64x36",
+        "--out",
+        dir.join("frames").to_str().unwrap(),
+        "--plot-data",
+        data.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let crossings = std::fs::read_to_string(data.join("sweep-mass.csv")).unwrap();
+    let other = std::fs::read_to_string(data.join("sweep-mass-body-3.csv")).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    let count = |text: &str, mass: &str| {
+        text.lines()
+            .filter(|l| l.split(',').next() == Some(mass))
+            .count()
+    };
+    // Period 1 at 0 and 2, period 2 at 4.5 and 6: one branch, then two.
+    let branches: Vec<usize> = ["0.0", "2.0", "4.5", "6.0"]
+        .iter()
+        .map(|m| count(&crossings, m))
+        .collect();
+    assert_eq!(branches, [1, 1, 2, 2], "{crossings}");
+    // The body at m/m0 = 4.5, hidden until the last step, has its two branches too.
+    assert_eq!(count(&other, "4.5"), 2, "{other}");
+}

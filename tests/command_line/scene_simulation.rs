@@ -173,6 +173,16 @@ fn the_doubling_preset_shows_period_two_and_its_trail_covers_both_loops() {
         5,
         "a doubled cycle is decided by 2k + 1 crossings"
     );
+    // Its T is the whole cycle, two crossings (44.19 + 45.15), whichever crossing came last: a
+    // helper found "T = 44.188" at one frame count and "T = 45.143" at another.
+    let cycle = snap.cycle_period.unwrap();
+    assert!((cycle - 89.33).abs() < 0.01, "{cycle}");
+    let crossing = snap.cycle_crossings[4].0 - snap.cycle_crossings[3].0;
+    s.advance_to(start + crossing * 0.5 + 25.0).unwrap();
+    let later = s.snapshot();
+    assert_ne!(later.period, snap.period, "the last crossing alternates");
+    assert_eq!(later.fate(), format!("periodic: period 2, T = {cycle:.3}"));
+    assert_eq!(snap.fate(), later.fate());
 }
 
 #[test]

@@ -291,7 +291,26 @@ pub fn render_to(
     // its progress in 100 slices instead of a silent wait. Short ones (every preset) run in one
     // piece, so their frames are exactly those of the app and the tests.
     let start = hr.simulation().setup().frame_time(0);
-    if start > LONG_START_TIME {
+    let from = hr.simulation().time();
+    if extras.plot_data.is_some() && start > from {
+        // The plots collect from snapshots (a lesson's crossings at each m/m0 it steps
+        // through, its 1/T points): taken at every frame step up to the start, as frames from
+        // t = 0 would take them, so starting late loses none of them (the run is the same
+        // however it is cut).
+        bar.set_length(100);
+        bar.set_message(format!("simulating to t = {start} (collecting the plots)"));
+        let fps = hr.simulation().setup().scene.playback.fps;
+        let mut t = from;
+        while t < start {
+            t = (t + hr.simulation().setup().speed_at(t) / fps).min(start);
+            hr.advance_to(t)?;
+            history.push(&hr.simulation().snapshot());
+            history.push_samples(hr.take_plot_samples());
+            bar.set_position((100.0 * (t - from) / (start - from)) as u64);
+        }
+        bar.set_length(frames);
+        bar.set_position(0);
+    } else if start > LONG_START_TIME {
         bar.set_length(100);
         bar.set_message(format!("simulating to t = {start}"));
         for i in 1..=100u64 {

@@ -99,6 +99,9 @@ pub struct Snapshot {
     /// 3D: the period k of the crossing sequence of ∂Ω (1: closed orbit, 2: doubled), once the
     /// last 2k + 1 crossings repeat to 1e-3; `None` before that, or in 2D.
     pub period_multiplicity: Option<usize>,
+    /// 3D: the time the decided cycle takes to repeat, its k crossings of ∂Ω (`period` is the
+    /// last one's, which alternates on a doubled cycle); `None` while undecided.
+    pub cycle_period: Option<f64>,
     /// 3D: the crossings of ∂Ω that decided `period_multiplicity` k, the last 2k + 1 (time,
     /// boundary point; sign arbitrary), oldest first; empty while it is undecided. All of them,
     /// not only the latest: a frame may come several crossings after the one before it.

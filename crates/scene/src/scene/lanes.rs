@@ -40,14 +40,10 @@ pub struct LaneSpec {
     /// Its body (absent: the scene's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub body: Option<BodySpec>,
-    /// Its m/m0, drag, friction and drag law (absent: the scene's). α is the ramp's, the
-    /// scene's `[model]`'s: an entry may not give one.
-    #[serde(
-        default,
-        skip_serializing_if = "Option::is_none",
-        deserialize_with = "lane_model"
-    )]
-    pub model: Option<ModelSpec>,
+    /// Its m/m0, drag, friction and drag law, each field it leaves out the scene's (absent: all
+    /// the scene's). α is the ramp's, the scene's `[model]`'s: an entry may not give one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<LaneModel>,
     /// Its start (absent: the scene's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial: Option<InitialSpec>,
@@ -60,30 +56,61 @@ pub struct LaneSpec {
 /// the ramp's; an entry that gives it is refused by name at validation).
 const LANE_MODEL_FIELDS: [&str; 4] = ["kind", "mass_ratio", "drag", "friction"];
 
-/// Reads `[bodies.model]` as `[model]` is read, but refuses an unknown key with the fields an
-/// entry may give: `[model]`'s message would offer `alpha_rad`, which an entry may not give.
-fn lane_model<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<ModelSpec>, D::Error> {
-    use serde::de::Error;
-    let Some(table) = Option::<toml::Table>::deserialize(d)? else {
-        return Ok(None);
-    };
-    let alpha = ["alpha_rad", "alpha_over_critical"];
-    if let Some(key) = table.keys().find(|k| {
-        !LANE_MODEL_FIELDS.contains(&k.as_str())
-            && !alpha.contains(&k.as_str())
-            && !crate::scene::drag_law::is_registered_key(k)
-    }) {
-        let fields: Vec<_> = LANE_MODEL_FIELDS.iter().map(|f| format!("`{f}`")).collect();
-        return Err(D::Error::custom(format!(
-            "[bodies.model] has an unknown field `{key}`: expected one of {} or a drag-law \
-             parameter ({}) (α is the ramp's, the scene's [model])",
-            fields.join(", "),
-            crate::scene::drag_law::registered_keys()
-        )));
+/// An entry's `[bodies.model]`: the fields it gives, each over the scene's `[model]`, so
+/// `friction = 0.3` alone is the scene's model with that friction, not a default model (m/m0
+/// = 0) with it. Read as `[model]` is (the same types and ranges), but an unknown key is refused
+/// with the fields an entry may give: `[model]`'s message would offer `alpha_rad`, which an entry
+/// may not give.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+#[serde(transparent)]
+pub struct LaneModel(toml::Table);
+
+impl LaneModel {
+    /// Every field of `model` (what Save scene pins for a body as it runs).
+    pub fn whole(model: &ModelSpec) -> Self {
+        LaneModel(toml::Table::try_from(model).unwrap_or_default())
     }
-    ModelSpec::deserialize(table)
-        .map(Some)
-        .map_err(|e| D::Error::custom(format!("[bodies.model]: {}", e.message())))
+
+    /// Whether the entry gives `key`.
+    pub fn gives(&self, key: &str) -> bool {
+        self.0.contains_key(key)
+    }
+
+    /// The model of the body: `scene`'s, with each field this gives put over it. An m/m0 given
+    /// without a `kind` drops the scene's `kind`, which names the scene's own m/m0's model.
+    pub fn over(&self, scene: &ModelSpec) -> Result<ModelSpec, String> {
+        let mut table = toml::Table::try_from(scene).map_err(|e| e.to_string())?;
+        if self.gives("mass_ratio") && !self.gives("kind") {
+            table.remove("kind");
+        }
+        table.extend(self.0.iter().map(|(k, v)| (k.clone(), v.clone())));
+        ModelSpec::deserialize(table).map_err(|e| format!("[bodies.model]: {}", e.message()))
+    }
+}
+
+impl<'de> Deserialize<'de> for LaneModel {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let table = toml::Table::deserialize(d)?;
+        let alpha = ["alpha_rad", "alpha_over_critical"];
+        if let Some(key) = table.keys().find(|k| {
+            !LANE_MODEL_FIELDS.contains(&k.as_str())
+                && !alpha.contains(&k.as_str())
+                && !crate::scene::drag_law::is_registered_key(k)
+        }) {
+            let fields: Vec<_> = LANE_MODEL_FIELDS.iter().map(|f| format!("`{f}`")).collect();
+            return Err(D::Error::custom(format!(
+                "[bodies.model] has an unknown field `{key}`: expected one of {} or a drag-law \
+                 parameter ({}) (α is the ramp's, the scene's [model])",
+                fields.join(", "),
+                crate::scene::drag_law::registered_keys()
+            )));
+        }
+        // The types, as [model] takes them, checked as the file is read.
+        ModelSpec::deserialize(table.clone())
+            .map_err(|e| D::Error::custom(format!("[bodies.model]: {}", e.message())))?;
+        Ok(LaneModel(table))
+    }
 }
 
 /// A body's saved state on its lane: the time (the scene's `[resume]` time), the model's
@@ -243,11 +270,14 @@ impl Scene {
     /// The scene `entry` makes: this one with its body, model and start put in, the ramp's α
     /// (`alpha_rad`, as resolved for the scene's own body) given, and none of a lesson's
     /// steps, the other bodies, the plots or a replay: a plain run on the same ramp.
-    fn lane_scene(&self, entry: &LaneSpec, n: usize, alpha_rad: f64) -> Scene {
-        let mut model = entry.model.clone().unwrap_or_else(|| self.model.clone());
+    fn lane_scene(&self, entry: &LaneSpec, n: usize, alpha_rad: f64) -> Result<Scene, String> {
+        let mut model = match &entry.model {
+            Some(given) => given.over(&self.model)?,
+            None => self.model.clone(),
+        };
         model.alpha_rad = Some(alpha_rad);
         model.alpha_over_critical = None;
-        Scene {
+        Ok(Scene {
             name: entry.name(n),
             description: String::new(),
             label: String::new(),
@@ -261,8 +291,9 @@ impl Scene {
             playback: self.playback.clone(),
             views: ViewsSpec {
                 body: true,
-                // Its path is drawn in the scene's SO(3) ball beside the own body's.
-                ball: self.views.ball,
+                // (Its path in the scene's SO(3) ball is followed by the scene's run:
+                // `LiveRun::set_views`.)
+                ball: false,
                 poincare: false,
                 overlay: true,
                 plot: LessonPlot::None,
@@ -279,7 +310,7 @@ impl Scene {
             }),
             replay: Vec::new(),
             bodies: Vec::new(),
-        }
+        })
     }
 
     /// Each `[[bodies]]` entry validated into the setup of its run, beside `own`, the scene's
@@ -340,7 +371,7 @@ impl Scene {
                 )));
             }
             if let Some(model) = &entry.model
-                && (model.alpha_rad.is_some() || model.alpha_over_critical.is_some())
+                && (model.gives("alpha_rad") || model.gives("alpha_over_critical"))
             {
                 return Err(invalid(format!(
                     "{at}: model gives α, but the bodies share one ramp: α is the scene's \
@@ -371,7 +402,9 @@ impl Scene {
                 }
                 (None, None) => {}
             }
-            let scene = self.lane_scene(entry, n, own.ramp.alpha_rad);
+            let scene = self
+                .lane_scene(entry, n, own.ramp.alpha_rad)
+                .map_err(|e| invalid(format!("{at}: {e}")))?;
             let setup = scene
                 .setup(base)
                 .map_err(|e| invalid(format!("{at}: {e}")))?;
@@ -396,6 +429,54 @@ mod tests {
     /// Two more bodies on the doubling lesson's ramp, as the lesson's comparison step has.
     fn lesson() -> Scene {
         Scene::preset("lesson-period-doubling").unwrap()
+    }
+
+    /// An entry's `[bodies.model]` changes the fields it gives and takes the rest from the
+    /// scene's `[model]`: friction alone keeps the scene's m/m0 and drag law (it made a viscous
+    /// body with the paper's drag, a helper found), and an m/m0 alone drops the scene's `kind`.
+    #[test]
+    fn a_body_takes_the_scenes_model_fields_it_leaves_out() {
+        let base = Scene::preset("sphere-doubling").unwrap().to_toml().unwrap();
+        let base = base.replace(
+            "mass_ratio = 6.0\ndrag = 1.0",
+            "mass_ratio = 6.0\nkind = \"sphere-inertial\"\ndrag = 2.0\ndrag_exponent = 1.5",
+        );
+        let lanes = |entry: &str| {
+            let setup = Scene::from_toml(&format!("{base}\n[[bodies]]\n[bodies.model]\n{entry}\n"))
+                .unwrap()
+                .setup(None)
+                .unwrap();
+            let lane = &setup.lanes[0];
+            (
+                lane.ramp.mass_ratio,
+                lane.scene.model.drag,
+                lane.ramp.drag_law.label(),
+                lane.scene.model.friction,
+            )
+        };
+        let exponent = |n: f64| {
+            crate::dynamics::DragLaw::LINEAR
+                .with("drag_exponent", n)
+                .unwrap()
+                .label()
+        };
+        assert_eq!(
+            lanes("friction = 0.3"),
+            (6.0, 2.0, exponent(1.5), Some(0.3))
+        );
+        assert_eq!(
+            lanes("drag_exponent = 1.0"),
+            (6.0, 2.0, exponent(1.0), None)
+        );
+        // The viscous limit, though the scene names the inertial model.
+        assert_eq!(lanes("mass_ratio = 0.0"), (0.0, 2.0, exponent(1.5), None));
+        // Save scene writes the whole model of a body as it runs; it loads as the same.
+        let model = Scene::from_toml(&base).unwrap().model;
+        let whole = super::LaneModel::whole(&model);
+        assert_eq!(
+            whole.over(&crate::scene::ModelSpec::default()).unwrap(),
+            model
+        );
     }
 
     #[test]

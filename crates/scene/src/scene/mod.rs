@@ -49,7 +49,7 @@ mod setup;
 mod timeline;
 pub use drag_law::{DragLawFields, ReplayDragLaw};
 pub use error::SceneError;
-pub use lanes::{LaneResume, LaneSpec, MAX_BODIES, MAX_LABEL_CHARS};
+pub use lanes::{LaneModel, LaneResume, LaneSpec, MAX_BODIES, MAX_LABEL_CHARS};
 pub use setup::{Resume, SceneSetup, bundled_shape, load_scene_file};
 pub use timeline::{Claim, MAX_CAPTION_CHARS, MAX_STEPS, Step, TimelineSpec, ViewsChange};
 

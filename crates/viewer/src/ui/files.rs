@@ -698,7 +698,7 @@ impl AppUi {
             let mut model = lane.scene.model.clone();
             model.alpha_rad = None;
             model.alpha_over_critical = None;
-            entry.model = Some(model);
+            entry.model = Some(crate::scene::LaneModel::whole(&model));
             entry.body = Some(lane.scene.body.clone());
             entry.initial = Some(lane.scene.initial.clone());
         }
