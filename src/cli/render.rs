@@ -125,6 +125,16 @@ pub fn run_headless(a: &RenderArgs) -> Result<()> {
                     setup.scene.name
                 )
             })?;
+            let (start, end) = (setup.time_after_video(0.0), setup.scene.playback.end_time);
+            if let Some(end) = end.filter(|&end| start > end) {
+                bail!(
+                    "--frames all renders up to the scene's end, t = {end}, but it starts after \
+                     it, at t = {start} (its saved state's time or its start_time): give a number \
+                     of frames to render on from there",
+                    end = super::short(end),
+                    start = super::short(start)
+                );
+            }
             check_frames(n)?;
             n
         }

@@ -103,6 +103,32 @@ fn frames_all_renders_a_lesson_up_to_its_end_through_its_speed_steps() {
     assert!(said.contains("t = 0.000 … 36.000"), "{said}");
     assert!(out.join("frame_00045.png").exists());
     assert!(!out.join("frame_00046.png").exists());
+    // Resumed after its end (a saved state at t = 40), `all` has nothing to render: refused, not
+    // one frame past the end with exit 0 (a helper's).
+    let late = dir.join("late.toml");
+    let text = std::fs::read_to_string(&scene).unwrap();
+    std::fs::write(
+        &late,
+        format!("{text}[resume]\nt = 40.0\nstate = [0.0, 0.0]\n"),
+    )
+    .unwrap();
+    let o = rollphase(&[
+        "--headless",
+        "--scene",
+        late.to_str().unwrap(),
+        "--frames",
+        "all",
+        "--size",
+        "64x64",
+        "--out",
+        dir.join("g").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("t = 36, but it starts after it, at t = 40"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]

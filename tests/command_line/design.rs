@@ -186,6 +186,29 @@ fn a_check_takes_the_body_at_its_own_degree_and_dimension() {
         1,
         &["from = a 2D body is not allowed (needs a 3D body (--dim 3))"],
     );
+    // A dented body is refused by name, not checked into "achieved NaN" (a helper's).
+    let dented = d.join("dented.json");
+    std::fs::write(
+        &dented,
+        r#"{"kind":"disk","modes":[{"l":2,"a":2.4,"phase":0.0}]}"#,
+    )
+    .unwrap();
+    fails_with(
+        &rollphase([
+            "design",
+            "--check-only",
+            "--dim",
+            "2",
+            "--from",
+            dented.to_str().unwrap(),
+            "--alpha-star",
+            "0.05",
+            "-o",
+            o,
+        ]),
+        1,
+        &["from = a body that is not strictly convex is not allowed"],
+    );
     // --modes is the search's: a check of the same body at --modes 5 is the same check.
     let at_five = check(&["--dim", "2", "--draws", "2", "--modes", "5"]);
     // (All but the first line, which holds the seconds taken.)

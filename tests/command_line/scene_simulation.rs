@@ -462,6 +462,15 @@ fn a_bad_saved_state_is_refused_with_what_is_wrong() {
             format!("t = 1.0\nstate = {unit}\nspeed = 3.0"),
             "unknown field",
         ),
+        // A number too many is refused, not cut off (a helper's, 2026-12-03).
+        (
+            format!("t = 1.0\nstate = {unit}\nalpha_sweep = [[0.25, 0.1, 0.0, 1.0, 5.0]]"),
+            "point 0 has 5 numbers, not 4",
+        ),
+        (
+            format!("t = 1.0\nstate = {unit}\ncrossings = [[4.5, 1.1], [4.5, 1.1, 7.0]]"),
+            "point 1 has 3 numbers, not 2",
+        ),
     ] {
         let text = format!("{base}\n[resume]\n{resume}\n");
         let err = match Scene::from_toml(&text) {
@@ -470,6 +479,22 @@ fn a_bad_saved_state_is_refused_with_what_is_wrong() {
         };
         assert!(err.contains(expected), "{resume}: {err}");
     }
+    // A cylinder has no crossings of ∂Ω to keep.
+    let cylinder = Scene::preset("cylinder-near-critical")
+        .unwrap()
+        .to_toml()
+        .unwrap();
+    let text =
+        format!("{cylinder}\n[resume]\nt = 1.0\nstate = [0.0, 0.0]\ncrossings = [[0.0, 1.0]]\n");
+    let err = Scene::from_toml(&text)
+        .unwrap()
+        .setup(None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("the body is a cylinder: crossings of ∂Ω are a sphere's"),
+        "{err}"
+    );
 }
 
 /// The model's CSV row (as `simulate` writes it, without the contact force) at the run's state.

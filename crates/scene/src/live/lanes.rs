@@ -221,6 +221,9 @@ mod tests {
         assert_eq!(meta["bodies"][0]["shape"]["perfect"], "disk");
         assert_eq!(meta["bodies"][0]["initial"], meta["initial"]);
         assert_eq!(meta["bodies"][0]["drag_exponent"], 1.0);
+        assert_eq!(meta["bodies"][0]["drag_gamma"], 1.0);
+        assert_eq!(meta["drag_gamma"], 1.0);
+        assert!(meta["friction"].is_null() && meta["bodies"][0]["friction"].is_null());
         assert!(meta["body"]["shape"].is_string(), "{}", meta["body"]);
         assert_eq!(meta["fate"], snap.fate());
         assert_eq!(meta["bodies"][0]["fate"], snap.lanes[0].fate());

@@ -159,6 +159,8 @@ pub struct Snapshot {
     /// another body, when its entry takes the scene's body or one equal to it): its contact
     /// path then belongs on the scene's body's contact map.
     pub shares_body: bool,
+    /// The rotational drag γ the run has, in units of γ0.
+    pub drag_gamma: f64,
 }
 
 /// What the Poincaré-field view needs at a moment of the run.

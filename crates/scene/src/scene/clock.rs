@@ -14,7 +14,10 @@ impl SceneSetup {
     pub fn frame_time(&self, k: u64) -> f64 {
         let t = self.time_after_video(k as f64 / self.scene.playback.fps);
         match (self.scene.playback.end_time, self.frames_to_end()) {
-            (Some(end), Some(frames)) if k + 1 == frames => t.min(end),
+            // (Not for a scene resumed past its end, whose first frame is already later.)
+            (Some(end), Some(frames)) if k + 1 == frames && self.time_after_video(0.0) <= end => {
+                t.min(end)
+            }
             _ => t,
         }
     }

@@ -124,10 +124,18 @@ pub struct LaneResume {
     /// The state vector, as `[resume]` writes it.
     pub state: Vec<f64>,
     /// Its 1/T points: [α, 1/T, m/m0, +1 when α was increasing or −1 decreasing].
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[serde(
+        default,
+        skip_serializing_if = "Vec::is_empty",
+        deserialize_with = "super::exact_points"
+    )]
     pub alpha_sweep: Vec<[f64; 4]>,
     /// Its settled crossings: [m/m0, polar angle of the ∂Ω crossing].
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[serde(
+        default,
+        skip_serializing_if = "Vec::is_empty",
+        deserialize_with = "super::exact_points"
+    )]
     pub crossings: Vec<[f64; 2]>,
     /// The drag law of each `alpha_sweep` point, as `[resume]`'s.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

@@ -174,16 +174,43 @@ pub struct ResumeSpec {
     /// [q_w, q_x, q_y, q_z, x, y]; 3D inertial [q, ω_x, ω_y, ω_z, x, y, W].
     pub state: Vec<f64>,
     /// The 1/T plot's points: [α, 1/T, m/m0, +1 when α was increasing or −1 decreasing].
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[serde(
+        default,
+        skip_serializing_if = "Vec::is_empty",
+        deserialize_with = "exact_points"
+    )]
     pub alpha_sweep: Vec<[f64; 4]>,
     /// The crossing plot's points: [m/m0, polar angle of the ∂Ω crossing].
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[serde(
+        default,
+        skip_serializing_if = "Vec::is_empty",
+        deserialize_with = "exact_points"
+    )]
     pub crossings: Vec<[f64; 2]>,
     /// The drag law each `alpha_sweep` point was measured under, in its order, as
     /// sweep-alpha.csv's drag column words it ("linear drag", "drag_exponent = 1.5"); absent:
     /// the scene's law for every point (files saved before this was written).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub alpha_sweep_drag: Vec<String>,
+}
+
+/// Points of `N` numbers each, exactly: a point with a number too many is refused, not cut
+/// to `N` (TOML's reading of a fixed array took `[0.25, 0.1, 0.0, 1.0, 5.0]` as its first four).
+pub(crate) fn exact_points<'de, D, const N: usize>(d: D) -> Result<Vec<[f64; N]>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+{
+    use serde::de::Error;
+    let points = Vec::<Vec<f64>>::deserialize(d)?;
+    points
+        .into_iter()
+        .enumerate()
+        .map(|(i, p)| {
+            <[f64; N]>::try_from(p.as_slice()).map_err(|_| {
+                D::Error::custom(format!("point {i} has {} numbers, not {N}: {p:?}", p.len()))
+            })
+        })
+        .collect()
 }
 
 /// Where the body comes from: exactly one of the four fields.

@@ -346,6 +346,13 @@ impl super::ResumeSpec {
                 )));
             }
         }
+        if matches!(start, Start::Disk { .. }) && !self.crossings.is_empty() {
+            return Err(invalid(format!(
+                "resume.crossings has {} points, but the body is a cylinder: crossings of ∂Ω \
+                 are a sphere's (a cylinder's plots keep alpha_sweep only); leave them out",
+                self.crossings.len()
+            )));
+        }
         if let Some(i) = self.crossings.iter().position(|&[mass, polar]| {
             !(a_ramp(0.1, mass) && (0.0..=std::f64::consts::PI).contains(&polar))
         }) {

@@ -357,7 +357,9 @@ impl SceneView {
                 push_polyline_indexed(&mut segments, piece, 3.0, |i| {
                     let age = (start + i) as f32 / total.max(1) as f32;
                     match colour {
-                        Some(c) => linear(c, 0.25 + 0.75 * age),
+                        // Opaque enough that each body's colour reads as itself over the
+                        // translucent ball (at 25 % the orange read as the x axis's red).
+                        Some(c) => linear(c, 0.55 + 0.45 * age),
                         None => linear(
                             sample(&[[70, 110, 190], [255, 140, 30]], age),
                             0.3 + 0.7 * age,

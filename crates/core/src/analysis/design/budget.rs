@@ -23,11 +23,17 @@ const POLL: Duration = Duration::from_millis(20);
 /// let e = check_budget(Some(0.0)).unwrap_err().to_string();
 /// assert_eq!(e, "budget = 0 is not allowed (needs 0 < seconds ≤ 1e7)");
 /// assert!(check_budget(Some(f64::NAN)).is_err());
+/// // A huge value reads as one, not as 301 digits.
+/// assert!(check_budget(Some(1e300)).unwrap_err().to_string().starts_with("budget = 1e300 "));
 /// ```
 pub fn check_budget(seconds: Option<f64>) -> Result<(), DesignError> {
     match seconds {
         Some(s) if !(s.is_finite() && s > 0.0 && s <= MAX_BUDGET_S) => {
-            Err(bad("budget", s, format!("0 < seconds ≤ {MAX_BUDGET_S:e}")))
+            Err(bad(
+                "budget",
+                crate::integrate::readable(s),
+                format!("0 < seconds ≤ {MAX_BUDGET_S:e}"),
+            ))
         }
         _ => Ok(()),
     }

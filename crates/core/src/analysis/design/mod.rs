@@ -211,6 +211,15 @@ impl DesignOptions {
                 format!("a {0}D body (--dim {0})", self.space.dimension),
             ));
         }
+        // The targets are measured by runs of the model, which rolls strictly convex bodies:
+        // a dented one's α* and orbits would come back NaN, and its report say so only there.
+        if !body.is_convex() {
+            return Err(bad(
+                "from",
+                "a body that is not strictly convex",
+                "a strictly convex body (the model rolls no other)",
+            ));
+        }
         let checked = DesignOptions {
             space: DesignSpace::of(body),
             ..self.clone()

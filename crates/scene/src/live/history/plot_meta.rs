@@ -38,6 +38,10 @@ pub struct PlotMeta {
     pub drag_law: crate::dynamics::DragLaw,
     /// The drag law in words ("linear drag", "drag_exponent = 2").
     pub drag: String,
+    /// The rotational drag γ in units of γ0 (`[model] drag`).
+    pub drag_gamma: f64,
+    /// The surface's coefficient of static friction μ, when the scene gives one.
+    pub friction: Option<f64>,
     /// The integrator setting.
     pub integrator: String,
     /// The simulation time when the data were written.
@@ -78,6 +82,10 @@ pub struct BodyMeta {
     pub drag_law: crate::dynamics::DragLaw,
     /// Its drag law in words.
     pub drag: String,
+    /// Its rotational drag γ in units of γ0.
+    pub drag_gamma: f64,
+    /// Its surface's μ, when its model gives one.
+    pub friction: Option<f64>,
     /// Its fate when the data were written, in the verdict's words.
     pub fate: String,
     /// Its time series ([`PlotData::Series`]'s columns), contact force ([`PlotData::Forces`]'s),
@@ -122,6 +130,8 @@ impl PlotMeta {
             mass_ratio: snapshot.mass_ratio,
             drag_law: snapshot.drag_law,
             drag: snapshot.drag_law.label(),
+            drag_gamma: snapshot.drag_gamma,
+            friction: snapshot.contact.friction,
             integrator: method.to_string(),
             t: snapshot.t,
             label: snapshot.label.clone(),
@@ -149,6 +159,8 @@ impl PlotMeta {
                         initial: json(initial.unwrap_or(&setup.scene.initial)),
                         drag_law: lane.drag_law,
                         drag: lane.drag_law.label(),
+                        drag_gamma: lane.drag_gamma,
+                        friction: lane.contact.friction,
                         fate: lane.fate(),
                         files: body_files(i + 2),
                     }

@@ -119,6 +119,7 @@ impl LiveRun {
                 })
                 .collect(),
             shares_body: true,
+            drag_gamma: self.ramp.drag,
         }
     }
 }
