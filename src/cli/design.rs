@@ -129,7 +129,12 @@ pub struct DesignArgs {
     #[arg(long, default_value_t = design::DEFAULT_GENERATIONS)]
     pub generations: usize,
     /// Stop the search after this many seconds, with the best body so far.
-    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, conflicts_with = "check_only")]
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        allow_negative_numbers = true,
+        conflicts_with = "check_only"
+    )]
     pub budget: Option<f64>,
     /// Check band: the ramp's angle off by up to this (rad).
     #[arg(long, default_value_t = design::DEFAULT_BAND.delta_alpha, allow_negative_numbers = true)]

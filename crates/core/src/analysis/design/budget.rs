@@ -28,13 +28,11 @@ const POLL: Duration = Duration::from_millis(20);
 /// ```
 pub fn check_budget(seconds: Option<f64>) -> Result<(), DesignError> {
     match seconds {
-        Some(s) if !(s.is_finite() && s > 0.0 && s <= MAX_BUDGET_S) => {
-            Err(bad(
-                "budget",
-                crate::integrate::readable(s),
-                format!("0 < seconds ≤ {MAX_BUDGET_S:e}"),
-            ))
-        }
+        Some(s) if !(s.is_finite() && s > 0.0 && s <= MAX_BUDGET_S) => Err(bad(
+            "budget",
+            crate::integrate::readable(s),
+            format!("0 < seconds ≤ {MAX_BUDGET_S:e}"),
+        )),
         _ => Ok(()),
     }
 }
