@@ -194,19 +194,23 @@ fn an_earlier_runs_body_files_are_not_left_beside_this_ones() {
     assert!(!gif.exists(), "no clip rendered before the refusal");
 }
 
+/// The doubling lesson's scene started at t = 2900, in its last step (three bodies shown).
+fn doubling_lesson_from_2900() -> String {
+    String::from_utf8(rollphase(["scenes", "--toml", "lesson-period-doubling"]).stdout)
+        .unwrap()
+        .replace(
+            "trail_time = 120.0",
+            "trail_time = 120.0\nstart_time = 2900.0",
+        )
+}
+
 /// The SO(3) ball draws every shown body's path in its colour: the doubling lesson's last step
 /// (three bodies) has the sky-blue and green paths of m/m0 = 2 and 4.5 in the inset, which the
 /// same frame with the other bodies hidden does not.
 #[test]
 fn the_ball_draws_each_shown_bodys_path_in_its_colour() {
     let dir = scratch("bodies-ball");
-    let lesson =
-        String::from_utf8(rollphase(["scenes", "--toml", "lesson-period-doubling"]).stdout)
-            .unwrap()
-            .replace(
-                "trail_time = 120.0",
-                "trail_time = 120.0\nstart_time = 2900.0",
-            );
+    let lesson = doubling_lesson_from_2900();
     let frame = |name: &str, text: &str| {
         let scene = dir.join(format!("{name}.toml"));
         std::fs::write(&scene, text).unwrap();
@@ -260,13 +264,7 @@ fn the_ball_draws_each_shown_bodys_path_in_its_colour() {
 #[test]
 fn a_late_start_keeps_the_plots_of_the_steps_it_skipped() {
     let dir = scratch("bodies-late-start");
-    let lesson =
-        String::from_utf8(rollphase(["scenes", "--toml", "lesson-period-doubling"]).stdout)
-            .unwrap()
-            .replace(
-                "trail_time = 120.0",
-                "trail_time = 120.0\nstart_time = 2900.0",
-            );
+    let lesson = doubling_lesson_from_2900();
     let scene = dir.join("late.toml");
     std::fs::write(&scene, lesson).unwrap();
     let data = dir.join("data");

@@ -49,6 +49,14 @@ fn shown_bodies<'a>(history: &'a PlotHistory, snap: &'a Snapshot) -> Vec<ShownBo
     bodies
 }
 
+/// Each body's key: its name in its colour.
+fn body_keys<'a>(bodies: &[ShownBody<'a>]) -> Vec<Key<'a>> {
+    bodies
+        .iter()
+        .map(|b| (b.label, b.colour, Swatch::Line))
+        .collect()
+}
+
 /// Every body on the ramp (the scene's own and its `[[bodies]]`) against time, each in its
 /// colour: a cylinder's θ̇, a sphere's |ω|, from each body's own run.
 pub(super) fn bodies_ui(
@@ -59,10 +67,7 @@ pub(super) fn bodies_ui(
     height: f32,
 ) {
     let bodies = shown_bodies(history, snap);
-    let keys: Vec<Key<'_>> = bodies
-        .iter()
-        .map(|b| (b.label, b.colour, Swatch::Line))
-        .collect();
+    let keys = body_keys(&bodies);
     let axis = if snap.theta.is_some() {
         "dθ/dt"
     } else {
@@ -114,10 +119,7 @@ pub(super) fn force_ui(
             ("μ needed", blue, Swatch::Line),
         ]
     } else {
-        let mut keys: Vec<Key<'_>> = bodies
-            .iter()
-            .map(|b| (b.label, b.colour, Swatch::Line))
-            .collect();
+        let mut keys = body_keys(&bodies);
         keys.push(("dashed: μ needed", Color32::LIGHT_GRAY, Swatch::Line));
         keys
     };
