@@ -479,6 +479,18 @@ fn a_bad_saved_state_is_refused_with_what_is_wrong() {
         };
         assert!(err.contains(expected), "{resume}: {err}");
     }
+    // More crossings than the plot keeps are refused, not silently cut to the newest 5000.
+    let many = vec!["[1.0, 0.5]"; 5001].join(", ");
+    let text = format!("{base}\n[resume]\nt = 1.0\nstate = {unit}\ncrossings = [{many}]\n");
+    let err = Scene::from_toml(&text)
+        .unwrap()
+        .setup(None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("resume.crossings has 5001 points, but the crossings plot keeps at most 5000"),
+        "{err}"
+    );
     // A cylinder has no crossings of ∂Ω to keep.
     let cylinder = Scene::preset("cylinder-near-critical")
         .unwrap()

@@ -50,7 +50,7 @@ mod timeline;
 pub use drag_law::{DragLawFields, ReplayDragLaw};
 pub use error::SceneError;
 pub use lanes::{LaneModel, LaneResume, LaneSpec, MAX_BODIES, MAX_LABEL_CHARS};
-pub use setup::{Resume, SceneSetup, bundled_shape, load_scene_file};
+pub use setup::{MAX_CROSSING_POINTS, Resume, SceneSetup, bundled_shape, load_scene_file};
 pub use timeline::{Claim, MAX_CAPTION_CHARS, MAX_STEPS, Step, TimelineSpec, ViewsChange};
 
 /// The preset shown when none is asked for.

@@ -287,6 +287,11 @@ pub const MAX_RESUME_T: f64 = 1e9;
 /// The most points `[resume]` may carry in each plot (the app keeps 5000 crossings).
 const MAX_RESUME_POINTS: usize = 100_000;
 
+/// The most settled crossings the crossings plot keeps (the newest; a run held at one m/m0
+/// adds no more once its cycle's points are in): what Save state writes at most, and what
+/// `[resume]` may give.
+pub const MAX_CROSSING_POINTS: usize = 5000;
+
 impl super::ResumeSpec {
     /// Checks the saved state against the scene's model, and the plots' points.
     fn check(&self, start: &Start, ramp: &Ramp) -> Result<Resume, SceneError> {
@@ -345,6 +350,15 @@ impl super::ResumeSpec {
                      1/T ≥ 0, m/m0 ≥ 0, +1 or −1], all finite)"
                 )));
             }
+        }
+        if self.crossings.len() > MAX_CROSSING_POINTS {
+            return Err(invalid(format!(
+                "resume.crossings has {} points, but the crossings plot keeps at most \
+                 {MAX_CROSSING_POINTS} (the newest; Save state writes no more): leave out the \
+                 oldest {}",
+                self.crossings.len(),
+                self.crossings.len() - MAX_CROSSING_POINTS
+            )));
         }
         if matches!(start, Start::Disk { .. }) && !self.crossings.is_empty() {
             return Err(invalid(format!(

@@ -6,8 +6,8 @@ use std::collections::VecDeque;
 
 use super::super::Snapshot;
 
-/// Crossing points kept for the mass sweep.
-pub(super) const MAX_CROSSING_POINTS: usize = 5000;
+/// Crossing points kept for the mass sweep (a saved state's may give no more).
+pub(super) use crate::scene::MAX_CROSSING_POINTS;
 
 /// A settled crossing this close (rad of the plotted angle, far below a pixel at any plot size)
 /// to one already kept at the same m/m0 adds nothing: a run held at one value repeats its
