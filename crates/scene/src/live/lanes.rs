@@ -26,12 +26,18 @@ impl LiveRun {
 
     /// The ramp's new α and integrator, for the other bodies too (each keeps its m/m0 and drag
     /// law). A body whose model refuses them (a fixed step too coarse for it) stops with why.
+    /// A body whose ramp and integrator stay as they were (a hand's m/m0, which is the own
+    /// body's) goes on undisturbed: a change would end its run in progress and forget its
+    /// crossings, and its period would be measured afresh for nothing.
     pub(super) fn lanes_follow(&mut self, alpha_rad: f64, method: Method) {
         for lane in &mut self.lanes {
             let ramp = Ramp {
                 alpha_rad,
                 ..lane.ramp()
             };
+            if ramp == lane.ramp() && method == lane.method() {
+                continue;
+            }
             if let Err(e) = lane.change_parameters(ramp, method) {
                 lane.stop_with(e.to_string());
             }
@@ -173,6 +179,27 @@ mod tests {
             "the smooth one keeps its m/m0"
         );
         assert_eq!(snap.lanes[0].t, 6.0);
+    }
+
+    /// A hand's m/m0 is the own body's alone: the other body's run goes on as if nothing
+    /// happened, its crossings (and so its period) kept, its trajectory the one it has alone.
+    #[test]
+    fn mass_by_hand_leaves_the_other_bodys_run_untouched() {
+        let setup = which_one_stops();
+        let mut alone = LiveRun::new(setup.lanes[0].clone());
+        alone.advance_to(100.0).unwrap();
+        let mut run = LiveRun::new(setup);
+        run.advance_to(60.0).unwrap();
+        let before = run.snapshot().lanes[0].last_crossing_t;
+        assert!(before.is_some(), "a crossing before the change");
+        let ramp = crate::dynamics::Ramp::with_drag(run.ramp().alpha_rad, 2.0, 1.0).unwrap();
+        run.set_parameters(ramp, run.method()).unwrap();
+        assert_eq!(run.snapshot().lanes[0].last_crossing_t, before);
+        run.advance_to(100.0).unwrap();
+        let (lane, lone) = (&run.snapshot().lanes[0], alone.snapshot());
+        assert!(lane.period.is_some(), "two crossings by t = 100");
+        assert_eq!(lane.period, lone.period);
+        assert_eq!(lane.state, lone.state);
     }
 
     /// The plot data hold every body's series, each in files of its own, named in
