@@ -109,6 +109,8 @@ fn opposite(claim: rollphase::scene::Claim) -> rollphase::scene::Claim {
         Claim::Rolling => Claim::Halted,
         Claim::Period1 => Claim::Period2,
         Claim::Period2 => Claim::Period1,
+        // A √ law is refuted by a plot where the fit misses: see its own test.
+        Claim::SqrtLaw => Claim::Halted,
     }
 }
 
@@ -117,7 +119,7 @@ fn every_bundled_lessons_claims_hold_in_its_evidence_and_their_opposites_do_not(
     use rollphase::live::evidence::{check_claim, claims_checked};
     // (lesson, steps that declare a claim)
     for (name, declared) in [
-        ("lesson-critical-angle", 6),
+        ("lesson-critical-angle", 7),
         ("lesson-inertia-hysteresis", 8),
         ("lesson-period-doubling", 5),
     ] {
@@ -136,7 +138,13 @@ fn every_bundled_lessons_claims_hold_in_its_evidence_and_their_opposites_do_not(
                 "{name} step {}: claims {claim:?}: {verdict:?}",
                 k + 1
             );
-            let not = check_claim(opposite(claim), &state.steps[k + 1], alpha, mass);
+            let not = check_claim(
+                opposite(claim),
+                &state.steps[k + 1],
+                alpha,
+                mass,
+                setup.alpha_star,
+            );
             assert!(
                 not.is_err(),
                 "{name} step {}: the opposite of {claim:?} holds too: {not:?}",
@@ -169,6 +177,22 @@ fn a_claim_needs_the_plot_it_is_read_from() {
         .replacen("claim = \"halted\"", "claim = \"stops\"", 1);
     let e = Scene::from_toml(&unknown).unwrap_err().to_string();
     assert!(e.contains("stops") && e.contains("halted"), "{e}");
+    // The √ law is the viscous cylinder's: claimed of a step with inertia, it is refused.
+    let inertial = Scene::preset("lesson-inertia-hysteresis")
+        .unwrap()
+        .to_toml()
+        .unwrap()
+        .replacen("claim = \"rolling\"", "claim = \"sqrt-law\"", 1);
+    let e = Scene::from_toml(&inertial)
+        .unwrap()
+        .setup(None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("claim = \"sqrt-law\" is the viscous cylinder's law")
+            && e.contains("disk-inertial"),
+        "{e}"
+    );
 }
 
 /// The period each doubling step claims, read from its evidence as the app's overlay reads it:

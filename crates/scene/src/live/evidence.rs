@@ -171,8 +171,17 @@ pub fn settled_branches(evidence: &PlotCheckpoint, mass_ratio: f64) -> Vec<f64> 
     found
 }
 
+/// How far a point may lie from the √-law fit for a `claim = "sqrt-law"` to hold: each fitted
+/// point's T within 2 % of the fit's T at its α. The points are periods measured to far better
+/// than that (crossing times on the dense output); the law is asymptotic, so what the fit's
+/// offset b cannot absorb shows up as a trend in the residuals, and 2 % is about a marker's
+/// width on the lesson's plot (12 px of a 1/T axis some 600 px tall): a point off by more is
+/// seen off the curve, and "the plot fits" would be more than the plot shows.
+pub const SQRT_LAW_FIT_TOL: f64 = 0.02;
+
 /// Whether a step's `claim` holds in its `evidence` (the plots at the step's end) at the step's
-/// α and m/m0: `Ok` with what shows it, or `Err` with what the plot shows instead.
+/// α and m/m0 (`alpha_star`: the body's critical angle, for the √ law's fit): `Ok` with what
+/// shows it, or `Err` with what the plot shows instead.
 ///
 /// # Example
 /// ```
@@ -184,8 +193,9 @@ pub fn settled_branches(evidence: &PlotCheckpoint, mass_ratio: f64) -> Vec<f64> 
 /// measure_evidence(&setup, &AtomicBool::new(false), 1e9, |s| last = Some(s.clone()));
 /// let state = last.unwrap();
 /// // After the third step (m/m0 = 4.5): period 2, not period 1.
-/// assert!(check_claim(Claim::Period2, &state.steps[3], 0.15, 4.5).is_ok());
-/// assert!(check_claim(Claim::Period1, &state.steps[3], 0.15, 4.5).is_err());
+/// let alpha_star = setup.alpha_star;
+/// assert!(check_claim(Claim::Period2, &state.steps[3], 0.15, 4.5, alpha_star).is_ok());
+/// assert!(check_claim(Claim::Period1, &state.steps[3], 0.15, 4.5, alpha_star).is_err());
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn check_claim(
@@ -193,6 +203,7 @@ pub fn check_claim(
     evidence: &PlotCheckpoint,
     alpha: f64,
     mass_ratio: f64,
+    alpha_star: f64,
 ) -> Result<String, String> {
     let rates = evidence.rates_at(alpha, mass_ratio);
     // The point of the branch the sweep is moving along, where α was met both ways.
@@ -212,6 +223,7 @@ pub fn check_claim(
                 _ => Err(format!("1/T = 0 at {at}: it halted")),
             }
         }
+        Claim::SqrtLaw => sqrt_law_shown(evidence, mass_ratio, alpha_star),
         Claim::Period1 | Claim::Period2 => {
             let branches = settled_branches(evidence, mass_ratio);
             let want = if claim == Claim::Period1 { 1 } else { 2 };
@@ -241,6 +253,61 @@ pub fn check_claim(
     }
 }
 
+/// The √ law's claim: the fit the 1/T plot draws (`analysis::fit::sqrt_law`, the rolling points
+/// with α* < α ≤ [`SQRT_LAW_REACH`](crate::analysis::fit::SQRT_LAW_REACH) α*) exists, and
+/// every point it is fitted to lies within
+/// [`SQRT_LAW_FIT_TOL`] of it.
+fn sqrt_law_shown(
+    evidence: &PlotCheckpoint,
+    mass_ratio: f64,
+    alpha_star: f64,
+) -> Result<String, String> {
+    let points = evidence.points_at(mass_ratio);
+    let near: Vec<[f64; 2]> = points
+        .iter()
+        .filter(|[alpha, rate]| {
+            *alpha > alpha_star
+                && *alpha <= crate::analysis::fit::SQRT_LAW_REACH * alpha_star
+                && *rate > 0.0
+        })
+        .copied()
+        .collect();
+    let m = short(mass_ratio);
+    let Some((a, b)) = crate::analysis::fit::sqrt_law(&points, alpha_star) else {
+        return Err(format!(
+            "the 1/T plot has {} rolling point(s) with α* < α ≤ {} α* at m/m0 = {m}; the \
+             √-law fit needs 3 that diverge towards α*",
+            near.len(),
+            crate::analysis::fit::SQRT_LAW_REACH
+        ));
+    };
+    let (worst_alpha, worst) = near
+        .iter()
+        .map(|&[alpha, rate]| {
+            (
+                alpha,
+                ((a / (alpha - alpha_star).sqrt() + b) * rate - 1.0).abs(),
+            )
+        })
+        .fold((f64::NAN, 0.0), |w, p| if p.1 > w.1 { p } else { w });
+    let fit = format!("T = {a:.3}/√(α−α*) + {b:.1}");
+
+    if worst <= SQRT_LAW_FIT_TOL {
+        Ok(format!(
+            "{fit} through {} points near α* at m/m0 = {m}, each within {:.1} %",
+            near.len(),
+            100.0 * worst
+        ))
+    } else {
+        Err(format!(
+            "{fit} misses the point at α = {:.4} α* by {:.1} % of T (allowed {:.0} %)",
+            worst_alpha / alpha_star,
+            100.0 * worst,
+            100.0 * SQRT_LAW_FIT_TOL
+        ))
+    }
+}
+
 /// A number as people read it: four decimals at most.
 fn short(x: f64) -> String {
     let s = format!("{x:.4}");
@@ -261,7 +328,11 @@ pub fn claims_checked(
         mass = step.mass_ratio.unwrap_or(mass);
         // Step k is shown once k + 1 steps are done; its evidence is the plots then.
         if let (Some(claim), Some(evidence)) = (step.claim, state.steps.get(k + 1)) {
-            out.push((k, claim, check_claim(claim, evidence, alpha, mass)));
+            out.push((
+                k,
+                claim,
+                check_claim(claim, evidence, alpha, mass, setup.alpha_star),
+            ));
         }
     }
     out
@@ -335,7 +406,7 @@ impl LessonEvidence {
         let period = match self.setup.timeline.get(k)?.claim? {
             Claim::Period1 => 1,
             Claim::Period2 => 2,
-            Claim::Halted | Claim::Rolling => return None,
+            Claim::Halted | Claim::Rolling | Claim::SqrtLaw => return None,
         };
         self.claim(done)?.ok().map(|_| period)
     }
@@ -361,5 +432,68 @@ impl LessonEvidence {
 impl Drop for LessonEvidence {
     fn drop(&mut self) {
         self.stop.store(true, Ordering::Relaxed);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::DragLaw;
+    use crate::scene::ResumeSpec;
+
+    /// A 1/T plot holding `points` (α, 1/T) at m/m0 = 0.
+    fn plot_of(points: &[[f64; 2]]) -> PlotCheckpoint {
+        let resume = ResumeSpec {
+            alpha_sweep: points.iter().map(|&[a, r]| [a, r, 0.0, 1.0]).collect(),
+            ..ResumeSpec::default()
+        };
+        PlotHistory::resumed(&resume, 0.2, &DragLaw::default()).checkpoint()
+    }
+
+    /// Points of T = 6/√(α − α*) + 100 exactly, at α*·(1 + e) for each e.
+    fn law_points(star: f64, offsets: &[f64]) -> Vec<[f64; 2]> {
+        offsets
+            .iter()
+            .map(|e| {
+                let alpha = star * (1.0 + e);
+                [alpha, 1.0 / (6.0 / (alpha - star).sqrt() + 100.0)]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_sqrt_law_holds_where_the_fit_goes_through_every_point_near_alpha_star() {
+        let star = 0.12;
+        let mut points = law_points(star, &[0.003, 0.01, 0.02, 0.03]);
+        // Points past the law's reach are not fitted, so they cannot refute its claim.
+        points.push([1.1 * star, 0.02]);
+        points.push([1.3 * star, 0.03]);
+        points.push([0.9 * star, 0.0]);
+        let said = check_claim(Claim::SqrtLaw, &plot_of(&points), 1.3 * star, 0.0, star).unwrap();
+        assert!(said.contains("through 4 points"), "{said}");
+    }
+
+    #[test]
+    fn the_sqrt_law_is_refuted_by_a_point_off_the_fit_or_too_few_points() {
+        let star = 0.12;
+        let mut points = law_points(star, &[0.003, 0.01, 0.02, 0.03]);
+        // T 6 % longer at 1.03 α*: the fit (least squares over all four) misses some point by
+        // more than 2 %.
+        points[3][1] /= 1.06;
+        let why = check_claim(Claim::SqrtLaw, &plot_of(&points), 0.13, 0.0, star).unwrap_err();
+        assert!(why.contains("misses the point at α = "), "{why}");
+        let why = check_claim(
+            Claim::SqrtLaw,
+            &plot_of(&law_points(star, &[0.01, 0.03, 0.1])),
+            0.13,
+            0.0,
+            star,
+        )
+        .unwrap_err();
+        assert!(why.contains("has 2 rolling point(s)"), "{why}");
+        // Points at another m/m0 are another series: none at m/m0 = 0.5.
+        let near = law_points(star, &[0.003, 0.01, 0.03]);
+        let why = check_claim(Claim::SqrtLaw, &plot_of(&near), 0.13, 0.5, star).unwrap_err();
+        assert!(why.contains("has 0 rolling point(s)"), "{why}");
     }
 }

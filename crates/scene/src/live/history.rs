@@ -176,6 +176,23 @@ impl PlotCheckpoint {
             .collect()
     }
 
+    /// Every 1/T point (α, 1/T) measured at `mass_ratio`, both branches, in α's order.
+    ///
+    /// ```
+    /// use rollphase_scene::live::history::PlotHistory;
+    /// assert!(PlotHistory::default().checkpoint().points_at(0.0).is_empty());
+    /// ```
+    pub fn points_at(&self, mass_ratio: f64) -> Vec<[f64; 2]> {
+        let mut points: Vec<[f64; 2]> = self
+            .sweep
+            .iter()
+            .filter(|((_, regime, _), _)| regime.mass_ratio() == mass_ratio)
+            .map(|(_, &(alpha, rate))| [alpha, rate])
+            .collect();
+        points.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        points
+    }
+
     /// The direction the α sweep was last moving in, if it has moved.
     pub fn direction(&self) -> Option<Branch> {
         self.direction

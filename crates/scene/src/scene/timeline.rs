@@ -88,13 +88,19 @@ pub enum Claim {
     /// period 2.
     #[serde(rename = "period-2")]
     Period2,
+    /// The 1/T plot's rolling points near α* (α* < α ≤ 1.05 α*, at least three, at the step's
+    /// m/m0) follow T = a/√(α − α*) + b, the viscous cylinder's law near the critical angle
+    /// (SI §1B), each within [`SQRT_LAW_FIT_TOL`](crate::live::evidence::SQRT_LAW_FIT_TOL) of
+    /// the fit the plot draws.
+    #[serde(rename = "sqrt-law")]
+    SqrtLaw,
 }
 
 impl Claim {
     /// The plot the claim is read from.
     pub fn plot(self) -> super::LessonPlot {
         match self {
-            Claim::Halted | Claim::Rolling => super::LessonPlot::InversePeriod,
+            Claim::Halted | Claim::Rolling | Claim::SqrtLaw => super::LessonPlot::InversePeriod,
             Claim::Period1 | Claim::Period2 => super::LessonPlot::Crossings,
         }
     }
@@ -106,6 +112,7 @@ impl Claim {
             Claim::Rolling => "rolling",
             Claim::Period1 => "period-1",
             Claim::Period2 => "period-2",
+            Claim::SqrtLaw => "sqrt-law",
         }
     }
 }
@@ -283,6 +290,17 @@ pub(super) fn resolve(
                     "inverse-period"
                 }
             )));
+        }
+        if spec.claim == Some(Claim::SqrtLaw) {
+            let model = crate::dynamics::ModelKind::of(body, &choice.ramp);
+            if model != crate::dynamics::ModelKind::DiskViscous {
+                return Err(invalid(format!(
+                    "{name}.claim = \"sqrt-law\" is the viscous cylinder's law near α* (SI §1B), \
+                     but this step runs {}: its 1/T follows another law (the claim needs a \
+                     cylinder at m/m0 = 0)",
+                    model.name()
+                )));
+            }
         }
         let step = Step {
             at,
