@@ -45,7 +45,7 @@ fn lesson_app(timeline: &str, speed: f64) -> (GpuContext, OffscreenTarget, Workb
     (gpu, target, bench, alpha_star)
 }
 
-fn key(k: egui::Key) -> Vec<egui::Event> {
+pub(crate) fn key(k: egui::Key) -> Vec<egui::Event> {
     vec![egui::Event::Key {
         key: k,
         physical_key: None,
@@ -58,7 +58,7 @@ fn key(k: egui::Key) -> Vec<egui::Event> {
 /// egui's input time: one frame of 1/60 s per call, never going backwards. A virtual clock,
 /// not the wall clock, so a press and the release on the next frame are always a click: on a
 /// loaded machine two frames can be further apart than egui's longest click.
-fn now() -> f64 {
+pub(crate) fn now() -> f64 {
     static FRAMES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     FRAMES.fetch_add(1, std::sync::atomic::Ordering::Relaxed) as f64 / 60.0
 }
@@ -1716,7 +1716,11 @@ fn every_lesson_step_shows_its_plot_large_in_presentation_and_class_modes() {
 /// Input for a `size`-pixel target at the app's zoom, as a window gives it: the screen in
 /// points is the pixels over the pixels per point (class mode zooms). `offscreen_input` is at
 /// one pixel per point, which a zoom then shrinks a second time.
-fn zoomed_input(bench: &Workbench, size: (u32, u32), events: Vec<egui::Event>) -> egui::RawInput {
+pub(crate) fn zoomed_input(
+    bench: &Workbench,
+    size: (u32, u32),
+    events: Vec<egui::Event>,
+) -> egui::RawInput {
     let mut input = offscreen_input(size, now(), events);
     let ppp = bench.ctx.pixels_per_point();
     input.screen_rect = Some(egui::Rect::from_min_size(

@@ -33,3 +33,4 @@ mod render_cli;
 mod render_scale;
 mod sculpt;
 mod shaders;
+mod teachers_pace;
