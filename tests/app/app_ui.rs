@@ -1695,6 +1695,11 @@ fn every_lesson_step_shows_its_plot_large_in_presentation_and_class_modes() {
                     );
                     assert!(text_px >= 24.0 - 1e-3, "{what}: text {text_px} px");
                     assert!(
+                        bench.texts_cut().is_empty(),
+                        "{what}: texts cut at the side of their panel: {:?}",
+                        bench.texts_cut()
+                    );
+                    assert!(
                         rect.height() > 0.6 * window.height(),
                         "{what}: {rect:?} is small"
                     );

@@ -80,7 +80,9 @@ impl AppUi {
             });
             ui.separator();
             ui.label(RichText::new(&self.scene.name).strong());
-            ui.label(RichText::new(&self.scene.description).weak());
+            // One line, elided with its whole text on hover: a lesson's description is longer
+            // than the bar.
+            ui.add(egui::Label::new(RichText::new(&self.scene.description).weak()).truncate());
         });
     }
 
@@ -281,7 +283,8 @@ impl AppUi {
 
     /// The α field (applied on Enter or focus loss) with α in degrees and α* beside it.
     fn alpha_field_ui(&mut self, ui: &mut egui::Ui, alpha_star: f64, actions: &mut Vec<UiAction>) {
-        ui.horizontal(|ui| {
+        // Wrapped: class mode's large text leaves the degrees and α* no room beside the field.
+        ui.horizontal_wrapped(|ui| {
             ui.label("α");
             let limits = NumberLimits {
                 name: "α",
@@ -608,9 +611,11 @@ impl AppUi {
     }
 }
 
-/// Draws a labelled tick below a value-less horizontal slider at `value`.
+/// Draws a labelled tick at `value` on a value-less horizontal slider, its label below it in
+/// a line of its own (painted over the next row, it sat on a button in class mode's larger
+/// layout), in the small text style, which scales with the modes' text.
 pub(super) fn mark_on_slider(
-    ui: &egui::Ui,
+    ui: &mut egui::Ui,
     response: &egui::Response,
     value: f64,
     range: std::ops::RangeInclusive<f64>,
@@ -625,16 +630,21 @@ pub(super) fn mark_on_slider(
     }
     let x = rect.left() + inset + f * (rect.width() - 2.0 * inset);
     let color = Color32::from_rgb(230, 70, 70);
+    let font = egui::TextStyle::Small.resolve(ui.style());
+    let (line, _) = ui.allocate_exact_size(
+        egui::vec2(rect.width(), ui.fonts_mut(|f| f.row_height(&font))),
+        egui::Sense::hover(),
+    );
     let painter = ui.painter();
     painter.line_segment(
         [egui::pos2(x, rect.top()), egui::pos2(x, rect.bottom())],
         egui::Stroke::new(2.0, color),
     );
     painter.text(
-        egui::pos2(x, rect.bottom()),
+        egui::pos2(x, line.top()),
         egui::Align2::CENTER_TOP,
         label,
-        egui::FontId::proportional(11.0),
+        font,
         color,
     );
 }
@@ -733,10 +743,36 @@ fn drag_law_ui(ui: &mut egui::Ui, law: &crate::dynamics::DragLaw, actions: &mut 
     for (parameter, value) in law.parameters() {
         let mut value = value;
         let label = parameter.key.replace('_', " ");
-        let slider = egui::Slider::new(&mut value, parameter.min..=parameter.max)
-            .logarithmic(true)
-            .text(label);
-        if ui.add(slider).on_hover_text(parameter.help).changed() {
+        // The slider, its value box and its name in the panel's width: where the name does not
+        // fit beside them (class mode's large text in a third of the screen) it goes above, and
+        // the slider narrows, so that neither the value nor the name is cut at the edge.
+        let spacing = ui.spacing().clone();
+        let value_box = 2.0 * spacing.interact_size.x + spacing.item_spacing.x;
+        let name_width =
+            ui.fonts_mut(|f| {
+                f.layout_no_wrap(
+                    label.clone(),
+                    egui::TextStyle::Body.resolve(ui.style()),
+                    egui::Color32::WHITE,
+                )
+            })
+            .size()
+            .x + spacing.item_spacing.x;
+        let room = ui.available_width() - value_box;
+        let beside = room - name_width >= spacing.slider_width.min(80.0);
+        if !beside {
+            ui.label(&label);
+        }
+        let response = ui
+            .scope(|ui| {
+                let width = if beside { room - name_width } else { room };
+                ui.spacing_mut().slider_width = width.clamp(40.0, spacing.slider_width);
+                let slider =
+                    egui::Slider::new(&mut value, parameter.min..=parameter.max).logarithmic(true);
+                ui.add(if beside { slider.text(&label) } else { slider })
+            })
+            .inner;
+        if response.on_hover_text(parameter.help).changed() {
             actions.push(UiAction::Sim(SimCommand::SetDragParameter(
                 parameter.key,
                 value,

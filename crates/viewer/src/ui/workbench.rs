@@ -91,6 +91,8 @@ pub struct Workbench {
     textures: egui::TexturesDelta,
     frame_times: std::collections::VecDeque<Instant>,
     render_scale: RenderScale,
+    /// The texts the last frame cut at the side of the area they are drawn in.
+    cut_texts: Vec<String>,
 }
 
 impl Workbench {
@@ -117,6 +119,7 @@ impl Workbench {
             pending_screenshots: Vec::new(),
             textures: egui::TexturesDelta::default(),
             frame_times: Default::default(),
+            cut_texts: Vec::new(),
             render_scale: RenderScale::new(RenderScaleMode::Auto, false),
         })
     }
@@ -207,6 +210,7 @@ impl Workbench {
             status
         };
         self.textures.append(output.textures_delta);
+        self.cut_texts = texts_cut_at_the_side(&output.shapes);
         let pixels_per_point = output.pixels_per_point;
         let primitives = self.ctx.tessellate(output.shapes, pixels_per_point);
         let scene_rect = self
@@ -319,6 +323,14 @@ impl Workbench {
         self.painter.finish(&mut self.textures);
     }
 
+    /// The texts the last frame drew reaching past the left or right side of the area they are
+    /// clipped to (a panel, a scroll area, the window), so that part of them is not on the
+    /// screen: a control's label or value cut at a narrow panel's edge. What a layout test asks
+    /// of every mode and size; texts cut at the top or bottom are a scroll area's, by design.
+    pub fn texts_cut(&self) -> &[String] {
+        &self.cut_texts
+    }
+
     /// How many meshes the 3D renderer holds: the running scene's, however many were loaded.
     pub fn mesh_count(&self) -> usize {
         self.painter.mesh_count()
@@ -427,6 +439,28 @@ fn save_png(path: &Path, image: &RgbaImage) -> Result<()> {
         output::create_folder(dir)?;
     }
     write_png(path, image, &Inputs::none()).context("screenshot")
+}
+
+/// The texts among `shapes` that reach past the left or right of their clip rectangle by more
+/// than a pixel's rounding.
+fn texts_cut_at_the_side(shapes: &[egui::epaint::ClippedShape]) -> Vec<String> {
+    fn visit(shape: &egui::Shape, clip: egui::Rect, cut: &mut Vec<String>) {
+        match shape {
+            egui::Shape::Text(text) => {
+                let r = text.visual_bounding_rect();
+                if r.is_positive() && (r.min.x < clip.min.x - 1.0 || r.max.x > clip.max.x + 1.0) {
+                    cut.push(text.galley.text().to_string());
+                }
+            }
+            egui::Shape::Vec(shapes) => shapes.iter().for_each(|s| visit(s, clip, cut)),
+            _ => {}
+        }
+    }
+    let mut cut = Vec::new();
+    for clipped in shapes {
+        visit(&clipped.shape, clipped.clip_rect, &mut cut);
+    }
+    cut
 }
 
 impl Drop for Workbench {
