@@ -1762,3 +1762,43 @@ fn a_scene_that_names_its_model_saves_the_model_it_runs() {
     assert_eq!(saved.model.mass_ratio, 2.0);
     saved.setup(None).expect("the saved scene loads");
 }
+
+/// No text of the app is cut at the side of its panel, for every preset in the plain, class
+/// and presentation modes (a slider's value or a row's last words went past a narrow panel's
+/// edge unseen).
+#[test]
+fn no_text_is_cut_at_the_side_of_its_panel_on_any_preset_mode_or_size() {
+    let gpu = GpuContext::headless().unwrap();
+    for (name, _) in rollphase::scene::PRESETS {
+        // Class mode at both sizes (its controls take a third of the width, with large text);
+        // the others at the smaller.
+        let cases = [
+            ((1280, 720), "plain"),
+            ((1280, 720), "class"),
+            ((1920, 1080), "class"),
+            ((1280, 720), "presentation"),
+        ];
+        {
+            for (size, mode) in cases {
+                let setup = Scene::preset(name).unwrap().setup(None).unwrap();
+                let mut bench =
+                    Workbench::new(&gpu.device, &gpu.queue, APP_FORMAT, 1, setup, None).unwrap();
+                match mode {
+                    "class" => bench.ui.class_on_start(),
+                    "presentation" => bench.ui.present_on_start(),
+                    _ => {}
+                }
+                // A few frames: the panels take their widths, the run its first values.
+                for _ in 0..6 {
+                    bench.run_ui(zoomed_input(&bench, size, vec![]), size);
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+                assert!(
+                    bench.texts_cut().is_empty(),
+                    "{name} at {size:?}, {mode}: texts cut at the side of their panel: {:?}",
+                    bench.texts_cut()
+                );
+            }
+        }
+    }
+}

@@ -310,7 +310,8 @@ impl AppUi {
 
     /// The measuring sweep of α or m/m0 (a live bifurcation diagram): which, and the step.
     fn measuring_sweep_ui(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| {
+        // Wrapped: in class mode's third of the screen the row does not fit on one line.
+        ui.horizontal_wrapped(|ui| {
             let mut on = self.measuring_sweep.is_some();
             if ui
                 .checkbox(&mut on, "sweep")

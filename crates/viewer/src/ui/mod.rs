@@ -672,6 +672,9 @@ impl AppUi {
                 .max_size(widest)
                 .show(ui, |ui| {
                     egui::ScrollArea::vertical().show(ui, |ui| {
+                        // Every label wraps at the panel's edge rather than running past it
+                        // (class mode's large text in a third of the screen cut them).
+                        ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Wrap);
                         self.controls_ui(ui, status, &mut actions);
                     });
                 });
