@@ -499,7 +499,7 @@ fn plot_data_writes_the_plots_csv_of_a_headless_run() {
     );
     assert!(read("series.csv").starts_with("t,contact_theta,contact_phi,angular_speed\n"));
     assert!(read("plot-data.json").contains("\"scene\": \"sphere-cruising\""));
-    assert!(read("sweep-mass.csv").starts_with("mass_ratio,polar_angle\n"));
+    assert!(read("sweep-mass.csv").starts_with("mass_ratio,polar_angle,drag\n"));
     let health = read("health.csv");
     assert!(
         health.starts_with("t,quat_norm_error,contact_normal_error\n"),

@@ -342,7 +342,8 @@ impl PlotHistory {
                 .sweep
                 .insert((direction, regime, bin), (alpha, rate));
         }
-        history.crossings = Crossings::from_points(&resume.crossings);
+        history.crossings =
+            Crossings::from_points(&resume.crossings, &resume.crossings_drag, &drag.label());
         history.last_alpha = Some(alpha_now);
         history
     }
@@ -369,6 +370,7 @@ impl PlotHistory {
             alpha_sweep: self.alpha_sweep_points(),
             crossings: self.crossings_by_mass(),
             alpha_sweep_drag: self.alpha_sweep_drag(),
+            crossings_drag: self.crossings_drag(),
         }
     }
 
@@ -419,6 +421,26 @@ impl PlotHistory {
     /// The settled crossing points of ∂Ω as (m/m0, polar angle), oldest first.
     pub fn crossings_by_mass(&self) -> Vec<[f64; 2]> {
         self.crossings.points.iter().copied().collect()
+    }
+
+    /// The drag law of each crossing point, in [`Self::crossings_by_mass`]'s order (a saved
+    /// state's `crossings_drag`).
+    pub fn crossings_drag(&self) -> Vec<String> {
+        self.crossings.laws.iter().cloned().collect()
+    }
+
+    /// The crossing points grouped by the drag law they were measured under, each law once, in
+    /// the order of its first point: a law's points are an orbit diagram of their own.
+    pub fn crossings_by_law(&self) -> Vec<(String, Vec<[f64; 2]>)> {
+        let mut laws: Vec<&String> = Vec::new();
+        for law in &self.crossings.laws {
+            if !laws.contains(&law) {
+                laws.push(law);
+            }
+        }
+        laws.into_iter()
+            .map(|law| (law.clone(), self.crossings.under(law)))
+            .collect()
     }
 
     /// The samples, oldest first.
@@ -539,7 +561,8 @@ pub enum PlotData {
     /// 1/T against α: `direction,alpha,inverse_period,mass_ratio` (direction "up" or "down";
     /// the m/m0 the point was measured at).
     AlphaSweep,
-    /// Settled ∂Ω crossings against m/m0: `mass_ratio,polar_angle`.
+    /// Settled ∂Ω crossings against m/m0: `mass_ratio,polar_angle,drag` (the drag law the
+    /// crossing was measured under).
     Crossings,
     /// The numerical health against time: `t` and the quantities the model measures.
     Health,
@@ -569,7 +592,10 @@ impl PlotData {
                 "direction (up/down), alpha (rad), inverse_period (1/T; 0 where the body halted), \
                  mass_ratio (m/m0 when measured), drag (the drag law when measured)"
             }
-            PlotData::Crossings => "mass_ratio, polar_angle of a settled crossing of ∂Ω (rad)",
+            PlotData::Crossings => {
+                "mass_ratio, polar_angle of a settled crossing of ∂Ω (rad), drag (the drag law \
+                 when measured)"
+            }
             PlotData::Health => "t and the worst health quantities so far of the model",
             PlotData::Forces => "t, normal_force (N/F), friction_needed (|f_t|/N)",
             PlotData::Series => {
@@ -625,9 +651,13 @@ impl PlotHistory {
                 }
             }
             PlotData::Crossings => {
-                row(vec!["mass_ratio".into(), "polar_angle".into()]);
-                for [m, theta] in self.crossings_by_mass() {
-                    row(vec![number(m), number(theta)]);
+                row(vec![
+                    "mass_ratio".into(),
+                    "polar_angle".into(),
+                    "drag".into(),
+                ]);
+                for ([m, theta], law) in self.crossings.points.iter().zip(&self.crossings.laws) {
+                    row(vec![number(*m), number(*theta), law.clone()]);
                 }
             }
             PlotData::Health => {
@@ -819,7 +849,7 @@ mod tests {
         assert_eq!(health.lines().next(), Some("t"));
         assert_eq!(health.lines().count(), 1 + history.samples().count());
         let crossings = history.csv(PlotData::Crossings, measured);
-        assert_eq!(crossings.trim(), "mass_ratio,polar_angle");
+        assert_eq!(crossings.trim(), "mass_ratio,polar_angle,drag");
         // Every number parses back to the value plotted.
         for r in &rows[1..] {
             assert!(r[1].parse::<f64>().unwrap() > 0.0);
@@ -875,6 +905,57 @@ mod tests {
         };
         let back = PlotHistory::resumed(&resume, alpha, &crate::dynamics::DragLaw::LINEAR);
         assert_eq!(back.sweep_by_regime(Branch::Up), series);
+    }
+
+    /// The crossings plot keeps the points of each drag law apart, in its CSV's drag column and
+    /// through a saved state (at one m/m0 another law rolls another orbit: mixed, its crossings
+    /// read as a second branch).
+    #[test]
+    fn crossings_under_another_drag_law_are_kept_apart() {
+        let setup = Scene::preset("sphere-cruising")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let alpha = setup.ramp.alpha_rad;
+        let mut sim = LiveRun::new(setup);
+        let mut history = PlotHistory::default();
+        let mut t = 0.0;
+        for exponent in [1.0, 2.0] {
+            let law = crate::dynamics::DragLaw::LINEAR
+                .with("drag_exponent", exponent)
+                .unwrap();
+            let ramp = crate::dynamics::Ramp::with_drag(alpha, 0.0, 1.0)
+                .unwrap()
+                .with_drag_law(law);
+            sim.set_parameters(ramp, sim.method()).unwrap();
+            for _ in 0..500 {
+                t += 1.0;
+                sim.advance_to(t).unwrap();
+                history.push(&sim.snapshot());
+            }
+        }
+        let by_law = history.crossings_by_law();
+        let laws: Vec<&str> = by_law.iter().map(|(l, _)| l.as_str()).collect();
+        assert_eq!(laws, ["linear drag", "drag_exponent = 2"], "{by_law:?}");
+        assert!(by_law.iter().all(|(_, points)| !points.is_empty()));
+        let csv = history.csv(PlotData::Crossings, sim.snapshot().health.measured);
+        let mut lines = csv.lines();
+        assert_eq!(lines.next(), Some("mass_ratio,polar_angle,drag"));
+        assert!(
+            csv.contains(",linear drag") && csv.contains(",drag_exponent = 2"),
+            "{csv}"
+        );
+        let resume = history.saved(t, Vec::new());
+        assert_eq!(resume.crossings_drag.len(), resume.crossings.len());
+        let back = PlotHistory::resumed(&resume, alpha, &crate::dynamics::DragLaw::LINEAR);
+        assert_eq!(back.crossings_by_law(), by_law);
+        // A file without the labels: every point is the scene's law.
+        let unlabelled = crate::scene::ResumeSpec {
+            crossings_drag: Vec::new(),
+            ..resume
+        };
+        let back = PlotHistory::resumed(&unlabelled, alpha, &crate::dynamics::DragLaw::LINEAR);
+        assert_eq!(back.crossings_by_law().len(), 1);
     }
 
     #[test]

@@ -140,6 +140,9 @@ pub struct LaneResume {
     /// The drag law of each `alpha_sweep` point, as `[resume]`'s.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub alpha_sweep_drag: Vec<String>,
+    /// The drag law of each `crossings` point, as `[resume]`'s.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub crossings_drag: Vec<String>,
 }
 
 impl From<super::ResumeSpec> for LaneResume {
@@ -151,6 +154,7 @@ impl From<super::ResumeSpec> for LaneResume {
             alpha_sweep: r.alpha_sweep,
             crossings: r.crossings,
             alpha_sweep_drag: r.alpha_sweep_drag,
+            crossings_drag: r.crossings_drag,
         }
     }
 }
@@ -315,6 +319,7 @@ impl Scene {
                 alpha_sweep: r.alpha_sweep.clone(),
                 crossings: r.crossings.clone(),
                 alpha_sweep_drag: r.alpha_sweep_drag.clone(),
+                crossings_drag: r.crossings_drag.clone(),
             }),
             replay: Vec::new(),
             bodies: Vec::new(),

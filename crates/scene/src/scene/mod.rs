@@ -192,6 +192,10 @@ pub struct ResumeSpec {
     /// the scene's law for every point (files saved before this was written).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub alpha_sweep_drag: Vec<String>,
+    /// The drag law each `crossings` point was measured under, in its order, as
+    /// crossings.csv's drag column words it; absent: the scene's law for every point.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub crossings_drag: Vec<String>,
 }
 
 /// Points of `N` numbers each, exactly: a point with a number too many is refused, not cut

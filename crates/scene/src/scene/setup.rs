@@ -314,26 +314,31 @@ impl super::ResumeSpec {
                 self.crossings.len()
             )));
         }
-        if !self.alpha_sweep_drag.is_empty()
-            && self.alpha_sweep_drag.len() != self.alpha_sweep.len()
-        {
-            return Err(invalid(format!(
-                "resume.alpha_sweep_drag has {} labels for {} alpha_sweep points (needs one per \
-                 point, or none)",
-                self.alpha_sweep_drag.len(),
-                self.alpha_sweep.len()
-            )));
-        }
-        if let Some((i, label)) = self
-            .alpha_sweep_drag
-            .iter()
-            .enumerate()
-            .find(|(_, l)| l.is_empty() || l.chars().count() > 200)
-        {
-            return Err(invalid(format!(
-                "resume.alpha_sweep_drag[{i}] = {label:?} is not a drag law's words (needs 1 to \
-                 200 characters, as sweep-alpha.csv's drag column)"
-            )));
+        for (field, labels, points) in [
+            (
+                "alpha_sweep",
+                &self.alpha_sweep_drag,
+                self.alpha_sweep.len(),
+            ),
+            ("crossings", &self.crossings_drag, self.crossings.len()),
+        ] {
+            if !labels.is_empty() && labels.len() != points {
+                return Err(invalid(format!(
+                    "resume.{field}_drag has {} labels for {points} {field} points (needs one \
+                     per point, or none)",
+                    labels.len()
+                )));
+            }
+            if let Some((i, label)) = labels
+                .iter()
+                .enumerate()
+                .find(|(_, l)| l.is_empty() || l.chars().count() > 200)
+            {
+                return Err(invalid(format!(
+                    "resume.{field}_drag[{i}] = {label:?} is not a drag law's words (needs 1 \
+                     to 200 characters, as the plot's CSV words its drag column)"
+                )));
+            }
         }
         // A point is one the app could have measured: a ramp it runs (α and m/m0 as `Ramp`
         // takes them), a finite 1/T ≥ 0, a polar angle on the ball (0 to π).
@@ -745,5 +750,32 @@ mod tests {
             assert!(e.to_string().contains(says), "{line}: {e}");
             assert!(e.to_string().starts_with("model.kind = "), "{e}");
         }
+    }
+
+    /// A saved state's drag-law labels go one per point, each a law's words, for either plot.
+    #[test]
+    fn a_saved_states_drag_labels_go_one_per_point() {
+        let base = Scene::preset(DEFAULT_PRESET).unwrap().to_toml().unwrap();
+        let resumed = |extra: &str| {
+            let text = format!(
+                "{base}\n[resume]\nt = 1.0\nstate = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]\n\
+                 crossings = [[0.0, 1.2], [0.0, 1.3]]\n{extra}"
+            );
+            Scene::from_toml(&text).unwrap().setup(None).map(|_| ())
+        };
+        resumed("crossings_drag = [\"linear drag\", \"drag_exponent = 2\"]").unwrap();
+        resumed("").unwrap();
+        let e = resumed("crossings_drag = [\"linear drag\"]").unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("resume.crossings_drag has 1 labels for 2 crossings points"),
+            "{e}"
+        );
+        let e = resumed("crossings_drag = [\"linear drag\", \"\"]").unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("resume.crossings_drag[1] = \"\" is not a drag law's words"),
+            "{e}"
+        );
     }
 }

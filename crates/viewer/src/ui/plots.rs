@@ -811,24 +811,44 @@ fn crossings_ui(
     } else {
         1
     };
-    let series: Vec<Vec<[f64; 2]>> = (0..bodies).map(|n| history.crossings_of_body(n)).collect();
-    let labels: Vec<String> = if bodies == 1 {
-        vec!["∂Ω crossings, settled".into()]
+    let (series, labels, colours): (Vec<Vec<[f64; 2]>>, Vec<String>, Vec<Color32>) = if bodies == 1
+    {
+        // One body: the points measured under the running drag law, and those of each other
+        // law apart, named (at one m/m0 another law is another orbit, not a branch of this one).
+        let now = snap.drag_law.label();
+        let by_law = history.crossings_by_law();
+        let mut series = vec![
+            by_law
+                .iter()
+                .find(|(law, _)| *law == now)
+                .map(|(_, points)| points.clone())
+                .unwrap_or_default(),
+        ];
+        let mut labels = vec!["∂Ω crossings, settled".to_string()];
+        let mut colours = vec![SERIES_COLORS[0]];
+        for (i, (law, points)) in by_law.into_iter().filter(|(l, _)| *l != now).enumerate() {
+            series.push(points);
+            labels.push(law);
+            colours.push(OTHER_REGIME_COLORS[i % OTHER_REGIME_COLORS.len()]);
+        }
+        (series, labels, colours)
     } else {
         // The bodies' names alone: the plot's title says they are crossings, and a room's
         // large text has no width to spare.
-        std::iter::once(&snap.label)
+        let labels = std::iter::once(&snap.label)
             .chain(snap.lanes.iter().map(|l| &l.label))
             .cloned()
-            .collect()
+            .collect();
+        let colours = (0..bodies)
+            .map(|n| {
+                let [r, g, b] = crate::colormap::body_colour(n);
+                Color32::from_rgb(r, g, b)
+            })
+            .collect();
+        let series = (0..bodies).map(|n| history.crossings_of_body(n)).collect();
+        (series, labels, colours)
     };
-    let colour = |n: usize| match bodies {
-        1 => SERIES_COLORS[0],
-        _ => {
-            let [r, g, b] = crate::colormap::body_colour(n);
-            Color32::from_rgb(r, g, b)
-        }
-    };
+    let colour = |n: usize| colours[n];
     let mut keys: Vec<Key<'_>> = labels
         .iter()
         .enumerate()

@@ -20,19 +20,30 @@ const SAME_CROSSING: f64 = 1e-3;
 const CROSSINGS_COMPARED: usize = 256;
 
 /// One body's settled crossings: (m/m0, polar angle of the crossing point with p_z ≥ 0),
-/// oldest first, and the time of the last crossing taken.
+/// oldest first, each with the drag law it was measured under (a point at one m/m0 under
+/// another law is another orbit: kept apart, as the 1/T plot keeps its regimes), and the time
+/// of the last crossing taken.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub(super) struct Crossings {
     pub(super) points: VecDeque<[f64; 2]>,
+    /// The drag law of each point ([`crate::dynamics::DragLaw::label`]), in `points`' order.
+    pub(super) laws: VecDeque<String>,
     last_t: Option<f64>,
 }
 
 impl Crossings {
-    /// Points as a saved state keeps them (the newest [`MAX_CROSSING_POINTS`]).
-    pub(super) fn from_points(points: &[[f64; 2]]) -> Self {
+    /// Points as a saved state keeps them (the newest [`MAX_CROSSING_POINTS`]), each under its
+    /// law in `laws` (one per point), or under `law` where the file names none.
+    pub(super) fn from_points(points: &[[f64; 2]], laws: &[String], law: &str) -> Self {
         let skip = points.len().saturating_sub(MAX_CROSSING_POINTS);
+        let laws: VecDeque<String> = if laws.len() == points.len() {
+            laws[skip..].iter().cloned().collect()
+        } else {
+            vec![law.to_string(); points.len() - skip].into()
+        };
         Self {
             points: points[skip..].iter().copied().collect(),
+            laws,
             last_t: None,
         }
     }
@@ -49,12 +60,12 @@ impl Crossings {
             if self.last_t.is_some_and(|last| t <= last) {
                 continue;
             }
-            self.take_point(snap.mass_ratio, p);
+            self.take_point(snap.mass_ratio, &snap.drag_law.label(), p);
             self.last_t = Some(t);
         }
     }
 
-    fn take_point(&mut self, mass_ratio: f64, p: glam::DVec3) {
+    fn take_point(&mut self, mass_ratio: f64, law: &str, p: glam::DVec3) {
         // The viscous model is the massless limit: its crossings are the diagram's points at
         // m/m0 = 0 (a lesson's first step claims period 1 there).
         let p = if p.z < 0.0 { -p } else { p };
@@ -62,14 +73,27 @@ impl Crossings {
         let seen = self
             .points
             .iter()
+            .zip(&self.laws)
             .rev()
             .take(CROSSINGS_COMPARED)
-            .any(|q| q[0] == point[0] && (q[1] - point[1]).abs() < SAME_CROSSING);
+            .any(|(q, l)| q[0] == point[0] && l == law && (q[1] - point[1]).abs() < SAME_CROSSING);
         if !seen {
             self.points.push_back(point);
+            self.laws.push_back(law.to_string());
             while self.points.len() > MAX_CROSSING_POINTS {
                 self.points.pop_front();
+                self.laws.pop_front();
             }
         }
+    }
+
+    /// The points measured under the drag law `law`.
+    pub(super) fn under(&self, law: &str) -> Vec<[f64; 2]> {
+        self.points
+            .iter()
+            .zip(&self.laws)
+            .filter(|(_, l)| *l == law)
+            .map(|(p, _)| *p)
+            .collect()
     }
 }

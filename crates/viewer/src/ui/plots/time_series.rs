@@ -251,9 +251,20 @@ mod tests {
     /// The words the plots row draws for `preset` run to t = `until` in a panel `width` points
     /// wide (the keys' labels, the axes, the health plot's note).
     fn plot_words(scene: Scene, until: f64, width: f32) -> Vec<String> {
+        plot_words_changing(scene, until, width, |_, _| {})
+    }
+
+    /// [`plot_words`] with `change` called on the run before each whole time unit `k`.
+    fn plot_words_changing(
+        scene: Scene,
+        until: f64,
+        width: f32,
+        change: impl Fn(&mut LiveRun, u32),
+    ) -> Vec<String> {
         let mut run = LiveRun::new(scene.setup(None).unwrap());
         let mut history = PlotHistory::default();
         for k in 1..=until as u32 {
+            change(&mut run, k);
             run.advance_to(f64::from(k)).unwrap();
             history.push(&run.snapshot());
             history.push_samples(run.take_plot_samples());
@@ -283,6 +294,26 @@ mod tests {
 
     fn preset(name: &str) -> Scene {
         Scene::preset(name).unwrap()
+    }
+
+    /// The crossings plot draws the points measured under another drag law as a series of their
+    /// own, named by the law: at one m/m0 they are another orbit, not a branch of this one.
+    #[test]
+    fn crossings_under_another_drag_law_are_a_series_of_their_own() {
+        let words = plot_words_changing(preset("sphere-cruising"), 1000.0, 1900.0, |run, k| {
+            if k == 500 {
+                let law = crate::dynamics::DragLaw::LINEAR
+                    .with("drag_exponent", 2.0)
+                    .unwrap();
+                let ramp = run.ramp().with_drag_law(law);
+                run.set_parameters(ramp, run.method()).unwrap();
+            }
+        });
+        let has = |s: &str| words.iter().any(|t| t == s);
+        assert!(
+            has("∂Ω crossings, settled") && has("linear drag"),
+            "{words:?}"
+        );
     }
 
     /// With the other bodies shown, each body is in the force plot in its colour, and a health
