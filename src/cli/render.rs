@@ -252,6 +252,10 @@ fn write_headless(a: &RenderArgs, setup: SceneSetup, frames: u64) -> Result<()> 
     if let Some(note) = &report.model_note {
         eprintln!("note: {note}");
     }
+    // The frames say it under the caption too; a clip's maker should not have to watch for it.
+    for said in &report.claims_not_shown {
+        eprintln!("warning: the lesson's run does not bear out its caption: {said}");
+    }
     let written = match &clip {
         Some((_, p)) => format!(
             "{} ({} kB)",

@@ -58,3 +58,77 @@ fn a_claim_the_run_does_not_bear_out_is_said_under_the_caption() {
         "{wrong}"
     );
 }
+
+/// A headless clip of a lesson says the same: the frames of a step whose claim the run does not
+/// bear out carry "(this run does not show it: …)" under the caption, and the command warns on
+/// standard error (a false claim went into a clip unnoticed).
+#[test]
+fn a_headless_clip_says_under_the_caption_what_the_run_does_not_show() {
+    use rollphase::headless::HeadlessRenderer;
+    use rollphase::render::types::PanelItem;
+    // The critical-angle lesson's first step (0.9 α*, it halts) made to claim that it rolls.
+    let text = Scene::preset("lesson-critical-angle")
+        .unwrap()
+        .to_toml()
+        .unwrap()
+        .replacen("claim = \"halted\"", "claim = \"rolling\"", 1);
+    let setup = Scene::from_toml(&text).unwrap().setup(None).unwrap();
+    let mut hr = HeadlessRenderer::new(setup, (640, 360), 1).unwrap();
+    let said = hr.check_claims();
+    assert_eq!(said.len(), 1, "{said:?}");
+    assert!(
+        said[0].starts_with("timeline[0]: claims \"rolling\", but 1/T = 0"),
+        "{said:?}"
+    );
+    let frame = hr.frame_data(0).unwrap();
+    let texts: Vec<String> = frame
+        .panels
+        .iter()
+        .flat_map(|p| &p.items)
+        .filter_map(|item| match item {
+            PanelItem::Text { text, .. } => Some(text.clone()),
+            _ => None,
+        })
+        .collect();
+    // The caption wraps over several lines.
+    assert!(
+        texts.join(" ").contains("(this run does not show it: 1/T"),
+        "{texts:?}"
+    );
+    // The bundled lesson, as written, says nothing of the kind.
+    let setup = Scene::preset("lesson-critical-angle")
+        .unwrap()
+        .setup(None)
+        .unwrap();
+    let mut hr = HeadlessRenderer::new(setup, (640, 360), 1).unwrap();
+    assert!(hr.check_claims().is_empty());
+    // The command line warns.
+    let dir = crate::cli::scratch("false-claim-clip");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("lesson.toml");
+    let shape = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/shapes/disk.json");
+    std::fs::write(&scene, text.replace("../shapes/disk.json", shape)).unwrap();
+    let o = crate::cli::rollphase([
+        "--headless",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--frames",
+        "2",
+        "--size",
+        "160x90",
+        "--msaa",
+        "1",
+        "--out",
+        dir.join("frames").to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains(
+            "warning: the lesson's run does not bear out its caption: timeline[0]: claims \
+             \"rolling\""
+        ),
+        "{err}"
+    );
+}

@@ -19,10 +19,10 @@
 
 use std::time::{Duration, Instant};
 
-use rollphase::live::evidence::check_claim;
+use rollphase::live::evidence::{StepAt, check_claim};
 use rollphase::render::GpuContext;
 use rollphase::render::gpu::{APP_FORMAT, OffscreenTarget};
-use rollphase::scene::{Claim, Scene, SceneSetup};
+use rollphase::scene::{Claim, Scene};
 use rollphase::ui::workbench::Workbench;
 
 use crate::app_ui::{key, zoomed_input};
@@ -30,28 +30,14 @@ use crate::app_ui::{key, zoomed_input};
 /// A teacher's click interval.
 const PACE: Duration = Duration::from_secs(4);
 
-/// Each step's claim, α and m/m0, as the steps before it leave them.
-fn steps_of(setup: &SceneSetup) -> Vec<(Option<Claim>, f64, f64)> {
-    let (mut alpha, mut mass) = (setup.ramp.alpha_rad, setup.ramp.mass_ratio);
-    setup
-        .timeline
-        .iter()
-        .map(|step| {
-            alpha = step.alpha_rad.unwrap_or(alpha);
-            mass = step.mass_ratio.unwrap_or(mass);
-            (step.claim, alpha, mass)
-        })
-        .collect()
-}
-
 /// One lesson played at one size.
 struct Class {
     name: &'static str,
     size: (u32, u32),
-    setup: SceneSetup,
     bench: Workbench,
     target: OffscreenTarget,
-    steps: Vec<(Option<Claim>, f64, f64)>,
+    /// Each step's claim, and where it stands.
+    steps: Vec<(Option<Claim>, StepAt)>,
     /// The step on the screen (0-based) and when its click was made.
     step: usize,
     clicked: Instant,
@@ -99,10 +85,10 @@ impl Class {
         if caption.contains("measuring this step's evidence") {
             return;
         }
-        let (claim, alpha, mass) = self.steps[self.step];
-        if let Some(claim) = claim {
+        let (claim, at) = &self.steps[self.step];
+        if let Some(claim) = *claim {
             let plotted = self.bench.ui.history().checkpoint();
-            if let Err(why) = check_claim(claim, &plotted, alpha, mass, self.setup.alpha_star) {
+            if let Err(why) = check_claim(claim, &plotted, at) {
                 panic!(
                     "{what}: the caption claims {} but the plot shows {why}: {caption}",
                     claim.name()
@@ -147,14 +133,18 @@ fn every_lesson_step_shows_its_claims_evidence_at_a_teachers_pace() {
                 Workbench::new(&gpu.device, &gpu.queue, APP_FORMAT, 1, setup.clone(), None)
                     .unwrap();
             bench.ui.present_on_start();
-            let steps = steps_of(&setup);
+            let steps: Vec<(Option<Claim>, StepAt)> = setup
+                .timeline
+                .iter()
+                .map(|step| step.claim)
+                .zip(StepAt::each_of(&setup))
+                .collect();
             classes.push(Class {
                 name,
                 size,
                 target: OffscreenTarget::with_format(&gpu.device, size, APP_FORMAT),
                 ready_after: vec![None; steps.len()],
                 steps,
-                setup,
                 bench,
                 step: 0,
                 clicked: Instant::now(),

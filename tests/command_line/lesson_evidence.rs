@@ -26,9 +26,11 @@ fn plots(state: &EvidenceState, done: usize) -> PlotHistory {
     h
 }
 
-/// The distinct settled crossing points at `mass` (the library's reading of a claim).
+/// The distinct settled crossing points at `mass`, under the lessons' linear drag (the
+/// library's reading of a claim).
 fn branches(h: &PlotHistory, mass: f64) -> Vec<f64> {
-    rollphase::live::evidence::settled_branches(&h.checkpoint(), mass)
+    let regime = rollphase::live::history::Regime::labelled(mass, "linear drag");
+    rollphase::live::evidence::settled_branches(&h.checkpoint(), &regime)
 }
 
 #[test]
@@ -116,7 +118,7 @@ fn opposite(claim: rollphase::scene::Claim) -> rollphase::scene::Claim {
 
 #[test]
 fn every_bundled_lessons_claims_hold_in_its_evidence_and_their_opposites_do_not() {
-    use rollphase::live::evidence::{check_claim, claims_checked};
+    use rollphase::live::evidence::{StepAt, check_claim, claims_checked};
     // (lesson, steps that declare a claim)
     for (name, declared) in [
         ("lesson-critical-angle", 7),
@@ -126,11 +128,12 @@ fn every_bundled_lessons_claims_hold_in_its_evidence_and_their_opposites_do_not(
         let (setup, state) = evidence(name);
         let checked = claims_checked(&setup, &state);
         assert_eq!(checked.len(), declared, "{name}: {checked:?}");
-        let mut alpha = setup.ramp.alpha_rad;
-        let mut mass = setup.ramp.mass_ratio;
-        for (k, step) in setup.timeline.iter().enumerate() {
-            alpha = step.alpha_rad.unwrap_or(alpha);
-            mass = step.mass_ratio.unwrap_or(mass);
+        for (k, (step, at)) in setup
+            .timeline
+            .iter()
+            .zip(StepAt::each_of(&setup))
+            .enumerate()
+        {
             let Some(claim) = step.claim else { continue };
             let (_, _, verdict) = checked.iter().find(|c| c.0 == k).unwrap();
             assert!(
@@ -138,13 +141,7 @@ fn every_bundled_lessons_claims_hold_in_its_evidence_and_their_opposites_do_not(
                 "{name} step {}: claims {claim:?}: {verdict:?}",
                 k + 1
             );
-            let not = check_claim(
-                opposite(claim),
-                &state.steps[k + 1],
-                alpha,
-                mass,
-                setup.alpha_star,
-            );
+            let not = check_claim(opposite(claim), &state.steps[k + 1], &at);
             assert!(
                 not.is_err(),
                 "{name} step {}: the opposite of {claim:?} holds too: {not:?}",
@@ -193,6 +190,32 @@ fn a_claim_needs_the_plot_it_is_read_from() {
             && e.contains("disk-inertial"),
         "{e}"
     );
+    // Nor under another drag law, whose period diverges otherwise (a fit of three points to
+    // 2 % passed the critical-angle lesson at drag_exponent = 2 and 1.5).
+    let squared = Scene::preset("lesson-critical-angle")
+        .unwrap()
+        .to_toml()
+        .unwrap()
+        .replacen("[model]\n", "[model]\ndrag_exponent = 2.0\n", 1);
+    let e = Scene::from_toml(&squared)
+        .unwrap()
+        .setup(None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("timeline[6].claim = \"sqrt-law\"") && e.contains("drag_exponent = 2"),
+        "{e}"
+    );
+    // Nor of a body with no critical angle.
+    let round = "name = \"round\"\n[body]\nperfect = \"disk\"\n[model]\nalpha_rad = 0.1\n\
+                 [views]\nplot = \"inverse-period\"\n[[timeline]]\nat = 0.0\n\
+                 claim = \"sqrt-law\"\ncaption = \"fits\"\n";
+    let e = Scene::from_toml(round)
+        .unwrap()
+        .setup(None)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no critical angle (α* = 0)"), "{e}");
 }
 
 /// The period each doubling step claims, read from its evidence as the app's overlay reads it:

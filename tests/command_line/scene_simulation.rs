@@ -196,13 +196,14 @@ fn one_snapshot_of_a_doubled_cycle_puts_both_branches_in_the_crossings_plot() {
     assert_eq!(snap.period_multiplicity, Some(2));
     let mut history = rollphase::live::history::PlotHistory::default();
     history.push(&snap);
-    let mut branches = history.checkpoint().crossings_at(snap.mass_ratio);
+    let regime = rollphase::live::history::Regime::of(&snap);
+    let mut branches = history.checkpoint().crossings_at(&regime);
     branches.sort_by(f64::total_cmp);
     assert_eq!(branches.len(), 2, "{branches:?}");
     assert!(branches[1] - branches[0] > 0.05, "{branches:?}");
     // The same snapshot again adds nothing.
     history.push(&snap);
-    assert_eq!(history.checkpoint().crossings_at(snap.mass_ratio).len(), 2);
+    assert_eq!(history.checkpoint().crossings_at(&regime).len(), 2);
 }
 
 #[test]

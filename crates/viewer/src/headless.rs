@@ -46,6 +46,9 @@ pub struct HeadlessRenderer {
     /// The field drawn, and the ramp it belongs to.
     field: Option<(Ramp, Arc<Vec<FieldArrow>>)>,
     options: ViewOptions,
+    /// Why each lesson step's claim is not borne out by the run (by timeline index), where it
+    /// is not: said under its caption, as the app says it.
+    claims_not_shown: Vec<Option<String>>,
 }
 
 /// A scene start time beyond this is simulated in slices with a progress bar.
@@ -86,6 +89,7 @@ impl HeadlessRenderer {
             fields: FieldCache::default(),
             field: None,
             options: ViewOptions::default(),
+            claims_not_shown: Vec::new(),
         };
         renderer.update_field()?;
         Ok(renderer)
@@ -140,7 +144,14 @@ impl HeadlessRenderer {
             .advance_to(t)
             .with_context(|| format!("simulating frame {k} (t = {t})"))?;
         self.update_field()?;
-        let snap = self.sim.snapshot();
+        let mut snap = self.sim.snapshot();
+        // A claim the run does not bear out is said under its caption, never left standing.
+        let step = snap.lesson.as_ref().and_then(|l| l.done.checked_sub(1));
+        if let Some(Some(why)) = step.and_then(|k| self.claims_not_shown.get(k))
+            && let Some(caption) = &mut snap.caption
+        {
+            caption.push_str(&format!(" (this run does not show it: {why})"));
+        }
         let v = &snap.views;
         self.view.set_views(v.body, v.ball, v.poincare, v.overlay);
         Ok(self.view.frame(
@@ -154,6 +165,44 @@ impl HeadlessRenderer {
     /// What picking a body point in `frame` (one of this renderer's) needs: the body's view.
     pub fn pick_view(&self, frame: &Frame) -> Option<crate::view::pick::PickView> {
         self.view.pick_view(frame)
+    }
+
+    /// Checks each lesson step's claim against the lesson's own run from its start (the
+    /// evidence the app measures ahead, `live::evidence`), so that the frames say under a
+    /// caption whose claim the run does not bear out what it shows instead. Returns those
+    /// steps, as "timeline[k]: claims …, but …". Nothing for a scene without claims or a resumed
+    /// one (its run did not start at the lesson's start).
+    pub fn check_claims(&mut self) -> Vec<String> {
+        let setup = self.sim.setup();
+        if setup.resume.is_some() || setup.timeline.iter().all(|s| s.claim.is_none()) {
+            return Vec::new();
+        }
+        let stop = std::sync::atomic::AtomicBool::new(false);
+        let mut state = None;
+        crate::live::evidence::measure_evidence(setup, &stop, f64::INFINITY, |s| {
+            state = Some(s.clone());
+        });
+        let Some(state) = state else {
+            return Vec::new();
+        };
+        self.claims_not_shown = vec![None; setup.timeline.len()];
+        let mut said = Vec::new();
+        for (k, claim, verdict) in crate::live::evidence::claims_checked(setup, &state) {
+            if let Err(why) = verdict {
+                said.push(format!(
+                    "timeline[{k}]: claims \"{}\", but {why}",
+                    claim.name()
+                ));
+                self.claims_not_shown[k] = Some(why);
+            }
+        }
+        if let Some(why) = state.failed {
+            said.push(format!(
+                "the lesson's claims after t = {} could not be checked: {why}",
+                state.t_done
+            ));
+        }
+        said
     }
 
     /// Sets the camera and text options (e.g. class mode's text scale) of the frames to come.
@@ -196,6 +245,9 @@ pub struct HeadlessReport {
     pub t_last: f64,
     /// Why the model differs from the request, if it does.
     pub model_note: Option<String>,
+    /// The lesson steps whose claims the run does not bear out, and why
+    /// ([`HeadlessRenderer::check_claims`]).
+    pub claims_not_shown: Vec<String>,
 }
 
 /// Where headless frames go.
@@ -278,6 +330,7 @@ pub fn render_to(
     };
     let model_note = setup.model_note.clone();
     let mut hr = HeadlessRenderer::new(setup, size, sample_count)?;
+    let claims_not_shown = hr.check_claims();
     let bar = if progress {
         indicatif::ProgressBar::new(frames)
     } else {
@@ -358,5 +411,6 @@ pub fn render_to(
         t_first,
         t_last: hr.simulation().time(),
         model_note,
+        claims_not_shown,
     })
 }

@@ -16,7 +16,7 @@ use std::sync::{Arc, Mutex};
 use crate::scene::{Claim, SceneSetup};
 
 use super::LiveRun;
-use super::history::{PlotCheckpoint, PlotHistory};
+use super::history::{PlotCheckpoint, PlotHistory, Regime};
 
 /// Simulation time between the snapshots the evidence run takes in: far below the time between
 /// two crossings of ∂Ω or two turns of a cylinder (several t0), so none is missed.
@@ -151,12 +151,12 @@ pub const DISTINCT_CROSSINGS: f64 = 1e-2;
 pub const SETTLED_CROSSINGS: usize = 6;
 
 /// The distinct crossings of ∂Ω ([`DISTINCT_CROSSINGS`] apart) among the last
-/// [`SETTLED_CROSSINGS`] at `mass_ratio`, newest first: one for a period-1 cycle, two for a
-/// period-2 one.
-pub fn settled_branches(evidence: &PlotCheckpoint, mass_ratio: f64) -> Vec<f64> {
+/// [`SETTLED_CROSSINGS`] under `regime` (its m/m0 and drag law), newest first: one for a
+/// period-1 cycle, two for a period-2 one.
+pub fn settled_branches(evidence: &PlotCheckpoint, regime: &Regime) -> Vec<f64> {
     let mut found: Vec<f64> = Vec::new();
     for &angle in evidence
-        .crossings_at(mass_ratio)
+        .crossings_at(regime)
         .iter()
         .rev()
         .take(SETTLED_CROSSINGS)
@@ -179,53 +179,89 @@ pub fn settled_branches(evidence: &PlotCheckpoint, mass_ratio: f64) -> Vec<f64> 
 /// seen off the curve, and "the plot fits" would be more than the plot shows.
 pub const SQRT_LAW_FIT_TOL: f64 = 0.02;
 
-/// Whether a step's `claim` holds in its `evidence` (the plots at the step's end) at the step's
-/// α and m/m0 (`alpha_star`: the body's critical angle, for the √ law's fit): `Ok` with what
-/// shows it, or `Err` with what the plot shows instead.
+/// Where a lesson step stands, for its claim: its α and m/m0 as the steps before it leave them,
+/// the scene's drag law (a step does not change it) and the body's critical angle α*.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepAt {
+    /// The ramp's angle (rad).
+    pub alpha: f64,
+    /// m/m0.
+    pub mass_ratio: f64,
+    /// The drag law in words ([`crate::dynamics::DragLaw::label`]).
+    pub drag: String,
+    /// The body's critical angle (rad).
+    pub alpha_star: f64,
+}
+
+impl StepAt {
+    /// Each timeline step of `setup`, in order.
+    pub fn each_of(setup: &SceneSetup) -> Vec<StepAt> {
+        let (mut alpha, mut mass_ratio) = (setup.ramp.alpha_rad, setup.ramp.mass_ratio);
+        setup
+            .timeline
+            .iter()
+            .map(|step| {
+                alpha = step.alpha_rad.unwrap_or(alpha);
+                mass_ratio = step.mass_ratio.unwrap_or(mass_ratio);
+                StepAt {
+                    alpha,
+                    mass_ratio,
+                    drag: setup.ramp.drag_law.label(),
+                    alpha_star: setup.alpha_star,
+                }
+            })
+            .collect()
+    }
+
+    /// The plots' regime of the step: its m/m0 under its drag law.
+    pub fn regime(&self) -> Regime {
+        Regime::labelled(self.mass_ratio, &self.drag)
+    }
+}
+
+/// Whether a step's `claim` holds in its `evidence` (the plots at the step's end) where the step
+/// stands (`at`: its α, m/m0 and drag law; only the points of that m/m0 and law count): `Ok`
+/// with what shows it, or `Err` with what the plot shows instead.
 ///
 /// # Example
 /// ```
 /// use std::sync::atomic::AtomicBool;
-/// use rollphase_scene::live::evidence::{check_claim, measure_evidence};
+/// use rollphase_scene::live::evidence::{StepAt, check_claim, measure_evidence};
 /// use rollphase_scene::scene::{Claim, Scene};
 /// let setup = Scene::preset("lesson-period-doubling")?.setup(None)?;
 /// let mut last = None;
 /// measure_evidence(&setup, &AtomicBool::new(false), 1e9, |s| last = Some(s.clone()));
 /// let state = last.unwrap();
 /// // After the third step (m/m0 = 4.5): period 2, not period 1.
-/// let alpha_star = setup.alpha_star;
-/// assert!(check_claim(Claim::Period2, &state.steps[3], 0.15, 4.5, alpha_star).is_ok());
-/// assert!(check_claim(Claim::Period1, &state.steps[3], 0.15, 4.5, alpha_star).is_err());
+/// let at = &StepAt::each_of(&setup)[2];
+/// assert!(check_claim(Claim::Period2, &state.steps[3], at).is_ok());
+/// assert!(check_claim(Claim::Period1, &state.steps[3], at).is_err());
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn check_claim(
-    claim: Claim,
-    evidence: &PlotCheckpoint,
-    alpha: f64,
-    mass_ratio: f64,
-    alpha_star: f64,
-) -> Result<String, String> {
-    let rates = evidence.rates_at(alpha, mass_ratio);
+pub fn check_claim(claim: Claim, evidence: &PlotCheckpoint, at: &StepAt) -> Result<String, String> {
+    let regime = at.regime();
+    let (alpha, mass_ratio) = (at.alpha, at.mass_ratio);
+    let rates = evidence.rates_at(alpha, &regime);
     // The point of the branch the sweep is moving along, where α was met both ways.
     let now = rates
         .iter()
         .find(|r| Some(r.0) == evidence.direction())
         .or(rates.last());
-    let at = format!("α = {alpha:.5}, m/m0 = {}", short(mass_ratio));
-    let no_point = || format!("the 1/T plot has no point at {at}");
+    let at_words = format!("α = {alpha:.5}, m/m0 = {}", short(mass_ratio));
+    let no_point = || format!("the 1/T plot has no point at {at_words}");
     match claim {
         Claim::Halted | Claim::Rolling => {
             let &(_, rate) = now.ok_or_else(no_point)?;
             match (claim, rate == 0.0) {
-                (Claim::Halted, true) => Ok(format!("1/T = 0 at {at}")),
-                (Claim::Rolling, false) => Ok(format!("1/T = {rate:.5} at {at}")),
-                (Claim::Halted, false) => Err(format!("1/T = {rate:.5} at {at}: it rolls")),
-                _ => Err(format!("1/T = 0 at {at}: it halted")),
+                (Claim::Halted, true) => Ok(format!("1/T = 0 at {at_words}")),
+                (Claim::Rolling, false) => Ok(format!("1/T = {rate:.5} at {at_words}")),
+                (Claim::Halted, false) => Err(format!("1/T = {rate:.5} at {at_words}: it rolls")),
+                _ => Err(format!("1/T = 0 at {at_words}: it halted")),
             }
         }
-        Claim::SqrtLaw => sqrt_law_shown(evidence, mass_ratio, alpha_star),
+        Claim::SqrtLaw => sqrt_law_shown(evidence, &regime, at.alpha_star),
         Claim::Period1 | Claim::Period2 => {
-            let branches = settled_branches(evidence, mass_ratio);
+            let branches = settled_branches(evidence, &regime);
             let want = if claim == Claim::Period1 { 1 } else { 2 };
             let shown = |b: &[f64]| {
                 b.iter()
@@ -259,10 +295,11 @@ pub fn check_claim(
 /// [`SQRT_LAW_FIT_TOL`] of it.
 fn sqrt_law_shown(
     evidence: &PlotCheckpoint,
-    mass_ratio: f64,
+    regime: &Regime,
     alpha_star: f64,
 ) -> Result<String, String> {
-    let points = evidence.points_at(mass_ratio);
+    let mass_ratio = regime.mass_ratio();
+    let points = evidence.points_at(regime);
     let near: Vec<[f64; 2]> = points
         .iter()
         .filter(|[alpha, rate]| {
@@ -320,19 +357,16 @@ pub fn claims_checked(
     setup: &SceneSetup,
     state: &EvidenceState,
 ) -> Vec<(usize, Claim, Result<String, String>)> {
-    let mut alpha = setup.ramp.alpha_rad;
-    let mut mass = setup.ramp.mass_ratio;
     let mut out = Vec::new();
-    for (k, step) in setup.timeline.iter().enumerate() {
-        alpha = step.alpha_rad.unwrap_or(alpha);
-        mass = step.mass_ratio.unwrap_or(mass);
+    for (k, (step, at)) in setup
+        .timeline
+        .iter()
+        .zip(StepAt::each_of(setup))
+        .enumerate()
+    {
         // Step k is shown once k + 1 steps are done; its evidence is the plots then.
         if let (Some(claim), Some(evidence)) = (step.claim, state.steps.get(k + 1)) {
-            out.push((
-                k,
-                claim,
-                check_claim(claim, evidence, alpha, mass, setup.alpha_star),
-            ));
+            out.push((k, claim, check_claim(claim, evidence, &at)));
         }
     }
     out
@@ -450,6 +484,16 @@ mod tests {
         PlotHistory::resumed(&resume, 0.2, &DragLaw::default()).checkpoint()
     }
 
+    /// A step at α and m/m0 under linear drag, on a body of critical angle `alpha_star`.
+    fn at(alpha: f64, mass_ratio: f64, alpha_star: f64) -> StepAt {
+        StepAt {
+            alpha,
+            mass_ratio,
+            drag: DragLaw::default().label(),
+            alpha_star,
+        }
+    }
+
     /// Points of T = 6/√(α − α*) + 100 exactly, at α*·(1 + e) for each e.
     fn law_points(star: f64, offsets: &[f64]) -> Vec<[f64; 2]> {
         offsets
@@ -469,7 +513,12 @@ mod tests {
         points.push([1.1 * star, 0.02]);
         points.push([1.3 * star, 0.03]);
         points.push([0.9 * star, 0.0]);
-        let said = check_claim(Claim::SqrtLaw, &plot_of(&points), 1.3 * star, 0.0, star).unwrap();
+        let said = check_claim(
+            Claim::SqrtLaw,
+            &plot_of(&points),
+            &at(1.3 * star, 0.0, star),
+        )
+        .unwrap();
         assert!(said.contains("through 4 points"), "{said}");
     }
 
@@ -480,20 +529,25 @@ mod tests {
         // T 6 % longer at 1.03 α*: the fit (least squares over all four) misses some point by
         // more than 2 %.
         points[3][1] /= 1.06;
-        let why = check_claim(Claim::SqrtLaw, &plot_of(&points), 0.13, 0.0, star).unwrap_err();
+        let why = check_claim(Claim::SqrtLaw, &plot_of(&points), &at(0.13, 0.0, star)).unwrap_err();
         assert!(why.contains("misses the point at α = "), "{why}");
         let why = check_claim(
             Claim::SqrtLaw,
             &plot_of(&law_points(star, &[0.01, 0.03, 0.1])),
-            0.13,
-            0.0,
-            star,
+            &at(0.13, 0.0, star),
         )
         .unwrap_err();
         assert!(why.contains("has 2 rolling point(s)"), "{why}");
         // Points at another m/m0 are another series: none at m/m0 = 0.5.
         let near = law_points(star, &[0.003, 0.01, 0.03]);
-        let why = check_claim(Claim::SqrtLaw, &plot_of(&near), 0.13, 0.5, star).unwrap_err();
+        let why = check_claim(Claim::SqrtLaw, &plot_of(&near), &at(0.13, 0.5, star)).unwrap_err();
+        assert!(why.contains("has 0 rolling point(s)"), "{why}");
+        // And points under another drag law are another series: none under n = 2.
+        let other_law = StepAt {
+            drag: "drag_exponent = 2".into(),
+            ..at(0.13, 0.0, star)
+        };
+        let why = check_claim(Claim::SqrtLaw, &plot_of(&near), &other_law).unwrap_err();
         assert!(why.contains("has 0 rolling point(s)"), "{why}");
     }
 }

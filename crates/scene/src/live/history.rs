@@ -158,35 +158,35 @@ pub struct PlotCheckpoint {
 }
 
 impl PlotCheckpoint {
-    /// The 1/T points in `alpha`'s bin (the sweep's own "same α", 0.1 % of α) measured at
-    /// `mass_ratio`, with their branch.
+    /// The 1/T points in `alpha`'s bin (the sweep's own "same α", 0.1 % of α) measured under
+    /// `regime` (m/m0 and drag law), with their branch.
     ///
     /// # Example
     /// ```
-    /// use rollphase_scene::live::history::PlotHistory;
-    /// assert!(PlotHistory::default().checkpoint().rates_at(0.1, 0.0).is_empty());
+    /// use rollphase_scene::live::history::{PlotHistory, Regime};
+    /// let linear = Regime::labelled(0.0, "linear drag");
+    /// assert!(PlotHistory::default().checkpoint().rates_at(0.1, &linear).is_empty());
     /// ```
-    pub fn rates_at(&self, alpha: f64, mass_ratio: f64) -> Vec<(Branch, f64)> {
+    pub fn rates_at(&self, alpha: f64, regime: &Regime) -> Vec<(Branch, f64)> {
         self.sweep
             .iter()
-            .filter(|((_, regime, bin), _)| {
-                *bin == sweep_bin(alpha) && regime.mass_ratio() == mass_ratio
-            })
+            .filter(|((_, r, bin), _)| *bin == sweep_bin(alpha) && r == regime)
             .map(|((branch, _, _), &(_, rate))| (*branch, rate))
             .collect()
     }
 
-    /// Every 1/T point (α, 1/T) measured at `mass_ratio`, both branches, in α's order.
+    /// Every 1/T point (α, 1/T) measured under `regime`, both branches, in α's order.
     ///
     /// ```
-    /// use rollphase_scene::live::history::PlotHistory;
-    /// assert!(PlotHistory::default().checkpoint().points_at(0.0).is_empty());
+    /// use rollphase_scene::live::history::{PlotHistory, Regime};
+    /// let linear = Regime::labelled(0.0, "linear drag");
+    /// assert!(PlotHistory::default().checkpoint().points_at(&linear).is_empty());
     /// ```
-    pub fn points_at(&self, mass_ratio: f64) -> Vec<[f64; 2]> {
+    pub fn points_at(&self, regime: &Regime) -> Vec<[f64; 2]> {
         let mut points: Vec<[f64; 2]> = self
             .sweep
             .iter()
-            .filter(|((_, regime, _), _)| regime.mass_ratio() == mass_ratio)
+            .filter(|((_, r, _), _)| r == regime)
             .map(|(_, &(alpha, rate))| [alpha, rate])
             .collect();
         points.sort_by(|a, b| a[0].total_cmp(&b[0]));
@@ -198,18 +198,20 @@ impl PlotCheckpoint {
         self.direction
     }
 
-    /// The settled crossings of ∂Ω (polar angles) collected at `mass_ratio`, oldest first.
+    /// The settled crossings of ∂Ω (polar angles) collected under `regime` (at its m/m0, under
+    /// its drag law), oldest first.
     ///
     /// # Example
     /// ```
-    /// use rollphase_scene::live::history::PlotHistory;
-    /// assert!(PlotHistory::default().checkpoint().crossings_at(2.0).is_empty());
+    /// use rollphase_scene::live::history::{PlotHistory, Regime};
+    /// let at_2 = Regime::labelled(2.0, "linear drag");
+    /// assert!(PlotHistory::default().checkpoint().crossings_at(&at_2).is_empty());
     /// ```
-    pub fn crossings_at(&self, mass_ratio: f64) -> Vec<f64> {
+    pub fn crossings_at(&self, regime: &Regime) -> Vec<f64> {
         self.crossings
-            .points
-            .iter()
-            .filter(|p| p[0] == mass_ratio)
+            .under(regime.drag())
+            .into_iter()
+            .filter(|p| p[0] == regime.mass_ratio())
             .map(|p| p[1])
             .collect()
     }

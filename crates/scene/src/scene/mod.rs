@@ -46,6 +46,7 @@ mod error;
 mod lanes;
 pub mod sculpt;
 mod setup;
+mod text;
 mod timeline;
 pub use drag_law::{DragLawFields, ReplayDragLaw};
 pub use error::SceneError;

@@ -324,20 +324,28 @@ impl super::ResumeSpec {
         ] {
             if !labels.is_empty() && labels.len() != points {
                 return Err(invalid(format!(
-                    "resume.{field}_drag has {} labels for {points} {field} points (needs one \
-                     per point, or none)",
+                    "resume.{field}_drag has {} label(s) for {points} {field} point(s) (needs \
+                     one per point; left out or empty, every point is the scene's law)",
                     labels.len()
                 )));
             }
-            if let Some((i, label)) = labels
-                .iter()
-                .enumerate()
-                .find(|(_, l)| l.is_empty() || l.chars().count() > 200)
-            {
-                return Err(invalid(format!(
-                    "resume.{field}_drag[{i}] = {label:?} is not a drag law's words (needs 1 \
-                     to 200 characters, as the plot's CSV words its drag column)"
-                )));
+            for (i, label) in labels.iter().enumerate() {
+                let at = format!("resume.{field}_drag[{i}] =");
+                let chars = label.chars().count();
+                if chars > 200 {
+                    let start: String = label.chars().take(40).collect();
+                    return Err(invalid(format!(
+                        "{at} {start:?}… ({chars} characters) is not a drag law's words (needs \
+                         1 to 200 characters, as the plot's CSV words its drag column)"
+                    )));
+                }
+                super::text::check_characters(label, &at)?;
+                if super::text::as_shown(label).is_empty() {
+                    return Err(invalid(format!(
+                        "{at} {label:?} is not a drag law's words: it has no visible character \
+                         (needs 1 to 200 characters, as the plot's CSV words its drag column)"
+                    )));
+                }
             }
         }
         // A point is one the app could have measured: a ramp it runs (α and m/m0 as `Ramp`
@@ -768,7 +776,7 @@ mod tests {
         let e = resumed("crossings_drag = [\"linear drag\"]").unwrap_err();
         assert!(
             e.to_string()
-                .contains("resume.crossings_drag has 1 labels for 2 crossings points"),
+                .contains("resume.crossings_drag has 1 label(s) for 2 crossings point(s)"),
             "{e}"
         );
         let e = resumed("crossings_drag = [\"linear drag\", \"\"]").unwrap_err();
@@ -777,5 +785,25 @@ mod tests {
                 .contains("resume.crossings_drag[1] = \"\" is not a drag law's words"),
             "{e}"
         );
+        // Blank, a line break, an override that turns the text around: not a law's words.
+        for (label, says) in [
+            ("   ", "no visible character"),
+            ("linear\\ndrag", "control character"),
+            ("\\u202Eward", "U+202E"),
+        ] {
+            let e = resumed(&format!("crossings_drag = [\"linear drag\", \"{label}\"]"))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("resume.crossings_drag[1] =") && e.contains(says),
+                "{e}"
+            );
+        }
+        // A label too long is named by its start, not echoed whole.
+        let long = "x".repeat(201);
+        let e = resumed(&format!("crossings_drag = [\"linear drag\", \"{long}\"]"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("(201 characters)") && e.len() < 400, "{e}");
     }
 }
