@@ -867,23 +867,7 @@ mod tests {
             .setup(None)
             .unwrap();
         let alpha = 2.0 * setup.alpha_star;
-        let mut sim = LiveRun::new(setup);
-        let mut history = PlotHistory::default();
-        let mut t = 0.0;
-        for exponent in [1.0, 2.0] {
-            let law = crate::dynamics::DragLaw::LINEAR
-                .with("drag_exponent", exponent)
-                .unwrap();
-            let ramp = crate::dynamics::Ramp::with_drag(alpha, 0.0, 1.0)
-                .unwrap()
-                .with_drag_law(law);
-            sim.set_parameters(ramp, sim.method()).unwrap();
-            for _ in 0..300 {
-                t += 1.0;
-                sim.advance_to(t).unwrap();
-                history.push(&sim.snapshot());
-            }
-        }
+        let (sim, history) = under_linear_then_squared_drag(setup, alpha, 300);
         let series = history.sweep_by_regime(Branch::Up);
         assert_eq!(series.len(), 2, "{series:?}");
         let labels: Vec<String> = series.keys().map(Regime::label).collect();
@@ -909,16 +893,13 @@ mod tests {
         assert_eq!(back.sweep_by_regime(Branch::Up), series);
     }
 
-    /// The crossings plot keeps the points of each drag law apart, in its CSV's drag column and
-    /// through a saved state (at one m/m0 another law rolls another orbit: mixed, its crossings
-    /// read as a second branch).
-    #[test]
-    fn crossings_under_another_drag_law_are_kept_apart() {
-        let setup = Scene::preset("sphere-cruising")
-            .unwrap()
-            .setup(None)
-            .unwrap();
-        let alpha = setup.ramp.alpha_rad;
+    /// `setup` run at α = `alpha`, m/m0 = 0 for `span` under linear drag, then `span` more
+    /// under drag_exponent = 2, its plots taking a snapshot every time unit.
+    fn under_linear_then_squared_drag(
+        setup: crate::scene::SceneSetup,
+        alpha: f64,
+        span: u32,
+    ) -> (LiveRun, PlotHistory) {
         let mut sim = LiveRun::new(setup);
         let mut history = PlotHistory::default();
         let mut t = 0.0;
@@ -930,12 +911,27 @@ mod tests {
                 .unwrap()
                 .with_drag_law(law);
             sim.set_parameters(ramp, sim.method()).unwrap();
-            for _ in 0..500 {
+            for _ in 0..span {
                 t += 1.0;
                 sim.advance_to(t).unwrap();
                 history.push(&sim.snapshot());
             }
         }
+        (sim, history)
+    }
+
+    /// The crossings plot keeps the points of each drag law apart, in its CSV's drag column and
+    /// through a saved state (at one m/m0 another law rolls another orbit: mixed, its crossings
+    /// read as a second branch).
+    #[test]
+    fn crossings_under_another_drag_law_are_kept_apart() {
+        let setup = Scene::preset("sphere-cruising")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let alpha = setup.ramp.alpha_rad;
+        let (sim, history) = under_linear_then_squared_drag(setup, alpha, 500);
+        let t = sim.time();
         let by_law = history.crossings_by_law();
         let laws: Vec<&str> = by_law.iter().map(|(l, _)| l.as_str()).collect();
         assert_eq!(laws, ["linear drag", "drag_exponent = 2"], "{by_law:?}");
