@@ -784,14 +784,21 @@ fn lesson_plot_ui(
     }
     let title = ui.label(egui::RichText::new(plot.title()).strong());
     let height = (ui.available_height() - 8.0).max(120.0);
-    let inner_width = (width - 16.0).max(120.0);
+    // egui_plot draws the y axis's name a quarter of its line height left of the plot's own
+    // rectangle: room for it here, or the panel's edge cut the room-size "1/T" to "1/I".
+    let axis_name_room = (0.3 * points).ceil() + 1.0;
+    let inner_width = (width - 16.0 - axis_name_room).max(120.0);
     let plot_rect = ui
-        .scope(|ui| {
-            let look = plots::PlotLook::large(ppp, hover);
-            plots::lesson_plot(ui, plot, history, snap, (inner_width, height), look)
+        .horizontal(|ui| {
+            ui.add_space(axis_name_room);
+            ui.scope(|ui| {
+                let look = plots::PlotLook::large(ppp, hover);
+                plots::lesson_plot(ui, plot, history, snap, (inner_width, height), look)
+            })
+            .response
+            .rect
         })
-        .response
-        .rect;
+        .inner;
     (title.rect.union(plot_rect), points * ppp)
 }
 

@@ -211,8 +211,29 @@ fn keyed<R>(
                 ui.set_width(width);
                 ui.spacing_mut().item_spacing = egui::vec2(3.0, 1.0);
                 for &(name, color, swatch) in keys {
-                    let (rect, _) =
-                        ui.allocate_exact_size(egui::vec2(14.0, 10.0), egui::Sense::hover());
+                    // Each entry, its swatch and its name, is one piece a row break moves whole
+                    // (a name wrapped on its own left "α" on one line and "down" on the next,
+                    // or a swatch at a row's end without its name).
+                    let font = egui::TextStyle::Small.resolve(ui.style());
+                    let galley = ui.painter().layout_no_wrap(
+                        name.to_string(),
+                        font,
+                        ui.visuals().text_color(),
+                    );
+                    let size = egui::vec2(
+                        14.0 + 3.0 + galley.size().x + 5.0,
+                        galley.size().y.max(10.0),
+                    );
+                    let (entry, _) = ui.allocate_exact_size(size, egui::Sense::hover());
+                    let rect = egui::Rect::from_center_size(
+                        egui::pos2(entry.left() + 7.0, entry.center().y),
+                        egui::vec2(14.0, 10.0),
+                    );
+                    ui.painter().galley(
+                        egui::pos2(rect.right() + 3.0, entry.center().y - 0.5 * galley.size().y),
+                        galley,
+                        ui.visuals().text_color(),
+                    );
                     let painter = ui.painter();
                     painter.rect_filled(rect, 2.0, Color32::from_gray(150));
                     match swatch {
@@ -237,8 +258,6 @@ fn keyed<R>(
                             ));
                         }
                     }
-                    ui.label(egui::RichText::new(name).small());
-                    ui.add_space(5.0);
                 }
             },
         );
