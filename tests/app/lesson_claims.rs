@@ -1,5 +1,6 @@
 //! A lesson step's claim against the app's caption: once the step's evidence is measured, a
-//! claim the run does not bear out is said under the caption ("this run does not show it: …"),
+//! claim the run does not bear out is said under the caption, named ("this run does not show
+//! \"period-2\": …"),
 //! and a claim it bears out adds nothing.
 #![cfg(feature = "app")]
 
@@ -53,14 +54,14 @@ fn a_claim_the_run_does_not_bear_out_is_said_under_the_caption() {
     );
     let wrong = first_caption("period-2");
     assert!(
-        wrong.contains("this run does not show it: 1 settled crossing")
-            || wrong.contains("this run does not show it: 1 distinct"),
+        wrong.contains("this run does not show \"period-2\": 1 settled crossing")
+            || wrong.contains("this run does not show \"period-2\": 1 distinct"),
         "{wrong}"
     );
 }
 
 /// A headless clip of a lesson says the same: the frames of a step whose claim the run does not
-/// bear out carry "(this run does not show it: …)" under the caption, and the command warns on
+/// bear out carry "(this run does not show \"rolling\": …)" under the caption, and the command warns on
 /// standard error (a false claim went into a clip unnoticed).
 #[test]
 fn a_headless_clip_says_under_the_caption_what_the_run_does_not_show() {
@@ -92,7 +93,9 @@ fn a_headless_clip_says_under_the_caption_what_the_run_does_not_show() {
         .collect();
     // The caption wraps over several lines.
     assert!(
-        texts.join(" ").contains("(this run does not show it: 1/T"),
+        texts
+            .join(" ")
+            .contains("(this run does not show \"rolling\": 1/T"),
         "{texts:?}"
     );
     // The bundled lesson, as written, says nothing of the kind.

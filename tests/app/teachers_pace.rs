@@ -78,7 +78,7 @@ impl Class {
         }
         let caption = snap.caption.clone().unwrap_or_default();
         assert!(
-            !caption.contains("does not show it"),
+            !caption.contains("this run does not show"),
             "{what}: the run does not bear the claim out: {caption}"
         );
         assert!(!snap.off_script, "{what}: N played off the lesson's script");

@@ -46,8 +46,8 @@ pub struct HeadlessRenderer {
     /// The field drawn, and the ramp it belongs to.
     field: Option<(Ramp, Arc<Vec<FieldArrow>>)>,
     options: ViewOptions,
-    /// Why each lesson step's claim is not borne out by the run (by timeline index), where it
-    /// is not: said under its caption, as the app says it.
+    /// What is said under each lesson step's caption whose claim the run does not bear out (by
+    /// timeline index), as the app says it.
     claims_not_shown: Vec<Option<String>>,
 }
 
@@ -150,7 +150,7 @@ impl HeadlessRenderer {
         if let Some(Some(why)) = step.and_then(|k| self.claims_not_shown.get(k))
             && let Some(caption) = &mut snap.caption
         {
-            caption.push_str(&format!(" (this run does not show it: {why})"));
+            caption.push_str(&format!(" ({why})"));
         }
         let v = &snap.views;
         self.view.set_views(v.body, v.ball, v.poincare, v.overlay);
@@ -193,7 +193,8 @@ impl HeadlessRenderer {
                     "timeline[{k}]: claims \"{}\", but {why}",
                     claim.name()
                 ));
-                self.claims_not_shown[k] = Some(why);
+                self.claims_not_shown[k] =
+                    Some(crate::live::evidence::claim_not_shown(claim, &why));
             }
         }
         if let Some(why) = state.failed {

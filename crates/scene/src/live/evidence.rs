@@ -372,6 +372,22 @@ pub fn claims_checked(
     out
 }
 
+/// What is said under a caption whose `claim` the run does not bear out (`why`: what the plot
+/// shows instead), in the app and in headless frames alike: the claim named, so that "(1/T = 0)"
+/// in a caption is not followed by a note that seems to deny it.
+///
+/// ```
+/// use rollphase_scene::live::evidence::claim_not_shown;
+/// use rollphase_scene::scene::Claim;
+/// assert_eq!(
+///     claim_not_shown(Claim::Rolling, "1/T = 0 at α = 0.04401, m/m0 = 0: it halted"),
+///     "this run does not show \"rolling\": 1/T = 0 at α = 0.04401, m/m0 = 0: it halted"
+/// );
+/// ```
+pub fn claim_not_shown(claim: Claim, why: &str) -> String {
+    format!("this run does not show \"{}\": {why}", claim.name())
+}
+
 /// A lesson's evidence measured on a worker thread ([`measure_evidence`]), for the setup it
 /// was started on; dropped, it stops the worker.
 #[derive(Debug)]

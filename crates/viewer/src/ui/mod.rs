@@ -421,7 +421,10 @@ impl AppUi {
             (_, Some(why)) => Some(format!("this step's evidence could not be measured: {why}")),
             // Measured: a claim the run does not bear out is said under it, never left standing.
             _ => match evidence.claim(done) {
-                Some(Err(why)) => Some(format!("this run does not show it: {why}")),
+                Some(Err(why)) => {
+                    let claim = status.setup.timeline.get(done.checked_sub(1)?)?.claim?;
+                    Some(crate::live::evidence::claim_not_shown(claim, &why))
+                }
                 _ => None,
             },
         }
