@@ -17,9 +17,11 @@ use crate::output::{self, Inputs, OutputSet};
 use super::{Measured, Snapshot};
 
 mod crossings;
+mod csv_data;
 mod plot_meta;
 
 use crossings::Crossings;
+pub use csv_data::PlotData;
 use plot_meta::{BODY_DATA, body_files};
 pub use plot_meta::{BodyMeta, PLOT_META_FILE, PlotMeta};
 
@@ -278,6 +280,9 @@ impl PlotHistory {
     /// and a settled crossing of ∂Ω.
     pub fn push(&mut self, snap: &Snapshot) {
         let alpha = snap.alpha_rad;
+        // A sphere's whole cycle once decided, not its last crossing interval, which alternates
+        // on a doubled cycle.
+        let stated = snap.stated_period().map(|(t, _)| t);
         if let Some(prev) = self.last_alpha
             && alpha != prev
         {
@@ -287,7 +292,7 @@ impl PlotHistory {
                 Branch::Down
             });
             // Periods measured before the change belong to the old α.
-            self.last_period = snap.period;
+            self.last_period = stated;
         }
         self.last_alpha = Some(alpha);
         let direction = self.direction.unwrap_or(Branch::Up);
@@ -298,7 +303,7 @@ impl PlotHistory {
         if rollable && snap.halted {
             self.sweep
                 .insert((direction, Regime::of(snap), bin), (alpha, 0.0));
-        } else if let Some(period) = snap.period
+        } else if let Some(period) = stated
             && rollable
             && self.last_period != Some(period)
             && period > 0.0
@@ -306,7 +311,7 @@ impl PlotHistory {
             self.sweep
                 .insert((direction, Regime::of(snap), bin), (alpha, 1.0 / period));
         }
-        self.last_period = snap.period;
+        self.last_period = stated;
 
         self.crossings.take(snap);
         for (n, lane) in snap.lanes.iter().enumerate() {
@@ -555,160 +560,6 @@ pub fn health_quantities(measured: Measured) -> Vec<HealthQuantity> {
     .into_iter()
     .filter_map(|(has, q)| has.then_some(q))
     .collect()
-}
-
-/// One of the plotted data sets, as CSV.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PlotData {
-    /// 1/T against α: `direction,alpha,inverse_period,mass_ratio` (direction "up" or "down";
-    /// the m/m0 the point was measured at).
-    AlphaSweep,
-    /// Settled ∂Ω crossings against m/m0: `mass_ratio,polar_angle,drag` (the drag law the
-    /// crossing was measured under).
-    Crossings,
-    /// The numerical health against time: `t` and the quantities the model measures.
-    Health,
-    /// The contact force against time: `t,normal_force,friction_needed` (units of the weight
-    /// F; friction_needed is `inf` where N ≤ 0).
-    Forces,
-    /// The motion against time, as θ(t) and θ̇(θ) or the contact path plot it: a cylinder's
-    /// `t,theta,theta_dot` (θ unwrapped), a sphere's `t,contact_theta,contact_phi,angular_speed`
-    /// (the contact point's polar angle and azimuth on the body, |ω|).
-    Series,
-}
-
-impl PlotData {
-    /// All five, in file order.
-    pub const ALL: [PlotData; 5] = [
-        PlotData::AlphaSweep,
-        PlotData::Crossings,
-        PlotData::Health,
-        PlotData::Forces,
-        PlotData::Series,
-    ];
-
-    /// What its columns are, for [`PlotMeta`].
-    pub fn columns(self) -> &'static str {
-        match self {
-            PlotData::AlphaSweep => {
-                "direction (up/down), alpha (rad), inverse_period (1/T; 0 where the body halted), \
-                 mass_ratio (m/m0 when measured), drag (the drag law when measured)"
-            }
-            PlotData::Crossings => {
-                "mass_ratio, polar_angle of a settled crossing of ∂Ω (rad), drag (the drag law \
-                 when measured)"
-            }
-            PlotData::Health => "t and the worst health quantities so far of the model",
-            PlotData::Forces => "t, normal_force (N/F), friction_needed (|f_t|/N)",
-            PlotData::Series => {
-                "cylinder: t, theta (unwrapped), theta_dot; sphere: t, contact_theta, \
-                 contact_phi, angular_speed"
-            }
-        }
-    }
-
-    /// The file name each is written to.
-    pub fn file_name(self) -> &'static str {
-        match self {
-            PlotData::AlphaSweep => "sweep-alpha.csv",
-            PlotData::Crossings => "sweep-mass.csv",
-            PlotData::Health => "health.csv",
-            PlotData::Forces => "contact-force.csv",
-            PlotData::Series => "series.csv",
-        }
-    }
-}
-
-impl PlotHistory {
-    /// `data` as CSV text (a header and one row per point; numbers in shortest round-trip
-    /// form). `measured` picks the health columns.
-    pub fn csv(&self, data: PlotData, measured: Measured) -> String {
-        let mut out = csv::Writer::from_writer(Vec::new());
-        // Shortest round-trip digits with an exponent where short (4.5e-16, not 0.000…045),
-        // as `rollphase simulate` writes its CSV.
-        let number = |v: f64| ryu::Buffer::new().format(v).to_string();
-        // Writing to memory cannot fail.
-        let mut row = |fields: Vec<String>| {
-            out.write_record(&fields).expect("CSV to memory");
-        };
-        match data {
-            PlotData::AlphaSweep => {
-                row(vec![
-                    "direction".into(),
-                    "alpha".into(),
-                    "inverse_period".into(),
-                    "mass_ratio".into(),
-                    "drag".into(),
-                ]);
-                for (direction, name) in [(Branch::Up, "up"), (Branch::Down, "down")] {
-                    for ([a, f, m], drag) in self.sweep_with_regime(direction) {
-                        row(vec![
-                            name.into(),
-                            number(a),
-                            number(f),
-                            number(m),
-                            drag.into(),
-                        ]);
-                    }
-                }
-            }
-            PlotData::Crossings => {
-                row(vec![
-                    "mass_ratio".into(),
-                    "polar_angle".into(),
-                    "drag".into(),
-                ]);
-                for ([m, theta], law) in self.crossings.points.iter().zip(&self.crossings.laws) {
-                    row(vec![number(*m), number(*theta), law.clone()]);
-                }
-            }
-            PlotData::Health => {
-                let columns = health_quantities(measured);
-                let mut header = vec!["t".to_string()];
-                header.extend(columns.iter().map(|c| c.column.to_string()));
-                row(header);
-                for s in self.samples() {
-                    let mut fields = vec![number(s.t)];
-                    fields.extend(columns.iter().map(|c| number((c.value)(s))));
-                    row(fields);
-                }
-            }
-            PlotData::Series if measured.quat_norm => {
-                row(["t", "contact_theta", "contact_phi", "angular_speed"]
-                    .map(String::from)
-                    .to_vec());
-                for s in self.samples() {
-                    row(vec![
-                        number(s.t),
-                        number(s.theta),
-                        number(s.phi),
-                        number(s.rate),
-                    ]);
-                }
-            }
-            PlotData::Series => {
-                row(["t", "theta", "theta_dot"].map(String::from).to_vec());
-                for s in self.samples() {
-                    row(vec![number(s.t), number(s.theta), number(s.rate)]);
-                }
-            }
-            PlotData::Forces => {
-                row(vec![
-                    "t".into(),
-                    "normal_force".into(),
-                    "friction_needed".into(),
-                ]);
-                for s in self.samples() {
-                    row(vec![
-                        number(s.t),
-                        number(s.normal_force),
-                        number(s.friction_needed),
-                    ]);
-                }
-            }
-        }
-        String::from_utf8(out.into_inner().expect("CSV to memory")).expect("CSV of ASCII")
-    }
 }
 
 impl PlotHistory {
@@ -977,5 +828,40 @@ mod tests {
         snap.period = Some(13.0);
         history.push(&snap);
         assert_eq!(history.sweep(super::Branch::Up).len(), 1);
+    }
+
+    /// A doubled sphere's 1/T point is its whole cycle's, steady from crossing to crossing; the
+    /// time between its last two crossings alternates and is neither.
+    #[test]
+    fn a_doubled_spheres_rate_is_its_whole_cycles() {
+        let setup = Scene::preset("sphere-doubling")
+            .unwrap()
+            .setup(None)
+            .unwrap();
+        let mut snap = LiveRun::new(setup).snapshot();
+        assert!(snap.theta.is_none(), "a sphere");
+        let mut history = PlotHistory::default();
+        // Undecided: the last crossing interval is a first look, stated as such.
+        snap.period = Some(44.19);
+        history.push(&snap);
+        assert_eq!(history.sweep(super::Branch::Up)[0][1], 1.0 / 44.19);
+        assert_eq!(
+            snap.stated_period(),
+            Some((44.19, super::super::PeriodSpan::LastCrossings))
+        );
+        // Decided period 2: the cycle, whichever crossing came last.
+        snap.period_multiplicity = Some(2);
+        for (last, cycle) in [(45.15, 89.34), (44.19, 89.33), (45.15, 89.34)] {
+            snap.period = Some(last);
+            snap.cycle_period = Some(cycle);
+            history.push(&snap);
+            let points = history.sweep(super::Branch::Up);
+            assert_eq!(points.len(), 1);
+            assert_eq!(points[0][1], 1.0 / cycle, "not 1/{last}");
+        }
+        assert_eq!(
+            snap.stated_period(),
+            Some((89.34, super::super::PeriodSpan::Cycle { crossings: 2 }))
+        );
     }
 }

@@ -163,6 +163,40 @@ pub struct Snapshot {
     pub drag_gamma: f64,
 }
 
+/// What a stated period T spans ([`Snapshot::stated_period`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PeriodSpan {
+    /// A cylinder's full turn.
+    FullTurn,
+    /// A sphere's decided cycle: its `crossings` crossings of ∂Ω (1 on a closed orbit, 2 on a
+    /// doubled one).
+    Cycle {
+        /// Crossings of ∂Ω in one repeat.
+        crossings: usize,
+    },
+    /// A sphere whose cycle is not decided yet: the time between its last two crossings of ∂Ω,
+    /// a first look, not yet a period.
+    LastCrossings,
+}
+
+impl Snapshot {
+    /// The period to state as T, and what it spans: a cylinder's full turn; a sphere's whole
+    /// cycle once its multiplicity is decided, as the verdict's period is (`predict`, a lane's
+    /// fate); before that the time between its last two crossings of ∂Ω. On a doubled cycle
+    /// that time alternates (44.19 and 45.15 on the paper's body at m/m0 = 6) and is neither
+    /// the period (89.33) nor steady, so a 1/T point or line taken from it would flicker
+    /// between two wrong values. `None` before two turns (crossings).
+    pub fn stated_period(&self) -> Option<(f64, PeriodSpan)> {
+        if self.theta.is_some() {
+            return self.period.map(|t| (t, PeriodSpan::FullTurn));
+        }
+        match (self.period_multiplicity, self.cycle_period) {
+            (Some(crossings), Some(t)) => Some((t, PeriodSpan::Cycle { crossings })),
+            _ => self.period.map(|t| (t, PeriodSpan::LastCrossings)),
+        }
+    }
+}
+
 /// What the Poincaré-field view needs at a moment of the run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FieldWanted {

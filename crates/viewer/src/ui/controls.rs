@@ -431,7 +431,7 @@ impl AppUi {
         } else if snap.halted {
             "halted: 1/T = 0".to_string()
         } else {
-            match snap.period {
+            match snap.stated_period().map(|(t, _)| t) {
                 Some(p) => format!(
                     "T = {p:.4}, 1/T = {:.4}{}",
                     1.0 / p,

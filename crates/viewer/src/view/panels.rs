@@ -2,7 +2,7 @@
 //! legends and the view titles.
 
 use crate::colormap::DIVERGING;
-use crate::live::Snapshot;
+use crate::live::{PeriodSpan, Snapshot};
 use crate::render::types::{Anchor, OverlayPanel, PanelItem};
 
 use super::SceneView;
@@ -65,17 +65,19 @@ impl SceneView {
         let rate = if snap.halted {
             "halted: 1/T = 0".to_string()
         } else {
-            match snap.period {
+            match snap.stated_period() {
                 // For a room, without the words on what T spans: a narrower panel at 24 px.
-                Some(t) if room => format!("1/T = {:.5}   (T = {:.3})", 1.0 / t, t),
-                Some(t) => format!(
+                Some((t, _)) if room => format!("1/T = {:.5}   (T = {:.3})", 1.0 / t, t),
+                Some((t, span)) => format!(
                     "1/T = {:.5}   (T = {:.3}, {})",
                     1.0 / t,
                     t,
-                    if self.is_disk {
-                        "one full turn"
-                    } else {
-                        "∂Ω to ∂Ω"
+                    match span {
+                        PeriodSpan::FullTurn => "one full turn",
+                        PeriodSpan::Cycle { crossings: 1 } | PeriodSpan::LastCrossings => {
+                            "∂Ω to ∂Ω"
+                        }
+                        PeriodSpan::Cycle { .. } => "the whole cycle",
                     },
                 ),
                 None => "1/T: measuring…".to_string(),
