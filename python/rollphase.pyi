@@ -258,6 +258,7 @@ class TrackMeasurement(TypedDict):
     block_check: Optional[BlockCheck]
     mismatch_curve: _Array
     frames_used: List[float]
+    folded: _Array
     warnings: List[str]
     marker_reading: NotRequired[MarkerReading]
 
@@ -287,6 +288,8 @@ class ModelComparison(TypedDict):
     mass_ratio_error: Optional[float]
     t0_error_s: Optional[float]
     path: _Array
+    phase: NotRequired[int]
+    mirrored_across: NotRequired[bool]
 
 class PeriodCounts(TypedDict):
     cycle_counts: npt.NDArray[np.uint64]
@@ -688,6 +691,8 @@ def compare_with_model(
     starts: int = 32,
     seed: int = 1,
     period_error_s: Optional[float] = None,
+    folded: Optional[_Floats] = None,
+    fps: Optional[float] = None,
 ) -> ModelComparison:
     """A measured motion beside the model's prediction, as `rollphase track --body` gives it:
     m/m0 and t0 solved together so that the model's period in seconds is the measured one
@@ -695,7 +700,8 @@ def compare_with_model(
     error, from measure_track), mass_ratio_error and t0_error_s from it alone (None without
     it, or where m/m0 was given); the SI's speed estimate v²/(g⟨r⟩ sin²α)
     beside them; the nearest predicted orbit's period, advance and speed against the measured
-    ones, and its path in cm."""
+    ones, and its path in cm; with folded (measure_track's) and fps, also phase and
+    mirrored_across: where the orbit sits on the folded track, as `track --body` draws it."""
 
 def period_counts(
     body: Body,

@@ -14,7 +14,7 @@ use rollphase_core::analysis::experiment::tracking::model::{
 use rollphase_core::analysis::experiment::tracking::table::{
     TableError, TableFormat, TableRequest, read_table,
 };
-use rollphase_core::analysis::experiment::tracking::{TrackError, measure};
+use rollphase_core::analysis::experiment::tracking::{Folded, TrackError, fold_centre, measure};
 
 use crate::body::Body;
 use crate::errors::{Classified, ErrorClass, input_error, internal_error, raise};
@@ -166,7 +166,10 @@ pub fn read_track_table<'py>(
 /// advance_error ([down, across] standard errors in cm, from the regression's slope and the
 /// period's error; None where the regression could not be fitted), velocity ([[down, across]
 /// in cm a frame, [their standard errors]], None likewise), significance (the surrogates' check against chance), mismatch_curve ((N, 2) array of shift
-/// and normalised mismatch), frames_used ([first, last]) and warnings. A track that does not
+/// and normalised mismatch), frames_used ([first, last]), folded ((N, 4) array: the cleaned
+/// track folded on its period as `track` draws it: period index, frames into the period, down
+/// and across in cm since the period began less the earlier periods' advance; give it to
+/// `compare_with_model(folded=…)`) and warnings. A track that does not
 /// show a period with that evidence raises InputError saying why. Multiply by 1/fps for
 /// seconds; the same numbers as the command line's summary.json. With `markers` (an (N, 3)
 /// array of frame, down, across in cm: the markers drawn on the body), also marker_reading:
@@ -216,6 +219,12 @@ pub fn measure_track<'py>(
         "frames_used",
         vec![track.frames[0], track.frames[track.frames.len() - 1]],
     )?;
+    let folded: Vec<f64> = fold_centre(&track, &fit)
+        .iter()
+        .flat_map(|f| [f.period as f64, f.t_local, f.down_local, f.across_local])
+        .collect();
+    let folded = Array2::from_shape_vec((folded.len() / 4, 4), folded).map_err(internal_error)?;
+    d.set_item("folded", folded.into_pyarray(py))?;
     if let Some(m) = markers {
         let reading = rollphase_core::analysis::experiment::tracking::markers::read_markers(
             &track,
@@ -248,11 +257,14 @@ pub fn measure_track<'py>(
 /// ([advance_down_cm, period_t0] pairs), iterations, period_sensitivity (d ln(m/m0)/d ln
 /// period), mass_ratio_error and t0_error_s (from `period_error_s`, the period's standard error,
 /// alone: None without it or where m/m0 was given), and path ((N, 2) array: the orbit's centre,
-/// down and across in cm, over three repeats).
+/// down and across in cm, over three repeats). With `folded` (`measure_track`'s) and `fps`
+/// (the track's frames a second), also where the orbit sits on the folded track, as `track
+/// --body` draws it: phase (the path sample at which the track's periods begin) and
+/// mirrored_across (whether the track runs across the ramp as the orbit's mirror image).
 #[pyfunction]
 #[pyo3(signature = (
     body, alpha, *, period_s, advance_down_cm, advance_across_cm, mass_ratio = None,
-    scale_mm = None, starts = 32, seed = 1, period_error_s = None
+    scale_mm = None, starts = 32, seed = 1, period_error_s = None, folded = None, fps = None
 ))]
 pub fn compare_with_model<'py>(
     py: Python<'py>,
@@ -266,8 +278,11 @@ pub fn compare_with_model<'py>(
     starts: i128,
     seed: i128,
     period_error_s: Option<f64>,
+    folded: Option<PyArrayLike2<'py, f64, AllowTypeChange>>,
+    fps: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (starts, seed): (usize, u64) = (whole("starts", starts)?, whole("seed", seed)?);
+    let folded = folded_track(folded, fps)?;
     if let Some(e) = period_error_s
         && !(e.is_finite() && e > 0.0 && e <= 0.25 * period_s)
     {
@@ -307,9 +322,69 @@ pub fn compare_with_model<'py>(
     };
     let d = PyDict::new(py);
     fields_into(&d, &c, &[])?;
+    if let Some((folded, fps)) = folded {
+        let alignment = c.aligned_with(&folded, fps);
+        d.set_item("phase", alignment.phase)?;
+        d.set_item("mirrored_across", alignment.mirrored_across)?;
+    }
     let cm = scale_mm / 10.0;
     let flat: Vec<f64> = c.orbit.path.iter().flatten().map(|v| v * cm).collect();
     let path = Array2::from_shape_vec((c.orbit.path.len(), 2), flat).map_err(internal_error)?;
     d.set_item("path", path.into_pyarray(py))?;
     Ok(d)
+}
+
+/// `compare_with_model`'s folded track and frame rate, checked before the model runs: both or
+/// neither, `folded` an (N, 4) array of finite numbers as `measure_track` gives it (N ≥ 1, the
+/// period index a whole number ≥ 0), `fps` positive and finite.
+fn folded_track(
+    folded: Option<PyArrayLike2<'_, f64, AllowTypeChange>>,
+    fps: Option<f64>,
+) -> PyResult<Option<(Vec<Folded>, f64)>> {
+    let (folded, fps) = match (folded, fps) {
+        (None, None) => return Ok(None),
+        (Some(f), Some(fps)) => (f, fps),
+        _ => {
+            return Err(input_error(
+                "folded and fps go together: the folded track (measure_track's \"folded\") \
+                 and its frames a second, to place the orbit on it; or neither",
+            ));
+        }
+    };
+    if !(fps.is_finite() && fps > 0.0) {
+        return Err(input_error(format!(
+            "fps = {fps} is not allowed (the track's frames a second: a positive number)"
+        )));
+    }
+    let folded = folded.as_array();
+    if folded.ncols() != 4 || folded.nrows() == 0 {
+        return Err(input_error(format!(
+            "folded is {}×{} (needs N × 4, N ≥ 1: period index, frames into the period, down \
+             and across in cm, as measure_track's \"folded\")",
+            folded.nrows(),
+            folded.ncols()
+        )));
+    }
+    folded
+        .rows()
+        .into_iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let whole_period = r[0] >= 0.0 && r[0].fract() == 0.0 && r[0] < 1e15;
+            if !(whole_period && r.iter().all(|v| v.is_finite())) {
+                return Err(input_error(format!(
+                    "folded row {i} is {:?}: every value must be finite and the period index a \
+                     whole number ≥ 0",
+                    r.to_vec()
+                )));
+            }
+            Ok(Folded {
+                period: r[0] as usize,
+                t_local: r[1],
+                down_local: r[2],
+                across_local: r[3],
+            })
+        })
+        .collect::<PyResult<Vec<Folded>>>()
+        .map(|f| Some((f, fps)))
 }

@@ -183,6 +183,17 @@ def test_measure_track_is_the_command_lines(repo, cli, tmp_path):
     assert fit["period_error_from"] == "cycles" and np.isfinite(fit["period_error_frames"])
     assert fit["block_check"]["turns_vary"] and fit["block_check"] == summary["block_check"]
     assert fit["mismatch_curve"].shape[1] == 2 and len(fit["cycle_periods"]) >= 8
+    # The folded track is data.csv's centre rows, to the digit.
+    import csv
+
+    with open(out / "data.csv") as f:
+        centre = [r for r in csv.DictReader(f) if r["kind"] == "centre"]
+    folded = fit["folded"]
+    assert folded.shape == (len(centre), 4)
+    for row, r in zip(folded, centre):
+        assert row[0] == int(r["period"])
+        assert row[1] / 30.0 == float(r["t_local_s"])
+        assert (row[2], row[3]) == (float(r["down_local_cm"]), float(r["across_local_cm"]))
 
 
 def test_the_markers_read_as_the_command_line_reads_them(repo, cli, tmp_path):
@@ -255,6 +266,51 @@ def test_compare_with_model_solves_m_and_t0_together(printed, repo, cli, tmp_pat
     assert with_error["mass_ratio_error"] == model["mass_ratio_error"]
     assert with_error["t0_error_s"] == model["t0_error_s"]
     assert c["mass_ratio_error"] is None
+    assert "mirrored_across" not in c
+    # Placed on the folded track, as the command line draws it: the same side across.
+    placed = rollphase.compare_with_model(
+        printed,
+        0.2014,
+        period_s=period_s,
+        advance_down_cm=fit["advance_down"],
+        advance_across_cm=fit["advance_across"],
+        folded=fit["folded"],
+        fps=30.0,
+    )
+    assert placed["mirrored_across"] == json.loads((out / "summary.json").read_text())["model"][
+        "mirrored_across"
+    ]
+    assert 0 <= placed["phase"] < len(placed["path"])
+    # A track that is the orbit's mirror image is found mirrored, at the phase it starts at.
+    per = (len(c["path"]) - 1) // 3
+    frames_per_sample = c["predicted_period_t0"] * c["t0_s"] * 30.0 / per
+    mirror = np.array(
+        [
+            [0, k * frames_per_sample, *(c["path"][7 + k] - c["path"][7]) * [1.0, -1.0]]
+            for k in range(per)
+        ]
+    )
+    found = rollphase.compare_with_model(
+        printed, 0.2014, period_s=period_s, advance_down_cm=fit["advance_down"],
+        advance_across_cm=fit["advance_across"], folded=mirror, fps=30.0,
+    )
+    assert (found["phase"], found["mirrored_across"]) == (7, True)
+    for kwargs, match in (
+        (dict(folded=fit["folded"]), "go together"),
+        (dict(fps=30.0), "go together"),
+        (dict(folded=fit["folded"], fps=0.0), "fps = 0"),
+        (dict(folded=fit["folded"], fps=float("nan")), "fps = NaN"),
+        (dict(folded=fit["folded"][:, :3], fps=30.0), "needs N × 4"),
+        (dict(folded=np.zeros((0, 4)), fps=30.0), "needs N × 4"),
+        (dict(folded=[[0.5, 0.0, 0.0, 0.0]], fps=30.0), "whole number"),
+        (dict(folded=[[-1.0, 0.0, 0.0, 0.0]], fps=30.0), "whole number"),
+        (dict(folded=[[0.0, float("inf"), 0.0, 0.0]], fps=30.0), "finite"),
+    ):
+        with pytest.raises(rollphase.InputError, match=match):
+            rollphase.compare_with_model(
+                printed, 0.2014, period_s=period_s, advance_down_cm=fit["advance_down"],
+                advance_across_cm=fit["advance_across"], **kwargs,
+            )
     for bad in (0.0, -1.0, float("nan"), float("inf"), period_s):
         with pytest.raises(rollphase.InputError, match="period_error_s"):
             rollphase.compare_with_model(

@@ -10,13 +10,14 @@ use serde::Serialize;
 use crate::analysis::experiment::prediction::{PredictOptions, PredictedOrbit};
 use crate::analysis::experiment::tracking::markers::{MarkerReading, read_markers};
 use crate::analysis::experiment::tracking::model::{
-    Measured, ModelComparison, TrackAlignment, align_with_track, compare_with_model,
+    Measured, ModelComparison, TrackAlignment, compare_with_model,
 };
 use crate::analysis::experiment::tracking::table::{
     TableFormat, TableRequest, TrackTable, read_table,
 };
 use crate::analysis::experiment::tracking::{
-    CleanTrack, ErrorSource, Folded, PeriodFit, Significance, fold, harmonic::BlockCheck, measure,
+    CleanTrack, ErrorSource, Folded, PeriodFit, Significance, fold_centre, fold_on_track,
+    harmonic::BlockCheck, measure,
 };
 use crate::geometry::ShapeFile;
 use crate::output::{self, Inputs, OutputSet};
@@ -328,15 +329,10 @@ pub fn run(mut a: TrackArgs) -> Result<()> {
         None => Vec::new(),
     };
     let start = track.frames[0];
-    let origin = (track.down[0], track.across[0]);
-    let advance = (fit.advance_down, fit.advance_across);
-    let centre_points: Vec<(f64, f64, f64)> = (0..track.frames.len())
-        .map(|i| (track.frames[i], track.down[i], track.across[i]))
-        .collect();
-    let folded_centre = fold(&centre_points, start, origin, fit.period_frames, advance);
+    let folded_centre = fold_centre(&track, &fit);
     let end = track.frames[track.frames.len() - 1];
     let (markers, in_range) = markers_on_track(a.markers.as_deref(), markers, start, end)?;
-    let folded_markers = fold(&in_range, start, origin, fit.period_frames, advance);
+    let folded_markers = fold_on_track(&track, &fit, &in_range);
     let period_s = fit.period_frames / a.rate;
     let speed = fit.advance_down / period_s;
     let mut summary = TrackSummary {
@@ -509,7 +505,7 @@ fn compare(
     let TrackAlignment {
         phase,
         mirrored_across: mirrored,
-    } = align_with_track(folded, &c.orbit, cm, c.t0_s * fps);
+    } = c.aligned_with(folded, fps);
     let drawn = (c.orbit.clone(), cm, c.t0_s * fps, phase, mirrored);
     Ok((
         Comparison {

@@ -743,6 +743,65 @@ pub struct Folded {
     pub across_local: f64,
 }
 
+/// Folds `points` (frame, down, across in cm) on `track`'s period as `fit` measured it: period
+/// k begins at the track's first frame plus k periods and is shifted back by k advances, from
+/// the track's first position, as `rollphase track` folds its centre and its markers (data.csv,
+/// the folded figure) and Python's `measure_track` its centre ([`fold`]).
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::experiment::tracking::{fold_on_track, measure};
+/// // 30 periods of 20 frames, 5 cm down each, a wobble across.
+/// let frames: Vec<f64> = (0..600).map(f64::from).collect();
+/// let phase = |f: f64| 2.0 * std::f64::consts::PI * f / 20.0;
+/// let down: Vec<f64> = frames.iter().map(|&f| 0.25 * f + 0.3 * phase(f).sin()).collect();
+/// let across: Vec<f64> = frames.iter().map(|&f| 0.2 * phase(f).cos()).collect();
+/// let (track, fit) = measure(&frames, &down, &across, &|_, _| {})?;
+/// let points: Vec<(f64, f64, f64)> = (0..600).map(|i| (frames[i], down[i], across[i])).collect();
+/// let folded = fold_on_track(&track, &fit, &points);
+/// // Every period lies on the first: frame 25 (period 1) on frame 5.
+/// let (a, b) = (folded[5], folded[25]);
+/// assert_eq!((a.period, b.period), (0, 1));
+/// assert!((a.down_local - b.down_local).abs() < 1e-3 && (a.across_local - b.across_local).abs() < 1e-3);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn fold_on_track(
+    track: &CleanTrack,
+    fit: &PeriodFit,
+    points: &[(f64, f64, f64)],
+) -> Vec<Folded> {
+    fold(
+        points,
+        track.frames[0],
+        (track.down[0], track.across[0]),
+        fit.period_frames,
+        (fit.advance_down, fit.advance_across),
+    )
+}
+
+/// The centre track itself, folded ([`fold_on_track`]): one point a frame of the cleaned track.
+///
+/// # Example
+/// ```
+/// use rollphase_core::analysis::experiment::tracking::{fold_centre, measure};
+/// let frames: Vec<f64> = (0..600).map(f64::from).collect();
+/// let phase = |f: f64| 2.0 * std::f64::consts::PI * f / 20.0;
+/// let down: Vec<f64> = frames.iter().map(|&f| 0.25 * f + 0.3 * phase(f).sin()).collect();
+/// let across: Vec<f64> = frames.iter().map(|&f| 0.2 * phase(f).cos()).collect();
+/// let (track, fit) = measure(&frames, &down, &across, &|_, _| {})?;
+/// let folded = fold_centre(&track, &fit);
+/// assert_eq!(folded.len(), track.frames.len());
+/// // Every period lies on the first, within a few µm of each other.
+/// assert!(folded.iter().all(|f| f.t_local < fit.period_frames + 1e-9));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn fold_centre(track: &CleanTrack, fit: &PeriodFit) -> Vec<Folded> {
+    let points: Vec<(f64, f64, f64)> = (0..track.frames.len())
+        .map(|i| (track.frames[i], track.down[i], track.across[i]))
+        .collect();
+    fold_on_track(track, fit, &points)
+}
+
 /// Folds points (frame, down, across) into local coordinates: period k starts at
 /// `start_frame` + k·τ and is shifted back by k times the advance, from the track's position at
 /// `start_frame` (`origin`), so that every period lies on the first (the paper's Fig. 5c).

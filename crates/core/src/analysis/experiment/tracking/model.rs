@@ -106,6 +106,43 @@ pub fn align_with_track(
     }
 }
 
+impl ModelComparison {
+    /// Where this comparison's predicted orbit sits on the folded centre track `folded`
+    /// ([`super::fold_centre`]) filmed at `fps` frames a second ([`align_with_track`] in the
+    /// comparison's own units: its ⟨r⟩ in cm and its t0), as `rollphase track` draws the orbit
+    /// over the track and Python's `compare_with_model(folded=…)` reports it.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::experiment::prediction::PredictOptions;
+    /// use rollphase_core::analysis::experiment::tracking::Folded;
+    /// use rollphase_core::analysis::experiment::tracking::model::{Measured, compare_with_model};
+    /// use rollphase_core::geometry::Body;
+    /// let body = Body::paper_sphere(219, 0.25, 5)?;
+    /// let measured = Measured { period_s: 8.0, advance_down_cm: 6.0, advance_across_cm: 0.0 };
+    /// let options = PredictOptions { starts: 4, ..PredictOptions::default() };
+    /// let c = compare_with_model(&body, 10.0, 0.15, &measured, Some(0.0), &options)?;
+    /// // A track that is the orbit itself at 30 frames a second (in cm), from sample 5 on.
+    /// let (orbit, fps) = (&c.orbit, 30.0);
+    /// let per = (orbit.path.len() - 1) / 3;
+    /// let frames_per_sample = orbit.period * c.t0_s * fps / per as f64;
+    /// let folded: Vec<Folded> = (0..per)
+    ///     .map(|k| Folded {
+    ///         period: 0,
+    ///         t_local: k as f64 * frames_per_sample,
+    ///         down_local: (orbit.path[5 + k][0] - orbit.path[5][0]) * c.scale_mm / 10.0,
+    ///         across_local: (orbit.path[5 + k][1] - orbit.path[5][1]) * c.scale_mm / 10.0,
+    ///     })
+    ///     .collect();
+    /// let a = c.aligned_with(&folded, fps);
+    /// assert_eq!((a.phase, a.mirrored_across), (5, false));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn aligned_with(&self, folded: &[Folded], fps: f64) -> TrackAlignment {
+        align_with_track(folded, &self.orbit, self.scale_mm / 10.0, self.t0_s * fps)
+    }
+}
+
 /// Standard gravity (m/s²).
 pub const G: f64 = 9.81;
 /// Below this m/m0 the viscous model stands for the inertial one.
