@@ -13,7 +13,7 @@ use rollphase::headless::HeadlessRenderer;
 use rollphase::render::overlay::{Font, rasterise};
 use rollphase::render::types::{Anchor, Frame};
 use rollphase::scene::{PRESETS, Scene};
-use rollphase::view::{ROOM_TEXT_PX, ViewOptions};
+use rollphase::view::{MeasuredAhead, ROOM_TEXT_PX, ViewOptions};
 
 /// A radius that contains the body (its largest r over a fine set of directions, plus 2 %; a
 /// cylinder's half length counts too).
@@ -158,11 +158,15 @@ fn the_caption_never_covers_the_body_on_any_lesson_step() {
                 let mut r = HeadlessRenderer::new(setup.clone(), size, 1).unwrap();
                 // Class text is the app's presentation and class modes: a room's 24 px floor.
                 let room_text_px = if text_scale > 1.0 { ROOM_TEXT_PX } else { 0.0 };
-                // The widest numbers a step can show: a period measured ahead as well.
+                // The widest numbers a step can show: a period and a 1/T measured ahead as
+                // well.
                 r.set_view_options(ViewOptions {
                     text_scale,
                     room_text_px,
-                    lesson_period: Some(2),
+                    lesson_ahead: MeasuredAhead {
+                        period: Some(2),
+                        rate: Some(0.012_345),
+                    },
                     ..ViewOptions::default()
                 });
                 let mut k = 0;
@@ -496,9 +500,9 @@ fn every_preset_reads_from_the_back_of_a_room() {
     assert!(measured >= 20, "{measured} frames measured");
 }
 
-/// A lesson step's period, measured ahead on the same run (`LessonEvidence::period_shown`), is on
-/// the overlay as the step opens, marked so; without it the overlay claims no period before the
-/// live run has found one.
+/// A lesson step's period and 1/T, measured ahead on the same run
+/// (`LessonEvidence::period_shown`, `rate_shown`), are on the overlay as the step opens, marked
+/// so; without them the overlay claims no period before the live run has found one.
 #[test]
 fn the_overlay_says_the_steps_period_measured_ahead_until_the_live_run_finds_it() {
     let setup = Scene::preset("lesson-period-doubling")
@@ -508,9 +512,13 @@ fn the_overlay_says_the_steps_period_measured_ahead_until_the_live_run_finds_it(
     let mut r = HeadlessRenderer::new(setup, (1280, 720), 1).unwrap();
     let live = panel_texts(&r.frame_data(0).unwrap());
     assert!(!live.iter().any(|t| t.starts_with("period")), "{live:?}");
+    assert!(live.iter().any(|t| t == "1/T: measuring…"), "{live:?}");
     for room in [0.0, ROOM_TEXT_PX] {
         r.set_view_options(ViewOptions {
-            lesson_period: Some(2),
+            lesson_ahead: MeasuredAhead {
+                period: Some(2),
+                rate: Some(0.011_19),
+            },
             room_text_px: room,
             ..ViewOptions::default()
         });
@@ -518,6 +526,26 @@ fn the_overlay_says_the_steps_period_measured_ahead_until_the_live_run_finds_it(
         assert!(
             ahead.iter().any(|t| t == "period 2 (measured ahead)"),
             "{ahead:?}"
+        );
+        // Its 1/T too, where the plot shows the point already.
+        let rate = if room > 0.0 {
+            "1/T = 0.0112 (measured ahead)"
+        } else {
+            "1/T = 0.01119 (measured ahead)"
+        };
+        assert!(ahead.iter().any(|t| t == rate), "{ahead:?}");
+        r.set_view_options(ViewOptions {
+            lesson_ahead: MeasuredAhead {
+                period: None,
+                rate: Some(0.0),
+            },
+            room_text_px: room,
+            ..ViewOptions::default()
+        });
+        let halted = panel_texts(&r.frame_data(0).unwrap());
+        assert!(
+            halted.iter().any(|t| t == "halted (measured ahead)"),
+            "{halted:?}"
         );
     }
 }

@@ -9,7 +9,7 @@ use std::sync::atomic::AtomicBool;
 use rollphase::live::LiveRun;
 use rollphase::live::evidence::{EvidenceState, measure_evidence, step_ends};
 use rollphase::live::history::{Branch, PlotHistory};
-use rollphase::scene::Scene;
+use rollphase::scene::{Claim, Scene};
 
 fn evidence(name: &str) -> (rollphase::scene::SceneSetup, EvidenceState) {
     let setup = Scene::preset(name).unwrap().setup(None).unwrap();
@@ -238,17 +238,31 @@ fn the_period_the_overlay_says_ahead_is_the_steps_checked_claim() {
             );
             std::thread::sleep(std::time::Duration::from_millis(50));
         }
-        (0..=last)
-            .map(|done| evidence.period_shown(done))
-            .collect::<Vec<_>>()
+        let claims: Vec<_> = setup.timeline.iter().map(|s| s.claim).collect();
+        let shown = (0..=last)
+            .map(|done| (evidence.period_shown(done), evidence.rate_shown(done)))
+            .collect::<Vec<_>>();
+        (claims, shown)
     };
+    let (_, doubling) = measured("lesson-period-doubling");
     assert_eq!(
-        measured("lesson-period-doubling"),
+        doubling.iter().map(|s| s.0).collect::<Vec<_>>(),
         [None, Some(1), Some(1), Some(2), Some(2), Some(2)]
     );
-    assert!(
-        measured("lesson-critical-angle")
-            .iter()
-            .all(Option::is_none)
-    );
+    assert!(doubling.iter().all(|s| s.1.is_none()), "{doubling:?}");
+    // The critical-angle lesson claims no period; its 1/T measured ahead is 0 where a step
+    // claims the halt and positive where it claims rolling or the √ law.
+    let (claims, critical) = measured("lesson-critical-angle");
+    assert!(critical.iter().all(|s| s.0.is_none()), "{critical:?}");
+    assert_eq!(critical[0].1, None, "no step shown yet");
+    for (k, claim) in claims.iter().enumerate() {
+        let rate = critical[k + 1].1;
+        match claim {
+            Some(Claim::Halted) => assert_eq!(rate, Some(0.0), "step {}", k + 1),
+            Some(Claim::Rolling | Claim::SqrtLaw) => {
+                assert!(rate.is_some_and(|r| r > 0.0), "step {}: {rate:?}", k + 1);
+            }
+            _ => assert_eq!(rate, None, "step {}", k + 1),
+        }
+    }
 }

@@ -461,6 +461,30 @@ impl LessonEvidence {
         self.claim(done)?.ok().map(|_| period)
     }
 
+    /// The 1/T (0: halted) that the step shown once `done` steps are done measured at its α
+    /// and m/m0, where the step claims the body rolls, halts or follows the √ law and its
+    /// evidence bears the claim out: what the overlay says, marked as measured ahead, while the
+    /// live run, the same run, has not yet made the two turns its own 1/T needs (near α* a turn
+    /// takes 260 t0, minutes at a lesson's speed, while the plot already shows the point).
+    /// Of the sweep's points at that α, the one measured in the direction the sweep last moved.
+    pub fn rate_shown(&self, done: usize) -> Option<f64> {
+        let k = done.checked_sub(1)?;
+        match self.setup.timeline.get(k)?.claim? {
+            Claim::Rolling | Claim::Halted | Claim::SqrtLaw => {}
+            Claim::Period1 | Claim::Period2 => return None,
+        }
+        self.claim(done)?.ok()?;
+        let at = StepAt::each_of(&self.setup).into_iter().nth(k)?;
+        let evidence = self.step(done)?;
+        let rates = evidence.rates_at(at.alpha, &at.regime());
+        let direction = evidence.direction();
+        rates
+            .iter()
+            .find(|(branch, _)| Some(*branch) == direction)
+            .or(rates.first())
+            .map(|&(_, rate)| rate)
+    }
+
     /// How far the measurement of step `done` has got, 0 to 1 (1: measured): the share of the
     /// run from the lesson's start to the step's end that is done (the steps before it are run
     /// first, so a share of the step alone sat at 0 while they ran), and why it stopped if it

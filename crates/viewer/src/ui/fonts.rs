@@ -1,6 +1,8 @@
-//! The app's fonts: egui's defaults, with DejaVu Sans (bundled for the overlay and the charts) as
-//! the last fallback of both families, so every character the presets, lessons and panels use
-//! has a glyph (egui's own fonts lack "∝", for one, which showed as a box).
+//! The app's fonts: DejaVu Sans (bundled for the overlay and the charts) first in the
+//! proportional family, and the last fallback of the monospace one, so every character the
+//! presets, lessons and panels use has a glyph (egui's own fonts lack "∝", for one, which showed
+//! as a box), and α is an α: egui's Ubuntu Light draws it as "ɑ", which on a projector reads as
+//! the letter a ("a (rad)", "a up" on the 1/T plot) beside the overlay's clear α.
 
 use std::sync::Arc;
 
@@ -16,13 +18,16 @@ pub fn definitions() -> FontDefinitions {
         FALLBACK.into(),
         Arc::new(FontData::from_static(crate::assets::FONT)),
     );
-    for family in [FontFamily::Proportional, FontFamily::Monospace] {
-        fonts
-            .families
-            .entry(family)
-            .or_default()
-            .push(FALLBACK.into());
-    }
+    fonts
+        .families
+        .entry(FontFamily::Proportional)
+        .or_default()
+        .insert(0, FALLBACK.into());
+    fonts
+        .families
+        .entry(FontFamily::Monospace)
+        .or_default()
+        .push(FALLBACK.into());
     fonts
 }
 
@@ -51,6 +56,28 @@ mod tests {
             }
         }
         text
+    }
+
+    /// egui takes each character from the first font of the family that has it: α, ω, θ and
+    /// the plot's other symbols come from DejaVu Sans, as in the overlay, not from Ubuntu Light,
+    /// whose α reads as an a.
+    #[test]
+    fn greek_letters_in_the_panels_and_plots_are_the_overlays() {
+        let fonts = definitions();
+        let proportional = &fonts.families[&FontFamily::Proportional];
+        for c in "αωθφπκ∂Ω√∝".chars() {
+            let first = proportional
+                .iter()
+                .find(|name| {
+                    FontRef::try_from_slice((*fonts.font_data[*name].font).as_ref())
+                        .unwrap()
+                        .glyph_id(c)
+                        .0
+                        != 0
+                })
+                .unwrap();
+            assert_eq!(first, FALLBACK, "{c} is drawn by {first}");
+        }
     }
 
     #[test]

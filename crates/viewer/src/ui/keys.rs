@@ -206,7 +206,7 @@ impl AppUi {
             text_scale: self.view_options.text_scale,
             room_text_px: self.view_options.room_text_px,
             follow: self.view_options.follow,
-            lesson_period: self.view_options.lesson_period,
+            lesson_ahead: self.view_options.lesson_ahead,
             fixed_target: None,
             ..ViewOptions::default()
         };

@@ -336,12 +336,17 @@ impl AppUi {
         }
         self.take_in_evidence(status, step);
         self.follow_sculpt(status);
-        self.view_options.lesson_period = step.and_then(|done| {
-            self.evidence
-                .as_ref()
-                .filter(|e| !status.snapshot.off_script && e.is_for(&status.setup))?
-                .period_shown(done)
-        });
+        let evidence = self
+            .evidence
+            .as_ref()
+            .filter(|e| !status.snapshot.off_script && e.is_for(&status.setup));
+        self.view_options.lesson_ahead = match (step, evidence) {
+            (Some(done), Some(e)) => crate::view::MeasuredAhead {
+                period: e.period_shown(done),
+                rate: e.rate_shown(done),
+            },
+            _ => crate::view::MeasuredAhead::default(),
+        };
         if let Some(done) = step {
             self.step_plots
                 .entry(done)

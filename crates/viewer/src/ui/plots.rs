@@ -215,10 +215,14 @@ fn keyed<R>(
                     // (a name wrapped on its own left "α" on one line and "down" on the next,
                     // or a swatch at a row's end without its name).
                     let font = egui::TextStyle::Small.resolve(ui.style());
-                    let galley = ui.painter().layout_no_wrap(
+                    // A name wider than the plot alone (the fit's formula at class mode's
+                    // size) wraps within it, beside its swatch, rather than widen the panel
+                    // past the window's edge.
+                    let galley = ui.painter().layout(
                         name.to_string(),
                         font,
                         ui.visuals().text_color(),
+                        (width - 22.0).max(40.0),
                     );
                     let size = egui::vec2(
                         14.0 + 3.0 + galley.size().x + 5.0,
@@ -261,7 +265,12 @@ fn keyed<R>(
                 }
             },
         );
-        let key_height = key.response.rect.height() + ui.spacing().item_spacing.y;
+        // The top tick's label is centred on the plot's top edge: half of it stands above the
+        // plot, where it touched the key's last row ("0.011" on the fit's name at class size).
+        let tick_overhang = 0.5 * ui.text_style_height(&egui::TextStyle::Body) + 2.0;
+        ui.add_space(tick_overhang);
+        let key_height =
+            key.response.rect.height() + tick_overhang + 2.0 * ui.spacing().item_spacing.y;
         plot(ui, (height - key_height).max(60.0))
     })
     .inner
@@ -880,14 +889,18 @@ fn crossings_ui(
         look.apply(instrument(
             Plot::new("crossings_by_mass"),
             "m/m0",
-            "polar angle",
+            "polar angle (rad)",
         ))
         .width(width)
         .height(plot_height)
         .x_axis_label("m/m0")
-        .y_axis_label("polar angle")
+        .y_axis_label("polar angle (rad)")
         .include_y(lo)
         .include_y(hi)
+        // m/m0 from 0 to at least 1: with every point at one m/m0 (a lesson's first step, at
+        // 0) the axis otherwise spanned −0.02 … 0.02, negative masses included.
+        .include_x(0.0)
+        .include_x(1.0)
         .show(ui, |p| {
             p.vline(VLine::new("m/m0 now", snap.mass_ratio).color(Color32::GRAY));
             for (n, points) in series.into_iter().enumerate() {

@@ -116,10 +116,19 @@ pub struct ViewOptions {
     /// Panels then leave out their small print (the integrator's health line, the SO(3) ball's
     /// key) rather than show it too small to read.
     pub room_text_px: f32,
-    /// The period a lesson step's evidence, measured ahead on the same run, shows at the step's
-    /// end (`LessonEvidence::period_shown`): said on the overlay, marked "measured ahead", until
-    /// the live run finds its own.
-    pub lesson_period: Option<usize>,
+    /// What a lesson step's evidence, measured ahead on the same run, shows at the step's end:
+    /// said on the overlay, marked "measured ahead", until the live run finds its own.
+    pub lesson_ahead: MeasuredAhead,
+}
+
+/// What a lesson step's evidence, measured ahead on the same run, shows at the step's end
+/// ([`ViewOptions::lesson_ahead`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct MeasuredAhead {
+    /// Its period, 1 or 2 (`LessonEvidence::period_shown`).
+    pub period: Option<usize>,
+    /// Its 1/T at the step's α, 0 where it halts (`LessonEvidence::rate_shown`).
+    pub rate: Option<f64>,
 }
 
 /// The least text size on the view and the lesson's plot in presentation and class modes, in
@@ -136,7 +145,7 @@ impl Default for ViewOptions {
             fixed_target: None,
             text_scale: 1.0,
             room_text_px: 0.0,
-            lesson_period: None,
+            lesson_ahead: MeasuredAhead::default(),
         }
     }
 }
@@ -449,7 +458,7 @@ impl SceneView {
             } else {
                 text
             };
-            let mut status = self.status_panel(snap, sized(status_text), options.lesson_period);
+            let mut status = self.status_panel(snap, sized(status_text), options.lesson_ahead);
             if body_rect.is_none() {
                 // The views' titles hold the top edge; keep the numbers clear of them.
                 status.anchor = Anchor::BottomLeft(10, 10);

@@ -4,6 +4,7 @@
 use crate::colormap::DIVERGING;
 use crate::live::{PeriodSpan, Snapshot};
 use crate::render::types::{Anchor, OverlayPanel, PanelItem};
+use crate::view::MeasuredAhead;
 
 use super::SceneView;
 
@@ -38,13 +39,13 @@ impl TextSize {
 }
 
 impl SceneView {
-    /// The numbers; `lesson_period` is the period a lesson step's evidence measured ahead
-    /// (said, marked so, while the live run has not found its own).
+    /// The numbers; `ahead` is what a lesson step's evidence measured ahead, its period and
+    /// its 1/T (each said, marked so, while the live run has not found its own).
     pub(super) fn status_panel(
         &self,
         snap: &Snapshot,
         text: TextSize,
-        lesson_period: Option<usize>,
+        ahead: MeasuredAhead,
     ) -> OverlayPanel {
         let room = text.for_a_room();
         let deg = snap.alpha_rad.to_degrees();
@@ -80,7 +81,15 @@ impl SceneView {
                         PeriodSpan::Cycle { .. } => "the whole cycle",
                     },
                 ),
-                None => "1/T: measuring…".to_string(),
+                // The step's evidence, measured ahead on the same run: its point is on the
+                // plot already, and "measuring…" beside it read as a contradiction.
+                None => match ahead.rate {
+                    Some(0.0) => "halted (measured ahead)".to_string(),
+                    // A digit fewer for a room: the line stays as narrow as the live 1/T's.
+                    Some(r) if room => format!("1/T = {r:.4} (measured ahead)"),
+                    Some(r) => format!("1/T = {r:.5} (measured ahead)"),
+                    None => "1/T: measuring…".to_string(),
+                },
             }
         };
         let line = |s: String, px: f32| PanelItem::Text {
@@ -150,7 +159,7 @@ impl SceneView {
             let live = snap.period_multiplicity.filter(|_| snap.period.is_some());
             if let Some(k) = live {
                 items.push(line(period_line(k), 16.0));
-            } else if let Some(k) = lesson_period.filter(|_| !snap.halted) {
+            } else if let Some(k) = ahead.period.filter(|_| !snap.halted) {
                 // The same run's evidence, measured ahead: the step's claim on the screen
                 // when the step opens, marked as such until the live run settles too.
                 // Short: for a room the line is 24 px, and the panel must stay clear of the
