@@ -290,6 +290,9 @@ class ModelComparison(TypedDict):
     path: _Array
     phase: NotRequired[int]
     mirrored_across: NotRequired[bool]
+    handedness_shown: NotRequired[bool]
+    down_explained: NotRequired[float]
+    across_explained: NotRequired[List[float]]
 
 class PeriodCounts(TypedDict):
     cycle_counts: npt.NDArray[np.uint64]
@@ -700,8 +703,10 @@ def compare_with_model(
     error, from measure_track), mass_ratio_error and t0_error_s from it alone (None without
     it, or where m/m0 was given); the SI's speed estimate v²/(g⟨r⟩ sin²α)
     beside them; the nearest predicted orbit's period, advance and speed against the measured
-    ones, and its path in cm; with folded (measure_track's) and fps, also phase and
-    mirrored_across: where the orbit sits on the folded track, as `track --body` draws it."""
+    ones, and its path in cm; with folded (measure_track's) and fps (1e-5 to 1e6), also where
+    the orbit sits on the folded track, as `track --body` draws it: phase, mirrored_across (how
+    it is drawn), handedness_shown (whether the track shows which way round it runs),
+    down_explained and across_explained (the shares of the track's variance explained)."""
 
 def period_counts(
     body: Body,

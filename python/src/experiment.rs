@@ -14,7 +14,9 @@ use rollphase_core::analysis::experiment::tracking::model::{
 use rollphase_core::analysis::experiment::tracking::table::{
     TableError, TableFormat, TableRequest, read_table,
 };
-use rollphase_core::analysis::experiment::tracking::{Folded, TrackError, fold_centre, measure};
+use rollphase_core::analysis::experiment::tracking::{
+    Folded, MAX_POSITION, TrackError, fold_centre, measure,
+};
 
 use crate::body::Body;
 use crate::errors::{Classified, ErrorClass, input_error, internal_error, raise};
@@ -258,9 +260,13 @@ pub fn measure_track<'py>(
 /// period), mass_ratio_error and t0_error_s (from `period_error_s`, the period's standard error,
 /// alone: None without it or where m/m0 was given), and path ((N, 2) array: the orbit's centre,
 /// down and across in cm, over three repeats). With `folded` (`measure_track`'s) and `fps`
-/// (the track's frames a second), also where the orbit sits on the folded track, as `track
-/// --body` draws it: phase (the path sample at which the track's periods begin) and
-/// mirrored_across (whether the track runs across the ramp as the orbit's mirror image).
+/// (the track's frames a second, 1e-5 to 1e6, as `track --fps`), also where the orbit sits on
+/// the folded track, as `track --body` draws it and its summary.json says: phase (the path
+/// sample at which the track's periods begin, where the down path fits best), mirrored_across
+/// (whether the orbit is drawn mirrored across the ramp: the sign that fits better),
+/// handedness_shown (whether that is a finding: the drawn sign explains at least half of the
+/// track's across variance and a quarter more than the other), down_explained and
+/// across_explained (the shares of the track's variance explained, drawn sign then the other).
 #[pyfunction]
 #[pyo3(signature = (
     body, alpha, *, period_s, advance_down_cm, advance_across_cm, mass_ratio = None,
@@ -278,11 +284,11 @@ pub fn compare_with_model<'py>(
     starts: i128,
     seed: i128,
     period_error_s: Option<f64>,
-    folded: Option<PyArrayLike2<'py, f64, AllowTypeChange>>,
-    fps: Option<f64>,
+    folded: Option<Bound<'py, PyAny>>,
+    fps: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (starts, seed): (usize, u64) = (whole("starts", starts)?, whole("seed", seed)?);
-    let folded = folded_track(folded, fps)?;
+    let folded = folded_track(folded, fps, period_s)?;
     if let Some(e) = period_error_s
         && !(e.is_finite() && e > 0.0 && e <= 0.25 * period_s)
     {
@@ -312,8 +318,11 @@ pub fn compare_with_model<'py>(
         seed,
         ..PredictOptions::default()
     };
-    let c = interruptible(py, |stop| {
-        compare_with_model_until(core, scale_mm, alpha, &measured, mass_ratio, &options, stop)
+    let (c, alignment) = interruptible(py, |stop| {
+        let c =
+            compare_with_model_until(core, scale_mm, alpha, &measured, mass_ratio, &options, stop)?;
+        let alignment = folded.as_ref().map(|(f, fps)| c.aligned_with(f, *fps));
+        Ok::<_, rollphase_core::analysis::experiment::tracking::model::CompareError>((c, alignment))
     })?
     .map_err(raise)?;
     let c = match period_error_s {
@@ -322,10 +331,8 @@ pub fn compare_with_model<'py>(
     };
     let d = PyDict::new(py);
     fields_into(&d, &c, &[])?;
-    if let Some((folded, fps)) = folded {
-        let alignment = c.aligned_with(&folded, fps);
-        d.set_item("phase", alignment.phase)?;
-        d.set_item("mirrored_across", alignment.mirrored_across)?;
+    if let Some(alignment) = alignment {
+        fields_into(&d, &alignment, &[])?;
     }
     let cm = scale_mm / 10.0;
     let flat: Vec<f64> = c.orbit.path.iter().flatten().map(|v| v * cm).collect();
@@ -335,11 +342,14 @@ pub fn compare_with_model<'py>(
 }
 
 /// `compare_with_model`'s folded track and frame rate, checked before the model runs: both or
-/// neither, `folded` an (N, 4) array of finite numbers as `measure_track` gives it (N ≥ 1, the
-/// period index a whole number ≥ 0), `fps` positive and finite.
+/// neither; `fps` a number of frames a second from 1e-5 to 1e6 (`track --fps`'s range; not a
+/// bool); `folded` an (N, 4) array of finite numbers as `measure_track` gives it (N ≥ 1, the
+/// period index a whole number from 0 to 1e15, the frames into the period from 0 to a period,
+/// `period_s`·fps, and down and across within ±1e100 cm, as a track's own positions).
 fn folded_track(
-    folded: Option<PyArrayLike2<'_, f64, AllowTypeChange>>,
-    fps: Option<f64>,
+    folded: Option<Bound<'_, PyAny>>,
+    fps: Option<Bound<'_, PyAny>>,
+    period_s: f64,
 ) -> PyResult<Option<(Vec<Folded>, f64)>> {
     let (folded, fps) = match (folded, fps) {
         (None, None) => return Ok(None),
@@ -351,30 +361,52 @@ fn folded_track(
             ));
         }
     };
-    if !(fps.is_finite() && fps > 0.0) {
-        return Err(input_error(format!(
-            "fps = {fps} is not allowed (the track's frames a second: a positive number)"
-        )));
+    let fps = if fps.is_instance_of::<pyo3::types::PyBool>() {
+        None
+    } else {
+        fps.extract::<f64>().ok()
     }
+    .filter(|f| f.is_finite() && (1e-5..=1e6).contains(f))
+    .ok_or_else(|| {
+        input_error(format!(
+            "fps = {} is not allowed (the track's frames a second: a number from 1e-5 to 1e6, \
+             as track --fps)",
+            fps.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+        ))
+    })?;
+    let shape_error = |what: String| {
+        input_error(format!(
+            "folded is {what} (needs an N × 4 array of numbers, N ≥ 1: period index, frames into \
+             the period, down and across in cm, as measure_track's \"folded\")"
+        ))
+    };
+    let folded = folded
+        .extract::<PyArrayLike2<'_, f64, AllowTypeChange>>()
+        .map_err(|e| shape_error(format!("not a 2-D array of numbers ({e})")))?;
     let folded = folded.as_array();
     if folded.ncols() != 4 || folded.nrows() == 0 {
-        return Err(input_error(format!(
-            "folded is {}×{} (needs N × 4, N ≥ 1: period index, frames into the period, down \
-             and across in cm, as measure_track's \"folded\")",
+        return Err(shape_error(format!(
+            "{}×{}",
             folded.nrows(),
             folded.ncols()
         )));
     }
+    let period_frames = period_s * fps;
     folded
         .rows()
         .into_iter()
         .enumerate()
         .map(|(i, r)| {
-            let whole_period = r[0] >= 0.0 && r[0].fract() == 0.0 && r[0] < 1e15;
-            if !(whole_period && r.iter().all(|v| v.is_finite())) {
+            let whole_period = r[0] >= 0.0 && r[0].fract() == 0.0 && r[0] <= 1e15;
+            let in_period = r[1] >= 0.0 && r[1] <= period_frames * (1.0 + 1e-9);
+            let positions = r[2].abs() <= MAX_POSITION && r[3].abs() <= MAX_POSITION;
+            if !(r.iter().all(|v| v.is_finite()) && whole_period && in_period && positions) {
                 return Err(input_error(format!(
-                    "folded row {i} is {:?}: every value must be finite and the period index a \
-                     whole number ≥ 0",
+                    "folded row {i} is {:?}: every value must be finite, the period index a \
+                     whole number from 0 to 1e15, the frames into the period from 0 to a period \
+                     ({period_frames} frames: period_s {period_s} × fps {fps}; a track folded on \
+                     another period or frame rate does not belong here), and down and across \
+                     within ±1e100 cm",
                     r.to_vec()
                 )));
             }
@@ -386,5 +418,18 @@ fn folded_track(
             })
         })
         .collect::<PyResult<Vec<Folded>>>()
-        .map(|f| Some((f, fps)))
+        .and_then(|f| {
+            // A folded track of a whole period or more spans it (the cleaned track has every
+            // frame); one folded at twice the frame rate spans half of it.
+            let reach = f.iter().map(|p| p.t_local).fold(0.0, f64::max);
+            if reach < 0.9 * period_frames {
+                return Err(input_error(format!(
+                    "folded reaches {reach} frames into a period of {period_frames} frames \
+                     (period_s {period_s} × fps {fps}): a folded track spans its whole period, \
+                     so it was folded on another period or frame rate, or holds less than one \
+                     period"
+                )));
+            }
+            Ok(Some((f, fps)))
+        })
 }

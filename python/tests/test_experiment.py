@@ -277,9 +277,10 @@ def test_compare_with_model_solves_m_and_t0_together(printed, repo, cli, tmp_pat
         folded=fit["folded"],
         fps=30.0,
     )
-    assert placed["mirrored_across"] == json.loads((out / "summary.json").read_text())["model"][
-        "mirrored_across"
-    ]
+    model = json.loads((out / "summary.json").read_text())["model"]
+    for key in ("phase", "mirrored_across", "handedness_shown", "down_explained",
+                "across_explained"):
+        assert placed[key] == model[key], key
     assert 0 <= placed["phase"] < len(placed["path"])
     # A track that is the orbit's mirror image is found mirrored, at the phase it starts at.
     per = (len(c["path"]) - 1) // 3
@@ -294,14 +295,35 @@ def test_compare_with_model_solves_m_and_t0_together(printed, repo, cli, tmp_pat
         printed, 0.2014, period_s=period_s, advance_down_cm=fit["advance_down"],
         advance_across_cm=fit["advance_across"], folded=mirror, fps=30.0,
     )
-    assert (found["phase"], found["mirrored_across"]) == (7, True)
+    assert (found["phase"], found["mirrored_across"], found["handedness_shown"]) == (7, True, True)
+    assert found["down_explained"] > 0.999 and found["across_explained"][0] > 0.999
+    # With no motion across, which way round is not shown.
+    flat = mirror.copy()
+    flat[:, 3] = 0.0
+    unknown = rollphase.compare_with_model(
+        printed, 0.2014, period_s=period_s, advance_down_cm=fit["advance_down"],
+        advance_across_cm=fit["advance_across"], folded=flat, fps=30.0,
+    )
+    assert not unknown["handedness_shown"]
+    beyond = fit["folded"].copy()
+    beyond[:, 1] += fit["period_frames"]
+    huge = fit["folded"].copy()
+    huge[5, 2] = 1e300
     for kwargs, match in (
         (dict(folded=fit["folded"]), "go together"),
         (dict(fps=30.0), "go together"),
-        (dict(folded=fit["folded"], fps=0.0), "fps = 0"),
-        (dict(folded=fit["folded"], fps=float("nan")), "fps = NaN"),
-        (dict(folded=fit["folded"][:, :3], fps=30.0), "needs N × 4"),
-        (dict(folded=np.zeros((0, 4)), fps=30.0), "needs N × 4"),
+        (dict(folded=fit["folded"], fps=0.0), "fps = 0.0"),
+        (dict(folded=fit["folded"], fps=float("nan")), "fps = nan"),
+        (dict(folded=fit["folded"], fps=True), "fps = True"),
+        (dict(folded=fit["folded"], fps=1e308), "from 1e-5 to 1e6"),
+        (dict(folded=fit["folded"], fps=60.0), "another period or frame rate"),
+        (dict(folded=fit["folded"][:20], fps=30.0), "less than one"),
+        (dict(folded=beyond, fps=30.0), "another period or frame rate"),
+        (dict(folded=huge, fps=30.0), "1e100"),
+        (dict(folded=fit["folded"][:, 2], fps=30.0), "not a 2-D array"),
+        (dict(folded="abc", fps=30.0), "not a 2-D array"),
+        (dict(folded=fit["folded"][:, :3], fps=30.0), "needs an N × 4"),
+        (dict(folded=np.zeros((0, 4)), fps=30.0), "needs an N × 4"),
         (dict(folded=[[0.5, 0.0, 0.0, 0.0]], fps=30.0), "whole number"),
         (dict(folded=[[-1.0, 0.0, 0.0, 0.0]], fps=30.0), "whole number"),
         (dict(folded=[[0.0, float("inf"), 0.0, 0.0]], fps=30.0), "finite"),

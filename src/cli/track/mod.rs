@@ -130,9 +130,11 @@ const MAX_ROWS: usize = 10_000_000;
 pub struct Comparison {
     /// The shape file.
     pub body: String,
-    /// Whether the predicted path is drawn mirrored across the ramp (a body placed the other
-    /// way round).
-    pub mirrored_across: bool,
+    /// Where the predicted path is drawn on the folded track: its phase, whether mirrored
+    /// across the ramp (a body placed the other way round), and how much of the track each
+    /// explains (`handedness_shown`: whether the track tells which way round it runs).
+    #[serde(flatten)]
+    pub alignment: TrackAlignment,
     /// The comparison.
     #[serde(flatten)]
     pub comparison: ModelComparison,
@@ -502,15 +504,18 @@ fn compare(
     .with_context(|| format!("the model for {}", path.display()))?
     .with_period_error(measured.period_s, fit.period_error_frames / fps);
     let cm = scale_mm / 10.0;
-    let TrackAlignment {
-        phase,
-        mirrored_across: mirrored,
-    } = c.aligned_with(folded, fps);
-    let drawn = (c.orbit.clone(), cm, c.t0_s * fps, phase, mirrored);
+    let alignment = c.aligned_with(folded, fps);
+    let drawn = (
+        c.orbit.clone(),
+        cm,
+        c.t0_s * fps,
+        alignment.phase,
+        alignment.mirrored_across,
+    );
     Ok((
         Comparison {
             body: path.display().to_string(),
-            mirrored_across: mirrored,
+            alignment,
             comparison: c,
         },
         drawn,

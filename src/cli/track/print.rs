@@ -134,6 +134,27 @@ pub(super) fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()>
             100.0 * c.period_difference,
             100.0 * c.speed_difference
         )?;
+        let a = &m.alignment;
+        let way = if a.mirrored_across {
+            "mirrored across the ramp"
+        } else {
+            "as predicted across the ramp"
+        };
+        let shares = format!(
+            "{:.0} % of the folded track's across motion against {:.0} % the other way round; \
+             {:.0} % of its down motion",
+            100.0 * a.across_explained[0],
+            100.0 * a.across_explained[1],
+            100.0 * a.down_explained
+        );
+        if a.handedness_shown {
+            outln!("  the orbit fits the track {way} ({shares})")?;
+        } else {
+            outln!(
+                "  which way round the track runs across the ramp is not shown ({shares}): the \
+                 figure draws the orbit {way}, the closer of the two"
+            )?;
+        }
     }
     outln!(
         "  wrote {}/{{data.csv, figure.png, summary.json}}",

@@ -29,20 +29,43 @@ use crate::analysis::experiment::prediction::{
 use crate::analysis::studies::sphere::StudyError;
 use crate::geometry::Body;
 
-/// Where the predicted orbit sits on a folded track ([`align_with_track`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+/// Where the predicted orbit sits on a folded track ([`align_with_track`]), with how well it
+/// fits there: the phase and the sign across are where the fit is best, and are drawn so, but the
+/// sign across is a finding only where [`Self::handedness_shown`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct TrackAlignment {
-    /// The path sample of the predicted orbit at which the folded track's periods begin.
+    /// The path sample of the predicted orbit at which the folded track's periods begin: where
+    /// its down-ramp path fits the track best (least squares with a free offset).
     pub phase: usize,
-    /// Whether the track runs across the ramp as the orbit's mirror image (the body's
-    /// handedness, or the camera's, is not fixed by the period and advance alone).
+    /// Whether the orbit is drawn mirrored across the ramp: the sign of its across path that
+    /// leaves the smaller residual at `phase` (the body's handedness, or the camera's, is not
+    /// fixed by the period and advance alone).
     pub mirrored_across: bool,
+    /// Whether the track shows which way round it runs: the drawn sign's across path explains
+    /// at least [`HANDEDNESS_EXPLAINED`] of the folded track's across variance, and
+    /// [`HANDEDNESS_MARGIN`] more than the other sign's. Otherwise either way round fits about
+    /// as well (or neither does), and `mirrored_across` is only how the orbit is drawn.
+    pub handedness_shown: bool,
+    /// The share of the folded track's down variance the orbit's down path explains at
+    /// `phase` (1 − residual/variance; 1 a perfect fit, ≤ 0 no better than a constant).
+    pub down_explained: f64,
+    /// The share of its across variance each sign explains at `phase`: the drawn one, then the
+    /// other.
+    pub across_explained: [f64; 2],
 }
+
+/// The least share of the track's across variance the drawn sign must explain for the track to
+/// show its handedness ([`TrackAlignment::handedness_shown`]).
+pub const HANDEDNESS_EXPLAINED: f64 = 0.5;
+/// … and by how much more than the other sign.
+pub const HANDEDNESS_MARGIN: f64 = 0.25;
 
 /// The phase of `orbit` (a [`PredictedOrbit`] whose path holds three repeats) at which its
 /// down-ramp path best matches the folded centre track `folded` (least squares with a free
-/// offset), and whether across the ramp it matches better mirrored. `cm_per_r` turns the
-/// model's lengths into the track's cm, `frames_per_t0` its time into frames.
+/// offset), and whether across the ramp it matches better mirrored, with how much of the
+/// track's variance each explains. `cm_per_r` turns the model's lengths into the track's cm,
+/// `frames_per_t0` its time into frames. An empty track, or one without variance down the ramp,
+/// is placed at phase 0 with nothing shown.
 ///
 /// # Example
 /// ```
@@ -67,7 +90,11 @@ pub struct TrackAlignment {
 ///     })
 ///     .collect();
 /// let a = align_with_track(&folded, &orbit, 1.0, 1.0);
-/// assert_eq!((a.phase, a.mirrored_across), (7, true));
+/// assert_eq!((a.phase, a.mirrored_across, a.handedness_shown), (7, true, true));
+/// assert!(a.down_explained > 0.999 && a.across_explained[0] > 0.999);
+/// // The across motion alone, with no orbit in it: which way round is not shown.
+/// let flat: Vec<Folded> = folded.iter().map(|f| Folded { across_local: 0.0, ..*f }).collect();
+/// assert!(!align_with_track(&flat, &orbit, 1.0, 1.0).handedness_shown);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn align_with_track(
@@ -80,29 +107,56 @@ pub fn align_with_track(
     let frames_per_sample = orbit.period * frames_per_t0 / per as f64;
     let predicted = |phase: usize, t_local: f64, k: usize| {
         let x = phase as f64 + t_local / frames_per_sample;
-        let i = (x.floor() as usize).min(orbit.path.len() - 2);
+        let i = (x.floor().max(0.0) as usize).min(orbit.path.len() - 2);
         let s = x - i as f64;
         let p = |j: usize| orbit.path[j][k] - orbit.path[phase][k];
         cm_per_r * (p(i) + s * (p(i + 1) - p(i)))
     };
-    let cost = |phase: usize, k: usize, sign: f64| {
-        // Least squares with a free offset.
+    let measured = |f: &Folded, k: usize| if k == 0 { f.down_local } else { f.across_local };
+    // The residual's sum of squares about its mean (least squares with a free offset); `None`
+    // for the track's own variance (a constant prediction).
+    let cost = |phase: usize, k: usize, sign: Option<f64>| {
         let r: Vec<f64> = folded
             .iter()
-            .map(|f| {
-                let m = if k == 0 { f.down_local } else { f.across_local };
-                m - sign * predicted(phase, f.t_local, k)
-            })
+            .map(|f| measured(f, k) - sign.map_or(0.0, |s| s * predicted(phase, f.t_local, k)))
             .collect();
-        let mean = r.iter().sum::<f64>() / r.len() as f64;
+        let mean = r.iter().sum::<f64>() / r.len().max(1) as f64;
         r.iter().map(|v| (v - mean).powi(2)).sum::<f64>()
     };
+    let down_costs: Vec<f64> = (0..per).map(|phase| cost(phase, 0, Some(1.0))).collect();
     let phase = (0..per)
-        .min_by(|&a, &b| cost(a, 0, 1.0).total_cmp(&cost(b, 0, 1.0)))
+        .min_by(|&a, &b| down_costs[a].total_cmp(&down_costs[b]))
         .unwrap_or(0);
+    let explained = |residual: f64, variance: f64| {
+        if variance > 0.0 && variance.is_finite() && residual.is_finite() {
+            1.0 - residual / variance
+        } else {
+            0.0
+        }
+    };
+    let down_explained = explained(
+        down_costs.get(phase).copied().unwrap_or(0.0),
+        cost(phase, 0, None),
+    );
+    let across_variance = cost(phase, 1, None);
+    let (plain, mirrored) = (cost(phase, 1, Some(1.0)), cost(phase, 1, Some(-1.0)));
+    let mirrored_across = mirrored < plain;
+    let (drawn, other) = if mirrored_across {
+        (mirrored, plain)
+    } else {
+        (plain, mirrored)
+    };
+    let across_explained = [
+        explained(drawn, across_variance),
+        explained(other, across_variance),
+    ];
     TrackAlignment {
         phase,
-        mirrored_across: cost(phase, 1, -1.0) < cost(phase, 1, 1.0),
+        mirrored_across,
+        handedness_shown: across_explained[0] >= HANDEDNESS_EXPLAINED
+            && across_explained[0] - across_explained[1] >= HANDEDNESS_MARGIN,
+        down_explained,
+        across_explained,
     }
 }
 
