@@ -679,10 +679,6 @@ impl AppUi {
                 .min_size(280.0)
                 .max_size(widest)
                 .show(ui, |ui| {
-                    // A solid scroll bar, always drawn where the controls run past the window:
-                    // egui's floating one is invisible until hovered, and class mode's large
-                    // text cut the last rows at the status bar with no sign that more was below.
-                    ui.spacing_mut().scroll = egui::style::ScrollStyle::solid();
                     egui::ScrollArea::vertical().show(ui, |ui| {
                         // Every label wraps at the panel's edge rather than running past it
                         // (class mode's large text in a third of the screen cut them).
