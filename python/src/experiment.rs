@@ -121,7 +121,7 @@ pub fn read_track_table<'py>(
         && !(f.is_finite() && (1e-5..=1e6).contains(&f))
     {
         return Err(input_error(format!(
-            "fps {f} is not allowed (needs 1e-5 ≤ fps ≤ 1e6 frames per second)"
+            "fps {f:?} is not allowed (needs 1e-5 ≤ fps ≤ 1e6 frames per second)"
         )));
     }
     let meta = std::fs::metadata(&path)
@@ -351,6 +351,11 @@ fn folded_track(
     fps: Option<Bound<'_, PyAny>>,
     period_s: f64,
 ) -> PyResult<Option<(Vec<Folded>, f64)>> {
+    if !(period_s.is_finite() && period_s > 0.0) {
+        // The model refuses the period itself, naming it, before any alignment: a folded
+        // track judged against it would be refused for the period's fault.
+        return Ok(None);
+    }
     let (folded, fps) = match (folded, fps) {
         (None, None) => return Ok(None),
         (Some(f), Some(fps)) => (f, fps),

@@ -333,6 +333,13 @@ def test_compare_with_model_solves_m_and_t0_together(printed, repo, cli, tmp_pat
                 printed, 0.2014, period_s=period_s, advance_down_cm=fit["advance_down"],
                 advance_across_cm=fit["advance_across"], **kwargs,
             )
+    # A bad period is the period's fault, not the folded track's.
+    with pytest.raises(rollphase.InputError, match="period") as refused:
+        rollphase.compare_with_model(
+            printed, 0.2014, period_s=float("nan"), advance_down_cm=fit["advance_down"],
+            advance_across_cm=fit["advance_across"], folded=fit["folded"], fps=30.0,
+        )
+    assert "folded" not in str(refused.value)
     for bad in (0.0, -1.0, float("nan"), float("inf"), period_s):
         with pytest.raises(rollphase.InputError, match="period_error_s"):
             rollphase.compare_with_model(

@@ -209,7 +209,8 @@ fn check_rate(fps: f64, from: &str) -> Result<()> {
     if fps.is_finite() && (1e-5..=1e6).contains(&fps) {
         Ok(())
     } else {
-        bail!("{from} {fps} is not allowed (needs 1e-5 ≤ fps ≤ 1e6 frames per second)")
+        // `{:?}`: 1e308, not its 309 digits.
+        bail!("{from} {fps:?} is not allowed (needs 1e-5 ≤ fps ≤ 1e6 frames per second)")
     }
 }
 
