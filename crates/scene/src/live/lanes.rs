@@ -11,7 +11,7 @@ use crate::dynamics::Ramp;
 use crate::integrate::Method;
 
 use super::history::Sample;
-use super::{LiveRun, Snapshot};
+use super::{LiveRun, PeriodSpan, Snapshot};
 
 impl LiveRun {
     /// Advances the other bodies to `t` (where the scene's own body is). A body whose run
@@ -72,13 +72,13 @@ impl Snapshot {
         if self.halted {
             return "halted".to_string();
         }
-        let sphere = self.theta.is_none();
-        match (self.period, self.period_multiplicity) {
-            (_, Some(k)) if sphere => match self.cycle_period {
-                Some(t) => format!("periodic: period {k}, T = {t:.3}"),
-                None => format!("periodic: period {k}"),
-            },
-            (Some(t), _) if !sphere => format!("periodic: T = {t:.3}"),
+        // The T stated beside the fate is the one every surface states ([`Self::stated_period`]):
+        // a sphere whose cycle is not decided has a first look at T, not a period.
+        match self.stated_period() {
+            Some((t, PeriodSpan::FullTurn)) => format!("periodic: T = {t:.3}"),
+            Some((t, PeriodSpan::Cycle { crossings })) => {
+                format!("periodic: period {crossings}, T = {t:.3}")
+            }
             _ => "undecided: no period yet (needs more turns)".to_string(),
         }
     }
