@@ -241,6 +241,13 @@ class BlockCheck(TypedDict):
     turns_vary: bool
     residual_ratio: float
 
+class RepeatShown(TypedDict):
+    """TrackMeasurement["repeat_shown"]: how closely the period is shown to be the motion's."""
+
+    shown: Literal["closely", "by_markers", "roughly"]
+    beyond_noise: Optional[float]
+    caveat: str
+
 class TrackMeasurement(TypedDict):
     period_frames: float
     period_error_frames: float
@@ -261,6 +268,7 @@ class TrackMeasurement(TypedDict):
     folded: _Array
     warnings: List[str]
     marker_reading: NotRequired[MarkerReading]
+    repeat_shown: RepeatShown
 
 class ModelComparison(TypedDict):
     alpha: float
@@ -680,7 +688,9 @@ def measure_track(
     only with its evidence (each cycle repeats on its own, surrogates set the chance level, most
     of the track repeats), else InputError saying why. Periods and shifts are in frames. With
     markers ((N, 3): frame, down, across in cm), marker_reading says whether their pattern
-    repeats after one period or only after two, as `track --markers`."""
+    repeats after one period or only after two, as `track --markers`. repeat_shown says how
+    closely the period is shown: "roughly" where the centre varies from turn to turn beyond its
+    noise (as a chaotic motion does) and no markers repeat."""
 
 def compare_with_model(
     body: Body,

@@ -15,7 +15,7 @@ use rollphase_core::analysis::experiment::tracking::table::{
     TableError, TableFormat, TableRequest, read_table,
 };
 use rollphase_core::analysis::experiment::tracking::{
-    Folded, MAX_POSITION, TrackError, fold_centre, measure,
+    Folded, MAX_POSITION, RepeatShown, TrackError, fold_centre, measure, repeat_shown,
 };
 
 use crate::body::Body;
@@ -69,6 +69,16 @@ fn fields_into(
         }
     }
     Ok(())
+}
+
+/// How closely a track's period is shown ({"shown": "closely" | "by_markers" | "roughly",
+/// "beyond_noise": float or None, "caveat": str, empty where closely}), as summary.json's
+/// `repeat_shown` with the line `track` prints.
+fn repeat_dict(py: Python<'_>, shown: RepeatShown) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    fields_into(&d, &shown, &[])?;
+    d.set_item("caveat", shown.caveat())?;
+    Ok(d)
 }
 
 /// Most rows read from a table, as `rollphase track` reads.
@@ -177,7 +187,11 @@ pub fn read_track_table<'py>(
 /// array of frame, down, across in cm: the markers drawn on the body), also marker_reading:
 /// whether their pattern repeats after one period or only after two (MarkerReading: verdict
 /// "every_period", "every_other_period", "no_repeat" or "too_sparse", the score D1/D2, its
-/// shuffles and a reason), as `track --markers`.
+/// shuffles and a reason), as `track --markers`. repeat_shown says how closely the period is
+/// shown to be the motion's ({"shown": "closely", "by_markers" or "roughly", "beyond_noise": the
+/// mismatch over the share the frame-to-frame noise explains, "caveat": what `track` prints):
+/// a centre that varies from turn to turn beyond its noise repeats only roughly, as a chaotic
+/// motion does, unless the markers repeat.
 #[pyfunction]
 #[pyo3(signature = (frames, down, across, *, markers = None))]
 pub fn measure_track<'py>(
@@ -237,6 +251,15 @@ pub fn measure_track<'py>(
         let r = PyDict::new(py);
         fields_into(&r, &reading, &[])?;
         d.set_item("marker_reading", r)?;
+        d.set_item(
+            "repeat_shown",
+            repeat_dict(py, repeat_shown(&track, &fit, Some(&reading)))?,
+        )?;
+    } else {
+        d.set_item(
+            "repeat_shown",
+            repeat_dict(py, repeat_shown(&track, &fit, None))?,
+        )?;
     }
     d.set_item("warnings", track.warnings)?;
     Ok(d)

@@ -53,6 +53,13 @@ fn the_authors_run_gives_their_period_and_advance_without_hand_picking() {
     // period is the cycles' mean with their spread, not one frequency's fit.
     assert_eq!(s["period_error_from"], "cycles");
     assert_eq!(s["block_check"]["turns_vary"], true, "{}", s["block_check"]);
+    // The centre leaves about 4 times what its pixel noise explains unrepeated (a chaotic
+    // motion can leave as much), and the markers show the orientation repeating.
+    assert_eq!(
+        s["repeat_shown"]["shown"], "by_markers",
+        "{}",
+        s["repeat_shown"]
+    );
     assert!(
         (period - 152.24).abs() < spread,
         "{period} ± {error} (spread {spread})"
@@ -152,6 +159,12 @@ fn the_authors_run_gives_their_period_and_advance_without_hand_picking() {
         s["marker_reading"]["verdict"], "too_sparse",
         "{}",
         s["marker_reading"]
+    );
+    // Markers too sparse to tell leave the centre's rough repeat as the only evidence.
+    assert_eq!(
+        s["repeat_shown"]["shown"], "roughly",
+        "{}",
+        s["repeat_shown"]
     );
 }
 

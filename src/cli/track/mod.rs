@@ -16,8 +16,8 @@ use crate::analysis::experiment::tracking::table::{
     TableFormat, TableRequest, TrackTable, read_table,
 };
 use crate::analysis::experiment::tracking::{
-    CleanTrack, ErrorSource, Folded, PeriodFit, Significance, fold_centre, fold_on_track,
-    harmonic::BlockCheck, measure,
+    CleanTrack, ErrorSource, Folded, PeriodFit, RepeatShown, Significance, fold_centre,
+    fold_on_track, harmonic::BlockCheck, measure, repeat_shown,
 };
 use crate::geometry::ShapeFile;
 use crate::output::{self, Inputs, OutputSet};
@@ -167,6 +167,10 @@ pub struct TrackSummary {
     /// The harmonic regression's check over blocks of the track (whether its turns' times
     /// vary beyond the noise).
     pub block_check: Option<BlockCheck>,
+    /// How closely the period is shown to be the motion's: the centre repeats as closely as its
+    /// noise allows, or only roughly and the markers repeat, or only roughly (a roll whose turns
+    /// vary and a chaotic motion alike), with the mismatch over what the noise explains.
+    pub repeat_shown: RepeatShown,
     /// The period in frames.
     pub period_frames: f64,
     /// Whole periods seen.
@@ -338,6 +342,10 @@ pub fn run(mut a: TrackArgs) -> Result<()> {
     let folded_markers = fold_on_track(&track, &fit, &in_range);
     let period_s = fit.period_frames / a.rate;
     let speed = fit.advance_down / period_s;
+    let marker_reading = a
+        .markers
+        .is_some()
+        .then(|| read_markers(&track, &markers, start, fit.period_frames));
     let mut summary = TrackSummary {
         file: a.file.display().to_string(),
         fps: a.rate,
@@ -362,10 +370,8 @@ pub fn run(mut a: TrackArgs) -> Result<()> {
         speed_error_cm_s: fit.velocity.map(|(_, e)| e[0] * a.rate),
         cycle_periods_s: fit.cycle_periods.iter().map(|p| p / a.rate).collect(),
         markers: in_range.len(),
-        marker_reading: a
-            .markers
-            .is_some()
-            .then(|| read_markers(&track, &markers, start, fit.period_frames)),
+        repeat_shown: repeat_shown(&track, &fit, marker_reading.as_ref()),
+        marker_reading,
         warnings: track.warnings.clone(),
         model: None,
     };

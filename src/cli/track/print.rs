@@ -75,6 +75,10 @@ pub(super) fn print_summary(a: &TrackArgs, summary: &TrackSummary) -> Result<()>
             s.p_bound
         )?;
     }
+    let caveat = summary.repeat_shown.caveat();
+    if !caveat.is_empty() {
+        outln!("  {caveat}")?;
+    }
     outln!(
         "  per period: {} cm down the ramp, {} cm across; speed {} cm/s",
         with_error(summary.advance_down_cm, summary.advance_down_error_cm),

@@ -8,6 +8,8 @@
 //! that no period is stated that the track does not show. [`model`] sets the measurement
 //! beside the model's prediction for the same body (m/m0 and t0 found together). [`table`]
 //! reads the files trackers write (the authors' CSV, Tracker's export, trackpy's table).
+//! [`repeat_shown`] says how far a stated period is shown to be the motion's: closely, by the
+//! markers, or only roughly (a chaotic motion repeats as roughly as a roll whose turns vary).
 
 pub mod calibration;
 pub mod harmonic;
@@ -15,6 +17,7 @@ pub mod markers;
 mod mismatch;
 pub mod model;
 pub mod period;
+mod repeat;
 mod surrogates;
 pub mod table;
 
@@ -22,6 +25,7 @@ pub use period::{
     ErrorSource, MAX_MISMATCH, MIN_PERIOD_FRAMES, PeriodFit, PeriodSearch, Significance,
     find_period,
 };
+pub use repeat::{CLOSE_REPEAT_FACTOR, CLOSE_REPEAT_FLOOR, RepeatShown, repeat_shown};
 
 use serde::Serialize;
 use thiserror::Error;
