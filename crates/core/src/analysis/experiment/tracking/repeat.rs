@@ -131,7 +131,7 @@ fn noise_share(track: &CleanTrack) -> f64 {
 /// summary.json and Python's `measure_track` state, from the centre's mismatch at the period
 /// (`fit`, on `track`) against what its frame-to-frame noise explains, and, where markers were
 /// read, whether their pattern repeats (`markers`). A period is stated only where the track
-/// repeats ([`find_period`]); this says how closely. A centre that leaves more than
+/// repeats ([`super::find_period`]); this says how closely. A centre that leaves more than
 /// [`CLOSE_REPEAT_FACTOR`] times what its noise explains (and over [`CLOSE_REPEAT_FLOOR`])
 /// unrepeated varies from turn to turn smoothly, as a roll whose turns vary does and as a
 /// chaotic motion does: from the centre alone the two cannot be told apart (the authors' run
