@@ -1625,7 +1625,7 @@ fn a_speed_asked_at_the_start_shows_in_the_speed_control() {
 #[test]
 fn every_lesson_step_shows_its_plot_large_in_presentation_and_class_modes() {
     let gpu = GpuContext::headless().unwrap();
-    let mut checked = 0;
+    let (mut checked, mut overflowed) = (0, 0);
     for preset in [
         "lesson-critical-angle",
         "lesson-inertia-hysteresis",
@@ -1672,7 +1672,10 @@ fn every_lesson_step_shows_its_plot_large_in_presentation_and_class_modes() {
                     bench.sim.send(SimCommand::Pause);
                     let paused_at = Instant::now();
                     while !bench.sim.status().paused {
-                        assert!(paused_at.elapsed() < Duration::from_secs(5), "{preset}: pause");
+                        assert!(
+                            paused_at.elapsed() < Duration::from_secs(5),
+                            "{preset}: pause"
+                        );
                         std::thread::sleep(Duration::from_millis(5));
                     }
                     for _ in 0..3 {
@@ -1713,6 +1716,29 @@ fn every_lesson_step_shows_its_plot_large_in_presentation_and_class_modes() {
                         rect.height() > 0.6 * window.height(),
                         "{what}: {rect:?} is small"
                     );
+                    // Class mode keeps the controls; where they run past the window (its large
+                    // text at 1280×720), a scroll bar is drawn that a room sees without the
+                    // pointer over it (egui's own hides until hovered: the last rows were cut
+                    // at the status bar with no sign of more).
+                    if !presenting {
+                        let (shown, content) = bench.ui.controls_scroll.expect(&what);
+                        if content > shown.height() + 1.0 {
+                            overflowed += 1;
+                            // The bar's track, its height, between the controls and the 3D view
+                            // (a random body's 260-point sliders once pushed it past the panel).
+                            let track = bench.upright_bars().iter().any(|b| {
+                                b.min.x >= shown.max.x - 1.0
+                                    && b.max.x <= scene.min.x + 0.5
+                                    && b.height() >= shown.height() - 1.0
+                            });
+                            assert!(
+                                track,
+                                "{what}: no scroll bar beside the controls ({shown:?}, content \
+                                 {content}): {:?}",
+                                bench.upright_bars()
+                            );
+                        }
+                    }
                     checked += 1;
                     bench.sim.send(SimCommand::Play);
                     events = key(egui::Key::N);
@@ -1727,6 +1753,10 @@ fn every_lesson_step_shows_its_plot_large_in_presentation_and_class_modes() {
         }
     }
     assert_eq!(checked, (7 + 8 + 5) * 2 * 2);
+    assert!(
+        overflowed > 0,
+        "class mode's controls always fit: the scroll bar is untested"
+    );
 }
 
 /// Input for a `size`-pixel target at the app's zoom, as a window gives it: the screen in

@@ -537,10 +537,22 @@ impl AppUi {
         } else {
             crate::geometry::MAX_SPHERE_L
         };
-        ui.add(egui::Slider::new(&mut self.random.seed, 0..=9999).text("seed"));
-        ui.add(egui::Slider::new(&mut self.random.sigma, 0.0..=1.0).text("σ"));
+        named_slider(
+            ui,
+            "seed",
+            egui::Slider::new(&mut self.random.seed, 0..=9999),
+        );
+        named_slider(
+            ui,
+            "σ",
+            egui::Slider::new(&mut self.random.sigma, 0.0..=1.0),
+        );
         self.random.modes = self.random.modes.clamp(2, max_modes);
-        ui.add(egui::Slider::new(&mut self.random.modes, 2..=max_modes).text("modes l ≤"));
+        named_slider(
+            ui,
+            "modes l ≤",
+            egui::Slider::new(&mut self.random.modes, 2..=max_modes),
+        );
         if ui
             .button("Generate body")
             .on_hover_text("a seeded random body at the current α and m/m0")
@@ -738,41 +750,52 @@ mod body_tests {
     }
 }
 
+/// `slider` with its value box and its name (`label`) in the panel's width: where the name does
+/// not fit beside them (class mode's large text in a third of the screen) it goes above, and the
+/// slider narrows, so that neither the value nor the name is cut at the edge, and the row is
+/// never wider than the panel (the random body's sliders at the rails' 260 points made the
+/// controls 390 points wide in a 300-point panel, which pushed the scroll bar out of sight).
+pub(super) fn named_slider(
+    ui: &mut egui::Ui,
+    label: &str,
+    slider: egui::Slider<'_>,
+) -> egui::Response {
+    let spacing = ui.spacing().clone();
+    let value_box = 2.0 * spacing.interact_size.x + spacing.item_spacing.x;
+    let name_width =
+        ui.fonts_mut(|f| {
+            f.layout_no_wrap(
+                label.to_string(),
+                egui::TextStyle::Body.resolve(ui.style()),
+                egui::Color32::WHITE,
+            )
+        })
+        .size()
+        .x + spacing.item_spacing.x;
+    let room = ui.available_width() - value_box;
+    let beside = room - name_width >= spacing.slider_width.min(80.0);
+    if !beside {
+        ui.label(label);
+    }
+    ui.scope(|ui| {
+        let width = if beside { room - name_width } else { room };
+        ui.spacing_mut().slider_width = width.clamp(40.0, spacing.slider_width);
+        ui.add(if beside { slider.text(label) } else { slider })
+    })
+    .inner
+}
+
 /// One slider per parameter of the core's drag-law registry, showing the running value: a new
 /// law appears here without code for it.
 fn drag_law_ui(ui: &mut egui::Ui, law: &crate::dynamics::DragLaw, actions: &mut Vec<UiAction>) {
     for (parameter, value) in law.parameters() {
         let mut value = value;
         let label = parameter.key.replace('_', " ");
-        // The slider, its value box and its name in the panel's width: where the name does not
-        // fit beside them (class mode's large text in a third of the screen) it goes above, and
-        // the slider narrows, so that neither the value nor the name is cut at the edge.
-        let spacing = ui.spacing().clone();
-        let value_box = 2.0 * spacing.interact_size.x + spacing.item_spacing.x;
-        let name_width =
-            ui.fonts_mut(|f| {
-                f.layout_no_wrap(
-                    label.clone(),
-                    egui::TextStyle::Body.resolve(ui.style()),
-                    egui::Color32::WHITE,
-                )
-            })
-            .size()
-            .x + spacing.item_spacing.x;
-        let room = ui.available_width() - value_box;
-        let beside = room - name_width >= spacing.slider_width.min(80.0);
-        if !beside {
-            ui.label(&label);
-        }
-        let response = ui
-            .scope(|ui| {
-                let width = if beside { room - name_width } else { room };
-                ui.spacing_mut().slider_width = width.clamp(40.0, spacing.slider_width);
-                let slider =
-                    egui::Slider::new(&mut value, parameter.min..=parameter.max).logarithmic(true);
-                ui.add(if beside { slider.text(&label) } else { slider })
-            })
-            .inner;
+        let response = named_slider(
+            ui,
+            &label,
+            egui::Slider::new(&mut value, parameter.min..=parameter.max).logarithmic(true),
+        );
         if response.on_hover_text(parameter.help).changed() {
             actions.push(UiAction::Sim(SimCommand::SetDragParameter(
                 parameter.key,

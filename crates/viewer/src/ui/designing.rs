@@ -299,9 +299,11 @@ impl AppUi {
             .show(ui, |ui| {
                 self.design_targets_ui(ui, dimension);
                 let d = &mut self.design;
-                ui.horizontal(|ui| {
-                    ui.add(egui::Slider::new(&mut d.modes, 2..=8).text("modes l ≤"));
-                });
+                super::controls::named_slider(
+                    ui,
+                    "modes l ≤",
+                    egui::Slider::new(&mut d.modes, 2..=8),
+                );
                 ui.add(
                     egui::DragValue::new(&mut d.seed)
                         .range(0..=u64::from(u32::MAX))

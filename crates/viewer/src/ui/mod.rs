@@ -125,6 +125,10 @@ pub struct AppUi {
     /// Where the lesson's plot is drawn large (presentation and class modes), in points, and
     /// its text size in pixels (set by [`Self::show`]; `None` when it is not shown).
     pub lesson_plot_rect: Option<(egui::Rect, f32)>,
+    /// The controls' scroll area as the last frame laid it out: the rectangle it shows, in
+    /// points, and the height of what it holds (more than the rectangle's where the controls
+    /// run past the window, and then its scroll bar is drawn); `None` with the controls hidden.
+    pub controls_scroll: Option<(egui::Rect, f32)>,
     /// A recording in progress (set by the app).
     pub recording: Option<RecordProgress>,
     /// The Poincaré field's state, when it is not simply shown (set by the painter).
@@ -222,6 +226,7 @@ impl AppUi {
             class_on_start: false,
             scene_rect: None,
             lesson_plot_rect: None,
+            controls_scroll: None,
             recording: None,
             field_note: None,
             fps: None,
@@ -663,6 +668,7 @@ impl AppUi {
             // Outermost at the bottom, so no panel or plot hides it.
             egui::Panel::bottom("status").show(ui, |ui| self.status_bar_ui(ui, status));
         }
+        self.controls_scroll = None;
         if self.show_controls {
             // A floor on the width: after the window shrank (or a 4K detour) the panel comes back
             // to a usable width instead of staying as narrow as the small window forced it.
@@ -679,12 +685,17 @@ impl AppUi {
                 .min_size(280.0)
                 .max_size(widest)
                 .show(ui, |ui| {
-                    egui::ScrollArea::vertical().show(ui, |ui| {
+                    ui.spacing_mut().scroll = controls_scroll_style();
+                    // Its rows must fit the panel (`controls::named_slider`): a vertical scroll
+                    // area is as wide as its widest row, and past the panel's edge its bar is
+                    // drawn out of sight.
+                    let shown = egui::ScrollArea::vertical().show(ui, |ui| {
                         // Every label wraps at the panel's edge rather than running past it
                         // (class mode's large text in a third of the screen cut them).
                         ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Wrap);
                         self.controls_ui(ui, status, &mut actions);
                     });
+                    self.controls_scroll = Some((shown.inner_rect, shown.content_size.y));
                 });
         }
         // The plot a lesson step talks about, large beside the 3D view, in presentation and
@@ -869,5 +880,21 @@ mod tests {
             let c = paused_badge_corner(scene, &one[1..], ppp, 45.0);
             assert_eq!(c, scene.max - egui::vec2(12.0, 12.0));
         }
+    }
+}
+
+/// The controls' scroll bar: drawn whether or not the pointer is over the controls, and beside
+/// them rather than over them. egui's own styles, `solid()` as well as `floating()`, draw a bar
+/// only while the pointer is over its area (their dormant opacity is 0), so in class mode the
+/// last rows were cut at the status bar with no sign of more below; a room sees this one, and a
+/// teacher can grab it.
+fn controls_scroll_style() -> egui::style::ScrollStyle {
+    egui::style::ScrollStyle {
+        bar_width: 10.0,
+        dormant_background_opacity: 0.4,
+        dormant_handle_opacity: 0.8,
+        active_background_opacity: 0.5,
+        active_handle_opacity: 0.9,
+        ..egui::style::ScrollStyle::solid()
     }
 }

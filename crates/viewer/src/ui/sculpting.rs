@@ -386,14 +386,15 @@ impl AppUi {
         if !self.sculpt.on {
             return;
         }
-        ui.add(
-            egui::Slider::new(&mut self.sculpt.width, MIN_STROKE_WIDTH..=MAX_STROKE_WIDTH)
-                .text("width (rad)"),
+        super::controls::named_slider(
+            ui,
+            "width (rad)",
+            egui::Slider::new(&mut self.sculpt.width, MIN_STROKE_WIDTH..=MAX_STROKE_WIDTH),
         );
-        ui.add(
-            egui::Slider::new(&mut self.sculpt.depth, 0.001..=MAX_STROKE_HEIGHT)
-                .logarithmic(true)
-                .text("depth (× mean r)"),
+        super::controls::named_slider(
+            ui,
+            "depth (× mean r)",
+            egui::Slider::new(&mut self.sculpt.depth, 0.001..=MAX_STROKE_HEIGHT).logarithmic(true),
         );
         ui.horizontal(|ui| {
             let (undo, redo) = self

@@ -93,6 +93,7 @@ pub struct Workbench {
     render_scale: RenderScale,
     /// The texts the last frame cut at the side of the area they are drawn in.
     cut_texts: Vec<String>,
+    upright_bars: Vec<egui::Rect>,
 }
 
 impl Workbench {
@@ -120,6 +121,7 @@ impl Workbench {
             textures: egui::TexturesDelta::default(),
             frame_times: Default::default(),
             cut_texts: Vec::new(),
+            upright_bars: Vec::new(),
             render_scale: RenderScale::new(RenderScaleMode::Auto, false),
         })
     }
@@ -211,6 +213,7 @@ impl Workbench {
         };
         self.textures.append(output.textures_delta);
         self.cut_texts = texts_cut_at_the_side(&output.shapes);
+        self.upright_bars = upright_bars(&output.shapes);
         let pixels_per_point = output.pixels_per_point;
         let primitives = self.ctx.tessellate(output.shapes, pixels_per_point);
         let scene_rect = self
@@ -329,6 +332,13 @@ impl Workbench {
     /// of every mode and size; texts cut at the top or bottom are a scroll area's, by design.
     pub fn texts_cut(&self) -> &[String] {
         &self.cut_texts
+    }
+
+    /// The filled rectangles the last frame drew at most 14 points wide and at least 20 tall,
+    /// where they show on screen (within their clip): a vertical scroll bar's track and handle.
+    /// What a layout test asks to see a scroll bar drawn beside content that runs past it.
+    pub fn upright_bars(&self) -> &[egui::Rect] {
+        &self.upright_bars
     }
 
     /// How many meshes the 3D renderer holds: the running scene's, however many were loaded.
@@ -461,6 +471,28 @@ fn texts_cut_at_the_side(shapes: &[egui::epaint::ClippedShape]) -> Vec<String> {
         visit(&clipped.shape, clipped.clip_rect, &mut cut);
     }
     cut
+}
+
+/// The filled, visible rectangles among `shapes` at most 14 points wide and at least 20 tall,
+/// cut to their clip rectangle.
+fn upright_bars(shapes: &[egui::epaint::ClippedShape]) -> Vec<egui::Rect> {
+    fn visit(shape: &egui::Shape, clip: egui::Rect, bars: &mut Vec<egui::Rect>) {
+        match shape {
+            egui::Shape::Rect(r) if r.fill.a() > 0 => {
+                let shown = r.rect.intersect(clip);
+                if shown.is_positive() && shown.width() <= 14.0 && shown.height() >= 20.0 {
+                    bars.push(shown);
+                }
+            }
+            egui::Shape::Vec(shapes) => shapes.iter().for_each(|s| visit(s, clip, bars)),
+            _ => {}
+        }
+    }
+    let mut bars = Vec::new();
+    for clipped in shapes {
+        visit(&clipped.shape, clipped.clip_rect, &mut bars);
+    }
+    bars
 }
 
 impl Drop for Workbench {
