@@ -246,6 +246,7 @@ class RepeatShown(TypedDict):
 
     shown: Literal["closely", "by_markers", "roughly"]
     beyond_noise: Optional[float]
+    after: NotRequired[int]
     caveat: str
 
 class TrackMeasurement(TypedDict):

@@ -72,7 +72,8 @@ fn fields_into(
 }
 
 /// How closely a track's period is shown ({"shown": "closely" | "by_markers" | "roughly",
-/// "beyond_noise": float or None, "caveat": str, empty where closely}), as summary.json's
+/// "beyond_noise": float or None, with "by_markers" "after": 1 or 2 periods, "caveat": str,
+/// empty where closely}), as summary.json's
 /// `repeat_shown` with the line `track` prints.
 fn repeat_dict(py: Python<'_>, shown: RepeatShown) -> PyResult<Bound<'_, PyDict>> {
     let d = PyDict::new(py);
@@ -221,6 +222,9 @@ pub fn measure_track<'py>(
     );
     let (track, fit) =
         interruptible(py, |_| measure(&frames, &down, &across, &|_, _| {}))?.map_err(raise)?;
+    let rows: Vec<(f64, f64, f64)> = (0..frames.len().min(down.len()).min(across.len()))
+        .map(|i| (frames[i], down[i], across[i]))
+        .collect();
     let d = PyDict::new(py);
     fields_into(&d, &fit, &["mismatch_curve", "cycle_periods"])?;
     d.set_item(
@@ -253,12 +257,12 @@ pub fn measure_track<'py>(
         d.set_item("marker_reading", r)?;
         d.set_item(
             "repeat_shown",
-            repeat_dict(py, repeat_shown(&track, &fit, Some(&reading)))?,
+            repeat_dict(py, repeat_shown(&rows, &track, &fit, Some(&reading)))?,
         )?;
     } else {
         d.set_item(
             "repeat_shown",
-            repeat_dict(py, repeat_shown(&track, &fit, None))?,
+            repeat_dict(py, repeat_shown(&rows, &track, &fit, None))?,
         )?;
     }
     d.set_item("warnings", track.warnings)?;

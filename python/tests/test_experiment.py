@@ -213,11 +213,12 @@ def test_the_markers_read_as_the_command_line_reads_them(repo, cli, tmp_path):
     cli("track", repo / TRACK, "--markers", repo / "assets/data/sphere-markers-viscous.csv", "--out", out)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["marker_reading"] == reading
-    # The centre alone repeats only roughly (4 times what its noise explains, as a chaotic
+    # The centre alone repeats only roughly (6.8 times what its noise explains, as a chaotic
     # motion can); the markers show the orientation repeating. The same decision as `track`'s.
     shown = fit["repeat_shown"]
     assert shown["shown"] == "by_markers"
-    assert {k: shown[k] for k in ("shown", "beyond_noise")} == summary["repeat_shown"]
+    assert shown["after"] == 1
+    assert {k: shown[k] for k in ("shown", "beyond_noise", "after")} == summary["repeat_shown"]
     alone = rollphase.measure_track(*authors_track(repo))
     assert "marker_reading" not in alone
     assert alone["repeat_shown"]["shown"] == "roughly"

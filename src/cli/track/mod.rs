@@ -51,7 +51,10 @@ use print::print_summary;
 /// whether the markers' pattern (each detection's offset from the centre) repeats after one
 /// period or only after two (period doubling), with a score D1/D2 and its confidence against
 /// 19 shuffles of the cycles and 19 unrelated phases, or that they are too sparse to tell
-/// (summary.json: marker_reading). The period is stated only
+/// (summary.json: marker_reading). Under the period it says how closely it is shown
+/// (summary.json: repeat_shown): where the centre leaves more unrepeated than 3 times its white
+/// frame-to-frame noise explains, only roughly, as a roll whose turns vary and a chaotic motion
+/// both repeat, unless the markers repeat. The period is stated only
 /// when every cycle repeats on its own and the track repeats beyond chance (19 surrogate tracks
 /// with its smoothed spectrum and random phases); otherwise the command says why, writes
 /// refused.png (the track and its mismatch at every shift) and exits 1.
@@ -304,6 +307,9 @@ pub fn run(mut a: TrackArgs) -> Result<()> {
     let down: Vec<f64> = rows.iter().map(|r| r[2] * sy).collect();
     let across: Vec<f64> = rows.iter().map(|r| r[1] * sx).collect();
     let (track, fit) = measure_or_show_why(&a, (&frames, &down, &across), &inputs)?;
+    let measured_rows: Vec<(f64, f64, f64)> = (0..frames.len())
+        .map(|i| (frames[i], down[i], across[i]))
+        .collect();
     for w in &track.warnings {
         eprintln!("warning: {w}");
     }
@@ -370,7 +376,7 @@ pub fn run(mut a: TrackArgs) -> Result<()> {
         speed_error_cm_s: fit.velocity.map(|(_, e)| e[0] * a.rate),
         cycle_periods_s: fit.cycle_periods.iter().map(|p| p / a.rate).collect(),
         markers: in_range.len(),
-        repeat_shown: repeat_shown(&track, &fit, marker_reading.as_ref()),
+        repeat_shown: repeat_shown(&measured_rows, &track, &fit, marker_reading.as_ref()),
         marker_reading,
         warnings: track.warnings.clone(),
         model: None,

@@ -848,6 +848,22 @@ pub(crate) fn paused_badge_corner(
     scene.min + egui::vec2(right, scene.height() - MARGIN)
 }
 
+/// The controls' scroll bar: drawn whether or not the pointer is over the controls, and beside
+/// them rather than over them. egui's own styles, `solid()` as well as `floating()`, draw a bar
+/// only while the pointer is over its area (their dormant opacity is 0), so in class mode the
+/// last rows were cut at the status bar with no sign of more below; a room sees this one, and a
+/// teacher can grab it.
+fn controls_scroll_style() -> egui::style::ScrollStyle {
+    egui::style::ScrollStyle {
+        bar_width: 10.0,
+        dormant_background_opacity: 0.4,
+        dormant_handle_opacity: 0.8,
+        active_background_opacity: 0.5,
+        active_handle_opacity: 0.9,
+        ..egui::style::ScrollStyle::solid()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::paused_badge_corner;
@@ -880,21 +896,5 @@ mod tests {
             let c = paused_badge_corner(scene, &one[1..], ppp, 45.0);
             assert_eq!(c, scene.max - egui::vec2(12.0, 12.0));
         }
-    }
-}
-
-/// The controls' scroll bar: drawn whether or not the pointer is over the controls, and beside
-/// them rather than over them. egui's own styles, `solid()` as well as `floating()`, draw a bar
-/// only while the pointer is over its area (their dormant opacity is 0), so in class mode the
-/// last rows were cut at the status bar with no sign of more below; a room sees this one, and a
-/// teacher can grab it.
-fn controls_scroll_style() -> egui::style::ScrollStyle {
-    egui::style::ScrollStyle {
-        bar_width: 10.0,
-        dormant_background_opacity: 0.4,
-        dormant_handle_opacity: 0.8,
-        active_background_opacity: 0.5,
-        active_handle_opacity: 0.9,
-        ..egui::style::ScrollStyle::solid()
     }
 }

@@ -10,10 +10,11 @@ use super::{CleanTrack, PeriodFit, markers};
 
 /// How many times the share of a track's variation that its frame-to-frame noise explains its
 /// mismatch at the period may be, for the centre to repeat closely ([`repeat_shown`]). Tracks of
-/// known period with white noise of 5–50 % of the wobble leave 0.8–1.03 times it from 17 frames
-/// a period up (0.05–0.9 below, where the third differences count some of the motion as noise);
-/// the authors' viscous run leaves 4 times it, the chaotic Rössler attractor (a = b = 0.2,
-/// c = 5 and 5.7, 29 frames a turn, 0.1 % noise) about 1,900 times (2026-12-03).
+/// known period with white noise of 5–50 % of the wobble leave 0.76–1.05 times it from 17 frames
+/// a period up (0.04–0.9 below, where the third differences count some of the motion as noise);
+/// the authors' viscous run leaves 6.8 times it, the chaotic Rössler attractor (a = b = 0.2,
+/// c = 5 and 5.7, 29 frames a turn, 0.1 % noise) 5,100–9,900 times (2026-12-03). Noise a
+/// tracker smooths is read as less than it is: an AR(1) noise with ρ = 0.8 leaves 7.9 times.
 pub const CLOSE_REPEAT_FACTOR: f64 = 3.0;
 /// A mismatch at the period under which the centre repeats closely whatever its noise: a track
 /// that repeats to 0.1 % of its variation is periodic for every purpose a period serves.
@@ -26,7 +27,8 @@ pub enum RepeatShown {
     /// The centre repeats as closely as its frame-to-frame noise allows.
     Closely {
         /// The mismatch at the period over the share of the variation the noise explains;
-        /// null for a track without frame-to-frame noise.
+        /// null where the noise cannot be read (too few runs of evenly spaced measured frames,
+        /// or none varies).
         beyond_noise: Option<f64>,
     },
     /// The centre leaves more unrepeated than its noise explains, but the markers on the body
@@ -34,6 +36,9 @@ pub enum RepeatShown {
     ByMarkers {
         /// As in `Closely`.
         beyond_noise: Option<f64>,
+        /// Periods after which the markers repeat: 1, or 2 where the body's orientation repeats
+        /// every other period (period doubling).
+        after: usize,
     },
     /// The centre leaves more unrepeated than its noise explains, and no markers show the
     /// orientation repeating: the period is the track's mean repeat, which a periodic roll
@@ -50,7 +55,7 @@ impl RepeatShown {
     /// # Example
     /// ```
     /// use rollphase_core::analysis::experiment::tracking::RepeatShown;
-    /// assert_eq!(RepeatShown::ByMarkers { beyond_noise: Some(9.0) }.name(), "by_markers");
+    /// assert_eq!(RepeatShown::ByMarkers { beyond_noise: Some(9.0), after: 1 }.name(), "by_markers");
     /// ```
     pub fn name(self) -> &'static str {
         match self {
@@ -67,35 +72,76 @@ impl RepeatShown {
     /// use rollphase_core::analysis::experiment::tracking::RepeatShown;
     /// assert!(RepeatShown::Roughly { beyond_noise: Some(12.0) }.caveat().contains("chaotic"));
     /// assert!(RepeatShown::Closely { beyond_noise: Some(1.0) }.caveat().is_empty());
+    /// let doubled = RepeatShown::ByMarkers { beyond_noise: Some(5.0), after: 2 };
+    /// assert!(doubled.caveat().contains("every 2 periods"));
     /// ```
     pub fn caveat(self) -> String {
         let beyond = |b: Option<f64>| match b {
-            Some(b) => {
-                format!("{b:.0} times as much unrepeated as its frame-to-frame noise explains")
-            }
-            None => "more unrepeated than a track without frame-to-frame noise should".to_string(),
+            Some(b) => format!(
+                "leaves {b:.1} times as much unrepeated as white frame-to-frame noise would \
+                 (over {CLOSE_REPEAT_FACTOR} is beyond it)"
+            ),
+            None => format!(
+                "leaves over {CLOSE_REPEAT_FLOOR} of its variation unrepeated, and its \
+                 frame-to-frame noise cannot be read (under {MIN_NOISE_RUNS} runs of four evenly \
+                 spaced measured frames, or none varies), so how much of that is noise is not \
+                 shown"
+            ),
         };
+        let markers = "markers on the body (--markers) can show whether its orientation repeats";
         match self {
             RepeatShown::Closely { .. } => String::new(),
-            RepeatShown::ByMarkers { beyond_noise } => format!(
-                "the centre leaves {}, but the markers repeat: the body's orientation repeats too",
+            RepeatShown::ByMarkers {
+                beyond_noise,
+                after: 1,
+            } => format!(
+                "the centre {}, but the markers repeat every period: the body's orientation \
+                 repeats too",
                 beyond(beyond_noise)
             ),
-            RepeatShown::Roughly { beyond_noise } => format!(
-                "the centre repeats only roughly: it leaves {}, so the period is its mean repeat, \
-                 which a periodic roll whose turns vary and a chaotic motion both have; markers \
-                 on the body (--markers) can show whether its orientation repeats",
+            RepeatShown::ByMarkers {
+                beyond_noise,
+                after,
+            } => format!(
+                "the centre {}, but the markers repeat every {after} periods: the body's \
+                 orientation repeats after {after} periods (period doubling), not after one",
                 beyond(beyond_noise)
+            ),
+            RepeatShown::Roughly {
+                beyond_noise: Some(b),
+            } => format!(
+                "the centre repeats only roughly: it {}, so the period is its mean repeat: its \
+                 turns differ beyond the noise, as those of a roll whose turns vary and of a \
+                 chaotic motion both do, or its tracker smooths the noise; {markers}",
+                beyond(Some(b))
+            ),
+            RepeatShown::Roughly { beyond_noise: None } => format!(
+                "how closely the centre repeats is not shown: it {}; {markers}",
+                beyond(None)
             ),
         }
     }
 }
 
-/// The share of the track's variation (about its least-squares line, down and across) that
-/// white noise of each frame's position explains: the noise's variance, from the third
-/// differences of consecutive frames (20 σ² for white noise, while a motion of 8 frames or more
-/// a turn leaves under 6 % of its own variance there), over the variation.
-fn noise_share(track: &CleanTrack) -> f64 {
+/// The widest even spacing of frames (a track filmed every other frame, say) the noise is read
+/// over.
+const MAX_NOISE_STEP: usize = 4;
+/// Runs of four evenly spaced measured frames needed to read the noise.
+const MIN_NOISE_RUNS: usize = 20;
+
+/// The median of a χ² variable with one degree of freedom: a Gaussian's squared values have
+/// this median over their variance.
+const CHI2_1_MEDIAN: f64 = 0.454_936_423_119_572_8;
+
+/// The share of the track's variation (`track`, about its least-squares line, down and across)
+/// that white noise of each measured position explains. The noise's variance comes from the
+/// third differences of measured positions at four evenly spaced frames (`measured`: the rows
+/// as read, frame, down, across; frames within the track's stretch, one to
+/// [`MAX_NOISE_STEP`] apart): 20 σ² for white noise, while a motion of 8 steps or more a turn
+/// leaves little there. Bridged gaps carry no noise and are left out; the median of the squared
+/// differences (over its χ²₁ value) stands for their mean, so a few tracker glitches do not pass
+/// for noise. `None` under [`MIN_NOISE_RUNS`] such runs, or where nothing varies.
+fn noise_share(measured: &[(f64, f64, f64)], track: &CleanTrack) -> Option<f64> {
     let spread = |v: &[f64]| {
         let n = v.len() as f64;
         let (mx, my) = ((n - 1.0) / 2.0, v.iter().sum::<f64>() / n);
@@ -106,31 +152,50 @@ fn noise_share(track: &CleanTrack) -> f64 {
             .map(|(i, y)| (i as f64 - mx) * (y - my))
             .sum();
         let b = if sxx > 0.0 { sxy / sxx } else { 0.0 };
-        let variance = v
-            .iter()
+        v.iter()
             .enumerate()
             .map(|(i, y)| (y - my - b * (i as f64 - mx)).powi(2))
             .sum::<f64>()
-            / n;
-        let third: Vec<f64> = v
-            .windows(4)
-            .map(|w| w[3] - 3.0 * w[2] + 3.0 * w[1] - w[0])
-            .collect();
-        let noise = third.iter().map(|d| d * d).sum::<f64>() / (20.0 * third.len().max(1) as f64);
-        (noise, variance)
+            / n
     };
-    let ((nd, vd), (na, va)) = (spread(&track.down), spread(&track.across));
-    if vd + va > 0.0 {
-        (nd + na) / (vd + va)
-    } else {
-        0.0
+    let (first, last) = match (track.frames.first(), track.frames.last()) {
+        (Some(&a), Some(&b)) => (a, b),
+        _ => return None,
+    };
+    let rows: Vec<&(f64, f64, f64)> = measured
+        .iter()
+        .filter(|r| r.0 >= first && r.0 <= last && r.1.is_finite() && r.2.is_finite())
+        .collect();
+    let (mut down, mut across) = (Vec::new(), Vec::new());
+    for w in rows.windows(4) {
+        let step = w[1].0 - w[0].0;
+        let even = (1..=MAX_NOISE_STEP).any(|h| step == h as f64)
+            && (2..4).all(|k| w[k].0 - w[k - 1].0 == step);
+        if even {
+            let third =
+                |c: fn(&(f64, f64, f64)) -> f64| c(w[3]) - 3.0 * c(w[2]) + 3.0 * c(w[1]) - c(w[0]);
+            down.push(third(|r| r.1).powi(2));
+            across.push(third(|r| r.2).powi(2));
+        }
     }
+    if down.len() < MIN_NOISE_RUNS {
+        return None;
+    }
+    let noise = |mut d: Vec<f64>| {
+        let mid = d.len() / 2;
+        let (_, median, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
+        *median / (20.0 * CHI2_1_MEDIAN)
+    };
+    let variance = spread(&track.down) + spread(&track.across);
+    let share = (noise(down) + noise(across)) / variance;
+    (share > 0.0 && share.is_finite()).then_some(share)
 }
 
 /// What a track's period shows of the motion repeating: the one decision `track`, its
 /// summary.json and Python's `measure_track` state, from the centre's mismatch at the period
-/// (`fit`, on `track`) against what its frame-to-frame noise explains, and, where markers were
-/// read, whether their pattern repeats (`markers`). A period is stated only where the track
+/// (`fit`, on `track`) against what its frame-to-frame noise explains (read from `measured`, the
+/// rows as given: frame, down, across), and, where markers were read, whether their pattern
+/// repeats (`markers`). A period is stated only where the track
 /// repeats ([`super::find_period`]); this says how closely. A centre that leaves more than
 /// [`CLOSE_REPEAT_FACTOR`] times what its noise explains (and over [`CLOSE_REPEAT_FLOOR`])
 /// unrepeated varies from turn to turn smoothly, as a roll whose turns vary does and as a
@@ -146,7 +211,8 @@ fn noise_share(track: &CleanTrack) -> f64 {
 /// let across: Vec<f64> = frames.iter().map(|&f| (w * f).cos()).collect();
 /// let down: Vec<f64> = frames.iter().map(|&f| 0.1 * f + (w * f).sin()).collect();
 /// let (track, fit) = measure(&frames, &down, &across, &|_, _| {})?;
-/// assert_eq!(repeat_shown(&track, &fit, None).name(), "closely");
+/// let rows: Vec<(f64, f64, f64)> = (0..1200).map(|i| (frames[i], down[i], across[i])).collect();
+/// assert_eq!(repeat_shown(&rows, &track, &fit, None).name(), "closely");
 /// // Each turn's size drawn by a logistic map in its chaotic range (and eased from turn to
 /// // turn): the turns repeat one by one well enough for a period, but only roughly.
 /// let mut x = 0.3f64;
@@ -158,21 +224,30 @@ fn noise_share(track: &CleanTrack) -> f64 {
 /// let across: Vec<f64> = frames.iter().map(|&f| s(f) * (w * f).cos()).collect();
 /// let down: Vec<f64> = frames.iter().map(|&f| 0.1 * f + s(f) * (w * f).sin()).collect();
 /// let (track, fit) = measure(&frames, &down, &across, &|_, _| {})?;
-/// assert_eq!(repeat_shown(&track, &fit, None).name(), "roughly");
+/// let rows: Vec<(f64, f64, f64)> = (0..1200).map(|i| (frames[i], down[i], across[i])).collect();
+/// assert_eq!(repeat_shown(&rows, &track, &fit, None).name(), "roughly");
 /// # Ok::<(), rollphase_core::analysis::experiment::tracking::TrackError>(())
 /// ```
 pub fn repeat_shown(
+    measured: &[(f64, f64, f64)],
     track: &CleanTrack,
     fit: &PeriodFit,
     markers: Option<&markers::MarkerReading>,
 ) -> RepeatShown {
     use markers::MarkerVerdict::{EveryOtherPeriod, EveryPeriod};
-    let noise = noise_share(track);
-    let beyond_noise = (noise > 0.0).then(|| fit.mismatch / noise);
-    if fit.mismatch <= CLOSE_REPEAT_FLOOR.max(CLOSE_REPEAT_FACTOR * noise) {
+    let noise = noise_share(measured, track);
+    let beyond_noise = noise.map(|noise| fit.mismatch / noise);
+    if fit.mismatch <= CLOSE_REPEAT_FLOOR.max(CLOSE_REPEAT_FACTOR * noise.unwrap_or(0.0)) {
         RepeatShown::Closely { beyond_noise }
-    } else if markers.is_some_and(|m| matches!(m.verdict, EveryPeriod | EveryOtherPeriod)) {
-        RepeatShown::ByMarkers { beyond_noise }
+    } else if let Some(after) = markers.and_then(|m| match m.verdict {
+        EveryPeriod => Some(1),
+        EveryOtherPeriod => Some(2),
+        _ => None,
+    }) {
+        RepeatShown::ByMarkers {
+            beyond_noise,
+            after,
+        }
     } else {
         RepeatShown::Roughly { beyond_noise }
     }
