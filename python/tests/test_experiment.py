@@ -213,7 +213,7 @@ def test_the_markers_read_as_the_command_line_reads_them(repo, cli, tmp_path):
     cli("track", repo / TRACK, "--markers", repo / "assets/data/sphere-markers-viscous.csv", "--out", out)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["marker_reading"] == reading
-    # The centre alone repeats only roughly (6.8 times what its noise explains, as a chaotic
+    # The centre alone repeats only roughly (5.8 times what its noise explains, as a chaotic
     # motion can); the markers show the orientation repeating. The same decision as `track`'s.
     shown = fit["repeat_shown"]
     assert shown["shown"] == "by_markers"

@@ -53,7 +53,7 @@ fn the_authors_run_gives_their_period_and_advance_without_hand_picking() {
     // period is the cycles' mean with their spread, not one frequency's fit.
     assert_eq!(s["period_error_from"], "cycles");
     assert_eq!(s["block_check"]["turns_vary"], true, "{}", s["block_check"]);
-    // The centre leaves 6.8 times what its pixel noise explains unrepeated (a chaotic motion
+    // The centre leaves 5.8 times what its pixel noise explains unrepeated (a chaotic motion
     // can leave as much), and the markers show the orientation repeating every period.
     assert_eq!(
         s["repeat_shown"]["shown"], "by_markers",

@@ -190,7 +190,8 @@ fn bridged_pieces(rows: &[(usize, f64, f64, f64)]) -> (Vec<Piece>, usize) {
 /// Cleans a raw track: rows with a non-finite value dropped, gaps of up to
 /// [`MAX_BRIDGED_GAP`] frames bridged by cubics through the two measured frames on each side
 /// (a longer gap splits it: the longest piece is kept),
-/// jumps (a point ten median steps from the median of its four nearest neighbours) replaced by
+/// jumps (a point ten median steps, or ten of the positions' smallest step where that is larger,
+/// from the median of its four nearest neighbours) replaced by
 /// straight lines between good points.
 ///
 /// # Example
@@ -292,7 +293,18 @@ pub fn clean(frames: &[f64], down: &[f64], across: &[f64]) -> Result<CleanTrack,
         .map(|i| (dn[i] - dn[i - 1]).hypot(ac[i] - ac[i - 1]))
         .collect();
     steps.sort_by(f64::total_cmp);
-    let median_step = steps[steps.len() / 2].max(1e-12);
+    // A tracker that writes whole pixels moves a slow body by 0 or 1 of them a frame: the
+    // median step is then 0, and every step of one pixel was called a jump (a 3-pixel wobble
+    // was refused as "the tracker lost the body too often", a helper's finding). The smallest
+    // step the positions take, their quantum, is the least scale.
+    let quantum = [&dn, &ac]
+        .iter()
+        .flat_map(|v| v.windows(2).map(|w| (w[1] - w[0]).abs()))
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let median_step = steps[steps.len() / 2]
+        .max(if quantum.is_finite() { quantum } else { 0.0 })
+        .max(1e-12);
     // Each point against the median of its four nearest neighbours, which one bad point
     // cannot move.
     let median4 = |v: &[f64], i: usize| {

@@ -10,11 +10,11 @@ use super::{CleanTrack, PeriodFit, markers};
 
 /// How many times the share of a track's variation that its frame-to-frame noise explains its
 /// mismatch at the period may be, for the centre to repeat closely ([`repeat_shown`]). Tracks of
-/// known period with white noise of 5–50 % of the wobble leave 0.76–1.05 times it from 17 frames
-/// a period up (0.04–0.9 below, where the third differences count some of the motion as noise);
-/// the authors' viscous run leaves 6.8 times it, the chaotic Rössler attractor (a = b = 0.2,
-/// c = 5 and 5.7, 29 frames a turn, 0.1 % noise) 5,100–9,900 times (2026-12-03). Noise a
-/// tracker smooths is read as less than it is: an AR(1) noise with ρ = 0.8 leaves 7.9 times.
+/// known period with white noise of 5–50 % of the wobble leave 0.75–1.06 times it from 17 frames
+/// a period up (0.04–0.89 below, where the third differences count some of the motion as noise);
+/// the authors' viscous run leaves 5.8 times it, the chaotic Rössler attractor (a = b = 0.2,
+/// c = 5 and 5.7, 29 frames a turn, 0.1 % noise) 4,900–9,300 times (2026-12-03). Noise a
+/// tracker smooths is read as less than it is: an AR(1) noise with ρ = 0.8 leaves 8.1 times.
 pub const CLOSE_REPEAT_FACTOR: f64 = 3.0;
 /// A mismatch at the period under which the centre repeats closely whatever its noise: a track
 /// that repeats to 0.1 % of its variation is periodic for every purpose a period serves.
@@ -129,18 +129,23 @@ const MAX_NOISE_STEP: usize = 4;
 /// Runs of four evenly spaced measured frames needed to read the noise.
 const MIN_NOISE_RUNS: usize = 20;
 
-/// The median of a χ² variable with one degree of freedom: a Gaussian's squared values have
-/// this median over their variance.
-const CHI2_1_MEDIAN: f64 = 0.454_936_423_119_572_8;
+/// The share of the smallest squared third differences whose mean is the noise's: the largest
+/// fifth (a tracker's glitches: a bad frame spoils four differences) are left out.
+const NOISE_KEPT: f64 = 0.8;
+/// The mean of a χ² variable with one degree of freedom below its [`NOISE_KEPT`] quantile
+/// q = 1.281552² (its mean over all is 1): E[X; X < q] = P(χ²₃ < q) for χ²₁, so this is
+/// (0.8 − √(2q/π)·e^(−q/2))/0.8.
+const CHI2_1_KEPT_MEAN: f64 = 0.437_725;
 
 /// The share of the track's variation (`track`, about its least-squares line, down and across)
 /// that white noise of each measured position explains. The noise's variance comes from the
 /// third differences of measured positions at four evenly spaced frames (`measured`: the rows
 /// as read, frame, down, across; frames within the track's stretch, one to
 /// [`MAX_NOISE_STEP`] apart): 20 σ² for white noise, while a motion of 8 steps or more a turn
-/// leaves little there. Bridged gaps carry no noise and are left out; the median of the squared
-/// differences (over its χ²₁ value) stands for their mean, so a few tracker glitches do not pass
-/// for noise. `None` under [`MIN_NOISE_RUNS`] such runs, or where nothing varies.
+/// leaves little there. Bridged gaps carry no noise and are left out; the mean of the smallest
+/// [`NOISE_KEPT`] of the squared differences (over its χ²₁ value) stands for the mean of all,
+/// so a few tracker glitches do not pass for noise, while a tracker's whole pixels, which leave
+/// most differences 0, still read as noise. `None` under [`MIN_NOISE_RUNS`] such runs, or where nothing varies.
 fn noise_share(measured: &[(f64, f64, f64)], track: &CleanTrack) -> Option<f64> {
     let spread = |v: &[f64]| {
         let n = v.len() as f64;
@@ -182,9 +187,9 @@ fn noise_share(measured: &[(f64, f64, f64)], track: &CleanTrack) -> Option<f64> 
         return None;
     }
     let noise = |mut d: Vec<f64>| {
-        let mid = d.len() / 2;
-        let (_, median, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
-        *median / (20.0 * CHI2_1_MEDIAN)
+        d.sort_by(f64::total_cmp);
+        let kept = ((NOISE_KEPT * d.len() as f64) as usize).max(1);
+        d[..kept].iter().sum::<f64>() / kept as f64 / (20.0 * CHI2_1_KEPT_MEAN)
     };
     let variance = spread(&track.down) + spread(&track.across);
     let share = (noise(down) + noise(across)) / variance;
