@@ -734,7 +734,7 @@ fn rossler(c: f64, frames: usize, seed: u64) -> CleanTrack {
 /// track never gets a period"). The phase-coherent Rössler attractor (c = 5 and 5.7) passes every
 /// test of a repeat: each cycle repeats on its own with a mismatch of 0.14 and 0.24 (the authors'
 /// viscous run leaves 0.24) and the surrogates reach 0.71–0.75. Its period, the mean turn, is
-/// stated "only roughly": the centre leaves about 2,000 times as much unrepeated as its noise
+/// stated "only roughly": the centre leaves 4,900–9,300 times as much unrepeated as its noise
 /// explains. Its periodic windows (c = 2.5, period 1; c = 4, period 4) and noisy periodic
 /// tracks from 7.3 to 177.7 frames a period (noise 5 % to 50 % of the wobble) repeat closely.
 #[test]
