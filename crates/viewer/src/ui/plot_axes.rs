@@ -98,9 +98,40 @@ pub fn tick_label(mark: GridMark, _range: &std::ops::RangeInclusive<f64>) -> Str
     format!("{:.*}", decimals.min(12), mark.value)
 }
 
+/// [`tick_label`] for an axis of a quantity that is never negative (1/T): no number below 0.
+/// The plot's margin draws a little of the axis below 0 so that a halted body's point (1/T = 0)
+/// shows whole; its tick read "-0.001" on a projected lesson, a rate no body has.
+pub fn rate_tick_label(mark: GridMark, range: &std::ops::RangeInclusive<f64>) -> String {
+    // A tick at 0 computed as -1e-18 is 0, not "-0.000".
+    let tiny = 1e-9 * mark.step_size.abs();
+    if mark.value < -tiny {
+        String::new()
+    } else {
+        let value = if mark.value.abs() <= tiny {
+            0.0
+        } else {
+            mark.value
+        };
+        tick_label(GridMark { value, ..mark }, range)
+    }
+}
+
 #[cfg(test)]
 mod axis_tests {
-    use super::{X_LABEL_POINTS, label_spacing, tick_label, x_marks, y_marks};
+    use super::{X_LABEL_POINTS, label_spacing, rate_tick_label, tick_label, x_marks, y_marks};
+
+    #[test]
+    fn a_rate_axis_shows_no_number_below_zero() {
+        let range = -0.0012..=0.011;
+        let mark = |value: f64| GridMark {
+            value,
+            step_size: 0.001,
+        };
+        assert_eq!(rate_tick_label(mark(-0.001), &range), "");
+        assert_eq!(rate_tick_label(mark(-1e-19), &range), "0.000");
+        assert_eq!(rate_tick_label(mark(0.0), &range), "0.000");
+        assert_eq!(rate_tick_label(mark(0.004), &range), "0.004");
+    }
     use egui_plot::{GridInput, GridMark};
 
     /// The labelled ticks of an axis `pixels` long over `bounds`, as egui_plot labels them: a

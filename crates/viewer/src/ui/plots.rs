@@ -28,7 +28,7 @@ mod time_series;
 use time_series::{bodies_ui, force_ui, health_measures, health_ui};
 
 use super::plot_axes::{
-    X_LABEL_POINTS, Y_LABEL_POINTS, label_spacing, tick_label, x_marks, y_marks,
+    X_LABEL_POINTS, Y_LABEL_POINTS, label_spacing, rate_tick_label, tick_label, x_marks, y_marks,
 };
 
 /// Samples in the phase curve: the last 300 time units at every
@@ -695,6 +695,11 @@ fn sweep_ui(
     }
     keyed(ui, width, height, &keys, |ui, plot_height| {
         look.apply(instrument(Plot::new("sweep"), "α", "1/T"))
+            .custom_y_axes(vec![
+                egui_plot::AxisHints::new_y()
+                    .formatter(rate_tick_label)
+                    .label_spacing(label_spacing(Y_LABEL_POINTS)),
+            ])
             .width(width)
             .height(plot_height)
             .x_axis_label("α (rad)")
