@@ -28,6 +28,16 @@ impl Noise {
     }
 }
 
+/// A track at frames 0, 1, 2, … with nothing cleaned.
+fn on_frames(down: Vec<f64>, across: Vec<f64>) -> CleanTrack {
+    CleanTrack {
+        frames: (0..down.len()).map(|i| i as f64).collect(),
+        down,
+        across,
+        warnings: vec![],
+    }
+}
+
 /// A rolling-like track: drift down the ramp, the first two harmonics of the period in both
 /// coordinates (the second `second` times the first), white noise of `noise` (in units of the
 /// first harmonic's amplitude).
@@ -55,12 +65,7 @@ fn periodic(frames: usize, period: f64, second: f64, noise: f64, seed: u64) -> C
                 + noise * rng.normal(),
         );
     }
-    CleanTrack {
-        frames: (0..frames).map(|i| i as f64).collect(),
-        down,
-        across,
-        warnings: vec![],
-    }
+    on_frames(down, across)
 }
 
 fn search() -> PeriodSearch {
@@ -408,12 +413,7 @@ fn turns_of_varying_time_never_make_a_multiple_of_the_period() {
             down.push(3.0 * phase + (w + p).sin() + a * (2.0 * w).cos() + 0.05 * rng.normal());
             across.push(0.6 * (w + 2.0 * p).cos() + 0.05 * rng.normal());
         }
-        let track = CleanTrack {
-            frames: (0..frames).map(|i| i as f64).collect(),
-            down,
-            across,
-            warnings: vec![],
-        };
+        let track = on_frames(down, across);
         let fit = find_period(&track, &search(), &|_, _| {}).unwrap();
         assert!(
             (fit.period_frames - turn).abs() < 0.1 * turn,
@@ -540,12 +540,7 @@ fn motions(frames: usize, parts: &[(f64, &[f64])], noise: f64, seed: u64) -> Cle
         down.push(d + noise * rng.normal());
         across.push(a + noise * rng.normal());
     }
-    CleanTrack {
-        frames: (0..frames).map(|i| i as f64).collect(),
-        down,
-        across,
-        warnings: vec![],
-    }
+    on_frames(down, across)
 }
 
 /// One test of "it repeats", the harmonics' (found by a hostile tester, 2026-11-28):
@@ -722,12 +717,7 @@ fn rossler(c: f64, frames: usize, seed: u64) -> CleanTrack {
             y = [0, 1, 2].map(|j| y[j] + h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]));
         }
     }
-    CleanTrack {
-        frames: (0..frames).map(|i| i as f64).collect(),
-        down,
-        across,
-        warnings: vec![],
-    }
+    on_frames(down, across)
 }
 
 /// A chaotic track is never stated as repeating closely (issue 59: "a quasi-periodic or chaotic

@@ -451,47 +451,55 @@ fn save_png(path: &Path, image: &RgbaImage) -> Result<()> {
     write_png(path, image, &Inputs::none()).context("screenshot")
 }
 
+/// Every leaf shape among `shapes` (nested lists opened) with its clip rectangle, to `each`.
+fn each_shape(
+    shapes: &[egui::epaint::ClippedShape],
+    mut each: impl FnMut(&egui::Shape, egui::Rect),
+) {
+    fn visit(
+        shape: &egui::Shape,
+        clip: egui::Rect,
+        each: &mut impl FnMut(&egui::Shape, egui::Rect),
+    ) {
+        match shape {
+            egui::Shape::Vec(shapes) => shapes.iter().for_each(|s| visit(s, clip, each)),
+            leaf => each(leaf, clip),
+        }
+    }
+    for clipped in shapes {
+        visit(&clipped.shape, clipped.clip_rect, &mut each);
+    }
+}
+
 /// The texts among `shapes` that reach past the left or right of their clip rectangle by more
 /// than a pixel's rounding.
 fn texts_cut_at_the_side(shapes: &[egui::epaint::ClippedShape]) -> Vec<String> {
-    fn visit(shape: &egui::Shape, clip: egui::Rect, cut: &mut Vec<String>) {
-        match shape {
-            egui::Shape::Text(text) => {
-                let r = text.visual_bounding_rect();
-                if r.is_positive() && (r.min.x < clip.min.x - 1.0 || r.max.x > clip.max.x + 1.0) {
-                    cut.push(text.galley.text().to_string());
-                }
-            }
-            egui::Shape::Vec(shapes) => shapes.iter().for_each(|s| visit(s, clip, cut)),
-            _ => {}
-        }
-    }
     let mut cut = Vec::new();
-    for clipped in shapes {
-        visit(&clipped.shape, clipped.clip_rect, &mut cut);
-    }
+    each_shape(shapes, |shape, clip| {
+        if let egui::Shape::Text(text) = shape {
+            let r = text.visual_bounding_rect();
+            if r.is_positive() && (r.min.x < clip.min.x - 1.0 || r.max.x > clip.max.x + 1.0) {
+                cut.push(text.galley.text().to_string());
+            }
+        }
+    });
     cut
 }
 
 /// The filled, visible rectangles among `shapes` at most 14 points wide and at least 20 tall,
 /// cut to their clip rectangle.
 fn upright_bars(shapes: &[egui::epaint::ClippedShape]) -> Vec<egui::Rect> {
-    fn visit(shape: &egui::Shape, clip: egui::Rect, bars: &mut Vec<egui::Rect>) {
-        match shape {
-            egui::Shape::Rect(r) if r.fill.a() > 0 => {
-                let shown = r.rect.intersect(clip);
-                if shown.is_positive() && shown.width() <= 14.0 && shown.height() >= 20.0 {
-                    bars.push(shown);
-                }
-            }
-            egui::Shape::Vec(shapes) => shapes.iter().for_each(|s| visit(s, clip, bars)),
-            _ => {}
-        }
-    }
     let mut bars = Vec::new();
-    for clipped in shapes {
-        visit(&clipped.shape, clipped.clip_rect, &mut bars);
-    }
+    each_shape(shapes, |shape, clip| {
+        if let egui::Shape::Rect(r) = shape
+            && r.fill.a() > 0
+        {
+            let shown = r.rect.intersect(clip);
+            if shown.is_positive() && shown.width() <= 14.0 && shown.height() >= 20.0 {
+                bars.push(shown);
+            }
+        }
+    });
     bars
 }
 
