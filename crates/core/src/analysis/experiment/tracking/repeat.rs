@@ -6,6 +6,7 @@
 
 use serde::Serialize;
 
+use super::mismatch::Detrended;
 use super::{CleanTrack, PeriodFit, markers};
 
 /// How many times the share of a track's variation that its frame-to-frame noise explains its
@@ -147,22 +148,6 @@ const CHI2_1_KEPT_MEAN: f64 = 0.437_725;
 /// so a few tracker glitches do not pass for noise, while a tracker's whole pixels, which leave
 /// most differences 0, still read as noise. `None` under [`MIN_NOISE_RUNS`] such runs, or where nothing varies.
 fn noise_share(measured: &[(f64, f64, f64)], track: &CleanTrack) -> Option<f64> {
-    let spread = |v: &[f64]| {
-        let n = v.len() as f64;
-        let (mx, my) = ((n - 1.0) / 2.0, v.iter().sum::<f64>() / n);
-        let sxx: f64 = (0..v.len()).map(|i| (i as f64 - mx).powi(2)).sum();
-        let sxy: f64 = v
-            .iter()
-            .enumerate()
-            .map(|(i, y)| (i as f64 - mx) * (y - my))
-            .sum();
-        let b = if sxx > 0.0 { sxy / sxx } else { 0.0 };
-        v.iter()
-            .enumerate()
-            .map(|(i, y)| (y - my - b * (i as f64 - mx)).powi(2))
-            .sum::<f64>()
-            / n
-    };
     let (first, last) = match (track.frames.first(), track.frames.last()) {
         (Some(&a), Some(&b)) => (a, b),
         _ => return None,
@@ -191,7 +176,9 @@ fn noise_share(measured: &[(f64, f64, f64)], track: &CleanTrack) -> Option<f64> 
         let kept = ((NOISE_KEPT * d.len() as f64) as usize).max(1);
         d[..kept].iter().sum::<f64>() / kept as f64 / (20.0 * CHI2_1_KEPT_MEAN)
     };
-    let variance = spread(&track.down) + spread(&track.across);
+    // The variation about the least-squares line, down and across, as the mismatch is
+    // normalised by it (its scale is twice that).
+    let variance = Detrended::of(track).scale() / 2.0;
     let share = (noise(down) + noise(across)) / variance;
     (share > 0.0 && share.is_finite()).then_some(share)
 }
