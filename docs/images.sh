@@ -41,7 +41,7 @@ window() {
 window "$bin" app --preset sphere-two-orbits --screenshot-after 6 docs/render/app.png --exit-after 7
 window "$bin" app --preset lesson-critical-angle --screenshot-after 40 docs/lessons/critical-angle.png --exit-after 41
 window "$bin" app --preset lesson-inertia-hysteresis --screenshot-after 40 docs/lessons/inertia-hysteresis.png --exit-after 41
-window "$bin" app --preset lesson-period-doubling --screenshot-after 60 docs/lessons/period-doubling.png --exit-after 61
+window "$bin" app --preset lesson-period-doubling --screenshot-after 85 docs/lessons/period-doubling.png --exit-after 86
 
 # Each lesson on a projector (presentation mode, docs/guide/lessons.md) at its key step, at
 # 1280×720 and 1920×1080, and class mode at 1280×720: a virtual screen of that size, the window
@@ -69,7 +69,7 @@ mkdir -p docs/bodies
 cp "$tmp/which/$(ls "$tmp/which" | sort | tail -1)" docs/bodies/which-one-stops-end.png
 screen 1920x1080 "$bin" app --preset lesson-period-doubling --present --step 5 --screenshot-after 8 \
     docs/bodies/doubling-side-by-side-present-1920x1080.png --exit-after 9
-"$bin" scenes --toml lesson-period-doubling | sed 's/^trail_time = 120.0/&\nstart_time = 2900.0/' \
+"$bin" scenes --toml lesson-period-doubling | sed 's/^trail_time = 120.0/&\nstart_time = 4200.0/' \
     > "$tmp/side-by-side.toml"
 "$bin" --headless --scene "$tmp/side-by-side.toml" --frames 1 --size 1920x1080 --out "$tmp/side" > /dev/null
 cp "$tmp/side/frame_00000.png" docs/bodies/doubling-side-by-side-1920x1080.png

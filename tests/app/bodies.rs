@@ -195,13 +195,13 @@ fn an_earlier_runs_body_files_are_not_left_beside_this_ones() {
     assert!(!gif.exists(), "no clip rendered before the refusal");
 }
 
-/// The doubling lesson's scene started at t = 2900, in its last step (three bodies shown).
-fn doubling_lesson_from_2900() -> String {
+/// The doubling lesson's scene started at t = 4200, in its last step (three bodies shown).
+fn doubling_lesson_from_4200() -> String {
     String::from_utf8(rollphase(["scenes", "--toml", "lesson-period-doubling"]).stdout)
         .unwrap()
         .replace(
             "trail_time = 120.0",
-            "trail_time = 120.0\nstart_time = 2900.0",
+            "trail_time = 120.0\nstart_time = 4200.0",
         )
 }
 
@@ -211,7 +211,7 @@ fn doubling_lesson_from_2900() -> String {
 #[test]
 fn the_ball_draws_each_shown_bodys_path_in_its_colour() {
     let dir = scratch("bodies-ball");
-    let lesson = doubling_lesson_from_2900();
+    let lesson = doubling_lesson_from_4200();
     let frame = |name: &str, text: &str| {
         let scene = dir.join(format!("{name}.toml"));
         std::fs::write(&scene, text).unwrap();
@@ -259,13 +259,13 @@ fn the_ball_draws_each_shown_bodys_path_in_its_colour() {
 }
 
 /// A lesson rendered from past its steps keeps the plots of the steps it skipped: the doubling
-/// lesson from t = 2900 writes the crossings at m/m0 = 0, 2, 4.5 and 6 that its steps measured
+/// lesson from t = 4200 writes the crossings at m/m0 = 0, 2, 4.5 and 6 that its steps measured
 /// (the simulation to the start collects them at every frame step, as frames from 0 would),
 /// not only those at 6 (a helper found them lost).
 #[test]
 fn a_late_start_keeps_the_plots_of_the_steps_it_skipped() {
     let dir = scratch("bodies-late-start");
-    let lesson = doubling_lesson_from_2900();
+    let lesson = doubling_lesson_from_4200();
     let scene = dir.join("late.toml");
     std::fs::write(&scene, lesson).unwrap();
     let data = dir.join("data");

@@ -54,8 +54,9 @@ fn a_claim_the_run_does_not_bear_out_is_said_under_the_caption() {
     );
     let wrong = first_caption("period-2");
     assert!(
-        wrong.contains("this run does not show \"period-2\": 1 settled crossing")
-            || wrong.contains("this run does not show \"period-2\": 1 distinct"),
+        wrong.contains(
+            "this run does not show \"period-2\": the run settled on period 1 at m/m0 = 0, not 2"
+        ),
         "{wrong}"
     );
 }

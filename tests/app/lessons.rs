@@ -118,7 +118,7 @@ fn next_and_previous_jump_between_steps_and_reset_restarts_the_lesson() {
     assert_eq!(c.simulation().ramp().mass_ratio, 2.0);
     c.apply(SimCommand::NextStep);
     assert_eq!(c.simulation().time(), at[2]);
-    assert_eq!(c.speed(), 40.0, "step 3 sets the speed");
+    assert_eq!(c.speed(), 50.0, "step 3 sets the speed");
     // Back: to the start of the step before the current one, from a fresh run.
     c.apply(SimCommand::PreviousStep);
     assert_eq!(c.simulation().time(), at[1]);

@@ -548,4 +548,35 @@ fn the_overlay_says_the_steps_period_measured_ahead_until_the_live_run_finds_it(
             "{halted:?}"
         );
     }
+    // Crossings under way but no cycle decided yet (the first settles at t ≈ 256): the live
+    // spacing of the last two crossings is no period of the cycle (half of it on a doubled
+    // orbit), so the 1/T measured ahead is said in its place; with none ahead the spacing is
+    // said for what it is.
+    let setup = r.simulation().setup().clone();
+    let k = (0u64..).find(|&k| setup.frame_time(k) >= 170.0).unwrap();
+    r.set_view_options(ViewOptions::default());
+    let spacing = panel_texts(&r.frame_data(k).unwrap());
+    assert!(
+        spacing
+            .iter()
+            .any(|t| t.starts_with("1/T = ") && t.ends_with("∂Ω to ∂Ω)")),
+        "{spacing:?}"
+    );
+    assert!(
+        !spacing.iter().any(|t| t.starts_with("period")),
+        "{spacing:?}"
+    );
+    r.set_view_options(ViewOptions {
+        lesson_ahead: MeasuredAhead {
+            period: Some(1),
+            rate: Some(0.019_38),
+        },
+        ..ViewOptions::default()
+    });
+    let ahead = panel_texts(&r.frame_data(k).unwrap());
+    assert!(
+        ahead.iter().any(|t| t == "1/T = 0.01938 (measured ahead)"),
+        "{ahead:?}"
+    );
+    assert!(!ahead.iter().any(|t| t.contains("∂Ω to ∂Ω")), "{ahead:?}");
 }

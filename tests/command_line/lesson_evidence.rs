@@ -249,7 +249,16 @@ fn the_period_the_overlay_says_ahead_is_the_steps_checked_claim() {
         doubling.iter().map(|s| s.0).collect::<Vec<_>>(),
         [None, Some(1), Some(1), Some(2), Some(2), Some(2)]
     );
-    assert!(doubling.iter().all(|s| s.1.is_none()), "{doubling:?}");
+    // Its 1/T ahead is the settled cycle's, whole: T = 51.602 and 45.703 on period 1, 91.336
+    // at 4.5 and 89.331 at 6 on period 2 (twice one crossing's spacing, not one of them).
+    assert_eq!(doubling[0].1, None, "no step shown yet");
+    for (shown, period) in doubling[1..]
+        .iter()
+        .zip([51.602, 45.703, 91.336, 89.331, 89.331])
+    {
+        let rate = shown.1.expect("a settled period's 1/T");
+        assert!((1.0 / rate / period - 1.0).abs() < 1e-4, "{doubling:?}");
+    }
     // The critical-angle lesson claims no period; its 1/T measured ahead is 0 where a step
     // claims the halt and positive where it claims rolling or the √ law.
     let (claims, critical) = measured("lesson-critical-angle");

@@ -35,8 +35,8 @@ pub const LAST_STEP_SPAN: f64 = 600.0;
 /// use rollphase_scene::live::evidence::step_ends;
 /// use rollphase_scene::scene::Scene;
 /// let setup = Scene::preset("lesson-period-doubling")?.setup(None)?;
-/// // Steps at 0, 400, 900, 1600 and 2400; the scene ends at 3000.
-/// assert_eq!(step_ends(&setup), [0.0, 400.0, 900.0, 1600.0, 2400.0, 3000.0]);
+/// // Steps at 0, 400, 900, 2300 and 3700; the scene ends at 4300.
+/// assert_eq!(step_ends(&setup), [0.0, 400.0, 900.0, 2300.0, 3700.0, 4300.0]);
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn step_ends(setup: &SceneSetup) -> Vec<f64> {
@@ -151,8 +151,10 @@ pub const DISTINCT_CROSSINGS: f64 = 1e-2;
 pub const SETTLED_CROSSINGS: usize = 6;
 
 /// The distinct crossings of ∂Ω ([`DISTINCT_CROSSINGS`] apart) among the last
-/// [`SETTLED_CROSSINGS`] under `regime` (its m/m0 and drag law), newest first: one for a
-/// period-1 cycle, two for a period-2 one.
+/// [`SETTLED_CROSSINGS`] under `regime` (its m/m0 and drag law), newest first: what the plot
+/// shows of the run's settled cycle (one for period 1, two for period 2). Not a test of a repeat
+/// of its own: the plot takes a crossing only once the run has decided its cycle, and a claim is
+/// checked against that decision ([`PlotCheckpoint::cycle_at`]).
 pub fn settled_branches(evidence: &PlotCheckpoint, regime: &Regime) -> Vec<f64> {
     let mut found: Vec<f64> = Vec::new();
     for &angle in evidence
@@ -261,29 +263,34 @@ pub fn check_claim(claim: Claim, evidence: &PlotCheckpoint, at: &StepAt) -> Resu
         }
         Claim::SqrtLaw => sqrt_law_shown(evidence, &regime, at.alpha_star),
         Claim::Period1 | Claim::Period2 => {
-            let branches = settled_branches(evidence, &regime);
             let want = if claim == Claim::Period1 { 1 } else { 2 };
-            let shown = |b: &[f64]| {
-                b.iter()
-                    .map(|x| format!("{x:.3}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+            let at_mass = format!("m/m0 = {}", short(mass_ratio));
+            // The run's own verdict decides (the one test of a repeat, `settled_cycle`); the
+            // plot must show it: as many distinct settled crossings as the cycle has.
+            let Some((k, _)) = evidence.cycle_at(&regime) else {
+                return Err(format!("the run has not settled on a cycle at {at_mass}"));
             };
-            match branches.len() {
-                0 => Err(format!(
-                    "the crossings plot has no settled crossing at m/m0 = {}",
-                    short(mass_ratio)
-                )),
-                n if n == want => Ok(format!(
-                    "{n} settled crossing(s) at m/m0 = {}: {} rad",
-                    short(mass_ratio),
-                    shown(&branches)
-                )),
-                n => Err(format!(
-                    "{n} distinct settled crossings at m/m0 = {} ({} rad), not {want}",
-                    short(mass_ratio),
-                    shown(&branches)
-                )),
+            if k != want {
+                return Err(format!(
+                    "the run settled on period {k} at {at_mass}, not {want}"
+                ));
+            }
+            let branches = settled_branches(evidence, &regime);
+            let shown = branches
+                .iter()
+                .map(|x| format!("{x:.3}"))
+                .collect::<Vec<_>>()
+                .join(", ");
+            if branches.len() == want {
+                Ok(format!(
+                    "period {k} at {at_mass}: {want} settled crossing(s) at {shown} rad"
+                ))
+            } else {
+                Err(format!(
+                    "the run settled on period {k} at {at_mass}, but the crossings plot shows \
+                     {} distinct settled crossing(s) ({shown} rad)",
+                    branches.len()
+                ))
             }
         }
     }
@@ -462,20 +469,24 @@ impl LessonEvidence {
     }
 
     /// The 1/T (0: halted) that the step shown once `done` steps are done measured at its α
-    /// and m/m0, where the step claims the body rolls, halts or follows the √ law and its
-    /// evidence bears the claim out: what the overlay says, marked as measured ahead, while the
+    /// and m/m0, where the step claims the body rolls, halts, follows the √ law or settles on a
+    /// period (then 1/T of the settled cycle, whole) and its evidence bears the claim out: what the overlay says, marked as measured ahead, while the
     /// live run, the same run, has not yet made the two turns its own 1/T needs (near α* a turn
     /// takes 260 t0, minutes at a lesson's speed, while the plot already shows the point).
     /// Of the sweep's points at that α, the one measured in the direction the sweep last moved.
     pub fn rate_shown(&self, done: usize) -> Option<f64> {
         let k = done.checked_sub(1)?;
-        match self.setup.timeline.get(k)?.claim? {
-            Claim::Rolling | Claim::Halted | Claim::SqrtLaw => {}
-            Claim::Period1 | Claim::Period2 => return None,
-        }
+        let claim = self.setup.timeline.get(k)?.claim?;
         self.claim(done)?.ok()?;
         let at = StepAt::each_of(&self.setup).into_iter().nth(k)?;
         let evidence = self.step(done)?;
+        if let Claim::Period1 | Claim::Period2 = claim {
+            // The cycle the claim was checked against, whole: a doubled orbit's T spans both
+            // of its crossings.
+            return evidence
+                .cycle_at(&at.regime())
+                .map(|(_, period)| 1.0 / period);
+        }
         let rates = evidence.rates_at(at.alpha, &at.regime());
         let direction = evidence.direction();
         rates

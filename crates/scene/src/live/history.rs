@@ -217,6 +217,20 @@ impl PlotCheckpoint {
             .map(|p| p[1])
             .collect()
     }
+
+    /// The cycle the run last settled on under `regime`: its multiplicity k and the time it
+    /// takes (the live run's verdict, `Snapshot::period_multiplicity` and `cycle_period`), if it
+    /// settled there.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_scene::live::history::{PlotHistory, Regime};
+    /// let at_2 = Regime::labelled(2.0, "linear drag");
+    /// assert_eq!(PlotHistory::default().checkpoint().cycle_at(&at_2), None);
+    /// ```
+    pub fn cycle_at(&self, regime: &Regime) -> Option<(usize, f64)> {
+        self.crossings.cycles.get(regime).copied()
+    }
 }
 
 impl PlotHistory {

@@ -2,7 +2,7 @@
 //! model state, health figures and period bookkeeping, and the scene's lesson timeline, whose
 //! steps it applies when its time reaches them (so the app and headless mode play a lesson alike).
 
-use crate::analysis::orbits::sphere_orbits::{Crossing, ball_point, late_cycle};
+use crate::analysis::orbits::sphere_orbits::{Crossing, ball_point, settled_cycle};
 use crate::analysis::verdict::{LIVE_REST_THRESHOLD, at_rest_within};
 use crate::dynamics::validity::ContactWatch;
 use crate::dynamics::{
@@ -23,8 +23,9 @@ mod snapshot_of;
 use glam::{DQuat, DVec3};
 use std::collections::VecDeque;
 
-/// Crossings of the section kept for the period and its multiplicity (enough for k ≤ 4).
-const MAX_CROSSINGS_KEPT: usize = 12;
+/// Crossings of the section kept for the period and its multiplicity: the 10k + 1 that
+/// [`settled_cycle`] needs to call a cycle of k ≤ [`MAX_MULTIPLICITY`] steady, and one more.
+const MAX_CROSSINGS_KEPT: usize = 10 * MAX_MULTIPLICITY + 2;
 /// Step budget of one `advance_to` (a frame), against a stuck integrator.
 const MAX_STEPS_PER_ADVANCE: u64 = 5_000_000;
 /// How far ahead of the time shown the live run asks its steps to go (t0): farther than any
@@ -34,7 +35,6 @@ const LOOK_AHEAD: f64 = 1e6;
 /// Most switches (tips across a dented cylinder's flats) one advance may take.
 const MAX_SWITCHES_PER_ADVANCE: usize = 100_000;
 
-/// Why one stepper's share of an advance ended early.
 /// A target closer than this (relative to the time) to the current time counts as reached.
 const NOW_RELATIVE: f64 = 1e-12;
 /// Longest cycle of ∂Ω crossings the live display looks for.

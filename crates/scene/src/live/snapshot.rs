@@ -97,7 +97,8 @@ pub struct Snapshot {
     /// Time between the last two full turns (2D) or crossings of ∂Ω (3D), once measured.
     pub period: Option<f64>,
     /// 3D: the period k of the crossing sequence of ∂Ω (1: closed orbit, 2: doubled), once the
-    /// last 2k + 1 crossings repeat to 1e-3; `None` before that, or in 2D.
+    /// last 2k + 1 crossings repeat to 1e-3 and, for k ≥ 2, the cycle is steady over the last
+    /// 10k + 1 (`settled_cycle`, the one test `predict` uses too); `None` before that, or in 2D.
     pub period_multiplicity: Option<usize>,
     /// 3D: the time the decided cycle takes to repeat, its k crossings of ∂Ω (`period` is the
     /// last one's, which alternates on a doubled cycle); `None` while undecided.

@@ -81,11 +81,12 @@ pub enum Claim {
     /// The 1/T plot has a point at the step's α above 0: the body rolls on.
     #[serde(rename = "rolling")]
     Rolling,
-    /// The crossings plot has one settled crossing of ∂Ω at the step's m/m0: period 1.
+    /// The run settled on period 1 at the step's m/m0 (its one test of a repeat, a steady
+    /// cycle of ∂Ω crossings), and the crossings plot shows one settled crossing there.
     #[serde(rename = "period-1")]
     Period1,
-    /// The crossings plot has two settled crossings of ∂Ω at the step's m/m0, alternating:
-    /// period 2.
+    /// The run settled on period 2 at the step's m/m0 (a steady cycle of two ∂Ω crossings),
+    /// and the crossings plot shows its two settled crossings there, alternating.
     #[serde(rename = "period-2")]
     Period2,
     /// The 1/T plot's rolling points near α* (α* < α ≤ 1.05 α*, at least three, at the step's

@@ -431,8 +431,13 @@ impl AppUi {
         } else if snap.halted {
             "halted: 1/T = 0".to_string()
         } else {
-            match snap.stated_period().map(|(t, _)| t) {
-                Some(p) => format!(
+            match snap.stated_period() {
+                // Before the cycle is decided the last crossings' spacing is no period of it
+                // (half of it on a doubled orbit): said for what it is.
+                Some((p, crate::live::PeriodSpan::LastCrossings)) => {
+                    format!("∂Ω to ∂Ω: {p:.4} (no cycle yet)")
+                }
+                Some((p, _)) => format!(
                     "T = {p:.4}, 1/T = {:.4}{}",
                     1.0 / p,
                     crate::view::multiplicity_text(snap.period_multiplicity)

@@ -66,7 +66,13 @@ impl SceneView {
         let rate = if snap.halted {
             "halted: 1/T = 0".to_string()
         } else {
-            match snap.stated_period() {
+            // Before the live run decides its cycle, the time between its last two crossings
+            // is not the period (on a doubled orbit it is half of it): where the step's
+            // evidence measured ahead has the cycle's 1/T, that is said, marked, instead.
+            let live = snap
+                .stated_period()
+                .filter(|&(_, span)| span != PeriodSpan::LastCrossings || ahead.rate.is_none());
+            match live {
                 // For a room, without the words on what T spans: a narrower panel at 24 px.
                 Some((t, _)) if room => format!("1/T = {:.5}   (T = {:.3})", 1.0 / t, t),
                 Some((t, span)) => format!(

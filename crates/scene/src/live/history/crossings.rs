@@ -2,9 +2,10 @@
 //! (the orbit diagram): taken from its snapshots once the run has found its cycle, one point
 //! per crossing that a pixel could tell from the ones already kept.
 
-use std::collections::VecDeque;
+use std::collections::{BTreeMap, VecDeque};
 
 use super::super::Snapshot;
+use super::Regime;
 
 /// Crossing points kept for the mass sweep (a saved state's may give no more).
 pub(super) use crate::scene::MAX_CROSSING_POINTS;
@@ -29,6 +30,10 @@ pub(super) struct Crossings {
     /// The drag law of each point ([`crate::dynamics::DragLaw::label`]), in `points`' order.
     pub(super) laws: VecDeque<String>,
     last_t: Option<f64>,
+    /// The run's latest decided cycle under each regime (its multiplicity k, from the live
+    /// run's one test of a repeat, and the time it takes): what a lesson's period claim is
+    /// checked against, the points being what the plot shows of it. Not kept in a saved state.
+    pub(super) cycles: BTreeMap<Regime, (usize, f64)>,
 }
 
 impl Crossings {
@@ -45,6 +50,7 @@ impl Crossings {
             points: points[skip..].iter().copied().collect(),
             laws,
             last_t: None,
+            cycles: BTreeMap::new(),
         }
     }
 
@@ -53,8 +59,11 @@ impl Crossings {
     /// (no lift-off or slip). All the cycle's new crossings count, so a plot fed at sparse
     /// frames (a headless render of three frames) shows every branch the verdict names.
     pub(super) fn take(&mut self, snap: &Snapshot) {
-        if snap.validity.is_some() || snap.period_multiplicity.is_none() {
+        let (None, Some(k)) = (&snap.validity, snap.period_multiplicity) else {
             return;
+        };
+        if let Some(period) = snap.cycle_period {
+            self.cycles.insert(Regime::of(snap), (k, period));
         }
         for &(t, p) in &snap.cycle_crossings {
             if self.last_t.is_some_and(|last| t <= last) {

@@ -35,7 +35,7 @@ impl PlotData {
         PlotData::Series,
     ];
 
-    /// What its columns are, for [`PlotMeta`].
+    /// What its columns are, for [`PlotMeta`](super::plot_meta::PlotMeta).
     pub fn columns(self) -> &'static str {
         match self {
             PlotData::AlphaSweep => {

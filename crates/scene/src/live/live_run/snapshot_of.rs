@@ -7,7 +7,7 @@ use glam::{DQuat, DVec3};
 use super::super::snapshot::*;
 use super::{
     Crossing, LIVE_REST_THRESHOLD, LiveRun, MAX_MULTIPLICITY, MULTIPLICITY_TOL, TrailSample,
-    at_rest_within, ball_point, late_cycle, observe,
+    at_rest_within, ball_point, observe, settled_cycle,
 };
 
 impl LiveRun {
@@ -45,7 +45,9 @@ impl LiveRun {
                 })
             })
             .collect();
-        let cycle = late_cycle(&section, MAX_MULTIPLICITY, MULTIPLICITY_TOL);
+        // The one test of a repeat that `predict` and the sweeps use: a cycle of k ≥ 2 must also
+        // be steady, so a period-1 orbit still alternating near a flip is not shown doubled.
+        let cycle = settled_cycle(&section, MAX_MULTIPLICITY, MULTIPLICITY_TOL);
         let period_multiplicity = cycle.map(|c| c.0);
         let cycle_crossings = period_multiplicity.map_or_else(Vec::new, |k| {
             section[section.len() - (2 * k + 1)..]
