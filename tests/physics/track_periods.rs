@@ -601,6 +601,47 @@ fn the_harmonics_decide_what_repeats() {
     assert!(!fit.block_check.is_some_and(|b| b.turns_vary));
 }
 
+/// A noise-free track whose wobble grows by 1 % over 53 turns (a transient still settling, as a
+/// simulated run gives) is refused, and the refusal names the drift as a cause beside a second
+/// period; with tracking noise 2 % of the wobble, the drift is within what the noise explains
+/// and the period (37.3 frames) is read, within its uncertainty.
+#[test]
+fn a_noise_free_track_whose_wobble_drifts_is_refused_naming_the_drift() {
+    let track = |noise: f64| {
+        let mut rng = Noise(11);
+        let w = std::f64::consts::TAU / 37.3;
+        let (mut down, mut across) = (Vec::new(), Vec::new());
+        for i in 0..2000 {
+            let (t, grow) = (i as f64, 1.0 + 0.01 * i as f64 / 2000.0);
+            down.push(0.13 * t + 3.0 * grow * (w * t).sin() + 0.7 * (2.0 * w * t + 0.4).sin());
+            across.push(2.0 * grow * (w * t + 0.3).cos());
+        }
+        for v in down.iter_mut().chain(across.iter_mut()) {
+            *v += noise * 3.0 * rng.normal();
+        }
+        on_frames(down, across)
+    };
+    match find_period(&track(0.0), &search(), &|_, _| {}) {
+        Err(e @ TrackError::NoPeriod { .. }) => {
+            let why = e.to_string();
+            assert!(why.contains("a transient not yet settled"), "{why}");
+            assert!(why.contains("quasi-periodic"), "{why}");
+        }
+        Err(e) => panic!("refused for another reason: {e}"),
+        Ok(fit) => panic!(
+            "read as {} ± {}",
+            fit.period_frames, fit.period_error_frames
+        ),
+    }
+    let fit = find_period(&track(0.02), &search(), &|_, _| {}).unwrap();
+    assert!(
+        (fit.period_frames - 37.3).abs() < 1.96 * fit.period_error_frames,
+        "{} ± {}",
+        fit.period_frames,
+        fit.period_error_frames
+    );
+}
+
 /// A periodic track in absurd units is refused by name, not read as a straight line at
 /// constant speed (once its squares overflowed to infinity, and the period search said so).
 #[test]

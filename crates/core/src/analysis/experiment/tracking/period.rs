@@ -347,7 +347,9 @@ fn regression(
                 "the track nearly repeats after {:.1} frames (mismatch {m:.3}), but no one period \
                  describes it: harmonics of that period leave {:.1} times as much unexplained \
                  over the whole track as over {} stretches of it (at most {MAX_FIT_EXCESS}), as \
-                 two or more incommensurate periods do (a quasi-periodic motion)",
+                 two or more incommensurate periods do (a quasi-periodic motion), or a motion \
+                 whose shape drifts along the track (a transient not yet settled: on a track \
+                 without noise a drift of 1 % in the wobble's size is enough)",
                 fit.period_frames, blocks.residual_ratio, blocks.blocks
             ),
         });
