@@ -55,7 +55,8 @@ fn a_claim_the_run_does_not_bear_out_is_said_under_the_caption() {
     let wrong = first_caption("period-2");
     assert!(
         wrong.contains(
-            "this run does not show \"period-2\": the run settled on period 1 at m/m0 = 0, not 2"
+            "this run does not show \"period-2\": the run settled on period 1, not 2, at α = \
+             0.15000, m/m0 = 0"
         ),
         "{wrong}"
     );

@@ -163,8 +163,24 @@ fn a_claim_needs_the_plot_it_is_read_from() {
         .setup(None)
         .unwrap_err()
         .to_string();
+    // A cylinder has no crossings of ∂Ω: the claim is refused saying what it may claim
+    // (advice to show the crossings plot led to a second refusal, "needs a 3D body").
     assert!(
-        e.contains("timeline[0].claim = \"period-2\"") && e.contains("Crossings of ∂Ω"),
+        e.contains("timeline[0].claim = \"period-2\" is a sphere's") && e.contains("sqrt-law"),
+        "{e}"
+    );
+    let on_crossings = Scene::preset("lesson-period-doubling")
+        .unwrap()
+        .to_toml()
+        .unwrap()
+        .replacen("claim = \"period-1\"", "claim = \"halted\"", 1);
+    let e = Scene::from_toml(&on_crossings)
+        .unwrap()
+        .setup(None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("timeline[0].claim = \"halted\"") && e.contains("plot in effect"),
         "{e}"
     );
     let unknown = Scene::preset("lesson-critical-angle")
@@ -274,4 +290,72 @@ fn the_period_the_overlay_says_ahead_is_the_steps_checked_claim() {
             _ => assert_eq!(rate, None, "step {}", k + 1),
         }
     }
+}
+
+/// A period claim is read from the run's cycle at the step's own α and m/m0, seen settled
+/// during the step (a helper's findings): an m/m0 the run takes as viscous (1e-9 ≤ rtol) is
+/// read as the run files it, under 0; a step back to an earlier m/m0, or α, too short to settle
+/// there is not credited with the earlier step's cycle; a step at another α is judged on its
+/// own cycle, not on crossings at the old α (which made a true period-1 claim read "3 distinct
+/// crossings").
+#[test]
+fn a_period_claim_is_read_at_the_steps_own_alpha_and_mass_within_the_step() {
+    let lesson = Scene::preset("lesson-period-doubling")
+        .unwrap()
+        .to_toml()
+        .unwrap();
+    let head = &lesson[..lesson.find("[[timeline]]").unwrap()];
+    let text = head.replace("end_time = 4300.0", "end_time = 4500.0")
+        + r#"
+[[timeline]]
+at = 0.0
+mass_ratio = 1e-9
+claim = "period-1"
+[[timeline]]
+at = 400.0
+mass_ratio = 4.5
+claim = "period-2"
+[[timeline]]
+at = 2400.0
+mass_ratio = 0.0
+claim = "period-1"
+[[timeline]]
+at = 2450.0
+mass_ratio = 4.5
+alpha_rad = 0.3
+claim = "period-1"
+[[timeline]]
+at = 4450.0
+alpha_rad = 0.15
+claim = "period-2"
+"#;
+    let setup = Scene::from_toml(&text).unwrap().setup(None).unwrap();
+    let mut last = None;
+    measure_evidence(&setup, &AtomicBool::new(false), 1e9, |s| {
+        last = Some(s.clone())
+    });
+    let state = last.unwrap();
+    assert!(state.failed.is_none(), "{:?}", state.failed);
+    let checked = rollphase::live::evidence::claims_checked(&setup, &state);
+    let verdicts: Vec<&Result<String, String>> = checked.iter().map(|c| &c.2).collect();
+    assert_eq!(verdicts.len(), 5, "{verdicts:?}");
+    assert!(
+        verdicts[0].as_ref().is_ok_and(|s| s.contains("m/m0 = 0")),
+        "{verdicts:?}"
+    );
+    assert!(verdicts[1].is_ok(), "{verdicts:?}");
+    for stale in [2, 4] {
+        assert!(
+            verdicts[stale]
+                .as_ref()
+                .is_err_and(|e| e.contains("during the step") && e.contains("before it")),
+            "step {stale}: {verdicts:?}"
+        );
+    }
+    assert!(
+        verdicts[3]
+            .as_ref()
+            .is_ok_and(|s| s.starts_with("period 1 at α = 0.30000")),
+        "{verdicts:?}"
+    );
 }

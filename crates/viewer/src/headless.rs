@@ -173,13 +173,23 @@ impl HeadlessRenderer {
     /// steps, as "timeline[k]: claims …, but …". Nothing for a scene without claims or a resumed
     /// one (its run did not start at the lesson's start).
     pub fn check_claims(&mut self) -> Vec<String> {
+        self.check_claims_reporting(|_, _| {})
+    }
+
+    /// [`Self::check_claims`], calling `report(t_done, t_end)` as the lesson's run goes (a
+    /// hundred times in all): a stiff step (a tiny m/m0) can make it minutes.
+    pub fn check_claims_reporting(&mut self, mut report: impl FnMut(f64, f64)) -> Vec<String> {
         let setup = self.sim.setup();
         if setup.resume.is_some() || setup.timeline.iter().all(|s| s.claim.is_none()) {
             return Vec::new();
         }
         let stop = std::sync::atomic::AtomicBool::new(false);
         let mut state = None;
-        crate::live::evidence::measure_evidence(setup, &stop, f64::INFINITY, |s| {
+        let every = crate::live::evidence::step_ends(setup)
+            .last()
+            .map_or(f64::INFINITY, |end| end / 100.0);
+        crate::live::evidence::measure_evidence(setup, &stop, every, |s| {
+            report(s.t_done, s.t_end);
             state = Some(s.clone());
         });
         let Some(state) = state else {
@@ -331,7 +341,6 @@ pub fn render_to(
     };
     let model_note = setup.model_note.clone();
     let mut hr = HeadlessRenderer::new(setup, size, sample_count)?;
-    let claims_not_shown = hr.check_claims();
     let bar = if progress {
         indicatif::ProgressBar::new(frames)
     } else {
@@ -341,6 +350,15 @@ pub fn render_to(
         indicatif::ProgressStyle::with_template("{msg} {bar:40} {pos}/{len} {elapsed}/{eta}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
+    // The lesson's run from its start, for its claims: about a second for the bundled ones,
+    // minutes where a step is stiff (m/m0 = 1e-6), so it shows its progress too.
+    bar.set_length(100);
+    bar.set_message("checking the lesson's claims on its run from t = 0");
+    let claims_not_shown = hr.check_claims_reporting(|done, end| {
+        bar.set_position((100.0 * done / end.max(f64::MIN_POSITIVE)).clamp(0.0, 100.0) as u64);
+    });
+    bar.set_length(frames);
+    bar.set_position(0);
     // The scene's start_time is simulated before frame 0; a long one (start_time = 1e6) shows
     // its progress in 100 slices instead of a silent wait. Short ones (every preset) run in one
     // piece, so their frames are exactly those of the app and the tests.

@@ -348,6 +348,24 @@ pub struct ModelChoice {
     pub note: Option<String>,
 }
 
+/// Whether m/m0 = `mass_ratio` under `method` runs the viscous model ([`choose_model`]'s rule):
+/// at 0, or at or below an adaptive method's rtol, where the inertial correction is below the
+/// requested tolerance. Whatever reports a run by its m/m0 (a lesson's claim, a plot's regime)
+/// files such a run under 0, as the run itself is.
+///
+/// # Example
+/// ```
+/// use rollphase_core::integrate::Method;
+/// use rollphase_core::simulate::runs_viscous;
+/// assert!(runs_viscous(1e-9, Method::dop853(1e-8)));
+/// assert!(!runs_viscous(1e-6, Method::dop853(1e-8)));
+/// assert!(runs_viscous(0.0, Method::Rk4 { dt: 0.01 }));
+/// ```
+pub fn runs_viscous(mass_ratio: f64, method: Method) -> bool {
+    !crate::dynamics::models::asks_for_inertia(mass_ratio)
+        || matches!(method, Method::Dop853 { rtol, .. } if mass_ratio <= rtol)
+}
+
 /// Applies the stiff-corner policy (module doc) to a request for `body`.
 ///
 /// ```
@@ -371,7 +389,7 @@ pub fn choose_model(body: &Body, ramp: Ramp, method: Method) -> Result<ModelChoi
         return Ok(ModelChoice { ramp, note: None });
     }
     match method {
-        Method::Dop853 { rtol, .. } if m <= rtol => {
+        Method::Dop853 { rtol, .. } if runs_viscous(m, method) => {
             let viscous =
                 Ramp::with_drag(ramp.alpha_rad, 0.0, ramp.drag)?.with_drag_law(ramp.drag_law);
             Ok(ModelChoice {

@@ -42,6 +42,19 @@ fn sweep_bin(alpha: f64) -> i64 {
     (alpha.ln() / SWEEP_BIN).round() as i64
 }
 
+/// A cycle the live run settled on ([`PlotCheckpoint::cycle_at`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SettledCycle {
+    /// Its crossings of ∂Ω, k (1: a closed orbit, 2: doubled).
+    pub multiplicity: usize,
+    /// The time it takes, all k crossings.
+    pub period: f64,
+    /// The last time the run was seen on it.
+    pub seen_at: f64,
+    /// Its k crossings' plotted angles (rad), as the crossings plot shows them.
+    pub angles: Vec<f64>,
+}
+
 /// One sample of the time series.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {
@@ -218,18 +231,35 @@ impl PlotCheckpoint {
             .collect()
     }
 
-    /// The cycle the run last settled on under `regime`: its multiplicity k and the time it
-    /// takes (the live run's verdict, `Snapshot::period_multiplicity` and `cycle_period`), if it
-    /// settled there.
+    /// The cycle the run last settled on at `alpha` (the sweep's own "same α", 0.1 %) under
+    /// `regime` (the live run's verdict, `Snapshot::period_multiplicity`), if it settled there.
     ///
     /// # Example
     /// ```
     /// use rollphase_scene::live::history::{PlotHistory, Regime};
     /// let at_2 = Regime::labelled(2.0, "linear drag");
-    /// assert_eq!(PlotHistory::default().checkpoint().cycle_at(&at_2), None);
+    /// assert_eq!(PlotHistory::default().checkpoint().cycle_at(0.15, &at_2), None);
     /// ```
-    pub fn cycle_at(&self, regime: &Regime) -> Option<(usize, f64)> {
-        self.crossings.cycles.get(regime).copied()
+    pub fn cycle_at(&self, alpha: f64, regime: &Regime) -> Option<&SettledCycle> {
+        self.crossings
+            .cycles
+            .get(&(regime.clone(), sweep_bin(alpha)))
+    }
+
+    /// How the body first left the model (lift-off, slip; the verdict's `left_model` in words)
+    /// at `alpha` under `regime`, if it did.
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_scene::live::history::{PlotHistory, Regime};
+    /// let at_2 = Regime::labelled(2.0, "linear drag");
+    /// assert_eq!(PlotHistory::default().checkpoint().left_model_at(0.15, &at_2), None);
+    /// ```
+    pub fn left_model_at(&self, alpha: f64, regime: &Regime) -> Option<&str> {
+        self.crossings
+            .left_model
+            .get(&(regime.clone(), sweep_bin(alpha)))
+            .map(String::as_str)
     }
 }
 

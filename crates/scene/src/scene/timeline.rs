@@ -272,6 +272,15 @@ pub(super) fn resolve(
                 c.chars().count()
             )));
         }
+        if let (Some(claim @ (Claim::Period1 | Claim::Period2)), Body::Disk(_)) = (spec.claim, body)
+        {
+            // Its advice (the crossings plot) is refused for a cylinder: say what is allowed.
+            return Err(invalid(format!(
+                "{name}.claim = \"{}\" is a sphere's (a cycle of crossings of ∂Ω); a cylinder's \
+                 step can claim \"halted\", \"rolling\" or \"sqrt-law\" on the 1/T plot",
+                claim.name()
+            )));
+        }
         if let Some(claim) = spec.claim
             && views.plot != claim.plot()
         {

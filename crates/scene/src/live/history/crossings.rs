@@ -5,7 +5,7 @@
 use std::collections::{BTreeMap, VecDeque};
 
 use super::super::Snapshot;
-use super::Regime;
+use super::{Regime, SettledCycle, sweep_bin};
 
 /// Crossing points kept for the mass sweep (a saved state's may give no more).
 pub(super) use crate::scene::MAX_CROSSING_POINTS;
@@ -30,10 +30,13 @@ pub(super) struct Crossings {
     /// The drag law of each point ([`crate::dynamics::DragLaw::label`]), in `points`' order.
     pub(super) laws: VecDeque<String>,
     last_t: Option<f64>,
-    /// The run's latest decided cycle under each regime (its multiplicity k, from the live
-    /// run's one test of a repeat, and the time it takes): what a lesson's period claim is
-    /// checked against, the points being what the plot shows of it. Not kept in a saved state.
-    pub(super) cycles: BTreeMap<Regime, (usize, f64)>,
+    /// The run's latest decided cycle at each α (its sweep bin) and regime, from the live run's
+    /// one test of a repeat: what a lesson's period claim is checked against. Not kept in a
+    /// saved state.
+    pub(super) cycles: BTreeMap<(Regime, i64), SettledCycle>,
+    /// Where the body first left the model (lift-off, slip) at each α and regime: why no cycle
+    /// is claimed there. Not kept in a saved state.
+    pub(super) left_model: BTreeMap<(Regime, i64), String>,
 }
 
 impl Crossings {
@@ -51,6 +54,7 @@ impl Crossings {
             laws,
             last_t: None,
             cycles: BTreeMap::new(),
+            left_model: BTreeMap::new(),
         }
     }
 
@@ -59,11 +63,28 @@ impl Crossings {
     /// (no lift-off or slip). All the cycle's new crossings count, so a plot fed at sparse
     /// frames (a headless render of three frames) shows every branch the verdict names.
     pub(super) fn take(&mut self, snap: &Snapshot) {
-        let (None, Some(k)) = (&snap.validity, snap.period_multiplicity) else {
+        let key = (Regime::of(snap), sweep_bin(snap.alpha_rad));
+        if let Some(why) = &snap.validity {
+            self.left_model.entry(key).or_insert_with(|| why.clone());
+            return;
+        }
+        let Some(k) = snap.period_multiplicity else {
             return;
         };
         if let Some(period) = snap.cycle_period {
-            self.cycles.insert(Regime::of(snap), (k, period));
+            let n = snap.cycle_crossings.len();
+            self.cycles.insert(
+                key,
+                SettledCycle {
+                    multiplicity: k,
+                    period,
+                    seen_at: snap.t,
+                    angles: snap.cycle_crossings[n.saturating_sub(k)..]
+                        .iter()
+                        .map(|&(_, p)| polar_angle(p))
+                        .collect(),
+                },
+            );
         }
         for &(t, p) in &snap.cycle_crossings {
             if self.last_t.is_some_and(|last| t <= last) {
@@ -77,8 +98,7 @@ impl Crossings {
     fn take_point(&mut self, mass_ratio: f64, law: &str, p: glam::DVec3) {
         // The viscous model is the massless limit: its crossings are the diagram's points at
         // m/m0 = 0 (a lesson's first step claims period 1 there).
-        let p = if p.z < 0.0 { -p } else { p };
-        let point = [mass_ratio, p.z.clamp(-1.0, 1.0).acos()];
+        let point = [mass_ratio, polar_angle(p)];
         let seen = self
             .points
             .iter()
@@ -105,4 +125,10 @@ impl Crossings {
             .map(|(p, _)| *p)
             .collect()
     }
+}
+
+/// The plotted angle of a crossing point of ∂Ω: its polar angle, antipodes identified (p_z ≥ 0).
+fn polar_angle(p: glam::DVec3) -> f64 {
+    let p = if p.z < 0.0 { -p } else { p };
+    p.z.clamp(-1.0, 1.0).acos()
 }
