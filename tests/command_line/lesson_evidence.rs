@@ -358,4 +358,18 @@ claim = "period-2"
             .is_ok_and(|s| s.starts_with("period 1 at α = 0.30000")),
         "{verdicts:?}"
     );
+    // A step too short to settle says over which span it looked: the bundled lesson with its
+    // m/m0 = 4.5 step cut to 300 t0 (it settles after about 1,340).
+    let short = lesson.replacen("at = 2300.0", "at = 1200.0", 1);
+    let setup = Scene::from_toml(&short).unwrap().setup(None).unwrap();
+    let mut last = None;
+    measure_evidence(&setup, &AtomicBool::new(false), 1e9, |s| {
+        last = Some(s.clone())
+    });
+    let checked = rollphase::live::evidence::claims_checked(&setup, &last.unwrap());
+    let step_3 = &checked.iter().find(|c| c.0 == 2).unwrap().2;
+    assert_eq!(
+        step_3.as_ref().unwrap_err(),
+        "the run has not settled on a cycle at α = 0.15000, m/m0 = 4.5 from t = 900 to t = 1200"
+    );
 }

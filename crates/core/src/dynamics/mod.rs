@@ -111,6 +111,8 @@ impl Ramp {
     /// // No drag: allowed with inertia (free rolling), not in the viscous model.
     /// assert!(Ramp::with_drag(0.15, 1.0, 0.0).is_ok());
     /// assert_eq!(Ramp::with_drag(0.15, 0.0, 0.0), Err(ModelError::BadDrag(0.0)));
+    /// // m/m0 = −0 is 0.
+    /// assert!(Ramp::with_drag(0.15, -0.0, 1.0).unwrap().mass_ratio.is_sign_positive());
     /// ```
     pub fn with_drag(alpha_rad: f64, mass_ratio: f64, drag: f64) -> Result<Self, ModelError> {
         if !(MIN_ALPHA..std::f64::consts::FRAC_PI_2).contains(&alpha_rad) {
@@ -124,7 +126,8 @@ impl Ramp {
         }
         Ok(Self {
             alpha_rad,
-            mass_ratio,
+            // −0 is the viscous model's 0: not "m/m0 = -0" on any surface.
+            mass_ratio: mass_ratio + 0.0,
             drag,
             drag_law: DragLaw::LINEAR,
         })

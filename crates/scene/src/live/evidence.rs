@@ -195,6 +195,8 @@ pub struct StepAt {
     pub alpha_star: f64,
     /// The step's time: a cycle last seen settled before it is an earlier step's.
     pub from: f64,
+    /// Where its evidence ends ([`step_ends`]): the next step's time or the scene's end.
+    pub to: f64,
 }
 
 impl StepAt {
@@ -204,10 +206,12 @@ impl StepAt {
     pub fn each_of(setup: &SceneSetup) -> Vec<StepAt> {
         let (mut alpha, mut mass_ratio) = (setup.ramp.alpha_rad, setup.ramp.mass_ratio);
         let mut method = setup.method;
+        let ends = step_ends(setup);
         setup
             .timeline
             .iter()
-            .map(|step| {
+            .zip(&ends[1..])
+            .map(|(step, &to)| {
                 alpha = step.alpha_rad.unwrap_or(alpha);
                 mass_ratio = step.mass_ratio.unwrap_or(mass_ratio);
                 method = step.method.unwrap_or(method);
@@ -221,6 +225,7 @@ impl StepAt {
                     drag: setup.ramp.drag_law.label(),
                     alpha_star: setup.alpha_star,
                     from: step.at,
+                    to,
                 }
             })
             .collect()
@@ -309,7 +314,11 @@ pub fn check_claim(claim: Claim, evidence: &PlotCheckpoint, at: &StepAt) -> Resu
                         c.seen_at
                     )
                 } else {
-                    format!("the run has not settled on a cycle at {at_words}")
+                    format!(
+                        "the run has not settled on a cycle at {at_words} from t = {} to t = {}",
+                        short(at.from),
+                        short(at.to)
+                    )
                 }),
             }
         }
@@ -567,6 +576,7 @@ mod tests {
             drag: DragLaw::default().label(),
             alpha_star,
             from: 0.0,
+            to: 600.0,
         }
     }
 

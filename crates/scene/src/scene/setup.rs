@@ -628,9 +628,20 @@ impl PlaybackSpec {
         if let Some(end) = self.end_time
             && !(end.is_finite() && end > self.start_time && end <= 1e6)
         {
-            return Err(invalid(format!(
-                "playback.end_time = {end} is not allowed (needs start_time < end_time ≤ 1e6)"
-            )));
+            return Err(invalid(
+                if end.is_finite() && end <= 1e6 && end <= self.start_time {
+                    // Either may be the mistake: both are named.
+                    format!(
+                        "playback.start_time = {} is not before playback.end_time = {end}: the scene \
+                     would start past its end (needs start_time < end_time ≤ 1e6)",
+                        self.start_time
+                    )
+                } else {
+                    format!(
+                        "playback.end_time = {end} is not allowed (needs start_time < end_time ≤ 1e6)"
+                    )
+                },
+            ));
         }
         Ok(())
     }

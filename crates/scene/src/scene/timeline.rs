@@ -495,7 +495,12 @@ speed = 3.0
             (
                 "end_time = 103.0",
                 "end_time = 5.0",
-                "playback.end_time = 5 is not allowed",
+                "playback.start_time = 10 is not before playback.end_time = 5",
+            ),
+            (
+                "end_time = 103.0",
+                "end_time = 2e6",
+                "playback.end_time = 2000000 is not allowed",
             ),
             ("caption = \"x\"", "", "timeline[1] changes nothing"),
             (
