@@ -503,10 +503,11 @@ impl LessonEvidence {
 
     /// The 1/T (0: halted) that the step shown once `done` steps are done measured at its α
     /// and m/m0, where the step claims the body rolls, halts, follows the √ law or settles on a
-    /// period (then 1/T of the settled cycle, whole) and its evidence bears the claim out: what the overlay says, marked as measured ahead, while the
-    /// live run, the same run, has not yet made the two turns its own 1/T needs (near α* a turn
-    /// takes 260 t0, minutes at a lesson's speed, while the plot already shows the point).
-    /// Of the sweep's points at that α, the one measured in the direction the sweep last moved.
+    /// period (then 1/T of the settled cycle, whole) and its evidence bears the claim out: what
+    /// the overlay says, marked as measured ahead, while the live run, the same run, has not
+    /// yet made the two turns its own 1/T needs (near α* a turn takes 260 t0, minutes at a
+    /// lesson's speed, while the plot already shows the point). Of the sweep's points at that
+    /// α, the one measured in the direction the sweep last moved.
     pub fn rate_shown(&self, done: usize) -> Option<f64> {
         let k = done.checked_sub(1)?;
         let claim = self.setup.timeline.get(k)?.claim?;

@@ -81,12 +81,12 @@ pub enum Claim {
     /// The 1/T plot has a point at the step's α above 0: the body rolls on.
     #[serde(rename = "rolling")]
     Rolling,
-    /// The run settled on period 1 at the step's m/m0 (its one test of a repeat, a steady
-    /// cycle of ∂Ω crossings), and the crossings plot shows one settled crossing there.
+    /// The run settled on period 1 at the step's α and m/m0 during the step (its one test of a
+    /// repeat, a steady cycle of ∂Ω crossings); the crossings plot shows its crossing. A sphere's.
     #[serde(rename = "period-1")]
     Period1,
-    /// The run settled on period 2 at the step's m/m0 (a steady cycle of two ∂Ω crossings),
-    /// and the crossings plot shows its two settled crossings there, alternating.
+    /// The run settled on period 2 at the step's α and m/m0 during the step (a steady cycle of
+    /// two ∂Ω crossings); the crossings plot shows its two crossings, alternating. A sphere's.
     #[serde(rename = "period-2")]
     Period2,
     /// The 1/T plot's rolling points near α* (α* < α ≤ 1.05 α*, at least three, at the step's

@@ -61,7 +61,8 @@ impl Crossings {
     /// Takes in the crossings of the cycle `snap` shows that are new since the last call, once
     /// its run's cycle is decided (`period_multiplicity`) and while the body is within the model
     /// (no lift-off or slip). All the cycle's new crossings count, so a plot fed at sparse
-    /// frames (a headless render of three frames) shows every branch the verdict names.
+    /// frames (a headless render of three frames) shows every branch the verdict names. Also
+    /// notes the cycle itself, or the body leaving the model, at the snapshot's α and regime.
     pub(super) fn take(&mut self, snap: &Snapshot) {
         let key = (Regime::of(snap), sweep_bin(snap.alpha_rad));
         if let Some(why) = &snap.validity {
