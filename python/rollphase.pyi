@@ -241,12 +241,27 @@ class BlockCheck(TypedDict):
     turns_vary: bool
     residual_ratio: float
 
+class TurnRule(TypedDict):
+    """Whether a track's turns follow from one another by a rule (a chaotic motion, which gets
+    no period) or swing with a second period (a quasi-periodic one, which gets none either): the
+    turns read, the analogues' error over a straight line's (about 2 for turns that vary by
+    chance, under 0.25 for a rule; None under 20 turns, or where the frame grid or a repeat
+    after a few turns explains the peaks), the peaks before it predicts from, the second period
+    in turns (None without one) and whether the frame grid explains the peaks."""
+
+    turns: int
+    ratio: Optional[float]
+    lags: int
+    second_period_turns: Optional[float]
+    frame_grid: bool
+
 class RepeatShown(TypedDict):
     """TrackMeasurement["repeat_shown"]: how closely the period is shown to be the motion's."""
 
     shown: Literal["closely", "by_markers", "roughly"]
     beyond_noise: Optional[float]
     after: NotRequired[int]
+    turn_rule: NotRequired[Optional[TurnRule]]
     caveat: str
 
 class TrackMeasurement(TypedDict):
@@ -268,6 +283,7 @@ class TrackMeasurement(TypedDict):
     frames_used: List[float]
     folded: _Array
     warnings: List[str]
+    turn_rule: Optional[TurnRule]
     marker_reading: NotRequired[MarkerReading]
     repeat_shown: RepeatShown
 

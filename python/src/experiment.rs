@@ -72,7 +72,8 @@ fn fields_into(
 }
 
 /// How closely a track's period is shown ({"shown": "closely" | "by_markers" | "roughly",
-/// "beyond_noise": float or None, with "by_markers" "after": 1 or 2 periods, "caveat": str,
+/// "beyond_noise": float or None, with "by_markers" "after": 1 or 2 periods, with "roughly"
+/// "turn_rule": a TurnRule dict or None, "caveat": str,
 /// empty where closely}), as summary.json's
 /// `repeat_shown` with the line `track` prints.
 fn repeat_dict(py: Python<'_>, shown: RepeatShown) -> PyResult<Bound<'_, PyDict>> {
@@ -191,8 +192,11 @@ pub fn read_track_table<'py>(
 /// shuffles and a reason), as `track --markers`. repeat_shown says how closely the period is
 /// shown to be the motion's ({"shown": "closely", "by_markers" or "roughly", "beyond_noise": the
 /// mismatch over the share the frame-to-frame noise explains, "caveat": what `track` prints):
-/// a centre that varies from turn to turn beyond its noise repeats only roughly, as a chaotic
-/// motion does, unless the markers repeat.
+/// a centre that varies from turn to turn beyond its noise repeats only roughly, unless the
+/// markers repeat, with "turn_rule" (TurnRule) saying whether its turns show a rule. A track
+/// whose turns follow from one another by a rule (a chaotic motion: over 20 turns, the
+/// analogues' error under 0.25 of a straight line's) or swing with a second period that is not a
+/// whole number of turns (a quasi-periodic one) raises InputError: it has no period.
 #[pyfunction]
 #[pyo3(signature = (frames, down, across, *, markers = None))]
 pub fn measure_track<'py>(

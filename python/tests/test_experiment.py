@@ -223,8 +223,32 @@ def test_the_markers_read_as_the_command_line_reads_them(repo, cli, tmp_path):
     assert "marker_reading" not in alone
     assert alone["repeat_shown"]["shown"] == "roughly"
     assert "chaotic" in alone["repeat_shown"]["caveat"]
+    # Its 9 readable turns are too few to read whether they follow from one another by a rule.
+    assert alone["repeat_shown"]["turn_rule"]["ratio"] is None
+    assert "too few (9)" in alone["repeat_shown"]["caveat"]
     with pytest.raises(rollphase.InputError, match="3: frame, down, across"):
         rollphase.measure_track(*authors_track(repo), markers=markers[:, :2])
+
+
+def test_a_chaotic_track_gets_no_period():
+    # The Rössler attractor (a = b = 0.2, c = 5.7): it repeats turn by turn as closely as the
+    # authors' run, but each turn follows from the one before by a rule.
+    def f(y):
+        return np.array([-y[1] - y[2], y[0] + 0.2 * y[1], 0.2 + y[2] * (y[0] - 5.7)])
+
+    y, h, rows = np.array([1.0, 1.0, 0.0]), 0.02, []
+    for i in range(5000):
+        if i >= 2000:
+            rows.append((0.02 * (i - 2000) + 0.05 * y[0], 0.05 * y[1]))
+        for _ in range(10):
+            k1 = f(y)
+            k2 = f(y + h / 2 * k1)
+            k3 = f(y + h / 2 * k2)
+            k4 = f(y + h * k3)
+            y = y + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    rows = np.array(rows) + 0.001 * np.random.default_rng(1).normal(size=(3000, 2))
+    with pytest.raises(rollphase.InputError, match="by a rule.*a chaotic motion"):
+        rollphase.measure_track(np.arange(3000.0), rows[:, 0], rows[:, 1])
 
 
 def test_a_track_without_a_period_says_why():

@@ -41,5 +41,6 @@ mod period_doubling;
 mod predictions;
 mod reproducibility;
 mod studies;
+mod track_chaos;
 mod track_periods;
 mod tracked_runs;

@@ -12,24 +12,24 @@ use rollphase::analysis::experiment::tracking::{
 use rollphase::geometry::Body;
 
 /// A reproducible stream of standard normal numbers (Box–Muller over a 64-bit LCG).
-struct Noise(u64);
+pub(crate) struct Noise(pub(crate) u64);
 
 impl Noise {
-    fn uniform(&mut self) -> f64 {
+    pub(crate) fn uniform(&mut self) -> f64 {
         self.0 = self
             .0
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
         ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
     }
-    fn normal(&mut self) -> f64 {
+    pub(crate) fn normal(&mut self) -> f64 {
         let (u, v) = (self.uniform(), self.uniform());
         (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
     }
 }
 
 /// A track at frames 0, 1, 2, … with nothing cleaned.
-fn on_frames(down: Vec<f64>, across: Vec<f64>) -> CleanTrack {
+pub(crate) fn on_frames(down: Vec<f64>, across: Vec<f64>) -> CleanTrack {
     CleanTrack {
         frames: (0..down.len()).map(|i| i as f64).collect(),
         down,
@@ -41,7 +41,13 @@ fn on_frames(down: Vec<f64>, across: Vec<f64>) -> CleanTrack {
 /// A rolling-like track: drift down the ramp, the first two harmonics of the period in both
 /// coordinates (the second `second` times the first), white noise of `noise` (in units of the
 /// first harmonic's amplitude).
-fn periodic(frames: usize, period: f64, second: f64, noise: f64, seed: u64) -> CleanTrack {
+pub(crate) fn periodic(
+    frames: usize,
+    period: f64,
+    second: f64,
+    noise: f64,
+    seed: u64,
+) -> CleanTrack {
     let mut rng = Noise(seed);
     let w = std::f64::consts::TAU / period;
     let (p1, p2, p3) = (
@@ -68,7 +74,7 @@ fn periodic(frames: usize, period: f64, second: f64, noise: f64, seed: u64) -> C
     on_frames(down, across)
 }
 
-fn search() -> PeriodSearch {
+pub(crate) fn search() -> PeriodSearch {
     PeriodSearch::default()
 }
 
@@ -732,107 +738,6 @@ fn recurring_gaps_never_make_a_multiple_of_the_period() {
             "{period}: {}",
             fit.period_frames
         );
-    }
-}
-
-/// The Rössler attractor ẋ = −y − z, ẏ = x + ay, ż = b + z(x − c) (a = b = 0.2) as a track:
-/// x and y (times 0.05) down and across, a drift of 0.02 a frame down, 0.001 of white noise,
-/// 5 frames per time unit (a turn of about 29 frames), after a transient of 3,000 frames.
-fn rossler(c: f64, frames: usize, seed: u64) -> CleanTrack {
-    let f = |y: [f64; 3]| [-y[1] - y[2], y[0] + 0.2 * y[1], 0.2 + y[2] * (y[0] - c)];
-    let (mut y, h) = ([1.0, 1.0, 0.0], 0.02);
-    let axpy = |y: [f64; 3], k: [f64; 3], s: f64| [0, 1, 2].map(|i| y[i] + s * k[i]);
-    let mut rng = Noise(seed);
-    let (mut down, mut across) = (Vec::new(), Vec::new());
-    for i in 0..3000 + frames {
-        if i >= 3000 {
-            let t = (i - 3000) as f64;
-            down.push(0.02 * t + 0.05 * y[0] + 0.001 * rng.normal());
-            across.push(0.05 * y[1] + 0.001 * rng.normal());
-        }
-        for _ in 0..10 {
-            let k1 = f(y);
-            let k2 = f(axpy(y, k1, h / 2.0));
-            let k3 = f(axpy(y, k2, h / 2.0));
-            let k4 = f(axpy(y, k3, h));
-            y = [0, 1, 2].map(|j| y[j] + h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]));
-        }
-    }
-    on_frames(down, across)
-}
-
-/// A chaotic track is never stated as repeating closely (issue 59: "a quasi-periodic or chaotic
-/// track never gets a period"). The phase-coherent Rössler attractor (c = 5 and 5.7) passes every
-/// test of a repeat: each cycle repeats on its own with a mismatch of 0.14 and 0.24 (the authors'
-/// viscous run leaves 0.24) and the surrogates reach 0.71–0.75. Its period, the mean turn, is
-/// stated "only roughly": the centre leaves 4,900–9,300 times as much unrepeated as its noise
-/// explains. Its periodic windows (c = 2.5, period 1; c = 4, period 4) and noisy periodic
-/// tracks from 7.3 to 177.7 frames a period (noise 5 % to 50 % of the wobble) repeat closely.
-#[test]
-fn chaotic_tracks_are_never_said_to_repeat_closely() {
-    let shown = |track: &CleanTrack| {
-        let fit = find_period(track, &search(), &|_, _| {}).map_err(|e| e.to_string())?;
-        let rows: Vec<(f64, f64, f64)> = (0..track.frames.len())
-            .map(|i| (track.frames[i], track.down[i], track.across[i]))
-            .collect();
-        Ok::<_, String>((
-            fit.period_frames,
-            fit.mismatch,
-            repeat_shown(&rows, track, &fit, None),
-        ))
-    };
-    // Tracker glitches (a frame in 30 off by 2, four times the wobble's size across) are not
-    // taken for noise: the chaotic track still repeats only roughly (with the mean of the
-    // squared differences for the noise's variance, it read as closely as its noise allows).
-    let mut glitched = rossler(5.0, 3000, 9);
-    for i in (5..3000).step_by(30) {
-        glitched.across[i] += 2.0;
-    }
-    let (_, _, s) = shown(&glitched).unwrap();
-    assert!(matches!(s, RepeatShown::Roughly { .. }), "glitched: {s:?}");
-    // Every other frame filmed: the bridged frames carry no noise and are left out of its
-    // estimate (they made a noisy periodic track 15 times its noise).
-    let full = periodic(3000, 61.7, 0.3, 0.2, 97);
-    let rows: Vec<(f64, f64, f64)> = (0..3000)
-        .step_by(2)
-        .map(|i| (full.frames[i], full.down[i], full.across[i]))
-        .collect();
-    let f: Vec<f64> = rows.iter().map(|r| r.0).collect();
-    let d: Vec<f64> = rows.iter().map(|r| r.1).collect();
-    let a: Vec<f64> = rows.iter().map(|r| r.2).collect();
-    let (track, fit) = measure(&f, &d, &a, &|_, _| {}).unwrap();
-    let s = repeat_shown(&rows, &track, &fit, None);
-    assert!(
-        matches!(s, RepeatShown::Closely { .. }),
-        "every other frame: {s:?}"
-    );
-    for c in [5.0, 5.7] {
-        match shown(&rossler(c, 3000, 7)) {
-            // Refusing a period altogether is as good.
-            Err(e) => eprintln!("Rössler c = {c}: refused ({e})"),
-            Ok((t, m, s)) => {
-                eprintln!("Rössler c = {c}: {t:.2} frames, mismatch {m:.3}, {s:?}");
-                assert!(matches!(s, RepeatShown::Roughly { .. }), "c = {c}: {s:?}");
-            }
-        }
-    }
-    for c in [2.5, 4.0] {
-        let (t, m, s) = shown(&rossler(c, 3000, 8)).unwrap();
-        eprintln!("Rössler c = {c}: {t:.2} frames, mismatch {m:.3}, {s:?}");
-        assert!(matches!(s, RepeatShown::Closely { .. }), "c = {c}: {s:?}");
-    }
-    for (k, period) in [7.3f64, 10.4, 30.0, 177.7].into_iter().enumerate() {
-        for noise in [0.05, 0.2, 0.5] {
-            let frames = (12.0 * period).max(1500.0) as usize;
-            let track = periodic(frames, period, 0.3, noise, 90 + k as u64);
-            match shown(&track) {
-                Err(e) => assert!(noise >= 0.5, "{period} frames at noise {noise}: {e}"),
-                Ok((_, _, s)) => assert!(
-                    matches!(s, RepeatShown::Closely { .. }),
-                    "{period} frames at noise {noise}: {s:?}"
-                ),
-            }
-        }
     }
 }
 

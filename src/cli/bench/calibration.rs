@@ -100,6 +100,7 @@ pub fn run(a: CalibrationBenchArgs) -> Result<()> {
         100.0 * covered / total.max(1) as f64
     )?;
     motion_table(&done)?;
+    rule_table(&a)?;
     lag_table(&a)?;
     mesh_table(&a)
 }
@@ -212,6 +213,80 @@ fn motion_table(done: &[CaseCalibration]) -> Result<()> {
         share(pooled[1]),
         share(pooled[2]),
         pooled[0].1
+    )?;
+    Ok(())
+}
+
+/// The turn rule: `--draws` × 5 rolls whose turns vary by chance, none of which may be called
+/// chaotic or quasi-periodic, and `--draws` / 4 each of logistic-map rolls, rolls with a second
+/// period, and stretches of the Rössler attractor at each of two c and three noises, which it
+/// should refuse where the noise lets the rule show.
+fn rule_table(a: &CalibrationBenchArgs) -> Result<()> {
+    use crate::analysis::experiment::tracking::turns::{MIN_TURNS, RULE_RATIO};
+    use crate::analysis::experiment::tracking::turns_calibration::{
+        RuleReading, chance_rolls, logistic_rolls, quasi_periodic_rolls, rossler_runs,
+    };
+    outln!(
+        "\ntrack's turn rule (a chaotic or quasi-periodic track gets no period): each turn's peak \
+         predicted by its nearest analogue's successor (from 1 to 3 peaks before), the error over \
+         the best straight line's (turns that vary by chance read about 2; a rule, under \
+         {RULE_RATIO} over {MIN_TURNS} turns or more, is refused as chaotic), and a second period \
+         of the turns (refused as quasi-periodic)"
+    )?;
+    outln!(
+        "{:<34} {:>6} {:>8} {:>8} {:>8} {:>6} {:>8} {:>8} {:>8} {:>8}",
+        "tracks",
+        "count",
+        "chaotic",
+        "quasi",
+        "refused",
+        "read",
+        "lowest",
+        "ratio 1%",
+        "median",
+        "99%"
+    )?;
+    let share = |k: usize, r: &RuleReading| 100.0 * k as f64 / r.tracks.max(1) as f64;
+    let row = |name: String, r: &RuleReading| {
+        outln!(
+            "{:<34} {:>6} {:>7.1}% {:>7.1}% {:>8} {:>6} {:>8.3} {:>8.3} {:>8.3} {:>8.3}",
+            name,
+            r.tracks,
+            share(r.chaotic, r),
+            share(r.quasi_periodic, r),
+            r.refused_otherwise,
+            r.read,
+            r.quantile(0.0),
+            r.quantile(0.01),
+            r.quantile(0.5),
+            r.quantile(0.99)
+        )
+    };
+    let few = (a.draws / 4).max(10);
+    row(
+        "turns varying by chance (AR(1))".into(),
+        &chance_rolls(5 * a.draws, a.seed),
+    )?;
+    row(
+        "logistic-map sizes, eased".into(),
+        &logistic_rolls(few, a.seed),
+    )?;
+    row(
+        "sizes with a second period".into(),
+        &quasi_periodic_rolls(few, a.seed),
+    )?;
+    for c in [5.0, 5.7] {
+        for noise in [0.001, 0.01, 0.03] {
+            row(
+                format!("Rössler c = {c}, noise {:.1} %", 100.0 * noise / 0.5),
+                &rossler_runs(c, noise, few, a.seed),
+            )?;
+        }
+    }
+    outln!(
+        "(chaotic, quasi: refused as such, the goal 0 % for turns that vary by chance and 100 % \
+         for the maps, the second periods and the attractor where its noise lets the rule show; \
+         refused: no period for another reason; read: given a period, with a ratio)"
     )?;
     Ok(())
 }

@@ -53,11 +53,16 @@ use print::print_summary;
 /// 19 shuffles of the cycles and 19 unrelated phases, or that they are too sparse to tell
 /// (summary.json: marker_reading). Under the period it says how closely it is shown
 /// (summary.json: repeat_shown): where the centre leaves more unrepeated than 3 times its white
-/// frame-to-frame noise explains, only roughly, as a roll whose turns vary and a chaotic motion
-/// both repeat, unless the markers repeat. The period is stated only
-/// when every cycle repeats on its own and the track repeats beyond chance (19 surrogate tracks
-/// with its smoothed spectrum and random phases); otherwise the command says why, writes
-/// refused.png (the track and its mismatch at every shift) and exits 1.
+/// frame-to-frame noise explains, only roughly (a roll whose turns vary by chance), unless the
+/// markers repeat. The period is stated only when every cycle repeats on its own, the track
+/// repeats beyond chance (19 surrogate tracks with its smoothed spectrum and random phases) and
+/// its turns neither follow from one another by a rule nor swing with a second period: over 20
+/// turns or more, each turn's peak predicted from its nearest analogue in the peaks before
+/// misses by under 0.25 of what a straight line misses in a chaotic motion (the Rössler
+/// attractor: 0.002–0.1 at noise up to 2 %), while turns that vary by chance read about 2
+/// (`bench calibration`), and sizes that swing every 7.3 turns are quasi-periodic.
+/// Otherwise the command says why, writes refused.png (the track and its mismatch at every
+/// shift) and exits 1.
 /// With --body and --alpha: m/m0 and the time unit t0 solved together so that the model's
 /// period in seconds is the measured one (the weight drives the body: m/m0 = ⟨r⟩/(g t0²)),
 /// the SI's speed estimate v²/(g⟨r⟩ sin²α) (§2H) beside it as a check, and the predicted
@@ -171,8 +176,9 @@ pub struct TrackSummary {
     /// vary beyond the noise).
     pub block_check: Option<BlockCheck>,
     /// How closely the period is shown to be the motion's: the centre repeats as closely as its
-    /// noise allows, or only roughly and the markers repeat, or only roughly (a roll whose turns
-    /// vary and a chaotic motion alike), with the mismatch over what the noise explains.
+    /// noise allows, or only roughly and the markers repeat, or only roughly (turns that vary
+    /// without a rule between them, or too few to read one), with the mismatch over what the
+    /// noise explains.
     pub repeat_shown: RepeatShown,
     /// The period in frames.
     pub period_frames: f64,

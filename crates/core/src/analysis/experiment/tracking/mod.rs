@@ -20,6 +20,8 @@ pub mod period;
 mod repeat;
 mod surrogates;
 pub mod table;
+pub mod turns;
+pub mod turns_calibration;
 
 pub use period::{
     ErrorSource, MAX_MISMATCH, MIN_PERIOD_FRAMES, PeriodFit, PeriodSearch, Significance,
@@ -523,6 +525,7 @@ pub fn measure(
     };
     let first_look = PeriodSearch {
         surrogates: 0,
+        read_turns: false,
         ..PeriodSearch::default()
     };
     let first = find_period(&middle, &first_look, &|_, _| {})?;

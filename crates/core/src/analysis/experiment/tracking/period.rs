@@ -47,6 +47,7 @@ use serde::Serialize;
 use super::mismatch::{Curve, Detrended, next_pow2, normalised};
 pub use super::surrogates::SMOOTHING_RATIO;
 use super::surrogates::surrogate_floor;
+use super::turns::{TurnRule, turn_rule};
 use super::{CleanTrack, TrackError, harmonic};
 
 /// The normalised mismatch above which a period is not stated.
@@ -81,6 +82,10 @@ pub struct PeriodSearch {
     pub min_frames: f64,
     /// Surrogate tracks for the chance level (0: no check against chance, for a first look).
     pub surrogates: usize,
+    /// Whether the turns are read for a rule between them ([`super::turns`]), which refuses a
+    /// chaotic or quasi-periodic track (false for a first look, whose period only sizes a
+    /// window: it may be a multiple of the one the whole search states).
+    pub read_turns: bool,
 }
 
 impl Default for PeriodSearch {
@@ -88,6 +93,7 @@ impl Default for PeriodSearch {
         PeriodSearch {
             min_frames: MIN_PERIOD_FRAMES,
             surrogates: SURROGATES,
+            read_turns: true,
         }
     }
 }
@@ -158,6 +164,10 @@ pub struct PeriodFit {
     pub block_check: Option<harmonic::BlockCheck>,
     /// The normalised mismatch at every whole shift (shift in frames, mismatch).
     pub mismatch_curve: Vec<[f64; 2]>,
+    /// Whether the turns follow from one another by a rule ([`super::turns`]), read where the
+    /// track repeats less closely than [`super::CLOSE_REPEAT_FLOOR`]; `None` where it repeats
+    /// more closely. A period is never stated where they do (a chaotic motion).
+    pub turn_rule: Option<TurnRule>,
 }
 
 /// The dips of d′ below [`MAX_NORMALISED_DIP`] from shift 2 on, each as its lowest whole
@@ -484,6 +494,50 @@ fn gcd(a: usize, b: usize) -> usize {
     if b == 0 { a } else { gcd(b, a % b) }
 }
 
+/// The largest |position| of the track, down or across.
+fn extent_of(track: &CleanTrack) -> f64 {
+    let all = track.down.iter().chain(&track.across);
+    all.fold(0.0f64, |m, v| m.max(v.abs()))
+}
+
+/// What the turns show of a rule between them ([`super::turns`]), read where the track with
+/// period `tau` repeats less closely than [`CLOSE_REPEAT_FLOOR`] (mismatch `m`): a chaotic
+/// motion repeats only on average, its turns following from one another by a rule where a
+/// roll's vary by chance, and a quasi-periodic one swings with a second period that is not a
+/// whole number of turns; both are refused.
+fn no_rule_between_turns(
+    det: &Detrended,
+    tau: f64,
+    m: f64,
+) -> Result<Option<TurnRule>, TrackError> {
+    let turn_rule = (m > 0.0).then(|| turn_rule(&det.z, tau));
+    let what = |rule: &TurnRule| {
+        if rule.quasi_periodic() {
+            Some("a quasi-periodic motion, which never repeats exactly")
+        } else if rule.chaotic() {
+            Some("a chaotic motion, which repeats only on average")
+        } else {
+            None
+        }
+    };
+    match turn_rule.as_ref().and_then(|r| Some((r, what(r)?))) {
+        Some((rule, what)) => Err(TrackError::NoPeriod {
+            best_frames: tau,
+            why: format!(
+                "the track repeats after {tau:.1} frames only in the mean (mismatch {}): its \
+                 turns {}: {what}, and so has no period",
+                if m < 1e-3 {
+                    format!("{m:.1e}")
+                } else {
+                    format!("{m:.3}")
+                },
+                rule.said()
+            ),
+        }),
+        None => Ok(turn_rule),
+    }
+}
+
 /// The check against chance (see the module doc) of the period `tau` with normalised
 /// mismatch `m`, or `None` without surrogates.
 fn against_chance(
@@ -651,13 +705,8 @@ pub fn find_period(
     let max_tau = (n - 1) / 2;
     let det = Detrended::of(track);
     let scale = det.scale();
-    let extent = track
-        .down
-        .iter()
-        .chain(&track.across)
-        .fold(0.0f64, |m, v| m.max(v.abs()));
     // Round-off alone (1e-16 of the positions) can look periodic: below 1e-9 nothing varies.
-    if scale <= (1e-9 * extent).powi(2) {
+    if scale <= (1e-9 * extent_of(track)).powi(2) {
         return Err(TrackError::Damaged(
             "the track is a straight line at constant speed: nothing repeats that could give a \
              period"
@@ -768,6 +817,11 @@ pub fn find_period(
         tau
     };
     let (tau, error, from, harmonic) = regression(&det.z, start, (error, from), m)?;
+    let turn_rule = if search.read_turns {
+        no_rule_between_turns(&det, tau, m)? // at the period as stated
+    } else {
+        None
+    };
     // The regression saw the track less its line: the line's slope goes back into its velocity.
     let harmonic = harmonic.map(|mut fit| {
         fit.velocity += det.slope;
@@ -798,6 +852,7 @@ pub fn find_period(
         significance,
         block_check,
         mismatch_curve: curve,
+        turn_rule,
     })
 }
 

@@ -1,12 +1,15 @@
 //! How far a track's stated period is shown to be the motion's period: the centre's mismatch at
 //! the period against what its frame-to-frame noise explains, and the markers' reading where
 //! there is one. A chaotic motion whose phase keeps time (the Rössler attractor) passes every
-//! test of a repeat in [`super::period`] at the mismatch the authors' real run has; the noise
-//! tells them apart, and where it does not, the markers can.
+//! test of a repeat in [`super::period`] at the mismatch the authors' real run has; its turns
+//! following from one another by a rule ([`super::turns`]) refuse it a period there, and where
+//! the turns are too few or too noisy to show a rule, this says the period is only roughly
+//! shown.
 
 use serde::Serialize;
 
 use super::mismatch::Detrended;
+use super::turns::TurnRule;
 use super::{CleanTrack, PeriodFit, markers};
 
 /// How many times the share of a track's variation that its frame-to-frame noise explains its
@@ -42,11 +45,14 @@ pub enum RepeatShown {
         after: usize,
     },
     /// The centre leaves more unrepeated than its noise explains, and no markers show the
-    /// orientation repeating: the period is the track's mean repeat, which a periodic roll
-    /// whose turns vary and a motion that never repeats exactly (a chaotic one) both have.
+    /// orientation repeating: the period is the track's mean repeat, a roll's whose turns vary
+    /// by chance, or a chaotic motion's whose rule too few turns or too much noise hide.
     Roughly {
         /// As in `Closely`.
         beyond_noise: Option<f64>,
+        /// What the turns show of a rule between them ([`super::turns`]): none, or too few
+        /// turns to read one (a track whose turns follow a rule gets no period at all).
+        turn_rule: Option<TurnRule>,
     },
 }
 
@@ -71,7 +77,8 @@ impl RepeatShown {
     /// # Example
     /// ```
     /// use rollphase_core::analysis::experiment::tracking::RepeatShown;
-    /// assert!(RepeatShown::Roughly { beyond_noise: Some(12.0) }.caveat().contains("chaotic"));
+    /// let rough = RepeatShown::Roughly { beyond_noise: Some(12.0), turn_rule: None };
+    /// assert!(rough.caveat().contains("chaotic"));
     /// assert!(RepeatShown::Closely { beyond_noise: Some(1.0) }.caveat().is_empty());
     /// let doubled = RepeatShown::ByMarkers { beyond_noise: Some(5.0), after: 2 };
     /// assert!(doubled.caveat().contains("every 2 periods"));
@@ -88,6 +95,10 @@ impl RepeatShown {
                  spaced measured frames, or none varies), so how much of that is noise is not \
                  shown"
             ),
+        };
+        let rule = |r: Option<TurnRule>| {
+            r.map(|r| format!("; its turns {}", r.said()))
+                .unwrap_or_default()
         };
         let markers = "markers on the body (--markers) can show whether its orientation repeats";
         match self {
@@ -110,15 +121,21 @@ impl RepeatShown {
             ),
             RepeatShown::Roughly {
                 beyond_noise: Some(b),
+                turn_rule,
             } => format!(
                 "the centre repeats only roughly: it {}, so the period is its mean repeat: its \
                  turns differ beyond the noise, as those of a roll whose turns vary and of a \
-                 chaotic motion both do, or its tracker smooths the noise; {markers}",
-                beyond(Some(b))
+                 chaotic motion both do, or its tracker smooths the noise{}; {markers}",
+                beyond(Some(b)),
+                rule(turn_rule)
             ),
-            RepeatShown::Roughly { beyond_noise: None } => format!(
-                "how closely the centre repeats is not shown: it {}; {markers}",
-                beyond(None)
+            RepeatShown::Roughly {
+                beyond_noise: None,
+                turn_rule,
+            } => format!(
+                "how closely the centre repeats is not shown: it {}{}; {markers}",
+                beyond(None),
+                rule(turn_rule)
             ),
         }
     }
@@ -191,8 +208,10 @@ fn noise_share(measured: &[(f64, f64, f64)], track: &CleanTrack) -> Option<f64> 
 /// repeats ([`super::find_period`]); this says how closely. A centre that leaves more than
 /// [`CLOSE_REPEAT_FACTOR`] times what its noise explains (and over [`CLOSE_REPEAT_FLOOR`])
 /// unrepeated varies from turn to turn smoothly, as a roll whose turns vary does and as a
-/// chaotic motion does: from the centre alone the two cannot be told apart (the authors' run
-/// and the Rössler attractor leave the same mismatch, 0.24), and the markers can.
+/// chaotic motion does (the authors' run and the Rössler attractor leave the same mismatch,
+/// 0.24): [`super::find_period`] has already refused a track whose turns follow a rule
+/// ([`super::turns`]), so what is left varies by chance or has too few turns to tell, which
+/// the caveat says; the markers can show the orientation repeating.
 ///
 /// # Example
 /// ```
@@ -205,19 +224,32 @@ fn noise_share(measured: &[(f64, f64, f64)], track: &CleanTrack) -> Option<f64> 
 /// let (track, fit) = measure(&frames, &down, &across, &|_, _| {})?;
 /// let rows: Vec<(f64, f64, f64)> = (0..1200).map(|i| (frames[i], down[i], across[i])).collect();
 /// assert_eq!(repeat_shown(&rows, &track, &fit, None).name(), "closely");
-/// // Each turn's size drawn by a logistic map in its chaotic range (and eased from turn to
-/// // turn): the turns repeat one by one well enough for a period, but only roughly.
-/// let mut x = 0.3f64;
-/// let size: Vec<f64> = (0..42).map(|_| { x = 3.9 * x * (1.0 - x); 0.5 + x }).collect();
-/// let s = |f: f64| {
+/// // Each turn's size drawn at random (a fixed generator) and eased from turn to turn: the
+/// // turns repeat one by one well enough for a period, but only roughly, and by chance.
+/// let mut state = 11u64;
+/// let size: Vec<f64> = (0..42)
+///     .map(|_| {
+///         state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+///         0.5 + (state >> 11) as f64 / (1u64 << 53) as f64
+///     })
+///     .collect();
+/// let s = |size: &[f64], f: f64| {
 ///     let (k, u) = ((f / 30.0).floor() as usize, f / 30.0 - (f / 30.0).floor());
 ///     size[k] + (size[k + 1] - size[k]) * u
 /// };
-/// let across: Vec<f64> = frames.iter().map(|&f| s(f) * (w * f).cos()).collect();
-/// let down: Vec<f64> = frames.iter().map(|&f| 0.1 * f + s(f) * (w * f).sin()).collect();
+/// let across: Vec<f64> = frames.iter().map(|&f| s(&size, f) * (w * f).cos()).collect();
+/// let down: Vec<f64> = frames.iter().map(|&f| 0.1 * f + s(&size, f) * (w * f).sin()).collect();
 /// let (track, fit) = measure(&frames, &down, &across, &|_, _| {})?;
 /// let rows: Vec<(f64, f64, f64)> = (0..1200).map(|i| (frames[i], down[i], across[i])).collect();
 /// assert_eq!(repeat_shown(&rows, &track, &fit, None).name(), "roughly");
+/// // The sizes drawn by the logistic map in its chaotic range instead: each turn follows from
+/// // the one before by a rule, a chaotic motion, and no period is stated.
+/// let mut x = 0.3f64;
+/// let size: Vec<f64> = (0..42).map(|_| { x = 3.9 * x * (1.0 - x); 0.5 + x }).collect();
+/// let across: Vec<f64> = frames.iter().map(|&f| s(&size, f) * (w * f).cos()).collect();
+/// let down: Vec<f64> = frames.iter().map(|&f| 0.1 * f + s(&size, f) * (w * f).sin()).collect();
+/// let refused = measure(&frames, &down, &across, &|_, _| {}).unwrap_err();
+/// assert!(refused.to_string().contains("chaotic"), "{refused}");
 /// # Ok::<(), rollphase_core::analysis::experiment::tracking::TrackError>(())
 /// ```
 pub fn repeat_shown(
@@ -241,6 +273,9 @@ pub fn repeat_shown(
             after,
         }
     } else {
-        RepeatShown::Roughly { beyond_noise }
+        RepeatShown::Roughly {
+            beyond_noise,
+            turn_rule: fit.turn_rule,
+        }
     }
 }
