@@ -776,3 +776,29 @@ fn whole_pixel_tracks_of_a_slow_body_are_read() {
         );
     }
 }
+
+/// A noise-free circle written to six decimals repeats exactly only after a whole number of
+/// frames (the file's rounding repeats with the samples): 29.4 frames came back as 147, 21.7 as
+/// 43.4 and 12.3 as 24.6, `closely`, with errors of 1e-8 s, and 20.16 was refused (a helper's
+/// finding, 2026-12-04). The rounding's harmonics, a millionth of the circle's power, are no
+/// longer significant, and every period comes back.
+#[test]
+fn a_noise_free_circle_in_a_rounded_file_gets_its_own_period() {
+    for period in [7.84, 12.3, 18.62, 20.16, 21.7, 29.4, 32.48, 35.56, 37.1] {
+        let w = std::f64::consts::TAU / period;
+        let frames: Vec<f64> = (0..3000).map(f64::from).collect();
+        let six = |v: f64| (v * 1e6).round() / 1e6;
+        let down: Vec<f64> = frames
+            .iter()
+            .map(|&t| six(0.1 * t + 0.5 * (w * t).cos()))
+            .collect();
+        let across: Vec<f64> = frames.iter().map(|&t| six(0.5 * (w * t).sin())).collect();
+        let (_, fit) = measure(&frames, &down, &across, &|_, _| {})
+            .unwrap_or_else(|e| panic!("{period} frames: {e}"));
+        assert!(
+            (fit.period_frames - period).abs() < 1e-4,
+            "{period} frames came back as {}",
+            fit.period_frames
+        );
+    }
+}

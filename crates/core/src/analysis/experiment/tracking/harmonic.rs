@@ -31,6 +31,13 @@ const DEFAULT_HARMONICS: usize = 8;
 /// A harmonic's strength above which it is no chance: Gamma(2, 1) exceeds 30 with
 /// probability 31·e⁻³⁰ ≈ 3e-12.
 pub const SIGNIFICANT_STRENGTH: f64 = 30.0;
+/// The least share of the strongest harmonic's power a significant one carries (an amplitude of
+/// 0.1 % of its): what is weaker in a noise-free track is the file's rounding, which repeats
+/// with the samples. A circle of 29.4 frames written to six decimals repeats exactly only after
+/// 147 frames, and its rounding's harmonics of 147 (amplitude 2e-6 of the circle's) made that
+/// the period (a helper's finding, 2026-12-04). Strengths share one noise level across the
+/// harmonics, so their ratio is the powers'.
+pub const SIGNIFICANT_SHARE: f64 = 1e-6;
 /// The floor of the noise a harmonic is measured against, relative to the track's mean square:
 /// a noiseless track's residual is round-off.
 const ROUND_OFF: f64 = 1e-20;
@@ -595,7 +602,8 @@ impl HarmonicPeriod {
         (self.velocity * t, errors)
     }
 
-    /// The harmonics (1 … H) that stand out of the noise ([`SIGNIFICANT_STRENGTH`]).
+    /// The harmonics (1 … H) that stand out of the noise ([`SIGNIFICANT_STRENGTH`]) and carry
+    /// at least [`SIGNIFICANT_SHARE`] of the strongest one's power.
     ///
     /// # Example
     /// ```
@@ -613,8 +621,12 @@ impl HarmonicPeriod {
     /// assert_eq!(harmonic_period(&z, 30.0, 0.5).unwrap().significant(), vec![1, 3]);
     /// ```
     pub fn significant(&self) -> Vec<usize> {
+        let strongest = self.strengths.iter().fold(0.0f64, |m, &v| m.max(v));
         (1..=self.harmonics)
-            .filter(|&k| self.strengths[k - 1] > SIGNIFICANT_STRENGTH)
+            .filter(|&k| {
+                let s = self.strengths[k - 1];
+                s > SIGNIFICANT_STRENGTH && s >= SIGNIFICANT_SHARE * strongest
+            })
             .collect()
     }
 
