@@ -207,3 +207,83 @@ fn maps_second_periods_slips_and_the_frame_grid_are_told_apart() {
         );
     }
 }
+
+/// A second helper's attack, each case now decided as it should be:
+/// - the logistic map at r = 3.7 driving eased sizes, noise-free at 30 frames a turn, was told
+///   its peaks "vary only with where the frames fall" (the frame-grid test read the peaks'
+///   measured times, which the eased size moves): the grid is now the period's own rotation,
+///   and a whole number of frames a turn has none; it is refused;
+/// - chaos across alone, the down peaks exactly constant, read "repeat after a few turns": a
+///   coordinate that does not vary is left out and the rule read in the other;
+/// - a damped resonance driven by chance (x' = 1.6x − 0.8x₋₁ + noise) was refused as
+///   quasi-periodic in 3 of 15 seeds: one sinusoid must now explain 90 % of the peaks.
+#[test]
+fn a_second_attack_on_the_turn_rule() {
+    let why = |track: &CleanTrack| shown(track).err().unwrap_or_default();
+    let logistic = |r: f64, x0: f64| {
+        let mut x = x0;
+        (0..100)
+            .map(|_| {
+                x = r * x * (1.0 - x);
+                x
+            })
+            .collect::<Vec<f64>>()
+    };
+    let sizes = logistic(3.7, 0.3);
+    let refused = why(&roll_track(
+        &|k| 1.0 + 0.3 * (sizes[k] - 0.5),
+        (100, 30.0),
+        (0.0, 0.0),
+        1,
+    ));
+    assert!(
+        refused.contains("chaotic"),
+        "r = 3.7, noise-free: {refused}"
+    );
+    // Across alone: the down wobble of fixed size.
+    let sizes = logistic(3.9, 0.3);
+    let frames: Vec<f64> = (0..2970).map(f64::from).collect();
+    let size = |f: f64| {
+        let (k, u) = ((f / 30.0).floor() as usize, (f / 30.0).fract());
+        1.0 + 0.1 * (sizes[k] + (sizes[k + 1] - sizes[k]) * u - 0.5)
+    };
+    let w = std::f64::consts::TAU / 30.0;
+    let track = CleanTrack {
+        frames: frames.clone(),
+        down: frames.iter().map(|&f| 0.1 * f + (w * f).cos()).collect(),
+        across: frames.iter().map(|&f| size(f) * (w * f).sin()).collect(),
+        warnings: vec![],
+    };
+    let refused = why(&track);
+    assert!(refused.contains("chaotic"), "across alone: {refused}");
+    // A resonance driven by chance: a period, never quasi-periodic.
+    for seed in 0..15u64 {
+        let mut draw = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+        let mut normal = || {
+            let mut u = [0.0; 2];
+            for v in &mut u {
+                draw = draw
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                *v = ((draw >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+            }
+            (-2.0 * u[0].ln()).sqrt() * (std::f64::consts::TAU * u[1]).cos()
+        };
+        let mut x = vec![0.0f64; 100];
+        for k in 2..100 {
+            x[k] = 1.6 * x[k - 1] - 0.8 * x[k - 2] + normal();
+        }
+        let spread = (x.iter().map(|v| v * v).sum::<f64>() / 100.0).sqrt();
+        let track = roll_track(
+            &|k| 1.0 + 0.1 * x[k] / spread,
+            (100, 30.0),
+            (0.0, 0.01),
+            seed,
+        );
+        let said = why(&track);
+        assert!(
+            !said.contains("quasi-periodic motion") && !said.contains("chaotic"),
+            "a driven resonance (seed {seed}): {said}"
+        );
+    }
+}

@@ -247,19 +247,28 @@ fn rule_table(a: &CalibrationBenchArgs) -> Result<()> {
         "99%"
     )?;
     let share = |k: usize, r: &RuleReading| 100.0 * k as f64 / r.tracks.max(1) as f64;
+    // A quantile, or a dash where no ratio was read (a second period refuses before one is).
+    let q = |r: &RuleReading, at: f64| {
+        let v = r.quantile(at);
+        if v.is_nan() {
+            format!("{:>8}", "—")
+        } else {
+            format!("{v:>8.3}")
+        }
+    };
     let row = |name: String, r: &RuleReading| {
         outln!(
-            "{:<34} {:>6} {:>7.1}% {:>7.1}% {:>8} {:>6} {:>8.3} {:>8.3} {:>8.3} {:>8.3}",
+            "{:<34} {:>6} {:>7.1}% {:>7.1}% {:>8} {:>6} {} {} {} {}",
             name,
             r.tracks,
             share(r.chaotic, r),
             share(r.quasi_periodic, r),
             r.refused_otherwise,
             r.read,
-            r.quantile(0.0),
-            r.quantile(0.01),
-            r.quantile(0.5),
-            r.quantile(0.99)
+            q(r, 0.0),
+            q(r, 0.01),
+            q(r, 0.5),
+            q(r, 0.99)
         )
     };
     let few = (a.draws / 4).max(10);

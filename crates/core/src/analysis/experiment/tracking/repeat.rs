@@ -144,6 +144,8 @@ impl RepeatShown {
 /// The widest even spacing of frames (a track filmed every other frame, say) the noise is read
 /// over.
 const MAX_NOISE_STEP: usize = 4;
+/// The least share of the variation read as noise: below it, floating-point round-off.
+const ROUND_OFF_SHARE: f64 = 1e-15;
 /// Runs of four evenly spaced measured frames needed to read the noise.
 const MIN_NOISE_RUNS: usize = 20;
 
@@ -163,7 +165,8 @@ const CHI2_1_KEPT_MEAN: f64 = 0.437_725;
 /// leaves little there. Bridged gaps carry no noise and are left out; the mean of the smallest
 /// [`NOISE_KEPT`] of the squared differences (over its χ²₁ value) stands for the mean of all,
 /// so a few tracker glitches do not pass for noise, while a tracker's whole pixels, which leave
-/// most differences 0, still read as noise. `None` under [`MIN_NOISE_RUNS`] such runs, or where nothing varies.
+/// most differences 0, still read as noise. `None` under [`MIN_NOISE_RUNS`] such runs, where
+/// nothing varies, or where the noise is under [`ROUND_OFF_SHARE`] of the variation.
 fn noise_share(measured: &[(f64, f64, f64)], track: &CleanTrack) -> Option<f64> {
     let (first, last) = match (track.frames.first(), track.frames.last()) {
         (Some(&a), Some(&b)) => (a, b),
@@ -197,7 +200,9 @@ fn noise_share(measured: &[(f64, f64, f64)], track: &CleanTrack) -> Option<f64> 
     // normalised by it (its scale is twice that).
     let variance = Detrended::of(track).scale() / 2.0;
     let share = (noise(down) + noise(across)) / variance;
-    (share > 0.0 && share.is_finite()).then_some(share)
+    // Below 1e-15 of the variation the differences are floating-point round-off, not a
+    // tracker's noise (a noise-free sawtooth read "2401272461415361214939136.0 times" it).
+    (share > ROUND_OFF_SHARE && share.is_finite()).then_some(share)
 }
 
 /// What a track's period shows of the motion repeating: the one decision `track`, its

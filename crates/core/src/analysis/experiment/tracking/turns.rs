@@ -27,27 +27,33 @@
 //! where
 //! - the peaks vary only with where the frames fall on each turn (a noise-free periodic track
 //!   whose period is not a whole number of frames samples each turn elsewhere, and its peaks
-//!   follow the frame grid's rule: the turn whose peak falls most nearly alike between frames
-//!   predicts it to under a tenth of what unrelated peaks leave);
-//! - a repeat after 1 to [`MAX_TURNS_REPEAT`] turns explains them (its median error under a
-//!   tenth of their variance and its mean within 2k times the analogues'): a period of a few
-//!   turns, even with slips now and then at random, such as a doubling the centre alone cannot
-//!   resolve, is a rule too, but a periodic one.
+//!   follow the frame grid's rule: the turn on which whole periods from the first peak fall
+//!   most nearly alike between frames predicts it to under a tenth of what unrelated peaks
+//!   leave; the grid's rotation, not the peaks' measured times, which an eased size moves too);
+//! - a repeat after 1 to [`MAX_TURNS_REPEAT`] turns explains the peaks of a coordinate (its
+//!   median error under a tenth of their variance and its mean within 2·min(k, 4) times the
+//!   analogues'; seen three times at least): a period of a few turns, even with slips now and then at random, such as a
+//!   doubling the centre alone cannot resolve, is a rule too, but a periodic one. A coordinate
+//!   whose peaks do not vary beyond round-off is left out, and the rule read in the other.
 //!
 //! A second period (quasi-periodic motion) is read where the line in the two peaks before is a
-//! rotation (complex roots of modulus at least [`QUASI_MODULUS`]) that explains at least
-//! [`QUASI_EXPLAINED`] of the peaks' variance, turning through at least two cycles along the
-//! track and drifting over a turn from the nearest whole-turn repeat: sizes that swing every
-//! 7.3 turns never repeat, and the line says how.
+//! rotation (complex roots of modulus at least [`QUASI_MODULUS`]), one sinusoid at its rate
+//! (refined within ±5 %) explains at least [`QUASI_EXPLAINED`] of the peaks' variance over the
+//! whole track (a damped resonance driven by chance turns too, but its phase and size wander:
+//! 0.19–0.66), it turns through at least two cycles along the track and drifts over a turn from
+//! the nearest whole-turn repeat: sizes that swing every 7.3 turns never repeat.
+//!
+//! Only the peaks' heights are read, not their times: a chaos that moves only the turns' times
+//! (by 1–3 %) reads as chance (a helper's finding), and from 10 % is refused.
 //!
 //! Measured by `bench calibration --draws 400` (2026-12-04, [`super::turns_calibration`]):
 //! 2,000 rolls whose turns' sizes follow AR(1) processes (ρ from −0.95 to 0.995, sizes varying
 //! 3–20 %, turn times 0–5 %, noise 0.1–10 % of the wobble, 8–60 frames and 20–100 turns): none
-//! called chaotic or quasi-periodic, the lowest of 1,821 ratios read 0.564, the median 1.73.
+//! called chaotic or quasi-periodic, the lowest of 1,820 ratios read 0.564, the median 1.73.
 //! 100 rolls whose sizes the logistic map drives, eased from turn to turn: all refused as chaotic
 //! (ratios 0.005–0.17). 100 with a second period of k + 0.3 to k + 0.7 turns: 96 refused as
 //! quasi-periodic. The Rössler attractor (c = 5, 5.7; 100 stretches each): refused at noise
-//! 0.2 % and 2 % of its size (399 of 400), 44 % and 81 % at 6 %, where noise hides the rule
+//! 0.2 % and 2 % of its size (399 of 400), 39 % and 80 % at 6 %, where noise hides the rule
 //! and the turns read as chance does.
 
 use nalgebra::{DMatrix, DVector};
@@ -65,17 +71,19 @@ pub const MIN_TURNS: usize = 20;
 /// The most turns read (the first ones): the analogues are found among all pairs.
 pub const MAX_TURNS: usize = 2000;
 /// The longest repeat, in turns, that is tried as the explanation of a rule before the rule is
-/// called chaotic.
-pub const MAX_TURNS_REPEAT: usize = 4;
+/// called chaotic (one seen three times at least): gaps bridged every 10 frames on a track of
+/// 6.5 frames a turn repeat with the turns after 20 of them, and their rule read 0.24.
+pub const MAX_TURNS_REPEAT: usize = 24;
 /// The most turns before a turn that its peak is predicted from (the analogues' and the line's
 /// embedding): a size eased from turn to turn mixes two turns' sizes into each peak, which one
 /// peak alone cannot untangle and two can.
 pub const MAX_LAGS: usize = 3;
-/// A second period is read where the line in the two peaks before explains at least this share
-/// of the peaks' variance with a rotation of modulus at least [`QUASI_MODULUS`].
+/// A second period is read where one sinusoid at the rotation of the line in the two peaks
+/// before (of modulus at least [`QUASI_MODULUS`]) explains at least this share of the peaks'
+/// variance over the whole track.
 pub const QUASI_EXPLAINED: f64 = 0.9;
 /// See [`QUASI_EXPLAINED`].
-pub const QUASI_MODULUS: f64 = 0.95;
+pub const QUASI_MODULUS: f64 = 0.9;
 
 /// What a track's turns show of a rule between them ([`turn_rule`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -92,8 +100,9 @@ pub struct TurnRule {
     pub lags: usize,
     /// A second period of the turns' peaks, in turns, not a whole number of them (a
     /// quasi-periodic motion): the line in the two peaks before is a rotation of modulus at
-    /// least [`QUASI_MODULUS`] that explains at least [`QUASI_EXPLAINED`] of their variance and
-    /// drifts over a turn from the nearest whole-turn repeat along the track.
+    /// least [`QUASI_MODULUS`], one sinusoid at its rate explains at least [`QUASI_EXPLAINED`]
+    /// of their variance over the whole track, and it drifts over a turn from the nearest
+    /// whole-turn repeat along the track.
     pub second_period_turns: Option<f64>,
     /// Whether the peaks vary only with where the frames fall on each turn (a period that is not
     /// a whole number of frames samples each turn elsewhere, so the peaks of a periodic motion
@@ -165,8 +174,8 @@ impl TurnRule {
         if let Some(p) = self.second_period_turns {
             return format!(
                 "swing with a second period of {p:.2} turns, not a whole number of them: over {} \
-                 turns, a rotation in the two peaks before predicts each turn's peak, leaving \
-                 under {:.0} % of their variation",
+                 turns, one sinusoid of that period leaves under {:.0} % of their peaks' \
+                 variation",
                 self.turns,
                 100.0 * (1.0 - QUASI_EXPLAINED)
             );
@@ -174,13 +183,14 @@ impl TurnRule {
         match self.ratio {
             Some(r) if r < RULE_RATIO => format!(
                 "follow from one another by a rule: over {} turns, each turn's peak predicted \
-                 from its nearest analogue (the turn whose {lags} lie nearest, and the peak that \
+                 from its nearest analogue (the turn with the nearest {lags}, and the peak that \
                  followed it) misses by {r:.3} of what the best straight line in {lags} misses \
                  (turns that vary by chance read about 2, a rule under {RULE_RATIO})",
                 self.turns
             ),
             Some(r) if r < CHANCE_RATIO => format!(
-                "may follow from one another by a rule that noise blurs: over {} turns, each \
+                "may follow from one another by a rule that noise or the reading blurs: over {} \
+                 turns, each \
                  turn's peak predicted from its nearest analogue misses by {r:.2} of what a \
                  straight line misses, between a rule's (under {RULE_RATIO}) and the least that \
                  turns varying by chance read ({CHANCE_RATIO}), so neither is shown",
@@ -326,7 +336,7 @@ fn predictions(p: &[f64], lags: usize) -> Option<(f64, f64)> {
 /// Whether a repeat after k ≤ [`MAX_TURNS_REPEAT`] turns explains the peaks `p` as well as the
 /// analogues do (`analogues`, their least mean squared error): predicting each peak by the one
 /// k turns before leaves, typically (the median), under a tenth of their variance, and on
-/// average within 2k times what the analogues leave (a slip spoils k of the repeat's
+/// average within 2·min(k, 4) times what the analogues leave (a slip spoils k of the repeat's
 /// predictions, and one or two of the analogues'). A repeat with rare slips (a period of three
 /// turns that now and then skips one, at random) is still a repeat, the analogues predicting
 /// the slips no better; turns that vary by chance or by a chaotic rule leave about twice their
@@ -337,11 +347,11 @@ fn repeats_after_a_few(p: &[f64], analogues: f64) -> bool {
     let mean = p.iter().sum::<f64>() / p.len() as f64;
     let variance = p.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / p.len() as f64;
     (1..=MAX_TURNS_REPEAT)
-        .filter(|&k| k + 2 < p.len())
+        .filter(|&k| 3 * k <= p.len())
         .any(|k| {
             let errors: Vec<f64> = (k..p.len()).map(|i| (p[i] - p[i - k]).powi(2)).collect();
             let mean_error = errors.iter().sum::<f64>() / errors.len() as f64;
-            median(errors) < 0.1 * variance && mean_error <= 2.0 * k as f64 * analogues
+            median(errors) < 0.1 * variance && mean_error <= 2.0 * k.min(4) as f64 * analogues
         })
 }
 
@@ -351,18 +361,42 @@ fn second_period(p: &[f64]) -> Option<f64> {
     let n = y.len() as f64;
     let c = least_squares(&x, &y)?;
     let (b1, b2) = (c[1], c[2]);
-    let explained = 1.0 - (&y - &x * &c).norm_squared() / y.norm_squared();
     // p' = b1·p + b2·p₋₁ turns through ω a turn where its roots are complex: r·e^(±iω).
-    if b1 * b1 + 4.0 * b2 >= 0.0 || explained < QUASI_EXPLAINED {
+    if b1 * b1 + 4.0 * b2 >= 0.0 {
         return None;
     }
     let modulus = (-b2).sqrt();
     let omega = (b1 / (2.0 * modulus)).clamp(-1.0, 1.0).acos();
+    // A random swing driven by chance (a damped resonance) turns too, but its phase and size
+    // wander: one sinusoid over the whole track explains little of it (0.19–0.66 for
+    // x' = 1.6x − 0.8x₋₁ + noise), where a second period's explains nearly all (0.98–0.996).
+    let explained = (-20..=20)
+        .map(|k| sine_explains(p, omega * (1.0 + 0.0025 * f64::from(k))))
+        .fold(0.0f64, f64::max);
     let turns = std::f64::consts::TAU / omega;
     // Two swings along the track at least, and a drift of over a turn from the nearest repeat
     // of a whole number of turns (which the period search's repeat would be).
     let drift = (turns - turns.round()).abs() * n / turns;
-    (modulus >= QUASI_MODULUS && n / turns >= 2.0 && drift > 1.0).then_some(turns)
+    (modulus >= QUASI_MODULUS && explained >= QUASI_EXPLAINED && n / turns >= 2.0 && drift > 1.0)
+        .then_some(turns)
+}
+
+/// The share of the variance of the peaks `p` (about their mean) that one sinusoid of `omega`
+/// radians a turn, fitted over all of them, explains.
+fn sine_explains(p: &[f64], omega: f64) -> f64 {
+    let n = p.len();
+    let mean = p.iter().sum::<f64>() / n as f64;
+    let x = DMatrix::from_fn(n, 3, |r, c| match c {
+        0 => 1.0,
+        1 => (omega * r as f64).cos(),
+        _ => (omega * r as f64).sin(),
+    });
+    let y = DVector::from_fn(n, |r, _| p[r] - mean);
+    let total = y.norm_squared();
+    match least_squares(&x, &y) {
+        Some(c) if total > 0.0 => 1.0 - (&y - &x * c).norm_squared() / total,
+        _ => 0.0,
+    }
 }
 
 /// What the turns of `z` (a track as down + i·across less its line, one value a frame) with a
@@ -419,22 +453,48 @@ pub fn turn_rule(z: &[Complex64], period: f64) -> TurnRule {
     if turns < MIN_TURNS {
         return none(false);
     }
-    if [&pd, &pa].into_iter().any(|p| frame_grid_explains(p)) {
+    if [&pd, &pa]
+        .into_iter()
+        .any(|p| frame_grid_explains(p, period))
+    {
         return none(true);
     }
     let values = |p: &[(f64, f64)]| p.iter().map(|v| v.1).collect::<Vec<f64>>();
     let (pd, pa) = (values(&pd), values(&pa));
-    // Per coordinate and number of peaks before: (ratio, lags), and the least analogues' error.
-    let mut best: Option<(f64, usize)> = None;
-    for p in [&pd, &pa] {
-        let read: Vec<(f64, f64, usize)> = (1..=MAX_LAGS)
+    // Per coordinate and number of peaks before: (ratio, lags). A coordinate whose peaks do not
+    // vary (beyond round-off of the wobble) is left out; one that a repeat after a few turns
+    // explains shows the motion repeating, and no rule is read.
+    let wobble = z.iter().map(|v| v.norm_sqr()).sum::<f64>() / z.len().max(1) as f64;
+    let varies = |p: &[f64]| {
+        let spread = p.iter().map(|v| v * v).sum::<f64>() / p.len() as f64;
+        spread > 1e-18 * wobble
+    };
+    let varying: Vec<&Vec<f64>> = [&pd, &pa].into_iter().filter(|p| varies(p)).collect();
+    if varying.is_empty() {
+        return none(false);
+    }
+    // A second period first: it also repeats, nearly, after a whole number of its swings (5.3
+    // turns after 16), which the repeats below would take for the motion's.
+    if let Some(turns_of) = varying.iter().find_map(|p| second_period(p)) {
+        return TurnRule {
+            second_period_turns: Some(turns_of),
+            ..none(false)
+        };
+    }
+    let mut best = None::<(f64, usize)>;
+    for p in varying {
+        let fits: Vec<(f64, f64, usize)> = (1..=MAX_LAGS)
             .filter_map(|lags| predictions(p, lags).map(|(a, l)| (a, l, lags)))
             .collect();
-        let least = read.iter().map(|r| r.0).fold(f64::INFINITY, f64::min);
-        if least.is_finite() && repeats_after_a_few(p, least) {
+        let least = fits.iter().map(|r| r.0).fold(f64::INFINITY, f64::min);
+        if !least.is_finite() {
+            continue;
+        }
+        if repeats_after_a_few(p, least) {
+            // One motion drives both coordinates: a repeat in one is the motion's.
             return none(false);
         }
-        for (analogues, line, lags) in read {
+        for (analogues, line, lags) in fits {
             let ratio = analogues / line;
             if line > 0.0 && ratio.is_finite() && best.is_none_or(|b| ratio < b.0) {
                 best = Some((ratio, lags));
@@ -445,19 +505,31 @@ pub fn turn_rule(z: &[Complex64], period: f64) -> TurnRule {
         turns,
         ratio: best.map(|b| b.0),
         lags: best.map_or(0, |b| b.1),
-        second_period_turns: [&pd, &pa].into_iter().find_map(|p| second_period(p)),
+        second_period_turns: None,
         frame_grid: false,
     }
 }
 
 /// Whether the peaks `p` (time, value) vary with where the frames fall on each turn: each
-/// predicted by the turn whose frames fall most nearly alike (the fraction of a frame by which
-/// its peak misses a frame), not itself or its neighbour in time, leaves under a tenth of what
-/// unrelated peaks would (twice their variance). A chaotic motion or turns that vary by chance
-/// have no such order.
-fn frame_grid_explains(p: &[(f64, f64)]) -> bool {
+/// predicted by the turn whose frames fall most nearly alike, not itself or its neighbour in
+/// time, leaves under a tenth of what unrelated peaks would (twice their variance). Where the
+/// frames fall is the grid's own rotation, the fraction of a frame by which whole periods
+/// `period` from the first peak miss a frame, not the peaks' measured times (which a size eased
+/// from turn to turn moves too). A period within a frame over the track of a whole number of
+/// frames falls alike on every turn, and nothing is explained by it. A chaotic motion or turns
+/// that vary by chance have no such order.
+fn frame_grid_explains(p: &[(f64, f64)], period: f64) -> bool {
     let n = p.len();
-    let phase: Vec<f64> = p.iter().map(|&(t, _)| t.rem_euclid(1.0)).collect();
+    if (period - period.round()).abs() * n as f64 <= 1.0 {
+        return false;
+    }
+    let phase: Vec<f64> = p
+        .iter()
+        .map(|&(t, _)| {
+            let turn = ((t - p[0].0) / period).round();
+            (p[0].0 + turn * period).rem_euclid(1.0)
+        })
+        .collect();
     let mean = p.iter().map(|v| v.1).sum::<f64>() / n as f64;
     let variance = p.iter().map(|v| (v.1 - mean).powi(2)).sum::<f64>() / n as f64;
     let apart = |a: f64, b: f64| {
