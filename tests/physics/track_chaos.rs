@@ -287,3 +287,33 @@ fn a_second_attack_on_the_turn_rule() {
         );
     }
 }
+
+/// A pattern of four turn sizes whose halves nearly repeat ([0, 1, 0.3, 0.7] of 3–30 % of the
+/// size) was stated as two turns, `closely` (a helper's finding, 2026-12-04): the harmonics off
+/// the doubled turn made two turns the period, and two turns' own multiples were never tried.
+/// It repeats after four, and so do two and three sizes after two and three.
+#[test]
+fn a_pattern_of_four_turns_is_a_period_of_four() {
+    for (pattern, depth) in [
+        (&[0.0, 1.0, 0.3, 0.7][..], 0.03),
+        (&[0.0, 1.0, 0.3, 0.7], 0.1),
+        (&[0.0, 1.0, 0.3, 0.7], 0.3),
+        (&[0.0, 1.0], 0.1),
+        (&[0.0, 1.0, 0.4], 0.1),
+    ] {
+        let track = roll_track(
+            &|k| 1.0 + depth * pattern[k % pattern.len()],
+            (100, 30.0),
+            (0.0, 0.01),
+            3,
+        );
+        let fit = find_period(&track, &search(), &|_, _| {})
+            .unwrap_or_else(|e| panic!("{pattern:?} at {depth}: {e}"));
+        let turns = 30.0 * pattern.len() as f64;
+        assert!(
+            (fit.period_frames - turns).abs() < 0.05,
+            "{pattern:?} at {depth}: {} frames, not {turns}",
+            fit.period_frames
+        );
+    }
+}

@@ -441,7 +441,8 @@ enum Fundamental {
 /// - its significant harmonics sharing a factor g mean the track repeats after τ/g;
 /// - a multiple k·τ (up to 8, within the search) with a significant harmonic that is not a
 ///   multiple of k means the track repeats only after k·τ (a third harmonic that dominates a
-///   weak fundamental made the dips pick a third of the period).
+///   weak fundamental made the dips pick a third of the period), and that multiple's own
+///   multiples are tried in turn.
 fn fundamental(z: &[Complex64], tau: f64, longest: f64) -> Fundamental {
     let fit_at = |t: f64| harmonic::harmonic_period(z, t, (0.03 * t).min(t / 4.0));
     let Some(fit) = fit_at(tau) else {
@@ -456,17 +457,25 @@ fn fundamental(z: &[Complex64], tau: f64, longest: f64) -> Fundamental {
     if shared > 1 {
         return Fundamental::Period(fit.period_frames / shared as f64);
     }
-    for k in 2..=8usize {
-        let t = k as f64 * fit.period_frames;
-        if t > longest {
-            break;
+    // A multiple found, its own multiples are tried in turn: a pattern of four turns whose
+    // halves nearly repeat showed harmonics off the doubled turn, and was stated as two turns
+    // (a helper's finding, 2026-12-04), where four repeat.
+    let (mut base, mut found) = (fit.period_frames, None);
+    'multiples: loop {
+        for k in 2..=8usize {
+            let t = k as f64 * base;
+            if t > longest {
+                break;
+            }
+            let at = harmonic::harmonics_at(z, t);
+            if at.is_some_and(|f| f.significant().iter().any(|h| h % k != 0)) {
+                (base, found) = (t, Some(t));
+                continue 'multiples;
+            }
         }
-        let at = harmonic::harmonics_at(z, t);
-        if at.is_some_and(|f| f.significant().iter().any(|h| h % k != 0)) {
-            return Fundamental::Period(t);
-        }
+        break;
     }
-    Fundamental::Keep
+    found.map_or(Fundamental::Keep, Fundamental::Period)
 }
 
 /// Repeats of a period that spans several of the motion's main repeats needed before it is
