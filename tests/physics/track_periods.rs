@@ -28,16 +28,6 @@ impl Noise {
     }
 }
 
-/// A track at frames 0, 1, 2, … with nothing cleaned.
-pub(crate) fn on_frames(down: Vec<f64>, across: Vec<f64>) -> CleanTrack {
-    CleanTrack {
-        frames: (0..down.len()).map(|i| i as f64).collect(),
-        down,
-        across,
-        warnings: vec![],
-    }
-}
-
 /// A rolling-like track: drift down the ramp, the first two harmonics of the period in both
 /// coordinates (the second `second` times the first), white noise of `noise` (in units of the
 /// first harmonic's amplitude).
@@ -71,7 +61,7 @@ pub(crate) fn periodic(
                 + noise * rng.normal(),
         );
     }
-    on_frames(down, across)
+    CleanTrack::on_frames(down, across)
 }
 
 pub(crate) fn search() -> PeriodSearch {
@@ -419,7 +409,7 @@ fn turns_of_varying_time_never_make_a_multiple_of_the_period() {
             down.push(3.0 * phase + (w + p).sin() + a * (2.0 * w).cos() + 0.05 * rng.normal());
             across.push(0.6 * (w + 2.0 * p).cos() + 0.05 * rng.normal());
         }
-        let track = on_frames(down, across);
+        let track = CleanTrack::on_frames(down, across);
         let fit = find_period(&track, &search(), &|_, _| {}).unwrap();
         assert!(
             (fit.period_frames - turn).abs() < 0.1 * turn,
@@ -546,7 +536,7 @@ fn motions(frames: usize, parts: &[(f64, &[f64])], noise: f64, seed: u64) -> Cle
         down.push(d + noise * rng.normal());
         across.push(a + noise * rng.normal());
     }
-    on_frames(down, across)
+    CleanTrack::on_frames(down, across)
 }
 
 /// One test of "it repeats", the harmonics' (found by a hostile tester, 2026-11-28):
@@ -625,7 +615,7 @@ fn a_noise_free_track_whose_wobble_drifts_is_refused_naming_the_drift() {
         for v in down.iter_mut().chain(across.iter_mut()) {
             *v += noise * 3.0 * rng.normal();
         }
-        on_frames(down, across)
+        CleanTrack::on_frames(down, across)
     };
     match find_period(&track(0.0), &search(), &|_, _| {}) {
         Err(e @ TrackError::NoPeriod { .. }) => {

@@ -122,6 +122,30 @@ pub struct CleanTrack {
     pub warnings: Vec<String>,
 }
 
+impl CleanTrack {
+    /// A track at frames 0, 1, 2, … as given, nothing cleaned (synthetic tracks, tests).
+    ///
+    /// # Example
+    /// ```
+    /// use rollphase_core::analysis::experiment::tracking::CleanTrack;
+    /// let t = CleanTrack::on_frames(vec![0.0, 1.0, 2.0], vec![0.5, 0.4, 0.5]);
+    /// assert_eq!(t.frames, vec![0.0, 1.0, 2.0]);
+    /// ```
+    pub fn on_frames(down: Vec<f64>, across: Vec<f64>) -> Self {
+        CleanTrack {
+            frames: (0..down.len()).map(|i| i as f64).collect(),
+            down,
+            across,
+            warnings: vec![],
+        }
+    }
+}
+
+/// The share of the positions' size under which a track's variation is round-off (1e-16 of the
+/// positions can look periodic): the period search calls such a track a straight line, and the
+/// turn rule ([`turns`]) leaves out a coordinate whose peaks vary less.
+pub const NOTHING_VARIES: f64 = 1e-9;
+
 /// The largest |position| a track may hold: squares and sums of squares of such numbers stay
 /// finite in double precision.
 pub const MAX_POSITION: f64 = 1e100;

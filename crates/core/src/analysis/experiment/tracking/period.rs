@@ -45,10 +45,11 @@ use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
 use super::mismatch::{Curve, Detrended, next_pow2, normalised};
+use super::repeat::CLOSE_REPEAT_FLOOR;
 pub use super::surrogates::SMOOTHING_RATIO;
 use super::surrogates::surrogate_floor;
 use super::turns::{TurnRule, turn_rule};
-use super::{CleanTrack, TrackError, harmonic};
+use super::{CleanTrack, NOTHING_VARIES, TrackError, harmonic};
 
 /// The normalised mismatch above which a period is not stated.
 pub const MAX_MISMATCH: f64 = 0.5;
@@ -535,7 +536,8 @@ fn no_rule_between_turns(
             why: format!(
                 "the track repeats after {tau:.1} frames only in the mean (mismatch {}): its \
                  turns {}: {what}, and so has no period",
-                if m < 1e-3 {
+                // Closer than a close repeat's floor, in powers of ten (0.000 says nothing).
+                if m < CLOSE_REPEAT_FLOOR {
                     format!("{m:.1e}")
                 } else {
                     format!("{m:.3}")
@@ -714,8 +716,7 @@ pub fn find_period(
     let max_tau = (n - 1) / 2;
     let det = Detrended::of(track);
     let scale = det.scale();
-    // Round-off alone (1e-16 of the positions) can look periodic: below 1e-9 nothing varies.
-    if scale <= (1e-9 * extent_of(track)).powi(2) {
+    if scale <= (NOTHING_VARIES * extent_of(track)).powi(2) {
         return Err(TrackError::Damaged(
             "the track is a straight line at constant speed: nothing repeats that could give a \
              period"
@@ -869,15 +870,6 @@ pub fn find_period(
 mod tests {
     use super::*;
 
-    fn track_of(down: Vec<f64>, across: Vec<f64>) -> CleanTrack {
-        CleanTrack {
-            frames: (0..down.len()).map(|i| i as f64).collect(),
-            down,
-            across,
-            warnings: vec![],
-        }
-    }
-
     #[test]
     fn the_fft_curve_is_the_direct_mismatch_at_every_whole_shift() {
         let n = 257;
@@ -887,7 +879,7 @@ mod tests {
         let across: Vec<f64> = (0..n)
             .map(|i| (0.13 * i as f64).cos() - 0.002 * i as f64)
             .collect();
-        let det = Detrended::of(&track_of(down, across));
+        let det = Detrended::of(&CleanTrack::on_frames(down, across));
         let curve = Curve::of(&det.z, 128, &mut FftPlanner::new());
         for tau in [0usize, 1, 5, 37, 100, 127] {
             let direct = det.mismatch_at(tau).0;
@@ -913,7 +905,7 @@ mod tests {
             .map(|i| 0.5 * i as f64 + 3.0 * (w * i as f64).sin())
             .collect();
         let across: Vec<f64> = (0..n).map(|i| (w * i as f64 + 0.4).cos()).collect();
-        let det = Detrended::of(&track_of(down, across));
+        let det = Detrended::of(&CleanTrack::on_frames(down, across));
         let scale = det.scale();
         let fits = cycles(&det, 41.3, scale, &mut FftPlanner::new());
         assert_eq!(fits.len(), 13);

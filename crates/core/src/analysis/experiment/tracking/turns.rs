@@ -60,6 +60,8 @@ use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
+use super::NOTHING_VARIES;
+
 /// The analogues' error over the line's under which the turns follow a rule.
 pub const RULE_RATIO: f64 = 0.25;
 /// The analogues' error over the line's above which the turns read as chance does: about the
@@ -168,8 +170,8 @@ impl TurnRule {
     /// ```
     pub fn said(&self) -> String {
         let lags = match self.lags {
-            1 => "the peak before".to_string(),
-            k => format!("the {k} peaks before"),
+            1 => "peak before".to_string(),
+            k => format!("{k} peaks before"),
         };
         if let Some(p) = self.second_period_turns {
             return format!(
@@ -184,7 +186,8 @@ impl TurnRule {
             Some(r) if r < RULE_RATIO => format!(
                 "follow from one another by a rule: over {} turns, each turn's peak predicted \
                  from its nearest analogue (the turn with the nearest {lags}, and the peak that \
-                 followed it) misses by {r:.3} of what the best straight line in {lags} misses \
+                 followed it) misses by {r:.3} of what the best straight line in the {lags} \
+                 misses \
                  (turns that vary by chance read about 2, a rule under {RULE_RATIO})",
                 self.turns
             ),
@@ -467,7 +470,7 @@ pub fn turn_rule(z: &[Complex64], period: f64) -> TurnRule {
     let wobble = z.iter().map(|v| v.norm_sqr()).sum::<f64>() / z.len().max(1) as f64;
     let varies = |p: &[f64]| {
         let spread = p.iter().map(|v| v * v).sum::<f64>() / p.len() as f64;
-        spread > 1e-18 * wobble
+        spread > NOTHING_VARIES.powi(2) * wobble
     };
     let varying: Vec<&Vec<f64>> = [&pd, &pa].into_iter().filter(|p| varies(p)).collect();
     if varying.is_empty() {

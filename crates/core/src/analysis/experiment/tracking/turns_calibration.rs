@@ -69,7 +69,7 @@ fn roll_track_with(
         across.push(s * phase.cos() + 0.3 * s * (2.0 * phase).cos() + noise * normal.sample(rng));
         f += 1.0;
     }
-    on_frames(down, across)
+    CleanTrack::on_frames(down, across)
 }
 
 /// A roll whose turns vary by chance, its settings drawn from `seed` over the ranges of the
@@ -138,16 +138,7 @@ pub fn rossler_track(c: f64, frames: usize, noise: f64, seed: u64) -> CleanTrack
             y = [0, 1, 2].map(|j| y[j] + h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]));
         }
     }
-    on_frames(down, across)
-}
-
-fn on_frames(down: Vec<f64>, across: Vec<f64>) -> CleanTrack {
-    CleanTrack {
-        frames: (0..down.len()).map(|i| i as f64).collect(),
-        down,
-        across,
-        warnings: vec![],
-    }
+    CleanTrack::on_frames(down, across)
 }
 
 /// What the turn rule made of one set of tracks.
